@@ -1,0 +1,1 @@
+//! IvP core (issue #2).

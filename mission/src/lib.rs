@@ -1,0 +1,3 @@
+//! Mission files: the nsplug preprocessor and the `.moos` and `.bhv` parsers.
+//!
+//! Filled by issue #3.
