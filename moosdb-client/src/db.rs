@@ -1,0 +1,1189 @@
+//! The MOOSDB as a pure core: variables, registrations, wildcard filters, held mail and
+//! per-client outboxes. No I/O and no clock: every call takes the time as [`DbTime`].
+//!
+//! The TCP server ([`crate::server`]) is a thin edge around a [`Database`]; an in-process
+//! caller (for example a lock-step simulation) can drive it directly:
+//!
+//! ```
+//! use moosdb_client::db::{Database, DbConfig, DbTime};
+//! use moosdb_client::{Message, MsgType, DataType, Value};
+//! use bytes::Bytes;
+//!
+//! let t = DbTime { moos: 100.0, mono: 0.0 };
+//! let mut db = Database::new(DbConfig::default(), t);
+//! let (sub, _welcome) = db.connect(Bytes::from_static(b"sub"), true, 100.0, t).unwrap();
+//! let (publ, _welcome) = db.connect(Bytes::from_static(b"pub"), true, 100.0, t).unwrap();
+//! let mut reg = Message::new(MsgType::Register, DataType::Double, "X");
+//! reg.dval = 0.0;
+//! db.handle(sub, vec![reg], t).unwrap();
+//! let mut post = Message::notify("X", Value::Double(2.0), 100.0);
+//! post.src = Bytes::from_static(b"pub");
+//! let effects = db.handle(publ, vec![post], t).unwrap();
+//! assert!(effects.ready.contains(&sub));
+//! let mut packets = Vec::new();
+//! db.drain_outbox(sub, &mut packets);
+//! assert_eq!(packets.concat()[0].dval, 2.0);
+//! ```
+
+use std::collections::{BTreeMap, BTreeSet, HashMap, VecDeque};
+use std::fmt::Write as _;
+
+use bytes::Bytes;
+use thiserror::Error;
+use tracing::{info, warn};
+
+use crate::message::{ASYNCHRONOUS, DataType, Message, MsgType, Value};
+
+/// Seconds between refreshes of the DB's own variables (DB_TIME, DB_CLIENTS, ...).
+pub const SUMMARY_PERIOD: f64 = 2.0;
+
+/// Default silence after which a client is dropped (`ClientTimeout`), unwarped seconds.
+pub const DEFAULT_CLIENT_TIMEOUT: f64 = 5.0;
+
+/// Default per-client bound on queued messages (outbox and held mail each).
+pub const DEFAULT_OUTBOX_LIMIT: usize = 8192;
+
+/// Settings of a [`Database`].
+#[derive(Debug, Clone)]
+pub struct DbConfig {
+    /// Community name (`Community`, default `#1`); the DB's own name is `MOOSDB_<community>`.
+    pub community: String,
+    /// Host name announced in the Welcome (`hostname=<this>`).
+    pub host_name: String,
+    /// Silence (unwarped seconds) after which a client is removed.
+    pub client_timeout: f64,
+    /// Most messages queued per client; beyond it the oldest are dropped, counted and logged.
+    pub outbox_limit: usize,
+}
+
+impl Default for DbConfig {
+    fn default() -> Self {
+        DbConfig {
+            community: "#1".to_string(),
+            host_name: "localhost".to_string(),
+            client_timeout: DEFAULT_CLIENT_TIMEOUT,
+            outbox_limit: DEFAULT_OUTBOX_LIMIT,
+        }
+    }
+}
+
+/// The time of one DB call.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DbTime {
+    /// The DB's MOOS time (warped; the DB has no skew).
+    pub moos: f64,
+    /// Unwarped monotonic seconds from any fixed origin; used only for client liveness.
+    pub mono: f64,
+}
+
+/// A connected client's handle inside the core.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct ClientId(pub u64);
+
+/// Misuse of the core's API.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Error)]
+pub enum DbError {
+    /// The client is not (or no longer) connected.
+    #[error("unknown or disconnected client {0:?}")]
+    UnknownClient(ClientId),
+}
+
+/// What a call changed outside the core.
+#[derive(Debug, Default, Clone, PartialEq)]
+pub struct Effects {
+    /// Clients whose outbox received packets; the edge should drain and send them.
+    pub ready: Vec<ClientId>,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Sub {
+    period: f64,
+    last_sent: f64,
+}
+
+impl Sub {
+    fn expired(&self, now: f64) -> bool {
+        self.period == 0.0 || now - self.last_sent >= self.period
+    }
+}
+
+#[derive(Debug, Clone)]
+struct Var {
+    data_type: DataType,
+    dval: f64,
+    sval: Bytes,
+    time: f64,
+    written_time: f64,
+    writer: Bytes,
+    src_aux: Bytes,
+    community: Bytes,
+    written_to: u64,
+    writers: BTreeSet<Bytes>,
+    subscribers: BTreeMap<Bytes, Sub>,
+    freq: f64,
+    stats_time: f64,
+    stats_writes: u64,
+}
+
+impl Var {
+    fn new(data_type: DataType) -> Var {
+        Var {
+            data_type,
+            dval: 0.0,
+            sval: Bytes::new(),
+            time: -1.0,
+            written_time: -1.0,
+            writer: Bytes::new(),
+            src_aux: Bytes::new(),
+            community: Bytes::new(),
+            written_to: 0,
+            writers: BTreeSet::new(),
+            subscribers: BTreeMap::new(),
+            freq: 0.0,
+            stats_time: f64::NEG_INFINITY,
+            stats_writes: 0,
+        }
+    }
+
+    /// `Var2Msg`: the current value as a fresh notify (id -1).
+    fn to_msg(&self, key: &Bytes) -> Message {
+        let mut m = Message::new(MsgType::Notify, self.data_type, "");
+        m.key = key.clone();
+        m.time = self.time;
+        m.src = self.writer.clone();
+        m.src_aux = self.src_aux.clone();
+        m.community = self.community.clone();
+        match self.data_type {
+            DataType::Double => m.dval = self.dval,
+            DataType::String | DataType::Binary => m.sval = self.sval.clone(),
+            DataType::NotSet => {}
+        }
+        m
+    }
+
+    fn reset(&mut self) {
+        self.dval = 0.0;
+        self.sval = Bytes::new();
+        self.time = -1.0;
+        self.written_time = -1.0;
+        self.writer = Bytes::new();
+        self.src_aux = Bytes::new();
+        self.written_to = 0;
+        self.writers.clear();
+        self.freq = 0.0;
+        self.stats_time = f64::NEG_INFINITY;
+        self.stats_writes = 0;
+    }
+}
+
+/// A wildcard subscription (`MsgFilter`).
+#[derive(Debug, Clone, PartialEq)]
+struct Filter {
+    app: Bytes,
+    var: Bytes,
+    period: f64,
+}
+
+impl Filter {
+    fn matches(&self, src: &[u8], key: &[u8]) -> bool {
+        wildcard_match(&self.app, src) && wildcard_match(&self.var, key)
+    }
+}
+
+#[derive(Debug, Default, Clone)]
+struct Timing {
+    recent: VecDeque<f64>,
+    last: f64,
+    max: f64,
+    min: f64,
+}
+
+impl Timing {
+    fn add(&mut self, ms: f64) {
+        if self.recent.is_empty() {
+            self.max = ms;
+            self.min = ms;
+        }
+        self.max = self.max.max(ms);
+        self.min = self.min.min(ms);
+        self.last = ms;
+        if self.recent.len() == 5 {
+            self.recent.pop_front();
+        }
+        self.recent.push_back(ms);
+    }
+
+    fn average(&self) -> f64 {
+        self.recent.iter().sum::<f64>() / self.recent.len().max(1) as f64
+    }
+}
+
+#[derive(Debug)]
+struct ClientState {
+    name: Bytes,
+    asynchronous: bool,
+    order: u64,
+    last_heard: f64,
+    held: VecDeque<Message>,
+    outbox: VecDeque<Vec<Message>>,
+    outbox_msgs: usize,
+    dropped: u64,
+    timing: Option<Timing>,
+}
+
+impl ClientState {
+    fn note_drop(&mut self, n: u64) {
+        let before = self.dropped;
+        self.dropped += n;
+        if before == 0 || before / 1000 != self.dropped / 1000 {
+            warn!(
+                client = %String::from_utf8_lossy(&self.name),
+                dropped_total = self.dropped,
+                "client is not keeping up: oldest queued mail dropped"
+            );
+        }
+    }
+
+    fn hold(&mut self, msg: Message, limit: usize) {
+        if self.held.len() >= limit.max(1) {
+            self.held.pop_front();
+            self.note_drop(1);
+        }
+        self.held.push_back(msg);
+    }
+
+    fn queue(&mut self, packet: Vec<Message>, limit: usize) {
+        self.outbox_msgs += packet.len();
+        self.outbox.push_back(packet);
+        while self.outbox_msgs > limit && self.outbox.len() > 1 {
+            if let Some(old) = self.outbox.pop_front() {
+                self.outbox_msgs -= old.len();
+                self.note_drop(old.len() as u64);
+            }
+        }
+    }
+}
+
+/// The MOOSDB core. See the module documentation.
+#[derive(Debug)]
+pub struct Database {
+    config: DbConfig,
+    db_name: Bytes,
+    community: Bytes,
+    start_time: f64,
+    summary_time: f64,
+    vars: BTreeMap<Bytes, Var>,
+    clients: BTreeMap<ClientId, ClientState>,
+    names: HashMap<Bytes, ClientId>,
+    filters: BTreeMap<Bytes, Vec<Filter>>,
+    next_id: u64,
+}
+
+/// Delivers `msg` into the held mail of the client called `name` (if connected).
+fn hold_for(
+    clients: &mut BTreeMap<ClientId, ClientState>,
+    names: &HashMap<Bytes, ClientId>,
+    name: &[u8],
+    msg: Message,
+    limit: usize,
+) {
+    if let Some(c) = names.get(name).and_then(|id| clients.get_mut(id)) {
+        c.hold(msg, limit);
+    }
+}
+
+impl Database {
+    /// A DB started at `now`, holding its own (not yet written) variables.
+    pub fn new(config: DbConfig, now: DbTime) -> Database {
+        let community = Bytes::from(config.community.clone());
+        let db_name = Bytes::from(format!("MOOSDB_{}", config.community));
+        let mut vars = BTreeMap::new();
+        for (key, dt) in [
+            ("DB_TIME", DataType::Double),
+            ("DB_UPTIME", DataType::Double),
+            ("DB_CLIENTS", DataType::Double),
+            ("DB_EVENT", DataType::String),
+            ("DB_VARSUMMARY", DataType::String),
+            ("DB_QOS", DataType::String),
+            ("DB_RWSUMMARY", DataType::String),
+        ] {
+            let mut v = Var::new(dt);
+            v.writer = db_name.clone();
+            v.community = community.clone();
+            v.written_time = now.moos;
+            vars.insert(Bytes::from_static(key.as_bytes()), v);
+        }
+        Database {
+            config,
+            db_name,
+            community,
+            start_time: now.moos,
+            summary_time: now.moos,
+            vars,
+            clients: BTreeMap::new(),
+            names: HashMap::new(),
+            filters: BTreeMap::new(),
+            next_id: 1,
+        }
+    }
+
+    /// The DB's MOOS name, `MOOSDB_<community>`.
+    pub fn name(&self) -> &str {
+        std::str::from_utf8(&self.db_name).unwrap_or("MOOSDB")
+    }
+
+    /// The settings.
+    pub fn config(&self) -> &DbConfig {
+        &self.config
+    }
+
+    /// Handshake: admits a client called `name` or refuses a duplicate name.
+    ///
+    /// On success returns its id and the Welcome to send (`'W'`, data `'D'`, dval = skew =
+    /// `now − client_time`, sval `asynchronous`, src_aux `hostname=..`, community) and posts
+    /// `DB_EVENT = connected=NAME`. On a clash returns the Poison to send.
+    pub fn connect(
+        &mut self,
+        name: Bytes,
+        asynchronous: bool,
+        client_time: f64,
+        now: DbTime,
+    ) -> Result<(ClientId, Message), Message> {
+        if self.names.contains_key(&name) {
+            let mut p = Message::new(MsgType::Poison, DataType::String, "");
+            p.time = now.moos;
+            p.sval = Bytes::from(format!(
+                "A client of this name (\"{}\") already exists",
+                String::from_utf8_lossy(&name)
+            ));
+            return Err(p);
+        }
+        let id = ClientId(self.next_id);
+        self.next_id += 1;
+        self.clients.insert(
+            id,
+            ClientState {
+                name: name.clone(),
+                asynchronous,
+                order: id.0,
+                last_heard: now.mono,
+                held: VecDeque::new(),
+                outbox: VecDeque::new(),
+                outbox_msgs: 0,
+                dropped: 0,
+                timing: None,
+            },
+        );
+        self.names.insert(name.clone(), id);
+        let mut w = Message::new(MsgType::Welcome, DataType::Double, "");
+        w.time = now.moos;
+        w.dval = now.moos - client_time;
+        w.sval = Bytes::from_static(ASYNCHRONOUS.as_bytes());
+        w.src_aux = Bytes::from(format!("hostname={}", self.config.host_name));
+        w.community = self.community.clone();
+        info!(client = %String::from_utf8_lossy(&name), asynchronous, "client connected");
+        let event = format!("connected={}", String::from_utf8_lossy(&name));
+        self.internal_notify("DB_EVENT", Value::String(Bytes::from(event)), now);
+        Ok((id, w))
+    }
+
+    /// Handshake from the client's first message (`'i'`: sval = name, key `asynchronous` for
+    /// V10 clients, compared case-insensitively). `None` (no readable name message) gives the
+    /// Poison the C++ DB sends in that case.
+    pub fn handshake(
+        &mut self,
+        first: Option<&Message>,
+        now: DbTime,
+    ) -> Result<(ClientId, Message), Message> {
+        match first {
+            Some(m) => {
+                let asynchronous = m.key.eq_ignore_ascii_case(ASYNCHRONOUS.as_bytes());
+                self.connect(m.sval.clone(), asynchronous, m.time, now)
+            }
+            None => {
+                let mut p = Message::new(MsgType::Poison, DataType::String, "");
+                p.time = now.moos;
+                p.sval = Bytes::from_static(b"Failed to read receive client's name");
+                Err(p)
+            }
+        }
+    }
+
+    /// Removes a client: its subscriptions, filters, held mail and outbox; posts
+    /// `DB_EVENT = disconnected=NAME`. Returns its name, or `None` if it was not connected.
+    pub fn disconnect(&mut self, id: ClientId, now: DbTime) -> Option<String> {
+        let c = self.clients.remove(&id)?;
+        self.names.remove(&c.name);
+        for v in self.vars.values_mut() {
+            v.subscribers.remove(&c.name);
+        }
+        self.filters.remove(&c.name);
+        let name = String::from_utf8_lossy(&c.name).into_owned();
+        if c.dropped > 0 {
+            warn!(client = %name, dropped_total = c.dropped, "client left; it had mail dropped");
+        }
+        info!(client = %name, "client disconnected");
+        let event = format!("disconnected={name}");
+        self.internal_notify("DB_EVENT", Value::String(Bytes::from(event)), now);
+        Some(name)
+    }
+
+    /// Removes every client silent for longer than the client timeout (unwarped
+    /// `now.mono`); returns their ids and names.
+    pub fn reap_silent(&mut self, now: DbTime) -> Vec<(ClientId, String)> {
+        let timeout = self.config.client_timeout;
+        let silent: Vec<ClientId> = self
+            .clients
+            .iter()
+            .filter(|(_, c)| now.mono - c.last_heard > timeout)
+            .map(|(id, _)| *id)
+            .collect();
+        let mut out = Vec::with_capacity(silent.len());
+        for id in silent {
+            if let Some(name) = self.disconnect(id, now) {
+                warn!(client = %name, "disconnecting after {timeout} seconds of silence");
+                out.push((id, name));
+            }
+        }
+        out
+    }
+
+    /// Processes one packet from a client (`OnRxPkt` plus the threaded server's rules).
+    ///
+    /// A leading `'T'` is echoed first with dval = DB time and dval2 = 0. Then every message
+    /// is processed in order, the DB variables are refreshed if more than 2 s passed, and the
+    /// reply is queued: for an asynchronous client `[T echo] + held mail + request replies`
+    /// if non-empty (held mail only if something besides the T came); for a synchronous
+    /// client always `[NULL(dval = DB time)] + held mail + replies`. If the packet carried a
+    /// notify, every asynchronous client's held mail is then pushed as its own packet.
+    pub fn handle(
+        &mut self,
+        id: ClientId,
+        mut msgs: Vec<Message>,
+        now: DbTime,
+    ) -> Result<Effects, DbError> {
+        let c = self
+            .clients
+            .get_mut(&id)
+            .ok_or(DbError::UnknownClient(id))?;
+        c.last_heard = now.mono;
+        let name = c.name.clone();
+        let asynchronous = c.asynchronous;
+        let mut echo = None;
+        if msgs.first().is_some_and(|m| m.msg_type == MsgType::Timing) {
+            let mut t = msgs.remove(0);
+            c.timing
+                .get_or_insert_with(Timing::default)
+                .add((now.moos - t.time) * 1000.0);
+            t.dval = now.moos;
+            t.dval2 = 0.0;
+            echo = Some(t);
+        }
+        let had_notify = msgs.iter().any(|m| m.msg_type == MsgType::Notify);
+        let had_any = !msgs.is_empty();
+        let mut replies = VecDeque::new();
+        for m in msgs {
+            self.process(&name, m, now, &mut replies);
+        }
+        if now.moos - self.summary_time > SUMMARY_PERIOD {
+            self.summary_time = now.moos;
+            self.publish_summaries(now);
+        }
+        let limit = self.config.outbox_limit;
+        let mut effects = Effects::default();
+        if let Some(c) = self.clients.get_mut(&id) {
+            let mut reply = Vec::with_capacity(1 + c.held.len() + replies.len());
+            if asynchronous {
+                reply.extend(echo);
+            } else {
+                let mut null = Message::new(MsgType::Null, DataType::Double, "");
+                null.time = now.moos;
+                null.dval = now.moos;
+                reply.push(null);
+            }
+            if had_any || !asynchronous {
+                reply.extend(c.held.drain(..));
+            }
+            reply.extend(replies);
+            if !reply.is_empty() {
+                c.queue(reply, limit);
+                effects.ready.push(id);
+            }
+        }
+        if had_notify {
+            for (cid, c) in self.clients.iter_mut() {
+                if c.asynchronous && !c.held.is_empty() {
+                    let packet: Vec<Message> = c.held.drain(..).collect();
+                    c.queue(packet, limit);
+                    if !effects.ready.contains(cid) {
+                        effects.ready.push(*cid);
+                    }
+                }
+            }
+        }
+        Ok(effects)
+    }
+
+    /// Moves the client's queued packets into `out`; `false` if the client is gone (the edge
+    /// should then close its connection).
+    pub fn drain_outbox(&mut self, id: ClientId, out: &mut Vec<Vec<Message>>) -> bool {
+        match self.clients.get_mut(&id) {
+            Some(c) => {
+                out.extend(c.outbox.drain(..));
+                c.outbox_msgs = 0;
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Messages dropped so far for a client because it did not keep up.
+    pub fn dropped(&self, id: ClientId) -> Option<u64> {
+        self.clients.get(&id).map(|c| c.dropped)
+    }
+
+    /// True if `id` is connected.
+    pub fn is_connected(&self, id: ClientId) -> bool {
+        self.clients.contains_key(&id)
+    }
+
+    /// Names of the connected clients, newest first (the order of `DB_CLIENTS`).
+    pub fn client_names(&self) -> Vec<String> {
+        self.ordered_clients()
+            .into_iter()
+            .map(|n| String::from_utf8_lossy(&n).into_owned())
+            .collect()
+    }
+
+    /// The current value of a variable as the DB would replay it, if it was ever written.
+    pub fn current(&self, key: &str) -> Option<Message> {
+        let (k, v) = self.vars.get_key_value(key.as_bytes())?;
+        (v.written_to > 0).then(|| v.to_msg(k))
+    }
+
+    /// Names of all variables (written or only registered), sorted.
+    pub fn var_names(&self) -> Vec<String> {
+        self.vars
+            .keys()
+            .map(|k| String::from_utf8_lossy(k).into_owned())
+            .collect()
+    }
+
+    fn ordered_clients(&self) -> Vec<Bytes> {
+        let mut v: Vec<(u64, Bytes)> = self
+            .clients
+            .values()
+            .map(|c| (c.order, c.name.clone()))
+            .collect();
+        v.sort_by(|a, b| b.0.cmp(&a.0));
+        v.into_iter().map(|(_, n)| n).collect()
+    }
+
+    fn process(&mut self, name: &Bytes, m: Message, now: DbTime, replies: &mut VecDeque<Message>) {
+        match m.msg_type {
+            MsgType::Notify => self.on_notify(m, now),
+            MsgType::Register => self.on_register(name, &m.key, m.dval, now),
+            MsgType::Unregister => {
+                if let Some(v) = self.vars.get_mut(&m.key) {
+                    v.subscribers.remove(name);
+                }
+            }
+            MsgType::WildcardRegister => {
+                let spec = &m.sval;
+                let app = val_from_string(spec, b"AppPattern").unwrap_or_default();
+                let var = val_from_string(spec, b"VarPattern").unwrap_or_default();
+                let period = val_from_string(spec, b"Interval")
+                    .and_then(|p| std::str::from_utf8(&p).ok()?.parse::<f64>().ok())
+                    .unwrap_or(0.0);
+                let f = Filter {
+                    app: Bytes::from(app),
+                    var: Bytes::from(var),
+                    period,
+                };
+                let list = self.filters.entry(name.clone()).or_default();
+                if !list.contains(&f) {
+                    list.push(f.clone());
+                }
+                let keys: Vec<Bytes> = self
+                    .vars
+                    .iter()
+                    .filter(|(k, v)| f.matches(&v.writer, k))
+                    .map(|(k, _)| k.clone())
+                    .collect();
+                for k in keys {
+                    self.on_register(name, &k, period, now);
+                }
+            }
+            MsgType::WildcardUnregister => {
+                let app = val_from_string(&m.sval, b"AppPattern").unwrap_or_default();
+                let var = val_from_string(&m.sval, b"VarPattern").unwrap_or_default();
+                if let Some(list) = self.filters.get_mut(name) {
+                    list.retain(|f| f.app != app[..] || f.var != var[..]);
+                }
+                let f = Filter {
+                    app: Bytes::from(app),
+                    var: Bytes::from(var),
+                    period: 0.0,
+                };
+                for (k, v) in self.vars.iter_mut() {
+                    if f.matches(&v.writer, k) {
+                        v.subscribers.remove(name);
+                    }
+                }
+            }
+            MsgType::ServerRequest => self.server_request(&m, now, replies),
+            _ => {}
+        }
+    }
+
+    fn on_register(&mut self, name: &Bytes, key: &Bytes, period: f64, now: DbTime) {
+        if name.is_empty() {
+            return;
+        }
+        let limit = self.config.outbox_limit;
+        let already = self.vars.contains_key(key);
+        let var = self
+            .vars
+            .entry(key.clone())
+            .or_insert_with(|| Var::new(DataType::NotSet));
+        let written = var.written_to != 0;
+        let reply = (already && written).then(|| var.to_msg(key));
+        let sub = var.subscribers.entry(name.clone()).or_insert(Sub {
+            period,
+            last_sent: f64::NEG_INFINITY,
+        });
+        sub.period = period;
+        if let Some(reply) = reply {
+            sub.last_sent = now.moos;
+            hold_for(&mut self.clients, &self.names, name, reply, limit);
+        }
+    }
+
+    /// `OnNotify`: type lock, first-write wildcard matching, value store and fan-out.
+    fn on_notify(&mut self, mut msg: Message, now: DbTime) {
+        let limit = self.config.outbox_limit;
+        let var = self
+            .vars
+            .entry(msg.key.clone())
+            .or_insert_with(|| Var::new(msg.data_type));
+        if var.written_to == 0 {
+            var.data_type = msg.data_type;
+            for (client, filters) in &self.filters {
+                for f in filters {
+                    if f.matches(&msg.src, &msg.key) {
+                        var.subscribers.insert(
+                            client.clone(),
+                            Sub {
+                                period: f.period,
+                                last_sent: f64::NEG_INFINITY,
+                            },
+                        );
+                    }
+                }
+            }
+        }
+        if var.data_type != msg.data_type {
+            warn!(
+                var = %msg.key_str(),
+                var_type = %(var.data_type.code() as char),
+                msg_type = %(msg.data_type.code() as char),
+                src = %msg.src_str(),
+                "write rejected: variable type is locked by its first write"
+            );
+            return;
+        }
+        let t = now.moos;
+        var.written_time = t;
+        var.time = msg.time;
+        var.writer = msg.src.clone();
+        var.src_aux = msg.src_aux.clone();
+        if msg.community.is_empty() {
+            msg.community = self.community.clone();
+        }
+        var.community = msg.community.clone();
+        match var.data_type {
+            DataType::Double => var.dval = msg.dval,
+            _ => var.sval = msg.sval.clone(),
+        }
+        if !var.writers.contains(&msg.src) {
+            var.writers.insert(msg.src.clone());
+        }
+        var.written_to += 1;
+        let dt = t - var.stats_time;
+        if dt > 0.5 {
+            if dt > 10.0 {
+                var.freq = 0.0;
+            } else {
+                let writes = (var.written_to - var.stats_writes).max(1) as f64;
+                var.freq = 0.5 * var.freq + 0.5 / (dt / writes);
+            }
+            var.stats_writes = var.written_to;
+            var.stats_time = t;
+        }
+        msg.msg_type = MsgType::Notify;
+        for (client, sub) in var.subscribers.iter_mut() {
+            if sub.expired(t) {
+                sub.last_sent = t;
+                hold_for(&mut self.clients, &self.names, client, msg.clone(), limit);
+            }
+        }
+    }
+
+    fn internal_notify(&mut self, key: &'static str, value: Value, now: DbTime) {
+        let mut m = Message::notify(key, value, now.moos);
+        m.src = self.db_name.clone();
+        m.community = self.community.clone();
+        self.on_notify(m, now);
+    }
+
+    fn server_request(&mut self, m: &Message, now: DbTime, replies: &mut VecDeque<Message>) {
+        let key = &m.key[..];
+        let contains = |needle: &[u8]| key.windows(needle.len()).any(|w| w == needle);
+        if key == b"ALL" {
+            for (k, v) in &self.vars {
+                let mut r = v.to_msg(k);
+                r.id = m.id;
+                r.dval = v.dval;
+                r.sval = v.sval.clone();
+                r.dval2 = v.freq;
+                r.time = v.written_time - self.start_time;
+                if r.time < 0.0 {
+                    r.time = -1.0;
+                }
+                replies.push_front(r);
+            }
+        } else if contains(b"PROC_SUMMARY") {
+            for who in self.ordered_clients() {
+                let mut subs = String::from("SUBSCRIBED=");
+                let mut pubs = String::from("PUBLISHED=");
+                for (k, v) in &self.vars {
+                    let k = String::from_utf8_lossy(k);
+                    if v.writers.contains(&who) {
+                        pubs.push(',');
+                        pubs.push_str(&k);
+                    }
+                    if v.subscribers.contains_key(&who) {
+                        subs.push(',');
+                        subs.push_str(&k);
+                    }
+                }
+                let mut r = Message::new(MsgType::Notify, DataType::String, "PROC_SUMMARY");
+                r.id = m.id;
+                r.time = now.moos - self.start_time;
+                r.src = self.db_name.clone();
+                r.sval = Bytes::from(format!("{}:{subs},{pubs}", String::from_utf8_lossy(&who)));
+                replies.push_front(r);
+            }
+        } else if contains(b"VAR_SUMMARY") {
+            let mut all = Vec::new();
+            for (i, k) in self.vars.keys().enumerate() {
+                if i > 0 {
+                    all.push(b',');
+                }
+                all.extend_from_slice(k);
+            }
+            let mut r = Message::new(MsgType::Notify, DataType::String, "VAR_SUMMARY");
+            r.id = m.id;
+            r.time = now.moos;
+            r.src = self.db_name.clone();
+            r.sval = Bytes::from(all);
+            replies.push_front(r);
+        } else if contains(b"DB_CLEAR") {
+            info!(
+                "DB_CLEAR requested: resetting {} variables",
+                self.vars.len()
+            );
+            for v in self.vars.values_mut() {
+                v.reset();
+            }
+            for c in self.clients.values_mut() {
+                c.held.clear();
+            }
+            self.start_time = now.moos;
+        }
+    }
+
+    fn publish_summaries(&mut self, now: DbTime) {
+        let t = now.moos;
+        self.internal_notify("DB_TIME", Value::Double(t), now);
+        self.internal_notify("DB_UPTIME", Value::Double(t - self.start_time), now);
+        let clients = self.ordered_clients();
+        let mut list = Vec::new();
+        for c in &clients {
+            list.extend_from_slice(c);
+            list.push(b',');
+        }
+        self.internal_notify("DB_CLIENTS", Value::String(Bytes::from(list)), now);
+        let summary = self.var_summary();
+        self.internal_notify("DB_VARSUMMARY", Value::String(Bytes::from(summary)), now);
+        let mut qos = String::new();
+        let mut by_name: Vec<&ClientState> = self.clients.values().collect();
+        by_name.sort_by(|a, b| a.name.cmp(&b.name));
+        for c in by_name {
+            if let Some(tm) = &c.timing {
+                let _ = write!(
+                    qos,
+                    "{}={}:{}:{}:{},",
+                    String::from_utf8_lossy(&c.name),
+                    fmt_g6(tm.last),
+                    fmt_g6(tm.max),
+                    fmt_g6(tm.min),
+                    fmt_g6(tm.average())
+                );
+            }
+        }
+        self.internal_notify("DB_QOS", Value::String(Bytes::from(qos)), now);
+        let rw = self.rw_summary(&clients);
+        self.internal_notify("DB_RWSUMMARY", Value::String(Bytes::from(rw)), now);
+    }
+
+    fn var_summary(&self) -> String {
+        let mut s = String::new();
+        for (k, v) in &self.vars {
+            let who = if v.writer.is_empty() {
+                "(write pending)".to_string()
+            } else {
+                String::from_utf8_lossy(&v.writer).into_owned()
+            };
+            let _ = write!(
+                s,
+                "{:<20} {:<20} {:<20} {:<4.1}Hz {:<2} ",
+                String::from_utf8_lossy(k),
+                time_of_day(v.written_time),
+                who,
+                v.freq,
+                v.data_type.code() as char
+            );
+            match v.data_type {
+                DataType::Double => {
+                    let _ = write!(s, "{:.1}", v.dval);
+                }
+                DataType::String => {
+                    if v.sval.len() > 25 {
+                        s.push_str(&String::from_utf8_lossy(&v.sval[..22]));
+                        s.push_str("...");
+                    } else {
+                        s.push_str(&String::from_utf8_lossy(&v.sval));
+                    }
+                }
+                DataType::Binary => {
+                    let n = v.sval.len();
+                    if n < 1024 {
+                        let _ = write!(s, "*binary* {n:<4} B");
+                    } else if n < 1024 * 1024 {
+                        let _ = write!(s, "*binary* {:.3} KB", n as f64 / 1024.0);
+                    } else {
+                        let _ = write!(s, "*binary* {:.3} MB", n as f64 / (1024.0 * 1024.0));
+                    }
+                }
+                DataType::NotSet => {}
+            }
+            s.push('\n');
+        }
+        s
+    }
+
+    fn rw_summary(&self, clients: &[Bytes]) -> String {
+        let mut out = String::new();
+        for (i, who) in clients.iter().enumerate() {
+            if i > 0 {
+                out.push(',');
+            }
+            out.push_str(&String::from_utf8_lossy(who));
+            out.push('=');
+            let subs: Vec<String> = self
+                .vars
+                .iter()
+                .filter(|(_, v)| v.subscribers.contains_key(who))
+                .map(|(k, _)| String::from_utf8_lossy(k).into_owned())
+                .collect();
+            out.push_str(&subs.join(":"));
+            out.push('&');
+            let pubs: Vec<String> = self
+                .vars
+                .iter()
+                .filter(|(_, v)| v.writers.contains(who))
+                .map(|(k, _)| String::from_utf8_lossy(k).into_owned())
+                .collect();
+            out.push_str(&pubs.join(":"));
+        }
+        out
+    }
+}
+
+/// `MOOSValFromString`: the value of `token` (case-insensitive) in a `tok=val,tok=val`
+/// string, trimmed.
+///
+/// ```
+/// use moosdb_client::db::val_from_string;
+/// let s = b"AppPattern=*,VarPattern=NAV_*,Interval=0";
+/// assert_eq!(val_from_string(s, b"varpattern").as_deref(), Some(&b"NAV_*"[..]));
+/// ```
+pub fn val_from_string(s: &[u8], token: &[u8]) -> Option<Vec<u8>> {
+    for part in s.split(|&b| b == b',') {
+        let Some(eq) = part.iter().position(|&b| b == b'=') else {
+            continue;
+        };
+        if part[..eq].trim_ascii().eq_ignore_ascii_case(token) {
+            return Some(part[eq + 1..].trim_ascii().to_vec());
+        }
+    }
+    None
+}
+
+/// `MOOSWildCmp`: case-sensitive glob where `*` matches any run (also empty) and `?` any one
+/// byte.
+///
+/// ```
+/// use moosdb_client::db::wildcard_match;
+/// assert!(wildcard_match(b"NAV_*", b"NAV_X"));
+/// assert!(wildcard_match(b"*", b""));
+/// assert!(!wildcard_match(b"nav_*", b"NAV_X"));
+/// ```
+pub fn wildcard_match(pattern: &[u8], text: &[u8]) -> bool {
+    let (mut p, mut t) = (0usize, 0usize);
+    let mut star: Option<(usize, usize)> = None;
+    while t < text.len() {
+        if p < pattern.len() && (pattern[p] == b'?' || pattern[p] == text[t]) {
+            p += 1;
+            t += 1;
+        } else if p < pattern.len() && pattern[p] == b'*' {
+            star = Some((p, t));
+            p += 1;
+        } else if let Some((sp, st)) = star {
+            p = sp + 1;
+            t = st + 1;
+            star = Some((sp, st + 1));
+        } else {
+            return false;
+        }
+    }
+    pattern[p..].iter().all(|&b| b == b'*')
+}
+
+/// `HH:MM:SS.mmm` of a Unix time, in UTC (the C++ DB prints local time).
+pub fn time_of_day(t: f64) -> String {
+    let secs = t.floor();
+    let ms = ((t - secs) * 1000.0).floor() as i64;
+    let day = (secs as i64).rem_euclid(86_400);
+    format!(
+        "{:02}:{:02}:{:02}.{:03}",
+        day / 3600,
+        (day / 60) % 60,
+        day % 60,
+        ms.clamp(0, 999)
+    )
+}
+
+/// A double as C++ `ostream <<` prints it by default (`%g`, 6 significant digits).
+///
+/// ```
+/// use moosdb_client::db::fmt_g6;
+/// assert_eq!(fmt_g6(0.406981234), "0.406981");
+/// assert_eq!(fmt_g6(0.0), "0");
+/// assert_eq!(fmt_g6(1795217436.0), "1.79522e+09");
+/// ```
+pub fn fmt_g6(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return if x.is_nan() {
+            "nan".into()
+        } else if x.is_infinite() {
+            if x > 0.0 { "inf".into() } else { "-inf".into() }
+        } else {
+            "0".into()
+        };
+    }
+    let sci = format!("{x:.5e}");
+    let (mant, exp) = sci.split_once('e').unwrap_or((&sci, "0"));
+    let exp: i32 = exp.parse().unwrap_or(0);
+    if !(-4..6).contains(&exp) {
+        let mant = trim_zeros(mant);
+        let sign = if exp < 0 { '-' } else { '+' };
+        format!("{mant}e{sign}{:02}", exp.abs())
+    } else {
+        let decimals = (5 - exp).max(0) as usize;
+        trim_zeros(&format!("{x:.decimals$}")).to_string()
+    }
+}
+
+fn trim_zeros(s: &str) -> &str {
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.')
+    } else {
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn t(moos: f64) -> DbTime {
+        DbTime { moos, mono: moos }
+    }
+
+    fn reg(key: &str, period: f64) -> Message {
+        let mut m = Message::new(MsgType::Register, DataType::Double, key);
+        m.dval = period;
+        m
+    }
+
+    fn post(src: &str, key: &str, v: Value, time: f64) -> Message {
+        let mut m = Message::notify(key, v, time);
+        m.src = Bytes::from(src.to_string());
+        m
+    }
+
+    fn drain(db: &mut Database, id: ClientId) -> Vec<Message> {
+        let mut p = Vec::new();
+        assert!(db.drain_outbox(id, &mut p));
+        p.concat()
+    }
+
+    fn new_db() -> Database {
+        let cfg = DbConfig {
+            community: "test".into(),
+            ..DbConfig::default()
+        };
+        Database::new(cfg, t(1000.0))
+    }
+
+    fn join(db: &mut Database, name: &str, now: f64) -> ClientId {
+        db.connect(Bytes::from(name.to_string()), true, now, t(now))
+            .unwrap()
+            .0
+    }
+
+    #[test]
+    fn register_interval_filters_fan_out() {
+        let mut db = new_db();
+        let s = join(&mut db, "s", 1000.0);
+        let p = join(&mut db, "p", 1000.0);
+        db.handle(s, vec![reg("X", 1.0)], t(1000.0)).unwrap();
+        for (i, now) in [1000.0, 1000.5, 1001.0, 1001.2, 1002.1].iter().enumerate() {
+            db.handle(
+                p,
+                vec![post("p", "X", Value::Double(i as f64), *now)],
+                t(*now),
+            )
+            .unwrap();
+        }
+        let got: Vec<f64> = drain(&mut db, s)
+            .iter()
+            .filter(|m| m.key_str() == "X")
+            .map(|m| m.dval)
+            .collect();
+        assert_eq!(got, vec![0.0, 2.0, 4.0]);
+    }
+
+    #[test]
+    fn type_is_locked_by_first_write() {
+        let mut db = new_db();
+        let p = join(&mut db, "p", 1000.0);
+        db.handle(p, vec![post("p", "X", Value::Double(1.0), 1.0)], t(1000.0))
+            .unwrap();
+        db.handle(p, vec![post("p", "X", Value::string("no"), 1.0)], t(1000.1))
+            .unwrap();
+        let cur = db.current("X").unwrap();
+        assert_eq!(cur.data_type, DataType::Double);
+        assert_eq!(cur.dval, 1.0);
+    }
+
+    #[test]
+    fn silent_client_removed_after_timeout_not_before() {
+        let mut db = new_db();
+        let a = join(&mut db, "a", 0.0);
+        let b = join(&mut db, "b", 0.0);
+        let at = |mono: f64| DbTime {
+            moos: 1000.0 + mono,
+            mono,
+        };
+        db.handle(b, vec![], at(4.0)).unwrap();
+        assert!(db.reap_silent(at(5.0)).is_empty());
+        let gone = db.reap_silent(at(5.01));
+        assert_eq!(gone, vec![(a, "a".to_string())]);
+        assert!(!db.is_connected(a) && db.is_connected(b));
+        assert_eq!(db.reap_silent(at(9.5)), vec![(b, "b".to_string())]);
+    }
+
+    #[test]
+    fn summary_refreshes_only_after_two_seconds() {
+        let mut db = new_db();
+        let c = join(&mut db, "c", 1000.0);
+        db.handle(c, vec![reg("DB_CLIENTS", 0.0)], t(1001.0))
+            .unwrap();
+        assert!(db.current("DB_CLIENTS").is_none());
+        db.handle(c, vec![], t(1002.0)).unwrap();
+        assert!(db.current("DB_TIME").is_none());
+        db.handle(c, vec![], t(1002.01)).unwrap();
+        assert_eq!(db.current("DB_TIME").unwrap().dval, 1002.01);
+        assert_eq!(db.current("DB_UPTIME").unwrap().dval, 1002.01 - 1000.0);
+        assert_eq!(db.current("DB_CLIENTS").unwrap().sval_str(), "c,");
+    }
+
+    #[test]
+    fn slow_client_outbox_is_bounded_and_counted() {
+        let cfg = DbConfig {
+            outbox_limit: 10,
+            ..DbConfig::default()
+        };
+        let mut db = Database::new(cfg, t(0.0));
+        let s = join(&mut db, "s", 0.0);
+        let p = join(&mut db, "p", 0.0);
+        db.handle(s, vec![reg("X", 0.0)], t(0.0)).unwrap();
+        for i in 0..25 {
+            db.handle(
+                p,
+                vec![post("p", "X", Value::Double(i as f64), 0.0)],
+                t(0.0),
+            )
+            .unwrap();
+        }
+        let got = drain(&mut db, s);
+        assert_eq!(got.len(), 10);
+        assert_eq!(got.last().unwrap().dval, 24.0);
+        assert_eq!(db.dropped(s), Some(15));
+    }
+
+    #[test]
+    fn wildcard_matches_existing_and_future_variables() {
+        let mut db = new_db();
+        let p = join(&mut db, "pNav", 1000.0);
+        let w = join(&mut db, "w", 1000.0);
+        db.handle(
+            p,
+            vec![post("pNav", "NAV_X", Value::Double(1.0), 1.0)],
+            t(1000.0),
+        )
+        .unwrap();
+        let mut wr = Message::new(MsgType::WildcardRegister, DataType::String, "w");
+        wr.sval = Bytes::from_static(b"AppPattern=pNav,VarPattern=NAV_*,Interval=0");
+        db.handle(w, vec![wr], t(1000.0)).unwrap();
+        db.handle(
+            p,
+            vec![
+                post("pNav", "NAV_Y", Value::Double(2.0), 1.0),
+                post("pNav", "OTHER", Value::Double(3.0), 1.0),
+            ],
+            t(1000.1),
+        )
+        .unwrap();
+        let keys: Vec<String> = drain(&mut db, w)
+            .iter()
+            .map(|m| m.key_str().into_owned())
+            .collect();
+        assert_eq!(keys, vec!["NAV_X", "NAV_Y"]);
+    }
+
+    #[test]
+    fn glob_and_formatting_helpers() {
+        assert!(wildcard_match(b"a?c*", b"abcdef"));
+        assert!(!wildcard_match(b"a?c", b"ac"));
+        assert!(wildcard_match(b"*_ITER_GAP", b"PHELM_ITER_GAP"));
+        assert_eq!(time_of_day(-1.0), "23:59:59.000");
+        assert_eq!(time_of_day(1795217434.275), "23:30:34.275");
+        assert_eq!(fmt_g6(0.481129), "0.481129");
+        assert_eq!(fmt_g6(12.5), "12.5");
+        assert_eq!(fmt_g6(0.0000123), "1.23e-05");
+    }
+}
