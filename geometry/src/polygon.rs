@@ -1,0 +1,419 @@
+//! [`Polygon`]: a closed vertex ring with MOOS-IvP's convexity test (`XYPolygon`).
+
+use crate::point::{Point, snap_to_step};
+use crate::seglist::{SegList, bbox_center, closest_vertex};
+use crate::segment::Segment;
+
+/// A polygon: vertices in order, the last joined back to the first.
+///
+/// Convexity is computed when the polygon is built, with MOOS-IvP's rule
+/// (`XYPolygon::determine_convexity`): at least three vertices, and for every edge all other
+/// vertices that are not on the edge's line lie strictly on one side of it, with at least one
+/// off the line. Either winding (clockwise or counter-clockwise) is accepted. A zero-length edge
+/// (repeated vertex) makes the polygon non-convex.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Polygon {
+    pts: Vec<Point>,
+    convex: bool,
+}
+
+fn orient(a: &Point, b: &Point, c: &Point) -> f64 {
+    (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x)
+}
+
+fn is_convex_ring(pts: &[Point]) -> bool {
+    let n = pts.len();
+    if n < 3 {
+        return false;
+    }
+    for i in 0..n {
+        let j = (i + 1) % n;
+        let (a, b) = (&pts[i], &pts[j]);
+        if a.x == b.x && a.y == b.y {
+            return false;
+        }
+        let mut side: Option<bool> = None;
+        for (k, p) in pts.iter().enumerate() {
+            if k == i || k == j {
+                continue;
+            }
+            let o = orient(a, b, p);
+            if o == 0.0 {
+                continue;
+            }
+            match side {
+                None => side = Some(o > 0.0),
+                Some(s) if s != (o > 0.0) => return false,
+                Some(_) => {}
+            }
+        }
+        if side.is_none() {
+            return false;
+        }
+    }
+    true
+}
+
+impl Polygon {
+    /// A polygon with the given vertices (any shape; see [`is_convex`](Self::is_convex)).
+    pub fn new(pts: Vec<Point>) -> Self {
+        let convex = is_convex_ring(&pts);
+        Polygon { pts, convex }
+    }
+
+    /// A polygon that must be convex.
+    ///
+    /// ```
+    /// use geometry::{Point, Polygon};
+    /// let sq = vec![Point::new(0.0, 0.0), Point::new(0.0, 10.0), Point::new(10.0, 10.0), Point::new(10.0, 0.0)];
+    /// assert!(Polygon::convex(sq).is_ok());
+    /// ```
+    pub fn convex(pts: Vec<Point>) -> Result<Self, crate::ParseError> {
+        let p = Polygon::new(pts);
+        if p.convex {
+            Ok(p)
+        } else {
+            Err(crate::ParseError::NotConvex)
+        }
+    }
+
+    /// The vertices in order.
+    pub fn vertices(&self) -> &[Point] {
+        &self.pts
+    }
+
+    /// Number of vertices.
+    pub fn len(&self) -> usize {
+        self.pts.len()
+    }
+
+    /// True if there are no vertices.
+    pub fn is_empty(&self) -> bool {
+        self.pts.is_empty()
+    }
+
+    /// True if the polygon is convex by MOOS-IvP's rule (see the type docs).
+    pub fn is_convex(&self) -> bool {
+        self.convex
+    }
+
+    /// The edges, including the closing edge from the last vertex to the first
+    /// (none for fewer than two vertices; a single edge for two).
+    pub fn edges(&self) -> impl Iterator<Item = Segment> + '_ {
+        let n = self.pts.len();
+        let count = match n {
+            0 | 1 => 0,
+            2 => 1,
+            _ => n,
+        };
+        (0..count).map(move |i| Segment::new(self.pts[i], self.pts[(i + 1) % n]))
+    }
+
+    /// True if `(x, y)` is inside or on the boundary.
+    ///
+    /// For convex polygons this equals MOOS's `contains`. For non-convex polygons MOOS always
+    /// answers false; this method instead gives the geometric answer (even-odd rule). Fewer than
+    /// three vertices: false.
+    pub fn contains(&self, x: f64, y: f64) -> bool {
+        let n = self.pts.len();
+        if n < 3 {
+            return false;
+        }
+        let q = Point::new(x, y);
+        let mut inside = false;
+        for i in 0..n {
+            let a = &self.pts[i];
+            let b = &self.pts[(i + 1) % n];
+            if orient(a, b, &q) == 0.0
+                && x >= a.x.min(b.x)
+                && x <= a.x.max(b.x)
+                && y >= a.y.min(b.y)
+                && y <= a.y.max(b.y)
+            {
+                return true;
+            }
+            if (a.y > y) != (b.y > y) {
+                let xc = a.x + (y - a.y) * (b.x - a.x) / (b.y - a.y);
+                if x < xc {
+                    inside = !inside;
+                }
+            }
+        }
+        inside
+    }
+
+    /// Distance from `(x, y)` to the nearest edge (whether inside or outside), MOOS
+    /// `dist_to_poly`. One vertex: distance to it; two: distance to the segment; `None` if empty.
+    pub fn dist_to_boundary(&self, x: f64, y: f64) -> Option<f64> {
+        match self.pts.len() {
+            0 => None,
+            1 => Some(self.pts[0].dist(&Point::new(x, y))),
+            _ => self
+                .edges()
+                .map(|e| e.dist_to_point(x, y))
+                .min_by(f64::total_cmp),
+        }
+    }
+
+    /// Distance to the boundary, negative when `(x, y)` is strictly inside (the loiter's
+    /// "distance to polygon"). `None` if empty.
+    pub fn signed_distance(&self, x: f64, y: f64) -> Option<f64> {
+        let d = self.dist_to_boundary(x, y)?;
+        Some(if self.contains(x, y) { -d } else { d })
+    }
+
+    /// Distance from `(x, y)` along compass heading `heading_deg` to the first edge the ray
+    /// meets, or `None` if it meets none (MOOS `dist_to_poly(px, py, angle)`, used for the
+    /// OpRegion trajectory perimeter distance).
+    pub fn ray_distance(&self, x: f64, y: f64, heading_deg: f64) -> Option<f64> {
+        if self.pts.len() == 1 {
+            let p = self.pts[0];
+            return Segment::new(p, p).ray_distance(x, y, heading_deg);
+        }
+        self.edges()
+            .filter_map(|e| e.ray_distance(x, y, heading_deg))
+            .min_by(f64::total_cmp)
+    }
+
+    /// True if the segment touches the polygon: crosses an edge or has an end point inside
+    /// (MOOS `seg_intercepts`).
+    pub fn segment_intersects(&self, seg: &Segment) -> bool {
+        match self.pts.len() {
+            0 => false,
+            1 => seg.dist_to_point(self.pts[0].x, self.pts[0].y) == 0.0,
+            _ => {
+                self.contains(seg.a.x, seg.a.y)
+                    || self.contains(seg.b.x, seg.b.y)
+                    || self.edges().any(|e| e.crosses(seg))
+            }
+        }
+    }
+
+    /// The points where `seg` crosses the polygon's edges, in edge order.
+    pub fn segment_crossings(&self, seg: &Segment) -> Vec<Point> {
+        self.edges().filter_map(|e| seg.intersection(&e)).collect()
+    }
+
+    /// Signed area (shoelace): positive for counter-clockwise, negative for clockwise vertex
+    /// order (x east, y north).
+    pub fn signed_area(&self) -> f64 {
+        let n = self.pts.len();
+        if n < 3 {
+            return 0.0;
+        }
+        let mut s = 0.0;
+        for i in 0..n {
+            let a = &self.pts[i];
+            let b = &self.pts[(i + 1) % n];
+            s += a.x * b.y - b.x * a.y;
+        }
+        s / 2.0
+    }
+
+    /// Area in square metres.
+    pub fn area(&self) -> f64 {
+        self.signed_area().abs()
+    }
+
+    /// True if the vertices run clockwise (as MOOS's radial and oval generators produce them).
+    pub fn is_clockwise(&self) -> bool {
+        self.signed_area() < 0.0
+    }
+
+    /// Area centroid; for a degenerate (zero-area) vertex list, the mean of the vertices;
+    /// origin if empty.
+    ///
+    /// ```
+    /// use geometry::{Point, Polygon};
+    /// let tri = Polygon::new(vec![Point::new(0.0, 0.0), Point::new(6.0, 0.0), Point::new(0.0, 3.0)]);
+    /// assert_eq!(tri.centroid(), Point::new(2.0, 1.0));
+    /// ```
+    pub fn centroid(&self) -> Point {
+        let n = self.pts.len();
+        if n == 0 {
+            return Point::default();
+        }
+        let a = self.signed_area();
+        if a == 0.0 {
+            let (sx, sy) = self
+                .pts
+                .iter()
+                .fold((0.0, 0.0), |(sx, sy), p| (sx + p.x, sy + p.y));
+            return Point::new(sx / n as f64, sy / n as f64);
+        }
+        let (mut cx, mut cy) = (0.0, 0.0);
+        for i in 0..n {
+            let p = &self.pts[i];
+            let q = &self.pts[(i + 1) % n];
+            let c = p.x * q.y - q.x * p.y;
+            cx += (p.x + q.x) * c;
+            cy += (p.y + q.y) * c;
+        }
+        Point::new(cx / (6.0 * a), cy / (6.0 * a))
+    }
+
+    /// Middle of the bounding box (MOOS `get_center_x/y`); origin if empty.
+    pub fn center(&self) -> Point {
+        bbox_center(&self.pts)
+    }
+
+    /// Index of the vertex nearest `(x, y)` (first one on ties); `None` if empty.
+    pub fn closest_vertex(&self, x: f64, y: f64) -> Option<usize> {
+        closest_vertex(&self.pts, x, y)
+    }
+
+    /// The vertices as a seglist in the same cyclic order, starting at the vertex nearest
+    /// `(x, y)` (MOOS `exportSegList`, used when a waypoint `points` value is a polygon).
+    ///
+    /// ```
+    /// use geometry::{Point, Polygon};
+    /// let sq = Polygon::new(vec![Point::new(0.0, 0.0), Point::new(0.0, 10.0), Point::new(10.0, 10.0), Point::new(10.0, 0.0)]);
+    /// let s = sq.export_seglist(9.0, 9.0);
+    /// assert_eq!(s.get(0), Some(Point::new(10.0, 10.0)));
+    /// assert_eq!(s.get(3), Some(Point::new(0.0, 10.0)));
+    /// ```
+    pub fn export_seglist(&self, x: f64, y: f64) -> SegList {
+        let Some(start) = self.closest_vertex(x, y) else {
+            return SegList::new();
+        };
+        let n = self.pts.len();
+        (0..n).map(|k| self.pts[(start + k) % n]).collect()
+    }
+
+    /// The vertices as a seglist in stored order.
+    pub fn to_seglist(&self) -> SegList {
+        SegList::from_points(self.pts.clone())
+    }
+
+    /// Snaps `x`/`y` of every vertex to multiples of `step`. As in MOOS, a snap that would turn
+    /// a convex polygon non-convex is undone; returns false in that case.
+    pub fn apply_snap(&mut self, step: f64) -> bool {
+        let was_convex = self.convex;
+        let before = self.pts.clone();
+        for p in &mut self.pts {
+            p.x = snap_to_step(p.x, step);
+            p.y = snap_to_step(p.y, step);
+        }
+        self.convex = is_convex_ring(&self.pts);
+        if was_convex && !self.convex {
+            self.pts = before;
+            self.convex = true;
+            return false;
+        }
+        true
+    }
+}
+
+impl std::str::FromStr for Polygon {
+    type Err = crate::ParseError;
+
+    /// Parses any polygon form (see [`crate::spec::parse_polygon`]), keeping only the shape.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        crate::spec::parse_polygon(s).map(|v| v.polygon)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn poly(v: &[(f64, f64)]) -> Polygon {
+        Polygon::new(v.iter().map(|&(x, y)| Point::new(x, y)).collect())
+    }
+
+    #[test]
+    fn convexity_rule() {
+        assert!(poly(&[(0.0, 0.0), (10.0, 0.0), (10.0, 10.0), (0.0, 10.0)]).is_convex());
+        assert!(poly(&[(0.0, 0.0), (0.0, 10.0), (10.0, 10.0), (10.0, 0.0)]).is_convex());
+        // A collinear middle vertex is tolerated (MOOS ignores points on the edge line).
+        assert!(poly(&[(0.0, 0.0), (5.0, 0.0), (10.0, 0.0), (10.0, 10.0)]).is_convex());
+        // Dent.
+        assert!(
+            !poly(&[
+                (0.0, 0.0),
+                (10.0, 0.0),
+                (5.0, 2.0),
+                (10.0, 10.0),
+                (0.0, 10.0)
+            ])
+            .is_convex()
+        );
+        // Bow tie (self-crossing).
+        assert!(!poly(&[(0.0, 0.0), (10.0, 10.0), (10.0, 0.0), (0.0, 10.0)]).is_convex());
+        // Repeated vertex, too few, all collinear.
+        assert!(!poly(&[(0.0, 0.0), (10.0, 0.0), (10.0, 0.0), (0.0, 10.0)]).is_convex());
+        assert!(!poly(&[(0.0, 0.0), (10.0, 0.0)]).is_convex());
+        assert!(!poly(&[(0.0, 0.0), (1.0, 1.0), (2.0, 2.0)]).is_convex());
+        // The corpus loiter/waypoint pentagon.
+        let p = poly(&[
+            (60.0, -40.0),
+            (60.0, -160.0),
+            (150.0, -160.0),
+            (180.0, -100.0),
+            (150.0, -40.0),
+        ]);
+        assert!(p.is_convex());
+    }
+
+    #[test]
+    fn contains_and_distance() {
+        let sq = poly(&[(0.0, 0.0), (0.0, 10.0), (10.0, 10.0), (10.0, 0.0)]);
+        assert!(sq.contains(5.0, 5.0));
+        assert!(sq.contains(0.0, 5.0)); // on edge
+        assert!(sq.contains(10.0, 10.0)); // vertex
+        assert!(!sq.contains(10.1, 5.0));
+        assert!(!sq.contains(-1.0, -1.0));
+        assert_eq!(sq.dist_to_boundary(5.0, 3.0), Some(3.0));
+        assert_eq!(sq.signed_distance(5.0, 3.0), Some(-3.0));
+        assert_eq!(sq.dist_to_boundary(13.0, 14.0), Some(5.0));
+        assert_eq!(sq.ray_distance(5.0, 5.0, 90.0), Some(5.0));
+        assert_eq!(sq.ray_distance(5.0, -4.0, 0.0), Some(4.0));
+        assert_eq!(sq.ray_distance(5.0, -4.0, 180.0), None);
+        // Non-convex L shape: the notch is outside.
+        let l = poly(&[
+            (0.0, 0.0),
+            (0.0, 10.0),
+            (5.0, 10.0),
+            (5.0, 5.0),
+            (10.0, 5.0),
+            (10.0, 0.0),
+        ]);
+        assert!(!l.is_convex());
+        assert!(l.contains(2.0, 8.0));
+        assert!(!l.contains(8.0, 8.0));
+        assert_eq!(Polygon::default().dist_to_boundary(0.0, 0.0), None);
+    }
+
+    #[test]
+    fn segment_tests() {
+        let sq = poly(&[(0.0, 0.0), (0.0, 10.0), (10.0, 10.0), (10.0, 0.0)]);
+        assert!(sq.segment_intersects(&Segment::from_xy(2.0, 2.0, 3.0, 3.0))); // inside
+        assert!(sq.segment_intersects(&Segment::from_xy(-5.0, 5.0, 15.0, 5.0))); // through
+        assert!(!sq.segment_intersects(&Segment::from_xy(-5.0, 11.0, 15.0, 11.0)));
+        let x = sq.segment_crossings(&Segment::from_xy(-5.0, 5.0, 15.0, 5.0));
+        assert_eq!(x, vec![Point::new(0.0, 5.0), Point::new(10.0, 5.0)]);
+    }
+
+    #[test]
+    fn area_centroid_winding() {
+        let sq = poly(&[(0.0, 0.0), (0.0, 10.0), (10.0, 10.0), (10.0, 0.0)]);
+        assert_eq!(sq.signed_area(), -100.0);
+        assert!(sq.is_clockwise());
+        assert_eq!(sq.centroid(), Point::new(5.0, 5.0));
+        assert_eq!(sq.center(), Point::new(5.0, 5.0));
+        let line = poly(&[(0.0, 0.0), (2.0, 0.0), (4.0, 0.0)]);
+        assert_eq!(line.centroid(), Point::new(2.0, 0.0));
+    }
+
+    #[test]
+    fn snap_reverts_when_it_breaks_convexity() {
+        // A thin triangle whose snapped vertices become collinear.
+        let mut t = poly(&[(0.0, 0.0), (5.0, 0.2), (10.0, 0.0)]);
+        assert!(t.is_convex());
+        assert!(!t.apply_snap(1.0));
+        assert_eq!(t.vertices()[1], Point::new(5.0, 0.2));
+        let mut sq = poly(&[(0.2, 0.1), (0.0, 9.8), (10.3, 10.0), (10.0, 0.4)]);
+        assert!(sq.apply_snap(1.0));
+        assert_eq!(sq.vertices()[2], Point::new(10.0, 10.0));
+    }
+}
