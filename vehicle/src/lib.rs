@@ -1,3 +1,34 @@
 //! The vehicle around the helm: marine simulator, controllers, node reports and geodesy.
 //!
-//! Filled by issue #7.
+//! Every app of this crate is split in two layers:
+//!
+//! * a **pure step function** (`step(config, state, inputs, dt) -> (state, outputs)`) that does no
+//!   I/O, reads no clock and owns no sockets, and
+//! * a small **MOOS adapter** (`on_mail(var, value, time)` plus `iterate(time, &mut postings)`)
+//!   that speaks MOOS variable names, so that `coug run` can wire the apps to an in-process
+//!   MOOSDB.
+//!
+//! Configuration mirrors the MOOS ProcessConfig blocks of the C++ apps these replace
+//! (`uSimMarineV22`, `pMarinePIDV22`, `pNodeReporter`), read from `(key, value)` string pairs
+//! with case-insensitive keys; `Default` gives the MOOS defaults.
+//!
+//! | module | replaces / reproduces |
+//! |---|---|
+//! | [`sim`] | `uSimMarineV22` (and the older `uSimMarine`) |
+//! | [`pid`] | `pMarinePIDV22` |
+//! | [`cougars`] | the CoUGARs Gen-1 depth/pitch/heading controllers, fin mixing and actuators |
+//! | [`node_report`] | `pNodeReporter` (`NODE_REPORT_LOCAL`) |
+//! | [`geodesy`] | MOOS-IvP's UTM-based local grid, without its cross-zone bug |
+#![warn(missing_docs)]
+
+pub mod angle;
+pub mod config;
+pub mod cougars;
+pub mod geodesy;
+pub mod moos;
+pub mod node_report;
+pub mod pid;
+pub mod sim;
+
+pub use config::ConfigError;
+pub use moos::{MailValue, Posting, Value};

@@ -1,0 +1,523 @@
+//! Node reports, equivalent to MOOS-IvP's `pNodeReporter` (`NODE_REPORT_LOCAL`).
+//!
+//! The report is built field by field in the order of MOOS-IvP's `NodeRecord::getSpec`, each
+//! field only when set, numbers formatted like `doubleToStringX` (fixed decimals, trailing
+//! zeros dropped):
+//!
+//! `NAME,X,Y,SPD,HDG,DEP,LAT,LON,TYPE,COLOR,GROUP,MODE,MODE_AUX,ALLSTOP,LOAD_WARNING,ALTITUDE,
+//! INDEX,THRUST_MODE_REVERSE,YAW,TIME,TRANSPARENCY,LENGTH,BEAM`
+//!
+//! (X/Y/SPD/HDG/DEP/ALTITUDE/TIME/LENGTH/BEAM/TRANSPARENCY 2 decimals, LAT/LON 8, YAW 7;
+//! YAW is the heading as a mathematical angle in radians, present once `NAV_YAW` was seen).
+//!
+//! MODE is `NOHELM-EVER` when no helm message was ever received, `NOHELM-<secs>` when the
+//! last one is older than `nohelm_threshold` (5 s), else the helm state (`DRIVE`, `PARK`,
+//! ...), replaced by the `modes=` field of `IVPHELM_SUMMARY` when driving with modes.
+//!
+//! Accepted but not implemented (no effect): riders, platform reports, alternative-nav
+//! reports, extrapolation pruning, JSON reports, cross-fill policies other than `literal`.
+
+use std::fmt::Write as _;
+use std::sync::Arc;
+
+use crate::angle::{angle360, heading_to_radians};
+use crate::config::{ConfigError, Param, apply_params, strict};
+use crate::moos::{MailValue, Posting, push_double_x};
+
+const APP: &str = "pNodeReporter";
+
+/// `pNodeReporter` configuration. `Default` gives the MOOS defaults.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NodeReportConfig {
+    /// `platform_type` / `vessel_type` (`unknown`).
+    pub platform_type: String,
+    /// `platform_color`.
+    pub platform_color: Option<String>,
+    /// `platform_length` / `vessel_length`, m; 0 = guess from the type.
+    pub platform_length: f64,
+    /// `platform_beam`, m.
+    pub platform_beam: Option<f64>,
+    /// `platform_group` / `group`.
+    pub group: Option<String>,
+    /// `platform_transparency`.
+    pub transparency: Option<f64>,
+    /// `coord_policy_global`: no X/Y in reports.
+    pub coord_policy_global: bool,
+    /// `terse_reports`: no DEP, LAT/LON, YAW.
+    pub terse_reports: bool,
+    /// `blackout_interval`, s.
+    pub blackout_interval: f64,
+    /// `node_report_output` (`NODE_REPORT_LOCAL`).
+    pub node_report_output: String,
+    /// `nohelm_threshold`, s (5).
+    pub nohelm_threshold: f64,
+    /// `nav_grace_period`, s (60).
+    pub nav_grace_period: f64,
+    /// `paused`.
+    pub paused: bool,
+    /// `allow_color_change`: honour `NODE_COLOR_CHANGE`.
+    pub allow_color_change: bool,
+}
+
+impl Default for NodeReportConfig {
+    fn default() -> Self {
+        NodeReportConfig {
+            platform_type: "unknown".to_string(),
+            platform_color: None,
+            platform_length: 0.0,
+            platform_beam: None,
+            group: None,
+            transparency: None,
+            coord_policy_global: false,
+            terse_reports: false,
+            blackout_interval: 0.0,
+            node_report_output: "NODE_REPORT_LOCAL".to_string(),
+            nohelm_threshold: 5.0,
+            nav_grace_period: 60.0,
+            paused: false,
+            allow_color_change: false,
+        }
+    }
+}
+
+/// The length pNodeReporter assumes for a platform type when none is configured.
+pub fn default_length(platform_type: &str) -> Option<f64> {
+    Some(match platform_type.to_ascii_lowercase().as_str() {
+        "kayak" | "mokai" | "auv" | "uuv" => 4.0,
+        "cray" | "crayx" | "bcray" | "bcrayx" | "glider" | "heron" | "swimmer" | "buoy" => 3.0,
+        "ship" => 8.0,
+        "longship" => 15.0,
+        "usv" | "smr" => 6.0,
+        _ => return None,
+    })
+}
+
+impl NodeReportConfig {
+    /// Strict construction from ProcessConfig pairs.
+    pub fn from_params<'a>(
+        params: impl IntoIterator<Item = (&'a str, &'a str)>,
+    ) -> Result<Self, ConfigError> {
+        strict(Self::from_params_lenient(params))
+    }
+
+    /// As [`NodeReportConfig::from_params`], with unknown keys returned as non-fatal errors.
+    pub fn from_params_lenient<'a>(
+        params: impl IntoIterator<Item = (&'a str, &'a str)>,
+    ) -> Result<(Self, Vec<ConfigError>), ConfigError> {
+        let mut cfg = NodeReportConfig::default();
+        let unknown = apply_params(APP, &mut cfg, params, Self::apply_one)?;
+        Ok((cfg, unknown))
+    }
+
+    fn apply_one(&mut self, key: &str, p: Param<'_>) -> Result<bool, ConfigError> {
+        match key {
+            "platform_type" | "vessel_type" => self.platform_type = p.word()?,
+            "platform_color" => self.platform_color = Some(p.word()?),
+            "platform_length" | "vessel_length" => self.platform_length = p.non_neg()?,
+            "platform_beam" => self.platform_beam = Some(p.non_neg()?),
+            "platform_group" | "group" => self.group = Some(p.word()?),
+            "platform_transparency" => self.transparency = Some(p.f64()?),
+            "coord_policy_global" => self.coord_policy_global = p.bool()?,
+            "terse_reports" => self.terse_reports = p.bool()?,
+            "blackout_interval" => self.blackout_interval = p.non_neg()?,
+            "node_report_output" | "node_report_summary" | "node_report_var" => {
+                self.node_report_output = p.word()?
+            }
+            "nohelm_threshold" => self.nohelm_threshold = p.pos()?,
+            "nav_grace_period" => self.nav_grace_period = p.f64()?,
+            "paused" => self.paused = p.bool()?,
+            "allow_color_change" => self.allow_color_change = p.bool()?,
+            "crossfill_policy" | "cross_fill_policy" => {
+                let v = p.value.to_ascii_lowercase().replace('_', "-");
+                if !["literal", "fill-empty", "global", "use-latest", "local", "global-terse"]
+                    .contains(&v.as_str())
+                {
+                    return Err(p.bad("literal, fill-empty, global, use-latest, local or global-terse"));
+                }
+            }
+            "blackout_variance" | "platform_aspect" | "rider" | "plat_report_input" | "plat_report_var"
+            | "platform_variable" | "plat_report_output" | "alt_nav_prefix" | "alt_nav_name"
+            | "alt_nav_group" | "extrap_enabled" | "extrap_pos_thresh" | "extrap_hdg_thresh"
+            | "extrap_max_gap" | "json_report" => {}
+            _ => return Ok(false),
+        }
+        Ok(true)
+    }
+}
+
+/// Ownship navigation as last received (`NAV_*`).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct NavRecord {
+    /// NAV_X.
+    pub x: Option<f64>,
+    /// NAV_Y.
+    pub y: Option<f64>,
+    /// NAV_LAT.
+    pub lat: Option<f64>,
+    /// NAV_LONG.
+    pub lon: Option<f64>,
+    /// NAV_SPEED.
+    pub speed: Option<f64>,
+    /// NAV_HEADING (wrapped to 0..360).
+    pub heading: Option<f64>,
+    /// NAV_DEPTH.
+    pub depth: Option<f64>,
+    /// NAV_ALTITUDE.
+    pub altitude: Option<f64>,
+    /// True once NAV_YAW was received.
+    pub yaw_seen: bool,
+}
+
+impl NavRecord {
+    /// A report can be posted: heading, speed, and x/y or lat/lon known.
+    pub fn valid(&self) -> bool {
+        self.speed.is_some()
+            && self.heading.is_some()
+            && ((self.x.is_some() && self.y.is_some()) || (self.lat.is_some() && self.lon.is_some()))
+    }
+}
+
+/// What the helm last said (`IVPHELM_STATE`, `IVPHELM_SUMMARY`, `IVPHELM_ALLSTOP`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct HelmInfo {
+    /// Time of the last helm message.
+    pub last_msg: Option<f64>,
+    /// `DRIVE`, `PARK`, `MALCONFIG`, `DISABLED` (initially `unknown`).
+    pub status_primary: String,
+    /// `DRIVE+`, `PARK+`, `MALCONFIG+`, `STANDBY` from a standby helm.
+    pub status_standby: String,
+    /// `modes=` of the summary (`none`).
+    pub modes: String,
+    /// Last `IVPHELM_ALLSTOP` (`unknown`).
+    pub allstop: String,
+}
+
+impl Default for HelmInfo {
+    fn default() -> Self {
+        HelmInfo {
+            last_msg: None,
+            status_primary: "unknown".to_string(),
+            status_standby: String::new(),
+            modes: "none".to_string(),
+            allstop: "unknown".to_string(),
+        }
+    }
+}
+
+impl HelmInfo {
+    /// The MODE field at time `now`.
+    pub fn mode(&self, now: f64, nohelm_threshold: f64) -> String {
+        match self.last_msg {
+            None => "NOHELM-EVER".to_string(),
+            Some(t) if now - t > nohelm_threshold => format!("NOHELM-{:.0}", now - t),
+            Some(_) => {
+                let status = if self.status_standby == "DRIVE+" || self.status_standby == "PARK+" {
+                    &self.status_standby
+                } else {
+                    &self.status_primary
+                };
+                if (status == "DRIVE" || status == "DRIVE+") && self.modes != "none" && !self.modes.is_empty() {
+                    self.modes.clone()
+                } else {
+                    status.clone()
+                }
+            }
+        }
+    }
+}
+
+/// Everything a report needs besides the config.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ReportInputs<'a> {
+    /// Vehicle name (the MOOS community).
+    pub name: &'a str,
+    /// Navigation.
+    pub nav: NavRecord,
+    /// Colour now in effect.
+    pub color: Option<&'a str>,
+    /// Group now in effect.
+    pub group: Option<&'a str>,
+    /// MODE field.
+    pub mode: &'a str,
+    /// `AUX_MODE`.
+    pub mode_aux: Option<&'a str>,
+    /// ALLSTOP field.
+    pub allstop: &'a str,
+    /// `LOAD_WARNING` (`app:maxgap`).
+    pub load_warning: Option<&'a str>,
+    /// Report index (0 is not written).
+    pub index: u64,
+    /// `THRUST_MODE_REVERSE`.
+    pub thrust_mode_reverse: bool,
+    /// TIME field.
+    pub time: f64,
+    /// TRANSPARENCY field.
+    pub transparency: Option<f64>,
+}
+
+/// Appends a `NODE_REPORT_LOCAL` string to `out` (the `NodeRecord::getSpec` layout).
+pub fn write_report(out: &mut String, cfg: &NodeReportConfig, r: &ReportInputs<'_>) {
+    let num = |out: &mut String, key: &str, v: f64, digits: usize| {
+        out.push_str(key);
+        push_double_x(out, v, digits);
+    };
+    let text = |out: &mut String, key: &str, v: &str| {
+        if !v.is_empty() {
+            out.push_str(key);
+            out.push_str(v);
+        }
+    };
+    let nav = &r.nav;
+    out.push_str("NAME=");
+    out.push_str(r.name);
+    if !cfg.coord_policy_global {
+        if let Some(x) = nav.x {
+            num(out, ",X=", x, 2);
+        }
+        if let Some(y) = nav.y {
+            num(out, ",Y=", y, 2);
+        }
+    }
+    if let Some(v) = nav.speed {
+        num(out, ",SPD=", v, 2);
+    }
+    if let Some(v) = nav.heading {
+        num(out, ",HDG=", v, 2);
+    }
+    if !cfg.terse_reports {
+        if let Some(v) = nav.depth {
+            num(out, ",DEP=", v, 2);
+        }
+    }
+    if cfg.coord_policy_global || !cfg.terse_reports {
+        if let Some(v) = nav.lat {
+            num(out, ",LAT=", v, 8);
+        }
+        if let Some(v) = nav.lon {
+            num(out, ",LON=", v, 8);
+        }
+    }
+    text(out, ",TYPE=", &cfg.platform_type);
+    text(out, ",COLOR=", r.color.unwrap_or(""));
+    text(out, ",GROUP=", r.group.unwrap_or(""));
+    text(out, ",MODE=", r.mode);
+    text(out, ",MODE_AUX=", r.mode_aux.unwrap_or(""));
+    text(out, ",ALLSTOP=", r.allstop);
+    text(out, ",LOAD_WARNING=", r.load_warning.unwrap_or(""));
+    if let Some(v) = nav.altitude {
+        num(out, ",ALTITUDE=", v, 2);
+    }
+    if r.index != 0 {
+        let _ = write!(out, ",INDEX={}", r.index);
+    }
+    if r.thrust_mode_reverse {
+        out.push_str(",THRUST_MODE_REVERSE=true");
+    }
+    if nav.yaw_seen && !cfg.terse_reports {
+        num(out, ",YAW=", heading_to_radians(nav.heading.unwrap_or(0.0)), 7);
+    }
+    num(out, ",TIME=", r.time, 2);
+    if let Some(t) = r.transparency {
+        num(out, ",TRANSPARENCY=", t, 2);
+    }
+    let length = if cfg.platform_length > 0.0 {
+        cfg.platform_length
+    } else {
+        default_length(&cfg.platform_type).unwrap_or(0.0)
+    };
+    num(out, ",LENGTH=", length, 2);
+    if let Some(b) = cfg.platform_beam {
+        num(out, ",BEAM=", b, 2);
+    }
+}
+
+/// The `pNodeReporter` app.
+pub struct NodeReporter {
+    cfg: NodeReportConfig,
+    name: String,
+    nav: NavRecord,
+    helm: HelmInfo,
+    color: Option<String>,
+    group: Option<String>,
+    mode_aux: Option<String>,
+    load_warning: Option<String>,
+    thrust_mode_reverse: bool,
+    transparency: Option<f64>,
+    paused: bool,
+    start_time: f64,
+    last_post_time: Option<f64>,
+    reports_posted: u64,
+    buf: String,
+    var_report: Arc<str>,
+    var_first: Arc<str>,
+    var_gap: Arc<str>,
+}
+
+impl NodeReporter {
+    /// A reporter for vehicle `name` (the MOOS community), started at `start_time`.
+    pub fn new(cfg: NodeReportConfig, name: &str, start_time: f64) -> Self {
+        NodeReporter {
+            var_report: cfg.node_report_output.as_str().into(),
+            var_first: format!("{}_FIRST", cfg.node_report_output).into(),
+            var_gap: "PNR_POST_GAP".into(),
+            color: cfg.platform_color.clone(),
+            group: cfg.group.clone(),
+            transparency: cfg.transparency,
+            paused: cfg.paused,
+            cfg,
+            name: name.to_string(),
+            nav: NavRecord::default(),
+            helm: HelmInfo::default(),
+            mode_aux: None,
+            load_warning: None,
+            thrust_mode_reverse: false,
+            start_time,
+            last_post_time: None,
+            reports_posted: 0,
+            buf: String::with_capacity(256),
+        }
+    }
+
+    /// Navigation as last received.
+    pub fn nav(&self) -> &NavRecord {
+        &self.nav
+    }
+
+    /// Helm information as last received.
+    pub fn helm(&self) -> &HelmInfo {
+        &self.helm
+    }
+
+    /// The variables this app subscribes to.
+    pub fn subscriptions() -> &'static [&'static str] {
+        &[
+            "NAV_X",
+            "NAV_Y",
+            "NAV_LAT",
+            "NAV_LONG",
+            "NAV_SPEED",
+            "NAV_HEADING",
+            "NAV_DEPTH",
+            "NAV_ALTITUDE",
+            "NAV_YAW",
+            "NAV_TRANSP",
+            "IVPHELM_SUMMARY",
+            "IVPHELM_STATE",
+            "IVPHELM_ALLSTOP",
+            "AUX_MODE",
+            "LOAD_WARNING",
+            "THRUST_MODE_REVERSE",
+            "NODE_GROUP_UPDATE",
+            "NODE_COLOR_CHANGE",
+            "PLATFORM_COLOR",
+            "PNR_PAUSE",
+        ]
+    }
+
+    /// Takes one piece of mail received at `time`.
+    pub fn on_mail(&mut self, var: &str, value: MailValue<'_>, time: f64) {
+        let d = value.as_f64();
+        let s = value.as_str().unwrap_or("");
+        match (var, d) {
+            ("NAV_X", Some(v)) => self.nav.x = Some(v),
+            ("NAV_Y", Some(v)) => self.nav.y = Some(v),
+            ("NAV_LAT", Some(v)) => self.nav.lat = Some(v),
+            ("NAV_LONG", Some(v)) => self.nav.lon = Some(v),
+            ("NAV_SPEED", Some(v)) => self.nav.speed = Some(v),
+            ("NAV_HEADING", Some(v)) => self.nav.heading = Some(angle360(v)),
+            ("NAV_DEPTH", Some(v)) => self.nav.depth = Some(v),
+            ("NAV_ALTITUDE", Some(v)) => self.nav.altitude = Some(v),
+            ("NAV_YAW", Some(_)) => self.nav.yaw_seen = true,
+            ("NAV_TRANSP", Some(v)) => self.transparency = Some(v),
+            ("PLATFORM_COLOR", _) if !s.trim().is_empty() => self.color = Some(s.trim().to_string()),
+            ("NODE_COLOR_CHANGE", _) if self.cfg.allow_color_change && !s.trim().is_empty() => {
+                self.color = Some(s.trim().to_string())
+            }
+            ("THRUST_MODE_REVERSE", _) => self.thrust_mode_reverse = s.eq_ignore_ascii_case("true"),
+            ("AUX_MODE", _) => self.mode_aux = Some(s.to_string()),
+            ("PNR_PAUSE", _) => {
+                if let Some(b) = crate::config::parse_bool(s) {
+                    self.paused = b;
+                }
+            }
+            ("LOAD_WARNING", _) => {
+                let field = |k: &str| {
+                    s.split(',').find_map(|kv| {
+                        let (a, b) = kv.split_once('=')?;
+                        (a.trim() == k).then(|| b.trim().to_string())
+                    })
+                };
+                if let (Some(app), Some(gap)) = (field("app"), field("maxgap")) {
+                    self.load_warning = Some(format!("{app}:{gap}"));
+                }
+            }
+            ("NODE_GROUP_UPDATE", _) => self.group = Some(s.to_string()),
+            ("IVPHELM_SUMMARY", _) => {
+                self.helm.last_msg = Some(time);
+                for kv in s.split(',') {
+                    if let Some(("modes", m)) = kv.split_once('=').map(|(a, b)| (a.trim(), b.trim())) {
+                        self.helm.modes = m.to_string();
+                    }
+                }
+            }
+            ("IVPHELM_ALLSTOP", _) => {
+                self.helm.last_msg = Some(time);
+                self.helm.allstop = s.to_string();
+            }
+            ("IVPHELM_STATE", _) => {
+                self.helm.last_msg = Some(time);
+                let st = s.trim();
+                match st {
+                    "DRIVE" | "PARK" | "MALCONFIG" | "DISABLED" => self.helm.status_primary = st.to_string(),
+                    "DRIVE+" | "PARK+" | "MALCONFIG+" | "STANDBY" => self.helm.status_standby = st.to_string(),
+                    _ => {}
+                }
+                if st.starts_with("MALCONFIG") {
+                    self.helm.allstop = "n/a".to_string();
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// One iteration at `now`; appends `NODE_REPORT_LOCAL` (and `_FIRST`, `PNR_POST_GAP`).
+    pub fn iterate(&mut self, now: f64, out: &mut Vec<Posting>) {
+        let time_to_post = match self.last_post_time {
+            None => true,
+            Some(t) => self.cfg.blackout_interval <= 0.0 || now - t > self.cfg.blackout_interval,
+        };
+        let in_grace = self.cfg.nav_grace_period > 0.0 && now - self.start_time < self.cfg.nav_grace_period;
+        let ok_nav = self.nav.valid() || in_grace;
+        let has_pos = (self.nav.x.is_some() && self.nav.y.is_some())
+            || (self.nav.lat.is_some() && self.nav.lon.is_some());
+        let post = ok_nav && time_to_post && (has_pos || !in_grace) && !self.paused;
+        if post {
+            let gap = self.last_post_time.map_or(0.0, |t| now - t);
+            let mode = self.helm.mode(now, self.cfg.nohelm_threshold);
+            let inputs = ReportInputs {
+                name: &self.name,
+                nav: self.nav,
+                color: self.color.as_deref(),
+                group: self.group.as_deref(),
+                mode: &mode,
+                mode_aux: self.mode_aux.as_deref(),
+                allstop: &self.helm.allstop,
+                load_warning: self.load_warning.as_deref(),
+                index: self.reports_posted,
+                thrust_mode_reverse: self.thrust_mode_reverse,
+                time: now,
+                transparency: self.transparency,
+            };
+            self.buf.clear();
+            write_report(&mut self.buf, &self.cfg, &inputs);
+            if self.reports_posted == 0 {
+                out.push(Posting::string(&self.var_first, self.buf.as_str()));
+            }
+            out.push(Posting::string(&self.var_report, self.buf.as_str()));
+            out.push(Posting::double(&self.var_gap, gap));
+            self.reports_posted += 1;
+            self.last_post_time = Some(now);
+        }
+        self.load_warning = None;
+    }
+}

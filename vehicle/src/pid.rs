@@ -1,0 +1,703 @@
+//! Marine PID controller, equivalent to MOOS-IvP's `pMarinePIDV22`.
+//!
+//! Three loops turn the helm's `DESIRED_HEADING` / `DESIRED_SPEED` / `DESIRED_DEPTH` into
+//! `DESIRED_RUDDER` / `DESIRED_THRUST` / `DESIRED_ELEVATOR`:
+//!
+//! * **yaw**: `e = angle180(heading - angle180(desired))`, `rudder = -PID(e)` (+ the optional
+//!   `sim_instability` bias), clamped to `±maxrudder`;
+//! * **speed**: `thrust = previous_thrust + PID(desired - speed)`, or `desired * speed_factor`
+//!   when `speed_factor != 0`, clamped to `±maxthrust`;
+//! * **depth**: `pitch_des = PID_z(depth - desired)` clamped to `±maxpitch` (degrees in the
+//!   config, radians inside), then `elevator = deg(PID_pitch(pitch - pitch_des))` clamped to
+//!   `±maxelevator`.
+//!
+//! Each loop is a [`ScalarPid`]: `out = kp*e + kd*mean(last 9 de/dt) + I`, `I += ki*e*dt`
+//! clamped to the integral limit (and held at 0 when `ki <= 0`), output clamped.
+//!
+//! Control requires every input to have been received and, unless `simulation = true`, to be
+//! fresher than `tardy_helm_threshold` / `tardy_nav_threshold` (else `PID_STALE` is posted and
+//! the outputs are zero), and no manual override (`MOOS_MANUAL_OVERRIDE`, initially true).
+//!
+//! Differences from the C++ app, on purpose: `enable_thrust_cap`/`PID_THRUST_CAP` really cap
+//! the posted thrust (the C++ computes the cap and then posts the uncapped value), and mail
+//! skew (`ok_skew`) is not checked because mail carries no separate source time here.
+
+use std::sync::Arc;
+
+use crate::angle::{angle180, angle360};
+use crate::config::{ConfigError, Param, apply_params, strict};
+use crate::moos::{MailValue, Posting, double_x};
+
+const APP: &str = "pMarinePIDV22";
+const DIFF_HISTORY: usize = 9;
+
+/// One PID loop with MOOS-IvP `ScalarPID` semantics.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ScalarPid {
+    /// Proportional gain.
+    pub kp: f64,
+    /// Derivative gain (on the mean of the last 9 error derivatives).
+    pub kd: f64,
+    /// Integral gain.
+    pub ki: f64,
+    /// Bound on the integral term (already multiplied by `ki`).
+    pub integral_limit: f64,
+    /// Bound on the output.
+    pub output_limit: f64,
+    e_old: f64,
+    old_time: f64,
+    dt: f64,
+    iterations: u64,
+    diffs: [f64; DIFF_HISTORY],
+    n_diffs: usize,
+    next_diff: usize,
+    e_sum: f64,
+    out: f64,
+    max_sat: bool,
+}
+
+impl ScalarPid {
+    /// A fresh loop with these gains and limits.
+    pub fn new(kp: f64, kd: f64, ki: f64, integral_limit: f64, output_limit: f64) -> Self {
+        ScalarPid {
+            kp,
+            kd,
+            ki,
+            integral_limit,
+            output_limit,
+            e_old: 0.0,
+            old_time: 0.0,
+            dt: 0.0,
+            iterations: 0,
+            diffs: [0.0; DIFF_HISTORY],
+            n_diffs: 0,
+            next_diff: 0,
+            e_sum: 0.0,
+            out: 0.0,
+            max_sat: false,
+        }
+    }
+
+    /// The accumulated integral term.
+    pub fn integral(&self) -> f64 {
+        self.e_sum
+    }
+
+    /// True when the last output hit the output limit.
+    pub fn saturated(&self) -> bool {
+        self.max_sat
+    }
+
+    /// Runs the loop on error `e` at time `time` (seconds) and returns the output.
+    /// A time going backwards gives 0; a repeated time repeats the last output.
+    pub fn run(&mut self, e: f64, time: f64) -> f64 {
+        self.max_sat = false;
+        let mut diff = 0.0;
+        if self.iterations != 0 {
+            self.dt = time - self.old_time;
+            if self.dt < 0.0 {
+                self.iterations += 1;
+                return 0.0;
+            }
+            if self.dt == 0.0 {
+                self.iterations += 1;
+                return self.out;
+            }
+            self.diffs[self.next_diff] = (e - self.e_old) / self.dt;
+            self.next_diff = (self.next_diff + 1) % DIFF_HISTORY;
+            self.n_diffs = (self.n_diffs + 1).min(DIFF_HISTORY);
+            diff = self.diffs[..self.n_diffs].iter().sum::<f64>() / self.n_diffs as f64;
+        }
+        self.iterations += 1;
+        if self.ki > 0.0 {
+            self.e_sum += self.ki * e * self.dt;
+            let lim = self.integral_limit.abs();
+            if self.e_sum.abs() >= lim {
+                self.e_sum = lim.copysign(self.e_sum);
+            }
+        } else {
+            self.e_sum = 0.0;
+        }
+        let mut out = self.kp * e + self.kd * diff + self.e_sum;
+        let olim = self.output_limit.abs();
+        if out.abs() >= olim {
+            out = olim.copysign(out);
+            self.max_sat = true;
+        }
+        self.e_old = e;
+        self.old_time = time;
+        self.out = out;
+        out
+    }
+}
+
+/// Gains of one loop as configured.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Gains {
+    /// `*_PID_KP`.
+    pub kp: f64,
+    /// `*_PID_KD`.
+    pub kd: f64,
+    /// `*_PID_KI`.
+    pub ki: f64,
+    /// `*_PID_INTEGRAL_LIMIT`.
+    pub integral_limit: f64,
+}
+
+/// `pMarinePIDV22` configuration. `Default` gives the engine defaults with all gains 0
+/// (the real app requires the gains; see [`PidConfig::from_params`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PidConfig {
+    /// Heading loop (`YAW_PID_*`).
+    pub yaw: Gains,
+    /// `MAXRUDDER` (100).
+    pub max_rudder: f64,
+    /// Speed loop (`SPEED_PID_*`).
+    pub speed: Gains,
+    /// `MAXTHRUST` (100).
+    pub max_thrust: f64,
+    /// `SPEED_FACTOR` (0 = use the speed PID; else thrust = desired speed * factor).
+    pub speed_factor: f64,
+    /// `DEPTH_CONTROL` (true).
+    pub depth_control: bool,
+    /// Depth-to-pitch loop (`Z_TO_PITCH_PID_*`).
+    pub z_to_pitch: Gains,
+    /// `MAXPITCH`, degrees (15).
+    pub max_pitch_deg: f64,
+    /// Pitch-to-elevator loop (`PITCH_PID_*`).
+    pub pitch: Gains,
+    /// `MAXELEVATOR`, degrees (13).
+    pub max_elevator: f64,
+    /// `TARDY_HELM_THRESHOLD`, s (2).
+    pub tardy_helm_threshold: f64,
+    /// `TARDY_NAV_THRESHOLD`, s (2).
+    pub tardy_nav_threshold: f64,
+    /// `SIM_INSTABILITY`: amplitude of a saw-tooth rudder bias, 0..100 (0).
+    pub sim_instability: f64,
+    /// `SIMULATION`: skip the staleness check.
+    pub simulation: bool,
+    /// `IGNORE_NAV_YAW`: take heading from NAV_HEADING only.
+    pub ignore_nav_yaw: bool,
+    /// `OUTPUT_SUFFIX`, appended to the DESIRED_* names (upper-cased).
+    pub output_suffix: String,
+    /// `ENABLE_THRUST_CAP`: honour `PID_THRUST_CAP`.
+    pub enable_thrust_cap: bool,
+    /// `HEADING_DEBUG`: post `PID_HDG_DEBUG`.
+    pub heading_debug: bool,
+    /// `SPEED_DEBUG`: post `PID_SPD_DEBUG`.
+    pub speed_debug: bool,
+    /// `DEPTH_DEBUG`: post `PID_DEP_DEBUG`.
+    pub depth_debug: bool,
+    /// `VERBOSE` / `PID_VERBOSE` (console only in the C++ app; kept for completeness).
+    pub verbose: bool,
+}
+
+impl Default for PidConfig {
+    fn default() -> Self {
+        PidConfig {
+            yaw: Gains::default(),
+            max_rudder: 100.0,
+            speed: Gains::default(),
+            max_thrust: 100.0,
+            speed_factor: 0.0,
+            depth_control: true,
+            z_to_pitch: Gains::default(),
+            max_pitch_deg: 15.0,
+            pitch: Gains::default(),
+            max_elevator: 13.0,
+            tardy_helm_threshold: 2.0,
+            tardy_nav_threshold: 2.0,
+            sim_instability: 0.0,
+            simulation: false,
+            ignore_nav_yaw: false,
+            output_suffix: String::new(),
+            enable_thrust_cap: false,
+            heading_debug: false,
+            speed_debug: false,
+            depth_debug: false,
+            verbose: true,
+        }
+    }
+}
+
+const REQUIRED_ALWAYS: &[&str] = &[
+    "yaw_pid_kp",
+    "yaw_pid_kd",
+    "yaw_pid_ki",
+    "yaw_pid_integral_limit",
+    "maxrudder",
+    "speed_pid_kp",
+    "speed_pid_kd",
+    "speed_pid_ki",
+    "speed_pid_integral_limit",
+    "maxthrust",
+];
+const REQUIRED_DEPTH: &[&str] = &[
+    "z_to_pitch_pid_kp",
+    "z_to_pitch_pid_kd",
+    "z_to_pitch_pid_ki",
+    "z_to_pitch_pid_integral_limit",
+    "maxpitch",
+    "pitch_pid_kp",
+    "pitch_pid_kd",
+    "pitch_pid_ki",
+    "pitch_pid_integral_limit",
+    "maxelevator",
+];
+
+impl PidConfig {
+    /// Strict construction from ProcessConfig pairs. As in the C++ app, the yaw and speed gains,
+    /// integral limits, `MAXRUDDER` and `MAXTHRUST` are required, and with depth control also
+    /// the z-to-pitch and pitch gains, `MAXPITCH` and `MAXELEVATOR`
+    /// ([`ConfigError::Missing`]).
+    pub fn from_params<'a>(
+        params: impl IntoIterator<Item = (&'a str, &'a str)>,
+    ) -> Result<Self, ConfigError> {
+        strict(Self::from_params_lenient(params))
+    }
+
+    /// As [`PidConfig::from_params`], with unknown keys returned as non-fatal errors.
+    pub fn from_params_lenient<'a>(
+        params: impl IntoIterator<Item = (&'a str, &'a str)>,
+    ) -> Result<(Self, Vec<ConfigError>), ConfigError> {
+        let mut cfg = PidConfig::default();
+        let mut seen: Vec<&'static str> = Vec::new();
+        let unknown = apply_params(APP, &mut cfg, params, |c, key, p| {
+            let known = c.apply_one(key, p)?;
+            if let Some(k) = REQUIRED_ALWAYS.iter().chain(REQUIRED_DEPTH).find(|k| **k == key) {
+                seen.push(k);
+            }
+            if key == "yaw_pid_ki_limit" {
+                seen.push("yaw_pid_integral_limit");
+            }
+            Ok(known)
+        })?;
+        let required = REQUIRED_ALWAYS
+            .iter()
+            .chain(if cfg.depth_control { REQUIRED_DEPTH } else { &[] });
+        for key in required {
+            if !seen.contains(key) {
+                return Err(ConfigError::Missing { app: APP, key });
+            }
+        }
+        Ok((cfg, unknown))
+    }
+
+    fn apply_one(&mut self, key: &str, p: Param<'_>) -> Result<bool, ConfigError> {
+        match key {
+            "yaw_pid_kp" => self.yaw.kp = p.f64()?,
+            "yaw_pid_kd" => self.yaw.kd = p.f64()?,
+            "yaw_pid_ki" => self.yaw.ki = p.f64()?,
+            "yaw_pid_integral_limit" | "yaw_pid_ki_limit" => self.yaw.integral_limit = p.f64()?,
+            "maxrudder" => self.max_rudder = p.f64()?,
+            "speed_pid_kp" => self.speed.kp = p.f64()?,
+            "speed_pid_kd" => self.speed.kd = p.f64()?,
+            "speed_pid_ki" => self.speed.ki = p.f64()?,
+            "speed_pid_integral_limit" => self.speed.integral_limit = p.f64()?,
+            "maxthrust" => self.max_thrust = p.f64()?,
+            "speed_factor" => self.speed_factor = p.non_neg()?,
+            "depth_control" => self.depth_control = p.bool()?,
+            "z_to_pitch_pid_kp" => self.z_to_pitch.kp = p.f64()?,
+            "z_to_pitch_pid_kd" => self.z_to_pitch.kd = p.f64()?,
+            "z_to_pitch_pid_ki" => self.z_to_pitch.ki = p.f64()?,
+            "z_to_pitch_pid_integral_limit" => self.z_to_pitch.integral_limit = p.f64()?,
+            "maxpitch" => self.max_pitch_deg = p.f64()?,
+            "pitch_pid_kp" => self.pitch.kp = p.f64()?,
+            "pitch_pid_kd" => self.pitch.kd = p.f64()?,
+            "pitch_pid_ki" => self.pitch.ki = p.f64()?,
+            "pitch_pid_integral_limit" => self.pitch.integral_limit = p.f64()?,
+            "maxelevator" => self.max_elevator = p.f64()?,
+            "tardy_helm_threshold" => self.tardy_helm_threshold = p.f64()?.max(0.0),
+            "tardy_nav_threshold" => self.tardy_nav_threshold = p.f64()?.max(0.0),
+            "sim_instability" => self.sim_instability = p.f64()?.clamp(0.0, 100.0),
+            "simulation" => self.simulation = p.bool()?,
+            "ignore_nav_yaw" => self.ignore_nav_yaw = p.bool()?,
+            "output_suffix" => self.output_suffix = p.word()?.to_ascii_uppercase(),
+            "enable_thrust_cap" => self.enable_thrust_cap = p.bool()?,
+            "heading_debug" => self.heading_debug = p.bool()?,
+            "speed_debug" => self.speed_debug = p.bool()?,
+            "depth_debug" => self.depth_debug = p.bool()?,
+            "verbose" | "pid_verbose" => self.verbose = p.bool()?,
+            "active_start" => {}
+            _ => return Ok(false),
+        }
+        Ok(true)
+    }
+}
+
+/// A value with the time it was received.
+pub type Stamped = Option<(f64, f64)>;
+
+/// Latest inputs of the controller, each with its receive time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PidInputs {
+    /// DESIRED_HEADING, degrees.
+    pub desired_heading: Stamped,
+    /// DESIRED_SPEED, m/s.
+    pub desired_speed: Stamped,
+    /// DESIRED_DEPTH, m.
+    pub desired_depth: Stamped,
+    /// NAV_HEADING (or from NAV_YAW), degrees.
+    pub heading: Stamped,
+    /// NAV_SPEED, m/s.
+    pub speed: Stamped,
+    /// NAV_DEPTH, m.
+    pub depth: Stamped,
+    /// NAV_PITCH, radians.
+    pub pitch: Stamped,
+    /// MOOS_MANUAL_OVERRIDE (true at start).
+    pub manual_override: bool,
+}
+
+impl Default for PidInputs {
+    fn default() -> Self {
+        PidInputs {
+            desired_heading: None,
+            desired_speed: None,
+            desired_depth: None,
+            heading: None,
+            speed: None,
+            depth: None,
+            pitch: None,
+            manual_override: true,
+        }
+    }
+}
+
+/// The inputs whose age is checked, in the order `PID_STALE` reports them.
+pub const STALE_LABELS: [&str; 7] =
+    ["DesHdg", "DesSpd", "NavHdg", "NavSpd", "DesDepth", "NavDep", "NavPitch"];
+
+/// Controller memory between steps.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PidState {
+    /// Heading loop.
+    pub heading_pid: ScalarPid,
+    /// Speed loop.
+    pub speed_pid: ScalarPid,
+    /// Depth-to-pitch loop.
+    pub z_pid: ScalarPid,
+    /// Pitch-to-elevator loop.
+    pub pitch_pid: ScalarPid,
+    /// Thrust of the previous step (the speed loop adds to it).
+    pub thrust: f64,
+    /// True while inputs are missing or stale.
+    pub stale: bool,
+    bias_side: f64,
+    bias_time: f64,
+}
+
+impl PidState {
+    /// Fresh loops built from the config.
+    pub fn new(cfg: &PidConfig) -> Self {
+        let g = |g: &Gains, lim: f64| ScalarPid::new(g.kp, g.kd, g.ki, g.integral_limit, lim);
+        PidState {
+            heading_pid: g(&cfg.yaw, cfg.max_rudder),
+            speed_pid: g(&cfg.speed, cfg.max_thrust),
+            z_pid: g(&cfg.z_to_pitch, cfg.max_pitch_deg.to_radians()),
+            pitch_pid: g(&cfg.pitch, cfg.max_elevator),
+            thrust: 0.0,
+            stale: true,
+            bias_side: 1.0,
+            bias_time: 0.0,
+        }
+    }
+}
+
+/// Result of one controller step.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PidOutputs {
+    /// DESIRED_RUDDER.
+    pub rudder: f64,
+    /// DESIRED_THRUST.
+    pub thrust: f64,
+    /// DESIRED_ELEVATOR (0 without depth control).
+    pub elevator: f64,
+    /// Desired pitch of the depth loop, radians (diagnostic).
+    pub desired_pitch: f64,
+    /// True when not overridden, and all inputs present and fresh.
+    pub has_control: bool,
+    /// Age in seconds of each stale input, indexed as [`STALE_LABELS`].
+    pub stale: [Option<f64>; 7],
+}
+
+fn age(now: f64, v: Stamped) -> Option<f64> {
+    v.map(|(_, t)| now - t)
+}
+
+/// One controller step at time `now`. Pure: the returned state replaces the given one.
+pub fn step(cfg: &PidConfig, state: &PidState, inputs: &PidInputs, now: f64) -> (PidState, PidOutputs) {
+    let mut s = *state;
+    let mut out = PidOutputs::default();
+    let (Some((des_hdg, _)), Some((des_spd, _)), Some((hdg, _)), Some((spd, _))) =
+        (inputs.desired_heading, inputs.desired_speed, inputs.heading, inputs.speed)
+    else {
+        return (s, out);
+    };
+    if cfg.depth_control
+        && (inputs.desired_depth.is_none() || inputs.depth.is_none() || inputs.pitch.is_none())
+    {
+        return (s, out);
+    }
+    if !cfg.simulation {
+        let helm = cfg.tardy_helm_threshold;
+        let nav = cfg.tardy_nav_threshold;
+        let checks: [(Stamped, f64, bool); 7] = [
+            (inputs.desired_heading, helm, true),
+            (inputs.desired_speed, helm, true),
+            (inputs.heading, nav, true),
+            (inputs.speed, nav, true),
+            (inputs.desired_depth, helm, cfg.depth_control),
+            (inputs.depth, nav, cfg.depth_control),
+            (inputs.pitch, nav, cfg.depth_control),
+        ];
+        for (i, (v, thresh, active)) in checks.into_iter().enumerate() {
+            if let Some(a) = age(now, v).filter(|a| active && *a > thresh) {
+                out.stale[i] = Some(a);
+            }
+        }
+        s.stale = out.stale.iter().any(Option::is_some);
+        if s.stale {
+            return (s, out);
+        }
+    } else {
+        s.stale = false;
+    }
+    if inputs.manual_override {
+        return (s, out);
+    }
+    out.has_control = true;
+
+    // Speed.
+    let mut thrust = if cfg.speed_factor != 0.0 {
+        des_spd * cfg.speed_factor
+    } else {
+        s.thrust + s.speed_pid.run(des_spd - spd, now)
+    };
+    thrust = thrust.clamp(-cfg.max_thrust.abs(), cfg.max_thrust.abs());
+    s.thrust = thrust;
+    out.thrust = thrust;
+
+    // Heading.
+    let err = angle180(hdg - angle180(des_hdg));
+    let mut rudder = -s.heading_pid.run(err, now);
+    if cfg.sim_instability > 0.0 {
+        let duration = 10.0;
+        let mut elapsed = now - s.bias_time;
+        if elapsed > duration {
+            elapsed = 0.0;
+            s.bias_time = now;
+            s.bias_side = -s.bias_side;
+        }
+        rudder += s.bias_side * (elapsed / duration) * cfg.sim_instability;
+    }
+    out.rudder = rudder.clamp(-cfg.max_rudder.abs(), cfg.max_rudder.abs());
+
+    // Depth.
+    if cfg.depth_control {
+        let (Some((des_dep, _)), Some((dep, _)), Some((pitch, _))) =
+            (inputs.desired_depth, inputs.depth, inputs.pitch)
+        else {
+            return (s, out);
+        };
+        let max_pitch = cfg.max_pitch_deg.to_radians();
+        let pitch_des = s.z_pid.run(dep - des_dep, now).clamp(-max_pitch, max_pitch);
+        out.desired_pitch = pitch_des;
+        let elev = s.pitch_pid.run(pitch - pitch_des, now).to_degrees();
+        out.elevator = elev.clamp(-cfg.max_elevator.abs(), cfg.max_elevator.abs());
+    }
+    (s, out)
+}
+
+/// The `pMarinePIDV22` app: inputs by MOOS name, outputs as postings.
+pub struct MarinePid {
+    cfg: PidConfig,
+    state: PidState,
+    inputs: PidInputs,
+    thrust_cap: f64,
+    allstop_posted: bool,
+    pending: Vec<Posting>,
+    rudder_var: Arc<str>,
+    thrust_var: Arc<str>,
+    elevator_var: Arc<str>,
+    has_control_var: Arc<str>,
+    stale_var: Arc<str>,
+    debug_vars: [Arc<str>; 3],
+    last: PidOutputs,
+}
+
+impl MarinePid {
+    /// A controller with this config; starts under manual override, as the C++ app.
+    pub fn new(cfg: PidConfig) -> Self {
+        let sfx = cfg.output_suffix.clone();
+        MarinePid {
+            state: PidState::new(&cfg),
+            inputs: PidInputs::default(),
+            thrust_cap: 100.0,
+            allstop_posted: false,
+            pending: Vec::new(),
+            rudder_var: format!("DESIRED_RUDDER{sfx}").into(),
+            thrust_var: format!("DESIRED_THRUST{sfx}").into(),
+            elevator_var: format!("DESIRED_ELEVATOR{sfx}").into(),
+            has_control_var: "PID_HAS_CONTROL".into(),
+            stale_var: "PID_STALE".into(),
+            debug_vars: ["PID_HDG_DEBUG".into(), "PID_SPD_DEBUG".into(), "PID_DEP_DEBUG".into()],
+            last: PidOutputs::default(),
+            cfg,
+        }
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &PidConfig {
+        &self.cfg
+    }
+
+    /// The latest inputs.
+    pub fn inputs(&self) -> &PidInputs {
+        &self.inputs
+    }
+
+    /// The outputs of the last iteration.
+    pub fn last_outputs(&self) -> &PidOutputs {
+        &self.last
+    }
+
+    /// The variables this app subscribes to.
+    pub fn subscriptions(&self) -> Vec<&'static str> {
+        let mut v = vec![
+            "NAV_HEADING",
+            "NAV_SPEED",
+            "NAV_DEPTH",
+            "NAV_PITCH",
+            "DESIRED_HEADING",
+            "DESIRED_SPEED",
+            "DESIRED_DEPTH",
+            "PID_VERBOSE",
+            "SPEED_FACTOR",
+            "MOOS_MANUAL_OVERIDE",
+            "MOOS_MANUAL_OVERRIDE",
+        ];
+        if self.cfg.enable_thrust_cap {
+            v.push("PID_THRUST_CAP");
+        }
+        if !self.cfg.ignore_nav_yaw {
+            v.push("NAV_YAW");
+        }
+        v
+    }
+
+    fn set_override(&mut self, sval: &str) {
+        match sval.trim().to_ascii_lowercase().as_str() {
+            "true" => {
+                if !self.inputs.manual_override {
+                    self.pending.push(Posting::string(&self.has_control_var, "false"));
+                }
+                self.inputs.manual_override = true;
+            }
+            "false" => {
+                if self.inputs.manual_override {
+                    // New values of every input are needed after an override is lifted.
+                    let o = PidInputs { manual_override: false, ..PidInputs::default() };
+                    self.inputs = o;
+                }
+                self.inputs.manual_override = false;
+                self.pending.push(Posting::string(&self.has_control_var, "true"));
+            }
+            _ => {}
+        }
+    }
+
+    /// Takes one piece of mail received at `time`.
+    pub fn on_mail(&mut self, var: &str, value: MailValue<'_>, time: f64) {
+        let d = value.as_f64();
+        let stamp = |v: f64| Some((v, time));
+        match (var, d) {
+            ("MOOS_MANUAL_OVERIDE" | "MOOS_MANUAL_OVERRIDE", _) => {
+                if let Some(s) = value.as_str() {
+                    self.set_override(s);
+                }
+            }
+            ("PID_VERBOSE", _) => {
+                if let Some(b) = value.as_str().and_then(crate::config::parse_bool) {
+                    self.cfg.verbose = b;
+                }
+            }
+            ("SPEED_FACTOR", Some(v)) => self.cfg.speed_factor = v,
+            ("DESIRED_HEADING", Some(v)) => self.inputs.desired_heading = stamp(v),
+            ("DESIRED_SPEED", Some(v)) => self.inputs.desired_speed = stamp(v),
+            ("DESIRED_DEPTH", Some(v)) => self.inputs.desired_depth = stamp(v),
+            ("NAV_YAW", Some(v)) if !self.cfg.ignore_nav_yaw => {
+                self.inputs.heading = stamp(angle360(-v.to_degrees()))
+            }
+            ("NAV_HEADING", Some(v)) => self.inputs.heading = stamp(angle360(v)),
+            ("NAV_SPEED", Some(v)) => self.inputs.speed = stamp(v),
+            ("NAV_DEPTH", Some(v)) => self.inputs.depth = stamp(v),
+            ("NAV_PITCH", Some(v)) => self.inputs.pitch = stamp(v),
+            ("PID_THRUST_CAP", Some(v)) => self.thrust_cap = v.clamp(20.0, 100.0),
+            _ => {}
+        }
+    }
+
+    /// One iteration at time `now`; appends the postings to `out`.
+    pub fn iterate(&mut self, now: f64, out: &mut Vec<Posting>) {
+        let (s, o) = step(&self.cfg, &self.state, &self.inputs, now);
+        self.state = s;
+        self.last = o;
+        if !o.has_control {
+            if !self.allstop_posted {
+                out.push(Posting::double(&self.rudder_var, 0.0));
+                out.push(Posting::double(&self.thrust_var, 0.0));
+                if self.cfg.depth_control {
+                    out.push(Posting::double(&self.elevator_var, 0.0));
+                }
+                self.allstop_posted = true;
+            }
+        } else {
+            out.push(Posting::double(&self.rudder_var, o.rudder));
+            let thrust = if self.cfg.enable_thrust_cap { o.thrust.min(self.thrust_cap) } else { o.thrust };
+            out.push(Posting::double(&self.thrust_var, thrust));
+            if self.cfg.depth_control {
+                out.push(Posting::double(&self.elevator_var, o.elevator));
+            }
+            self.allstop_posted = false;
+            self.post_debug(&o, out);
+        }
+        out.append(&mut self.pending);
+        for (label, a) in STALE_LABELS.iter().zip(o.stale) {
+            if let Some(a) = a {
+                out.push(Posting::string(&self.stale_var, format!("Stale {label}:{}", double_x(a, 3))));
+            }
+        }
+    }
+
+    fn post_debug(&self, o: &PidOutputs, out: &mut Vec<Posting>) {
+        let val = |v: Stamped| v.map_or(0.0, |(v, _)| v);
+        if self.cfg.heading_debug {
+            let s = format!(
+                "PID_COURSE:  (Want):{:.5} (Curr):{:.5} RUDDER:{:.5}",
+                val(self.inputs.desired_heading),
+                val(self.inputs.heading),
+                o.rudder
+            );
+            out.push(Posting::string(&self.debug_vars[0], s));
+        }
+        if self.cfg.speed_debug {
+            let s = format!(
+                "PID_SPEED:  (Want):{:.5} (Curr):{:.5} THRUST:{:.5}",
+                val(self.inputs.desired_speed),
+                val(self.inputs.speed),
+                o.thrust
+            );
+            out.push(Posting::string(&self.debug_vars[1], s));
+        }
+        if self.cfg.depth_debug && self.cfg.depth_control {
+            let s = format!(
+                "PID_DEPTH:  (Want):{:.5} (Curr):{:.5} ELEVATOR:{:.5}",
+                val(self.inputs.desired_depth),
+                val(self.inputs.depth),
+                o.elevator
+            );
+            out.push(Posting::string(&self.debug_vars[2], s));
+        }
+    }
+}
