@@ -1,3 +1,104 @@
 //! Mission files: the nsplug preprocessor and the `.moos` and `.bhv` parsers.
 //!
-//! Filled by issue #3.
+//! MOOS-IvP missions are `.moos` files (process configuration) and `.bhv` files (helm
+//! behaviours), usually nsplug templates. This crate reads them unchanged:
+//!
+//! - [`nsplug`]: the preprocessor (`#include`, `#define`, `$(X)`, `%(X)`, `#ifdef`...),
+//!   producing text with a [`source::SourceMap`] back to every file and line;
+//! - [`moos`]: `.moos` files ([`moos::MissionFile`]: globals, `ProcessConfig` blocks, ANTLER);
+//! - [`bhv`]: `.bhv` files ([`bhv::BehaviorFile`]: initializes, modes, behaviours);
+//! - [`condition`]: the logic-condition AST used by behaviours and modes;
+//! - [`catalog`]: the behaviour types and parameters coug knows, for `coug check`;
+//! - [`check`]: the validations behind `coug check`;
+//! - [`diagnostic`]: errors and warnings with file, line, column and caret.
+//!
+//! Parsing is pure: files are read through [`source::FileSource`], and no input makes the
+//! parsers panic (they report [`diagnostic::Diagnostic`]s instead).
+//!
+//! ```
+//! use mission::source::SourceMap;
+//! let src = SourceMap::from_text("a.moos", "LatOrigin = 43.8\nProcessConfig = pHelmIvP\n{\n  AppTick = 4\n}\n");
+//! let parsed = mission::moos::parse_moos(&src);
+//! assert!(parsed.diagnostics.is_empty());
+//! assert_eq!(parsed.value.global("latorigin"), Some("43.8"));
+//! assert_eq!(parsed.value.process("PHELMIVP").unwrap().get("apptick"), Some("4"));
+//! ```
+
+#![warn(missing_docs)]
+
+pub mod bhv;
+pub mod catalog;
+pub mod check;
+pub mod condition;
+pub mod diagnostic;
+pub mod moos;
+pub mod nsplug;
+pub mod source;
+
+use diagnostic::Diagnostic;
+use source::Span;
+
+/// One `key = value` line: key as written, value trimmed (inner spaces kept), and where.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Param {
+    /// The key as written (compare with [`Param::is`], which ignores case).
+    pub key: String,
+    /// The value after the first `=`, trimmed at both ends.
+    pub value: String,
+    /// Where the key starts.
+    pub span: Span,
+}
+
+impl Param {
+    /// Whether the key is `name`, ignoring ASCII case.
+    pub fn is(&self, name: &str) -> bool {
+        self.key.eq_ignore_ascii_case(name)
+    }
+
+    /// The line number of the parameter.
+    pub fn line(&self) -> u32 {
+        self.span.line
+    }
+}
+
+/// A parse result: the value built from everything that could be read, and the findings.
+#[derive(Debug, Clone)]
+pub struct Parsed<T> {
+    /// The parsed file (lines with errors are left out of it).
+    pub value: T,
+    /// Errors and warnings, in file order.
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+impl<T> Parsed<T> {
+    /// Whether any diagnostic is an error.
+    pub fn has_errors(&self) -> bool {
+        self.diagnostics.iter().any(Diagnostic::is_error)
+    }
+
+    /// The errors only.
+    pub fn errors(&self) -> impl Iterator<Item = &Diagnostic> {
+        self.diagnostics.iter().filter(|d| d.is_error())
+    }
+}
+
+/// Strips a `//` comment that is not inside double quotes, returning the text before it.
+///
+/// ```
+/// assert_eq!(mission::strip_comment("a = b // c"), "a = b ");
+/// assert_eq!(mission::strip_comment("a = \"x//y\""), "a = \"x//y\"");
+/// ```
+pub fn strip_comment(line: &str) -> &str {
+    let b = line.as_bytes();
+    let mut quoted = false;
+    let mut i = 0;
+    while i < b.len() {
+        match b[i] {
+            b'"' => quoted = !quoted,
+            b'/' if !quoted && b.get(i + 1) == Some(&b'/') => return &line[..i],
+            _ => {}
+        }
+        i += 1;
+    }
+    line
+}

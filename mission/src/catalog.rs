@@ -1,0 +1,368 @@
+//! Behaviour types, parameters and variables coug knows, used by `coug check`.
+//!
+//! Sources: `ivp-helm.md` §4.1 (pHelmIvP's ProcessConfig), §5.5 (parameters every behaviour
+//! accepts) and §6 (each behaviour), checked against every mission of the MOOS-IvP corpus.
+//! Parameter names are compared as pHelmIvP does: lower case, leading `_` ignored.
+//!
+//! ```
+//! let wpt = mission::catalog::behavior("bhv_waypoint").unwrap();
+//! assert!(wpt.accepts("Capture_Radius"));
+//! assert!(wpt.accepts("endflag"));      // common to every behaviour
+//! assert!(!wpt.accepts("capture_radiuss"));
+//! assert!(mission::catalog::helm_accepts("Behaviors"));
+//! ```
+
+use crate::bhv::param_name;
+
+/// One behaviour type: its parameters and the variables it posts by default.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BehaviorType {
+    /// The type name as written in `.bhv` files, e.g. `BHV_Waypoint`.
+    pub name: &'static str,
+    /// Parameters specific to this type (lower case).
+    pub params: &'static [&'static str],
+    /// MOOS variables the behaviour posts by default.
+    pub posts: &'static [&'static str],
+}
+
+impl BehaviorType {
+    /// Whether `key` is a parameter of this type or a common behaviour parameter.
+    pub fn accepts(&self, key: &str) -> bool {
+        let k = param_name(key);
+        self.params.contains(&k.as_str()) || COMMON_PARAMS.contains(&k.as_str())
+    }
+}
+
+/// Parameters every behaviour accepts (`IvPBehavior::setParam`, ivp-helm.md §5.5), plus
+/// `name`/`descriptor`, `templating` and `max_spawnings` handled by the behaviour spec.
+pub const COMMON_PARAMS: &[&str] = &[
+    "name",
+    "descriptor",
+    "pwt",
+    "priwt",
+    "priority",
+    "condition",
+    "updates",
+    "duration",
+    "duration_status",
+    "duration_reset",
+    "duration_idle_decay",
+    "perpetual",
+    "runflag",
+    "run_flag",
+    "runxflag",
+    "runx_flag",
+    "activeflag",
+    "active_flag",
+    "inactiveflag",
+    "inactive_flag",
+    "idleflag",
+    "idle_flag",
+    "endflag",
+    "end_flag",
+    "spawnflag",
+    "spawn_flag",
+    "spawnxflag",
+    "spawnx_flag",
+    "configflag",
+    "config_flag",
+    "nostarve",
+    "no_starve",
+    "post_mapping",
+    "comms_policy",
+    "build_info",
+    "precision",
+    "templating",
+    "max_spawnings",
+];
+
+/// The behaviour types whose parameters coug checks (ivp-helm.md §6).
+pub const BEHAVIORS: &[BehaviorType] = &[
+    BehaviorType {
+        name: "BHV_Waypoint",
+        params: &[
+            "points",
+            "polygon",
+            "xpoints",
+            "point",
+            "newpt",
+            "speed",
+            "speed_alt",
+            "use_alt_speed",
+            "capture_radius",
+            "radius",
+            "slip_radius",
+            "nm_radius",
+            "capture_line",
+            "lead",
+            "lead_damper",
+            "lead_to_start",
+            "lead_condition",
+            "order",
+            "repeat",
+            "currix",
+            "greedy_tour",
+            "shortest_tour",
+            "draw_path_loop",
+            "wpt_status",
+            "wpt_status_var",
+            "wpt_index",
+            "wpt_index_var",
+            "cycle_index_var",
+            "wpt_dist_to_prev",
+            "wpt_dist_to_next",
+            "post_suffix",
+            "cycleflag",
+            "wptflag",
+            "wptflag_on_start",
+            "reset_on_idle",
+            "eager_prev_index_flag",
+            "ipf_type",
+            "crs_spd_zaic_ratio",
+            "patience",
+            "efficiency_measure",
+            "end_spd",
+            "visual_hints",
+        ],
+        posts: &["WPT_STAT", "WPT_INDEX", "CYCLE_INDEX", "WPT_ODO"],
+    },
+    BehaviorType {
+        name: "BHV_Loiter",
+        params: &[
+            "polygon",
+            "speed",
+            "speed_alt",
+            "use_alt_speed",
+            "clockwise",
+            "capture_radius",
+            "radius",
+            "slip_radius",
+            "nm_radius",
+            "acquire_dist",
+            "patience",
+            "center_assign",
+            "xcenter_assign",
+            "ycenter_assign",
+            "center_activate",
+            "mod_poly_rad",
+            "spiral_factor",
+            "slingshot",
+            "ipf_type",
+            "post_suffix",
+            "visual_hints",
+        ],
+        posts: &[
+            "LOITER_REPORT",
+            "LOITER_INDEX",
+            "LOITER_MODE",
+            "LOITER_ACQUIRE",
+            "LOITER_DIST_TO_VERT",
+            "LOITER_COMPLETE",
+        ],
+    },
+    BehaviorType {
+        name: "BHV_ConstantSpeed",
+        params: &[
+            "speed",
+            "peakwidth",
+            "basewidth",
+            "summitdelta",
+            "speed_mismatch_var",
+        ],
+        posts: &[],
+    },
+    BehaviorType {
+        name: "BHV_ConstantHeading",
+        params: &[
+            "heading",
+            "peakwidth",
+            "basewidth",
+            "summitdelta",
+            "complete_thresh",
+            "heading_mismatch_var",
+        ],
+        posts: &[],
+    },
+    BehaviorType {
+        name: "BHV_ConstantDepth",
+        params: &[
+            "depth",
+            "peakwidth",
+            "basewidth",
+            "summitdelta",
+            "depth_mismatch_var",
+        ],
+        posts: &[],
+    },
+    BehaviorType {
+        name: "BHV_GoToDepth",
+        params: &[
+            "depth",
+            "repeat",
+            "arrival_delta",
+            "capture_delta",
+            "arrival_flag",
+            "capture_flag",
+        ],
+        posts: &["LEVEL_DEPTH"],
+    },
+    BehaviorType {
+        name: "BHV_MaxDepth",
+        params: &["max_depth", "basewidth", "tolerance", "depth_slack_var"],
+        posts: &[],
+    },
+    BehaviorType {
+        name: "BHV_PeriodicSurface",
+        params: &[
+            "period",
+            "mark_variable",
+            "acomms_mark_variable",
+            "pending_status_var",
+            "atsurface_status_var",
+            "max_time_at_surface",
+            "ascent_speed",
+            "speed_to_surface",
+            "zero_speed_depth",
+            "ascent_grade",
+        ],
+        posts: &[
+            "PERIODIC_ASCEND",
+            "PENDING_SURFACE",
+            "TIME_AT_SURFACE",
+            "PSF_AT_SURFACE_TIMEOUT",
+        ],
+    },
+    BehaviorType {
+        name: "BHV_StationKeep",
+        params: &[
+            "station_pt",
+            "point",
+            "center_activate",
+            "inner_radius",
+            "outer_radius",
+            "outer_speed",
+            "extra_speed",
+            "transit_speed",
+            "swing_time",
+            "hibernation_radius",
+            "visual_hints",
+        ],
+        posts: &["DIST_TO_STATION", "PSKEEP_MODE"],
+    },
+    BehaviorType {
+        name: "BHV_OpRegion",
+        params: &[
+            "polygon",
+            "max_depth",
+            "min_altitude",
+            "max_time",
+            "trigger_entry_time",
+            "trigger_exit_time",
+            "breached_poly_flag",
+            "breached_time_flag",
+            "breached_altitude_flag",
+            "breached_depth_flag",
+            "soft_poly_breach",
+            "reset_var",
+            "time_remaining_var",
+            "opregion_poly_var",
+            "visual_hints",
+        ],
+        posts: &[
+            "OPREG_TRAJECTORY_PERIM_DIST",
+            "OPREG_TRAJECTORY_PERIM_ETA",
+            "OPREG_ABSOLUTE_PERIM_DIST",
+            "OPREG_ABSOLUTE_PERIM_ETA",
+            "OPREG_TIME_REMAINING",
+            "SECS_IN_POLY",
+        ],
+    },
+    BehaviorType {
+        name: "BHV_Timer",
+        params: &["var_status_idle", "var_status_running", "status_suffix"],
+        posts: &["TIMER_IDLE", "TIMER_RUNNING"],
+    },
+];
+
+/// pHelmIvP's own ProcessConfig parameters (ivp-helm.md §4.1), plus the CMOOSApp and
+/// AppCasting parameters it accepts silently.
+pub const HELM_PARAMS: &[&str] = &[
+    "behaviors",
+    "domain",
+    "ok_skew",
+    "verbose",
+    "start_engaged",
+    "active_start",
+    "start_indrive",
+    "start_in_drive",
+    "allow_park",
+    "park_on_allstop",
+    "standby",
+    "helm_alias",
+    "helm_prefix",
+    "hold_on_app",
+    "hold_on_apps",
+    "nav_grace",
+    "contact_max_age",
+    "seed_random",
+    "goals_mandatory",
+    "node_skew",
+    "ivp_behavior_dir",
+    "ivp_behavior_dirs",
+    "bhv_dir_not_found_ok",
+    "bhv_dirs_not_found_ok",
+    "pmgen",
+    "other_override_var",
+    "apptick",
+    "commstick",
+    "maxapptick",
+    "app_logging",
+    "term_report_interval",
+    "max_appcast_events",
+    "deprecated_ok",
+    "iteratemode",
+    "sortmailbytime",
+    "catchcommandmessages",
+    "moos_quiet",
+    "moos_iterate_no_comms",
+    "moos_no_comms",
+];
+
+/// Whether pHelmIvP accepts `key` in its ProcessConfig block (case-insensitive).
+pub fn helm_accepts(key: &str) -> bool {
+    let k = key.to_ascii_lowercase();
+    HELM_PARAMS.contains(&k.as_str()) || k.starts_with("moos_suicide_")
+}
+
+/// The behaviour type named `kind` (case-insensitive), if coug knows it.
+pub fn behavior(kind: &str) -> Option<&'static BehaviorType> {
+    BEHAVIORS.iter().find(|b| b.name.eq_ignore_ascii_case(kind))
+}
+
+/// Variables that the standard MOOS-IvP processes of a mission post (navigation, helm,
+/// MOOSDB, manual override), which behaviour conditions may test without any initialize.
+pub const WELL_KNOWN_VARS: &[&str] = &[
+    "NAV_X",
+    "NAV_Y",
+    "NAV_LAT",
+    "NAV_LONG",
+    "NAV_HEADING",
+    "NAV_YAW",
+    "NAV_SPEED",
+    "NAV_DEPTH",
+    "NAV_ALTITUDE",
+    "NAV_PITCH",
+    "NAV_ROLL",
+    "MOOS_MANUAL_OVERRIDE",
+    "MOOS_MANUAL_OVERIDE",
+    "IVPHELM_STATE",
+    "IVPHELM_ALLSTOP",
+    "IVPHELM_MODESET",
+    "DESIRED_HEADING",
+    "DESIRED_SPEED",
+    "DESIRED_DEPTH",
+    "DB_TIME",
+    "DB_UPTIME",
+    "DB_CLIENTS",
+    "GPS_UPDATE_RECEIVED",
+];

@@ -1,0 +1,291 @@
+//! The validations behind `coug check`: preprocess and parse every file, then report
+//!
+//! - an unknown behaviour type (warning),
+//! - a parameter unknown to a known behaviour type or to pHelmIvP's ProcessConfig (error: the
+//!   real helm treats it as a configuration warning and refuses to drive, MALCONFIG),
+//! - a condition or mode that tests a variable nothing initializes or posts (warning).
+//!
+//! A `.moos` file's pHelmIvP `behaviors = FILE` entries are checked too (resolved beside the
+//! `.moos` file) unless they were named on the command line already. Variables posted by the
+//! `.moos` processes (`VAR=value` pairs in their parameters, e.g. pMarineViewer buttons or
+//! uTimerScript events) count as posted for every file of the same check.
+//!
+//! ```
+//! use mission::check::check_files;
+//! use mission::source::MemorySource;
+//! let fs = MemorySource::new().with("a.bhv", "Behavior = BHV_Loiter\n{\n  sped = 2\n}\n");
+//! let findings = check_files(&fs, &["a.bhv".into()], &Default::default());
+//! assert_eq!(findings[0].to_string(),
+//!     "a.bhv:3:3: error: unknown parameter `sped` for BHV_Loiter (did you mean `speed`?)");
+//! ```
+
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+
+use crate::bhv::{BehaviorFile, param_name, parse_bhv};
+use crate::catalog::{self, WELL_KNOWN_VARS};
+use crate::diagnostic::{Diagnostic, DiagnosticKind};
+use crate::moos::{MissionFile, parse_moos};
+use crate::nsplug::{Options, preprocess};
+use crate::source::{FileSource, Span};
+
+/// A parsed file of a check run.
+enum Parsed {
+    Moos(MissionFile),
+    Bhv(BehaviorFile),
+}
+
+/// Whether `path` names a `.bhv` file (else it is read as `.moos`).
+pub fn is_bhv(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("bhv"))
+}
+
+/// Checks `paths` (preprocessed with `opts`) and returns every finding, file by file.
+pub fn check_files(fs: &dyn FileSource, paths: &[PathBuf], opts: &Options) -> Vec<Diagnostic> {
+    let mut out = Vec::new();
+    let mut parsed = Vec::new();
+    let mut queue: Vec<(PathBuf, Option<Span>)> = paths.iter().map(|p| (p.clone(), None)).collect();
+    let mut seen: HashSet<PathBuf> = paths.iter().map(|p| crate::source::normalize(p)).collect();
+    let mut i = 0;
+    while i < queue.len() {
+        let (path, from) = queue[i].clone();
+        i += 1;
+        if from.is_some() && !fs.exists(&path) {
+            if let Some(at) = from {
+                out.push(
+                    Diagnostic::warning(
+                        DiagnosticKind::Unreadable,
+                        at,
+                        format!("behaviour file `{}` not found, not checked", path.display()),
+                    )
+                    .expected("the file named by `behaviors`, beside the .moos file"),
+                );
+            }
+            continue;
+        }
+        let pre = match preprocess(fs, &path, opts) {
+            Ok(p) => p,
+            Err(d) => {
+                out.push(d);
+                continue;
+            }
+        };
+        let bhv = is_bhv(&path);
+        for d in pre.diagnostics {
+            // `$(X)` in behaviour flags is a helm macro, expanded at run time, not by nsplug.
+            let helm_macro = bhv
+                && d.kind == DiagnosticKind::UndefinedMacro
+                && d.source_line.as_deref().is_some_and(|l| {
+                    let key = l.split('=').next().unwrap_or("");
+                    param_name(key.trim()).ends_with("flag")
+                });
+            if !helm_macro {
+                out.push(d);
+            }
+        }
+        if bhv {
+            let p = parse_bhv(&pre.source);
+            out.extend(p.diagnostics);
+            parsed.push(Parsed::Bhv(p.value));
+        } else {
+            let p = parse_moos(&pre.source);
+            out.extend(p.diagnostics);
+            let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
+            if let Some(helm) = p.value.process("pHelmIvP") {
+                for b in helm.params("behaviors") {
+                    let file = dir.join(&b.value);
+                    if !b.value.is_empty() && seen.insert(crate::source::normalize(&file)) {
+                        queue.push((file, Some(b.span.clone())));
+                    }
+                }
+            }
+            parsed.push(Parsed::Moos(p.value));
+        }
+    }
+
+    let mut known: HashSet<String> = WELL_KNOWN_VARS.iter().map(|s| s.to_string()).collect();
+    for p in &parsed {
+        match p {
+            Parsed::Moos(m) => moos_posts(m, &mut known),
+            Parsed::Bhv(b) => bhv_posts(b, &mut known),
+        }
+    }
+    for p in &parsed {
+        match p {
+            Parsed::Moos(m) => check_helm_config(m, &mut out),
+            Parsed::Bhv(b) => {
+                check_behaviors(b, &mut out);
+                check_variables(b, &known, &mut out);
+            }
+        }
+    }
+    out
+}
+
+fn check_helm_config(m: &MissionFile, out: &mut Vec<Diagnostic>) {
+    for block in m
+        .processes
+        .iter()
+        .filter(|p| p.name.eq_ignore_ascii_case("pHelmIvP"))
+    {
+        for e in &block.entries {
+            if !catalog::helm_accepts(&e.key) && !e.key.contains('$') {
+                let hint = suggest(&e.key, catalog::HELM_PARAMS.iter().copied());
+                out.push(Diagnostic::error(
+                    DiagnosticKind::UnknownParameter,
+                    e.span.clone(),
+                    format!("unknown pHelmIvP parameter `{}`{hint}", e.key),
+                ));
+            }
+        }
+    }
+}
+
+fn check_behaviors(b: &BehaviorFile, out: &mut Vec<Diagnostic>) {
+    for spec in &b.behaviors {
+        let Some(kind) = catalog::behavior(&spec.kind) else {
+            if !spec.kind.contains('$') {
+                out.push(Diagnostic::warning(
+                    DiagnosticKind::UnknownBehavior,
+                    spec.span.clone(),
+                    format!(
+                        "unknown behaviour type `{}` (its parameters are not checked)",
+                        spec.kind
+                    ),
+                ));
+            }
+            continue;
+        };
+        for p in &spec.params {
+            if !kind.accepts(&p.key) && !p.key.contains('$') {
+                let all = kind.params.iter().chain(catalog::COMMON_PARAMS).copied();
+                let hint = suggest(&param_name(&p.key), all);
+                out.push(Diagnostic::error(
+                    DiagnosticKind::UnknownParameter,
+                    p.span.clone(),
+                    format!("unknown parameter `{}` for {}{hint}", p.key, kind.name),
+                ));
+            }
+        }
+    }
+}
+
+fn check_variables(b: &BehaviorFile, known: &HashSet<String>, out: &mut Vec<Diagnostic>) {
+    let entries = b
+        .modes
+        .iter()
+        .flat_map(|m| m.conditions.iter())
+        .chain(b.behaviors.iter().flat_map(|s| s.conditions.iter()));
+    for c in entries {
+        let mut reported: Vec<&str> = Vec::new();
+        for v in c.condition.variables() {
+            if v.contains('$') || known.contains(v) || reported.contains(&v) {
+                continue;
+            }
+            reported.push(v);
+            out.push(Diagnostic::warning(
+                DiagnosticKind::UnknownVariable,
+                c.span.clone(),
+                format!("condition tests `{v}`, which nothing initializes or posts"),
+            ));
+        }
+    }
+}
+
+/// Variables a `.bhv` file posts: initializes, mode variables, flags, `*_var` outputs and the
+/// default outputs of its behaviour types.
+fn bhv_posts(b: &BehaviorFile, known: &mut HashSet<String>) {
+    known.extend(b.initializes.iter().map(|i| i.var.clone()));
+    known.extend(b.modes.iter().map(|m| m.var.clone()));
+    for spec in &b.behaviors {
+        if let Some(t) = catalog::behavior(&spec.kind) {
+            known.extend(t.posts.iter().map(|s| s.to_string()));
+        }
+        for p in &spec.params {
+            let k = param_name(&p.key);
+            if k.ends_with("flag") {
+                if let Some((var, _)) = p.value.split_once('=') {
+                    known.insert(var.trim().to_string());
+                }
+            } else if (k.ends_with("_var") && k != "reset_var") || k == "duration_status" {
+                known.insert(p.value.trim().to_string());
+            } else if k == "post_mapping"
+                && let Some((_, new)) = p.value.split_once(',')
+            {
+                known.insert(new.trim().to_string());
+            }
+        }
+    }
+}
+
+/// Variables a `.moos` file's processes post, as far as their configuration tells:
+/// `NAME=value` pairs (upper-case names) and `var=NAME` / `alias=NAME` pairs.
+fn moos_posts(m: &MissionFile, known: &mut HashSet<String>) {
+    for p in m.processes.iter().flat_map(|p| p.entries.iter()) {
+        scan_assignments(&p.value, known);
+    }
+}
+
+fn scan_assignments(text: &str, known: &mut HashSet<String>) {
+    let b = text.as_bytes();
+    let is_id = |c: u8| c.is_ascii_alphanumeric() || c == b'_';
+    let mut i = 0;
+    while i < b.len() {
+        if !is_id(b[i]) || (i > 0 && is_id(b[i - 1])) {
+            i += 1;
+            continue;
+        }
+        let start = i;
+        while i < b.len() && is_id(b[i]) {
+            i += 1;
+        }
+        let word = &text[start..i];
+        let mut j = i;
+        while j < b.len() && b[j] == b' ' {
+            j += 1;
+        }
+        if j < b.len() && b[j] == b'=' && b.get(j + 1) != Some(&b'=') {
+            let upper = word.bytes().all(|c| !c.is_ascii_lowercase());
+            if upper && word.bytes().next().is_some_and(|c| c.is_ascii_alphabetic()) {
+                known.insert(word.to_string());
+            } else if word.eq_ignore_ascii_case("var") || word.eq_ignore_ascii_case("alias") {
+                let rest = text[j + 1..].trim_start();
+                let name: String = rest
+                    .bytes()
+                    .take_while(|&c| is_id(c))
+                    .map(char::from)
+                    .collect();
+                if !name.is_empty() {
+                    known.insert(name);
+                }
+            }
+        }
+    }
+}
+
+/// ` (did you mean `x`?)` for the closest candidate within edit distance 2, else "".
+fn suggest<'a>(word: &str, candidates: impl Iterator<Item = &'a str>) -> String {
+    let w = word.to_ascii_lowercase();
+    candidates
+        .map(|c| (edit_distance(&w, c), c))
+        .filter(|(d, _)| *d <= 2)
+        .min_by_key(|(d, _)| *d)
+        .map(|(_, c)| format!(" (did you mean `{c}`?)"))
+        .unwrap_or_default()
+}
+
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    let mut cur = vec![0; b.len() + 1];
+    for (i, ca) in a.chars().enumerate() {
+        cur[0] = i + 1;
+        for (j, cb) in b.iter().enumerate() {
+            let sub = prev[j] + usize::from(ca != *cb);
+            cur[j + 1] = sub.min(prev[j + 1] + 1).min(cur[j] + 1);
+        }
+        std::mem::swap(&mut prev, &mut cur);
+    }
+    prev[b.len()]
+}

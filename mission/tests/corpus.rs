@@ -1,0 +1,160 @@
+//! Corpus test: every real MOOS-IvP mission file (../shared/corpus/moos-ivp-missions) is
+//! preprocessed and parsed; files without nsplug macros must parse with zero errors.
+
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+
+use mission::bhv::parse_bhv;
+use mission::check::{check_files, is_bhv};
+use mission::diagnostic::{DiagnosticKind, Severity};
+use mission::moos::parse_moos;
+use mission::nsplug::{Options, preprocess};
+use mission::source::FsSource;
+
+const SHARED: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared");
+
+fn corpus_dir() -> PathBuf {
+    let dir = Path::new(SHARED).join("corpus/moos-ivp-missions");
+    assert!(
+        dir.is_dir(),
+        "corpus folder {} is missing: the corpus tests need ../shared/corpus",
+        dir.display()
+    );
+    dir
+}
+
+fn mission_files(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).expect("read corpus dir") {
+            let p = e.expect("dir entry").path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if p.extension().is_some_and(|x| x == "moos" || x == "bhv") {
+                out.push(p);
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// Relative paths (as in MACROS.txt) of the files that use no nsplug macro.
+fn macro_free() -> HashSet<String> {
+    let path = Path::new(SHARED).join("corpus/MACROS.txt");
+    let text = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    text.lines()
+        .filter(|l| !l.starts_with('#'))
+        .filter_map(|l| {
+            let mut f = l.split('\t');
+            let name = f.next()?;
+            let macros = f.nth(1)?;
+            (macros == "macros=").then(|| name.to_string())
+        })
+        .collect()
+}
+
+#[test]
+fn every_corpus_file_parses_and_macro_free_files_have_no_errors() {
+    let dir = corpus_dir();
+    let files = mission_files(&dir);
+    let free = macro_free();
+    assert_eq!(
+        files.len(),
+        417,
+        "the corpus README promises 417 .moos/.bhv files"
+    );
+    let mut failures = Vec::new();
+    let (mut n_free, mut pre_fail, mut with_errors, mut warnings, mut errors) = (0, 0, 0, 0, 0);
+    for f in &files {
+        let rel = f.strip_prefix(&dir).unwrap().to_string_lossy().to_string();
+        let is_free = free.contains(&rel);
+        n_free += usize::from(is_free);
+        let diags = match preprocess(&FsSource, f, &Options::new()) {
+            Ok(pre) => {
+                let mut d = pre.diagnostics;
+                if is_bhv(f) {
+                    d.extend(parse_bhv(&pre.source).diagnostics);
+                } else {
+                    d.extend(parse_moos(&pre.source).diagnostics);
+                }
+                d
+            }
+            Err(e) => {
+                pre_fail += 1;
+                vec![e]
+            }
+        };
+        let errs: Vec<_> = diags.iter().filter(|d| d.is_error()).collect();
+        warnings += diags.len() - errs.len();
+        errors += errs.len();
+        with_errors += usize::from(!errs.is_empty());
+        if is_free && !errs.is_empty() {
+            failures.push(format!(
+                "{rel}:\n{}",
+                errs.iter()
+                    .map(|e| e.render())
+                    .collect::<Vec<_>>()
+                    .join("\n")
+            ));
+        }
+        if !is_free {
+            for e in &errs {
+                eprintln!("template {rel}: {e}");
+            }
+        }
+    }
+    println!(
+        "corpus: {} files, {} without macros, {} templates; {} failed preprocessing (templates \
+         without their macros), {} files with errors, {} errors, {} warnings",
+        files.len(),
+        n_free,
+        files.len() - n_free,
+        pre_fail,
+        with_errors,
+        errors,
+        warnings
+    );
+    assert_eq!(n_free, 181, "MACROS.txt lists 181 macro-free files");
+    assert!(
+        failures.is_empty(),
+        "macro-free files with errors:\n{}",
+        failures.join("\n")
+    );
+}
+
+/// `coug check` over the corpus: every macro-free file checked alone gets no error, and the
+/// counts of each kind of finding over the whole corpus are printed.
+#[test]
+fn check_flags_no_error_in_macro_free_corpus_files() {
+    let dir = corpus_dir();
+    let free = macro_free();
+    let mut counts: std::collections::BTreeMap<String, usize> = Default::default();
+    let mut false_errors = Vec::new();
+    for f in mission_files(&dir) {
+        let rel = f.strip_prefix(&dir).unwrap().to_string_lossy().to_string();
+        let findings = check_files(&FsSource, std::slice::from_ref(&f), &Options::new());
+        for d in &findings {
+            *counts
+                .entry(format!("{:?} {:?}", d.severity, d.kind))
+                .or_default() += 1;
+            if free.contains(&rel) && d.severity == Severity::Error {
+                false_errors.push(d.to_string());
+            }
+            if d.kind == DiagnosticKind::UnknownParameter {
+                eprintln!("{rel}: {d}");
+            }
+        }
+    }
+    println!("coug check over the corpus (each file alone, no macros defined):");
+    for (k, n) in &counts {
+        println!("  {k}: {n}");
+    }
+    assert!(
+        false_errors.is_empty(),
+        "errors in macro-free files:\n{}",
+        false_errors.join("\n")
+    );
+}
