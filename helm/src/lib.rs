@@ -5,4 +5,9 @@
 //!
 //! Everything here is pure: no clock, no sockets, no files. Time enters as an argument.
 
+#![warn(missing_docs)]
+// Numeric kernels index several parallel arrays with one loop variable; iterator zips
+// would hide which dimension is which.
+#![allow(clippy::needless_range_loop)]
+
 pub mod ivp;

@@ -1,0 +1,460 @@
+//! The reflector: samples any function of the decision variables into linear pieces
+//! (MOOS-IvP's `OF_Reflector` with uniform pieces and directed refinement).
+
+use super::domain::Domain;
+use super::error::IvpError;
+use super::function::IvpFunction;
+
+/// A grid-index box: inclusive `[lo, hi]` per dimension.
+#[derive(Debug, Clone, PartialEq, Eq)]
+struct IxBox {
+    lo: Vec<u32>,
+    hi: Vec<u32>,
+}
+
+/// Builds an [`IvpFunction`] approximating `f` (evaluated on domain *values*, one per
+/// variable) by linear pieces.
+///
+/// Stages, as in MOOS-IvP: (1) a uniform partition (`uniform_piece` sizes or
+/// `uniform_amount` pieces); (2) directed refinement: each `refine_region` (in domain values)
+/// is cut out of the pieces it overlaps and re-partitioned with its `refine_piece` sizes.
+/// Each piece is fitted from the function's values at its corners (and its centre point when
+/// it has one): the slope per dimension is the mean rise over run of corner pairs, the
+/// intercept the mean residual; `strict_range` keeps each plane within the sampled values.
+///
+/// ```
+/// # use helm::ivp::{Domain, Reflector};
+/// let d = Domain::from_vars(&[("x", 0.0, 100.0, 101)]).unwrap();
+/// let f = Reflector::new(&d, |v: &[f64]| 2.0 * v[0] + 1.0)
+///     .set_param("uniform_piece", "x:10").unwrap()
+///     .build().unwrap();
+/// assert_eq!(f.piece_count(), 11);
+/// assert!((f.eval(&[37]).unwrap() - 75.0).abs() < 1e-9);
+/// ```
+pub struct Reflector<F> {
+    domain: Domain,
+    func: F,
+    uniform_piece: Option<Vec<u32>>,
+    uniform_amount: usize,
+    refine: Vec<(IxBox, Option<Vec<u32>>)>,
+    strict_range: bool,
+    normalize: bool,
+}
+
+impl<F: Fn(&[f64]) -> f64> Reflector<F> {
+    /// A reflector over `domain` for `func`, with one uniform piece and no normalization.
+    pub fn new(domain: &Domain, func: F) -> Self {
+        Self {
+            domain: domain.clone(),
+            func,
+            uniform_piece: None,
+            uniform_amount: 1,
+            refine: Vec::new(),
+            strict_range: false,
+            normalize: false,
+        }
+    }
+
+    /// Sets one parameter by MOOS-IvP name: `uniform_piece` / `uniform_box` (`"x:5,y:3"`,
+    /// piece sizes in grid points), `uniform_amount` (`"100"`), `refine_region`
+    /// (`"x:0:10,y:-5:5"`, in domain values; variables not named span their range),
+    /// `refine_piece` (sizes, pairs with the latest region), `strict_range` and `normalize`
+    /// (`true`/`false`).
+    pub fn set_param(mut self, name: &str, value: &str) -> Result<Self, IvpError> {
+        let value = value.trim();
+        match name.trim().to_ascii_lowercase().as_str() {
+            "uniform_piece" | "uniform_box" => self.uniform_piece = Some(self.parse_sizes(value)?),
+            "uniform_amount" => {
+                self.uniform_amount =
+                    value
+                        .parse::<usize>()
+                        .ok()
+                        .filter(|&n| n >= 1)
+                        .ok_or_else(|| {
+                            IvpError::Reflector(format!(
+                                "uniform_amount {value:?} is not a whole number >= 1"
+                            ))
+                        })?;
+            }
+            "refine_region" => {
+                let region = self.parse_region(value)?;
+                self.refine.push((region, None));
+            }
+            "refine_piece" => {
+                let sizes = self.parse_sizes(value)?;
+                match self.refine.last_mut() {
+                    Some((_, slot @ None)) => *slot = Some(sizes),
+                    _ => {
+                        return Err(IvpError::Reflector(
+                            "refine_piece must follow a refine_region".to_string(),
+                        ));
+                    }
+                }
+            }
+            "strict_range" => self.strict_range = parse_bool(value)?,
+            "normalize" => self.normalize = parse_bool(value)?,
+            other => {
+                return Err(IvpError::Reflector(format!("unknown parameter {other:?}")));
+            }
+        }
+        Ok(self)
+    }
+
+    /// Applies `"name=value # name=value ..."` settings in order (MOOS-IvP's combined form).
+    pub fn set_params(mut self, spec: &str) -> Result<Self, IvpError> {
+        for part in spec.split('#').map(str::trim).filter(|p| !p.is_empty()) {
+            let (k, v) = part
+                .split_once('=')
+                .ok_or_else(|| IvpError::Reflector(format!("setting {part:?} has no `=`")))?;
+            self = self.set_param(k, v)?;
+        }
+        Ok(self)
+    }
+
+    fn parse_sizes(&self, spec: &str) -> Result<Vec<u32>, IvpError> {
+        let mut sizes: Vec<u32> = self.domain.vars().iter().map(|v| v.points()).collect();
+        for part in spec.split(',').map(str::trim).filter(|p| !p.is_empty()) {
+            let (name, n) = part.split_once(':').ok_or_else(|| {
+                IvpError::Reflector(format!("piece size {part:?} is not name:size"))
+            })?;
+            let ix = self.domain.index_of(name.trim()).ok_or_else(|| {
+                IvpError::Reflector(format!("unknown variable {:?}", name.trim()))
+            })?;
+            let n: u32 = n.trim().parse().ok().filter(|&n| n >= 1).ok_or_else(|| {
+                IvpError::Reflector(format!("piece size {part:?} is not a whole number >= 1"))
+            })?;
+            sizes[ix] = n;
+        }
+        Ok(sizes)
+    }
+
+    fn parse_region(&self, spec: &str) -> Result<IxBox, IvpError> {
+        use super::domain::Snap;
+        let mut b = self.universe();
+        for part in spec.split(',').map(str::trim).filter(|p| !p.is_empty()) {
+            let f: Vec<&str> = part.split(':').map(str::trim).collect();
+            let bad = || IvpError::Reflector(format!("region {part:?} is not name:low:high"));
+            if f.len() != 3 {
+                return Err(bad());
+            }
+            let ix = self
+                .domain
+                .index_of(f[0])
+                .ok_or_else(|| IvpError::Reflector(format!("unknown variable {:?}", f[0])))?;
+            let lo: f64 = f[1].parse().map_err(|_| bad())?;
+            let hi: f64 = f[2].parse().map_err(|_| bad())?;
+            if lo.is_nan() || hi.is_nan() || lo > hi {
+                return Err(bad());
+            }
+            let v = &self.domain.vars()[ix];
+            b.lo[ix] = v.index(lo, Snap::Ceil);
+            b.hi[ix] = v.index(hi, Snap::Floor).max(b.lo[ix]);
+        }
+        Ok(b)
+    }
+
+    fn universe(&self) -> IxBox {
+        IxBox {
+            lo: vec![0; self.domain.len()],
+            hi: self.domain.vars().iter().map(|v| v.points() - 1).collect(),
+        }
+    }
+
+    /// Sizes giving at least `amount` uniform pieces: halve the widest piece until enough.
+    fn sizes_for_amount(&self, amount: usize) -> Vec<u32> {
+        let pts: Vec<u32> = self.domain.vars().iter().map(|v| v.points()).collect();
+        let mut sizes = pts.clone();
+        let count = |s: &[u32]| -> u64 {
+            s.iter()
+                .zip(&pts)
+                .map(|(&s, &p)| u64::from(p.div_ceil(s)))
+                .product()
+        };
+        while count(&sizes) < amount as u64 {
+            let Some((k, _)) = sizes
+                .iter()
+                .enumerate()
+                .filter(|(_, s)| **s > 1)
+                .max_by_key(|(_, s)| **s)
+            else {
+                break;
+            };
+            sizes[k] = sizes[k].div_ceil(2);
+        }
+        sizes
+    }
+
+    /// Builds the function.
+    pub fn build(self) -> Result<IvpFunction, IvpError> {
+        if self.domain.is_empty() {
+            return Err(IvpError::Reflector("empty domain".to_string()));
+        }
+        let sizes = match &self.uniform_piece {
+            Some(s) => s.clone(),
+            None => self.sizes_for_amount(self.uniform_amount),
+        };
+        let mut boxes = Vec::new();
+        partition(&self.universe(), &sizes, &mut boxes);
+        for (region, piece) in &self.refine {
+            let piece = piece.clone().unwrap_or_else(|| vec![1; self.domain.len()]);
+            let mut next = Vec::with_capacity(boxes.len());
+            for b in boxes {
+                refine_box(b, region, &piece, &mut next);
+            }
+            boxes = next;
+        }
+        let mut f = IvpFunction::new(self.domain.clone());
+        let mut fit = Fit::new(self.domain.len());
+        for b in &boxes {
+            let (slopes, intercept) = fit.fit(b, &self.domain, &self.func, self.strict_range)?;
+            f.push_piece(&b.lo, &b.hi, slopes, intercept)?;
+        }
+        if self.normalize {
+            f.normalize(0.0, 100.0);
+        }
+        Ok(f)
+    }
+}
+
+fn parse_bool(v: &str) -> Result<bool, IvpError> {
+    match v.to_ascii_lowercase().as_str() {
+        "true" => Ok(true),
+        "false" => Ok(false),
+        _ => Err(IvpError::Reflector(format!("{v:?} is not true or false"))),
+    }
+}
+
+/// Splits `b` into pieces of `sizes` (the last piece per dimension may be smaller), first
+/// dimension slowest.
+fn partition(b: &IxBox, sizes: &[u32], out: &mut Vec<IxBox>) {
+    let d = b.lo.len();
+    let mut cur = b.lo.clone();
+    loop {
+        let hi: Vec<u32> = (0..d)
+            .map(|k| (cur[k].saturating_add(sizes[k].max(1) - 1)).min(b.hi[k]))
+            .collect();
+        out.push(IxBox {
+            lo: cur.clone(),
+            hi: hi.clone(),
+        });
+        // advance the odometer, last dimension fastest
+        let mut k = d;
+        loop {
+            if k == 0 {
+                return;
+            }
+            k -= 1;
+            if hi[k] < b.hi[k] {
+                cur[k] = hi[k] + 1;
+                cur[k + 1..].copy_from_slice(&b.lo[k + 1..]);
+                break;
+            }
+        }
+    }
+}
+
+/// Cuts `region` out of `b`: the parts outside stay whole, the overlap is re-partitioned.
+fn refine_box(mut b: IxBox, region: &IxBox, piece: &[u32], out: &mut Vec<IxBox>) {
+    let d = b.lo.len();
+    if (0..d).any(|k| b.hi[k] < region.lo[k] || region.hi[k] < b.lo[k]) {
+        out.push(b);
+        return;
+    }
+    for k in 0..d {
+        if b.lo[k] < region.lo[k] {
+            let mut below = b.clone();
+            below.hi[k] = region.lo[k] - 1;
+            out.push(below);
+            b.lo[k] = region.lo[k];
+        }
+        if b.hi[k] > region.hi[k] {
+            let mut above = b.clone();
+            above.lo[k] = region.hi[k] + 1;
+            out.push(above);
+            b.hi[k] = region.hi[k];
+        }
+    }
+    partition(&b, piece, out);
+}
+
+/// Scratch space for fitting planes.
+struct Fit {
+    slopes: Vec<f64>,
+    ix: Vec<u32>,
+    vals: Vec<f64>,
+}
+
+impl Fit {
+    fn new(d: usize) -> Self {
+        Self {
+            slopes: vec![0.0; d],
+            ix: vec![0; d],
+            vals: Vec::new(),
+        }
+    }
+
+    fn fit<F: Fn(&[f64]) -> f64>(
+        &mut self,
+        b: &IxBox,
+        domain: &Domain,
+        func: &F,
+        strict: bool,
+    ) -> Result<(&[f64], f64), IvpError> {
+        let d = b.lo.len();
+        let corners = 1usize << d;
+        let mut x = vec![0.0; d];
+        self.vals.clear();
+        for c in 0..corners {
+            for k in 0..d {
+                self.ix[k] = if c >> k & 1 == 1 { b.hi[k] } else { b.lo[k] };
+                x[k] = domain.vars()[k].value(self.ix[k]);
+            }
+            let v = func(&x);
+            if !v.is_finite() {
+                return Err(IvpError::Reflector(format!(
+                    "function is not finite at {x:?}"
+                )));
+            }
+            self.vals.push(v);
+        }
+        for k in 0..d {
+            let run = f64::from(b.hi[k] - b.lo[k]);
+            if run == 0.0 {
+                self.slopes[k] = 0.0;
+                continue;
+            }
+            let mut rise = 0.0;
+            for c in 0..corners {
+                if c >> k & 1 == 0 {
+                    rise += self.vals[c | 1 << k] - self.vals[c];
+                }
+            }
+            self.slopes[k] = rise / (corners / 2) as f64 / run;
+        }
+        let plane = |ix: &[u32], slopes: &[f64]| -> f64 {
+            ix.iter().zip(slopes).map(|(&i, &s)| s * f64::from(i)).sum()
+        };
+        let mut residual = 0.0;
+        let mut samples = 0usize;
+        let (mut smin, mut smax) = (f64::INFINITY, f64::NEG_INFINITY);
+        for c in 0..corners {
+            for k in 0..d {
+                self.ix[k] = if c >> k & 1 == 1 { b.hi[k] } else { b.lo[k] };
+            }
+            residual += self.vals[c] - plane(&self.ix, &self.slopes);
+            samples += 1;
+            smin = smin.min(self.vals[c]);
+            smax = smax.max(self.vals[c]);
+        }
+        if (0..d).all(|k| (b.lo[k] + b.hi[k]).is_multiple_of(2) && b.hi[k] > b.lo[k]) {
+            for k in 0..d {
+                self.ix[k] = (b.lo[k] + b.hi[k]) / 2;
+                x[k] = domain.vars()[k].value(self.ix[k]);
+            }
+            let v = func(&x);
+            if v.is_finite() {
+                residual += v - plane(&self.ix, &self.slopes);
+                samples += 1;
+                smin = smin.min(v);
+                smax = smax.max(v);
+            }
+        }
+        let mut intercept = residual / samples as f64;
+        if strict {
+            // keep the plane's extremes over the box within the sampled range
+            let (mut pmax, mut pmin) = (intercept, intercept);
+            for k in 0..d {
+                let (a, z) = (
+                    self.slopes[k] * f64::from(b.lo[k]),
+                    self.slopes[k] * f64::from(b.hi[k]),
+                );
+                pmax += a.max(z);
+                pmin += a.min(z);
+            }
+            if pmax > smax {
+                intercept -= pmax - smax;
+            } else if pmin < smin {
+                intercept += smin - pmin;
+            }
+        }
+        Ok((&self.slopes, intercept))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn dom2() -> Domain {
+        Domain::from_vars(&[("x", 0.0, 20.0, 21), ("y", -5.0, 5.0, 11)]).unwrap()
+    }
+
+    #[test]
+    fn planes_are_reproduced_exactly() {
+        let f = Reflector::new(&dom2(), |v: &[f64]| 3.0 * v[0] - 2.0 * v[1] + 4.0)
+            .set_params("uniform_piece = x:4,y:3")
+            .unwrap()
+            .build()
+            .unwrap();
+        // x: 21 pts / 4 -> 6 pieces; y: 11 / 3 -> 4 pieces
+        assert_eq!(f.piece_count(), 24);
+        for x in 0..21u32 {
+            for y in 0..11u32 {
+                let want = 3.0 * f64::from(x) - 2.0 * (f64::from(y) - 5.0) + 4.0;
+                assert!((f.eval(&[x, y]).unwrap() - want).abs() < 1e-9);
+            }
+        }
+    }
+
+    #[test]
+    fn uniform_amount_and_refinement_partition_the_domain() {
+        let f = Reflector::new(&dom2(), |v: &[f64]| -(v[0] - 10.0).powi(2) - v[1].powi(2))
+            .set_param("uniform_amount", "4")
+            .unwrap()
+            .set_param("refine_region", "x:8:12,y:-1:1")
+            .unwrap()
+            .set_param("refine_piece", "x:1,y:1")
+            .unwrap()
+            .build()
+            .unwrap();
+        // every grid point is covered by exactly one piece
+        for x in 0..21u32 {
+            for y in 0..11u32 {
+                let n = f.pieces().filter(|p| p.contains(&[x, y])).count();
+                assert_eq!(n, 1, "point {x},{y}");
+            }
+        }
+        // inside the refined region the fit is exact (unit pieces)
+        let v = f.eval(&[10, 5]).unwrap();
+        assert!(v.abs() < 1e-9);
+        let v = f.eval(&[11, 6]).unwrap();
+        assert!((v + 2.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn strict_range_and_normalize() {
+        let d = Domain::from_vars(&[("x", 0.0, 10.0, 11)]).unwrap();
+        let f = Reflector::new(&d, |v: &[f64]| (v[0] - 5.0).abs())
+            .set_params("uniform_piece=x:11 # strict_range=true # normalize=true")
+            .unwrap()
+            .build()
+            .unwrap();
+        assert_eq!(f.piece_count(), 1);
+        assert!(f.max_val() <= 100.0 + 1e-9);
+    }
+
+    #[test]
+    fn bad_settings_are_errors() {
+        let d = dom2();
+        let r = || Reflector::new(&d, |_: &[f64]| 0.0);
+        assert!(r().set_param("uniform_piece", "z:3").is_err());
+        assert!(r().set_param("uniform_piece", "x:0").is_err());
+        assert!(r().set_param("uniform_amount", "-3").is_err());
+        assert!(r().set_param("refine_piece", "x:1").is_err());
+        assert!(r().set_param("refine_region", "x:5:1").is_err());
+        assert!(r().set_param("bogus", "1").is_err());
+        assert!(r().set_params("uniform_amount").is_err());
+        let nan = Reflector::new(&d, |_: &[f64]| f64::NAN).build();
+        assert!(nan.is_err());
+    }
+}
