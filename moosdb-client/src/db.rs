@@ -43,6 +43,9 @@ pub const DEFAULT_CLIENT_TIMEOUT: f64 = 5.0;
 /// Default per-client bound on queued messages (outbox and held mail each).
 pub const DEFAULT_OUTBOX_LIMIT: usize = 8192;
 
+/// Default per-client bound on queued outbox bytes (64 MiB).
+pub const DEFAULT_OUTBOX_BYTE_LIMIT: usize = 64 * 1024 * 1024;
+
 /// Settings of a [`Database`].
 #[derive(Debug, Clone)]
 pub struct DbConfig {
@@ -54,6 +57,8 @@ pub struct DbConfig {
     pub client_timeout: f64,
     /// Most messages queued per client; beyond it the oldest are dropped, counted and logged.
     pub outbox_limit: usize,
+    /// Most bytes (encoded) queued per client in its outbox; same overflow rule.
+    pub outbox_byte_limit: usize,
 }
 
 impl Default for DbConfig {
@@ -63,6 +68,7 @@ impl Default for DbConfig {
             host_name: "localhost".to_string(),
             client_timeout: DEFAULT_CLIENT_TIMEOUT,
             outbox_limit: DEFAULT_OUTBOX_LIMIT,
+            outbox_byte_limit: DEFAULT_OUTBOX_BYTE_LIMIT,
         }
     }
 }
@@ -227,6 +233,7 @@ struct ClientState {
     held: VecDeque<Message>,
     outbox: VecDeque<Vec<Message>>,
     outbox_msgs: usize,
+    outbox_bytes: usize,
     dropped: u64,
     timing: Option<Timing>,
 }
@@ -252,16 +259,23 @@ impl ClientState {
         self.held.push_back(msg);
     }
 
-    fn queue(&mut self, packet: Vec<Message>, limit: usize) {
+    fn queue(&mut self, packet: Vec<Message>, limit: usize, byte_limit: usize) {
         self.outbox_msgs += packet.len();
+        self.outbox_bytes += packet_bytes(&packet);
         self.outbox.push_back(packet);
-        while self.outbox_msgs > limit && self.outbox.len() > 1 {
+        while (self.outbox_msgs > limit || self.outbox_bytes > byte_limit) && self.outbox.len() > 1
+        {
             if let Some(old) = self.outbox.pop_front() {
                 self.outbox_msgs -= old.len();
+                self.outbox_bytes -= packet_bytes(&old);
                 self.note_drop(old.len() as u64);
             }
         }
     }
+}
+
+fn packet_bytes(p: &[Message]) -> usize {
+    p.iter().map(Message::encoded_len).sum()
 }
 
 /// The MOOSDB core. See the module documentation.
@@ -370,6 +384,7 @@ impl Database {
                 held: VecDeque::new(),
                 outbox: VecDeque::new(),
                 outbox_msgs: 0,
+                outbox_bytes: 0,
                 dropped: 0,
                 timing: None,
             },
@@ -490,6 +505,7 @@ impl Database {
             self.publish_summaries(now);
         }
         let limit = self.config.outbox_limit;
+        let byte_limit = self.config.outbox_byte_limit;
         let mut effects = Effects::default();
         if let Some(c) = self.clients.get_mut(&id) {
             let mut reply = Vec::with_capacity(1 + c.held.len() + replies.len());
@@ -506,7 +522,7 @@ impl Database {
             }
             reply.extend(replies);
             if !reply.is_empty() {
-                c.queue(reply, limit);
+                c.queue(reply, limit, byte_limit);
                 effects.ready.push(id);
             }
         }
@@ -514,7 +530,7 @@ impl Database {
             for (cid, c) in self.clients.iter_mut() {
                 if c.asynchronous && !c.held.is_empty() {
                     let packet: Vec<Message> = c.held.drain(..).collect();
-                    c.queue(packet, limit);
+                    c.queue(packet, limit, byte_limit);
                     if !effects.ready.contains(cid) {
                         effects.ready.push(*cid);
                     }
@@ -531,6 +547,7 @@ impl Database {
             Some(c) => {
                 out.extend(c.outbox.drain(..));
                 c.outbox_msgs = 0;
+                c.outbox_bytes = 0;
                 true
             }
             None => false,
@@ -540,6 +557,11 @@ impl Database {
     /// Messages dropped so far for a client because it did not keep up.
     pub fn dropped(&self, id: ClientId) -> Option<u64> {
         self.clients.get(&id).map(|c| c.dropped)
+    }
+
+    /// The id of the connected client called `name`.
+    pub fn client_id(&self, name: &str) -> Option<ClientId> {
+        self.names.get(name.as_bytes()).copied()
     }
 
     /// True if `id` is connected.
