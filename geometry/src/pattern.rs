@@ -814,16 +814,7 @@ fn arc_angles(lang: f64, rang: f64, pts: u32) -> Result<(f64, f64, f64), ParseEr
 
 /// Pushes arc vertices from `from` toward `to` stepping by `delta` and clamping at `to`
 /// (MOOS's accumulate-and-clamp loop). `up` = increasing angles.
-fn push_arc(
-    out: &mut Vec<Point>,
-    x: f64,
-    y: f64,
-    r: f64,
-    from: f64,
-    to: f64,
-    delta: f64,
-    up: bool,
-) {
+fn push_arc(out: &mut Vec<Point>, c: Point, r: f64, from: f64, to: f64, delta: f64, up: bool) {
     let mut a = from;
     let mut guard = 0u64;
     loop {
@@ -843,7 +834,7 @@ fn push_arc(
                 a = to;
             }
         }
-        out.push(project_point(x, y, a, r));
+        out.push(project_point(c.x, c.y, a, r));
     }
 }
 
@@ -879,7 +870,13 @@ impl Wedge {
             project_point(self.x, self.y, lang, self.range),
         ];
         push_arc(
-            &mut out, self.x, self.y, self.range, lang, rang, delta, true,
+            &mut out,
+            Point::new(self.x, self.y),
+            self.range,
+            lang,
+            rang,
+            delta,
+            true,
         );
         Ok(out)
     }
@@ -976,8 +973,7 @@ impl RangeWedge {
         let mut out = vec![project_point(self.x, self.y, lang, self.range_max)];
         push_arc(
             &mut out,
-            self.x,
-            self.y,
+            Point::new(self.x, self.y),
             self.range_max,
             lang,
             rang,
@@ -987,8 +983,7 @@ impl RangeWedge {
         out.push(project_point(self.x, self.y, rang, self.range_min));
         push_arc(
             &mut out,
-            self.x,
-            self.y,
+            Point::new(self.x, self.y),
             self.range_min,
             rang,
             lang,
@@ -1168,7 +1163,7 @@ impl Oval {
     pub fn vertices(&self) -> Result<Vec<Point>, ParseError> {
         positive("rad", self.rad)?;
         let il = (self.len - 2.0 * self.rad) / 2.0;
-        if !(il > 0.0) {
+        if il.is_nan() || il <= 0.0 {
             return Err(ParseError::InvalidValue {
                 key: "len".into(),
                 found: self.len.to_string(),
