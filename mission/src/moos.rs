@@ -252,6 +252,11 @@ pub fn parse_moos(src: &SourceMap) -> Parsed<MissionFile> {
                 .found(quote_found(trimmed))
                 .with_line(line),
             );
+            // Recover as if the `{` had been there: the lines that follow are the block's.
+            open = Some(Open {
+                block: header,
+                line: hline,
+            });
         }
 
         if trimmed.starts_with('}') {
