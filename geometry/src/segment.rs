@@ -277,9 +277,9 @@ impl Segment {
     }
 
     /// The waypoint-follower track point for a vehicle at `(x, y)` on the leg `a→b` with a
-    /// `lead` distance: take the perpendicular foot of the vehicle on the segment, then move
-    /// `lead` metres toward `b`; if `b` is no more than `lead` from the foot, `b` itself.
-    /// A `lead <= 0` (MOOS: lead off) returns `b`.
+    /// `lead` distance (MOOS `BHV_Waypoint`): take the perpendicular foot of the vehicle on the
+    /// segment, then move `lead` metres from it along the leg direction `a→b`, but never past
+    /// `b`. `lead = 0` gives the foot itself; a negative `lead` (MOOS: lead off) returns `b`.
     ///
     /// ```
     /// use geometry::Segment;
@@ -290,17 +290,40 @@ impl Segment {
     /// assert_eq!((t.x, t.y), (0.0, 100.0));
     /// ```
     pub fn lead_point(&self, x: f64, y: f64, lead: f64) -> Point {
+        self.lead_point_damped(x, y, lead, -1.0)
+    }
+
+    /// [`lead_point`](Self::lead_point) with MOOS's `lead_damper`: when the vehicle is closer
+    /// than `damper` metres to the track line, the lead grows by the factor
+    /// `1 + 2·(1 − d/damper)` (up to 3× on the line itself). `damper <= 0` disables it.
+    ///
+    /// ```
+    /// use geometry::Segment;
+    /// let leg = Segment::from_xy(0.0, 0.0, 0.0, 100.0);
+    /// // 5 m off the line with damper 20: factor 1 + 2*(1 - 5/20) = 2.5, lead 10 -> 25.
+    /// let t = leg.lead_point_damped(5.0, 30.0, 10.0, 20.0);
+    /// assert_eq!((t.x, t.y), (0.0, 55.0));
+    /// ```
+    pub fn lead_point_damped(&self, x: f64, y: f64, lead: f64, damper: f64) -> Point {
         let end = Point::new(self.b.x, self.b.y);
-        if lead.is_nan() || lead <= 0.0 {
+        if lead.is_nan() || lead < 0.0 {
             return end;
         }
         let foot = self.closest_point(x, y);
-        let remaining = foot.dist(&end);
-        if remaining <= lead {
+        let mut factor = 1.0;
+        if damper > 0.0 {
+            let off = dist(foot.x, foot.y, x, y);
+            if off < damper {
+                factor += 2.0 * (1.0 - off / damper);
+            }
+        }
+        let reach = lead * factor;
+        if foot.dist(&end) <= reach {
             return end;
         }
-        let f = lead / remaining;
-        Point::new(foot.x + f * (end.x - foot.x), foot.y + f * (end.y - foot.y))
+        let (dx, dy) = self.dir();
+        let len = dx.hypot(dy);
+        Point::new(foot.x + reach * dx / len, foot.y + reach * dy / len)
     }
 }
 
@@ -393,7 +416,18 @@ mod tests {
         assert_eq!(leg.lead_point(-7.0, 30.0, 20.0), Point::new(0.0, 50.0));
         // Behind the start: foot clamps to a.
         assert_eq!(leg.lead_point(0.0, -40.0, 10.0), Point::new(0.0, 10.0));
-        assert_eq!(leg.lead_point(0.0, 30.0, 0.0), Point::new(0.0, 100.0));
+        assert_eq!(leg.lead_point(3.0, 30.0, 0.0), Point::new(0.0, 30.0));
+        assert_eq!(leg.lead_point(3.0, 30.0, -1.0), Point::new(0.0, 100.0));
+        // On the line with damper 20: factor 3, lead 10 -> 30.
+        assert_eq!(
+            leg.lead_point_damped(0.0, 30.0, 10.0, 20.0),
+            Point::new(0.0, 60.0)
+        );
+        // Beyond the damper distance: no change.
+        assert_eq!(
+            leg.lead_point_damped(25.0, 30.0, 10.0, 20.0),
+            Point::new(0.0, 40.0)
+        );
         // Diagonal leg: foot of (10,0) on (0,0)->(20,20) is (5,5); lead sqrt(2)*5 gives (10,10).
         let d = Segment::from_xy(0.0, 0.0, 20.0, 20.0);
         let t = d.lead_point(10.0, 0.0, 50f64.sqrt());

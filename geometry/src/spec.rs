@@ -322,8 +322,14 @@ impl std::str::FromStr for ViewPoint {
     }
 }
 
-/// Parses a point: `x=..,y=..[,z=..][,trans=..][,<attributes>]` (keys in any order) or the
-/// short `x,y[,z]` form used by `point =` / `station_pt =`.
+/// Parses a point (MOOS `string2Point`):
+/// - standard `x=..,y=..[,z=..][,trans=..][,shiftx=..][,shifty=..][,shiftz=..][,<attributes>]`,
+///   keys in any order; `heading`/`hdg` are accepted and ignored, unknown keys ignored;
+/// - abbreviated `x,y[,z]`, optionally with `:`-separated `key,value` pieces
+///   (`4,5:label,foo:source,bravo`) — the form used by `point =` and `station_pt =`.
+///
+/// MOOS's standard parser sets `z` from the *x* text (a bug: `double dz = atof(x)`); here `z`
+/// is read from `z=`, so specs written by [`ViewPoint::spec`] read back unchanged.
 ///
 /// ```
 /// let p = geometry::spec::parse_point("x=15, y=0").unwrap();
@@ -337,22 +343,31 @@ pub fn parse_point(s: &str) -> Result<ViewPoint, ParseError> {
     }
     let mut vp = ViewPoint::new(Point::default());
     if !t.contains('=') {
-        let fields: Vec<&str> = t.split(',').map(str::trim).collect();
-        if !(2..=3).contains(&fields.len()) {
-            return Err(ParseError::FieldCount {
-                format: "point",
-                expected: "2 or 3 (x,y[,z])",
-                found: fields.len(),
-            });
+        let mut found = false;
+        for piece in t.split(':') {
+            let (param, value) = bite(piece, ',');
+            if vp.attrs.set(&lower(param), value)? {
+                continue;
+            }
+            let (ys, zs) = bite(value, ',');
+            let bad = || ParseError::BadVertex(piece.trim().into());
+            vp.point.x = number(param).ok_or_else(bad)?;
+            vp.point.y = number(ys).ok_or_else(bad)?;
+            vp.point.z = if zs.is_empty() {
+                0.0
+            } else {
+                number(zs).ok_or_else(bad)?
+            };
+            found = true;
         }
-        vp.point.x = need_number("x", fields[0])?;
-        vp.point.y = need_number("y", fields[1])?;
-        if let Some(z) = fields.get(2) {
-            vp.point.z = need_number("z", z)?;
-        }
-        return Ok(vp);
+        return if found {
+            Ok(vp)
+        } else {
+            Err(ParseError::NoVertices(t.into()))
+        };
     }
     let (mut x, mut y) = (None, None);
+    let (mut sx, mut sy, mut sz) = (0.0, 0.0, 0.0);
     for piece in split_top(t, ',').filter(|p| !p.is_empty()) {
         let (k, v) = split_kv(piece);
         let k = lower(k);
@@ -360,7 +375,11 @@ pub fn parse_point(s: &str) -> Result<ViewPoint, ParseError> {
             "x" => x = Some(need_number("x", v)?),
             "y" => y = Some(need_number("y", v)?),
             "z" => vp.point.z = need_number("z", v)?,
+            "shiftx" => sx = need_number("shiftx", v)?,
+            "shifty" => sy = need_number("shifty", v)?,
+            "shiftz" => sz = need_number("shiftz", v)?,
             "trans" => vp.trans = need_number("trans", v)?.clamp(0.0, 1.0),
+            "heading" | "hdg" => {}
             other => {
                 vp.attrs.set(other, v)?;
             }
@@ -369,11 +388,12 @@ pub fn parse_point(s: &str) -> Result<ViewPoint, ParseError> {
     vp.point.x = x.ok_or(ParseError::Missing {
         key: "x",
         format: "point",
-    })?;
+    })? + sx;
     vp.point.y = y.ok_or(ParseError::Missing {
         key: "y",
         format: "point",
-    })?;
+    })? + sy;
+    vp.point.z += sz;
     Ok(vp)
 }
 

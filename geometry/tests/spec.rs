@@ -222,11 +222,11 @@ fn typed_errors() {
     ));
     assert_eq!(
         parse_point("1,2,3,4").unwrap_err(),
-        ParseError::FieldCount {
-            format: "point",
-            expected: "2 or 3 (x,y[,z])",
-            found: 4
-        }
+        ParseError::BadVertex("1,2,3,4".into())
+    );
+    assert_eq!(
+        parse_point("label,foo").unwrap_err(),
+        ParseError::NoVertices("label,foo".into())
     );
     assert_eq!(
         parse_point("x=1").unwrap_err(),
@@ -271,6 +271,13 @@ fn from_str_impls() {
     assert!(p.is_convex());
     let v: ViewPoint = "3,4".parse().unwrap();
     assert_eq!(v.point, Point::new(3.0, 4.0));
+    let v: ViewPoint = "4,5,-2:label,foo:source,bravo".parse().unwrap();
+    assert_eq!(
+        (v.point, v.attrs.label.as_str(), v.attrs.source.as_str()),
+        (Point::new_3d(4.0, 5.0, -2.0), "foo", "bravo")
+    );
+    let v: ViewPoint = "x=1,y=2,z=3,shiftx=10,hdg=45".parse().unwrap();
+    assert_eq!(v.point, Point::new_3d(11.0, 2.0, 3.0));
 }
 
 #[test]
