@@ -769,11 +769,8 @@ enum Header {
 /// Whether a line starts a block: `Behavior = X` or `set VAR = VALUE`.
 fn header_kind(body: &str) -> Option<Header> {
     let first = body.split_whitespace().next().unwrap_or("");
-    if first.len() >= 3
-        && first[..3].eq_ignore_ascii_case("set")
-        && first.len() == 3
-        && body.contains('=')
-    {
+    if first.eq_ignore_ascii_case("set") && body.contains('=') {
+
         return Some(Header::Mode);
     }
     let key = body.split('=').next().unwrap_or("").trim();
