@@ -1,0 +1,55 @@
+//! Test helpers: reading real mission files from the shared corpus.
+#![allow(dead_code)]
+
+use std::path::PathBuf;
+
+/// The shared corpus folder; panics loudly when it is missing.
+pub fn corpus() -> PathBuf {
+    let p = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/corpus"));
+    assert!(p.is_dir(), "shared corpus missing at {} (tests need ../shared/corpus)", p.display());
+    p
+}
+
+/// Reads a mission file of the corpus; panics loudly when it is missing.
+pub fn mission_file(rel: &str) -> String {
+    let p = corpus().join("moos-ivp-missions").join(rel);
+    std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("cannot read {}: {e}", p.display()))
+}
+
+/// The `key = value` lines of `ProcessConfig = <app>` in a `.moos` text (a minimal reader
+/// for tests: comments `//` stripped, first `=` splits).
+pub fn process_config(text: &str, app: &str) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    let mut lines = text.lines().map(|l| l.split("//").next().unwrap_or("").trim());
+    while let Some(l) = lines.next() {
+        let Some((k, v)) = l.split_once('=') else { continue };
+        if !(k.trim().eq_ignore_ascii_case("processconfig") && v.trim() == app) {
+            continue;
+        }
+        for l in lines.by_ref() {
+            if l == "{" || l.is_empty() {
+                continue;
+            }
+            if l == "}" {
+                return out;
+            }
+            if let Some((k, v)) = l.split_once('=') {
+                out.push((k.trim().to_string(), v.trim().to_string()));
+            }
+        }
+    }
+    panic!("no ProcessConfig = {app} block");
+}
+
+/// A global `Key = value` line of a `.moos` text.
+pub fn global(text: &str, key: &str) -> Option<String> {
+    text.lines().find_map(|l| {
+        let (k, v) = l.split("//").next()?.split_once('=')?;
+        k.trim().eq_ignore_ascii_case(key).then(|| v.trim().to_string())
+    })
+}
+
+/// Borrowing view for `from_params`.
+pub fn pairs(v: &[(String, String)]) -> impl Iterator<Item = (&str, &str)> {
+    v.iter().map(|(k, v)| (k.as_str(), v.as_str()))
+}

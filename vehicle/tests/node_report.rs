@@ -1,0 +1,135 @@
+//! NODE_REPORT_LOCAL strings, character for character.
+
+mod common;
+
+use vehicle::MailValue;
+use vehicle::moos::last_posting;
+use vehicle::node_report::{NodeReportConfig, NodeReporter};
+
+fn report(out: &[vehicle::Posting]) -> String {
+    last_posting(out, "NODE_REPORT_LOCAL").expect("no report").as_str().unwrap().to_string()
+}
+
+fn d(app: &mut NodeReporter, var: &str, v: f64, t: f64) {
+    app.on_mail(var, MailValue::Double(v), t);
+}
+
+fn s(app: &mut NodeReporter, var: &str, v: &str, t: f64) {
+    app.on_mail(var, MailValue::Str(v), t);
+}
+
+#[test]
+fn kayak_without_helm() {
+    let cfg = NodeReportConfig::from_params([("platform_type", "kayak"), ("platform_color", "yellow")]).unwrap();
+    let mut app = NodeReporter::new(cfg, "alpha", 1000.0);
+    d(&mut app, "NAV_X", 10.0, 1000.0);
+    d(&mut app, "NAV_Y", -20.5, 1000.0);
+    d(&mut app, "NAV_SPEED", 1.2, 1000.0);
+    d(&mut app, "NAV_HEADING", 180.0, 1000.0);
+    d(&mut app, "NAV_DEPTH", 0.0, 1000.0);
+    let mut out = Vec::new();
+    app.iterate(1001.25, &mut out);
+    let expected = "NAME=alpha,X=10,Y=-20.5,SPD=1.2,HDG=180,DEP=0,TYPE=kayak,COLOR=yellow,\
+                    MODE=NOHELM-EVER,ALLSTOP=unknown,TIME=1001.25,LENGTH=4";
+    assert_eq!(report(&out), expected);
+    assert_eq!(last_posting(&out, "NODE_REPORT_LOCAL_FIRST").unwrap().as_str(), Some(expected));
+    assert_eq!(last_posting(&out, "PNR_POST_GAP").unwrap().as_f64(), Some(0.0));
+}
+
+#[test]
+fn uuv_driving_with_modes_lat_lon_yaw_and_index() {
+    let cfg = NodeReportConfig::from_params([
+        ("vessel_type", "UUV"),
+        ("platform_length", "3.5"),
+        ("platform_group", "red"),
+    ])
+    .unwrap();
+    let mut app = NodeReporter::new(cfg, "henry", 0.0);
+    let t = 5000.0;
+    d(&mut app, "NAV_X", -4.934, t);
+    d(&mut app, "NAV_Y", -96.0512, t);
+    d(&mut app, "NAV_LAT", 43.824434651, t);
+    d(&mut app, "NAV_LONG", -70.330442139, t);
+    d(&mut app, "NAV_SPEED", 2.0, t);
+    d(&mut app, "NAV_HEADING", -315.0, t); // wrapped to 45
+    d(&mut app, "NAV_DEPTH", 12.345, t);
+    d(&mut app, "NAV_YAW", 0.785, t);
+    s(&mut app, "IVPHELM_STATE", "DRIVE", t);
+    s(&mut app, "IVPHELM_SUMMARY", "iter=12,utc_time=5000,modes=MODE@ACTIVE:SURVEYING,var=x", t);
+    s(&mut app, "IVPHELM_ALLSTOP", "clear", t);
+    let mut out = Vec::new();
+    app.iterate(t + 1.0, &mut out);
+    out.clear();
+    app.iterate(t + 2.0, &mut out);
+    let expected = "NAME=henry,X=-4.93,Y=-96.05,SPD=2,HDG=45,DEP=12.35,LAT=43.82443465,LON=-70.33044214,\
+                    TYPE=UUV,GROUP=red,MODE=MODE@ACTIVE:SURVEYING,ALLSTOP=clear,INDEX=1,YAW=0.7853982,\
+                    TIME=5002,LENGTH=3.5";
+    assert_eq!(report(&out), expected);
+    assert!(last_posting(&out, "NODE_REPORT_LOCAL_FIRST").is_none());
+    assert_eq!(last_posting(&out, "PNR_POST_GAP").unwrap().as_f64(), Some(1.0));
+}
+
+#[test]
+fn helm_gone_quiet_park_and_terse_global() {
+    let cfg = NodeReportConfig::from_params([("terse_reports", "true"), ("coord_policy_global", "true")]).unwrap();
+    let mut app = NodeReporter::new(cfg, "abe", 0.0);
+    d(&mut app, "NAV_LAT", 0.5, 100.0);
+    d(&mut app, "NAV_LONG", -0.25, 100.0);
+    d(&mut app, "NAV_X", 1.0, 100.0);
+    d(&mut app, "NAV_Y", 2.0, 100.0);
+    d(&mut app, "NAV_SPEED", 0.0, 100.0);
+    d(&mut app, "NAV_HEADING", 359.996, 100.0);
+    d(&mut app, "NAV_DEPTH", 3.0, 100.0);
+    d(&mut app, "NAV_YAW", 1.0, 100.0);
+    s(&mut app, "IVPHELM_STATE", "PARK", 100.0);
+    let mut out = Vec::new();
+    app.iterate(102.0, &mut out);
+    // Helm fresh, PARK: the modes of a summary only replace DRIVE.
+    let expected = "NAME=abe,SPD=0,HDG=360,LAT=0.5,LON=-0.25,TYPE=unknown,MODE=PARK,ALLSTOP=unknown,\
+                    TIME=102,LENGTH=0";
+    assert_eq!(report(&out), expected);
+    out.clear();
+    // 7.4 s after the last helm message: NOHELM-7.
+    app.iterate(107.4, &mut out);
+    assert!(report(&out).contains(",MODE=NOHELM-7,"), "{}", report(&out));
+}
+
+#[test]
+fn waits_for_nav_and_respects_blackout() {
+    let cfg = NodeReportConfig::from_params([("blackout_interval", "5"), ("node_report_output", "NR")]).unwrap();
+    let mut app = NodeReporter::new(cfg, "ben", 0.0);
+    let mut out = Vec::new();
+    app.iterate(1.0, &mut out);
+    assert!(out.is_empty(), "no position yet");
+    d(&mut app, "NAV_X", 0.0, 1.0);
+    d(&mut app, "NAV_Y", 0.0, 1.0);
+    d(&mut app, "NAV_SPEED", 0.0, 1.0);
+    d(&mut app, "NAV_HEADING", 0.0, 1.0);
+    app.iterate(2.0, &mut out);
+    assert!(last_posting(&out, "NR").is_some());
+    out.clear();
+    app.iterate(4.0, &mut out);
+    assert!(out.is_empty(), "inside the blackout interval");
+    app.iterate(7.5, &mut out);
+    assert!(last_posting(&out, "NR").unwrap().as_str().unwrap().contains("INDEX=1"));
+}
+
+#[test]
+fn reads_real_mission_blocks() {
+    let text = common::mission_file("s7_golf/golf.moos");
+    let block = common::process_config(&text, "pNodeReporter");
+    let cfg = NodeReportConfig::from_params(common::pairs(&block)).unwrap();
+    assert_eq!(cfg.platform_type, "UUV");
+    let name = common::global(&text, "Community").unwrap();
+    let mut app = NodeReporter::new(cfg, &name, 0.0);
+    for (v, x) in [("NAV_X", 1.0), ("NAV_Y", 2.0), ("NAV_SPEED", 0.5), ("NAV_HEADING", 90.0)] {
+        d(&mut app, v, x, 0.0);
+    }
+    let mut out = Vec::new();
+    app.iterate(3.0, &mut out);
+    assert_eq!(
+        report(&out),
+        "NAME=henry,X=1,Y=2,SPD=0.5,HDG=90,TYPE=UUV,MODE=NOHELM-EVER,ALLSTOP=unknown,TIME=3,LENGTH=4"
+    );
+    assert!(NodeReportConfig::from_params([("platform_length", "-1")]).is_err());
+}
