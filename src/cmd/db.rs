@@ -1,0 +1,201 @@
+//! `coug db [MISSION.moos] [--port N] [--host ADDR] [--community NAME]`: a standalone MOOSDB.
+//!
+//! Also holds the tiny reader of a mission's `ServerHost` / `ServerPort` / `Community` /
+//! `MOOSTimeWarp` used by `coug poke` and `coug scope`.
+//! TODO: switch to `mission::moos` once that parser is available to the binary.
+
+use std::net::{IpAddr, Ipv4Addr, SocketAddr, ToSocketAddrs};
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, bail};
+use clap::Args;
+use moosdb_client::time::Warp;
+use moosdb_client::{Server, ServerConfig};
+
+/// Arguments of `coug db`.
+#[derive(Debug, Args)]
+pub struct DbArgs {
+    /// Mission file: `ServerPort`, `ServerHost`, `Community`, `MOOSTimeWarp`, `ClientTimeout`.
+    #[arg(value_name = "MISSION.moos")]
+    pub mission: Option<PathBuf>,
+    /// Port to listen on (default: the mission's ServerPort, else 9000).
+    #[arg(long)]
+    pub port: Option<u16>,
+    /// Address to listen on (default: the mission's ServerHost, else 127.0.0.1).
+    #[arg(long)]
+    pub host: Option<String>,
+    /// Community name (default: the mission's Community, else `#1`).
+    #[arg(long)]
+    pub community: Option<String>,
+}
+
+/// The global settings of a `.moos` file that the comms need.
+#[derive(Debug, Default, Clone, PartialEq)]
+pub struct MissionComms {
+    /// `ServerHost`.
+    pub host: Option<String>,
+    /// `ServerPort`.
+    pub port: Option<u16>,
+    /// `Community`.
+    pub community: Option<String>,
+    /// `MOOSTimeWarp`.
+    pub warp: Option<f64>,
+    /// `ClientTimeout` (seconds).
+    pub client_timeout: Option<f64>,
+}
+
+/// Reads `key = value` lines outside `ProcessConfig` blocks (`//` comments stripped, keys
+/// case-insensitive, first occurrence wins).
+pub fn parse_mission_comms(text: &str) -> anyhow::Result<MissionComms> {
+    let mut out = MissionComms::default();
+    let mut depth = 0usize;
+    for (n, raw) in text.lines().enumerate() {
+        let line = raw.split("//").next().unwrap_or("").trim();
+        if line.starts_with('{') {
+            depth += 1;
+            continue;
+        }
+        if line.starts_with('}') {
+            depth = depth.saturating_sub(1);
+            continue;
+        }
+        if depth > 0 {
+            continue;
+        }
+        let Some((k, v)) = line.split_once('=') else {
+            continue;
+        };
+        let (k, v) = (k.trim().to_ascii_lowercase(), v.trim().to_string());
+        let bad = |what: &str| format!("line {}: {what} `{v}` is not valid", n + 1);
+        match k.as_str() {
+            "serverhost" if out.host.is_none() => out.host = Some(v),
+            "serverport" if out.port.is_none() => {
+                out.port = Some(v.parse().with_context(|| bad("ServerPort"))?)
+            }
+            "community" if out.community.is_none() => out.community = Some(v),
+            "moostimewarp" if out.warp.is_none() => {
+                out.warp = Some(v.parse().with_context(|| bad("MOOSTimeWarp"))?)
+            }
+            "clienttimeout" if out.client_timeout.is_none() => {
+                out.client_timeout = Some(v.parse().with_context(|| bad("ClientTimeout"))?)
+            }
+            _ => {}
+        }
+    }
+    Ok(out)
+}
+
+/// [`parse_mission_comms`] of a file.
+pub fn read_mission_comms(path: &Path) -> anyhow::Result<MissionComms> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read mission file {}", path.display()))?;
+    parse_mission_comms(&text).with_context(|| format!("in {}", path.display()))
+}
+
+/// Resolves a MOOS host name (`localhost` in any case means 127.0.0.1).
+pub fn resolve_host(host: &str, port: u16) -> anyhow::Result<SocketAddr> {
+    if host.eq_ignore_ascii_case("localhost") {
+        return Ok(SocketAddr::new(IpAddr::V4(Ipv4Addr::LOCALHOST), port));
+    }
+    if let Ok(ip) = host.parse::<IpAddr>() {
+        return Ok(SocketAddr::new(ip, port));
+    }
+    (host, port)
+        .to_socket_addrs()
+        .with_context(|| format!("cannot resolve host {host}"))?
+        .next()
+        .with_context(|| format!("host {host} has no address"))
+}
+
+/// Warp from the mission (1 when absent); rejects values MOOS rejects.
+pub fn warp_of(m: &MissionComms) -> anyhow::Result<Warp> {
+    Ok(Warp::new(m.warp.unwrap_or(1.0))?)
+}
+
+/// Runs the DB until Ctrl-C.
+pub fn run(args: &DbArgs) -> anyhow::Result<()> {
+    let m = match &args.mission {
+        Some(p) => read_mission_comms(p)?,
+        None => MissionComms::default(),
+    };
+    let port = args
+        .port
+        .or(m.port)
+        .unwrap_or(moosdb_client::server::DEFAULT_PORT);
+    let host = args
+        .host
+        .clone()
+        .or(m.host.clone())
+        .unwrap_or_else(|| "127.0.0.1".to_string());
+    let mut cfg = ServerConfig::default();
+    cfg.addr = resolve_host(&host, port)?;
+    cfg.warp = warp_of(&m)?;
+    if let Some(c) = args.community.clone().or(m.community.clone()) {
+        cfg.db.community = c;
+    }
+    if let Some(t) = m.client_timeout {
+        if !(t > 0.0) {
+            bail!("ClientTimeout must be positive, got {t}");
+        }
+        cfg.db.client_timeout = t;
+    }
+    let rt = tokio::runtime::Runtime::new()?;
+    rt.block_on(async {
+        let community = cfg.db.community.clone();
+        let server = Server::bind(cfg)
+            .await
+            .with_context(|| format!("cannot listen on {host}:{port}"))?;
+        println!(
+            "coug db: MOOSDB_{community} listening on {} (Ctrl-C to stop)",
+            server.local_addr()
+        );
+        tokio::signal::ctrl_c().await?;
+        server.shutdown();
+        Ok(())
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_globals_and_skips_process_config_blocks() {
+        let text = "// a comment\nServerHost = 10.0.0.2 // inline\nserverport=9101\n\
+                    Community    = alpha\nMOOSTimeWarp = 10\n\
+                    ProcessConfig = pX\n{\n  ServerPort = 1\n  Community = nope\n}\n";
+        let m = parse_mission_comms(text).unwrap();
+        assert_eq!(m.host.as_deref(), Some("10.0.0.2"));
+        assert_eq!(m.port, Some(9101));
+        assert_eq!(m.community.as_deref(), Some("alpha"));
+        assert_eq!(m.warp, Some(10.0));
+        assert!(parse_mission_comms("ServerPort = many").is_err());
+    }
+
+    #[test]
+    fn localhost_resolves_to_loopback() {
+        assert_eq!(
+            resolve_host("LOCALHOST", 9000).unwrap(),
+            "127.0.0.1:9000".parse().unwrap()
+        );
+        assert_eq!(
+            resolve_host("10.1.2.3", 1).unwrap(),
+            "10.1.2.3:1".parse().unwrap()
+        );
+    }
+
+    #[test]
+    fn reads_the_corpus_alpha_mission() {
+        let p = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../shared/corpus/moos-ivp-missions/s1_alpha/alpha.moos"
+        );
+        assert!(
+            Path::new(p).is_file(),
+            "corpus missing: {p} (../shared must sit beside the repository)"
+        );
+        let m = read_mission_comms(Path::new(p)).unwrap();
+        assert_eq!(m.port, Some(9000));
+        assert_eq!(m.community.as_deref(), Some("alpha"));
+    }
+}

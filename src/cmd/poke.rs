@@ -1,0 +1,170 @@
+//! `coug poke [MISSION.moos] [--host H] [--port N] VAR=VALUE...`: post values like uPokeDB.
+//!
+//! `VAR=VALUE` posts a double when VALUE is numeric, else a string; `VAR:=VALUE` always posts
+//! a string. A value in double quotes is a string, posted with its quotes as uPokeDB does
+//! (recorded traffic: `QNUM="42"` arrives as the 4-character string `"42"`).
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use anyhow::{Context, bail};
+use clap::Args;
+use moosdb_client::{Client, ClientConfig, Value};
+
+use super::db::{MissionComms, read_mission_comms, warp_of};
+
+/// Arguments of `coug poke`.
+#[derive(Debug, Args)]
+pub struct PokeArgs {
+    /// An optional mission file (first argument ending in `.moos`), then `VAR=VALUE` pairs.
+    #[arg(required = true, value_name = "[MISSION.moos] VAR=VALUE")]
+    pub items: Vec<String>,
+    /// DB host (default: mission ServerHost, else localhost).
+    #[arg(long)]
+    pub host: Option<String>,
+    /// DB port (default: mission ServerPort, else 9000).
+    #[arg(long)]
+    pub port: Option<u16>,
+    /// Seconds to wait for the DB before giving up.
+    #[arg(long, default_value_t = 10.0)]
+    pub timeout: f64,
+}
+
+/// One parsed `VAR=VALUE`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Poke {
+    /// Variable name.
+    pub var: String,
+    /// Value to post.
+    pub value: Value,
+}
+
+/// True for text MOOS treats as a number (`MOOSIsNumeric`-like: a full float parse).
+fn is_numeric(s: &str) -> bool {
+    let t = s.trim();
+    !t.is_empty()
+        && t.parse::<f64>().is_ok()
+        && !t.eq_ignore_ascii_case("nan")
+        && !t.to_ascii_lowercase().contains("inf")
+}
+
+/// Parses `VAR=VALUE` / `VAR:=VALUE`.
+pub fn parse_poke(arg: &str) -> anyhow::Result<Poke> {
+    let (var, value, forced) = match (arg.find(":="), arg.find('=')) {
+        (Some(i), Some(j)) if i < j => (&arg[..i], &arg[i + 2..], true),
+        (_, Some(j)) => (&arg[..j], &arg[j + 1..], false),
+        _ => bail!("`{arg}` is not VAR=VALUE"),
+    };
+    let var = var.trim();
+    if var.is_empty() || var.contains(char::is_whitespace) {
+        bail!("`{arg}`: bad variable name");
+    }
+    let value = if !forced && !value.trim_start().starts_with('"') && is_numeric(value) {
+        Value::Double(value.trim().parse().context("number")?)
+    } else {
+        Value::string(value)
+    };
+    Ok(Poke {
+        var: var.to_string(),
+        value,
+    })
+}
+
+/// Splits the optional leading mission file from the pokes.
+fn split_items(items: &[String]) -> (Option<PathBuf>, &[String]) {
+    match items.first() {
+        Some(f) if f.ends_with(".moos") || f.ends_with(".moos++") => {
+            (Some(PathBuf::from(f)), &items[1..])
+        }
+        _ => (None, items),
+    }
+}
+
+/// Connects, posts every value, flushes and exits.
+pub fn run(args: &PokeArgs) -> anyhow::Result<()> {
+    let (mission, rest) = split_items(&args.items);
+    let m = match &mission {
+        Some(p) => read_mission_comms(p)?,
+        None => MissionComms::default(),
+    };
+    let pokes: Vec<Poke> = rest
+        .iter()
+        .map(|a| parse_poke(a))
+        .collect::<Result<_, _>>()?;
+    if pokes.is_empty() {
+        bail!("nothing to poke: give VAR=VALUE arguments");
+    }
+    let host = args
+        .host
+        .clone()
+        .or(m.host.clone())
+        .unwrap_or_else(|| "localhost".into());
+    let port = args.port.or(m.port).unwrap_or(9000);
+    let mut cfg = ClientConfig::new(&format!("coug_poke_{}", std::process::id()), &host, port);
+    cfg.warp = warp_of(&m)?;
+    let rt = tokio::runtime::Runtime::new()?;
+    rt.block_on(async {
+        let (client, _mail) = Client::start(cfg);
+        tokio::time::timeout(
+            Duration::from_secs_f64(args.timeout.max(0.0)),
+            client.wait_connected(),
+        )
+        .await
+        .with_context(|| format!("no MOOSDB at {host}:{port} within {} s", args.timeout))??;
+        for p in &pokes {
+            client.notify(&p.var, p.value.clone())?;
+            match &p.value {
+                Value::Double(d) => println!("{} = {d} (double)", p.var),
+                Value::String(s) => {
+                    println!("{} = {} (string)", p.var, String::from_utf8_lossy(s))
+                }
+                Value::Binary(b) => println!("{} = <{} bytes> (binary)", p.var, b.len()),
+            }
+        }
+        client.close().await;
+        Ok(())
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_are_doubles_unless_quoted_or_forced() {
+        assert_eq!(parse_poke("FOO=3.5").unwrap().value, Value::Double(3.5));
+        assert_eq!(
+            parse_poke("BAR=hello").unwrap().value,
+            Value::string("hello")
+        );
+        assert_eq!(
+            parse_poke("NUMSTR:=2.5").unwrap().value,
+            Value::string("2.5")
+        );
+        assert_eq!(
+            parse_poke("QNUM=\"42\"").unwrap().value,
+            Value::string("\"42\"")
+        );
+        assert_eq!(parse_poke("X=-1e3").unwrap().value, Value::Double(-1000.0));
+        assert_eq!(parse_poke("X=nan").unwrap().value, Value::string("nan"));
+        let p = parse_poke("DEPLOY=true").unwrap();
+        assert_eq!(p.var, "DEPLOY");
+        assert_eq!(p.value, Value::string("true"));
+        assert_eq!(
+            parse_poke("WPT=points=1,2:3,4").unwrap().value,
+            Value::string("points=1,2:3,4")
+        );
+        assert!(parse_poke("novalue").is_err());
+        assert!(parse_poke("=3").is_err());
+    }
+
+    #[test]
+    fn leading_mission_file_is_split_off() {
+        let items = vec!["a.moos".to_string(), "X=1".to_string()];
+        let (m, rest) = split_items(&items);
+        assert_eq!(m, Some(PathBuf::from("a.moos")));
+        assert_eq!(rest, &items[1..]);
+        let items = vec!["X=1".to_string()];
+        assert_eq!(split_items(&items).0, None);
+    }
+}
