@@ -68,7 +68,8 @@ mod tests {
         assert_eq!(angle180(180.0), 180.0);
         assert_eq!(angle180(181.0), -179.0);
         assert!((heading_to_radians(0.0) - PI / 2.0).abs() < 1e-12);
-        assert!((heading_to_radians(270.0) - PI).abs() < 1e-12);
+        assert!((heading_to_radians(270.0) + PI).abs() < 1e-12);
+        assert!((heading_to_radians(180.0) + PI / 2.0).abs() < 1e-12);
         assert_eq!(rel_ang(0.0, 0.0, 1.0, 0.0), 90.0);
         assert_eq!(rel_ang(0.0, 0.0, 0.0, -1.0), 180.0);
         assert_eq!(rel_ang(1.0, 1.0, 1.0, 1.0), 0.0);

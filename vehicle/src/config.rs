@@ -99,7 +99,12 @@ impl Param<'_> {
         }
     }
 
-    pub(crate) fn range(&self, lo: f64, hi: f64, expected: &'static str) -> Result<f64, ConfigError> {
+    pub(crate) fn range(
+        &self,
+        lo: f64,
+        hi: f64,
+        expected: &'static str,
+    ) -> Result<f64, ConfigError> {
         match parse_number(self.value) {
             Some(v) if (lo..=hi).contains(&v) => Ok(v),
             _ => Err(self.bad(expected)),
@@ -150,9 +155,16 @@ pub(crate) fn apply_params<'a, T>(
         if is_generic_app_key(&lower) {
             continue;
         }
-        let p = Param { app, key: key_t, value: value.trim() };
+        let p = Param {
+            app,
+            key: key_t,
+            value: value.trim(),
+        };
         if !apply(target, &lower, p)? {
-            unknown.push(ConfigError::UnknownKey { app, key: key_t.to_string() });
+            unknown.push(ConfigError::UnknownKey {
+                app,
+                key: key_t.to_string(),
+            });
         }
     }
     Ok(unknown)

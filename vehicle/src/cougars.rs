@@ -61,13 +61,23 @@ pub struct Gains {
 impl Gains {
     /// Gains with symmetric limits `±limit`.
     pub fn new(kp: f64, ki: f64, kd: f64, limit: f64) -> Self {
-        Gains { kp, ki, kd, min: -limit.abs(), max: limit.abs() }
+        Gains {
+            kp,
+            ki,
+            kd,
+            min: -limit.abs(),
+            max: limit.abs(),
+        }
     }
 
     /// Converts gains tuned against the original millisecond-interval PID into the
     /// per-second gains that reproduce the same integral and derivative action here.
     pub fn from_ms_tuned(self) -> Self {
-        Gains { ki: self.ki * 1000.0, kd: self.kd / 1000.0, ..self }
+        Gains {
+            ki: self.ki * 1000.0,
+            kd: self.kd / 1000.0,
+            ..self
+        }
     }
 }
 
@@ -180,7 +190,12 @@ pub struct Kinematics {
 
 impl Default for Kinematics {
     fn default() -> Self {
-        Kinematics { direction: [1.0; 3], offset: [0.0; 3], trim_ratio: 0.0, demo_mode: false }
+        Kinematics {
+            direction: [1.0; 3],
+            offset: [0.0; 3],
+            trim_ratio: 0.0,
+            demo_mode: false,
+        }
     }
 }
 
@@ -190,14 +205,26 @@ pub const SURFACE_FIN: f64 = 30.0;
 impl Kinematics {
     /// coug1's field values: top offset -10°, directions (1, -1, -1).
     pub fn coug1() -> Self {
-        Kinematics { direction: [1.0, -1.0, -1.0], offset: [-10.0, 0.0, 0.0], ..Kinematics::default() }
+        Kinematics {
+            direction: [1.0, -1.0, -1.0],
+            offset: [-10.0, 0.0, 0.0],
+            ..Kinematics::default()
+        }
     }
 
     /// Mixes a controller command into servo angles: `dir·fin + offset + trim_ratio·thrust`.
     /// Thrust is 0 unless `armed`; `surface` replaces the fins with the fins-up command.
     pub fn mix(&self, cmd: &UCommand, armed: bool, surface: bool) -> UCommand {
-        let thrust = if armed && !self.demo_mode { cmd.thruster } else { 0.0 };
-        let fins_in = if surface { [0.0, -SURFACE_FIN, SURFACE_FIN] } else { cmd.fin };
+        let thrust = if armed && !self.demo_mode {
+            cmd.thruster
+        } else {
+            0.0
+        };
+        let fins_in = if surface {
+            [0.0, -SURFACE_FIN, SURFACE_FIN]
+        } else {
+            cmd.fin
+        };
         let mut fin = [0.0; 3];
         for i in 0..3 {
             let mut v = self.direction[i] * fins_in[i] + self.offset[i];
@@ -209,7 +236,10 @@ impl Kinematics {
             }
             fin[i] = v;
         }
-        UCommand { fin, thruster: thrust }
+        UCommand {
+            fin,
+            thruster: thrust,
+        }
     }
 }
 
@@ -266,7 +296,8 @@ impl Actuators {
     /// Thruster pulse for a percent (integer `map(-100..100 -> min..max)`, as Arduino's `map`).
     pub fn thruster_us(&self, percent: f64) -> u16 {
         let x = (percent.trunc() as i64).clamp(-100, 100);
-        let us = (x + 100) * (self.thruster_max_us - self.thruster_min_us) / 200 + self.thruster_min_us;
+        let us =
+            (x + 100) * (self.thruster_max_us - self.thruster_min_us) / 200 + self.thruster_min_us;
         us.clamp(0, i64::from(u16::MAX)) as u16
     }
 
@@ -277,14 +308,21 @@ impl Actuators {
         let centre = self.servo_us(0.0);
         match cmd {
             Some((c, t)) if now - t <= self.failsafe_s => Pwm {
-                servo_us: [self.servo_us(c.fin[0]), self.servo_us(c.fin[1]), self.servo_us(c.fin[2])],
+                servo_us: [
+                    self.servo_us(c.fin[0]),
+                    self.servo_us(c.fin[1]),
+                    self.servo_us(c.fin[2]),
+                ],
                 thruster_us: if now < self.arm_delay_s {
                     THRUSTER_NEUTRAL_US
                 } else {
                     self.thruster_us(c.thruster)
                 },
             },
-            _ => Pwm { servo_us: [centre; 3], thruster_us: THRUSTER_NEUTRAL_US },
+            _ => Pwm {
+                servo_us: [centre; 3],
+                thruster_us: THRUSTER_NEUTRAL_US,
+            },
         }
     }
 }
@@ -369,7 +407,11 @@ impl CougarsConfig {
                 offset: [0.0, -20.0, 45.0],
                 ..Kinematics::default()
             },
-            actuators: Actuators { servo_min_us: 1000.0, servo_max_us: 2000.0, ..Actuators::default() },
+            actuators: Actuators {
+                servo_min_us: 1000.0,
+                servo_max_us: 2000.0,
+                ..Actuators::default()
+            },
             ..CougarsConfig::default()
         }
     }
@@ -433,8 +475,11 @@ impl CougarsConfig {
             "saturation_offset" => self.saturation_offset = p.non_neg()?,
             "surge_threshold" => self.surge_threshold = p.f64()?,
             "fixed_surge" => {
-                self.fixed_surge =
-                    if p.value.eq_ignore_ascii_case("none") { None } else { Some(p.f64()?) }
+                self.fixed_surge = if p.value.eq_ignore_ascii_case("none") {
+                    None
+                } else {
+                    Some(p.f64()?)
+                }
             }
             "min_schedule_speed" => self.min_schedule_speed = p.pos()?,
             "fin_0_direction" => self.kinematics.direction[0] = dir(&p)?,
@@ -531,13 +576,23 @@ impl CougarsState {
 
 /// One controller tick (period `cfg.timer_period_ms`). Returns the command before mixing:
 /// `fin = [rudder, -pitch_fin, +pitch_fin]`, `thruster = desired_speed`.
-pub fn step(cfg: &CougarsConfig, state: &CougarsState, inp: &ControllerInputs) -> (CougarsState, UCommand) {
+pub fn step(
+    cfg: &CougarsConfig,
+    state: &CougarsState,
+    inp: &ControllerInputs,
+) -> (CougarsState, UCommand) {
     let mut s = *state;
     let ts = cfg.ts();
-    let (tracked, hold) = if inp.dfb { (inp.altitude, -1.0) } else { (inp.depth, 1.0) };
+    let (tracked, hold) = if inp.dfb {
+        (inp.altitude, -1.0)
+    } else {
+        (inp.depth, 1.0)
+    };
 
     // A new desired depth restarts the reference from where the vehicle is.
-    let changed = s.last_desired_depth.is_none_or(|d| (d - inp.desired_depth).abs() > 1e-6);
+    let changed = s
+        .last_desired_depth
+        .is_none_or(|d| (d - inp.desired_depth).abs() > 1e-6);
     if changed {
         s.z_ref = tracked;
         s.last_desired_depth = Some(inp.desired_depth);
@@ -560,18 +615,32 @@ pub fn step(cfg: &CougarsConfig, state: &CougarsState, inp: &ControllerInputs) -
             s.depth_pid.reset_integrator();
         } else {
             s.saturated_mode = false;
-            let rate = if inp.dfb { -inp.depth_rate } else { inp.depth_rate };
+            let rate = if inp.dfb {
+                -inp.depth_rate
+            } else {
+                inp.depth_rate
+            };
             s.theta_ref = s.depth_pid.compute_with_rate(s.z_ref, tracked, rate) * hold;
         }
         let u = cfg.fixed_surge.unwrap_or(inp.surge);
-        let u = if u.abs() < cfg.min_schedule_speed { cfg.min_schedule_speed } else { u };
+        let u = if u.abs() < cfg.min_schedule_speed {
+            cfg.min_schedule_speed
+        } else {
+            u
+        };
         let sched = u * u * pitch_schedule_constant();
-        s.pitch_fin = s.pitch_pid.compute_scheduled(s.theta_ref, inp.pitch, inp.pitch_rate, sched).trunc();
+        s.pitch_fin = s
+            .pitch_pid
+            .compute_scheduled(s.theta_ref, inp.pitch, inp.pitch_rate, sched)
+            .trunc();
     }
 
     let yaw_err = angle180(inp.desired_heading - inp.heading);
     let rudder = s.heading_pid.compute(0.0, yaw_err).trunc();
-    let cmd = UCommand { fin: [rudder, -s.pitch_fin, s.pitch_fin], thruster: inp.desired_speed };
+    let cmd = UCommand {
+        fin: [rudder, -s.pitch_fin, s.pitch_fin],
+        thruster: inp.desired_speed,
+    };
     (s, cmd)
 }
 
@@ -690,13 +759,20 @@ impl CougUvModel {
             let u_ss = cmd.thruster.clamp(-100.0, 100.0) / 100.0 * self.max_speed;
             s.surge += (u_ss - s.surge) * (h / self.t_surge).min(1.0);
             let u2 = s.surge * s.surge;
-            let lift = 0.5 * self.rho * self.fin_area * self.cl_delta * self.fin_cant_deg.to_radians().cos() * u2;
+            let lift = 0.5
+                * self.rho
+                * self.fin_area
+                * self.cl_delta
+                * self.fin_cant_deg.to_radians().cos()
+                * u2;
             let elevator = ((s.fins[2] - s.fins[1]) / 2.0).to_radians();
-            let moment = -2.0 * lever * lift * elevator - restoring * s.pitch.sin() - damping * s.pitch_rate;
+            let moment =
+                -2.0 * lever * lift * elevator - restoring * s.pitch.sin() - damping * s.pitch_rate;
             s.pitch_rate += moment / iyy * h;
             s.pitch += s.pitch_rate * h;
             let rudder = s.fins[0].to_radians();
-            s.yaw_rate += (self.k_nomoto * rudder * s.surge - s.yaw_rate) * (h / self.t_yaw).min(1.0);
+            s.yaw_rate +=
+                (self.k_nomoto * rudder * s.surge - s.yaw_rate) * (h / self.t_yaw).min(1.0);
             s.heading = crate::angle::angle360(s.heading + s.yaw_rate.to_degrees() * h);
             s.depth_rate = s.surge * s.pitch.sin() - self.buoyancy_rate;
             s.depth = (s.depth + s.depth_rate * h).max(0.0);
@@ -744,7 +820,10 @@ impl CougarsControl {
         CougarsControl {
             state: CougarsState::new(&cfg),
             cfg,
-            inputs: ControllerInputs { surge: 0.6, ..ControllerInputs::default() },
+            inputs: ControllerInputs {
+                surge: 0.6,
+                ..ControllerInputs::default()
+            },
             running: false,
             stop_pending: false,
             armed: true,
@@ -807,10 +886,16 @@ impl CougarsControl {
         let mixed = self.cfg.kinematics.mix(&cmd, self.armed, self.surface);
         self.last = Some((mixed, time));
         let since_boot = time - self.boot_time;
-        let pwm = self.cfg.actuators.outputs(Some((&mixed, since_boot)), since_boot);
+        let pwm = self
+            .cfg
+            .actuators
+            .outputs(Some((&mixed, since_boot)), since_boot);
         let v = &self.vars;
         out.push(Posting::double(&v[0], cmd.fin[0]));
-        out.push(Posting::double(&v[1], -self.state.pitch_fin * f64::from(u8::from(self.running))));
+        out.push(Posting::double(
+            &v[1],
+            -self.state.pitch_fin * f64::from(u8::from(self.running)),
+        ));
         out.push(Posting::double(&v[2], mixed.thruster));
         for i in 0..3 {
             out.push(Posting::double(&v[3 + i], mixed.fin[i]));
@@ -823,6 +908,8 @@ impl CougarsControl {
     pub fn pwm(&self, time: f64) -> Pwm {
         let since_boot = time - self.boot_time;
         let last = self.last.map(|(c, t)| (c, t - self.boot_time));
-        self.cfg.actuators.outputs(last.as_ref().map(|(c, t)| (c, *t)), since_boot)
+        self.cfg
+            .actuators
+            .outputs(last.as_ref().map(|(c, t)| (c, *t)), since_boot)
     }
 }

@@ -92,13 +92,18 @@ impl LocalGrid {
             || lat_origin.abs() >= 84.0
             || lon_origin.abs() > 180.0
         {
-            return Err(GeodesyError::InvalidOrigin { lat: lat_origin, lon: lon_origin });
+            return Err(GeodesyError::InvalidOrigin {
+                lat: lat_origin,
+                lon: lon_origin,
+            });
         }
         let zone = utm_zone(lat_origin, lon_origin);
         let cm = zone_central_meridian(zone);
         let mut ctx = Minimal::new();
         let def = format!("tmerc ellps=WGS84 lon_0={cm} k_0=0.9996 x_0=500000");
-        let op = ctx.op(&def).map_err(|e| GeodesyError::Projection(e.to_string()))?;
+        let op = ctx
+            .op(&def)
+            .map_err(|e| GeodesyError::Projection(e.to_string()))?;
         let mut grid = LocalGrid {
             lat0: lat_origin,
             lon0: lon_origin,
@@ -138,7 +143,9 @@ impl LocalGrid {
             .map_err(|e| GeodesyError::Projection(e.to_string()))?;
         let (e, nn) = (data[0][0], data[0][1]);
         if n != 1 || !e.is_finite() || !nn.is_finite() {
-            return Err(GeodesyError::Projection(format!("cannot project lat={lat}, lon={lon}")));
+            return Err(GeodesyError::Projection(format!(
+                "cannot project lat={lat}, lon={lon}"
+            )));
         }
         Ok((e, nn))
     }
@@ -158,7 +165,9 @@ impl LocalGrid {
             .map_err(|e| GeodesyError::Projection(e.to_string()))?;
         let (lon, lat) = (data[0][0].to_degrees(), data[0][1].to_degrees());
         if n != 1 || !lat.is_finite() || !lon.is_finite() {
-            return Err(GeodesyError::Projection(format!("cannot invert x={x}, y={y}")));
+            return Err(GeodesyError::Projection(format!(
+                "cannot invert x={x}, y={y}"
+            )));
         }
         Ok((lat, crate::angle::angle180(lon)))
     }
@@ -183,7 +192,10 @@ mod tests {
         let g = LocalGrid::new(40.3394, -111.90721).unwrap();
         let (x, y) = g.to_local(40.3394, -111.90721).unwrap();
         assert!(x.abs() < 1e-9 && y.abs() < 1e-9);
-        assert!(matches!(LocalGrid::new(91.0, 0.0), Err(GeodesyError::InvalidOrigin { .. })));
+        assert!(matches!(
+            LocalGrid::new(91.0, 0.0),
+            Err(GeodesyError::InvalidOrigin { .. })
+        ));
         assert!(LocalGrid::new(f64::NAN, 0.0).is_err());
     }
 }

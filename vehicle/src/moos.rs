@@ -70,18 +70,28 @@ pub struct Posting {
 impl Posting {
     /// A double posting.
     pub fn double(var: &Arc<str>, value: f64) -> Self {
-        Posting { var: Arc::clone(var), value: Value::Double(value) }
+        Posting {
+            var: Arc::clone(var),
+            value: Value::Double(value),
+        }
     }
 
     /// A string posting.
     pub fn string(var: &Arc<str>, value: impl Into<String>) -> Self {
-        Posting { var: Arc::clone(var), value: Value::Str(value.into()) }
+        Posting {
+            var: Arc::clone(var),
+            value: Value::Str(value.into()),
+        }
     }
 }
 
 /// Finds the last posting of `var` in `postings`.
 pub fn last_posting<'a>(postings: &'a [Posting], var: &str) -> Option<&'a Value> {
-    postings.iter().rev().find(|p| &*p.var == var).map(|p| &p.value)
+    postings
+        .iter()
+        .rev()
+        .find(|p| &*p.var == var)
+        .map(|p| &p.value)
 }
 
 /// Appends `val` formatted like MOOS-IvP's `doubleToStringX(val, digits)`: fixed-point with
@@ -97,7 +107,10 @@ pub fn push_double_x(out: &mut String, val: f64, digits: usize) {
     // Writing to a String cannot fail.
     let _ = write!(out, "{val:.digits$}");
     if out[start..].contains('.') {
-        let trimmed = out[start..].trim_end_matches('0').trim_end_matches('.').len();
+        let trimmed = out[start..]
+            .trim_end_matches('0')
+            .trim_end_matches('.')
+            .len();
         out.truncate(start + trimmed);
     }
     if &out[start..] == "-0" {
@@ -122,7 +135,7 @@ mod tests {
         assert_eq!(double_x(0.0, 2), "0");
         assert_eq!(double_x(-0.001, 2), "0");
         assert_eq!(double_x(100.0, 2), "100");
-        assert_eq!(double_x(3.14159, 2), "3.14");
+        assert_eq!(double_x(12.34567, 2), "12.35");
         assert_eq!(double_x(-20.5, 2), "-20.5");
         assert_eq!(double_x(43.825300001, 8), "43.8253");
         assert_eq!(double_x(7.0, 0), "7");

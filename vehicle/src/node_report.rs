@@ -129,16 +129,25 @@ impl NodeReportConfig {
             "allow_color_change" => self.allow_color_change = p.bool()?,
             "crossfill_policy" | "cross_fill_policy" => {
                 let v = p.value.to_ascii_lowercase().replace('_', "-");
-                if !["literal", "fill-empty", "global", "use-latest", "local", "global-terse"]
-                    .contains(&v.as_str())
+                if ![
+                    "literal",
+                    "fill-empty",
+                    "global",
+                    "use-latest",
+                    "local",
+                    "global-terse",
+                ]
+                .contains(&v.as_str())
                 {
-                    return Err(p.bad("literal, fill-empty, global, use-latest, local or global-terse"));
+                    return Err(
+                        p.bad("literal, fill-empty, global, use-latest, local or global-terse")
+                    );
                 }
             }
-            "blackout_variance" | "platform_aspect" | "rider" | "plat_report_input" | "plat_report_var"
-            | "platform_variable" | "plat_report_output" | "alt_nav_prefix" | "alt_nav_name"
-            | "alt_nav_group" | "extrap_enabled" | "extrap_pos_thresh" | "extrap_hdg_thresh"
-            | "extrap_max_gap" | "json_report" => {}
+            "blackout_variance" | "platform_aspect" | "rider" | "plat_report_input"
+            | "plat_report_var" | "platform_variable" | "plat_report_output" | "alt_nav_prefix"
+            | "alt_nav_name" | "alt_nav_group" | "extrap_enabled" | "extrap_pos_thresh"
+            | "extrap_hdg_thresh" | "extrap_max_gap" | "json_report" => {}
             _ => return Ok(false),
         }
         Ok(true)
@@ -173,7 +182,8 @@ impl NavRecord {
     pub fn valid(&self) -> bool {
         self.speed.is_some()
             && self.heading.is_some()
-            && ((self.x.is_some() && self.y.is_some()) || (self.lat.is_some() && self.lon.is_some()))
+            && ((self.x.is_some() && self.y.is_some())
+                || (self.lat.is_some() && self.lon.is_some()))
     }
 }
 
@@ -216,7 +226,10 @@ impl HelmInfo {
                 } else {
                     &self.status_primary
                 };
-                if (status == "DRIVE" || status == "DRIVE+") && self.modes != "none" && !self.modes.is_empty() {
+                if (status == "DRIVE" || status == "DRIVE+")
+                    && self.modes != "none"
+                    && !self.modes.is_empty()
+                {
                     self.modes.clone()
                 } else {
                     status.clone()
@@ -284,10 +297,8 @@ pub fn write_report(out: &mut String, cfg: &NodeReportConfig, r: &ReportInputs<'
     if let Some(v) = nav.heading {
         num(out, ",HDG=", v, 2);
     }
-    if !cfg.terse_reports {
-        if let Some(v) = nav.depth {
-            num(out, ",DEP=", v, 2);
-        }
+    if let (false, Some(v)) = (cfg.terse_reports, nav.depth) {
+        num(out, ",DEP=", v, 2);
     }
     if cfg.coord_policy_global || !cfg.terse_reports {
         if let Some(v) = nav.lat {
@@ -314,7 +325,12 @@ pub fn write_report(out: &mut String, cfg: &NodeReportConfig, r: &ReportInputs<'
         out.push_str(",THRUST_MODE_REVERSE=true");
     }
     if nav.yaw_seen && !cfg.terse_reports {
-        num(out, ",YAW=", heading_to_radians(nav.heading.unwrap_or(0.0)), 7);
+        num(
+            out,
+            ",YAW=",
+            heading_to_radians(nav.heading.unwrap_or(0.0)),
+            7,
+        );
     }
     num(out, ",TIME=", r.time, 2);
     if let Some(t) = r.transparency {
@@ -429,7 +445,9 @@ impl NodeReporter {
             ("NAV_ALTITUDE", Some(v)) => self.nav.altitude = Some(v),
             ("NAV_YAW", Some(_)) => self.nav.yaw_seen = true,
             ("NAV_TRANSP", Some(v)) => self.transparency = Some(v),
-            ("PLATFORM_COLOR", _) if !s.trim().is_empty() => self.color = Some(s.trim().to_string()),
+            ("PLATFORM_COLOR", _) if !s.trim().is_empty() => {
+                self.color = Some(s.trim().to_string())
+            }
             ("NODE_COLOR_CHANGE", _) if self.cfg.allow_color_change && !s.trim().is_empty() => {
                 self.color = Some(s.trim().to_string())
             }
@@ -455,7 +473,9 @@ impl NodeReporter {
             ("IVPHELM_SUMMARY", _) => {
                 self.helm.last_msg = Some(time);
                 for kv in s.split(',') {
-                    if let Some(("modes", m)) = kv.split_once('=').map(|(a, b)| (a.trim(), b.trim())) {
+                    if let Some(("modes", m)) =
+                        kv.split_once('=').map(|(a, b)| (a.trim(), b.trim()))
+                    {
                         self.helm.modes = m.to_string();
                     }
                 }
@@ -468,8 +488,12 @@ impl NodeReporter {
                 self.helm.last_msg = Some(time);
                 let st = s.trim();
                 match st {
-                    "DRIVE" | "PARK" | "MALCONFIG" | "DISABLED" => self.helm.status_primary = st.to_string(),
-                    "DRIVE+" | "PARK+" | "MALCONFIG+" | "STANDBY" => self.helm.status_standby = st.to_string(),
+                    "DRIVE" | "PARK" | "MALCONFIG" | "DISABLED" => {
+                        self.helm.status_primary = st.to_string()
+                    }
+                    "DRIVE+" | "PARK+" | "MALCONFIG+" | "STANDBY" => {
+                        self.helm.status_standby = st.to_string()
+                    }
                     _ => {}
                 }
                 if st.starts_with("MALCONFIG") {
@@ -486,7 +510,8 @@ impl NodeReporter {
             None => true,
             Some(t) => self.cfg.blackout_interval <= 0.0 || now - t > self.cfg.blackout_interval,
         };
-        let in_grace = self.cfg.nav_grace_period > 0.0 && now - self.start_time < self.cfg.nav_grace_period;
+        let in_grace =
+            self.cfg.nav_grace_period > 0.0 && now - self.start_time < self.cfg.nav_grace_period;
         let ok_nav = self.nav.valid() || in_grace;
         let has_pos = (self.nav.x.is_some() && self.nav.y.is_some())
             || (self.nav.lat.is_some() && self.nav.lon.is_some());

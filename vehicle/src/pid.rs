@@ -264,7 +264,11 @@ impl PidConfig {
         let mut seen: Vec<&'static str> = Vec::new();
         let unknown = apply_params(APP, &mut cfg, params, |c, key, p| {
             let known = c.apply_one(key, p)?;
-            if let Some(k) = REQUIRED_ALWAYS.iter().chain(REQUIRED_DEPTH).find(|k| **k == key) {
+            if let Some(k) = REQUIRED_ALWAYS
+                .iter()
+                .chain(REQUIRED_DEPTH)
+                .find(|k| **k == key)
+            {
                 seen.push(k);
             }
             if key == "yaw_pid_ki_limit" {
@@ -272,9 +276,11 @@ impl PidConfig {
             }
             Ok(known)
         })?;
-        let required = REQUIRED_ALWAYS
-            .iter()
-            .chain(if cfg.depth_control { REQUIRED_DEPTH } else { &[] });
+        let required = REQUIRED_ALWAYS.iter().chain(if cfg.depth_control {
+            REQUIRED_DEPTH
+        } else {
+            &[]
+        });
         for key in required {
             if !seen.contains(key) {
                 return Err(ConfigError::Missing { app: APP, key });
@@ -365,8 +371,9 @@ impl Default for PidInputs {
 }
 
 /// The inputs whose age is checked, in the order `PID_STALE` reports them.
-pub const STALE_LABELS: [&str; 7] =
-    ["DesHdg", "DesSpd", "NavHdg", "NavSpd", "DesDepth", "NavDep", "NavPitch"];
+pub const STALE_LABELS: [&str; 7] = [
+    "DesHdg", "DesSpd", "NavHdg", "NavSpd", "DesDepth", "NavDep", "NavPitch",
+];
 
 /// Controller memory between steps.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -426,12 +433,20 @@ fn age(now: f64, v: Stamped) -> Option<f64> {
 }
 
 /// One controller step at time `now`. Pure: the returned state replaces the given one.
-pub fn step(cfg: &PidConfig, state: &PidState, inputs: &PidInputs, now: f64) -> (PidState, PidOutputs) {
+pub fn step(
+    cfg: &PidConfig,
+    state: &PidState,
+    inputs: &PidInputs,
+    now: f64,
+) -> (PidState, PidOutputs) {
     let mut s = *state;
     let mut out = PidOutputs::default();
-    let (Some((des_hdg, _)), Some((des_spd, _)), Some((hdg, _)), Some((spd, _))) =
-        (inputs.desired_heading, inputs.desired_speed, inputs.heading, inputs.speed)
-    else {
+    let (Some((des_hdg, _)), Some((des_spd, _)), Some((hdg, _)), Some((spd, _))) = (
+        inputs.desired_heading,
+        inputs.desired_speed,
+        inputs.heading,
+        inputs.speed,
+    ) else {
         return (s, out);
     };
     if cfg.depth_control
@@ -541,7 +556,11 @@ impl MarinePid {
             elevator_var: format!("DESIRED_ELEVATOR{sfx}").into(),
             has_control_var: "PID_HAS_CONTROL".into(),
             stale_var: "PID_STALE".into(),
-            debug_vars: ["PID_HDG_DEBUG".into(), "PID_SPD_DEBUG".into(), "PID_DEP_DEBUG".into()],
+            debug_vars: [
+                "PID_HDG_DEBUG".into(),
+                "PID_SPD_DEBUG".into(),
+                "PID_DEP_DEBUG".into(),
+            ],
             last: PidOutputs::default(),
             cfg,
         }
@@ -590,18 +609,23 @@ impl MarinePid {
         match sval.trim().to_ascii_lowercase().as_str() {
             "true" => {
                 if !self.inputs.manual_override {
-                    self.pending.push(Posting::string(&self.has_control_var, "false"));
+                    self.pending
+                        .push(Posting::string(&self.has_control_var, "false"));
                 }
                 self.inputs.manual_override = true;
             }
             "false" => {
                 if self.inputs.manual_override {
                     // New values of every input are needed after an override is lifted.
-                    let o = PidInputs { manual_override: false, ..PidInputs::default() };
+                    let o = PidInputs {
+                        manual_override: false,
+                        ..PidInputs::default()
+                    };
                     self.inputs = o;
                 }
                 self.inputs.manual_override = false;
-                self.pending.push(Posting::string(&self.has_control_var, "true"));
+                self.pending
+                    .push(Posting::string(&self.has_control_var, "true"));
             }
             _ => {}
         }
@@ -654,7 +678,11 @@ impl MarinePid {
             }
         } else {
             out.push(Posting::double(&self.rudder_var, o.rudder));
-            let thrust = if self.cfg.enable_thrust_cap { o.thrust.min(self.thrust_cap) } else { o.thrust };
+            let thrust = if self.cfg.enable_thrust_cap {
+                o.thrust.min(self.thrust_cap)
+            } else {
+                o.thrust
+            };
             out.push(Posting::double(&self.thrust_var, thrust));
             if self.cfg.depth_control {
                 out.push(Posting::double(&self.elevator_var, o.elevator));
@@ -665,7 +693,10 @@ impl MarinePid {
         out.append(&mut self.pending);
         for (label, a) in STALE_LABELS.iter().zip(o.stale) {
             if let Some(a) = a {
-                out.push(Posting::string(&self.stale_var, format!("Stale {label}:{}", double_x(a, 3))));
+                out.push(Posting::string(
+                    &self.stale_var,
+                    format!("Stale {label}:{}", double_x(a, 3)),
+                ));
             }
         }
     }

@@ -46,7 +46,12 @@ pub struct ThrustMap {
 
 impl Default for ThrustMap {
     fn default() -> Self {
-        ThrustMap { pos: Vec::new(), neg: Vec::new(), thrust_factor: 20.0, reflect: false }
+        ThrustMap {
+            pos: Vec::new(),
+            neg: Vec::new(),
+            thrust_factor: 20.0,
+            reflect: false,
+        }
     }
 }
 
@@ -129,7 +134,11 @@ impl ThrustMap {
             self.speed_pos(thrust)
         } else if thrust < 0.0 {
             if self.neg.is_empty() {
-                if self.reflect { -self.speed_pos(-thrust) } else { 0.0 }
+                if self.reflect {
+                    -self.speed_pos(-thrust)
+                } else {
+                    0.0
+                }
             } else {
                 self.speed_neg(thrust)
             }
@@ -140,7 +149,11 @@ impl ThrustMap {
 
     fn speed_pos(&self, thrust: f64) -> f64 {
         let Some(&(_, top)) = self.pos.last() else {
-            return if self.thrust_factor == 0.0 { 0.0 } else { thrust / self.thrust_factor };
+            return if self.thrust_factor == 0.0 {
+                0.0
+            } else {
+                thrust / self.thrust_factor
+            };
         };
         if thrust >= 100.0 {
             return top;
@@ -216,7 +229,9 @@ impl StartPose {
             let (key, val) = match item.split_once('=') {
                 Some((k, v)) => (k.trim().to_ascii_lowercase(), v.trim()),
                 None => {
-                    let k = ["x", "y", "heading", "speed", "depth"].get(i).ok_or("too many fields")?;
+                    let k = ["x", "y", "heading", "speed", "depth"]
+                        .get(i)
+                        .ok_or("too many fields")?;
                     ((*k).to_string(), item)
                 }
             };
@@ -347,7 +362,10 @@ pub fn drift_from_vector(spec: &str) -> Option<(f64, f64)> {
 impl SimConfig {
     /// The older `uSimMarine` model (no turn-speed map).
     pub fn legacy() -> Self {
-        SimConfig { legacy: true, ..SimConfig::default() }
+        SimConfig {
+            legacy: true,
+            ..SimConfig::default()
+        }
     }
 
     /// Strict construction from ProcessConfig pairs (unknown keys are errors).
@@ -561,7 +579,12 @@ pub fn turn_rate_at(cfg: &SimConfig, speed: f64) -> f64 {
     if cfg.legacy {
         return cfg.turn_rate;
     }
-    let (ns, nr, fs, fr) = (cfg.tsm_null_speed, cfg.tsm_null_rate, TURN_MAP_FULL_SPEED, cfg.turn_rate);
+    let (ns, nr, fs, fr) = (
+        cfg.tsm_null_speed,
+        cfg.tsm_null_rate,
+        TURN_MAP_FULL_SPEED,
+        cfg.turn_rate,
+    );
     if speed <= ns {
         nr
     } else if speed >= fs || fs <= ns {
@@ -602,8 +625,15 @@ pub fn step(
 
         // 1 + 2: speed and heading.
         let delta_deg = if cfg.thrust_mode_differential {
-            let (l, r) = (inputs.thrust_left.clamp(-100.0, 100.0), inputs.thrust_right.clamp(-100.0, 100.0));
-            let (l, r) = if cfg.thrust_mode_reverse { (-r, -l) } else { (l, r) };
+            let (l, r) = (
+                inputs.thrust_left.clamp(-100.0, 100.0),
+                inputs.thrust_right.clamp(-100.0, 100.0),
+            );
+            let (l, r) = if cfg.thrust_mode_reverse {
+                (-r, -l)
+            } else {
+                (l, r)
+            };
             s.speed = step_speed(cfg, prior_speed, dt, (l + r) / 2.0, (l - r) / 2.0);
             36.0 * ((l - r) / 200.0) * dt + inputs.rotate_speed * dt
         } else {
@@ -630,12 +660,20 @@ pub fn step(
             if cfg.max_depth_rate_speed > 0.0 {
                 pct = (s.speed / cfg.max_depth_rate_speed).min(1.0);
             }
-            let pct = if pct < 0.0 { -(-pct).sqrt() } else { pct.sqrt() };
+            let pct = if pct < 0.0 {
+                -(-pct).sqrt()
+            } else {
+                pct.sqrt()
+            };
             let pitch_rate = -s.pitch.sin() * s.speed;
             let actuator_rate = (elevator / 100.0) * pct * cfg.max_depth_rate;
             s.depth += (-inputs.buoyancy_rate + pitch_rate + actuator_rate) * dt;
             let r = pitch_rate + actuator_rate;
-            s.pitch = if r.abs() <= s.speed { -(r / s.speed).asin() } else { 0.0 };
+            s.pitch = if r.abs() <= s.speed {
+                -(r / s.speed).asin()
+            } else {
+                0.0
+            };
         }
         if s.depth < 0.0 {
             s.depth = 0.0;
@@ -895,8 +933,12 @@ impl Simulator {
         let d = value.as_f64();
         let s = value.as_str().unwrap_or("");
         match (var, d) {
-            ("DESIRED_THRUST", Some(v)) if !self.cfg.thrust_mode_differential => self.inputs.thrust = v,
-            ("DESIRED_RUDDER", Some(v)) if !self.cfg.thrust_mode_differential => self.set_rudder(v, time),
+            ("DESIRED_THRUST", Some(v)) if !self.cfg.thrust_mode_differential => {
+                self.inputs.thrust = v
+            }
+            ("DESIRED_RUDDER", Some(v)) if !self.cfg.thrust_mode_differential => {
+                self.set_rudder(v, time)
+            }
             ("DESIRED_ELEVATOR", Some(v)) => self.inputs.elevator = v,
             ("DESIRED_THRUST_L", Some(v)) if self.cfg.thrust_mode_differential => {
                 self.inputs.thrust_left = v.clamp(-100.0, 100.0)
@@ -964,10 +1006,16 @@ impl Simulator {
                 };
                 if pose.apply_spec(s).is_ok() {
                     let t = self.state.time;
-                    self.state = SimState { time: t, ..SimState::at(&pose) };
+                    self.state = SimState {
+                        time: t,
+                        ..SimState::at(&pose)
+                    };
                 }
                 self.reset_count += 1;
-                return Some(Posting::double(&self.vars.reset_count, f64::from(self.reset_count)));
+                return Some(Posting::double(
+                    &self.vars.reset_count,
+                    f64::from(self.reset_count),
+                ));
             }
             ("NAV_X", Some(v)) if !self.enabled => {
                 self.state.x = v;
@@ -1004,7 +1052,11 @@ impl Simulator {
         if let Some(v) = &self.vars.post_rudder {
             out.push(Posting::double(v, self.inputs.rudder));
         }
-        if self.cfg.nav_modulo == 0 || self.iteration % u64::from(self.cfg.nav_modulo) == 0 {
+        if self.cfg.nav_modulo == 0
+            || self
+                .iteration
+                .is_multiple_of(u64::from(self.cfg.nav_modulo))
+        {
             self.post_nav(&nav, out);
         }
         if self.drift_fresh {
@@ -1032,7 +1084,11 @@ impl Simulator {
         if self.cfg.post_navpos_summary {
             let mut s = format!("x={},y={}", double_x(nav.x, 3), double_x(nav.y, 3));
             if let (Some(lat), Some(lon)) = (nav.lat, nav.lon) {
-                s.push_str(&format!(",lat={},lon={}", double_x(lat, 7), double_x(lon, 7)));
+                s.push_str(&format!(
+                    ",lat={},lon={}",
+                    double_x(lat, 7),
+                    double_x(lon, 7)
+                ));
             }
             out.push(Posting::string(&v.navpos_summary, s));
         }

@@ -41,18 +41,35 @@ fn point_scale(lat: f64, lon: f64, cm: f64) -> f64 {
 fn convergence(lat: f64, lon: f64, cm: f64) -> f64 {
     let (rho, nu) = radii(lat);
     let eta2 = nu / rho - 1.0;
-    let (s, c, t) = (lat.to_radians().sin(), lat.to_radians().cos(), lat.to_radians().tan());
+    let (s, c, t) = (
+        lat.to_radians().sin(),
+        lat.to_radians().cos(),
+        lat.to_radians().tan(),
+    );
     let l = (lon - cm).to_radians();
-    l * s * (1.0 + (l * c).powi(2) / 3.0 * (1.0 + 3.0 * eta2 + 2.0 * eta2 * eta2) + (l * c).powi(4) / 15.0 * (2.0 - t * t))
+    l * s
+        * (1.0
+            + (l * c).powi(2) / 3.0 * (1.0 + 3.0 * eta2 + 2.0 * eta2 * eta2)
+            + (l * c).powi(4) / 15.0 * (2.0 - t * t))
 }
 
 /// Expected local (x, y) of the point at geodesic distance `s` and azimuth `azi` from the
 /// origin: grid length = s × mean scale (Simpson over the line), grid bearing = azimuth at the
 /// geodesic's midpoint minus the convergence there.
-fn expected_local(g: &Geodesic, lat0: f64, lon0: f64, azi: f64, s: f64, cm: f64) -> (f64, f64, f64, f64) {
+fn expected_local(
+    g: &Geodesic,
+    lat0: f64,
+    lon0: f64,
+    azi: f64,
+    s: f64,
+    cm: f64,
+) -> (f64, f64, f64, f64) {
     let (lat1, lon1): (f64, f64) = g.direct(lat0, lon0, azi, s);
     let (latm, lonm, azim): (f64, f64, f64) = g.direct(lat0, lon0, azi, s / 2.0);
-    let k = (point_scale(lat0, lon0, cm) + 4.0 * point_scale(latm, lonm, cm) + point_scale(lat1, lon1, cm)) / 6.0;
+    let k = (point_scale(lat0, lon0, cm)
+        + 4.0 * point_scale(latm, lonm, cm)
+        + point_scale(lat1, lon1, cm))
+        / 6.0;
     let bearing = azim.to_radians() - convergence(latm, lonm, cm);
     let d = s * k;
     (d * bearing.sin(), d * bearing.cos(), lat1, lon1)
@@ -72,7 +89,10 @@ fn check_origin(lat0: f64, lon0: f64, expect_cross_zone: bool) {
             let (x, y) = grid.to_local(lat, lon).unwrap();
             let err = (x - ex).hypot(y - ey);
             worst = worst.max(err);
-            assert!(err < 0.01, "origin ({lat0},{lon0}) azi {azi} s {s}: got ({x},{y}) expected ({ex},{ey})");
+            assert!(
+                err < 0.01,
+                "origin ({lat0},{lon0}) azi {azi} s {s}: got ({x},{y}) expected ({ex},{ey})"
+            );
             // Lengths alone, straight from the geodesic inverse.
             let (s12, _, _, _): (f64, f64, f64, f64) = g.inverse(lat0, lon0, lat, lon);
             let k_mid = point_scale((lat0 + lat) / 2.0, (lon0 + lon) / 2.0, cm);
@@ -83,8 +103,15 @@ fn check_origin(lat0: f64, lon0: f64, expect_cross_zone: bool) {
             assert!(back < 0.001, "round trip off by {back} m");
         }
     }
-    assert_eq!(crossed, expect_cross_zone, "zone crossing expectation for ({lat0},{lon0})");
-    eprintln!("origin ({lat0}, {lon0}) zone {}: worst error {:.2} mm", grid.zone(), worst * 1000.0);
+    assert_eq!(
+        crossed, expect_cross_zone,
+        "zone crossing expectation for ({lat0},{lon0})"
+    );
+    eprintln!(
+        "origin ({lat0}, {lon0}) zone {}: worst error {:.2} mm",
+        grid.zone(),
+        worst * 1000.0
+    );
 }
 
 #[test]

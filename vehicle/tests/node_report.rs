@@ -7,7 +7,11 @@ use vehicle::moos::last_posting;
 use vehicle::node_report::{NodeReportConfig, NodeReporter};
 
 fn report(out: &[vehicle::Posting]) -> String {
-    last_posting(out, "NODE_REPORT_LOCAL").expect("no report").as_str().unwrap().to_string()
+    last_posting(out, "NODE_REPORT_LOCAL")
+        .expect("no report")
+        .as_str()
+        .unwrap()
+        .to_string()
 }
 
 fn d(app: &mut NodeReporter, var: &str, v: f64, t: f64) {
@@ -20,7 +24,9 @@ fn s(app: &mut NodeReporter, var: &str, v: &str, t: f64) {
 
 #[test]
 fn kayak_without_helm() {
-    let cfg = NodeReportConfig::from_params([("platform_type", "kayak"), ("platform_color", "yellow")]).unwrap();
+    let cfg =
+        NodeReportConfig::from_params([("platform_type", "kayak"), ("platform_color", "yellow")])
+            .unwrap();
     let mut app = NodeReporter::new(cfg, "alpha", 1000.0);
     d(&mut app, "NAV_X", 10.0, 1000.0);
     d(&mut app, "NAV_Y", -20.5, 1000.0);
@@ -32,8 +38,16 @@ fn kayak_without_helm() {
     let expected = "NAME=alpha,X=10,Y=-20.5,SPD=1.2,HDG=180,DEP=0,TYPE=kayak,COLOR=yellow,\
                     MODE=NOHELM-EVER,ALLSTOP=unknown,TIME=1001.25,LENGTH=4";
     assert_eq!(report(&out), expected);
-    assert_eq!(last_posting(&out, "NODE_REPORT_LOCAL_FIRST").unwrap().as_str(), Some(expected));
-    assert_eq!(last_posting(&out, "PNR_POST_GAP").unwrap().as_f64(), Some(0.0));
+    assert_eq!(
+        last_posting(&out, "NODE_REPORT_LOCAL_FIRST")
+            .unwrap()
+            .as_str(),
+        Some(expected)
+    );
+    assert_eq!(
+        last_posting(&out, "PNR_POST_GAP").unwrap().as_f64(),
+        Some(0.0)
+    );
 }
 
 #[test]
@@ -55,7 +69,12 @@ fn uuv_driving_with_modes_lat_lon_yaw_and_index() {
     d(&mut app, "NAV_DEPTH", 12.345, t);
     d(&mut app, "NAV_YAW", 0.785, t);
     s(&mut app, "IVPHELM_STATE", "DRIVE", t);
-    s(&mut app, "IVPHELM_SUMMARY", "iter=12,utc_time=5000,modes=MODE@ACTIVE:SURVEYING,var=x", t);
+    s(
+        &mut app,
+        "IVPHELM_SUMMARY",
+        "iter=12,utc_time=5000,modes=MODE@ACTIVE:SURVEYING,var=x",
+        t,
+    );
     s(&mut app, "IVPHELM_ALLSTOP", "clear", t);
     let mut out = Vec::new();
     app.iterate(t + 1.0, &mut out);
@@ -66,12 +85,17 @@ fn uuv_driving_with_modes_lat_lon_yaw_and_index() {
                     TIME=5002,LENGTH=3.5";
     assert_eq!(report(&out), expected);
     assert!(last_posting(&out, "NODE_REPORT_LOCAL_FIRST").is_none());
-    assert_eq!(last_posting(&out, "PNR_POST_GAP").unwrap().as_f64(), Some(1.0));
+    assert_eq!(
+        last_posting(&out, "PNR_POST_GAP").unwrap().as_f64(),
+        Some(1.0)
+    );
 }
 
 #[test]
 fn helm_gone_quiet_park_and_terse_global() {
-    let cfg = NodeReportConfig::from_params([("terse_reports", "true"), ("coord_policy_global", "true")]).unwrap();
+    let cfg =
+        NodeReportConfig::from_params([("terse_reports", "true"), ("coord_policy_global", "true")])
+            .unwrap();
     let mut app = NodeReporter::new(cfg, "abe", 0.0);
     d(&mut app, "NAV_LAT", 0.5, 100.0);
     d(&mut app, "NAV_LONG", -0.25, 100.0);
@@ -96,7 +120,9 @@ fn helm_gone_quiet_park_and_terse_global() {
 
 #[test]
 fn waits_for_nav_and_respects_blackout() {
-    let cfg = NodeReportConfig::from_params([("blackout_interval", "5"), ("node_report_output", "NR")]).unwrap();
+    let cfg =
+        NodeReportConfig::from_params([("blackout_interval", "5"), ("node_report_output", "NR")])
+            .unwrap();
     let mut app = NodeReporter::new(cfg, "ben", 0.0);
     let mut out = Vec::new();
     app.iterate(1.0, &mut out);
@@ -111,7 +137,13 @@ fn waits_for_nav_and_respects_blackout() {
     app.iterate(4.0, &mut out);
     assert!(out.is_empty(), "inside the blackout interval");
     app.iterate(7.5, &mut out);
-    assert!(last_posting(&out, "NR").unwrap().as_str().unwrap().contains("INDEX=1"));
+    assert!(
+        last_posting(&out, "NR")
+            .unwrap()
+            .as_str()
+            .unwrap()
+            .contains("INDEX=1")
+    );
 }
 
 #[test]
@@ -122,7 +154,12 @@ fn reads_real_mission_blocks() {
     assert_eq!(cfg.platform_type, "UUV");
     let name = common::global(&text, "Community").unwrap();
     let mut app = NodeReporter::new(cfg, &name, 0.0);
-    for (v, x) in [("NAV_X", 1.0), ("NAV_Y", 2.0), ("NAV_SPEED", 0.5), ("NAV_HEADING", 90.0)] {
+    for (v, x) in [
+        ("NAV_X", 1.0),
+        ("NAV_Y", 2.0),
+        ("NAV_SPEED", 0.5),
+        ("NAV_HEADING", 90.0),
+    ] {
         d(&mut app, v, x, 0.0);
     }
     let mut out = Vec::new();

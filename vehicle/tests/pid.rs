@@ -64,7 +64,10 @@ impl Loop {
         Loop {
             pid: PidState::new(&pid_cfg),
             pid_cfg,
-            inputs: PidInputs { manual_override: false, ..PidInputs::default() },
+            inputs: PidInputs {
+                manual_override: false,
+                ..PidInputs::default()
+            },
             sim_cfg,
             sim: start,
             t: 0.0,
@@ -110,7 +113,14 @@ fn cfg_kp() -> f64 {
 fn heading_step_90_to_270_settles() {
     let cfg = golf_pid();
     assert_eq!((cfg.yaw.kp, cfg.speed_factor), (0.5, 20.0));
-    let mut l = Loop::new(cfg, SimState { heading: 90.0, speed: 2.0, ..SimState::default() });
+    let mut l = Loop::new(
+        cfg,
+        SimState {
+            heading: 90.0,
+            speed: 2.0,
+            ..SimState::default()
+        },
+    );
     let mut series = Vec::new();
     for _ in 0..1200 {
         l.tick(270.0, 2.0, 0.0);
@@ -126,8 +136,15 @@ fn heading_step_90_to_270_settles() {
     // stretch that, but by less than half.
     let k = cfg_kp() * (70.0 * 2.0 / 5.0 / 100.0) * (40.0 / 50.0);
     let t_min = (180.0f64 / 2.0).ln() / k;
-    assert!(t >= t_min - 0.1, "settled in {t} s, faster than the gains allow ({t_min} s)");
-    assert!(t <= 1.5 * t_min, "settle time {t} s, expected under {} s", 1.5 * t_min);
+    assert!(
+        t >= t_min - 0.1,
+        "settled in {t} s, faster than the gains allow ({t_min} s)"
+    );
+    assert!(
+        t <= 1.5 * t_min,
+        "settle time {t} s, expected under {} s",
+        1.5 * t_min
+    );
     // Proportional-only yaw loop: no overshoot beyond the tolerance band once settled,
     // and the speed recovers to 2 m/s (speed_factor 20 -> thrust 40).
     assert!(angle180(l.sim.heading - 270.0).abs() < 0.5);
@@ -138,7 +155,13 @@ fn heading_step_90_to_270_settles() {
 fn speed_pid_settles_without_speed_factor() {
     let mut cfg = golf_pid();
     cfg.speed_factor = 0.0;
-    let mut l = Loop::new(cfg, SimState { heading: 90.0, ..SimState::default() });
+    let mut l = Loop::new(
+        cfg,
+        SimState {
+            heading: 90.0,
+            ..SimState::default()
+        },
+    );
     let mut series = Vec::new();
     for _ in 0..600 {
         l.tick(90.0, 2.0, 0.0);
@@ -153,7 +176,14 @@ fn speed_pid_settles_without_speed_factor() {
 #[test]
 fn depth_step_settles() {
     let cfg = golf_pid();
-    let mut l = Loop::new(cfg, SimState { heading: 90.0, speed: 2.0, ..SimState::default() });
+    let mut l = Loop::new(
+        cfg,
+        SimState {
+            heading: 90.0,
+            speed: 2.0,
+            ..SimState::default()
+        },
+    );
     let mut series = Vec::new();
     for _ in 0..3000 {
         let o = l.tick(90.0, 2.0, 10.0);
@@ -165,7 +195,14 @@ fn depth_step_settles() {
     eprintln!("depth settles within 0.2 m after {t:.1} s");
     assert!(t < 250.0);
     // Diving pitches the nose down (negative pitch in the simulator's convention).
-    let mut l = Loop::new(golf_pid(), SimState { heading: 90.0, speed: 2.0, ..SimState::default() });
+    let mut l = Loop::new(
+        golf_pid(),
+        SimState {
+            heading: 90.0,
+            speed: 2.0,
+            ..SimState::default()
+        },
+    );
     for _ in 0..50 {
         l.tick(90.0, 2.0, 10.0);
     }
@@ -177,27 +214,51 @@ fn stale_inputs_give_pid_stale_and_zero_outputs() {
     let mut app = MarinePid::new(golf_pid());
     let mut out = Vec::new();
     let feed_nav = |app: &mut MarinePid, t: f64| {
-        for (v, x) in [("NAV_HEADING", 90.0), ("NAV_SPEED", 2.0), ("NAV_DEPTH", 0.0), ("NAV_PITCH", 0.0)] {
+        for (v, x) in [
+            ("NAV_HEADING", 90.0),
+            ("NAV_SPEED", 2.0),
+            ("NAV_DEPTH", 0.0),
+            ("NAV_PITCH", 0.0),
+        ] {
             app.on_mail(v, MailValue::Double(x), t);
         }
     };
     // Under manual override (the initial state) the outputs are zero, posted once.
     feed_nav(&mut app, 0.0);
     app.iterate(0.0, &mut out);
-    assert_eq!(last_posting(&out, "DESIRED_THRUST").unwrap().as_f64(), Some(0.0));
+    assert_eq!(
+        last_posting(&out, "DESIRED_THRUST").unwrap().as_f64(),
+        Some(0.0)
+    );
     out.clear();
     app.iterate(0.1, &mut out);
     assert!(out.is_empty(), "zeros are posted only once: {out:?}");
 
     app.on_mail("MOOS_MANUAL_OVERRIDE", MailValue::Str("false"), 0.2);
-    for (v, x) in [("DESIRED_HEADING", 100.0), ("DESIRED_SPEED", 2.0), ("DESIRED_DEPTH", 0.0)] {
+    for (v, x) in [
+        ("DESIRED_HEADING", 100.0),
+        ("DESIRED_SPEED", 2.0),
+        ("DESIRED_DEPTH", 0.0),
+    ] {
         app.on_mail(v, MailValue::Double(x), 0.2);
     }
     feed_nav(&mut app, 0.2);
     app.iterate(0.3, &mut out);
-    assert_eq!(last_posting(&out, "PID_HAS_CONTROL").unwrap().as_str(), Some("true"));
-    assert_eq!(last_posting(&out, "DESIRED_THRUST").unwrap().as_f64(), Some(40.0));
-    assert!(last_posting(&out, "DESIRED_RUDDER").unwrap().as_f64().unwrap() > 0.0);
+    assert_eq!(
+        last_posting(&out, "PID_HAS_CONTROL").unwrap().as_str(),
+        Some("true")
+    );
+    assert_eq!(
+        last_posting(&out, "DESIRED_THRUST").unwrap().as_f64(),
+        Some(40.0)
+    );
+    assert!(
+        last_posting(&out, "DESIRED_RUDDER")
+            .unwrap()
+            .as_f64()
+            .unwrap()
+            > 0.0
+    );
 
     // The helm goes quiet; nav keeps coming. After 2 s: stale.
     out.clear();
@@ -211,18 +272,38 @@ fn stale_inputs_give_pid_stale_and_zero_outputs() {
     assert!(!stale.is_empty(), "no PID_STALE");
     let s = stale[0].value.as_str().unwrap();
     assert!(s.starts_with("Stale DesHdg:"), "{s}");
-    assert!(stale.iter().any(|p| p.value.as_str().unwrap().starts_with("Stale DesSpd:")));
-    assert!(!stale.iter().any(|p| p.value.as_str().unwrap().starts_with("Stale NavHdg")));
+    assert!(
+        stale
+            .iter()
+            .any(|p| p.value.as_str().unwrap().starts_with("Stale DesSpd:"))
+    );
+    assert!(
+        !stale
+            .iter()
+            .any(|p| p.value.as_str().unwrap().starts_with("Stale NavHdg"))
+    );
     assert!(!app.last_outputs().has_control);
-    assert_eq!(last_posting(&out, "DESIRED_THRUST").unwrap().as_f64(), Some(0.0));
-    assert_eq!(last_posting(&out, "DESIRED_RUDDER").unwrap().as_f64(), Some(0.0));
-    assert_eq!(last_posting(&out, "DESIRED_ELEVATOR").unwrap().as_f64(), Some(0.0));
+    assert_eq!(
+        last_posting(&out, "DESIRED_THRUST").unwrap().as_f64(),
+        Some(0.0)
+    );
+    assert_eq!(
+        last_posting(&out, "DESIRED_RUDDER").unwrap().as_f64(),
+        Some(0.0)
+    );
+    assert_eq!(
+        last_posting(&out, "DESIRED_ELEVATOR").unwrap().as_f64(),
+        Some(0.0)
+    );
 
     // Override back on: PID_HAS_CONTROL=false.
     out.clear();
     app.on_mail("MOOS_MANUAL_OVERIDE", MailValue::Str("true"), t);
     app.iterate(t + 0.1, &mut out);
-    assert_eq!(last_posting(&out, "PID_HAS_CONTROL").unwrap().as_str(), Some("false"));
+    assert_eq!(
+        last_posting(&out, "PID_HAS_CONTROL").unwrap().as_str(),
+        Some("false")
+    );
 }
 
 #[test]
@@ -230,7 +311,11 @@ fn nav_yaw_and_output_suffix() {
     let mut cfg = golf_pid();
     cfg.output_suffix = "_L".into();
     let mut app = MarinePid::new(cfg);
-    app.on_mail("NAV_YAW", MailValue::Double(-std::f64::consts::FRAC_PI_2), 0.0);
+    app.on_mail(
+        "NAV_YAW",
+        MailValue::Double(-std::f64::consts::FRAC_PI_2),
+        0.0,
+    );
     assert_eq!(app.inputs().heading.unwrap().0, 90.0);
     let mut out = Vec::new();
     app.iterate(0.0, &mut out);
@@ -240,12 +325,29 @@ fn nav_yaw_and_output_suffix() {
 #[test]
 fn required_keys_are_enforced() {
     let err = PidConfig::from_params([("yaw_pid_kp", "1")]).unwrap_err();
-    assert!(matches!(err, vehicle::ConfigError::Missing { key: "yaw_pid_kd", .. }), "{err}");
+    assert!(
+        matches!(
+            err,
+            vehicle::ConfigError::Missing {
+                key: "yaw_pid_kd",
+                ..
+            }
+        ),
+        "{err}"
+    );
     let surface = [
-        ("YAW_PID_KP", "1.2"), ("YAW_PID_KD", "0"), ("YAW_PID_KI", "0"), ("YAW_PID_INTEGRAL_LIMIT", "0.07"),
-        ("SPEED_PID_KP", "1"), ("SPEED_PID_KD", "0"), ("SPEED_PID_KI", "0"),
-        ("SPEED_PID_INTEGRAL_LIMIT", "0.07"), ("MAXRUDDER", "100"), ("MAXTHRUST", "100"),
-        ("depth_control", "false"), ("speed_factor", "20"),
+        ("YAW_PID_KP", "1.2"),
+        ("YAW_PID_KD", "0"),
+        ("YAW_PID_KI", "0"),
+        ("YAW_PID_INTEGRAL_LIMIT", "0.07"),
+        ("SPEED_PID_KP", "1"),
+        ("SPEED_PID_KD", "0"),
+        ("SPEED_PID_KI", "0"),
+        ("SPEED_PID_INTEGRAL_LIMIT", "0.07"),
+        ("MAXRUDDER", "100"),
+        ("MAXTHRUST", "100"),
+        ("depth_control", "false"),
+        ("speed_factor", "20"),
     ];
     let cfg = PidConfig::from_params(surface).unwrap();
     assert!(!cfg.depth_control);

@@ -18,13 +18,19 @@ fn thrust_map_interpolates_and_reflects() {
     assert!(!m.using_thrust_factor());
     assert!(close(m.speed(30.0), 1.5, 1e-12));
     assert!(close(m.speed(60.0), 2.5, 1e-12));
-    assert!(close(m.speed(90.0), 3.0, 1e-12), "flat from the last pair to 100");
+    assert!(
+        close(m.speed(90.0), 3.0, 1e-12),
+        "flat from the last pair to 100"
+    );
     assert_eq!(m.speed(100.0), 3.0);
     assert_eq!(m.speed(-50.0), 0.0, "no negative map, no reflection");
     m.reflect = true;
     assert!(close(m.speed(-30.0), -1.5, 1e-12));
     m.add_spec("-100:-2").unwrap();
-    assert!(close(m.speed(-50.0), -1.0, 1e-12), "negative map from -100 up to 0:0");
+    assert!(
+        close(m.speed(-50.0), -1.0, 1e-12),
+        "negative map from -100 up to 0:0"
+    );
     assert!(m.add_pair(50.0, 0.5).is_err(), "non-ascending rejected");
     assert!(m.add_pair(120.0, 5.0).is_err());
     assert!(m.add_pair(10.0, -1.0).is_err());
@@ -32,16 +38,28 @@ fn thrust_map_interpolates_and_reflects() {
 
 #[test]
 fn speed_from_thrust_map_with_mean_speed_update() {
-    let cfg = SimConfig::from_params([("thrust_map", "0:0, 20:1, 40:2, 100:4"), ("max_deceleration", "0")]).unwrap();
+    let cfg = SimConfig::from_params([
+        ("thrust_map", "0:0, 20:1, 40:2, 100:4"),
+        ("max_deceleration", "0"),
+    ])
+    .unwrap();
     let mut s = SimState::at(&cfg.start);
-    let inputs = SimInputs { thrust: 30.0, ..SimInputs::from_config(&cfg) };
+    let inputs = SimInputs {
+        thrust: 30.0,
+        ..SimInputs::from_config(&cfg)
+    };
     // Target speed is the map value 1.5; the stored speed is the mean of prior and target,
     // so the gap halves every step.
     let mut expected = 0.0;
     for _ in 0..12 {
         s = step(&cfg, &s, &inputs, 0.1, None).0;
         expected = (expected + 1.5) / 2.0;
-        assert!(close(s.speed, expected, 1e-12), "{} vs {}", s.speed, expected);
+        assert!(
+            close(s.speed, expected, 1e-12),
+            "{} vs {}",
+            s.speed,
+            expected
+        );
     }
     assert!(close(s.speed, 1.5, 1e-3));
 }
@@ -50,32 +68,84 @@ fn speed_from_thrust_map_with_mean_speed_update() {
 fn turn_rate_follows_rudder_speed_and_thrust() {
     let cfg = SimConfig::from_params([("turn_spd_loss", "0"), ("max_deceleration", "0")]).unwrap();
     // Half of full speed (5 m/s): rate = 70 * 0.5 = 35; thrust 50 -> factor 1.
-    let s0 = SimState { speed: 2.5, heading: 10.0, ..SimState::default() };
-    let inp = SimInputs { thrust: 50.0, rudder: 20.0, ..SimInputs::default() };
+    let s0 = SimState {
+        speed: 2.5,
+        heading: 10.0,
+        ..SimState::default()
+    };
+    let inp = SimInputs {
+        thrust: 50.0,
+        rudder: 20.0,
+        ..SimInputs::default()
+    };
     let s1 = step(&cfg, &s0, &inp, 0.1, None).0;
-    assert!(close(s1.heading, 10.0 + 20.0 * 0.35 * 0.1, 1e-9), "{}", s1.heading);
+    assert!(
+        close(s1.heading, 10.0 + 20.0 * 0.35 * 0.1, 1e-9),
+        "{}",
+        s1.heading
+    );
     // Full speed and thrust 100 (factor 2): 20 * 0.70 * 0.1 * 2.
-    let s0 = SimState { speed: 5.0, heading: 10.0, ..SimState::default() };
-    let inp = SimInputs { thrust: 100.0, rudder: -20.0, ..SimInputs::default() };
+    let s0 = SimState {
+        speed: 5.0,
+        heading: 10.0,
+        ..SimState::default()
+    };
+    let inp = SimInputs {
+        thrust: 100.0,
+        rudder: -20.0,
+        ..SimInputs::default()
+    };
     let s1 = step(&cfg, &s0, &inp, 0.1, None).0;
     assert!(close(s1.heading, 10.0 - 2.8, 1e-9), "{}", s1.heading);
     // Legacy model: no speed scaling of the rate.
-    let legacy = SimConfig { turn_spd_loss: 0.0, max_deceleration: 0.0, ..SimConfig::legacy() };
-    let s0 = SimState { speed: 2.5, heading: 10.0, ..SimState::default() };
-    let inp = SimInputs { thrust: 50.0, rudder: 20.0, ..SimInputs::default() };
+    let legacy = SimConfig {
+        turn_spd_loss: 0.0,
+        max_deceleration: 0.0,
+        ..SimConfig::legacy()
+    };
+    let s0 = SimState {
+        speed: 2.5,
+        heading: 10.0,
+        ..SimState::default()
+    };
+    let inp = SimInputs {
+        thrust: 50.0,
+        rudder: 20.0,
+        ..SimInputs::default()
+    };
     let s1 = step(&legacy, &s0, &inp, 0.1, None).0;
     assert!(close(s1.heading, 10.0 + 20.0 * 0.70 * 0.1, 1e-9));
     // No turning at zero speed.
-    let s0 = SimState { heading: 10.0, ..SimState::default() };
-    let s1 = step(&cfg, &s0, &SimInputs { rudder: 100.0, ..SimInputs::default() }, 1.0, None).0;
+    let s0 = SimState {
+        heading: 10.0,
+        ..SimState::default()
+    };
+    let s1 = step(
+        &cfg,
+        &s0,
+        &SimInputs {
+            rudder: 100.0,
+            ..SimInputs::default()
+        },
+        1.0,
+        None,
+    )
+    .0;
     assert_eq!(s1.heading, 10.0);
 }
 
 #[test]
 fn turn_speed_loss_slows_the_vehicle() {
     let cfg = SimConfig::from_params([("max_deceleration", "0")]).unwrap();
-    let s0 = SimState { speed: 2.0, ..SimState::default() };
-    let inp = SimInputs { thrust: 40.0, rudder: 50.0, ..SimInputs::default() };
+    let s0 = SimState {
+        speed: 2.0,
+        ..SimState::default()
+    };
+    let inp = SimInputs {
+        thrust: 40.0,
+        rudder: 50.0,
+        ..SimInputs::default()
+    };
     let s1 = step(&cfg, &s0, &inp, 0.1, None).0;
     let target = 2.0 * (1.0 - 0.5 * 0.85);
     assert!(close(s1.speed, (2.0 + target) / 2.0, 1e-9));
@@ -84,7 +154,10 @@ fn turn_speed_loss_slows_the_vehicle() {
 #[test]
 fn deceleration_is_limited() {
     let cfg = SimConfig::default(); // max_deceleration 0.5
-    let mut s = SimState { speed: 3.0, ..SimState::default() };
+    let mut s = SimState {
+        speed: 3.0,
+        ..SimState::default()
+    };
     let inp = SimInputs::default(); // thrust 0 -> target 0
     for i in 1..=8 {
         let prev = s.speed;
@@ -96,22 +169,39 @@ fn deceleration_is_limited() {
     assert!(close(s.speed, 3.0 - 8.0 * 0.0625, 1e-9));
     // Acceleration limit likewise.
     let cfg = SimConfig::from_params([("max_acceleration", "0.2")]).unwrap();
-    let s = step(&cfg, &SimState::default(), &SimInputs { thrust: 100.0, ..SimInputs::default() }, 1.0, None).0;
+    let s = step(
+        &cfg,
+        &SimState::default(),
+        &SimInputs {
+            thrust: 100.0,
+            ..SimInputs::default()
+        },
+        1.0,
+        None,
+    )
+    .0;
     assert!(close(s.speed, 0.1, 1e-12));
 }
 
 #[test]
 fn buoyancy_rises_at_zero_speed() {
-    let cfg = SimConfig::from_params([("start_pos", "x=0,y=0,heading=0,speed=0,depth=10")]).unwrap();
+    let cfg =
+        SimConfig::from_params([("start_pos", "x=0,y=0,heading=0,speed=0,depth=10")]).unwrap();
     let mut s = SimState::at(&cfg.start);
-    let inp = SimInputs { elevator: 100.0, ..SimInputs::from_config(&cfg) };
+    let inp = SimInputs {
+        elevator: 100.0,
+        ..SimInputs::from_config(&cfg)
+    };
     for _ in 0..100 {
         s = step(&cfg, &s, &inp, 0.1, None).0;
     }
     assert!(close(s.depth, 10.0 - 0.025 * 10.0, 1e-9), "{}", s.depth);
     assert_eq!(s.pitch, 0.0);
     // Floored at the surface.
-    let top = SimState { depth: 0.01, ..SimState::default() };
+    let top = SimState {
+        depth: 0.01,
+        ..SimState::default()
+    };
     assert_eq!(step(&cfg, &top, &inp, 1.0, None).0.depth, 0.0);
 }
 
@@ -120,12 +210,23 @@ fn dive_rate_follows_elevator_and_speed() {
     let cfg = SimConfig::from_params([("buoyancy_rate", "0"), ("max_deceleration", "0")]).unwrap();
     for (speed, elevator) in [(1.0, 50.0), (2.0, 50.0), (3.0, -40.0), (0.5, 100.0)] {
         // Thrust that holds the speed (thrust_factor 20).
-        let inp = SimInputs { thrust: speed * 20.0, elevator, ..SimInputs::default() };
-        let s0 = SimState { speed, depth: 5.0, ..SimState::default() };
+        let inp = SimInputs {
+            thrust: speed * 20.0,
+            elevator,
+            ..SimInputs::default()
+        };
+        let s0 = SimState {
+            speed,
+            depth: 5.0,
+            ..SimState::default()
+        };
         let pct = (speed / 2.0f64).min(1.0).sqrt();
         let act = elevator / 100.0 * pct * 0.5;
         let s1 = step(&cfg, &s0, &inp, 0.1, None).0;
-        assert!(close(s1.depth, 5.0 + act * 0.1, 1e-12), "v={speed} e={elevator}");
+        assert!(
+            close(s1.depth, 5.0 + act * 0.1, 1e-12),
+            "v={speed} e={elevator}"
+        );
         assert!(close(s1.pitch, -(act / speed).asin(), 1e-12));
         // Next step adds the pitch-induced rate -sin(pitch)*v.
         let s2 = step(&cfg, &s1, &inp, 0.1, None).0;
@@ -137,12 +238,46 @@ fn dive_rate_follows_elevator_and_speed() {
 #[test]
 fn heading_wraps_at_0_and_360() {
     let cfg = SimConfig::from_params([("turn_spd_loss", "0"), ("max_deceleration", "0")]).unwrap();
-    let s0 = SimState { speed: 5.0, heading: 359.0, ..SimState::default() };
-    let s1 = step(&cfg, &s0, &SimInputs { thrust: 100.0, rudder: 50.0, ..SimInputs::default() }, 0.1, None).0;
-    assert!(close(s1.heading, 359.0 + 7.0 - 360.0, 1e-9), "{}", s1.heading);
+    let s0 = SimState {
+        speed: 5.0,
+        heading: 359.0,
+        ..SimState::default()
+    };
+    let s1 = step(
+        &cfg,
+        &s0,
+        &SimInputs {
+            thrust: 100.0,
+            rudder: 50.0,
+            ..SimInputs::default()
+        },
+        0.1,
+        None,
+    )
+    .0;
+    assert!(
+        close(s1.heading, 359.0 + 7.0 - 360.0, 1e-9),
+        "{}",
+        s1.heading
+    );
     assert!(close(s1.yaw, -(6.0f64).to_radians(), 1e-12));
-    let s0 = SimState { speed: 5.0, heading: 1.0, ..SimState::default() };
-    let s1 = step(&cfg, &s0, &SimInputs { thrust: 100.0, rudder: -50.0, ..SimInputs::default() }, 0.1, None).0;
+    let s0 = SimState {
+        speed: 5.0,
+        heading: 1.0,
+        ..SimState::default()
+    };
+    let s1 = step(
+        &cfg,
+        &s0,
+        &SimInputs {
+            thrust: 100.0,
+            rudder: -50.0,
+            ..SimInputs::default()
+        },
+        0.1,
+        None,
+    )
+    .0;
     assert!(close(s1.heading, 354.0, 1e-9));
     assert!(close(s1.yaw, (6.0f64).to_radians(), 1e-12));
     // Moving north across the wrap: position uses the circular mean heading (~0), not 180.
@@ -170,7 +305,10 @@ fn drift_moves_a_stopped_vehicle() {
 fn straight_line_position() {
     let cfg = SimConfig::from_params([("start_pos", "x=0,y=-20,heading=90,speed=2")]).unwrap();
     let mut s = SimState::at(&cfg.start);
-    let inp = SimInputs { thrust: 40.0, ..SimInputs::from_config(&cfg) };
+    let inp = SimInputs {
+        thrust: 40.0,
+        ..SimInputs::from_config(&cfg)
+    };
     for _ in 0..10 {
         s = step(&cfg, &s, &inp, 1.0, None).0;
     }
@@ -186,25 +324,49 @@ fn adapter_posts_prefixed_nav_every_second_iteration() {
     sim.on_mail("DESIRED_ELEVATOR", MailValue::Double(10.0), 100.0);
     let mut out = Vec::new();
     sim.iterate(100.1, &mut out);
-    assert!(last_posting(&out, "NAV_X").is_none(), "first iteration does not publish nav");
+    assert!(
+        last_posting(&out, "NAV_X").is_none(),
+        "first iteration does not publish nav"
+    );
     assert!(last_posting(&out, "USM_DRIFT_SUMMARY").is_some());
     out.clear();
     sim.iterate(100.2, &mut out);
     for var in [
-        "NAV_X", "NAV_Y", "NAV_LAT", "NAV_LONG", "NAV_HEADING", "NAV_SPEED", "NAV_DEPTH", "NAV_Z",
-        "NAV_PITCH", "NAV_YAW", "NAV_HEADING_OVER_GROUND", "NAV_SPEED_OVER_GROUND", "NAV_ALTITUDE",
-        "TRUE_X", "TRUE_Y", "SIMULATION_MODE",
+        "NAV_X",
+        "NAV_Y",
+        "NAV_LAT",
+        "NAV_LONG",
+        "NAV_HEADING",
+        "NAV_SPEED",
+        "NAV_DEPTH",
+        "NAV_Z",
+        "NAV_PITCH",
+        "NAV_YAW",
+        "NAV_HEADING_OVER_GROUND",
+        "NAV_SPEED_OVER_GROUND",
+        "NAV_ALTITUDE",
+        "TRUE_X",
+        "TRUE_Y",
+        "SIMULATION_MODE",
     ] {
         assert!(last_posting(&out, var).is_some(), "missing {var}");
     }
     let lat = last_posting(&out, "NAV_LAT").unwrap().as_f64().unwrap();
     assert!(close(lat, 43.8253, 1e-4));
     let spd = last_posting(&out, "NAV_SPEED").unwrap().as_f64().unwrap();
-    assert!(close(spd, (spd * 100.0).round() / 100.0, 1e-12), "snapped to 0.01");
+    assert!(
+        close(spd, (spd * 100.0).round() / 100.0, 1e-12),
+        "snapped to 0.01"
+    );
     // Reset through USM_RESET.
-    let p = sim.on_mail("USM_RESET", MailValue::Str("x=5,y=6,heading=45"), 100.3).unwrap();
+    let p = sim
+        .on_mail("USM_RESET", MailValue::Str("x=5,y=6,heading=45"), 100.3)
+        .unwrap();
     assert_eq!(p.value.as_f64(), Some(1.0));
-    assert_eq!((sim.state().x, sim.state().y, sim.state().heading), (5.0, 6.0, 45.0));
+    assert_eq!(
+        (sim.state().x, sim.state().y, sim.state().heading),
+        (5.0, 6.0, 45.0)
+    );
 }
 
 #[test]
@@ -221,7 +383,10 @@ fn config_errors_are_typed() {
     assert!(SimConfig::from_params([("turn_spd_loss", "1.5")]).is_err());
     let mut p = StartPose::default();
     p.apply_spec("5,10,180,2.0,3").unwrap();
-    assert_eq!((p.x, p.y, p.heading, p.speed, p.depth), (5.0, 10.0, 180.0, 2.0, 3.0));
+    assert_eq!(
+        (p.x, p.y, p.heading, p.speed, p.depth),
+        (5.0, 10.0, 180.0, 2.0, 3.0)
+    );
 }
 
 #[test]

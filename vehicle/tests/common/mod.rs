@@ -6,7 +6,11 @@ use std::path::PathBuf;
 /// The shared corpus folder; panics loudly when it is missing.
 pub fn corpus() -> PathBuf {
     let p = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/corpus"));
-    assert!(p.is_dir(), "shared corpus missing at {} (tests need ../shared/corpus)", p.display());
+    assert!(
+        p.is_dir(),
+        "shared corpus missing at {} (tests need ../shared/corpus)",
+        p.display()
+    );
     p
 }
 
@@ -20,9 +24,13 @@ pub fn mission_file(rel: &str) -> String {
 /// for tests: comments `//` stripped, first `=` splits).
 pub fn process_config(text: &str, app: &str) -> Vec<(String, String)> {
     let mut out = Vec::new();
-    let mut lines = text.lines().map(|l| l.split("//").next().unwrap_or("").trim());
+    let mut lines = text
+        .lines()
+        .map(|l| l.split("//").next().unwrap_or("").trim());
     while let Some(l) = lines.next() {
-        let Some((k, v)) = l.split_once('=') else { continue };
+        let Some((k, v)) = l.split_once('=') else {
+            continue;
+        };
         if !(k.trim().eq_ignore_ascii_case("processconfig") && v.trim() == app) {
             continue;
         }
@@ -45,7 +53,9 @@ pub fn process_config(text: &str, app: &str) -> Vec<(String, String)> {
 pub fn global(text: &str, key: &str) -> Option<String> {
     text.lines().find_map(|l| {
         let (k, v) = l.split("//").next()?.split_once('=')?;
-        k.trim().eq_ignore_ascii_case(key).then(|| v.trim().to_string())
+        k.trim()
+            .eq_ignore_ascii_case(key)
+            .then(|| v.trim().to_string())
     })
 }
 
