@@ -52,7 +52,10 @@ pub fn run(args: &NsplugArgs) -> i32 {
         Ok(out) => out,
         Err(e) => {
             eprintln!("{}", e.render());
-            eprintln!("coug nsplug: aborted without writing {}", args.output.display());
+            eprintln!(
+                "coug nsplug: aborted without writing {}",
+                args.output.display()
+            );
             return 1;
         }
     };
