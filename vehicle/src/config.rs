@@ -56,6 +56,7 @@ const GENERIC_APP_KEYS: &[&str] = &[
     "max_appcast_run_warnings",
     "uselogging",
     "debug",
+    "deprecated_ok",
 ];
 
 /// True for keys that belong to the generic MOOS app layer rather than to the app.

@@ -324,7 +324,11 @@ impl PidConfig {
             "speed_debug" => self.speed_debug = p.bool()?,
             "depth_debug" => self.depth_debug = p.bool()?,
             "verbose" | "pid_verbose" => self.verbose = p.bool()?,
+            // Accepted for compatibility (deprecated / older saturation-debug switches).
             "active_start" => {}
+            "max_sat_hdg_debug" | "max_sat_spd_debug" => {
+                p.bool()?;
+            }
             _ => return Ok(false),
         }
         Ok(true)
