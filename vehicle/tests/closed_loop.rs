@@ -11,7 +11,7 @@ use vehicle::{MailValue, Posting, Value};
 
 enum Controller {
     Marine(Box<MarinePid>),
-    Cougars(CougarsControl),
+    Cougars(Box<CougarsControl>),
 }
 
 impl Controller {
@@ -168,7 +168,7 @@ fn marine_pid_drives_the_simulator_through_moos_names() {
 fn cougars_controllers_drive_the_simulator_instead() {
     let mut c = CougarsControl::new(CougarsConfig::coug1(), 0.0);
     c.on_mail("MOOS_MANUAL_OVERIDE", MailValue::Str("false"), 0.0);
-    let mut m = Mission::new(Controller::Cougars(c), 0.08);
+    let mut m = Mission::new(Controller::Cougars(Box::new(c)), 0.08);
     // DESIRED_SPEED is thrust percent for the CoUGARs stack: 30 % -> 1.5 m/s in the simulator.
     m.run(150.0, 180.0, 30.0, 3.0);
     let s = *m.sim.state();
