@@ -770,7 +770,6 @@ enum Header {
 fn header_kind(body: &str) -> Option<Header> {
     let first = body.split_whitespace().next().unwrap_or("");
     if first.eq_ignore_ascii_case("set") && body.contains('=') {
-
         return Some(Header::Mode);
     }
     let key = body.split('=').next().unwrap_or("").trim();

@@ -366,3 +366,28 @@ pub const WELL_KNOWN_VARS: &[&str] = &[
     "DB_CLIENTS",
     "GPS_UPDATE_RECEIVED",
 ];
+
+/// Behaviour parameters whose value names a variable the behaviour posts (besides every
+/// `*_var` parameter other than `reset_var`, which is read).
+pub const OUTPUT_VAR_PARAMS: &[&str] = &[
+    "duration_status",
+    "wpt_status",
+    "wpt_index",
+    "wpt_dist_to_prev",
+    "wpt_dist_to_next",
+    "var_status_idle",
+    "var_status_running",
+];
+
+/// Whether the value of behaviour parameter `key` names a variable the behaviour posts.
+///
+/// ```
+/// assert!(mission::catalog::names_output_var("WPT_STATUS_VAR"));
+/// assert!(mission::catalog::names_output_var("wpt_dist_to_next"));
+/// assert!(!mission::catalog::names_output_var("reset_var"));
+/// assert!(!mission::catalog::names_output_var("mark_variable"));
+/// ```
+pub fn names_output_var(key: &str) -> bool {
+    let k = param_name(key);
+    (k.ends_with("_var") && k != "reset_var") || OUTPUT_VAR_PARAMS.contains(&k.as_str())
+}

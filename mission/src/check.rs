@@ -208,7 +208,7 @@ fn bhv_posts(b: &BehaviorFile, known: &mut HashSet<String>) {
                 if let Some((var, _)) = p.value.split_once('=') {
                     known.insert(var.trim().to_string());
                 }
-            } else if (k.ends_with("_var") && k != "reset_var") || k == "duration_status" {
+            } else if catalog::names_output_var(&k) {
                 known.insert(p.value.trim().to_string());
             } else if k == "post_mapping"
                 && let Some((_, new)) = p.value.split_once(',')

@@ -366,7 +366,10 @@ pub fn parse_moos(src: &SourceMap) -> Parsed<MissionFile> {
         };
         match open.as_mut() {
             Some(o) => o.block.entries.push(param),
-            None if key.get(..7).is_some_and(|k| k.eq_ignore_ascii_case("define:")) => {
+            None if key
+                .get(..7)
+                .is_some_and(|k| k.eq_ignore_ascii_case("define:")) =>
+            {
                 file.defines.push(Param {
                     key: format!("define: {}", key.get(7..).unwrap_or("").trim()),
                     ..param

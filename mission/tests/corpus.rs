@@ -158,3 +158,89 @@ fn check_flags_no_error_in_macro_free_corpus_files() {
         false_errors.join("\n")
     );
 }
+
+/// Every macro name MACROS.txt lists for the files of each mission folder.
+fn folder_macros() -> std::collections::HashMap<String, Vec<String>> {
+    let path = Path::new(SHARED).join("corpus/MACROS.txt");
+    let text = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    let mut out: std::collections::HashMap<String, Vec<String>> = Default::default();
+    for l in text.lines().filter(|l| !l.starts_with('#')) {
+        let mut f = l.split('\t');
+        let (Some(name), Some(macros)) = (f.next(), f.nth(1)) else {
+            continue;
+        };
+        let folder = name.rsplit_once('/').map_or("", |(d, _)| d).to_string();
+        let list = macros.trim_start_matches("macros=");
+        out.entry(folder).or_default().extend(
+            list.split(',')
+                .filter(|m| !m.is_empty())
+                .map(str::to_string),
+        );
+    }
+    out
+}
+
+/// Templates expanded the way their launch scripts do (every macro of the folder defined, here
+/// with the value `1`), then parsed and checked: no parse error, and `coug check` raises no
+/// unknown-parameter error (pHelmIvP's or a behaviour's) on any real mission.
+#[test]
+fn templates_expanded_with_their_macros_parse_and_check_clean() {
+    let dir = corpus_dir();
+    let macros = folder_macros();
+    let (mut expanded, mut findings) = (0, std::collections::BTreeMap::<String, usize>::new());
+    let mut problems = Vec::new();
+    for f in mission_files(&dir) {
+        let rel = f.strip_prefix(&dir).unwrap().to_string_lossy().to_string();
+        let folder = rel.rsplit_once('/').map_or("", |(d, _)| d);
+        let mut opts = Options::new();
+        for m in macros.get(folder).into_iter().flatten() {
+            opts.define_arg(&format!("{m}=1"));
+        }
+        match preprocess(&FsSource, &f, &opts) {
+            Ok(pre) => {
+                expanded += 1;
+                let d = if is_bhv(&f) {
+                    parse_bhv(&pre.source).diagnostics
+                } else {
+                    parse_moos(&pre.source).diagnostics
+                };
+                problems.extend(
+                    d.iter()
+                        .filter(|d| d.is_error())
+                        .map(|d| format!("{rel}: {d}")),
+                );
+            }
+            Err(e) => {
+                // One corpus template includes a plug file that the corpus does not have.
+                if !(e.kind == DiagnosticKind::IncludeNotFound
+                    && rel == "m9_indigo/meta_shoreside.moos")
+                {
+                    problems.push(format!("{rel}: {e}"));
+                }
+            }
+        }
+        for d in check_files(&FsSource, std::slice::from_ref(&f), &opts) {
+            *findings
+                .entry(format!("{:?} {:?}", d.severity, d.kind))
+                .or_default() += 1;
+            if d.kind == DiagnosticKind::UnknownParameter {
+                problems.push(format!("{rel}: {d}"));
+            }
+        }
+    }
+    println!("templates expanded with their folder's macros: {expanded} files preprocessed");
+    println!("coug check over the corpus with macros defined:");
+    for (k, n) in &findings {
+        println!("  {k}: {n}");
+    }
+    assert_eq!(
+        expanded, 416,
+        "all but m9_indigo/meta_shoreside.moos expand"
+    );
+    assert!(
+        problems.is_empty(),
+        "errors in expanded corpus files:\n{}",
+        problems.join("\n")
+    );
+}

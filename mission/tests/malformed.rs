@@ -69,7 +69,10 @@ fn moos_line_without_equals() {
         "m.moos:3:3: error: parameter line without `=`: expected `key = value`, found `AppTick 4`"
     );
     // A forgotten `{`: one error, and the lines are still read as the block's.
-    let p = parse_moos(&SourceMap::from_text("m.moos", "ProcessConfig = A\n  AppTick = 4\n}\n"));
+    let p = parse_moos(&SourceMap::from_text(
+        "m.moos",
+        "ProcessConfig = A\n  AppTick = 4\n}\n",
+    ));
     assert_eq!(p.value.process("A").unwrap().get("apptick"), Some("4"));
     let d = only(p.diagnostics);
     assert_eq!((d.kind, d.span.line), (DiagnosticKind::MissingOpenBrace, 2));

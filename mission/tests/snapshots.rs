@@ -285,7 +285,8 @@ fn delta_bhv_structure() {
     let b = load_bhv("s4_delta/delta.bhv");
     let inits: Vec<&str> = b.initializes.iter().map(|i| i.var.as_str()).collect();
     assert_eq!(inits, ["DEPLOY", "RETURN", "SURVEY", "PSURFACE"]);
-    let modes: Vec<(&str, &str, Option<&str>, Option<&str>, usize)> = b
+    type ModeShape<'a> = (&'a str, &'a str, Option<&'a str>, Option<&'a str>, usize);
+    let modes: Vec<ModeShape<'_>> = b
         .modes
         .iter()
         .map(|m| {
