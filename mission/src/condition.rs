@@ -11,7 +11,8 @@
 //! ```
 //! MOOS-IvP requires the operands of `and`/`or` to be parenthesized; coug also accepts bare
 //! relations there. `==` is the colon-field match used by hierarchical modes:
-//! `MODE == LOITERING` holds when MODE is `ACTIVE:LOITERING`.
+//! `MODE == LOITERING` holds when MODE is `ACTIVE:LOITERING` ([`field_match`]).
+//! [`Condition::evaluate`] evaluates a tree against current variable values.
 //!
 //! ```
 //! use mission::condition::{parse_condition, Condition, Operand, RelOp};
@@ -125,6 +126,147 @@ impl Condition {
             Condition::Compare { op: o, .. } => *o == op,
         }
     }
+}
+
+/// A variable's current value as the helm's info buffer holds it: a number or a string.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Value<'a> {
+    /// A double.
+    Num(f64),
+    /// A string (surrounding double quotes are ignored when comparing).
+    Str(&'a str),
+}
+
+impl Condition {
+    /// Evaluates the condition with current variable values, as pHelmIvP does: a relation on
+    /// an unknown variable is false (even `!=`); string with string compares strings
+    /// (`<`, `>` lexicographic, `==` colon-field match); number with number compares numbers
+    /// (`==` is plain equality); a string compared with a number is converted when it is
+    /// numeric, else the relation is false.
+    ///
+    /// ```
+    /// use mission::condition::{parse_condition, Value};
+    /// let c = parse_condition("(MODE == SURVEYING) and (DEPTH < 10)").unwrap();
+    /// let vars = |n: &str| match n {
+    ///     "MODE" => Some(Value::Str("ACTIVE:SURVEYING")),
+    ///     "DEPTH" => Some(Value::Num(4.0)),
+    ///     _ => None,
+    /// };
+    /// assert!(c.evaluate(&vars));
+    /// ```
+    pub fn evaluate<'a, F>(&self, lookup: &F) -> bool
+    where
+        F: Fn(&str) -> Option<Value<'a>>,
+    {
+        match self {
+            Condition::And(v) => v.iter().all(|c| c.evaluate(lookup)),
+            Condition::Or(v) => v.iter().any(|c| c.evaluate(lookup)),
+            Condition::Not(c) => !c.evaluate(lookup),
+            Condition::Compare { lhs, op, rhs } => {
+                let (Some(l), Some(r)) = (side(lhs, lookup), side(rhs, lookup)) else {
+                    return false;
+                };
+                relate(*op, l.value(), r.value())
+            }
+        }
+    }
+}
+
+fn side<'c, 'a, F>(o: &'c Operand, lookup: &F) -> Option<Side<'c, 'a>>
+where
+    F: Fn(&str) -> Option<Value<'a>>,
+{
+    match o {
+        Operand::Var(v) => lookup(v).map(Side::Val),
+        Operand::Str(s) => Some(Side::Lit(s)),
+        Operand::Num(n) => Some(Side::Val(Value::Num(*n))),
+    }
+}
+
+/// An operand resolved for evaluation: a literal of the condition or a variable's value.
+enum Side<'c, 'a> {
+    Lit(&'c str),
+    Val(Value<'a>),
+}
+
+impl Side<'_, '_> {
+    fn value(&self) -> Value<'_> {
+        match self {
+            Side::Lit(s) => Value::Str(s),
+            Side::Val(v) => *v,
+        }
+    }
+}
+
+fn unquote(s: &str) -> &str {
+    s.strip_prefix('"')
+        .and_then(|t| t.strip_suffix('"'))
+        .unwrap_or(s)
+}
+
+fn numeric(s: &str) -> Option<f64> {
+    let s = unquote(s).trim();
+    if is_numeric(s) { s.parse().ok() } else { None }
+}
+
+fn relate(op: RelOp, l: Value<'_>, r: Value<'_>) -> bool {
+    match (l, r) {
+        (Value::Str(a), Value::Str(b)) => {
+            let (a, b) = (unquote(a), unquote(b));
+            match op {
+                RelOp::Eq => a == b,
+                RelOp::FieldEq => field_match(a, b),
+                RelOp::Ne => a != b,
+                RelOp::Lt => a < b,
+                RelOp::Le => a <= b,
+                RelOp::Gt => a > b,
+                RelOp::Ge => a >= b,
+            }
+        }
+        (Value::Num(a), Value::Num(b)) => compare_num(op, a, b),
+        (Value::Str(a), Value::Num(b)) => numeric(a).is_some_and(|a| compare_num(op, a, b)),
+        (Value::Num(a), Value::Str(b)) => numeric(b).is_some_and(|b| compare_num(op, a, b)),
+    }
+}
+
+fn compare_num(op: RelOp, a: f64, b: f64) -> bool {
+    match op {
+        RelOp::Eq | RelOp::FieldEq => a == b,
+        RelOp::Ne => a != b,
+        RelOp::Lt => a < b,
+        RelOp::Le => a <= b,
+        RelOp::Gt => a > b,
+        RelOp::Ge => a >= b,
+    }
+}
+
+/// The colon-field match of `==`: the side with fewer `:`-separated components matches when
+/// its components appear, in order and adjacent, among the other side's components
+/// (components trimmed). `ACTIVE:SURVEYING` matches `SURVEYING`, `ACTIVE` and
+/// `ACTIVE:SURVEYING`, not `SURV`.
+///
+/// ```
+/// use mission::condition::field_match;
+/// assert!(field_match("ACTIVE:SURVEYING", "SURVEYING"));
+/// assert!(field_match("ACTIVE", "ACTIVE:SURVEYING"));
+/// assert!(!field_match("ACTIVE:SURVEYING", "TIVE:SURV"));
+/// ```
+pub fn field_match(a: &str, b: &str) -> bool {
+    // Allocation-free: the helm evaluates conditions every iteration.
+    let ca = a.split(':').count();
+    let cb = b.split(':').count();
+    let (short, long, ns, nl) = if ca < cb {
+        (a, b, ca, cb)
+    } else {
+        (b, a, cb, ca)
+    };
+    (0..=nl - ns).any(|start| {
+        long.split(':')
+            .skip(start)
+            .take(ns)
+            .zip(short.split(':'))
+            .all(|(x, y)| x.trim() == y.trim())
+    })
 }
 
 /// Whether `s` is a number as conditions read it: `[+-]digits[.digits][e[+-]digits]`.
@@ -516,4 +658,61 @@ fn too_deep(text: &str) -> Option<usize> {
         }
     }
     None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn eval(cond: &str, vars: &[(&str, Value<'static>)]) -> bool {
+        let c = parse_condition(cond).unwrap();
+        c.evaluate(&|n: &str| vars.iter().find(|(k, _)| *k == n).map(|(_, v)| *v))
+    }
+
+    #[test]
+    fn colon_field_match_for_hierarchical_modes() {
+        let mode = [("MODE", Value::Str("ACTIVE:LOITERING"))];
+        assert!(eval("MODE == LOITERING", &mode));
+        assert!(eval("MODE == ACTIVE", &mode));
+        assert!(eval("MODE == ACTIVE:LOITERING", &mode));
+        assert!(!eval("MODE == LOITER", &mode));
+        assert!(!eval("MODE == INACTIVE", &mode));
+        assert!(!eval("MODE = LOITERING", &mode), "`=` is exact");
+        assert!(eval("MODE = ACTIVE:LOITERING", &mode));
+        let deep = [("MODE", Value::Str("A:B:C"))];
+        assert!(eval("MODE == A:B:C", &deep));
+        assert!(eval("MODE == B:C", &deep));
+        assert!(!eval("MODE == A:C", &deep));
+    }
+
+    #[test]
+    fn types_and_unknown_variables() {
+        let v = [
+            ("N", Value::Num(5.0)),
+            ("S", Value::Str("abc")),
+            ("T", Value::Str("7")),
+        ];
+        assert!(eval("N > 4", &v));
+        assert!(eval("N == 5", &v));
+        assert!(
+            !eval("N = abc", &v),
+            "number vs non-numeric string is false"
+        );
+        assert!(!eval("N != abc", &v), "even for !=");
+        assert!(eval("T > 6", &v), "numeric string vs number converts");
+        assert!(eval("S < abd", &v), "lexicographic");
+        assert!(eval("S = \"abc\"", &v));
+        assert!(!eval("GHOST = 1", &v), "unknown variable: false");
+        assert!(
+            !eval("GHOST != 1", &v),
+            "unknown variable: false even for !="
+        );
+        assert!(eval("!(GHOST = 1)", &v));
+        assert!(eval(
+            "N > $(T)",
+            &[("N", Value::Num(8.0)), ("T", Value::Str("7"))]
+        ));
+        assert!(!eval("N > $(U)", &v), "unknown right-hand variable: false");
+        assert!(eval("(N = 1) or ((S = abc) and !(N < 0))", &v));
+    }
 }
