@@ -157,12 +157,20 @@ pub struct Solver {
     best_pt: Vec<u32>,
     found: bool,
     nodes: u64,
+    no_seed: bool,
 }
 
 impl Solver {
     /// A solver with empty buffers.
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// Turns the seed threshold (see the module docs) on or off; on by default. The decision is
+    /// the same either way; this exists to measure and test that.
+    pub fn with_seeding(mut self, on: bool) -> Self {
+        self.no_seed = !on;
+        self
     }
 
     /// Branch-and-bound nodes visited by the last solve (for benchmarks and tests).
@@ -176,6 +184,9 @@ impl Solver {
         self.nodes = 0;
         if self.used == 0 || self.funcs[..self.used].iter().any(|f| f.n == 0) {
             return None;
+        }
+        if !self.no_seed {
+            self.seed();
         }
         self.search();
         if !self.found {
@@ -315,11 +326,51 @@ impl Solver {
         }
     }
 
+    /// Starts the search with a threshold just below the best collective value found at the
+    /// maximum points of the individual functions. Branches and leaves at or below the
+    /// threshold cannot hold the optimum, and every branch that can is still explored in the
+    /// same order, so the first optimum found is the same as without the threshold.
+    fn seed(&mut self) {
+        let d = self.dim;
+        let mut pt = std::mem::take(&mut self.best_pt);
+        let mut seed = f64::NEG_INFINITY;
+        for i in 0..self.used {
+            let f = &self.funcs[i];
+            let Some(p) = f.argmax() else { continue };
+            for k in 0..d {
+                let w = f.wts[p * (d + 1) + k];
+                pt[k] = if w < 0.0 {
+                    f.lo[p * d + k]
+                } else {
+                    f.hi[p * d + k]
+                };
+            }
+            let mut total = 0.0;
+            let mut covered = true;
+            for g in &self.funcs[..self.used] {
+                match g.eval(&pt, d) {
+                    Some(v) => total += v,
+                    None => {
+                        covered = false;
+                        break;
+                    }
+                }
+            }
+            if covered && total > seed {
+                seed = total;
+            }
+        }
+        self.best_pt = pt;
+        if seed.is_finite() {
+            self.best_val = seed - 1e-9 * seed.abs().max(1.0);
+        }
+    }
+
     /// Whether the node at `level` (which already includes function `level`) can still beat
-    /// the best value.
+    /// the best value (or the seed threshold).
     fn worth_descending(&mut self, level: usize) -> bool {
         self.nodes += 1;
-        if !self.found {
+        if self.best_val == f64::NEG_INFINITY {
             return true;
         }
         let d = self.dim;
@@ -350,7 +401,7 @@ impl Solver {
             let hi = &self.node_hi[prev * d..level * d];
             let w = &self.node_w[prev * (d + 1)..level * (d + 1)];
             let val = box_max(lo, hi, w);
-            if !self.found || val > self.best_val {
+            if val > self.best_val {
                 self.found = true;
                 self.best_val = val;
                 for k in 0..d {
@@ -508,6 +559,40 @@ fn box_max(lo: &[u32], hi: &[u32], w: &[f64]) -> f64 {
 const MAX_CELLS: usize = 1024;
 
 impl Prepared {
+    /// Index of the first piece with the largest maximum.
+    fn argmax(&self) -> Option<usize> {
+        let d = self.grid.width.len();
+        let mut best: Option<(f64, usize)> = None;
+        for i in 0..self.n {
+            let v = box_max(
+                &self.lo[i * d..(i + 1) * d],
+                &self.hi[i * d..(i + 1) * d],
+                &self.wts[i * (d + 1)..(i + 1) * (d + 1)],
+            );
+            if best.is_none_or(|(b, _)| v > b) {
+                best = Some((v, i));
+            }
+        }
+        best.map(|(_, i)| i)
+    }
+
+    /// Value at grid point `pt` from the first piece holding it, found through the grid.
+    fn eval(&self, pt: &[u32], d: usize) -> Option<f64> {
+        let g = &self.grid;
+        let cell: usize = (0..d)
+            .map(|k| (pt[k] / g.width[k]) as usize * g.stride[k])
+            .sum();
+        let (s, e) = (g.start[cell] as usize, g.start[cell + 1] as usize);
+        g.members[s..e].iter().find_map(|&m| {
+            let m = m as usize;
+            let inside = (0..d).all(|k| self.lo[m * d + k] <= pt[k] && pt[k] <= self.hi[m * d + k]);
+            inside.then(|| {
+                let w = &self.wts[m * (d + 1)..(m + 1) * (d + 1)];
+                (0..d).fold(w[d], |acc, k| acc + w[k] * f64::from(pt[k]))
+            })
+        })
+    }
+
     fn build_grid(&mut self, d: usize, points: &[u32]) {
         let n = self.n;
         let g = &mut self.grid;
