@@ -1,11 +1,12 @@
-//! Solver benchmarks on the helm-like problems of `problems.rs`.
+//! Solver benchmarks on the helm-like problems of `common/mod.rs`.
 //!
 //! Run with `cargo bench -p helm --bench solver`; piece counts are printed once.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use helm::ivp::{
-    Domain, IvpFunction, Problem, Reflector, Solver, ZaicHdg, ZaicLeq, ZaicPeak, ZaicSpd, couple,
-};
+use helm::ivp::Solver;
+
+mod common;
+use common::{problem_a, problem_b};
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {

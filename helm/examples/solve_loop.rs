@@ -4,7 +4,7 @@
 //! `cargo build --release -p helm --example solve_loop &&
 //!  valgrind --tool=callgrind target/release/examples/solve_loop 200`
 
-#[path = "../benches/problems.rs"]
+#[path = "../benches/common/mod.rs"]
 mod problems;
 
 use helm::ivp::Solver;
