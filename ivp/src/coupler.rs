@@ -8,7 +8,7 @@ use super::function::IvpFunction;
 /// like MOOS-IvP's `OF_Coupler::couple(f1, f2)`.
 ///
 /// ```
-/// # use helm::ivp::{couple, Domain, ZaicPeak, ZaicSpd};
+/// # use ivp::{couple, Domain, ZaicPeak, ZaicSpd};
 /// let d = Domain::from_vars(&[("course", 0.0, 359.0, 360), ("speed", 0.0, 4.0, 41)]).unwrap();
 /// let mut hdg = ZaicPeak::new(&d, "course").unwrap();
 /// hdg.set_params(90.0, 0.0, 180.0, 0.0, 0.0, 100.0).unwrap();
@@ -79,7 +79,7 @@ pub fn couple_weighted(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ivp::ZaicPeak;
+    use crate::ZaicPeak;
 
     #[test]
     fn coupled_values_are_the_normalized_sum() {

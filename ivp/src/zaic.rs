@@ -195,7 +195,7 @@ impl PeakComponent {
 /// A peaked preference around one or more summits, optionally wrapping (for course).
 ///
 /// ```
-/// # use helm::ivp::{Domain, ZaicPeak};
+/// # use ivp::{Domain, ZaicPeak};
 /// let d = Domain::from_vars(&[("course", 0.0, 359.0, 360)]).unwrap();
 /// let mut z = ZaicPeak::new(&d, "course").unwrap();
 /// z.set_params(90.0, 10.0, 20.0, 0.0, 0.0, 100.0).unwrap();
@@ -456,7 +456,7 @@ macro_rules! hleq_setters {
 /// domain's low end leaves index 0 uncovered.
 ///
 /// ```
-/// # use helm::ivp::{Domain, ZaicLeq};
+/// # use ivp::{Domain, ZaicLeq};
 /// let d = Domain::from_vars(&[("depth", 0.0, 100.0, 101)]).unwrap();
 /// let mut z = ZaicLeq::new(&d, "depth").unwrap();
 /// z.set_summit(20.0).unwrap();
@@ -509,7 +509,7 @@ impl ZaicLeq {
 /// "Value at or above the summit is best" (MOOS-IvP's `ZAIC_HEQ`), the mirror of [`ZaicLeq`].
 ///
 /// ```
-/// # use helm::ivp::{Domain, ZaicHeq};
+/// # use ivp::{Domain, ZaicHeq};
 /// let d = Domain::from_vars(&[("speed", 0.0, 4.0, 41)]).unwrap();
 /// let mut z = ZaicHeq::new(&d, "speed").unwrap();
 /// z.set_summit(2.0).unwrap();
@@ -563,7 +563,7 @@ impl ZaicHeq {
 /// `low_spd` / `hgh_spd` and at the domain's ends, joined linearly.
 ///
 /// ```
-/// # use helm::ivp::{Domain, ZaicSpd};
+/// # use ivp::{Domain, ZaicSpd};
 /// let d = Domain::from_vars(&[("speed", 0.0, 4.0, 41)]).unwrap();
 /// let z = ZaicSpd::new(&d, "speed", 2.0, 1.5, 2.5, 70.0, 70.0).unwrap();
 /// let f = z.extract().unwrap();
@@ -734,7 +734,7 @@ fn non_negative(builder: &'static str, param: &'static str, v: f64) -> Result<f6
 /// and then to `minutil` at `summit + 180`; the port side mirrors with the `l*` parameters.
 ///
 /// ```
-/// # use helm::ivp::{Domain, ZaicHdg};
+/// # use ivp::{Domain, ZaicHdg};
 /// let d = Domain::from_vars(&[("course", 0.0, 359.0, 360)]).unwrap();
 /// let z = ZaicHdg::new(&d, "course", 90.0, 10.0, 10.0, 50.0, 50.0, 0.0, 100.0).unwrap();
 /// assert_eq!(z.eval_point(90), 100.0);

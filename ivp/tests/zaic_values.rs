@@ -1,7 +1,7 @@
 //! Builder values checked against numbers worked out by hand from the ZAIC formulas
 //! (reference: ivp-helm.md section 2 and the MOOS-IvP builders).
 
-use helm::ivp::{
+use ivp::{
     BREAK_TIES, Combine, Domain, IvpError, IvpFunction, PeakComponent, ZaicHdg, ZaicHeq, ZaicLeq,
     ZaicPeak, ZaicSpd,
 };

@@ -52,7 +52,7 @@ impl Decision {
 /// A set of objective functions over a helm domain, each with an owner name.
 ///
 /// ```
-/// # use helm::ivp::{Domain, Problem, ZaicPeak};
+/// # use ivp::{Domain, Problem, ZaicPeak};
 /// let d = Domain::from_vars(&[("course", 0.0, 359.0, 360), ("speed", 0.0, 4.0, 41)]).unwrap();
 /// let mut z = ZaicPeak::new(&d, "course").unwrap();
 /// z.set_params(45.0, 0.0, 90.0, 0.0, 0.0, 100.0).unwrap();
@@ -687,7 +687,7 @@ impl Prepared {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ivp::{ZaicPeak, ZaicSpd};
+    use crate::{ZaicPeak, ZaicSpd};
 
     fn cs() -> Domain {
         Domain::from_vars(&[("course", 0.0, 359.0, 360), ("speed", 0.0, 4.0, 41)]).unwrap()

@@ -1,9 +1,9 @@
 //! Solver benchmarks on the helm-like problems of `common/mod.rs`.
 //!
-//! Run with `cargo bench -p helm --bench solver`; piece counts are printed once.
+//! Run with `cargo bench -p ivp --bench solver`; piece counts are printed once.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use helm::ivp::Solver;
+use ivp::Solver;
 
 mod common;
 use common::{problem_a, problem_b};

@@ -1,7 +1,7 @@
 //! Property tests: the branch-and-bound solver finds the same optimum as brute force over
 //! every grid point, and the point it returns attains that optimum.
 
-use helm::ivp::{Domain, IvpFunction, Problem, Solver};
+use ivp::{Domain, IvpFunction, Problem, Solver};
 use proptest::prelude::*;
 
 /// A random axis-aligned partition of a box, built by recursive random splits.

@@ -7,7 +7,7 @@
 //! names, and the [`Solver`] returns the [`Decision`] that maximizes their weighted sum.
 //!
 //! ```
-//! use helm::ivp::{couple, Domain, Problem, ZaicHdg, ZaicSpd};
+//! use ivp::{couple, Domain, Problem, ZaicHdg, ZaicSpd};
 //! let d = Domain::parse_specs(["course:0:359:360", "speed:0:4:41"]).unwrap();
 //! let hdg = ZaicHdg::new(&d, "course", 90.0, 10.0, 10.0, 50.0, 50.0, 0.0, 100.0).unwrap();
 //! let spd = ZaicSpd::new(&d, "speed", 2.0, 1.5, 2.5, 70.0, 70.0).unwrap();
@@ -18,6 +18,11 @@
 //! assert_eq!(decision.get("course"), Some(90.0));
 //! assert_eq!(decision.get("speed"), Some(2.0));
 //! ```
+
+#![warn(missing_docs)]
+// Numeric kernels index several parallel arrays with one loop variable; iterator zips
+// would hide which dimension is which.
+#![allow(clippy::needless_range_loop)]
 
 mod coupler;
 mod domain;

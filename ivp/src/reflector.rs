@@ -23,7 +23,7 @@ struct IxBox {
 /// intercept the mean residual; `strict_range` keeps each plane within the sampled values.
 ///
 /// ```
-/// # use helm::ivp::{Domain, Reflector};
+/// # use ivp::{Domain, Reflector};
 /// let d = Domain::from_vars(&[("x", 0.0, 100.0, 101)]).unwrap();
 /// let f = Reflector::new(&d, |v: &[f64]| 2.0 * v[0] + 1.0)
 ///     .set_param("uniform_piece", "x:10").unwrap()

@@ -29,7 +29,7 @@ impl DomainVar {
     /// A variable with the same validation rules as MOOS-IvP's `IvPDomain::addDomain`.
     ///
     /// ```
-    /// # use helm::ivp::DomainVar;
+    /// # use ivp::DomainVar;
     /// let speed = DomainVar::new("speed", 0.0, 4.0, 41).unwrap();
     /// assert!((speed.delta() - 0.1).abs() < 1e-12);
     /// ```
@@ -106,7 +106,7 @@ impl DomainVar {
     /// The grid index of `val`, snapped as requested and clamped into the domain.
     ///
     /// ```
-    /// # use helm::ivp::{DomainVar, Snap};
+    /// # use ivp::{DomainVar, Snap};
     /// let c = DomainVar::new("course", 0.0, 359.0, 360).unwrap();
     /// assert_eq!(c.index(10.5, Snap::Floor), 10);
     /// assert_eq!(c.index(10.5, Snap::Ceil), 11);
@@ -136,7 +136,7 @@ impl DomainVar {
     /// as separators, or `name:low:high:delta=D`.
     ///
     /// ```
-    /// # use helm::ivp::DomainVar;
+    /// # use ivp::DomainVar;
     /// let v = DomainVar::parse("speed:0:4:delta=0.1").unwrap();
     /// assert_eq!(v.points(), 41);
     /// assert!(DomainVar::parse("depth,0,100,101,optional").unwrap().is_optional());
@@ -235,7 +235,7 @@ impl Domain {
     /// Builds a domain from `(name, low, high, points)` tuples.
     ///
     /// ```
-    /// # use helm::ivp::Domain;
+    /// # use ivp::Domain;
     /// let d = Domain::from_vars(&[("course", 0.0, 359.0, 360), ("speed", 0.0, 4.0, 41)]).unwrap();
     /// assert_eq!(d.len(), 2);
     /// assert_eq!(d.index_of("speed"), Some(1));

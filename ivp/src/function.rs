@@ -85,7 +85,7 @@ impl Piece<'_> {
 /// solving touches contiguous memory.
 ///
 /// ```
-/// # use helm::ivp::{Domain, IvpFunction};
+/// # use ivp::{Domain, IvpFunction};
 /// let d = Domain::from_vars(&[("speed", 0.0, 4.0, 41)]).unwrap();
 /// let mut f = IvpFunction::new(d);
 /// f.push_piece(&[0], &[20], &[5.0], 0.0).unwrap();    // rising to 100 at 2 m/s
@@ -280,7 +280,7 @@ impl IvpFunction {
     /// left unchanged.
     ///
     /// ```
-    /// # use helm::ivp::{Domain, IvpFunction};
+    /// # use ivp::{Domain, IvpFunction};
     /// let mut f = IvpFunction::new(Domain::from_vars(&[("x", 0.0, 10.0, 11)]).unwrap());
     /// f.push_piece(&[0], &[10], &[2.0], 30.0).unwrap(); // 30..50
     /// f.normalize(0.0, 100.0);

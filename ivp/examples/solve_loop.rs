@@ -1,13 +1,13 @@
 //! Solves the benchmark problems a fixed number of times: a deterministic driver for
 //! `valgrind --tool=callgrind` (instruction counts are repeatable where timings are not).
 //!
-//! `cargo build --release -p helm --example solve_loop &&
+//! `cargo build --release -p ivp --example solve_loop &&
 //!  valgrind --tool=callgrind target/release/examples/solve_loop 200`
 
 #[path = "../benches/common/mod.rs"]
 mod problems;
 
-use helm::ivp::Solver;
+use ivp::Solver;
 
 fn main() {
     let n: usize = std::env::args()

@@ -6,9 +6,7 @@
 //!     speed, constant depth (ZAIC_PEAK), max depth (ZAIC_LEQ) and a reflector-built
 //!     avoidance-like function over course x speed.
 
-use helm::ivp::{
-    Domain, IvpFunction, Problem, Reflector, ZaicHdg, ZaicLeq, ZaicPeak, ZaicSpd, couple,
-};
+use ivp::{Domain, IvpFunction, Problem, Reflector, ZaicHdg, ZaicLeq, ZaicPeak, ZaicSpd, couple};
 
 fn waypoint(d: &Domain) -> IvpFunction {
     let hdg = ZaicHdg::new(d, "course", 127.0, 30.0, 30.0, 50.0, 50.0, 0.0, 100.0).unwrap();
