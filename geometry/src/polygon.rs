@@ -148,10 +148,17 @@ impl Polygon {
         match self.pts.len() {
             0 => None,
             1 => Some(self.pts[0].dist(&Point::new(x, y))),
-            _ => self
-                .edges()
-                .map(|e| e.dist_to_point(x, y))
-                .min_by(f64::total_cmp),
+            _ => {
+                // Minimum of squared distances, one square root at the end.
+                let d2 = self
+                    .edges()
+                    .map(|e| {
+                        let c = e.closest_point(x, y);
+                        (c.x - x) * (c.x - x) + (c.y - y) * (c.y - y)
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                Some(d2.sqrt())
+            }
         }
     }
 
