@@ -105,8 +105,7 @@ fn main() {
         .build()
         .unwrap();
     rt.block_on(async {
-        let mut cfg = ServerConfig::default();
-        cfg.addr = SocketAddr::from(([127, 0, 0, 1], 0));
+        let cfg = ServerConfig::with_addr(SocketAddr::from(([127, 0, 0, 1], 0)));
         let server = Server::bind(cfg).await.unwrap();
         let port = server.local_addr().port();
         let (n_tp, n_lat) = if quick {

@@ -417,7 +417,7 @@ async fn run(
                 Ok(s) => break s,
                 Err(e) => {
                     attempt += 1;
-                    if attempt == 1 || attempt % 10 == 0 {
+                    if attempt == 1 || attempt.is_multiple_of(10) {
                         info!(
                             "contacting a MOOS server {}:{} - try {attempt}: {e}",
                             config.host, config.port

@@ -11,8 +11,8 @@
 //!
 //! let t = DbTime { moos: 100.0, mono: 0.0 };
 //! let mut db = Database::new(DbConfig::default(), t);
-//! let (sub, _welcome) = db.connect(Bytes::from_static(b"sub"), true, 100.0, t).unwrap();
-//! let (publ, _welcome) = db.connect(Bytes::from_static(b"pub"), true, 100.0, t).unwrap();
+//! let sub = db.connect(Bytes::from_static(b"sub"), true, 100.0, t).id().unwrap();
+//! let publ = db.connect(Bytes::from_static(b"pub"), true, 100.0, t).id().unwrap();
 //! let mut reg = Message::new(MsgType::Register, DataType::Double, "X");
 //! reg.dval = 0.0;
 //! db.handle(sub, vec![reg], t).unwrap();
@@ -92,6 +92,40 @@ pub enum DbError {
     /// The client is not (or no longer) connected.
     #[error("unknown or disconnected client {0:?}")]
     UnknownClient(ClientId),
+}
+
+/// The outcome of a handshake: what to send the new connection.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Handshake {
+    /// Admitted as `id`; send `reply` (the Welcome).
+    Welcome {
+        /// The new client's id.
+        id: ClientId,
+        /// The Welcome message.
+        reply: Message,
+    },
+    /// Refused; send `reply` (the Poison) and close.
+    Poison {
+        /// The Poison message (reason in `sval`).
+        reply: Message,
+    },
+}
+
+impl Handshake {
+    /// The id when welcomed.
+    pub fn id(&self) -> Option<ClientId> {
+        match self {
+            Handshake::Welcome { id, .. } => Some(*id),
+            Handshake::Poison { .. } => None,
+        }
+    }
+
+    /// The message to send either way.
+    pub fn reply(&self) -> &Message {
+        match self {
+            Handshake::Welcome { reply, .. } | Handshake::Poison { reply } => reply,
+        }
+    }
 }
 
 /// What a call changed outside the core.
@@ -353,16 +387,16 @@ impl Database {
 
     /// Handshake: admits a client called `name` or refuses a duplicate name.
     ///
-    /// On success returns its id and the Welcome to send (`'W'`, data `'D'`, dval = skew =
+    /// On success gives its id and the Welcome to send (`'W'`, data `'D'`, dval = skew =
     /// `now − client_time`, sval `asynchronous`, src_aux `hostname=..`, community) and posts
-    /// `DB_EVENT = connected=NAME`. On a clash returns the Poison to send.
+    /// `DB_EVENT = connected=NAME`. On a clash gives the Poison to send.
     pub fn connect(
         &mut self,
         name: Bytes,
         asynchronous: bool,
         client_time: f64,
         now: DbTime,
-    ) -> Result<(ClientId, Message), Message> {
+    ) -> Handshake {
         if self.names.contains_key(&name) {
             let mut p = Message::new(MsgType::Poison, DataType::String, "");
             p.time = now.moos;
@@ -370,7 +404,7 @@ impl Database {
                 "A client of this name (\"{}\") already exists",
                 String::from_utf8_lossy(&name)
             ));
-            return Err(p);
+            return Handshake::Poison { reply: p };
         }
         let id = ClientId(self.next_id);
         self.next_id += 1;
@@ -399,17 +433,13 @@ impl Database {
         info!(client = %String::from_utf8_lossy(&name), asynchronous, "client connected");
         let event = format!("connected={}", String::from_utf8_lossy(&name));
         self.internal_notify("DB_EVENT", Value::String(Bytes::from(event)), now);
-        Ok((id, w))
+        Handshake::Welcome { id, reply: w }
     }
 
     /// Handshake from the client's first message (`'i'`: sval = name, key `asynchronous` for
     /// V10 clients, compared case-insensitively). `None` (no readable name message) gives the
     /// Poison the C++ DB sends in that case.
-    pub fn handshake(
-        &mut self,
-        first: Option<&Message>,
-        now: DbTime,
-    ) -> Result<(ClientId, Message), Message> {
+    pub fn handshake(&mut self, first: Option<&Message>, now: DbTime) -> Handshake {
         match first {
             Some(m) => {
                 let asynchronous = m.key.eq_ignore_ascii_case(ASYNCHRONOUS.as_bytes());
@@ -419,7 +449,7 @@ impl Database {
                 let mut p = Message::new(MsgType::Poison, DataType::String, "");
                 p.time = now.moos;
                 p.sval = Bytes::from_static(b"Failed to read receive client's name");
-                Err(p)
+                Handshake::Poison { reply: p }
             }
         }
     }
@@ -597,7 +627,7 @@ impl Database {
             .values()
             .map(|c| (c.order, c.name.clone()))
             .collect();
-        v.sort_by(|a, b| b.0.cmp(&a.0));
+        v.sort_by_key(|c| std::cmp::Reverse(c.0));
         v.into_iter().map(|(_, n)| n).collect()
     }
 
@@ -1072,8 +1102,8 @@ mod tests {
 
     fn join(db: &mut Database, name: &str, now: f64) -> ClientId {
         db.connect(Bytes::from(name.to_string()), true, now, t(now))
+            .id()
             .unwrap()
-            .0
     }
 
     #[test]

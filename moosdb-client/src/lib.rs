@@ -28,7 +28,7 @@ pub mod server;
 pub mod time;
 
 pub use client::{Client, ClientConfig, ClientError, ConnectionState, MailStream};
-pub use db::{ClientId, Database, DbConfig, DbTime};
+pub use db::{ClientId, Database, DbConfig, DbTime, Handshake};
 pub use error::{DecodeError, ReadError};
 pub use message::{DataType, Message, MsgType, Value};
 pub use server::{Server, ServerConfig};

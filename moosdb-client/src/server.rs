@@ -20,7 +20,7 @@ use tokio::task::JoinHandle;
 use tracing::{debug, info, warn};
 
 use crate::codec::{PREAMBLE_LEN, PacketReader, preamble_ok, write_packet};
-use crate::db::{ClientId, Database, DbConfig, DbTime};
+use crate::db::{ClientId, Database, DbConfig, DbTime, Handshake};
 use crate::packet::{DEFAULT_MAX_PACKET_LEN, encode_packet};
 use crate::time::{Warp, unix_now};
 
@@ -53,6 +53,21 @@ impl Default for ServerConfig {
             },
             warp: Warp::default(),
             max_packet_len: DEFAULT_MAX_PACKET_LEN,
+        }
+    }
+}
+
+impl ServerConfig {
+    /// Defaults, listening on `addr` (use port 0 for an OS-chosen port).
+    ///
+    /// ```
+    /// let cfg = moosdb_client::ServerConfig::with_addr(([127, 0, 0, 1], 0).into());
+    /// assert_eq!(cfg.addr.port(), 0);
+    /// ```
+    pub fn with_addr(addr: SocketAddr) -> ServerConfig {
+        ServerConfig {
+            addr,
+            ..ServerConfig::default()
         }
     }
 }
@@ -250,24 +265,24 @@ async fn serve(sock: TcpStream, peer: SocketAddr, shared: Arc<Shared>) {
     let handshake = {
         let now = shared.now();
         let mut st = shared.lock();
-        let r = st.db.handshake(first.as_ref(), now);
-        if let Ok((id, _)) = &r {
-            st.conns.insert(*id, conn.clone());
+        let h = st.db.handshake(first.as_ref(), now);
+        if let Some(id) = h.id() {
+            st.conns.insert(id, conn.clone());
         }
-        r
+        h
     };
     let id = match handshake {
-        Ok((id, welcome)) => {
-            if let Err(e) = write_packet(&mut wr, &[welcome]).await {
+        Handshake::Welcome { id, reply } => {
+            if let Err(e) = write_packet(&mut wr, &[reply]).await {
                 debug!(%peer, "could not send Welcome: {e}");
                 drop_client(&shared, id);
                 return;
             }
             id
         }
-        Err(poison) => {
-            warn!(%peer, reason = %poison.sval_str(), "handshake refused");
-            let _ = write_packet(&mut wr, &[poison]).await;
+        Handshake::Poison { reply } => {
+            warn!(%peer, reason = %reply.sval_str(), "handshake refused");
+            let _ = write_packet(&mut wr, &[reply]).await;
             let _ = wr.shutdown().await;
             return;
         }

@@ -58,8 +58,7 @@ async fn one_round(addr: SocketAddr, round: usize) -> Result<(), String> {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn churn_never_blocks_handshakes_or_mail() {
-    let mut cfg = ServerConfig::default();
-    cfg.addr = SocketAddr::from(([127, 0, 0, 1], 0));
+    let cfg = ServerConfig::with_addr(SocketAddr::from(([127, 0, 0, 1], 0)));
     let srv = Server::bind(cfg).await.unwrap();
     let addr = srv.local_addr();
     let port = addr.port();

@@ -20,7 +20,7 @@ fn unhex(s: &str) -> Vec<u8> {
 fn check_example(msg: Message, expected_hex: &str) {
     let expected = unhex(expected_hex);
     let mut out = Vec::new();
-    encode_packet(&[msg.clone()], &mut out);
+    encode_packet(std::slice::from_ref(&msg), &mut out);
     assert_eq!(out, expected, "encoding differs from the reference bytes");
     let back = decode_packet(Bytes::from(expected)).unwrap();
     assert_eq!(back, vec![msg]);

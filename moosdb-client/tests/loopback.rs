@@ -18,8 +18,7 @@ use tokio::time::timeout;
 const WAIT: Duration = Duration::from_secs(15);
 
 async fn server_at(addr: SocketAddr) -> Server {
-    let mut cfg = ServerConfig::default();
-    cfg.addr = addr;
+    let mut cfg = ServerConfig::with_addr(addr);
     cfg.db.community = "loop".into();
     Server::bind(cfg).await.expect("bind loopback")
 }

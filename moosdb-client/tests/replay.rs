@@ -121,14 +121,12 @@ fn replay(scenario: &str) -> (usize, usize) {
             }
             Ev::Packet { conn, idx: 0 } => {
                 let first = c2s[&conn][0].msgs.first().cloned();
-                match db.handshake(first.as_ref(), at(t)) {
-                    Ok((id, welcome)) => {
-                        ids.insert(conn, id);
-                        conn_of.insert(id, conn);
-                        sent.entry(conn).or_default().push(vec![welcome]);
-                    }
-                    Err(poison) => sent.entry(conn).or_default().push(vec![poison]),
+                let h = db.handshake(first.as_ref(), at(t));
+                if let Some(id) = h.id() {
+                    ids.insert(conn, id);
+                    conn_of.insert(id, conn);
                 }
+                sent.entry(conn).or_default().push(vec![h.reply().clone()]);
             }
             Ev::Packet { conn, idx } => {
                 let Some(id) = ids.get(&conn) else { continue };

@@ -145,8 +145,7 @@ fn live() -> &'static Live {
             .build()
             .unwrap();
         let (server, publ, sub, mail) = rt.block_on(async {
-            let mut cfg = ServerConfig::default();
-            cfg.addr = SocketAddr::from(([127, 0, 0, 1], 0));
+            let mut cfg = ServerConfig::with_addr(SocketAddr::from(([127, 0, 0, 1], 0)));
             cfg.max_packet_len = 1 << 20;
             let server = Server::bind(cfg).await.unwrap();
             let port = server.local_addr().port();
