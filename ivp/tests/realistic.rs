@@ -42,10 +42,13 @@ fn table(f: &IvpFunction) -> Vec<Option<f64>> {
     out
 }
 
+/// A function's variables (as helm-domain positions), its own grid sizes, and its values.
+type Table = (Vec<usize>, Vec<u32>, Vec<Option<f64>>);
+
 fn brute_force(problem: &Problem) -> (f64, usize) {
     let domain: &Domain = problem.domain();
     let pts: Vec<u32> = domain.vars().iter().map(|v| v.points()).collect();
-    let tables: Vec<(Vec<usize>, Vec<u32>, Vec<Option<f64>>)> = problem
+    let tables: Vec<Table> = problem
         .functions()
         .map(|(_, f)| {
             let map = f
