@@ -11,7 +11,7 @@
 //! - keys are matched case-insensitively (MOOS's standard form matches lower case only);
 //! - a value that must be numeric but is not is an error, where MOOS uses `atof` (0);
 //! - in the standard `pts={...}` form, unknown keys are ignored exactly as MOOS ignores them
-//!   (this includes `tags=`: edge tags are not modelled);
+//!   (a `tags={...}` edge-tag group is skipped whole: edge tags are not modelled);
 //! - per-vertex properties are kept for seglists but dropped for polygons.
 
 use crate::error::ParseError;
@@ -590,6 +590,10 @@ fn standard_walk(
                 let (p, prop) = standard_vertex(v)?;
                 on_vertex(p, prop);
             }
+        } else if left == "tags" && rest.starts_with('{') {
+            // Edge tags (`tags={0:1:lane#...}`) are not modelled: skip the whole group.
+            let (_, r2) = bite(rest, '}');
+            rest = r2.strip_prefix(',').unwrap_or(r2).trim();
         } else {
             let (right, r2) = bite(rest, ',');
             rest = r2;

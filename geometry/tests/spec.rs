@@ -121,6 +121,13 @@ fn vertex_z_and_properties() {
 }
 
 #[test]
+fn edge_tags_are_skipped() {
+    let v = parse_seglist("pts={0,0:10,0:10,10},tags={0,1,lane#1:2:lane},label=mow").unwrap();
+    assert_eq!(v.seglist.len(), 3);
+    assert_eq!(v.attrs.label, "mow");
+}
+
+#[test]
 fn view_polygon_specs() {
     let v = parse_polygon("radial:: x=20, y=-80, radius=20, pts=8, snap=1, label=DUDLEY_LOITER")
         .unwrap();
