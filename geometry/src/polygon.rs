@@ -162,6 +162,29 @@ impl Polygon {
         }
     }
 
+    /// The boundary point nearest to `(x, y)` (a vertex for a one-vertex polygon); `None` if
+    /// empty.
+    ///
+    /// ```
+    /// use geometry::{Point, Polygon};
+    /// let sq = Polygon::new(vec![Point::new(0.0, 0.0), Point::new(0.0, 10.0), Point::new(10.0, 10.0), Point::new(10.0, 0.0)]);
+    /// assert_eq!(sq.closest_boundary_point(4.0, 3.0), Some(Point::new(4.0, 0.0)));
+    /// ```
+    pub fn closest_boundary_point(&self, x: f64, y: f64) -> Option<Point> {
+        match self.pts.len() {
+            0 => None,
+            1 => Some(self.pts[0]),
+            _ => self
+                .edges()
+                .map(|e| {
+                    let c = e.closest_point(x, y);
+                    ((c.x - x) * (c.x - x) + (c.y - y) * (c.y - y), c)
+                })
+                .min_by(|a, b| a.0.total_cmp(&b.0))
+                .map(|(_, c)| c),
+        }
+    }
+
     /// Distance to the boundary, negative when `(x, y)` is strictly inside (the loiter's
     /// "distance to polygon"). `None` if empty.
     pub fn signed_distance(&self, x: f64, y: f64) -> Option<f64> {

@@ -86,6 +86,20 @@ impl SegList {
         closest_vertex(&self.pts, x, y)
     }
 
+    /// Index `i` of the segment `i → i+1` nearest to `(x, y)` (first one on ties); `None` with
+    /// fewer than two vertices. Unlike MOOS's `closest_segment`, the implied closing segment is
+    /// not considered (a seglist is an open path).
+    pub fn closest_segment(&self, x: f64, y: f64) -> Option<usize> {
+        let mut best: Option<(usize, f64)> = None;
+        for (i, s) in self.segments().enumerate() {
+            let d = s.dist_to_point(x, y);
+            if best.is_none_or(|(_, bd)| d < bd) {
+                best = Some((i, d));
+            }
+        }
+        best.map(|(i, _)| i)
+    }
+
     /// Reverses the vertex order (MOOS `reverse`, used by waypoint `order = reverse`).
     pub fn reverse(&mut self) {
         self.pts.reverse();
@@ -162,6 +176,8 @@ mod tests {
         assert_eq!(s.len(), 3);
         assert_eq!(s.length(), 11.0);
         assert_eq!(s.closest_vertex(3.0, 6.0), Some(1));
+        assert_eq!(s.closest_segment(4.0, 7.0), Some(1));
+        assert_eq!(s.closest_segment(0.0, 1.0), Some(0));
         assert_eq!(s.center(), Point::new(1.5, 5.0));
         s.reverse();
         assert_eq!(s.get(0), Some(Point::new(3.0, 10.0)));
