@@ -1227,6 +1227,105 @@ mod tests {
         assert_eq!(keys, vec!["NAV_X", "NAV_Y"]);
     }
 
+    fn request(key: &str) -> Message {
+        let mut q = Message::new(MsgType::ServerRequest, DataType::String, key);
+        q.id = crate::message::SERVER_REQUEST_ID;
+        q
+    }
+
+    #[test]
+    fn server_requests_all_proc_summary_and_clear() {
+        let mut db = new_db();
+        let a = join(&mut db, "a", 1000.0);
+        db.handle(a, vec![reg("IN", 0.0)], t(1000.0)).unwrap();
+        db.handle(
+            a,
+            vec![post("a", "OUT", Value::Double(4.0), 1000.0)],
+            t(1001.0),
+        )
+        .unwrap();
+        drain(&mut db, a);
+        db.handle(a, vec![request("ALL")], t(1001.5)).unwrap();
+        let all = drain(&mut db, a);
+        // One message per variable, in reverse name order, id -2.
+        let keys: Vec<String> = all.iter().map(|m| m.key_str().into_owned()).collect();
+        let mut sorted = db.var_names();
+        sorted.reverse();
+        assert_eq!(keys, sorted);
+        let out = all.iter().find(|m| m.key_str() == "OUT").unwrap();
+        assert_eq!((out.id, out.dval, out.time), (-2, 4.0, 1.0));
+        let inn = all.iter().find(|m| m.key_str() == "IN").unwrap();
+        assert_eq!((inn.data_type, inn.time), (DataType::NotSet, -1.0));
+
+        db.handle(a, vec![request("PROC_SUMMARY")], t(1001.6))
+            .unwrap();
+        let ps = drain(&mut db, a);
+        assert_eq!(ps.len(), 1);
+        assert_eq!(ps[0].sval_str(), "a:SUBSCRIBED=,IN,PUBLISHED=,OUT");
+
+        db.handle(a, vec![request("DB_CLEAR")], t(1002.0)).unwrap();
+        assert!(db.current("OUT").is_none());
+        db.handle(a, vec![request("VAR_SUMMARY")], t(1002.1))
+            .unwrap();
+        let vs = drain(&mut db, a);
+        assert_eq!(vs[0].key_str(), "VAR_SUMMARY");
+        assert!(vs[0].sval_str().contains("IN,OUT"), "{}", vs[0].sval_str());
+    }
+
+    #[test]
+    fn synchronous_clients_get_a_null_first_and_no_pushes() {
+        let mut db = new_db();
+        let s = db
+            .connect(Bytes::from_static(b"old"), false, 1000.0, t(1000.0))
+            .id()
+            .unwrap();
+        let p = join(&mut db, "p", 1000.0);
+        let mut null = Message::new(MsgType::Null, DataType::Double, "");
+        null.src = Bytes::from_static(b"old");
+        db.handle(s, vec![reg("X", 0.0)], t(1000.1)).unwrap();
+        let r = drain(&mut db, s);
+        assert_eq!(r.len(), 1);
+        assert_eq!((r[0].msg_type, r[0].dval), (MsgType::Null, 1000.1));
+        let eff = db
+            .handle(p, vec![post("p", "X", Value::Double(5.0), 1.0)], t(1000.2))
+            .unwrap();
+        assert!(!eff.ready.contains(&s), "sync clients are not pushed to");
+        db.handle(s, vec![null], t(1000.3)).unwrap();
+        let r = drain(&mut db, s);
+        assert_eq!(r.len(), 2);
+        assert_eq!((r[1].key_str().as_ref(), r[1].dval), ("X", 5.0));
+    }
+
+    #[test]
+    fn timing_only_packet_gets_only_the_echo() {
+        let mut db = new_db();
+        let c = join(&mut db, "c", 1000.0);
+        let p = join(&mut db, "p", 1000.0);
+        db.handle(c, vec![reg("X", 0.0)], t(1000.0)).unwrap();
+        // Registering for a variable written earlier replays its value at once.
+        db.handle(p, vec![post("p", "Y", Value::Double(1.0), 1.0)], t(1000.0))
+            .unwrap();
+        drain(&mut db, c);
+        db.handle(c, vec![reg("Y", 0.0)], t(1000.1)).unwrap();
+        let replay = drain(&mut db, c);
+        assert_eq!(replay[0].key_str(), "Y");
+        assert_eq!(replay[0].id, -1, "register replay is a fresh message");
+        let mut tm = Message::new(MsgType::Timing, DataType::Double, "_async_timing");
+        tm.time = 999.0;
+        tm.dval = 0.0;
+        // Summary refresh happens (> 2 s) but the reply is the echo alone.
+        db.handle(c, vec![reg("DB_TIME", 0.0)], t(1001.0)).unwrap();
+        drain(&mut db, c);
+        db.handle(c, vec![tm], t(1002.5)).unwrap();
+        let r = drain(&mut db, c);
+        assert_eq!(r.len(), 1);
+        assert_eq!(
+            (r[0].msg_type, r[0].time, r[0].dval, r[0].dval2),
+            (MsgType::Timing, 999.0, 1002.5, 0.0)
+        );
+        assert!(db.current("DB_TIME").is_some());
+    }
+
     #[test]
     fn glob_and_formatting_helpers() {
         assert!(wildcard_match(b"a?c*", b"abcdef"));

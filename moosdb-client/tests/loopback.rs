@@ -353,3 +353,102 @@ async fn stuck_client_does_not_stall_a_fast_subscriber() {
     );
     heartbeat.abort();
 }
+
+#[tokio::test]
+async fn client_retries_until_the_db_appears() {
+    // Find a free port, release it, start the client first.
+    let probe = server().await;
+    let addr = probe.local_addr();
+    probe.shutdown();
+    tokio::time::sleep(Duration::from_millis(200)).await;
+    let (c, _m) = Client::start(ClientConfig::new("early", "127.0.0.1", addr.port()));
+    tokio::time::sleep(Duration::from_millis(1500)).await;
+    assert_eq!(c.state(), ConnectionState::Connecting);
+    let srv = server_at(addr).await;
+    timeout(WAIT, c.wait_connected()).await.unwrap().unwrap();
+    match c.state() {
+        ConnectionState::Connected { community, .. } => assert_eq!(community, "loop"),
+        other => panic!("{other:?}"),
+    }
+    assert!(srv.with_db(|db| db.client_id("early").is_some()));
+}
+
+#[tokio::test]
+async fn warped_client_and_db_agree_on_moos_time() {
+    let mut cfg = ServerConfig::with_addr(SocketAddr::from(([127, 0, 0, 1], 0)));
+    cfg.warp = moosdb_client::time::Warp::new(10.0).unwrap();
+    let srv = Server::bind(cfg).await.unwrap();
+    let port = srv.local_addr().port();
+    let mut ccfg = ClientConfig::new("warped", "127.0.0.1", port);
+    ccfg.warp = moosdb_client::time::Warp::new(10.0).unwrap();
+    let (c, mut mail) = Client::start(ccfg);
+    timeout(WAIT, c.wait_connected()).await.unwrap().unwrap();
+    c.register("W", 0.0);
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    c.notify("W", Value::Double(1.0)).unwrap();
+    let m = next_for(&mut mail, "W").await;
+    let warped_now = 10.0 * moosdb_client::time::unix_now();
+    // MOOS time is the absolute Unix time times the warp; skew stays small on one host.
+    assert!(
+        (m.time - warped_now).abs() < 10.0,
+        "{} vs {warped_now}",
+        m.time
+    );
+    assert!(c.skew().abs() < 5.0, "skew {}", c.skew());
+    assert!((c.moos_time() - warped_now).abs() < 10.0);
+}
+
+#[tokio::test]
+async fn old_synchronous_client_is_served() {
+    let srv = server().await;
+    let addr = srv.local_addr();
+    let mut s = TcpStream::connect(addr).await.unwrap();
+    let mut hello = Message::new(MsgType::Data, DataType::String, "");
+    hello.sval = Bytes::from_static(b"oldie");
+    let mut buf = PREAMBLE.to_vec();
+    encode_packet(&[hello], &mut buf);
+    s.write_all(&buf).await.unwrap();
+    let mut r = PacketReader::new(s, 1 << 20);
+    let w = r.read_packet().await.unwrap().unwrap();
+    assert_eq!(w[0].msg_type, MsgType::Welcome);
+    let mut reg = Message::new(MsgType::Register, DataType::Double, "OLD");
+    reg.src = Bytes::from_static(b"oldie");
+    reg.dval = 0.0;
+    let mut pkt = Vec::new();
+    encode_packet(&[reg], &mut pkt);
+    r.get_mut().write_all(&pkt).await.unwrap();
+    let reply = timeout(WAIT, r.read_packet())
+        .await
+        .unwrap()
+        .unwrap()
+        .unwrap();
+    assert_eq!(
+        reply[0].msg_type,
+        MsgType::Null,
+        "sync replies start with NULL"
+    );
+    let (publ, _pm) = client(&srv, "newbie").await;
+    publ.notify("OLD", Value::Double(3.0)).unwrap();
+    // No push to a polling client: its mail waits for its next call.
+    assert!(
+        timeout(Duration::from_millis(700), r.read_packet())
+            .await
+            .is_err()
+    );
+    let mut null = Message::new(MsgType::Null, DataType::Double, "");
+    null.src = Bytes::from_static(b"oldie");
+    let mut pkt = Vec::new();
+    encode_packet(&[null], &mut pkt);
+    r.get_mut().write_all(&pkt).await.unwrap();
+    let reply = timeout(WAIT, r.read_packet())
+        .await
+        .unwrap()
+        .unwrap()
+        .unwrap();
+    assert_eq!(reply[0].msg_type, MsgType::Null);
+    let old = reply
+        .iter()
+        .find(|m| m.key_str() == "OLD")
+        .expect("held mail delivered");
+    assert_eq!((old.dval, old.src_str().as_ref()), (3.0, "newbie"));
+}
