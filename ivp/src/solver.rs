@@ -122,6 +122,16 @@ struct Grid {
     members: Vec<u32>,
 }
 
+/// Reusable buffers for building grids.
+#[derive(Debug, Default, Clone)]
+struct GridScratch {
+    active: Vec<bool>,
+    clo: Vec<u32>,
+    chi: Vec<u32>,
+    odo: Vec<u32>,
+    fill: Vec<u32>,
+}
+
 /// One function ready for the search: embedded in the sub-domain and weighted.
 #[derive(Debug, Default, Clone)]
 struct Prepared {
@@ -153,6 +163,9 @@ pub struct Solver {
     cells_lo: Vec<u32>,
     cells_hi: Vec<u32>,
     odo: Vec<u32>,
+    points: Vec<u32>,
+    map: Vec<usize>,
+    scratch: GridScratch,
     best_val: f64,
     best_pt: Vec<u32>,
     found: bool,
@@ -236,23 +249,18 @@ impl Solver {
         while self.funcs.len() < self.used {
             self.funcs.push(Prepared::default());
         }
-        let points: Vec<u32> = self
-            .sub
-            .iter()
-            .map(|&t| problem.domain.vars()[t].points())
-            .collect();
+        let mut points = std::mem::take(&mut self.points);
+        points.clear();
+        points.extend(self.sub.iter().map(|&t| problem.domain.vars()[t].points()));
+        let mut map = std::mem::take(&mut self.map);
         for slot in 0..self.used {
             let f = &entries[self.order[slot]].1;
             // map each function dim to a sub-domain dim
-            let map: Vec<usize> = f
-                .domain()
-                .vars()
-                .iter()
-                .map(|v| {
-                    let t = problem.domain.index_of(v.name()).unwrap_or(0);
-                    self.sub.iter().position(|&s| s == t).unwrap_or(0)
-                })
-                .collect();
+            map.clear();
+            map.extend(f.domain().vars().iter().map(|v| {
+                let t = problem.domain.index_of(v.name()).unwrap_or(0);
+                self.sub.iter().position(|&s| s == t).unwrap_or(0)
+            }));
             let (fmin, fmax) = (f.min_val(), f.max_val());
             let (shift, scale) = if fmax - fmin > 100.0 {
                 (-fmin, 100.0 / (fmax - fmin))
@@ -285,11 +293,13 @@ impl Solver {
                 ));
             }
             p.max = max;
-            p.build_grid(d, &points);
+            p.build_grid(d, &points, &mut self.scratch);
             p.stamp.clear();
             p.stamp.resize(p.n, 0);
             p.stamp_id = 0;
         }
+        self.points = points;
+        self.map = map;
         self.suffix_max.clear();
         self.suffix_max.resize(self.used + 1, 0.0);
         for i in (0..self.used).rev() {
@@ -593,19 +603,19 @@ impl Prepared {
         })
     }
 
-    fn build_grid(&mut self, d: usize, points: &[u32]) {
+    fn build_grid(&mut self, d: usize, points: &[u32], scratch: &mut GridScratch) {
         let n = self.n;
         let g = &mut self.grid;
         // dimensions where the function varies get cells; the others one cell
-        let active: Vec<bool> = (0..d)
-            .map(|k| {
-                (0..n).any(|i| {
-                    self.lo[i * d + k] != 0
-                        || self.hi[i * d + k] != points[k] - 1
-                        || self.wts[i * (d + 1) + k] != 0.0
-                })
+        let active = &mut scratch.active;
+        active.clear();
+        active.extend((0..d).map(|k| {
+            (0..n).any(|i| {
+                self.lo[i * d + k] != 0
+                    || self.hi[i * d + k] != points[k] - 1
+                    || self.wts[i * (d + 1) + k] != 0.0
             })
-            .collect();
+        }));
         let n_active = active.iter().filter(|a| **a).count().max(1) as f64;
         let budget = (2 * n).clamp(1, MAX_CELLS) as f64;
         let per_dim = budget.powf(1.0 / n_active).floor().max(1.0) as u32;
@@ -629,9 +639,16 @@ impl Prepared {
         g.cell_max.resize(total, f64::NEG_INFINITY);
         g.start.clear();
         g.start.resize(total + 1, 0);
-        let mut clo = vec![0u32; d];
-        let mut chi = vec![0u32; d];
-        let mut odo = vec![0u32; d];
+        let GridScratch {
+            clo,
+            chi,
+            odo,
+            fill,
+            ..
+        } = scratch;
+        clo.resize(d, 0);
+        chi.resize(d, 0);
+        odo.resize(d, 0);
         // pass 1: counts and bounds
         for i in 0..n {
             let (lo, hi) = (&self.lo[i * d..(i + 1) * d], &self.hi[i * d..(i + 1) * d]);
@@ -642,7 +659,7 @@ impl Prepared {
             }
             let (width, stride) = (&g.width, &g.stride);
             let (cell_max, start) = (&mut g.cell_max, &mut g.start);
-            for_each_cell(&clo, &chi, stride, &mut odo, |cell| {
+            for_each_cell(clo, chi, stride, odo, |cell| {
                 start[cell + 1] += 1;
                 // max of the piece over (piece ∩ cell)
                 let mut rem = cell;
@@ -668,7 +685,8 @@ impl Prepared {
         }
         g.members.clear();
         g.members.resize(g.start[total] as usize, 0);
-        let mut fill: Vec<u32> = g.start[..total].to_vec();
+        fill.clear();
+        fill.extend_from_slice(&g.start[..total]);
         // pass 2: members, in piece order within each cell
         for i in 0..n {
             for k in 0..d {
@@ -676,7 +694,7 @@ impl Prepared {
                 chi[k] = self.hi[i * d + k] / g.width[k];
             }
             let members = &mut g.members;
-            for_each_cell(&clo, &chi, &g.stride, &mut odo, |cell| {
+            for_each_cell(clo, chi, &g.stride, odo, |cell| {
                 members[fill[cell] as usize] = i as u32;
                 fill[cell] += 1;
             });
