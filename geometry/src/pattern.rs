@@ -1142,8 +1142,9 @@ impl Pylon {
 /// along `ang − 180`. Vertices: 13 points on the half circle of radius `rad` round `c1` at
 /// bearings `ang − 90 … ang + 90` in 15-degree steps, then 13 round `c2` at
 /// `ang + 90 … ang + 270`: 26 vertices, clockwise. No convexity gate (as in MOOS).
-/// `draw_degs` is accepted and ignored. Reference only (the corpus uses `oval:` solely with an
-/// unexpanded macro).
+/// `draw_degs` is accepted and ignored, and so is any key that is not an object attribute (as
+/// MOOS's `stringToOval` does). Checked against `XYOval.cpp` (the corpus uses `oval:` only
+/// with an unexpanded macro).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Oval {
     /// Centre x.
@@ -1209,7 +1210,10 @@ impl Oval {
                 "draw_degs" => {
                     need_number("draw_degs", v)?;
                 }
-                other => common_or_unknown(other, v, "oval", &["oval"], attrs)?,
+                // `stringToOval` hands anything else to set_param and ignores failures.
+                other => {
+                    attrs.set(other, v)?;
+                }
             }
         }
         Ok(Oval {

@@ -450,6 +450,10 @@ fn pylon_and_oval() {
         1e-12,
     );
     assert!(o.polygon.is_clockwise());
+    // Unknown keys are ignored by MOOS's stringToOval, unlike the other generators.
+    let o2 = parse_polygon("format=oval, x=0, y=0, rad=5, len=30, ang=0, draw_degs=15, foo=bar")
+        .unwrap();
+    assert_eq!(o2.polygon, o.polygon);
     assert!(matches!(
         Oval {
             x: 0.0,
