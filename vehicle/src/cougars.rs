@@ -788,7 +788,9 @@ impl CougUvModel {
 ///
 /// The loop runs at `timer_period`; call [`CougarsControl::iterate`] at that rate. Nothing is
 /// published until `MOOS_MANUAL_OVERRIDE=false` (the vehicle's start signal); going back to
-/// `true` publishes one zero command.
+/// `true` publishes one zero command. The thruster starts armed (`COUG_ARM=false` disarms,
+/// as the `arm_thruster` service did); `COUG_SURFACE=true` forces the fins-up command;
+/// `DESIRED_DEPTH_DFB=true` switches to depth-from-bottom (`NAV_ALTITUDE`).
 pub struct CougarsControl {
     cfg: CougarsConfig,
     state: CougarsState,
@@ -892,10 +894,9 @@ impl CougarsControl {
             .outputs(Some((&mixed, since_boot)), since_boot);
         let v = &self.vars;
         out.push(Posting::double(&v[0], cmd.fin[0]));
-        out.push(Posting::double(
-            &v[1],
-            -self.state.pitch_fin * f64::from(u8::from(self.running)),
-        ));
+        // The simulator's elevator dives when positive; a negative pitch fin (port fin,
+        // `fin[2]`) pitches the nose down, hence the sign.
+        out.push(Posting::double(&v[1], -cmd.fin[2]));
         out.push(Posting::double(&v[2], mixed.thruster));
         for i in 0..3 {
             out.push(Posting::double(&v[3 + i], mixed.fin[i]));

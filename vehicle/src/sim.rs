@@ -840,6 +840,7 @@ pub struct Simulator {
     last_time: f64,
     paused: bool,
     enabled: bool,
+    obstacle_hit: bool,
     iteration: u64,
     drift_fresh: bool,
     reset_count: u32,
@@ -861,6 +862,7 @@ impl Simulator {
             vars,
             last_time: start_time,
             enabled: true,
+            obstacle_hit: false,
             iteration: 0,
             drift_fresh: true,
             reset_count: 0,
@@ -981,6 +983,11 @@ impl Simulator {
                     self.paused = p;
                 }
             }
+            ("OBSTACLE_HIT", _) => {
+                if let Some(h) = crate::config::parse_bool(s) {
+                    self.obstacle_hit = h;
+                }
+            }
             ("USM_ENABLED", _) => {
                 if let Some(e) = crate::config::parse_bool(s) {
                     self.enabled = e;
@@ -1040,6 +1047,13 @@ impl Simulator {
         self.iteration += 1;
         let dt = time - self.last_time;
         self.last_time = time;
+        if self.obstacle_hit {
+            // Stopped where it hit: the pose is published with zero speed, nothing moves.
+            self.state.speed = 0.0;
+            let nav = nav_outputs(&self.cfg, &self.state, self.grid.as_ref());
+            self.post_nav(&nav, out);
+            return;
+        }
         if !self.enabled || self.paused {
             // Paused time is excluded from the model's clock.
             return;

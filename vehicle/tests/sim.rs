@@ -358,6 +358,15 @@ fn adapter_posts_prefixed_nav_every_second_iteration() {
         close(spd, (spd * 100.0).round() / 100.0, 1e-12),
         "snapped to 0.01"
     );
+    // An obstacle hit stops the vehicle where it is.
+    out.clear();
+    sim.on_mail("OBSTACLE_HIT", MailValue::Str("true"), 100.25);
+    let (x, y) = (sim.state().x, sim.state().y);
+    sim.iterate(100.3, &mut out);
+    sim.iterate(100.4, &mut out);
+    assert_eq!(last_posting(&out, "NAV_SPEED").unwrap().as_f64(), Some(0.0));
+    assert_eq!((sim.state().x, sim.state().y), (x, y));
+    sim.on_mail("OBSTACLE_HIT", MailValue::Str("false"), 100.45);
     // Reset through USM_RESET.
     let p = sim
         .on_mail("USM_RESET", MailValue::Str("x=5,y=6,heading=45"), 100.3)
