@@ -409,3 +409,104 @@ fn reads_a_real_mission_block() {
     assert_eq!(unknown.len(), 1);
     assert!(matches!(&unknown[0], ConfigError::UnknownKey { key, .. } if key == "FLOAT_RATE"));
 }
+
+#[test]
+fn turn_radius_limits_heading_change() {
+    let base = SimConfig::from_params([("turn_spd_loss", "0"), ("max_deceleration", "0")]).unwrap();
+    let limited = SimConfig {
+        turn_radius: 10.0,
+        ..base.clone()
+    };
+    let s0 = SimState {
+        speed: 5.0,
+        heading: 0.0,
+        ..SimState::default()
+    };
+    let inp = SimInputs {
+        thrust: 100.0,
+        rudder: 100.0,
+        ..SimInputs::default()
+    };
+    let free = step(&base, &s0, &inp, 0.5, None).0;
+    let lim = step(&limited, &s0, &inp, 0.5, None).0;
+    assert!(free.heading > 60.0, "unlimited turn {}", free.heading);
+    // Chord of 2.5 m on a 10 m circle at full speed: heading change 2*asin(2.5/20).
+    let dist = (lim.x - s0.x).hypot(lim.y - s0.y);
+    let phi = (dist / 20.0).asin().to_degrees();
+    assert!(
+        close(lim.heading, 2.0 * phi, 1e-9),
+        "{} vs {}",
+        lim.heading,
+        2.0 * phi
+    );
+    assert!(lim.heading < free.heading);
+}
+
+#[test]
+fn reverse_and_differential_thrust() {
+    let rev = SimConfig::from_params([
+        ("thrust_mode_reverse", "true"),
+        ("max_deceleration", "0"),
+        ("thrust_reflect", "true"),
+    ])
+    .unwrap();
+    let s0 = SimState {
+        heading: 0.0,
+        ..SimState::default()
+    };
+    let s1 = step(
+        &rev,
+        &s0,
+        &SimInputs {
+            thrust: -40.0,
+            ..SimInputs::default()
+        },
+        1.0,
+        None,
+    )
+    .0;
+    // Negative thrust reversed is forward thrust of the reversed hull, which faces 180.
+    assert_eq!(s1.heading, 180.0);
+    assert!(s1.speed > 0.0);
+    let diff = SimConfig::from_params([
+        ("thrust_mode_diff", "differential"),
+        ("max_deceleration", "0"),
+    ])
+    .unwrap();
+    let s0 = SimState {
+        heading: 90.0,
+        speed: 2.0,
+        ..SimState::default()
+    };
+    let inp = SimInputs {
+        thrust_left: 60.0,
+        thrust_right: 20.0,
+        ..SimInputs::default()
+    };
+    let s1 = step(&diff, &s0, &inp, 0.5, None).0;
+    // Turn: 36 deg/s at full differential, here (60-20)/200 of it.
+    assert!(close(s1.heading, 90.0 + 36.0 * 0.2 * 0.5, 1e-9));
+    // Speed from the mean thrust 40 with the pseudo-rudder (60-20)/2 = 20 speed loss.
+    let target = 2.0 * (1.0 - 0.2 * 0.85);
+    assert!(close(s1.speed, (2.0 + target) / 2.0, 1e-9));
+}
+
+proptest::proptest! {
+    #[test]
+    fn state_stays_well_formed(
+        thrust in -100.0f64..100.0, rudder in -150.0f64..150.0, elevator in -150.0f64..150.0,
+        heading in -720.0f64..720.0, speed in 0.0f64..5.0, depth in 0.0f64..50.0, dt in 0.01f64..2.0,
+    ) {
+        let cfg = SimConfig::default();
+        let mut s = SimState::at(&StartPose { heading, speed, depth, ..StartPose::default() });
+        let inp = SimInputs { thrust, rudder, elevator, ..SimInputs::from_config(&cfg) };
+        for _ in 0..20 {
+            let (n, out) = step(&cfg, &s, &inp, dt, None);
+            s = n;
+            proptest::prop_assert!((0.0..360.0).contains(&s.heading));
+            proptest::prop_assert!(s.depth >= 0.0 && s.depth.is_finite());
+            proptest::prop_assert!(s.x.is_finite() && s.y.is_finite() && s.pitch.is_finite());
+            proptest::prop_assert!(out.speed <= cfg.max_speed);
+        }
+    }
+}
