@@ -18,6 +18,11 @@
 //! fresher than `tardy_helm_threshold` / `tardy_nav_threshold` (else `PID_STALE` is posted and
 //! the outputs are zero), and no manual override (`MOOS_MANUAL_OVERRIDE`, initially true).
 //!
+//! This follows the current MOOS-IvP `PIDEngine`: thrust may be negative, and rudder and
+//! elevator are computed whatever the thrust. (Older releases zeroed thrust below 0.01,
+//! computed rudder/elevator only for positive thrust, and latched the override on staleness.)
+//! While overridden the loops are not run, so no integral or thrust builds up meanwhile.
+//!
 //! Differences from the C++ app, on purpose: `enable_thrust_cap`/`PID_THRUST_CAP` really cap
 //! the posted thrust (the C++ computes the cap and then posts the uncapped value), and mail
 //! skew (`ok_skew`) is not checked because mail carries no separate source time here.
