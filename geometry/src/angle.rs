@@ -38,7 +38,9 @@ pub fn angle_180(deg: f64) -> f64 {
 /// assert_eq!(geometry::angle::angle_diff(350.0, 10.0), 20.0);
 /// ```
 pub fn angle_diff(a: f64, b: f64) -> f64 {
-    angle_180(a - b).abs()
+    // |a - b| is exactly symmetric and `%` is exact, so the result is symmetric in a and b.
+    let r = (a - b).abs() % 360.0;
+    if r > 180.0 { 360.0 - r } else { r }
 }
 
 /// Compass bearing from `(x0, y0)` to `(x1, y1)` in `[0, 360)` (MOOS `relAng`).
@@ -232,6 +234,12 @@ mod tests {
         assert_eq!(angle_at_vertex(0.0, 0.0, 0.0, 10.0, 3.0, 13.0), 135.0);
         assert_eq!(angle_diff(1.0, 359.0), 2.0);
         assert_eq!(angle_diff(90.0, 270.0), 180.0);
+        // Found by proptest: must be exactly symmetric.
+        assert_eq!(
+            angle_diff(0.0, 53.07843368622421),
+            angle_diff(53.07843368622421, 0.0)
+        );
+        assert_eq!(angle_diff(-710.0, 10.0), 0.0);
     }
 
     #[test]

@@ -10,7 +10,8 @@ use crate::segment::Segment;
 /// (`XYPolygon::determine_convexity`): at least three vertices, and for every edge all other
 /// vertices that are not on the edge's line lie strictly on one side of it, with at least one
 /// off the line. Either winding (clockwise or counter-clockwise) is accepted. A zero-length edge
-/// (repeated vertex) makes the polygon non-convex.
+/// (repeated vertex) makes the polygon non-convex. The rule costs O(n²); above 256 vertices an
+/// equivalent O(n) turn test is used instead.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Polygon {
     pts: Vec<Point>,
@@ -21,10 +22,16 @@ fn orient(a: &Point, b: &Point, c: &Point) -> f64 {
     (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x)
 }
 
+/// Above this many vertices the O(n²) MOOS rule is replaced by an O(n) turn test.
+const EXACT_RULE_MAX: usize = 256;
+
 fn is_convex_ring(pts: &[Point]) -> bool {
     let n = pts.len();
     if n < 3 {
         return false;
+    }
+    if n > EXACT_RULE_MAX {
+        return is_convex_by_turns(pts);
     }
     for i in 0..n {
         let j = (i + 1) % n;
@@ -52,6 +59,40 @@ fn is_convex_ring(pts: &[Point]) -> bool {
         }
     }
     true
+}
+
+/// O(n) convexity for large vertex lists: no repeated consecutive vertex, every turn the same
+/// way (straight continuations allowed, reversals not), and the turns add up to one full
+/// revolution (so the ring does not wind twice). Agrees with the MOOS rule on simple rings.
+fn is_convex_by_turns(pts: &[Point]) -> bool {
+    let n = pts.len();
+    let mut sign = 0.0f64;
+    let mut total = 0.0f64;
+    for i in 0..n {
+        let a = &pts[i];
+        let b = &pts[(i + 1) % n];
+        let c = &pts[(i + 2) % n];
+        let (ux, uy) = (b.x - a.x, b.y - a.y);
+        let (vx, vy) = (c.x - b.x, c.y - b.y);
+        if (ux == 0.0 && uy == 0.0) || (vx == 0.0 && vy == 0.0) {
+            return false;
+        }
+        let cross = ux * vy - uy * vx;
+        let dot = ux * vx + uy * vy;
+        if cross == 0.0 {
+            if dot < 0.0 {
+                return false;
+            }
+            continue;
+        }
+        if sign == 0.0 {
+            sign = cross.signum();
+        } else if cross.signum() != sign {
+            return false;
+        }
+        total += cross.atan2(dot);
+    }
+    sign != 0.0 && (total.abs() - 2.0 * std::f64::consts::PI).abs() < 1e-6
 }
 
 impl Polygon {
@@ -383,6 +424,49 @@ mod tests {
             (150.0, -40.0),
         ]);
         assert!(p.is_convex());
+    }
+
+    #[test]
+    fn large_rings_use_the_turn_test_consistently() {
+        let ring = |n: u32, turns: f64| -> Vec<Point> {
+            (0..n)
+                .map(|i| {
+                    crate::angle::project_point(
+                        0.0,
+                        0.0,
+                        turns * 360.0 * f64::from(i) / f64::from(n),
+                        100.0,
+                    )
+                })
+                .collect()
+        };
+        let big = ring(1000, 1.0);
+        assert!(is_convex_ring(&big));
+        assert!(!is_convex_ring(&ring(1001, 2.0))); // winds twice
+        let mut dented = big.clone();
+        dented[500] = Point::new(dented[500].x * 0.5, dented[500].y * 0.5);
+        assert!(!is_convex_ring(&dented));
+        let mut repeated = big.clone();
+        repeated[10] = repeated[9];
+        assert!(!is_convex_ring(&repeated));
+        // Both rules agree on mid-size rings.
+        for n in [3u32, 7, 64, 256] {
+            let r = ring(n, 1.0);
+            assert_eq!(is_convex_ring(&r), is_convex_by_turns(&r), "n={n}");
+        }
+        let l = [
+            (0.0, 0.0),
+            (0.0, 10.0),
+            (5.0, 10.0),
+            (5.0, 5.0),
+            (10.0, 5.0),
+            (10.0, 0.0),
+        ]
+        .map(|(x, y)| Point::new(x, y));
+        assert!(!is_convex_by_turns(&l));
+        let spike =
+            [(0.0, 0.0), (10.0, 0.0), (5.0, 0.0), (5.0, 5.0)].map(|(x, y)| Point::new(x, y));
+        assert!(!is_convex_by_turns(&spike) && !is_convex_ring(&spike));
     }
 
     #[test]

@@ -271,6 +271,17 @@ fn typed_errors() {
 }
 
 #[test]
+fn huge_generated_polygons_finish_quickly() {
+    let t = std::time::Instant::now();
+    // Either convex or rejected; what matters is that the O(n) convexity path is used.
+    let r = parse_polygon("format=radial, x=0, y=0, radius=1000, pts=100000");
+    if let Ok(v) = &r {
+        assert_eq!(v.polygon.len(), 100_000);
+    }
+    assert!(t.elapsed().as_secs() < 30, "took {:?}", t.elapsed());
+}
+
+#[test]
 fn from_str_impls() {
     let s: SegList = "0,0:10,0".parse().unwrap();
     assert_eq!(s.length(), 10.0);
