@@ -356,6 +356,33 @@ impl Polygon {
         SegList::from_points(self.pts.clone())
     }
 
+    /// Reverses the vertex order (clockwise ↔ counter-clockwise); convexity is unchanged.
+    pub fn reverse(&mut self) {
+        self.pts.reverse();
+    }
+
+    /// Moves every vertex by `(dx, dy)`.
+    pub fn shift(&mut self, dx: f64, dy: f64) {
+        for p in &mut self.pts {
+            p.x += dx;
+            p.y += dy;
+        }
+    }
+
+    /// Moves the polygon so the middle of its bounding box is at `(x, y)` (MOOS
+    /// `new_center`, used by the loiter's `center_assign`).
+    ///
+    /// ```
+    /// use geometry::{Point, Polygon};
+    /// let mut sq = Polygon::new(vec![Point::new(0.0, 0.0), Point::new(0.0, 10.0), Point::new(10.0, 10.0), Point::new(10.0, 0.0)]);
+    /// sq.new_center(100.0, -50.0);
+    /// assert_eq!(sq.vertices()[0], Point::new(95.0, -55.0));
+    /// ```
+    pub fn new_center(&mut self, x: f64, y: f64) {
+        let c = self.center();
+        self.shift(x - c.x, y - c.y);
+    }
+
     /// Snaps `x`/`y` of every vertex to multiples of `step`. As in MOOS, a snap that would turn
     /// a convex polygon non-convex is undone; returns false in that case.
     pub fn apply_snap(&mut self, step: f64) -> bool {

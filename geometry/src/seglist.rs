@@ -106,6 +106,20 @@ impl SegList {
         self.props.reverse();
     }
 
+    /// Moves every vertex by `(dx, dy)`.
+    pub fn shift(&mut self, dx: f64, dy: f64) {
+        for p in &mut self.pts {
+            p.x += dx;
+            p.y += dy;
+        }
+    }
+
+    /// Moves the list so the middle of its bounding box is at `(x, y)` (MOOS `new_center`).
+    pub fn new_center(&mut self, x: f64, y: f64) {
+        let c = self.center();
+        self.shift(x - c.x, y - c.y);
+    }
+
     /// Snaps every vertex's `x` and `y` to multiples of `step` (MOOS `apply_snap`).
     pub fn apply_snap(&mut self, step: f64) {
         for p in &mut self.pts {
@@ -179,6 +193,9 @@ mod tests {
         assert_eq!(s.closest_segment(4.0, 7.0), Some(1));
         assert_eq!(s.closest_segment(0.0, 1.0), Some(0));
         assert_eq!(s.center(), Point::new(1.5, 5.0));
+        let mut moved = s.clone();
+        moved.new_center(0.0, 0.0);
+        assert_eq!(moved.get(2), Some(Point::new(1.5, 5.0)));
         s.reverse();
         assert_eq!(s.get(0), Some(Point::new(3.0, 10.0)));
         s.push_with_prop(Point::new(0.4, 0.6), "x");
