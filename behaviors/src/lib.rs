@@ -1,4 +1,85 @@
-//! Helm behaviours (BHV_Waypoint, BHV_Loiter, depth behaviours, ...) for the coug helm.
+//! Helm behaviours for the coug helm (reference `ivp-helm.md` §5.5 and §6).
 //!
-//! Filled by the helm-engine and behaviour issues (#4, #5). Each behaviour will be a plain
-//! struct that builds an IvP objective function from its parameters and the vehicle state.
+//! Each behaviour is a plain struct implementing [`Behavior`]: it takes parameters
+//! ([`Behavior::set_param`], typed [`ParamError`]s for bad values), builds an IvP objective
+//! function on a running iteration ([`Behavior::on_run`]), posts messages and flags through an
+//! [`Out`] buffer, and reports completion ([`Out::complete`]). The parameters every behaviour
+//! shares (`pwt`, `condition`, `duration`, flags, ...) live in [`Common`]; the helm engine
+//! (crate `helm`) owns run states, durations, the duplicate filter and macro expansion.
+//!
+//! Behaviours are pure: the helm passes the time and the variables they read through a
+//! [`Ctx`]; nothing here reads a clock.
+//!
+//! ```
+//! use behaviors::{create, Common, Ctx, Out, MapInfo};
+//! use ivp::Domain;
+//! let domain = Domain::parse_specs(["course:0:359:360", "speed:0:4:41"]).unwrap();
+//! let mut common = Common::new("BHV_Waypoint");
+//! let mut wpt = create("BHV_Waypoint").unwrap();
+//! let info = MapInfo::new(0.0).num("NAV_X", 0.0).num("NAV_Y", 0.0).num("NAV_HEADING", 0.0).num("NAV_SPEED", 0.0);
+//! let ctx = Ctx { info: &info, domain: &domain, ownship: "abe", name: "wpt", perpetual: false };
+//! wpt.set_param("points", "100,0", &mut common, &ctx).unwrap();
+//! wpt.set_param("speed", "2", &mut common, &ctx).unwrap();
+//! let mut out = Out::default();
+//! let f = wpt.on_run(&ctx, &mut out).unwrap();
+//! let mut p = ivp::Problem::new(domain.clone());
+//! p.add("wpt", f.with_pwt(100.0)).unwrap();
+//! let d = p.solve().unwrap();
+//! assert_eq!(d.get("course"), Some(90.0));
+//! assert_eq!(d.get("speed"), Some(2.0));
+//! ```
+//!
+//! # Adding a behaviour
+//! 1. Write `src/<name>.rs` with a struct implementing [`Behavior`] (`kind`, `set_param`
+//!    returning [`ParamError::Unknown`] for names it does not know, `on_run`, and the optional
+//!    hooks). Use [`param`] helpers for typed parsing.
+//! 2. Add `mod <name>;` plus a `pub use`, and one line in [`create`]'s match.
+//! 3. Keep the accepted parameters in step with `mission::catalog`.
+
+#![warn(missing_docs)]
+
+mod behavior;
+mod common;
+mod constant_heading;
+mod constant_speed;
+pub mod fmt;
+mod loiter;
+pub mod param;
+mod timer;
+mod waypoint;
+
+pub use behavior::{Behavior, Ctx, Emit, Info, MapInfo, Out, ParamError, PostKey, Value, nav};
+pub use common::{Common, Flag, FlagKind, FlagValue};
+pub use constant_heading::ConstantHeading;
+pub use constant_speed::ConstantSpeed;
+pub use loiter::Loiter;
+pub use timer::Timer;
+pub use waypoint::Waypoint;
+
+/// Creates a behaviour of type `kind` (as written after `Behavior =`, case-insensitive),
+/// with its defaults; `None` for a type coug does not implement.
+///
+/// ```
+/// assert_eq!(behaviors::create("bhv_waypoint").unwrap().kind(), "BHV_Waypoint");
+/// assert!(behaviors::create("BHV_Nonsense").is_none());
+/// ```
+pub fn create(kind: &str) -> Option<Box<dyn Behavior>> {
+    let k = kind.trim().to_ascii_lowercase();
+    Some(match k.as_str() {
+        "bhv_waypoint" => Box::new(Waypoint::new()),
+        "bhv_loiter" => Box::new(Loiter::new()),
+        "bhv_constantspeed" => Box::new(ConstantSpeed::new()),
+        "bhv_constantheading" => Box::new(ConstantHeading::new()),
+        "bhv_timer" => Box::new(Timer::new()),
+        _ => return None,
+    })
+}
+
+/// The behaviour types [`create`] knows.
+pub const KINDS: &[&str] = &[
+    "BHV_Waypoint",
+    "BHV_Loiter",
+    "BHV_ConstantSpeed",
+    "BHV_ConstantHeading",
+    "BHV_Timer",
+];

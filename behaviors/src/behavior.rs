@@ -1,0 +1,314 @@
+//! The [`Behavior`] trait and what the helm hands to and takes from a behaviour.
+
+use std::collections::HashMap;
+
+use ivp::{Domain, IvpFunction};
+
+use crate::common::{Common, Flag};
+
+/// A posted value: MOOS variables are doubles or strings.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Value {
+    /// A double.
+    Num(f64),
+    /// A string.
+    Str(String),
+}
+
+impl Value {
+    /// The number, if this is one.
+    pub fn as_num(&self) -> Option<f64> {
+        match self {
+            Value::Num(v) => Some(*v),
+            Value::Str(_) => None,
+        }
+    }
+    /// The string, if this is one.
+    pub fn as_str(&self) -> Option<&str> {
+        match self {
+            Value::Str(s) => Some(s),
+            Value::Num(_) => None,
+        }
+    }
+}
+
+impl From<f64> for Value {
+    fn from(v: f64) -> Self {
+        Value::Num(v)
+    }
+}
+impl From<&str> for Value {
+    fn from(v: &str) -> Self {
+        Value::Str(v.to_string())
+    }
+}
+impl From<String> for Value {
+    fn from(v: String) -> Self {
+        Value::Str(v)
+    }
+}
+
+/// How the helm's duplicate filter treats a posting (reference §4.5): by default a posting is
+/// made only when its value differs from the last one posted under the same key.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum PostKey {
+    /// Key `<behaviour name><var>` (MOOS `postMessage(var, val)`).
+    Var,
+    /// Key `<behaviour name><var><tag>` (MOOS `postMessage(var, val, tag)`), e.g. the waypoint's
+    /// `VIEW_POINT` for the next point (`wpt`) and the track point (`trk`).
+    Tag(&'static str),
+    /// Never filtered (MOOS key `repeatable`).
+    Repeatable,
+}
+
+/// One thing a behaviour emits during a call, in order.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Emit {
+    /// A message posted as is.
+    Post {
+        /// MOOS variable.
+        var: String,
+        /// Value.
+        value: Value,
+        /// Duplicate-filter key.
+        key: PostKey,
+    },
+    /// A flag (`VAR = value`) posted by the behaviour itself (waypoint `wptflag`, `cycleflag`):
+    /// the helm expands macros and types the value as for the common flags.
+    Flag {
+        /// The flag.
+        flag: Flag,
+        /// Never filtered by the duplicate filter.
+        repeatable: bool,
+    },
+}
+
+/// The output buffer of one behaviour call: postings, completion, errors.
+#[derive(Debug, Default, Clone)]
+pub struct Out {
+    /// Emitted postings and flags, in order.
+    pub emits: Vec<Emit>,
+    /// The behaviour declared itself complete (MOOS `setComplete()`): the helm posts the
+    /// endflags and, unless the behaviour is perpetual, marks it completed.
+    pub completed: bool,
+    /// The behaviour hit an error (MOOS `postEMessage`): the helm posts `BHV_ERROR` and halts.
+    pub error: Option<String>,
+}
+
+impl Out {
+    /// Posts `var = value` with the default key (filtered on change).
+    pub fn post(&mut self, var: impl Into<String>, value: impl Into<Value>) {
+        self.post_key(var, value, PostKey::Var);
+    }
+    /// Posts `var = value` with the given duplicate-filter key.
+    pub fn post_key(&mut self, var: impl Into<String>, value: impl Into<Value>, key: PostKey) {
+        self.emits.push(Emit::Post {
+            var: var.into(),
+            value: value.into(),
+            key,
+        });
+    }
+    /// Posts a number rounded to the nearest integer (MOOS `postIntMessage`).
+    pub fn post_int(&mut self, var: impl Into<String>, v: f64) {
+        self.post(var, (v + 0.5).floor());
+    }
+    /// Posts a flag for macro expansion by the helm.
+    pub fn flag(&mut self, flag: &Flag, repeatable: bool) {
+        self.emits.push(Emit::Flag {
+            flag: flag.clone(),
+            repeatable,
+        });
+    }
+    /// Declares the behaviour complete.
+    pub fn complete(&mut self) {
+        self.completed = true;
+    }
+    /// Reports an error (`BHV_ERROR`, helm halts).
+    pub fn error(&mut self, msg: impl Into<String>) {
+        self.error = Some(msg.into());
+    }
+    /// Posts a warning (`BHV_WARNING = <name>: <msg>`, repeatable).
+    pub fn warning(&mut self, name: &str, msg: &str) {
+        self.post_key("BHV_WARNING", format!("{name}: {msg}"), PostKey::Repeatable);
+    }
+    /// Empties the buffer for reuse.
+    pub fn clear(&mut self) {
+        self.emits.clear();
+        self.completed = false;
+        self.error = None;
+    }
+}
+
+/// What a behaviour may read from the helm's info buffer.
+pub trait Info {
+    /// The current helm time, seconds.
+    fn now(&self) -> f64;
+    /// A variable's value as a number: a double, or a numeric string.
+    fn num(&self, var: &str) -> Option<f64>;
+    /// A variable's value if it is a string.
+    fn text(&self, var: &str) -> Option<&str>;
+}
+
+/// A small [`Info`] over a map, for tests and examples.
+#[derive(Debug, Clone, Default)]
+pub struct MapInfo {
+    now: f64,
+    vars: HashMap<String, Value>,
+}
+
+impl MapInfo {
+    /// An empty buffer at time `now`.
+    pub fn new(now: f64) -> Self {
+        MapInfo {
+            now,
+            vars: HashMap::new(),
+        }
+    }
+    /// Builder: sets a number.
+    pub fn num(mut self, var: &str, v: f64) -> Self {
+        self.vars.insert(var.to_string(), Value::Num(v));
+        self
+    }
+    /// Builder: sets a string.
+    pub fn text(mut self, var: &str, v: &str) -> Self {
+        self.vars.insert(var.to_string(), Value::Str(v.to_string()));
+        self
+    }
+    /// Sets a variable.
+    pub fn set(&mut self, var: &str, v: Value) {
+        self.vars.insert(var.to_string(), v);
+    }
+    /// Sets the time.
+    pub fn set_now(&mut self, now: f64) {
+        self.now = now;
+    }
+}
+
+impl Info for MapInfo {
+    fn now(&self) -> f64 {
+        self.now
+    }
+    fn num(&self, var: &str) -> Option<f64> {
+        match self.vars.get(var)? {
+            Value::Num(v) => Some(*v),
+            Value::Str(s) => s.trim().parse().ok(),
+        }
+    }
+    fn text(&self, var: &str) -> Option<&str> {
+        self.vars.get(var)?.as_str()
+    }
+}
+
+/// The context of one behaviour call.
+#[derive(Clone, Copy)]
+pub struct Ctx<'a> {
+    /// The helm's variables and time.
+    pub info: &'a dyn Info,
+    /// The helm's decision domain.
+    pub domain: &'a Domain,
+    /// The vehicle name (MOOS community), `$[OWNSHIP]`.
+    pub ownship: &'a str,
+    /// The behaviour's name.
+    pub name: &'a str,
+    /// Whether the behaviour is perpetual (common parameter `perpetual`).
+    pub perpetual: bool,
+}
+
+/// Ownship navigation from the info buffer: `(NAV_X, NAV_Y, NAV_HEADING, NAV_SPEED)`; `None`
+/// unless x, y and heading are known (speed defaults to 0, as MOOS only warns about it).
+pub fn nav(info: &dyn Info) -> Option<(f64, f64, f64, f64)> {
+    let x = info.num("NAV_X")?;
+    let y = info.num("NAV_Y")?;
+    let h = info.num("NAV_HEADING")?;
+    let v = info.num("NAV_SPEED").unwrap_or(0.0);
+    Some((x, y, geometry::angle_360(h), v))
+}
+
+/// A rejected parameter.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ParamError {
+    /// The behaviour has no such parameter.
+    #[error("unknown parameter `{param}`")]
+    Unknown {
+        /// The parameter name (lower case).
+        param: String,
+    },
+    /// The value is not acceptable.
+    #[error("bad value `{value}` for `{param}`: expected {expected}")]
+    BadValue {
+        /// The parameter name.
+        param: String,
+        /// The value given.
+        value: String,
+        /// What is accepted.
+        expected: &'static str,
+    },
+}
+
+impl ParamError {
+    /// An [`ParamError::Unknown`] for `param`.
+    pub fn unknown(param: &str) -> Self {
+        ParamError::Unknown {
+            param: param.to_string(),
+        }
+    }
+    /// A [`ParamError::BadValue`].
+    pub fn bad(param: &str, value: &str, expected: &'static str) -> Self {
+        ParamError::BadValue {
+            param: param.to_string(),
+            value: value.to_string(),
+            expected,
+        }
+    }
+}
+
+/// A helm behaviour. The helm calls the hooks as pHelmIvP's `BehaviorSet::produceOF` does
+/// (reference §4.4): `on_idle_to_run` / `on_run_to_idle` on transitions, `on_idle` every idle
+/// iteration, `on_run` every running iteration (returning the objective function or `None`),
+/// `on_complete` when completed.
+pub trait Behavior: Send {
+    /// The type name, e.g. `BHV_Waypoint` (`$[BHVTYPE]`).
+    fn kind(&self) -> &'static str;
+
+    /// The default `duration` of this type (−1 = none). ConstantSpeed/Heading/Depth use 0
+    /// (reference §5.5).
+    fn default_duration(&self) -> f64 {
+        -1.0
+    }
+
+    /// Sets one behaviour-specific parameter (`param` lower case, `value` trimmed).
+    /// Returns [`ParamError::Unknown`] for a parameter it does not have. `common` is given so
+    /// a parameter may also change a common setting (e.g. waypoint `repeat` makes it
+    /// perpetual).
+    fn set_param(
+        &mut self,
+        param: &str,
+        value: &str,
+        common: &mut Common,
+        ctx: &Ctx<'_>,
+    ) -> Result<(), ParamError>;
+
+    /// Called after configuration and after each successful update.
+    fn on_set_param_complete(&mut self, _ctx: &Ctx<'_>) {}
+
+    /// Every idle iteration.
+    fn on_idle(&mut self, _ctx: &Ctx<'_>, _out: &mut Out) {}
+
+    /// On the idle→running transition (before `on_run`).
+    fn on_idle_to_run(&mut self, _ctx: &Ctx<'_>, _out: &mut Out) {}
+
+    /// On the running/active→idle transition.
+    fn on_run_to_idle(&mut self, _ctx: &Ctx<'_>, _out: &mut Out) {}
+
+    /// A running iteration: the objective function, or `None` (no opinion).
+    fn on_run(&mut self, ctx: &Ctx<'_>, out: &mut Out) -> Option<IvpFunction>;
+
+    /// When the behaviour is found completed.
+    fn on_complete(&mut self, _ctx: &Ctx<'_>, _out: &mut Out) {}
+
+    /// Appends the value of a behaviour-specific macro (e.g. the waypoint's `NX`, `SPEED`) and
+    /// returns true, or returns false if `name` is not one of its macros.
+    fn macro_value(&self, _name: &str, _out: &mut String) -> bool {
+        false
+    }
+}

@@ -1,0 +1,407 @@
+//! Parameters every behaviour accepts (reference §5.5, MOOS `IvPBehavior::setParam`) and the
+//! flag syntax (§4.5).
+
+use mission::condition::{Condition, parse_condition};
+
+use crate::behavior::ParamError;
+use crate::param::{boolean, is_number, number};
+
+/// Which flag list a flag belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FlagKind {
+    /// `runflag`: on idle→running.
+    Run,
+    /// `runxflag`: every running iteration.
+    Runx,
+    /// `idleflag`: on entering idle.
+    Idle,
+    /// `activeflag`: on entering active.
+    Active,
+    /// `inactiveflag`: on leaving active, and on entering idle.
+    Inactive,
+    /// `endflag`: on completion.
+    End,
+    /// `spawnflag`: when spawned.
+    Spawn,
+    /// `spawnxflag`: on the first iteration.
+    Spawnx,
+    /// `configflag`: on the first iteration ever.
+    Config,
+}
+
+impl FlagKind {
+    const ALL: [FlagKind; 9] = [
+        FlagKind::Run,
+        FlagKind::Runx,
+        FlagKind::Idle,
+        FlagKind::Active,
+        FlagKind::Inactive,
+        FlagKind::End,
+        FlagKind::Spawn,
+        FlagKind::Spawnx,
+        FlagKind::Config,
+    ];
+
+    /// The flag list for a parameter name (`runflag` or `run_flag`, ...).
+    pub fn from_param(p: &str) -> Option<FlagKind> {
+        let base = p.strip_suffix("flag")?;
+        let base = base.strip_suffix('_').unwrap_or(base);
+        Some(match base {
+            "run" => FlagKind::Run,
+            "runx" => FlagKind::Runx,
+            "idle" => FlagKind::Idle,
+            "active" => FlagKind::Active,
+            "inactive" => FlagKind::Inactive,
+            "end" => FlagKind::End,
+            "spawn" => FlagKind::Spawn,
+            "spawnx" => FlagKind::Spawnx,
+            "config" => FlagKind::Config,
+            _ => return None,
+        })
+    }
+
+    fn index(self) -> usize {
+        FlagKind::ALL.iter().position(|k| *k == self).unwrap_or(0)
+    }
+}
+
+/// A flag's value, typed as MOOS `VarDataPair` "auto" does: a number is a double, a quoted
+/// text a string without its quotes, anything else a string.
+#[derive(Debug, Clone, PartialEq)]
+pub enum FlagValue {
+    /// A double.
+    Num(f64),
+    /// A string (may contain macros).
+    Str(String),
+}
+
+/// One `VAR = value [if] CONDITION` flag (reference §4.5).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Flag {
+    /// Variable.
+    pub var: String,
+    /// Value.
+    pub value: FlagValue,
+    /// The whole value is one macro (`$[X]` or `$(X)`): posted as a double if it expands to
+    /// a number.
+    pub solo_macro: bool,
+    /// Destination tag (`all`, `group`, `all+`, `group+`), empty = local.
+    pub dest: String,
+    /// Condition evaluated at post time.
+    pub condition: Option<Condition>,
+}
+
+impl Flag {
+    /// Parses `[#dest] VAR = value [if] CONDITION`; `None` if malformed.
+    ///
+    /// ```
+    /// use behaviors::{Flag, FlagValue};
+    /// let f = Flag::parse("RETURN = true").unwrap();
+    /// assert_eq!((f.var.as_str(), &f.value), ("RETURN", &FlagValue::Str("true".into())));
+    /// assert_eq!(Flag::parse("N = 3").unwrap().value, FlagValue::Num(3.0));
+    /// assert!(Flag::parse("SUMMARY=speed=$[SPEED]").is_some());
+    /// assert!(Flag::parse("= 3").is_none());
+    /// ```
+    pub fn parse(text: &str) -> Option<Flag> {
+        let mut t = text.trim();
+        let mut condition = None;
+        if let Some(at) = t.find("[if]") {
+            let ctext = t[at + 4..].trim();
+            if !ctext.is_empty() {
+                condition = Some(parse_condition(ctext).ok()?);
+            }
+            t = t[..at].trim();
+        }
+        let mut dest = String::new();
+        if let Some(rest) = t.strip_prefix('#') {
+            let end = rest.find(char::is_whitespace)?;
+            dest = rest[..end].to_ascii_lowercase();
+            t = rest[end..].trim();
+        }
+        let (var, val) = t.split_once('=')?;
+        let (var, val) = (var.trim(), val.trim());
+        if var.is_empty() || val.is_empty() || var.contains(char::is_whitespace) {
+            return None;
+        }
+        let solo_macro = is_solo_macro(val);
+        let value = if is_number(val) {
+            FlagValue::Num(val.parse().ok()?)
+        } else if val.len() >= 2 && val.starts_with('"') && val.ends_with('"') {
+            FlagValue::Str(val[1..val.len() - 1].to_string())
+        } else {
+            FlagValue::Str(val.to_string())
+        };
+        Some(Flag {
+            var: var.to_string(),
+            value,
+            solo_macro,
+            dest,
+            condition,
+        })
+    }
+
+    /// Whether the flag is posted to the local MOOSDB (no dest, or `all+`/`group+`).
+    pub fn is_local(&self) -> bool {
+        self.dest.is_empty() || self.dest.ends_with('+')
+    }
+}
+
+fn is_solo_macro(v: &str) -> bool {
+    let inner = v
+        .strip_prefix("$[")
+        .and_then(|r| r.strip_suffix(']'))
+        .or_else(|| v.strip_prefix("$(").and_then(|r| r.strip_suffix(')')));
+    inner
+        .is_some_and(|s| !s.is_empty() && s.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_'))
+}
+
+/// The common parameters of a behaviour.
+#[derive(Debug, Clone)]
+pub struct Common {
+    /// The behaviour type as written (`BHV_Waypoint`).
+    pub kind: String,
+    /// Name (`name`/`descriptor`); default the type name in lower case.
+    pub name: String,
+    /// Priority weight (default 100).
+    pub pwt: f64,
+    /// Run conditions (text as written, parsed), all must hold.
+    pub conditions: Vec<(String, Condition)>,
+    /// `updates` variable ("" = none).
+    pub update_var: String,
+    /// `duration` seconds (−1 = none); `None` = the behaviour type's default.
+    pub duration: Option<f64>,
+    /// `duration_status` variable ("" = none).
+    pub duration_status: String,
+    /// `duration_reset` variable and value ("" value = any post).
+    pub duration_reset: Option<(String, String)>,
+    /// `duration_idle_decay` (default true): idle time counts toward the duration.
+    pub duration_idle_decay: bool,
+    /// `perpetual`.
+    pub perpetual: bool,
+    flags: [Vec<Flag>; 9],
+    /// `nostarve` variables with their maximum age.
+    pub starve: Vec<(String, f64)>,
+    /// `post_mapping` renames (`silent` suppresses).
+    pub post_mapping: Vec<(String, String)>,
+    /// `comms_policy` (open/lean/dire).
+    pub comms_policy: String,
+    /// `build_info` hints (kept, unused).
+    pub build_info: String,
+}
+
+impl Common {
+    /// Defaults for a behaviour of type `kind`.
+    pub fn new(kind: &str) -> Self {
+        Common {
+            kind: kind.to_string(),
+            name: kind.to_ascii_lowercase(),
+            pwt: 100.0,
+            conditions: Vec::new(),
+            update_var: String::new(),
+            duration: None,
+            duration_status: String::new(),
+            duration_reset: None,
+            duration_idle_decay: true,
+            perpetual: false,
+            flags: Default::default(),
+            starve: Vec::new(),
+            post_mapping: Vec::new(),
+            comms_policy: "open".to_string(),
+            build_info: String::new(),
+        }
+    }
+
+    /// The flags of one kind.
+    pub fn flags(&self, kind: FlagKind) -> &[Flag] {
+        &self.flags[kind.index()]
+    }
+
+    /// The variable a posting to `var` goes to after `post_mapping` (`None` = silent).
+    pub fn mapped<'a>(&'a self, var: &'a str) -> Option<&'a str> {
+        match self.post_mapping.iter().find(|(a, _)| a == var) {
+            Some((_, b)) if b.eq_ignore_ascii_case("silent") => None,
+            Some((_, b)) => Some(b),
+            None => Some(var),
+        }
+    }
+
+    /// Applies a common parameter (`param` lower case, leading `_` removed). `Ok(true)`:
+    /// handled; `Ok(false)`: not a common parameter; `Err`: a common parameter with a bad
+    /// value.
+    ///
+    /// ```
+    /// let mut c = behaviors::Common::new("BHV_Waypoint");
+    /// assert_eq!(c.set_param("pwt", "200"), Ok(true));
+    /// assert_eq!(c.pwt, 200.0);
+    /// assert!(c.set_param("pwt", "-1").is_err());
+    /// assert_eq!(c.set_param("speed", "2"), Ok(false));
+    /// ```
+    pub fn set_param(&mut self, param: &str, value: &str) -> Result<bool, ParamError> {
+        let v = value.trim();
+        let bad = |expected| Err(ParamError::bad(param, value, expected));
+        match param {
+            "name" | "descriptor" => {
+                if v.is_empty()
+                    || !v
+                        .chars()
+                        .all(|c| c.is_ascii_alphanumeric() || "_-[]()#@+".contains(c))
+                {
+                    return bad("letters, digits and _-[]()#@+");
+                }
+                self.name = v.to_string();
+            }
+            "pwt" | "priwt" | "priority" => {
+                let p = number(param, v)?;
+                if p < 0.0 {
+                    return bad("a non-negative number");
+                }
+                self.pwt = p;
+            }
+            "condition" => {
+                let text = v.replace(',', "=");
+                match parse_condition(&text) {
+                    Ok(c) => self.conditions.push((v.to_string(), c)),
+                    Err(_) => return bad("a logic condition"),
+                }
+            }
+            "comms_policy" => {
+                let l = v.to_ascii_lowercase();
+                if !matches!(l.as_str(), "open" | "lean" | "dire") {
+                    return bad("open, lean or dire");
+                }
+                self.comms_policy = l;
+            }
+            "duration_status" => self.duration_status = v.to_string(),
+            "duration_reset" => {
+                let (var, val) = v.split_once('=').unwrap_or((v, ""));
+                if var.trim().is_empty() {
+                    return bad("VAR=value");
+                }
+                self.duration_reset = Some((var.trim().to_string(), val.trim().to_string()));
+            }
+            "duration_idle_decay" => self.duration_idle_decay = boolean(param, v)?,
+            "post_mapping" => {
+                let Some((a, b)) = v.split_once(',') else {
+                    return bad("VAR,NEWVAR");
+                };
+                let (a, b) = (a.trim(), b.trim());
+                if a.contains(char::is_whitespace) || b.contains(char::is_whitespace) {
+                    return bad("VAR,NEWVAR");
+                }
+                self.post_mapping.push((a.to_string(), b.to_string()));
+            }
+            "nostarve" | "no_starve" => {
+                let parts: Vec<&str> = v.split(',').map(str::trim).collect();
+                if parts.len() < 2 {
+                    return bad("VAR[,VAR...],seconds");
+                }
+                let secs = number(param, parts[parts.len() - 1])?;
+                if secs <= 0.0 {
+                    return bad("a positive number of seconds");
+                }
+                for var in &parts[..parts.len() - 1] {
+                    self.starve.push((var.to_string(), secs));
+                }
+            }
+            // MOOS accepts any value and tests for "true".
+            "perpetual" => self.perpetual = v.eq_ignore_ascii_case("true"),
+            "duration" => {
+                if v == "no-time-limit" || v == "-1" {
+                    self.duration = Some(-1.0);
+                } else {
+                    let d = number(param, v)?;
+                    if d < 0.0 {
+                        return bad("seconds >= 0, or no-time-limit");
+                    }
+                    self.duration = Some(d);
+                }
+            }
+            "build_info" => {
+                let l = v.to_ascii_lowercase();
+                if l == "clear" {
+                    self.build_info.clear();
+                } else if self.build_info.is_empty() {
+                    self.build_info = l;
+                } else {
+                    self.build_info = format!("{l} # {}", self.build_info);
+                }
+            }
+            "precision" => {
+                let info = format!("precision={}", v.to_ascii_lowercase());
+                return self.set_param("build_info", &info);
+            }
+            "updates" => self.update_var = v.to_string(),
+            // Spawning is not supported: only the non-spawning settings are accepted.
+            "templating" => {
+                if !v.eq_ignore_ascii_case("disallow") {
+                    return bad("disallow (spawning is not supported by coug yet)");
+                }
+            }
+            "max_spawnings" => {
+                number(param, v)?;
+            }
+            _ => {
+                let Some(kind) = FlagKind::from_param(param) else {
+                    return Ok(false);
+                };
+                if v.eq_ignore_ascii_case("clearall") {
+                    self.flags[kind.index()].clear();
+                } else {
+                    match Flag::parse(v) {
+                        Some(f) => self.flags[kind.index()].push(f),
+                        None => return bad("VAR = value [[if] condition]"),
+                    }
+                }
+            }
+        }
+        Ok(true)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flags_by_kind_and_clearall() {
+        let mut c = Common::new("BHV_Timer");
+        c.set_param("endflag", "A = 1").unwrap();
+        c.set_param("end_flag", "B = \"x y\"").unwrap();
+        assert_eq!(c.flags(FlagKind::End).len(), 2);
+        assert_eq!(
+            c.flags(FlagKind::End)[1].value,
+            FlagValue::Str("x y".into())
+        );
+        c.set_param("endflag", "clearall").unwrap();
+        assert!(c.flags(FlagKind::End).is_empty());
+        assert!(c.set_param("runflag", "novalue").is_err());
+    }
+
+    #[test]
+    fn duration_forms() {
+        let mut c = Common::new("x");
+        c.set_param("duration", "no-time-limit").unwrap();
+        assert_eq!(c.duration, Some(-1.0));
+        c.set_param("duration", "10").unwrap();
+        assert_eq!(c.duration, Some(10.0));
+        assert!(c.set_param("duration", "ten").is_err());
+        c.set_param("duration_reset", "CONST_SPD_RESET=true")
+            .unwrap();
+        assert_eq!(
+            c.duration_reset,
+            Some(("CONST_SPD_RESET".into(), "true".into()))
+        );
+    }
+
+    #[test]
+    fn legacy_comma_condition_and_solo_macro() {
+        let mut c = Common::new("x");
+        c.set_param("condition", "DEPLOY,true").unwrap();
+        assert_eq!(c.conditions[0].1.variables(), ["DEPLOY"]);
+        let f = Flag::parse("CRUISE_SPD = $[SPEED]").unwrap();
+        assert!(f.solo_macro);
+        let f = Flag::parse("#all+ X = 1 [if] (A = 2)").unwrap();
+        assert_eq!(f.dest, "all+");
+        assert!(f.is_local() && f.condition.is_some());
+    }
+}

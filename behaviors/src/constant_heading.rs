@@ -1,0 +1,160 @@
+//! BHV_ConstantHeading (reference §6.4): a wrapping ZAIC_PEAK preference on `course`.
+
+use ivp::{IvpFunction, ZaicPeak};
+
+use crate::behavior::{Behavior, Ctx, Out, ParamError};
+use crate::common::Common;
+use crate::param::{number, number_min};
+
+/// Prefers one heading: ZAIC_PEAK with value wrap (summit `heading`, `peakwidth` 10,
+/// `basewidth` 170, `summitdelta` 25). Default `duration` 0, as in MOOS (reference §5.5): it
+/// completes on its first run unless `duration` is set. With `complete_thresh` >= 0 it
+/// completes once |heading error| < thresh.
+#[derive(Debug, Clone)]
+pub struct ConstantHeading {
+    /// Desired heading, degrees.
+    pub heading: f64,
+    /// Plateau half-width.
+    pub peakwidth: f64,
+    /// Ramp width.
+    pub basewidth: f64,
+    /// Utility drop across the plateau.
+    pub summitdelta: f64,
+    /// Completion threshold, degrees (−1 = off).
+    pub complete_thresh: f64,
+    /// Variable receiving the heading mismatch ("" = none).
+    pub mismatch_var: String,
+}
+
+impl Default for ConstantHeading {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl ConstantHeading {
+    /// The MOOS defaults.
+    pub fn new() -> Self {
+        ConstantHeading {
+            heading: 0.0,
+            peakwidth: 10.0,
+            basewidth: 170.0,
+            summitdelta: 25.0,
+            complete_thresh: -1.0,
+            mismatch_var: String::new(),
+        }
+    }
+}
+
+impl Behavior for ConstantHeading {
+    fn kind(&self) -> &'static str {
+        "BHV_ConstantHeading"
+    }
+    fn default_duration(&self) -> f64 {
+        0.0
+    }
+    fn set_param(
+        &mut self,
+        param: &str,
+        value: &str,
+        _common: &mut Common,
+        ctx: &Ctx<'_>,
+    ) -> Result<(), ParamError> {
+        match param {
+            "heading" => {
+                let h = geometry::angle_360(number(param, value)?);
+                // Snapped to the nearest course value of the domain.
+                self.heading = match ctx.domain.get("course") {
+                    Some(d) if d.delta() > 0.0 => {
+                        d.value(d.index(h, ivp::Snap::Nearest)).min(d.high())
+                    }
+                    _ => h,
+                };
+            }
+            "peakwidth" => self.peakwidth = number_min(param, value, 0.0)?,
+            "basewidth" => self.basewidth = number_min(param, value, 0.0)?,
+            "summitdelta" => self.summitdelta = number(param, value)?.clamp(0.0, 100.0),
+            "complete_thresh" => self.complete_thresh = number(param, value)?,
+            "heading_mismatch_var" => self.mismatch_var = value.trim().to_string(),
+            _ => return Err(ParamError::unknown(param)),
+        }
+        Ok(())
+    }
+
+    fn on_run(&mut self, ctx: &Ctx<'_>, out: &mut Out) -> Option<IvpFunction> {
+        if let Some(h) = ctx.info.num("NAV_HEADING") {
+            let err = geometry::angle_180(h - self.heading).abs();
+            if !self.mismatch_var.is_empty() {
+                out.post(self.mismatch_var.clone(), err);
+            }
+            if self.complete_thresh >= 0.0 && err < self.complete_thresh {
+                out.complete();
+                return None;
+            }
+        }
+        let mut z = match ZaicPeak::new(ctx.domain, "course") {
+            Ok(z) => z,
+            Err(_) => {
+                out.error("No 'course' variable in the helm domain");
+                return None;
+            }
+        };
+        z.set_value_wrap(true);
+        z.set_params(
+            self.heading,
+            self.peakwidth,
+            self.basewidth,
+            self.summitdelta,
+            0.0,
+            100.0,
+        )
+        .ok()?;
+        z.extract().ok()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::behavior::MapInfo;
+    use ivp::Domain;
+
+    fn ctx_run(heading: &str, nav_hdg: f64, thresh: Option<&str>) -> (Option<IvpFunction>, Out) {
+        let d = Domain::parse_specs(["course:0:359:360", "speed:0:4:41"]).unwrap();
+        let info = MapInfo::new(0.0).num("NAV_HEADING", nav_hdg);
+        let ctx = Ctx {
+            info: &info,
+            domain: &d,
+            ownship: "abe",
+            name: "ch",
+            perpetual: false,
+        };
+        let mut b = ConstantHeading::new();
+        let mut c = Common::new("BHV_ConstantHeading");
+        b.set_param("heading", heading, &mut c, &ctx).unwrap();
+        if let Some(t) = thresh {
+            b.set_param("complete_thresh", t, &mut c, &ctx).unwrap();
+        }
+        let mut out = Out::default();
+        (b.on_run(&ctx, &mut out), out)
+    }
+
+    #[test]
+    fn peak_wraps_around_north_with_default_widths() {
+        let (f, _) = ctx_run("355", 0.0, None);
+        let f = f.unwrap();
+        assert_eq!(f.eval(&[355]), Some(100.0));
+        // Inside the 10-degree plateau the utility drops by summitdelta 25 linearly.
+        assert!((f.eval(&[5]).unwrap() - 75.0).abs() < 1e-6);
+        // 180 degrees away (10 + 170) it reaches 0.
+        assert!(f.eval(&[175]).unwrap() < 1.0);
+    }
+
+    #[test]
+    fn completes_within_threshold() {
+        let (f, out) = ctx_run("90", 88.0, Some("5"));
+        assert!(f.is_none() && out.completed);
+        let (f, out) = ctx_run("90", 60.0, Some("5"));
+        assert!(f.is_some() && !out.completed);
+    }
+}

@@ -1,0 +1,137 @@
+//! BHV_ConstantSpeed (reference §6.5): a ZAIC_PEAK preference on `speed`.
+
+use ivp::{IvpFunction, ZaicPeak};
+
+use crate::behavior::{Behavior, Ctx, Out, ParamError};
+use crate::common::Common;
+use crate::param::{number, number_min};
+
+/// Prefers one speed: ZAIC_PEAK(summit `speed`, `peakwidth` 0, `basewidth` 0.2,
+/// `summitdelta` 0). Its default `duration` is 0 (reference §5.5), so without a `duration` it
+/// completes on its first run.
+#[derive(Debug, Clone)]
+pub struct ConstantSpeed {
+    /// Desired speed, m/s.
+    pub speed: f64,
+    /// Plateau half-width.
+    pub peakwidth: f64,
+    /// Ramp width.
+    pub basewidth: f64,
+    /// Utility drop across the plateau.
+    pub summitdelta: f64,
+    /// Variable receiving |NAV_SPEED − speed| ("" = none).
+    pub mismatch_var: String,
+}
+
+impl Default for ConstantSpeed {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl ConstantSpeed {
+    /// The MOOS defaults.
+    pub fn new() -> Self {
+        ConstantSpeed {
+            speed: 0.0,
+            peakwidth: 0.0,
+            basewidth: 0.2,
+            summitdelta: 0.0,
+            mismatch_var: String::new(),
+        }
+    }
+}
+
+impl Behavior for ConstantSpeed {
+    fn kind(&self) -> &'static str {
+        "BHV_ConstantSpeed"
+    }
+    fn default_duration(&self) -> f64 {
+        0.0
+    }
+    fn set_param(
+        &mut self,
+        param: &str,
+        value: &str,
+        _common: &mut Common,
+        ctx: &Ctx<'_>,
+    ) -> Result<(), ParamError> {
+        match param {
+            "speed" => {
+                let v = number_min(param, value, 0.0)?;
+                let max = ctx.domain.get("speed").map_or(v, |d| d.high());
+                self.speed = v.min(max);
+            }
+            "peakwidth" => self.peakwidth = number_min(param, value, 0.0)?,
+            "basewidth" => self.basewidth = number_min(param, value, 0.0)?,
+            "summitdelta" => self.summitdelta = number(param, value)?.clamp(0.0, 100.0),
+            "speed_mismatch_var" => self.mismatch_var = value.trim().to_string(),
+            _ => return Err(ParamError::unknown(param)),
+        }
+        Ok(())
+    }
+
+    fn on_run(&mut self, ctx: &Ctx<'_>, out: &mut Out) -> Option<IvpFunction> {
+        if !self.mismatch_var.is_empty()
+            && let Some(v) = ctx.info.num("NAV_SPEED")
+        {
+            out.post(self.mismatch_var.clone(), (v - self.speed).abs());
+        }
+        let mut z = match ZaicPeak::new(ctx.domain, "speed") {
+            Ok(z) => z,
+            Err(_) => {
+                out.error("No 'speed' variable in the helm domain");
+                return None;
+            }
+        };
+        z.set_params(
+            self.speed,
+            self.peakwidth,
+            self.basewidth,
+            self.summitdelta,
+            0.0,
+            100.0,
+        )
+        .ok()?;
+        z.extract().ok()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::behavior::MapInfo;
+    use ivp::{Domain, Problem};
+
+    #[test]
+    fn peaks_at_configured_speed_with_configured_width() {
+        let d = Domain::parse_specs(["course:0:359:360", "speed:0:4:41"]).unwrap();
+        let info = MapInfo::new(0.0).num("NAV_SPEED", 1.0);
+        let ctx = Ctx {
+            info: &info,
+            domain: &d,
+            ownship: "abe",
+            name: "cs",
+            perpetual: false,
+        };
+        let mut b = ConstantSpeed::new();
+        let mut c = Common::new("BHV_ConstantSpeed");
+        b.set_param("speed", "1.5", &mut c, &ctx).unwrap();
+        b.set_param("basewidth", "0.5", &mut c, &ctx).unwrap();
+        b.set_param("speed_mismatch_var", "SPD_MISS", &mut c, &ctx)
+            .unwrap();
+        assert!(b.set_param("speed", "fast", &mut c, &ctx).is_err());
+        let mut out = Out::default();
+        let f = b.on_run(&ctx, &mut out).unwrap();
+        // Index 15 = 1.5 m/s is the summit; 0.5 m/s away utility reaches 0.
+        assert_eq!(f.eval(&[15]), Some(100.0));
+        assert!((f.eval(&[13]).unwrap() - 60.0).abs() < 1e-6);
+        assert_eq!(f.eval(&[20]), Some(0.0));
+        let mut p = Problem::new(d.clone());
+        p.add("cs", f).unwrap();
+        assert_eq!(p.solve().unwrap().get("speed"), Some(1.5));
+        assert!(matches!(&out.emits[0], crate::Emit::Post { var, value, .. }
+            if var == "SPD_MISS" && value.as_num() == Some(0.5)));
+        assert_eq!(b.default_duration(), 0.0);
+    }
+}

@@ -1,0 +1,157 @@
+//! BHV_Timer (reference §6.9): no objective function; posts its idle and running time.
+
+use ivp::IvpFunction;
+
+use crate::behavior::{Behavior, Ctx, Out, ParamError};
+use crate::common::Common;
+
+/// Accumulates the seconds spent idle and running and posts them every iteration
+/// (`TIMER_IDLE`, `TIMER_RUNNING`, plus `status_suffix`). Usually combined with `duration` and
+/// `endflag`.
+#[derive(Debug, Clone)]
+pub struct Timer {
+    /// Variable for the idle time.
+    pub var_idle: String,
+    /// Variable for the running time.
+    pub var_running: String,
+    /// Suffix appended to both variables.
+    pub suffix: String,
+    idle: f64,
+    running: f64,
+    last: Option<f64>,
+}
+
+impl Default for Timer {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Timer {
+    /// Defaults: `TIMER_IDLE`, `TIMER_RUNNING`.
+    pub fn new() -> Self {
+        Timer {
+            var_idle: "TIMER_IDLE".into(),
+            var_running: "TIMER_RUNNING".into(),
+            suffix: String::new(),
+            idle: 0.0,
+            running: 0.0,
+            last: None,
+        }
+    }
+
+    fn elapsed(&mut self, now: f64) -> f64 {
+        let dt = self.last.map_or(0.0, |l| (now - l).max(0.0));
+        self.last = Some(now);
+        dt
+    }
+}
+
+impl Behavior for Timer {
+    fn kind(&self) -> &'static str {
+        "BHV_Timer"
+    }
+    fn set_param(
+        &mut self,
+        param: &str,
+        value: &str,
+        _common: &mut Common,
+        _ctx: &Ctx<'_>,
+    ) -> Result<(), ParamError> {
+        let v = value.trim();
+        let ok_var = !v.is_empty() && !v.contains(char::is_whitespace);
+        match param {
+            "var_status_idle" if ok_var => self.var_idle = v.into(),
+            "var_status_running" if ok_var => self.var_running = v.into(),
+            "status_suffix" => {
+                if v.contains(char::is_whitespace) {
+                    return Err(ParamError::bad(param, value, "a suffix without spaces"));
+                }
+                self.suffix = if v.is_empty() || v.starts_with('_') {
+                    v.into()
+                } else {
+                    format!("_{v}")
+                };
+            }
+            "var_status_idle" | "var_status_running" => {
+                return Err(ParamError::bad(param, value, "a variable name"));
+            }
+            _ => return Err(ParamError::unknown(param)),
+        }
+        Ok(())
+    }
+
+    fn on_idle(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
+        self.idle += self.elapsed(ctx.info.now());
+        out.post(format!("{}{}", self.var_idle, self.suffix), self.idle);
+    }
+
+    fn on_run(&mut self, ctx: &Ctx<'_>, out: &mut Out) -> Option<IvpFunction> {
+        self.running += self.elapsed(ctx.info.now());
+        out.post(format!("{}{}", self.var_running, self.suffix), self.running);
+        None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::behavior::MapInfo;
+    use ivp::Domain;
+
+    #[test]
+    fn accumulates_idle_and_running_time() {
+        let d = Domain::parse_specs(["course:0:359:360"]).unwrap();
+        let mut t = Timer::new();
+        let mut c = Common::new("BHV_Timer");
+        let mut info = MapInfo::new(10.0);
+        let mut out = Out::default();
+        {
+            let ctx = Ctx {
+                info: &info,
+                domain: &d,
+                ownship: "a",
+                name: "t",
+                perpetual: false,
+            };
+            t.set_param("status_suffix", "A", &mut c, &ctx).unwrap();
+            t.on_idle(&ctx, &mut out);
+        }
+        info.set_now(12.5);
+        {
+            let ctx = Ctx {
+                info: &info,
+                domain: &d,
+                ownship: "a",
+                name: "t",
+                perpetual: false,
+            };
+            t.on_idle(&ctx, &mut out);
+        }
+        info.set_now(14.0);
+        let ctx = Ctx {
+            info: &info,
+            domain: &d,
+            ownship: "a",
+            name: "t",
+            perpetual: false,
+        };
+        assert!(t.on_run(&ctx, &mut out).is_none());
+        let posts: Vec<(String, f64)> = out
+            .emits
+            .iter()
+            .map(|e| match e {
+                crate::Emit::Post { var, value, .. } => (var.clone(), value.as_num().unwrap()),
+                _ => unreachable!(),
+            })
+            .collect();
+        assert_eq!(
+            posts,
+            [
+                ("TIMER_IDLE_A".to_string(), 0.0),
+                ("TIMER_IDLE_A".to_string(), 2.5),
+                ("TIMER_RUNNING_A".to_string(), 1.5)
+            ]
+        );
+    }
+}

@@ -1,0 +1,1171 @@
+//! BHV_Waypoint (reference §6.1): follows a list of points with capture/slip radii, capture
+//! line, lead point, repeats, flags and viewer postings.
+
+use geometry::spec::{parse_point, parse_waypoints};
+use geometry::{Point, SegList, Segment, ViewPoint, ViewSegList};
+use ivp::{IvpFunction, PeakComponent, ZaicPeak, ZaicSpd, couple_weighted};
+
+use crate::behavior::{Behavior, Ctx, Out, ParamError, PostKey, nav};
+use crate::common::{Common, Flag};
+use crate::fmt::compact;
+use crate::param::{boolean, number, number_min};
+
+/// Result of one waypoint-engine step (MOOS `WaypointEngine::setNextWaypoint`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Step {
+    /// No points.
+    Empty,
+    /// Heading for the current point.
+    InTransit,
+    /// The current point was reached; the next one is now current.
+    Advanced,
+    /// The last point was reached and a new cycle starts.
+    Cycled,
+    /// The last point was reached and no repeats remain.
+    Completed,
+}
+
+/// How the objective function is built (`ipf_type`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum IpfType {
+    /// ZAIC_PEAK on speed coupled with a two-component ZAIC_PEAK on course (default).
+    Zaic,
+    /// ZAIC_SPD on speed coupled with the same course function.
+    ZaicSpd,
+}
+
+/// The waypoint behaviour. See the module docs and reference §6.1.
+#[derive(Debug, Clone)]
+pub struct Waypoint {
+    raw: SegList,
+    points: SegList,
+    reverse: bool,
+    curr_ix: usize,
+    cpa: Option<f64>,
+    /// Capture radius, m (default 3).
+    pub capture_radius: f64,
+    /// Slip (non-monotonic) radius, m (default 15).
+    pub slip_radius: f64,
+    /// Capture line: arrival once past the line through the point perpendicular to the leg.
+    pub capture_line: bool,
+    repeats: u32,
+    endless: bool,
+    repeats_sofar: u32,
+    cycles: u32,
+    capture_hits: u32,
+    nonmono_hits: u32,
+    complete: bool,
+    prevpt: Option<Point>,
+    markpt: Option<Point>,
+    /// Cruise speed, m/s.
+    pub speed: f64,
+    /// Alternative speed (−1 = unused).
+    pub speed_alt: f64,
+    /// Use `speed_alt` instead of `speed`.
+    pub use_alt_speed: bool,
+    /// Lead distance, m (−1 = off).
+    pub lead: f64,
+    /// Lead damper distance, m (−1 = off).
+    pub lead_damper: f64,
+    /// Use the position where the behaviour first ran as the anchor of the first leg.
+    pub lead_to_start: bool,
+    /// Course share of the coupled function (1..99, default 50).
+    pub patience: f64,
+    /// Objective function type.
+    pub ipf_type: IpfType,
+    var_report: String,
+    var_index: String,
+    var_cyindex: String,
+    suffix: String,
+    var_dist_prev: String,
+    var_dist_next: String,
+    cycle_flags: Vec<Flag>,
+    wpt_flags: Vec<Flag>,
+    wptflag_on_start: bool,
+    started: bool,
+    efficiency: bool,
+    hint_vertex_size: f64,
+    hint_edge_size: f64,
+    hint_vertex_color: String,
+    hint_edge_color: String,
+    hint_nextpt_color: String,
+    hint_nextpt_lcolor: String,
+    hint_nextpt_vertex_size: f64,
+    nextpt: Point,
+    trackpt: Point,
+    hitpt: Point,
+    os: (f64, f64, f64, f64),
+    odo_prev: Option<Point>,
+    odo_leg: f64,
+    odo_mark: Option<(Point, f64)>,
+    odo_totals: [f64; 4],
+}
+
+impl Default for Waypoint {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Waypoint {
+    /// The MOOS defaults (no points, speed 0, capture radius 3, slip radius 15).
+    pub fn new() -> Self {
+        Waypoint {
+            raw: SegList::new(),
+            points: SegList::new(),
+            reverse: false,
+            curr_ix: 0,
+            cpa: None,
+            capture_radius: 3.0,
+            slip_radius: 15.0,
+            capture_line: false,
+            repeats: 0,
+            endless: false,
+            repeats_sofar: 0,
+            cycles: 0,
+            capture_hits: 0,
+            nonmono_hits: 0,
+            complete: false,
+            prevpt: None,
+            markpt: None,
+            speed: 0.0,
+            speed_alt: -1.0,
+            use_alt_speed: false,
+            lead: -1.0,
+            lead_damper: -1.0,
+            lead_to_start: false,
+            patience: 50.0,
+            ipf_type: IpfType::Zaic,
+            var_report: "WPT_STAT".into(),
+            var_index: "WPT_INDEX".into(),
+            var_cyindex: "CYCLE_INDEX".into(),
+            suffix: String::new(),
+            var_dist_prev: String::new(),
+            var_dist_next: String::new(),
+            cycle_flags: Vec::new(),
+            wpt_flags: Vec::new(),
+            wptflag_on_start: false,
+            started: false,
+            efficiency: false,
+            hint_vertex_size: 3.0,
+            hint_edge_size: 1.0,
+            hint_vertex_color: "dodger_blue".into(),
+            hint_edge_color: "white".into(),
+            hint_nextpt_color: "yellow".into(),
+            hint_nextpt_lcolor: "aqua".into(),
+            hint_nextpt_vertex_size: 5.0,
+            nextpt: Point::new(0.0, 0.0),
+            trackpt: Point::new(0.0, 0.0),
+            hitpt: Point::new(0.0, 0.0),
+            os: (0.0, 0.0, 0.0, 0.0),
+            odo_prev: None,
+            odo_leg: 0.0,
+            odo_mark: None,
+            odo_totals: [0.0; 4],
+        }
+    }
+
+    /// The points in traversal order.
+    pub fn points(&self) -> &SegList {
+        &self.points
+    }
+    /// Index of the point being sought.
+    pub fn current_index(&self) -> usize {
+        self.curr_ix
+    }
+    /// Completed cycles.
+    pub fn cycles(&self) -> u32 {
+        self.cycles
+    }
+    /// The point steered for on the last run (next point, or the lead point).
+    pub fn track_point(&self) -> Point {
+        self.trackpt
+    }
+    /// The effective speed: `speed_alt` when `use_alt_speed` and it is set, else `speed`.
+    pub fn effective_speed(&self) -> f64 {
+        if self.use_alt_speed && self.speed_alt >= 0.0 {
+            self.speed_alt
+        } else {
+            self.speed
+        }
+    }
+
+    fn set_points(&mut self, seglist: SegList) {
+        self.raw = seglist;
+        self.apply_order();
+    }
+
+    fn apply_order(&mut self) {
+        self.points = self.raw.clone();
+        if self.reverse {
+            self.points.reverse();
+        }
+        self.curr_ix = 0;
+        self.cpa = None;
+        self.complete = false;
+        self.repeats_sofar = 0;
+        self.markpt = None;
+    }
+
+    fn reset_for_new_traversal(&mut self) {
+        self.repeats_sofar = 0;
+        self.cpa = None;
+        self.curr_ix = 0;
+        self.complete = false;
+    }
+
+    /// One step of the waypoint engine for ownship at `(x, y)` (MOOS `setNextWaypoint`):
+    /// capture radius, slip radius (non-monotonic arrival) and capture line.
+    pub fn step(&mut self, x: f64, y: f64) -> Step {
+        let n = self.points.len();
+        if n == 0 {
+            return Step::Empty;
+        }
+        if self.complete {
+            return Step::Completed;
+        }
+        let pt = self.points.points()[self.curr_ix];
+        let dist = (x - pt.x).hypot(y - pt.y);
+        let cpa = match self.cpa {
+            Some(c) if c <= dist => c,
+            _ => dist,
+        };
+        self.cpa = Some(cpa);
+        let mut advance = false;
+        if dist < self.capture_radius {
+            advance = true;
+            self.capture_hits += 1;
+        } else if self.slip_radius > self.capture_radius && dist > cpa && cpa <= self.slip_radius {
+            advance = true;
+            self.nonmono_hits += 1;
+        }
+        if self.capture_line
+            && let Some(prev) = self.prevpt
+            && Segment::from_xy(prev.x, prev.y, pt.x, pt.y).passed_end(x, y)
+            && (prev.x != pt.x || prev.y != pt.y)
+        {
+            advance = true;
+        }
+        if !advance {
+            return Step::InTransit;
+        }
+        self.curr_ix += 1;
+        if self.curr_ix >= n {
+            self.cycles += 1;
+            self.curr_ix = 0;
+            self.cpa = None;
+            self.repeats_sofar += 1;
+            if self.endless || self.repeats_sofar <= self.repeats {
+                return Step::Cycled;
+            }
+            self.complete = true;
+            return Step::Completed;
+        }
+        let next = self.points.points()[self.curr_ix];
+        self.cpa = Some((x - next.x).hypot(y - next.y));
+        Step::Advanced
+    }
+
+    fn post_wpt_flags(&mut self, out: &mut Out) {
+        for f in &self.wpt_flags {
+            out.flag(f, true);
+        }
+    }
+
+    fn set_next_waypoint(&mut self, ctx: &Ctx<'_>, out: &mut Out) -> bool {
+        let (osx, osy, _, _) = self.os;
+        let step = self.step(osx, osy);
+        if step == Step::Empty {
+            return false;
+        }
+        if step != Step::InTransit {
+            self.mark_odo_leg(ctx, out);
+        }
+        out.post(format!("WPT_ODO{}", self.suffix), self.odo_leg);
+        if matches!(step, Step::Completed | Step::Cycled) {
+            if self.var_report != "silent" {
+                let word = if step == Step::Completed {
+                    "completed"
+                } else {
+                    "cycled"
+                };
+                out.post(
+                    format!("{}{}", self.var_report, self.suffix),
+                    format!("behavior-name={},{word}", ctx.name),
+                );
+            }
+            for f in &self.cycle_flags {
+                out.flag(f, true);
+            }
+        }
+        if step == Step::Completed {
+            let n = self.points.len();
+            self.hitpt = self.points.points()[n - 1];
+            self.post_wpt_flags(out);
+            out.complete();
+            self.markpt = None;
+            if ctx.perpetual {
+                self.reset_for_new_traversal();
+            }
+            return false;
+        }
+        let next = self.points.points()[self.curr_ix];
+        self.nextpt = next;
+        self.trackpt = next;
+        if self.lead > 0.0 {
+            let anchor = if self.curr_ix > 0 {
+                Some(self.points.points()[self.curr_ix - 1])
+            } else if self.cycles > 0 {
+                Some(self.points.points()[self.points.len() - 1])
+            } else if self.lead_to_start {
+                Some(*self.markpt.get_or_insert(Point::new(osx, osy)))
+            } else {
+                None
+            };
+            if let Some(a) = anchor {
+                let leg = Segment::from_xy(a.x, a.y, next.x, next.y);
+                self.trackpt = leg.lead_point_damped(osx, osy, self.lead, self.lead_damper);
+            }
+        }
+        true
+    }
+
+    fn mark_odo_leg(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
+        if !self.efficiency {
+            return;
+        }
+        let now = ctx.info.now();
+        let here = Point::new(self.os.0, self.os.1);
+        let Some((mark, t0)) = self.odo_mark else {
+            self.odo_mark = Some((here, now));
+            self.odo_leg = 0.0;
+            return;
+        };
+        let lin = here.dist(&mark);
+        let lin_time = if self.speed > 0.0 {
+            lin / self.speed
+        } else {
+            0.0
+        };
+        let odo = self.odo_leg;
+        let odo_time = now - t0;
+        let t = &mut self.odo_totals;
+        t[0] += lin;
+        t[1] += lin_time;
+        t[2] += odo;
+        t[3] += odo_time;
+        let ratio = |a: f64, b: f64| if b > 0.0 { a / b } else { 0.0 };
+        let (dist_all, time_all) = (ratio(t[0], t[2]), ratio(t[1], t[3]));
+        let (dist_leg, time_leg) = (ratio(lin, odo), ratio(lin_time, odo_time));
+        let summary = |lin: f64, odo: f64, eff: f64, lt: f64, ot: f64, et: f64| {
+            let mut s = format!("vname={}, bhv_name={}, linear_dist=", ctx.ownship, ctx.name);
+            compact(&mut s, lin, 1);
+            s.push_str(", odo_dist=");
+            compact(&mut s, odo, 1);
+            s.push_str(", efficiency_dist=");
+            compact(&mut s, eff, 3);
+            s.push_str(", linear_time=");
+            compact(&mut s, lt, 1);
+            s.push_str(", odo_time=");
+            compact(&mut s, ot, 1);
+            s.push_str(", efficiency_time=");
+            compact(&mut s, et, 3);
+            s
+        };
+        let sfx = &self.suffix;
+        out.post(
+            format!("WPT_EFF_SUMM_LEG{sfx}"),
+            summary(lin, odo, dist_leg, lin_time, odo_time, time_leg),
+        );
+        out.post(
+            format!("WPT_EFF_SUMM_ALL{sfx}"),
+            summary(t[0], t[2], dist_all, t[1], t[3], time_all),
+        );
+        out.post(format!("WPT_EFF_DIST_ALL{sfx}"), dist_all);
+        out.post(format!("WPT_EFF_TIME_ALL{sfx}"), time_all);
+        out.post(format!("WPT_EFF_DIST_LEG{sfx}"), dist_leg);
+        out.post(format!("WPT_EFF_TIME_LEG{sfx}"), time_leg);
+        self.odo_mark = Some((here, now));
+        self.odo_leg = 0.0;
+    }
+
+    fn nextpt_view(&self, ctx: &Ctx<'_>, active: bool) -> String {
+        let label = format!("{}'s nextpt", ctx.ownship);
+        let mut s = String::new();
+        if !active {
+            ViewPoint::erase_spec(&label, &mut s);
+            return s;
+        }
+        let mut vp = ViewPoint::new(self.nextpt);
+        vp.attrs.label = label;
+        vp.attrs.label_color = Some(self.hint_nextpt_lcolor.clone());
+        vp.attrs.vertex_color = Some(self.hint_nextpt_color.clone());
+        vp.attrs.vertex_size = Some(self.hint_nextpt_vertex_size);
+        vp.spec(&mut s);
+        s
+    }
+
+    fn trackpt_view(&self, ctx: &Ctx<'_>, active: bool) -> String {
+        let label = format!("{}'s trackpt", ctx.ownship);
+        let mut s = String::new();
+        if !active {
+            ViewPoint::erase_spec(&label, &mut s);
+            return s;
+        }
+        let mut vp = ViewPoint::new(self.trackpt);
+        vp.attrs.label = label;
+        vp.attrs.label_color = Some(self.hint_nextpt_color.clone());
+        vp.attrs.vertex_color = Some(self.hint_nextpt_color.clone());
+        vp.attrs.vertex_size = Some(4.0);
+        vp.spec(&mut s);
+        s
+    }
+
+    fn seglist_view(&self, ctx: &Ctx<'_>, active: bool) -> String {
+        let mut v = ViewSegList::new(if active {
+            self.points.clone()
+        } else {
+            SegList::new()
+        });
+        v.precision = 3;
+        v.attrs.label = format!("{}_{}", ctx.ownship, ctx.name);
+        v.attrs.active = active;
+        if active {
+            v.attrs.vertex_color = Some(self.hint_vertex_color.clone());
+            v.attrs.edge_color = Some(self.hint_edge_color.clone());
+            v.attrs.edge_size = Some(self.hint_edge_size);
+            v.attrs.vertex_size = Some(self.hint_vertex_size);
+        }
+        v.to_spec()
+    }
+
+    fn post_status(&self, ctx: &Ctx<'_>, out: &mut Out) {
+        let (osx, osy, _, osv) = self.os;
+        let dist = (osx - self.nextpt.x).hypot(osy - self.nextpt.y);
+        let eta = dist / osv;
+        if self.var_report != "silent" {
+            let stat = format!(
+                "vname={},behavior-name={},index={},hits={}/{},cycles={},dist={:.0},eta={:.0}",
+                ctx.ownship,
+                ctx.name,
+                self.curr_ix,
+                self.capture_hits,
+                self.capture_hits + self.nonmono_hits,
+                self.cycles,
+                dist,
+                eta
+            );
+            out.post(format!("{}{}", self.var_report, self.suffix), stat);
+        }
+        if self.var_index != "silent" {
+            out.post(
+                format!("{}{}", self.var_index, self.suffix),
+                self.curr_ix as f64,
+            );
+        }
+    }
+
+    fn hint(&mut self, hint: &str) {
+        let (k, v) = hint.split_once('=').unwrap_or((hint, ""));
+        let (k, v) = (k.trim().to_ascii_lowercase(), v.trim());
+        let num = v.parse::<f64>().ok().filter(|d| *d >= 0.0);
+        match (k.as_str(), num) {
+            ("vertex_size", Some(d)) => self.hint_vertex_size = d,
+            ("edge_size", Some(d)) => self.hint_edge_size = d,
+            ("nextpt_vertex_size", Some(d)) => self.hint_nextpt_vertex_size = d,
+            ("vertex_color", _) if !v.is_empty() => self.hint_vertex_color = v.into(),
+            ("edge_color", _) if !v.is_empty() => self.hint_edge_color = v.into(),
+            ("nextpt_color", _) if !v.is_empty() => self.hint_nextpt_color = v.into(),
+            ("nextpt_lcolor", _) if !v.is_empty() => self.hint_nextpt_lcolor = v.into(),
+            // MOOS ignores hints it does not know.
+            _ => {}
+        }
+    }
+
+    fn build_of(&self, ctx: &Ctx<'_>, out: &mut Out) -> Option<IvpFunction> {
+        let (osx, osy, osh, _) = self.os;
+        let speed = self.effective_speed();
+        let spd = match self.ipf_type {
+            IpfType::Zaic => {
+                let mut z = ZaicPeak::new(ctx.domain, "speed").ok()?;
+                z.set_params(speed, speed / 2.0, 1.6, 20.0, 0.0, 100.0)
+                    .ok()?;
+                z.extract().ok()?
+            }
+            IpfType::ZaicSpd => {
+                let z =
+                    ZaicSpd::new(ctx.domain, "speed", speed, 0.1, speed + 0.4, 70.0, 20.0).ok()?;
+                z.extract().ok()?
+            }
+        };
+        let bearing = geometry::relative_angle(osx, osy, self.trackpt.x, self.trackpt.y);
+        let mut crs = ZaicPeak::new(ctx.domain, "course").ok()?;
+        crs.set_value_wrap(true);
+        crs.set_params(bearing, 0.0, 180.0, 50.0, 0.0, 100.0).ok()?;
+        crs.add_component(PeakComponent {
+            summit: osh,
+            peakwidth: 30.0,
+            basewidth: 180.0,
+            summitdelta: 5.0,
+            minutil: 0.0,
+            maxutil: 20.0,
+        })
+        .ok()?;
+        crs.set_combine(ivp::Combine::Sum);
+        let crs = crs.extract().ok()?;
+        match couple_weighted(&crs, &spd, self.patience, 100.0 - self.patience, true) {
+            Ok(f) => Some(f),
+            Err(e) => {
+                out.warning(ctx.name, &format!("Failure on the CRS_SPD COUPLER: {e}"));
+                None
+            }
+        }
+    }
+}
+
+impl Behavior for Waypoint {
+    fn kind(&self) -> &'static str {
+        "BHV_Waypoint"
+    }
+
+    fn set_param(
+        &mut self,
+        param: &str,
+        value: &str,
+        common: &mut Common,
+        ctx: &Ctx<'_>,
+    ) -> Result<(), ParamError> {
+        let v = value.trim();
+        let var_name = |v: &str| !v.is_empty() && !v.contains(char::is_whitespace);
+        match param {
+            "points" | "polygon" | "xpoints" => {
+                let (x, y) = nav(ctx.info).map_or((0.0, 0.0), |n| (n.0, n.1));
+                let parsed = parse_waypoints(v, x, y)
+                    .map_err(|_| ParamError::bad(param, value, "a point list or polygon"))?;
+                if parsed.seglist.is_empty() {
+                    return Err(ParamError::bad(param, value, "at least one point"));
+                }
+                let keep = param == "xpoints";
+                let ix = self.curr_ix;
+                self.set_points(parsed.seglist);
+                if keep && ix < self.points.len() {
+                    self.curr_ix = ix;
+                }
+            }
+            "point" => {
+                let p = if v.eq_ignore_ascii_case("start")
+                    || v.eq_ignore_ascii_case("present_position")
+                {
+                    let n = nav(ctx.info).ok_or_else(|| {
+                        ParamError::bad(param, value, "a point (no position known yet)")
+                    })?;
+                    Point::new(n.0, n.1)
+                } else {
+                    parse_point(v)
+                        .map_err(|_| ParamError::bad(param, value, "a point x,y"))?
+                        .point
+                };
+                self.set_points(SegList::from_points(vec![p]));
+            }
+            "newpt" => {
+                let p = parse_point(v).map_err(|_| ParamError::bad(param, value, "a point x,y"))?;
+                self.raw.push(p.point);
+                let ix = self.curr_ix;
+                self.points = self.raw.clone();
+                if self.reverse {
+                    self.points.reverse();
+                }
+                self.curr_ix = ix.min(self.points.len() - 1);
+                self.complete = false;
+            }
+            "speed" => {
+                let s = number_min(param, v, 0.0)?;
+                let max = ctx.domain.get("speed").map_or(s, |d| d.high());
+                self.speed = s.min(max);
+            }
+            "speed_alt" => {
+                let s = number(param, v)?;
+                let max = ctx.domain.get("speed").map_or(s, |d| d.high());
+                self.speed_alt = s.min(max);
+            }
+            "use_alt_speed" => self.use_alt_speed = boolean(param, v)?,
+            "currix" => {
+                let i = number_min(param, v, 0.0)? as usize;
+                if i < self.points.len() {
+                    self.curr_ix = i;
+                    self.cpa = None;
+                } else {
+                    return Err(ParamError::bad(
+                        param,
+                        value,
+                        "an index below the point count",
+                    ));
+                }
+            }
+            "wpt_status" | "wpt_status_var" if var_name(v) => {
+                self.var_report = if v.eq_ignore_ascii_case("silent") {
+                    "silent".into()
+                } else {
+                    v.into()
+                }
+            }
+            "wpt_index" | "wpt_index_var" if var_name(v) => {
+                self.var_index = if v.eq_ignore_ascii_case("silent") {
+                    "silent".into()
+                } else {
+                    v.into()
+                }
+            }
+            "cycle_index_var" if var_name(v) => {
+                self.var_cyindex = if v.eq_ignore_ascii_case("silent") {
+                    "silent".into()
+                } else {
+                    v.into()
+                }
+            }
+            "wpt_status" | "wpt_status_var" | "wpt_index" | "wpt_index_var" | "cycle_index_var" => {
+                return Err(ParamError::bad(param, value, "a variable name"));
+            }
+            "wpt_dist_to_prev" | "wpt_dist_to_next" => {
+                if v.contains(char::is_whitespace) {
+                    return Err(ParamError::bad(param, value, "a variable name"));
+                }
+                let name = if v.eq_ignore_ascii_case("silent") {
+                    String::new()
+                } else {
+                    v.to_string()
+                };
+                if param == "wpt_dist_to_prev" {
+                    self.var_dist_prev = name;
+                } else {
+                    self.var_dist_next = name;
+                }
+            }
+            "post_suffix" => {
+                if v.contains(char::is_whitespace) {
+                    return Err(ParamError::bad(param, value, "a suffix without spaces"));
+                }
+                self.suffix = if v.is_empty() || v.starts_with('_') {
+                    v.into()
+                } else {
+                    format!("_{v}")
+                };
+            }
+            "cycleflag" | "wptflag" => {
+                let f =
+                    Flag::parse(v).ok_or_else(|| ParamError::bad(param, value, "VAR = value"))?;
+                if param == "cycleflag" {
+                    self.cycle_flags.push(f);
+                } else {
+                    self.wpt_flags.push(f);
+                }
+            }
+            "wptflag_on_start" => self.wptflag_on_start = boolean(param, v)?,
+            "ipf_type" | "ipf-type" => {
+                self.ipf_type = match v.to_ascii_lowercase().as_str() {
+                    "zaic" => IpfType::Zaic,
+                    "zaic_spd" => IpfType::ZaicSpd,
+                    _ => return Err(ParamError::bad(param, value, "zaic or zaic_spd")),
+                }
+            }
+            "lead" => {
+                let d = number(param, v)?;
+                self.lead = if d <= 0.0 { -1.0 } else { d };
+            }
+            "lead_damper" => {
+                let d = number(param, v)?;
+                self.lead_damper = if d <= 0.0 { -1.0 } else { d };
+            }
+            "lead_to_start" => self.lead_to_start = boolean(param, v)?,
+            "order" => {
+                let l = v.to_ascii_lowercase();
+                self.reverse = match l.as_str() {
+                    "normal" => false,
+                    "reverse" | "reversed" => true,
+                    "toggle" => !self.reverse,
+                    _ => return Err(ParamError::bad(param, value, "normal, reverse or toggle")),
+                };
+                self.apply_order();
+            }
+            "repeat" => {
+                if v.eq_ignore_ascii_case("forever") {
+                    common.perpetual = true;
+                    self.endless = true;
+                } else {
+                    let r = number_min(param, v, 0.0)?;
+                    if r.fract() != 0.0 {
+                        return Err(ParamError::bad(param, value, "a whole number or forever"));
+                    }
+                    if r > 0.0 {
+                        common.perpetual = true;
+                    }
+                    self.repeats = r as u32;
+                    self.endless = false;
+                }
+            }
+            "radius" | "capture_radius" => {
+                let d = number(param, v)?;
+                if d <= 0.0 {
+                    return Err(ParamError::bad(param, value, "a positive radius"));
+                }
+                self.capture_radius = d;
+            }
+            "nm_radius" | "slip_radius" => self.slip_radius = number_min(param, v, 0.0)?,
+            "capture_line" => match v.to_ascii_lowercase().as_str() {
+                "absolute" => {
+                    self.capture_line = true;
+                    self.capture_radius = 0.0;
+                    self.slip_radius = 0.0;
+                }
+                _ => self.capture_line = boolean(param, v)?,
+            },
+            "crs_spd_zaic_ratio" | "patience" => {
+                let d = number(param, v)?;
+                if !(1.0..=99.0).contains(&d) {
+                    return Err(ParamError::bad(param, value, "a number in [1, 99]"));
+                }
+                self.patience = d;
+            }
+            "efficiency_measure" => {
+                self.efficiency = match v.to_ascii_lowercase().as_str() {
+                    "all" => true,
+                    "off" => false,
+                    _ => return Err(ParamError::bad(param, value, "all or off")),
+                }
+            }
+            "visual_hints" => {
+                for h in v.split(',') {
+                    self.hint(h);
+                }
+            }
+            "greedy_tour"
+            | "shortest_tour"
+            | "draw_path_loop"
+            | "reset_on_idle"
+            | "eager_prev_index_flag"
+            | "end_spd"
+            | "lead_condition" => {
+                return Err(ParamError::bad(
+                    param,
+                    value,
+                    "a parameter coug does not support yet",
+                ));
+            }
+            _ => return Err(ParamError::unknown(param)),
+        }
+        Ok(())
+    }
+
+    fn on_idle_to_run(&mut self, _ctx: &Ctx<'_>, _out: &mut Out) {
+        self.odo_prev = None;
+        self.odo_mark = None;
+    }
+
+    fn on_run_to_idle(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
+        out.post_key(
+            "VIEW_POINT",
+            self.trackpt_view(ctx, false),
+            PostKey::Tag("trk"),
+        );
+        out.post_key(
+            "VIEW_POINT",
+            self.nextpt_view(ctx, false),
+            PostKey::Tag("wpt"),
+        );
+        out.post("VIEW_SEGLIST", self.seglist_view(ctx, false));
+        self.cpa = None;
+        if !self.var_dist_prev.is_empty() {
+            out.post(self.var_dist_prev.clone(), -1.0);
+        }
+        if !self.var_dist_next.is_empty() {
+            out.post(self.var_dist_next.clone(), -1.0);
+        }
+    }
+
+    fn on_run(&mut self, ctx: &Ctx<'_>, out: &mut Out) -> Option<IvpFunction> {
+        let Some(os) = nav(ctx.info) else {
+            out.post_key(
+                "VIEW_POINT",
+                self.nextpt_view(ctx, false),
+                PostKey::Tag("wpt"),
+            );
+            out.error("No ownship X/Y/heading info in info_buffer.");
+            return None;
+        };
+        self.os = os;
+        let here = Point::new(os.0, os.1);
+        if let Some(p) = self.odo_prev {
+            self.odo_leg += here.dist(&p);
+        }
+        self.odo_prev = Some(here);
+
+        let this = self.points.get(self.curr_ix);
+        if self.prevpt.is_none() {
+            self.prevpt = Some(here);
+        }
+        if !self.started {
+            self.started = true;
+            if self.wptflag_on_start {
+                self.hitpt = here;
+                if let Some(p) = this {
+                    self.nextpt = p;
+                }
+                self.post_wpt_flags(out);
+            }
+        }
+        let next_point = self.set_next_waypoint(ctx, out);
+        let next = self.points.get(self.curr_ix);
+        if let (Some(t), Some(n)) = (this, next)
+            && (t.x != n.x || t.y != n.y)
+        {
+            self.prevpt = Some(t);
+            self.hitpt = t;
+            self.post_wpt_flags(out);
+        }
+        if self.var_cyindex != "silent" {
+            out.post(
+                format!("{}{}", self.var_cyindex, self.suffix),
+                f64::from(self.cycles),
+            );
+        }
+        if !next_point {
+            out.post_key(
+                "VIEW_POINT",
+                self.nextpt_view(ctx, false),
+                PostKey::Tag("wpt"),
+            );
+            return None;
+        }
+        self.post_status(ctx, out);
+        out.post("VIEW_SEGLIST", self.seglist_view(ctx, true));
+        out.post_key(
+            "VIEW_POINT",
+            self.nextpt_view(ctx, true),
+            PostKey::Tag("wpt"),
+        );
+        let far = self.nextpt.dist(&self.trackpt) > 5.0;
+        out.post_key(
+            "VIEW_POINT",
+            self.trackpt_view(ctx, far),
+            PostKey::Tag("trk"),
+        );
+        if !self.var_dist_prev.is_empty() {
+            let d = self.prevpt.map_or(-1.0, |p| p.dist(&here));
+            out.post(self.var_dist_prev.clone(), d);
+        }
+        if !self.var_dist_next.is_empty() {
+            out.post(self.var_dist_next.clone(), self.nextpt.dist(&here));
+        }
+        self.build_of(ctx, out)
+    }
+
+    fn macro_value(&self, name: &str, out: &mut String) -> bool {
+        let n = self.points.len();
+        match name {
+            "SPEED" => compact(out, self.speed, 2),
+            "X" => compact(out, self.hitpt.x, 2),
+            "Y" => compact(out, self.hitpt.y, 2),
+            "PX" => compact(out, self.prevpt.map_or(self.hitpt.x, |p| p.x), 2),
+            "PY" => compact(out, self.prevpt.map_or(self.hitpt.y, |p| p.y), 2),
+            "NX" => compact(out, self.nextpt.x, 2),
+            "NY" => compact(out, self.nextpt.y, 2),
+            "IX" | "NI" => compact(out, self.curr_ix as f64, 0),
+            "CYCLES" => compact(out, f64::from(self.cycles), 0),
+            "CYCREM" => compact(
+                out,
+                f64::from(self.repeats.saturating_sub(self.repeats_sofar)),
+                0,
+            ),
+            "WPTS_HIT" => compact(out, f64::from(self.capture_hits + self.nonmono_hits), 0),
+            "WPTS" => compact(out, n as f64, 0),
+            "WPTS_REM" => compact(out, n.saturating_sub(self.curr_ix) as f64, 0),
+            _ => return false,
+        }
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::behavior::{Emit, MapInfo};
+    use ivp::{Domain, Problem};
+
+    fn domain() -> Domain {
+        Domain::parse_specs(["course:0:359:360", "speed:0:4:41"]).unwrap()
+    }
+
+    fn info(x: f64, y: f64, h: f64) -> MapInfo {
+        MapInfo::new(0.0)
+            .num("NAV_X", x)
+            .num("NAV_Y", y)
+            .num("NAV_HEADING", h)
+            .num("NAV_SPEED", 1.0)
+    }
+
+    fn configure(w: &mut Waypoint, c: &mut Common, params: &[(&str, &str)]) {
+        let d = domain();
+        let i = info(0.0, 0.0, 0.0);
+        let ctx = Ctx {
+            info: &i,
+            domain: &d,
+            ownship: "abe",
+            name: "wpt",
+            perpetual: false,
+        };
+        for (k, v) in params {
+            w.set_param(k, v, c, &ctx).unwrap();
+        }
+    }
+
+    /// Runs one iteration at (x, y, heading); returns (course, speed) or None.
+    fn run(
+        w: &mut Waypoint,
+        c: &Common,
+        x: f64,
+        y: f64,
+        h: f64,
+        out: &mut Out,
+    ) -> Option<(f64, f64)> {
+        let d = domain();
+        let i = info(x, y, h);
+        let ctx = Ctx {
+            info: &i,
+            domain: &d,
+            ownship: "abe",
+            name: "wpt",
+            perpetual: c.perpetual,
+        };
+        let f = w.on_run(&ctx, out)?;
+        let mut p = Problem::new(d.clone());
+        p.add("wpt", f.with_pwt(100.0)).unwrap();
+        let dec = p.solve().unwrap();
+        Some((dec.get("course").unwrap(), dec.get("speed").unwrap()))
+    }
+
+    fn posted<'a>(out: &'a Out, var: &str) -> Vec<&'a crate::Value> {
+        out.emits
+            .iter()
+            .filter_map(|e| match e {
+                Emit::Post { var: v, value, .. } if v == var => Some(value),
+                _ => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn point_due_east_gives_course_90_at_configured_speed() {
+        let (mut w, mut c) = (Waypoint::new(), Common::new("BHV_Waypoint"));
+        configure(&mut w, &mut c, &[("points", "100,0"), ("speed", "2.5")]);
+        let mut out = Out::default();
+        // Heading north: the heading-keeping component must not pull the course away.
+        assert_eq!(run(&mut w, &c, 0.0, 0.0, 0.0, &mut out), Some((90.0, 2.5)));
+        let stat = posted(&out, "WPT_STAT");
+        assert_eq!(
+            stat[0].as_str(),
+            Some("vname=abe,behavior-name=wpt,index=0,hits=0/0,cycles=0,dist=100,eta=100")
+        );
+        assert_eq!(posted(&out, "WPT_INDEX")[0].as_num(), Some(0.0));
+        let seglist = posted(&out, "VIEW_SEGLIST")[0].as_str().unwrap();
+        assert!(
+            seglist.starts_with("pts={100,0},label=abe_wpt"),
+            "{seglist}"
+        );
+    }
+
+    #[test]
+    fn inside_capture_radius_the_next_point_is_taken() {
+        let (mut w, mut c) = (Waypoint::new(), Common::new("BHV_Waypoint"));
+        configure(
+            &mut w,
+            &mut c,
+            &[
+                ("points", "0,100:100,100"),
+                ("speed", "2"),
+                ("capture_radius", "5"),
+            ],
+        );
+        let mut out = Out::default();
+        let (course, _) = run(&mut w, &c, 0.0, 0.0, 0.0, &mut out).unwrap();
+        assert_eq!(course, 0.0);
+        // 6 m short: still seeking point 0.
+        run(&mut w, &c, 0.0, 94.0, 0.0, &mut out).unwrap();
+        assert_eq!(w.current_index(), 0);
+        // 4 m short: captured; now heading east to (100, 100).
+        let (course, _) = run(&mut w, &c, 0.0, 96.0, 0.0, &mut out).unwrap();
+        assert_eq!(w.current_index(), 1);
+        assert!((course - 88.0).abs() <= 1.0, "course {course}");
+    }
+
+    #[test]
+    fn slip_radius_counts_as_arrival_when_moving_away() {
+        let (mut w, mut c) = (Waypoint::new(), Common::new("BHV_Waypoint"));
+        configure(
+            &mut w,
+            &mut c,
+            &[
+                ("points", "0,100:0,200"),
+                ("capture_radius", "3"),
+                ("slip_radius", "15"),
+            ],
+        );
+        let mut out = Out::default();
+        run(&mut w, &c, 10.0, 90.0, 0.0, &mut out);
+        run(&mut w, &c, 10.0, 100.0, 0.0, &mut out); // closest: 10 m, inside slip radius
+        assert_eq!(w.current_index(), 0);
+        run(&mut w, &c, 10.0, 102.0, 0.0, &mut out); // moving away: non-monotonic arrival
+        assert_eq!(w.current_index(), 1);
+
+        // With a CPA outside the slip radius, moving away is not an arrival.
+        let (mut w, mut c) = (Waypoint::new(), Common::new("BHV_Waypoint"));
+        configure(&mut w, &mut c, &[("points", "0,100:0,200")]);
+        run(&mut w, &c, 20.0, 100.0, 0.0, &mut out);
+        run(&mut w, &c, 20.0, 104.0, 0.0, &mut out);
+        assert_eq!(w.current_index(), 0);
+    }
+
+    #[test]
+    fn capture_line_advances_once_past_the_perpendicular() {
+        let (mut w, mut c) = (Waypoint::new(), Common::new("BHV_Waypoint"));
+        configure(
+            &mut w,
+            &mut c,
+            &[
+                ("points", "0,100:0,200"),
+                ("capture_line", "true"),
+                ("slip_radius", "0"),
+            ],
+        );
+        let mut out = Out::default();
+        run(&mut w, &c, 0.0, 0.0, 0.0, &mut out);
+        run(&mut w, &c, 40.0, 99.0, 0.0, &mut out);
+        assert_eq!(w.current_index(), 0);
+        run(&mut w, &c, 40.0, 100.5, 0.0, &mut out);
+        assert_eq!(w.current_index(), 1);
+    }
+
+    #[test]
+    fn lead_and_damper_move_the_aim_point() {
+        // Leg (0,0) -> (0,100); vehicle 10 m east of the line at y = 30.
+        let run_lead = |params: &[(&str, &str)]| {
+            let (mut w, mut c) = (Waypoint::new(), Common::new("BHV_Waypoint"));
+            let mut all = vec![("points", "0,0:0,100")];
+            all.extend_from_slice(params);
+            configure(&mut w, &mut c, &all);
+            let mut out = Out::default();
+            run(&mut w, &c, 0.0, -1.0, 0.0, &mut out); // captures (0,0)
+            assert_eq!(w.current_index(), 1);
+            run(&mut w, &c, 10.0, 30.0, 0.0, &mut out);
+            w.track_point()
+        };
+        // No lead: aim at the point itself.
+        assert_eq!(run_lead(&[]), Point::new(0.0, 100.0));
+        // lead 20: 20 m ahead of the perpendicular foot (0, 30).
+        assert_eq!(run_lead(&[("lead", "20")]), Point::new(0.0, 50.0));
+        // damper 20 at 10 m off the line: factor 1 + 2*(1 - 10/20) = 2 -> 40 m ahead.
+        assert_eq!(
+            run_lead(&[("lead", "20"), ("lead_damper", "20")]),
+            Point::new(0.0, 70.0)
+        );
+        // Beyond the damper distance the lead is unchanged.
+        assert_eq!(
+            run_lead(&[("lead", "20"), ("lead_damper", "5")]),
+            Point::new(0.0, 50.0)
+        );
+    }
+
+    #[test]
+    fn last_point_completes_or_cycles_with_repeat() {
+        let (mut w, mut c) = (Waypoint::new(), Common::new("BHV_Waypoint"));
+        configure(
+            &mut w,
+            &mut c,
+            &[("points", "0,10"), ("cycleflag", "LAP = $[CYCLES]")],
+        );
+        let mut out = Out::default();
+        assert!(run(&mut w, &c, 0.0, 9.0, 0.0, &mut out).is_none());
+        assert!(out.completed);
+        assert_eq!(
+            posted(&out, "WPT_STAT")[0].as_str(),
+            Some("behavior-name=wpt,completed")
+        );
+        assert!(
+            out.emits
+                .iter()
+                .any(|e| matches!(e, Emit::Flag { flag, .. } if flag.var == "LAP"))
+        );
+
+        let (mut w, mut c) = (Waypoint::new(), Common::new("BHV_Waypoint"));
+        configure(&mut w, &mut c, &[("points", "0,10:0,20"), ("repeat", "1")]);
+        assert!(c.perpetual, "repeat > 0 makes the behaviour perpetual");
+        let mut out = Out::default();
+        run(&mut w, &c, 0.0, 9.0, 0.0, &mut out);
+        run(&mut w, &c, 0.0, 19.0, 0.0, &mut out);
+        assert!(!out.completed);
+        assert_eq!(w.cycles(), 1);
+        assert_eq!(w.current_index(), 0);
+        run(&mut w, &c, 0.0, 9.0, 0.0, &mut out);
+        let mut out = Out::default();
+        assert!(run(&mut w, &c, 0.0, 19.0, 0.0, &mut out).is_none());
+        assert!(out.completed);
+    }
+
+    #[test]
+    fn reverse_order_polygon_form_and_alt_speed() {
+        let (mut w, mut c) = (Waypoint::new(), Common::new("BHV_Waypoint"));
+        configure(
+            &mut w,
+            &mut c,
+            &[
+                ("polygon", "60,-40:60,-160:150,-160:180,-100:150,-40"),
+                ("order", "reverse"),
+                ("speed", "3"),
+                ("speed_alt", "1.2"),
+                ("use_alt_speed", "true"),
+            ],
+        );
+        assert_eq!(w.points().get(0), Some(Point::new(150.0, -40.0)));
+        let mut out = Out::default();
+        let (_, speed) = run(&mut w, &c, 0.0, 0.0, 90.0, &mut out).unwrap();
+        assert!((speed - 1.2).abs() < 1e-9, "speed {speed}");
+        let mut s = String::new();
+        assert!(w.macro_value("NX", &mut s));
+        assert_eq!(s, "150");
+    }
+
+    #[test]
+    fn bad_values_are_typed_errors() {
+        let (mut w, mut c) = (Waypoint::new(), Common::new("BHV_Waypoint"));
+        let d = domain();
+        let i = info(0.0, 0.0, 0.0);
+        let ctx = Ctx {
+            info: &i,
+            domain: &d,
+            ownship: "abe",
+            name: "wpt",
+            perpetual: false,
+        };
+        for (k, v) in [
+            ("capture_radius", "0"),
+            ("speed", "fast"),
+            ("order", "sideways"),
+            ("repeat", "-1"),
+            ("points", "not a point"),
+            ("patience", "100"),
+        ] {
+            assert!(
+                matches!(
+                    w.set_param(k, v, &mut c, &ctx),
+                    Err(ParamError::BadValue { .. })
+                ),
+                "{k} = {v}"
+            );
+        }
+        assert_eq!(
+            w.set_param("capture_radiuss", "3", &mut c, &ctx),
+            Err(ParamError::unknown("capture_radiuss"))
+        );
+        // A rejected value leaves the old one.
+        assert_eq!(w.capture_radius, 3.0);
+    }
+}
