@@ -95,11 +95,11 @@ pub fn parse(text: &str) -> Result<Alog, AlogError> {
     for (i, raw) in text.lines().enumerate() {
         let line_no = i + 1;
         let line = raw.strip_suffix('\r').unwrap_or(raw);
-        if let Some(rest) = line.strip_prefix("%%") {
-            if log.entries.is_empty() {
-                banner_line(&mut log, rest.trim(), line_no)?;
-                continue;
-            }
+        if let Some(rest) = line.strip_prefix("%%")
+            && log.entries.is_empty()
+        {
+            banner_line(&mut log, rest.trim(), line_no)?;
+            continue;
         }
         if line.trim().is_empty() && log.entries.is_empty() {
             continue;
