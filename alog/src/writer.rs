@@ -330,11 +330,11 @@ mod tests {
         );
         let mut w = AlogWriter::new(Vec::new(), &header(false)).unwrap();
         w.set_double_precision(2);
-        w.record(1786054976.123456, "X", "a", Value::Double(2.71828))
+        w.record(1786054976.123456, "X", "a", Value::Double(4.56789))
             .unwrap();
         let text = String::from_utf8(w.into_inner()).unwrap();
         assert!(
-            text.ends_with("1.00000         X                    a               2.72         \n"),
+            text.ends_with("1.00000         X                    a               4.57         \n"),
             "{text}"
         );
     }
