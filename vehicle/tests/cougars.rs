@@ -94,6 +94,25 @@ fn dive_to_3m_with_coug1_gains_reaches_and_holds() {
 }
 
 #[test]
+fn dive_with_coug2_gains_too() {
+    // coug2: pitch kd 0.7 and no integral terms; the dirty derivative works on the model's
+    // pitch rate in degrees/s.
+    let mut d = Dive::new(CougarsConfig::coug2());
+    let mut max_depth: f64 = 0.0;
+    while d.t < 400.0 {
+        let cmd = d.tick(3.0, 90.0);
+        assert!(cmd.fin[2].abs() <= 40.0 && cmd.fin[0].abs() <= 35.0);
+        max_depth = max_depth.max(d.veh.depth);
+    }
+    assert!(
+        (d.veh.depth - 3.0).abs() < 0.2,
+        "final depth {}",
+        d.veh.depth
+    );
+    assert!(max_depth < 3.2, "overshoot to {max_depth}");
+}
+
+#[test]
 fn large_depth_error_uses_saturated_mode() {
     let mut d = Dive::new(CougarsConfig::coug1());
     d.tick(10.0, 90.0);
@@ -217,6 +236,10 @@ fn pitch_loop_gain_schedule_and_anti_windup() {
     );
     // Seconds, not milliseconds: beta of the dirty derivative for Ts = 0.08 s.
     assert!((p.beta() - (0.1 - 0.08) / (0.1 + 0.08)).abs() < 1e-12);
+    assert!(p.beta() > 0.0, "a low-pass filter");
+    // What the original's Ts = 80 ("ms" used as seconds) gave: an oscillating filter.
+    let bug = CougPid::new(Gains::new(1.0, 0.0, 0.0, 1.0), 80.0);
+    assert!((bug.beta() + 0.9975).abs() < 1e-4);
     let g = Gains::new(1.0, 0.0002, 0.5, 10.0).from_ms_tuned();
     assert!((g.ki - 0.2).abs() < 1e-12 && (g.kd - 0.0005).abs() < 1e-12);
 }
