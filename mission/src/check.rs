@@ -3,7 +3,9 @@
 //! - an unknown behaviour type (warning),
 //! - a parameter unknown to a known behaviour type or to pHelmIvP's ProcessConfig (error: the
 //!   real helm treats it as a configuration warning and refuses to drive, MALCONFIG),
-//! - a condition or mode that tests a variable nothing initializes or posts (warning).
+//! - a condition or mode that tests a variable nothing initializes or posts (warning),
+//! - a behaviour condition testing a mode variable for a value no `set` block gives
+//!   (`MODE == SURVEYNG`; warning).
 //!
 //! A `.moos` file's pHelmIvP `behaviors = FILE` entries are checked too (resolved beside the
 //! `.moos` file) unless they were named on the command line already. Variables posted by the
@@ -24,10 +26,11 @@ use std::path::{Path, PathBuf};
 
 use crate::bhv::{BehaviorFile, param_name, parse_bhv};
 use crate::catalog::{self, WELL_KNOWN_VARS};
+use crate::condition::{Condition, Operand, RelOp};
 use crate::diagnostic::{Diagnostic, DiagnosticKind};
 use crate::moos::{MissionFile, parse_moos};
 use crate::nsplug::{Options, preprocess};
-use crate::source::{FileSource, Span};
+use crate::source::{FileSource, SourceMap, Span};
 
 /// A parsed file of a check run.
 enum Parsed {
@@ -45,6 +48,7 @@ pub fn is_bhv(path: &Path) -> bool {
 pub fn check_files(fs: &dyn FileSource, paths: &[PathBuf], opts: &Options) -> Vec<Diagnostic> {
     let mut out = Vec::new();
     let mut parsed = Vec::new();
+    let mut sources: Vec<SourceMap> = Vec::new();
     let mut queue: Vec<(PathBuf, Option<Span>)> = paths.iter().map(|p| (p.clone(), None)).collect();
     let mut seen: HashSet<PathBuf> = paths.iter().map(|p| crate::source::normalize(p)).collect();
     let mut i = 0;
@@ -88,6 +92,7 @@ pub fn check_files(fs: &dyn FileSource, paths: &[PathBuf], opts: &Options) -> Ve
             let p = parse_bhv(&pre.source);
             out.extend(p.diagnostics);
             parsed.push(Parsed::Bhv(p.value));
+            sources.push(pre.source);
         } else {
             let p = parse_moos(&pre.source);
             out.extend(p.diagnostics);
@@ -101,6 +106,7 @@ pub fn check_files(fs: &dyn FileSource, paths: &[PathBuf], opts: &Options) -> Ve
                 }
             }
             parsed.push(Parsed::Moos(p.value));
+            sources.push(pre.source);
         }
     }
 
@@ -117,10 +123,77 @@ pub fn check_files(fs: &dyn FileSource, paths: &[PathBuf], opts: &Options) -> Ve
             Parsed::Bhv(b) => {
                 check_behaviors(b, &mut out);
                 check_variables(b, &known, &mut out);
+                check_mode_values(b, &mut out);
             }
         }
     }
+    attach_source_lines(&mut out, &sources);
     out
+}
+
+/// Gives every finding that lacks it the text of its line, for the caret rendering.
+fn attach_source_lines(out: &mut [Diagnostic], sources: &[SourceMap]) {
+    for d in out.iter_mut().filter(|d| d.source_line.is_none()) {
+        let line = sources
+            .iter()
+            .flat_map(|s| s.lines())
+            .find(|l| std::sync::Arc::ptr_eq(&l.file, &d.span.file) && l.line == d.span.line);
+        if let Some(l) = line {
+            d.source_line = Some(l.text.clone());
+        }
+    }
+}
+
+/// Behaviour conditions such as `MODE == SURVEYING` on a mode variable declared by this
+/// file's `set` blocks must name values those blocks can produce (a typo never matches).
+fn check_mode_values(b: &BehaviorFile, out: &mut Vec<Diagnostic>) {
+    for spec in &b.behaviors {
+        for c in &spec.conditions {
+            let mut bad = Vec::new();
+            mode_refs(&c.condition, &mut |var, value| {
+                let values: Vec<&str> = b
+                    .modes
+                    .iter()
+                    .filter(|m| m.var == var)
+                    .flat_map(|m| std::iter::once(m.value.as_str()).chain(m.else_value.as_deref()))
+                    .collect();
+                if values.is_empty() {
+                    return;
+                }
+                if let Some(part) = value
+                    .split(':')
+                    .map(str::trim)
+                    .find(|p| !values.contains(p))
+                {
+                    bad.push((var.to_string(), part.to_string(), values.join(", ")));
+                }
+            });
+            for (var, part, values) in bad {
+                out.push(Diagnostic::warning(
+                    DiagnosticKind::UnknownMode,
+                    c.span.clone(),
+                    format!(
+                        "condition tests {var} for `{part}`, a value no `set {var}` block gives \
+                         (the blocks give: {values})"
+                    ),
+                ));
+            }
+        }
+    }
+}
+
+/// Calls `f(var, value)` for every `VAR = value` / `VAR == value` / `VAR != value` relation.
+fn mode_refs<'a>(c: &'a Condition, f: &mut impl FnMut(&'a str, &'a str)) {
+    match c {
+        Condition::And(v) | Condition::Or(v) => v.iter().for_each(|c| mode_refs(c, f)),
+        Condition::Not(c) => mode_refs(c, f),
+        Condition::Compare {
+            lhs: Operand::Var(var),
+            op: RelOp::Eq | RelOp::FieldEq | RelOp::Ne,
+            rhs: Operand::Str(value),
+        } if !value.contains('$') => f(var, value),
+        Condition::Compare { .. } => {}
+    }
 }
 
 fn check_helm_config(m: &MissionFile, out: &mut Vec<Diagnostic>) {

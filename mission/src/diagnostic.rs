@@ -64,6 +64,8 @@ pub enum DiagnosticKind {
     UnknownParameter,
     /// A condition or mode uses a variable that nothing initializes or posts.
     UnknownVariable,
+    /// A condition tests a mode variable for a value that no `set` block gives.
+    UnknownMode,
 }
 
 /// One finding: severity, kind, where, what was found, what was expected.

@@ -234,3 +234,32 @@ fn check_reports_unknown_types_parameters_and_variables() {
         2
     );
 }
+
+#[test]
+fn check_warns_about_mode_values_no_set_block_gives() {
+    let fs = MemorySource::new().with(
+        "m.bhv",
+        "initialize DEPLOY = false\nset MODE = ACTIVE {\n  DEPLOY = true\n} INACTIVE\n\
+         set MODE = SURVEYING {\n  MODE = ACTIVE\n}\n\
+         Behavior = BHV_Loiter\n{\n  condition = MODE == ACTIVE:SURVEYNG\n}\n\
+         Behavior = BHV_Loiter\n{\n  condition = (MODE == ACTIVE:SURVEYING) or (MODE = INACTIVE)\n}\n",
+    );
+    let findings = check_files(&fs, &["m.bhv".into()], &Options::new());
+    assert_eq!(findings.len(), 1, "{findings:#?}");
+    let d = &findings[0];
+    assert_eq!(
+        (d.kind, d.severity),
+        (DiagnosticKind::UnknownMode, Severity::Warning)
+    );
+    assert_eq!(
+        d.to_string(),
+        "m.bhv:10:15: warning: condition tests MODE for `SURVEYNG`, a value no `set MODE` block gives (the blocks give: ACTIVE, INACTIVE, SURVEYING)"
+    );
+    // Check findings carry their source line for the caret rendering.
+    assert!(
+        d.render()
+            .ends_with("10 |   condition = MODE == ACTIVE:SURVEYNG\n    |               ^"),
+        "{}",
+        d.render()
+    );
+}
