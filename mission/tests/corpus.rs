@@ -120,8 +120,14 @@ fn every_corpus_file_parses_and_macro_free_files_have_no_errors() {
     assert_eq!(n_free, 181, "MACROS.txt lists 181 macro-free files");
     // Regression guards for the templates read without their macros: only
     // m9_indigo/meta_shoreside.moos (its plug file is not in the corpus) may fail.
-    assert!(pre_fail <= 1, "{pre_fail} templates failed preprocessing (baseline 1)");
-    assert!(with_errors <= 1, "{with_errors} files with errors (baseline 1)");
+    assert!(
+        pre_fail <= 1,
+        "{pre_fail} templates failed preprocessing (baseline 1)"
+    );
+    assert!(
+        with_errors <= 1,
+        "{with_errors} files with errors (baseline 1)"
+    );
     assert!(
         failures.is_empty(),
         "macro-free files with errors:\n{}",
