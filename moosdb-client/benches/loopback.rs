@@ -29,7 +29,14 @@ async fn connect(port: u16, name: &str) -> (Client, moosdb_client::MailStream) {
 /// Runs `n` messages from one publisher to `subs` subscribers. With `rate = None` the
 /// publisher goes as fast as a bounded in-flight window allows (throughput); with a rate it
 /// paces itself (latency).
-async fn run(port: u16, subs: usize, n: u64, rate: Option<f64>, tag: &str) -> Figures {
+async fn run(
+    server: &Server,
+    port: u16,
+    subs: usize,
+    n: u64,
+    rate: Option<f64>,
+    tag: &str,
+) -> Figures {
     let epoch = Instant::now();
     let var = format!("BENCH_{tag}");
     let received = Arc::new(AtomicU64::new(0));
@@ -57,7 +64,9 @@ async fn run(port: u16, subs: usize, n: u64, rate: Option<f64>, tag: &str) -> Fi
         }));
     }
     let (publ, _pm) = connect(port, &format!("pub_{tag}")).await;
-    tokio::time::sleep(Duration::from_millis(300)).await;
+    while server.with_db(|db| db.subscribers(&var).len()) < subs {
+        tokio::time::sleep(Duration::from_millis(10)).await;
+    }
     let payload = Bytes::from(vec![b'x'; PAYLOAD]);
     let start = Instant::now();
     let window = 2000 * subs as u64;
@@ -119,7 +128,15 @@ fn main() {
             "case", "msgs/s", "deliveries/s", "median us", "p99 us"
         );
         for (subs, label) in [(1usize, "1 pub -> 1 sub"), (10, "1 pub -> 10 subs")] {
-            let tp = run(port, subs, n_tp / subs as u64, None, &format!("tp{subs}")).await;
+            let tp = run(
+                &server,
+                port,
+                subs,
+                n_tp / subs as u64,
+                None,
+                &format!("tp{subs}"),
+            )
+            .await;
             println!(
                 "{:<34} {:>12.0} {:>14.0} {:>10.0} {:>10.0}",
                 format!("{label}, max rate"),
@@ -128,7 +145,15 @@ fn main() {
                 tp.median_us,
                 tp.p99_us
             );
-            let lat = run(port, subs, n_lat, Some(1000.0), &format!("lat{subs}")).await;
+            let lat = run(
+                &server,
+                port,
+                subs,
+                n_lat,
+                Some(1000.0),
+                &format!("lat{subs}"),
+            )
+            .await;
             println!(
                 "{:<34} {:>12.0} {:>14.0} {:>10.0} {:>10.0}",
                 format!("{label}, 1000 msg/s paced"),

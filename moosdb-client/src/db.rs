@@ -613,6 +613,19 @@ impl Database {
         (v.written_to > 0).then(|| v.to_msg(k))
     }
 
+    /// Names of the clients subscribed to `key`, sorted.
+    pub fn subscribers(&self, key: &str) -> Vec<String> {
+        self.vars
+            .get(key.as_bytes())
+            .map(|v| {
+                v.subscribers
+                    .keys()
+                    .map(|k| String::from_utf8_lossy(k).into_owned())
+                    .collect()
+            })
+            .unwrap_or_default()
+    }
+
     /// Names of all variables (written or only registered), sorted.
     pub fn var_names(&self) -> Vec<String> {
         self.vars

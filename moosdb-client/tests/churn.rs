@@ -74,7 +74,13 @@ async fn churn_never_blocks_handshakes_or_mail() {
         .unwrap()
         .unwrap();
     sub.register("TICK", 0.0);
-    tokio::time::sleep(Duration::from_millis(300)).await;
+    timeout(Duration::from_secs(10), async {
+        while !srv.with_db(|db| db.subscribers("TICK").contains(&"churn_sub".to_string())) {
+            tokio::time::sleep(Duration::from_millis(10)).await;
+        }
+    })
+    .await
+    .expect("subscription in place");
 
     let stop = Arc::new(AtomicBool::new(false));
     let publ = Arc::new(publ);

@@ -40,6 +40,17 @@ async fn client(srv: &Server, name: &str) -> (Client, MailStream) {
     (c, m)
 }
 
+/// Waits (bounded) until `client` is (or is no longer) subscribed to `key` in the DB.
+async fn subscribed(srv: &Server, client: &str, key: &str, yes: bool) {
+    timeout(WAIT, async {
+        while srv.with_db(|db| db.subscribers(key).iter().any(|c| c == client)) != yes {
+            tokio::time::sleep(Duration::from_millis(10)).await;
+        }
+    })
+    .await
+    .unwrap_or_else(|_| panic!("{client} subscription to {key} never became {yes}"));
+}
+
 /// The next mail for `key`, skipping other variables.
 async fn next_for(mail: &mut MailStream, key: &str) -> Message {
     timeout(WAIT, async {
@@ -63,15 +74,9 @@ async fn register_notify_wildcard_unregister() {
     sub.register("S", 0.0);
     sub.register("B", 0.0);
     sub.register("DONE", 0.0);
-    // Registration travels before the first post: wait for it to be in place.
-    timeout(WAIT, async {
-        while srv.with_db(|db| db.client_id("sub").is_none()) {
-            tokio::task::yield_now().await;
-        }
-    })
-    .await
-    .unwrap();
-    tokio::time::sleep(Duration::from_millis(300)).await;
+    for k in ["X", "S", "B", "DONE"] {
+        subscribed(&srv, "sub", k, true).await;
+    }
 
     publ.notify("X", Value::Double(1.5)).unwrap();
     publ.notify_with("S", Value::string("hello"), Some(123.0), "aux:1")
@@ -95,7 +100,13 @@ async fn register_notify_wildcard_unregister() {
 
     // Wildcard: existing NAV_OLD replayed at once, future NAV_NEW delivered, OTHER not.
     publ.notify("NAV_OLD", Value::Double(1.0)).unwrap();
-    tokio::time::sleep(Duration::from_millis(300)).await;
+    timeout(WAIT, async {
+        while srv.with_db(|db| db.current("NAV_OLD").is_none()) {
+            tokio::time::sleep(Duration::from_millis(10)).await;
+        }
+    })
+    .await
+    .unwrap();
     sub.register_pattern("NAV_*", "p*", 0.0);
     let old = next_for(&mut mail, "NAV_OLD").await;
     assert_eq!(old.dval, 1.0);
@@ -106,7 +117,7 @@ async fn register_notify_wildcard_unregister() {
 
     // Unregister: later writes of X no longer arrive (DONE marks the end).
     sub.unregister("X");
-    tokio::time::sleep(Duration::from_millis(300)).await;
+    subscribed(&srv, "sub", "X", false).await;
     publ.notify("X", Value::Double(7.0)).unwrap();
     publ.notify("DONE", Value::Double(1.0)).unwrap();
     let mut seen = Vec::new();
@@ -244,7 +255,7 @@ async fn db_restart_client_reconnects_and_resubscribes() {
     let (sub, mut mail) = client(&srv, "resub").await;
     sub.register("R", 0.0);
     sub.register_pattern("W_*", "*", 0.0);
-    tokio::time::sleep(Duration::from_millis(300)).await;
+    subscribed(&srv, "resub", "R", true).await;
     srv.shutdown();
     tokio::time::sleep(Duration::from_millis(300)).await;
     let srv2 = server_at(addr).await;
@@ -255,14 +266,11 @@ async fn db_restart_client_reconnects_and_resubscribes() {
     })
     .await
     .expect("client reconnected to the restarted DB");
-    assert!(
-        matches!(sub.state(), ConnectionState::Connected { .. }) || {
-            tokio::time::sleep(Duration::from_millis(500)).await;
-            matches!(sub.state(), ConnectionState::Connected { .. })
-        }
-    );
+    timeout(WAIT, sub.wait_connected()).await.unwrap().unwrap();
     let (publ, _pm) = client(&srv2, "pub2").await;
-    tokio::time::sleep(Duration::from_millis(500)).await;
+    // The re-applied registration (and the pattern, sent in the same packet) is in place
+    // before anything is posted.
+    subscribed(&srv2, "resub", "R", true).await;
     publ.notify("R", Value::Double(42.0)).unwrap();
     publ.notify("W_1", Value::string("w")).unwrap();
     assert_eq!(next_for(&mut mail, "R").await.dval, 42.0);
@@ -309,7 +317,9 @@ async fn stuck_client_does_not_stall_a_fast_subscriber() {
     encode_packet(&[reg], &mut buf);
     stuck_tx.send(buf).await.unwrap();
     let (publ, _pm) = client(&srv, "firehose").await;
-    tokio::time::sleep(Duration::from_millis(300)).await;
+    subscribed(&srv, "fast", "SEQ", true).await;
+    subscribed(&srv, "stuck", "SEQ", true).await;
+    subscribed(&srv, "stuck", "BLOB", true).await;
     let blob = Bytes::from(vec![7u8; 256 * 1024]);
     for _ in 0..200 {
         publ.notify("BLOB", Value::Binary(blob.clone())).unwrap();
@@ -384,7 +394,7 @@ async fn warped_client_and_db_agree_on_moos_time() {
     let (c, mut mail) = Client::start(ccfg);
     timeout(WAIT, c.wait_connected()).await.unwrap().unwrap();
     c.register("W", 0.0);
-    tokio::time::sleep(Duration::from_millis(300)).await;
+    subscribed(&srv, "warped", "W", true).await;
     c.notify("W", Value::Double(1.0)).unwrap();
     let m = next_for(&mut mail, "W").await;
     let warped_now = 10.0 * moosdb_client::time::unix_now();

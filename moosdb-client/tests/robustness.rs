@@ -154,7 +154,9 @@ fn live() -> &'static Live {
             publ.wait_connected().await.unwrap();
             sub.wait_connected().await.unwrap();
             sub.register("ALIVE", 0.0);
-            tokio::time::sleep(Duration::from_millis(200)).await;
+            while !server.with_db(|db| db.subscribers("ALIVE").contains(&"good_sub".to_string())) {
+                tokio::time::sleep(Duration::from_millis(10)).await;
+            }
             (server, publ, sub, mail)
         });
         let addr = server.local_addr();
