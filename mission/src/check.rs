@@ -4,6 +4,8 @@
 //! - a parameter unknown to a known behaviour type or to pHelmIvP's ProcessConfig (error: the
 //!   real helm treats it as a configuration warning and refuses to drive, MALCONFIG),
 //! - a condition or mode that tests a variable nothing initializes or posts (warning),
+//! - a condition pHelmIvP rejects although coug reads it: an operand of `and`/`or` without
+//!   parentheses, or `not` instead of `!` (error),
 //! - a behaviour condition testing a mode variable for a value no `set` block gives
 //!   (`MODE == SURVEYNG`; warning).
 //!
@@ -26,7 +28,7 @@ use std::path::{Path, PathBuf};
 
 use crate::bhv::{BehaviorFile, param_name, parse_bhv};
 use crate::catalog::{self, WELL_KNOWN_VARS};
-use crate::condition::{Condition, Operand, RelOp};
+use crate::condition::{Condition, Operand, RelOp, moos_compat};
 use crate::diagnostic::{Diagnostic, DiagnosticKind};
 use crate::moos::{MissionFile, parse_moos};
 use crate::nsplug::{Options, preprocess};
@@ -124,11 +126,38 @@ pub fn check_files(fs: &dyn FileSource, paths: &[PathBuf], opts: &Options) -> Ve
                 check_behaviors(b, &mut out);
                 check_variables(b, &known, &mut out);
                 check_mode_values(b, &mut out);
+                check_moos_compat(b, &mut out);
             }
         }
     }
     attach_source_lines(&mut out, &sources);
     out
+}
+
+/// Conditions coug reads but pHelmIvP rejects (its behaviour or mode is then a fatal
+/// configuration error): unparenthesized `and`/`or` operands, `not`.
+fn check_moos_compat(b: &BehaviorFile, out: &mut Vec<Diagnostic>) {
+    let entries = b
+        .modes
+        .iter()
+        .flat_map(|m| m.conditions.iter())
+        .chain(b.behaviors.iter().flat_map(|s| s.conditions.iter()));
+    for c in entries {
+        if let Some(e) = moos_compat(&c.text) {
+            let col = c.span.col
+                + u32::try_from(c.text.get(..e.offset).map_or(0, |p| p.chars().count()))
+                    .unwrap_or(0);
+            out.push(
+                Diagnostic::error(
+                    DiagnosticKind::BadCondition,
+                    c.span.at_col(col),
+                    "condition that pHelmIvP rejects",
+                )
+                .expected(e.expected)
+                .found(e.found),
+            );
+        }
+    }
 }
 
 /// Gives every finding that lacks it the text of its line, for the caret rendering.

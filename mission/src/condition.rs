@@ -633,6 +633,130 @@ pub fn parse_condition(text: &str) -> Result<Condition, ConditionError> {
     }
 }
 
+/// Checks a condition that [`parse_condition`] accepts against pHelmIvP's stricter rules:
+/// every operand of `and`/`or` must be parenthesized (`(A = 1) and !(B = 2)`), and negation
+/// is written `!(...)` (coug also reads `not`). Returns where the first violation is.
+///
+/// ```
+/// use mission::condition::moos_compat;
+/// assert!(moos_compat("(A = 1) and ((B = 2) or !(C = 3))").is_none());
+/// let e = moos_compat("(A = 1) and B = 2").unwrap();
+/// assert_eq!(e.offset, 12);
+/// ```
+pub fn moos_compat(text: &str) -> Option<ConditionError> {
+    compat_at(text, 0)
+}
+
+fn compat_at(text: &str, base: usize) -> Option<ConditionError> {
+    let lead = text.len() - text.trim_start().len();
+    let t = text.trim();
+    let base = base + lead;
+    let issue = |off: usize, expected: &str, rest: &str| ConditionError {
+        offset: base + off,
+        expected: expected.to_string(),
+        found: found_at(rest),
+    };
+    let parts = split_connectives(t);
+    if parts.len() > 1 {
+        for &(start, end) in &parts {
+            let part = &t[start..end];
+            let plead = part.len() - part.trim_start().len();
+            let inner = wrapped(part.trim());
+            match inner {
+                Some(_) => {
+                    if let Some(e) = compat_at(part, base + start) {
+                        return Some(e);
+                    }
+                }
+                None => {
+                    return Some(issue(
+                        start + plead,
+                        "a parenthesized operand of `and`/`or` (pHelmIvP requires it)",
+                        part.trim(),
+                    ));
+                }
+            }
+        }
+        return None;
+    }
+    let starts_not = t.get(..3).is_some_and(|k| k.eq_ignore_ascii_case("not"));
+    if starts_not && !t.get(3..).is_some_and(|r| r.starts_with(is_word_char)) {
+        return Some(issue(0, "`!(...)` (pHelmIvP has no `not`)", t));
+    }
+    if let Some(rest) = t.strip_prefix('!') {
+        return compat_at(rest, base + 1);
+    }
+    if let Some(inner) = t.strip_prefix('(').and_then(|r| r.strip_suffix(')'))
+        && wrapped(t).is_some()
+    {
+        return compat_at(inner, base + 1);
+    }
+    None
+}
+
+/// `(x)` or `!(x)` (spaces allowed after `!`) whose first `(` closes at the very end.
+fn wrapped(t: &str) -> Option<&str> {
+    let body = match t.strip_prefix('!') {
+        Some(r) => r.trim_start(),
+        None => t,
+    };
+    let inner = body.strip_prefix('(')?;
+    let mut depth = 1usize;
+    let mut quoted = false;
+    for (i, c) in inner.char_indices() {
+        match c {
+            '"' => quoted = !quoted,
+            _ if quoted => {}
+            '(' => depth += 1,
+            ')' => {
+                depth -= 1;
+                if depth == 0 {
+                    return (i + 1 == inner.len()).then(|| &inner[..i]);
+                }
+            }
+            _ => {}
+        }
+    }
+    None
+}
+
+/// Byte ranges of the operands of the top-level `and`/`or` connectives of `t`.
+fn split_connectives(t: &str) -> Vec<(usize, usize)> {
+    let b = t.as_bytes();
+    let mut parts = Vec::new();
+    let (mut depth, mut quoted, mut start) = (0usize, false, 0usize);
+    let mut i = 0;
+    while i < b.len() {
+        match b[i] {
+            b'"' => quoted = !quoted,
+            _ if quoted => {}
+            b'(' => depth += 1,
+            b')' => depth = depth.saturating_sub(1),
+            _ if depth == 0 => {
+                for kw in [&b"and"[..], &b"or"[..]] {
+                    let end = i + kw.len();
+                    // A connective stands between two operands: never first or last.
+                    if i == 0 || end >= b.len() || !b[i..end].eq_ignore_ascii_case(kw) {
+                        continue;
+                    }
+                    let before_ok = b[i - 1].is_ascii_whitespace() || b[i - 1] == b')';
+                    let after_ok = b[end].is_ascii_whitespace() || b[end] == b'(';
+                    if before_ok && after_ok {
+                        parts.push((start, i));
+                        start = end;
+                        i = end - 1;
+                        break;
+                    }
+                }
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    parts.push((start, b.len()));
+    parts
+}
+
 /// Byte offset where nesting of `(` (outside quotes) plus negations exceeds the parser's limit,
 /// which keeps the recursive parser far from the stack's end on hostile input.
 fn too_deep(text: &str) -> Option<usize> {

@@ -263,3 +263,22 @@ fn check_warns_about_mode_values_no_set_block_gives() {
         d.render()
     );
 }
+
+#[test]
+fn check_flags_conditions_phelmivp_would_reject() {
+    let fs = MemorySource::new().with(
+        "c.bhv",
+        "initialize A = 1, B = 2\nBehavior = BHV_Loiter\n{\n  condition = (A = 1) and B = 2\n  condition = not (A = 1)\n  condition = ((A = 1) or (B = 2)) and !(A = 3)\n}\n",
+    );
+    let lines: Vec<String> = check_files(&fs, &["c.bhv".into()], &Options::new())
+        .iter()
+        .map(|d| d.to_string())
+        .collect();
+    assert_eq!(
+        lines,
+        [
+            "c.bhv:4:27: error: condition that pHelmIvP rejects: expected a parenthesized operand of `and`/`or` (pHelmIvP requires it), found `B`",
+            "c.bhv:5:15: error: condition that pHelmIvP rejects: expected `!(...)` (pHelmIvP has no `not`), found `not`",
+        ]
+    );
+}

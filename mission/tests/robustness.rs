@@ -2,7 +2,7 @@
 //! from the grammar's own tokens, which reach much deeper than bytes).
 
 use mission::bhv::parse_bhv;
-use mission::condition::parse_condition;
+use mission::condition::{moos_compat, parse_condition};
 use mission::moos::parse_moos;
 use mission::nsplug::{Options, preprocess};
 use mission::source::{MemorySource, SourceMap};
@@ -13,6 +13,7 @@ fn everything(text: &str, other: &str) {
     let _ = parse_moos(&map);
     let _ = parse_bhv(&map);
     let _ = parse_condition(text);
+    let _ = moos_compat(text);
     let fs = MemorySource::new().with("f", text).with("inc.moos", other);
     for strict in [false, true] {
         let mut opts = Options::new().define("A", "1").define("B", "$(A)$(A)");

@@ -3,7 +3,7 @@
 
 use mission::Param;
 use mission::bhv::{BehaviorFile, BehaviorSpec, ConditionEntry, Initialize, ModeBlock, parse_bhv};
-use mission::condition::{Condition, Operand, RelOp, parse_condition};
+use mission::condition::{Condition, Operand, RelOp, moos_compat, parse_condition};
 use mission::moos::{MissionFile, ProcessConfig, parse_moos};
 use mission::source::{SourceMap, Span};
 use proptest::prelude::*;
@@ -197,6 +197,8 @@ proptest! {
         let printed = c.to_string();
         let back = parse_condition(&printed);
         prop_assert_eq!(back.as_ref(), Ok(&c), "printed: {}", printed);
+        // The canonical form is one pHelmIvP accepts too.
+        prop_assert!(moos_compat(&printed).is_none(), "printed: {}", printed);
     }
 
     #[test]
