@@ -99,7 +99,7 @@ pub fn check_files(fs: &dyn FileSource, paths: &[PathBuf], opts: &Options) -> Ve
             let p = parse_moos(&pre.source);
             out.extend(p.diagnostics);
             let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
-            if let Some(helm) = p.value.process("pHelmIvP") {
+            for helm in helm_blocks(&p.value) {
                 for b in helm.params("behaviors") {
                     let file = dir.join(&b.value);
                     if !b.value.is_empty() && seen.insert(crate::source::normalize(&file)) {
@@ -225,12 +225,28 @@ fn mode_refs<'a>(c: &'a Condition, f: &mut impl FnMut(&'a str, &'a str)) {
     }
 }
 
-fn check_helm_config(m: &MissionFile, out: &mut Vec<Diagnostic>) {
-    for block in m
-        .processes
+/// The ProcessConfig blocks pHelmIvP reads: `pHelmIvP`, and the MOOS names that the ANTLER
+/// block gives it (`Run = pHelmIvP @ NewConsole = false ~ pHelmIvP_2`).
+fn helm_blocks(m: &MissionFile) -> Vec<&crate::moos::ProcessConfig> {
+    let runs = m.antler_runs();
+    let is_helm = |app: &str| {
+        app.rsplit('/')
+            .next()
+            .is_some_and(|b| b.eq_ignore_ascii_case("pHelmIvP"))
+    };
+    m.processes
         .iter()
-        .filter(|p| p.name.eq_ignore_ascii_case("pHelmIvP"))
-    {
+        .filter(|p| {
+            p.name.eq_ignore_ascii_case("pHelmIvP")
+                || runs
+                    .iter()
+                    .any(|r| is_helm(&r.app) && r.moos_name().eq_ignore_ascii_case(&p.name))
+        })
+        .collect()
+}
+
+fn check_helm_config(m: &MissionFile, out: &mut Vec<Diagnostic>) {
+    for block in helm_blocks(m) {
         for e in &block.entries {
             if !catalog::helm_accepts(&e.key) && !e.key.contains('$') {
                 let hint = suggest(&e.key, catalog::HELM_PARAMS.iter().copied());

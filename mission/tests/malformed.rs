@@ -282,3 +282,26 @@ fn check_flags_conditions_phelmivp_would_reject() {
         ]
     );
 }
+
+#[test]
+fn check_reads_the_helm_block_under_its_antler_alias() {
+    let fs = MemorySource::new()
+        .with(
+            "h.moos",
+            "ProcessConfig = ANTLER\n{\n  Run = pHelmIvP @ NewConsole = false ~ helm_b\n}\n\
+             ProcessConfig = helm_b\n{\n  behaviors = h.bhv\n  bogus = 1\n}\n\
+             ProcessConfig = other\n{\n  bogus = 1\n}\n",
+        )
+        .with("h.bhv", "Behavior = BHV_Timer\n{\n  nonsense = 2\n}\n");
+    let lines: Vec<String> = check_files(&fs, &["h.moos".into()], &Options::new())
+        .iter()
+        .map(|d| d.to_string())
+        .collect();
+    assert_eq!(
+        lines,
+        [
+            "h.moos:8:3: error: unknown pHelmIvP parameter `bogus`",
+            "h.bhv:3:3: error: unknown parameter `nonsense` for BHV_Timer",
+        ]
+    );
+}
