@@ -64,6 +64,9 @@ pub struct ClientConfig {
     pub skew_correction: bool,
     /// Mail held for the application before the reader stops reading (back-pressure).
     pub mail_capacity: usize,
+    /// Posts queued for the writer; beyond it posting fails with
+    /// [`ClientError::OutboxFull`] instead of growing without bound.
+    pub outbox_capacity: usize,
     /// Largest packet accepted from the DB.
     pub max_packet_len: usize,
     /// Longest wait for the Welcome after sending the name.
@@ -80,6 +83,7 @@ impl ClientConfig {
             warp: Warp::default(),
             skew_correction: true,
             mail_capacity: 4096,
+            outbox_capacity: 16384,
             max_packet_len: DEFAULT_MAX_PACKET_LEN,
             handshake_timeout: Duration::from_secs(10),
         }
@@ -116,6 +120,9 @@ pub enum ClientError {
     /// The DB refused the client.
     #[error("refused by the MOOSDB: {0}")]
     Poisoned(String),
+    /// Too many posts are waiting to be written (the DB or the network is not keeping up).
+    #[error("outbox full: the MOOSDB is not keeping up")]
+    OutboxFull,
 }
 
 #[derive(Debug)]
@@ -211,7 +218,7 @@ impl MailStream {
 #[derive(Debug)]
 pub struct Client {
     inner: Arc<Inner>,
-    cmd: mpsc::UnboundedSender<Cmd>,
+    cmd: mpsc::Sender<Cmd>,
     state: watch::Receiver<ConnectionState>,
     task: JoinHandle<()>,
 }
@@ -227,7 +234,7 @@ impl Client {
             skew: Mutex::new(0.0),
             subs: Mutex::new(Subscriptions::default()),
         });
-        let (cmd, cmd_rx) = mpsc::unbounded_channel();
+        let (cmd, cmd_rx) = mpsc::channel(config.outbox_capacity.max(1));
         let (state_tx, state) = watch::channel(ConnectionState::Connecting);
         let (mail_tx, rx) = mpsc::channel(config.mail_capacity.max(1));
         let task = tokio::spawn(run(inner.clone(), config, cmd_rx, state_tx, mail_tx));
@@ -287,7 +294,13 @@ impl Client {
     }
 
     fn post(&self, m: Message) -> Result<(), ClientError> {
-        self.cmd.send(Cmd::Post(m)).map_err(|_| ClientError::Closed)
+        self.cmd.try_send(Cmd::Post(m)).map_err(|e| match e {
+            mpsc::error::TrySendError::Full(_) => {
+                warn!("outbox full: post dropped");
+                ClientError::OutboxFull
+            }
+            mpsc::error::TrySendError::Closed(_) => ClientError::Closed,
+        })
     }
 
     /// Subscribes to `var`, delivering at most once per `interval` seconds (0 = every
@@ -383,7 +396,7 @@ impl Client {
 
     /// Flushes what was posted, closes the connection and waits for the task to end.
     pub async fn close(self) {
-        let _ = self.cmd.send(Cmd::Close);
+        let _ = self.cmd.send(Cmd::Close).await;
         let _ = self.task.await;
     }
 
@@ -405,7 +418,7 @@ enum SessionEnd {
 async fn run(
     inner: Arc<Inner>,
     config: ClientConfig,
-    mut cmd_rx: mpsc::UnboundedReceiver<Cmd>,
+    mut cmd_rx: mpsc::Receiver<Cmd>,
     state: watch::Sender<ConnectionState>,
     mail: mpsc::Sender<Message>,
 ) {
@@ -499,7 +512,7 @@ async fn run(
 }
 
 /// Waits `pause` while disconnected, discarding posts; `false` if the client was closed.
-async fn idle_wait(cmd_rx: &mut mpsc::UnboundedReceiver<Cmd>, pause: Duration) -> bool {
+async fn idle_wait(cmd_rx: &mut mpsc::Receiver<Cmd>, pause: Duration) -> bool {
     let deadline = tokio::time::Instant::now() + pause;
     loop {
         tokio::select! {
@@ -549,7 +562,7 @@ async fn read_loop(
 async fn write_loop(
     inner: &Inner,
     wr: &mut OwnedWriteHalf,
-    cmd_rx: &mut mpsc::UnboundedReceiver<Cmd>,
+    cmd_rx: &mut mpsc::Receiver<Cmd>,
 ) -> SessionEnd {
     let mut batch: Vec<Message> = Vec::new();
     let mut buf: Vec<u8> = Vec::new();
