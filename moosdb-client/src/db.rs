@@ -356,7 +356,9 @@ impl Database {
             ("DB_RWSUMMARY", DataType::String),
         ] {
             let mut v = Var::new(dt);
-            v.writer = db_name.clone();
+            // The C++ DB names the writer of its not-yet-written variables with the name it
+            // has before reading its community ("MOOSDB#1"); DB_VARSUMMARY shows it.
+            v.writer = Bytes::from_static(b"MOOSDB#1");
             v.community = community.clone();
             v.written_time = now.moos;
             vars.insert(Bytes::from_static(key.as_bytes()), v);
