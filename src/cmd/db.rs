@@ -127,14 +127,13 @@ pub fn run(args: &DbArgs) -> anyhow::Result<()> {
         .clone()
         .or(m.host.clone())
         .unwrap_or_else(|| "127.0.0.1".to_string());
-    let mut cfg = ServerConfig::default();
-    cfg.addr = resolve_host(&host, port)?;
+    let mut cfg = ServerConfig::with_addr(resolve_host(&host, port)?);
     cfg.warp = warp_of(&m)?;
     if let Some(c) = args.community.clone().or(m.community.clone()) {
         cfg.db.community = c;
     }
     if let Some(t) = m.client_timeout {
-        if !(t > 0.0) {
+        if t.is_nan() || t <= 0.0 {
             bail!("ClientTimeout must be positive, got {t}");
         }
         cfg.db.client_timeout = t;

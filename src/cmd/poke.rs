@@ -159,6 +159,43 @@ mod tests {
     }
 
     #[test]
+    fn pokes_reach_an_embedded_db_with_the_right_types() {
+        use moosdb_client::{DataType, Server, ServerConfig};
+        let rt = tokio::runtime::Runtime::new().unwrap();
+        let server = rt
+            .block_on(Server::bind(ServerConfig::with_addr(
+                ([127, 0, 0, 1], 0).into(),
+            )))
+            .unwrap();
+        let args = PokeArgs {
+            items: ["FOO=3.5", "BAR=hello", "QNUM=\"42\"", "NUMSTR:=2.5"]
+                .map(String::from)
+                .to_vec(),
+            host: Some("127.0.0.1".into()),
+            port: Some(server.local_addr().port()),
+            timeout: 10.0,
+        };
+        run(&args).unwrap();
+        let deadline = std::time::Instant::now() + Duration::from_secs(10);
+        while server.with_db(|db| db.current("NUMSTR").is_none()) {
+            assert!(std::time::Instant::now() < deadline, "pokes never arrived");
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        let got = |k: &str| server.with_db(|db| db.current(k)).unwrap();
+        assert_eq!(
+            (got("FOO").data_type, got("FOO").dval),
+            (DataType::Double, 3.5)
+        );
+        assert_eq!(got("BAR").sval_str(), "hello");
+        assert_eq!(got("QNUM").sval_str(), "\"42\"");
+        assert_eq!(
+            (got("NUMSTR").data_type, got("NUMSTR").sval_str().as_ref()),
+            (DataType::String, "2.5")
+        );
+        assert!(got("FOO").src_str().starts_with("coug_poke_"));
+    }
+
+    #[test]
     fn leading_mission_file_is_split_off() {
         let items = vec!["a.moos".to_string(), "X=1".to_string()];
         let (m, rest) = split_items(&items);
