@@ -25,6 +25,20 @@
 //! assert_eq!(packets.concat()[0].dval, 2.0);
 //! ```
 
+//!
+//! # Fidelity to the C++ MOOSDB
+//!
+//! The core follows `CMOOSDB` and the threaded comm server message for message; the tests
+//! replay every recorded capture and get the C++ DB's packets back. Kept on purpose:
+//! a `'T'`-only packet's reply is the echo alone (held mail waits), DB variables and
+//! `DB_EVENT` reach asynchronous clients only when some client posts a notify, writes within a
+//! subscriber's interval are dropped, the first write locks a variable's type.
+//! Deliberate differences: per-client queues are bounded (oldest mail dropped, counted and
+//! logged) where the C++ DB's are not; a wildcard unregister also forgets the stored filter
+//! (the C++ DB keeps matching new variables); `DB_QOS` averages the last five latencies;
+//! `DB_VARSUMMARY` prints times of day in UTC; `--response` consolidation is not offered
+//! (timing echoes carry 0); there is no 100 ms pause before a handshake.
+
 use std::collections::{BTreeMap, BTreeSet, HashMap, VecDeque};
 use std::fmt::Write as _;
 
