@@ -24,7 +24,6 @@
 //! db.drain_outbox(sub, &mut packets);
 //! assert_eq!(packets.concat()[0].dval, 2.0);
 //! ```
-
 //!
 //! # Fidelity to the C++ MOOSDB
 //!
@@ -1353,6 +1352,38 @@ mod tests {
             (MsgType::Timing, 999.0, 1002.5, 0.0)
         );
         assert!(db.current("DB_TIME").is_some());
+    }
+
+    #[test]
+    fn wildcard_unregister_stops_existing_and_future_matches() {
+        let mut db = new_db();
+        let p = join(&mut db, "p", 1000.0);
+        let w = join(&mut db, "w", 1000.0);
+        let mut wr = Message::new(MsgType::WildcardRegister, DataType::String, "w");
+        wr.sval = Bytes::from_static(b"AppPattern=*,VarPattern=A_*,Interval=0");
+        db.handle(w, vec![wr.clone()], t(1000.0)).unwrap();
+        db.handle(
+            p,
+            vec![post("p", "A_1", Value::Double(1.0), 1.0)],
+            t(1000.1),
+        )
+        .unwrap();
+        assert_eq!(drain(&mut db, w).len(), 1);
+        let mut un = wr;
+        un.msg_type = MsgType::WildcardUnregister;
+        un.sval = Bytes::from_static(b"AppPattern=*,VarPattern=A_*,Interval=0");
+        db.handle(w, vec![un], t(1000.2)).unwrap();
+        db.handle(
+            p,
+            vec![
+                post("p", "A_1", Value::Double(2.0), 1.0),
+                post("p", "A_2", Value::Double(3.0), 1.0),
+            ],
+            t(1000.3),
+        )
+        .unwrap();
+        assert!(drain(&mut db, w).is_empty());
+        assert!(db.subscribers("A_2").is_empty());
     }
 
     #[test]
