@@ -81,6 +81,9 @@ pub enum Emit {
         /// Never filtered by the duplicate filter.
         repeatable: bool,
     },
+    /// The behaviour declared itself complete at this point of its output (MOOS
+    /// `setComplete()`): the helm posts the endflags here.
+    Complete,
 }
 
 /// The output buffer of one behaviour call: postings, completion, errors.
@@ -122,6 +125,7 @@ impl Out {
     /// Declares the behaviour complete.
     pub fn complete(&mut self) {
         self.completed = true;
+        self.emits.push(Emit::Complete);
     }
     /// Reports an error (`BHV_ERROR`, helm halts).
     pub fn error(&mut self, msg: impl Into<String>) {

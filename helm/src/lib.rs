@@ -1,10 +1,25 @@
-//! The coug helm: a native interval-programming (IvP) helm compatible with MOOS-IvP's pHelmIvP.
+//! The coug helm: a native interval-programming (IvP) helm with pHelmIvP's semantics.
 //!
-//! - [`ivp`]: the IvP core (re-export of the `ivp` crate): decision domains, piecewise-linear
-//!   objective functions, the ZAIC builders, the reflector and coupler, and the exact solver.
+//! - [`ivp`]: the IvP core (re-export of the `ivp` crate).
+//! - [`engine`]: [`Helm`], the iteration loop (reference `ivp-helm.md` §4): info buffer, modes,
+//!   behaviour run states, flags, postings, all-stop, summary.
+//! - [`config`]: the pHelmIvP ProcessConfig block (§4.1).
+//! - [`info_buffer`], [`mode`], [`runstate`], [`macro_expand`], [`allstop`], [`report`]: the
+//!   parts of the loop, each after its pHelmIvP counterpart.
 //!
 //! Everything here is pure: no clock, no sockets, no files. Time enters as an argument.
 
 #![warn(missing_docs)]
 
 pub use ivp;
+
+pub mod allstop;
+pub mod config;
+pub mod engine;
+pub mod info_buffer;
+pub mod macro_expand;
+pub mod mode;
+pub mod report;
+pub mod runstate;
+
+pub use engine::{Helm, HelmState, Mail, Posting, Value};

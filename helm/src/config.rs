@@ -1,0 +1,347 @@
+//! pHelmIvP's ProcessConfig block (reference §4.1) and the globals the helm needs.
+
+use ivp::{Domain, DomainVar};
+
+/// A configuration problem. Any of these puts the helm in MALCONFIG (reference §4.1).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ConfigError {
+    /// A parameter pHelmIvP does not know.
+    #[error("Unhandled config line: {key} = {value}")]
+    UnknownParam {
+        /// The key as written.
+        key: String,
+        /// The value.
+        value: String,
+    },
+    /// A known parameter with a bad value.
+    #[error("Bad config line: {key} = {value} (expected {expected})")]
+    BadValue {
+        /// The key as written.
+        key: String,
+        /// The value.
+        value: String,
+        /// What is accepted.
+        expected: String,
+    },
+    /// A required global (`LatOrigin`, `LongOrigin`, `Community`) is missing.
+    #[error("Missing global {0}")]
+    MissingGlobal(&'static str),
+    /// No `domain` lines.
+    #[error("No decision domain configured (domain = course:0:359:360 ...)")]
+    NoDomain,
+    /// A problem in the behaviour file.
+    #[error("{0}")]
+    Behavior(String),
+}
+
+/// The mission-file globals pHelmIvP reads.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Globals {
+    /// `LatOrigin`.
+    pub lat_origin: Option<String>,
+    /// `LongOrigin`.
+    pub long_origin: Option<String>,
+    /// `Community` (the vehicle name, `$[OWNSHIP]`).
+    pub community: Option<String>,
+}
+
+impl Globals {
+    /// Globals from a parsed `.moos` file.
+    pub fn from_mission(m: &mission::moos::MissionFile) -> Self {
+        Globals {
+            lat_origin: m.global("LatOrigin").map(str::to_string),
+            long_origin: m.global("LongOrigin").map(str::to_string),
+            community: m.global("Community").map(str::to_string),
+        }
+    }
+}
+
+/// The helm's settings. Defaults as in pHelmIvP.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HelmConfig {
+    /// Decision domain, in pHelmIvP's order: the REVERSE of the `domain =` lines (pHelmIvP reads
+    /// its block in reverse; reference §1).
+    pub domain: Domain,
+    /// `ok_skew` seconds; `None` = `any` (skew ignored).
+    pub ok_skew: Option<f64>,
+    /// `start_engaged` (and aliases): start in DRIVE.
+    pub start_engaged: bool,
+    /// `allow_park`: MOOS_MANUAL_OVERRIDE=true may park the helm.
+    pub allow_park: bool,
+    /// `park_on_allstop`.
+    pub park_on_allstop: bool,
+    /// `helm_alias`.
+    pub helm_alias: String,
+    /// `helm_prefix` on decision postings.
+    pub helm_prefix: String,
+    /// `nav_grace` seconds.
+    pub nav_grace: f64,
+    /// `goals_mandatory`.
+    pub goals_mandatory: bool,
+    /// `other_override_var`.
+    pub other_override_var: String,
+    /// `behaviors` files, in file order.
+    pub behavior_files: Vec<String>,
+    /// `standby` seconds (standby helms are accepted but not modelled yet).
+    pub standby: Option<f64>,
+    /// `verbose`.
+    pub verbose: String,
+    /// `contact_max_age` seconds.
+    pub contact_max_age: f64,
+    /// `seed_random`.
+    pub seed_random: bool,
+    /// `hold_on_apps`.
+    pub hold_on_apps: Vec<String>,
+    /// `node_skew` entries.
+    pub node_skews: Vec<(String, f64)>,
+}
+
+impl Default for HelmConfig {
+    fn default() -> Self {
+        HelmConfig {
+            domain: Domain::new(),
+            ok_skew: Some(60.0),
+            start_engaged: false,
+            allow_park: true,
+            park_on_allstop: false,
+            helm_alias: String::new(),
+            helm_prefix: String::new(),
+            nav_grace: 5.0,
+            goals_mandatory: false,
+            other_override_var: String::new(),
+            behavior_files: Vec::new(),
+            standby: None,
+            verbose: "verbose".into(),
+            contact_max_age: 45.0,
+            seed_random: true,
+            hold_on_apps: Vec::new(),
+            node_skews: Vec::new(),
+        }
+    }
+}
+
+fn boolean(v: &str) -> Option<bool> {
+    match v.trim().to_ascii_lowercase().as_str() {
+        "true" => Some(true),
+        "false" => Some(false),
+        _ => None,
+    }
+}
+
+fn number(v: &str) -> Option<f64> {
+    let t = v.trim();
+    if mission::condition::is_numeric(t) {
+        t.parse().ok()
+    } else {
+        None
+    }
+}
+
+impl HelmConfig {
+    /// Reads the pHelmIvP block (`key`, `value` pairs in file order) and the globals.
+    /// Never fails: problems are returned alongside the best-effort configuration.
+    ///
+    /// ```
+    /// use helm::config::{Globals, HelmConfig};
+    /// let g = Globals { lat_origin: Some("43".into()), long_origin: Some("-70".into()), community: Some("abe".into()) };
+    /// let (c, errs) = HelmConfig::parse(&[("domain", "course:0:359:360"), ("domain", "speed:0:4:41"), ("bogus", "1")], &g);
+    /// assert_eq!(c.domain.to_string(), "speed,0,4,41:course,0,359,360");
+    /// assert_eq!(errs.len(), 1);
+    /// ```
+    pub fn parse<K: AsRef<str>, V: AsRef<str>>(
+        params: &[(K, V)],
+        globals: &Globals,
+    ) -> (HelmConfig, Vec<ConfigError>) {
+        let mut c = HelmConfig::default();
+        let mut errs = Vec::new();
+        let mut domain_vars: Vec<DomainVar> = Vec::new();
+        for (k, v) in params {
+            let (key, value) = (k.as_ref().trim(), v.as_ref().trim());
+            let bad = |expected: &str| ConfigError::BadValue {
+                key: key.to_string(),
+                value: value.to_string(),
+                expected: expected.to_string(),
+            };
+            let set_bool = |slot: &mut bool, errs: &mut Vec<ConfigError>| match boolean(value) {
+                Some(b) => *slot = b,
+                None => errs.push(bad("true or false")),
+            };
+            match key.to_ascii_lowercase().as_str() {
+                "behaviors" => {
+                    if c.behavior_files.iter().any(|f| f == value) {
+                        errs.push(bad("a behaviour file not already given"));
+                    } else {
+                        c.behavior_files.push(value.to_string());
+                    }
+                }
+                "domain" => match DomainVar::parse(value) {
+                    Ok(d) => domain_vars.push(d),
+                    Err(e) => errs.push(bad(&e.to_string())),
+                },
+                "ok_skew" => {
+                    if value.eq_ignore_ascii_case("any") {
+                        c.ok_skew = None;
+                    } else {
+                        match number(value) {
+                            Some(s) if s >= 0.0 => c.ok_skew = Some(s),
+                            _ => errs.push(bad("seconds >= 0 or any")),
+                        }
+                    }
+                }
+                "verbose" => match value.to_ascii_lowercase().as_str() {
+                    "verbose" | "true" | "terse" | "false" | "quiet" => {
+                        c.verbose = value.to_ascii_lowercase()
+                    }
+                    _ => errs.push(bad("verbose, terse or quiet")),
+                },
+                "start_engaged" | "active_start" | "start_indrive" | "start_in_drive" => {
+                    set_bool(&mut c.start_engaged, &mut errs)
+                }
+                "allow_park" => set_bool(&mut c.allow_park, &mut errs),
+                "park_on_allstop" => set_bool(&mut c.park_on_allstop, &mut errs),
+                "goals_mandatory" => set_bool(&mut c.goals_mandatory, &mut errs),
+                "seed_random" => set_bool(&mut c.seed_random, &mut errs),
+                "helm_alias" | "helm_prefix" | "other_override_var" => {
+                    if value.is_empty() || value.contains(char::is_whitespace) {
+                        errs.push(bad("a name without spaces"));
+                    } else {
+                        let slot = match key.to_ascii_lowercase().as_str() {
+                            "helm_alias" => &mut c.helm_alias,
+                            "helm_prefix" => &mut c.helm_prefix,
+                            _ => &mut c.other_override_var,
+                        };
+                        *slot = value.to_string();
+                    }
+                }
+                "standby" => match number(value) {
+                    Some(s) if s > 0.0 => c.standby = Some(s),
+                    _ => errs.push(bad("positive seconds")),
+                },
+                "nav_grace" => match number(value) {
+                    Some(s) if s >= 0.0 => c.nav_grace = s,
+                    _ => errs.push(bad("seconds >= 0")),
+                },
+                "contact_max_age" => match number(value) {
+                    Some(s) => c.contact_max_age = s.clamp(10.0, 1800.0),
+                    _ => errs.push(bad("seconds")),
+                },
+                "hold_on_app" | "hold_on_apps" => c.hold_on_apps.extend(
+                    value
+                        .split(',')
+                        .map(str::trim)
+                        .filter(|s| !s.is_empty())
+                        .map(str::to_string),
+                ),
+                "node_skew" => match value.split_once(',') {
+                    Some((name, secs)) if !name.trim().is_empty() && number(secs).is_some() => c
+                        .node_skews
+                        .push((name.trim().to_string(), number(secs).unwrap_or(0.0))),
+                    _ => errs.push(bad("vname,seconds")),
+                },
+                // Dynamic behaviour libraries and platform-model generation are accepted; coug
+                // links its behaviours statically.
+                "ivp_behavior_dir"
+                | "ivp_behavior_dirs"
+                | "bhv_dir_not_found_ok"
+                | "bhv_dirs_not_found_ok"
+                | "pmgen" => {}
+                // CMOOSApp / AppCasting parameters pHelmIvP accepts silently.
+                "apptick"
+                | "commstick"
+                | "maxapptick"
+                | "app_logging"
+                | "term_report_interval"
+                | "max_appcast_events"
+                | "deprecated_ok"
+                | "max_run_warnings"
+                | "iteratemode" => {}
+                _ => errs.push(ConfigError::UnknownParam {
+                    key: key.to_string(),
+                    value: value.to_string(),
+                }),
+            }
+        }
+        for d in domain_vars.into_iter().rev() {
+            let name = d.name().to_string();
+            if c.domain.add(d).is_err() {
+                errs.push(ConfigError::BadValue {
+                    key: "domain".into(),
+                    value: name,
+                    expected: "a variable not already in the domain".into(),
+                });
+            }
+        }
+        if c.domain.is_empty() {
+            errs.push(ConfigError::NoDomain);
+        }
+        if globals.lat_origin.is_none() {
+            errs.push(ConfigError::MissingGlobal("LatOrigin"));
+        }
+        if globals.long_origin.is_none() {
+            errs.push(ConfigError::MissingGlobal("LongOrigin"));
+        }
+        if globals.community.is_none() {
+            errs.push(ConfigError::MissingGlobal("Community"));
+        }
+        (c, errs)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn g() -> Globals {
+        Globals {
+            lat_origin: Some("43.8".into()),
+            long_origin: Some("-70.3".into()),
+            community: Some("alpha".into()),
+        }
+    }
+
+    #[test]
+    fn defaults_and_aliases() {
+        let (c, e) = HelmConfig::parse(
+            &[
+                ("domain", "course,0,359,360"),
+                ("start_in_drive", "TRUE"),
+                ("ok_skew", "any"),
+                ("AppTick", "4"),
+                ("helm_prefix", "H1"),
+            ],
+            &g(),
+        );
+        assert!(e.is_empty(), "{e:?}");
+        assert!(c.start_engaged && c.allow_park && !c.park_on_allstop);
+        assert_eq!(c.ok_skew, None);
+        assert_eq!(c.helm_prefix, "H1");
+        assert_eq!(c.nav_grace, 5.0);
+    }
+
+    #[test]
+    fn problems_are_reported() {
+        let (_, e) = HelmConfig::parse(
+            &[
+                ("domain", "speed:0:4"),
+                ("allow_park", "maybe"),
+                ("behaviors", "a.bhv"),
+                ("behaviors", "a.bhv"),
+                ("foo", "bar"),
+            ],
+            &Globals::default(),
+        );
+        assert!(e.contains(&ConfigError::UnknownParam {
+            key: "foo".into(),
+            value: "bar".into()
+        }));
+        assert!(e.contains(&ConfigError::MissingGlobal("LatOrigin")));
+        assert!(e.contains(&ConfigError::MissingGlobal("Community")));
+        assert!(e.contains(&ConfigError::NoDomain));
+        assert_eq!(
+            e.iter()
+                .filter(|x| matches!(x, ConfigError::BadValue { .. }))
+                .count(),
+            3
+        );
+    }
+}

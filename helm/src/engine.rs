@@ -1,0 +1,1349 @@
+//! The helm engine: pHelmIvP's iteration (reference §4.3) over the behaviours of a `.bhv` file.
+//!
+//! Pure and deterministic: [`Helm::on_mail`] queues mail, [`Helm::iterate`] takes the current
+//! time, applies the mail and returns the postings in the order pHelmIvP makes them. Nothing
+//! here reads a clock; CPU-time fields pHelmIvP measures are posted as 0.
+
+use std::collections::HashMap;
+
+use behaviors::fmt::{compact, fixed};
+use behaviors::{Behavior, Common, Ctx, Emit, FlagKind, FlagValue, Info, Out, ParamError, PostKey};
+use ivp::{Problem, Solver};
+use mission::bhv::{BehaviorFile, param_name};
+
+use crate::allstop::{AllStop, AllStopAction};
+use crate::config::{ConfigError, Globals, HelmConfig};
+use crate::info_buffer::InfoBuffer;
+use crate::macro_expand::expand;
+use crate::mode::ModeSet;
+use crate::report::{BhvLine, HelmReport};
+use crate::runstate::{DurationClock, RunState};
+
+pub use behaviors::Value;
+
+/// The MOOS application name the helm posts under; mail from this source is its own.
+pub const APP_NAME: &str = "pHelmIvP";
+
+/// One incoming MOOS message.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mail {
+    /// Variable.
+    pub var: String,
+    /// Value.
+    pub value: Value,
+    /// Posting application.
+    pub source: String,
+    /// Source auxiliary field (`HELM_VAR_INIT` mail is the helm's own initialization).
+    pub source_aux: String,
+    /// Message time stamp.
+    pub time: f64,
+}
+
+impl Mail {
+    /// A message with an empty source.
+    pub fn new(var: &str, value: impl Into<Value>, time: f64) -> Self {
+        Mail {
+            var: var.to_string(),
+            value: value.into(),
+            source: String::new(),
+            source_aux: String::new(),
+            time,
+        }
+    }
+    /// Builder: sets the source.
+    pub fn from(mut self, source: &str) -> Self {
+        self.source = source.to_string();
+        self
+    }
+}
+
+/// One posting of the helm.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Posting {
+    /// Variable.
+    pub var: String,
+    /// Value.
+    pub value: Value,
+    /// Source auxiliary field (`HELM_VAR_INIT`, `HELM_MODE`, `<iter>:<behaviour>`, or "").
+    pub aux: String,
+}
+
+/// The helm state posted as `IVPHELM_STATE` (reference §4.2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum HelmState {
+    /// Enabled, not driving.
+    Park,
+    /// Enabled and driving.
+    Drive,
+    /// Configuration problems: never drives.
+    Malconfig,
+    /// Yielded to another helm.
+    Disabled,
+}
+
+impl HelmState {
+    /// The posted string.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            HelmState::Park => "PARK",
+            HelmState::Drive => "DRIVE",
+            HelmState::Malconfig => "MALCONFIG",
+            HelmState::Disabled => "DISABLED",
+        }
+    }
+    fn enabled(self) -> bool {
+        matches!(self, HelmState::Park | HelmState::Drive)
+    }
+}
+
+/// One behaviour in the set, with the bookkeeping pHelmIvP keeps for it.
+struct Slot {
+    common: Common,
+    bhv: Box<dyn Behavior>,
+    state: RunState,
+    entered: f64,
+    clock: DurationClock,
+    first_done: bool,
+    completed: bool,
+    ok: bool,
+    good_updates: u32,
+    bad_updates: u32,
+    prev_update: String,
+    pcs: usize,
+    ctr: u32,
+    now_start: Option<f64>,
+}
+
+impl Slot {
+    fn duration(&self) -> f64 {
+        self.common
+            .duration
+            .unwrap_or_else(|| self.bhv.default_duration())
+    }
+    fn update_summary(&self) -> String {
+        if self.common.update_var.is_empty() {
+            "n/a".to_string()
+        } else {
+            format!(
+                "{}/{}",
+                self.good_updates,
+                self.good_updates + self.bad_updates
+            )
+        }
+    }
+}
+
+/// A behaviour message waiting to be posted: (var, value, duplicate-filter key; `None` =
+/// never filtered).
+struct Message {
+    var: String,
+    value: Value,
+    key: Option<String>,
+}
+
+/// The helm engine. See the module docs.
+///
+/// ```
+/// use helm::{Helm, Mail};
+/// use helm::config::Globals;
+/// use mission::source::SourceMap;
+/// let bhv = mission::bhv::parse_bhv(&SourceMap::from_text("a.bhv",
+///     "Behavior = BHV_ConstantHeading\n{\n name = ch\n heading = 90\n duration = no-time-limit\n}\n"));
+/// let g = Globals { lat_origin: Some("0".into()), long_origin: Some("0".into()), community: Some("abe".into()) };
+/// let mut helm = Helm::from_parsed(&[("domain", "course:0:359:360"), ("start_engaged", "true")], &g, &bhv);
+/// for (var, v) in [("NAV_X", 0.0), ("NAV_Y", 0.0), ("NAV_HEADING", 0.0), ("NAV_SPEED", 0.0)] {
+///     helm.on_mail(&[Mail::new(var, v, 0.0)]);
+/// }
+/// helm.iterate(0.0);
+/// let posts = helm.iterate(1.0);
+/// let hdg = posts.iter().find(|p| p.var == "DESIRED_HEADING").unwrap();
+/// assert_eq!(hdg.value.as_num(), Some(90.0));
+/// ```
+pub struct Helm {
+    config: HelmConfig,
+    errors: Vec<ConfigError>,
+    ownship: String,
+    info: InfoBuffer,
+    modes: ModeSet,
+    slots: Vec<Slot>,
+    initializes: Vec<(String, Value, bool)>,
+    solver: Solver,
+    problem: Problem,
+    state: HelmState,
+    has_control: bool,
+    started: bool,
+    start_time: f64,
+    iteration: u64,
+    pending: Vec<Mail>,
+    out: Vec<Posting>,
+    allstop: AllStop,
+    filter_str: HashMap<String, String>,
+    filter_num: HashMap<String, f64>,
+    init_vars_ready: bool,
+    init_vars_done: bool,
+    prev_report: HelmReport,
+    lists: [String; 3],
+    bhv_count: Option<usize>,
+    update_results: Vec<String>,
+    messages: Vec<(usize, Message)>,
+    warnings: u64,
+    update_vars: String,
+    rejournal: bool,
+    refresh_pending: bool,
+    refresh_time: f64,
+    disabled_posted: bool,
+    emit: Out,
+    scratch: String,
+}
+
+fn auto_value(v: &str) -> Value {
+    let t = v.trim();
+    if mission::condition::is_numeric(t)
+        && let Ok(x) = t.parse::<f64>()
+    {
+        return Value::Num(x);
+    }
+    if t.len() >= 2 && t.starts_with('"') && t.ends_with('"') {
+        return Value::Str(t[1..t.len() - 1].to_string());
+    }
+    Value::Str(t.to_string())
+}
+
+impl Helm {
+    /// A helm from a parsed `.moos` mission (its `pHelmIvP` block and globals) and a parsed
+    /// `.bhv` file. A missing `pHelmIvP` block is a configuration error.
+    pub fn from_mission(
+        moos: &mission::moos::MissionFile,
+        bhv: &mission::Parsed<BehaviorFile>,
+    ) -> Helm {
+        let globals = Globals::from_mission(moos);
+        match moos.process("pHelmIvP") {
+            Some(p) => {
+                let params: Vec<(&str, &str)> = p
+                    .entries
+                    .iter()
+                    .map(|e| (e.key.as_str(), e.value.as_str()))
+                    .collect();
+                Helm::from_parsed(&params, &globals, bhv)
+            }
+            None => {
+                let mut h = Helm::from_config::<&str, &str>(&[], &globals, &bhv.value);
+                h.errors.push(ConfigError::Behavior(
+                    "No ProcessConfig = pHelmIvP block".into(),
+                ));
+                h.state = HelmState::Malconfig;
+                h
+            }
+        }
+    }
+
+    /// A helm from its ProcessConfig parameters, the globals and a parsed `.bhv` file whose
+    /// diagnostics (bad lines) count as configuration errors.
+    pub fn from_parsed<K: AsRef<str>, V: AsRef<str>>(
+        params: &[(K, V)],
+        globals: &Globals,
+        bhv: &mission::Parsed<BehaviorFile>,
+    ) -> Helm {
+        let mut h = Helm::from_config(params, globals, &bhv.value);
+        for d in bhv.errors() {
+            h.errors.push(ConfigError::Behavior(format!(
+                "{}: Line {}: {}",
+                d.span.file_name(),
+                d.span.line,
+                d.message
+            )));
+        }
+        if !h.errors.is_empty() {
+            h.state = HelmState::Malconfig;
+            h.has_control = false;
+        }
+        h
+    }
+
+    /// A helm from its ProcessConfig parameters (file order), the globals and a `.bhv` file.
+    /// Never fails: any problem puts the helm in MALCONFIG, and [`Helm::config_errors`] says
+    /// why (they are also posted as `IVPHELM_CONFIG_WARNING` on the first iteration).
+    pub fn from_config<K: AsRef<str>, V: AsRef<str>>(
+        params: &[(K, V)],
+        globals: &Globals,
+        bhv: &BehaviorFile,
+    ) -> Helm {
+        let (config, mut errors) = HelmConfig::parse(params, globals);
+        let ownship = globals.community.clone().unwrap_or_default();
+        let info = InfoBuffer::new();
+        let mut slots: Vec<Slot> = Vec::new();
+        for spec in &bhv.behaviors {
+            let Some(b) = behaviors::create(&spec.kind) else {
+                errors.push(ConfigError::Behavior(format!(
+                    "{}: Line {}: unknown behavior type {}",
+                    spec.span.file_name(),
+                    spec.span.line,
+                    spec.kind
+                )));
+                continue;
+            };
+            let mut slot = Slot {
+                common: Common::new(b.kind()),
+                bhv: b,
+                state: RunState::New,
+                entered: 0.0,
+                clock: DurationClock::default(),
+                first_done: false,
+                completed: false,
+                ok: true,
+                good_updates: 0,
+                bad_updates: 0,
+                prev_update: String::new(),
+                pcs: 0,
+                ctr: 0,
+                now_start: None,
+            };
+            for p in &spec.params {
+                let key = param_name(&p.key);
+                let res = apply_param(&mut slot, &key, &p.value, &info, &config, &ownship);
+                if let Err(e) = res {
+                    errors.push(ConfigError::Behavior(format!(
+                        "{}: Line {}: {} = {} ({e})",
+                        p.span.file_name(),
+                        p.span.line,
+                        p.key,
+                        p.value
+                    )));
+                }
+            }
+            if slots.iter().any(|s| s.common.name == slot.common.name) {
+                errors.push(ConfigError::Behavior(format!(
+                    "{}: Line {}: duplicate behavior name {}",
+                    spec.span.file_name(),
+                    spec.span.line,
+                    slot.common.name
+                )));
+                continue;
+            }
+            {
+                let ctx = Ctx {
+                    info: &info,
+                    domain: &config.domain,
+                    ownship: &ownship,
+                    name: &slot.common.name,
+                    perpetual: slot.common.perpetual,
+                };
+                slot.bhv.on_set_param_complete(&ctx);
+            }
+            slots.push(slot);
+        }
+        let initializes = bhv
+            .initializes
+            .iter()
+            .map(|i| (i.var.trim().to_string(), auto_value(&i.value), i.deferred))
+            .collect();
+        let state = if errors.is_empty() {
+            HelmState::Park
+        } else {
+            HelmState::Malconfig
+        };
+        let has_control = config.start_engaged && errors.is_empty();
+        let problem = Problem::new(config.domain.clone());
+        Helm {
+            modes: ModeSet::new(&bhv.modes),
+            config,
+            errors,
+            ownship,
+            info,
+            slots,
+            initializes,
+            solver: Solver::new(),
+            problem,
+            state,
+            has_control,
+            started: false,
+            start_time: 0.0,
+            iteration: 0,
+            pending: Vec::new(),
+            out: Vec::new(),
+            allstop: AllStop::default(),
+            filter_str: HashMap::new(),
+            filter_num: HashMap::new(),
+            init_vars_ready: false,
+            init_vars_done: false,
+            prev_report: HelmReport::default(),
+            lists: Default::default(),
+            bhv_count: None,
+            update_results: Vec::new(),
+            messages: Vec::new(),
+            warnings: 0,
+            update_vars: String::new(),
+            rejournal: false,
+            refresh_pending: false,
+            refresh_time: 0.0,
+            disabled_posted: false,
+            emit: Out::default(),
+            scratch: String::new(),
+        }
+    }
+
+    /// The configuration problems (empty unless MALCONFIG).
+    pub fn config_errors(&self) -> &[ConfigError] {
+        &self.errors
+    }
+    /// The current helm state.
+    pub fn state(&self) -> HelmState {
+        self.state
+    }
+    /// The decision domain (in pHelmIvP's order).
+    pub fn domain(&self) -> &ivp::Domain {
+        &self.config.domain
+    }
+    /// The info buffer.
+    pub fn info(&self) -> &InfoBuffer {
+        &self.info
+    }
+    /// Names of the behaviours still in the set, in order.
+    pub fn behavior_names(&self) -> Vec<&str> {
+        self.slots.iter().map(|s| s.common.name.as_str()).collect()
+    }
+    /// The variables the helm subscribes to (reference §4.3 registrations).
+    pub fn subscriptions(&self) -> Vec<String> {
+        let mut v: Vec<String> = [
+            "DB_CLIENTS",
+            "MOOS_MANUAL_OVERIDE",
+            "MOOS_MANUAL_OVERRIDE",
+            "RESTART_HELM",
+            "IVPHELM_REJOURNAL",
+            "NAV_X",
+            "NAV_Y",
+            "NAV_SPEED",
+            "NAV_HEADING",
+            "NAV_DEPTH",
+            "HELM_MAP_CLEAR",
+            "AIS_REPORT",
+            "NODE_REPORT",
+            "AIS_REPORT_LOCAL",
+            "NODE_REPORT_LOCAL",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        if !self.config.other_override_var.is_empty() {
+            v.push(self.config.other_override_var.clone());
+        }
+        let push = |v: &mut Vec<String>, s: &str| {
+            if !s.is_empty() && !v.iter().any(|x| x == s) {
+                v.push(s.to_string());
+            }
+        };
+        for s in &self.slots {
+            for (_, c) in &s.common.conditions {
+                for var in c.variables() {
+                    push(&mut v, var);
+                }
+            }
+            for k in [FlagKind::Run, FlagKind::Idle, FlagKind::End] {
+                for f in s.common.flags(k) {
+                    if let Some(c) = &f.condition {
+                        for var in c.variables() {
+                            push(&mut v, var);
+                        }
+                    }
+                }
+            }
+            if let Some((var, _)) = &s.common.duration_reset {
+                push(&mut v, var);
+            }
+            push(&mut v, &s.common.update_var);
+            for (var, _) in &s.common.starve {
+                push(&mut v, var);
+            }
+        }
+        for var in self.initializes.iter().filter(|i| i.2).map(|i| i.0.clone()) {
+            push(&mut v, &var);
+        }
+        push(&mut v, "IVPHELM_STATE");
+        v
+    }
+
+    /// Queues mail for the next [`Helm::iterate`].
+    pub fn on_mail(&mut self, mail: &[Mail]) {
+        self.pending.extend_from_slice(mail);
+    }
+
+    fn notify(&mut self, var: &str, value: Value, aux: &str) {
+        self.out.push(Posting {
+            var: var.to_string(),
+            value,
+            aux: aux.to_string(),
+        });
+    }
+
+    /// Whether a posting under `key` is new (updates the filter when it is).
+    fn changed(&mut self, key: &str, value: &Value) -> bool {
+        match value {
+            Value::Str(s) => match self.filter_str.get_mut(key) {
+                Some(old) if old == s => false,
+                Some(old) => {
+                    old.clone_from(s);
+                    true
+                }
+                None => {
+                    self.filter_str.insert(key.to_string(), s.clone());
+                    true
+                }
+            },
+            Value::Num(x) => match self.filter_num.get_mut(key) {
+                Some(old) if *old == *x => false,
+                Some(old) => {
+                    *old = *x;
+                    true
+                }
+                None => {
+                    self.filter_num.insert(key.to_string(), *x);
+                    true
+                }
+            },
+        }
+    }
+
+    fn startup(&mut self, now: f64) {
+        self.started = true;
+        self.start_time = now;
+        if self.state == HelmState::Malconfig {
+            for e in self.errors.clone() {
+                self.notify("IVPHELM_CONFIG_WARNING", Value::Str(e.to_string()), "");
+            }
+            return;
+        }
+        for (var, value, deferred) in self.initializes.clone() {
+            if !deferred {
+                self.info.set(&var, value.clone(), APP_NAME, now);
+                self.notify(&var, value, "HELM_VAR_INIT");
+            }
+        }
+        for var in self.subscriptions() {
+            self.notify("IVPHELM_REGISTER", Value::Str(var), "");
+        }
+        for f in self.config.behavior_files.clone() {
+            self.notify(
+                "PLOGGER_CMD",
+                Value::Str(format!("COPY_FILE_REQUEST = {f}")),
+                "",
+            );
+        }
+        let dom = self.config.domain.to_string();
+        self.notify("IVPHELM_DOMAIN", Value::Str(dom), "");
+        let ms = self.modes.definition();
+        self.notify("IVPHELM_MODESET", Value::Str(ms), "");
+        if !self.config.helm_alias.is_empty() {
+            let a = self.config.helm_alias.clone();
+            self.notify("IVPHELM_ALIAS", Value::Str(a), "");
+        }
+    }
+
+    fn status_update(&mut self) {
+        self.state = match self.state {
+            HelmState::Drive if !self.has_control => HelmState::Park,
+            HelmState::Park if self.has_control => HelmState::Drive,
+            s => s,
+        };
+    }
+
+    fn handle_mail(&mut self, now: f64) {
+        let mail = std::mem::take(&mut self.pending);
+        for m in &mail {
+            if self.state == HelmState::Disabled {
+                break;
+            }
+            if let Some(ok) = self.config.ok_skew {
+                let skew = (now - m.time).abs().min(now - self.start_time);
+                if skew > ok && m.source != APP_NAME && m.var != "HELM_MAP_CLEAR" {
+                    let mut msg = format!(
+                        "Helm ignores MOOS msg due to skew: {} Source={} Skew=",
+                        m.var, m.source
+                    );
+                    fixed(&mut msg, skew, 2);
+                    msg.push_str(" curr_time: ");
+                    fixed(&mut msg, now, 3);
+                    self.notify("IVPHELM_SKEW", Value::Str(msg), "");
+                    continue;
+                }
+            }
+            let is_override = m.var == "MOOS_MANUAL_OVERRIDE"
+                || m.var == "MOOS_MANUAL_OVERIDE"
+                || (!self.config.other_override_var.is_empty()
+                    && m.var == self.config.other_override_var);
+            if is_override {
+                if let Value::Str(s) = &m.value {
+                    if s.trim().eq_ignore_ascii_case("false") {
+                        self.has_control = self.state != HelmState::Malconfig;
+                    } else if s.trim().eq_ignore_ascii_case("true") && self.config.allow_park {
+                        self.has_control = false;
+                    }
+                    self.status_update();
+                }
+                self.info.set(&m.var, m.value.clone(), &m.source, m.time);
+            } else if m.var == "IVPHELM_STATE" {
+                self.init_vars_ready = true;
+                let other = m.source != APP_NAME;
+                if other
+                    && m.value.as_str() != Some("STANDBY")
+                    && self.state.enabled()
+                    && self.config.standby.is_none()
+                {
+                    self.post_allstop("DisabledByStandbyHelm");
+                    self.state = HelmState::Disabled;
+                }
+            } else if m.var == "IVPHELM_REJOURNAL" {
+                self.rejournal = true;
+            } else if m.var == "HELM_MAP_CLEAR" {
+                self.refresh_pending = true;
+            } else if m.source_aux != "HELM_VAR_INIT" {
+                self.info.set(&m.var, m.value.clone(), &m.source, m.time);
+            }
+        }
+        self.pending = mail;
+        self.pending.clear();
+    }
+
+    fn post_allstop(&mut self, msg: &str) {
+        if !self.state.enabled() {
+            return;
+        }
+        match self.allstop.update(msg) {
+            AllStopAction::None => {}
+            AllStopAction::Announce(m) => self.notify("IVPHELM_ALLSTOP", Value::Str(m), ""),
+            AllStopAction::AnnounceAndZero(m) => {
+                self.notify("IVPHELM_ALLSTOP", Value::Str(m), "");
+                for i in 0..self.config.domain.len() {
+                    let name = self.config.domain.vars()[i].name().to_ascii_uppercase();
+                    let var = if name == "COURSE" {
+                        "DESIRED_HEADING".to_string()
+                    } else {
+                        format!("DESIRED_{name}")
+                    };
+                    self.notify(&var, Value::Num(0.0), "");
+                }
+            }
+        }
+    }
+
+    fn nav_ready(&self) -> bool {
+        let mut need = vec!["NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"];
+        if self.config.domain.get("depth").is_some() {
+            need.push("NAV_DEPTH");
+        }
+        need.iter().all(|v| self.info.is_known(v))
+    }
+
+    /// Runs one helm iteration at time `now` (seconds) with the mail queued since the last
+    /// one, and returns the postings in pHelmIvP's order.
+    pub fn iterate(&mut self, now: f64) -> &[Posting] {
+        self.out.clear();
+        self.info.set_now(now);
+        if !self.started {
+            self.startup(now);
+        }
+        self.handle_mail(now);
+
+        // §4.3 step 1: status, IVPHELM_STATE.
+        self.status_update();
+        if self.state == HelmState::Disabled {
+            if !self.disabled_posted {
+                self.disabled_posted = true;
+                self.notify("IVPHELM_STATE", Value::Str("DISABLED".into()), "");
+            }
+        } else {
+            let s = self.state.as_str().to_string();
+            self.notify("IVPHELM_STATE", Value::Str(s), "");
+        }
+        if !self.state.enabled() {
+            self.info.clear_deltas();
+            return &self.out;
+        }
+        // Step 3: hold for the nav solution.
+        if !self.nav_ready() {
+            self.info.clear_deltas();
+            return &self.out;
+        }
+        // Step 4: deferred initializes.
+        if self.init_vars_ready && !self.init_vars_done {
+            self.init_vars_done = true;
+            for (var, value, deferred) in self.initializes.clone() {
+                if deferred && !self.info.is_known(&var) {
+                    self.info.set(&var, value.clone(), APP_NAME, now);
+                    self.notify(&var, value, "HELM_VAR_INIT");
+                }
+            }
+        }
+        // Step 6: manual override.
+        if !self.has_control {
+            self.post_allstop("ManualOverride");
+            return &self.out;
+        }
+        // Step 7: no decision in the first second.
+        if now - self.start_time < 1.0 {
+            return &self.out;
+        }
+        self.decide(now);
+        &self.out
+    }
+
+    fn decide(&mut self, now: f64) {
+        self.iteration += 1;
+        let iter = self.iteration;
+        self.update_results.clear();
+        self.messages.clear();
+        self.problem.clear();
+
+        let modes: Vec<(String, String)> = self.modes.evaluate(&mut self.info).to_vec();
+
+        let mut report = HelmReport {
+            iteration: iter,
+            time: now,
+            domain: Some(self.config.domain.clone()),
+            modes: self.modes.summary(),
+            ..HelmReport::default()
+        };
+        let mut halted = false;
+        for i in 0..self.slots.len() {
+            let f = self.produce(i, now);
+            let slot = &self.slots[i];
+            if !slot.ok {
+                halted = true;
+                report.halted = true;
+                break;
+            }
+            let line = BhvLine {
+                name: slot.common.name.clone(),
+                time: slot.entered,
+                updates: slot.update_summary(),
+                pwt: slot.common.pwt,
+                pcs: slot.pcs,
+            };
+            if let Some(f) = f {
+                let name = self.slots[i].common.name.clone();
+                if let Err(e) = self.problem.add(&name, f) {
+                    let msg = format!("{name}: DomainVar not recognized: {e}");
+                    self.messages.push((
+                        i,
+                        Message {
+                            var: "BHV_ERROR".into(),
+                            value: Value::Str(msg),
+                            key: None,
+                        },
+                    ));
+                    self.slots[i].ok = false;
+                    halted = true;
+                    report.halted = true;
+                    break;
+                }
+            }
+            match self.slots[i].state {
+                RunState::Active => report.active.push(line),
+                RunState::Running => report.running.push(line),
+                RunState::Idle | RunState::New => report.idle.push(line),
+                RunState::Completed => report.completed.push(line),
+            }
+        }
+        report.ofnum = if halted { 0 } else { self.problem.len() };
+        let decision = if halted || self.problem.is_empty() {
+            None
+        } else {
+            self.solver.solve(&self.problem)
+        };
+        if let Some(d) = &decision {
+            for v in &d.vars {
+                report.decisions.push((v.name.clone(), v.value));
+            }
+        }
+
+        // Step 9: postings.
+        for r in std::mem::take(&mut self.update_results) {
+            self.notify("IVPHELM_UPDATE_RESULT", Value::Str(r), "");
+        }
+        if self.refresh_pending && now - self.refresh_time > 2.0 {
+            self.filter_str.clear();
+            self.filter_num.clear();
+            self.refresh_time = now;
+            self.refresh_pending = false;
+        }
+        for (var, val) in modes {
+            let v = Value::Str(val);
+            if self.changed("mode_set", &v) {
+                self.notify(&var, v, "HELM_MODE");
+            }
+        }
+        self.post_behavior_messages(iter, now);
+
+        report.warnings = self.warnings;
+        let summary = if self.rejournal {
+            self.rejournal = false;
+            report.summary(&HelmReport::default())
+        } else {
+            report.summary(&self.prev_report)
+        };
+        self.notify("IVPHELM_SUMMARY", Value::Str(summary), "");
+        self.notify("IVPHELM_IPF_CNT", Value::Num(report.ofnum as f64), "");
+        let lists = [
+            report.active_names(),
+            report.running_names(),
+            report.idle_names(),
+        ];
+        let counts = [report.active.len(), report.running.len(), report.idle.len()];
+        for (k, (list, cnt)) in lists.into_iter().zip(counts).enumerate() {
+            if self.lists[k] != list {
+                let base = [
+                    "IVPHELM_BHV_ACTIVE",
+                    "IVPHELM_BHV_RUNNING",
+                    "IVPHELM_BHV_IDLE",
+                ][k];
+                self.notify(base, Value::Str(list.clone()), "");
+                self.notify(&format!("{base}_CNT"), Value::Num(cnt as f64), "");
+                self.lists[k] = list;
+            }
+        }
+
+        // Step 10: all-stop or decisions.
+        let mut allstop = "clear".to_string();
+        if report.halted {
+            allstop = "BehaviorError".into();
+        } else if report.ofnum == 0 {
+            allstop = "NothingToDo".into();
+        } else {
+            let missing: Vec<&str> = self
+                .config
+                .domain
+                .vars()
+                .iter()
+                .filter(|v| {
+                    !v.is_optional() && !report.decisions.iter().any(|(n, _)| n == v.name())
+                })
+                .map(|v| v.name())
+                .collect();
+            if !missing.is_empty() {
+                allstop = format!("MissingDecVars:{}", missing.join(","));
+                self.notify("BHV_ERROR", Value::Str(allstop.clone()), "");
+            }
+        }
+        if allstop != "clear" {
+            self.post_allstop(&allstop);
+        } else {
+            self.post_allstop("clear");
+            for i in 0..self.config.domain.len() {
+                let name = self.config.domain.vars()[i].name().to_string();
+                let upper = name.to_ascii_uppercase();
+                let var = if upper == "COURSE" {
+                    format!("{}DESIRED_HEADING", self.config.helm_prefix)
+                } else {
+                    format!("{}DESIRED_{upper}", self.config.helm_prefix)
+                };
+                let val = report
+                    .decisions
+                    .iter()
+                    .find(|(n, _)| *n == name)
+                    .map_or(0.0, |d| d.1);
+                self.notify(&var, Value::Num(val), "");
+            }
+        }
+        self.notify("IVPHELM_CREATE_CPU", Value::Num(0.0), "");
+        self.notify("IVPHELM_LOOP_CPU", Value::Num(0.0), "");
+        let mut upd: Vec<(String, String)> = self
+            .slots
+            .iter()
+            .filter(|s| !s.common.update_var.is_empty())
+            .map(|s| (s.common.name.clone(), s.common.update_var.clone()))
+            .collect();
+        upd.sort();
+        let upd = upd
+            .iter()
+            .map(|(a, b)| format!("{a}={b}"))
+            .collect::<Vec<_>>()
+            .join(",");
+        if upd != self.update_vars {
+            self.update_vars = upd.clone();
+            self.notify("IVPHELM_UPDATEVARS", Value::Str(upd), "");
+        }
+        if allstop != "clear" && self.config.allow_park && self.config.park_on_allstop {
+            self.has_control = false;
+        }
+        self.info.clear_deltas();
+        self.prev_report = report;
+    }
+
+    fn post_behavior_messages(&mut self, iter: u64, now: f64) {
+        let n = self.slots.len();
+        if self.bhv_count != Some(n) {
+            self.bhv_count = Some(n);
+            self.notify("IVPHELM_BHV_CNT", Value::Num(n as f64), "");
+        }
+        self.notify("IVPHELM_ITER", Value::Num(iter as f64), "");
+        let messages = std::mem::take(&mut self.messages);
+        for (i, m) in &messages {
+            let name = self.slots[*i].common.name.clone();
+            self.info.set(&m.var, m.value.clone(), APP_NAME, now);
+            if m.var == "BHV_WARNING" || m.var == "BHV_ERROR" {
+                self.warnings += 1;
+            }
+            let post = match &m.key {
+                None => true,
+                Some(k) => self.changed(k, &m.value),
+            };
+            if post {
+                self.notify(&m.var, m.value.clone(), &format!("{iter}:{name}"));
+            }
+        }
+        self.messages = messages;
+        self.messages.clear();
+        // Completed behaviours leave the set (reference §4.4).
+        let mut k = 0;
+        while k < self.slots.len() {
+            if self.slots[k].state == RunState::Completed {
+                let s = self.slots.remove(k);
+                let mut ev = String::from("time=");
+                fixed(&mut ev, now - self.start_time, 2);
+                ev.push_str(&format!(
+                    ", iter={iter}, bname={}, btype={}, event=death, seed=",
+                    s.common.name, s.common.kind
+                ));
+                self.notify("IVPHELM_LIFE_EVENT", Value::Str(ev), "");
+            } else {
+                k += 1;
+            }
+        }
+    }
+
+    /// Queues a behaviour message with the duplicate-filter key of `key`.
+    fn queue(&mut self, i: usize, var: &str, value: Value, key: &PostKey) {
+        let common = &self.slots[i].common;
+        let Some(var) = common.mapped(var) else {
+            return;
+        };
+        let key = match key {
+            PostKey::Repeatable => None,
+            PostKey::Var => Some(format!("{}{var}", common.name)),
+            PostKey::Tag(t) => Some(format!("{}{var}{t}", common.name)),
+        };
+        let var = var.to_string();
+        self.messages.push((i, Message { var, value, key }));
+    }
+
+    fn post_flags(&mut self, i: usize, kind: FlagKind) {
+        let flags = self.slots[i].common.flags(kind).to_vec();
+        for f in &flags {
+            self.post_flag(i, f, true);
+        }
+    }
+
+    fn post_flag(&mut self, i: usize, f: &behaviors::Flag, repeatable: bool) {
+        if !f.is_local() {
+            return;
+        }
+        if let Some(c) = &f.condition {
+            let info = &self.info;
+            if !c.evaluate(&|n: &str| info.condition_value(n)) {
+                return;
+            }
+        }
+        let value = match &f.value {
+            FlagValue::Num(x) => Value::Num(*x),
+            FlagValue::Str(s) => {
+                let mut out = std::mem::take(&mut self.scratch);
+                out.clear();
+                self.expand_macros(i, s, &mut out);
+                let v = if f.solo_macro
+                    && mission::condition::is_numeric(out.trim())
+                    && let Ok(x) = out.trim().parse::<f64>()
+                {
+                    Value::Num(x)
+                } else {
+                    Value::Str(out.clone())
+                };
+                self.scratch = out;
+                v
+            }
+        };
+        let key = if repeatable {
+            PostKey::Repeatable
+        } else {
+            PostKey::Var
+        };
+        self.queue(i, &f.var, value, &key);
+    }
+
+    fn expand_macros(&mut self, i: usize, text: &str, out: &mut String) {
+        let now = self.info.now_time();
+        let info = &self.info;
+        let slot = &mut self.slots[i];
+        let ownship = &self.ownship;
+        let nav = |v: &str| info.num(v).unwrap_or(0.0);
+        expand(text, out, |name, o| {
+            if slot.bhv.macro_value(name, o) {
+                return true;
+            }
+            match name {
+                "OWNSHIP" => o.push_str(ownship),
+                "BHVNAME" => o.push_str(&slot.common.name),
+                "BHVTYPE" => o.push_str(&slot.common.kind),
+                "PWT" => compact(o, slot.common.pwt, 2),
+                "CONTACT" => {}
+                "UTC" => compact(o, now, 2),
+                "OSX" => compact(o, nav("NAV_X"), 2),
+                "OSY" => compact(o, nav("NAV_Y"), 2),
+                "OSH" => compact(o, geometry_angle(nav("NAV_HEADING")), 2),
+                "OSV" => compact(o, nav("NAV_SPEED"), 2),
+                "DUR_RUN_TIME" => compact(o, slot.clock.running_time, 2),
+                "DUR_IDLE_TIME" => compact(o, slot.clock.idle_time, 2),
+                "NOW" => {
+                    let t0 = *slot.now_start.get_or_insert(now);
+                    compact(o, now - t0, 2)
+                }
+                "CTR" => {
+                    slot.ctr += 1;
+                    o.push_str(&slot.ctr.to_string());
+                }
+                _ => return false,
+            }
+            true
+        });
+    }
+
+    /// Converts a behaviour call's output into queued messages.
+    fn absorb(&mut self, i: usize) {
+        let mut emit = std::mem::take(&mut self.emit);
+        for e in emit.emits.drain(..) {
+            match e {
+                Emit::Post { var, value, key } => self.queue(i, &var, value, &key),
+                Emit::Flag { flag, repeatable } => self.post_flag(i, &flag, repeatable),
+                Emit::Complete => self.set_complete(i),
+            }
+        }
+        if let Some(msg) = emit.error.take() {
+            let name = self.slots[i].common.name.clone();
+            self.queue(
+                i,
+                "BHV_ERROR",
+                Value::Str(format!("{name}: {msg}")),
+                &PostKey::Repeatable,
+            );
+            self.slots[i].ok = false;
+        }
+        emit.clear();
+        self.emit = emit;
+    }
+
+    fn set_complete(&mut self, i: usize) {
+        self.post_flags(i, FlagKind::End);
+        if !self.slots[i].common.perpetual {
+            self.slots[i].completed = true;
+        }
+    }
+
+    fn check_updates(&mut self, i: usize, now: f64) -> bool {
+        let var = self.slots[i].common.update_var.clone();
+        if var.is_empty() {
+            return false;
+        }
+        let updates: Vec<String> = self.info.deltas(&var).to_vec();
+        let mut made = false;
+        for u in updates {
+            let name = self.slots[i].common.name.clone();
+            let mut result = format!("bhv={name},var={var},time=");
+            fixed(&mut result, now - self.start_time, 2);
+            let lower = u.to_ascii_lowercase();
+            let fresh = lower.contains("toggle")
+                || lower.contains("engage")
+                || lower.contains("mod")
+                || (!u.is_empty() && u != self.slots[i].prev_update);
+            if !fresh {
+                result.push_str(",result=duplicate");
+            } else {
+                let pairs: Vec<(String, String)> = u
+                    .split('#')
+                    .filter(|p| !p.trim().is_empty())
+                    .map(|p| {
+                        let (k, v) = p.split_once('=').unwrap_or((p, ""));
+                        (param_name(k.trim()), v.trim().to_string())
+                    })
+                    .collect();
+                if pairs.iter().any(|(k, v)| k == "name" && *v != name) {
+                    result.push_str(",result=name_mismatch");
+                } else {
+                    let mut bad = Vec::new();
+                    for (k, v) in pairs.iter().filter(|(k, _)| k != "name") {
+                        let slot = &mut self.slots[i];
+                        let r = apply_param(slot, k, v, &self.info, &self.config, &self.ownship);
+                        if r.is_err() {
+                            bad.push(k.clone());
+                        }
+                    }
+                    if bad.is_empty() {
+                        made = true;
+                        self.slots[i].good_updates += 1;
+                        self.slots[i].prev_update = u.clone();
+                        result.push_str(",result=success");
+                    } else {
+                        self.slots[i].bad_updates += 1;
+                        let w = format!(
+                            "Faulty update for behavior: {name}. Bad parameter(s): {}",
+                            bad.join(",")
+                        );
+                        self.queue(i, "BHV_WARNING", Value::Str(w.clone()), &PostKey::Var);
+                        self.queue(i, "BHV_CONFIG_WARNING", Value::Str(w), &PostKey::Var);
+                        result.push_str(",result=param_error");
+                    }
+                }
+            }
+            result.push_str(",val=");
+            result.push_str(&u);
+            self.update_results.push(result);
+        }
+        made
+    }
+
+    fn check_duration_reset(&mut self, i: usize) {
+        let Some((var, val)) = self.slots[i].common.duration_reset.clone() else {
+            return;
+        };
+        let Some(e) = self.info.get(&var) else {
+            return;
+        };
+        let triggered = val.is_empty()
+            || match &e.value {
+                Value::Str(s) => *s == val,
+                Value::Num(x) => val.trim().parse::<f64>().ok() == Some(*x),
+            };
+        if !triggered {
+            return;
+        }
+        let stamp = e.time;
+        let slot = &mut self.slots[i];
+        if slot.clock.reset_stamp.is_none_or(|s| stamp > s) {
+            slot.clock.reset_stamp = Some(stamp);
+            self.reset_duration(i);
+        }
+    }
+
+    fn reset_duration(&mut self, i: usize) {
+        self.slots[i].clock.reset();
+        let status = self.slots[i].common.duration_status.clone();
+        if !status.is_empty() {
+            let d = self.slots[i].duration();
+            self.queue(i, &status, Value::Num(d), &PostKey::Var);
+        }
+    }
+
+    fn post_remaining(&mut self, i: usize, remaining: f64) {
+        let status = self.slots[i].common.duration_status.clone();
+        if status.is_empty() {
+            return;
+        }
+        let v = if remaining <= 10.0 {
+            remaining
+        } else {
+            (remaining + 0.5).floor()
+        };
+        self.queue(i, &status, Value::Num(v), &PostKey::Var);
+    }
+
+    /// MOOS `isRunnable`: the state from conditions, duration and starvation. Returns the
+    /// state and the first failed condition.
+    fn runnable(&mut self, i: usize, now: f64) -> (RunState, Option<String>) {
+        if self.slots[i].completed {
+            return (RunState::Completed, None);
+        }
+        let failed = {
+            let info = &self.info;
+            let lookup = |n: &str| info.condition_value(n);
+            self.slots[i]
+                .common
+                .conditions
+                .iter()
+                .find(|(_, c)| !c.evaluate(&lookup))
+                .map(|(t, _)| t.clone())
+        };
+        if failed.is_some() {
+            return (RunState::Idle, failed);
+        }
+        if self.slots[i].clock.reset_pending {
+            self.reset_duration(i);
+        }
+        let (dur, decay) = (
+            self.slots[i].duration(),
+            self.slots[i].common.duration_idle_decay,
+        );
+        let (exceeded, remaining) = self.slots[i].clock.check(now, dur, decay);
+        if dur >= 0.0 {
+            self.post_remaining(i, remaining);
+        }
+        if exceeded {
+            self.set_complete(i);
+            if self.slots[i].common.perpetual {
+                self.slots[i].clock.reset_pending = true;
+            } else {
+                return (RunState::Completed, Some("completed-byduration".into()));
+            }
+        }
+        if self.config.domain.is_empty() {
+            return (RunState::Idle, Some("null-domain".into()));
+        }
+        for (var, secs) in self.slots[i].common.starve.clone() {
+            let age = self.info.age(&var);
+            if age.is_none_or(|a| a > secs) {
+                return (RunState::Idle, Some(format!("VarStarve: {var}")));
+            }
+        }
+        (RunState::Running, None)
+    }
+
+    fn call<F>(&mut self, i: usize, f: F) -> Option<ivp::IvpFunction>
+    where
+        F: FnOnce(&mut dyn Behavior, &Ctx<'_>, &mut Out) -> Option<ivp::IvpFunction>,
+    {
+        let mut emit = std::mem::take(&mut self.emit);
+        let r = {
+            let slot = &mut self.slots[i];
+            let ctx = Ctx {
+                info: &self.info,
+                domain: &self.config.domain,
+                ownship: &self.ownship,
+                name: &slot.common.name,
+                perpetual: slot.common.perpetual,
+            };
+            f(slot.bhv.as_mut(), &ctx, &mut emit)
+        };
+        self.emit = emit;
+        self.absorb(i);
+        r
+    }
+
+    /// One behaviour's iteration (MOOS `BehaviorSet::produceOF`, reference §4.4).
+    fn produce(&mut self, i: usize, now: f64) -> Option<ivp::IvpFunction> {
+        let old = self.slots[i].state;
+        if !self.slots[i].first_done {
+            self.post_flags(i, FlagKind::Config);
+        }
+        if self.check_updates(i, now) {
+            self.call(i, |b, ctx, _| {
+                b.on_set_param_complete(ctx);
+                None
+            });
+        }
+        self.check_duration_reset(i);
+        let (mut state, failed) = self.runnable(i, now);
+        let mut ipf = None;
+        match state {
+            RunState::Completed => {
+                self.call(i, |b, ctx, out| {
+                    b.on_complete(ctx, out);
+                    None
+                });
+            }
+            RunState::Idle => {
+                if old != RunState::Idle {
+                    self.post_flags(i, FlagKind::Idle);
+                    self.post_flags(i, FlagKind::Inactive);
+                }
+                if old.is_running() {
+                    self.call(i, |b, ctx, out| {
+                        b.on_run_to_idle(ctx, out);
+                        None
+                    });
+                }
+                self.call(i, |b, ctx, out| {
+                    b.on_idle(ctx, out);
+                    None
+                });
+                self.slots[i].clock.account(now, false);
+            }
+            _ => {
+                if matches!(old, RunState::Idle | RunState::New) {
+                    self.post_flags(i, FlagKind::Run);
+                }
+                self.post_flags(i, FlagKind::Runx);
+                if old == RunState::Idle {
+                    self.call(i, |b, ctx, out| {
+                        b.on_idle_to_run(ctx, out);
+                        None
+                    });
+                }
+                let f = self.call(i, |b, ctx, out| b.on_run(ctx, out));
+                let pwt = self.slots[i].common.pwt;
+                let f = f.filter(|_| pwt > 0.0).map(|f| f.with_pwt(pwt));
+                if let Some(f) = f {
+                    if old != RunState::Active {
+                        self.post_flags(i, FlagKind::Active);
+                    }
+                    self.slots[i].pcs = f.piece_count();
+                    state = RunState::Active;
+                    ipf = Some(f);
+                } else {
+                    self.slots[i].pcs = 0;
+                    if old == RunState::Active {
+                        self.post_flags(i, FlagKind::Inactive);
+                    }
+                }
+                self.slots[i].clock.account(now, true);
+            }
+        }
+        if state != RunState::Completed && self.slots[i].completed {
+            state = RunState::Completed;
+            ipf = None;
+            self.call(i, |b, ctx, out| {
+                b.on_complete(ctx, out);
+                None
+            });
+        }
+        // BHV_STATUS, filtered on change.
+        let slot = &self.slots[i];
+        let mut status = format!("name={}", slot.common.name);
+        if let Some(f) = &failed {
+            status.push_str(",pc=");
+            status.push_str(f);
+        }
+        if state == RunState::Active {
+            status.push_str(",pwt=");
+            fixed(&mut status, slot.common.pwt, 5);
+            status.push_str(&format!(",pcs={}", slot.pcs));
+        }
+        status.push_str(&format!(",state={state},updates={}", slot.update_summary()));
+        self.queue(i, "BHV_STATUS", Value::Str(status), &PostKey::Tag(""));
+        if !self.slots[i].first_done {
+            self.slots[i].first_done = true;
+            self.post_flags(i, FlagKind::Spawnx);
+        }
+        if old != state {
+            self.slots[i].entered = now;
+        }
+        self.slots[i].state = state;
+        ipf
+    }
+}
+
+fn geometry_angle(h: f64) -> f64 {
+    let a = h % 360.0;
+    if a < 0.0 { a + 360.0 } else { a }
+}
+
+/// Applies one parameter to a behaviour: common parameters first, then the behaviour's own
+/// (as pHelmIvP's populator does).
+fn apply_param(
+    slot: &mut Slot,
+    key: &str,
+    value: &str,
+    info: &InfoBuffer,
+    config: &HelmConfig,
+    ownship: &str,
+) -> Result<(), ParamError> {
+    if slot.common.set_param(key, value)? {
+        return Ok(());
+    }
+    let perpetual = slot.common.perpetual;
+    let name = slot.common.name.clone();
+    let ctx = Ctx {
+        info,
+        domain: &config.domain,
+        ownship,
+        name: &name,
+        perpetual,
+    };
+    slot.bhv
+        .set_param(key, value.trim(), &mut slot.common, &ctx)
+}
