@@ -314,3 +314,13 @@ fn missing_top_file_is_an_error_not_a_panic() {
     let e = run(&MemorySource::new(), "nothere.moos", &Options::new()).unwrap_err();
     assert_eq!(e.kind, DiagnosticKind::Unreadable);
 }
+
+#[test]
+fn quoted_include_names_may_hold_spaces_and_macros() {
+    let fs = MemorySource::new()
+        .with("top.moos", "#include \"my plugs/$(V)_plug.moos\"\n")
+        .with("my plugs/abe_plug.moos", "ok = 1\n");
+    let out = run(&fs, "top.moos", &Options::new().define("V", "abe")).unwrap();
+    assert_eq!(out.source.text(), "ok = 1\n");
+    assert_eq!(out.source.lines()[0].file.name, "my plugs/abe_plug.moos");
+}
