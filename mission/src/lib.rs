@@ -10,7 +10,8 @@
 //! - [`condition`]: the logic-condition AST used by behaviours and modes;
 //! - [`catalog`]: the behaviour types and parameters coug knows, for `coug check`;
 //! - [`check`]: the validations behind `coug check`;
-//! - [`diagnostic`]: errors and warnings with file, line, column and caret.
+//! - [`diagnostic`]: errors and warnings with file, line, column and caret;
+//! - [`load_moos`] / [`load_bhv`]: preprocess and parse in one call.
 //!
 //! Parsing is pure: files are read through [`source::FileSource`], and no input makes the
 //! parsers panic (they report [`diagnostic::Diagnostic`]s instead).
@@ -101,4 +102,53 @@ pub fn strip_comment(line: &str) -> &str {
         i += 1;
     }
     line
+}
+
+/// Preprocesses (nsplug) and parses a `.moos` file: the one call a runtime needs. nsplug's
+/// warnings come first in the diagnostics; a fatal preprocessing error is returned as `Err`.
+///
+/// ```
+/// use mission::source::MemorySource;
+/// let fs = MemorySource::new().with("m.moos", "Community = $(V)\n");
+/// let opts = mission::nsplug::Options::new().define("V", "abe");
+/// let m = mission::load_moos(&fs, "m.moos".as_ref(), &opts).unwrap();
+/// assert_eq!(m.value.global("community"), Some("abe"));
+/// ```
+pub fn load_moos(
+    fs: &dyn source::FileSource,
+    path: &std::path::Path,
+    opts: &nsplug::Options,
+) -> Result<Parsed<moos::MissionFile>, Diagnostic> {
+    let pre = nsplug::preprocess(fs, path, opts)?;
+    let mut parsed = moos::parse_moos(&pre.source);
+    let mut diagnostics = pre.diagnostics;
+    diagnostics.append(&mut parsed.diagnostics);
+    Ok(Parsed {
+        value: parsed.value,
+        diagnostics,
+    })
+}
+
+/// Preprocesses (nsplug) and parses a `.bhv` file, like [`load_moos`].
+///
+/// ```
+/// use mission::source::MemorySource;
+/// let fs = MemorySource::new().with("b.bhv", "initialize DEPLOY = %(D)\n");
+/// let opts = mission::nsplug::Options::new().define("D", "false");
+/// let b = mission::load_bhv(&fs, "b.bhv".as_ref(), &opts).unwrap();
+/// assert_eq!(b.value.initializes[0].value, "FALSE");
+/// ```
+pub fn load_bhv(
+    fs: &dyn source::FileSource,
+    path: &std::path::Path,
+    opts: &nsplug::Options,
+) -> Result<Parsed<bhv::BehaviorFile>, Diagnostic> {
+    let pre = nsplug::preprocess(fs, path, opts)?;
+    let mut parsed = bhv::parse_bhv(&pre.source);
+    let mut diagnostics = pre.diagnostics;
+    diagnostics.append(&mut parsed.diagnostics);
+    Ok(Parsed {
+        value: parsed.value,
+        diagnostics,
+    })
 }
