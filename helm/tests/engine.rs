@@ -1,0 +1,574 @@
+//! Engine behaviour driven by `.bhv` text and scripted mail (time, variable, value).
+
+mod common;
+
+use common::{all, get, is_str};
+use helm::config::Globals;
+use helm::{Helm, HelmState, Mail, Posting, Value};
+use mission::source::SourceMap;
+
+fn globals() -> Globals {
+    Globals {
+        lat_origin: Some("43.8253".into()),
+        long_origin: Some("-70.3304".into()),
+        community: Some("abe".into()),
+    }
+}
+
+fn helm_with(params: &[(&str, &str)], bhv: &str) -> Helm {
+    let parsed = mission::bhv::parse_bhv(&SourceMap::from_text("t.bhv", bhv));
+    let mut p = vec![("domain", "course:0:359:360"), ("domain", "speed:0:4:41")];
+    p.extend_from_slice(params);
+    Helm::from_parsed(&p, &globals(), &parsed)
+}
+
+/// A scripted session: every step feeds nav at a fixed pose plus the given mail.
+struct Script {
+    helm: Helm,
+    t: f64,
+}
+
+impl Script {
+    fn new(helm: Helm) -> Self {
+        Script { helm, t: 0.0 }
+    }
+    fn nav(&mut self, x: f64, y: f64, h: f64) {
+        let t = self.t;
+        self.helm.on_mail(&[
+            Mail::new("NAV_X", x, t),
+            Mail::new("NAV_Y", y, t),
+            Mail::new("NAV_HEADING", h, t),
+            Mail::new("NAV_SPEED", 1.0, t),
+        ]);
+    }
+    /// Advances to time `t`, delivers `mail` (var, string value) and iterates.
+    fn at(&mut self, t: f64, mail: &[(&str, &str)]) -> Vec<Posting> {
+        self.t = t;
+        let m: Vec<Mail> = mail
+            .iter()
+            .map(|(k, v)| Mail::new(k, *v, t).from("uPokeDB"))
+            .collect();
+        self.helm.on_mail(&m);
+        self.helm.iterate(t).to_vec()
+    }
+    /// Nav at (x, y, h), then `at`.
+    fn step(&mut self, t: f64, x: f64, y: f64, h: f64, mail: &[(&str, &str)]) -> Vec<Posting> {
+        self.t = t;
+        self.nav(x, y, h);
+        self.at(t, mail)
+    }
+}
+
+fn has_desired(posts: &[Posting]) -> bool {
+    posts.iter().any(|p| p.var.starts_with("DESIRED_"))
+}
+
+const HEADING_BHV: &str = "\
+initialize DEPLOY = false
+Behavior = BHV_ConstantHeading
+{
+  name      = hdg
+  condition = DEPLOY = true
+  heading   = 45
+  duration  = no-time-limit
+  updates   = HDG_UPDATE
+}
+Behavior = BHV_ConstantSpeed
+{
+  name      = spd
+  condition = DEPLOY = true
+  speed     = 2
+  duration  = no-time-limit
+}
+";
+
+#[test]
+fn unknown_helm_parameter_is_malconfig_and_never_decides() {
+    let helm = helm_with(
+        &[("start_engaged", "true"), ("bogus_param", "1")],
+        HEADING_BHV,
+    );
+    assert_eq!(helm.state(), HelmState::Malconfig);
+    assert!(helm.config_errors()[0].to_string().contains("bogus_param"));
+    let mut s = Script::new(helm);
+    let first = s.step(
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        &[("MOOS_MANUAL_OVERRIDE", "false"), ("DEPLOY", "true")],
+    );
+    let why: Vec<&str> = all(&first, "IVPHELM_CONFIG_WARNING")
+        .iter()
+        .map(|v| v.as_str().unwrap())
+        .collect();
+    assert_eq!(why, ["Unhandled config line: bogus_param = 1"]);
+    for k in 1..20 {
+        let posts = s.step(
+            f64::from(k),
+            0.0,
+            0.0,
+            0.0,
+            &[("MOOS_MANUAL_OVERRIDE", "false")],
+        );
+        assert!(!has_desired(&posts), "{posts:?}");
+        assert_eq!(posts.len(), 1);
+        assert!(is_str(get(&posts, "IVPHELM_STATE"), "MALCONFIG"));
+    }
+}
+
+#[test]
+fn unknown_behavior_parameter_is_malconfig_with_the_line() {
+    let bhv = HEADING_BHV.replace("heading   = 45", "heading   = 45\n  headingg  = 50");
+    let helm = helm_with(&[("start_engaged", "true")], &bhv);
+    assert_eq!(helm.state(), HelmState::Malconfig);
+    let msg = helm.config_errors()[0].to_string();
+    assert!(msg.contains("t.bhv: Line 7: headingg = 50"), "{msg}");
+    let mut s = Script::new(helm);
+    for k in 0..10 {
+        let posts = s.step(f64::from(k), 0.0, 0.0, 0.0, &[("DEPLOY", "true")]);
+        assert!(!has_desired(&posts));
+    }
+    // A bad value is as fatal as an unknown name.
+    let bhv = HEADING_BHV.replace("speed     = 2", "speed     = fast");
+    let helm = helm_with(&[], &bhv);
+    assert_eq!(helm.state(), HelmState::Malconfig);
+    assert!(helm.config_errors()[0].to_string().contains("speed = fast"));
+}
+
+#[test]
+fn missing_globals_and_unknown_behavior_types_are_malconfig() {
+    let parsed = mission::bhv::parse_bhv(&SourceMap::from_text("t.bhv", HEADING_BHV));
+    let g = Globals {
+        community: None,
+        ..globals()
+    };
+    let h = Helm::from_parsed(&[("domain", "course:0:359:360")], &g, &parsed);
+    assert_eq!(h.state(), HelmState::Malconfig);
+    assert_eq!(h.config_errors()[0].to_string(), "Missing global Community");
+    let h = helm_with(&[], "Behavior = BHV_Teleport\n{\n name = x\n}\n");
+    assert!(
+        h.config_errors()[0]
+            .to_string()
+            .contains("unknown behavior type BHV_Teleport")
+    );
+}
+
+#[test]
+fn decisions_need_control_nav_and_the_first_second() {
+    let helm = helm_with(&[], HEADING_BHV);
+    let mut s = Script::new(helm);
+    // PARK, no nav yet: only the state.
+    let posts = s.at(0.0, &[("DEPLOY", "true")]);
+    assert!(is_str(get(&posts, "IVPHELM_STATE"), "PARK"));
+    assert!(
+        get(&posts, "IVPHELM_ALLSTOP").is_none(),
+        "holding for nav: no all-stop"
+    );
+    // Nav without NAV_SPEED still holds.
+    s.helm.on_mail(&[
+        Mail::new("NAV_X", 0.0, 0.5),
+        Mail::new("NAV_Y", 0.0, 0.5),
+        Mail::new("NAV_HEADING", 0.0, 0.5),
+    ]);
+    let posts = s.at(0.5, &[("MOOS_MANUAL_OVERRIDE", "false")]);
+    assert!(is_str(get(&posts, "IVPHELM_STATE"), "DRIVE"));
+    assert!(get(&posts, "IVPHELM_ALLSTOP").is_none() && !has_desired(&posts));
+    // With NAV_SPEED the helm is ready, but it is still the first second.
+    s.helm.on_mail(&[Mail::new("NAV_SPEED", 0.0, 0.75)]);
+    let posts = s.at(0.75, &[]);
+    assert!(!has_desired(&posts) && get(&posts, "IVPHELM_ITER").is_none());
+    let posts = s.at(1.0, &[]);
+    assert_eq!(get(&posts, "IVPHELM_ITER"), Some(&Value::Num(1.0)));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(45.0)));
+    assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Num(2.0)));
+    // Decisions are posted every iteration, not only on change.
+    let posts = s.at(1.25, &[]);
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(45.0)));
+    assert!(get(&posts, "IVPHELM_ALLSTOP").is_none());
+}
+
+#[test]
+fn manual_override_mid_mission_stops_and_resumes() {
+    let mut s = Script::new(helm_with(&[("start_engaged", "true")], HEADING_BHV));
+    s.step(0.0, 0.0, 0.0, 0.0, &[("DEPLOY", "true")]);
+    let posts = s.step(1.0, 0.0, 0.0, 0.0, &[]);
+    assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "clear"));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(45.0)));
+
+    let posts = s.step(2.0, 0.0, 0.0, 0.0, &[("MOOS_MANUAL_OVERRIDE", "true")]);
+    assert!(is_str(get(&posts, "IVPHELM_STATE"), "PARK"));
+    assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "ManualOverride"));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(0.0)));
+    assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Num(0.0)));
+    let posts = s.step(3.0, 0.0, 0.0, 0.0, &[]);
+    assert!(
+        !has_desired(&posts),
+        "zeros once, then silence while parked"
+    );
+
+    // The legacy misspelling releases it too.
+    let posts = s.step(4.0, 0.0, 0.0, 0.0, &[("MOOS_MANUAL_OVERIDE", "FALSE")]);
+    assert!(is_str(get(&posts, "IVPHELM_STATE"), "DRIVE"));
+    assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "clear"));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(45.0)));
+
+    // allow_park = false: override requests are ignored.
+    let mut s = Script::new(helm_with(
+        &[("start_engaged", "true"), ("allow_park", "false")],
+        HEADING_BHV,
+    ));
+    s.step(0.0, 0.0, 0.0, 0.0, &[("DEPLOY", "true")]);
+    let posts = s.step(1.0, 0.0, 0.0, 0.0, &[("MOOS_MANUAL_OVERRIDE", "true")]);
+    assert!(is_str(get(&posts, "IVPHELM_STATE"), "DRIVE"));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(45.0)));
+}
+
+#[test]
+fn runtime_updates_good_bad_and_duplicate() {
+    let mut s = Script::new(helm_with(&[("start_engaged", "true")], HEADING_BHV));
+    s.step(0.0, 0.0, 0.0, 0.0, &[("DEPLOY", "true")]);
+    let posts = s.step(1.0, 0.0, 0.0, 0.0, &[("HDG_UPDATE", "heading=90")]);
+    let r = get(&posts, "IVPHELM_UPDATE_RESULT")
+        .unwrap()
+        .as_str()
+        .unwrap();
+    assert_eq!(
+        r,
+        "bhv=hdg,var=HDG_UPDATE,time=1.00,result=success,val=heading=90"
+    );
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(90.0)));
+
+    // A bad value: a warning, the result, and the old value kept.
+    let posts = s.step(
+        2.0,
+        0.0,
+        0.0,
+        0.0,
+        &[("HDG_UPDATE", "heading=east # peakwidth=5")],
+    );
+    let r = get(&posts, "IVPHELM_UPDATE_RESULT")
+        .unwrap()
+        .as_str()
+        .unwrap();
+    assert!(r.contains("result=param_error"), "{r}");
+    let w = get(&posts, "BHV_WARNING").unwrap().as_str().unwrap();
+    assert_eq!(
+        w,
+        "Faulty update for behavior: hdg. Bad parameter(s): heading"
+    );
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(90.0)));
+    let summary = get(&posts, "IVPHELM_SUMMARY").unwrap().as_str().unwrap();
+    assert!(summary.contains("hdg$1.00$100.00000$"), "{summary}");
+    assert!(summary.contains("$1/2$1"), "updates good/total: {summary}");
+
+    // The same string again is a duplicate; a name mismatch is neither good nor bad.
+    let posts = s.step(3.0, 0.0, 0.0, 0.0, &[("HDG_UPDATE", "heading=90")]);
+    assert!(
+        get(&posts, "IVPHELM_UPDATE_RESULT")
+            .unwrap()
+            .as_str()
+            .unwrap()
+            .contains("result=duplicate")
+    );
+    let posts = s.step(
+        4.0,
+        0.0,
+        0.0,
+        0.0,
+        &[("HDG_UPDATE", "name=other # heading=10")],
+    );
+    assert!(
+        get(&posts, "IVPHELM_UPDATE_RESULT")
+            .unwrap()
+            .as_str()
+            .unwrap()
+            .contains("result=name_mismatch")
+    );
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(90.0)));
+}
+
+#[test]
+fn hierarchical_modes_drive_behaviour_conditions() {
+    let bhv = "\
+initialize DEPLOY = false
+initialize RETURN = false
+set MODE = ACTIVE {
+  DEPLOY = true
+} INACTIVE
+set MODE = RETURNING {
+  MODE = ACTIVE
+  RETURN = true
+} SURVEYING
+Behavior = BHV_ConstantHeading
+{
+  name = survey_hdg
+  condition = MODE == SURVEYING
+  heading = 100
+  duration = no-time-limit
+}
+Behavior = BHV_ConstantHeading
+{
+  name = return_hdg
+  condition = MODE == RETURNING
+  heading = 280
+  duration = no-time-limit
+}
+";
+    let mut s = Script::new(helm_with(
+        &[
+            ("start_engaged", "true"),
+            ("domain", "speed:0:4:41:optional"),
+        ],
+        bhv,
+    ));
+    // An optional var may stay undecided... but speed is declared twice here: MALCONFIG.
+    assert_eq!(s.helm.state(), HelmState::Malconfig);
+
+    let parsed = mission::bhv::parse_bhv(&SourceMap::from_text("m.bhv", bhv));
+    let helm = Helm::from_parsed(
+        &[
+            ("domain", "course:0:359:360"),
+            ("domain", "speed:0:4:41:optional"),
+            ("start_engaged", "true"),
+        ],
+        &globals(),
+        &parsed,
+    );
+    s = Script::new(helm);
+    let posts = s.step(0.0, 0.0, 0.0, 0.0, &[]);
+    assert!(is_str(
+        get(&posts, "IVPHELM_MODESET"),
+        "MODE#---,ACTIVE#---,INACTIVE#ACTIVE,RETURNING#ACTIVE,SURVEYING"
+    ));
+    let posts = s.step(1.0, 0.0, 0.0, 0.0, &[]);
+    let mode = posts.iter().find(|p| p.var == "MODE").unwrap();
+    assert_eq!(
+        (mode.value.as_str(), mode.aux.as_str()),
+        (Some("INACTIVE"), "HELM_MODE")
+    );
+    let posts = s.step(2.0, 0.0, 0.0, 0.0, &[("DEPLOY", "true")]);
+    assert!(is_str(get(&posts, "MODE"), "ACTIVE:SURVEYING"));
+    // speed is optional: a course-only decision is complete.
+    assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "clear"));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(100.0)));
+    let summary = get(&posts, "IVPHELM_SUMMARY").unwrap().as_str().unwrap();
+    assert!(summary.contains("modes=MODE@ACTIVE:SURVEYING"), "{summary}");
+    assert!(summary.contains("var=speed:varbalk"), "{summary}");
+    let posts = s.step(3.0, 0.0, 0.0, 0.0, &[]);
+    assert!(get(&posts, "MODE").is_none(), "mode posted on change only");
+    let posts = s.step(4.0, 0.0, 0.0, 0.0, &[("RETURN", "true")]);
+    assert!(is_str(get(&posts, "MODE"), "ACTIVE:RETURNING"));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(280.0)));
+}
+
+#[test]
+fn missing_decision_variable_is_an_allstop() {
+    let bhv = "Behavior = BHV_ConstantHeading\n{\n name = h\n heading = 10\n duration = no-time-limit\n}\n";
+    let mut s = Script::new(helm_with(&[("start_engaged", "true")], bhv));
+    s.step(0.0, 0.0, 0.0, 0.0, &[]);
+    let posts = s.step(1.0, 0.0, 0.0, 0.0, &[]);
+    assert!(is_str(get(&posts, "BHV_ERROR"), "MissingDecVars:speed"));
+    assert!(is_str(
+        get(&posts, "IVPHELM_ALLSTOP"),
+        "MissingDecVars:speed"
+    ));
+    assert!(!has_desired(&posts), "grace iteration");
+    let posts = s.step(2.0, 0.0, 0.0, 0.0, &[]);
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(0.0)));
+}
+
+#[test]
+fn constant_heading_default_duration_zero_completes_at_once() {
+    let bhv =
+        "Behavior = BHV_ConstantHeading\n{\n name = h\n heading = 10\n endflag = DONE = yes\n}\n";
+    let mut s = Script::new(helm_with(&[("start_engaged", "true")], bhv));
+    s.step(0.0, 0.0, 0.0, 0.0, &[]);
+    let posts = s.step(1.0, 0.0, 0.0, 0.0, &[]);
+    assert!(is_str(get(&posts, "DONE"), "yes"));
+    assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "NothingToDo"));
+    let ev = get(&posts, "IVPHELM_LIFE_EVENT").unwrap().as_str().unwrap();
+    assert_eq!(
+        ev,
+        "time=1.00, iter=1, bname=h, btype=BHV_ConstantHeading, event=death, seed="
+    );
+    let summary = get(&posts, "IVPHELM_SUMMARY").unwrap().as_str().unwrap();
+    assert!(summary.contains("completed_bhvs=h$1.00$n/a"), "{summary}");
+    assert!(s.helm.behavior_names().is_empty());
+}
+
+#[test]
+fn duration_status_reset_and_perpetual_endflags() {
+    let bhv = "\
+Behavior = BHV_ConstantSpeed
+{
+  name            = cs
+  speed           = 1
+  duration        = 3
+  duration_status = CS_LEFT
+  duration_reset  = CS_RESET = true
+  perpetual       = true
+  endflag         = CS_END = $[DUR_RUN_TIME]
+  runflag         = CS_RUN = 1
+  activeflag      = CS_ACTIVE = $[BHVNAME]/$[OWNSHIP]
+}
+Behavior = BHV_ConstantHeading
+{
+  name = h
+  heading = 0
+  duration = no-time-limit
+}
+";
+    let mut s = Script::new(helm_with(&[("start_engaged", "true")], bhv));
+    s.step(0.0, 0.0, 0.0, 0.0, &[]);
+    let posts = s.step(1.0, 0.0, 0.0, 0.0, &[]);
+    assert_eq!(get(&posts, "CS_RUN"), Some(&Value::Num(1.0)));
+    assert!(is_str(get(&posts, "CS_ACTIVE"), "cs/abe"));
+    assert_eq!(get(&posts, "CS_LEFT"), Some(&Value::Num(3.0)));
+    let posts = s.step(2.0, 0.0, 0.0, 0.0, &[]);
+    assert_eq!(get(&posts, "CS_LEFT"), Some(&Value::Num(2.0)));
+    // A reset post restarts the clock.
+    let posts = s.step(3.0, 0.0, 0.0, 0.0, &[("CS_RESET", "true")]);
+    assert_eq!(all(&posts, "CS_LEFT"), [&Value::Num(3.0)]);
+    s.step(4.0, 0.0, 0.0, 0.0, &[]);
+    s.step(5.0, 0.0, 0.0, 0.0, &[]);
+    let posts = s.step(6.0, 0.0, 0.0, 0.0, &[]);
+    // Expired 3 s after the reset: endflag with the running time since the reset (a solo
+    // numeric macro posts a double), but perpetual keeps it alive.
+    assert_eq!(get(&posts, "CS_LEFT"), Some(&Value::Num(0.0)));
+    assert_eq!(get(&posts, "CS_END"), Some(&Value::Num(3.0)), "{posts:?}");
+    assert_eq!(s.helm.behavior_names(), ["cs", "h"]);
+    let posts = s.step(7.0, 0.0, 0.0, 0.0, &[]);
+    assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Num(1.0)));
+}
+
+#[test]
+fn idle_and_inactive_flags_on_transitions() {
+    let bhv = "\
+initialize GO = false
+Behavior = BHV_ConstantHeading
+{
+  name = h
+  condition = GO = true
+  heading = 0
+  duration = no-time-limit
+  idleflag = STATE_H = idle
+  runflag = STATE_H = run
+  inactiveflag = H_INACTIVE = $[BHVTYPE]
+}
+Behavior = BHV_ConstantSpeed
+{
+  name = s
+  speed = 1
+  duration = no-time-limit
+}
+";
+    let mut s = Script::new(helm_with(&[("start_engaged", "true")], bhv));
+    s.step(0.0, 0.0, 0.0, 0.0, &[]);
+    let posts = s.step(1.0, 0.0, 0.0, 0.0, &[]);
+    assert!(is_str(get(&posts, "STATE_H"), "idle"));
+    assert!(is_str(get(&posts, "H_INACTIVE"), "BHV_ConstantHeading"));
+    let posts = s.step(2.0, 0.0, 0.0, 0.0, &[]);
+    assert!(
+        get(&posts, "STATE_H").is_none(),
+        "idle flags on the transition only"
+    );
+    let posts = s.step(3.0, 0.0, 0.0, 0.0, &[("GO", "true")]);
+    assert!(is_str(get(&posts, "STATE_H"), "run"));
+    let posts = s.step(4.0, 0.0, 0.0, 0.0, &[("GO", "false")]);
+    assert!(is_str(get(&posts, "STATE_H"), "idle"));
+    assert!(is_str(get(&posts, "IVPHELM_BHV_IDLE"), "h"));
+}
+
+#[test]
+fn timer_posts_status_and_ends_by_duration() {
+    let bhv = "\
+Behavior = BHV_Timer
+{
+  name = t
+  duration = 2
+  endflag = TIMER_DONE = true
+}
+Behavior = BHV_ConstantHeading
+{
+  name = h
+  heading = 0
+  duration = no-time-limit
+}
+Behavior = BHV_ConstantSpeed
+{
+  name = s
+  speed = 1
+  duration = no-time-limit
+}
+";
+    let mut s = Script::new(helm_with(&[("start_engaged", "true")], bhv));
+    s.step(0.0, 0.0, 0.0, 0.0, &[]);
+    let posts = s.step(1.0, 0.0, 0.0, 0.0, &[]);
+    assert_eq!(get(&posts, "TIMER_RUNNING"), Some(&Value::Num(0.0)));
+    assert!(is_str(get(&posts, "IVPHELM_BHV_RUNNING"), "t"));
+    let posts = s.step(2.0, 0.0, 0.0, 0.0, &[]);
+    assert_eq!(get(&posts, "TIMER_RUNNING"), Some(&Value::Num(1.0)));
+    let posts = s.step(3.0, 0.0, 0.0, 0.0, &[]);
+    assert!(is_str(get(&posts, "TIMER_DONE"), "true"));
+    assert_eq!(s.helm.behavior_names(), ["h", "s"]);
+}
+
+#[test]
+fn skewed_mail_is_ignored_and_deferred_initialize_waits() {
+    let bhv = "initialize_ LATE = 7\ninitialize_ KNOWN = 1\n".to_string() + HEADING_BHV;
+    let mut s = Script::new(helm_with(&[("start_engaged", "true")], &bhv));
+    let posts = s.step(0.0, 0.0, 0.0, 0.0, &[]);
+    assert!(get(&posts, "LATE").is_none(), "deferred");
+    s.helm
+        .on_mail(&[Mail::new("KNOWN", "2", 100.0).from("other")]);
+    let posts = s.step(100.0, 0.0, 0.0, 0.0, &[]);
+    assert!(
+        get(&posts, "LATE").is_none(),
+        "not before IVPHELM_STATE mail"
+    );
+    // Mail 70 s old is skewed (ok_skew 60).
+    s.helm
+        .on_mail(&[Mail::new("DEPLOY", "true", 30.0).from("uPokeDB")]);
+    s.helm
+        .on_mail(&[Mail::new("IVPHELM_STATE", "DRIVE", 101.0).from("pHelmIvP")]);
+    let posts = s.step(101.0, 0.0, 0.0, 0.0, &[]);
+    let skew = get(&posts, "IVPHELM_SKEW").unwrap().as_str().unwrap();
+    assert!(
+        skew.starts_with("Helm ignores MOOS msg due to skew: DEPLOY Source=uPokeDB Skew=71.00"),
+        "{skew}"
+    );
+    assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "NothingToDo"));
+    let late = posts.iter().find(|p| p.var == "LATE").unwrap();
+    assert_eq!(
+        (&late.value, late.aux.as_str()),
+        (&Value::Num(7.0), "HELM_VAR_INIT")
+    );
+    assert!(
+        get(&posts, "KNOWN").is_none(),
+        "already known: not initialized"
+    );
+}
+
+#[test]
+fn helm_prefix_and_park_on_allstop() {
+    let mut s = Script::new(helm_with(
+        &[
+            ("start_engaged", "true"),
+            ("helm_prefix", "H1_"),
+            ("park_on_allstop", "true"),
+        ],
+        HEADING_BHV,
+    ));
+    s.step(0.0, 0.0, 0.0, 0.0, &[("DEPLOY", "true")]);
+    let posts = s.step(1.0, 0.0, 0.0, 0.0, &[]);
+    assert_eq!(get(&posts, "H1_DESIRED_HEADING"), Some(&Value::Num(45.0)));
+    assert!(get(&posts, "DESIRED_HEADING").is_none());
+    let posts = s.step(2.0, 0.0, 0.0, 0.0, &[("DEPLOY", "false")]);
+    assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "NothingToDo"));
+    let posts = s.step(3.0, 0.0, 0.0, 0.0, &[]);
+    assert!(
+        is_str(get(&posts, "IVPHELM_STATE"), "PARK"),
+        "parked after the all-stop"
+    );
+}
