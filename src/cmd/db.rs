@@ -1,7 +1,7 @@
 //! `coug db [MISSION.moos] [--port N] [--host ADDR] [--community NAME]`: a standalone MOOSDB.
 //!
-//! Also holds the tiny reader of a mission's `ServerHost` / `ServerPort` / `Community` /
-//! `MOOSTimeWarp` used by `coug poke` and `coug scope`.
+//! Also holds what `coug poke` and `coug scope` share: the tiny reader of a mission's
+//! `ServerHost` / `ServerPort` / `Community` / `MOOSTimeWarp` and the connect helper.
 //! TODO: switch to `mission::moos` once that parser is available to the binary.
 
 use std::net::{IpAddr, Ipv4Addr, SocketAddr, ToSocketAddrs};
@@ -9,8 +9,10 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, bail};
 use clap::Args;
+use std::time::Duration;
+
 use moosdb_client::time::Warp;
-use moosdb_client::{Server, ServerConfig};
+use moosdb_client::{Client, ClientConfig, MailStream, Server, ServerConfig};
 
 /// Arguments of `coug db`.
 #[derive(Debug, Args)]
@@ -110,6 +112,62 @@ pub fn resolve_host(host: &str, port: u16) -> anyhow::Result<SocketAddr> {
 /// Warp from the mission (1 when absent); rejects values MOOS rejects.
 pub fn warp_of(m: &MissionComms) -> anyhow::Result<Warp> {
     Ok(Warp::new(m.warp.unwrap_or(1.0))?)
+}
+
+/// How `coug poke` and `coug scope` reach the DB.
+#[derive(Debug, Clone, Args)]
+pub struct ConnectArgs {
+    /// DB host (default: mission ServerHost, else localhost).
+    #[arg(long)]
+    pub host: Option<String>,
+    /// DB port (default: mission ServerPort, else 9000).
+    #[arg(long)]
+    pub port: Option<u16>,
+    /// Seconds to wait for the DB before giving up.
+    #[arg(long, default_value_t = 10.0)]
+    pub timeout: f64,
+}
+
+/// Splits an optional leading mission file (ending in `.moos` or `.moos++`) from the rest.
+pub fn split_mission(items: &[String]) -> (Option<PathBuf>, &[String]) {
+    match items.first() {
+        Some(f) if f.ends_with(".moos") || f.ends_with(".moos++") => {
+            (Some(PathBuf::from(f)), &items[1..])
+        }
+        _ => (None, items),
+    }
+}
+
+/// Starts a client called `name` per the command line and mission, and waits (bounded by
+/// `--timeout`) until the DB welcomes it.
+pub async fn connect(
+    name: &str,
+    mission: Option<&Path>,
+    args: &ConnectArgs,
+) -> anyhow::Result<(Client, MailStream)> {
+    let m = match mission {
+        Some(p) => read_mission_comms(p)?,
+        None => MissionComms::default(),
+    };
+    let host = args
+        .host
+        .clone()
+        .or(m.host.clone())
+        .unwrap_or_else(|| "localhost".into());
+    let port = args
+        .port
+        .or(m.port)
+        .unwrap_or(moosdb_client::server::DEFAULT_PORT);
+    let mut cfg = ClientConfig::new(name, &host, port);
+    cfg.warp = warp_of(&m)?;
+    let (client, mail) = Client::start(cfg);
+    tokio::time::timeout(
+        Duration::from_secs_f64(args.timeout.max(0.0)),
+        client.wait_connected(),
+    )
+    .await
+    .with_context(|| format!("no MOOSDB at {host}:{port} within {} s", args.timeout))??;
+    Ok((client, mail))
 }
 
 /// Runs the DB until Ctrl-C.

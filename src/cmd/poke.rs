@@ -4,14 +4,11 @@
 //! a string. A value in double quotes is a string, posted with its quotes as uPokeDB does
 //! (recorded traffic: `QNUM="42"` arrives as the 4-character string `"42"`).
 
-use std::path::PathBuf;
-use std::time::Duration;
-
 use anyhow::{Context, bail};
 use clap::Args;
-use moosdb_client::{Client, ClientConfig, Value};
+use moosdb_client::Value;
 
-use super::db::{MissionComms, read_mission_comms, warp_of};
+use super::db::{ConnectArgs, connect, split_mission};
 
 /// Arguments of `coug poke`.
 #[derive(Debug, Args)]
@@ -19,15 +16,9 @@ pub struct PokeArgs {
     /// An optional mission file (first argument ending in `.moos`), then `VAR=VALUE` pairs.
     #[arg(required = true, value_name = "[MISSION.moos] VAR=VALUE")]
     pub items: Vec<String>,
-    /// DB host (default: mission ServerHost, else localhost).
-    #[arg(long)]
-    pub host: Option<String>,
-    /// DB port (default: mission ServerPort, else 9000).
-    #[arg(long)]
-    pub port: Option<u16>,
-    /// Seconds to wait for the DB before giving up.
-    #[arg(long, default_value_t = 10.0)]
-    pub timeout: f64,
+    /// Where the DB is.
+    #[command(flatten)]
+    pub connect: ConnectArgs,
 }
 
 /// One parsed `VAR=VALUE`.
@@ -70,23 +61,9 @@ pub fn parse_poke(arg: &str) -> anyhow::Result<Poke> {
     })
 }
 
-/// Splits the optional leading mission file from the pokes.
-fn split_items(items: &[String]) -> (Option<PathBuf>, &[String]) {
-    match items.first() {
-        Some(f) if f.ends_with(".moos") || f.ends_with(".moos++") => {
-            (Some(PathBuf::from(f)), &items[1..])
-        }
-        _ => (None, items),
-    }
-}
-
 /// Connects, posts every value, flushes and exits.
 pub fn run(args: &PokeArgs) -> anyhow::Result<()> {
-    let (mission, rest) = split_items(&args.items);
-    let m = match &mission {
-        Some(p) => read_mission_comms(p)?,
-        None => MissionComms::default(),
-    };
+    let (mission, rest) = split_mission(&args.items);
     let pokes: Vec<Poke> = rest
         .iter()
         .map(|a| parse_poke(a))
@@ -94,23 +71,10 @@ pub fn run(args: &PokeArgs) -> anyhow::Result<()> {
     if pokes.is_empty() {
         bail!("nothing to poke: give VAR=VALUE arguments");
     }
-    let host = args
-        .host
-        .clone()
-        .or(m.host.clone())
-        .unwrap_or_else(|| "localhost".into());
-    let port = args.port.or(m.port).unwrap_or(9000);
-    let mut cfg = ClientConfig::new(&format!("coug_poke_{}", std::process::id()), &host, port);
-    cfg.warp = warp_of(&m)?;
+    let name = format!("coug_poke_{}", std::process::id());
     let rt = tokio::runtime::Runtime::new()?;
     rt.block_on(async {
-        let (client, _mail) = Client::start(cfg);
-        tokio::time::timeout(
-            Duration::from_secs_f64(args.timeout.max(0.0)),
-            client.wait_connected(),
-        )
-        .await
-        .with_context(|| format!("no MOOSDB at {host}:{port} within {} s", args.timeout))??;
+        let (client, _mail) = connect(&name, mission.as_deref(), &args.connect).await?;
         for p in &pokes {
             client.notify(&p.var, p.value.clone())?;
             match &p.value {
@@ -171,15 +135,17 @@ mod tests {
             items: ["FOO=3.5", "BAR=hello", "QNUM=\"42\"", "NUMSTR:=2.5"]
                 .map(String::from)
                 .to_vec(),
-            host: Some("127.0.0.1".into()),
-            port: Some(server.local_addr().port()),
-            timeout: 10.0,
+            connect: ConnectArgs {
+                host: Some("127.0.0.1".into()),
+                port: Some(server.local_addr().port()),
+                timeout: 10.0,
+            },
         };
         run(&args).unwrap();
-        let deadline = std::time::Instant::now() + Duration::from_secs(10);
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(10);
         while server.with_db(|db| db.current("NUMSTR").is_none()) {
             assert!(std::time::Instant::now() < deadline, "pokes never arrived");
-            std::thread::sleep(Duration::from_millis(10));
+            std::thread::sleep(std::time::Duration::from_millis(10));
         }
         let got = |k: &str| server.with_db(|db| db.current(k)).unwrap();
         assert_eq!(
@@ -198,10 +164,10 @@ mod tests {
     #[test]
     fn leading_mission_file_is_split_off() {
         let items = vec!["a.moos".to_string(), "X=1".to_string()];
-        let (m, rest) = split_items(&items);
-        assert_eq!(m, Some(PathBuf::from("a.moos")));
+        let (m, rest) = split_mission(&items);
+        assert_eq!(m, Some(std::path::PathBuf::from("a.moos")));
         assert_eq!(rest, &items[1..]);
         let items = vec!["X=1".to_string()];
-        assert_eq!(split_items(&items).0, None);
+        assert_eq!(split_mission(&items).0, None);
     }
 }

@@ -3,14 +3,13 @@
 
 use std::collections::HashMap;
 use std::fmt::Write as _;
-use std::path::PathBuf;
 use std::time::Duration;
 
-use anyhow::{Context, bail};
+use anyhow::bail;
 use clap::Args;
-use moosdb_client::{Client, ClientConfig, DataType, Message, Value};
+use moosdb_client::{DataType, Message, Value};
 
-use super::db::{MissionComms, read_mission_comms, warp_of};
+use super::db::{ConnectArgs, connect, split_mission};
 
 /// Arguments of `coug scope`.
 #[derive(Debug, Args)]
@@ -18,18 +17,12 @@ pub struct ScopeArgs {
     /// An optional mission file (first argument ending in `.moos`), then variable names.
     #[arg(required = true, value_name = "[MISSION.moos] VAR")]
     pub items: Vec<String>,
-    /// DB host (default: mission ServerHost, else localhost).
-    #[arg(long)]
-    pub host: Option<String>,
-    /// DB port (default: mission ServerPort, else 9000).
-    #[arg(long)]
-    pub port: Option<u16>,
     /// Print the current values once and exit.
     #[arg(long)]
     pub once: bool,
-    /// Seconds to wait for the DB before giving up.
-    #[arg(long, default_value_t = 10.0)]
-    pub timeout: f64,
+    /// Where the DB is.
+    #[command(flatten)]
+    pub connect: ConnectArgs,
 }
 
 fn value_text(m: &Message) -> String {
@@ -76,39 +69,16 @@ pub fn render(vars: &[String], latest: &HashMap<String, Message>, start: f64) ->
 
 /// Connects, registers and prints until Ctrl-C (or once with `--once`).
 pub fn run(args: &ScopeArgs) -> anyhow::Result<()> {
-    let (mission, vars): (Option<PathBuf>, Vec<String>) = match args.items.first() {
-        Some(f) if f.ends_with(".moos") || f.ends_with(".moos++") => {
-            (Some(PathBuf::from(f)), args.items[1..].to_vec())
-        }
-        _ => (None, args.items.clone()),
-    };
+    let (mission, vars) = split_mission(&args.items);
     if vars.is_empty() {
         bail!("nothing to scope: give variable names");
     }
-    let m = match &mission {
-        Some(p) => read_mission_comms(p)?,
-        None => MissionComms::default(),
-    };
-    let host = args
-        .host
-        .clone()
-        .or(m.host.clone())
-        .unwrap_or_else(|| "localhost".into());
-    let port = args.port.or(m.port).unwrap_or(9000);
     let name = format!("coug_scope_{}", std::process::id());
-    let mut cfg = ClientConfig::new(&name, &host, port);
-    cfg.warp = warp_of(&m)?;
     let rt = tokio::runtime::Runtime::new()?;
     rt.block_on(async {
-        let (client, mut mail) = Client::start(cfg);
-        tokio::time::timeout(
-            Duration::from_secs_f64(args.timeout.max(0.0)),
-            client.wait_connected(),
-        )
-        .await
-        .with_context(|| format!("no MOOSDB at {host}:{port} within {} s", args.timeout))??;
+        let (client, mut mail) = connect(&name, mission.as_deref(), &args.connect).await?;
         let start = client.moos_time();
-        for v in &vars {
+        for v in vars {
             client.register(v, 0.0);
         }
         let status_var = format!("{}_STATUS", name.to_ascii_uppercase());
@@ -128,7 +98,7 @@ pub fn run(args: &ScopeArgs) -> anyhow::Result<()> {
                     }
                 }
                 _ = refresh.tick(), if !args.once => {
-                    print!("\x1b[2J\x1b[H{}", render(&vars, &latest, start));
+                    print!("\x1b[2J\x1b[H{}", render(vars, &latest, start));
                 }
                 _ = status.tick() => {
                     // Like every MOOS app: keeps the DB's pushes flowing to idle clients.
@@ -140,7 +110,7 @@ pub fn run(args: &ScopeArgs) -> anyhow::Result<()> {
                 _ = tokio::signal::ctrl_c() => break,
             }
         }
-        print!("{}", render(&vars, &latest, start));
+        print!("{}", render(vars, &latest, start));
         client.close().await;
         Ok(())
     })
