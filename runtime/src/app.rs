@@ -1,0 +1,244 @@
+//! The [`App`] trait: a MOOS app (CMOOSApp) as the scheduler drives it, and the values it
+//! exchanges ([`Mail`] in, [`Post`] out).
+
+use std::fmt;
+
+use mission::moos::ProcessConfig;
+
+/// CMOOSApp's default AppTick (`DEFAULT_MOOS_APP_FREQ`), Hz.
+pub const DEFAULT_APP_TICK: f64 = 5.0;
+
+/// The highest AppTick CMOOSApp allows (`MOOS_MAX_APP_FREQ`), Hz; `AppTick <= 0` (no sleep)
+/// also runs at this rate in lockstep.
+pub const MAX_APP_TICK: f64 = 100.0;
+
+/// Seconds between `<APP>_STATUS` posts (`STATUS_PERIOD`).
+pub const STATUS_PERIOD: f64 = 2.0;
+
+/// A MOOS value: double, string or binary.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Value {
+    /// A double (`'D'`).
+    Double(f64),
+    /// A string (`'S'`).
+    String(String),
+    /// Binary data (`'B'`).
+    Binary(Vec<u8>),
+}
+
+impl Value {
+    /// The number, if a double.
+    pub fn as_f64(&self) -> Option<f64> {
+        match self {
+            Value::Double(x) => Some(*x),
+            _ => None,
+        }
+    }
+
+    /// The text, if a string.
+    pub fn as_str(&self) -> Option<&str> {
+        match self {
+            Value::String(s) => Some(s),
+            _ => None,
+        }
+    }
+
+    /// A string value: `Value::text("true")`.
+    pub fn text(s: impl Into<String>) -> Value {
+        Value::String(s.into())
+    }
+}
+
+impl fmt::Display for Value {
+    /// Doubles as Rust prints them, strings raw, binary as `<N bytes>`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Value::Double(x) => write!(f, "{x}"),
+            Value::String(s) => f.write_str(s),
+            Value::Binary(b) => write!(f, "<{} bytes>", b.len()),
+        }
+    }
+}
+
+/// One message delivered to an app.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mail {
+    /// Variable name.
+    pub key: String,
+    /// Value.
+    pub value: Value,
+    /// MOOS time the writer stamped it with.
+    pub time: f64,
+    /// The writer's MOOS name.
+    pub source: String,
+    /// The writer's auxiliary source text (often empty).
+    pub source_aux: String,
+    /// The writer's community.
+    pub community: String,
+}
+
+/// One value an app publishes. The scheduler stamps the time (the app's current time)
+/// and, when `source` is empty, the app's MOOS name.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Post {
+    /// Variable name.
+    pub key: String,
+    /// Value.
+    pub value: Value,
+    /// The publisher's MOOS name (empty: filled with the posting app's name).
+    pub source: String,
+}
+
+impl Post {
+    /// A post of any value with the source left for the scheduler to fill.
+    pub fn new(key: impl Into<String>, value: Value) -> Post {
+        Post {
+            key: key.into(),
+            value,
+            source: String::new(),
+        }
+    }
+
+    /// A double post: `Post::double("DESIRED_SPEED", 1.5)`.
+    pub fn double(key: impl Into<String>, x: f64) -> Post {
+        Post::new(key, Value::Double(x))
+    }
+
+    /// A string post: `Post::text("DEPLOY", "true")`.
+    pub fn text(key: impl Into<String>, s: impl Into<String>) -> Post {
+        Post::new(key, Value::String(s.into()))
+    }
+}
+
+/// A registration: an exact variable name, or a MOOS wildcard pattern (`*`, `?`) on
+/// variable names, with the DB's minimum interval between deliveries (0 = every write).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Subscription {
+    /// Name or pattern.
+    pub pattern: String,
+    /// Minimum seconds between deliveries (MOOS `Register(var, interval)`).
+    pub interval: f64,
+}
+
+impl Subscription {
+    /// Every write of `name`.
+    pub fn var(name: impl Into<String>) -> Subscription {
+        Subscription {
+            pattern: name.into(),
+            interval: 0.0,
+        }
+    }
+
+    /// `name` at most every `interval` seconds.
+    pub fn every(name: impl Into<String>, interval: f64) -> Subscription {
+        Subscription {
+            pattern: name.into(),
+            interval,
+        }
+    }
+
+    /// True when the pattern holds `*` or `?` (a wildcard registration).
+    pub fn is_wildcard(&self) -> bool {
+        self.pattern.contains(['*', '?'])
+    }
+}
+
+/// A MOOS app as the scheduler drives it (CMOOSApp's life cycle):
+/// registrations, then [`App::on_startup`], then at every AppTick period:
+/// fetch mail sorted by time → [`App::on_mail`] → [`App::iterate`].
+///
+/// Apps never read a clock: `now` (MOOS time, seconds) is always an argument.
+pub trait App {
+    /// The MOOS name (the ANTLER alias when one was given, e.g. `pHelmIvP_2`).
+    fn name(&self) -> &str;
+
+    /// The `ProcessConfig` block the app was configured from, if any.
+    fn process_config(&self) -> Option<&ProcessConfig> {
+        None
+    }
+
+    /// Iterations per second. Default: the block's `AppTick` (see [`app_tick_of`]).
+    fn app_tick(&self) -> f64 {
+        app_tick_of(self.process_config())
+    }
+
+    /// The registrations made when the app connects.
+    fn subscriptions(&self) -> Vec<Subscription> {
+        Vec::new()
+    }
+
+    /// Registrations the app wants to add now (polled after every callback).
+    fn new_subscriptions(&mut self) -> Vec<Subscription> {
+        Vec::new()
+    }
+
+    /// OnStartUp: called once, after connecting, before the first mail and iterate.
+    fn on_startup(&mut self, _now: f64, _out: &mut Vec<Post>) {}
+
+    /// OnNewMail: everything delivered since the last call, sorted by time.
+    fn on_mail(&mut self, _mail: &[Mail], _now: f64, _out: &mut Vec<Post>) {}
+
+    /// Iterate: one step of the app's work at time `now`.
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>);
+
+    /// True once the app wants to stop (e.g. uTimerScript's `quit`); it is then no longer
+    /// scheduled.
+    fn finished(&self) -> bool {
+        false
+    }
+}
+
+/// The AppTick of a block as CMOOSApp reads it: `AppTick` (default 5), values above 100 or
+/// at or below 0 (no sleep) become 100, an unreadable value the default.
+///
+/// ```
+/// assert_eq!(runtime::app::app_tick_of(None), 5.0);
+/// ```
+pub fn app_tick_of(config: Option<&ProcessConfig>) -> f64 {
+    let Some(v) = config.and_then(|c| c.get("AppTick")) else {
+        return DEFAULT_APP_TICK;
+    };
+    match v.trim().parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 => x.min(MAX_APP_TICK),
+        Ok(x) if x.is_finite() => MAX_APP_TICK,
+        _ => DEFAULT_APP_TICK,
+    }
+}
+
+/// True for config values MOOS reads as true (`true`, `1`, `yes`, `on`; any case).
+pub fn is_true(s: &str) -> bool {
+    matches!(
+        s.trim().to_ascii_lowercase().as_str(),
+        "true" | "1" | "yes" | "on"
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mission::source::SourceMap;
+
+    fn block(text: &str) -> ProcessConfig {
+        let src = SourceMap::from_text("t.moos", text);
+        mission::moos::parse_moos(&src).value.processes[0].clone()
+    }
+
+    #[test]
+    fn app_tick_follows_moos_limits() {
+        let t = |s: &str| app_tick_of(Some(&block(&format!("ProcessConfig = a\n{{\n{s}\n}}\n"))));
+        assert_eq!(t("AppTick = 4"), 4.0);
+        assert_eq!(t("apptick = 0.5"), 0.5);
+        assert_eq!(t("AppTick = 250"), MAX_APP_TICK);
+        assert_eq!(t("AppTick = 0"), MAX_APP_TICK);
+        assert_eq!(t("AppTick = -1"), MAX_APP_TICK);
+        assert_eq!(t("AppTick = fast"), DEFAULT_APP_TICK);
+        assert_eq!(t("CommsTick = 4"), DEFAULT_APP_TICK);
+    }
+
+    #[test]
+    fn wildcard_detection() {
+        assert!(Subscription::var("NAV_*").is_wildcard());
+        assert!(Subscription::var("A?").is_wildcard());
+        assert!(!Subscription::var("NAV_X").is_wildcard());
+    }
+}

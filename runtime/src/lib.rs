@@ -1,0 +1,24 @@
+//! The in-process MOOS app framework behind `coug run`.
+//!
+//! - [`app`]: the [`App`] trait (CMOOSApp's life cycle), [`Mail`], [`Post`], [`Value`];
+//! - [`bus`]: the in-process MOOSDB ([`moosdb_client::Database`] core) the apps talk over;
+//! - [`clock`]: lockstep ([`VirtualClock`]) or real time times a warp;
+//! - [`scheduler`]: runs every app at its own AppTick, with pokes and an `until` condition;
+//! - [`timer_script`]: the built-in uTimerScript;
+//! - [`logger`]: the built-in pLogger, writing alog files through the `alog` crate.
+//!
+//! Everything takes the MOOS time as an argument; only [`clock::WarpedWallClock`] reads
+//! the wall clock.
+#![warn(missing_docs)]
+
+pub mod app;
+pub mod bus;
+pub mod clock;
+pub mod logger;
+pub mod scheduler;
+pub mod timer_script;
+
+pub use app::{App, Mail, Post, Subscription, Value};
+pub use bus::{Bus, BusError};
+pub use clock::{Clock, VirtualClock, WarpedWallClock};
+pub use scheduler::{Outcome, Poke, PokeAt, Scheduler};

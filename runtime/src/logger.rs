@@ -1,0 +1,397 @@
+//! The built-in pLogger: logs mail to an alog file through the [`alog`] crate.
+//!
+//! File I/O stays with the caller: the logger writes to any [`Write`] it is given (a file
+//! the binary opened at [`LoggerConfig::alog_path`], or a [`SharedBuffer`] in tests).
+//! Supported: `Log = VAR @ period`, `WildcardLogging` (in-process: every variable),
+//! `WildCardOmitPattern`, `AsyncLog`, `File`, `PATH` / global `GlobalLogPath`,
+//! `FileTimeStamp`, `DoublePrecision`, `LogAuxSrc`, `MarkDataType`, and the
+//! `LOGGER_DIRECTORY` post (at start and every 10 s). Not written: `.slog`, `.ylog`,
+//! `.blog` (a binary value is logged as its `<MOOS_BINARY>` reference only), `._moos`.
+
+use std::io::{self, Write};
+use std::sync::{Arc, Mutex};
+
+use alog::{AlogWriter, Header};
+use chrono::NaiveDateTime;
+use mission::moos::ProcessConfig;
+use moosdb_client::db::wildcard_match;
+
+use crate::app::{App, Mail, Post, Subscription, Value, is_true};
+
+/// Seconds between `LOGGER_DIRECTORY` posts.
+pub const DIRECTORY_PERIOD: f64 = 10.0;
+
+/// pLogger's settings, read from its `ProcessConfig` block.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoggerConfig {
+    /// `File`: the log name stem (default `MOOSLog`).
+    pub file: String,
+    /// `GlobalLogPath` (global) or `PATH` (default `./`), without a trailing `/`.
+    pub path: String,
+    /// `FileTimeStamp` (default true): add `_D_M_YYYY_____HH_MM_SS` to the stem.
+    pub file_time_stamp: bool,
+    /// `AsyncLog` (default true): write the alog at all.
+    pub async_log: bool,
+    /// `WildcardLogging`: log every variable (default true without a block, else false).
+    pub wildcard: bool,
+    /// `WildCardOmitPattern`: variables not logged (MISSION_FILE is always omitted).
+    pub omit: Vec<String>,
+    /// `Log = VAR @ period` lines, in file order.
+    pub logs: Vec<(String, f64)>,
+    /// `DoublePrecision` (default 5).
+    pub double_precision: usize,
+    /// `LogAuxSrc` (default false): source written as `src:aux` when aux is set.
+    pub log_aux_src: bool,
+    /// `MarkDataType` (default false).
+    pub mark_data_type: bool,
+}
+
+impl Default for LoggerConfig {
+    fn default() -> Self {
+        LoggerConfig {
+            file: "MOOSLog".into(),
+            path: ".".into(),
+            file_time_stamp: true,
+            async_log: true,
+            wildcard: true,
+            omit: Vec::new(),
+            logs: Vec::new(),
+            double_precision: 5,
+            log_aux_src: false,
+            mark_data_type: false,
+        }
+    }
+}
+
+/// C `atof` on a prefix: the longest leading number, 0 if none (`0NOSYNC` gives 0).
+fn atof(s: &str) -> f64 {
+    let s = s.trim_start();
+    let n = s
+        .find(|c: char| !matches!(c, '0'..='9' | '.' | '+' | '-' | 'e' | 'E'))
+        .unwrap_or(s.len());
+    (1..=n)
+        .rev()
+        .find_map(|k| s[..k].parse::<f64>().ok())
+        .unwrap_or(0.0)
+}
+
+impl LoggerConfig {
+    /// Reads a pLogger block (`None`: no block, so wildcard logging) and the mission's
+    /// `GlobalLogPath`.
+    ///
+    /// ```
+    /// let c = runtime::logger::LoggerConfig::from_config(None, Some("/tmp/logs/"));
+    /// assert_eq!((c.path.as_str(), c.wildcard), ("/tmp/logs", true));
+    /// ```
+    pub fn from_config(block: Option<&ProcessConfig>, global_log_path: Option<&str>) -> Self {
+        let mut c = LoggerConfig::default();
+        if let Some(b) = block {
+            c.wildcard = false;
+            for p in &b.entries {
+                let v: String = p.value.chars().filter(|ch| !ch.is_whitespace()).collect();
+                let key = p.key.to_ascii_lowercase();
+                match key.as_str() {
+                    "file" => c.file = v,
+                    "path" => c.path = v,
+                    "filetimestamp" => c.file_time_stamp = is_true(&v),
+                    "asynclog" => c.async_log = is_true(&v),
+                    "wildcardlogging" => c.wildcard = is_true(&v),
+                    "wildcardomitpattern" => c
+                        .omit
+                        .extend(v.split(',').filter(|s| !s.is_empty()).map(String::from)),
+                    "doubleprecision" => {
+                        if let Ok(n) = v.parse::<usize>() {
+                            c.double_precision = n.min(17);
+                        }
+                    }
+                    "logauxsrc" => c.log_aux_src = is_true(&v),
+                    "markdatatype" => c.mark_data_type = is_true(&v),
+                    "log" => {
+                        let (var, period) = match v.split_once('@') {
+                            Some((var, rest)) => (var, atof(rest.split(',').next().unwrap_or(""))),
+                            None => (v.as_str(), 2.0),
+                        };
+                        if !var.is_empty() {
+                            c.logs.push((var.to_string(), period));
+                        }
+                    }
+                    _ => {}
+                }
+            }
+        }
+        if let Some(g) = global_log_path.filter(|g| !g.trim().is_empty()) {
+            c.path = g.trim().to_string();
+        }
+        while c.path.len() > 1 && c.path.ends_with('/') {
+            c.path.pop();
+        }
+        c
+    }
+
+    /// The session's root name (`<File>_D_M_YYYY_____HH_MM_SS`, or `<File>`).
+    pub fn root_name(&self, opened: &NaiveDateTime) -> String {
+        alog::log_root(&self.file, opened, self.file_time_stamp)
+    }
+
+    /// The session directory: `<path>/<root>`.
+    pub fn directory(&self, opened: &NaiveDateTime) -> String {
+        format!("{}/{}", self.path, self.root_name(opened))
+    }
+
+    /// The alog file's path: `<path>/<root>/<root>.alog`.
+    pub fn alog_path(&self, opened: &NaiveDateTime) -> String {
+        let root = self.root_name(opened);
+        format!("{}/{root}/{root}.alog", self.path)
+    }
+
+    fn omitted(&self, key: &str) -> bool {
+        key == "MISSION_FILE"
+            || self
+                .omit
+                .iter()
+                .any(|p| wildcard_match(p.as_bytes(), key.as_bytes()))
+    }
+}
+
+/// A cloneable in-memory [`Write`] target (for tests and for callers that keep the bytes).
+#[derive(Debug, Clone, Default)]
+pub struct SharedBuffer(Arc<Mutex<Vec<u8>>>);
+
+impl SharedBuffer {
+    /// A copy of everything written so far.
+    pub fn contents(&self) -> Vec<u8> {
+        self.0.lock().map(|b| b.clone()).unwrap_or_default()
+    }
+}
+
+impl Write for SharedBuffer {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        let mut b = self
+            .0
+            .lock()
+            .map_err(|_| io::Error::other("log buffer poisoned"))?;
+        b.extend_from_slice(buf);
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        Ok(())
+    }
+}
+
+/// The pLogger app.
+pub struct Logger<W: Write> {
+    name: String,
+    block: Option<ProcessConfig>,
+    config: LoggerConfig,
+    sink: Option<W>,
+    writer: Option<AlogWriter<W>>,
+    file_path: String,
+    directory: String,
+    opened_on: String,
+    last_dir_post: f64,
+    blog_offset: u64,
+    blog_name: String,
+    error: Option<io::Error>,
+}
+
+impl<W: Write> Logger<W> {
+    /// A logger called `name` (usually `pLogger`) writing to `sink`. `opened` is the
+    /// session's date-time (names the files; with `opened_on`, the banner's `FILE OPENED
+    /// ON` text, which pLogger 2024 prints as the Unix epoch). LOGSTART is the time of
+    /// [`App::on_startup`].
+    pub fn new(
+        name: &str,
+        block: Option<ProcessConfig>,
+        config: LoggerConfig,
+        sink: W,
+        opened: &NaiveDateTime,
+        opened_on: &str,
+    ) -> Self {
+        let root = config.root_name(opened);
+        Logger {
+            name: name.to_string(),
+            file_path: config.alog_path(opened),
+            directory: config.directory(opened),
+            blog_name: format!("{root}.blog"),
+            block,
+            config,
+            sink: Some(sink),
+            writer: None,
+            opened_on: opened_on.to_string(),
+            last_dir_post: f64::NEG_INFINITY,
+            blog_offset: 0,
+            error: None,
+        }
+    }
+
+    /// The first write error, if any (the logger stops writing after it).
+    pub fn io_error(&self) -> Option<&io::Error> {
+        self.error.as_ref()
+    }
+
+    /// The alog path written in the banner.
+    pub fn file_path(&self) -> &str {
+        &self.file_path
+    }
+
+    fn note(&mut self, r: io::Result<()>) {
+        if let Err(e) = r
+            && self.error.is_none()
+        {
+            self.error = Some(e);
+            self.writer = None;
+        }
+    }
+
+    fn log(&mut self, m: &Mail) {
+        if self.config.omitted(&m.key) {
+            return;
+        }
+        let Some(w) = self.writer.as_mut() else {
+            return;
+        };
+        let src;
+        let source = if self.config.log_aux_src && !m.source_aux.is_empty() {
+            src = format!("{}:{}", m.source, m.source_aux);
+            src.as_str()
+        } else {
+            m.source.as_str()
+        };
+        let r = match &m.value {
+            Value::Double(x) => w.record(m.time, &m.key, source, alog::Value::Double(*x)),
+            Value::String(s) => w.record(m.time, &m.key, source, alog::Value::String(s)),
+            Value::Binary(b) => {
+                let offset = self.blog_offset;
+                self.blog_offset += b.len() as u64;
+                w.record(
+                    m.time,
+                    &m.key,
+                    source,
+                    alog::Value::Binary {
+                        file: &self.blog_name,
+                        offset,
+                        bytes: b.len() as u64,
+                    },
+                )
+            }
+        };
+        self.note(r);
+    }
+}
+
+impl<W: Write + 'static> App for Logger<W> {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn process_config(&self) -> Option<&ProcessConfig> {
+        self.block.as_ref()
+    }
+
+    fn subscriptions(&self) -> Vec<Subscription> {
+        let mut subs: Vec<Subscription> = self
+            .config
+            .logs
+            .iter()
+            .map(|(v, p)| Subscription::every(v.clone(), *p))
+            .collect();
+        if self.config.wildcard {
+            subs.push(Subscription::var("*"));
+        }
+        subs
+    }
+
+    fn on_startup(&mut self, now: f64, out: &mut Vec<Post>) {
+        if self.config.async_log
+            && let Some(sink) = self.sink.take()
+        {
+            let header = Header {
+                path: &self.file_path,
+                opened_on: &self.opened_on,
+                log_start: now,
+                mark_data_type: self.config.mark_data_type,
+            };
+            match AlogWriter::new(sink, &header) {
+                Ok(mut w) => {
+                    w.set_double_precision(self.config.double_precision);
+                    self.writer = Some(w);
+                }
+                Err(e) => self.error = Some(e),
+            }
+        }
+        out.push(Post::text("LOGGER_DIRECTORY", self.directory.clone()));
+        self.last_dir_post = now;
+    }
+
+    fn on_mail(&mut self, mail: &[Mail], _now: f64, _out: &mut Vec<Post>) {
+        for m in mail {
+            self.log(m);
+        }
+    }
+
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) {
+        if now - self.last_dir_post >= DIRECTORY_PERIOD {
+            self.last_dir_post = now;
+            out.push(Post::text("LOGGER_DIRECTORY", self.directory.clone()));
+        }
+        if let Some(w) = self.writer.as_mut() {
+            let r = w.flush();
+            self.note(r);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mission::source::SourceMap;
+
+    fn block(text: &str) -> ProcessConfig {
+        let src = SourceMap::from_text("t.moos", text);
+        mission::moos::parse_moos(&src).value.processes[0].clone()
+    }
+
+    #[test]
+    fn atof_prefix() {
+        assert_eq!(atof("0NOSYNC"), 0.0);
+        assert_eq!(atof("0.5"), 0.5);
+        assert_eq!(atof("2e1x"), 20.0);
+        assert_eq!(atof(""), 0.0);
+        assert_eq!(atof("abc"), 0.0);
+    }
+
+    #[test]
+    fn reads_a_plogger_block() {
+        let b = block(
+            "ProcessConfig = pLogger\n{\n  AppTick = 8\n  File = LOG_ALPHA\n  PATH = ./logs/\n  \
+             FileTimeStamp = false\n  Log = NAV_X @ 0.5\n  Log = NAV_Y @ 0 NOSYNC\n  Log = IVPHELM_STATE\n  \
+             WildCardOmitPattern = *_STATUS, DB_*\n  DoublePrecision = 3\n}\n",
+        );
+        let c = LoggerConfig::from_config(Some(&b), None);
+        assert_eq!(c.file, "LOG_ALPHA");
+        assert_eq!(c.path, "./logs");
+        assert!(!c.file_time_stamp && !c.wildcard && c.async_log);
+        assert_eq!(
+            c.logs,
+            vec![
+                ("NAV_X".to_string(), 0.5),
+                ("NAV_Y".to_string(), 0.0),
+                ("IVPHELM_STATE".to_string(), 2.0)
+            ]
+        );
+        assert_eq!(c.double_precision, 3);
+        assert!(c.omitted("PHELMIVP_STATUS") && c.omitted("DB_TIME") && c.omitted("MISSION_FILE"));
+        assert!(!c.omitted("NAV_X"));
+        let t = chrono::NaiveDate::from_ymd_opt(2026, 8, 5)
+            .unwrap()
+            .and_hms_opt(18, 22, 55)
+            .unwrap();
+        assert_eq!(c.alog_path(&t), "./logs/LOG_ALPHA/LOG_ALPHA.alog");
+        let g = LoggerConfig::from_config(Some(&b), Some("/data/"));
+        assert_eq!(g.path, "/data");
+        let mut s = LoggerConfig::from_config(Some(&b), None);
+        s.file_time_stamp = true;
+        assert_eq!(s.directory(&t), "./logs/LOG_ALPHA_5_8_2026_____18_22_55");
+    }
+}

@@ -1,0 +1,487 @@
+//! The scheduler: runs apps on the bus, each at its own AppTick, paced by a [`Clock`].
+//!
+//! Time is virtual: app `i` iterates at `start + k / AppTick_i` (k = 0, 1, ...). Events are
+//! processed in time order; at equal times, timed pokes come first, then apps in the order
+//! they were added (ANTLER order). Before each iterate an app gets, sorted by time, all
+//! mail posted to it up to and including that time. With a [`VirtualClock`] two runs of
+//! the same apps give the same sequence of posts, bit for bit.
+
+use std::collections::BTreeSet;
+
+use mission::condition::{self, Condition};
+use moosdb_client::db::ClientId;
+use thiserror::Error;
+
+use crate::app::{App, Mail, Post, STATUS_PERIOD, Value};
+use crate::bus::{Bus, BusError};
+use crate::clock::{Clock, VirtualClock};
+
+/// When a poke is posted.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PokeAt {
+    /// At this many simulated seconds after the start.
+    Time(f64),
+    /// Right after the named app's first iterate (e.g. "once the helm is up"); at the
+    /// start if no such app runs.
+    AfterFirstIterate(String),
+}
+
+/// A value posted once by the runner, as uPokeDB would (source `uPokeDB`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Poke {
+    /// Variable.
+    pub key: String,
+    /// Value.
+    pub value: Value,
+    /// When.
+    pub at: PokeAt,
+}
+
+/// A `--poke` argument that cannot be read.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+pub enum PokeError {
+    /// No `=` or an empty variable name.
+    #[error("poke {0:?}: expected VAR=VALUE, VAR:=VALUE or VAR=VALUE@SECONDS")]
+    Syntax(String),
+}
+
+impl Poke {
+    /// Reads `VAR=VALUE`, `VAR:=VALUE` (always a string) or either with `@T` (posted at
+    /// `T` simulated seconds after the start; `T` must be a number >= 0, otherwise the
+    /// `@...` is part of the value). Without a time, the poke goes out after `default_app`'s
+    /// first iterate. Values that are numbers are doubles (uPokeDB's rule); quotes are
+    /// kept as part of a string.
+    ///
+    /// ```
+    /// use runtime::scheduler::{Poke, PokeAt};
+    /// use runtime::app::Value;
+    /// let p = Poke::parse("SURVEY=true@300", "pHelmIvP").unwrap();
+    /// assert_eq!((p.key.as_str(), &p.value, &p.at), ("SURVEY", &Value::text("true"), &PokeAt::Time(300.0)));
+    /// ```
+    pub fn parse(arg: &str, default_app: &str) -> Result<Poke, PokeError> {
+        let (body, at) = match arg.rsplit_once('@') {
+            Some((b, t)) => match t.trim().parse::<f64>() {
+                Ok(t) if t.is_finite() && t >= 0.0 => (b, PokeAt::Time(t)),
+                _ => (arg, PokeAt::AfterFirstIterate(default_app.to_string())),
+            },
+            None => (arg, PokeAt::AfterFirstIterate(default_app.to_string())),
+        };
+        let (key, value) = if let Some((k, v)) = body.split_once(":=") {
+            if k.contains('=') {
+                split_plain(body)
+            } else {
+                (k, Value::text(v.trim()))
+            }
+        } else {
+            split_plain(body)
+        };
+        let key = key.trim();
+        if key.is_empty() || !body.contains('=') {
+            return Err(PokeError::Syntax(arg.to_string()));
+        }
+        Ok(Poke {
+            key: key.to_string(),
+            value,
+            at,
+        })
+    }
+}
+
+fn split_plain(body: &str) -> (&str, Value) {
+    let (k, v) = body.split_once('=').unwrap_or((body, ""));
+    let v = v.trim();
+    let value = match v.parse::<f64>() {
+        Ok(x) if condition::is_numeric(v) => Value::Double(x),
+        _ => Value::text(v),
+    };
+    (k, value)
+}
+
+/// How a run ended.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Outcome {
+    /// The `until` condition held at this MOOS time.
+    ConditionMet {
+        /// MOOS time.
+        time: f64,
+    },
+    /// The time limit was reached first.
+    MaxTime {
+        /// MOOS time.
+        time: f64,
+    },
+    /// Every app finished (none left to schedule).
+    AllFinished {
+        /// MOOS time.
+        time: f64,
+    },
+}
+
+struct Slot {
+    app: Box<dyn App>,
+    id: ClientId,
+    name: String,
+    status_var: String,
+    period: f64,
+    ticks: u64,
+    next: f64,
+    started_at: f64,
+    last_status: Option<f64>,
+    published: BTreeSet<String>,
+    subscribed: BTreeSet<String>,
+    done: bool,
+}
+
+/// Runs apps on a [`Bus`]. See the module documentation.
+pub struct Scheduler<C: Clock = VirtualClock> {
+    bus: Bus,
+    clock: C,
+    start: f64,
+    now: f64,
+    slots: Vec<Slot>,
+    timed: Vec<(f64, Post)>,
+    after: Vec<(String, Post)>,
+    poke_client: Option<ClientId>,
+    until: Option<Condition>,
+    armed: bool,
+    status_posts: bool,
+    started: bool,
+    mail: Vec<Mail>,
+    posts: Vec<Post>,
+}
+
+impl<C: Clock> Scheduler<C> {
+    /// A scheduler over `bus`, paced by `clock`, starting at MOOS time `start`.
+    pub fn new(bus: Bus, clock: C, start: f64) -> Self {
+        Scheduler {
+            bus,
+            clock,
+            start,
+            now: start,
+            slots: Vec::new(),
+            timed: Vec::new(),
+            after: Vec::new(),
+            poke_client: None,
+            until: None,
+            armed: true,
+            status_posts: true,
+            started: false,
+            mail: Vec::new(),
+            posts: Vec::new(),
+        }
+    }
+
+    /// Turns the CMOOSApp `<APP>_STATUS` posts (every 2 s per app) on or off (default on).
+    pub fn set_status_posts(&mut self, on: bool) {
+        self.status_posts = on;
+    }
+
+    /// Adds an app (connects it and makes its registrations). Apps run in the order added.
+    pub fn add_app(&mut self, app: Box<dyn App>) -> Result<(), BusError> {
+        let name = app.name().to_string();
+        let id = self.bus.connect(&name, self.start)?;
+        let mut subscribed = BTreeSet::new();
+        for s in app.subscriptions() {
+            self.bus.subscribe(id, &s, self.start)?;
+            subscribed.insert(s.pattern);
+        }
+        let period = 1.0 / app.app_tick();
+        self.slots.push(Slot {
+            status_var: format!("{}_STATUS", name.to_ascii_uppercase()),
+            app,
+            id,
+            name,
+            period,
+            ticks: 0,
+            next: self.start,
+            started_at: self.start,
+            last_status: None,
+            published: BTreeSet::new(),
+            subscribed,
+            done: false,
+        });
+        Ok(())
+    }
+
+    /// Schedules a poke.
+    pub fn add_poke(&mut self, poke: Poke) -> Result<(), BusError> {
+        if self.poke_client.is_none() {
+            self.poke_client = Some(self.bus.connect("uPokeDB", self.start)?);
+        }
+        let post = Post {
+            key: poke.key,
+            value: poke.value,
+            source: "uPokeDB".to_string(),
+        };
+        match poke.at {
+            PokeAt::Time(t) => {
+                let at = self.start + t;
+                let i = self.timed.partition_point(|(pt, _)| *pt <= at);
+                self.timed.insert(i, (at, post));
+            }
+            PokeAt::AfterFirstIterate(app) => {
+                self.after.push((app, post));
+                self.armed = false;
+            }
+        }
+        Ok(())
+    }
+
+    /// Ends the run when `cond` holds on the bus's current values. It is checked after
+    /// every event, once every after-first-iterate poke has gone out (so `DEPLOY = false`
+    /// is not met by the helm's initial value before `--deploy` is posted).
+    pub fn set_until(&mut self, cond: Condition) {
+        self.until = Some(cond);
+    }
+
+    /// The start time.
+    pub fn start_time(&self) -> f64 {
+        self.start
+    }
+
+    /// The time of the last event processed.
+    pub fn now(&self) -> f64 {
+        self.now
+    }
+
+    /// The bus.
+    pub fn bus(&self) -> &Bus {
+        &self.bus
+    }
+
+    /// The bus, mutably (e.g. to serve TCP clients from the same DB).
+    pub fn bus_mut(&mut self) -> &mut Bus {
+        &mut self.bus
+    }
+
+    /// The current value of a variable on the bus.
+    pub fn current(&self, key: &str) -> Option<Value> {
+        self.bus.current(key).map(|m| m.value)
+    }
+
+    /// The `until` condition's variables with their current values (for a summary or a
+    /// "still pending" message).
+    pub fn until_values(&self) -> Vec<(String, Option<Value>)> {
+        let Some(c) = &self.until else {
+            return Vec::new();
+        };
+        let mut seen = BTreeSet::new();
+        c.variables()
+            .into_iter()
+            .filter(|v| seen.insert(v.to_string()))
+            .map(|v| (v.to_string(), self.current(v)))
+            .collect()
+    }
+
+    /// True when the `until` condition is set, armed and holds now.
+    pub fn until_holds(&self) -> bool {
+        let Some(c) = &self.until else {
+            return false;
+        };
+        if !self.armed {
+            return false;
+        }
+        let vals: Vec<(String, Option<Value>)> = c
+            .variables()
+            .into_iter()
+            .map(|v| (v.to_string(), self.current(v)))
+            .collect();
+        let lookup = |name: &str| -> Option<condition::Value<'_>> {
+            let (_, v) = vals.iter().find(|(n, _)| n == name)?;
+            match v.as_ref()? {
+                Value::Double(x) => Some(condition::Value::Num(*x)),
+                Value::String(s) => Some(condition::Value::Str(s)),
+                Value::Binary(_) => None,
+            }
+        };
+        c.evaluate(&lookup)
+    }
+
+    fn startup(&mut self) -> Result<(), BusError> {
+        self.started = true;
+        let now = self.start;
+        for i in 0..self.slots.len() {
+            self.posts.clear();
+            let slot = &mut self.slots[i];
+            slot.app.on_startup(now, &mut self.posts);
+            Self::publish(&mut self.bus, slot, &self.posts, now)?;
+        }
+        // Pokes waiting for apps that do not run go out at the start.
+        let names: Vec<String> = self.slots.iter().map(|s| s.name.clone()).collect();
+        let orphans: Vec<Post> = self
+            .after
+            .iter()
+            .filter(|(a, _)| !names.contains(a))
+            .map(|(_, p)| p.clone())
+            .collect();
+        self.after.retain(|(a, _)| names.contains(a));
+        self.post_pokes(&orphans, now)?;
+        if self.after.is_empty() {
+            self.armed = true;
+        }
+        Ok(())
+    }
+
+    fn post_pokes(&mut self, posts: &[Post], now: f64) -> Result<(), BusError> {
+        if let Some(id) = self.poke_client {
+            self.bus.publish(id, posts, "uPokeDB", now)?;
+        }
+        Ok(())
+    }
+
+    fn publish(bus: &mut Bus, slot: &mut Slot, posts: &[Post], now: f64) -> Result<(), BusError> {
+        for p in posts {
+            if !slot.published.contains(&p.key) {
+                slot.published.insert(p.key.clone());
+            }
+        }
+        bus.publish(slot.id, posts, &slot.name, now)
+    }
+
+    /// Processes every event due at or before MOOS time `t_end`. Returns the outcome if
+    /// the run ended (condition met, or every app finished), `None` otherwise.
+    pub fn advance(&mut self, t_end: f64) -> Result<Option<Outcome>, BusError> {
+        if !self.started {
+            self.startup()?;
+            if self.until_holds() {
+                return Ok(Some(Outcome::ConditionMet { time: self.now }));
+            }
+        }
+        loop {
+            let next_app = self
+                .slots
+                .iter()
+                .enumerate()
+                .filter(|(_, s)| !s.done)
+                .min_by(|a, b| a.1.next.total_cmp(&b.1.next).then(a.0.cmp(&b.0)))
+                .map(|(i, s)| (i, s.next));
+            let next_poke = self.timed.first().map(|(t, _)| *t);
+            let (t, which) = match (next_app, next_poke) {
+                (None, None) => return Ok(Some(Outcome::AllFinished { time: self.now })),
+                (Some((i, ta)), Some(tp)) if ta < tp => (ta, Some(i)),
+                (Some((i, ta)), None) => (ta, Some(i)),
+                (_, Some(tp)) => (tp, None),
+            };
+            if t > t_end {
+                return Ok(None);
+            }
+            self.now = self.clock.wait_until(t);
+            match which {
+                None => {
+                    let (_, post) = self.timed.remove(0);
+                    self.post_pokes(std::slice::from_ref(&post), t)?;
+                }
+                Some(i) => self.step(i, t)?,
+            }
+            if self.until_holds() {
+                return Ok(Some(Outcome::ConditionMet { time: t }));
+            }
+            if self.slots.iter().all(|s| s.done) && self.timed.is_empty() {
+                return Ok(Some(Outcome::AllFinished { time: t }));
+            }
+        }
+    }
+
+    /// Runs until the `until` condition holds, every app finished, or `max_time`
+    /// simulated seconds after the start.
+    pub fn run(&mut self, max_time: f64) -> Result<Outcome, BusError> {
+        let end = self.start + max_time;
+        Ok(self.advance(end)?.unwrap_or(Outcome::MaxTime { time: end }))
+    }
+
+    fn step(&mut self, i: usize, now: f64) -> Result<(), BusError> {
+        self.mail.clear();
+        self.posts.clear();
+        let slot = &mut self.slots[i];
+        self.bus.fetch(slot.id, now, &mut self.mail)?;
+        if !self.mail.is_empty() {
+            slot.app.on_mail(&self.mail, now, &mut self.posts);
+        }
+        if self.status_posts
+            && slot
+                .last_status
+                .is_none_or(|last| now - last >= STATUS_PERIOD - 1e-9)
+        {
+            slot.last_status = Some(now);
+            let status = status_text(slot, now);
+            let key = slot.status_var.clone();
+            self.posts.push(Post::text(key, status));
+        }
+        slot.app.iterate(now, &mut self.posts);
+        for s in slot.app.new_subscriptions() {
+            self.bus.subscribe(slot.id, &s, now)?;
+            slot.subscribed.insert(s.pattern);
+        }
+        Self::publish(&mut self.bus, slot, &self.posts, now)?;
+        let first = slot.ticks == 0;
+        slot.ticks += 1;
+        slot.next = self.start + slot.ticks as f64 * slot.period;
+        if slot.app.finished() {
+            slot.done = true;
+            let id = slot.id;
+            self.bus.disconnect(id, now);
+        }
+        if first && !self.after.is_empty() {
+            let name = self.slots[i].name.clone();
+            let due: Vec<Post> = self
+                .after
+                .iter()
+                .filter(|(a, _)| *a == name)
+                .map(|(_, p)| p.clone())
+                .collect();
+            self.after.retain(|(a, _)| *a != name);
+            self.post_pokes(&due, now)?;
+            if self.after.is_empty() {
+                self.armed = true;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// CMOOSApp's status text (cpu and memory figures are not measured in-process: 0).
+fn status_text(slot: &Slot, now: f64) -> String {
+    let mut s = String::from("AppErrorFlag=false,Uptime=");
+    let mut up = String::new();
+    alog::fmt_g(&mut up, now - slot.started_at, 6);
+    s.push_str(&up);
+    s.push_str(",cpuload=0,memory_kb=0,memory_max_kb=0,MOOSName=");
+    s.push_str(&slot.name);
+    s.push_str(",Publishing=\"");
+    for p in &slot.published {
+        s.push_str(p);
+        s.push(',');
+    }
+    s.push_str("\",Subscribing=\"");
+    for p in &slot.subscribed {
+        s.push_str(p);
+        s.push(',');
+    }
+    s.push('"');
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn poke_arguments() {
+        let p = Poke::parse("DEPLOY=true", "pHelmIvP").unwrap();
+        assert_eq!(p.value, Value::text("true"));
+        assert_eq!(p.at, PokeAt::AfterFirstIterate("pHelmIvP".into()));
+        let p = Poke::parse("X=3.5@12", "h").unwrap();
+        assert_eq!((p.value, p.at), (Value::Double(3.5), PokeAt::Time(12.0)));
+        let p = Poke::parse("N:=2.5", "h").unwrap();
+        assert_eq!(p.value, Value::text("2.5"));
+        let p = Poke::parse("MAIL=a@b", "h").unwrap();
+        assert_eq!(p.value, Value::text("a@b"));
+        let p = Poke::parse("Q=\"42\"", "h").unwrap();
+        assert_eq!(p.value, Value::text("\"42\""));
+        let p = Poke::parse("E=", "h").unwrap();
+        assert_eq!(p.value, Value::text(""));
+        assert!(Poke::parse("NOEQUALS", "h").is_err());
+        assert!(Poke::parse("=3", "h").is_err());
+        assert!(Poke::parse("X=1@-3", "h").unwrap().value == Value::text("1@-3"));
+    }
+}

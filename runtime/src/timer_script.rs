@@ -1,0 +1,1423 @@
+//! The built-in uTimerScript: posts scripted values at scripted times (reference
+//! `moos-apps-extra.md` §1).
+//!
+//! Supported: `event` (var/val/time, time ranges, `amt` with `$(IDX)`, `quit`),
+//! `script_name`, `script_atomic`, `paused`, `pause_var`, `reset_var`, `forward_var`,
+//! `status_var`, `reset_max`, `reset_time`, `condition` (mission-crate conditions),
+//! `upon_awake`, `delay_start`, `delay_reset`, `time_warp`, `rand_var` (uniform),
+//! `block_on`, `shuffle`, `time_zero`, and the post-time macros (`$(COUNT)`, `$(TCOUNT)`,
+//! `$(DBTIME)`, `$(UTCTIME)`, `$[NAV_X]`, `$[VNAME]`, `$(1)`..`$(20)`, rand vars,
+//! `{a op b}` math). Not supported: `rand_pair`, gaussian `rand_var` (both refused with
+//! an error naming the line). Random draws come from a seeded generator, so a lockstep
+//! run is repeatable.
+//!
+//! Like MOOS, every config value has its white space removed before it is read.
+
+use std::collections::HashMap;
+
+use mission::condition::{self, Condition, parse_condition};
+use mission::moos::ProcessConfig;
+use thiserror::Error;
+
+use crate::app::{App, Mail, Post, Subscription, Value, is_true};
+
+/// A config line uTimerScript cannot use.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+#[error("{file}:{line}: uTimerScript: {message}")]
+pub struct TimerScriptError {
+    /// File of the line.
+    pub file: String,
+    /// Line number.
+    pub line: u32,
+    /// What is wrong.
+    pub message: String,
+}
+
+/// A uniform draw between `min` and `max` (equal for a fixed value).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Range {
+    min: f64,
+    max: f64,
+}
+
+impl Range {
+    fn fixed(x: f64) -> Self {
+        Range { min: x, max: x }
+    }
+
+    fn parse(s: &str, positive: bool) -> Result<Range, String> {
+        let num = |t: &str| {
+            t.parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| format!("{t:?} is not a number"))
+        };
+        let r = match s.split_once(':') {
+            Some((a, b)) => Range {
+                min: num(a)?,
+                max: num(b)?,
+            },
+            None => Range::fixed(num(s)?),
+        };
+        if r.min > r.max {
+            return Err(format!("range {s:?}: min is above max"));
+        }
+        if positive && r.min <= 0.0 {
+            return Err(format!("{s:?} must be > 0"));
+        }
+        if !positive && r.min < 0.0 {
+            return Err(format!("{s:?} must be >= 0"));
+        }
+        Ok(r)
+    }
+
+    /// MOOS's draw: `min + (rand()%10000)/10000 * (max-min)`.
+    fn draw(&self, rng: &mut fastrand::Rng) -> f64 {
+        if self.min == self.max {
+            self.min
+        } else {
+            self.min + f64::from(rng.u32(0..10000)) / 10000.0 * (self.max - self.min)
+        }
+    }
+}
+
+/// An event's value as configured.
+#[derive(Debug, Clone, PartialEq)]
+enum EventValue {
+    Double(f64),
+    /// Text; `quoted` values stay strings even if they expand to a number.
+    Text {
+        text: String,
+        quoted: bool,
+    },
+}
+
+#[derive(Debug, Clone, PartialEq)]
+struct Event {
+    var: String,
+    value: EventValue,
+    time: Range,
+    quit: bool,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum UponAwake {
+    None,
+    Reset,
+    Restart,
+}
+
+impl UponAwake {
+    fn as_str(self) -> &'static str {
+        match self {
+            UponAwake::None => "n/a",
+            UponAwake::Reset => "reset",
+            UponAwake::Restart => "restart",
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum RandKey {
+    Start,
+    Reset,
+    Post,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+struct RandVar {
+    name: String,
+    min: f64,
+    max: f64,
+    snap: f64,
+    key: RandKey,
+    value: f64,
+}
+
+impl RandVar {
+    fn draw(&mut self, rng: &mut fastrand::Rng) {
+        let v = Range {
+            min: self.min,
+            max: self.max,
+        }
+        .draw(rng);
+        let v = if self.snap > 0.0 {
+            (v / self.snap).round() * self.snap
+        } else {
+            v
+        };
+        self.value = v.clamp(self.min, self.max);
+    }
+}
+
+/// Splits on commas outside `"..."` and `{...}` (MOOS `parseStringQ`).
+fn split_q(s: &str) -> Vec<&str> {
+    let mut out = Vec::new();
+    let (mut quote, mut depth, mut start) = (false, 0i32, 0);
+    for (i, c) in s.char_indices() {
+        match c {
+            '"' => quote = !quote,
+            '{' if !quote => depth += 1,
+            '}' if !quote => depth -= 1,
+            ',' if !quote && depth <= 0 => {
+                out.push(&s[start..i]);
+                start = i + 1;
+            }
+            _ => {}
+        }
+    }
+    out.push(&s[start..]);
+    out
+}
+
+/// `doubleToStringX`: `decimals` places, trailing zeros and point removed.
+fn fmt_x(x: f64, decimals: usize) -> String {
+    let s = format!("{x:.decimals$}");
+    let s = if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    };
+    if s == "-0" { "0".to_string() } else { s }
+}
+
+/// The built-in uTimerScript app.
+pub struct TimerScript {
+    name: String,
+    block: Option<ProcessConfig>,
+    community: String,
+    rng: fastrand::Rng,
+    // configuration
+    events: Vec<Event>,
+    script_name: String,
+    atomic: bool,
+    pause_var: String,
+    reset_var: String,
+    forward_var: String,
+    status_var: String,
+    reset_max: Option<u32>,
+    reset_time: f64,
+    upon_awake: UponAwake,
+    delay_start: Range,
+    delay_reset: Range,
+    time_warp: Range,
+    rand_vars: Vec<RandVar>,
+    conditions: Vec<Condition>,
+    block_on: Vec<String>,
+    shuffle: bool,
+    time_zero_db: bool,
+    needs_nav: bool,
+    warnings: Vec<String>,
+    // state
+    paused: bool,
+    conditions_ok: bool,
+    info: HashMap<String, Value>,
+    ptimes: Vec<f64>,
+    posted: Vec<bool>,
+    posted_local: usize,
+    posted_total: usize,
+    reset_count: u32,
+    script_start: Option<f64>,
+    previous_time: Option<f64>,
+    pause_time: f64,
+    skip_time: f64,
+    elapsed: f64,
+    warp_value: f64,
+    delay_start_value: f64,
+    delay_reset_value: f64,
+    status_needed: bool,
+    last_status: Option<f64>,
+    db_start: Option<f64>,
+    started_at: f64,
+    nav_x: Option<f64>,
+    nav_y: Option<f64>,
+    quit_sent: bool,
+    finished: bool,
+}
+
+impl TimerScript {
+    /// Reads a uTimerScript block. `name` is the MOOS name (alias), `community` the
+    /// mission's community (for `$[VNAME]`), `seed` seeds the random draws.
+    pub fn new(
+        name: &str,
+        block: ProcessConfig,
+        community: &str,
+        seed: u64,
+    ) -> Result<TimerScript, TimerScriptError> {
+        let mut ts = TimerScript {
+            name: name.to_string(),
+            block: None,
+            community: community.to_string(),
+            rng: fastrand::Rng::with_seed(seed),
+            events: Vec::new(),
+            script_name: "unnamed".into(),
+            atomic: false,
+            pause_var: "UTS_PAUSE".into(),
+            reset_var: "UTS_RESET".into(),
+            forward_var: "UTS_FORWARD".into(),
+            status_var: "UTS_STATUS".into(),
+            reset_max: None,
+            reset_time: -1.0,
+            upon_awake: UponAwake::None,
+            delay_start: Range::fixed(0.0),
+            delay_reset: Range::fixed(0.0),
+            time_warp: Range::fixed(1.0),
+            rand_vars: Vec::new(),
+            conditions: Vec::new(),
+            block_on: Vec::new(),
+            shuffle: true,
+            time_zero_db: false,
+            needs_nav: false,
+            warnings: Vec::new(),
+            paused: false,
+            conditions_ok: true,
+            info: HashMap::new(),
+            ptimes: Vec::new(),
+            posted: Vec::new(),
+            posted_local: 0,
+            posted_total: 0,
+            reset_count: 0,
+            script_start: None,
+            previous_time: None,
+            pause_time: 0.0,
+            skip_time: 0.0,
+            elapsed: 0.0,
+            warp_value: 1.0,
+            delay_start_value: 0.0,
+            delay_reset_value: 0.0,
+            status_needed: false,
+            last_status: None,
+            db_start: None,
+            started_at: 0.0,
+            nav_x: None,
+            nav_y: None,
+            quit_sent: false,
+            finished: false,
+        };
+        for p in &block.entries {
+            let v: String = p.value.chars().filter(|c| !c.is_whitespace()).collect();
+            let before = ts.warnings.len();
+            let r = ts.configure(&p.key.to_ascii_lowercase(), &v);
+            for w in &mut ts.warnings[before..] {
+                *w = format!("{}:{}: {w}", p.span.file_name(), p.line());
+            }
+            r.map_err(|message| TimerScriptError {
+                file: p.span.file_name().to_string(),
+                line: p.line(),
+                message,
+            })?;
+        }
+        ts.conditions_ok = ts.conditions.is_empty();
+        ts.block = Some(block);
+        Ok(ts)
+    }
+
+    fn configure(&mut self, key: &str, v: &str) -> Result<(), String> {
+        match key {
+            "event" => self.add_event(v)?,
+            "script_name" => self.script_name = v.to_string(),
+            "script_atomic" => self.atomic = is_true(v),
+            "paused" => self.paused = is_true(v),
+            "pause_var" | "pause_variable" => self.pause_var = v.to_string(),
+            "reset_var" | "reset_variable" => self.reset_var = v.to_string(),
+            "forward_var" | "forward_variable" => self.forward_var = v.to_string(),
+            "status_var" => self.status_var = v.to_string(),
+            "reset_max" => {
+                match v.to_ascii_lowercase().as_str() {
+                    "any" | "unlimited" | "nolimit" => self.reset_max = None,
+                    n => match n.parse::<u32>() {
+                        Ok(n) => self.reset_max = Some(n),
+                        // MOOS ignores the line with a config warning.
+                        Err(_) => self.warnings.push(format!(
+                            "reset_max {v:?} ignored: expected a count or any/unlimited/nolimit"
+                        )),
+                    },
+                }
+            }
+            "reset_time" => {
+                self.reset_time = match v.to_ascii_lowercase().as_str() {
+                    "none" => -1.0,
+                    "end" | "all-posted" => 0.0,
+                    n => match n.parse::<f64>() {
+                        Ok(x) if x > 0.0 && x.is_finite() => x,
+                        _ => {
+                            return Err(format!(
+                                "reset_time {v:?}: expected none, end, all-posted or seconds > 0"
+                            ));
+                        }
+                    },
+                }
+            }
+            "upon_awake" => {
+                self.upon_awake = match v.to_ascii_lowercase().as_str() {
+                    "reset" => UponAwake::Reset,
+                    "restart" => UponAwake::Restart,
+                    "n/a" | "none" | "" => UponAwake::None,
+                    _ => {
+                        self.warnings.push(format!(
+                            "upon_awake {v:?} ignored: expected reset or restart"
+                        ));
+                        self.upon_awake
+                    }
+                }
+            }
+            "delay_start" => self.delay_start = Range::parse(v, false)?,
+            "delay_reset" => self.delay_reset = Range::parse(v, false)?,
+            "time_warp" => self.time_warp = Range::parse(v, true)?,
+            "rand_var" | "randvar" => self.add_rand_var(v)?,
+            "rand_pair" | "randpair" => return Err("rand_pair is not supported by coug".into()),
+            "condition" => {
+                let c = parse_condition(v)
+                    .map_err(|e| format!("condition {v:?}: expected {}", e.expected))?;
+                self.conditions.push(c);
+            }
+            "block_on" => self
+                .block_on
+                .extend(v.split(',').filter(|s| !s.is_empty()).map(String::from)),
+            "shuffle" => self.shuffle = is_true(v),
+            "time_zero" => self.time_zero_db = v.eq_ignore_ascii_case("db_start"),
+            _ => {}
+        }
+        Ok(())
+    }
+
+    fn add_event(&mut self, spec: &str) -> Result<(), String> {
+        let mut var = None;
+        let mut value = None;
+        let mut time = Range::fixed(0.0);
+        let mut amt = 1usize;
+        let mut quit = false;
+        for piece in split_q(spec) {
+            if piece.eq_ignore_ascii_case("quit") {
+                quit = true;
+                continue;
+            }
+            let Some((k, val)) = piece.split_once('=') else {
+                return Err(format!("event piece {piece:?}: expected key=value"));
+            };
+            match k.to_ascii_lowercase().as_str() {
+                "var" => var = Some(val.to_string()),
+                "val" => {
+                    value = Some(
+                        if val.len() >= 2 && val.starts_with('"') && val.ends_with('"') {
+                            EventValue::Text {
+                                text: val[1..val.len() - 1].to_string(),
+                                quoted: true,
+                            }
+                        } else if condition::is_numeric(val) {
+                            EventValue::Double(val.parse::<f64>().unwrap_or(0.0))
+                        } else {
+                            EventValue::Text {
+                                text: val.to_string(),
+                                quoted: false,
+                            }
+                        },
+                    )
+                }
+                "time" => time = Range::parse(val, false)?,
+                "amt" => {
+                    amt = val
+                        .parse::<usize>()
+                        .ok()
+                        .filter(|n| (1..=10_000).contains(n))
+                        .ok_or_else(|| format!("amt {val:?}: expected a count 1..10000"))?
+                }
+                other => return Err(format!("event: unknown field {other:?}")),
+            }
+        }
+        let (var, value) = if quit {
+            (
+                "EXITED_NORMALLY".to_string(),
+                EventValue::Text {
+                    text: self.name.clone(),
+                    quoted: true,
+                },
+            )
+        } else {
+            let var = var
+                .filter(|v| !v.is_empty())
+                .ok_or_else(|| format!("event {spec:?}: no var="))?;
+            let value = value.ok_or_else(|| format!("event {spec:?}: no val="))?;
+            (var, value)
+        };
+        for _ in 0..amt {
+            let idx = format!("{:03}", self.events.len());
+            let value = match &value {
+                EventValue::Text { text, quoted } => {
+                    if text.contains("NAV_X") || text.contains("NAV_Y") {
+                        self.needs_nav = true;
+                    }
+                    EventValue::Text {
+                        text: text
+                            .replace("$(IDX)", &idx)
+                            .replace("$[IDX]", &idx)
+                            .replace("$$IDX", &idx),
+                        quoted: *quoted,
+                    }
+                }
+                d => d.clone(),
+            };
+            self.events.push(Event {
+                var: var.clone(),
+                value,
+                time,
+                quit,
+            });
+        }
+        self.ptimes.resize(self.events.len(), -1.0);
+        self.posted.resize(self.events.len(), false);
+        Ok(())
+    }
+
+    fn add_rand_var(&mut self, spec: &str) -> Result<(), String> {
+        let mut rv = RandVar {
+            name: String::new(),
+            min: 0.0,
+            max: 0.0,
+            snap: 0.001,
+            key: RandKey::Start,
+            value: 0.0,
+        };
+        let num = |k: &str, v: &str| {
+            v.parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| format!("rand_var {k}={v:?}: not a number"))
+        };
+        for piece in split_q(spec) {
+            let (k, v) = piece.split_once('=').unwrap_or((piece, ""));
+            match k.to_ascii_lowercase().as_str() {
+                "varname" => rv.name = v.to_string(),
+                "min" => rv.min = num(k, v)?,
+                "max" => rv.max = num(k, v)?,
+                "snap" => rv.snap = num(k, v)?,
+                "key" => {
+                    rv.key = match v.to_ascii_lowercase().as_str() {
+                        "at_start" => RandKey::Start,
+                        "at_reset" => RandKey::Reset,
+                        "at_post" => RandKey::Post,
+                        _ => {
+                            return Err(format!(
+                                "rand_var key {v:?}: expected at_start/at_reset/at_post"
+                            ));
+                        }
+                    }
+                }
+                "type" if v.eq_ignore_ascii_case("uniform") => {}
+                "type" => {
+                    return Err(format!(
+                        "rand_var type {v:?} is not supported (uniform only)"
+                    ));
+                }
+                _ => return Err(format!("rand_var: unknown field {k:?}")),
+            }
+        }
+        if rv.name.is_empty() || rv.min > rv.max {
+            return Err(format!("rand_var {spec:?}: needs varname and min <= max"));
+        }
+        self.rand_vars.push(rv);
+        Ok(())
+    }
+
+    /// Config lines ignored as MOOS ignores them (with a warning), as `line: text`.
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+
+    /// The number of events (after `amt` cloning).
+    pub fn event_count(&self) -> usize {
+        self.events.len()
+    }
+
+    fn handle_reset(&mut self) {
+        if let Some(max) = self.reset_max
+            && self.reset_count >= max
+        {
+            return;
+        }
+        self.reset_count += 1;
+        self.script_start = None;
+        self.status_needed = true;
+    }
+
+    fn handle_restart(&mut self) {
+        self.reset_count = 0;
+        self.script_start = None;
+        self.status_needed = true;
+    }
+
+    fn schedule_events(&mut self) {
+        let redraw = self.shuffle || self.ptimes.iter().any(|t| *t < 0.0);
+        if redraw {
+            for (i, e) in self.events.iter().enumerate() {
+                self.ptimes[i] = e.time.draw(&mut self.rng);
+            }
+        }
+        self.warp_value = self.time_warp.draw(&mut self.rng);
+        self.delay_start_value = self.delay_start.draw(&mut self.rng);
+        self.delay_reset_value = self.delay_reset.draw(&mut self.rng);
+        for rv in &mut self.rand_vars {
+            if rv.key != RandKey::Start {
+                rv.draw(&mut self.rng);
+            }
+        }
+        self.elapsed = 0.0;
+        self.skip_time = 0.0;
+        self.pause_time = 0.0;
+        self.posted_local = 0;
+        self.previous_time = None;
+        self.posted.iter_mut().for_each(|p| *p = false);
+    }
+
+    fn conditions_hold(&self) -> bool {
+        let lookup = |name: &str| -> Option<condition::Value<'_>> {
+            match self.info.get(name)? {
+                Value::Double(x) => Some(condition::Value::Num(*x)),
+                Value::String(s) => Some(condition::Value::Str(s)),
+                Value::Binary(_) => None,
+            }
+        };
+        self.conditions.iter().all(|c| c.evaluate(&lookup))
+    }
+
+    fn status_text(&self) -> String {
+        let resets = match self.reset_max {
+            None => format!("{}/any", self.reset_count),
+            Some(m) => format!("{}/{m}", self.reset_count),
+        };
+        format!(
+            "name={}, elapsed_time={:.2}, posted={}, pending={}, paused={}, conditions_ok={}, \
+             time_warp={}, delay_start={}, delay_reset={}, shuffle={}, upon_awake={}, resets={}",
+            self.script_name,
+            self.elapsed,
+            self.posted_local,
+            self.events.len() - self.posted_local,
+            self.paused,
+            self.conditions_ok,
+            fmt_x(self.warp_value, 5),
+            fmt_x(self.delay_start_value, 5),
+            fmt_x(self.delay_reset_value, 5),
+            self.shuffle,
+            self.upon_awake.as_str(),
+            resets
+        )
+    }
+
+    fn db_time(&self, now: f64) -> f64 {
+        now - self.db_start.unwrap_or(self.started_at)
+    }
+
+    /// Expands post-time macros and math in `text`.
+    fn expand(&mut self, text: &str, now: f64) -> String {
+        let mut s = text.to_string();
+        if s.contains('$') {
+            let dbtime = fmt_x2(self.db_time(now));
+            let utc = fmt_x2(now);
+            let count = self.posted_local.to_string();
+            let tcount = self.posted_total.to_string();
+            for (name, val) in [
+                ("DBTIME", &dbtime),
+                ("UTCTIME", &utc),
+                ("UTC", &utc),
+                ("TCOUNT", &tcount),
+                ("COUNT", &count),
+            ] {
+                s = s
+                    .replace(&format!("$({name})"), val)
+                    .replace(&format!("$[{name}]"), val);
+            }
+            for (name, v) in [("NAV_X", self.nav_x), ("NAV_Y", self.nav_y)] {
+                if let Some(v) = v {
+                    let t = fmt_x2(v);
+                    s = s
+                        .replace(&format!("$({name})"), &t)
+                        .replace(&format!("$[{name}]"), &t);
+                }
+            }
+            s = s.replace("$[VNAME]", &self.community);
+            for rv in &self.rand_vars {
+                let t = fmt_x(rv.value, 3);
+                s = s
+                    .replace(&format!("$({})", rv.name), &t)
+                    .replace(&format!("$[{}]", rv.name), &t);
+            }
+            for n in (1..=20).rev() {
+                let pat = format!("$({n})");
+                while let Some(at) = s.find(&pat) {
+                    let mut digits: String = (0..n)
+                        .map(|_| char::from(b'0' + self.rng.u8(0..10)))
+                        .collect();
+                    let trimmed = digits.trim_start_matches('0').len();
+                    digits.drain(..digits.len() - trimmed.max(1));
+                    s.replace_range(at..at + pat.len(), &digits);
+                }
+            }
+        }
+        for _ in 0..11 {
+            match eval_innermost(&s) {
+                Some(next) => s = next,
+                None => break,
+            }
+        }
+        s
+    }
+
+    fn execute(&mut self, i: usize, now: f64, out: &mut Vec<Post>) {
+        for rv in &mut self.rand_vars {
+            if rv.key == RandKey::Post {
+                rv.draw(&mut self.rng);
+            }
+        }
+        let e = self.events[i].clone();
+        let value = match &e.value {
+            EventValue::Double(x) => Value::Double(*x),
+            EventValue::Text { text, quoted } => {
+                let whole = |names: &[&str]| {
+                    names
+                        .iter()
+                        .any(|n| *text == format!("$({n})") || *text == format!("$[{n}]"))
+                };
+                if e.quit {
+                    Value::text(text.clone())
+                } else if whole(&["DBTIME"]) {
+                    Value::Double(self.db_time(now))
+                } else if whole(&["UTCTIME", "UTC"]) {
+                    Value::Double(now)
+                } else if whole(&["COUNT"]) {
+                    Value::Double(self.posted_local as f64)
+                } else if whole(&["TCOUNT"]) {
+                    Value::Double(self.posted_total as f64)
+                } else {
+                    let s = self.expand(text, now);
+                    match s.parse::<f64>() {
+                        Ok(x) if !quoted && condition::is_numeric(&s) => Value::Double(x),
+                        _ => Value::String(s),
+                    }
+                }
+            }
+        };
+        if e.quit {
+            self.quit_sent = true;
+        }
+        out.push(Post::new(e.var, value));
+        self.posted[i] = true;
+        self.posted_local += 1;
+        self.posted_total += 1;
+        self.status_needed = true;
+    }
+}
+
+/// `%.2f` with trailing zeros kept (the C++ uses doubleToString(v, 2)).
+fn fmt_x2(x: f64) -> String {
+    format!("{x:.2}")
+}
+
+/// Evaluates the innermost `{a op b}` of `s`, if it holds two numbers.
+fn eval_innermost(s: &str) -> Option<String> {
+    let close = s.find('}')?;
+    let open = s[..close].rfind('{')?;
+    let inner = &s[open + 1..close];
+    for op in ['*', '/', '+', '-'] {
+        // Skip a leading sign when looking for the operator.
+        let Some(pos) = inner
+            .char_indices()
+            .skip(1)
+            .find(|&(_, c)| c == op)
+            .map(|(i, _)| i)
+        else {
+            continue;
+        };
+        let (a, b) = (&inner[..pos], &inner[pos + 1..]);
+        let (Ok(x), Ok(y)) = (a.parse::<f64>(), b.parse::<f64>()) else {
+            return None;
+        };
+        let r = match op {
+            '*' => x * y,
+            '/' => {
+                if y == 0.0 {
+                    return None;
+                }
+                x / y
+            }
+            '+' => x + y,
+            _ => x - y,
+        };
+        let mut out = String::with_capacity(s.len());
+        out.push_str(&s[..open]);
+        out.push_str(&fmt_x(r, 6));
+        out.push_str(&s[close + 1..]);
+        return Some(out);
+    }
+    None
+}
+
+impl App for TimerScript {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn process_config(&self) -> Option<&ProcessConfig> {
+        self.block.as_ref()
+    }
+
+    fn subscriptions(&self) -> Vec<Subscription> {
+        let mut v: Vec<String> = vec![
+            self.forward_var.clone(),
+            self.pause_var.clone(),
+            self.reset_var.clone(),
+            "DB_UPTIME".into(),
+            "DB_CLIENTS".into(),
+            "EXITED_NORMALLY".into(),
+        ];
+        for c in &self.conditions {
+            v.extend(c.variables().into_iter().map(String::from));
+        }
+        if self.needs_nav {
+            v.push("NAV_X".into());
+            v.push("NAV_Y".into());
+        }
+        let mut seen = std::collections::BTreeSet::new();
+        v.into_iter()
+            .filter(|s| !s.is_empty() && seen.insert(s.clone()))
+            .map(Subscription::var)
+            .collect()
+    }
+
+    fn on_startup(&mut self, now: f64, _out: &mut Vec<Post>) {
+        self.started_at = now;
+        for rv in &mut self.rand_vars {
+            rv.draw(&mut self.rng);
+        }
+    }
+
+    fn on_mail(&mut self, mail: &[Mail], now: f64, _out: &mut Vec<Post>) {
+        for m in mail {
+            let key = m.key.as_str();
+            if key == self.pause_var {
+                if let Some(s) = m.value.as_str() {
+                    match s.to_ascii_lowercase().as_str() {
+                        "true" => self.paused = true,
+                        "false" => self.paused = false,
+                        "toggle" => self.paused = !self.paused,
+                        _ => {}
+                    }
+                    self.status_needed = true;
+                }
+                self.info.insert(m.key.clone(), m.value.clone());
+            } else if key == self.reset_var {
+                if let Some(s) = m.value.as_str()
+                    && (s.eq_ignore_ascii_case("reset") || s.eq_ignore_ascii_case("true"))
+                {
+                    self.handle_reset();
+                }
+            } else if key == self.forward_var {
+                if let Some(x) = m.value.as_f64() {
+                    let delay = if self.reset_count == 0 {
+                        self.delay_start_value
+                    } else {
+                        self.delay_reset_value
+                    };
+                    let jump = if x > 0.0 {
+                        x
+                    } else {
+                        let pending = self
+                            .ptimes
+                            .iter()
+                            .zip(&self.posted)
+                            .filter(|(_, p)| !**p)
+                            .map(|(t, _)| *t)
+                            .fold(f64::INFINITY, f64::min);
+                        if pending.is_finite() {
+                            ((pending + delay - self.elapsed) / self.warp_value).max(0.0)
+                        } else {
+                            0.0
+                        }
+                    };
+                    self.skip_time += jump;
+                }
+            } else if key == "DB_UPTIME" {
+                if self.db_start.is_none()
+                    && let Some(up) = m.value.as_f64()
+                {
+                    self.db_start = Some(now - up);
+                }
+            } else if key == "DB_CLIENTS" {
+                if let Some(s) = m.value.as_str() {
+                    let clients: Vec<&str> = s.split(',').collect();
+                    self.block_on.retain(|b| !clients.contains(&b.as_str()));
+                }
+            } else if key == "EXITED_NORMALLY" {
+                if m.value.as_str() == Some(self.name.as_str()) && self.quit_sent {
+                    self.finished = true;
+                }
+            } else {
+                if key == "NAV_X" {
+                    self.nav_x = m.value.as_f64();
+                } else if key == "NAV_Y" {
+                    self.nav_y = m.value.as_f64();
+                }
+                self.info.insert(m.key.clone(), m.value.clone());
+            }
+        }
+    }
+
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) {
+        // 1. Conditions (not re-checked mid-pass in atomic mode).
+        let mid_pass = self.posted_local > 0 && self.posted_local < self.events.len();
+        if !(self.atomic && mid_pass) {
+            let ok = self.conditions_hold();
+            if ok && !self.conditions_ok {
+                match self.upon_awake {
+                    UponAwake::Reset if self.elapsed > 0.0 => self.handle_reset(),
+                    UponAwake::Restart => self.handle_restart(),
+                    _ => {}
+                }
+            }
+            if ok != self.conditions_ok {
+                self.status_needed = true;
+            }
+            self.conditions_ok = ok;
+        }
+        // 2. (Re)start the script.
+        if self.script_start.is_none() {
+            let start = if self.time_zero_db {
+                self.db_start.unwrap_or(now)
+            } else {
+                now
+            };
+            self.script_start = Some(start);
+            self.schedule_events();
+        }
+        // 3. Paused time.
+        let held = self.paused || !self.conditions_ok || !self.block_on.is_empty();
+        if held && let Some(prev) = self.previous_time {
+            self.pause_time += now - prev;
+        }
+        self.previous_time = Some(now);
+        // 4. Elapsed time.
+        let start = self.script_start.unwrap_or(now);
+        self.elapsed = ((now - start) + self.skip_time - self.pause_time) * self.warp_value;
+        // 5. Periodic status.
+        if self.last_status.is_none_or(|t| now - t > 5.0) {
+            self.status_needed = true;
+        }
+        // 6. Due events, in config order.
+        if !held {
+            let delay = if self.reset_count == 0 {
+                self.delay_start_value
+            } else {
+                self.delay_reset_value
+            };
+            for i in 0..self.events.len() {
+                if !self.posted[i]
+                    && self.elapsed - delay >= self.ptimes[i]
+                    && (self.reset_time <= 0.0 || self.ptimes[i] <= self.reset_time)
+                {
+                    self.execute(i, now, out);
+                }
+            }
+        }
+        // 7. Resets.
+        let all_posted = self.posted_local == self.events.len();
+        let at_end = all_posted && self.reset_time == 0.0;
+        let timed_out = self.reset_time > 0.0 && self.elapsed >= self.reset_time;
+        if at_end || timed_out {
+            self.handle_reset();
+        }
+        // 8. Status.
+        if self.status_needed {
+            self.status_needed = false;
+            if !self.status_var.is_empty() && !self.status_var.eq_ignore_ascii_case("silent") {
+                out.push(Post::text(self.status_var.clone(), self.status_text()));
+            }
+            self.last_status = Some(now);
+        }
+    }
+
+    fn finished(&self) -> bool {
+        self.finished
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mission::source::SourceMap;
+
+    fn script(body: &str) -> TimerScript {
+        try_script(body).unwrap()
+    }
+
+    fn try_script(body: &str) -> Result<TimerScript, TimerScriptError> {
+        let text = format!("ProcessConfig = uTimerScript\n{{\n{body}\n}}\n");
+        let src = SourceMap::from_text("t.moos", &text);
+        let block = mission::moos::parse_moos(&src).value.processes[0].clone();
+        TimerScript::new("uTimerScript", block, "alpha", 7)
+    }
+
+    /// Runs iterates at `start + k*dt` for `n` steps, feeding `mail` before the step whose
+    /// time is at least its time; returns (time, post).
+    fn run(
+        ts: &mut TimerScript,
+        start: f64,
+        dt: f64,
+        n: usize,
+        mail: &[(f64, &str, Value)],
+    ) -> Vec<(f64, Post)> {
+        let mut out = Vec::new();
+        let mut posts = Vec::new();
+        ts.on_startup(start, &mut posts);
+        let mut fed = 0;
+        for k in 0..n {
+            let now = start + k as f64 * dt;
+            let due: Vec<Mail> = mail[fed..]
+                .iter()
+                .take_while(|(t, _, _)| *t <= now + 1e-9)
+                .map(|(t, key, v)| Mail {
+                    key: key.to_string(),
+                    value: v.clone(),
+                    time: *t,
+                    source: "test".into(),
+                    source_aux: String::new(),
+                    community: "alpha".into(),
+                })
+                .collect();
+            fed += due.len();
+            if !due.is_empty() {
+                ts.on_mail(&due, now, &mut posts);
+            }
+            ts.iterate(now, &mut posts);
+            out.extend(posts.drain(..).map(|p| (now, p)));
+        }
+        out
+    }
+
+    fn without_status(v: Vec<(f64, Post)>) -> Vec<(f64, Post)> {
+        v.into_iter()
+            .filter(|(_, p)| p.key != "UTS_STATUS")
+            .collect()
+    }
+
+    #[test]
+    fn logger_capture_script_matches_the_real_app() {
+        // captures/logger: AppTick 4, TICK_D at 0.5, TICK_S at 1.0, reset when all posted.
+        let mut ts = script(
+            "AppTick = 4\npaused = false\nevent = var=TICK_D, val=$(COUNT), time=0.5\n\
+             event = var=TICK_S, val=\"tick number $(COUNT)\", time=1.0\n\
+             reset_max = nolimit\nreset_time = all-posted",
+        );
+        let out = run(&mut ts, 100.0, 0.25, 12, &[]);
+        let first = &out[0];
+        assert_eq!(first.0, 100.0);
+        assert_eq!(
+            first.1.value,
+            Value::text(
+                "name=unnamed, elapsed_time=0.00, posted=0, pending=2, paused=false, conditions_ok=true, \
+                 time_warp=1, delay_start=0, delay_reset=0, shuffle=true, upon_awake=n/a, resets=0/any"
+            )
+        );
+        let posts = without_status(out.clone());
+        let got: Vec<(f64, &str, &Value)> = posts
+            .iter()
+            .map(|(t, p)| (*t, p.key.as_str(), &p.value))
+            .collect();
+        assert_eq!(
+            got,
+            vec![
+                (100.5, "TICK_D", &Value::Double(0.0)),
+                (101.0, "TICK_S", &Value::text("ticknumber1")),
+                // reset at 101.0, restart at the next iterate (101.25), +0.5
+                (101.75, "TICK_D", &Value::Double(0.0)),
+                (102.25, "TICK_S", &Value::text("ticknumber1")),
+            ]
+        );
+        let status_at_101 = out
+            .iter()
+            .find(|(t, p)| *t == 101.0 && p.key == "UTS_STATUS")
+            .unwrap();
+        assert!(
+            status_at_101
+                .1
+                .value
+                .as_str()
+                .unwrap()
+                .contains("elapsed_time=1.00, posted=2, pending=0")
+        );
+        assert!(
+            status_at_101
+                .1
+                .value
+                .as_str()
+                .unwrap()
+                .ends_with("resets=1/any")
+        );
+    }
+
+    #[test]
+    fn reset_max_limits_passes() {
+        let mut ts = script("event = var=A, val=1, time=0\nreset_time = end\nreset_max = 2");
+        let out = without_status(run(&mut ts, 0.0, 1.0, 20, &[]));
+        assert_eq!(out.len(), 3, "{out:?}");
+        let times: Vec<f64> = out.iter().map(|(t, _)| *t).collect();
+        assert_eq!(times, vec![0.0, 1.0, 2.0]);
+    }
+
+    #[test]
+    fn reset_time_number_cuts_late_events() {
+        let mut ts = script(
+            "event = var=A, val=x, time=1\nevent = var=B, val=y, time=5\nreset_time = 3\nreset_max = 1",
+        );
+        let out = without_status(run(&mut ts, 0.0, 0.5, 20, &[]));
+        let got: Vec<(f64, &str)> = out.iter().map(|(t, p)| (*t, p.key.as_str())).collect();
+        // Pass 1: A at 1, reset at elapsed 3; pass 2 starts at 3.5: A at 4.5; B never.
+        assert_eq!(got, vec![(1.0, "A"), (4.5, "A")]);
+    }
+
+    #[test]
+    fn time_ranges_are_seeded_and_within_bounds() {
+        let body = "event = var=A, val=1, time=20:30\nevent = var=B, val=2, time=20:30";
+        let a = without_status(run(&mut script(body), 0.0, 0.1, 400, &[]));
+        let b = without_status(run(&mut script(body), 0.0, 0.1, 400, &[]));
+        assert_eq!(a, b, "same seed, same draws");
+        assert_eq!(a.len(), 2);
+        for (t, _) in &a {
+            assert!((20.0..=30.1).contains(t), "{t}");
+        }
+        assert_ne!(a[0].0, a[1].0, "two events draw different times");
+    }
+
+    #[test]
+    fn amt_clones_with_index() {
+        let mut ts = script("event = var=P, val=\"pt_$(IDX)\", time=1, amt=3");
+        assert_eq!(ts.event_count(), 3);
+        let out = without_status(run(&mut ts, 0.0, 1.0, 3, &[]));
+        let vals: Vec<&Value> = out.iter().map(|(_, p)| &p.value).collect();
+        assert_eq!(
+            vals,
+            vec![
+                &Value::text("pt_000"),
+                &Value::text("pt_001"),
+                &Value::text("pt_002")
+            ]
+        );
+    }
+
+    #[test]
+    fn pause_var_freezes_elapsed_time() {
+        let mut ts = script("event = var=A, val=1, time=4\npaused = true");
+        let mail = [(3.0, "UTS_PAUSE", Value::text("false"))];
+        let out = without_status(run(&mut ts, 0.0, 1.0, 10, &mail));
+        // Held at the iterates of 1 and 2 (pause time 2): A due at elapsed 4 = t 6.
+        assert_eq!(out.iter().map(|(t, _)| *t).collect::<Vec<_>>(), vec![6.0]);
+        let mut ts = script("event = var=A, val=1, time=4");
+        let mail = [
+            (1.0, "UTS_PAUSE", Value::text("toggle")),
+            (3.0, "UTS_PAUSE", Value::text("TOGGLE")),
+        ];
+        let out = without_status(run(&mut ts, 0.0, 1.0, 10, &mail));
+        assert_eq!(out.iter().map(|(t, _)| *t).collect::<Vec<_>>(), vec![6.0]);
+    }
+
+    #[test]
+    fn reset_var_restarts_the_script() {
+        let mut ts = script("event = var=A, val=1, time=2\nevent = var=B, val=1, time=10");
+        let mail = [(4.0, "UTS_RESET", Value::text("reset"))];
+        let out = without_status(run(&mut ts, 0.0, 1.0, 9, &mail));
+        let got: Vec<(f64, &str)> = out.iter().map(|(t, p)| (*t, p.key.as_str())).collect();
+        // A at 2; reset by mail at 4, so the same iterate restarts; A again at 6.
+        assert_eq!(got, vec![(2.0, "A"), (6.0, "A")]);
+    }
+
+    #[test]
+    fn condition_with_upon_awake_restart_and_delays() {
+        // delta's GPS script, with a fixed delay to check the timing exactly.
+        let mut ts = script(
+            "paused = false\nreset_max = any\nreset_time = end\ncondition = TIME_AT_SURFACE > 3\n\
+             upon_awake = restart\ndelay_start = 10\nscript_name = GPS_SCRIPT\n\
+             event = var=GPS_UPDATE_RECEIVED, val=\"RCVD_$(COUNT)\", time=1",
+        );
+        assert!(
+            ts.subscriptions()
+                .iter()
+                .any(|s| s.pattern == "TIME_AT_SURFACE")
+        );
+        let mail = [
+            (0.0, "TIME_AT_SURFACE", Value::Double(0.0)),
+            (20.0, "TIME_AT_SURFACE", Value::Double(4.0)),
+            (40.0, "TIME_AT_SURFACE", Value::Double(0.0)),
+        ];
+        let out = run(&mut ts, 0.0, 1.0, 45, &mail);
+        let first_status = out[0].1.value.as_str().unwrap().to_string();
+        assert!(
+            first_status.starts_with("name=GPS_SCRIPT,"),
+            "{first_status}"
+        );
+        assert!(first_status.contains("conditions_ok=false"));
+        let posts = without_status(out);
+        let times: Vec<f64> = posts.iter().map(|(t, _)| *t).collect();
+        // Awake at 20 (restart): delay_start 10 + time 1 → 31; then delay_reset 0:
+        // reset at 31, restart at 32, post at 33, 35, 37, 39; asleep from 40.
+        assert_eq!(times, vec![31.0, 33.0, 35.0, 37.0, 39.0]);
+        assert_eq!(posts[0].1.value, Value::text("RCVD_0"));
+        assert!(posts.iter().all(|(_, p)| p.key == "GPS_UPDATE_RECEIVED"));
+    }
+
+    #[test]
+    fn upon_awake_reset_needs_elapsed_time() {
+        let mut ts = script(
+            "condition = GO = true\nupon_awake = reset\nevent = var=A, val=1, time=2\nreset_max=5",
+        );
+        let mail = [
+            (0.0, "GO", Value::text("true")),
+            (2.0, "GO", Value::text("false")),
+            (4.0, "GO", Value::text("true")),
+        ];
+        let out = without_status(run(&mut ts, 0.0, 1.0, 8, &mail));
+        // Awake at 0 (elapsed 0: no reset); asleep at 2 and 3 with elapsed 1; awake at 4
+        // resets and restarts in that iterate: A at 6 (without the reset it would be 4).
+        assert_eq!(out.iter().map(|(t, _)| *t).collect::<Vec<_>>(), vec![6.0]);
+        let mut plain = script("condition = GO = true\nevent = var=A, val=1, time=2");
+        let out = without_status(run(&mut plain, 0.0, 1.0, 8, &mail));
+        assert_eq!(out.iter().map(|(t, _)| *t).collect::<Vec<_>>(), vec![4.0]);
+    }
+
+    #[test]
+    fn time_warp_scales_elapsed_time() {
+        let mut ts = script("time_warp = 2\nevent = var=A, val=1, time=10");
+        let out = without_status(run(&mut ts, 0.0, 1.0, 10, &[]));
+        assert_eq!(out.iter().map(|(t, _)| *t).collect::<Vec<_>>(), vec![5.0]);
+        let st = run(
+            &mut script("time_warp = 2:3\nevent = var=A, val=1, time=10"),
+            0.0,
+            1.0,
+            1,
+            &[],
+        );
+        let text = st[0].1.value.as_str().unwrap().to_string();
+        let w: f64 = text
+            .split("time_warp=")
+            .nth(1)
+            .and_then(|r| r.split(',').next())
+            .and_then(|v| v.parse().ok())
+            .unwrap();
+        assert!((2.0..=3.0).contains(&w), "{text}");
+    }
+
+    #[test]
+    fn delay_reset_applies_after_the_first_pass() {
+        let mut ts = script(
+            "delay_start = 1\ndelay_reset = 3\nevent = var=A, val=1, time=0\nreset_time = end\nreset_max = 1",
+        );
+        let out = without_status(run(&mut ts, 0.0, 1.0, 10, &[]));
+        // First pass: at 1. Reset, restart at 2, +3 → 5.
+        assert_eq!(
+            out.iter().map(|(t, _)| *t).collect::<Vec<_>>(),
+            vec![1.0, 5.0]
+        );
+    }
+
+    #[test]
+    fn forward_var_skips_ahead() {
+        let mut ts = script("event = var=A, val=1, time=100\nevent = var=B, val=1, time=200");
+        let mail = [
+            (2.0, "UTS_FORWARD", Value::Double(0.0)),
+            (5.0, "UTS_FORWARD", Value::Double(50.0)),
+        ];
+        let out = without_status(run(&mut ts, 0.0, 1.0, 160, &mail));
+        let got: Vec<(f64, &str)> = out.iter().map(|(t, p)| (*t, p.key.as_str())).collect();
+        // At 2 skip 99 (to the next event from the last elapsed time, 1): A posts at 2;
+        // at 5 skip 50 more: elapsed = t + 149, B (200) at t 51.
+        assert_eq!(got, vec![(2.0, "A"), (51.0, "B")]);
+    }
+
+    #[test]
+    fn macros_math_and_types() {
+        let mut ts = script(
+            "event = var=N, val=\"{2*{3+4}}\", time=0\nevent = var=Q, val=\"5\", time=0\n\
+             event = var=U, val=$(UTC), time=0\nevent = var=V, val=\"$[VNAME]:$(TCOUNT)\", time=0\n\
+             event = var=R, val=$(4), time=0\nevent = var=X, val=\"x=$[NAV_X]\", time=1\n\
+             rand_var = varname=RV, min=10, max=20, key=at_start\nevent = var=W, val=\"$[RV]\", time=0",
+        );
+        assert!(ts.subscriptions().iter().any(|s| s.pattern == "NAV_X"));
+        let mail = [(0.5, "NAV_X", Value::Double(12.346))];
+        let out = without_status(run(
+            &mut ts,
+            50.0,
+            1.0,
+            2,
+            &[(50.0, mail[0].1, mail[0].2.clone())],
+        ));
+        let get = |k: &str| {
+            out.iter()
+                .find(|(_, p)| p.key == k)
+                .unwrap()
+                .1
+                .value
+                .clone()
+        };
+        assert_eq!(get("N"), Value::text("14"), "quoted math stays a string");
+        assert_eq!(get("Q"), Value::text("5"), "quoted number stays a string");
+        assert_eq!(get("U"), Value::Double(50.0));
+        assert_eq!(get("V"), Value::text("alpha:3"));
+        let r = get("R");
+        let r = r.as_f64().expect("unquoted random digits post a double");
+        assert!((0.0..10000.0).contains(&r));
+        assert_eq!(get("X"), Value::text("x=12.35"));
+        let w: f64 = get("W").as_str().unwrap().parse().unwrap();
+        assert!((10.0..=20.0).contains(&w));
+    }
+
+    #[test]
+    fn quit_posts_exited_normally_and_finishes() {
+        let mut ts = script("event = quit, time=1");
+        let out = without_status(run(&mut ts, 0.0, 1.0, 2, &[]));
+        assert_eq!(out[0].1, Post::text("EXITED_NORMALLY", "uTimerScript"));
+        assert!(!ts.finished());
+        let mut posts = Vec::new();
+        ts.on_mail(
+            &[Mail {
+                key: "EXITED_NORMALLY".into(),
+                value: Value::text("uTimerScript"),
+                time: 1.0,
+                source: "uTimerScript".into(),
+                source_aux: String::new(),
+                community: String::new(),
+            }],
+            1.2,
+            &mut posts,
+        );
+        assert!(ts.finished());
+    }
+
+    #[test]
+    fn block_on_waits_for_clients() {
+        let mut ts = script("block_on = pHelmIvP\nevent = var=A, val=1, time=1");
+        let mail = [
+            (1.0, "DB_CLIENTS", Value::text("uTimerScript,")),
+            (3.0, "DB_CLIENTS", Value::text("pHelmIvP,uTimerScript,")),
+        ];
+        let out = without_status(run(&mut ts, 0.0, 1.0, 6, &mail));
+        // Held at 1 and 2 (pause 2): elapsed reaches 1 at t 3.
+        assert_eq!(out.iter().map(|(t, _)| *t).collect::<Vec<_>>(), vec![3.0]);
+    }
+
+    #[test]
+    fn status_is_silent_when_asked_and_periodic_otherwise() {
+        let mut ts = script("status_var = silent\nevent = var=A, val=1, time=1");
+        assert!(
+            run(&mut ts, 0.0, 1.0, 3, &[])
+                .iter()
+                .all(|(_, p)| p.key != "UTS_STATUS")
+        );
+        let mut ts = script("event = var=A, val=1, time=100");
+        let out = run(&mut ts, 0.0, 1.0, 13, &[]);
+        let st: Vec<f64> = out
+            .iter()
+            .filter(|(_, p)| p.key == "UTS_STATUS")
+            .map(|(t, _)| *t)
+            .collect();
+        assert_eq!(st, vec![0.0, 6.0, 12.0]);
+    }
+
+    #[test]
+    fn bad_lines_name_file_and_line() {
+        let e = try_script("reset_max = 2\nevent = var=A, val=1, time=-3")
+            .err()
+            .unwrap();
+        assert_eq!(e.line, 4);
+        assert!(e.to_string().starts_with("t.moos:4: uTimerScript:"), "{e}");
+        assert!(try_script("event = val=1, time=1").is_err());
+        assert!(try_script("time_warp = 0").is_err());
+        assert!(try_script("condition = (A = ").is_err());
+        assert!(try_script("rand_pair = var1=X, var2=Y").is_err());
+        let w = try_script("upon_awake = sometimes\nreset_max = no_limit").unwrap();
+        assert_eq!(w.upon_awake, UponAwake::None);
+        assert_eq!(w.reset_max, None);
+        assert_eq!(w.warnings().len(), 2);
+        assert!(
+            w.warnings()[0].starts_with("t.moos:3: upon_awake"),
+            "{:?}",
+            w.warnings()
+        );
+    }
+
+    #[test]
+    fn every_corpus_timer_script_block_is_read() {
+        let root = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../shared/corpus/moos-ivp-missions"
+        );
+        assert!(
+            std::path::Path::new(root).is_dir(),
+            "corpus missing at {root}: the shared folder is required"
+        );
+        let mut seen = 0;
+        let mut stack = vec![std::path::PathBuf::from(root)];
+        while let Some(dir) = stack.pop() {
+            for entry in std::fs::read_dir(&dir).unwrap() {
+                let path = entry.unwrap().path();
+                if path.is_dir() {
+                    stack.push(path);
+                    continue;
+                }
+                if path.extension().and_then(|e| e.to_str()) != Some("moos") {
+                    continue;
+                }
+                let text = std::fs::read_to_string(&path).unwrap();
+                let src = SourceMap::from_text(&path.display().to_string(), &text);
+                for b in mission::moos::parse_moos(&src).value.processes {
+                    if b.name != "uTimerScript" {
+                        continue;
+                    }
+                    // Blocks that use features coug refuses must say so by line; others load.
+                    match TimerScript::new("uTimerScript", b.clone(), "c", 1) {
+                        Ok(ts) => {
+                            seen += 1;
+                            let _ = ts.event_count();
+                        }
+                        Err(e) => assert!(
+                            e.message.contains("rand_pair")
+                                || e.message.contains("not supported")
+                                || e.message.contains("$("),
+                            "{}: {e}",
+                            path.display()
+                        ),
+                    }
+                }
+            }
+        }
+        assert!(seen >= 20, "only {seen} uTimerScript blocks read");
+    }
+
+    #[test]
+    fn delta_block_parses() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../shared/corpus/moos-ivp-missions/s4_delta/delta.moos"
+        );
+        let text = std::fs::read_to_string(path).expect("corpus s4_delta/delta.moos is required");
+        let src = SourceMap::from_text("delta.moos", &text);
+        let block = mission::moos::parse_moos(&src)
+            .value
+            .processes
+            .into_iter()
+            .find(|b| b.name == "uTimerScript")
+            .unwrap();
+        let ts = TimerScript::new("uTimerScript", block, "delta", 3).unwrap();
+        assert_eq!(ts.event_count(), 1);
+        assert_eq!(ts.app_tick(), 4.0);
+        assert_eq!(ts.script_name, "GPS_SCRIPT");
+        assert_eq!(ts.upon_awake, UponAwake::Restart);
+        assert_eq!(ts.reset_time, 0.0);
+        assert_eq!(ts.reset_max, None);
+        assert_eq!(
+            ts.delay_start,
+            Range {
+                min: 20.0,
+                max: 120.0
+            }
+        );
+        assert_eq!(ts.events[0].time, Range { min: 0.5, max: 1.0 });
+        assert!(!ts.conditions_ok);
+    }
+}
