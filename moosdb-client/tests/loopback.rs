@@ -408,6 +408,18 @@ async fn warped_client_and_db_agree_on_moos_time() {
     assert!((c.moos_time() - warped_now).abs() < 10.0);
 }
 
+/// Sends one message as a packet and reads the reply packet (bounded wait).
+async fn exchange(r: &mut PacketReader<TcpStream>, m: Message) -> Vec<Message> {
+    let mut pkt = Vec::new();
+    encode_packet(&[m], &mut pkt);
+    r.get_mut().write_all(&pkt).await.unwrap();
+    timeout(WAIT, r.read_packet())
+        .await
+        .expect("reply in time")
+        .expect("readable")
+        .expect("a packet")
+}
+
 #[tokio::test]
 async fn old_synchronous_client_is_served() {
     let srv = server().await;
@@ -424,14 +436,7 @@ async fn old_synchronous_client_is_served() {
     let mut reg = Message::new(MsgType::Register, DataType::Double, "OLD");
     reg.src = Bytes::from_static(b"oldie");
     reg.dval = 0.0;
-    let mut pkt = Vec::new();
-    encode_packet(&[reg], &mut pkt);
-    r.get_mut().write_all(&pkt).await.unwrap();
-    let reply = timeout(WAIT, r.read_packet())
-        .await
-        .unwrap()
-        .unwrap()
-        .unwrap();
+    let reply = exchange(&mut r, reg).await;
     assert_eq!(
         reply[0].msg_type,
         MsgType::Null,
@@ -447,14 +452,7 @@ async fn old_synchronous_client_is_served() {
     );
     let mut null = Message::new(MsgType::Null, DataType::Double, "");
     null.src = Bytes::from_static(b"oldie");
-    let mut pkt = Vec::new();
-    encode_packet(&[null], &mut pkt);
-    r.get_mut().write_all(&pkt).await.unwrap();
-    let reply = timeout(WAIT, r.read_packet())
-        .await
-        .unwrap()
-        .unwrap()
-        .unwrap();
+    let reply = exchange(&mut r, null).await;
     assert_eq!(reply[0].msg_type, MsgType::Null);
     let old = reply
         .iter()
