@@ -398,14 +398,16 @@ async fn warped_client_and_db_agree_on_moos_time() {
     c.notify("W", Value::Double(1.0)).unwrap();
     let m = next_for(&mut mail, "W").await;
     let warped_now = 10.0 * moosdb_client::time::unix_now();
-    // MOOS time is the absolute Unix time times the warp; skew stays small on one host.
+    // MOOS time is the absolute Unix time times the warp (about 1.8e10 here, not 1.8e9);
+    // on one host the skew is only the (warped) handshake delay. Bounds allow 10 s of
+    // real delay on a loaded machine.
     assert!(
-        (m.time - warped_now).abs() < 10.0,
+        (m.time - warped_now).abs() < 100.0,
         "{} vs {warped_now}",
         m.time
     );
-    assert!(c.skew().abs() < 5.0, "skew {}", c.skew());
-    assert!((c.moos_time() - warped_now).abs() < 10.0);
+    assert!(c.skew().abs() < 100.0, "skew {}", c.skew());
+    assert!((c.moos_time() - warped_now).abs() < 100.0);
 }
 
 /// Sends one message as a packet and reads the reply packet (bounded wait).
