@@ -2,6 +2,14 @@
 
 use clap::{Parser, Subcommand};
 
+mod cmd {
+    pub mod check;
+    pub mod db;
+    pub mod nsplug;
+    pub mod poke;
+    pub mod scope;
+}
+
 /// Command line of the `coug` binary.
 #[derive(Debug, Parser)]
 #[command(name = "coug", version, about, long_about = None)]
@@ -15,6 +23,16 @@ struct Cli {
 enum Command {
     /// Print the version and what each part of coug does today.
     Info,
+    /// Preprocess, parse and validate mission files (.moos, .bhv); exit 1 on any error.
+    Check(cmd::check::CheckArgs),
+    /// Expand an nsplug template (MOOS-IvP's nsplug): IN OUT [NAME=VALUE]...
+    Nsplug(cmd::nsplug::NsplugArgs),
+    /// Run a standalone MOOSDB: [MISSION.moos] [--port N] [--host ADDR].
+    Db(cmd::db::DbArgs),
+    /// Post values like uPokeDB: [MISSION.moos] VAR=VALUE... (VAR:=VALUE forces a string).
+    Poke(cmd::poke::PokeArgs),
+    /// Watch variables like uXMS: [MISSION.moos] VAR... [--once].
+    Scope(cmd::scope::ScopeArgs),
 }
 
 fn main() -> anyhow::Result<()> {
@@ -27,9 +45,16 @@ fn main() -> anyhow::Result<()> {
         .init();
     let cli = Cli::parse();
     match cli.command.unwrap_or(Command::Info) {
+        Command::Check(args) => std::process::exit(cmd::check::run(&args)),
+        Command::Nsplug(args) => std::process::exit(cmd::nsplug::run(&args)),
+        Command::Db(args) => cmd::db::run(&args)?,
+        Command::Poke(args) => cmd::poke::run(&args)?,
+        Command::Scope(args) => cmd::scope::run(&args)?,
         Command::Info => {
             println!("coug {}", env!("CARGO_PKG_VERSION"));
-            println!("`coug run MISSION.moos` arrives with issue #8; today coug provides the IvP core (helm::ivp).");
+            println!(
+                "`coug run MISSION.moos` arrives with issue #8. Available now: check, nsplug, db, poke, scope."
+            );
         }
     }
     Ok(())
