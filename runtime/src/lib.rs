@@ -5,7 +5,8 @@
 //! - [`clock`]: lockstep ([`VirtualClock`]) or real time times a warp;
 //! - [`scheduler`]: runs every app at its own AppTick, with pokes and an `until` condition;
 //! - [`timer_script`]: the built-in uTimerScript;
-//! - [`logger`]: the built-in pLogger, writing alog files through the `alog` crate.
+//! - [`logger`]: the built-in pLogger, writing alog files through the `alog` crate;
+//! - [`plot`]: track and depth plots of an alog as SVG or PNG (`coug plot`).
 //!
 //! Everything takes the MOOS time as an argument; only [`clock::WarpedWallClock`] reads
 //! the wall clock.
@@ -15,6 +16,7 @@ pub mod app;
 pub mod bus;
 pub mod clock;
 pub mod logger;
+pub mod plot;
 pub mod scheduler;
 pub mod timer_script;
 
