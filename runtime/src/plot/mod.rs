@@ -6,7 +6,7 @@
 //! ```
 //! let log = alog::parse("%% LOGSTART 0\n0 NAV_X s 0\n0 NAV_Y s 0\n1 NAV_X s 10\n1 NAV_Y s 5\n").unwrap();
 //! let data = runtime::plot::PlotData::from_alog(&log);
-//! assert_eq!(data.track.len(), 2);
+//! assert_eq!(data.track.len(), 3); // a point each time x or y changes
 //! let svg = runtime::plot::to_svg(&data, &runtime::plot::PlotOptions::default()).unwrap();
 //! assert!(svg.starts_with("<svg"));
 //! ```
