@@ -333,7 +333,7 @@ impl Behavior for Loiter {
     }
 
     fn on_run(&mut self, ctx: &Ctx<'_>, out: &mut Out) -> Option<IvpFunction> {
-        let Some((x, y, h, _)) = nav(ctx.info) else {
+        let Some((x, y, _, _)) = nav(ctx.info) else {
             out.error("No ownship X/Y/heading info in info_buffer.");
             return None;
         };
@@ -435,7 +435,6 @@ impl Behavior for Loiter {
             z.extract().ok()?
         };
         let bearing = geometry::relative_angle(x, y, next.x, next.y);
-        let _ = h;
         let mut crs = ZaicPeak::new(ctx.domain, "course").ok()?;
         crs.set_value_wrap(true);
         crs.set_params(bearing, 0.0, 180.0, 0.0, 0.0, 100.0).ok()?;

@@ -590,16 +590,11 @@ impl Behavior for Waypoint {
             }
             "use_alt_speed" => self.use_alt_speed = boolean(param, v)?,
             "currix" => {
+                // As in MOOS, an index past the last point is accepted and ignored.
                 let i = number_min(param, v, 0.0)? as usize;
                 if i < self.points.len() {
                     self.curr_ix = i;
                     self.cpa = None;
-                } else {
-                    return Err(ParamError::bad(
-                        param,
-                        value,
-                        "an index below the point count",
-                    ));
                 }
             }
             "wpt_status" | "wpt_status_var" if var_name(v) => {

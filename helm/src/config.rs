@@ -76,13 +76,14 @@ pub struct HelmConfig {
     pub helm_prefix: String,
     /// `nav_grace` seconds.
     pub nav_grace: f64,
-    /// `goals_mandatory`.
+    /// `goals_mandatory` (only `false` is supported: goal behaviours are not modelled).
     pub goals_mandatory: bool,
     /// `other_override_var`.
     pub other_override_var: String,
     /// `behaviors` files, in file order.
     pub behavior_files: Vec<String>,
-    /// `standby` seconds (standby helms are accepted but not modelled yet).
+    /// `standby` seconds. Standby helms are not supported yet: setting it is a configuration
+    /// error rather than a silently different helm.
     pub standby: Option<f64>,
     /// `verbose`.
     pub verbose: String,
@@ -199,7 +200,13 @@ impl HelmConfig {
                 }
                 "allow_park" => set_bool(&mut c.allow_park, &mut errs),
                 "park_on_allstop" => set_bool(&mut c.park_on_allstop, &mut errs),
-                "goals_mandatory" => set_bool(&mut c.goals_mandatory, &mut errs),
+                "goals_mandatory" => {
+                    set_bool(&mut c.goals_mandatory, &mut errs);
+                    if c.goals_mandatory {
+                        c.goals_mandatory = false;
+                        errs.push(bad("false (goal behaviours are not modelled by coug yet)"));
+                    }
+                }
                 "seed_random" => set_bool(&mut c.seed_random, &mut errs),
                 "helm_alias" | "helm_prefix" | "other_override_var" => {
                     if value.is_empty() || value.contains(char::is_whitespace) {
@@ -214,7 +221,12 @@ impl HelmConfig {
                     }
                 }
                 "standby" => match number(value) {
-                    Some(s) if s > 0.0 => c.standby = Some(s),
+                    Some(s) if s > 0.0 => {
+                        c.standby = Some(s);
+                        errs.push(bad(
+                            "no standby (standby helms are not supported by coug yet)",
+                        ));
+                    }
                     _ => errs.push(bad("positive seconds")),
                 },
                 "nav_grace" => match number(value) {

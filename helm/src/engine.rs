@@ -160,6 +160,7 @@ struct Message {
 /// assert_eq!(hdg.value.as_num(), Some(90.0));
 /// ```
 pub struct Helm {
+    app_name: String,
     config: HelmConfig,
     errors: Vec<ConfigError>,
     ownship: String,
@@ -345,6 +346,7 @@ impl Helm {
         let has_control = config.start_engaged && errors.is_empty();
         let problem = Problem::new(config.domain.clone());
         Helm {
+            app_name: APP_NAME.to_string(),
             modes: ModeSet::new(&bhv.modes),
             config,
             errors,
@@ -380,6 +382,14 @@ impl Helm {
             emit: Out::default(),
             scratch: String::new(),
         }
+    }
+
+    /// Sets the MOOS application name the helm runs as (default `pHelmIvP`); mail from this
+    /// source is the helm's own (not skew-checked, and its `IVPHELM_STATE` does not disable
+    /// the helm).
+    pub fn with_app_name(mut self, name: &str) -> Self {
+        self.app_name = name.to_string();
+        self
     }
 
     /// The configuration problems (empty unless MALCONFIG).
@@ -554,7 +564,7 @@ impl Helm {
             }
             if let Some(ok) = self.config.ok_skew {
                 let skew = (now - m.time).abs().min(now - self.start_time);
-                if skew > ok && m.source != APP_NAME && m.var != "HELM_MAP_CLEAR" {
+                if skew > ok && m.source != self.app_name && m.var != "HELM_MAP_CLEAR" {
                     let mut msg = format!(
                         "Helm ignores MOOS msg due to skew: {} Source={} Skew=",
                         m.var, m.source
@@ -582,7 +592,7 @@ impl Helm {
                 self.info.set(&m.var, m.value.clone(), &m.source, m.time);
             } else if m.var == "IVPHELM_STATE" {
                 self.init_vars_ready = true;
-                let other = m.source != APP_NAME;
+                let other = m.source != self.app_name;
                 if other
                     && m.value.as_str() != Some("STANDBY")
                     && self.state.enabled()

@@ -572,3 +572,125 @@ fn helm_prefix_and_park_on_allstop() {
         "parked after the all-stop"
     );
 }
+
+#[test]
+fn behavior_error_halts_the_helm() {
+    // A speed behaviour in a course-only domain reports an error: BHV_ERROR, halted.
+    let bhv =
+        "Behavior = BHV_ConstantSpeed\n{\n name = s\n speed = 1\n duration = no-time-limit\n}\n";
+    let parsed = mission::bhv::parse_bhv(&SourceMap::from_text("e.bhv", bhv));
+    let helm = Helm::from_parsed(
+        &[("domain", "course:0:359:360"), ("start_engaged", "true")],
+        &globals(),
+        &parsed,
+    );
+    let mut s = Script::new(helm);
+    s.step(0.0, 0.0, 0.0, 0.0, &[]);
+    let posts = s.step(1.0, 0.0, 0.0, 0.0, &[]);
+    assert!(is_str(
+        get(&posts, "BHV_ERROR"),
+        "s: No 'speed' variable in the helm domain"
+    ));
+    assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "BehaviorError"));
+    assert_eq!(
+        get(&posts, "DESIRED_HEADING"),
+        Some(&Value::Num(0.0)),
+        "zeros at once"
+    );
+    let summary = get(&posts, "IVPHELM_SUMMARY").unwrap().as_str().unwrap();
+    assert!(summary.contains("halted=true"), "{summary}");
+}
+
+#[test]
+fn depth_domain_holds_for_nav_depth() {
+    let bhv = "Behavior = BHV_ConstantHeading\n{\n name = h\n heading = 10\n duration = no-time-limit\n}\n";
+    let parsed = mission::bhv::parse_bhv(&SourceMap::from_text("d.bhv", bhv));
+    let helm = Helm::from_parsed(
+        &[
+            ("domain", "course:0:359:360"),
+            ("domain", "speed:0:4:41:optional"),
+            ("domain", "depth:0:100:101:optional"),
+            ("start_engaged", "true"),
+        ],
+        &globals(),
+        &parsed,
+    );
+    let mut s = Script::new(helm);
+    s.step(0.0, 0.0, 0.0, 0.0, &[]);
+    let posts = s.step(2.0, 0.0, 0.0, 0.0, &[]);
+    assert!(
+        get(&posts, "IVPHELM_ITER").is_none(),
+        "no NAV_DEPTH yet: {posts:?}"
+    );
+    let posts = s.step(3.0, 0.0, 0.0, 0.0, &[("NAV_DEPTH", "4")]);
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(10.0)));
+    // Undecided optional variables are posted as 0 (pHelmIvP's getDecision default).
+    assert_eq!(get(&posts, "DESIRED_DEPTH"), Some(&Value::Num(0.0)));
+}
+
+#[test]
+fn waypoint_points_and_currix_updates() {
+    let bhv = "\
+Behavior = BHV_Waypoint
+{
+  name    = wpt
+  speed   = 2
+  points  = 0,100:100,100:100,0
+  updates = WPT_UPDATE
+  wptflag = HIT = $(X),$(Y) next=$(NX),$(NY)
+}
+";
+    let mut s = Script::new(helm_with(&[("start_engaged", "true")], bhv));
+    s.step(0.0, 0.0, 0.0, 0.0, &[]);
+    let posts = s.step(1.0, 0.0, 0.0, 0.0, &[]);
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(0.0)));
+    // Jump to the third point.
+    let posts = s.step(2.0, 0.0, 0.0, 0.0, &[("WPT_UPDATE", "currix=2")]);
+    assert_eq!(get(&posts, "WPT_INDEX"), Some(&Value::Num(2.0)));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(90.0)));
+    // New points; a radial polygon form starts at the vertex nearest the vehicle.
+    let posts = s.step(
+        3.0,
+        0.0,
+        0.0,
+        0.0,
+        &[(
+            "WPT_UPDATE",
+            "points = radial:: x=0, y=-50, radius=10, pts=4",
+        )],
+    );
+    assert!(
+        get(&posts, "IVPHELM_UPDATE_RESULT")
+            .unwrap()
+            .as_str()
+            .unwrap()
+            .contains("success")
+    );
+    let seg = get(&posts, "VIEW_SEGLIST").unwrap().as_str().unwrap();
+    assert!(seg.starts_with("pts={"), "{seg}");
+    let hdg = get(&posts, "DESIRED_HEADING").unwrap().as_num().unwrap();
+    assert!((90.0..=270.0).contains(&hdg), "heading south-ish: {hdg}");
+    // Arriving at the first radial vertex posts the wptflag with the point reached.
+    let (nx, ny) = {
+        let inner = seg.trim_start_matches("pts={");
+        let first = inner.split(':').next().unwrap();
+        let (a, b) = first.split_once(',').unwrap();
+        (
+            a.parse::<f64>().unwrap(),
+            b.trim_end_matches('}').parse::<f64>().unwrap(),
+        )
+    };
+    let posts = s.step(4.0, nx, ny + 1.0, 180.0, &[]);
+    let hit = get(&posts, "HIT").unwrap().as_str().unwrap();
+    let (xy, next) = hit.split_once(" next=").unwrap();
+    let (hx, hy) = xy.split_once(',').unwrap();
+    assert!(
+        (hx.parse::<f64>().unwrap() - nx).abs() < 0.006,
+        "{hit} vs {nx},{ny}"
+    );
+    assert!(
+        (hy.parse::<f64>().unwrap() - ny).abs() < 0.006,
+        "{hit} vs {nx},{ny}"
+    );
+    assert_ne!(next, xy, "the next point is the following vertex");
+}
