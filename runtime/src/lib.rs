@@ -6,7 +6,8 @@
 //! - [`scheduler`]: runs every app at its own AppTick, with pokes and an `until` condition;
 //! - [`timer_script`]: the built-in uTimerScript;
 //! - [`logger`]: the built-in pLogger, writing alog files through the `alog` crate;
-//! - [`plot`]: track and depth plots of an alog as SVG or PNG (`coug plot`).
+//! - [`plot`]: track and depth plots of an alog as SVG or PNG (`coug plot`);
+//! - [`vehicle`]: the simulator, marine PID and node reporter of the `vehicle` crate as apps.
 //!
 //! Everything takes the MOOS time as an argument; only [`clock::WarpedWallClock`] reads
 //! the wall clock.
@@ -19,6 +20,7 @@ pub mod logger;
 pub mod plot;
 pub mod scheduler;
 pub mod timer_script;
+pub mod vehicle;
 
 pub use app::{App, Mail, Post, Subscription, Value};
 pub use bus::{Bus, BusError};

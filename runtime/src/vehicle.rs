@@ -1,0 +1,212 @@
+//! The vehicle crate's simulator (uSimMarineV22), marine PID (pMarinePIDV22) and node
+//! reporter (pNodeReporter) as [`App`]s, each configured from its `ProcessConfig` block.
+
+use mission::moos::ProcessConfig;
+use thiserror::Error;
+use vehicle::geodesy::LocalGrid;
+use vehicle::node_report::{NodeReportConfig, NodeReporter};
+use vehicle::pid::{MarinePid, PidConfig};
+use vehicle::sim::{SimConfig, Simulator};
+use vehicle::{ConfigError, MailValue, Posting};
+
+use crate::app::{App, Mail, Post, Subscription, Value};
+
+/// A vehicle app's block that cannot be used, with where it is.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+#[error("{file}:{line}: {error}")]
+pub struct VehicleAppError {
+    /// File of the offending line (or of the block).
+    pub file: String,
+    /// Line of the offending parameter (or of the `ProcessConfig` line).
+    pub line: u32,
+    /// What is wrong.
+    pub error: ConfigError,
+}
+
+fn located(block: &ProcessConfig, error: ConfigError) -> VehicleAppError {
+    let key = match &error {
+        ConfigError::UnknownKey { key, .. } | ConfigError::BadValue { key, .. } => {
+            Some(key.as_str())
+        }
+        ConfigError::Missing { .. } => None,
+    };
+    let param = key.and_then(|k| {
+        block
+            .entries
+            .iter()
+            .find(|p| p.key.trim().eq_ignore_ascii_case(k.trim()))
+    });
+    let span = param.map_or(&block.span, |p| &p.span);
+    VehicleAppError {
+        file: span.file_name().to_string(),
+        line: span.line,
+        error,
+    }
+}
+
+fn params(block: &ProcessConfig) -> impl Iterator<Item = (&str, &str)> {
+    block
+        .entries
+        .iter()
+        .map(|p| (p.key.as_str(), p.value.as_str()))
+}
+
+fn warnings(block: &ProcessConfig, unknown: Vec<ConfigError>) -> Vec<String> {
+    unknown
+        .into_iter()
+        .map(|e| located(block, e).to_string())
+        .collect()
+}
+
+enum Inner {
+    Sim(Box<Simulator>),
+    Pid(Box<MarinePid>),
+    Reporter(Box<NodeReporter>),
+}
+
+/// One of the vehicle apps behind the [`App`] trait.
+pub struct VehicleApp {
+    name: String,
+    block: ProcessConfig,
+    inner: Inner,
+    subs: Vec<Subscription>,
+    postings: Vec<Posting>,
+    warnings: Vec<String>,
+}
+
+impl VehicleApp {
+    fn new(
+        name: &str,
+        block: ProcessConfig,
+        inner: Inner,
+        subs: Vec<&str>,
+        warnings: Vec<String>,
+    ) -> Self {
+        VehicleApp {
+            name: name.to_string(),
+            block,
+            inner,
+            subs: subs.into_iter().map(Subscription::var).collect(),
+            postings: Vec::with_capacity(32),
+            warnings,
+        }
+    }
+
+    /// uSimMarineV22 (or uSimMarine) from its block; `grid` from the mission's
+    /// LatOrigin/LongOrigin adds NAV_LAT/NAV_LONG; `start` is the MOOS start time.
+    pub fn simulator(
+        name: &str,
+        block: ProcessConfig,
+        grid: Option<LocalGrid>,
+        start: f64,
+    ) -> Result<Self, VehicleAppError> {
+        let (cfg, unknown) =
+            SimConfig::from_params_lenient(params(&block)).map_err(|e| located(&block, e))?;
+        let w = warnings(&block, unknown);
+        let sim = Simulator::new(cfg, grid, start);
+        let subs = Simulator::subscriptions().to_vec();
+        Ok(VehicleApp::new(
+            name,
+            block,
+            Inner::Sim(Box::new(sim)),
+            subs,
+            w,
+        ))
+    }
+
+    /// pMarinePIDV22 (or pMarinePID) from its block.
+    pub fn marine_pid(name: &str, block: ProcessConfig) -> Result<Self, VehicleAppError> {
+        let (cfg, unknown) =
+            PidConfig::from_params_lenient(params(&block)).map_err(|e| located(&block, e))?;
+        let w = warnings(&block, unknown);
+        let pid = MarinePid::new(cfg);
+        let subs = pid.subscriptions();
+        Ok(VehicleApp::new(
+            name,
+            block,
+            Inner::Pid(Box::new(pid)),
+            subs,
+            w,
+        ))
+    }
+
+    /// pNodeReporter from its block, reporting as vehicle `community`.
+    pub fn node_reporter(
+        name: &str,
+        block: ProcessConfig,
+        community: &str,
+        start: f64,
+    ) -> Result<Self, VehicleAppError> {
+        let (cfg, unknown) = NodeReportConfig::from_params_lenient(params(&block))
+            .map_err(|e| located(&block, e))?;
+        let w = warnings(&block, unknown);
+        let rep = NodeReporter::new(cfg, community, start);
+        let subs = NodeReporter::subscriptions().to_vec();
+        Ok(VehicleApp::new(
+            name,
+            block,
+            Inner::Reporter(Box::new(rep)),
+            subs,
+            w,
+        ))
+    }
+
+    /// Unknown parameters of the block (`file:line: app: unknown parameter ...`), which
+    /// the C++ apps also only warn about.
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+
+    fn flush(&mut self, out: &mut Vec<Post>) {
+        out.extend(self.postings.drain(..).map(|p| {
+            let value = match p.value {
+                vehicle::Value::Double(x) => Value::Double(x),
+                vehicle::Value::Str(s) => Value::String(s),
+            };
+            Post::new(p.var.as_ref(), value)
+        }));
+    }
+}
+
+impl App for VehicleApp {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn process_config(&self) -> Option<&ProcessConfig> {
+        Some(&self.block)
+    }
+
+    fn subscriptions(&self) -> Vec<Subscription> {
+        self.subs.clone()
+    }
+
+    fn on_mail(&mut self, mail: &[Mail], _now: f64, out: &mut Vec<Post>) {
+        for m in mail {
+            let v = match &m.value {
+                Value::Double(x) => MailValue::Double(*x),
+                Value::String(s) => MailValue::Str(s),
+                Value::Binary(_) => continue,
+            };
+            match &mut self.inner {
+                Inner::Sim(s) => {
+                    if let Some(p) = s.on_mail(&m.key, v, m.time) {
+                        self.postings.push(p);
+                    }
+                }
+                Inner::Pid(p) => p.on_mail(&m.key, v, m.time),
+                Inner::Reporter(r) => r.on_mail(&m.key, v, m.time),
+            }
+        }
+        self.flush(out);
+    }
+
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) {
+        match &mut self.inner {
+            Inner::Sim(s) => s.iterate(now, &mut self.postings),
+            Inner::Pid(p) => p.iterate(now, &mut self.postings),
+            Inner::Reporter(r) => r.iterate(now, &mut self.postings),
+        }
+        self.flush(out);
+    }
+}

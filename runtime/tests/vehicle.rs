@@ -1,0 +1,197 @@
+//! Simulator + marine PID + node reporter (configured from the real s1_alpha blocks) in
+//! lockstep, driven by a scripted helm, logged by pLogger with alpha's own logger block.
+
+use chrono::NaiveDate;
+use mission::moos::{MissionFile, ProcessConfig};
+use mission::source::SourceMap;
+use runtime::logger::{Logger, LoggerConfig, SharedBuffer};
+use runtime::vehicle::VehicleApp;
+use runtime::{App, Bus, Outcome, Poke, Post, Scheduler, VirtualClock};
+use vehicle::geodesy::LocalGrid;
+
+const START: f64 = 1_786_000_000.0;
+
+fn alpha() -> MissionFile {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../shared/corpus/moos-ivp-missions/s1_alpha/alpha.moos"
+    );
+    let text = std::fs::read_to_string(path)
+        .unwrap_or_else(|e| panic!("corpus file {path} is required: {e}"));
+    let parsed = mission::moos::parse_moos(&SourceMap::from_text("alpha.moos", &text));
+    assert!(!parsed.has_errors());
+    parsed.value
+}
+
+fn block(m: &MissionFile, name: &str) -> ProcessConfig {
+    m.process(name)
+        .unwrap_or_else(|| panic!("no {name} block"))
+        .clone()
+}
+
+/// Heading 90 at 2 m/s for 60 s, then heading 180.
+struct ScriptedHelm;
+
+impl App for ScriptedHelm {
+    fn name(&self) -> &str {
+        "pHelmIvP"
+    }
+    fn app_tick(&self) -> f64 {
+        4.0
+    }
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) {
+        let heading = if now - START < 60.0 { 90.0 } else { 180.0 };
+        out.push(Post::text("IVPHELM_STATE", "DRIVE"));
+        out.push(Post::double("DESIRED_HEADING", heading));
+        out.push(Post::double("DESIRED_SPEED", 2.0));
+        out.push(Post::double("DESIRED_DEPTH", 0.0));
+    }
+}
+
+fn run() -> (Vec<u8>, Outcome) {
+    let m = alpha();
+    let grid = LocalGrid::new(43.8253, -70.3304).unwrap();
+    let mut s = Scheduler::new(Bus::new("alpha", START), VirtualClock, START);
+    let sim = VehicleApp::simulator(
+        "uSimMarineV22",
+        block(&m, "uSimMarineV22"),
+        Some(grid),
+        START,
+    )
+    .unwrap();
+    assert!(sim.warnings().is_empty(), "{:?}", sim.warnings());
+    assert_eq!(sim.app_tick(), 4.0);
+    let pid = VehicleApp::marine_pid("pMarinePIDV22", block(&m, "pMarinePIDV22")).unwrap();
+    assert_eq!(pid.app_tick(), 20.0);
+    let rep =
+        VehicleApp::node_reporter("pNodeReporter", block(&m, "pNodeReporter"), "alpha", START)
+            .unwrap();
+    let buf = SharedBuffer::default();
+    let opened = NaiveDate::from_ymd_opt(2026, 8, 5)
+        .unwrap()
+        .and_hms_opt(18, 22, 55)
+        .unwrap();
+    let lb = block(&m, "pLogger");
+    let logger = Logger::new(
+        "pLogger",
+        Some(lb.clone()),
+        LoggerConfig::from_config(Some(&lb), None),
+        buf.clone(),
+        &opened,
+        "Thu Jan  1 00:00:00 1970",
+    );
+    // ANTLER order of alpha: pLogger, uSimMarineV22, pMarinePIDV22, pHelmIvP, pNodeReporter.
+    s.add_app(Box::new(logger)).unwrap();
+    s.add_app(Box::new(sim)).unwrap();
+    s.add_app(Box::new(pid)).unwrap();
+    s.add_app(Box::new(ScriptedHelm)).unwrap();
+    s.add_app(Box::new(rep)).unwrap();
+    s.add_poke(Poke::parse("MOOS_MANUAL_OVERRIDE=false", "pHelmIvP").unwrap())
+        .unwrap();
+    let outcome = s.run(120.0).unwrap();
+    (buf.contents(), outcome)
+}
+
+fn values(log: &alog::Alog, var: &str) -> Vec<(f64, f64)> {
+    log.entries
+        .iter()
+        .filter(|e| e.var == var)
+        .filter_map(|e| Some((e.time, e.value.as_f64()?)))
+        .collect()
+}
+
+fn at(v: &[(f64, f64)], t: f64) -> f64 {
+    v.iter().take_while(|(vt, _)| *vt <= t).last().unwrap().1
+}
+
+#[test]
+fn sim_pid_and_reporter_follow_a_scripted_helm() {
+    let (bytes, outcome) = run();
+    assert_eq!(
+        outcome,
+        Outcome::MaxTime {
+            time: START + 120.0
+        }
+    );
+    let log = alog::parse(std::str::from_utf8(&bytes).unwrap()).unwrap();
+    let x = values(&log, "NAV_X");
+    let y = values(&log, "NAV_Y");
+    let hdg = values(&log, "NAV_HEADING");
+    let spd = values(&log, "NAV_SPEED");
+    // The simulator iterates at its AppTick (4 Hz) and, as uSimMarineV22 does, posts
+    // navigation every second iteration.
+    assert!(
+        x.len() >= 235 && x.len() <= 245,
+        "{} NAV_X records",
+        x.len()
+    );
+    assert!(x.windows(2).all(|w| w[1].0 - w[0].0 == 0.5));
+    // Start pose from alpha's block: x=0, y=-20, heading 180.
+    assert!(x[0].1.abs() < 0.01 && (y[0].1 + 20.0).abs() < 0.01);
+    // Leg 1: east at about 2 m/s.
+    assert!(
+        (at(&hdg, 55.0) - 90.0).abs() < 5.0,
+        "heading {}",
+        at(&hdg, 55.0)
+    );
+    assert!(
+        (at(&spd, 55.0) - 2.0).abs() < 0.3,
+        "speed {}",
+        at(&spd, 55.0)
+    );
+    assert!(at(&x, 60.0) > 60.0, "x {}", at(&x, 60.0));
+    // Leg 2: south.
+    assert!(
+        (at(&hdg, 115.0) - 180.0).abs() < 5.0,
+        "heading {}",
+        at(&hdg, 115.0)
+    );
+    assert!(at(&y, 120.0) < at(&y, 60.0) - 60.0);
+    assert!(values(&log, "NAV_LAT").len() > 200, "grid gives NAV_LAT");
+    // The PID commands the simulator.
+    assert!(
+        !values(&log, "DESIRED_RUDDER").is_empty() && !values(&log, "DESIRED_THRUST").is_empty()
+    );
+    // Node reports carry the vehicle's position and the helm's mode.
+    let reports: Vec<(f64, &str)> = log
+        .entries
+        .iter()
+        .filter(|e| e.var == "NODE_REPORT_LOCAL")
+        .map(|e| (e.time, e.value.as_str().unwrap()))
+        .collect();
+    // alpha runs pNodeReporter at AppTick 2.
+    assert!(
+        reports.len() >= 235 && reports.len() <= 242,
+        "{} reports",
+        reports.len()
+    );
+    let (t, r) = reports.iter().find(|(t, _)| *t >= 90.0).unwrap();
+    assert!(r.contains("NAME=alpha") && r.contains("MODE=DRIVE"), "{r}");
+    let field = |k: &str| -> f64 {
+        r.split(',')
+            .find_map(|kv| kv.strip_prefix(k))
+            .unwrap_or_else(|| panic!("no {k} in {r}"))
+            .parse()
+            .unwrap()
+    };
+    assert!(
+        (field("X=") - at(&x, *t)).abs() < 1.0,
+        "{r} vs NAV_X {}",
+        at(&x, *t)
+    );
+    assert!(
+        (field("Y=") - at(&y, *t)).abs() < 1.0,
+        "{r} vs NAV_Y {}",
+        at(&y, *t)
+    );
+    // alpha's logger omits *_STATUS and logs with LogAuxSrc.
+    assert!(log.entries.iter().all(|e| !e.var.ends_with("_STATUS")));
+}
+
+#[test]
+fn the_vehicle_run_is_deterministic() {
+    let (a, _) = run();
+    let (b, _) = run();
+    assert!(a.len() > 100_000);
+    assert_eq!(a, b);
+}
