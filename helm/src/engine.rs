@@ -635,12 +635,13 @@ impl Helm {
         }
     }
 
+    /// Reference §4.3 step 3: NAV_X, NAV_Y, NAV_HEADING, NAV_SPEED (and NAV_DEPTH with a
+    /// depth domain) must each have been received once.
     fn nav_ready(&self) -> bool {
-        let mut need = vec!["NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"];
-        if self.config.domain.get("depth").is_some() {
-            need.push("NAV_DEPTH");
-        }
-        need.iter().all(|v| self.info.is_known(v))
+        ["NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"]
+            .iter()
+            .all(|v| self.info.is_known(v))
+            && (self.config.domain.get("depth").is_none() || self.info.is_known("NAV_DEPTH"))
     }
 
     /// Runs one helm iteration at time `now` (seconds) with the mail queued since the last
@@ -703,6 +704,10 @@ impl Helm {
         self.messages.clear();
         self.problem.clear();
 
+        // A behaviour error halts this iteration only (MOOS resets the state each time).
+        for s in &mut self.slots {
+            s.ok = true;
+        }
         let modes: Vec<(String, String)> = self.modes.evaluate(&mut self.info).to_vec();
 
         let mut report = HelmReport {
@@ -1274,7 +1279,17 @@ impl Helm {
                         None
                     });
                 }
-                let f = self.call(i, |b, ctx, out| b.on_run(ctx, out));
+                let mut f = self.call(i, |b, ctx, out| b.on_run(ctx, out));
+                if f.as_ref().is_some_and(|f| {
+                    f.pieces()
+                        .any(|p| p.max_val().is_nan() || p.min_val().is_nan())
+                }) {
+                    f = None;
+                    let name = self.slots[i].common.name.clone();
+                    let msg = format!("{name}: NaN detected in IvP Function");
+                    self.queue(i, "BHV_ERROR", Value::Str(msg), &PostKey::Repeatable);
+                    self.slots[i].ok = false;
+                }
                 let pwt = self.slots[i].common.pwt;
                 let f = f.filter(|_| pwt > 0.0).map(|f| f.with_pwt(pwt));
                 if let Some(f) = f {
