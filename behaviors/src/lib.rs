@@ -40,19 +40,27 @@
 
 mod behavior;
 mod common;
+mod constant_depth;
 mod constant_heading;
 mod constant_speed;
 pub mod fmt;
 mod loiter;
+mod max_depth;
+mod op_region;
 pub mod param;
+mod periodic_surface;
 mod timer;
 mod waypoint;
 
 pub use behavior::{Behavior, Ctx, Emit, Info, MapInfo, Out, ParamError, PostKey, Value, nav};
 pub use common::{Common, Flag, FlagKind, FlagValue};
+pub use constant_depth::ConstantDepth;
 pub use constant_heading::ConstantHeading;
 pub use constant_speed::ConstantSpeed;
 pub use loiter::Loiter;
+pub use max_depth::MaxDepth;
+pub use op_region::{Breach, OpRegion};
+pub use periodic_surface::{AscentGrade, PeriodicSurface, Phase};
 pub use timer::Timer;
 pub use waypoint::Waypoint;
 
@@ -71,6 +79,10 @@ pub fn create(kind: &str) -> Option<Box<dyn Behavior>> {
         "bhv_constantspeed" => Box::new(ConstantSpeed::new()),
         "bhv_constantheading" => Box::new(ConstantHeading::new()),
         "bhv_timer" => Box::new(Timer::new()),
+        "bhv_constantdepth" => Box::new(ConstantDepth::new()),
+        "bhv_maxdepth" => Box::new(MaxDepth::new()),
+        "bhv_opregion" => Box::new(OpRegion::new()),
+        "bhv_periodicsurface" => Box::new(PeriodicSurface::new()),
         _ => return None,
     })
 }
@@ -82,4 +94,9 @@ pub const KINDS: &[&str] = &[
     "BHV_ConstantSpeed",
     "BHV_ConstantHeading",
     "BHV_Timer",
+    "BHV_ConstantDepth",
+    "BHV_MaxDepth",
+    "BHV_OpRegion",
+    "BHV_PeriodicSurface",
 ];
+

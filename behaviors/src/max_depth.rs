@@ -1,0 +1,90 @@
+//! BHV_MaxDepth (reference §6.8): a ZAIC_LEQ constraint on `depth`.
+
+use ivp::{IvpFunction, ZaicLeq};
+
+use crate::behavior::{Behavior, Ctx, Out, ParamError};
+use crate::common::Common;
+use crate::constant_depth::var_name;
+use crate::param::number;
+
+/// Keeps the vehicle shallower than `max_depth`: ZAIC_LEQ(summit `max_depth`, base width
+/// `tolerance`/`basewidth`, default 100). Every depth at or above `max_depth` gets the full
+/// utility (with a tiny tie-breaking rise toward `max_depth`), utility falls linearly to 0
+/// over the tolerance below it, and deeper depths get 0.
+///
+/// As in MOOS-IvP (which the reference does not mention): the default `duration` is 0, so a
+/// mission must set `duration = no-time-limit`; negative numbers are clipped to 0; a missing
+/// `NAV_DEPTH` only raises a `BHV_WARNING`. `depth_slack_var` receives `max_depth −
+/// NAV_DEPTH` every running iteration.
+#[derive(Debug, Clone)]
+pub struct MaxDepth {
+    /// The deepest allowed depth, m.
+    pub max_depth: f64,
+    /// Width of the ramp below `max_depth`, m.
+    pub basewidth: f64,
+    /// Variable receiving the depth slack ("" = none).
+    pub slack_var: String,
+}
+
+impl Default for MaxDepth {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl MaxDepth {
+    /// The MOOS defaults (`max_depth` 0, `basewidth` 100).
+    pub fn new() -> Self {
+        MaxDepth {
+            max_depth: 0.0,
+            basewidth: 100.0,
+            slack_var: String::new(),
+        }
+    }
+}
+
+impl Behavior for MaxDepth {
+    fn kind(&self) -> &'static str {
+        "BHV_MaxDepth"
+    }
+    fn default_duration(&self) -> f64 {
+        0.0
+    }
+    fn set_param(
+        &mut self,
+        param: &str,
+        value: &str,
+        _common: &mut Common,
+        _ctx: &Ctx<'_>,
+    ) -> Result<(), ParamError> {
+        match param {
+            "max_depth" => self.max_depth = number(param, value)?.max(0.0),
+            "basewidth" | "tolerance" => self.basewidth = number(param, value)?.max(0.0),
+            "depth_slack_var" => self.slack_var = var_name(param, value)?,
+            _ => return Err(ParamError::unknown(param)),
+        }
+        Ok(())
+    }
+
+    fn on_run(&mut self, ctx: &Ctx<'_>, out: &mut Out) -> Option<IvpFunction> {
+        match ctx.info.num("NAV_DEPTH") {
+            Some(d) if !self.slack_var.is_empty() => {
+                out.post(self.slack_var.clone(), self.max_depth - d);
+            }
+            Some(_) => {}
+            None => out.warning(ctx.name, "No ownship DEPTH info in info_buffer."),
+        }
+        let mut z = ZaicLeq::new(ctx.domain, "depth").ok()?;
+        let built = z
+            .set_summit(self.max_depth)
+            .and_then(|_| z.set_basewidth(self.basewidth))
+            .and_then(|_| z.extract());
+        match built {
+            Ok(f) => Some(f),
+            Err(e) => {
+                out.error(format!("Unable to generate max-depth IvP function: {e}"));
+                None
+            }
+        }
+    }
+}
