@@ -99,4 +99,3 @@ pub const KINDS: &[&str] = &[
     "BHV_OpRegion",
     "BHV_PeriodicSurface",
 ];
-
