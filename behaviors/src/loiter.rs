@@ -4,7 +4,7 @@ use geometry::spec::parse_polygon;
 use geometry::{Point, Polygon, ViewPoint, ViewPolygon};
 use ivp::{IvpFunction, ZaicPeak, ZaicSpd, couple_weighted};
 
-use crate::behavior::{Behavior, Ctx, Out, ParamError, PostKey, nav};
+use crate::behavior::{Behavior, Ctx, Out, ParamError, nav};
 use crate::common::Common;
 use crate::param::{boolean, number, number_min};
 
@@ -15,19 +15,23 @@ pub enum Direction {
     Clockwise,
     /// Counter-clockwise.
     CounterClockwise,
-    /// Chosen on each idle→running transition: the direction whose entry vertex needs the
-    /// smaller turn from the present heading.
+    /// Chosen on each idle→running transition from outside the polygon: the direction whose
+    /// entry vertex needs the smaller turn from the present heading (MOOS
+    /// `LoiterEngine::resetClockwiseBest`).
     Best,
 }
 
-/// The loiter behaviour: a perpetual tour of the polygon's vertices in the chosen direction.
-/// When farther than `acquire_dist` from the polygon it (re)acquires: it heads for the vertex
-/// at the tangent on the side that joins the circulation (for clockwise, the vertex farthest
-/// counter-clockwise in bearing as seen from ownship).
+/// The loiter behaviour (reference §6.2, MOOS `BHV_Loiter` + `LoiterEngine`): a perpetual tour
+/// of the polygon's vertices in the chosen direction, with a waypoint engine (capture and slip
+/// radii). When farther than `acquire_dist` outside the polygon it acquires an entry vertex:
+/// among the vertices visible from ownship, the one whose turn onto the next edge is the most
+/// clockwise (clockwise loiter) or counter-clockwise; from inside, the vertex needing the
+/// smallest turn, favouring the one ahead (spiral factor −2).
 #[derive(Debug, Clone)]
 pub struct Loiter {
     poly: Polygon,
-    center_given: Option<Point>,
+    center_assign: String,
+    center_pending: bool,
     /// Desired speed, m/s.
     pub speed: f64,
     /// Alternative speed (−1 = unused).
@@ -41,13 +45,12 @@ pub struct Loiter {
     pub capture_radius: f64,
     /// Slip radius, m (default 15).
     pub slip_radius: f64,
-    /// Distance from the polygon beyond which the loiter re-acquires, m (default 10).
+    /// Distance outside the polygon beyond which the loiter acquires, m (default 10).
     pub acquire_dist: f64,
     /// Course share of the coupled function (1..99, default 50).
     pub patience: f64,
     zaic_spd: bool,
     center_activate: bool,
-    center_pending: bool,
     suffix: String,
     hint_vertex_size: f64,
     hint_edge_size: f64,
@@ -55,12 +58,16 @@ pub struct Loiter {
     hint_edge_color: String,
     hint_nextpt_color: String,
     hint_nextpt_lcolor: String,
-    order: Vec<Point>,
+    hint_nextpt_vertex_size: f64,
+    hint_poly_label: String,
+    hint_poly_lcolor: String,
     curr_ix: usize,
     cpa: Option<f64>,
     acquire: bool,
+    mode: &'static str,
     capture_hits: u32,
     nonmono_hits: u32,
+    next: Point,
 }
 
 impl Default for Loiter {
@@ -69,12 +76,38 @@ impl Default for Loiter {
     }
 }
 
+/// Whether vertex `i` of a convex polygon is visible from the outside point `(x, y)`: the
+/// point lies outside the line of one of the two edges meeting at `i`.
+fn vertex_viewable(v: &[Point], i: usize, x: f64, y: f64) -> bool {
+    let n = v.len();
+    let cw = signed_area(v) < 0.0;
+    let outside = |a: Point, b: Point| {
+        let cross = (b.x - a.x) * (y - a.y) - (b.y - a.y) * (x - a.x);
+        if cw { cross > 0.0 } else { cross < 0.0 }
+    };
+    let prev = v[(i + n - 1) % n];
+    let next = v[(i + 1) % n];
+    outside(prev, v[i]) || outside(v[i], next)
+}
+
+fn signed_area(v: &[Point]) -> f64 {
+    let n = v.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (v[i], v[(i + 1) % n]);
+            a.x * b.y - b.x * a.y
+        })
+        .sum::<f64>()
+        / 2.0
+}
+
 impl Loiter {
     /// The MOOS defaults (no polygon, speed 0, clockwise).
     pub fn new() -> Self {
         Loiter {
             poly: Polygon::default(),
-            center_given: None,
+            center_assign: String::new(),
+            center_pending: false,
             speed: 0.0,
             speed_alt: -1.0,
             use_alt_speed: false,
@@ -86,7 +119,6 @@ impl Loiter {
             patience: 50.0,
             zaic_spd: false,
             center_activate: false,
-            center_pending: false,
             suffix: String::new(),
             hint_vertex_size: 1.0,
             hint_edge_size: 1.0,
@@ -94,18 +126,22 @@ impl Loiter {
             hint_edge_color: "white".into(),
             hint_nextpt_color: "yellow".into(),
             hint_nextpt_lcolor: "aqua".into(),
-            order: Vec::new(),
+            hint_nextpt_vertex_size: 5.0,
+            hint_poly_label: String::new(),
+            hint_poly_lcolor: String::new(),
             curr_ix: 0,
             cpa: None,
-            acquire: true,
+            acquire: false,
+            mode: "idle",
             capture_hits: 0,
             nonmono_hits: 0,
+            next: Point::new(0.0, 0.0),
         }
     }
 
     /// The vertex being sought.
     pub fn next_vertex(&self) -> Option<Point> {
-        self.order.get(self.curr_ix).copied()
+        self.poly.vertices().get(self.curr_ix).copied()
     }
 
     /// Whether the loiter is circling clockwise now.
@@ -113,18 +149,24 @@ impl Loiter {
         self.clockwise_now
     }
 
-    fn reorder(&mut self) {
-        let mut v: Vec<Point> = self.poly.vertices().to_vec();
-        if self.poly.is_clockwise() != self.clockwise_now {
-            v.reverse();
-        }
-        self.order = v;
-        self.curr_ix = 0;
-        self.cpa = None;
-        self.acquire = true;
+    /// The loiter mode posted in `LOITER_MODE` (stable, acquiring_external, ...).
+    pub fn mode(&self) -> &'static str {
+        self.mode
     }
 
-    fn move_center(&mut self, c: Point) {
+    /// Orders the vertices for the current direction (MOOS `setClockwise`).
+    fn set_clockwise(&mut self, cw: bool) {
+        self.clockwise_now = cw;
+        if !self.poly.is_empty() && self.poly.is_clockwise() != cw {
+            let mut v = self.poly.vertices().to_vec();
+            v.reverse();
+            self.poly = Polygon::new(v);
+        }
+        self.curr_ix = 0;
+        self.cpa = None;
+    }
+
+    fn set_center(&mut self, c: Point) {
         let old = self.poly.center();
         let (dx, dy) = (c.x - old.x, c.y - old.y);
         let pts = self
@@ -134,37 +176,69 @@ impl Loiter {
             .map(|p| Point::new(p.x + dx, p.y + dy))
             .collect();
         self.poly = Polygon::new(pts);
-        self.reorder();
     }
 
-    /// The entry vertex for ownship at `(x, y)` circling in direction `cw`, and its bearing.
-    fn entry_vertex(&self, x: f64, y: f64, cw: bool) -> Option<(usize, f64)> {
-        let c = self.poly.center();
-        let to_center = geometry::relative_angle(x, y, c.x, c.y);
-        let mut v: Vec<Point> = self.poly.vertices().to_vec();
-        if self.poly.is_clockwise() != cw {
-            v.reverse();
-        }
-        if self.poly.contains(x, y) {
-            // Inside: the vertex after the nearest one, so the tour continues forward.
-            let (near, _) = v.iter().enumerate().min_by(|a, b| {
-                a.1.dist(&Point::new(x, y))
-                    .total_cmp(&b.1.dist(&Point::new(x, y)))
-            })?;
-            let ix = (near + 1) % v.len();
-            return Some((ix, geometry::relative_angle(x, y, v[ix].x, v[ix].y)));
-        }
-        let rel =
-            |p: &Point| geometry::angle_180(geometry::relative_angle(x, y, p.x, p.y) - to_center);
-        let pick = v.iter().enumerate().min_by(|a, b| {
-            let (ra, rb) = (rel(a.1), rel(b.1));
-            if cw {
-                ra.total_cmp(&rb)
-            } else {
-                rb.total_cmp(&ra)
+    /// The entry vertex from outside for direction `cw` (MOOS `acquireVertexOut`).
+    fn vertex_out(&self, x: f64, y: f64, cw: bool) -> usize {
+        let v = self.poly.vertices();
+        // The vertex order used for `cw`.
+        let ordered: Vec<Point> = if self.poly.is_clockwise() == cw {
+            v.to_vec()
+        } else {
+            v.iter().rev().copied().collect()
+        };
+        let n = ordered.len();
+        let mut best: Option<(usize, f64)> = None;
+        for i in 0..n {
+            if !vertex_viewable(&ordered, i, x, y) {
+                continue;
             }
-        })?;
-        Some((pick.0, geometry::relative_angle(x, y, pick.1.x, pick.1.y)))
+            let (a, b) = (ordered[i], ordered[(i + 1) % n]);
+            let ang = geometry::angle::turn_angle(x, y, a.x, a.y, b.x, b.y);
+            let better = match best {
+                None => true,
+                Some((_, b)) => (cw && ang > b) || (!cw && ang < b),
+            };
+            if better {
+                best = Some((i, ang));
+            }
+        }
+        let ix = best.map_or(0, |b| b.0);
+        // Back to the index in the current vertex order.
+        if self.poly.is_clockwise() == cw {
+            ix
+        } else {
+            n - 1 - ix
+        }
+    }
+
+    /// The entry vertex from inside (MOOS `acquireVertexIn`).
+    fn vertex_in(&self, h: f64, x: f64, y: f64) -> usize {
+        let v = self.poly.vertices();
+        let n = v.len();
+        let mut ahead = 0;
+        let mut smallest = 360.0;
+        for (i, p) in v.iter().enumerate() {
+            let d = (h - geometry::relative_angle(x, y, p.x, p.y)).abs();
+            if d < smallest {
+                smallest = d;
+                ahead = i;
+            }
+        }
+        let mut low = f64::INFINITY;
+        let mut low_ix = 0;
+        for i in 0..n {
+            let (a, b) = (v[i], v[(i + 1) % n]);
+            let mut ang = geometry::angle::turn_angle(x, y, a.x, a.y, b.x, b.y).abs();
+            if i == ahead {
+                ang += SPIRAL_FACTOR;
+            }
+            if ang < low {
+                low = ang;
+                low_ix = i;
+            }
+        }
+        low_ix
     }
 
     fn effective_speed(&self) -> f64 {
@@ -174,7 +248,73 @@ impl Loiter {
             self.speed
         }
     }
+
+    fn label(&self, ctx: &Ctx<'_>) -> String {
+        if self.hint_poly_label.is_empty() {
+            format!("{}_{}", ctx.ownship, ctx.name.to_ascii_lowercase())
+        } else {
+            self.hint_poly_label.clone()
+        }
+    }
+
+    fn post_erasables(&self, ctx: &Ctx<'_>, out: &mut Out) {
+        out.post(
+            "VIEW_POLYGON",
+            ViewPolygon::erase(&self.label(ctx)).to_spec(),
+        );
+        let mut s = String::new();
+        ViewPoint::erase_spec(&format!("{}_waypoint", ctx.ownship), &mut s);
+        out.post("VIEW_POINT", s);
+    }
+
+    /// MOOS `updateCenter`: `present_position`, `x,y`, `x=..,y=..`, `x=..` or `y=..`.
+    fn update_center(&mut self, x: f64, y: f64) -> Result<(), ()> {
+        let a = self.center_assign.to_ascii_lowercase();
+        let c = self.poly.center();
+        let new = if a == "present_position" {
+            Point::new(x, y)
+        } else if a.contains('=') {
+            let mut p = c;
+            for part in a.split(',') {
+                let (k, v) = part.split_once('=').ok_or(())?;
+                let v: f64 = v.trim().parse().map_err(|_| ())?;
+                match k.trim() {
+                    "x" => p.x = v,
+                    "y" => p.y = v,
+                    _ => return Err(()),
+                }
+            }
+            p
+        } else {
+            let (a, b) = a.split_once(',').ok_or(())?;
+            Point::new(
+                a.trim().parse().map_err(|_| ())?,
+                b.trim().parse().map_err(|_| ())?,
+            )
+        };
+        self.set_center(new);
+        Ok(())
+    }
 }
+
+/// Whether a `center_assign` value has one of the forms MOOS reads.
+fn center_ok(v: &str) -> bool {
+    let l = v.trim().to_ascii_lowercase();
+    if l == "present_position" {
+        return true;
+    }
+    let num = |t: &str| crate::param::is_number(t.trim());
+    if l.contains('=') {
+        return l.split(',').all(|p| {
+            p.split_once('=')
+                .is_some_and(|(k, n)| matches!(k.trim(), "x" | "y") && num(n))
+        });
+    }
+    l.split_once(',').is_some_and(|(a, b)| num(a) && num(b))
+}
+
+/// MOOS `LoiterEngine` default spiral factor: a small bonus for the vertex ahead.
+const SPIRAL_FACTOR: f64 = -2.0;
 
 impl Behavior for Loiter {
     fn kind(&self) -> &'static str {
@@ -199,11 +339,8 @@ impl Behavior for Loiter {
                     return Err(ParamError::bad(param, value, "a convex polygon"));
                 }
                 self.poly = p;
-                if let Some(c) = self.center_given {
-                    self.move_center(c);
-                } else {
-                    self.reorder();
-                }
+                let cw = self.clockwise_now;
+                self.set_clockwise(cw);
             }
             "speed" => self.speed = clip(number_min(param, v, 0.0)?),
             "speed_alt" => self.speed_alt = clip(number(param, v)?),
@@ -216,8 +353,7 @@ impl Behavior for Loiter {
                     _ => return Err(ParamError::bad(param, value, "true, false or best")),
                 };
                 if self.direction != Direction::Best {
-                    self.clockwise_now = self.direction == Direction::Clockwise;
-                    self.reorder();
+                    self.set_clockwise(self.direction == Direction::Clockwise);
                 }
             }
             "capture_radius" | "radius" => self.capture_radius = number_min(param, v, 0.0)?,
@@ -230,34 +366,31 @@ impl Behavior for Loiter {
                 }
                 self.patience = d;
             }
-            "center_assign" | "xcenter_assign" | "ycenter_assign" => {
-                let here = nav(ctx.info).map(|n| Point::new(n.0, n.1));
-                let cur = self.center_given.unwrap_or_else(|| self.poly.center());
-                let c = if v.eq_ignore_ascii_case("present_position") {
-                    here.ok_or_else(|| {
-                        ParamError::bad(param, value, "a position (none known yet)")
-                    })?
-                } else if param == "xcenter_assign" {
-                    Point::new(number(param, v)?, cur.y)
-                } else if param == "ycenter_assign" {
-                    Point::new(cur.x, number(param, v)?)
-                } else {
-                    let nums: Vec<&str> = v
-                        .split(',')
-                        .map(|s| s.split_once('=').map_or(s, |kv| kv.1).trim())
-                        .collect();
-                    if nums.len() != 2 {
-                        return Err(ParamError::bad(param, value, "x,y or present_position"));
-                    }
-                    Point::new(number(param, nums[0])?, number(param, nums[1])?)
-                };
-                self.center_given = Some(c);
-                if !self.poly.is_empty() {
-                    self.move_center(c);
+            "center_assign" => {
+                if !center_ok(v) {
+                    return Err(ParamError::bad(
+                        param,
+                        value,
+                        "present_position, x,y or x=..,y=..",
+                    ));
                 }
+                self.center_assign = v.to_string();
+                self.center_pending = true;
+            }
+            "xcenter_assign" | "ycenter_assign" => {
+                number(param, v)?;
+                let axis = if param == "xcenter_assign" { "x" } else { "y" };
+                if !self.center_assign.contains('=') {
+                    self.center_assign.clear();
+                }
+                if !self.center_assign.is_empty() {
+                    self.center_assign.push(',');
+                }
+                self.center_assign.push_str(&format!("{axis}={v}"));
+                self.center_pending = true;
             }
             "center_activate" => self.center_activate = boolean(param, v)?,
-            "ipf_type" => {
+            "ipf_type" | "ipf-type" => {
                 self.zaic_spd = match v.to_ascii_lowercase().as_str() {
                     "zaic" => false,
                     "zaic_spd" => true,
@@ -268,10 +401,11 @@ impl Behavior for Loiter {
                 if v.contains(char::is_whitespace) {
                     return Err(ParamError::bad(param, value, "a suffix without spaces"));
                 }
-                self.suffix = if v.is_empty() || v.starts_with('_') {
-                    v.into()
+                let up = v.to_ascii_uppercase();
+                self.suffix = if up.is_empty() || up.starts_with('_') {
+                    up
                 } else {
-                    format!("_{}", v.to_ascii_uppercase())
+                    format!("_{up}")
                 };
             }
             "visual_hints" => {
@@ -282,10 +416,20 @@ impl Behavior for Loiter {
                     match (k.as_str(), num) {
                         ("vertex_size", Some(d)) => self.hint_vertex_size = d,
                         ("edge_size", Some(d)) => self.hint_edge_size = d,
-                        ("vertex_color", _) => self.hint_vertex_color = val.into(),
-                        ("edge_color", _) => self.hint_edge_color = val.into(),
-                        ("nextpt_color", _) => self.hint_nextpt_color = val.into(),
-                        ("nextpt_lcolor", _) => self.hint_nextpt_lcolor = val.into(),
+                        ("nextpt_vertex_size", Some(d)) => self.hint_nextpt_vertex_size = d,
+                        ("vertex_color", _) if !val.is_empty() => {
+                            self.hint_vertex_color = val.into()
+                        }
+                        ("edge_color", _) if !val.is_empty() => self.hint_edge_color = val.into(),
+                        ("nextpt_color", _) if !val.is_empty() => {
+                            self.hint_nextpt_color = val.into()
+                        }
+                        ("nextpt_lcolor", _) if !val.is_empty() => {
+                            self.hint_nextpt_lcolor = val.into()
+                        }
+                        ("label", _) => self.hint_poly_label = val.into(),
+                        ("lcolor" | "label_color", _) => self.hint_poly_lcolor = val.into(),
+                        // MOOS ignores hints it does not know.
                         _ => {}
                     }
                 }
@@ -304,62 +448,89 @@ impl Behavior for Loiter {
 
     fn on_idle_to_run(&mut self, ctx: &Ctx<'_>, _out: &mut Out) {
         if self.center_activate {
+            self.center_assign = "present_position".into();
             self.center_pending = true;
         }
-        self.acquire = true;
         if self.direction == Direction::Best
+            && !self.poly.is_empty()
             && let Some((x, y, h, _)) = nav(ctx.info)
+            && !self.poly.contains(x, y)
         {
             let turn = |cw| {
-                self.entry_vertex(x, y, cw)
-                    .map_or(360.0, |(_, b)| geometry::angle_180(b - h).abs())
+                let i = self.vertex_out(x, y, cw);
+                let p = self.poly.vertices()[i];
+                geometry::angle_180(h - geometry::relative_angle(x, y, p.x, p.y)).abs()
             };
-            let cw = turn(true) <= turn(false);
-            if cw != self.clockwise_now {
-                self.clockwise_now = cw;
-                self.reorder();
+            let cw = turn(true) < turn(false);
+            if cw != self.clockwise_now || self.cpa.is_none() {
+                self.set_clockwise(cw);
             }
         }
     }
 
-    fn on_run_to_idle(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
-        out.post(
-            "VIEW_POLYGON",
-            ViewPolygon::erase(&format!("{}_{}", ctx.ownship, ctx.name)).to_spec(),
-        );
-        let mut s = String::new();
-        ViewPoint::erase_spec(&format!("{}'s next waypoint", ctx.ownship), &mut s);
-        out.post_key("VIEW_POINT", s, PostKey::Tag("wpt"));
+    fn on_idle(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
+        self.post_erasables(ctx, out);
+    }
+
+    fn on_complete(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
+        self.post_erasables(ctx, out);
+        out.post("LOITER_COMPLETE", "true");
     }
 
     fn on_run(&mut self, ctx: &Ctx<'_>, out: &mut Out) -> Option<IvpFunction> {
-        let Some((x, y, _, _)) = nav(ctx.info) else {
-            out.error("No ownship X/Y/heading info in info_buffer.");
+        if self.poly.is_empty() {
+            out.warning(ctx.name, "Empty/NULL Loiter Specification.");
+            let mut s = String::new();
+            ViewPoint::erase_spec(&format!("{}_waypoint", ctx.ownship), &mut s);
+            out.post("VIEW_POINT", s);
+            return None;
+        }
+        let Some((x, y, h, v)) = nav(ctx.info) else {
+            out.error("No ownship X/Y/HEADING/SPEED info in info_buffer.");
             return None;
         };
-        if self.order.is_empty() {
-            return None;
-        }
+        // A pending centre assignment applies before the distance is measured (as the MOOS
+        // unit tests of the newer BHV_Loiter expect).
         if self.center_pending {
             self.center_pending = false;
-            self.move_center(Point::new(x, y));
+            if self.update_center(x, y).is_err() {
+                out.warning(ctx.name, "Bad center assignment ignored");
+            }
+            self.center_assign.clear();
         }
         let dist_poly = self.poly.signed_distance(x, y).unwrap_or(0.0);
-        let outside = dist_poly > self.acquire_dist;
-        if outside && !self.acquire {
-            self.acquire = true;
-        }
+        let eta = if dist_poly > 0.0 && h > 0.001 && v > 0.0 {
+            dist_poly / v
+        } else {
+            0.0
+        };
+        // Loiter mode (MOOS updateLoiterMode).
+        let position = if dist_poly > self.acquire_dist {
+            1
+        } else if dist_poly < -self.acquire_dist {
+            -1
+        } else {
+            0
+        };
+        self.mode = match (position, self.mode) {
+            (0, _) => "stable",
+            (1, "stable" | "recovering_external") => "recovering_external",
+            (1, _) => "acquiring_external",
+            (_, "stable" | "recovering_internal") => "recovering_internal",
+            _ => "acquiring_internal",
+        };
+        self.acquire = dist_poly > self.acquire_dist;
         if self.acquire {
-            if let Some((ix, _)) = self.entry_vertex(x, y, self.clockwise_now) {
-                self.curr_ix = ix;
-                self.cpa = None;
-            }
-            if !outside {
-                self.acquire = false;
-            }
+            self.curr_ix = if self.poly.contains(x, y) {
+                self.vertex_in(h, x, y)
+            } else {
+                self.vertex_out(x, y, self.clockwise_now)
+            };
+            self.cpa = None;
         }
-        // Capture / slip on the current vertex; the tour repeats forever.
-        let pt = self.order[self.curr_ix];
+        // Waypoint engine on the vertices, repeating forever.
+        let verts = self.poly.vertices();
+        let pt = verts[self.curr_ix];
         let dist = (x - pt.x).hypot(y - pt.y);
         let cpa = self.cpa.map_or(dist, |c| c.min(dist));
         self.cpa = Some(cpa);
@@ -372,56 +543,17 @@ impl Behavior for Loiter {
             self.nonmono_hits += 1;
         }
         if advance {
-            self.curr_ix = (self.curr_ix + 1) % self.order.len();
-            let n = self.order[self.curr_ix];
+            self.curr_ix = (self.curr_ix + 1) % verts.len();
+            let n = verts[self.curr_ix];
             self.cpa = Some((x - n.x).hypot(y - n.y));
+            self.acquire = false;
         }
-        let next = self.order[self.curr_ix];
-        let sfx = self.suffix.clone();
-        let mode = if self.acquire {
-            if dist_poly > 0.0 {
-                "acquiring_external"
-            } else {
-                "acquiring_internal"
-            }
-        } else if dist_poly > self.acquire_dist {
-            "recovering_external"
-        } else {
-            "stable"
-        };
+        self.next = verts[self.curr_ix];
+        let next = self.next;
         out.post(
-            format!("LOITER_REPORT{sfx}"),
-            format!(
-                "index={},capture_hits={},nonmono_hits={},acquire_mode={}",
-                self.curr_ix,
-                self.capture_hits,
-                self.nonmono_hits,
-                if self.acquire { "true" } else { "false" }
-            ),
-        );
-        out.post(format!("LOITER_INDEX{sfx}"), self.curr_ix as f64);
-        out.post(format!("LOITER_MODE{sfx}"), mode);
-        out.post(
-            format!("LOITER_ACQUIRE{sfx}"),
-            if self.acquire { 1.0 } else { 0.0 },
-        );
-        out.post_int(
-            format!("LOITER_DIST_TO_VERT{sfx}"),
+            format!("LOITER_DIST_TO_VERT{}", self.suffix),
             (x - next.x).hypot(y - next.y),
         );
-        let mut vp = ViewPolygon::new(self.poly.clone());
-        vp.attrs.label = format!("{}_{}", ctx.ownship, ctx.name);
-        vp.attrs.vertex_color = Some(self.hint_vertex_color.clone());
-        vp.attrs.edge_color = Some(self.hint_edge_color.clone());
-        vp.attrs.vertex_size = Some(self.hint_vertex_size);
-        vp.attrs.edge_size = Some(self.hint_edge_size);
-        out.post("VIEW_POLYGON", vp.to_spec());
-        let mut pt = ViewPoint::new(next);
-        pt.attrs.label = format!("{}'s next waypoint", ctx.ownship);
-        pt.attrs.vertex_color = Some(self.hint_nextpt_color.clone());
-        pt.attrs.label_color = Some(self.hint_nextpt_lcolor.clone());
-        pt.attrs.vertex_size = Some(4.0);
-        out.post_key("VIEW_POINT", pt.to_spec(), PostKey::Tag("wpt"));
 
         let speed = self.effective_speed();
         let spd = if self.zaic_spd {
@@ -439,25 +571,78 @@ impl Behavior for Loiter {
         crs.set_value_wrap(true);
         crs.set_params(bearing, 0.0, 180.0, 0.0, 0.0, 100.0).ok()?;
         let crs = crs.extract().ok()?;
-        couple_weighted(&crs, &spd, self.patience, 100.0 - self.patience, true).ok()
+        let ipf = couple_weighted(&crs, &spd, self.patience, 100.0 - self.patience, true).ok();
+
+        let mut vp = ViewPolygon::new(self.poly.clone());
+        vp.attrs.label = self.label(ctx);
+        if !self.hint_poly_lcolor.is_empty() {
+            vp.attrs.label_color = Some(self.hint_poly_lcolor.clone());
+        }
+        vp.attrs.vertex_color = Some(self.hint_vertex_color.clone());
+        vp.attrs.edge_color = Some(self.hint_edge_color.clone());
+        vp.attrs.vertex_size = Some(self.hint_vertex_size);
+        vp.attrs.edge_size = Some(self.hint_edge_size);
+        out.post("VIEW_POLYGON", vp.to_spec());
+        let mut pt = ViewPoint::new(next);
+        pt.attrs.label = format!("{}_waypoint", ctx.ownship);
+        pt.attrs.label_color = Some(self.hint_nextpt_lcolor.clone());
+        pt.attrs.vertex_color = Some(self.hint_nextpt_color.clone());
+        pt.attrs.vertex_size = Some(self.hint_nextpt_vertex_size);
+        out.post("VIEW_POINT", pt.to_spec());
+
+        let sfx = &self.suffix;
+        out.post(
+            format!("LOITER_REPORT{sfx}"),
+            format!(
+                "index={},capture_hits={},nonmono_hits={},acquire_mode={}",
+                self.curr_ix, self.capture_hits, self.nonmono_hits, self.acquire
+            ),
+        );
+        out.post(format!("LOITER_INDEX{sfx}"), self.curr_ix as f64);
+        out.post(format!("LOITER_MODE{sfx}"), self.mode);
+        out.post(
+            format!("LOITER_ACQUIRE{sfx}"),
+            if self.acquire { 1.0 } else { 0.0 },
+        );
+        if dist_poly > 10.0 {
+            out.post_int(format!("LOITER_DIST_TO_POLY{sfx}"), dist_poly);
+        } else {
+            out.post(format!("LOITER_DIST_TO_POLY{sfx}"), dist_poly);
+        }
+        if eta > 10.0 || eta == 0.0 {
+            out.post_int(format!("LOITER_ETA_TO_POLY{sfx}"), eta);
+        } else {
+            out.post(format!("LOITER_ETA_TO_POLY{sfx}"), eta);
+        }
+        ipf
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::behavior::MapInfo;
+    use crate::behavior::{Emit, MapInfo};
     use ivp::{Domain, Problem};
 
-    fn run(clockwise: &str, x: f64, y: f64) -> (Loiter, f64, f64) {
-        let d = Domain::parse_specs(["course:0:359:360", "speed:0:4:41"]).unwrap();
-        let info = MapInfo::new(0.0)
+    const SQUARE: &str = "-20,80:-20,120:20,120:20,80";
+
+    fn domain() -> Domain {
+        Domain::parse_specs(["course:0:359:360", "speed:0:4:41"]).unwrap()
+    }
+
+    fn info(x: f64, y: f64, h: f64) -> MapInfo {
+        MapInfo::new(0.0)
             .num("NAV_X", x)
             .num("NAV_Y", y)
-            .num("NAV_HEADING", 0.0)
-            .num("NAV_SPEED", 1.0);
+            .num("NAV_HEADING", h)
+            .num("NAV_SPEED", 1.0)
+    }
+
+    fn loiter(params: &[(&str, &str)]) -> Loiter {
+        let d = domain();
+        let i = info(0.0, 0.0, 0.0);
         let ctx = Ctx {
-            info: &info,
+            info: &i,
             domain: &d,
             ownship: "abe",
             name: "loiter",
@@ -465,47 +650,176 @@ mod tests {
         };
         let mut l = Loiter::new();
         let mut c = Common::new("BHV_Loiter");
-        // A square centred on (0, 100): corners (±20, 80) and (±20, 120).
-        l.set_param("polygon", "-20,80:-20,120:20,120:20,80", &mut c, &ctx)
-            .unwrap();
-        l.set_param("clockwise", clockwise, &mut c, &ctx).unwrap();
-        l.set_param("speed", "1.5", &mut c, &ctx).unwrap();
+        for (k, v) in params {
+            l.set_param(k, v, &mut c, &ctx).unwrap();
+        }
+        l
+    }
+
+    /// One running iteration at (x, y, h): (course, speed) and the output.
+    fn run(l: &mut Loiter, x: f64, y: f64, h: f64, first: bool) -> (f64, f64, Out) {
+        let d = domain();
+        let i = info(x, y, h);
+        let ctx = Ctx {
+            info: &i,
+            domain: &d,
+            ownship: "abe",
+            name: "loiter",
+            perpetual: false,
+        };
         let mut out = Out::default();
-        l.on_idle_to_run(&ctx, &mut out);
+        if first {
+            l.on_idle_to_run(&ctx, &mut out);
+        }
         let f = l.on_run(&ctx, &mut out).unwrap();
-        let mut p = Problem::new(d);
+        let mut p = Problem::new(d.clone());
         p.add("loiter", f).unwrap();
         let dec = p.solve().unwrap();
-        (l, dec.get("course").unwrap(), dec.get("speed").unwrap())
+        (dec.get("course").unwrap(), dec.get("speed").unwrap(), out)
+    }
+
+    fn posted<'a>(out: &'a Out, var: &str) -> Option<&'a crate::Value> {
+        out.emits.iter().find_map(|e| match e {
+            Emit::Post { var: v, value, .. } if v == var => Some(value),
+            _ => None,
+        })
     }
 
     #[test]
-    fn picks_the_tangent_vertex_for_the_direction() {
-        // From due south, clockwise circulation enters on the west side, counter-clockwise on
-        // the east side.
-        let (l, course, speed) = run("true", 0.0, 0.0);
+    fn entry_vertex_follows_the_configured_direction() {
+        // From due south of the square, clockwise circulation enters at the south-west corner
+        // (then heads north along the west side), counter-clockwise at the south-east one.
+        let mut l = loiter(&[("polygon", SQUARE), ("clockwise", "true"), ("speed", "1.5")]);
+        let (course, speed, out) = run(&mut l, 0.0, 0.0, 0.0, true);
         assert_eq!(l.next_vertex(), Some(Point::new(-20.0, 80.0)));
-        assert!(course > 300.0, "course {course}");
+        assert_eq!(course, 346.0);
         assert_eq!(speed, 1.5);
-        let (l, course, _) = run("false", 0.0, 0.0);
+        assert_eq!(
+            posted(&out, "LOITER_ACQUIRE"),
+            Some(&crate::Value::Num(1.0))
+        );
+        assert_eq!(
+            posted(&out, "LOITER_MODE").unwrap().as_str(),
+            Some("acquiring_external")
+        );
+
+        let mut l = loiter(&[
+            ("polygon", SQUARE),
+            ("clockwise", "false"),
+            ("speed", "1.5"),
+        ]);
+        let (course, _, _) = run(&mut l, 0.0, 0.0, 0.0, true);
         assert_eq!(l.next_vertex(), Some(Point::new(20.0, 80.0)));
-        assert!(course > 0.0 && course < 60.0, "course {course}");
+        assert_eq!(course, 14.0);
     }
 
     #[test]
-    fn best_direction_follows_the_heading() {
-        // Heading north from due south: both entries need the same turn, so clockwise wins
-        // ties; the choice is recorded.
-        let (l, _, _) = run("best", 0.0, 0.0);
-        assert!(l.is_clockwise());
+    fn best_direction_needs_the_smaller_turn() {
+        let mut l = loiter(&[("polygon", SQUARE), ("clockwise", "best")]);
+        run(&mut l, 0.0, 0.0, 350.0, true);
+        assert!(l.is_clockwise(), "heading 350: the west entry is closer");
+        let mut l = loiter(&[("polygon", SQUARE), ("clockwise", "best")]);
+        run(&mut l, 0.0, 0.0, 10.0, true);
+        assert!(!l.is_clockwise(), "heading 10: the east entry is closer");
     }
 
     #[test]
-    fn rejects_non_convex_polygons() {
-        let d = Domain::parse_specs(["course:0:359:360", "speed:0:4:41"]).unwrap();
-        let info = MapInfo::new(0.0);
+    fn circulates_clockwise_around_the_vertices() {
+        let mut l = loiter(&[("polygon", SQUARE), ("clockwise", "true"), ("speed", "1")]);
+        // On the polygon near the south-west corner: capture it, then head north.
+        run(&mut l, -20.0, 79.0, 0.0, true);
+        assert_eq!(l.next_vertex(), Some(Point::new(-20.0, 120.0)));
+        let (course, _, out) = run(&mut l, -20.0, 100.0, 0.0, false);
+        assert_eq!(course, 0.0);
+        assert_eq!(
+            posted(&out, "LOITER_MODE").unwrap().as_str(),
+            Some("stable")
+        );
+        run(&mut l, -20.0, 119.0, 0.0, false);
+        let (course, _, _) = run(&mut l, -10.0, 120.0, 90.0, false);
+        assert_eq!(l.next_vertex(), Some(Point::new(20.0, 120.0)));
+        assert_eq!(course, 90.0);
+    }
+
+    #[test]
+    fn inside_the_polygon_is_acquiring_internal_with_alt_speed() {
+        let mut l = loiter(&[
+            ("polygon", "radial:: x=0, y=0, radius=40, pts=4, snap=1"),
+            ("speed", "2"),
+            ("speed_alt", "1"),
+            ("use_alt_speed", "true"),
+            ("post_suffix", "survey"),
+            ("visual_hints", "edge_color=yellow,label=loiter_box"),
+        ]);
+        let (_, speed, out) = run(&mut l, 0.0, 0.0, 90.0, true);
+        assert_eq!(speed, 1.0);
+        assert_eq!(
+            posted(&out, "LOITER_MODE_SURVEY").unwrap().as_str(),
+            Some("acquiring_internal")
+        );
+        assert_eq!(
+            posted(&out, "LOITER_ACQUIRE_SURVEY"),
+            Some(&crate::Value::Num(0.0))
+        );
+        let poly = posted(&out, "VIEW_POLYGON").unwrap().as_str().unwrap();
+        assert!(
+            poly.contains("label=loiter_box") && poly.contains("edge_color=yellow"),
+            "{poly}"
+        );
+    }
+
+    #[test]
+    fn idle_erases_and_completion_is_posted() {
+        let mut l = loiter(&[("polygon", SQUARE)]);
+        let d = domain();
+        let i = info(0.0, 0.0, 0.0);
         let ctx = Ctx {
-            info: &info,
+            info: &i,
+            domain: &d,
+            ownship: "abe",
+            name: "loiter",
+            perpetual: false,
+        };
+        let mut out = Out::default();
+        l.on_idle(&ctx, &mut out);
+        assert!(
+            posted(&out, "VIEW_POLYGON")
+                .unwrap()
+                .as_str()
+                .unwrap()
+                .contains("active=false")
+        );
+        assert!(
+            posted(&out, "VIEW_POINT")
+                .unwrap()
+                .as_str()
+                .unwrap()
+                .contains("active=false")
+        );
+        l.on_complete(&ctx, &mut out);
+        assert_eq!(
+            posted(&out, "LOITER_COMPLETE").unwrap().as_str(),
+            Some("true")
+        );
+        // No polygon: a warning and no function.
+        let mut empty = Loiter::new();
+        let mut out = Out::default();
+        assert!(empty.on_run(&ctx, &mut out).is_none());
+        assert!(
+            posted(&out, "BHV_WARNING")
+                .unwrap()
+                .as_str()
+                .unwrap()
+                .contains("Empty/NULL")
+        );
+    }
+
+    #[test]
+    fn rejects_non_convex_polygons_and_bad_values() {
+        let d = domain();
+        let i = info(0.0, 0.0, 0.0);
+        let ctx = Ctx {
+            info: &i,
             domain: &d,
             ownship: "abe",
             name: "l",
@@ -513,7 +827,36 @@ mod tests {
         };
         let mut l = Loiter::new();
         let mut c = Common::new("BHV_Loiter");
-        let e = l.set_param("polygon", "pts={0,0:10,10:0,20:5,10}", &mut c, &ctx);
-        assert!(matches!(e, Err(ParamError::BadValue { .. })));
+        for (k, v) in [
+            ("polygon", "pts={0,0:10,10:0,20:5,10}"),
+            ("clockwise", "sideways"),
+            ("speed", "-1"),
+            ("patience", "100"),
+        ] {
+            assert!(
+                matches!(
+                    l.set_param(k, v, &mut c, &ctx),
+                    Err(ParamError::BadValue { .. })
+                ),
+                "{k} = {v}"
+            );
+        }
+    }
+
+    #[test]
+    fn center_assign_moves_the_polygon() {
+        let mut l = loiter(&[
+            ("polygon", "radial:: x=0, y=0, radius=30, pts=4, snap=1"),
+            ("center_assign", "x=100,y=-20"),
+            ("speed", "2"),
+        ]);
+        let (_, _, out) = run(&mut l, 100.0, -20.0, 0.0, true);
+        let report = posted(&out, "LOITER_REPORT").unwrap().as_str().unwrap();
+        assert!(report.ends_with("acquire_mode=false"), "{report}");
+        let v = l.next_vertex().unwrap();
+        assert!(
+            (v.x - 100.0).abs() <= 30.0 && (v.y + 20.0).abs() <= 30.0,
+            "{v:?}"
+        );
     }
 }
