@@ -1,5 +1,6 @@
 //! The in-process MOOS app framework behind `coug run`.
 //!
+//! - [`antler`]: a mission's ANTLER block resolved into built-in apps;
 //! - [`app`]: the [`App`] trait (CMOOSApp's life cycle), [`Mail`], [`Post`], [`Value`];
 //! - [`bus`]: the in-process MOOSDB ([`moosdb_client::Database`] core) the apps talk over;
 //! - [`clock`]: lockstep ([`VirtualClock`]) or real time times a warp;
@@ -13,6 +14,7 @@
 //! the wall clock.
 #![warn(missing_docs)]
 
+pub mod antler;
 pub mod app;
 pub mod bus;
 pub mod clock;

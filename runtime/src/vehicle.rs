@@ -92,16 +92,19 @@ impl VehicleApp {
         }
     }
 
-    /// uSimMarineV22 (or uSimMarine) from its block; `grid` from the mission's
-    /// LatOrigin/LongOrigin adds NAV_LAT/NAV_LONG; `start` is the MOOS start time.
+    /// uSimMarineV22 (`legacy` false) or the older uSimMarine (`legacy` true) from its
+    /// block; `grid` from the mission's LatOrigin/LongOrigin adds NAV_LAT/NAV_LONG;
+    /// `start` is the MOOS start time.
     pub fn simulator(
         name: &str,
         block: ProcessConfig,
         grid: Option<LocalGrid>,
         start: f64,
+        legacy: bool,
     ) -> Result<Self, VehicleAppError> {
-        let (cfg, unknown) =
+        let (mut cfg, unknown) =
             SimConfig::from_params_lenient(params(&block)).map_err(|e| located(&block, e))?;
+        cfg.legacy = legacy;
         let w = warnings(&block, unknown);
         let sim = Simulator::new(cfg, grid, start);
         let subs = Simulator::subscriptions().to_vec();

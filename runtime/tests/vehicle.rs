@@ -57,6 +57,7 @@ fn run() -> (Vec<u8>, Outcome) {
         block(&m, "uSimMarineV22"),
         Some(grid),
         START,
+        false,
     )
     .unwrap();
     assert!(sim.warnings().is_empty(), "{:?}", sim.warnings());
