@@ -295,6 +295,11 @@ pub trait Behavior: Send {
     /// Called after configuration and after each successful update.
     fn on_set_param_complete(&mut self, _ctx: &Ctx<'_>) {}
 
+    /// Before `on_idle` / `on_run` each iteration: the seconds spent idle and running since
+    /// the duration clock last (re)started (MOOS `m_duration_idle_time`,
+    /// `m_duration_running_time`, accounted up to the previous iteration).
+    fn state_durations(&mut self, _idle: f64, _running: f64) {}
+
     /// Every idle iteration.
     fn on_idle(&mut self, _ctx: &Ctx<'_>, _out: &mut Out) {}
 

@@ -5,9 +5,9 @@ use ivp::IvpFunction;
 use crate::behavior::{Behavior, Ctx, Out, ParamError};
 use crate::common::Common;
 
-/// Accumulates the seconds spent idle and running and posts them every iteration
-/// (`TIMER_IDLE`, `TIMER_RUNNING`, plus `status_suffix`). Usually combined with `duration` and
-/// `endflag`.
+/// Posts the seconds spent idle and running (the helm's duration clock, so a `duration_reset`
+/// restarts them) every iteration, idle or running: `TIMER_IDLE` then `TIMER_RUNNING`, each
+/// with `status_suffix`. Usually combined with `duration` and `endflag`.
 #[derive(Debug, Clone)]
 pub struct Timer {
     /// Variable for the idle time.
@@ -18,7 +18,6 @@ pub struct Timer {
     pub suffix: String,
     idle: f64,
     running: f64,
-    last: Option<f64>,
 }
 
 impl Default for Timer {
@@ -36,14 +35,12 @@ impl Timer {
             suffix: String::new(),
             idle: 0.0,
             running: 0.0,
-            last: None,
         }
     }
 
-    fn elapsed(&mut self, now: f64) -> f64 {
-        let dt = self.last.map_or(0.0, |l| (now - l).max(0.0));
-        self.last = Some(now);
-        dt
+    fn post(&self, out: &mut Out) {
+        out.post(format!("{}{}", self.var_idle, self.suffix), self.idle);
+        out.post(format!("{}{}", self.var_running, self.suffix), self.running);
     }
 }
 
@@ -63,32 +60,32 @@ impl Behavior for Timer {
         match param {
             "var_status_idle" if ok_var => self.var_idle = v.into(),
             "var_status_running" if ok_var => self.var_running = v.into(),
-            "status_suffix" => {
-                if v.contains(char::is_whitespace) {
-                    return Err(ParamError::bad(param, value, "a suffix without spaces"));
-                }
-                self.suffix = if v.is_empty() || v.starts_with('_') {
+            "status_suffix" if ok_var => {
+                self.suffix = if v.starts_with('_') {
                     v.into()
                 } else {
                     format!("_{v}")
                 };
             }
-            "var_status_idle" | "var_status_running" => {
-                return Err(ParamError::bad(param, value, "a variable name"));
+            "var_status_idle" | "var_status_running" | "status_suffix" => {
+                return Err(ParamError::bad(param, value, "a name without spaces"));
             }
             _ => return Err(ParamError::unknown(param)),
         }
         Ok(())
     }
 
-    fn on_idle(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
-        self.idle += self.elapsed(ctx.info.now());
-        out.post(format!("{}{}", self.var_idle, self.suffix), self.idle);
+    fn state_durations(&mut self, idle: f64, running: f64) {
+        self.idle = idle;
+        self.running = running;
     }
 
-    fn on_run(&mut self, ctx: &Ctx<'_>, out: &mut Out) -> Option<IvpFunction> {
-        self.running += self.elapsed(ctx.info.now());
-        out.post(format!("{}{}", self.var_running, self.suffix), self.running);
+    fn on_idle(&mut self, _ctx: &Ctx<'_>, out: &mut Out) {
+        self.post(out);
+    }
+
+    fn on_run(&mut self, _ctx: &Ctx<'_>, out: &mut Out) -> Option<IvpFunction> {
+        self.post(out);
         None
     }
 }
@@ -100,35 +97,9 @@ mod tests {
     use ivp::Domain;
 
     #[test]
-    fn accumulates_idle_and_running_time() {
+    fn posts_both_times_with_suffix() {
         let d = Domain::parse_specs(["course:0:359:360"]).unwrap();
-        let mut t = Timer::new();
-        let mut c = Common::new("BHV_Timer");
-        let mut info = MapInfo::new(10.0);
-        let mut out = Out::default();
-        {
-            let ctx = Ctx {
-                info: &info,
-                domain: &d,
-                ownship: "a",
-                name: "t",
-                perpetual: false,
-            };
-            t.set_param("status_suffix", "A", &mut c, &ctx).unwrap();
-            t.on_idle(&ctx, &mut out);
-        }
-        info.set_now(12.5);
-        {
-            let ctx = Ctx {
-                info: &info,
-                domain: &d,
-                ownship: "a",
-                name: "t",
-                perpetual: false,
-            };
-            t.on_idle(&ctx, &mut out);
-        }
-        info.set_now(14.0);
+        let info = MapInfo::new(10.0);
         let ctx = Ctx {
             info: &info,
             domain: &d,
@@ -136,6 +107,17 @@ mod tests {
             name: "t",
             perpetual: false,
         };
+        let mut t = Timer::new();
+        let mut c = Common::new("BHV_Timer");
+        t.set_param("status_suffix", "A", &mut c, &ctx).unwrap();
+        assert!(
+            t.set_param("var_status_idle", "two words", &mut c, &ctx)
+                .is_err()
+        );
+        let mut out = Out::default();
+        t.state_durations(2.5, 0.0);
+        t.on_idle(&ctx, &mut out);
+        t.state_durations(2.5, 1.5);
         assert!(t.on_run(&ctx, &mut out).is_none());
         let posts: Vec<(String, f64)> = out
             .emits
@@ -148,7 +130,8 @@ mod tests {
         assert_eq!(
             posts,
             [
-                ("TIMER_IDLE_A".to_string(), 0.0),
+                ("TIMER_IDLE_A".to_string(), 2.5),
+                ("TIMER_RUNNING_A".to_string(), 0.0),
                 ("TIMER_IDLE_A".to_string(), 2.5),
                 ("TIMER_RUNNING_A".to_string(), 1.5)
             ]

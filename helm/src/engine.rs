@@ -1262,7 +1262,12 @@ impl Helm {
                         None
                     });
                 }
+                let (idle, run) = (
+                    self.slots[i].clock.idle_time,
+                    self.slots[i].clock.running_time,
+                );
                 self.call(i, |b, ctx, out| {
+                    b.state_durations(idle, run);
                     b.on_idle(ctx, out);
                     None
                 });
@@ -1279,7 +1284,14 @@ impl Helm {
                         None
                     });
                 }
-                let mut f = self.call(i, |b, ctx, out| b.on_run(ctx, out));
+                let (idle, run) = (
+                    self.slots[i].clock.idle_time,
+                    self.slots[i].clock.running_time,
+                );
+                let mut f = self.call(i, |b, ctx, out| {
+                    b.state_durations(idle, run);
+                    b.on_run(ctx, out)
+                });
                 if f.as_ref().is_some_and(|f| {
                     f.pieces()
                         .any(|p| p.max_val().is_nan() || p.min_val().is_nan())

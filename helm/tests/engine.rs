@@ -483,10 +483,12 @@ Behavior = BHV_ConstantSpeed
 #[test]
 fn timer_posts_status_and_ends_by_duration() {
     let bhv = "\
+initialize GO = false
 Behavior = BHV_Timer
 {
   name = t
-  duration = 2
+  condition = GO = true
+  duration = 3
   endflag = TIMER_DONE = true
 }
 Behavior = BHV_ConstantHeading
@@ -504,12 +506,23 @@ Behavior = BHV_ConstantSpeed
 ";
     let mut s = Script::new(helm_with(&[("start_engaged", "true")], bhv));
     s.step(0.0, 0.0, 0.0, 0.0, &[]);
+    // Idle for two seconds: the timer posts both times every iteration (the helm filters
+    // repeats); the times are accounted up to the previous iteration, as in pHelmIvP.
     let posts = s.step(1.0, 0.0, 0.0, 0.0, &[]);
+    assert_eq!(get(&posts, "TIMER_IDLE"), Some(&Value::Num(0.0)));
     assert_eq!(get(&posts, "TIMER_RUNNING"), Some(&Value::Num(0.0)));
-    assert!(is_str(get(&posts, "IVPHELM_BHV_RUNNING"), "t"));
-    let posts = s.step(2.0, 0.0, 0.0, 0.0, &[]);
-    assert_eq!(get(&posts, "TIMER_RUNNING"), Some(&Value::Num(1.0)));
+    s.step(2.0, 0.0, 0.0, 0.0, &[]);
     let posts = s.step(3.0, 0.0, 0.0, 0.0, &[]);
+    assert_eq!(get(&posts, "TIMER_IDLE"), Some(&Value::Num(1.0)));
+    let posts = s.step(4.0, 0.0, 0.0, 0.0, &[("GO", "true")]);
+    assert!(is_str(get(&posts, "IVPHELM_BHV_RUNNING"), "t"));
+    // The duration clock starts now and drops the idle time; the time since the previous
+    // iteration is then booked as running (pHelmIvP's updateStateDurations).
+    assert_eq!(get(&posts, "TIMER_IDLE"), Some(&Value::Num(0.0)));
+    let posts = s.step(5.0, 0.0, 0.0, 0.0, &[]);
+    assert_eq!(get(&posts, "TIMER_RUNNING"), Some(&Value::Num(1.0)));
+    s.step(6.0, 0.0, 0.0, 0.0, &[]);
+    let posts = s.step(7.0, 0.0, 0.0, 0.0, &[]);
     assert!(is_str(get(&posts, "TIMER_DONE"), "true"));
     assert_eq!(s.helm.behavior_names(), ["h", "s"]);
 }
