@@ -95,7 +95,7 @@ impl Behavior for ConstantHeading {
         let mut z = match ZaicPeak::new(ctx.domain, "course") {
             Ok(z) => z,
             Err(_) => {
-                out.error("No 'course' variable in the helm domain");
+                out.error("No 'heading/course' variable in the helm domain");
                 return None;
             }
         };

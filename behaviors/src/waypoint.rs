@@ -99,6 +99,13 @@ pub struct Waypoint {
     odo_leg: f64,
     odo_mark: Option<(Point, f64)>,
     odo_totals: [f64; 4],
+    start_pending: bool,
+    greedy_pending: bool,
+    reset_on_idle: bool,
+    lead_condition: Option<mission::condition::Condition>,
+    end_spd: Option<(f64, f64)>,
+    engine_prev: Option<Point>,
+    prev_ix: Option<usize>,
 }
 
 impl Default for Waypoint {
@@ -162,6 +169,13 @@ impl Waypoint {
             odo_leg: 0.0,
             odo_mark: None,
             odo_totals: [0.0; 4],
+            start_pending: false,
+            greedy_pending: false,
+            reset_on_idle: false,
+            lead_condition: None,
+            end_spd: None,
+            engine_prev: None,
+            prev_ix: None,
         }
     }
 
@@ -193,6 +207,51 @@ impl Waypoint {
     fn set_points(&mut self, seglist: SegList) {
         self.raw = seglist;
         self.apply_order();
+        self.prev_ix = None;
+    }
+
+    /// The speed to request at ownship `(x, y)`: the effective speed, tapered by `end_spd`
+    /// (linear from full speed at `slow_dist` to 0 at `stop_dist` from the final point).
+    pub fn desired_speed(&self, x: f64, y: f64) -> f64 {
+        let speed = self.effective_speed();
+        match (self.end_spd, self.points.points().last()) {
+            (Some((slow, stop)), Some(last)) => {
+                let d = (x - last.x).hypot(y - last.y);
+                speed * ((d - stop) / (slow - stop)).clamp(0.0, 1.0)
+            }
+            _ => speed,
+        }
+    }
+
+    /// Reorders the points as a greedy nearest-neighbour tour from `(x, y)`.
+    fn greedy(&mut self, x: f64, y: f64) {
+        let mut left: Vec<Point> = self.points.points().to_vec();
+        let mut tour = Vec::with_capacity(left.len());
+        let mut here = Point::new(x, y);
+        while !left.is_empty() {
+            let (i, _) = left
+                .iter()
+                .enumerate()
+                .min_by(|a, b| a.1.dist(&here).total_cmp(&b.1.dist(&here)))
+                .unwrap_or((0, &here));
+            here = left.remove(i);
+            tour.push(here);
+        }
+        self.raw = SegList::from_points(tour);
+        self.points = self.raw.clone();
+        self.curr_ix = 0;
+        self.cpa = None;
+    }
+
+    /// Distance to the previous waypoint as MOOS `distToPrevWpt` gives it (−1 if none).
+    fn dist_to_prev(&self, here: Point) -> f64 {
+        if let Some(p) = self.engine_prev {
+            return here.dist(&p);
+        }
+        match self.prev_ix.and_then(|i| self.points.get(i)) {
+            Some(p) => here.dist(&p),
+            None => -1.0,
+        }
     }
 
     fn apply_order(&mut self) {
@@ -224,6 +283,7 @@ impl Waypoint {
         if self.complete {
             return Step::Completed;
         }
+        self.engine_prev = self.prevpt;
         let pt = self.points.points()[self.curr_ix];
         let dist = (x - pt.x).hypot(y - pt.y);
         let cpa = match self.cpa {
@@ -261,6 +321,8 @@ impl Waypoint {
             self.complete = true;
             return Step::Completed;
         }
+        self.prev_ix = Some(self.curr_ix - 1);
+        self.engine_prev = None;
         let next = self.points.points()[self.curr_ix];
         self.cpa = Some((x - next.x).hypot(y - next.y));
         Step::Advanced
@@ -312,7 +374,13 @@ impl Waypoint {
         let next = self.points.points()[self.curr_ix];
         self.nextpt = next;
         self.trackpt = next;
-        if self.lead > 0.0 {
+        let lead_ok = self.lead_condition.as_ref().is_none_or(|c| {
+            c.evaluate(&|n: &str| match ctx.info.text(n) {
+                Some(s) => Some(mission::condition::Value::Str(s)),
+                None => ctx.info.num(n).map(mission::condition::Value::Num),
+            })
+        });
+        if self.lead > 0.0 && lead_ok {
             let anchor = if self.curr_ix > 0 {
                 Some(self.points.points()[self.curr_ix - 1])
             } else if self.cycles > 0 {
@@ -484,7 +552,7 @@ impl Waypoint {
 
     fn build_of(&self, ctx: &Ctx<'_>, out: &mut Out) -> Option<IvpFunction> {
         let (osx, osy, osh, _) = self.os;
-        let speed = self.effective_speed();
+        let speed = self.desired_speed(osx, osy);
         let spd = match self.ipf_type {
             IpfType::Zaic => {
                 let mut z = ZaicPeak::new(ctx.domain, "speed").ok()?;
@@ -538,6 +606,9 @@ impl Behavior for Waypoint {
         let v = value.trim();
         let var_name = |v: &str| !v.is_empty() && !v.contains(char::is_whitespace);
         match param {
+            "points" | "polygon" | "xpoints" if v.eq_ignore_ascii_case("empty") => {
+                self.set_points(SegList::new());
+            }
             "points" | "polygon" | "xpoints" => {
                 let (x, y) = nav(ctx.info).map_or((0.0, 0.0), |n| (n.0, n.1));
                 let parsed = parse_waypoints(v, x, y)
@@ -545,22 +616,44 @@ impl Behavior for Waypoint {
                 if parsed.seglist.is_empty() {
                     return Err(ParamError::bad(param, value, "at least one point"));
                 }
-                let keep = param == "xpoints";
-                let ix = self.curr_ix;
-                self.set_points(parsed.seglist);
-                if keep && ix < self.points.len() {
+                if param == "xpoints" {
+                    // Same-length replacement keeping the progress along the route.
+                    if parsed.seglist.len() != self.raw.len() {
+                        return Err(ParamError::bad(
+                            param,
+                            value,
+                            "as many points as the current route",
+                        ));
+                    }
+                    let ix = self.curr_ix;
+                    let (cycles, hits) = (self.repeats_sofar, self.complete);
+                    self.raw = parsed.seglist;
+                    self.points = self.raw.clone();
+                    if self.reverse {
+                        self.points.reverse();
+                    }
                     self.curr_ix = ix;
+                    self.repeats_sofar = cycles;
+                    self.complete = hits;
+                } else {
+                    self.set_points(parsed.seglist);
+                }
+            }
+            "point"
+                if v.eq_ignore_ascii_case("start")
+                    || v.eq_ignore_ascii_case("present_position") =>
+            {
+                // The position is taken when the behaviour first sees the vehicle's position.
+                match nav(ctx.info) {
+                    Some(n) => self.set_points(SegList::from_points(vec![Point::new(n.0, n.1)])),
+                    None => {
+                        self.set_points(SegList::new());
+                        self.start_pending = true;
+                    }
                 }
             }
             "point" => {
-                let p = if v.eq_ignore_ascii_case("start")
-                    || v.eq_ignore_ascii_case("present_position")
-                {
-                    let n = nav(ctx.info).ok_or_else(|| {
-                        ParamError::bad(param, value, "a point (no position known yet)")
-                    })?;
-                    Point::new(n.0, n.1)
-                } else {
+                let p = {
                     parse_point(v)
                         .map_err(|_| ParamError::bad(param, value, "a point x,y"))?
                         .point
@@ -669,8 +762,39 @@ impl Behavior for Waypoint {
             }
             "lead_damper" => {
                 let d = number(param, v)?;
-                self.lead_damper = if d <= 0.0 { -1.0 } else { d };
+                if d <= 0.0 {
+                    return Err(ParamError::bad(param, value, "a positive distance"));
+                }
+                self.lead_damper = d;
             }
+            "lead_condition" => {
+                let c = mission::condition::parse_condition(&v.replace(',', "="))
+                    .map_err(|_| ParamError::bad(param, value, "a logic condition"))?;
+                self.lead_condition = Some(c);
+            }
+            "end_spd" => {
+                let mut slow = None;
+                let mut stop = None;
+                for part in v.split(',') {
+                    let (k, x) = part.split_once('=').unwrap_or((part, ""));
+                    let x = number(param, x)?;
+                    match k.trim().to_ascii_lowercase().as_str() {
+                        "slow_dist" => slow = Some(x),
+                        "stop_dist" => stop = Some(x),
+                        _ => {
+                            return Err(ParamError::bad(param, value, "slow_dist=..,stop_dist=.."));
+                        }
+                    }
+                }
+                match (slow, stop.unwrap_or(0.0)) {
+                    (Some(a), b) if a > b && b >= 0.0 => self.end_spd = Some((a, b)),
+                    _ => {
+                        return Err(ParamError::bad(param, value, "slow_dist > stop_dist >= 0"));
+                    }
+                }
+            }
+            "greedy_tour" | "shortest_tour" => self.greedy_pending = boolean(param, v)?,
+            "reset_on_idle" => self.reset_on_idle = boolean(param, v)?,
             "lead_to_start" => self.lead_to_start = boolean(param, v)?,
             "order" => {
                 let l = v.to_ascii_lowercase();
@@ -733,13 +857,7 @@ impl Behavior for Waypoint {
                     self.hint(h);
                 }
             }
-            "greedy_tour"
-            | "shortest_tour"
-            | "draw_path_loop"
-            | "reset_on_idle"
-            | "eager_prev_index_flag"
-            | "end_spd"
-            | "lead_condition" => {
+            "draw_path_loop" | "eager_prev_index_flag" => {
                 return Err(ParamError::bad(
                     param,
                     value,
@@ -749,6 +867,15 @@ impl Behavior for Waypoint {
             _ => return Err(ParamError::unknown(param)),
         }
         Ok(())
+    }
+
+    fn on_idle(&mut self, ctx: &Ctx<'_>, _out: &mut Out) {
+        if self.start_pending
+            && let Some((x, y, _, _)) = nav(ctx.info)
+        {
+            self.start_pending = false;
+            self.set_points(SegList::from_points(vec![Point::new(x, y)]));
+        }
     }
 
     fn on_idle_to_run(&mut self, _ctx: &Ctx<'_>, _out: &mut Out) {
@@ -769,6 +896,11 @@ impl Behavior for Waypoint {
         );
         out.post("VIEW_SEGLIST", self.seglist_view(ctx, false));
         self.cpa = None;
+        if self.reset_on_idle {
+            self.reset_for_new_traversal();
+            self.prevpt = None;
+            self.prev_ix = None;
+        }
         if !self.var_dist_prev.is_empty() {
             out.post(self.var_dist_prev.clone(), -1.0);
         }
@@ -789,6 +921,14 @@ impl Behavior for Waypoint {
         };
         self.os = os;
         let here = Point::new(os.0, os.1);
+        if self.start_pending {
+            self.start_pending = false;
+            self.set_points(SegList::from_points(vec![here]));
+        }
+        if self.greedy_pending {
+            self.greedy_pending = false;
+            self.greedy(here.x, here.y);
+        }
         if let Some(p) = self.odo_prev {
             self.odo_leg += here.dist(&p);
         }
@@ -845,8 +985,7 @@ impl Behavior for Waypoint {
             PostKey::Tag("trk"),
         );
         if !self.var_dist_prev.is_empty() {
-            let d = self.prevpt.map_or(-1.0, |p| p.dist(&here));
-            out.post(self.var_dist_prev.clone(), d);
+            out.post(self.var_dist_prev.clone(), self.dist_to_prev(here));
         }
         if !self.var_dist_next.is_empty() {
             out.post(self.var_dist_next.clone(), self.nextpt.dist(&here));
@@ -1162,5 +1301,322 @@ mod tests {
         );
         // A rejected value leaves the old one.
         assert_eq!(w.capture_radius, 3.0);
+    }
+
+    fn run_at(
+        w: &mut Waypoint,
+        c: &Common,
+        x: f64,
+        y: f64,
+        t: f64,
+        out: &mut Out,
+    ) -> Option<IvpFunction> {
+        let d = domain();
+        let i = info(x, y, 90.0).num("NAV_SPEED", 2.0);
+        let mut i = i;
+        i.set_now(t);
+        let ctx = Ctx {
+            info: &i,
+            domain: &d,
+            ownship: "abe",
+            name: "wpt",
+            perpetual: c.perpetual,
+        };
+        w.on_run(&ctx, out)
+    }
+
+    #[test]
+    fn lead_to_start_anchors_the_first_leg_at_the_start_position() {
+        let (mut w, mut c) = (Waypoint::new(), Common::new("BHV_Waypoint"));
+        configure(
+            &mut w,
+            &mut c,
+            &[
+                ("point", "100,0"),
+                ("speed", "2"),
+                ("lead", "10"),
+                ("lead_damper", "1"),
+                ("lead_to_start", "true"),
+            ],
+        );
+        let mut out = Out::default();
+        run(&mut w, &c, 0.0, 10.0, 0.0, &mut out).unwrap();
+        // On the start line (damper factor 3): 30 m along the leg from (0,10) to (100,0).
+        let t = w.track_point();
+        assert!(
+            (t.x - 29.8511).abs() < 0.01 && (t.y - 7.01489).abs() < 0.01,
+            "{t:?}"
+        );
+        // Without lead_to_start the first leg has no anchor: aim at the point.
+        let (mut w, mut c) = (Waypoint::new(), Common::new("BHV_Waypoint"));
+        configure(
+            &mut w,
+            &mut c,
+            &[("point", "100,0"), ("lead", "10"), ("lead_damper", "1")],
+        );
+        run(&mut w, &c, 0.0, 10.0, 0.0, &mut out).unwrap();
+        assert_eq!(w.track_point(), Point::new(100.0, 0.0));
+    }
+
+    #[test]
+    fn lead_condition_switches_the_lead_point() {
+        let (mut w, mut c) = (Waypoint::new(), Common::new("BHV_Waypoint"));
+        configure(
+            &mut w,
+            &mut c,
+            &[
+                ("points", "0,0:100,0"),
+                ("radius", "5"),
+                ("lead", "10"),
+                ("lead_damper", "1"),
+                ("lead_condition", "ALLOW_LEAD=true"),
+            ],
+        );
+        let d = domain();
+        let mut out = Out::default();
+        for (allow, x, y, want) in [("false", 0.0, 0.0, 100.0), ("true", 20.0, 10.0, 30.0)] {
+            let i = info(x, y, 90.0).text("ALLOW_LEAD", allow);
+            let ctx = Ctx {
+                info: &i,
+                domain: &d,
+                ownship: "abe",
+                name: "wpt",
+                perpetual: false,
+            };
+            w.on_run(&ctx, &mut out).unwrap();
+            assert!(
+                (w.track_point().x - want).abs() < 0.01,
+                "{allow}: {:?}",
+                w.track_point()
+            );
+        }
+        assert!(
+            w.set_param(
+                "lead_condition",
+                "ALLOW_LEAD >",
+                &mut c,
+                &Ctx {
+                    info: &info(0.0, 0.0, 0.0),
+                    domain: &d,
+                    ownship: "abe",
+                    name: "wpt",
+                    perpetual: false
+                }
+            )
+            .is_err()
+        );
+    }
+
+    #[test]
+    fn end_speed_tapers_towards_the_final_point() {
+        let (mut w, mut c) = (Waypoint::new(), Common::new("BHV_Waypoint"));
+        configure(
+            &mut w,
+            &mut c,
+            &[
+                ("point", "100,0"),
+                ("speed", "2"),
+                ("capture_radius", "0.1"),
+                ("slip_radius", "0"),
+                ("end_spd", "slow_dist=25,stop_dist=1"),
+            ],
+        );
+        // 20 m out: 2 * (20 - 1) / 24 = 1.58 m/s; 40 m out: full speed; 0.5 m out: stop.
+        assert!((w.desired_speed(80.0, 0.0) - 2.0 * 19.0 / 24.0).abs() < 1e-12);
+        assert_eq!(w.desired_speed(60.0, 0.0), 2.0);
+        assert_eq!(w.desired_speed(99.5, 0.0), 0.0);
+        let mut out = Out::default();
+        let (_, speed) = run(&mut w, &c, 80.0, 0.0, 90.0, &mut out).unwrap();
+        assert!((speed - 1.6).abs() < 1e-9, "{speed}");
+        let d = domain();
+        let i = info(0.0, 0.0, 0.0);
+        let ctx = Ctx {
+            info: &i,
+            domain: &d,
+            ownship: "abe",
+            name: "wpt",
+            perpetual: false,
+        };
+        assert!(
+            w.set_param("end_spd", "slow_dist=10,stop_dist=20", &mut c, &ctx)
+                .is_err()
+        );
+    }
+
+    #[test]
+    fn greedy_tour_starts_at_the_nearest_point() {
+        let (mut w, mut c) = (Waypoint::new(), Common::new("BHV_Waypoint"));
+        configure(
+            &mut w,
+            &mut c,
+            &[("points", "30,0:10,0:20,0"), ("greedy_tour", "true")],
+        );
+        let mut out = Out::default();
+        run(&mut w, &c, 0.0, 0.0, 90.0, &mut out).unwrap();
+        let xs: Vec<f64> = w.points().points().iter().map(|p| p.x).collect();
+        assert_eq!(xs, [10.0, 20.0, 30.0]);
+    }
+
+    #[test]
+    fn reset_on_idle_rewinds_only_when_enabled() {
+        for (reset, want) in [("true", 0), ("false", 1)] {
+            let (mut w, mut c) = (Waypoint::new(), Common::new("BHV_Waypoint"));
+            configure(
+                &mut w,
+                &mut c,
+                &[
+                    ("points", "0,0:50,0"),
+                    ("radius", "5"),
+                    ("reset_on_idle", reset),
+                ],
+            );
+            let mut out = Out::default();
+            run(&mut w, &c, 0.0, 0.0, 90.0, &mut out).unwrap();
+            assert_eq!(w.current_index(), 1);
+            let d = domain();
+            let i = info(0.0, 0.0, 0.0);
+            let ctx = Ctx {
+                info: &i,
+                domain: &d,
+                ownship: "abe",
+                name: "wpt",
+                perpetual: false,
+            };
+            w.on_run_to_idle(&ctx, &mut out);
+            assert_eq!(w.current_index(), want, "reset_on_idle = {reset}");
+        }
+    }
+
+    #[test]
+    fn xpoints_keeps_progress_and_needs_the_same_length() {
+        let (mut w, mut c) = (Waypoint::new(), Common::new("BHV_Waypoint"));
+        configure(
+            &mut w,
+            &mut c,
+            &[("points", "0,100:100,100"), ("radius", "10")],
+        );
+        let mut out = Out::default();
+        run(&mut w, &c, 0.0, 95.0, 0.0, &mut out).unwrap();
+        assert_eq!(w.current_index(), 1);
+        let d = domain();
+        let i = info(0.0, 95.0, 0.0);
+        let ctx = Ctx {
+            info: &i,
+            domain: &d,
+            ownship: "abe",
+            name: "wpt",
+            perpetual: false,
+        };
+        w.set_param("xpoints", "pts={0,100:200,100}", &mut c, &ctx)
+            .unwrap();
+        assert!(
+            w.set_param("xpoints", "pts={0,100:200,100:300,100}", &mut c, &ctx)
+                .is_err()
+        );
+        let mut out = Out::default();
+        run(&mut w, &c, 0.0, 95.0, 0.0, &mut out).unwrap();
+        assert_eq!(w.current_index(), 1);
+        let vp = posted(&out, "VIEW_POINT")[0].as_str().unwrap();
+        assert!(vp.starts_with("x=200,y=100"), "{vp}");
+    }
+
+    #[test]
+    fn point_start_waits_for_the_first_position_and_empty_has_no_function() {
+        let (mut w, mut c) = (Waypoint::new(), Common::new("BHV_Waypoint"));
+        let d = domain();
+        let none = MapInfo::new(0.0);
+        let ctx = Ctx {
+            info: &none,
+            domain: &d,
+            ownship: "abe",
+            name: "wpt",
+            perpetual: false,
+        };
+        w.set_param("point", "start", &mut c, &ctx).unwrap();
+        assert!(w.points().is_empty());
+        let i = info(12.0, -8.0, 45.0);
+        let ctx = Ctx {
+            info: &i,
+            domain: &d,
+            ownship: "abe",
+            name: "wpt",
+            perpetual: false,
+        };
+        let mut out = Out::default();
+        w.on_idle(&ctx, &mut out);
+        assert_eq!(w.points().get(0), Some(Point::new(12.0, -8.0)));
+
+        let (mut w, mut c) = (Waypoint::new(), Common::new("BHV_Waypoint"));
+        configure(&mut w, &mut c, &[("points", "empty")]);
+        let mut out = Out::default();
+        assert!(run(&mut w, &c, 0.0, 0.0, 0.0, &mut out).is_none());
+    }
+
+    #[test]
+    fn status_after_a_cycle_with_custom_variables() {
+        let (mut w, mut c) = (Waypoint::new(), Common::new("BHV_Waypoint"));
+        configure(
+            &mut w,
+            &mut c,
+            &[
+                ("points", "pts={0,0:10,0}"),
+                ("speed", "2"),
+                ("radius", "1"),
+                ("repeat", "1"),
+                ("post_suffix", "CUSTOM"),
+                ("wpt_status", "WPT_STATUS"),
+                ("wpt_dist_to_prev", "CUSTOM_DIST_TO_PREV"),
+                ("wpt_dist_to_next", "CUSTOM_DIST_TO_NEXT"),
+            ],
+        );
+        let mut out = Out::default();
+        assert!(run_at(&mut w, &c, 0.0, 0.0, 0.0, &mut out).is_some());
+        assert_eq!(posted(&out, "WPT_INDEX_CUSTOM")[0].as_num(), Some(1.0));
+        assert_eq!(posted(&out, "CUSTOM_DIST_TO_NEXT")[0].as_num(), Some(10.0));
+        let mut out = Out::default();
+        assert!(run_at(&mut w, &c, 10.0, 0.0, 1.0, &mut out).is_some());
+        assert_eq!(posted(&out, "CYCLE_INDEX_CUSTOM")[0].as_num(), Some(1.0));
+        assert_eq!(posted(&out, "WPT_INDEX_CUSTOM")[0].as_num(), Some(0.0));
+        assert_eq!(posted(&out, "CUSTOM_DIST_TO_PREV")[0].as_num(), Some(10.0));
+        assert_eq!(posted(&out, "CUSTOM_DIST_TO_NEXT")[0].as_num(), Some(10.0));
+        let stat = posted(&out, "WPT_STATUS_CUSTOM")
+            .into_iter()
+            .filter_map(|v| v.as_str())
+            .find(|s| s.contains("index="))
+            .unwrap();
+        assert_eq!(
+            stat,
+            "vname=abe,behavior-name=wpt,index=0,hits=2/2,cycles=1,dist=10,eta=5"
+        );
+    }
+
+    #[test]
+    fn efficiency_of_one_leg() {
+        let (mut w, mut c) = (Waypoint::new(), Common::new("BHV_Waypoint"));
+        configure(
+            &mut w,
+            &mut c,
+            &[
+                ("points", "pts={0,0:10,0}"),
+                ("speed", "2"),
+                ("capture_radius", "1"),
+                ("slip_radius", "0"),
+                ("efficiency_measure", "all"),
+            ],
+        );
+        let mut out = Out::default();
+        run_at(&mut w, &c, 0.0, 0.0, 0.0, &mut out).unwrap();
+        run_at(&mut w, &c, 6.0, 0.0, 3.0, &mut out).unwrap();
+        let mut out = Out::default();
+        assert!(run_at(&mut w, &c, 10.0, 0.0, 6.0, &mut out).is_none());
+        assert!(out.completed);
+        assert!((posted(&out, "WPT_EFF_DIST_ALL")[0].as_num().unwrap() - 1.0).abs() < 1e-6);
+        assert!((posted(&out, "WPT_EFF_TIME_ALL")[0].as_num().unwrap() - 5.0 / 6.0).abs() < 1e-3);
+        let sum = posted(&out, "WPT_EFF_SUMM_ALL")[0].as_str().unwrap();
+        assert_eq!(
+            sum,
+            "vname=abe, bhv_name=wpt, linear_dist=10, odo_dist=10, efficiency_dist=1, \
+             linear_time=5, odo_time=6, efficiency_time=0.833"
+        );
     }
 }

@@ -38,7 +38,9 @@ fn catalog_parameters_are_known() {
             "ipf_type" => "zaic",
             "efficiency_measure" => "off",
             "visual_hints" => "vertex_size=3",
-            "cycleflag" | "wptflag" => "A = 1",
+            "cycleflag" | "wptflag" | "lead_condition" => "A = 1",
+            "end_spd" => "slow_dist=10,stop_dist=1",
+            "greedy_tour" | "shortest_tour" | "reset_on_idle" => "true",
             "clockwise" => "true",
             "center_assign" => "5,5",
             p if p.starts_with("use_")
@@ -68,6 +70,10 @@ fn catalog_parameters_are_known() {
         for p in t.params {
             let mut b = create(kind).unwrap();
             let mut c = Common::new(kind);
+            if *p == "xpoints" {
+                // xpoints replaces a route of the same length.
+                b.set_param("points", sample(p), &mut c, &ctx).unwrap();
+            }
             match b.set_param(p, sample(p), &mut c, &ctx) {
                 Ok(()) => {}
                 Err(ParamError::Unknown { .. }) => {
@@ -83,13 +89,8 @@ fn catalog_parameters_are_known() {
     assert_eq!(
         unsupported,
         [
-            "BHV_Waypoint.lead_condition",
-            "BHV_Waypoint.greedy_tour",
-            "BHV_Waypoint.shortest_tour",
             "BHV_Waypoint.draw_path_loop",
-            "BHV_Waypoint.reset_on_idle",
             "BHV_Waypoint.eager_prev_index_flag",
-            "BHV_Waypoint.end_spd",
             "BHV_Loiter.mod_poly_rad",
             "BHV_Loiter.spiral_factor",
             "BHV_Loiter.slingshot",
