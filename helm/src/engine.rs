@@ -759,6 +759,11 @@ impl Helm {
             }
         }
         report.ofnum = if halted { 0 } else { self.problem.len() };
+        report.pcs_formed = if halted {
+            0
+        } else {
+            self.problem.functions().map(|(_, f)| f.piece_count()).sum()
+        };
         let decision = if halted || self.problem.is_empty() {
             None
         } else {
@@ -797,6 +802,16 @@ impl Helm {
         };
         self.notify("IVPHELM_SUMMARY", Value::Str(summary), "");
         self.notify("IVPHELM_IPF_CNT", Value::Num(report.ofnum as f64), "");
+        self.notify(
+            "IVPHELM_TOTAL_PCS_FORMED",
+            Value::Num(report.pcs_formed as f64),
+            "",
+        );
+        self.notify(
+            "IVPHELM_TOTAL_PCS_CACHED",
+            Value::Num(report.pcs_cached as f64),
+            "",
+        );
         let lists = [
             report.active_names(),
             report.running_names(),

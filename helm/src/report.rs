@@ -27,6 +27,10 @@ pub struct HelmReport {
     pub time: f64,
     /// Number of objective functions.
     pub ofnum: usize,
+    /// Pieces of the objective functions built this iteration.
+    pub pcs_formed: usize,
+    /// Pieces reused from a cache (coug builds every function afresh: 0).
+    pub pcs_cached: usize,
     /// Warnings so far.
     pub warnings: u64,
     /// Decisions (var, value) in domain order; a missing var is `varbalk`.
@@ -133,6 +137,12 @@ impl HelmReport {
         fixed(&mut s, self.time, 2);
         if self.ofnum != prev.ofnum {
             s.push_str(&format!(",ofnum={}", self.ofnum));
+        }
+        if self.pcs_formed != prev.pcs_formed {
+            s.push_str(&format!(",total_pcs_formed={}", self.pcs_formed));
+        }
+        if self.pcs_cached != prev.pcs_cached {
+            s.push_str(&format!(",total_pcs_cached={}", self.pcs_cached));
         }
         if self.warnings != prev.warnings {
             s.push_str(&format!(",warnings={}", self.warnings));

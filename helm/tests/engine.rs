@@ -180,6 +180,18 @@ fn decisions_need_control_nav_and_the_first_second() {
     assert!(!has_desired(&posts) && get(&posts, "IVPHELM_ITER").is_none());
     let posts = s.at(1.0, &[]);
     assert_eq!(get(&posts, "IVPHELM_ITER"), Some(&Value::Num(1.0)));
+    let pcs = get(&posts, "IVPHELM_TOTAL_PCS_FORMED")
+        .unwrap()
+        .as_num()
+        .unwrap();
+    assert!(pcs >= 2.0, "two functions, at least a piece each: {pcs}");
+    let summary = get(&posts, "IVPHELM_SUMMARY").unwrap().as_str().unwrap();
+    assert!(
+        summary.starts_with(&format!(
+            "iter=1,utc_time=1.00,ofnum=2,total_pcs_formed={pcs}"
+        )),
+        "{summary}"
+    );
     assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(45.0)));
     assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Num(2.0)));
     // Decisions are posted every iteration, not only on change.
