@@ -144,12 +144,15 @@ impl LoggerConfig {
         format!("{}/{root}/{root}.alog", self.path)
     }
 
+    /// True when a variable is not logged: MISSION_FILE always; a `WildCardOmitPattern`
+    /// match unless the variable has its own `Log =` line.
     fn omitted(&self, key: &str) -> bool {
         key == "MISSION_FILE"
-            || self
+            || (self
                 .omit
                 .iter()
                 .any(|p| wildcard_match(p.as_bytes(), key.as_bytes()))
+                && !self.logs.iter().any(|(v, _)| v == key))
     }
 }
 
@@ -383,6 +386,9 @@ mod tests {
         assert_eq!(c.double_precision, 3);
         assert!(c.omitted("PHELMIVP_STATUS") && c.omitted("DB_TIME") && c.omitted("MISSION_FILE"));
         assert!(!c.omitted("NAV_X"));
+        let mut explicit = c.clone();
+        explicit.logs.push(("PHELMIVP_STATUS".into(), 0.0));
+        assert!(!explicit.omitted("PHELMIVP_STATUS") && explicit.omitted("DB_TIME"));
         let t = chrono::NaiveDate::from_ymd_opt(2026, 8, 5)
             .unwrap()
             .and_hms_opt(18, 22, 55)

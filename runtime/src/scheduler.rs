@@ -124,6 +124,7 @@ struct Slot {
     status_var: String,
     period: f64,
     ticks: u64,
+    origin: f64,
     next: f64,
     started_at: f64,
     last_status: Option<f64>,
@@ -177,15 +178,24 @@ impl<C: Clock> Scheduler<C> {
     }
 
     /// Adds an app (connects it and makes its registrations). Apps run in the order added.
-    pub fn add_app(&mut self, app: Box<dyn App>) -> Result<(), BusError> {
+    /// An app added after the run began starts at the current time.
+    pub fn add_app(&mut self, mut app: Box<dyn App>) -> Result<(), BusError> {
+        let now = self.now;
         let name = app.name().to_string();
-        let id = self.bus.connect(&name, self.start)?;
+        let id = self.bus.connect(&name, now)?;
         let mut subscribed = BTreeSet::new();
         for s in app.subscriptions() {
-            self.bus.subscribe(id, &s, self.start)?;
+            self.bus.subscribe(id, &s, now)?;
             subscribed.insert(s.pattern);
         }
         let period = 1.0 / app.app_tick();
+        let mut published = BTreeSet::new();
+        if self.started {
+            self.posts.clear();
+            app.on_startup(now, &mut self.posts);
+            published.extend(self.posts.iter().map(|p| p.key.clone()));
+            self.bus.publish(id, &self.posts, &name, now)?;
+        }
         self.slots.push(Slot {
             status_var: format!("{}_STATUS", name.to_ascii_uppercase()),
             app,
@@ -193,10 +203,11 @@ impl<C: Clock> Scheduler<C> {
             name,
             period,
             ticks: 0,
-            next: self.start,
-            started_at: self.start,
+            origin: now,
+            next: now,
+            started_at: now,
             last_status: None,
-            published: BTreeSet::new(),
+            published,
             subscribed,
             done: false,
         });
@@ -415,7 +426,7 @@ impl<C: Clock> Scheduler<C> {
         Self::publish(&mut self.bus, slot, &self.posts, now)?;
         let first = slot.ticks == 0;
         slot.ticks += 1;
-        slot.next = self.start + slot.ticks as f64 * slot.period;
+        slot.next = slot.origin + slot.ticks as f64 * slot.period;
         if slot.app.finished() {
             slot.done = true;
             let id = slot.id;

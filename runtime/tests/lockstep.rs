@@ -215,3 +215,48 @@ fn app_tick_cadence_and_mail_order() {
     // Records are in time order.
     assert!(log.entries.windows(2).all(|w| w[0].time <= w[1].time));
 }
+
+/// Records its start-up and iterate times.
+struct Recorder {
+    times: Rc<RefCell<Vec<(&'static str, f64)>>>,
+}
+
+impl App for Recorder {
+    fn name(&self) -> &str {
+        "recorder"
+    }
+    fn app_tick(&self) -> f64 {
+        4.0
+    }
+    fn on_startup(&mut self, now: f64, out: &mut Vec<Post>) {
+        self.times.borrow_mut().push(("startup", now));
+        out.push(Post::text("RECORDER_UP", "yes"));
+    }
+    fn iterate(&mut self, now: f64, _out: &mut Vec<Post>) {
+        self.times.borrow_mut().push(("iterate", now));
+    }
+}
+
+#[test]
+fn an_app_added_during_a_run_starts_at_the_current_time() {
+    let mut s = Scheduler::new(Bus::new("late", START), VirtualClock, START);
+    s.add_app(Box::new(Counter { n: 0 })).unwrap();
+    assert_eq!(s.advance(START + 1.1).unwrap(), None);
+    assert_eq!(s.now(), START + 1.0);
+    let times: Rc<RefCell<Vec<(&'static str, f64)>>> = Rc::default();
+    s.add_app(Box::new(Recorder {
+        times: times.clone(),
+    }))
+    .unwrap();
+    assert_eq!(s.current("RECORDER_UP"), Some(Value::text("yes")));
+    s.advance(START + 1.6).unwrap();
+    assert_eq!(
+        times.take(),
+        vec![
+            ("startup", START + 1.0),
+            ("iterate", START + 1.0),
+            ("iterate", START + 1.25),
+            ("iterate", START + 1.5)
+        ]
+    );
+}
