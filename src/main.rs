@@ -6,6 +6,7 @@ mod cmd {
     pub mod check;
     pub mod db;
     pub mod nsplug;
+    pub mod plot;
     pub mod poke;
     pub mod scope;
 }
@@ -27,6 +28,8 @@ enum Command {
     Check(cmd::check::CheckArgs),
     /// Expand an nsplug template (MOOS-IvP's nsplug): IN OUT [NAME=VALUE]...
     Nsplug(cmd::nsplug::NsplugArgs),
+    /// Plot an alog: LOG.alog -o OUT.svg|OUT.png (track, waypoints, polygons, depth).
+    Plot(cmd::plot::PlotArgs),
     /// Run a standalone MOOSDB: [MISSION.moos] [--port N] [--host ADDR].
     Db(cmd::db::DbArgs),
     /// Post values like uPokeDB: [MISSION.moos] VAR=VALUE... (VAR:=VALUE forces a string).
@@ -47,6 +50,7 @@ fn main() -> anyhow::Result<()> {
     match cli.command.unwrap_or(Command::Info) {
         Command::Check(args) => std::process::exit(cmd::check::run(&args)),
         Command::Nsplug(args) => std::process::exit(cmd::nsplug::run(&args)),
+        Command::Plot(args) => cmd::plot::run(&args)?,
         Command::Db(args) => cmd::db::run(&args)?,
         Command::Poke(args) => cmd::poke::run(&args)?,
         Command::Scope(args) => cmd::scope::run(&args)?,
