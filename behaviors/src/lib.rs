@@ -44,11 +44,13 @@ mod constant_depth;
 mod constant_heading;
 mod constant_speed;
 pub mod fmt;
+mod go_to_depth;
 mod loiter;
 mod max_depth;
 mod op_region;
 pub mod param;
 mod periodic_surface;
+mod station_keep;
 mod timer;
 mod waypoint;
 
@@ -57,10 +59,12 @@ pub use common::{Common, Flag, FlagKind, FlagValue};
 pub use constant_depth::ConstantDepth;
 pub use constant_heading::ConstantHeading;
 pub use constant_speed::ConstantSpeed;
+pub use go_to_depth::GoToDepth;
 pub use loiter::Loiter;
 pub use max_depth::MaxDepth;
 pub use op_region::{Breach, OpRegion};
 pub use periodic_surface::{AscentGrade, PeriodicSurface, Phase};
+pub use station_keep::{KeepMode, StationKeep};
 pub use timer::Timer;
 pub use waypoint::Waypoint;
 
@@ -83,6 +87,8 @@ pub fn create(kind: &str) -> Option<Box<dyn Behavior>> {
         "bhv_maxdepth" => Box::new(MaxDepth::new()),
         "bhv_opregion" => Box::new(OpRegion::new()),
         "bhv_periodicsurface" => Box::new(PeriodicSurface::new()),
+        "bhv_gotodepth" => Box::new(GoToDepth::new()),
+        "bhv_stationkeep" => Box::new(StationKeep::new()),
         _ => return None,
     })
 }
@@ -98,4 +104,6 @@ pub const KINDS: &[&str] = &[
     "BHV_MaxDepth",
     "BHV_OpRegion",
     "BHV_PeriodicSurface",
+    "BHV_GoToDepth",
+    "BHV_StationKeep",
 ];
