@@ -4,7 +4,7 @@
 //! can also serve TCP clients in real-time mode.
 
 use bytes::Bytes;
-use moosdb_client::db::{ClientId, Database, DbConfig, DbTime};
+use moosdb_client::db::{ClientId, Database, DbConfig, DbTime, Effects};
 use moosdb_client::{DataType, Message, MsgType};
 use thiserror::Error;
 
@@ -21,57 +21,103 @@ pub enum BusError {
     NotConnected(ClientId),
 }
 
-/// An in-process MOOSDB with in-process clients. Every call takes the MOOS time.
-#[derive(Debug)]
-pub struct Bus {
-    db: Database,
-    start: f64,
-    packets: Vec<Vec<Message>>,
+/// Where the bus's [`Database`] lives: owned in-process ([`LocalDb`], lockstep), or shared
+/// with a TCP server in real time (an implementation that locks the server's core, stamps
+/// its own clock and wakes the connections in [`DbHost::wake`]).
+pub trait DbHost {
+    /// Runs `f` on the database at MOOS time `now`.
+    fn with_mut<R>(&mut self, now: f64, f: impl FnOnce(&mut Database, DbTime) -> R) -> R;
+
+    /// Runs `f` on the database for reading.
+    fn with_ref<R>(&self, f: impl FnOnce(&Database) -> R) -> R;
+
+    /// Told which clients have packets waiting after a call (TCP edges send them).
+    fn wake(&mut self, _effects: &Effects) {}
 }
 
-impl Bus {
-    /// A bus whose DB (community `community`) starts at MOOS time `start`.
-    pub fn new(community: &str, start: f64) -> Bus {
+/// A database owned by the bus; liveness time is MOOS time since the start.
+#[derive(Debug)]
+pub struct LocalDb {
+    db: Database,
+    start: f64,
+}
+
+impl LocalDb {
+    /// A database of community `community` started at MOOS time `start`.
+    pub fn new(community: &str, start: f64) -> LocalDb {
         let config = DbConfig {
             community: community.to_string(),
             ..DbConfig::default()
         };
-        Bus {
-            db: Database::new(config, Bus::db_time(start, start)),
+        let t = DbTime {
+            moos: start,
+            mono: 0.0,
+        };
+        LocalDb {
+            db: Database::new(config, t),
             start,
+        }
+    }
+
+    /// The database.
+    pub fn database(&mut self) -> &mut Database {
+        &mut self.db
+    }
+}
+
+impl DbHost for LocalDb {
+    fn with_mut<R>(&mut self, now: f64, f: impl FnOnce(&mut Database, DbTime) -> R) -> R {
+        let t = DbTime {
+            moos: now,
+            mono: now - self.start,
+        };
+        f(&mut self.db, t)
+    }
+
+    fn with_ref<R>(&self, f: impl FnOnce(&Database) -> R) -> R {
+        f(&self.db)
+    }
+}
+
+/// An in-process MOOSDB with in-process clients. Every call takes the MOOS time.
+#[derive(Debug)]
+pub struct Bus<H: DbHost = LocalDb> {
+    host: H,
+    packets: Vec<Vec<Message>>,
+}
+
+impl Bus<LocalDb> {
+    /// A bus whose own DB (community `community`) starts at MOOS time `start`.
+    pub fn new(community: &str, start: f64) -> Bus<LocalDb> {
+        Bus::with_host(LocalDb::new(community, start))
+    }
+}
+
+impl<H: DbHost> Bus<H> {
+    /// A bus over any database host.
+    pub fn with_host(host: H) -> Bus<H> {
+        Bus {
+            host,
             packets: Vec::new(),
         }
     }
 
-    fn db_time(now: f64, start: f64) -> DbTime {
-        DbTime {
-            moos: now,
-            mono: now - start,
-        }
-    }
-
-    fn t(&self, now: f64) -> DbTime {
-        Bus::db_time(now, self.start)
-    }
-
-    /// The DB core (for a TCP edge sharing it, or inspection).
-    pub fn database(&mut self) -> &mut Database {
-        &mut self.db
+    /// The database host.
+    pub fn host(&mut self) -> &mut H {
+        &mut self.host
     }
 
     /// Connects a client called `name` (an asynchronous client, as every V10 app is).
     pub fn connect(&mut self, name: &str, now: f64) -> Result<ClientId, BusError> {
-        let t = self.t(now);
-        self.db
-            .connect(Bytes::copy_from_slice(name.as_bytes()), true, now, t)
-            .id()
+        let key = Bytes::copy_from_slice(name.as_bytes());
+        self.host
+            .with_mut(now, |db, t| db.connect(key, true, now, t).id())
             .ok_or_else(|| BusError::NameTaken(name.to_string()))
     }
 
     /// Removes a client.
     pub fn disconnect(&mut self, id: ClientId, now: f64) {
-        let t = self.t(now);
-        self.db.disconnect(id, t);
+        self.host.with_mut(now, |db, t| db.disconnect(id, t));
     }
 
     /// Registers for a variable or (with `*`/`?`) a variable-name pattern from any app.
@@ -140,11 +186,14 @@ impl Bus {
     }
 
     fn send(&mut self, id: ClientId, msgs: Vec<Message>, now: f64) -> Result<(), BusError> {
-        let t = self.t(now);
-        self.db
-            .handle(id, msgs, t)
-            .map(|_| ())
-            .map_err(|_| BusError::NotConnected(id))
+        let effects = self
+            .host
+            .with_mut(now, |db, t| db.handle(id, msgs, t))
+            .map_err(|_| BusError::NotConnected(id))?;
+        if !effects.ready.is_empty() {
+            self.host.wake(&effects);
+        }
+        Ok(())
     }
 
     /// Everything delivered to `id` so far, sorted by message time (stable), appended to
@@ -153,7 +202,11 @@ impl Bus {
         let poll = Message::new(MsgType::Null, DataType::Double, "");
         self.send(id, vec![poll], now)?;
         self.packets.clear();
-        if !self.db.drain_outbox(id, &mut self.packets) {
+        let packets = &mut self.packets;
+        if !self
+            .host
+            .with_mut(now, |db, _| db.drain_outbox(id, packets))
+        {
             return Err(BusError::NotConnected(id));
         }
         let first = out.len();
@@ -171,7 +224,10 @@ impl Bus {
 
     /// The current value of a variable, if it was ever written.
     pub fn current(&self, key: &str) -> Option<Mail> {
-        self.db.current(key).as_ref().and_then(to_mail)
+        self.host
+            .with_ref(|db| db.current(key))
+            .as_ref()
+            .and_then(to_mail)
     }
 }
 
@@ -244,6 +300,52 @@ mod tests {
         mail.clear();
         bus.fetch(b, 102.5, &mut mail).unwrap();
         assert!(mail.is_empty());
+    }
+
+    /// A host that records which clients it was told to wake.
+    struct Recording {
+        inner: LocalDb,
+        woken: Vec<ClientId>,
+    }
+
+    impl DbHost for Recording {
+        fn with_mut<R>(&mut self, now: f64, f: impl FnOnce(&mut Database, DbTime) -> R) -> R {
+            self.inner.with_mut(now, f)
+        }
+        fn with_ref<R>(&self, f: impl FnOnce(&Database) -> R) -> R {
+            self.inner.with_ref(f)
+        }
+        fn wake(&mut self, effects: &Effects) {
+            self.woken.extend(&effects.ready);
+        }
+    }
+
+    #[test]
+    fn a_shared_host_is_told_whom_to_wake() {
+        let mut bus = Bus::with_host(Recording {
+            inner: LocalDb::new("c", 0.0),
+            woken: Vec::new(),
+        });
+        let a = bus.connect("a", 0.0).unwrap();
+        // A client that is not in-process (think: a TCP client) subscribes directly.
+        let tcp = bus
+            .host()
+            .with_mut(0.0, |db, t| {
+                db.connect(Bytes::from_static(b"tcp"), true, 0.0, t).id()
+            })
+            .unwrap();
+        let mut reg = Message::new(MsgType::Register, DataType::Double, "X");
+        reg.dval = 0.0;
+        bus.host()
+            .with_mut(0.0, |db, t| db.handle(tcp, vec![reg], t))
+            .unwrap();
+        bus.host().woken.clear();
+        bus.publish(a, &[Post::double("X", 4.0)], "a", 1.0).unwrap();
+        assert_eq!(bus.host().woken, vec![tcp]);
+        let mut out = Vec::new();
+        bus.host()
+            .with_mut(1.0, |db, _| db.drain_outbox(tcp, &mut out));
+        assert_eq!(out.concat()[0].dval, 4.0);
     }
 
     #[test]

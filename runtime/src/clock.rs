@@ -21,7 +21,9 @@ impl Clock for VirtualClock {
     }
 }
 
-/// Real time times a warp: MOOS time `start + warp × elapsed wall seconds`.
+/// Real time times a warp: MOOS time `start + warp × elapsed wall seconds`. MOOS apps
+/// compute their time as Unix time × warp ([`WarpedWallClock::moos`] starts there), so a
+/// run that shares its DB with real MOOS apps agrees with them.
 #[derive(Debug, Clone, Copy)]
 pub struct WarpedWallClock {
     origin: Instant,
@@ -42,6 +44,20 @@ impl WarpedWallClock {
                 1.0
             },
         }
+    }
+
+    /// A clock on MOOS time: Unix time × `warp` (as `MOOSLocalTime` with a warp).
+    pub fn moos(warp: f64) -> Self {
+        let warp = if warp.is_finite() && warp > 0.0 {
+            warp
+        } else {
+            1.0
+        };
+        let unix = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map(|d| d.as_secs_f64())
+            .unwrap_or(0.0);
+        WarpedWallClock::new(unix * warp, warp)
     }
 
     /// The warp factor.
@@ -82,5 +98,7 @@ mod tests {
         assert_eq!(c.wait_until(1002.0), 1002.0);
         assert!(c.now() >= 1002.0 - 1e-9);
         assert_eq!(WarpedWallClock::new(0.0, -3.0).warp(), 1.0);
+        let m = WarpedWallClock::moos(10.0);
+        assert!(m.now() > 1.7e10, "Unix time times 10: {}", m.now());
     }
 }

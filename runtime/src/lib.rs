@@ -25,6 +25,6 @@ pub mod timer_script;
 pub mod vehicle;
 
 pub use app::{App, Mail, Post, Subscription, Value};
-pub use bus::{Bus, BusError};
+pub use bus::{Bus, BusError, DbHost, LocalDb};
 pub use clock::{Clock, VirtualClock, WarpedWallClock};
 pub use scheduler::{Outcome, Poke, PokeAt, Scheduler};

@@ -13,7 +13,7 @@ use moosdb_client::db::ClientId;
 use thiserror::Error;
 
 use crate::app::{App, Mail, Post, STATUS_PERIOD, Value};
-use crate::bus::{Bus, BusError};
+use crate::bus::{Bus, BusError, DbHost, LocalDb};
 use crate::clock::{Clock, VirtualClock};
 
 /// When a poke is posted.
@@ -134,8 +134,8 @@ struct Slot {
 }
 
 /// Runs apps on a [`Bus`]. See the module documentation.
-pub struct Scheduler<C: Clock = VirtualClock> {
-    bus: Bus,
+pub struct Scheduler<C: Clock = VirtualClock, H: DbHost = LocalDb> {
+    bus: Bus<H>,
     clock: C,
     start: f64,
     now: f64,
@@ -151,9 +151,9 @@ pub struct Scheduler<C: Clock = VirtualClock> {
     posts: Vec<Post>,
 }
 
-impl<C: Clock> Scheduler<C> {
+impl<C: Clock, H: DbHost> Scheduler<C, H> {
     /// A scheduler over `bus`, paced by `clock`, starting at MOOS time `start`.
-    pub fn new(bus: Bus, clock: C, start: f64) -> Self {
+    pub fn new(bus: Bus<H>, clock: C, start: f64) -> Self {
         Scheduler {
             bus,
             clock,
@@ -256,12 +256,12 @@ impl<C: Clock> Scheduler<C> {
     }
 
     /// The bus.
-    pub fn bus(&self) -> &Bus {
+    pub fn bus(&self) -> &Bus<H> {
         &self.bus
     }
 
     /// The bus, mutably (e.g. to serve TCP clients from the same DB).
-    pub fn bus_mut(&mut self) -> &mut Bus {
+    pub fn bus_mut(&mut self) -> &mut Bus<H> {
         &mut self.bus
     }
 
@@ -340,7 +340,12 @@ impl<C: Clock> Scheduler<C> {
         Ok(())
     }
 
-    fn publish(bus: &mut Bus, slot: &mut Slot, posts: &[Post], now: f64) -> Result<(), BusError> {
+    fn publish(
+        bus: &mut Bus<H>,
+        slot: &mut Slot,
+        posts: &[Post],
+        now: f64,
+    ) -> Result<(), BusError> {
         for p in posts {
             if !slot.published.contains(&p.key) {
                 slot.published.insert(p.key.clone());
