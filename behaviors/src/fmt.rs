@@ -10,6 +10,9 @@ use std::fmt::Write as _;
 /// assert_eq!(s, "100.00000");
 /// ```
 pub fn fixed(out: &mut String, v: f64, prec: usize) {
+    if fixed_fast(out, v, prec) {
+        return;
+    }
     let start = out.len();
     write!(out, "{v:.prec$}").ok();
     if out[start..].starts_with('-') && out[start + 1..].bytes().all(|b| b == b'0' || b == b'.') {
@@ -48,4 +51,70 @@ pub fn compact_string(v: f64, prec: usize) -> String {
     let mut s = String::new();
     compact(&mut s, v, prec);
     s
+}
+
+const POW10: [u64; 7] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000];
+
+/// Integer fast path of [`fixed`] for small magnitudes; false when the value is too large, not
+/// finite, or too close to a rounding tie to decide without the exact decimal expansion.
+fn fixed_fast(out: &mut String, v: f64, prec: usize) -> bool {
+    let Some(&scale) = POW10.get(prec) else {
+        return false;
+    };
+    let s = v.abs() * scale as f64;
+    // Below 2^30 the product's rounding error is far below the 1e-6 tie margin.
+    if !s.is_finite() || s >= 1_073_741_824.0 {
+        return false;
+    }
+    let fl = s.floor();
+    let frac = s - fl;
+    if (frac - 0.5).abs() < 1e-6 {
+        return false;
+    }
+    let n = fl as u64 + u64::from(frac > 0.5);
+    if v < 0.0 && n != 0 {
+        out.push('-');
+    }
+    write!(out, "{}", n / scale).ok();
+    if prec > 0 {
+        write!(out, ".{:0prec$}", n % scale).ok();
+    }
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fast_path_agrees_with_exact_formatting() {
+        let cases = [
+            0.0, -0.0, 1.0, -1.0, 0.125, 2.675, 1.005, 99.995, 1234.5678, -0.004, -0.006, 100.0,
+            1e-7, 12345678.9, 3e12,
+        ];
+        for v in cases {
+            for prec in 0..7 {
+                let mut fast = String::new();
+                fixed(&mut fast, v, prec);
+                let mut exact = format!("{v:.prec$}");
+                if exact.starts_with('-') && exact[1..].bytes().all(|b| b == b'0' || b == b'.') {
+                    exact.remove(0);
+                }
+                assert_eq!(fast, exact, "{v} with {prec} decimals");
+            }
+        }
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn fixed_matches_std_formatting(v in -1.0e7f64..1.0e7, prec in 0usize..7) {
+            let mut fast = String::new();
+            fixed(&mut fast, v, prec);
+            let mut exact = format!("{v:.prec$}");
+            if exact.starts_with('-') && exact[1..].bytes().all(|b| b == b'0' || b == b'.') {
+                exact.remove(0);
+            }
+            proptest::prop_assert_eq!(fast, exact);
+        }
+    }
 }

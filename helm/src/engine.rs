@@ -16,7 +16,7 @@ use crate::config::{ConfigError, Globals, HelmConfig};
 use crate::info_buffer::InfoBuffer;
 use crate::macro_expand::expand;
 use crate::mode::ModeSet;
-use crate::report::{BhvLine, HelmReport};
+use crate::report::{BhvLine, HelmReport, Rendered};
 use crate::runstate::{DurationClock, RunState};
 
 pub use behaviors::Value;
@@ -182,7 +182,8 @@ pub struct Helm {
     filter_num: HashMap<String, f64>,
     init_vars_ready: bool,
     init_vars_done: bool,
-    prev_report: HelmReport,
+    prev_report: Rendered,
+    domain_str: String,
     lists: [String; 3],
     bhv_count: Option<usize>,
     update_results: Vec<String>,
@@ -368,7 +369,8 @@ impl Helm {
             filter_num: HashMap::new(),
             init_vars_ready: false,
             init_vars_done: false,
-            prev_report: HelmReport::default(),
+            prev_report: Rendered::default(),
+            domain_str: String::new(),
             lists: Default::default(),
             bhv_count: None,
             update_results: Vec::new(),
@@ -539,6 +541,7 @@ impl Helm {
             );
         }
         let dom = self.config.domain.to_string();
+        self.domain_str.clone_from(&dom);
         self.notify("IVPHELM_DOMAIN", Value::Str(dom), "");
         let ms = self.modes.definition();
         self.notify("IVPHELM_MODESET", Value::Str(ms), "");
@@ -794,12 +797,14 @@ impl Helm {
         self.post_behavior_messages(iter, now);
 
         report.warnings = self.warnings;
-        let summary = if self.rejournal {
+        let rendered = report.render(&self.domain_str);
+        let mut summary = String::new();
+        if self.rejournal {
             self.rejournal = false;
-            report.summary(&HelmReport::default())
+            rendered.summary(iter, now, &Rendered::default(), &mut summary);
         } else {
-            report.summary(&self.prev_report)
-        };
+            rendered.summary(iter, now, &self.prev_report, &mut summary);
+        }
         self.notify("IVPHELM_SUMMARY", Value::Str(summary), "");
         self.notify("IVPHELM_IPF_CNT", Value::Num(report.ofnum as f64), "");
         self.notify(
@@ -895,7 +900,7 @@ impl Helm {
             self.has_control = false;
         }
         self.info.clear_deltas();
-        self.prev_report = report;
+        self.prev_report = rendered;
     }
 
     fn post_behavior_messages(&mut self, iter: u64, now: f64) {

@@ -122,6 +122,26 @@ impl HelmReport {
         s
     }
 
+    /// The report's fields as strings, for comparing with the next report (the helm keeps the
+    /// previous one rendered). `domain` is the rendered domain (`IVPHELM_DOMAIN` format).
+    pub fn render(&self, domain: &str) -> Rendered {
+        Rendered {
+            ofnum: self.ofnum,
+            pcs_formed: self.pcs_formed,
+            pcs_cached: self.pcs_cached,
+            warnings: self.warnings,
+            decisions: self.decision_summary(),
+            halted: self.halted,
+            modes: self.modes.clone(),
+            running: full(&self.running, false),
+            active: full(&self.active, true),
+            idle: full(&self.idle, false),
+            completed: full(&self.completed, false),
+            domain: domain.to_string(),
+            halt_msg: self.halt_msg.clone(),
+        }
+    }
+
     /// The `IVPHELM_SUMMARY` string: `iter` and `utc_time` always, other fields only when they
     /// differ from `prev` (pass the default report for a full report). CPU times are not
     /// measured by coug (the engine reads no clock), so they stay 0 and are never listed.
@@ -133,86 +153,84 @@ impl HelmReport {
     /// assert_eq!(r.summary(&r), "iter=3,utc_time=12.50");
     /// ```
     pub fn summary(&self, prev: &HelmReport) -> String {
-        let mut s = format!("iter={},utc_time=", self.iteration);
-        fixed(&mut s, self.time, 2);
+        let dom = |r: &HelmReport| r.domain.as_ref().map(|d| d.to_string()).unwrap_or_default();
+        let mut s = String::new();
+        self.render(&dom(self)).summary(
+            self.iteration,
+            self.time,
+            &prev.render(&dom(prev)),
+            &mut s,
+        );
+        s
+    }
+}
+
+/// A [`HelmReport`] rendered to strings (see [`HelmReport::render`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Rendered {
+    ofnum: usize,
+    pcs_formed: usize,
+    pcs_cached: usize,
+    warnings: u64,
+    decisions: String,
+    halted: bool,
+    modes: String,
+    running: String,
+    active: String,
+    idle: String,
+    completed: String,
+    domain: String,
+    halt_msg: String,
+}
+
+fn none_if_empty(s: &str) -> &str {
+    if s.is_empty() { "none" } else { s }
+}
+
+impl Rendered {
+    /// Writes the `IVPHELM_SUMMARY` of iteration `iter` at `time` into `s`: `iter` and
+    /// `utc_time`, then each field that differs from `prev` (reference §4.7).
+    pub fn summary(&self, iter: u64, time: f64, prev: &Rendered, s: &mut String) {
+        use std::fmt::Write as _;
+        write!(s, "iter={iter},utc_time=").ok();
+        fixed(s, time, 2);
         if self.ofnum != prev.ofnum {
-            s.push_str(&format!(",ofnum={}", self.ofnum));
+            write!(s, ",ofnum={}", self.ofnum).ok();
         }
         if self.pcs_formed != prev.pcs_formed {
-            s.push_str(&format!(",total_pcs_formed={}", self.pcs_formed));
+            write!(s, ",total_pcs_formed={}", self.pcs_formed).ok();
         }
         if self.pcs_cached != prev.pcs_cached {
-            s.push_str(&format!(",total_pcs_cached={}", self.pcs_cached));
+            write!(s, ",total_pcs_cached={}", self.pcs_cached).ok();
         }
         if self.warnings != prev.warnings {
-            s.push_str(&format!(",warnings={}", self.warnings));
+            write!(s, ",warnings={}", self.warnings).ok();
         }
-        let dec = self.decision_summary();
-        if dec != prev.decision_summary() {
+        if self.decisions != prev.decisions {
             s.push(',');
-            s.push_str(&dec);
+            s.push_str(&self.decisions);
         }
         if self.halted != prev.halted {
-            s.push_str(&format!(",halted={}", self.halted));
+            write!(s, ",halted={}", self.halted).ok();
         }
         if self.modes != prev.modes {
-            s.push_str(",modes=");
-            s.push_str(if self.modes.is_empty() {
-                "none"
-            } else {
-                &self.modes
-            });
+            write!(s, ",modes={}", none_if_empty(&self.modes)).ok();
         }
         for (key, mine, theirs) in [
-            (
-                "running_bhvs",
-                full(&self.running, false),
-                full(&prev.running, false),
-            ),
-            (
-                "active_bhvs",
-                full(&self.active, true),
-                full(&prev.active, true),
-            ),
-            (
-                "idle_bhvs",
-                full(&self.idle, false),
-                full(&prev.idle, false),
-            ),
-            (
-                "completed_bhvs",
-                full(&self.completed, false),
-                full(&prev.completed, false),
-            ),
+            ("running_bhvs", &self.running, &prev.running),
+            ("active_bhvs", &self.active, &prev.active),
+            ("idle_bhvs", &self.idle, &prev.idle),
+            ("completed_bhvs", &self.completed, &prev.completed),
         ] {
             if mine != theirs {
-                s.push(',');
-                s.push_str(key);
-                s.push('=');
-                s.push_str(if mine.is_empty() { "none" } else { &mine });
+                write!(s, ",{key}={}", none_if_empty(mine)).ok();
             }
         }
-        let dom = self
-            .domain
-            .as_ref()
-            .map(|d| d.to_string())
-            .unwrap_or_default();
-        let pdom = prev
-            .domain
-            .as_ref()
-            .map(|d| d.to_string())
-            .unwrap_or_default();
-        if dom != pdom {
-            s.push_str(&format!(",ivpdomain=\"{dom}\""));
+        if self.domain != prev.domain {
+            write!(s, ",ivpdomain=\"{}\"", self.domain).ok();
         }
         if self.halt_msg != prev.halt_msg {
-            s.push_str(",halt_msg=");
-            s.push_str(if self.halt_msg.is_empty() {
-                "none"
-            } else {
-                &self.halt_msg
-            });
+            write!(s, ",halt_msg={}", none_if_empty(&self.halt_msg)).ok();
         }
-        s
     }
 }
