@@ -294,16 +294,19 @@ fn delta_mission_dives_surfaces_periodically_surveys_and_returns() {
         rig.sub.x,
         rig.sub.y
     );
+    let loiter_vertices: Vec<f64> = rig
+        .history("LOITER_INDEX", deployed)
+        .iter()
+        .map(|(_, v)| v.as_num().unwrap())
+        .collect();
     assert!(
-        !all(
-            &rig.log.iter().map(|(_, p)| p.clone()).collect::<Vec<_>>(),
-            "LOITER_INDEX"
-        )
-        .is_empty()
+        loiter_vertices.len() >= 4,
+        "went round several loiter vertices: {loiter_vertices:?}"
     );
 
     // --- Survey: ACTIVE:SURVEYING, no periodic surfacing, still at 7 m, 2 m/s.
     let t = rig.t;
+    let survey_t = t;
     rig.step(&[Mail::new("SURVEY", "true", t).from("pMarineViewer")]);
     let posts = rig.step(&[]);
     assert_eq!(rig.helm.info().text("MODE"), Some("ACTIVE:SURVEYING"));
@@ -322,6 +325,12 @@ fn delta_mission_dives_surfaces_periodically_surveys_and_returns() {
             .iter()
             .any(|(_, v)| v.as_num() == Some(3.0))
     });
+    let indices: Vec<f64> = rig
+        .history("WPT_INDEX", survey_t)
+        .iter()
+        .map(|(_, v)| v.as_num().unwrap())
+        .collect();
+    assert_eq!(indices, [0.0, 1.0, 2.0, 3.0], "bowtie points in order");
     assert!(
         rig.history("PERIODIC_ASCEND", survey_start).is_empty(),
         "no surfacing while surveying"
