@@ -5,6 +5,7 @@
 //! - [`bus`]: the in-process MOOSDB ([`moosdb_client::Database`] core) the apps talk over;
 //! - [`clock`]: lockstep ([`VirtualClock`]) or real time times a warp;
 //! - [`scheduler`]: runs every app at its own AppTick, with pokes and an `until` condition;
+//! - [`summary`]: behaviour lists of IVPHELM_SUMMARY and run totals read from an alog;
 //! - [`timer_script`]: the built-in uTimerScript;
 //! - [`logger`]: the built-in pLogger, writing alog files through the `alog` crate;
 //! - [`plot`]: track and depth plots of an alog as SVG or PNG (`coug plot`);
@@ -21,6 +22,7 @@ pub mod clock;
 pub mod logger;
 pub mod plot;
 pub mod scheduler;
+pub mod summary;
 pub mod timer_script;
 pub mod vehicle;
 
