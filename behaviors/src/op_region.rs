@@ -94,6 +94,7 @@ pub struct OpRegion {
     secs_out: f64,
     prev_in: bool,
     entry_made: bool,
+    hints_applied: bool,
     buf: String,
 }
 
@@ -136,6 +137,7 @@ impl OpRegion {
             secs_out: 0.0,
             prev_in: false,
             entry_made: false,
+            hints_applied: false,
             buf: String::new(),
         }
     }
@@ -213,7 +215,7 @@ impl OpRegion {
         self.elapsed = now - self.start_time;
     }
 
-    /// Updates the in/out timers; returns the breach error text if the polygon is breached.
+    /// Updates the in/out timers; true if the polygon counts as breached now.
     fn polygon_breached(&mut self, x: f64, y: f64) -> bool {
         let contained = self.polygons.iter().all(|p| p.contains(x, y));
         if contained {
@@ -248,13 +250,6 @@ impl OpRegion {
         }
     }
 
-    fn label(&self, ctx: &Ctx<'_>) -> String {
-        match &self.view {
-            Some(v) if !v.attrs.label.is_empty() => v.attrs.label.clone(),
-            _ => format!("{}:{}:opreg", ctx.ownship, ctx.name),
-        }
-    }
-
     fn post_time_remaining(&mut self, out: &mut Out) {
         if self.time_remaining_var.is_empty() {
             return;
@@ -283,21 +278,23 @@ impl OpRegion {
         }
     }
 
+    /// Posts the polygon: drawn with the hints while running, `active=false` while idle.
+    /// The label defaults to `<ownship>:<name>:opreg`.
     fn post_view(&mut self, ctx: &Ctx<'_>, out: &mut Out, active: bool) {
-        let label = self.label(ctx);
-        let Some(v) = &self.view else {
+        let Some(v) = self.view.as_mut() else {
             return;
         };
-        let mut v = v.clone();
-        v.attrs.label = label;
-        if active {
+        if v.attrs.label.is_empty() {
+            v.attrs.label = format!("{}:{}:opreg", ctx.ownship, ctx.name);
+        }
+        if !self.hints_applied {
+            self.hints_applied = true;
             v.attrs.vertex_color = Some(self.hint_vertex_color.clone());
             v.attrs.edge_color = Some(self.hint_edge_color.clone());
             v.attrs.vertex_size = Some(self.hint_vertex_size);
             v.attrs.edge_size = Some(self.hint_edge_size);
-        } else {
-            v.attrs.active = false;
         }
+        v.attrs.active = active;
         self.buf.clear();
         v.spec(&mut self.buf);
         out.post("VIEW_POLYGON", self.buf.as_str());
@@ -387,6 +384,7 @@ impl Behavior for OpRegion {
                 }
                 self.polygons.push(vp.polygon.clone());
                 self.view = Some(vp);
+                self.hints_applied = false;
                 self.poly_var_pending = !self.poly_var.is_empty();
             }
             "max_depth" => self.max_depth = Self::nonneg(param, v)?,
@@ -420,6 +418,7 @@ impl Behavior for OpRegion {
                 self.poly_var_pending = !self.poly_var.is_empty() && !self.polygons.is_empty();
             }
             "visual_hints" => {
+                self.hints_applied = false;
                 for h in v.split(',') {
                     let (k, val) = h.split_once('=').unwrap_or((h, ""));
                     let (k, val) = (k.trim().to_ascii_lowercase(), val.trim());
