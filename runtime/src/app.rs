@@ -87,6 +87,8 @@ pub struct Post {
     pub value: Value,
     /// The publisher's MOOS name (empty: filled with the posting app's name).
     pub source: String,
+    /// Auxiliary source text (`src_aux`; e.g. the helm's `HELM_VAR_INIT`), usually empty.
+    pub aux: String,
 }
 
 impl Post {
@@ -96,7 +98,14 @@ impl Post {
             key: key.into(),
             value,
             source: String::new(),
+            aux: String::new(),
         }
+    }
+
+    /// Builder: sets the auxiliary source text.
+    pub fn with_aux(mut self, aux: impl Into<String>) -> Post {
+        self.aux = aux.into();
+        self
     }
 
     /// A double post: `Post::double("DESIRED_SPEED", 1.5)`.

@@ -174,6 +174,9 @@ impl<H: DbHost> Bus<H> {
                         m.sval = Bytes::copy_from_slice(b);
                     }
                 }
+                if !p.aux.is_empty() {
+                    m.src_aux = Bytes::copy_from_slice(p.aux.as_bytes());
+                }
                 m.src = if p.source.is_empty() {
                     default_src.clone()
                 } else {
@@ -265,8 +268,13 @@ mod tests {
             bus.connect("a", 100.0),
             Err(BusError::NameTaken("a".into()))
         );
-        bus.publish(a, &[Post::double("X", 1.0)], "a", 100.0)
-            .unwrap();
+        bus.publish(
+            a,
+            &[Post::double("X", 1.0).with_aux("HELM_VAR_INIT")],
+            "a",
+            100.0,
+        )
+        .unwrap();
         // Registering after the write replays the current value.
         bus.subscribe(b, &Subscription::var("X"), 100.5).unwrap();
         bus.subscribe(b, &Subscription::var("S_*"), 100.5).unwrap();
@@ -294,6 +302,8 @@ mod tests {
             ]
         );
         assert_eq!(mail[0].source, "a");
+        assert_eq!(mail[0].source_aux, "HELM_VAR_INIT");
+        assert_eq!(mail[1].source_aux, "");
         assert_eq!(mail[0].community, "test");
         assert_eq!(bus.current("Y").unwrap().value, Value::Double(3.0));
         assert!(bus.current("NOPE").is_none());

@@ -223,6 +223,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
             key: poke.key,
             value: poke.value,
             source: "uPokeDB".to_string(),
+            aux: String::new(),
         };
         match poke.at {
             PokeAt::Time(t) => {
