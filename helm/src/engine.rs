@@ -967,10 +967,10 @@ impl Helm {
         }
     }
 
+    /// Posts one flag (reference §4.5, MOOS `postFlag`): the `[if]` condition is checked now,
+    /// macros are expanded, a lone numeric macro posts a double; `#all`/`#group` destinations
+    /// go off-board as `NODE_MESSAGE_LOCAL` (the `+` forms are also posted locally).
     fn post_flag(&mut self, i: usize, f: &behaviors::Flag, repeatable: bool) {
-        if !f.is_local() {
-            return;
-        }
         if let Some(c) = &f.condition {
             let info = &self.info;
             if !c.evaluate(&|n: &str| info.condition_value(n)) {
@@ -1000,7 +1000,51 @@ impl Helm {
         } else {
             PostKey::Var
         };
-        self.queue(i, &f.var, value, &key);
+        let dest = f.dest.as_str();
+        if matches!(dest, "" | "all+" | "group+") {
+            self.queue(i, &f.var, value.clone(), &key);
+        }
+        if matches!(dest, "all" | "all+" | "group" | "group+") {
+            let group = if dest.starts_with("group") {
+                let var = format!("{}_NAV_GROUP", self.ownship.to_ascii_uppercase());
+                Some(self.info.text(&var).unwrap_or("").to_string())
+            } else {
+                None
+            };
+            let spec = self.node_message(i, &f.var, &value, group.as_deref());
+            let key = match key {
+                PostKey::Repeatable => PostKey::Repeatable,
+                _ => PostKey::Tag(""),
+            };
+            self.queue(i, "NODE_MESSAGE_LOCAL", Value::Str(spec), &key);
+        }
+    }
+
+    /// A `NODE_MESSAGE` spec (MOOS `NodeMessage::getSpec`) from this helm's behaviour `i`.
+    fn node_message(&self, i: usize, var: &str, value: &Value, group: Option<&str>) -> String {
+        let mut s = format!("src_node={},dest_node=all", self.ownship);
+        if let Some(g) = group.filter(|g| !g.is_empty()) {
+            s.push_str(",dest_group=");
+            s.push_str(g);
+        }
+        s.push_str(&format!(
+            ",src_app={},src_bhv={},var_name={var}",
+            self.app_name, self.slots[i].common.name
+        ));
+        match value {
+            Value::Num(x) => {
+                s.push_str(",double_val=");
+                compact(&mut s, *x, 6);
+            }
+            Value::Str(v) if v.contains(',') && !(v.starts_with('"') && v.ends_with('"')) => {
+                s.push_str(&format!(",string_val=\"{v}\""));
+            }
+            Value::Str(v) => {
+                s.push_str(",string_val=");
+                s.push_str(v);
+            }
+        }
+        s
     }
 
     fn expand_macros(&mut self, i: usize, text: &str, out: &mut String) {

@@ -719,3 +719,44 @@ Behavior = BHV_Waypoint
     );
     assert_ne!(next, xy, "the next point is the following vertex");
 }
+
+#[test]
+fn offboard_flags_become_node_messages() {
+    let bhv = "\
+Behavior = BHV_ConstantHeading
+{
+  name = h
+  heading = 0
+  duration = no-time-limit
+  runflag = #all LOITER_NOW = true
+  runflag = #group+ TEAM = a,b
+  runflag = LOCAL = 1 [if] (ARMED = yes)
+}
+Behavior = BHV_ConstantSpeed
+{
+  name = s
+  speed = 1
+  duration = no-time-limit
+}
+";
+    let mut s = Script::new(helm_with(&[("start_engaged", "true")], bhv));
+    s.step(0.0, 0.0, 0.0, 0.0, &[("ABE_NAV_GROUP", "red")]);
+    let posts = s.step(1.0, 0.0, 0.0, 0.0, &[]);
+    let msgs: Vec<&str> = all(&posts, "NODE_MESSAGE_LOCAL")
+        .iter()
+        .map(|v| v.as_str().unwrap())
+        .collect();
+    assert_eq!(
+        msgs,
+        [
+            "src_node=abe,dest_node=all,src_app=pHelmIvP,src_bhv=h,var_name=LOITER_NOW,string_val=true",
+            "src_node=abe,dest_node=all,dest_group=red,src_app=pHelmIvP,src_bhv=h,var_name=TEAM,string_val=\"a,b\"",
+        ]
+    );
+    assert!(
+        get(&posts, "LOITER_NOW").is_none(),
+        "#all is off-board only"
+    );
+    assert!(is_str(get(&posts, "TEAM"), "a,b"), "#group+ is also local");
+    assert!(get(&posts, "LOCAL").is_none(), "[if] condition false");
+}
