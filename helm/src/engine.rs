@@ -186,6 +186,10 @@ pub struct Helm {
     domain_str: String,
     lists: [String; 3],
     bhv_count: Option<usize>,
+    bhv_count_ever: Option<usize>,
+    state_vars: String,
+    completed_pending: Option<bool>,
+    completed_count: Option<usize>,
     update_results: Vec<String>,
     messages: Vec<(usize, Message)>,
     warnings: u64,
@@ -373,6 +377,10 @@ impl Helm {
             domain_str: String::new(),
             lists: Default::default(),
             bhv_count: None,
+            bhv_count_ever: None,
+            state_vars: String::new(),
+            completed_pending: None,
+            completed_count: None,
             update_results: Vec::new(),
             messages: Vec::new(),
             warnings: 0,
@@ -909,6 +917,12 @@ impl Helm {
             self.bhv_count = Some(n);
             self.notify("IVPHELM_BHV_CNT", Value::Num(n as f64), "");
         }
+        // No spawning: every behaviour ever is one of the file's.
+        let ever = self.slots.len().max(self.bhv_count_ever.unwrap_or(0));
+        if self.bhv_count_ever != Some(ever) {
+            self.bhv_count_ever = Some(ever);
+            self.notify("IVPHELM_BHV_CNT_EVER", Value::Num(ever as f64), "");
+        }
         self.notify("IVPHELM_ITER", Value::Num(iter as f64), "");
         let messages = std::mem::take(&mut self.messages);
         for (i, m) in &messages {
@@ -927,7 +941,19 @@ impl Helm {
         }
         self.messages = messages;
         self.messages.clear();
+        let vars = self.state_space_vars();
+        if vars != self.state_vars {
+            self.notify("IVPHELM_STATEVARS", Value::Str(vars.clone()), "");
+            self.state_vars = vars;
+        }
+        let pending = self.slots.iter().any(|s| s.state == RunState::Completed);
+        if self.completed_pending != Some(pending) {
+            self.completed_pending = Some(pending);
+            let v = if pending { "true" } else { "false" };
+            self.notify("IVPHELM_COMPLETED_PENDING", Value::Str(v.into()), "");
+        }
         // Completed behaviours leave the set (reference §4.4).
+        let mut removed = 0;
         let mut k = 0;
         while k < self.slots.len() {
             if self.slots[k].state == RunState::Completed {
@@ -939,10 +965,46 @@ impl Helm {
                     s.common.name, s.common.kind
                 ));
                 self.notify("IVPHELM_LIFE_EVENT", Value::Str(ev), "");
+                removed += 1;
             } else {
                 k += 1;
             }
         }
+        if self.completed_count != Some(removed) {
+            self.completed_count = Some(removed);
+            self.notify("IVPHELM_COMPLETED_COUNT", Value::Num(removed as f64), "");
+        }
+    }
+
+    /// The variables of the behaviours' state space (MOOS `getStateSpaceVars`): condition
+    /// variables and the variables of run, runx, idle, end, active and inactive flags,
+    /// comma-separated, each once, in behaviour order.
+    fn state_space_vars(&self) -> String {
+        let mut out: Vec<&str> = Vec::new();
+        for s in &self.slots {
+            for (_, c) in &s.common.conditions {
+                for v in c.variables() {
+                    if !out.contains(&v) {
+                        out.push(v);
+                    }
+                }
+            }
+            for kind in [
+                FlagKind::Run,
+                FlagKind::Runx,
+                FlagKind::Idle,
+                FlagKind::End,
+                FlagKind::Active,
+                FlagKind::Inactive,
+            ] {
+                for f in s.common.flags(kind) {
+                    if !out.contains(&f.var.as_str()) {
+                        out.push(&f.var);
+                    }
+                }
+            }
+        }
+        out.join(",")
     }
 
     /// Queues a behaviour message with the duplicate-filter key of `key`.

@@ -407,6 +407,10 @@ fn constant_heading_default_duration_zero_completes_at_once() {
     let summary = get(&posts, "IVPHELM_SUMMARY").unwrap().as_str().unwrap();
     assert!(summary.contains("completed_bhvs=h$1.00$n/a"), "{summary}");
     assert!(s.helm.behavior_names().is_empty());
+    assert!(is_str(get(&posts, "IVPHELM_COMPLETED_PENDING"), "true"));
+    assert_eq!(get(&posts, "IVPHELM_COMPLETED_COUNT"), Some(&Value::Num(1.0)));
+    assert!(is_str(get(&posts, "IVPHELM_STATEVARS"), "DONE"));
+    assert_eq!(get(&posts, "IVPHELM_BHV_CNT_EVER"), Some(&Value::Num(1.0)));
 }
 
 #[test]
