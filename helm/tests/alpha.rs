@@ -78,6 +78,14 @@ fn alpha_mission_posts_the_phelmivp_sequence() {
     let posts = rig.step(&[Mail::new("MOOS_MANUAL_OVERRIDE", "false", t).from("uPokeDB")]);
     assert!(is_str(get(&posts, "IVPHELM_STATE"), "DRIVE"));
     assert_eq!(rig.helm.state(), HelmState::Drive);
+    // First decision iteration: configflag CRUISE_SPD = $[SPEED], a lone numeric macro, is a
+    // double; the survey waits for DEPLOY (its failed condition in BHV_STATUS).
+    assert_eq!(get(&posts, "CRUISE_SPD"), Some(&Value::Num(3.0)));
+    assert!(
+        all(&posts, "BHV_STATUS").iter().any(
+            |v| v.as_str() == Some("name=waypt_survey,pc=DEPLOY = true,state=idle,updates=0/0")
+        )
+    );
 
     // --- DEPLOY=false: nothing to do. First iteration is the grace one, zeros on the second.
     assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "NothingToDo"));
@@ -102,7 +110,7 @@ fn alpha_mission_posts_the_phelmivp_sequence() {
     let posts = rig.step(&[Mail::new("DEPLOY", "true", t).from("uPokeDB")]);
     assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "clear"));
     assert!(is_str(get(&posts, "IVPHELM_BHV_ACTIVE"), "waypt_survey"));
-    assert!(is_str(get(&posts, "CRUISE_SPD"), "3") || get(&posts, "CRUISE_SPD").is_none());
+    assert!(get(&posts, "CRUISE_SPD").is_none(), "configflags once");
     assert_eq!(all(&posts, "INFO").len(), 3, "three activeflags");
     assert!(is_str(get(&posts, "INFO"), "alpha"));
     let hdg = get(&posts, "DESIRED_HEADING").unwrap().as_num().unwrap();

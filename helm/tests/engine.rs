@@ -408,7 +408,10 @@ fn constant_heading_default_duration_zero_completes_at_once() {
     assert!(summary.contains("completed_bhvs=h$1.00$n/a"), "{summary}");
     assert!(s.helm.behavior_names().is_empty());
     assert!(is_str(get(&posts, "IVPHELM_COMPLETED_PENDING"), "true"));
-    assert_eq!(get(&posts, "IVPHELM_COMPLETED_COUNT"), Some(&Value::Num(1.0)));
+    assert_eq!(
+        get(&posts, "IVPHELM_COMPLETED_COUNT"),
+        Some(&Value::Num(1.0))
+    );
     assert!(is_str(get(&posts, "IVPHELM_STATEVARS"), "DONE"));
     assert_eq!(get(&posts, "IVPHELM_BHV_CNT_EVER"), Some(&Value::Num(1.0)));
 }
@@ -763,4 +766,13 @@ Behavior = BHV_ConstantSpeed
     );
     assert!(is_str(get(&posts, "TEAM"), "a,b"), "#group+ is also local");
     assert!(get(&posts, "LOCAL").is_none(), "[if] condition false");
+}
+
+#[test]
+fn the_helm_can_move_between_threads() {
+    fn assert_send<T: Send>(_: &T) {}
+    let helm = helm_with(&[], HEADING_BHV);
+    assert_send(&helm);
+    let h = std::thread::spawn(move || helm.state()).join().unwrap();
+    assert_eq!(h, HelmState::Park);
 }
