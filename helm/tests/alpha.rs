@@ -180,6 +180,11 @@ fn alpha_mission_posts_the_phelmivp_sequence() {
     );
     assert!((rig.vehicle.x).hypot(rig.vehicle.y + 20.0) < 9.0);
     assert!(rig.t > survey_end);
+    assert!(
+        is_str(get(&posts, "IVPHELM_BHV_ACTIVE"), ""),
+        "no behaviour active any more"
+    );
+    assert!(is_str(get(&posts, "IVPHELM_BHV_RUNNING"), "waypt_return"));
 
     // --- Then nothing to do: the completing iteration is the grace one, zeros follow.
     assert!(
@@ -194,12 +199,14 @@ fn alpha_mission_posts_the_phelmivp_sequence() {
     );
     assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Num(0.0)));
     assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(0.0)));
+    // DEPLOY=false (an endflag) now makes every behaviour idle.
+    assert!(is_str(get(&posts, "IVPHELM_BHV_RUNNING"), ""));
+    assert!(is_str(
+        get(&posts, "IVPHELM_BHV_IDLE"),
+        "waypt_survey,waypt_return,const_speed"
+    ));
     let posts = rig.step(&[]);
     assert!(get(&posts, "DESIRED_SPEED").is_none(), "zeros posted once");
-    assert!(
-        is_str(get(&posts, "IVPHELM_BHV_ACTIVE"), "")
-            || get(&posts, "IVPHELM_BHV_ACTIVE").is_none()
-    );
     assert_eq!(rig.helm.info().text("MISSION"), Some("complete"));
 }
 
