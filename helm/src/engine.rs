@@ -110,7 +110,7 @@ struct Slot {
     bad_updates: u32,
     prev_update: String,
     pcs: usize,
-    ctr: u32,
+    ctr: [u32; 6],
     now_start: Option<f64>,
 }
 
@@ -301,7 +301,7 @@ impl Helm {
                 bad_updates: 0,
                 prev_update: String::new(),
                 pcs: 0,
-                ctr: 0,
+                ctr: [0; 6],
                 now_start: None,
             };
             for p in &spec.params {
@@ -1113,6 +1113,18 @@ impl Helm {
         let now = self.info.now_time();
         let info = &self.info;
         let slot = &mut self.slots[i];
+        // Each counter macro present (in its `$[..]` form) counts once per expansion, and all
+        // its occurrences get the same value (MOOS `expandCtrMacro`).
+        for (k, m) in [
+            "$[CTR]", "$[CTR1]", "$[CTR2]", "$[CTR3]", "$[CTR4]", "$[CTR5]",
+        ]
+        .iter()
+        .enumerate()
+        {
+            if text.contains(m) {
+                slot.ctr[k] += 1;
+            }
+        }
         let ownship = &self.ownship;
         let nav = |v: &str| info.num(v).unwrap_or(0.0);
         expand(text, out, |name, o| {
@@ -1123,22 +1135,22 @@ impl Helm {
                 "OWNSHIP" => o.push_str(ownship),
                 "BHVNAME" => o.push_str(&slot.common.name),
                 "BHVTYPE" => o.push_str(&slot.common.kind),
-                "PWT" => compact(o, slot.common.pwt, 2),
+                "PWT" => compact(o, slot.common.pwt, MACRO_DIGITS),
                 "CONTACT" => {}
-                "UTC" => compact(o, now, 2),
-                "OSX" => compact(o, nav("NAV_X"), 2),
-                "OSY" => compact(o, nav("NAV_Y"), 2),
-                "OSH" => compact(o, geometry_angle(nav("NAV_HEADING")), 2),
-                "OSV" => compact(o, nav("NAV_SPEED"), 2),
-                "DUR_RUN_TIME" => compact(o, slot.clock.running_time, 2),
-                "DUR_IDLE_TIME" => compact(o, slot.clock.idle_time, 2),
+                "UTC" => compact(o, now, MACRO_DIGITS),
+                "OSX" => compact(o, nav("NAV_X"), MACRO_DIGITS),
+                "OSY" => compact(o, nav("NAV_Y"), MACRO_DIGITS),
+                "OSH" => compact(o, geometry_angle(nav("NAV_HEADING")), MACRO_DIGITS),
+                "OSV" => compact(o, nav("NAV_SPEED"), MACRO_DIGITS),
+                "DUR_RUN_TIME" => compact(o, slot.clock.running_time, MACRO_DIGITS),
+                "DUR_IDLE_TIME" => compact(o, slot.clock.idle_time, MACRO_DIGITS),
                 "NOW" => {
                     let t0 = *slot.now_start.get_or_insert(now);
-                    compact(o, now - t0, 2)
+                    compact(o, now - t0, MACRO_DIGITS)
                 }
-                "CTR" => {
-                    slot.ctr += 1;
-                    o.push_str(&slot.ctr.to_string());
+                "CTR" | "CTR1" | "CTR2" | "CTR3" | "CTR4" | "CTR5" => {
+                    let k = name[3..].parse::<usize>().unwrap_or(0);
+                    o.push_str(&slot.ctr[k].to_string());
                 }
                 _ => return false,
             }
@@ -1479,6 +1491,10 @@ impl Helm {
         ipf
     }
 }
+
+/// Decimals of numeric macro values (MOOS `macroExpand(str, macro, double)`, 3 by default;
+/// trailing zeros dropped).
+const MACRO_DIGITS: usize = 3;
 
 fn geometry_angle(h: f64) -> f64 {
     let a = h % 360.0;

@@ -776,3 +776,43 @@ fn the_helm_can_move_between_threads() {
     let h = std::thread::spawn(move || helm.state()).join().unwrap();
     assert_eq!(h, HelmState::Park);
 }
+
+#[test]
+fn counter_and_position_macros() {
+    let bhv = "\
+initialize GO = false
+Behavior = BHV_ConstantHeading
+{
+  name = h
+  condition = GO = true
+  heading = 0
+  duration = no-time-limit
+  runflag = RUN_NUM = $[CTR]
+  runflag = OTHER = $[CTR2]/$[CTR2]
+  runflag = WHERE = $[OSX],$(OSY) h=$[OSH] v=$[OSV] $[UNKNOWN]
+}
+Behavior = BHV_ConstantSpeed
+{
+  name = s
+  speed = 1
+  duration = no-time-limit
+}
+";
+    let mut s = Script::new(helm_with(&[("start_engaged", "true")], bhv));
+    s.step(0.0, 0.0, 0.0, 0.0, &[]);
+    s.step(1.0, 0.0, 0.0, 0.0, &[]);
+    let posts = s.step(2.0, 12.3456, -7.5, 370.0, &[("GO", "true")]);
+    assert_eq!(get(&posts, "RUN_NUM"), Some(&Value::Num(1.0)));
+    assert!(
+        is_str(get(&posts, "OTHER"), "1/1"),
+        "one increment per expansion"
+    );
+    assert!(
+        is_str(get(&posts, "WHERE"), "12.346,-7.5 h=10 v=1 $[UNKNOWN]"),
+        "{:?}",
+        get(&posts, "WHERE")
+    );
+    s.step(3.0, 0.0, 0.0, 0.0, &[("GO", "false")]);
+    let posts = s.step(4.0, 0.0, 0.0, 0.0, &[("GO", "true")]);
+    assert_eq!(get(&posts, "RUN_NUM"), Some(&Value::Num(2.0)));
+}
