@@ -3,6 +3,18 @@
 //! Pure and deterministic: [`Helm::on_mail`] queues mail, [`Helm::iterate`] takes the current
 //! time, applies the mail and returns the postings in the order pHelmIvP makes them. Nothing
 //! here reads a clock; CPU-time fields pHelmIvP measures are posted as 0.
+//!
+//! Driving it from a bus (as `coug run` will): subscribe to [`Helm::subscriptions`]; each
+//! tick, hand the helm the mail received since the last tick, call `iterate(now)`, publish the
+//! postings (with their `aux` as the MOOS source-aux), and deliver the helm's own postings
+//! back to it like any other subscriber (source [`APP_NAME`], or the name given to
+//! [`Helm::with_app_name`]): pHelmIvP relies on seeing its own `IVPHELM_STATE` (deferred
+//! `initialize_` lines) and on flags it posts reaching other behaviours' conditions via the
+//! info buffer, which it updates directly.
+//!
+//! Not modelled: standby helms, `goals_mandatory` and behaviour spawning (`templating =
+//! spawn`) are refused at configuration (MALCONFIG, never silently different); `RESTART_HELM`
+//! and node reports (the contact ledger) only reach the info buffer.
 
 use std::collections::HashMap;
 
