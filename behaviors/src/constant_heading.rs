@@ -4,7 +4,7 @@ use ivp::{IvpFunction, ZaicPeak};
 
 use crate::behavior::{Behavior, Ctx, Out, ParamError};
 use crate::common::Common;
-use crate::param::{number, number_min};
+use crate::param::number;
 
 /// Prefers one heading: ZAIC_PEAK with value wrap (summit `heading`, `peakwidth` 10,
 /// `basewidth` 170, `summitdelta` 25). Default `duration` 0, as in MOOS (reference §5.5): it
@@ -71,11 +71,17 @@ impl Behavior for ConstantHeading {
                     _ => h,
                 };
             }
-            "peakwidth" => self.peakwidth = number_min(param, value, 0.0)?,
-            "basewidth" => self.basewidth = number_min(param, value, 0.0)?,
+            // As in MOOS, negative widths clip to 0.
+            "peakwidth" => self.peakwidth = number(param, value)?.max(0.0),
+            "basewidth" => self.basewidth = number(param, value)?.max(0.0),
             "summitdelta" => self.summitdelta = number(param, value)?.clamp(0.0, 100.0),
             "complete_thresh" => self.complete_thresh = number(param, value)?,
-            "heading_mismatch_var" => self.mismatch_var = value.trim().to_string(),
+            "heading_mismatch_var" => {
+                if value.trim().contains(char::is_whitespace) {
+                    return Err(ParamError::bad(param, value, "a variable name"));
+                }
+                self.mismatch_var = value.trim().to_string();
+            }
             _ => return Err(ParamError::unknown(param)),
         }
         Ok(())

@@ -4,7 +4,7 @@ use ivp::{IvpFunction, ZaicPeak};
 
 use crate::behavior::{Behavior, Ctx, Out, ParamError};
 use crate::common::Common;
-use crate::param::{number, number_min};
+use crate::param::number;
 
 /// Prefers one speed: ZAIC_PEAK(summit `speed`, `peakwidth` 0, `basewidth` 0.2,
 /// `summitdelta` 0). Its default `duration` is 0 (reference §5.5), so without a `duration` it
@@ -54,18 +54,21 @@ impl Behavior for ConstantSpeed {
         param: &str,
         value: &str,
         _common: &mut Common,
-        ctx: &Ctx<'_>,
+        _ctx: &Ctx<'_>,
     ) -> Result<(), ParamError> {
         match param {
-            "speed" => {
-                let v = number_min(param, value, 0.0)?;
-                let max = ctx.domain.get("speed").map_or(v, |d| d.high());
-                self.speed = v.min(max);
-            }
-            "peakwidth" => self.peakwidth = number_min(param, value, 0.0)?,
-            "basewidth" => self.basewidth = number_min(param, value, 0.0)?,
+            // As in MOOS, a negative speed clips to 0.
+            "speed" => self.speed = number(param, value)?.max(0.0),
+            // As in MOOS, negative widths clip to 0.
+            "peakwidth" => self.peakwidth = number(param, value)?.max(0.0),
+            "basewidth" => self.basewidth = number(param, value)?.max(0.0),
             "summitdelta" => self.summitdelta = number(param, value)?.clamp(0.0, 100.0),
-            "speed_mismatch_var" => self.mismatch_var = value.trim().to_string(),
+            "speed_mismatch_var" => {
+                if value.trim().contains(char::is_whitespace) {
+                    return Err(ParamError::bad(param, value, "a variable name"));
+                }
+                self.mismatch_var = value.trim().to_string();
+            }
             _ => return Err(ParamError::unknown(param)),
         }
         Ok(())
@@ -120,6 +123,10 @@ mod tests {
         b.set_param("basewidth", "0.5", &mut c, &ctx).unwrap();
         b.set_param("speed_mismatch_var", "SPD_MISS", &mut c, &ctx)
             .unwrap();
+        assert!(
+            b.set_param("speed_mismatch_var", "A B", &mut c, &ctx)
+                .is_err()
+        );
         assert!(b.set_param("speed", "fast", &mut c, &ctx).is_err());
         let mut out = Out::default();
         let f = b.on_run(&ctx, &mut out).unwrap();
