@@ -128,6 +128,9 @@ mod tests {
                 .is_err()
         );
         assert!(b.set_param("speed", "fast", &mut c, &ctx).is_err());
+        let mut neg = ConstantSpeed::new();
+        neg.set_param("speed", "-1", &mut c, &ctx).unwrap();
+        assert_eq!(neg.speed, 0.0, "negative speeds clip to 0 as in MOOS");
         let mut out = Out::default();
         let f = b.on_run(&ctx, &mut out).unwrap();
         // Index 15 = 1.5 m/s is the summit; 0.5 m/s away utility reaches 0.
