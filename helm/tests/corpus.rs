@@ -1,0 +1,88 @@
+//! Every `.bhv` file of the mission corpus configures a helm without panicking; the ones that
+//! use only implemented behaviours and need no nsplug values run a few iterations.
+
+mod common;
+
+use common::shared;
+use helm::config::Globals;
+use helm::{Helm, Mail};
+use mission::source::SourceMap;
+
+#[test]
+fn every_corpus_behavior_file_configures() {
+    let root = shared().join("corpus/moos-ivp-missions");
+    let mut files = Vec::new();
+    let mut stack = vec![root.clone()];
+    while let Some(dir) = stack.pop() {
+        for e in std::fs::read_dir(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display())) {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if p.extension().is_some_and(|x| x == "bhv") {
+                files.push(p);
+            }
+        }
+    }
+    files.sort();
+    assert!(
+        files.len() > 20,
+        "expected the corpus .bhv files, found {}",
+        files.len()
+    );
+    let globals = Globals {
+        lat_origin: Some("0".into()),
+        long_origin: Some("0".into()),
+        community: Some("abe".into()),
+    };
+    let params = [
+        ("domain", "course:0:359:360"),
+        ("domain", "speed:0:5:26"),
+        ("domain", "depth:0:500:101:optional"),
+        ("start_engaged", "true"),
+    ];
+    let mut clean = Vec::new();
+    for f in &files {
+        let text = std::fs::read_to_string(f).unwrap();
+        let bhv = mission::bhv::parse_bhv(&SourceMap::from_text(&f.display().to_string(), &text));
+        let mut helm = Helm::from_parsed(&params, &globals, &bhv);
+        if helm.config_errors().is_empty() {
+            clean.push(f.strip_prefix(&root).unwrap().display().to_string());
+        }
+        // The only acceptable reasons: a behaviour type coug does not implement, nsplug macros
+        // left unexpanded (this test does not run nsplug), or both branches of an nsplug
+        // `#ifdef` defining the same behaviour. Every real parameter value is accepted.
+        for e in helm.config_errors() {
+            let m = e.to_string();
+            assert!(
+                m.contains("unknown behavior type")
+                    || m.contains("$(")
+                    || m.contains("duplicate behavior name"),
+                "{m}"
+            );
+        }
+        // Malconfigured or not, iterating with mail never panics.
+        for k in 0..8 {
+            let t = f64::from(k) * 0.5;
+            helm.on_mail(&[
+                Mail::new("NAV_X", 10.0, t),
+                Mail::new("NAV_Y", -20.0, t),
+                Mail::new("NAV_HEADING", 90.0, t),
+                Mail::new("NAV_SPEED", 1.0, t),
+                Mail::new("NAV_DEPTH", 3.0, t),
+                Mail::new("DEPLOY", "true", t),
+                Mail::new("MOOS_MANUAL_OVERRIDE", "false", t),
+            ]);
+            helm.iterate(t);
+        }
+    }
+    for expected in [
+        "s1_alpha/alpha.bhv",
+        "s2_bravo/bravo.bhv",
+        "s3_charlie/charlie.bhv",
+    ] {
+        assert!(
+            clean.iter().any(|c| c == expected),
+            "{expected} not in {clean:?}"
+        );
+    }
+}
