@@ -7,6 +7,7 @@
 //! - [`scheduler`]: runs every app at its own AppTick, with pokes and an `until` condition;
 //! - [`summary`]: behaviour lists of IVPHELM_SUMMARY and run totals read from an alog;
 //! - [`timer_script`]: the built-in uTimerScript;
+//! - [`helm`]: the helm engine (pHelmIvP) as an app;
 //! - [`logger`]: the built-in pLogger, writing alog files through the `alog` crate;
 //! - [`plot`]: track and depth plots of an alog as SVG or PNG (`coug plot`);
 //! - [`vehicle`]: the simulator, marine PID and node reporter of the `vehicle` crate as apps.
@@ -19,6 +20,7 @@ pub mod antler;
 pub mod app;
 pub mod bus;
 pub mod clock;
+pub mod helm;
 pub mod logger;
 pub mod plot;
 pub mod scheduler;

@@ -406,6 +406,28 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
         Ok(self.advance(end)?.unwrap_or(Outcome::MaxTime { time: end }))
     }
 
+    /// Delivers the mail still waiting to every running app (on_mail only, no iterate),
+    /// at the current time. Call it when a run ends, so the logger records the posts of
+    /// the last event (such as the one that met the `until` condition). Posts the apps
+    /// make in reply are published.
+    pub fn deliver_pending(&mut self) -> Result<(), BusError> {
+        let now = self.now;
+        for i in 0..self.slots.len() {
+            if self.slots[i].done {
+                continue;
+            }
+            self.mail.clear();
+            self.posts.clear();
+            let slot = &mut self.slots[i];
+            self.bus.fetch(slot.id, now, &mut self.mail)?;
+            if !self.mail.is_empty() {
+                slot.app.on_mail(&self.mail, now, &mut self.posts);
+                Self::publish(&mut self.bus, slot, &self.posts, now)?;
+            }
+        }
+        Ok(())
+    }
+
     fn step(&mut self, i: usize, now: f64) -> Result<(), BusError> {
         self.mail.clear();
         self.posts.clear();

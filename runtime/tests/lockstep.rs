@@ -104,8 +104,12 @@ fn run(until: &str, max_time: f64) -> Run {
         .unwrap();
     s.set_until(parse_condition(until).unwrap());
     let outcome = s.run(max_time).unwrap();
-    // One more logger pass is not needed: the logger iterates at 5 Hz and the run ends on
-    // an event; what it has written so far is the log.
+    let before = buf.contents().len();
+    s.deliver_pending().unwrap();
+    assert!(
+        buf.contents().len() > before,
+        "the last posts reach the log"
+    );
     let go = s.current("GO");
     Run {
         outcome,
@@ -133,6 +137,15 @@ fn until_ends_the_run_when_the_poke_makes_it_true() {
     assert_eq!(r.go, Some(Value::text("true")));
     let r = run("DOUBLE >= 20", 60.0);
     assert_eq!(r.outcome, Outcome::ConditionMet { time: START + 2.5 });
+    // The post that met the condition is in the log (delivered after the run ended).
+    let log = alog::parse(std::str::from_utf8(&r.alog).unwrap()).unwrap();
+    let last = log
+        .entries
+        .iter()
+        .rev()
+        .find(|e| e.var == "DOUBLE")
+        .unwrap();
+    assert_eq!((last.time, last.value.as_f64()), (2.5, Some(20.0)));
 }
 
 #[test]
