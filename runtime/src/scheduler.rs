@@ -122,7 +122,9 @@ struct Slot {
     id: ClientId,
     name: String,
     status_var: String,
-    period: f64,
+    /// Iterations per second; tick `k` is at `origin + k / hz` (a division, so apps whose
+    /// ticks coincide exactly get the same time and tie by app order).
+    hz: f64,
     ticks: u64,
     origin: f64,
     next: f64,
@@ -188,7 +190,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
             self.bus.subscribe(id, &s, now)?;
             subscribed.insert(s.pattern);
         }
-        let period = 1.0 / app.app_tick();
+        let hz = app.app_tick();
         let mut published = BTreeSet::new();
         if self.started {
             self.posts.clear();
@@ -201,7 +203,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
             app,
             id,
             name,
-            period,
+            hz,
             ticks: 0,
             origin: now,
             next: now,
@@ -454,7 +456,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
         Self::publish(&mut self.bus, slot, &self.posts, now)?;
         let first = slot.ticks == 0;
         slot.ticks += 1;
-        slot.next = slot.origin + slot.ticks as f64 * slot.period;
+        slot.next = slot.origin + slot.ticks as f64 / slot.hz;
         if slot.app.finished() {
             slot.done = true;
             let id = slot.id;

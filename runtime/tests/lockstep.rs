@@ -273,3 +273,51 @@ fn an_app_added_during_a_run_starts_at_the_current_time() {
         ]
     );
 }
+
+/// Records the times it iterates, under a given name and rate.
+struct Ticker {
+    name: &'static str,
+    hz: f64,
+    log: Rc<RefCell<Vec<(&'static str, f64)>>>,
+}
+
+impl App for Ticker {
+    fn name(&self) -> &str {
+        self.name
+    }
+    fn app_tick(&self) -> f64 {
+        self.hz
+    }
+    fn iterate(&mut self, now: f64, _out: &mut Vec<Post>) {
+        self.log.borrow_mut().push((self.name, now));
+    }
+}
+
+#[test]
+fn coinciding_ticks_of_different_rates_tie_by_app_order() {
+    // 3 × (1/5) and 15 × (1/25) differ as floats; tick k is k / AppTick, so 0.6 s is one
+    // instant for both apps and the earlier-added app goes first.
+    let log: Rc<RefCell<Vec<(&'static str, f64)>>> = Rc::default();
+    let mut s = Scheduler::new(Bus::new("ties", 0.0), VirtualClock, 0.0);
+    s.set_status_posts(false);
+    for (name, hz) in [("slow", 5.0), ("fast", 25.0)] {
+        s.add_app(Box::new(Ticker {
+            name,
+            hz,
+            log: log.clone(),
+        }))
+        .unwrap();
+    }
+    s.advance(0.61).unwrap();
+    let at_06: Vec<&str> = log
+        .borrow()
+        .iter()
+        .filter(|(_, t)| *t == 0.6)
+        .map(|(n, _)| *n)
+        .collect();
+    assert_eq!(at_06, vec!["slow", "fast"]);
+    assert_eq!(
+        log.borrow().iter().filter(|(n, _)| *n == "fast").count(),
+        16
+    );
+}
