@@ -192,6 +192,75 @@ impl PeakComponent {
     }
 }
 
+/// Per-component constants of the ZAIC_PEAK formula, computed once per extraction.
+struct PeakConsts {
+    low: f64,
+    delta: f64,
+    sd: f64,
+    peak_slope: f64,
+    edge: f64,
+    base_slope: f64,
+    reach: f64,
+    above_around: f64,
+    below_around: f64,
+}
+
+impl PeakConsts {
+    fn new(c: &PeakComponent, v: &DomainVar) -> Self {
+        let (low, high, delta) = (v.low(), v.high(), v.delta());
+        let sd = if c.peakwidth > 0.0 {
+            c.summitdelta
+        } else {
+            0.0
+        };
+        let edge = c.maxutil - sd;
+        Self {
+            low,
+            delta,
+            sd,
+            peak_slope: if sd > 0.0 { sd / c.peakwidth } else { 0.0 },
+            edge,
+            base_slope: (edge - c.minutil) / c.basewidth,
+            reach: c.peakwidth + c.basewidth,
+            // Going round the seam costs one extra grid step.
+            above_around: (high - c.summit) + delta - low,
+            below_around: (c.summit - low) + delta + high,
+        }
+    }
+
+    /// Utility at grid index `ix` (as a float).
+    #[inline]
+    fn value(&self, c: &PeakComponent, ix: f64, wrap: bool) -> f64 {
+        let x = ix * self.delta + self.low;
+        let dist = if !wrap {
+            (c.summit - x).abs()
+        } else if c.summit > x {
+            lesser(x + self.above_around, c.summit - x)
+        } else {
+            lesser(self.below_around - x, x - c.summit)
+        };
+        let val = if dist <= c.peakwidth {
+            if self.sd > 0.0 {
+                c.maxutil - self.peak_slope * dist
+            } else {
+                c.maxutil
+            }
+        } else if dist <= self.reach {
+            self.edge - self.base_slope * (dist - c.peakwidth)
+        } else {
+            c.minutil
+        };
+        lesser(val, c.maxutil)
+    }
+}
+
+/// The smaller of two finite numbers (a plain compare: parameters are checked finite, so the
+/// NaN handling of `f64::min` is not needed in this per-point loop).
+#[inline]
+fn lesser(a: f64, b: f64) -> f64 {
+    if b < a { b } else { a }
+}
+
 /// A peaked preference around one or more summits, optionally wrapping (for course).
 ///
 /// ```
@@ -277,41 +346,10 @@ impl ZaicPeak {
 
     /// Utility of component `c` at grid index `ix`, from the ZAIC_PEAK formula.
     pub fn eval_component(&self, c: &PeakComponent, ix: u32) -> f64 {
-        let v = &self.var;
-        if ix >= v.points() {
+        if ix >= self.var.points() {
             return c.minutil;
         }
-        let delta = v.delta();
-        let x = f64::from(ix) * delta + v.low();
-        let dist = if !self.value_wrap {
-            (c.summit - x).abs()
-        } else {
-            // Going round the seam costs one extra grid step.
-            let (around, direct) = if c.summit > x {
-                ((x - v.low()) + (v.high() - c.summit) + delta, c.summit - x)
-            } else {
-                ((v.high() - x) + (c.summit - v.low()) + delta, x - c.summit)
-            };
-            around.min(direct)
-        };
-        let sd = if c.peakwidth > 0.0 {
-            c.summitdelta
-        } else {
-            0.0
-        };
-        let val = if dist <= c.peakwidth {
-            if sd > 0.0 {
-                c.maxutil - sd / c.peakwidth * dist
-            } else {
-                c.maxutil
-            }
-        } else if dist <= c.peakwidth + c.basewidth {
-            let edge = c.maxutil - sd;
-            edge - (edge - c.minutil) / c.basewidth * (dist - c.peakwidth)
-        } else {
-            c.minutil
-        };
-        val.min(c.maxutil)
+        PeakConsts::new(c, &self.var).value(c, f64::from(ix), self.value_wrap)
     }
 
     /// Utility at grid index `ix`, combining the components.
@@ -319,15 +357,40 @@ impl ZaicPeak {
         let mut it = self.components.iter().map(|c| self.eval_component(c, ix));
         let first = it.next().unwrap_or(0.0);
         match self.combine {
-            Combine::Max => it.fold(first, f64::max),
+            Combine::Max => it.fold(first, |a, b| if b > a { b } else { a }),
             Combine::Sum => it.fold(first, |a, b| a + b),
+        }
+    }
+
+    /// The utility of every grid index, combined over the components: the same numbers as
+    /// [`eval_point`](Self::eval_point), with the per-component constants computed once.
+    pub fn values(&self, out: &mut Vec<f64>) {
+        let n = self.var.points() as usize;
+        out.clear();
+        out.resize(n, 0.0);
+        for (ci, c) in self.components.iter().enumerate() {
+            let k = PeakConsts::new(c, &self.var);
+            for (ix, slot) in out.iter_mut().enumerate() {
+                let val = k.value(c, ix as f64, self.value_wrap);
+                *slot = match (ci, self.combine) {
+                    (0, _) => val,
+                    (_, Combine::Max) => {
+                        if val > *slot {
+                            val
+                        } else {
+                            *slot
+                        }
+                    }
+                    (_, Combine::Sum) => *slot + val,
+                };
+            }
         }
     }
 
     /// Builds the function.
     pub fn extract(&self) -> Result<IvpFunction, IvpError> {
-        let n = self.var.points();
-        let mut vals: Vec<f64> = (0..n).map(|i| self.eval_point(i)).collect();
+        let mut vals = Vec::new();
+        self.values(&mut vals);
         if self.summit_insist {
             for c in &self.components {
                 self.insist_summit(c, &mut vals);

@@ -325,3 +325,56 @@ fn hdg_replaces_a_bad_course_domain() {
     let f = z.extract().unwrap();
     assert_eq!(f.domain().vars()[0].points(), 360);
 }
+
+mod peak_values {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn component() -> impl Strategy<Value = PeakComponent> {
+        (
+            0.0f64..359.0,
+            0.0f64..60.0,
+            0.0f64..200.0,
+            0.0f64..50.0,
+            0.0f64..40.0,
+            50.0f64..150.0,
+        )
+            .prop_map(
+                |(summit, peakwidth, basewidth, summitdelta, minutil, maxutil)| PeakComponent {
+                    summit,
+                    peakwidth,
+                    basewidth,
+                    summitdelta,
+                    minutil,
+                    maxutil,
+                },
+            )
+    }
+
+    proptest! {
+        /// The fast per-index values agree exactly with the point formula.
+        #[test]
+        fn values_match_eval_point(
+            comps in prop::collection::vec(component(), 1..4),
+            wrap in any::<bool>(),
+            sum in any::<bool>(),
+        ) {
+            let d = course();
+            let mut z = ZaicPeak::new(&d, "course").unwrap();
+            let c0 = comps[0];
+            z.set_params(c0.summit, c0.peakwidth, c0.basewidth, c0.summitdelta, c0.minutil, c0.maxutil)
+                .unwrap();
+            for c in &comps[1..] {
+                z.add_component(*c).unwrap();
+            }
+            z.set_value_wrap(wrap);
+            z.set_combine(if sum { Combine::Sum } else { Combine::Max });
+            let mut vals = Vec::new();
+            z.values(&mut vals);
+            prop_assert_eq!(vals.len(), 360);
+            for (ix, v) in vals.iter().enumerate() {
+                prop_assert_eq!(v.to_bits(), z.eval_point(ix as u32).to_bits(), "ix {}", ix);
+            }
+        }
+    }
+}
