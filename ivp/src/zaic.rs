@@ -885,10 +885,12 @@ impl ZaicHdg {
         } else {
             !(s > x && s - x < 180.0)
         };
+        // both angles lie in [0, 360), so one wrap suffices (equal to `rem_euclid(360)`)
+        let wrap = |a: f64| if a < 0.0 { a + 360.0 } else { a };
         let (delta, delta_util, dist) = if starboard {
-            (self.hdelta, self.hdelta_util, (x - s).rem_euclid(360.0))
+            (self.hdelta, self.hdelta_util, wrap(x - s))
         } else {
-            (self.ldelta, self.ldelta_util, (s - x).rem_euclid(360.0))
+            (self.ldelta, self.ldelta_util, wrap(s - x))
         };
         if dist == delta {
             delta_util
