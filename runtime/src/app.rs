@@ -214,6 +214,38 @@ pub fn app_tick_of(config: Option<&ProcessConfig>) -> f64 {
     }
 }
 
+/// CMOOSApp's `<APP>_STATUS` text (cpu and memory are not measured: 0):
+/// `AppErrorFlag=false,Uptime=..,cpuload=0,memory_kb=0,memory_max_kb=0,MOOSName=..,
+/// Publishing="A,B,",Subscribing="C,"`.
+///
+/// ```
+/// let s = runtime::app::status_text("pX", 2.5, &["A".to_string()].into(), &Default::default());
+/// assert!(s.ends_with("MOOSName=pX,Publishing=\"A,\",Subscribing=\"\""));
+/// ```
+pub fn status_text(
+    name: &str,
+    uptime: f64,
+    published: &std::collections::BTreeSet<String>,
+    subscribed: &std::collections::BTreeSet<String>,
+) -> String {
+    let mut s = String::from("AppErrorFlag=false,Uptime=");
+    alog::fmt_g(&mut s, uptime, 6);
+    s.push_str(",cpuload=0,memory_kb=0,memory_max_kb=0,MOOSName=");
+    s.push_str(name);
+    s.push_str(",Publishing=\"");
+    for p in published {
+        s.push_str(p);
+        s.push(',');
+    }
+    s.push_str("\",Subscribing=\"");
+    for p in subscribed {
+        s.push_str(p);
+        s.push(',');
+    }
+    s.push('"');
+    s
+}
+
 /// True for config values MOOS reads as true (`true`, `1`, `yes`, `on`; any case).
 pub fn is_true(s: &str) -> bool {
     matches!(

@@ -480,26 +480,13 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
     }
 }
 
-/// CMOOSApp's status text (cpu and memory figures are not measured in-process: 0).
 fn status_text(slot: &Slot, now: f64) -> String {
-    let mut s = String::from("AppErrorFlag=false,Uptime=");
-    let mut up = String::new();
-    alog::fmt_g(&mut up, now - slot.started_at, 6);
-    s.push_str(&up);
-    s.push_str(",cpuload=0,memory_kb=0,memory_max_kb=0,MOOSName=");
-    s.push_str(&slot.name);
-    s.push_str(",Publishing=\"");
-    for p in &slot.published {
-        s.push_str(p);
-        s.push(',');
-    }
-    s.push_str("\",Subscribing=\"");
-    for p in &slot.subscribed {
-        s.push_str(p);
-        s.push(',');
-    }
-    s.push('"');
-    s
+    crate::app::status_text(
+        &slot.name,
+        now - slot.started_at,
+        &slot.published,
+        &slot.subscribed,
+    )
 }
 
 #[cfg(test)]

@@ -1,0 +1,206 @@
+//! One [`App`] as a real MOOS process: connected to a MOOSDB over TCP (the single-app
+//! "swap-in" mode, where pAntler starts coug in place of a C++ app), paced by the wall
+//! clock at its AppTick (warped, as `MOOSPause` is), with CMOOSApp's life cycle:
+//! connect, register, OnStartUp, then per tick: mail sorted by time, `<APP>_STATUS`
+//! every 2 s, Iterate, posts.
+//!
+//! Also the MOOS command-line conventions of such an app ([`AppArgs`]).
+
+use std::collections::BTreeSet;
+use std::future::Future;
+use std::time::Duration;
+
+use bytes::Bytes;
+use moosdb_client::time::Warp;
+use moosdb_client::{Client, ClientConfig, ClientError, DataType, Message, MsgType};
+use thiserror::Error;
+
+use crate::app::{App, Mail, Post, STATUS_PERIOD, Value, status_text};
+
+/// Why a remote app stopped with an error.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum RemoteError {
+    /// The DB refused the app (its name is taken) or the client closed.
+    #[error("{0}")]
+    Client(#[from] ClientError),
+    /// `MOOSTimeWarp` outside MOOS's range.
+    #[error("time warp {0} is outside (0, 400]")]
+    Warp(f64),
+}
+
+/// Where a remote app connects.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RemoteConfig {
+    /// `ServerHost`.
+    pub host: String,
+    /// `ServerPort`.
+    pub port: u16,
+    /// `MOOSTimeWarp`.
+    pub warp: f64,
+}
+
+/// MOOS command-line conventions of an app: `APP MISSION.moos [ALIAS]` (as pAntler
+/// launches it) or `--alias=NAME`, and `--moos_name=NAME`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct AppArgs {
+    /// The mission file (the first argument ending in `.moos` or `.moos++`).
+    pub mission: Option<String>,
+    /// The MOOS name to run under, if given.
+    pub alias: Option<String>,
+}
+
+impl AppArgs {
+    /// Reads the arguments after the program name.
+    ///
+    /// ```
+    /// use runtime::remote::AppArgs;
+    /// let a = AppArgs::parse(["alpha.moos", "pHelmIvP_2"]);
+    /// assert_eq!((a.mission.as_deref(), a.alias.as_deref()), (Some("alpha.moos"), Some("pHelmIvP_2")));
+    /// let b = AppArgs::parse(["--alias=sim2", "m.moos"]);
+    /// assert_eq!(b.alias.as_deref(), Some("sim2"));
+    /// ```
+    pub fn parse<I, S>(args: I) -> AppArgs
+    where
+        I: IntoIterator<Item = S>,
+        S: AsRef<str>,
+    {
+        let mut out = AppArgs {
+            mission: None,
+            alias: None,
+        };
+        let mut positional_alias = None;
+        for a in args {
+            let a = a.as_ref();
+            if let Some(v) = a
+                .strip_prefix("--alias=")
+                .or_else(|| a.strip_prefix("--moos_name="))
+            {
+                out.alias = Some(v.to_string());
+            } else if a.starts_with('-') {
+                continue;
+            } else if out.mission.is_none() && (a.ends_with(".moos") || a.ends_with(".moos++")) {
+                out.mission = Some(a.to_string());
+            } else if out.mission.is_some() && positional_alias.is_none() {
+                positional_alias = Some(a.to_string());
+            }
+        }
+        if out.alias.is_none() {
+            out.alias = positional_alias;
+        }
+        out
+    }
+}
+
+fn to_mail(m: &Message) -> Option<Mail> {
+    let text = |b: &Bytes| String::from_utf8_lossy(b).into_owned();
+    let value = match m.data_type {
+        DataType::Double => Value::Double(m.dval),
+        DataType::String => Value::String(text(&m.sval)),
+        DataType::Binary => Value::Binary(m.sval.to_vec()),
+        DataType::NotSet => return None,
+    };
+    Some(Mail {
+        key: text(&m.key),
+        value,
+        time: m.time,
+        source: text(&m.src),
+        source_aux: text(&m.src_aux),
+        community: text(&m.community),
+    })
+}
+
+fn send(client: &Client, posts: &mut Vec<Post>, published: &mut BTreeSet<String>) {
+    for p in posts.drain(..) {
+        let value = match p.value {
+            Value::Double(x) => moosdb_client::Value::Double(x),
+            Value::String(s) => moosdb_client::Value::String(Bytes::from(s)),
+            Value::Binary(b) => moosdb_client::Value::Binary(Bytes::from(b)),
+        };
+        // A post while reconnecting is lost, as CMOOSApp's Notify fails while offline.
+        if client.notify_with(&p.key, value, None, &p.aux).is_ok() && !published.contains(&p.key) {
+            published.insert(p.key);
+        }
+    }
+}
+
+/// Runs `app` against the MOOSDB at `config` until `stop` completes or the app finishes.
+/// Returns an error if the DB refuses the app's name.
+pub async fn run<A: App + ?Sized>(
+    app: &mut A,
+    config: &RemoteConfig,
+    stop: impl Future<Output = ()>,
+) -> Result<(), RemoteError> {
+    let warp = Warp::new(config.warp).map_err(|_| RemoteError::Warp(config.warp))?;
+    let mut cc = ClientConfig::new(app.name(), &config.host, config.port);
+    cc.warp = warp;
+    let (client, mut inbox) = Client::start(cc);
+    tokio::pin!(stop);
+    tokio::select! {
+        r = client.wait_connected() => r?,
+        _ = &mut stop => {
+            client.close().await;
+            return Ok(());
+        }
+    }
+    let mut subscribed = BTreeSet::new();
+    for s in app.subscriptions() {
+        if s.is_wildcard() {
+            client.register_pattern(&s.pattern, "*", s.interval);
+        } else {
+            client.register(&s.pattern, s.interval);
+        }
+        subscribed.insert(s.pattern);
+    }
+    let started = client.moos_time();
+    let mut posts = Vec::new();
+    let mut published = BTreeSet::new();
+    app.on_startup(started, &mut posts);
+    send(&client, &mut posts, &mut published);
+    let period = warp.pause(Duration::from_secs_f64(1.0 / app.app_tick()));
+    let mut tick = tokio::time::interval(period);
+    tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+    let status_var = format!("{}_STATUS", app.name().to_ascii_uppercase());
+    let mut last_status: Option<f64> = None;
+    let mut mail = Vec::new();
+    loop {
+        tokio::select! {
+            _ = tick.tick() => {}
+            _ = &mut stop => break,
+        }
+        let now = client.moos_time();
+        mail.clear();
+        while let Some(m) = inbox.try_recv() {
+            if m.msg_type == MsgType::Notify
+                && let Some(x) = to_mail(&m)
+            {
+                mail.push(x);
+            }
+        }
+        mail.sort_by(|a: &Mail, b: &Mail| a.time.total_cmp(&b.time));
+        if !mail.is_empty() {
+            app.on_mail(&mail, now, &mut posts);
+        }
+        if last_status.is_none_or(|t| now - t >= STATUS_PERIOD) {
+            last_status = Some(now);
+            posts.push(Post::text(
+                status_var.clone(),
+                status_text(app.name(), now - started, &published, &subscribed),
+            ));
+        }
+        app.iterate(now, &mut posts);
+        for s in app.new_subscriptions() {
+            if s.is_wildcard() {
+                client.register_pattern(&s.pattern, "*", s.interval);
+            } else {
+                client.register(&s.pattern, s.interval);
+            }
+            subscribed.insert(s.pattern);
+        }
+        send(&client, &mut posts, &mut published);
+        if app.finished() {
+            break;
+        }
+    }
+    client.close().await;
+    Ok(())
+}
