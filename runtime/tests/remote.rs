@@ -164,3 +164,105 @@ async fn a_taken_name_is_refused() {
     );
     first.close().await;
 }
+
+/// Heading 90° at 2 m/s, as a helm would post.
+struct ScriptedHelm;
+
+impl App for ScriptedHelm {
+    fn name(&self) -> &str {
+        "pHelmIvP"
+    }
+    fn app_tick(&self) -> f64 {
+        4.0
+    }
+    fn iterate(&mut self, _now: f64, out: &mut Vec<Post>) {
+        out.push(Post::text("IVPHELM_STATE", "DRIVE"));
+        out.push(Post::double("DESIRED_HEADING", 90.0));
+        out.push(Post::double("DESIRED_SPEED", 2.0));
+        out.push(Post::double("DESIRED_DEPTH", 0.0));
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn vehicle_apps_swap_in_as_separate_moos_clients_with_warp() {
+    use mission::source::SourceMap;
+    use runtime::vehicle::VehicleApp;
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../shared/corpus/moos-ivp-missions/s1_alpha/alpha.moos"
+    );
+    let text = std::fs::read_to_string(path)
+        .unwrap_or_else(|e| panic!("corpus file {path} is required: {e}"));
+    let m = mission::moos::parse_moos(&SourceMap::from_text("alpha.moos", &text)).value;
+    let block = |n: &str| m.process(n).unwrap().clone();
+    let warp = 10.0;
+    let mut sc = ServerConfig::with_addr(([127, 0, 0, 1], 0).into());
+    sc.warp = moosdb_client::time::Warp::new(warp).unwrap();
+    let server = Server::bind(sc).await.unwrap();
+    let port = server.local_addr().port();
+    let cfg = RemoteConfig {
+        host: "127.0.0.1".into(),
+        port,
+        warp,
+    };
+    let mut occ = ClientConfig::new("observer", "127.0.0.1", port);
+    occ.warp = moosdb_client::time::Warp::new(warp).unwrap();
+    let (observer, mut inbox) = Client::start(occ);
+    observer.wait_connected().await.unwrap();
+    observer.register("NODE_REPORT_LOCAL", 0.0);
+    let start = observer.moos_time();
+    let mut sim =
+        VehicleApp::simulator("uSimMarineV22", block("uSimMarineV22"), None, start, false).unwrap();
+    let mut pid = VehicleApp::marine_pid("pMarinePIDV22", block("pMarinePIDV22")).unwrap();
+    let mut rep =
+        VehicleApp::node_reporter("pNodeReporter", block("pNodeReporter"), "alpha", start).unwrap();
+    let mut helm = ScriptedHelm;
+    let (stop_tx, stop_rx) = watch::channel(false);
+    let watch = async {
+        let mut first_x = None;
+        let mut last_x = None;
+        let moved = tokio::time::timeout(Duration::from_secs(60), async {
+            loop {
+                // The PID acts only once the override is lifted (as `--deploy` does).
+                let _ = observer.notify(
+                    "MOOS_MANUAL_OVERRIDE",
+                    moosdb_client::Value::string("false"),
+                );
+                let Ok(Some(m)) =
+                    tokio::time::timeout(Duration::from_millis(500), inbox.recv()).await
+                else {
+                    continue;
+                };
+                let r = m.sval_str().into_owned();
+                let x: f64 = r
+                    .split(',')
+                    .find_map(|kv| kv.strip_prefix("X="))
+                    .and_then(|v| v.parse().ok())
+                    .unwrap_or_else(|| panic!("no X= in {r}"));
+                first_x.get_or_insert(x);
+                last_x = Some(x);
+                if x - first_x.unwrap_or(x) > 20.0 {
+                    return;
+                }
+            }
+        })
+        .await;
+        let _ = stop_tx.send(true);
+        assert!(
+            moved.is_ok(),
+            "the vehicle did not move east: {first_x:?} -> {last_x:?}"
+        );
+    };
+    let (a, b, c, d, ()) = tokio::join!(
+        run(&mut sim, &cfg, stopped(stop_rx.clone())),
+        run(&mut pid, &cfg, stopped(stop_rx.clone())),
+        run(&mut rep, &cfg, stopped(stop_rx.clone())),
+        run(&mut helm, &cfg, stopped(stop_rx.clone())),
+        watch
+    );
+    for r in [a, b, c, d] {
+        r.unwrap();
+    }
+    observer.close().await;
+    server.shutdown();
+}
