@@ -228,6 +228,24 @@ pub fn nav(info: &dyn Info) -> Option<(f64, f64, f64, f64)> {
     Some((x, y, geometry::angle_360(h), v))
 }
 
+/// Appends each of `vars` to `out` unless already there (for [`Behavior::info_vars`]).
+pub(crate) fn add_vars<'a>(out: &mut Vec<String>, vars: impl IntoIterator<Item = &'a str>) {
+    for v in vars {
+        if !v.is_empty() && !out.iter().any(|o| o == v) {
+            out.push(v.to_string());
+        }
+    }
+}
+
+/// Appends the variables of the `[if]` conditions of `flags` (for [`Behavior::info_vars`]).
+pub(crate) fn add_flag_vars(out: &mut Vec<String>, flags: &[Flag]) {
+    for f in flags {
+        if let Some(c) = &f.condition {
+            add_vars(out, c.variables());
+        }
+    }
+}
+
 /// A rejected parameter.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ParamError {
@@ -294,6 +312,19 @@ pub trait Behavior: Send {
 
     /// Called after configuration and after each successful update.
     fn on_set_param_complete(&mut self, _ctx: &Ctx<'_>) {}
+
+    /// Appends the MOOS variables this behaviour reads from the info buffer (MOOS
+    /// `addInfoVars`), so that the helm subscribes to them: navigation variables, a mark or
+    /// reset variable, the variables of its own conditions and flag conditions. The common
+    /// parameters' variables (`condition`, `updates`, `duration_reset`, `nostarve`, flag
+    /// conditions) are the helm's business and need not be listed. Duplicates are harmless.
+    ///
+    /// ```
+    /// let mut vars = Vec::new();
+    /// behaviors::create("BHV_PeriodicSurface").unwrap().info_vars(&mut vars);
+    /// assert!(vars.iter().any(|v| v == "GPS_UPDATE_RECEIVED"));
+    /// ```
+    fn info_vars(&self, _out: &mut Vec<String>) {}
 
     /// Before `on_idle` / `on_run` each iteration: the seconds spent idle and running since
     /// the duration clock last (re)started (MOOS `m_duration_idle_time`,

@@ -30,7 +30,8 @@ pub enum FlagKind {
 }
 
 impl FlagKind {
-    const ALL: [FlagKind; 9] = [
+    /// Every flag list, in parameter order.
+    pub const ALL: [FlagKind; 9] = [
         FlagKind::Run,
         FlagKind::Runx,
         FlagKind::Idle,

@@ -2,7 +2,7 @@
 
 use ivp::{IvpFunction, ZaicPeak};
 
-use crate::behavior::{Behavior, Ctx, Out, ParamError};
+use crate::behavior::{Behavior, Ctx, Out, ParamError, add_vars};
 use crate::common::Common;
 use crate::param::number;
 
@@ -67,6 +67,10 @@ pub(crate) fn var_name(param: &str, value: &str) -> Result<String, ParamError> {
 impl Behavior for ConstantDepth {
     fn kind(&self) -> &'static str {
         "BHV_ConstantDepth"
+    }
+
+    fn info_vars(&self, out: &mut Vec<String>) {
+        add_vars(out, ["NAV_DEPTH"]);
     }
     fn default_duration(&self) -> f64 {
         0.0

@@ -2,7 +2,7 @@
 
 use ivp::{IvpFunction, ZaicPeak};
 
-use crate::behavior::{Behavior, Ctx, Out, ParamError};
+use crate::behavior::{Behavior, Ctx, Out, ParamError, add_vars};
 use crate::common::Common;
 use crate::param::number;
 
@@ -49,6 +49,10 @@ impl ConstantHeading {
 impl Behavior for ConstantHeading {
     fn kind(&self) -> &'static str {
         "BHV_ConstantHeading"
+    }
+
+    fn info_vars(&self, out: &mut Vec<String>) {
+        add_vars(out, ["NAV_HEADING"]);
     }
     fn default_duration(&self) -> f64 {
         0.0

@@ -2,7 +2,7 @@
 
 use ivp::{IvpFunction, ZaicPeak};
 
-use crate::behavior::{Behavior, Ctx, Out, ParamError};
+use crate::behavior::{Behavior, Ctx, Out, ParamError, add_vars};
 use crate::common::Common;
 use crate::param::number;
 
@@ -45,6 +45,10 @@ impl ConstantSpeed {
 impl Behavior for ConstantSpeed {
     fn kind(&self) -> &'static str {
         "BHV_ConstantSpeed"
+    }
+
+    fn info_vars(&self, out: &mut Vec<String>) {
+        add_vars(out, ["NAV_SPEED"]);
     }
     fn default_duration(&self) -> f64 {
         0.0

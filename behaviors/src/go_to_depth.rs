@@ -2,7 +2,7 @@
 
 use ivp::{IvpFunction, ZaicPeak};
 
-use crate::behavior::{Behavior, Ctx, Out, ParamError};
+use crate::behavior::{Behavior, Ctx, Out, ParamError, add_vars};
 use crate::common::Common;
 use crate::param::{is_number, number};
 
@@ -121,6 +121,10 @@ impl GoToDepth {
 impl Behavior for GoToDepth {
     fn kind(&self) -> &'static str {
         "BHV_GoToDepth"
+    }
+
+    fn info_vars(&self, out: &mut Vec<String>) {
+        add_vars(out, ["NAV_DEPTH"]);
     }
 
     fn set_param(

@@ -4,7 +4,7 @@ use geometry::spec::parse_polygon;
 use geometry::{Point, Polygon, ViewPoint, ViewPolygon};
 use ivp::{IvpFunction, ZaicPeak, ZaicSpd, couple_weighted};
 
-use crate::behavior::{Behavior, Ctx, Out, ParamError, nav};
+use crate::behavior::{Behavior, Ctx, Out, ParamError, add_vars, nav};
 use crate::common::Common;
 use crate::param::{boolean, number, number_min};
 
@@ -319,6 +319,10 @@ const SPIRAL_FACTOR: f64 = -2.0;
 impl Behavior for Loiter {
     fn kind(&self) -> &'static str {
         "BHV_Loiter"
+    }
+
+    fn info_vars(&self, out: &mut Vec<String>) {
+        add_vars(out, ["NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"]);
     }
 
     fn set_param(

@@ -2,7 +2,7 @@
 
 use ivp::{IvpFunction, ZaicLeq};
 
-use crate::behavior::{Behavior, Ctx, Out, ParamError};
+use crate::behavior::{Behavior, Ctx, Out, ParamError, add_vars};
 use crate::common::Common;
 use crate::constant_depth::var_name;
 use crate::param::number;
@@ -46,6 +46,10 @@ impl MaxDepth {
 impl Behavior for MaxDepth {
     fn kind(&self) -> &'static str {
         "BHV_MaxDepth"
+    }
+
+    fn info_vars(&self, out: &mut Vec<String>) {
+        add_vars(out, ["NAV_DEPTH"]);
     }
     fn default_duration(&self) -> f64 {
         0.0

@@ -4,7 +4,7 @@ use geometry::spec::parse_polygon;
 use geometry::{Polygon, ViewPolygon};
 use ivp::IvpFunction;
 
-use crate::behavior::{Behavior, Ctx, Out, ParamError, PostKey};
+use crate::behavior::{Behavior, Ctx, Out, ParamError, PostKey, add_flag_vars, add_vars};
 use crate::common::{Common, Flag};
 use crate::fmt::fixed;
 use crate::param::{boolean, number};
@@ -354,6 +354,24 @@ impl OpRegion {
 impl Behavior for OpRegion {
     fn kind(&self) -> &'static str {
         "BHV_OpRegion"
+    }
+
+    fn info_vars(&self, out: &mut Vec<String>) {
+        add_vars(
+            out,
+            [
+                "NAV_X",
+                "NAV_Y",
+                "NAV_HEADING",
+                "NAV_SPEED",
+                "NAV_DEPTH",
+                "NAV_ALTITUDE",
+            ],
+        );
+        add_vars(out, [self.reset_var.as_str()]);
+        for flags in &self.flags {
+            add_flag_vars(out, flags);
+        }
     }
 
     fn set_param(

@@ -3,7 +3,7 @@
 
 use ivp::{IvpFunction, ZaicPeak, couple};
 
-use crate::behavior::{Behavior, Ctx, Out, ParamError};
+use crate::behavior::{Behavior, Ctx, Out, ParamError, add_vars};
 use crate::common::Common;
 use crate::fmt::fixed;
 use crate::param::{is_number, number};
@@ -191,6 +191,12 @@ impl PeriodicSurface {
 impl Behavior for PeriodicSurface {
     fn kind(&self) -> &'static str {
         "BHV_PeriodicSurface"
+    }
+
+    fn info_vars(&self, out: &mut Vec<String>) {
+        // MOOS always declares GPS_UPDATE_RECEIVED, plus the configured mark variables.
+        add_vars(out, ["NAV_DEPTH", "NAV_SPEED", "GPS_UPDATE_RECEIVED"]);
+        add_vars(out, [self.mark_variable.as_str(), self.acomms_var.as_str()]);
     }
 
     fn set_param(

@@ -6,7 +6,7 @@ use geometry::Point;
 use geometry::spec::parse_point;
 use ivp::{IvpFunction, ZaicPeak, couple};
 
-use crate::behavior::{Behavior, Ctx, Out, ParamError, PostKey};
+use crate::behavior::{Behavior, Ctx, Out, ParamError, PostKey, add_vars};
 use crate::common::Common;
 use crate::fmt::fixed;
 use crate::param::{boolean, number};
@@ -251,6 +251,10 @@ impl StationKeep {
 impl Behavior for StationKeep {
     fn kind(&self) -> &'static str {
         "BHV_StationKeep"
+    }
+
+    fn info_vars(&self, out: &mut Vec<String>) {
+        add_vars(out, ["NAV_X", "NAV_Y"]);
     }
 
     fn set_param(

@@ -5,7 +5,7 @@ use geometry::spec::{parse_point, parse_waypoints};
 use geometry::{Point, SegList, Segment, ViewPoint, ViewSegList};
 use ivp::{IvpFunction, PeakComponent, ZaicPeak, ZaicSpd, couple_weighted};
 
-use crate::behavior::{Behavior, Ctx, Out, ParamError, PostKey, nav};
+use crate::behavior::{Behavior, Ctx, Out, ParamError, PostKey, add_flag_vars, add_vars, nav};
 use crate::common::{Common, Flag};
 use crate::fmt::compact;
 use crate::param::{boolean, number, number_min};
@@ -594,6 +594,15 @@ impl Waypoint {
 impl Behavior for Waypoint {
     fn kind(&self) -> &'static str {
         "BHV_Waypoint"
+    }
+
+    fn info_vars(&self, out: &mut Vec<String>) {
+        add_vars(out, ["NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"]);
+        if let Some(c) = &self.lead_condition {
+            add_vars(out, c.variables());
+        }
+        add_flag_vars(out, &self.wpt_flags);
+        add_flag_vars(out, &self.cycle_flags);
     }
 
     fn set_param(

@@ -212,6 +212,8 @@ pub struct Helm {
     disabled_posted: bool,
     emit: Out,
     scratch: String,
+    registered: Vec<String>,
+    subs_dirty: bool,
 }
 
 fn auto_value(v: &str) -> Value {
@@ -362,7 +364,7 @@ impl Helm {
         };
         let has_control = config.start_engaged && errors.is_empty();
         let problem = Problem::new(config.domain.clone());
-        Helm {
+        let mut helm = Helm {
             app_name: APP_NAME.to_string(),
             modes: ModeSet::new(&bhv.modes),
             config,
@@ -403,7 +405,11 @@ impl Helm {
             disabled_posted: false,
             emit: Out::default(),
             scratch: String::new(),
-        }
+            registered: Vec::new(),
+            subs_dirty: false,
+        };
+        helm.registered = helm.wanted_subscriptions();
+        helm
     }
 
     /// Sets the MOOS application name the helm runs as (default `pHelmIvP`); mail from this
@@ -434,8 +440,17 @@ impl Helm {
     pub fn behavior_names(&self) -> Vec<&str> {
         self.slots.iter().map(|s| s.common.name.as_str()).collect()
     }
-    /// The variables the helm subscribes to (reference §4.3 registrations).
+    /// The variables the helm subscribes to (reference §4.3 registrations): its own, and every
+    /// variable a behaviour reads (conditions, flag conditions, `updates`, `duration_reset`,
+    /// `nostarve` and [`Behavior::info_vars`], e.g. `GPS_UPDATE_RECEIVED`). The list only
+    /// grows: a run-time update that makes a behaviour read a new variable adds it (and the
+    /// helm posts `IVPHELM_REGISTER = <var>` for it, as pHelmIvP registers new info vars).
     pub fn subscriptions(&self) -> Vec<String> {
+        self.registered.clone()
+    }
+
+    /// The variables the helm and its behaviours read now.
+    fn wanted_subscriptions(&self) -> Vec<String> {
         let mut v: Vec<String> = [
             "DB_CLIENTS",
             "MOOS_MANUAL_OVERIDE",
@@ -464,13 +479,14 @@ impl Helm {
                 v.push(s.to_string());
             }
         };
+        let mut bhv_vars = Vec::new();
         for s in &self.slots {
             for (_, c) in &s.common.conditions {
                 for var in c.variables() {
                     push(&mut v, var);
                 }
             }
-            for k in [FlagKind::Run, FlagKind::Idle, FlagKind::End] {
+            for k in FlagKind::ALL {
                 for f in s.common.flags(k) {
                     if let Some(c) = &f.condition {
                         for var in c.variables() {
@@ -486,12 +502,27 @@ impl Helm {
             for (var, _) in &s.common.starve {
                 push(&mut v, var);
             }
+            s.bhv.info_vars(&mut bhv_vars);
+        }
+        for var in &bhv_vars {
+            push(&mut v, var);
         }
         for var in self.initializes.iter().filter(|i| i.2).map(|i| i.0.clone()) {
             push(&mut v, &var);
         }
         push(&mut v, "IVPHELM_STATE");
         v
+    }
+
+    /// Adds the variables behaviours read now but the helm has not registered yet (after a
+    /// run-time update), posting `IVPHELM_REGISTER` for each.
+    fn refresh_subscriptions(&mut self) {
+        for var in self.wanted_subscriptions() {
+            if !self.registered.contains(&var) {
+                self.registered.push(var.clone());
+                self.notify("IVPHELM_REGISTER", Value::Str(var), "");
+            }
+        }
     }
 
     /// Queues mail for the next [`Helm::iterate`].
@@ -550,7 +581,7 @@ impl Helm {
                 self.notify(&var, value, "HELM_VAR_INIT");
             }
         }
-        for var in self.subscriptions() {
+        for var in self.registered.clone() {
             self.notify("IVPHELM_REGISTER", Value::Str(var), "");
         }
         for f in self.config.behavior_files.clone() {
@@ -918,6 +949,10 @@ impl Helm {
         }
         if allstop != "clear" && self.config.allow_park && self.config.park_on_allstop {
             self.has_control = false;
+        }
+        if self.subs_dirty {
+            self.subs_dirty = false;
+            self.refresh_subscriptions();
         }
         self.info.clear_deltas();
         self.prev_report = rendered;
@@ -1386,6 +1421,7 @@ impl Helm {
             self.post_flags(i, FlagKind::Config);
         }
         if self.check_updates(i, now) {
+            self.subs_dirty = true;
             self.call(i, |b, ctx, _| {
                 b.on_set_param_complete(ctx);
                 None

@@ -619,3 +619,110 @@ fn bad_values_are_malconfig_at_start_and_rejected_updates_at_run_time() {
     let posts = at(&mut helm, t + 1.5, 0.0, 21.0, &[]);
     assert_stopped_now(&posts, "max:20.00000");
 }
+
+#[test]
+fn delta_helm_subscribes_to_every_variable_its_behaviours_read() {
+    let mut helm = delta_helm();
+    let subs = helm.subscriptions();
+    for var in [
+        // BHV_PeriodicSurface's mark variable and nav needs.
+        "GPS_UPDATE_RECEIVED",
+        "NAV_DEPTH",
+        "NAV_SPEED",
+        // Condition variables and `updates` variables.
+        "MODE",
+        "PSURFACE",
+        "UP_LOITER",
+        "UPDATES_RETURN",
+        "DEPTH_VALUE",
+        "SURVEY_UPDATES",
+        "IVPHELM_STATE",
+    ] {
+        assert!(subs.iter().any(|s| s == var), "{var} missing from {subs:?}");
+    }
+    let mut seen = subs.clone();
+    seen.sort();
+    seen.dedup();
+    assert_eq!(seen.len(), subs.len(), "no duplicates: {subs:?}");
+    // The start-up registrations announce the same list.
+    let posts = helm.iterate(0.0).to_vec();
+    let announced: Vec<&str> = all(&posts, "IVPHELM_REGISTER")
+        .into_iter()
+        .filter_map(Value::as_str)
+        .collect();
+    assert!(announced.contains(&"GPS_UPDATE_RECEIVED"), "{announced:?}");
+    assert_eq!(announced.len(), subs.len());
+}
+
+const MARKED: &str = "\
+Behavior = BHV_PeriodicSurface
+{
+  name      = psurf
+  updates   = PSURF_UPDATES
+  period    = 100
+  mark_variable = FIX_ONE
+}
+Behavior = BHV_OpRegion
+{
+  name      = opreg
+  min_altitude = 2
+  reset_var = OPREG_RESET
+  updates   = OPREG_UPDATES
+}
+";
+
+#[test]
+fn a_mark_variable_set_at_run_time_is_subscribed_to_and_announced() {
+    let mut helm = uuv_helm(MARKED);
+    assert!(
+        helm.config_errors().is_empty(),
+        "{:?}",
+        helm.config_errors()
+    );
+    let subs = helm.subscriptions();
+    for var in [
+        "FIX_ONE",
+        "GPS_UPDATE_RECEIVED",
+        "NAV_ALTITUDE",
+        "OPREG_RESET",
+    ] {
+        assert!(subs.iter().any(|s| s == var), "{var} missing from {subs:?}");
+    }
+    assert!(!subs.iter().any(|s| s == "FIX_TWO"));
+    let mut t = 0.0;
+    while t < 2.0 {
+        at(&mut helm, t, 0.0, 5.0, &[("NAV_ALTITUDE", "10")]);
+        t += 0.5;
+    }
+    let posts = at(
+        &mut helm,
+        t,
+        0.0,
+        5.0,
+        &[("PSURF_UPDATES", "mark_variable=FIX_TWO")],
+    );
+    let r = get(&posts, "IVPHELM_UPDATE_RESULT")
+        .and_then(Value::as_str)
+        .unwrap_or_else(|| panic!("no update result: {posts:?}"));
+    assert!(r.contains("result=success"), "{r}");
+    let subs = helm.subscriptions();
+    assert!(subs.iter().any(|s| s == "FIX_TWO"), "{subs:?}");
+    assert!(
+        subs.iter().any(|s| s == "FIX_ONE"),
+        "registrations only grow"
+    );
+    let announced: Vec<&str> = all(&posts, "IVPHELM_REGISTER")
+        .into_iter()
+        .filter_map(Value::as_str)
+        .collect();
+    assert_eq!(announced, ["FIX_TWO"]);
+    // Registered once: a second identical update announces nothing.
+    let posts = at(
+        &mut helm,
+        t + 0.5,
+        0.0,
+        5.0,
+        &[("PSURF_UPDATES", "mark_variable=FIX_TWO # period=90")],
+    );
+    assert!(all(&posts, "IVPHELM_REGISTER").is_empty());
+}
