@@ -4,6 +4,7 @@
 //! - [`app`]: the [`App`] trait (CMOOSApp's life cycle), [`Mail`], [`Post`], [`Value`];
 //! - [`bus`]: the in-process MOOSDB ([`moosdb_client::Database`] core) the apps talk over;
 //! - [`clock`]: lockstep ([`VirtualClock`]) or real time times a warp;
+//! - [`realtime`]: real-time runs, each app a client of a TCP MOOSDB, with pokes and `until`;
 //! - [`remote`]: one app as a MOOS process on a real MOOSDB (single-app swap-in mode);
 //! - [`scheduler`]: runs every app at its own AppTick, with pokes and an `until` condition;
 //! - [`summary`]: behaviour lists of IVPHELM_SUMMARY and run totals read from an alog;
@@ -24,6 +25,7 @@ pub mod clock;
 pub mod helm;
 pub mod logger;
 pub mod plot;
+pub mod realtime;
 pub mod remote;
 pub mod scheduler;
 pub mod summary;

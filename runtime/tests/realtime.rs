@@ -1,0 +1,163 @@
+//! Real-time runs over a TCP MOOSDB (loopback, OS-chosen port) at a warp, with pokes and an
+//! `until` condition. Waits are bounded and generous.
+
+use std::time::Duration;
+
+use mission::condition::parse_condition;
+use moosdb_client::time::Warp;
+use moosdb_client::{Client, ClientConfig, Server, ServerConfig};
+use runtime::realtime::{RunSpec, run_apps};
+use runtime::remote::{RemoteConfig, RemoteError};
+use runtime::{App, Mail, Outcome, Poke, Post, Subscription, Value};
+
+struct Counter;
+
+impl App for Counter {
+    fn name(&self) -> &str {
+        "counter"
+    }
+    fn app_tick(&self) -> f64 {
+        10.0
+    }
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) {
+        out.push(Post::double("COUNTER_TIME", now));
+    }
+}
+
+/// Posts GO_SEEN = the GO value it was poked with.
+struct Listener {
+    go: Option<String>,
+}
+
+impl App for Listener {
+    fn name(&self) -> &str {
+        "listener"
+    }
+    fn subscriptions(&self) -> Vec<Subscription> {
+        vec![Subscription::var("GO")]
+    }
+    fn on_mail(&mut self, mail: &[Mail], _now: f64, _out: &mut Vec<Post>) {
+        for m in mail {
+            self.go = m.value.as_str().map(String::from);
+        }
+    }
+    fn iterate(&mut self, _now: f64, out: &mut Vec<Post>) {
+        if let Some(g) = &self.go {
+            out.push(Post::text("GO_SEEN", g.clone()));
+        }
+    }
+}
+
+async fn server(warp: f64) -> Server {
+    let mut sc = ServerConfig::with_addr(([127, 0, 0, 1], 0).into());
+    sc.warp = Warp::new(warp).unwrap();
+    Server::bind(sc).await.unwrap()
+}
+
+fn cfg(s: &Server, warp: f64) -> RemoteConfig {
+    RemoteConfig {
+        host: "127.0.0.1".into(),
+        port: s.local_addr().port(),
+        warp,
+    }
+}
+
+#[tokio::test(flavor = "current_thread")]
+async fn pokes_reach_apps_and_until_ends_the_run() {
+    let s = server(10.0).await;
+    let c = cfg(&s, 10.0);
+    let local = tokio::task::LocalSet::new();
+    let spec = RunSpec {
+        pokes: vec![
+            Poke::parse("MODE_POKE=ready", "listener").unwrap(),
+            Poke::parse("GO=yes@2", "listener").unwrap(),
+        ],
+        until: Some(parse_condition("GO_SEEN = yes").unwrap()),
+        max_time: 600.0,
+    };
+    let apps: Vec<Box<dyn App>> = vec![Box::new(Counter), Box::new(Listener { go: None })];
+    let end = tokio::time::timeout(
+        Duration::from_secs(60),
+        local.run_until(run_apps(apps, &c, spec)),
+    )
+    .await
+    .expect("ends within 60 s")
+    .unwrap();
+    let Outcome::ConditionMet { time } = end.outcome else {
+        panic!("{:?}", end.outcome)
+    };
+    assert!(time > 0.0);
+    assert_eq!(
+        end.values,
+        vec![("GO_SEEN".to_string(), Some(Value::text("yes")))]
+    );
+    // The after-first-iterate poke went out too (read back from the DB).
+    let m = s
+        .with_db(|db| db.current("MODE_POKE"))
+        .expect("MODE_POKE posted");
+    assert_eq!(m.sval_str(), "ready");
+    assert_eq!(m.src_str(), "uPokeDB");
+    s.shutdown();
+}
+
+#[tokio::test(flavor = "current_thread")]
+async fn max_time_ends_the_run_and_an_outside_client_sees_the_apps() {
+    let s = server(20.0).await;
+    let c = cfg(&s, 20.0);
+    let mut occ = ClientConfig::new("outsider", "127.0.0.1", c.port);
+    occ.warp = Warp::new(20.0).unwrap();
+    let (outsider, mut inbox) = Client::start(occ);
+    outsider.wait_connected().await.unwrap();
+    outsider.register("COUNTER_TIME", 0.0);
+    let local = tokio::task::LocalSet::new();
+    let spec = RunSpec {
+        pokes: Vec::new(),
+        until: Some(parse_condition("NEVER = 1").unwrap()),
+        max_time: 4.0,
+    };
+    let apps: Vec<Box<dyn App>> = vec![Box::new(Counter)];
+    let end = tokio::time::timeout(
+        Duration::from_secs(60),
+        local.run_until(run_apps(apps, &c, spec)),
+    )
+    .await
+    .expect("ends within 60 s")
+    .unwrap();
+    assert!(
+        matches!(end.outcome, Outcome::MaxTime { .. }),
+        "{:?}",
+        end.outcome
+    );
+    assert_eq!(end.values, vec![("NEVER".to_string(), None)]);
+    let mut got = 0;
+    while let Ok(Some(_)) = tokio::time::timeout(Duration::from_millis(200), inbox.recv()).await {
+        got += 1;
+    }
+    assert!(got > 0, "the outside client saw no COUNTER_TIME");
+    outsider.close().await;
+    s.shutdown();
+}
+
+#[tokio::test(flavor = "current_thread")]
+async fn a_refused_app_ends_the_run_with_its_error() {
+    let s = server(1.0).await;
+    let c = cfg(&s, 1.0);
+    let (squatter, _m) = Client::start(ClientConfig::new("counter", "127.0.0.1", c.port));
+    squatter.wait_connected().await.unwrap();
+    let local = tokio::task::LocalSet::new();
+    let spec = RunSpec {
+        pokes: Vec::new(),
+        until: None,
+        max_time: 3600.0,
+    };
+    let apps: Vec<Box<dyn App>> = vec![Box::new(Counter), Box::new(Listener { go: None })];
+    let r = tokio::time::timeout(
+        Duration::from_secs(60),
+        local.run_until(run_apps(apps, &c, spec)),
+    )
+    .await
+    .expect("ends within 60 s");
+    assert!(matches!(r, Err(RemoteError::Client(_))), "{r:?}");
+    squatter.close().await;
+    s.shutdown();
+}
