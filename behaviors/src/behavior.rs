@@ -292,6 +292,20 @@ pub trait Behavior: Send {
     /// The type name, e.g. `BHV_Waypoint` (`$[BHVTYPE]`).
     fn kind(&self) -> &'static str;
 
+    /// The decision variables this behaviour's functions range over (MOOS narrows each
+    /// behaviour's domain with `subDomain` in its constructor). When the helm's domain lacks
+    /// any of them the behaviour has a null domain: the helm keeps it idle (`pc=null-domain`)
+    /// and reports `BHV_ERROR = <name>: Null IvPDomain given to Behavior`, as pHelmIvP does.
+    /// Empty (the default) = the helm's whole domain.
+    ///
+    /// ```
+    /// assert_eq!(behaviors::create("BHV_MaxDepth").unwrap().domain_vars(), ["depth"]);
+    /// assert!(behaviors::create("BHV_Timer").unwrap().domain_vars().is_empty());
+    /// ```
+    fn domain_vars(&self) -> &'static [&'static str] {
+        &[]
+    }
+
     /// The default `duration` of this type (−1 = none). ConstantSpeed/Heading/Depth use 0
     /// (reference §5.5).
     fn default_duration(&self) -> f64 {

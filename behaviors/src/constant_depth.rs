@@ -69,6 +69,10 @@ impl Behavior for ConstantDepth {
         "BHV_ConstantDepth"
     }
 
+    fn domain_vars(&self) -> &'static [&'static str] {
+        &["depth"]
+    }
+
     fn info_vars(&self, out: &mut Vec<String>) {
         add_vars(out, ["NAV_DEPTH"]);
     }

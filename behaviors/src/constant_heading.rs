@@ -51,6 +51,10 @@ impl Behavior for ConstantHeading {
         "BHV_ConstantHeading"
     }
 
+    fn domain_vars(&self) -> &'static [&'static str] {
+        &["course"]
+    }
+
     fn info_vars(&self, out: &mut Vec<String>) {
         add_vars(out, ["NAV_HEADING"]);
     }

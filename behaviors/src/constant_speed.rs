@@ -47,6 +47,10 @@ impl Behavior for ConstantSpeed {
         "BHV_ConstantSpeed"
     }
 
+    fn domain_vars(&self) -> &'static [&'static str] {
+        &["speed"]
+    }
+
     fn info_vars(&self, out: &mut Vec<String>) {
         add_vars(out, ["NAV_SPEED"]);
     }

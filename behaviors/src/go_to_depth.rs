@@ -123,6 +123,10 @@ impl Behavior for GoToDepth {
         "BHV_GoToDepth"
     }
 
+    fn domain_vars(&self) -> &'static [&'static str] {
+        &["depth"]
+    }
+
     fn info_vars(&self, out: &mut Vec<String>) {
         add_vars(out, ["NAV_DEPTH"]);
     }

@@ -321,6 +321,10 @@ impl Behavior for Loiter {
         "BHV_Loiter"
     }
 
+    fn domain_vars(&self) -> &'static [&'static str] {
+        &["course", "speed"]
+    }
+
     fn info_vars(&self, out: &mut Vec<String>) {
         add_vars(out, ["NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"]);
     }

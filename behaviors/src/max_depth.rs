@@ -48,6 +48,10 @@ impl Behavior for MaxDepth {
         "BHV_MaxDepth"
     }
 
+    fn domain_vars(&self) -> &'static [&'static str] {
+        &["depth"]
+    }
+
     fn info_vars(&self, out: &mut Vec<String>) {
         add_vars(out, ["NAV_DEPTH"]);
     }

@@ -193,6 +193,10 @@ impl Behavior for PeriodicSurface {
         "BHV_PeriodicSurface"
     }
 
+    fn domain_vars(&self) -> &'static [&'static str] {
+        &["speed", "depth"]
+    }
+
     fn info_vars(&self, out: &mut Vec<String>) {
         // MOOS always declares GPS_UPDATE_RECEIVED, plus the configured mark variables.
         add_vars(out, ["NAV_DEPTH", "NAV_SPEED", "GPS_UPDATE_RECEIVED"]);

@@ -253,6 +253,10 @@ impl Behavior for StationKeep {
         "BHV_StationKeep"
     }
 
+    fn domain_vars(&self) -> &'static [&'static str] {
+        &["course", "speed"]
+    }
+
     fn info_vars(&self, out: &mut Vec<String>) {
         add_vars(out, ["NAV_X", "NAV_Y"]);
     }

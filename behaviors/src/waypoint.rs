@@ -596,6 +596,10 @@ impl Behavior for Waypoint {
         "BHV_Waypoint"
     }
 
+    fn domain_vars(&self) -> &'static [&'static str] {
+        &["course", "speed"]
+    }
+
     fn info_vars(&self, out: &mut Vec<String>) {
         add_vars(out, ["NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"]);
         if let Some(c) = &self.lead_condition {

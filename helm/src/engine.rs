@@ -1381,7 +1381,22 @@ impl Helm {
                 return (RunState::Completed, Some("completed-byduration".into()));
             }
         }
-        if self.config.domain.is_empty() {
+        // MOOS `subDomain` leaves a behaviour an empty domain when the helm lacks one of its
+        // decision variables; `isRunnable` then posts an error (which halts the helm) and
+        // keeps it idle.
+        let null_domain = self.config.domain.is_empty()
+            || self.slots[i]
+                .bhv
+                .domain_vars()
+                .iter()
+                .any(|v| self.config.domain.get(v).is_none());
+        if null_domain {
+            let msg = format!(
+                "{}: Null IvPDomain given to Behavior",
+                self.slots[i].common.name
+            );
+            self.queue(i, "BHV_ERROR", Value::Str(msg), &PostKey::Repeatable);
+            self.slots[i].ok = false;
             return (RunState::Idle, Some("null-domain".into()));
         }
         for (var, secs) in self.slots[i].common.starve.clone() {

@@ -607,7 +607,8 @@ fn helm_prefix_and_park_on_allstop() {
 
 #[test]
 fn behavior_error_halts_the_helm() {
-    // A speed behaviour in a course-only domain reports an error: BHV_ERROR, halted.
+    // A speed behaviour in a course-only domain has a null domain (MOOS `isRunnable`): it
+    // reports an error, BHV_ERROR, and the helm halts.
     let bhv =
         "Behavior = BHV_ConstantSpeed\n{\n name = s\n speed = 1\n duration = no-time-limit\n}\n";
     let parsed = mission::bhv::parse_bhv(&SourceMap::from_text("e.bhv", bhv));
@@ -621,7 +622,7 @@ fn behavior_error_halts_the_helm() {
     let posts = s.step(1.0, 0.0, 0.0, 0.0, &[]);
     assert!(is_str(
         get(&posts, "BHV_ERROR"),
-        "s: No 'speed' variable in the helm domain"
+        "s: Null IvPDomain given to Behavior"
     ));
     assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "BehaviorError"));
     assert_eq!(
@@ -815,4 +816,89 @@ Behavior = BHV_ConstantSpeed
     s.step(3.0, 0.0, 0.0, 0.0, &[("GO", "false")]);
     let posts = s.step(4.0, 0.0, 0.0, 0.0, &[("GO", "true")]);
     assert_eq!(get(&posts, "RUN_NUM"), Some(&Value::Num(2.0)));
+}
+
+const NULL_DOMAIN_BHV: &str = "\
+Behavior = BHV_ConstantHeading
+{
+  name      = hdg
+  heading   = 45
+  duration  = no-time-limit
+}
+Behavior = BHV_ConstantSpeed
+{
+  name      = spd
+  speed     = 2
+  duration  = no-time-limit
+}
+Behavior = BHV_ConstantDepth
+{
+  name      = dep
+  condition = DIVE = true
+  depth     = 10
+  duration  = no-time-limit
+}
+";
+
+fn status_of<'a>(posts: &'a [Posting], name: &str) -> Option<&'a str> {
+    all(posts, "BHV_STATUS")
+        .into_iter()
+        .filter_map(Value::as_str)
+        .find(|s| s.starts_with(&format!("name={name},")))
+}
+
+#[test]
+fn depth_behaviour_in_a_course_speed_helm_has_a_null_domain() {
+    let mut s = Script::new(helm_with(&[("start_engaged", "true")], NULL_DOMAIN_BHV));
+    assert!(s.helm.config_errors().is_empty());
+    s.step(0.0, 0.0, 0.0, 0.0, &[]);
+    // Idle by its condition: no error, the others drive.
+    let posts = s.step(1.0, 0.0, 0.0, 0.0, &[]);
+    assert!(get(&posts, "BHV_ERROR").is_none(), "{posts:?}");
+    assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "clear"));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(45.0)));
+    assert_eq!(get(&posts, "IVPHELM_IPF_CNT"), Some(&Value::Num(2.0)));
+    assert_eq!(
+        status_of(&posts, "dep"),
+        Some("name=dep,pc=DIVE = true,state=idle,updates=n/a")
+    );
+    // Conditions met: the missing `depth` variable keeps it idle with pc=null-domain, and it
+    // posts pHelmIvP's error, which halts the helm.
+    let posts = s.step(2.0, 0.0, 0.0, 0.0, &[("DIVE", "true")]);
+    assert_eq!(
+        status_of(&posts, "dep"),
+        Some("name=dep,pc=null-domain,state=idle,updates=n/a")
+    );
+    assert!(is_str(
+        get(&posts, "BHV_ERROR"),
+        "dep: Null IvPDomain given to Behavior"
+    ));
+    assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "BehaviorError"));
+    assert_eq!(get(&posts, "IVPHELM_IPF_CNT"), Some(&Value::Num(0.0)));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(0.0)));
+    // Idle again by its condition: the helm drives again.
+    let posts = s.step(3.0, 0.0, 0.0, 0.0, &[("DIVE", "false")]);
+    assert!(get(&posts, "BHV_ERROR").is_none(), "{posts:?}");
+    assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "clear"));
+    assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Num(2.0)));
+}
+
+#[test]
+fn periodic_surface_without_a_depth_domain_is_a_null_domain_error() {
+    // Before: it silently produced nothing and the helm drove on.
+    let bhv = "Behavior = BHV_PeriodicSurface\n{\n name = ps\n period = 10\n}\n\
+               Behavior = BHV_ConstantSpeed\n{\n name = spd\n speed = 1\n duration = no-time-limit\n}\n";
+    let mut s = Script::new(helm_with(&[("start_engaged", "true")], bhv));
+    s.step(0.0, 0.0, 0.0, 0.0, &[]);
+    let posts = s.step(1.0, 0.0, 0.0, 0.0, &[]);
+    assert!(is_str(
+        get(&posts, "BHV_ERROR"),
+        "ps: Null IvPDomain given to Behavior"
+    ));
+    assert!(
+        status_of(&posts, "ps")
+            .unwrap()
+            .contains("pc=null-domain,state=idle")
+    );
+    assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "BehaviorError"));
 }
