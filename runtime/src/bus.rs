@@ -22,8 +22,9 @@ pub enum BusError {
 }
 
 /// Where the bus's [`Database`] lives: owned in-process ([`LocalDb`], lockstep), or shared
-/// with a TCP server in real time (an implementation that locks the server's core, stamps
-/// its own clock and wakes the connections in [`DbHost::wake`]).
+/// with other code (an implementation that locks a shared core, stamps its own clock and
+/// tells a network edge which clients to serve in [`DbHost::wake`]). Real-time runs use
+/// TCP clients instead ([`crate::realtime`]).
 pub trait DbHost {
     /// Runs `f` on the database at MOOS time `now`.
     fn with_mut<R>(&mut self, now: f64, f: impl FnOnce(&mut Database, DbTime) -> R) -> R;

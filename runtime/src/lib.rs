@@ -1,21 +1,23 @@
-//! The in-process MOOS app framework behind `coug run`.
+//! The MOOS app framework behind `coug run`: coug's built-in apps and the two ways of
+//! running them.
 //!
-//! - [`antler`]: a mission's ANTLER block resolved into built-in apps;
-//! - [`app`]: the [`App`] trait (CMOOSApp's life cycle), [`Mail`], [`Post`], [`Value`];
-//! - [`bus`]: the in-process MOOSDB ([`moosdb_client::Database`] core) the apps talk over;
-//! - [`clock`]: lockstep ([`VirtualClock`]) or real time times a warp;
-//! - [`realtime`]: real-time runs, each app a client of a TCP MOOSDB, with pokes and `until`;
-//! - [`remote`]: one app as a MOOS process on a real MOOSDB (single-app swap-in mode);
-//! - [`scheduler`]: runs every app at its own AppTick, with pokes and an `until` condition;
-//! - [`summary`]: behaviour lists of IVPHELM_SUMMARY and run totals read from an alog;
-//! - [`timer_script`]: the built-in uTimerScript;
-//! - [`helm`]: the helm engine (pHelmIvP) as an app;
-//! - [`logger`]: the built-in pLogger, writing alog files through the `alog` crate;
-//! - [`plot`]: track and depth plots of an alog as SVG or PNG (`coug plot`);
-//! - [`vehicle`]: the simulator, marine PID and node reporter of the `vehicle` crate as apps.
+//! Running:
+//! - [`scheduler`]: lockstep — every app on one in-process [`bus`] (the `moosdb-client`
+//!   DB core), each at its own AppTick on a virtual [`clock`], with pokes and an `until`
+//!   condition; deterministic, as fast as the CPU allows;
+//! - [`realtime`]: real time times a warp — each app a client of a TCP MOOSDB, so real
+//!   MOOS apps can join;
+//! - [`remote`]: one app as a MOOS process (the single-app swap-in mode);
+//! - [`antler`]: a mission's ANTLER block resolved into apps.
 //!
-//! Everything takes the MOOS time as an argument; only [`clock::WarpedWallClock`] reads
-//! the wall clock.
+//! Apps ([`app`] defines the [`App`] trait, [`Mail`], [`Post`], [`Value`]):
+//! [`helm`] (pHelmIvP), [`vehicle`] (uSimMarine(V22), pMarinePID(V22), pNodeReporter),
+//! [`timer_script`] (uTimerScript), [`logger`] (pLogger, through the `alog` crate).
+//!
+//! After a run: [`summary`] (distance, depth, behaviour lists) and [`plot`] (SVG/PNG).
+//!
+//! Apps take the MOOS time as an argument; only [`clock::WarpedWallClock`] and the
+//! real-time/remote runners read the wall clock.
 #![warn(missing_docs)]
 
 pub mod antler;
