@@ -151,13 +151,20 @@ pub trait Info {
     fn num(&self, var: &str) -> Option<f64>;
     /// A variable's value if it is a string.
     fn text(&self, var: &str) -> Option<&str>;
+    /// Seconds since the variable was last written (MOOS `getBufferTimeVal`): 0 when it was
+    /// posted during this iteration, even with the same value as before; `None` if never.
+    fn age(&self, var: &str) -> Option<f64>;
+    /// Whether the variable was posted during this iteration (age 0).
+    fn is_fresh(&self, var: &str) -> bool {
+        self.age(var) == Some(0.0)
+    }
 }
 
 /// A small [`Info`] over a map, for tests and examples.
 #[derive(Debug, Clone, Default)]
 pub struct MapInfo {
     now: f64,
-    vars: HashMap<String, Value>,
+    vars: HashMap<String, (Value, f64)>,
 }
 
 impl MapInfo {
@@ -168,19 +175,29 @@ impl MapInfo {
             vars: HashMap::new(),
         }
     }
-    /// Builder: sets a number.
+    /// Builder: sets a number (written at the current time).
     pub fn num(mut self, var: &str, v: f64) -> Self {
-        self.vars.insert(var.to_string(), Value::Num(v));
+        self.set(var, Value::Num(v));
         self
     }
-    /// Builder: sets a string.
+    /// Builder: sets a string (written at the current time).
     pub fn text(mut self, var: &str, v: &str) -> Self {
-        self.vars.insert(var.to_string(), Value::Str(v.to_string()));
+        self.set(var, Value::Str(v.to_string()));
         self
     }
-    /// Sets a variable.
+    /// Sets a variable, written at the current time (its age is 0 until the time moves on).
+    ///
+    /// ```
+    /// use behaviors::{Info, MapInfo, Value};
+    /// let mut info = MapInfo::new(5.0);
+    /// info.set("RESET", Value::Str("true".into()));
+    /// assert!(info.is_fresh("RESET"));
+    /// info.set_now(7.5);
+    /// assert_eq!(info.age("RESET"), Some(2.5));
+    /// assert_eq!(info.age("NEVER"), None);
+    /// ```
     pub fn set(&mut self, var: &str, v: Value) {
-        self.vars.insert(var.to_string(), v);
+        self.vars.insert(var.to_string(), (v, self.now));
     }
     /// Sets the time.
     pub fn set_now(&mut self, now: f64) {
@@ -193,13 +210,16 @@ impl Info for MapInfo {
         self.now
     }
     fn num(&self, var: &str) -> Option<f64> {
-        match self.vars.get(var)? {
+        match &self.vars.get(var)?.0 {
             Value::Num(v) => Some(*v),
             Value::Str(s) => s.trim().parse().ok(),
         }
     }
     fn text(&self, var: &str) -> Option<&str> {
-        self.vars.get(var)?.as_str()
+        self.vars.get(var)?.0.as_str()
+    }
+    fn age(&self, var: &str) -> Option<f64> {
+        self.vars.get(var).map(|(_, t)| self.now - t)
     }
 }
 

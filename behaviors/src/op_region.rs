@@ -54,8 +54,11 @@ impl Breach {
 /// `opregion_poly_var` (once, as `pts={...}`) and `VIEW_POLYGON` (label
 /// `<ownship>:<name>:opreg` unless the polygon has one; `active=false` while idle).
 ///
-/// Differences from MOOS-IvP, deliberate: `reset_var` acts when its value changes (the helm
-/// gives behaviours no variable ages); a `depth` reset re-arms the depth flags (MOOS re-arms
+/// `reset_var` acts when it is posted during the iteration (any new posting, even of the same
+/// value, as MOOS tests the variable's age): `true` resets everything, `poly`, `time`,
+/// `altitude` or `depth` one limit.
+///
+/// Differences from MOOS-IvP, deliberate: a `depth` reset re-arms the depth flags (MOOS re-arms
 /// them on `altitude`); without `max_time` the `time_remaining_var` is posted as −1 only.
 #[derive(Debug, Clone)]
 pub struct OpRegion {
@@ -77,7 +80,6 @@ pub struct OpRegion {
     flags: [Vec<Flag>; 4],
     flags_posted: [bool; 4],
     reset_var: String,
-    last_reset: Option<String>,
     time_remaining_var: String,
     poly_var: String,
     poly_var_pending: bool,
@@ -120,7 +122,6 @@ impl OpRegion {
             flags: Default::default(),
             flags_posted: [false; 4],
             reset_var: String::new(),
-            last_reset: None,
             time_remaining_var: String::new(),
             poly_var: String::new(),
             poly_var_pending: false,
@@ -176,13 +177,13 @@ impl OpRegion {
         if self.reset_var.is_empty() {
             return;
         }
+        // As MOOS: only a posting made this iteration counts, whatever its value.
+        if !ctx.info.is_fresh(&self.reset_var) {
+            return;
+        }
         let Some(v) = ctx.info.text(&self.reset_var) else {
             return;
         };
-        if self.last_reset.as_deref() == Some(v) {
-            return;
-        }
-        self.last_reset = Some(v.to_string());
         let v = v.trim().to_ascii_lowercase();
         let all = v == "true";
         if all || v == "poly" {

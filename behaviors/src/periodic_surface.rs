@@ -41,7 +41,8 @@ pub enum Phase {
 /// `current`, the speed when the ascent began), tapered by `ascent_grade`. At
 /// `zero_speed_depth` it is at the surface (`PERIODIC_ASCEND = false`) and asks for speed 0
 /// and depth 0, posting the whole seconds spent there in `TIME_AT_SURFACE`. A mark (any new
-/// value of the mark variable) ends the cycle and restarts the period; so does
+/// value of the mark variable; the same value posted again is none, as MOOS compares values,
+/// not posting times) ends the cycle and restarts the period; so does
 /// `max_time_at_surface` (posting `PSF_AT_SURFACE_TIMEOUT = Timestamp=<t>`).
 ///
 /// The objective function couples speed ZAIC_PEAK(desired, base 0.5, or 0 when desired is 0)

@@ -224,12 +224,44 @@ fn reset_var_rearms_the_flags_and_restarts_the_clock() {
     let out = b.run(11.0).1;
     assert!(out.error.is_some());
     assert_eq!(flags(&out), ["T_BREACH"]);
-    b.text("OPREG_RESET", "time");
+    b.post(12.0, "OPREG_RESET", "time");
     let out = b.run(12.0).1;
     assert!(out.error.is_none(), "clock restarted");
     let out = b.run(23.0).1;
     assert!(out.error.is_some());
     assert_eq!(flags(&out), ["T_BREACH"], "flags re-armed");
+}
+
+#[test]
+fn reset_var_acts_on_fresh_postings_only_even_of_the_same_value() {
+    let mut b = region(&[
+        ("max_time", "10"),
+        ("reset_var", "OPREG_RESET"),
+        ("breached_time_flag", "T_BREACH=1"),
+    ]);
+    b.nav(0.0, 0.0, 0.0, 1.0, 0.0);
+    b.run(0.0);
+    b.post(5.0, "OPREG_RESET", "time");
+    assert!(b.run(5.0).1.error.is_none());
+    // The stale value in the buffer does not keep resetting: the clock runs from 5 s.
+    assert!(
+        b.run(15.0).1.error.is_none(),
+        "exactly 10 s since the reset"
+    );
+    let out = b.run(15.5).1;
+    assert!(out.error.as_deref().unwrap().contains("timeout failure"));
+    assert_eq!(flags(&out), ["T_BREACH"]);
+    // The same value posted again is a new reset.
+    b.post(16.0, "OPREG_RESET", "time");
+    let out = b.run(16.0).1;
+    assert!(
+        out.error.is_none(),
+        "reset again by a fresh posting: {out:?}"
+    );
+    assert!(b.run(26.0).1.error.is_none());
+    let out = b.run(26.5).1;
+    assert!(out.error.is_some());
+    assert_eq!(flags(&out), ["T_BREACH"], "flags re-armed again");
 }
 
 #[test]

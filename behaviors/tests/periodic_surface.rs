@@ -3,7 +3,7 @@
 
 mod support;
 
-use behaviors::{ParamError, PeriodicSurface, Phase, Value};
+use behaviors::{Info, ParamError, PeriodicSurface, Phase, Value};
 use ivp::IvpFunction;
 use support::{Bhv, decide, posted, uuv_domain};
 
@@ -85,6 +85,30 @@ fn full_cycle_dive_ascend_surface_mark_dive() {
         posted(&out, "PERIODIC_ASCEND"),
         Some(&Value::Str("true".into()))
     );
+}
+
+#[test]
+fn a_fresh_posting_of_the_same_fix_is_no_mark_as_in_moos() {
+    // MOOS `checkForMarking` compares the mark variable's value with the last one seen; it
+    // does not look at the posting time. A GPS driver that re-posts an identical value does
+    // not end the cycle; a new value does.
+    let mut b = delta_surface();
+    b.nav(0.0, 0.0, 90.0, 1.3, 7.0);
+    b.post(0.0, "GPS_UPDATE_RECEIVED", "RCVD_1");
+    assert!(b.run(0.0).0.is_none(), "first iteration: a mark");
+    assert!(b.run(1.0).0.is_none(), "first value seen: a mark at 1 s");
+    b.nav(0.0, 0.0, 90.0, 0.0, 0.0);
+    let (f, _) = b.run(121.0);
+    assert!(f.is_some(), "the period is up");
+    b.post(122.0, "GPS_UPDATE_RECEIVED", "RCVD_1");
+    assert_eq!(b.info.age("GPS_UPDATE_RECEIVED"), Some(0.0), "fresh mail");
+    let (f, out) = b.run(122.0);
+    assert!(f.is_some(), "same value re-posted: still at the surface");
+    assert_eq!(posted(&out, "TIME_AT_SURFACE"), Some(&Value::Num(1.0)));
+    b.post(123.0, "GPS_UPDATE_RECEIVED", "RCVD_2");
+    let (f, _) = b.run(123.0);
+    assert!(f.is_none(), "a new value is a mark");
+    assert!(b.run(124.0).0.is_none(), "waiting again");
 }
 
 #[test]

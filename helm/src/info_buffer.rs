@@ -87,7 +87,8 @@ impl InfoBuffer {
     pub fn is_known(&self, var: &str) -> bool {
         self.vars.contains_key(var)
     }
-    /// Seconds since the variable was written (`None` if never).
+    /// Seconds since the variable was written (`None` if never): 0 for mail applied in this
+    /// iteration.
     pub fn age(&self, var: &str) -> Option<f64> {
         self.vars.get(var).map(|e| self.now - e.time)
     }
@@ -123,6 +124,9 @@ impl Info for InfoBuffer {
     }
     fn text(&self, var: &str) -> Option<&str> {
         self.vars.get(var)?.value.as_str()
+    }
+    fn age(&self, var: &str) -> Option<f64> {
+        InfoBuffer::age(self, var)
     }
 }
 

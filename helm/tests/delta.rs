@@ -726,3 +726,65 @@ fn a_mark_variable_set_at_run_time_is_subscribed_to_and_announced() {
     );
     assert!(all(&posts, "IVPHELM_REGISTER").is_empty());
 }
+
+const TIMED: &str = "\
+Behavior = BHV_ConstantHeading
+{
+  name = hdg
+  heading = 90
+  duration = no-time-limit
+}
+Behavior = BHV_ConstantDepth
+{
+  name = dep
+  depth = 5
+  duration = no-time-limit
+}
+Behavior = BHV_ConstantSpeed
+{
+  name = spd
+  speed = 2
+  duration = no-time-limit
+}
+Behavior = BHV_OpRegion
+{
+  name = opreg
+  max_time = 3
+  reset_var = OPREG_RESET
+  breached_time_flag = OPREG_BREACH = time
+}
+";
+
+#[test]
+fn opregion_reset_acts_on_mail_of_this_iteration_even_when_repeated() {
+    let mut helm = uuv_helm(TIMED);
+    assert!(helm.config_errors().is_empty());
+    // Decisions start at 1 s; the region's clock with them.
+    let mut t = 0.0;
+    while t <= 4.0 {
+        let posts = at(&mut helm, t, 0.0, 5.0, &[]);
+        assert!(get(&posts, "BHV_ERROR").is_none(), "t={t}: {posts:?}");
+        t += 0.5;
+    }
+    let posts = at(&mut helm, t, 0.0, 5.0, &[]);
+    assert_stopped_now(&posts, "timeout failure");
+    assert!(is_str(get(&posts, "OPREG_BREACH"), "time"));
+    for round in 0..2 {
+        // The same value each time: each fresh posting is a reset.
+        let posts = at(&mut helm, t + 0.5, 0.0, 5.0, &[("OPREG_RESET", "time")]);
+        assert!(
+            get(&posts, "BHV_ERROR").is_none(),
+            "round {round}: reset by fresh mail: {posts:?}"
+        );
+        assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Num(2.0)));
+        t += 0.5;
+        // No new mail: the value stays in the buffer but resets nothing; the clock runs.
+        let reset_at = t;
+        while t < reset_at + 3.5 {
+            t += 0.5;
+            let posts = at(&mut helm, t, 0.0, 5.0, &[]);
+            let err = get(&posts, "BHV_ERROR").is_some();
+            assert_eq!(err, t - reset_at > 3.0, "round {round}, t={t}: {posts:?}");
+        }
+    }
+}

@@ -75,6 +75,12 @@ impl Bhv {
         self
     }
 
+    /// Posts a string at time `t` (fresh: age 0 in an iteration at `t`).
+    pub fn post(&mut self, t: f64, var: &str, v: &str) -> &mut Self {
+        self.info.set_now(t);
+        self.text(var, v)
+    }
+
     /// Ownship navigation.
     pub fn nav(&mut self, x: f64, y: f64, heading: f64, speed: f64, depth: f64) -> &mut Self {
         self.num("NAV_X", x)
