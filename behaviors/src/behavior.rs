@@ -344,8 +344,11 @@ pub trait Behavior: Send {
         ctx: &Ctx<'_>,
     ) -> Result<(), ParamError>;
 
-    /// Called after configuration and after each successful update.
-    fn on_set_param_complete(&mut self, _ctx: &Ctx<'_>) {}
+    /// Called after configuration and after each successful update. Postings made here at
+    /// configuration go out on the helm's first iteration, before the behaviour's own
+    /// postings of that iteration (as pHelmIvP does with those made in `onSetParamComplete`);
+    /// after an update, in the iteration of the update.
+    fn on_set_param_complete(&mut self, _ctx: &Ctx<'_>, _out: &mut Out) {}
 
     /// Appends the MOOS variables this behaviour reads from the info buffer (MOOS
     /// `addInfoVars`), so that the helm subscribes to them: navigation variables, a mark or

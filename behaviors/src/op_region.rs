@@ -51,7 +51,7 @@ impl Breach {
 ///
 /// It also posts `OPREG_TRAJECTORY_PERIM_DIST/ETA`, `OPREG_ABSOLUTE_PERIM_DIST/ETA`,
 /// `OPREG_TIME_REMAINING` (with `max_time`), the `time_remaining_var`, the
-/// `opregion_poly_var` (once, as `pts={...}`) and `VIEW_POLYGON` (label
+/// `opregion_poly_var` (as `pts={...}`, at configuration and after updates) and `VIEW_POLYGON` (label
 /// `<ownship>:<name>:opreg` unless the polygon has one; `active=false` while idle).
 ///
 /// `reset_var` acts when it is posted during the iteration (any new posting, even of the same
@@ -82,7 +82,6 @@ pub struct OpRegion {
     reset_var: String,
     time_remaining_var: String,
     poly_var: String,
-    poly_var_pending: bool,
     hint_vertex_color: String,
     hint_edge_color: String,
     hint_vertex_size: f64,
@@ -124,7 +123,6 @@ impl OpRegion {
             reset_var: String::new(),
             time_remaining_var: String::new(),
             poly_var: String::new(),
-            poly_var_pending: false,
             hint_vertex_color: "brown".into(),
             hint_edge_color: "aqua".into(),
             hint_vertex_size: 3.0,
@@ -267,11 +265,10 @@ impl OpRegion {
         }
     }
 
-    fn post_poly_var(&mut self, out: &mut Out) {
-        if !self.poly_var_pending {
+    fn post_poly_var(&self, out: &mut Out) {
+        if self.poly_var.is_empty() {
             return;
         }
-        self.poly_var_pending = false;
         if let Some(p) = self.polygons.last() {
             let mut v = ViewPolygon::new(p.clone());
             v.precision = 2;
@@ -404,7 +401,6 @@ impl Behavior for OpRegion {
                 self.polygons.push(vp.polygon.clone());
                 self.view = Some(vp);
                 self.hints_applied = false;
-                self.poly_var_pending = !self.poly_var.is_empty();
             }
             "max_depth" => self.max_depth = Self::nonneg(param, v)?,
             "min_altitude" => self.min_altitude = Self::nonneg(param, v)?,
@@ -434,7 +430,6 @@ impl Behavior for OpRegion {
             "time_remaining_var" => self.time_remaining_var = no_white(v)?,
             "opregion_poly_var" => {
                 self.poly_var = no_white(v)?;
-                self.poly_var_pending = !self.poly_var.is_empty() && !self.polygons.is_empty();
             }
             "visual_hints" => {
                 self.hints_applied = false;
@@ -458,16 +453,20 @@ impl Behavior for OpRegion {
         Ok(())
     }
 
+    // As MOOS: the polygon goes to `opregion_poly_var` once configured (the helm posts it
+    // on its first iteration) and after each update (filtered when unchanged).
+    fn on_set_param_complete(&mut self, _ctx: &Ctx<'_>, out: &mut Out) {
+        self.post_poly_var(out);
+    }
+
     fn on_idle(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
         self.check_reset(ctx);
-        self.post_poly_var(out);
         self.post_time_remaining(out);
         self.post_view(ctx, out, false);
     }
 
     fn on_run(&mut self, ctx: &Ctx<'_>, out: &mut Out) -> Option<IvpFunction> {
         self.check_reset(ctx);
-        self.post_poly_var(out);
         self.set_time_stamps(ctx.info.now());
 
         // 1. Polygon containment.

@@ -271,14 +271,16 @@ fn several_polygons_must_all_contain_the_vehicle_and_poly_var() {
         ("trigger_exit_time", "0"),
         ("opregion_poly_var", "OPREG_POLY"),
     ]);
+    // Posted at configuration (MOOS onSetParamComplete), not by the iterations.
+    assert_eq!(
+        posted(&b.configured, "OPREG_POLY"),
+        Some(&Value::Str("pts={0,-50:100,-50:100,50:0,50}".into()))
+    );
     b.nav(25.0, 0.0, 0.0, 1.0, 0.0);
     let out = b.run(0.0).1;
     assert!(out.error.is_none());
-    assert_eq!(
-        posted(&out, "OPREG_POLY"),
-        Some(&Value::Str("pts={0,-50:100,-50:100,50:0,50}".into()))
-    );
-    assert!(posted(&b.run(1.0).1, "OPREG_POLY").is_none(), "posted once");
+    assert!(posted(&out, "OPREG_POLY").is_none());
+    assert!(posted(&b.run(1.0).1, "OPREG_POLY").is_none());
     b.nav(-25.0, 0.0, 0.0, 1.0, 0.0);
     assert!(
         b.run(2.0).1.error.is_some(),

@@ -124,6 +124,8 @@ struct Slot {
     pcs: usize,
     ctr: [u32; 6],
     now_start: Option<f64>,
+    /// What the behaviour posted while being configured: sent on its first iteration.
+    config_out: Out,
 }
 
 impl Slot {
@@ -317,6 +319,7 @@ impl Helm {
                 pcs: 0,
                 ctr: [0; 6],
                 now_start: None,
+                config_out: Out::default(),
             };
             for p in &spec.params {
                 let key = param_name(&p.key);
@@ -348,7 +351,7 @@ impl Helm {
                     name: &slot.common.name,
                     perpetual: slot.common.perpetual,
                 };
-                slot.bhv.on_set_param_complete(&ctx);
+                slot.bhv.on_set_param_complete(&ctx, &mut slot.config_out);
             }
             slots.push(slot);
         }
@@ -1433,12 +1436,20 @@ impl Helm {
     fn produce(&mut self, i: usize, now: f64) -> Option<ivp::IvpFunction> {
         let old = self.slots[i].state;
         if !self.slots[i].first_done {
+            // Configuration-time postings first (MOOS queues them in the behaviour's message
+            // list before this iteration's), then the configflags.
+            let pending = std::mem::take(&mut self.slots[i].config_out);
+            if !pending.emits.is_empty() || pending.error.is_some() {
+                let buffer = std::mem::replace(&mut self.emit, pending);
+                self.absorb(i);
+                self.emit = buffer;
+            }
             self.post_flags(i, FlagKind::Config);
         }
         if self.check_updates(i, now) {
             self.subs_dirty = true;
-            self.call(i, |b, ctx, _| {
-                b.on_set_param_complete(ctx);
+            self.call(i, |b, ctx, out| {
+                b.on_set_param_complete(ctx, out);
                 None
             });
         }

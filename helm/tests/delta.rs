@@ -788,3 +788,83 @@ fn opregion_reset_acts_on_mail_of_this_iteration_even_when_repeated() {
         }
     }
 }
+
+const POLY_VAR: &str = "\
+Behavior = BHV_ConstantHeading
+{
+  name = hdg
+  heading = 90
+  duration = no-time-limit
+}
+Behavior = BHV_ConstantDepth
+{
+  name = dep
+  depth = 5
+  duration = no-time-limit
+}
+Behavior = BHV_ConstantSpeed
+{
+  name = spd
+  speed = 2
+  duration = no-time-limit
+}
+Behavior = BHV_OpRegion
+{
+  name = opreg
+  polygon = pts={-50,-50:50,-50:50,50:-50,50}
+  opregion_poly_var = OPREG_POLY
+  configflag = OPREG_CONFIGURED = true
+  updates = OPREG_UPDATES
+}
+";
+
+#[test]
+fn opregion_posts_its_polygon_at_configuration_on_the_first_iteration() {
+    let mut helm = uuv_helm(POLY_VAR);
+    assert!(helm.config_errors().is_empty());
+    let mut first = Vec::new();
+    let mut t = 0.0;
+    while t <= 2.0 {
+        let posts = at(&mut helm, t, 0.0, 5.0, &[]);
+        let n = all(&posts, "OPREG_POLY").len();
+        if t < 1.0 {
+            assert_eq!(n, 0, "no behaviour postings before the first decision");
+        } else if first.is_empty() {
+            first = posts;
+        } else {
+            assert_eq!(n, 0, "posted once (duplicate filter)");
+        }
+        t += 0.5;
+    }
+    let vars: Vec<&str> = first.iter().map(|p| p.var.as_str()).collect();
+    let poly = vars.iter().position(|v| *v == "OPREG_POLY");
+    let conf = vars.iter().position(|v| *v == "OPREG_CONFIGURED");
+    let status = first
+        .iter()
+        .position(|p| p.var == "BHV_STATUS" && p.aux.ends_with(":opreg"));
+    let (Some(poly), Some(conf), Some(status)) = (poly, conf, status) else {
+        panic!("missing postings: {vars:?}");
+    };
+    // MOOS posts onSetParamComplete's messages ahead of the first iteration's configflags.
+    assert!(poly < conf && conf < status, "{vars:?}");
+    assert!(is_str(
+        get(&first, "OPREG_POLY"),
+        "pts={-50,-50:50,-50:50,50:-50,50}"
+    ));
+    assert_eq!(first[poly].aux, "1:opreg");
+    // An update with a new polygon posts it in the update's iteration.
+    let posts = at(
+        &mut helm,
+        t,
+        0.0,
+        5.0,
+        &[("OPREG_UPDATES", "polygon=pts={-60,-60:60,-60:60,60:-60,60}")],
+    );
+    assert!(
+        is_str(
+            get(&posts, "OPREG_POLY"),
+            "pts={-60,-60:60,-60:60,60:-60,60}"
+        ),
+        "{posts:?}"
+    );
+}

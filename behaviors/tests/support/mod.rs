@@ -17,6 +17,8 @@ pub struct Bhv {
     pub domain: Domain,
     pub info: MapInfo,
     pub name: String,
+    /// What the behaviour posted in `on_set_param_complete` at configuration.
+    pub configured: Out,
 }
 
 impl Bhv {
@@ -28,6 +30,7 @@ impl Bhv {
             domain,
             info: MapInfo::new(0.0),
             name: name.to_string(),
+            configured: Out::default(),
         }
     }
 
@@ -59,7 +62,7 @@ impl Bhv {
             name: &self.name,
             perpetual: self.common.perpetual,
         };
-        self.bhv.on_set_param_complete(&ctx);
+        self.bhv.on_set_param_complete(&ctx, &mut self.configured);
         self
     }
 
