@@ -326,6 +326,17 @@ pub trait Behavior: Send {
         &[]
     }
 
+    /// The name a behaviour of this type gets without a `name` line: the descriptor its
+    /// MOOS-IvP constructor sets (e.g. `bhv_waypoint`, `maxdepth`, `periodic_surface`).
+    /// Defaults to the type name.
+    ///
+    /// ```
+    /// assert_eq!(behaviors::create("BHV_StationKeep").unwrap().default_name(), "station_keep");
+    /// ```
+    fn default_name(&self) -> &'static str {
+        self.kind()
+    }
+
     /// The default `duration` of this type (−1 = none). ConstantSpeed/Heading/Depth use 0
     /// (reference §5.5).
     fn default_duration(&self) -> f64 {

@@ -161,7 +161,8 @@ fn is_solo_macro(v: &str) -> bool {
 pub struct Common {
     /// The behaviour type as written (`BHV_Waypoint`).
     pub kind: String,
-    /// Name (`name`/`descriptor`); default the type name in lower case.
+    /// Name (`name`/`descriptor`); [`Common::new`] sets the type name in lower case, the
+    /// helm the type's [`Behavior::default_name`](crate::Behavior::default_name).
     pub name: String,
     /// Priority weight (default 100).
     pub pwt: f64,

@@ -69,6 +69,10 @@ impl Behavior for ConstantDepth {
         "BHV_ConstantDepth"
     }
 
+    fn default_name(&self) -> &'static str {
+        "bhv_constantdepth"
+    }
+
     fn domain_vars(&self) -> &'static [&'static str] {
         &["depth"]
     }

@@ -51,6 +51,10 @@ impl Behavior for ConstantHeading {
         "BHV_ConstantHeading"
     }
 
+    fn default_name(&self) -> &'static str {
+        "bhv_constantHeading"
+    }
+
     fn domain_vars(&self) -> &'static [&'static str] {
         &["course"]
     }

@@ -47,6 +47,10 @@ impl Behavior for ConstantSpeed {
         "BHV_ConstantSpeed"
     }
 
+    fn default_name(&self) -> &'static str {
+        "bhv_constant_speed"
+    }
+
     fn domain_vars(&self) -> &'static [&'static str] {
         &["speed"]
     }

@@ -123,6 +123,10 @@ impl Behavior for GoToDepth {
         "BHV_GoToDepth"
     }
 
+    fn default_name(&self) -> &'static str {
+        "bhv_goto_depth"
+    }
+
     fn domain_vars(&self) -> &'static [&'static str] {
         &["depth"]
     }

@@ -321,6 +321,10 @@ impl Behavior for Loiter {
         "BHV_Loiter"
     }
 
+    fn default_name(&self) -> &'static str {
+        "bhv_loiter"
+    }
+
     fn domain_vars(&self) -> &'static [&'static str] {
         &["course", "speed"]
     }

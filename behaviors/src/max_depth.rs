@@ -48,6 +48,10 @@ impl Behavior for MaxDepth {
         "BHV_MaxDepth"
     }
 
+    fn default_name(&self) -> &'static str {
+        "maxdepth"
+    }
+
     fn domain_vars(&self) -> &'static [&'static str] {
         &["depth"]
     }

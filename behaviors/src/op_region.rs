@@ -354,6 +354,10 @@ impl Behavior for OpRegion {
         "BHV_OpRegion"
     }
 
+    fn default_name(&self) -> &'static str {
+        "bhv_opregion"
+    }
+
     fn info_vars(&self, out: &mut Vec<String>) {
         add_vars(
             out,

@@ -194,6 +194,10 @@ impl Behavior for PeriodicSurface {
         "BHV_PeriodicSurface"
     }
 
+    fn default_name(&self) -> &'static str {
+        "periodic_surface"
+    }
+
     fn domain_vars(&self) -> &'static [&'static str] {
         &["speed", "depth"]
     }

@@ -253,6 +253,10 @@ impl Behavior for StationKeep {
         "BHV_StationKeep"
     }
 
+    fn default_name(&self) -> &'static str {
+        "station_keep"
+    }
+
     fn domain_vars(&self) -> &'static [&'static str] {
         &["course", "speed"]
     }

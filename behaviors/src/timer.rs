@@ -48,6 +48,10 @@ impl Behavior for Timer {
     fn kind(&self) -> &'static str {
         "BHV_Timer"
     }
+
+    fn default_name(&self) -> &'static str {
+        "bhv_timer"
+    }
     fn set_param(
         &mut self,
         param: &str,

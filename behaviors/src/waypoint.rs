@@ -596,6 +596,10 @@ impl Behavior for Waypoint {
         "BHV_Waypoint"
     }
 
+    fn default_name(&self) -> &'static str {
+        "bhv_waypoint"
+    }
+
     fn domain_vars(&self) -> &'static [&'static str] {
         &["course", "speed"]
     }

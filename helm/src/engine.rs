@@ -304,8 +304,10 @@ impl Helm {
                 )));
                 continue;
             };
+            let mut common = Common::new(b.kind());
+            common.name = b.default_name().to_string();
             let mut slot = Slot {
-                common: Common::new(b.kind()),
+                common,
                 bhv: b,
                 state: RunState::New,
                 entered: 0.0,

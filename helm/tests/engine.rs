@@ -902,3 +902,53 @@ fn periodic_surface_without_a_depth_domain_is_a_null_domain_error() {
     );
     assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "BehaviorError"));
 }
+
+#[test]
+fn unnamed_behaviours_get_moos_ivp_default_names() {
+    let kinds = [
+        ("BHV_Waypoint", "bhv_waypoint"),
+        ("BHV_Loiter", "bhv_loiter"),
+        ("BHV_ConstantSpeed", "bhv_constant_speed"),
+        ("BHV_ConstantHeading", "bhv_constantHeading"),
+        ("BHV_Timer", "bhv_timer"),
+        ("BHV_ConstantDepth", "bhv_constantdepth"),
+        ("BHV_MaxDepth", "maxdepth"),
+        ("BHV_OpRegion", "bhv_opregion"),
+        ("BHV_PeriodicSurface", "periodic_surface"),
+        ("BHV_GoToDepth", "bhv_goto_depth"),
+        ("BHV_StationKeep", "station_keep"),
+    ];
+    let mut bhv = String::from("initialize GO = false\n");
+    for (kind, _) in kinds {
+        bhv.push_str(&format!(
+            "Behavior = {kind}\n{{\n  condition = GO = true\n}}\n"
+        ));
+    }
+    let parsed = mission::bhv::parse_bhv(&SourceMap::from_text("n.bhv", &bhv));
+    let helm = Helm::from_parsed(
+        &[
+            ("domain", "course:0:359:360"),
+            ("domain", "speed:0:4:41"),
+            ("domain", "depth:0:100:101"),
+            ("start_engaged", "true"),
+        ],
+        &globals(),
+        &parsed,
+    );
+    assert!(
+        helm.config_errors().is_empty(),
+        "{:?}",
+        helm.config_errors()
+    );
+    let expected: Vec<&str> = kinds.iter().map(|k| k.1).collect();
+    assert_eq!(helm.behavior_names(), expected);
+    // The status line carries the default name.
+    let mut s = Script::new(helm);
+    s.step(0.0, 0.0, 0.0, 0.0, &[]);
+    s.helm.on_mail(&[Mail::new("NAV_DEPTH", 0.0, 1.0)]);
+    let posts = s.step(1.0, 0.0, 0.0, 0.0, &[]);
+    assert_eq!(
+        status_of(&posts, "maxdepth"),
+        Some("name=maxdepth,pc=GO = true,state=idle,updates=n/a")
+    );
+}
