@@ -35,7 +35,7 @@ fn catalog_parameters_are_known() {
             "order" => "normal",
             "repeat" => "1",
             "currix" => "0",
-            "ipf_type" => "zaic",
+            "ipf_type" | "ipf-type" => "zaic",
             "efficiency_measure" => "off",
             "visual_hints" => "vertex_size=3",
             "cycleflag" | "wptflag" | "lead_condition" => "A = 1",
@@ -85,6 +85,11 @@ fn catalog_parameters_are_known() {
                 }
             }
         }
+    }
+    // Both spellings of the function type, as MOOS-IvP accepts, are listed.
+    for kind in ["BHV_Waypoint", "BHV_Loiter"] {
+        let t = mission::catalog::behavior(kind).unwrap();
+        assert!(t.accepts("ipf_type") && t.accepts("ipf-type"), "{kind}");
     }
     assert_eq!(
         unsupported,
