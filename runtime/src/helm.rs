@@ -39,7 +39,18 @@ impl HelmApp {
             }
             None => Helm::from_mission(&MissionFile::default(), bhv),
         };
-        let registered = helm.subscriptions();
+        let mut registered = helm.subscriptions();
+        // pHelmIvP also registers the variables of the mode declarations' conditions
+        // (e.g. DEPLOY in `set MODE = ACTIVE { DEPLOY = true }`).
+        for m in &bhv.value.modes {
+            for c in &m.conditions {
+                for v in c.condition.variables() {
+                    if !registered.iter().any(|r| r == v) {
+                        registered.push(v.to_string());
+                    }
+                }
+            }
+        }
         HelmApp {
             name: name.to_string(),
             block,
@@ -81,14 +92,12 @@ impl App for HelmApp {
     }
 
     fn new_subscriptions(&mut self) -> Vec<Subscription> {
-        let now = self.helm.subscriptions();
-        let fresh: Vec<Subscription> = now
-            .iter()
-            .filter(|v| !self.registered.contains(v))
-            .map(|v| Subscription::var(v.clone()))
-            .collect();
-        if !fresh.is_empty() {
-            self.registered = now;
+        let mut fresh = Vec::new();
+        for v in self.helm.subscriptions() {
+            if !self.registered.contains(&v) {
+                fresh.push(Subscription::var(v.clone()));
+                self.registered.push(v);
+            }
         }
         fresh
     }
@@ -120,5 +129,31 @@ impl App for HelmApp {
             };
             out.push(Post::new(p.var.clone(), value).with_aux(p.aux.clone()));
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mission::source::SourceMap;
+
+    #[test]
+    fn registers_the_variables_of_mode_conditions() {
+        let moos = "Community = c\nLatOrigin = 43.8\nLongOrigin = -70.3\nProcessConfig = pHelmIvP\n{\n  domain = course:0:359:360\n  domain = speed:0:4:41\n}\n";
+        let m = mission::moos::parse_moos(&SourceMap::from_text("m.moos", moos)).value;
+        let bhv = "initialize DEPLOY = false\nset MODE = ACTIVE {\n  DEPLOY = true\n  (QUIT != yes)\n} INACTIVE\n\
+                   Behavior = BHV_ConstantSpeed\n{\n  name = cs\n  condition = MODE == ACTIVE\n  speed = 1\n}\n";
+        let b = mission::bhv::parse_bhv(&SourceMap::from_text("m.bhv", bhv));
+        let h = HelmApp::new("pHelmIvP", m.process("pHelmIvP").cloned(), &m, &b);
+        assert!(h.config_errors().is_empty(), "{:?}", h.config_errors());
+        let subs: Vec<String> = h.subscriptions().into_iter().map(|s| s.pattern).collect();
+        for v in ["DEPLOY", "QUIT", "MODE", "NAV_X"] {
+            assert!(subs.iter().any(|s| s == v), "{v} not in {subs:?}");
+        }
+        let n = subs.len();
+        let mut dedup = subs.clone();
+        dedup.sort();
+        dedup.dedup();
+        assert_eq!(dedup.len(), n, "no duplicate registrations");
     }
 }
