@@ -166,6 +166,85 @@ fn fnv(s: &str) -> u64 {
     })
 }
 
+/// What [`build`] made of one `Run` line.
+pub enum Built {
+    /// A built-in app.
+    App(Box<dyn App>),
+    /// `MOOSDB`: the bus itself.
+    Db,
+    /// pLogger without a log target: not run.
+    NoLogTarget,
+    /// Not an app coug builds.
+    Unknown,
+}
+
+/// Builds the built-in app `program` (a base name such as `uSimMarineV22`) running as
+/// MOOS name `moos_name`, from the mission's block of that name (defaults without one).
+/// Used for every `Run` line by [`plan`], and alone by the single-app mode. Non-fatal
+/// findings are appended to `warnings`.
+#[allow(clippy::too_many_arguments)]
+pub fn build(
+    program: &str,
+    moos_name: &str,
+    m: &MissionFile,
+    globals: &MissionGlobals,
+    start: f64,
+    seed: u64,
+    log: &mut Option<LogTarget>,
+    warnings: &mut Vec<String>,
+) -> Result<Built, LaunchError> {
+    let block = m.process(moos_name).cloned();
+    let empty = || ProcessConfig {
+        name: moos_name.to_string(),
+        span: mission::source::Span::new(&format!("(no ProcessConfig = {moos_name})"), 0, 0),
+        entries: Vec::new(),
+    };
+    let app: Box<dyn App> = match base(program) {
+        "MOOSDB" => return Ok(Built::Db),
+        "pLogger" => match log.take() {
+            Some(t) => Box::new(Logger::new(
+                moos_name,
+                block,
+                t.config,
+                t.writer,
+                &t.opened,
+                &t.opened_on,
+            )),
+            None => return Ok(Built::NoLogTarget),
+        },
+        "uTimerScript" => {
+            let b = block.unwrap_or_else(empty);
+            let ts = TimerScript::new(moos_name, b, &globals.community, seed ^ fnv(moos_name))?;
+            warnings.extend(ts.warnings().iter().cloned());
+            Box::new(ts)
+        }
+        app @ ("uSimMarine" | "uSimMarineV22") => {
+            let b = block.unwrap_or_else(empty);
+            let legacy = app == "uSimMarine";
+            let v = VehicleApp::simulator(moos_name, b, globals.grid(), start, legacy)?;
+            warnings.extend(v.warnings().iter().cloned());
+            Box::new(v)
+        }
+        "pMarinePID" | "pMarinePIDV22" => {
+            let v = VehicleApp::marine_pid(moos_name, block.unwrap_or_else(empty))?;
+            warnings.extend(v.warnings().iter().cloned());
+            Box::new(v)
+        }
+        "pNodeReporter" => {
+            let v = VehicleApp::node_reporter(
+                moos_name,
+                block.unwrap_or_else(empty),
+                &globals.community,
+                start,
+            )?;
+            warnings.extend(v.warnings().iter().cloned());
+            Box::new(v)
+        }
+        _ => return Ok(Built::Unknown),
+    };
+    Ok(Built::App(app))
+}
+
 /// Resolves the ANTLER block. `start` is the MOOS start time, `seed` seeds every random
 /// draw (each uTimerScript gets `seed` mixed with its name), `log` is where pLogger writes
 /// (a pLogger is added first when the block runs none; without a target pLogger is
@@ -220,65 +299,26 @@ pub fn plan(
             }
             continue;
         }
-        let at = format!("{}:{}", run.span.file_name(), run.span.line);
-        let empty = || ProcessConfig {
-            name: name.clone(),
-            span: run.span.clone(),
-            entries: Vec::new(),
-        };
-        let app: Box<dyn App> = match base(&run.app) {
-            "MOOSDB" => {
-                plan.has_db = true;
-                continue;
-            }
-            "pLogger" => match log.take() {
-                Some(t) => Box::new(Logger::new(
-                    &name,
-                    block,
-                    t.config,
-                    t.writer,
-                    &t.opened,
-                    &t.opened_on,
-                )),
-                None => {
-                    warnings.push(format!("{at}: {name}: no log target given; not logging"));
-                    continue;
-                }
-            },
-            "uTimerScript" => {
-                let b = block.unwrap_or_else(empty);
-                let ts = TimerScript::new(&name, b, &plan.globals.community, seed ^ fnv(&name))?;
-                warnings.extend(ts.warnings().iter().cloned());
-                Box::new(ts)
-            }
-            app @ ("uSimMarine" | "uSimMarineV22") => {
-                let b = block.unwrap_or_else(empty);
-                let legacy = app == "uSimMarine";
-                let v = VehicleApp::simulator(&name, b, plan.globals.grid(), start, legacy)?;
-                warnings.extend(v.warnings().iter().cloned());
-                Box::new(v)
-            }
-            "pMarinePID" | "pMarinePIDV22" => {
-                let v = VehicleApp::marine_pid(&name, block.unwrap_or_else(empty))?;
-                warnings.extend(v.warnings().iter().cloned());
-                Box::new(v)
-            }
-            "pNodeReporter" => {
-                let v = VehicleApp::node_reporter(
-                    &name,
-                    block.unwrap_or_else(empty),
-                    &plan.globals.community,
-                    start,
-                )?;
-                warnings.extend(v.warnings().iter().cloned());
-                Box::new(v)
-            }
-            _ => {
-                plan.external.push(run);
-                continue;
-            }
-        };
-        plan.apps.push(app);
+        let built = build(
+            &run.app,
+            &name,
+            m,
+            &plan.globals,
+            start,
+            seed,
+            &mut log,
+            &mut warnings,
+        )?;
+        match built {
+            Built::App(app) => plan.apps.push(app),
+            Built::Db => plan.has_db = true,
+            Built::NoLogTarget => warnings.push(format!(
+                "{}:{}: {name}: no log target given; not logging",
+                run.span.file_name(),
+                run.span.line
+            )),
+            Built::Unknown => plan.external.push(run),
+        }
     }
     plan.warnings = warnings;
     Ok(plan)
@@ -370,6 +410,65 @@ mod tests {
             p.warnings
         );
         assert_eq!(p.globals.community, "henry");
+    }
+
+    #[test]
+    fn single_apps_are_built_by_program_and_moos_name() {
+        let m = corpus("s1_alpha/alpha.moos");
+        let (g, _) = MissionGlobals::from_mission(&m);
+        let mut w = Vec::new();
+        let mut log = None;
+        let b = build(
+            "uSimMarineV22",
+            "uSimMarineV22",
+            &m,
+            &g,
+            0.0,
+            1,
+            &mut log,
+            &mut w,
+        )
+        .unwrap();
+        let Built::App(sim) = b else {
+            panic!("no simulator")
+        };
+        assert_eq!((sim.name(), sim.app_tick()), ("uSimMarineV22", 4.0));
+        // An alias without its own block runs with defaults, or says what it lacks.
+        let b = build(
+            "/usr/bin/pNodeReporter",
+            "rep2",
+            &m,
+            &g,
+            0.0,
+            1,
+            &mut log,
+            &mut w,
+        )
+        .unwrap();
+        let Built::App(rep) = b else {
+            panic!("no reporter")
+        };
+        assert_eq!((rep.name(), rep.app_tick()), ("rep2", 5.0));
+        let e = build("pMarinePIDV22", "pid2", &m, &g, 0.0, 1, &mut log, &mut w)
+            .err()
+            .unwrap();
+        assert!(
+            e.to_string().starts_with("(no ProcessConfig = pid2):0: "),
+            "{e}"
+        );
+        assert!(e.to_string().contains("yaw_pid_kp"), "{e}");
+        assert!(matches!(
+            build("MOOSDB", "MOOSDB", &m, &g, 0.0, 1, &mut log, &mut w),
+            Ok(Built::Db)
+        ));
+        assert!(matches!(
+            build("pLogger", "pLogger", &m, &g, 0.0, 1, &mut log, &mut w),
+            Ok(Built::NoLogTarget)
+        ));
+        assert!(matches!(
+            build("pHelmIvP", "pHelmIvP", &m, &g, 0.0, 1, &mut log, &mut w),
+            Ok(Built::Unknown)
+        ));
     }
 
     #[test]
