@@ -445,8 +445,9 @@ impl Helm {
     pub fn behavior_names(&self) -> Vec<&str> {
         self.slots.iter().map(|s| s.common.name.as_str()).collect()
     }
-    /// The variables the helm subscribes to (reference §4.3 registrations): its own, and every
-    /// variable a behaviour reads (conditions, flag conditions, `updates`, `duration_reset`,
+    /// The variables the helm subscribes to (reference §4.3 registrations): its own, the mode
+    /// conditions' variables, and every variable a behaviour reads (conditions, flag
+    /// conditions, `updates`, `duration_reset`,
     /// `nostarve` and [`Behavior::info_vars`], e.g. `GPS_UPDATE_RECEIVED`). The list only
     /// grows: a run-time update that makes a behaviour read a new variable adds it (and the
     /// helm posts `IVPHELM_REGISTER = <var>` for it, as pHelmIvP registers new info vars).
@@ -485,6 +486,10 @@ impl Helm {
             }
         };
         let mut bhv_vars = Vec::new();
+        // pHelmIvP also registers the variables of the mode declarations' conditions.
+        for var in self.modes.condition_vars() {
+            push(&mut v, var);
+        }
         for s in &self.slots {
             for (_, c) in &s.common.conditions {
                 for var in c.variables() {

@@ -52,6 +52,22 @@ impl ModeSet {
         }
     }
 
+    /// The variables the mode conditions read (MOOS `ModeEntry::getConditionVars`), each once,
+    /// in declaration order.
+    pub fn condition_vars(&self) -> Vec<&str> {
+        let mut out: Vec<&str> = Vec::new();
+        for e in &self.entries {
+            for c in &e.conditions {
+                for v in c.variables() {
+                    if !out.contains(&v) {
+                        out.push(v);
+                    }
+                }
+            }
+        }
+        out
+    }
+
     /// Whether there are no mode blocks.
     pub fn is_empty(&self) -> bool {
         self.entries.is_empty()

@@ -637,6 +637,10 @@ fn delta_helm_subscribes_to_every_variable_its_behaviours_read() {
         "DEPTH_VALUE",
         "SURVEY_UPDATES",
         "IVPHELM_STATE",
+        // Mode-declaration conditions (`set MODE = ACTIVE { DEPLOY = true }`, ...).
+        "DEPLOY",
+        "RETURN",
+        "SURVEY",
     ] {
         assert!(subs.iter().any(|s| s == var), "{var} missing from {subs:?}");
     }
