@@ -337,6 +337,21 @@ pub trait Behavior: Send {
         self.kind()
     }
 
+    /// Whether this type is a *constraint* behaviour rather than a *goal* behaviour (MOOS
+    /// `IvPBehavior::isConstraint`, a per-type property, false by default). With the helm's
+    /// `goals_mandatory = true`, an iteration in which no active behaviour is a goal behaviour
+    /// all-stops with `NoGoalBehavior`. In MOOS-IvP the collision/obstacle avoidance, max-speed
+    /// and tow-safety types are constraints; every type coug implements is a goal behaviour
+    /// (BHV_MaxDepth included, as in MOOS-IvP).
+    ///
+    /// ```
+    /// assert!(!behaviors::create("BHV_MaxDepth").unwrap().is_constraint());
+    /// assert!(!behaviors::create("BHV_Waypoint").unwrap().is_constraint());
+    /// ```
+    fn is_constraint(&self) -> bool {
+        false
+    }
+
     /// The default `duration` of this type (−1 = none). ConstantSpeed/Heading/Depth use 0
     /// (reference §5.5).
     fn default_duration(&self) -> f64 {

@@ -23,6 +23,7 @@ pub enum AllStopReason {
 pub struct AllStop {
     msg: String,
     no_decisions: u32,
+    no_goal: u32,
 }
 
 /// What [`AllStop::update`] asks the helm to post.
@@ -43,15 +44,22 @@ impl AllStop {
     }
 
     /// Applies a new all-stop message (`clear`, `ManualOverride`, `NothingToDo`,
-    /// `MissingDecVars:x,y`, ...).
+    /// `NoGoalBehavior`, `MissingDecVars:x,y`, ...). The first consecutive `NothingToDo` /
+    /// `MissingDecVars` and the first consecutive `NoGoalBehavior` are grace iterations: the
+    /// message is announced, the internal message becomes `IncompleteOrEmptyDecision` /
+    /// `NoActiveGoalBehavior`, and nothing is zeroed.
     ///
     /// ```
     /// use helm::allstop::{AllStop, AllStopAction};
     /// let mut a = AllStop::default();
     /// assert_eq!(a.update("NothingToDo"), AllStopAction::Announce("NothingToDo".into()));
+    /// assert_eq!(a.message(), "IncompleteOrEmptyDecision");
     /// assert_eq!(a.update("NothingToDo"), AllStopAction::AnnounceAndZero("NothingToDo".into()));
     /// assert_eq!(a.update("NothingToDo"), AllStopAction::None);
     /// assert_eq!(a.update("clear"), AllStopAction::Announce("clear".into()));
+    /// assert_eq!(a.update("NoGoalBehavior"), AllStopAction::Announce("NoGoalBehavior".into()));
+    /// assert_eq!(a.message(), "NoActiveGoalBehavior");
+    /// assert_eq!(a.update("NoGoalBehavior"), AllStopAction::AnnounceAndZero("NoGoalBehavior".into()));
     /// ```
     pub fn update(&mut self, msg: &str) -> AllStopAction {
         if msg == self.msg {
@@ -63,11 +71,20 @@ impl AllStop {
         } else {
             self.no_decisions = 0;
         }
+        if msg == "NoGoalBehavior" {
+            self.no_goal += 1;
+        } else {
+            self.no_goal = 0;
+        }
         if msg.eq_ignore_ascii_case("clear") {
             return AllStopAction::Announce(self.msg.clone());
         }
         if self.no_decisions == 1 {
             let announced = std::mem::replace(&mut self.msg, "IncompleteOrEmptyDecision".into());
+            return AllStopAction::Announce(announced);
+        }
+        if self.no_goal == 1 {
+            let announced = std::mem::replace(&mut self.msg, "NoActiveGoalBehavior".into());
             return AllStopAction::Announce(announced);
         }
         AllStopAction::AnnounceAndZero(self.msg.clone())

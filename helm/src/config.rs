@@ -76,7 +76,8 @@ pub struct HelmConfig {
     pub helm_prefix: String,
     /// `nav_grace` seconds.
     pub nav_grace: f64,
-    /// `goals_mandatory` (only `false` is supported: goal behaviours are not modelled).
+    /// `goals_mandatory`: all-stop (`NoGoalBehavior`) when no active behaviour is a goal
+    /// behaviour (see `behaviors::Behavior::is_constraint`).
     pub goals_mandatory: bool,
     /// `other_override_var`.
     pub other_override_var: String,
@@ -200,13 +201,7 @@ impl HelmConfig {
                 }
                 "allow_park" => set_bool(&mut c.allow_park, &mut errs),
                 "park_on_allstop" => set_bool(&mut c.park_on_allstop, &mut errs),
-                "goals_mandatory" => {
-                    set_bool(&mut c.goals_mandatory, &mut errs);
-                    if c.goals_mandatory {
-                        c.goals_mandatory = false;
-                        errs.push(bad("false (goal behaviours are not modelled by coug yet)"));
-                    }
-                }
+                "goals_mandatory" => set_bool(&mut c.goals_mandatory, &mut errs),
                 "seed_random" => set_bool(&mut c.seed_random, &mut errs),
                 "helm_alias" | "helm_prefix" | "other_override_var" => {
                     if value.is_empty() || value.contains(char::is_whitespace) {
@@ -328,6 +323,26 @@ mod tests {
         assert_eq!(c.ok_skew, None);
         assert_eq!(c.helm_prefix, "H1");
         assert_eq!(c.nav_grace, 5.0);
+        assert!(!c.goals_mandatory);
+    }
+
+    #[test]
+    fn goals_mandatory_is_accepted() {
+        let (c, e) = HelmConfig::parse(
+            &[("domain", "course,0,359,360"), ("goals_mandatory", "TRUE")],
+            &g(),
+        );
+        assert!(e.is_empty(), "{e:?}");
+        assert!(c.goals_mandatory);
+        let (c, e) = HelmConfig::parse(
+            &[
+                ("domain", "course,0,359,360"),
+                ("goals_mandatory", "perhaps"),
+            ],
+            &g(),
+        );
+        assert!(!c.goals_mandatory);
+        assert_eq!(e.len(), 1, "{e:?}");
     }
 
     #[test]

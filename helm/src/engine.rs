@@ -12,9 +12,12 @@
 //! `initialize_` lines) and on flags it posts reaching other behaviours' conditions via the
 //! info buffer, which it updates directly.
 //!
-//! Not modelled: standby helms, `goals_mandatory` and behaviour spawning (`templating =
-//! spawn`) are refused at configuration (MALCONFIG, never silently different); `RESTART_HELM`
-//! and node reports (the contact ledger) only reach the info buffer.
+//! `goals_mandatory = true` all-stops with `NoGoalBehavior` when no active behaviour is a goal
+//! behaviour (one whose type is not a constraint, [`Behavior::is_constraint`]).
+//!
+//! Not modelled: standby helms and behaviour spawning (`templating = spawn`) are refused at
+//! configuration (MALCONFIG, never silently different); `RESTART_HELM` and node reports (the
+//! contact ledger) only reach the info buffer.
 
 use std::collections::HashMap;
 
@@ -798,6 +801,9 @@ impl Helm {
                 pcs: slot.pcs,
             };
             if let Some(f) = f {
+                if !self.slots[i].bhv.is_constraint() {
+                    report.active_goal = true;
+                }
                 let name = self.slots[i].common.name.clone();
                 if let Err(e) = self.problem.add(&name, f) {
                     let msg = format!("{name}: DomainVar not recognized: {e}");
@@ -822,6 +828,7 @@ impl Helm {
                 RunState::Completed => report.completed.push(line),
             }
         }
+        report.active_goal &= !halted;
         report.ofnum = if halted { 0 } else { self.problem.len() };
         report.pcs_formed = if halted {
             0
@@ -903,6 +910,8 @@ impl Helm {
             allstop = "BehaviorError".into();
         } else if report.ofnum == 0 {
             allstop = "NothingToDo".into();
+        } else if self.config.goals_mandatory && !report.active_goal {
+            allstop = "NoGoalBehavior".into();
         } else {
             let missing: Vec<&str> = self
                 .config
@@ -1606,4 +1615,180 @@ fn apply_param(
     };
     slot.bhv
         .set_param(key, value.trim(), &mut slot.common, &ctx)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mission::source::SourceMap;
+
+    /// A behaviour of another type that declares itself a constraint (as MOOS-IvP's avoidance
+    /// behaviours do); everything else is delegated.
+    struct AsConstraint(Box<dyn Behavior>);
+
+    impl Behavior for AsConstraint {
+        fn kind(&self) -> &'static str {
+            self.0.kind()
+        }
+        fn is_constraint(&self) -> bool {
+            true
+        }
+        fn default_duration(&self) -> f64 {
+            self.0.default_duration()
+        }
+        fn set_param(
+            &mut self,
+            param: &str,
+            value: &str,
+            common: &mut Common,
+            ctx: &Ctx<'_>,
+        ) -> Result<(), ParamError> {
+            self.0.set_param(param, value, common, ctx)
+        }
+        fn on_run(&mut self, ctx: &Ctx<'_>, out: &mut Out) -> Option<ivp::IvpFunction> {
+            self.0.on_run(ctx, out)
+        }
+    }
+
+    const BHV: &str = "\
+Behavior = BHV_ConstantHeading
+{
+  name     = hdg
+  heading  = 90
+  duration = no-time-limit
+}
+Behavior = BHV_ConstantSpeed
+{
+  name     = spd
+  speed    = 2
+  duration = no-time-limit
+}
+";
+
+    /// A driving helm (goals_mandatory as given) whose behaviours named in `constraints` are
+    /// turned into constraint behaviours.
+    fn helm(goals_mandatory: &str, constraints: &[&str]) -> Helm {
+        let bhv = mission::bhv::parse_bhv(&SourceMap::from_text("g.bhv", BHV));
+        let g = Globals {
+            lat_origin: Some("0".into()),
+            long_origin: Some("0".into()),
+            community: Some("abe".into()),
+        };
+        let params = [
+            ("domain", "course:0:359:360"),
+            ("domain", "speed:0:4:41"),
+            ("start_engaged", "true"),
+            ("goals_mandatory", goals_mandatory),
+        ];
+        let mut h = Helm::from_parsed(&params, &g, &bhv);
+        assert!(h.config_errors().is_empty(), "{:?}", h.config_errors());
+        for slot in &mut h.slots {
+            if constraints.contains(&slot.common.name.as_str()) {
+                let inner = std::mem::replace(&mut slot.bhv, Box::new(behaviors::Timer::new()));
+                slot.bhv = Box::new(AsConstraint(inner));
+            }
+        }
+        h
+    }
+
+    fn step(h: &mut Helm, t: f64) -> Vec<Posting> {
+        for (var, v) in [
+            ("NAV_X", 0.0),
+            ("NAV_Y", 0.0),
+            ("NAV_HEADING", 0.0),
+            ("NAV_SPEED", 0.0),
+        ] {
+            h.on_mail(&[Mail::new(var, v, t)]);
+        }
+        h.iterate(t).to_vec()
+    }
+
+    fn values<'a>(posts: &'a [Posting], var: &str) -> Vec<&'a Value> {
+        posts
+            .iter()
+            .filter(|p| p.var == var)
+            .map(|p| &p.value)
+            .collect()
+    }
+
+    fn summary(posts: &[Posting]) -> &str {
+        values(posts, "IVPHELM_SUMMARY")[0].as_str().unwrap()
+    }
+
+    #[test]
+    fn no_goal_behaviour_all_stops_after_one_grace_iteration() {
+        let mut h = helm("true", &["hdg", "spd"]);
+        step(&mut h, 0.0);
+        // First decision iteration: announced, nothing zeroed.
+        let p = step(&mut h, 1.0);
+        assert_eq!(values(&p, "IVPHELM_IPF_CNT"), [&Value::Num(2.0)]);
+        assert_eq!(
+            values(&p, "IVPHELM_ALLSTOP"),
+            [&Value::Str("NoGoalBehavior".into())]
+        );
+        assert!(!p.iter().any(|p| p.var.starts_with("DESIRED_")), "{p:?}");
+        assert!(!summary(&p).contains("active_goal"), "{}", summary(&p));
+        // Second consecutive one: announced again, with zero decisions.
+        let p = step(&mut h, 1.25);
+        assert_eq!(
+            values(&p, "IVPHELM_ALLSTOP"),
+            [&Value::Str("NoGoalBehavior".into())]
+        );
+        assert_eq!(values(&p, "DESIRED_HEADING"), [&Value::Num(0.0)]);
+        assert_eq!(values(&p, "DESIRED_SPEED"), [&Value::Num(0.0)]);
+        // Then quiet: the all-stop message is unchanged.
+        let p = step(&mut h, 1.5);
+        assert!(values(&p, "IVPHELM_ALLSTOP").is_empty());
+        assert!(!p.iter().any(|p| p.var.starts_with("DESIRED_")), "{p:?}");
+    }
+
+    #[test]
+    fn one_active_goal_behaviour_is_enough() {
+        let mut h = helm("true", &["spd"]);
+        step(&mut h, 0.0);
+        let p = step(&mut h, 1.0);
+        assert_eq!(values(&p, "IVPHELM_ALLSTOP"), [&Value::Str("clear".into())]);
+        assert_eq!(values(&p, "DESIRED_HEADING"), [&Value::Num(90.0)]);
+        assert_eq!(values(&p, "DESIRED_SPEED"), [&Value::Num(2.0)]);
+        assert!(summary(&p).contains(",active_goal=true"), "{}", summary(&p));
+    }
+
+    #[test]
+    fn without_goals_mandatory_constraints_alone_drive() {
+        let mut h = helm("false", &["hdg", "spd"]);
+        step(&mut h, 0.0);
+        let p = step(&mut h, 1.0);
+        assert_eq!(values(&p, "IVPHELM_ALLSTOP"), [&Value::Str("clear".into())]);
+        assert_eq!(values(&p, "DESIRED_SPEED"), [&Value::Num(2.0)]);
+        assert!(!summary(&p).contains("active_goal"), "{}", summary(&p));
+    }
+
+    #[test]
+    fn a_goal_behaviour_returning_clears_the_no_goal_all_stop() {
+        let mut h = helm("true", &["hdg", "spd"]);
+        step(&mut h, 0.0);
+        step(&mut h, 1.0);
+        step(&mut h, 1.25);
+        // The speed behaviour becomes a goal behaviour again.
+        for slot in &mut h.slots {
+            if slot.common.name == "spd" {
+                slot.bhv = behaviors::create("BHV_ConstantSpeed").unwrap();
+                let ctx_info = InfoBuffer::new();
+                let ctx = Ctx {
+                    info: &ctx_info,
+                    domain: &h.config.domain,
+                    ownship: "abe",
+                    name: "spd",
+                    perpetual: false,
+                };
+                slot.bhv
+                    .set_param("speed", "2", &mut slot.common, &ctx)
+                    .unwrap();
+            }
+        }
+        let p = step(&mut h, 1.5);
+        assert_eq!(values(&p, "IVPHELM_ALLSTOP"), [&Value::Str("clear".into())]);
+        assert_eq!(values(&p, "DESIRED_SPEED"), [&Value::Num(2.0)]);
+        assert!(summary(&p).contains(",active_goal=true"), "{}", summary(&p));
+    }
 }

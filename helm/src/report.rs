@@ -39,6 +39,8 @@ pub struct HelmReport {
     pub domain: Option<Domain>,
     /// Halted by a behaviour error.
     pub halted: bool,
+    /// Some active behaviour is a goal (not a constraint) behaviour (`active_goal=`).
+    pub active_goal: bool,
     /// Halt message.
     pub halt_msg: String,
     /// `modes=` summary.
@@ -132,6 +134,7 @@ impl HelmReport {
             warnings: self.warnings,
             decisions: self.decision_summary(),
             halted: self.halted,
+            active_goal: self.active_goal,
             modes: self.modes.clone(),
             running: full(&self.running, false),
             active: full(&self.active, true),
@@ -151,6 +154,8 @@ impl HelmReport {
     /// let r = HelmReport { iteration: 3, time: 12.5, ofnum: 1, ..Default::default() };
     /// assert_eq!(r.summary(&HelmReport::default()), "iter=3,utc_time=12.50,ofnum=1");
     /// assert_eq!(r.summary(&r), "iter=3,utc_time=12.50");
+    /// let goal = HelmReport { active_goal: true, ..r.clone() };
+    /// assert_eq!(goal.summary(&r), "iter=3,utc_time=12.50,active_goal=true");
     /// ```
     pub fn summary(&self, prev: &HelmReport) -> String {
         let dom = |r: &HelmReport| r.domain.as_ref().map(|d| d.to_string()).unwrap_or_default();
@@ -174,6 +179,7 @@ pub struct Rendered {
     warnings: u64,
     decisions: String,
     halted: bool,
+    active_goal: bool,
     modes: String,
     running: String,
     active: String,
@@ -212,6 +218,9 @@ impl Rendered {
         }
         if self.halted != prev.halted {
             write!(s, ",halted={}", self.halted).ok();
+        }
+        if self.active_goal != prev.active_goal {
+            write!(s, ",active_goal={}", self.active_goal).ok();
         }
         if self.modes != prev.modes {
             write!(s, ",modes={}", none_if_empty(&self.modes)).ok();
