@@ -8,6 +8,7 @@ mod cmd {
     pub mod nsplug;
     pub mod plot;
     pub mod poke;
+    pub mod run;
     pub mod scope;
 }
 
@@ -19,7 +20,7 @@ struct Cli {
     command: Option<Command>,
 }
 
-/// The subcommands. Later issues add `check`, `nsplug`, `db`, `poke`, `scope`, `run`, `plot`.
+/// The subcommands.
 #[derive(Debug, Subcommand)]
 enum Command {
     /// Print the version and what each part of coug does today.
@@ -36,6 +37,8 @@ enum Command {
     Poke(cmd::poke::PokeArgs),
     /// Watch variables like uXMS: [MISSION.moos] VAR... [--once].
     Scope(cmd::scope::ScopeArgs),
+    /// Run a whole mission: MISSION.moos [NAME=VALUE]... [--lockstep | --warp N] [--deploy] [--until COND].
+    Run(cmd::run::RunArgs),
 }
 
 fn main() -> anyhow::Result<()> {
@@ -54,10 +57,11 @@ fn main() -> anyhow::Result<()> {
         Command::Db(args) => cmd::db::run(&args)?,
         Command::Poke(args) => cmd::poke::run(&args)?,
         Command::Scope(args) => cmd::scope::run(&args)?,
+        Command::Run(args) => std::process::exit(cmd::run::run(&args)),
         Command::Info => {
             println!("coug {}", env!("CARGO_PKG_VERSION"));
             println!(
-                "`coug run MISSION.moos` arrives with issue #8. Available now: check, nsplug, db, poke, scope."
+                "Commands: run, check, nsplug, plot, db, poke, scope (`coug help` for details)."
             );
         }
     }

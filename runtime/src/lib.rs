@@ -34,6 +34,9 @@ pub mod summary;
 pub mod timer_script;
 pub mod vehicle;
 
+/// The date-time crate of [`antler::LogTarget`] (so callers need not depend on it).
+pub use chrono;
+
 pub use app::{App, Mail, Post, Subscription, Value};
 pub use bus::{Bus, BusError, DbHost, LocalDb};
 pub use clock::{Clock, VirtualClock, WarpedWallClock};

@@ -151,6 +151,8 @@ pub struct Scheduler<C: Clock = VirtualClock, H: DbHost = LocalDb> {
     started: bool,
     mail: Vec<Mail>,
     posts: Vec<Post>,
+    tapped: Vec<String>,
+    taps: Vec<Post>,
 }
 
 impl<C: Clock, H: DbHost> Scheduler<C, H> {
@@ -171,7 +173,34 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
             started: false,
             mail: Vec::new(),
             posts: Vec::new(),
+            tapped: Vec::new(),
+            taps: Vec::new(),
         }
+    }
+
+    /// Keeps a copy of every app post of `key` (e.g. `IVPHELM_SUMMARY`, whose reports
+    /// carry only changed fields) for [`Scheduler::take_taps`]; does not touch the bus.
+    pub fn tap(&mut self, key: &str) {
+        if !self.tapped.iter().any(|k| k == key) {
+            self.tapped.push(key.to_string());
+        }
+    }
+
+    /// The tapped posts since the last call, in the order they were made.
+    pub fn take_taps(&mut self) -> Vec<Post> {
+        std::mem::take(&mut self.taps)
+    }
+
+    fn record_taps(tapped: &[String], taps: &mut Vec<Post>, posts: &[Post]) {
+        if tapped.is_empty() {
+            return;
+        }
+        taps.extend(
+            posts
+                .iter()
+                .filter(|p| tapped.contains(&p.key))
+                .cloned(),
+        );
     }
 
     /// Turns the CMOOSApp `<APP>_STATUS` posts (every 2 s per app) on or off (default on).
@@ -319,6 +348,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
             let slot = &mut self.slots[i];
             slot.app.on_startup(now, &mut self.posts);
             Self::publish(&mut self.bus, slot, &self.posts, now)?;
+            Self::record_taps(&self.tapped, &mut self.taps, &self.posts);
         }
         // Pokes waiting for apps that do not run go out at the start.
         let names: Vec<String> = self.slots.iter().map(|s| s.name.clone()).collect();
@@ -425,6 +455,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
             if !self.mail.is_empty() {
                 slot.app.on_mail(&self.mail, now, &mut self.posts);
                 Self::publish(&mut self.bus, slot, &self.posts, now)?;
+                Self::record_taps(&self.tapped, &mut self.taps, &self.posts);
             }
         }
         Ok(())
@@ -454,6 +485,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
             slot.subscribed.insert(s.pattern);
         }
         Self::publish(&mut self.bus, slot, &self.posts, now)?;
+        Self::record_taps(&self.tapped, &mut self.taps, &self.posts);
         let first = slot.ticks == 0;
         slot.ticks += 1;
         slot.next = slot.origin + slot.ticks as f64 / slot.hz;

@@ -1,0 +1,757 @@
+//! `coug run MISSION.moos [NAME=VALUE]... [--lockstep | --warp N] [--poke VAR=VALUE[@T]]...
+//! [--deploy] [--until CONDITION] [--max-time SECONDS] [--log-dir DIR] [--port N]`:
+//! one command runs a whole MOOS-IvP mission.
+//!
+//! The mission (and each helm's `behaviors =` file) is nsplug-expanded with the given
+//! macros, the ANTLER block is resolved into coug's built-in apps (`runtime::antler`), and
+//! the apps run either in lockstep on a virtual clock (deterministic, as fast as the CPU
+//! allows) or in real time times the warp with the MOOSDB on TCP, so real MOOS apps can
+//! join; ANTLER apps coug does not build in are then started from PATH as pAntler starts
+//! them (`APP MISSION.moos [ALIAS]`).
+//!
+//! Exit codes: 0 when the `--until` condition held (or the run reached `--max-time`
+//! without one), 2 when `--max-time` came first, 1 on errors in files or arguments.
+
+use std::collections::HashMap;
+use std::io::{BufWriter, IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command};
+use std::time::{Duration, Instant};
+
+use clap::Args;
+use mission::Parsed;
+use mission::bhv::BehaviorFile;
+use mission::condition::{Condition, parse_condition};
+use mission::moos::{AntlerRun, MissionFile, parse_moos};
+use mission::nsplug::{Options, preprocess};
+use mission::source::FsSource;
+use moosdb_client::time::Warp;
+use moosdb_client::{Server, ServerConfig};
+use runtime::antler::{LogTarget, MissionGlobals, Plan, logger_config, plan};
+use runtime::chrono::{self, NaiveDateTime};
+use runtime::helm::HelmApp;
+use runtime::realtime::{RunSpec, run_apps};
+use runtime::remote::RemoteConfig;
+use runtime::summary::{RunSummary, behaviour_list};
+use runtime::{App, Bus, Outcome, Poke, Scheduler, Value, VirtualClock};
+
+/// MOOS time at which every lockstep run starts (so two runs log the same bytes).
+pub const LOCKSTEP_START: f64 = 1_786_000_000.0;
+
+/// The banner's `FILE OPENED ON` text (pLogger 2024 prints the Unix epoch there).
+const OPENED_ON: &str = "Thu Jan  1 00:00:00 1970";
+
+/// Arguments of `coug run`.
+#[derive(Debug, Args)]
+pub struct RunArgs {
+    /// The mission file.
+    #[arg(value_name = "MISSION.moos")]
+    pub mission: PathBuf,
+    /// nsplug macro definitions for the mission and its behaviour files.
+    #[arg(value_name = "NAME=VALUE")]
+    pub macros: Vec<String>,
+    /// Virtual clock: every app and the bus in one thread, deterministic, as fast as the
+    /// CPU allows.
+    #[arg(long, conflicts_with = "warp")]
+    pub lockstep: bool,
+    /// Real-time speed-up (default: the mission's MOOSTimeWarp).
+    #[arg(long, value_name = "N")]
+    pub warp: Option<f64>,
+    /// Post a value once the helm is up (`VAR=VALUE`, `VAR:=VALUE` for a string), or at
+    /// `T` seconds after the start (`VAR=VALUE@T`). Repeatable.
+    #[arg(long = "poke", value_name = "VAR=VALUE[@T]")]
+    pub pokes: Vec<String>,
+    /// Shorthand for `--poke DEPLOY=true --poke MOOS_MANUAL_OVERRIDE=false`.
+    #[arg(long)]
+    pub deploy: bool,
+    /// End the run when this condition (.bhv syntax) holds, e.g. "MISSION = complete".
+    #[arg(long, value_name = "CONDITION")]
+    pub until: Option<String>,
+    /// End the run after this many simulated seconds (exit 2 if `--until` is pending).
+    #[arg(long, value_name = "SECONDS", default_value_t = 3600.0)]
+    pub max_time: f64,
+    /// Where pLogger writes (default: a timestamped folder under the current directory).
+    #[arg(long, value_name = "DIR")]
+    pub log_dir: Option<PathBuf>,
+    /// MOOSDB port in real time (default: the mission's ServerPort; 0 picks a free one).
+    #[arg(long, value_name = "N")]
+    pub port: Option<u16>,
+    /// Seed of every random draw (uTimerScript randomness).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Simulated seconds between progress lines when stderr is not a terminal.
+    #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
+    pub progress_every: f64,
+    /// Extra directory searched for nsplug `#include` files (repeatable).
+    #[arg(short = 'p', long = "path", value_name = "DIR")]
+    pub include_paths: Vec<PathBuf>,
+}
+
+/// A mission loaded and checked: the expanded `.moos`, its text, and each helm's behaviours.
+pub struct Loaded {
+    /// The expanded, parsed mission.
+    pub mission: MissionFile,
+    /// The expanded mission text (written for external apps when it differs).
+    pub text: String,
+    /// Parsed behaviour files by the helm's MOOS name.
+    pub behaviors: HashMap<String, Parsed<BehaviorFile>>,
+    /// True when macros changed the text (external apps then get an expanded copy).
+    pub expanded: bool,
+}
+
+fn base(app: &str) -> &str {
+    app.rsplit('/').next().unwrap_or(app)
+}
+
+/// Preprocesses and parses the mission and its behaviour files; returns the error
+/// messages (`file:line: ...`) when any file has an error. Warnings go to stderr.
+pub fn load(
+    path: &Path,
+    macros: &[String],
+    include_paths: &[PathBuf],
+) -> Result<Loaded, Vec<String>> {
+    let mut opts = Options::new();
+    opts.include_paths = include_paths.to_vec();
+    for m in macros {
+        opts.define_arg(m);
+    }
+    let pre = preprocess(&FsSource, path, &opts).map_err(|d| vec![d.to_string()])?;
+    let text = pre.source.text();
+    let original = std::fs::read_to_string(path).unwrap_or_default();
+    let parsed = parse_moos(&pre.source);
+    let mut errors = Vec::new();
+    for d in pre.diagnostics.iter().chain(parsed.diagnostics.iter()) {
+        if d.is_error() {
+            errors.push(d.to_string());
+        } else {
+            eprintln!("coug run: warning: {d}");
+        }
+    }
+    let mission = parsed.value;
+    let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
+    let mut behaviors = HashMap::new();
+    for run in mission.antler_runs() {
+        if base(&run.app) != "pHelmIvP" {
+            continue;
+        }
+        let name = run.moos_name().to_string();
+        let Some(block) = mission.process(&name) else {
+            continue;
+        };
+        let Some(file) = block.params("behaviors").next() else {
+            errors.push(format!(
+                "{}:{}: {name}: no `behaviors =` file in its ProcessConfig block",
+                block.span.file_name(),
+                block.span.line
+            ));
+            continue;
+        };
+        let bpath = dir.join(&file.value);
+        if !bpath.is_file() {
+            errors.push(format!(
+                "{}:{}: behaviour file `{}` not found",
+                file.span.file_name(),
+                file.span.line,
+                bpath.display()
+            ));
+            continue;
+        }
+        match mission::load_bhv(&FsSource, &bpath, &opts) {
+            Err(d) => errors.push(d.to_string()),
+            Ok(b) => {
+                for d in &b.diagnostics {
+                    if d.is_error() {
+                        errors.push(d.to_string());
+                    }
+                }
+                behaviors.insert(name, b);
+            }
+        }
+    }
+    if errors.is_empty() {
+        let expanded = text.trim_end() != original.trim_end();
+        Ok(Loaded {
+            mission,
+            text,
+            behaviors,
+            expanded,
+        })
+    } else {
+        Err(errors)
+    }
+}
+
+/// The pokes of the command line (`--deploy` first), aimed at the first helm.
+fn pokes(args: &RunArgs, helm: &str) -> Result<Vec<Poke>, String> {
+    let mut texts: Vec<&str> = Vec::new();
+    if args.deploy {
+        texts.extend(["DEPLOY=true", "MOOS_MANUAL_OVERRIDE=false"]);
+    }
+    texts.extend(args.pokes.iter().map(String::as_str));
+    texts
+        .into_iter()
+        .map(|t| Poke::parse(t, helm).map_err(|e| format!("--poke {t}: {e}")))
+        .collect()
+}
+
+/// Opens the alog of a session under `dir` and returns the logger's target.
+fn log_target(m: &MissionFile, dir: &Path, opened: NaiveDateTime) -> Result<LogTarget, String> {
+    let mut config = logger_config(m);
+    config.path = dir.to_string_lossy().trim_end_matches('/').to_string();
+    if config.path.is_empty() {
+        config.path = ".".into();
+    }
+    let session = config.directory(&opened);
+    std::fs::create_dir_all(&session).map_err(|e| format!("cannot create {session}: {e}"))?;
+    let path = config.alog_path(&opened);
+    let file = std::fs::File::create(&path).map_err(|e| format!("cannot create {path}: {e}"))?;
+    Ok(LogTarget {
+        config,
+        writer: Box::new(BufWriter::with_capacity(1 << 16, file)),
+        opened,
+        opened_on: OPENED_ON.into(),
+    })
+}
+
+/// Resolves the ANTLER block with coug's helm for every `pHelmIvP` line.
+fn make_plan(
+    loaded: &Loaded,
+    start: f64,
+    seed: u64,
+    log: Option<LogTarget>,
+) -> Result<Plan, String> {
+    let m = &loaded.mission;
+    plan(m, start, seed, log, &mut |run: &AntlerRun, block| {
+        if base(&run.app) != "pHelmIvP" {
+            return None;
+        }
+        let name = run.moos_name();
+        let Some(bhv) = loaded.behaviors.get(name) else {
+            return Some(Err(format!(
+                "no ProcessConfig = {name} block with a `behaviors =` file"
+            )));
+        };
+        let h = HelmApp::new(name, block.cloned(), m, bhv);
+        let errors = h.config_errors();
+        Some(if errors.is_empty() {
+            Ok(Box::new(h) as Box<dyn App>)
+        } else {
+            Err(errors.join("; "))
+        })
+    })
+    .map_err(|e| e.to_string())
+}
+
+/// What the progress line shows, read from the DB's current values.
+#[derive(Default)]
+struct Progress {
+    active: Vec<String>,
+    last_line: Option<Instant>,
+    next_sim: f64,
+    printed_inline: bool,
+}
+
+fn num(v: Option<Value>) -> Option<f64> {
+    v.and_then(|v| v.as_f64())
+}
+
+fn text(v: Option<Value>) -> Option<String> {
+    v.and_then(|v| v.as_str().map(String::from))
+}
+
+impl Progress {
+    fn line(
+        &mut self,
+        sim: f64,
+        wall: f64,
+        get: &dyn Fn(&str) -> Option<Value>,
+        terminal: bool,
+    ) -> String {
+        let state = text(get("IVPHELM_STATE")).unwrap_or_else(|| "-".into());
+        let active = if self.active.is_empty() {
+            "none".to_string()
+        } else {
+            self.active.join(",")
+        };
+        let f = |k: &str| num(get(k)).map_or("-".into(), |x| format!("{x:.1}"));
+        let line = format!(
+            "t={sim:7.1}s  {:6.0}x  helm={state}  active={active}  x={} y={} depth={}",
+            sim / wall.max(1e-9),
+            f("NAV_X"),
+            f("NAV_Y"),
+            f("NAV_DEPTH")
+        );
+        if terminal {
+            format!("\r\x1b[2K{line}")
+        } else {
+            format!("{line}\n")
+        }
+    }
+
+    /// Prints a progress line if one is due.
+    fn tick(
+        &mut self,
+        sim: f64,
+        wall: &Instant,
+        get: &dyn Fn(&str) -> Option<Value>,
+        terminal: bool,
+        every: f64,
+    ) {
+        if let Some(s) = text(get("IVPHELM_SUMMARY"))
+            && let Some(a) = behaviour_list(&s, "active_bhvs")
+        {
+            self.active = a;
+        }
+        let due = if terminal {
+            self.last_line
+                .is_none_or(|t| t.elapsed() >= Duration::from_millis(200))
+        } else {
+            sim >= self.next_sim
+        };
+        if !due {
+            return;
+        }
+        self.last_line = Some(Instant::now());
+        while self.next_sim <= sim {
+            self.next_sim += every.max(0.1);
+        }
+        let l = self.line(sim, wall.elapsed().as_secs_f64(), get, terminal);
+        let mut err = std::io::stderr().lock();
+        let _ = err.write_all(l.as_bytes());
+        let _ = err.flush();
+        self.printed_inline = terminal;
+    }
+
+    fn finish(&mut self) {
+        if self.printed_inline {
+            eprintln!();
+            self.printed_inline = false;
+        }
+    }
+}
+
+/// How a run ended, for the summary and the exit code.
+struct Ended {
+    outcome: Outcome,
+    start: f64,
+    wall: f64,
+    until_values: Vec<(String, Option<Value>)>,
+}
+
+fn fmt_value(v: &Option<Value>) -> String {
+    match v {
+        None => "(never posted)".into(),
+        Some(Value::Double(x)) => format!("{x}"),
+        Some(Value::String(s)) => format!("\"{s}\""),
+        Some(Value::Binary(b)) => format!("({} bytes)", b.len()),
+    }
+}
+
+/// Prints the closing summary and returns the exit code.
+fn finish(args: &RunArgs, ended: &Ended, alog_path: Option<&str>) -> i32 {
+    let (time, code) = match ended.outcome {
+        Outcome::ConditionMet { time } => (time, 0),
+        Outcome::MaxTime { time } => (time, if args.until.is_some() { 2 } else { 0 }),
+        Outcome::AllFinished { time } => (time, if args.until.is_some() { 2 } else { 0 }),
+    };
+    let sim = time - ended.start;
+    let mut out = String::new();
+    use std::fmt::Write as _;
+    let _ = writeln!(out, "coug run: {}", args.mission.display());
+    let how = match ended.outcome {
+        Outcome::ConditionMet { .. } => format!(
+            "until condition met ({})",
+            args.until.as_deref().unwrap_or("")
+        ),
+        Outcome::MaxTime { .. } => format!("max time {} s reached", args.max_time),
+        Outcome::AllFinished { .. } => "every app finished".into(),
+    };
+    let _ = writeln!(out, "  ended:       {how}");
+    let _ = writeln!(
+        out,
+        "  simulated:   {sim:.1} s   wall: {:.3} s   speed-up: {:.0}x",
+        ended.wall,
+        sim / ended.wall.max(1e-9)
+    );
+    if let Some(path) = alog_path {
+        match std::fs::read_to_string(path)
+            .ok()
+            .and_then(|t| alog::parse(&t).ok())
+        {
+            Some(log) => {
+                let s = RunSummary::from_alog(&log);
+                let _ = writeln!(out, "  distance:    {:.1} m", s.distance);
+                if s.max_depth > 0.0 {
+                    let _ = writeln!(out, "  max depth:   {:.2} m", s.max_depth);
+                }
+                if let Some((x, y)) = s.final_position {
+                    let _ = writeln!(out, "  final x,y:   {x:.1}, {y:.1}");
+                }
+                let done = if s.completed.is_empty() {
+                    "none".to_string()
+                } else {
+                    s.completed.join(", ")
+                };
+                let _ = writeln!(out, "  completed:   {done}");
+                if let Some(h) = &s.helm_state {
+                    let _ = writeln!(out, "  helm state:  {h}");
+                }
+            }
+            None => {
+                let _ = writeln!(out, "  (the log could not be read back for totals)");
+            }
+        }
+    }
+    for (k, v) in &ended.until_values {
+        let _ = writeln!(out, "  {k} = {}", fmt_value(v));
+    }
+    match alog_path {
+        Some(p) => {
+            let _ = writeln!(out, "  log:         {p}");
+        }
+        None => {
+            let _ = writeln!(out, "  log:         (none)");
+        }
+    }
+    print!("{out}");
+    if code == 2 {
+        let pending: Vec<String> = ended
+            .until_values
+            .iter()
+            .map(|(k, v)| format!("{k} = {}", fmt_value(v)))
+            .collect();
+        eprintln!(
+            "coug run: still pending after {sim:.1} simulated s: {} (now {})",
+            args.until.as_deref().unwrap_or(""),
+            pending.join(", ")
+        );
+    }
+    code
+}
+
+fn default_log_dir() -> PathBuf {
+    PathBuf::from(format!(
+        "coug-run-{}",
+        chrono::Local::now().format("%Y%m%d-%H%M%S")
+    ))
+}
+
+/// Runs `coug run`; returns the process exit code.
+pub fn run(args: &RunArgs) -> i32 {
+    match run_inner(args) {
+        Ok(code) => code,
+        Err(messages) => {
+            for m in messages {
+                eprintln!("coug run: {m}");
+            }
+            1
+        }
+    }
+}
+
+fn run_inner(args: &RunArgs) -> Result<i32, Vec<String>> {
+    if !(args.max_time.is_finite() && args.max_time > 0.0) {
+        return Err(vec![format!(
+            "--max-time {}: expected a positive number of seconds",
+            args.max_time
+        )]);
+    }
+    let loaded = load(&args.mission, &args.macros, &args.include_paths)?;
+    let until = match &args.until {
+        Some(u) => Some(parse_condition(u).map_err(|e| vec![format!("--until {u:?}: {e}")])?),
+        None => None,
+    };
+    let helm = loaded
+        .mission
+        .antler_runs()
+        .into_iter()
+        .find(|r| base(&r.app) == "pHelmIvP")
+        .map_or_else(|| "pHelmIvP".to_string(), |r| r.moos_name().to_string());
+    let pokes = pokes(args, &helm).map_err(|e| vec![e])?;
+    let log_dir = args.log_dir.clone().unwrap_or_else(default_log_dir);
+    if args.lockstep {
+        lockstep(args, &loaded, pokes, until, &log_dir)
+    } else {
+        realtime(args, &loaded, pokes, until, &log_dir)
+    }
+}
+
+fn alog_path_of(m: &MissionFile, dir: &Path, opened: &NaiveDateTime) -> String {
+    let mut config = logger_config(m);
+    config.path = dir.to_string_lossy().trim_end_matches('/').to_string();
+    if config.path.is_empty() {
+        config.path = ".".into();
+    }
+    config.alog_path(opened)
+}
+
+fn lockstep(
+    args: &RunArgs,
+    loaded: &Loaded,
+    pokes: Vec<Poke>,
+    until: Option<Condition>,
+    log_dir: &Path,
+) -> Result<i32, Vec<String>> {
+    let start = LOCKSTEP_START;
+    let opened = chrono::DateTime::from_timestamp(start as i64, 0)
+        .map(|d| d.naive_utc())
+        .unwrap_or_default();
+    let target = log_target(&loaded.mission, log_dir, opened).map_err(|e| vec![e])?;
+    let alog_path = alog_path_of(&loaded.mission, log_dir, &opened);
+    let p = make_plan(loaded, start, args.seed, Some(target)).map_err(|e| vec![e])?;
+    for w in &p.warnings {
+        eprintln!("coug run: warning: {w}");
+    }
+    for ext in &p.external {
+        eprintln!(
+            "coug run: warning: {}:{}: {} is not built into coug; skipped in lockstep",
+            ext.span.file_name(),
+            ext.span.line,
+            ext.app
+        );
+    }
+    let mut s = Scheduler::new(Bus::new(&p.globals.community, start), VirtualClock, start);
+    for app in p.apps {
+        s.add_app(app).map_err(|e| vec![e.to_string()])?;
+    }
+    for poke in pokes {
+        s.add_poke(poke).map_err(|e| vec![e.to_string()])?;
+    }
+    if let Some(c) = until {
+        s.set_until(c);
+    }
+    s.tap("IVPHELM_SUMMARY");
+    let terminal = std::io::stderr().is_terminal();
+    let mut progress = Progress {
+        next_sim: 0.0,
+        ..Progress::default()
+    };
+    let wall = Instant::now();
+    let end = start + args.max_time;
+    // One-second steps: the progress line samples the helm's summary at each.
+    let step = 1.0;
+    let mut t = start;
+    let outcome = loop {
+        t = (t + step).min(end);
+        match s.advance(t).map_err(|e| vec![e.to_string()])? {
+            Some(o) => break o,
+            None if t >= end => break Outcome::MaxTime { time: end },
+            None => {}
+        }
+        for p in s.take_taps() {
+            if let Some(a) = p
+                .value
+                .as_str()
+                .and_then(|v| behaviour_list(v, "active_bhvs"))
+            {
+                progress.active = a;
+            }
+        }
+        let get = |k: &str| s.current(k);
+        progress.tick(t - start, &wall, &get, terminal, args.progress_every);
+    };
+    s.deliver_pending().map_err(|e| vec![e.to_string()])?;
+    let wall = wall.elapsed().as_secs_f64();
+    progress.finish();
+    let ended = Ended {
+        outcome,
+        start,
+        wall,
+        until_values: s.until_values(),
+    };
+    // Dropping the scheduler drops the logger, which flushes the alog.
+    drop(s);
+    Ok(finish(args, &ended, Some(&alog_path)))
+}
+
+/// Writes the expanded mission (with the DB's actual port) for external apps, when the
+/// original file does not describe this run.
+fn mission_for_externals(
+    args: &RunArgs,
+    loaded: &Loaded,
+    globals: &MissionGlobals,
+    port: u16,
+    log_dir: &Path,
+) -> Result<PathBuf, String> {
+    if !loaded.expanded && port == globals.server_port {
+        return Ok(args.mission.clone());
+    }
+    let mut out = String::new();
+    let mut depth = 0usize;
+    let mut replaced = false;
+    for line in loaded.text.lines() {
+        let t = line.trim_start();
+        if t.starts_with('{') {
+            depth += 1;
+        } else if t.starts_with('}') {
+            depth = depth.saturating_sub(1);
+        }
+        let is_port = depth == 0
+            && t.split('=')
+                .next()
+                .is_some_and(|k| k.trim().eq_ignore_ascii_case("ServerPort"));
+        if is_port && t.contains('=') {
+            out.push_str(&format!("ServerPort = {port}\n"));
+            replaced = true;
+        } else {
+            out.push_str(line);
+            out.push('\n');
+        }
+    }
+    if !replaced {
+        out.insert_str(0, &format!("ServerPort = {port}\n"));
+    }
+    std::fs::create_dir_all(log_dir)
+        .map_err(|e| format!("cannot create {}: {e}", log_dir.display()))?;
+    let name = args.mission.file_name().map_or_else(
+        || "mission.moos".into(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    let path = log_dir.join(format!("expanded_{name}"));
+    std::fs::write(&path, out).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    Ok(path)
+}
+
+/// Starts the ANTLER apps coug does not build in, from PATH, as pAntler does.
+fn start_externals(externals: &[AntlerRun], mission: &Path) -> Vec<Child> {
+    let mut children = Vec::new();
+    for ext in externals {
+        let mut cmd = Command::new(&ext.app);
+        cmd.arg(mission);
+        if ext.moos_name() != base(&ext.app) {
+            cmd.arg(ext.moos_name());
+        }
+        cmd.stdin(std::process::Stdio::null())
+            .stdout(std::process::Stdio::null());
+        match cmd.spawn() {
+            Ok(c) => {
+                eprintln!("coug run: started {} (pid {})", ext.app, c.id());
+                children.push(c);
+            }
+            Err(e) => eprintln!(
+                "coug run: warning: {}:{}: cannot start {}: {e}; running without it",
+                ext.span.file_name(),
+                ext.span.line,
+                ext.app
+            ),
+        }
+    }
+    children
+}
+
+fn realtime(
+    args: &RunArgs,
+    loaded: &Loaded,
+    pokes: Vec<Poke>,
+    until: Option<Condition>,
+    log_dir: &Path,
+) -> Result<i32, Vec<String>> {
+    let (globals, _) = MissionGlobals::from_mission(&loaded.mission);
+    let warp_f = args.warp.unwrap_or(globals.time_warp);
+    let warp = Warp::new(warp_f).map_err(|e| vec![format!("--warp {warp_f}: {e}")])?;
+    let port = args.port.unwrap_or(globals.server_port);
+    let host = if globals.server_host.eq_ignore_ascii_case("localhost") {
+        "127.0.0.1".to_string()
+    } else {
+        globals.server_host.clone()
+    };
+    let rt = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .map_err(|e| vec![e.to_string()])?;
+    let local = tokio::task::LocalSet::new();
+    local.block_on(&rt, async {
+        let addr: std::net::SocketAddr = format!("{host}:{port}")
+            .parse()
+            .or_else(|_| {
+                use std::net::ToSocketAddrs;
+                (host.as_str(), port)
+                    .to_socket_addrs()
+                    .ok()
+                    .and_then(|mut a| a.next())
+                    .ok_or(())
+            })
+            .map_err(|_| vec![format!("cannot resolve ServerHost {host}")])?;
+        let mut sc = ServerConfig::with_addr(addr);
+        sc.warp = warp;
+        sc.db.community = globals.community.clone();
+        let server = Server::bind(sc)
+            .await
+            .map_err(|e| vec![format!("cannot listen on {addr}: {e}")])?;
+        let port = server.local_addr().port();
+        eprintln!(
+            "coug run: MOOSDB_{} listening on {} (warp {warp_f})",
+            globals.community,
+            server.local_addr()
+        );
+        let start = moosdb_client::time::unix_now() * warp_f;
+        let opened = chrono::Local::now().naive_local();
+        let target = log_target(&loaded.mission, log_dir, opened).map_err(|e| vec![e])?;
+        let alog_path = alog_path_of(&loaded.mission, log_dir, &opened);
+        let p = make_plan(loaded, start, args.seed, Some(target)).map_err(|e| vec![e])?;
+        for w in &p.warnings {
+            eprintln!("coug run: warning: {w}");
+        }
+        let mut children = Vec::new();
+        if !p.external.is_empty() {
+            let path = mission_for_externals(args, loaded, &globals, port, log_dir)
+                .map_err(|e| vec![e])?;
+            children = start_externals(&p.external, &path);
+        }
+        let cfg = RemoteConfig {
+            host: addr.ip().to_string(),
+            port,
+            warp: warp_f,
+        };
+        let spec = RunSpec {
+            pokes,
+            until,
+            max_time: args.max_time,
+        };
+        let terminal = std::io::stderr().is_terminal();
+        let wall = Instant::now();
+        let db = &server;
+        let every = args.progress_every;
+        let progress_task = async move {
+            let mut progress = Progress::default();
+            let mut tick =
+                tokio::time::interval(Duration::from_millis(if terminal { 200 } else { 50 }));
+            loop {
+                tick.tick().await;
+                let now = moosdb_client::time::unix_now() * warp_f;
+                let get = |k: &str| -> Option<Value> {
+                    db.with_db(|d| d.current(k))
+                        .and_then(|m| match m.data_type {
+                            moosdb_client::DataType::Double => Some(Value::Double(m.dval)),
+                            moosdb_client::DataType::String => {
+                                Some(Value::String(m.sval_str().into_owned()))
+                            }
+                            _ => None,
+                        })
+                };
+                progress.tick(now - start, &wall, &get, terminal, every);
+            }
+        };
+        let result = tokio::select! {
+            r = run_apps(p.apps, &cfg, spec) => r,
+            _ = progress_task => unreachable!("the progress loop never ends"),
+        };
+        let wall = wall.elapsed().as_secs_f64();
+        if terminal {
+            eprintln!();
+        }
+        for mut c in children {
+            let _ = c.kill();
+            let _ = c.wait();
+        }
+        server.shutdown();
+        let end = result.map_err(|e| vec![e.to_string()])?;
+        let ended = Ended {
+            outcome: end.outcome,
+            start,
+            wall,
+            until_values: end.values,
+        };
+        Ok(finish(args, &ended, Some(&alog_path)))
+    })
+}

@@ -1,0 +1,207 @@
+//! Helpers shared by the `coug run` end-to-end tests: run the binary in a fresh folder,
+//! find and read the alog it wrote, follow the track, and check a plot.
+
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// The shared corpus of real MOOS-IvP missions (the test fails loudly without it).
+pub fn corpus(rel: &str) -> PathBuf {
+    let p = PathBuf::from(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../shared/corpus/moos-ivp-missions"
+    ))
+    .join(rel);
+    assert!(
+        p.is_file(),
+        "corpus file {} is required (../shared must sit beside the repository)",
+        p.display()
+    );
+    p
+}
+
+/// A file of the project's own `missions/` folder.
+pub fn project_mission(rel: &str) -> PathBuf {
+    let p = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/missions")).join(rel);
+    assert!(p.is_file(), "mission file {} is missing", p.display());
+    p
+}
+
+/// A fresh, empty folder for one run.
+pub fn fresh_dir(name: &str) -> PathBuf {
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+/// Runs `coug` with `args` in `cwd`.
+pub fn coug(cwd: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_coug"))
+        .current_dir(cwd)
+        .args(args)
+        .output()
+        .expect("coug runs")
+}
+
+/// The one `.alog` file under `dir` (searched recursively).
+pub fn find_alog(dir: &Path) -> PathBuf {
+    let mut found = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).expect("readable dir").flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if p.extension().is_some_and(|x| x == "alog") {
+                found.push(p);
+            }
+        }
+    }
+    assert_eq!(
+        found.len(),
+        1,
+        "expected one alog under {}: {found:?}",
+        dir.display()
+    );
+    found.pop().unwrap()
+}
+
+/// Runs a mission in lockstep in a fresh folder `name` (logs to `logs/` there), asserts a
+/// zero exit, and returns the alog bytes and the stdout text.
+pub fn run_lockstep(name: &str, mission: &Path, extra: &[&str]) -> (Vec<u8>, String) {
+    let dir = fresh_dir(name);
+    let m = mission.to_str().unwrap();
+    let mut args = vec!["run", m, "--lockstep", "--log-dir", "logs"];
+    args.extend_from_slice(extra);
+    let out = coug(&dir, &args);
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "coug run {m} failed\nstdout:\n{stdout}\nstderr (tail):\n{}",
+        tail(&stderr, 30)
+    );
+    let alog = find_alog(&dir.join("logs"));
+    assert!(
+        stdout.contains("log:         logs/"),
+        "summary names the log: {stdout}"
+    );
+    (std::fs::read(&alog).expect("alog readable"), stdout)
+}
+
+/// The last `n` lines of a text.
+pub fn tail(s: &str, n: usize) -> String {
+    let lines: Vec<&str> = s.lines().collect();
+    lines[lines.len().saturating_sub(n)..].join("\n")
+}
+
+/// The parsed log.
+pub fn parse(bytes: &[u8]) -> alog::Alog {
+    alog::parse(std::str::from_utf8(bytes).expect("utf-8 alog")).expect("valid alog")
+}
+
+/// `(time, x, y)` each time the position changes.
+pub fn track(log: &alog::Alog) -> Vec<(f64, f64, f64)> {
+    let (mut x, mut y) = (None, None);
+    let mut out = Vec::new();
+    for e in &log.entries {
+        match (e.var.as_str(), e.value.as_f64()) {
+            ("NAV_X", Some(v)) => x = Some(v),
+            ("NAV_Y", Some(v)) => y = Some(v),
+            _ => continue,
+        }
+        if let (Some(x), Some(y)) = (x, y) {
+            out.push((e.time, x, y));
+        }
+    }
+    out
+}
+
+/// `(time, depth)` of every NAV_DEPTH record.
+pub fn depths(log: &alog::Alog) -> Vec<(f64, f64)> {
+    log.entries
+        .iter()
+        .filter(|e| e.var == "NAV_DEPTH")
+        .filter_map(|e| Some((e.time, e.value.as_f64()?)))
+        .collect()
+}
+
+/// Asserts the track passes within `radius` of each point in order, starting at record
+/// `from`; returns the index of the last hit.
+pub fn visits_in_order(
+    track: &[(f64, f64, f64)],
+    points: &[(f64, f64)],
+    radius: f64,
+    mut from: usize,
+) -> usize {
+    for &(vx, vy) in points {
+        let hit = track[from..]
+            .iter()
+            .position(|&(_, x, y)| (x - vx).hypot(y - vy) <= radius)
+            .unwrap_or_else(|| {
+                panic!(
+                    "point {vx},{vy} not reached within {radius} m after t={}",
+                    track.get(from).map_or(f64::NAN, |t| t.0)
+                )
+            });
+        from += hit;
+    }
+    from
+}
+
+/// The last string value of a variable.
+pub fn last_str(log: &alog::Alog, var: &str) -> Option<String> {
+    log.entries
+        .iter()
+        .rev()
+        .find(|e| e.var == var)
+        .and_then(|e| e.value.as_str().map(String::from))
+}
+
+/// Plots `alog` with `coug plot` to SVG and PNG and checks both are sane images; returns
+/// the PNG bytes.
+pub fn check_plots(alog_bytes: &[u8], name: &str, expect_depth_panel: bool) -> Vec<u8> {
+    let dir = fresh_dir(&format!("{name}-plot"));
+    std::fs::write(dir.join("run.alog"), alog_bytes).unwrap();
+    for out in ["track.svg", "track.png"] {
+        let o = coug(&dir, &["plot", "run.alog", "-o", out]);
+        assert!(
+            o.status.success(),
+            "coug plot -o {out}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+    let svg = std::fs::read_to_string(dir.join("track.svg")).unwrap();
+    let doc = roxmltree::Document::parse(&svg).expect("valid SVG (XML)");
+    assert_eq!(doc.root_element().tag_name().name(), "svg");
+    let polylines = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("polyline") || n.has_tag_name("path"))
+        .count();
+    assert!(polylines >= 1, "the SVG draws no track");
+    let text: String = doc
+        .descendants()
+        .filter(|n| n.is_text())
+        .filter_map(|n| n.text())
+        .collect::<Vec<_>>()
+        .join(" ");
+    assert_eq!(
+        text.to_ascii_lowercase().contains("depth"),
+        expect_depth_panel,
+        "depth panel presence; SVG texts: {text}"
+    );
+    let png = std::fs::read(dir.join("track.png")).unwrap();
+    let decoder = png::Decoder::new(std::io::Cursor::new(&png));
+    let reader = decoder.read_info().expect("valid PNG");
+    let info = reader.info();
+    assert!(
+        info.width >= 200 && info.height >= 200,
+        "{}x{}",
+        info.width,
+        info.height
+    );
+    png
+}
