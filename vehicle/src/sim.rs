@@ -8,9 +8,13 @@
 //! 2. **heading**: `Δ = rudder * rate/100 * dt * (1 + (thrust-50)/50) + rotate_speed*dt`, with
 //!    `rate = turn_rate` scaled by the turn-speed map (linear from `null_speed` to 5 m/s; the
 //!    legacy model has no map), rudder ignored at zero speed;
-//! 3. **depth/pitch**: at zero speed the vehicle rises at `buoyancy_rate`; otherwise the
-//!    elevator drives a depth rate `(elevator/100) * sqrt(min(v/max_depth_rate_speed,1)) *
-//!    max_depth_rate` and the pitch follows `pitch = -asin(rate_total/v)`;
+//! 3. **depth/pitch**: at zero speed the vehicle rises at `buoyancy_rate` with pitch 0;
+//!    otherwise the elevator gives an actuator rate `a = (elevator/100) *
+//!    sqrt(min(v/max_depth_rate_speed,1)) * max_depth_rate`, the previous pitch a rate
+//!    `p = -sin(pitch)*v`, depth grows by `(p + a - buoyancy_rate)*dt`, and the new pitch is
+//!    `-asin((p + a)/v)` (0 when `|p + a| > v`). As in the C++ model the pitch therefore
+//!    integrates the elevator once per *iteration*, whatever `dt` is, so the loop gain of
+//!    the PID's pitch loop depends on how often the simulator iterates and publishes;
 //! 4. **position** from the mean of the prior and new speed and the circular mean of the prior
 //!    and new heading, plus drift; SOG/COG from the displacement.
 //!
@@ -19,7 +23,8 @@
 //!
 //! [`Simulator`] is the MOOS adapter: it takes `DESIRED_THRUST`/`DESIRED_RUDDER`/
 //! `DESIRED_ELEVATOR` and the environment variables as mail, and publishes `<prefix>_X`, ...
-//! every second iteration (`nav_modulo = 2`), as `uSimMarineV22` does.
+//! every second iteration (`nav_modulo = 2`), as `uSimMarineV22` does; the legacy `uSimMarine`
+//! publishes on every iteration.
 
 use std::sync::Arc;
 
@@ -306,9 +311,11 @@ pub struct SimConfig {
     /// Publish depth-related outputs (`<P>_Z`, `<P>_PITCH`, `<P>_YAW`, `TRUE_X/Y`,
     /// `SIMULATION_MODE`); true as in `uSimMarineV22` unless `depth_control = false`.
     pub depth_control: bool,
-    /// Older `uSimMarine` model: no turn-speed map (turn rate independent of speed).
+    /// Older `uSimMarine` model: no turn-speed map (turn rate independent of speed), and
+    /// the navigation is published on every iteration (`nav_modulo` is not used).
     pub legacy: bool,
-    /// Publish every n-th iteration (2, as `uSimMarineV22`).
+    /// `uSimMarineV22` publishes the navigation every n-th iteration (2, as the C++ app);
+    /// 0 or 1 = every iteration. The legacy model ignores it (see [`SimConfig::nav_every`]).
     pub nav_modulo: u32,
 }
 
@@ -360,11 +367,32 @@ pub fn drift_from_vector(spec: &str) -> Option<(f64, f64)> {
 }
 
 impl SimConfig {
-    /// The older `uSimMarine` model (no turn-speed map).
+    /// The older `uSimMarine` model (no turn-speed map, navigation posted every iteration).
     pub fn legacy() -> Self {
         SimConfig {
             legacy: true,
             ..SimConfig::default()
+        }
+    }
+
+    /// Iterations per navigation posting: 1 for the legacy `uSimMarine` (it posts on every
+    /// iteration), else `nav_modulo` (at least 1).
+    ///
+    /// This matters for depth control: the model turns each iteration's elevator into a pitch
+    /// change (not a rate times dt), so when the navigation is posted every other iteration
+    /// the PID's pitch loop sees every second pitch only and two elevator steps land per
+    /// observation.
+    ///
+    /// ```
+    /// use vehicle::sim::SimConfig;
+    /// assert_eq!(SimConfig::default().nav_every(), 2);
+    /// assert_eq!(SimConfig::legacy().nav_every(), 1);
+    /// ```
+    pub fn nav_every(&self) -> u32 {
+        if self.legacy {
+            1
+        } else {
+            self.nav_modulo.max(1)
         }
     }
 
@@ -1066,10 +1094,9 @@ impl Simulator {
         if let Some(v) = &self.vars.post_rudder {
             out.push(Posting::double(v, self.inputs.rudder));
         }
-        if self.cfg.nav_modulo == 0
-            || self
-                .iteration
-                .is_multiple_of(u64::from(self.cfg.nav_modulo))
+        if self
+            .iteration
+            .is_multiple_of(u64::from(self.cfg.nav_every()))
         {
             self.post_nav(&nav, out);
         }

@@ -236,6 +236,33 @@ fn dive_rate_follows_elevator_and_speed() {
 }
 
 #[test]
+fn pitch_integrates_the_elevator_per_iteration_not_per_second() {
+    // As in the C++ SimEngine: the new pitch is -asin((-sin(pitch)*v + actuator)/v) with no dt,
+    // so one iteration's elevator moves the pitch by the same amount whatever dt is.
+    let cfg = SimConfig::from_params([("max_depth_rate", "5"), ("max_deceleration", "0")]).unwrap();
+    let inp = SimInputs {
+        thrust: 40.0,
+        elevator: 13.0,
+        ..SimInputs::default()
+    };
+    let s0 = SimState {
+        speed: 2.0,
+        ..SimState::default()
+    };
+    let act = 0.13 * 5.0;
+    for dt in [0.01, 0.1, 1.0] {
+        let s1 = step(&cfg, &s0, &inp, dt, None).0;
+        assert!(close(s1.pitch, -(act / 2.0f64).asin(), 1e-12), "dt {dt}");
+        let s2 = step(&cfg, &s1, &inp, dt, None).0;
+        assert!(close(s2.pitch.sin(), -2.0 * act / 2.0, 1e-12), "dt {dt}");
+        // Past |rate| > speed the pitch falls back to 0 (the C++ guard on asin).
+        let s3 = step(&cfg, &s2, &inp, dt, None).0;
+        let s4 = step(&cfg, &s3, &inp, dt, None).0;
+        assert!(s3.pitch < s2.pitch && s4.pitch == 0.0, "dt {dt}");
+    }
+}
+
+#[test]
 fn heading_wraps_at_0_and_360() {
     let cfg = SimConfig::from_params([("turn_spd_loss", "0"), ("max_deceleration", "0")]).unwrap();
     let s0 = SimState {
@@ -376,6 +403,33 @@ fn adapter_posts_prefixed_nav_every_second_iteration() {
         (sim.state().x, sim.state().y, sim.state().heading),
         (5.0, 6.0, 45.0)
     );
+}
+
+#[test]
+fn legacy_adapter_posts_nav_every_iteration() {
+    // uSimMarine (legacy) posts on every Iterate; uSimMarineV22 on every second one.
+    for (legacy, expected) in [
+        (true, [true, true, true, true]),
+        (false, [false, true, false, true]),
+    ] {
+        let cfg = SimConfig {
+            legacy,
+            ..SimConfig::from_params([("prefix", "NAV")]).unwrap()
+        };
+        assert_eq!(cfg.nav_every(), if legacy { 1 } else { 2 });
+        let mut sim = Simulator::new(cfg, None, 0.0);
+        sim.on_mail("DESIRED_THRUST", MailValue::Double(40.0), 0.0);
+        for (i, want) in expected.into_iter().enumerate() {
+            let mut out = Vec::new();
+            sim.iterate(0.1 * (i + 1) as f64, &mut out);
+            assert_eq!(
+                last_posting(&out, "NAV_PITCH").is_some(),
+                want,
+                "legacy {legacy}, iteration {}",
+                i + 1
+            );
+        }
+    }
 }
 
 #[test]
