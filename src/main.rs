@@ -42,14 +42,19 @@ enum Command {
 }
 
 fn main() -> anyhow::Result<()> {
+    let cli = Cli::parse();
+    // `coug run` prints its own progress; the DB's per-client log lines would drown it.
+    let level = match cli.command {
+        Some(Command::Run(_)) => "warn",
+        _ => "info",
+    };
     tracing_subscriber::fmt()
         .with_env_filter(
             tracing_subscriber::EnvFilter::try_from_default_env()
-                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info")),
+                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new(level)),
         )
         .with_writer(std::io::stderr)
         .init();
-    let cli = Cli::parse();
     match cli.command.unwrap_or(Command::Info) {
         Command::Check(args) => std::process::exit(cmd::check::run(&args)),
         Command::Nsplug(args) => std::process::exit(cmd::nsplug::run(&args)),

@@ -49,6 +49,7 @@ fn surface_survey_completes_and_is_repeatable() {
     assert!((1.7..=2.3).contains(&mean), "mean speed {mean}");
     // The surface mission never dives: no depth panel.
     check_plots(&a, "run-survey", false);
+    check_committed_png("surface_survey");
 }
 
 #[test]

@@ -22,6 +22,7 @@ use clap::Args;
 use mission::Parsed;
 use mission::bhv::BehaviorFile;
 use mission::condition::{Condition, parse_condition};
+use mission::diagnostic::DiagnosticKind;
 use mission::moos::{AntlerRun, MissionFile, parse_moos};
 use mission::nsplug::{Options, preprocess};
 use mission::source::FsSource;
@@ -123,7 +124,9 @@ pub fn load(
     for d in pre.diagnostics.iter().chain(parsed.diagnostics.iter()) {
         if d.is_error() {
             errors.push(d.to_string());
-        } else {
+        } else if d.kind != DiagnosticKind::UndefinedMacro {
+            // `$(X)` left for the apps (uTimerScript's `$(COUNT)`, behaviour flags' `$(X)`)
+            // is normal in a mission; `coug check` lists them.
             eprintln!("coug run: warning: {d}");
         }
     }

@@ -205,3 +205,23 @@ pub fn check_plots(alog_bytes: &[u8], name: &str, expect_depth_panel: bool) -> V
     );
     png
 }
+
+/// Asserts the committed expected-track image of a project mission is a sane PNG.
+pub fn check_committed_png(mission_dir: &str) {
+    let path = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/missions"))
+        .join(mission_dir)
+        .join("track.png");
+    let bytes =
+        std::fs::read(&path).unwrap_or_else(|e| panic!("{} is missing: {e}", path.display()));
+    let reader = png::Decoder::new(std::io::Cursor::new(&bytes))
+        .read_info()
+        .expect("valid PNG");
+    let info = reader.info();
+    assert!(
+        info.width >= 200 && info.height >= 200,
+        "{}: {}x{}",
+        path.display(),
+        info.width,
+        info.height
+    );
+}
