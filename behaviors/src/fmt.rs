@@ -75,11 +75,39 @@ fn fixed_fast(out: &mut String, v: f64, prec: usize) -> bool {
     if v < 0.0 && n != 0 {
         out.push('-');
     }
-    write!(out, "{}", n / scale).ok();
+    digits(out, n / scale, 1);
     if prec > 0 {
-        write!(out, ".{:0prec$}", n % scale).ok();
+        out.push('.');
+        digits(out, n % scale, prec);
     }
     true
+}
+
+/// Appends `n` in decimal, zero-padded to at least `min` digits, without the `core::fmt`
+/// machinery (this runs for most numbers the helm posts).
+fn digits(out: &mut String, mut n: u64, min: usize) {
+    let mut buf = [b'0'; 20];
+    let mut i = buf.len();
+    while n > 0 {
+        i -= 1;
+        buf[i] = b'0' + (n % 10) as u8;
+        n /= 10;
+    }
+    let start = i.min(buf.len().saturating_sub(min.max(1)));
+    // Only ASCII digits were written.
+    out.push_str(std::str::from_utf8(&buf[start..]).unwrap_or("0"));
+}
+
+/// Appends an unsigned integer in decimal (`n.to_string()` without the allocation).
+///
+/// ```
+/// let mut s = String::from("pcs=");
+/// behaviors::fmt::uint(&mut s, 1207);
+/// behaviors::fmt::uint(&mut s, 0);
+/// assert_eq!(s, "pcs=12070");
+/// ```
+pub fn uint(out: &mut String, n: u64) {
+    digits(out, n, 1);
 }
 
 #[cfg(test)]
@@ -102,6 +130,15 @@ mod tests {
                 }
                 assert_eq!(fast, exact, "{v} with {prec} decimals");
             }
+        }
+    }
+
+    #[test]
+    fn integers_match_std_formatting() {
+        for n in [0u64, 1, 9, 10, 99, 100, 12345, u64::MAX] {
+            let mut s = String::new();
+            uint(&mut s, n);
+            assert_eq!(s, n.to_string());
         }
     }
 

@@ -19,15 +19,14 @@
 //! configuration (MALCONFIG, never silently different); `RESTART_HELM` and node reports (the
 //! contact ledger) only reach the info buffer.
 
-use std::collections::HashMap;
-
-use behaviors::fmt::{compact, fixed};
+use behaviors::fmt::{compact, fixed, uint};
 use behaviors::{Behavior, Common, Ctx, Emit, FlagKind, FlagValue, Info, Out, ParamError, PostKey};
 use ivp::{Problem, Solver};
 use mission::bhv::{BehaviorFile, param_name};
 
 use crate::allstop::{AllStop, AllStopAction};
 use crate::config::{ConfigError, Globals, HelmConfig};
+use crate::fxhash::FxHashMap;
 use crate::info_buffer::InfoBuffer;
 use crate::macro_expand::expand;
 use crate::mode::ModeSet;
@@ -150,12 +149,105 @@ impl Slot {
     }
 }
 
-/// A behaviour message waiting to be posted: (var, value, duplicate-filter key; `None` =
-/// never filtered).
+/// A behaviour message waiting to be posted: var, value and how the duplicate filter keys it
+/// (the key string `<behaviour><var><tag>` is only assembled when the message is posted).
 struct Message {
     var: String,
     value: Value,
-    key: Option<String>,
+    key: PostKey,
+}
+
+/// The postings of one iteration. The `Posting`s of earlier iterations are kept and
+/// overwritten in place, so a steady-state iteration reuses their strings.
+#[derive(Default)]
+struct Outbox {
+    posts: Vec<Posting>,
+    len: usize,
+}
+
+impl Outbox {
+    fn clear(&mut self) {
+        self.len = 0;
+    }
+    fn as_slice(&self) -> &[Posting] {
+        &self.posts[..self.len]
+    }
+    /// The next posting, with `var` and an empty `aux` (the caller sets value and aux).
+    fn next(&mut self, var: &str) -> &mut Posting {
+        if self.len == self.posts.len() {
+            self.posts.push(Posting {
+                var: String::new(),
+                value: Value::Num(0.0),
+                aux: String::new(),
+            });
+        }
+        let p = &mut self.posts[self.len];
+        self.len += 1;
+        p.var.clear();
+        p.var.push_str(var);
+        p.aux.clear();
+        p
+    }
+    fn push(&mut self, var: &str, value: Value, aux: &str) {
+        let p = self.next(var);
+        p.value = value;
+        p.aux.push_str(aux);
+    }
+    /// Posts a string value written by the caller into the returned (cleared) buffer.
+    fn text(&mut self, var: &str) -> &mut String {
+        let p = self.next(var);
+        if !matches!(p.value, Value::Str(_)) {
+            p.value = Value::Str(String::new());
+        }
+        match &mut p.value {
+            Value::Str(s) => {
+                s.clear();
+                s
+            }
+            Value::Num(_) => unreachable!("set to a string above"),
+        }
+    }
+}
+
+/// pHelmIvP's duplicate-post filter: the last value posted under each key.
+#[derive(Default)]
+struct DupFilter {
+    text: FxHashMap<String, String>,
+    num: FxHashMap<String, f64>,
+}
+
+impl DupFilter {
+    /// Whether a posting under `key` is new (updates the filter when it is).
+    fn changed(&mut self, key: &str, value: &Value) -> bool {
+        match value {
+            Value::Str(s) => match self.text.get_mut(key) {
+                Some(old) if old == s => false,
+                Some(old) => {
+                    old.clone_from(s);
+                    true
+                }
+                None => {
+                    self.text.insert(key.to_string(), s.clone());
+                    true
+                }
+            },
+            Value::Num(x) => match self.num.get_mut(key) {
+                Some(old) if *old == *x => false,
+                Some(old) => {
+                    *old = *x;
+                    true
+                }
+                None => {
+                    self.num.insert(key.to_string(), *x);
+                    true
+                }
+            },
+        }
+    }
+    fn clear(&mut self) {
+        self.text.clear();
+        self.num.clear();
+    }
 }
 
 /// The helm engine. See the module docs.
@@ -193,10 +285,10 @@ pub struct Helm {
     start_time: f64,
     iteration: u64,
     pending: Vec<Mail>,
-    out: Vec<Posting>,
+    out: Outbox,
     allstop: AllStop,
-    filter_str: HashMap<String, String>,
-    filter_num: HashMap<String, f64>,
+    filter: DupFilter,
+    key_buf: String,
     init_vars_ready: bool,
     init_vars_done: bool,
     prev_report: Rendered,
@@ -389,10 +481,10 @@ impl Helm {
             start_time: 0.0,
             iteration: 0,
             pending: Vec::new(),
-            out: Vec::new(),
+            out: Outbox::default(),
             allstop: AllStop::default(),
-            filter_str: HashMap::new(),
-            filter_num: HashMap::new(),
+            filter: DupFilter::default(),
+            key_buf: String::new(),
             init_vars_ready: false,
             init_vars_done: false,
             prev_report: Rendered::default(),
@@ -544,39 +636,7 @@ impl Helm {
     }
 
     fn notify(&mut self, var: &str, value: Value, aux: &str) {
-        self.out.push(Posting {
-            var: var.to_string(),
-            value,
-            aux: aux.to_string(),
-        });
-    }
-
-    /// Whether a posting under `key` is new (updates the filter when it is).
-    fn changed(&mut self, key: &str, value: &Value) -> bool {
-        match value {
-            Value::Str(s) => match self.filter_str.get_mut(key) {
-                Some(old) if old == s => false,
-                Some(old) => {
-                    old.clone_from(s);
-                    true
-                }
-                None => {
-                    self.filter_str.insert(key.to_string(), s.clone());
-                    true
-                }
-            },
-            Value::Num(x) => match self.filter_num.get_mut(key) {
-                Some(old) if *old == *x => false,
-                Some(old) => {
-                    *old = *x;
-                    true
-                }
-                None => {
-                    self.filter_num.insert(key.to_string(), *x);
-                    true
-                }
-            },
-        }
+        self.out.push(var, value, aux);
     }
 
     fn startup(&mut self, now: f64) {
@@ -729,17 +789,17 @@ impl Helm {
                 self.notify("IVPHELM_STATE", Value::Str("DISABLED".into()), "");
             }
         } else {
-            let s = self.state.as_str().to_string();
-            self.notify("IVPHELM_STATE", Value::Str(s), "");
+            let s = self.state.as_str();
+            self.out.text("IVPHELM_STATE").push_str(s);
         }
         if !self.state.enabled() {
             self.info.clear_deltas();
-            return &self.out;
+            return self.out.as_slice();
         }
         // Step 3: hold for the nav solution.
         if !self.nav_ready() {
             self.info.clear_deltas();
-            return &self.out;
+            return self.out.as_slice();
         }
         // Step 4: deferred initializes.
         if self.init_vars_ready && !self.init_vars_done {
@@ -754,14 +814,14 @@ impl Helm {
         // Step 6: manual override.
         if !self.has_control {
             self.post_allstop("ManualOverride");
-            return &self.out;
+            return self.out.as_slice();
         }
         // Step 7: no decision in the first second.
         if now - self.start_time < 1.0 {
-            return &self.out;
+            return self.out.as_slice();
         }
         self.decide(now);
-        &self.out
+        self.out.as_slice()
     }
 
     fn decide(&mut self, now: f64) {
@@ -812,7 +872,7 @@ impl Helm {
                         Message {
                             var: "BHV_ERROR".into(),
                             value: Value::Str(msg),
-                            key: None,
+                            key: PostKey::Repeatable,
                         },
                     ));
                     self.slots[i].ok = false;
@@ -851,14 +911,13 @@ impl Helm {
             self.notify("IVPHELM_UPDATE_RESULT", Value::Str(r), "");
         }
         if self.refresh_pending && now - self.refresh_time > 2.0 {
-            self.filter_str.clear();
-            self.filter_num.clear();
+            self.filter.clear();
             self.refresh_time = now;
             self.refresh_pending = false;
         }
         for (var, val) in modes {
             let v = Value::Str(val);
-            if self.changed("mode_set", &v) {
+            if self.filter.changed("mode_set", &v) {
                 self.notify(&var, v, "HELM_MODE");
             }
         }
@@ -866,14 +925,13 @@ impl Helm {
 
         report.warnings = self.warnings;
         let rendered = report.render(&self.domain_str);
-        let mut summary = String::new();
+        let summary = self.out.text("IVPHELM_SUMMARY");
         if self.rejournal {
             self.rejournal = false;
-            rendered.summary(iter, now, &Rendered::default(), &mut summary);
+            rendered.summary(iter, now, &Rendered::default(), summary);
         } else {
-            rendered.summary(iter, now, &self.prev_report, &mut summary);
+            rendered.summary(iter, now, &self.prev_report, summary);
         }
-        self.notify("IVPHELM_SUMMARY", Value::Str(summary), "");
         self.notify("IVPHELM_IPF_CNT", Value::Num(report.ofnum as f64), "");
         self.notify(
             "IVPHELM_TOTAL_PCS_FORMED",
@@ -990,23 +1048,38 @@ impl Helm {
             self.notify("IVPHELM_BHV_CNT_EVER", Value::Num(ever as f64), "");
         }
         self.notify("IVPHELM_ITER", Value::Num(iter as f64), "");
-        let messages = std::mem::take(&mut self.messages);
-        for (i, m) in &messages {
-            let name = self.slots[*i].common.name.clone();
-            self.info.set(&m.var, m.value.clone(), APP_NAME, now);
+        let mut messages = std::mem::take(&mut self.messages);
+        for (i, m) in messages.drain(..) {
+            self.info.set_ref(&m.var, &m.value, APP_NAME, now);
             if m.var == "BHV_WARNING" || m.var == "BHV_ERROR" {
                 self.warnings += 1;
             }
-            let post = match &m.key {
+            let name = &self.slots[i].common.name;
+            let tag = match m.key {
+                PostKey::Repeatable => None,
+                PostKey::Var => Some(""),
+                PostKey::Tag(t) => Some(t),
+            };
+            let post = match tag {
                 None => true,
-                Some(k) => self.changed(k, &m.value),
+                Some(t) => {
+                    let key = &mut self.key_buf;
+                    key.clear();
+                    key.push_str(name);
+                    key.push_str(&m.var);
+                    key.push_str(t);
+                    self.filter.changed(key, &m.value)
+                }
             };
             if post {
-                self.notify(&m.var, m.value.clone(), &format!("{iter}:{name}"));
+                let p = self.out.next(&m.var);
+                p.value = m.value;
+                uint(&mut p.aux, iter);
+                p.aux.push(':');
+                p.aux.push_str(name);
             }
         }
         self.messages = messages;
-        self.messages.clear();
         let vars = self.state_space_vars();
         if vars != self.state_vars {
             self.notify("IVPHELM_STATEVARS", Value::Str(vars.clone()), "");
@@ -1079,12 +1152,8 @@ impl Helm {
         let Some(var) = common.mapped(var) else {
             return;
         };
-        let key = match key {
-            PostKey::Repeatable => None,
-            PostKey::Var => Some(format!("{}{var}", common.name)),
-            PostKey::Tag(t) => Some(format!("{}{var}{t}", common.name)),
-        };
         let var = var.to_string();
+        let key = key.clone();
         self.messages.push((i, Message { var, value, key }));
     }
 

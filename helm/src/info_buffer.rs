@@ -1,9 +1,9 @@
 //! The helm's info buffer: the latest value, source and times of every variable it has seen,
 //! plus the string values received during the current iteration (MOOS `InfoBuffer`).
 
-use std::collections::HashMap;
-
 use behaviors::{Info, Value};
+
+use crate::fxhash::FxHashMap;
 
 /// One variable's latest state.
 #[derive(Debug, Clone, PartialEq)]
@@ -33,9 +33,33 @@ pub struct Entry {
 /// ```
 #[derive(Debug, Clone, Default)]
 pub struct InfoBuffer {
-    vars: HashMap<String, Entry>,
-    deltas: HashMap<String, Vec<String>>,
+    vars: FxHashMap<String, Entry>,
+    deltas: FxHashMap<String, Deltas>,
     now: f64,
+}
+
+/// One variable's string values of this iteration: the first `len` of `items` (the rest are
+/// kept as buffers for the next iterations).
+#[derive(Debug, Clone, Default)]
+struct Deltas {
+    items: Vec<String>,
+    len: usize,
+}
+
+impl Deltas {
+    fn push(&mut self, s: &str) {
+        match self.items.get_mut(self.len) {
+            Some(slot) => {
+                slot.clear();
+                slot.push_str(s);
+            }
+            None => self.items.push(s.to_string()),
+        }
+        self.len += 1;
+    }
+    fn as_slice(&self) -> &[String] {
+        &self.items[..self.len]
+    }
 }
 
 impl InfoBuffer {
@@ -49,35 +73,69 @@ impl InfoBuffer {
     }
     /// Writes a variable (string values are also recorded as this iteration's deltas).
     pub fn set(&mut self, var: &str, value: Value, source: &str, msg_time: f64) {
-        if let Value::Str(s) = &value {
-            match self.deltas.get_mut(var) {
-                Some(v) => v.push(s.clone()),
-                None => {
-                    self.deltas.insert(var.to_string(), vec![s.clone()]);
-                }
-            }
-        }
+        self.record_delta(var, &value);
         match self.vars.get_mut(var) {
             Some(e) => {
                 e.value = value;
-                e.time = self.now;
-                e.msg_time = msg_time;
-                if e.source != source {
-                    e.source = source.to_string();
+                Self::touch(e, self.now, source, msg_time);
+            }
+            None => self.insert(var, value, source, msg_time),
+        }
+    }
+
+    /// [`InfoBuffer::set`] from a borrowed value: an existing entry's string is overwritten
+    /// in place (no allocation once the buffer has seen the variable).
+    pub fn set_ref(&mut self, var: &str, value: &Value, source: &str, msg_time: f64) {
+        self.record_delta(var, value);
+        match self.vars.get_mut(var) {
+            Some(e) => {
+                match (&mut e.value, value) {
+                    (Value::Str(old), Value::Str(new)) => {
+                        if old != new {
+                            old.clear();
+                            old.push_str(new);
+                        }
+                    }
+                    (slot, v) => *slot = v.clone(),
+                }
+                Self::touch(e, self.now, source, msg_time);
+            }
+            None => self.insert(var, value.clone(), source, msg_time),
+        }
+    }
+
+    fn record_delta(&mut self, var: &str, value: &Value) {
+        if let Value::Str(s) = value {
+            match self.deltas.get_mut(var) {
+                Some(d) => d.push(s),
+                None => {
+                    let mut d = Deltas::default();
+                    d.push(s);
+                    self.deltas.insert(var.to_string(), d);
                 }
             }
-            None => {
-                self.vars.insert(
-                    var.to_string(),
-                    Entry {
-                        value,
-                        time: self.now,
-                        msg_time,
-                        source: source.to_string(),
-                    },
-                );
-            }
         }
+    }
+
+    fn touch(e: &mut Entry, now: f64, source: &str, msg_time: f64) {
+        e.time = now;
+        e.msg_time = msg_time;
+        if e.source != source {
+            e.source.clear();
+            e.source.push_str(source);
+        }
+    }
+
+    fn insert(&mut self, var: &str, value: Value, source: &str, msg_time: f64) {
+        self.vars.insert(
+            var.to_string(),
+            Entry {
+                value,
+                time: self.now,
+                msg_time,
+                source: source.to_string(),
+            },
+        );
     }
     /// The entry of a variable.
     pub fn get(&self, var: &str) -> Option<&Entry> {
@@ -94,12 +152,12 @@ impl InfoBuffer {
     }
     /// The string values written during this iteration, oldest first.
     pub fn deltas(&self, var: &str) -> &[String] {
-        self.deltas.get(var).map_or(&[], Vec::as_slice)
+        self.deltas.get(var).map_or(&[], Deltas::as_slice)
     }
     /// Forgets this iteration's deltas (keeps the allocations).
     pub fn clear_deltas(&mut self) {
         for v in self.deltas.values_mut() {
-            v.clear();
+            v.len = 0;
         }
     }
     /// The value as a condition operand.
@@ -134,5 +192,45 @@ impl InfoBuffer {
     /// The current helm time.
     pub fn now_time(&self) -> f64 {
         self.now
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn set_ref_matches_set_and_deltas_reuse_their_buffers() {
+        let mut a = InfoBuffer::new();
+        let mut b = InfoBuffer::new();
+        for (k, (now, v)) in [
+            (1.0, Value::Str("x=1".into())),
+            (1.0, Value::Str("x=22".into())),
+            (2.0, Value::Num(3.0)),
+            (3.0, Value::Str("y".into())),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            a.set_now(now);
+            b.set_now(now);
+            let src = if k % 2 == 0 { "pHelmIvP" } else { "uPokeDB" };
+            a.set("V", v.clone(), src, now - 0.5);
+            b.set_ref("V", &v, src, now - 0.5);
+            assert_eq!(a.get("V"), b.get("V"));
+            assert_eq!(a.deltas("V"), b.deltas("V"));
+            if now == 1.0 && k == 1 {
+                assert_eq!(b.deltas("V"), ["x=1", "x=22"]);
+            }
+            if k >= 1 {
+                a.clear_deltas();
+                b.clear_deltas();
+                assert!(b.deltas("V").is_empty());
+            }
+        }
+        b.set_ref("V", &Value::Str("z".into()), "p", 3.0);
+        assert_eq!(b.deltas("V"), ["z"]);
+        assert_eq!(b.text("V"), Some("z"));
+        assert_eq!(b.get("V").unwrap().source, "p");
     }
 }

@@ -16,6 +16,7 @@ pub use ivp;
 pub mod allstop;
 pub mod config;
 pub mod engine;
+mod fxhash;
 pub mod info_buffer;
 pub mod macro_expand;
 pub mod mode;
