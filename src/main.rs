@@ -3,6 +3,7 @@
 use clap::{Parser, Subcommand};
 
 mod cmd {
+    pub mod app;
     pub mod check;
     pub mod db;
     pub mod nsplug;
@@ -39,15 +40,20 @@ enum Command {
     Scope(cmd::scope::ScopeArgs),
     /// Run a whole mission: MISSION.moos [NAME=VALUE]... [--lockstep | --warp N] [--deploy] [--until COND].
     Run(cmd::run::RunArgs),
+    /// pHelmIvP as its own MOOS process: MISSION.moos [ALIAS] [--alias=NAME].
+    Helm(cmd::app::AppCommandArgs),
+    /// uSimMarineV22 (or the mission's uSimMarine) as its own MOOS process: MISSION.moos [ALIAS].
+    Sim(cmd::app::AppCommandArgs),
+    /// pMarinePIDV22 (or the mission's pMarinePID) as its own MOOS process: MISSION.moos [ALIAS].
+    Pid(cmd::app::AppCommandArgs),
+    /// pNodeReporter as its own MOOS process: MISSION.moos [ALIAS].
+    Nodereporter(cmd::app::AppCommandArgs),
+    /// Create links named MOOSDB, pHelmIvP, uSimMarine(V22), pMarinePID(V22), pNodeReporter in DIR
+    /// so pAntler starts coug in place of the C++ apps.
+    InstallAliases(cmd::app::InstallAliasesArgs),
 }
 
-fn main() -> anyhow::Result<()> {
-    let cli = Cli::parse();
-    // `coug run` prints its own progress; the DB's per-client log lines would drown it.
-    let level = match cli.command {
-        Some(Command::Run(_)) => "warn",
-        _ => "info",
-    };
+fn init_tracing(level: &str) {
     tracing_subscriber::fmt()
         .with_env_filter(
             tracing_subscriber::EnvFilter::try_from_default_env()
@@ -55,6 +61,22 @@ fn main() -> anyhow::Result<()> {
         )
         .with_writer(std::io::stderr)
         .init();
+}
+
+fn main() -> anyhow::Result<()> {
+    // Invoked under a MOOS app's name (a link from `coug install-aliases`): be that app.
+    let argv: Vec<String> = std::env::args().collect();
+    if let Some(app) = argv.first().and_then(|a| cmd::app::app_from_argv0(a)) {
+        init_tracing("info");
+        std::process::exit(cmd::app::run_app(app, &argv[1..]));
+    }
+    let cli = Cli::parse();
+    // `coug run` prints its own progress; the DB's per-client log lines would drown it.
+    let level = match cli.command {
+        Some(Command::Run(_)) => "warn",
+        _ => "info",
+    };
+    init_tracing(level);
     match cli.command.unwrap_or(Command::Info) {
         Command::Check(args) => std::process::exit(cmd::check::run(&args)),
         Command::Nsplug(args) => std::process::exit(cmd::nsplug::run(&args)),
@@ -63,10 +85,17 @@ fn main() -> anyhow::Result<()> {
         Command::Poke(args) => cmd::poke::run(&args)?,
         Command::Scope(args) => cmd::scope::run(&args)?,
         Command::Run(args) => std::process::exit(cmd::run::run(&args)),
+        Command::Helm(args) => std::process::exit(cmd::app::run_subcommand("helm", &args)),
+        Command::Sim(args) => std::process::exit(cmd::app::run_subcommand("sim", &args)),
+        Command::Pid(args) => std::process::exit(cmd::app::run_subcommand("pid", &args)),
+        Command::Nodereporter(args) => {
+            std::process::exit(cmd::app::run_subcommand("nodereporter", &args))
+        }
+        Command::InstallAliases(args) => cmd::app::install_aliases(&args)?,
         Command::Info => {
             println!("coug {}", env!("CARGO_PKG_VERSION"));
             println!(
-                "Commands: run, check, nsplug, plot, db, poke, scope (`coug help` for details)."
+                "Commands: run, check, nsplug, plot, db, poke, scope, helm, sim, pid, nodereporter, install-aliases (`coug help` for details)."
             );
         }
     }

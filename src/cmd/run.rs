@@ -138,37 +138,14 @@ pub fn load(
             continue;
         }
         let name = run.moos_name().to_string();
-        let Some(block) = mission.process(&name) else {
-            continue;
-        };
-        let Some(file) = block.params("behaviors").next() else {
-            errors.push(format!(
-                "{}:{}: {name}: no `behaviors =` file in its ProcessConfig block",
-                block.span.file_name(),
-                block.span.line
-            ));
-            continue;
-        };
-        let bpath = dir.join(&file.value);
-        if !bpath.is_file() {
-            errors.push(format!(
-                "{}:{}: behaviour file `{}` not found",
-                file.span.file_name(),
-                file.span.line,
-                bpath.display()
-            ));
+        if mission.process(&name).is_none() {
             continue;
         }
-        match mission::load_bhv(&FsSource, &bpath, &opts) {
-            Err(d) => errors.push(d.to_string()),
+        match load_behaviors(&mission, &dir, &name, &opts) {
             Ok(b) => {
-                for d in &b.diagnostics {
-                    if d.is_error() {
-                        errors.push(d.to_string());
-                    }
-                }
                 behaviors.insert(name, b);
             }
+            Err(mut e) => errors.append(&mut e),
         }
     }
     if errors.is_empty() {
@@ -179,6 +156,49 @@ pub fn load(
             behaviors,
             expanded,
         })
+    } else {
+        Err(errors)
+    }
+}
+
+/// Loads the behaviour file named by the `behaviors =` line of helm block `name`
+/// (relative to the mission's folder `dir`), nsplug-expanded with `opts`.
+pub fn load_behaviors(
+    mission: &MissionFile,
+    dir: &Path,
+    name: &str,
+    opts: &Options,
+) -> Result<Parsed<BehaviorFile>, Vec<String>> {
+    let Some(block) = mission.process(name) else {
+        return Err(vec![format!(
+            "no ProcessConfig = {name} block in the mission"
+        )]);
+    };
+    let Some(file) = block.params("behaviors").next() else {
+        return Err(vec![format!(
+            "{}:{}: {name}: no `behaviors =` file in its ProcessConfig block",
+            block.span.file_name(),
+            block.span.line
+        )]);
+    };
+    let bpath = dir.join(&file.value);
+    if !bpath.is_file() {
+        return Err(vec![format!(
+            "{}:{}: behaviour file `{}` not found",
+            file.span.file_name(),
+            file.span.line,
+            bpath.display()
+        )]);
+    }
+    let b = mission::load_bhv(&FsSource, &bpath, opts).map_err(|d| vec![d.to_string()])?;
+    let errors: Vec<String> = b
+        .diagnostics
+        .iter()
+        .filter(|d| d.is_error())
+        .map(|d| d.to_string())
+        .collect();
+    if errors.is_empty() {
+        Ok(b)
     } else {
         Err(errors)
     }

@@ -1,0 +1,271 @@
+//! Single-app mode, for swapping coug in under pAntler: one built-in app as its own MOOS
+//! process, with MOOS command-line conventions (`APP MISSION.moos [ALIAS]`,
+//! `--alias=NAME`), connecting to the mission's `ServerHost:ServerPort` at its
+//! `MOOSTimeWarp`, configured by the `ProcessConfig` block of its MOOS name.
+//!
+//! Reached three ways: the binary invoked under an app's name (links made by
+//! `coug install-aliases DIR`), or `coug helm|sim|pid|nodereporter MISSION.moos [ALIAS]`.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+use mission::nsplug::Options;
+use runtime::App;
+use runtime::antler::{Built, MissionGlobals, build};
+use runtime::helm::HelmApp;
+use runtime::remote::{AppArgs, RemoteConfig};
+
+use super::run::{load, load_behaviors};
+
+/// The MOOS app names coug answers to when invoked under them.
+pub const APP_NAMES: &[&str] = &[
+    "MOOSDB",
+    "pHelmIvP",
+    "uSimMarine",
+    "uSimMarineV22",
+    "pMarinePID",
+    "pMarinePIDV22",
+    "pNodeReporter",
+];
+
+/// Arguments of `coug helm|sim|pid|nodereporter`: MOOS app conventions.
+#[derive(Debug, Args)]
+pub struct AppCommandArgs {
+    /// `MISSION.moos [ALIAS]`, `--alias=NAME` (as pAntler passes them).
+    #[arg(
+        trailing_var_arg = true,
+        allow_hyphen_values = true,
+        value_name = "ARGS"
+    )]
+    pub args: Vec<String>,
+}
+
+/// The app name coug should act as, from the program name it was invoked under.
+///
+/// ```ignore
+/// assert_eq!(app_from_argv0("/usr/local/bin/pHelmIvP"), Some("pHelmIvP"));
+/// ```
+pub fn app_from_argv0(argv0: &str) -> Option<&'static str> {
+    let file = Path::new(argv0).file_name()?.to_str()?;
+    let stem = file.strip_suffix(".exe").unwrap_or(file);
+    APP_NAMES.iter().copied().find(|n| *n == stem)
+}
+
+/// Which program a subcommand runs: the variant the mission's ANTLER block runs (e.g.
+/// legacy `uSimMarine` for `sim`), else the V22 one.
+fn variant(mission: &mission::moos::MissionFile, choices: &[&'static str]) -> &'static str {
+    let runs = mission.antler_runs();
+    choices
+        .iter()
+        .copied()
+        .find(|c| runs.iter().any(|r| r.app.rsplit('/').next() == Some(*c)))
+        .unwrap_or(choices[0])
+}
+
+/// Runs `coug helm|sim|pid|nodereporter`; returns the exit code.
+pub fn run_subcommand(which: &str, args: &AppCommandArgs) -> i32 {
+    let parsed = AppArgs::parse(&args.args);
+    let Some(path) = parsed.mission.as_deref() else {
+        eprintln!("coug {which}: usage: coug {which} MISSION.moos [ALIAS] [--alias=NAME]");
+        return 1;
+    };
+    let loaded = match load(Path::new(path), &[], &[]) {
+        Ok(l) => l,
+        Err(errors) => {
+            for e in errors {
+                eprintln!("coug {which}: {e}");
+            }
+            return 1;
+        }
+    };
+    let program = match which {
+        "helm" => "pHelmIvP",
+        "sim" => variant(&loaded.mission, &["uSimMarineV22", "uSimMarine"]),
+        "pid" => variant(&loaded.mission, &["pMarinePIDV22", "pMarinePID"]),
+        _ => "pNodeReporter",
+    };
+    run_app(program, &args.args)
+}
+
+/// Runs coug as the MOOS app `program` with the MOOS-style arguments `args` (after the
+/// program name); returns the exit code.
+pub fn run_app(program: &str, args: &[String]) -> i32 {
+    let parsed = AppArgs::parse(args);
+    if program == "MOOSDB" {
+        let port = args.iter().find_map(|a| {
+            a.strip_prefix("--moos_port=")
+                .and_then(|p| p.parse::<u16>().ok())
+        });
+        let db = super::db::DbArgs {
+            mission: parsed.mission.map(PathBuf::from),
+            port,
+            host: None,
+            community: None,
+        };
+        return match super::db::run(&db) {
+            Ok(()) => 0,
+            Err(e) => {
+                eprintln!("MOOSDB: {e:#}");
+                1
+            }
+        };
+    }
+    let Some(path) = parsed.mission.as_deref() else {
+        eprintln!("{program}: usage: {program} MISSION.moos [ALIAS] [--alias=NAME]");
+        return 1;
+    };
+    let moos_name = parsed.alias.clone().unwrap_or_else(|| program.to_string());
+    let loaded = match load(Path::new(path), &[], &[]) {
+        Ok(l) => l,
+        Err(errors) => {
+            for e in errors {
+                eprintln!("{moos_name}: {e}");
+            }
+            return 1;
+        }
+    };
+    let m = &loaded.mission;
+    let (globals, warnings) = MissionGlobals::from_mission(m);
+    for w in warnings {
+        eprintln!("{moos_name}: warning: {w}");
+    }
+    let warp = globals.time_warp;
+    let start = moosdb_client::time::unix_now() * warp;
+    let app: Box<dyn App> = if program == "pHelmIvP" {
+        let dir = Path::new(path)
+            .parent()
+            .unwrap_or(Path::new(""))
+            .to_path_buf();
+        let bhv = match load_behaviors(m, &dir, &moos_name, &Options::new()) {
+            Ok(b) => b,
+            Err(errors) => {
+                for e in errors {
+                    eprintln!("{moos_name}: {e}");
+                }
+                return 1;
+            }
+        };
+        let h = HelmApp::new(&moos_name, m.process(&moos_name).cloned(), m, &bhv);
+        let errors = h.config_errors();
+        if !errors.is_empty() {
+            for e in errors {
+                eprintln!("{moos_name}: {e}");
+            }
+            return 1;
+        }
+        Box::new(h)
+    } else {
+        let mut warnings = Vec::new();
+        match build(
+            program,
+            &moos_name,
+            m,
+            &globals,
+            start,
+            1,
+            &mut None,
+            &mut warnings,
+        ) {
+            Ok(Built::App(a)) => {
+                for w in warnings {
+                    eprintln!("{moos_name}: warning: {w}");
+                }
+                a
+            }
+            Ok(_) => {
+                eprintln!("{program}: not an app coug builds");
+                return 1;
+            }
+            Err(e) => {
+                eprintln!("{moos_name}: {e}");
+                return 1;
+            }
+        }
+    };
+    let host = if globals.server_host.eq_ignore_ascii_case("localhost") {
+        "127.0.0.1".to_string()
+    } else {
+        globals.server_host.clone()
+    };
+    let cfg = RemoteConfig {
+        host,
+        port: globals.server_port,
+        warp,
+    };
+    let rt = match tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+    {
+        Ok(rt) => rt,
+        Err(e) => {
+            eprintln!("{moos_name}: {e}");
+            return 1;
+        }
+    };
+    let mut app = app;
+    let result = rt.block_on(async {
+        let stop = async {
+            let _ = tokio::signal::ctrl_c().await;
+        };
+        runtime::remote::run(&mut *app, &cfg, stop).await
+    });
+    match result {
+        Ok(()) => 0,
+        Err(e) => {
+            eprintln!("{moos_name}: {e}");
+            1
+        }
+    }
+}
+
+/// Arguments of `coug install-aliases`.
+#[derive(Debug, Args)]
+pub struct InstallAliasesArgs {
+    /// Folder for the links (created if needed); put it first on PATH so pAntler finds them.
+    pub dir: PathBuf,
+}
+
+/// Creates `DIR/<app>` links to this binary for every app in [`APP_NAMES`]; existing links
+/// are replaced, other files are left alone (an error).
+pub fn install_aliases(args: &InstallAliasesArgs) -> anyhow::Result<()> {
+    use anyhow::{Context, bail};
+    let exe = std::env::current_exe().context("cannot find the coug binary")?;
+    std::fs::create_dir_all(&args.dir)
+        .with_context(|| format!("cannot create {}", args.dir.display()))?;
+    for name in APP_NAMES {
+        let link = args.dir.join(name);
+        match std::fs::symlink_metadata(&link) {
+            Ok(md) if md.file_type().is_symlink() => std::fs::remove_file(&link)
+                .with_context(|| format!("cannot replace {}", link.display()))?,
+            Ok(_) => bail!("{} exists and is not a link; not replaced", link.display()),
+            Err(_) => {}
+        }
+        make_link(&exe, &link).with_context(|| format!("cannot create {}", link.display()))?;
+        println!("{} -> {}", link.display(), exe.display());
+    }
+    Ok(())
+}
+
+#[cfg(unix)]
+fn make_link(target: &Path, link: &Path) -> std::io::Result<()> {
+    std::os::unix::fs::symlink(target, link)
+}
+
+#[cfg(not(unix))]
+fn make_link(target: &Path, link: &Path) -> std::io::Result<()> {
+    std::fs::copy(target, link).map(|_| ())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn program_names_select_apps() {
+        assert_eq!(app_from_argv0("/usr/local/bin/pHelmIvP"), Some("pHelmIvP"));
+        assert_eq!(app_from_argv0("uSimMarineV22"), Some("uSimMarineV22"));
+        assert_eq!(app_from_argv0("bin/MOOSDB.exe"), Some("MOOSDB"));
+        assert_eq!(app_from_argv0("/usr/bin/coug"), None);
+        assert_eq!(app_from_argv0("pHelmIvPx"), None);
+    }
+}
