@@ -106,6 +106,53 @@ pub struct Waypoint {
     end_spd: Option<(f64, f64)>,
     engine_prev: Option<Point>,
     prev_ix: Option<usize>,
+    views: Views,
+}
+
+/// The configured status variables, for [`Views::names`].
+struct WaypointNames<'a> {
+    report: &'a str,
+    index: &'a str,
+    cyindex: &'a str,
+    suffix: &'a str,
+}
+
+/// The last rendered view strings with the inputs they were rendered from: the views are
+/// posted every iteration but change rarely, so they are re-rendered only when an input
+/// changes (parameters, which include the drawing hints, reset the cache).
+#[derive(Debug, Clone, Default)]
+struct Views {
+    /// The vehicle and behaviour names the texts were rendered for.
+    ownship: String,
+    name: String,
+    nextpt: Option<(bool, Point)>,
+    nextpt_text: String,
+    trackpt: Option<(bool, Point)>,
+    trackpt_text: String,
+    seglist: Option<(bool, SegList)>,
+    seglist_text: String,
+    /// `<var_report><suffix>`, `<var_index><suffix>`, `<var_cyindex><suffix>`.
+    names: Option<[String; 3]>,
+}
+
+impl Views {
+    /// The status variable names with the suffix (built once per configuration).
+    fn names(&mut self, wpt: &WaypointNames<'_>) -> &[String; 3] {
+        self.names.get_or_insert_with(|| {
+            [wpt.report, wpt.index, wpt.cyindex].map(|v| format!("{v}{}", wpt.suffix))
+        })
+    }
+
+    /// Forgets every text rendered for another vehicle or behaviour name.
+    fn check_ctx(&mut self, ctx: &Ctx<'_>) {
+        if self.ownship != ctx.ownship || self.name != ctx.name {
+            *self = Views {
+                ownship: ctx.ownship.to_string(),
+                name: ctx.name.to_string(),
+                ..Views::default()
+            };
+        }
+    }
 }
 
 impl Default for Waypoint {
@@ -176,6 +223,7 @@ impl Waypoint {
             end_spd: None,
             engine_prev: None,
             prev_ix: None,
+            views: Views::default(),
         }
     }
 
@@ -457,44 +505,80 @@ impl Waypoint {
         self.odo_leg = 0.0;
     }
 
-    fn nextpt_view(&self, ctx: &Ctx<'_>, active: bool) -> String {
+    fn nextpt_view(&mut self, ctx: &Ctx<'_>, active: bool) -> String {
+        self.views.check_ctx(ctx);
+        let key = (active, self.nextpt);
+        if self.views.nextpt != Some(key) {
+            let mut s = std::mem::take(&mut self.views.nextpt_text);
+            s.clear();
+            self.render_nextpt(ctx, active, &mut s);
+            self.views.nextpt_text = s;
+            self.views.nextpt = Some(key);
+        }
+        self.views.nextpt_text.clone()
+    }
+
+    fn render_nextpt(&self, ctx: &Ctx<'_>, active: bool, s: &mut String) {
         let label = format!("{}'s nextpt", ctx.ownship);
-        let mut s = String::new();
         if !active {
-            ViewPoint::erase_spec(&label, &mut s);
-            return s;
+            ViewPoint::erase_spec(&label, s);
+            return;
         }
         let mut vp = ViewPoint::new(self.nextpt);
         vp.attrs.label = label;
         vp.attrs.label_color = Some(self.hint_nextpt_lcolor.clone());
         vp.attrs.vertex_color = Some(self.hint_nextpt_color.clone());
         vp.attrs.vertex_size = Some(self.hint_nextpt_vertex_size);
-        vp.spec(&mut s);
-        s
+        vp.spec(s);
     }
 
-    fn trackpt_view(&self, ctx: &Ctx<'_>, active: bool) -> String {
+    fn trackpt_view(&mut self, ctx: &Ctx<'_>, active: bool) -> String {
+        self.views.check_ctx(ctx);
+        let key = (active, self.trackpt);
+        if self.views.trackpt != Some(key) {
+            let mut s = std::mem::take(&mut self.views.trackpt_text);
+            s.clear();
+            self.render_trackpt(ctx, active, &mut s);
+            self.views.trackpt_text = s;
+            self.views.trackpt = Some(key);
+        }
+        self.views.trackpt_text.clone()
+    }
+
+    fn render_trackpt(&self, ctx: &Ctx<'_>, active: bool, s: &mut String) {
         let label = format!("{}'s trackpt", ctx.ownship);
-        let mut s = String::new();
         if !active {
-            ViewPoint::erase_spec(&label, &mut s);
-            return s;
+            ViewPoint::erase_spec(&label, s);
+            return;
         }
         let mut vp = ViewPoint::new(self.trackpt);
         vp.attrs.label = label;
         vp.attrs.label_color = Some(self.hint_nextpt_color.clone());
         vp.attrs.vertex_color = Some(self.hint_nextpt_color.clone());
         vp.attrs.vertex_size = Some(4.0);
-        vp.spec(&mut s);
-        s
+        vp.spec(s);
     }
 
-    fn seglist_view(&self, ctx: &Ctx<'_>, active: bool) -> String {
-        let mut v = ViewSegList::new(if active {
-            self.points.clone()
-        } else {
-            SegList::new()
-        });
+    fn seglist_view(&mut self, ctx: &Ctx<'_>, active: bool) -> String {
+        self.views.check_ctx(ctx);
+        let fresh = match &self.views.seglist {
+            Some((a, pts)) => *a == active && (!active || *pts == self.points),
+            None => false,
+        };
+        if !fresh {
+            let pts = if active {
+                self.points.clone()
+            } else {
+                SegList::new()
+            };
+            self.views.seglist_text = self.render_seglist(ctx, active, pts.clone());
+            self.views.seglist = Some((active, pts));
+        }
+        self.views.seglist_text.clone()
+    }
+
+    fn render_seglist(&self, ctx: &Ctx<'_>, active: bool, points: SegList) -> String {
+        let mut v = ViewSegList::new(points);
         v.precision = 3;
         v.attrs.label = format!("{}_{}", ctx.ownship, ctx.name);
         v.attrs.active = active;
@@ -507,7 +591,17 @@ impl Waypoint {
         v.to_spec()
     }
 
-    fn post_status(&self, ctx: &Ctx<'_>, out: &mut Out) {
+    fn post_names(&mut self) -> &[String; 3] {
+        let w = WaypointNames {
+            report: &self.var_report,
+            index: &self.var_index,
+            cyindex: &self.var_cyindex,
+            suffix: &self.suffix,
+        };
+        self.views.names(&w)
+    }
+
+    fn post_status(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
         let (osx, osy, _, osv) = self.os;
         let dist = (osx - self.nextpt.x).hypot(osy - self.nextpt.y);
         let eta = dist / osv;
@@ -523,13 +617,12 @@ impl Waypoint {
                 dist,
                 eta
             );
-            out.post(format!("{}{}", self.var_report, self.suffix), stat);
+            let var = self.post_names()[0].clone();
+            out.post(var, stat);
         }
         if self.var_index != "silent" {
-            out.post(
-                format!("{}{}", self.var_index, self.suffix),
-                self.curr_ix as f64,
-            );
+            let var = self.post_names()[1].clone();
+            out.post(var, self.curr_ix as f64);
         }
     }
 
@@ -620,6 +713,7 @@ impl Behavior for Waypoint {
         common: &mut Common,
         ctx: &Ctx<'_>,
     ) -> Result<(), ParamError> {
+        self.views = Views::default();
         let v = value.trim();
         let var_name = |v: &str| !v.is_empty() && !v.contains(char::is_whitespace);
         match param {
@@ -975,10 +1069,8 @@ impl Behavior for Waypoint {
             self.post_wpt_flags(out);
         }
         if self.var_cyindex != "silent" {
-            out.post(
-                format!("{}{}", self.var_cyindex, self.suffix),
-                f64::from(self.cycles),
-            );
+            let var = self.post_names()[2].clone();
+            out.post(var, f64::from(self.cycles));
         }
         if !next_point {
             out.post_key(

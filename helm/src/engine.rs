@@ -137,16 +137,27 @@ impl Slot {
             .unwrap_or_else(|| self.bhv.default_duration())
     }
     fn update_summary(&self) -> String {
+        let mut s = String::new();
+        self.write_update_summary(&mut s);
+        s
+    }
+    /// Appends `good/total` updates, or `n/a` without an `updates` variable.
+    fn write_update_summary(&self, out: &mut String) {
         if self.common.update_var.is_empty() {
-            "n/a".to_string()
+            out.push_str("n/a");
         } else {
-            format!(
-                "{}/{}",
-                self.good_updates,
-                self.good_updates + self.bad_updates
-            )
+            uint(out, u64::from(self.good_updates));
+            out.push('/');
+            uint(out, u64::from(self.good_updates + self.bad_updates));
         }
     }
+}
+
+/// Why a behaviour is not running (`pc=` of `BHV_STATUS`): the text of its `k`-th condition,
+/// or another reason.
+enum Failed {
+    Condition(usize),
+    Other(String),
 }
 
 /// A behaviour message waiting to be posted: var, value and how the duplicate filter keys it
@@ -292,11 +303,17 @@ pub struct Helm {
     init_vars_ready: bool,
     init_vars_done: bool,
     prev_report: Rendered,
+    /// Last-but-one report's buffers, reused for the next one.
+    cur_report: Rendered,
+    /// `DESIRED_<VAR>` (with the helm prefix) for each domain variable, in domain order.
+    desired_vars: Vec<String>,
     domain_str: String,
     lists: [String; 3],
     bhv_count: Option<usize>,
     bhv_count_ever: Option<usize>,
     state_vars: String,
+    /// The state-space variables may have changed since `state_vars` was computed.
+    state_vars_dirty: bool,
     completed_pending: Option<bool>,
     completed_count: Option<usize>,
     update_results: Vec<String>,
@@ -488,11 +505,14 @@ impl Helm {
             init_vars_ready: false,
             init_vars_done: false,
             prev_report: Rendered::default(),
+            cur_report: Rendered::default(),
+            desired_vars: Vec::new(),
             domain_str: String::new(),
             lists: Default::default(),
             bhv_count: None,
             bhv_count_ever: None,
             state_vars: String::new(),
+            state_vars_dirty: true,
             completed_pending: None,
             completed_count: None,
             update_results: Vec::new(),
@@ -509,6 +529,20 @@ impl Helm {
             subs_dirty: false,
         };
         helm.registered = helm.wanted_subscriptions();
+        helm.desired_vars = helm
+            .config
+            .domain
+            .vars()
+            .iter()
+            .map(|v| {
+                let upper = v.name().to_ascii_uppercase();
+                if upper == "COURSE" {
+                    format!("{}DESIRED_HEADING", helm.config.helm_prefix)
+                } else {
+                    format!("{}DESIRED_{upper}", helm.config.helm_prefix)
+                }
+            })
+            .collect();
         helm
     }
 
@@ -840,7 +874,7 @@ impl Helm {
         let mut report = HelmReport {
             iteration: iter,
             time: now,
-            domain: Some(self.config.domain.clone()),
+            domain: None,
             modes: self.modes.summary(),
             ..HelmReport::default()
         };
@@ -924,7 +958,8 @@ impl Helm {
         self.post_behavior_messages(iter, now);
 
         report.warnings = self.warnings;
-        let rendered = report.render(&self.domain_str);
+        let mut rendered = std::mem::take(&mut self.cur_report);
+        report.render_into(&self.domain_str, Some(&self.config.domain), &mut rendered);
         let summary = self.out.text("IVPHELM_SUMMARY");
         if self.rejournal {
             self.rejournal = false;
@@ -943,27 +978,25 @@ impl Helm {
             Value::Num(report.pcs_cached as f64),
             "",
         );
-        let lists = [
-            report.active_names(),
-            report.running_names(),
-            report.idle_names(),
-        ];
         let counts = [report.active.len(), report.running.len(), report.idle.len()];
-        for (k, (list, cnt)) in lists.into_iter().zip(counts).enumerate() {
+        for (k, cnt) in counts.into_iter().enumerate() {
+            let mut list = std::mem::take(&mut self.scratch);
+            report.write_names(k, &mut list);
             if self.lists[k] != list {
-                let base = [
-                    "IVPHELM_BHV_ACTIVE",
-                    "IVPHELM_BHV_RUNNING",
-                    "IVPHELM_BHV_IDLE",
+                let [base, base_cnt] = [
+                    ["IVPHELM_BHV_ACTIVE", "IVPHELM_BHV_ACTIVE_CNT"],
+                    ["IVPHELM_BHV_RUNNING", "IVPHELM_BHV_RUNNING_CNT"],
+                    ["IVPHELM_BHV_IDLE", "IVPHELM_BHV_IDLE_CNT"],
                 ][k];
-                self.notify(base, Value::Str(list.clone()), "");
-                self.notify(&format!("{base}_CNT"), Value::Num(cnt as f64), "");
-                self.lists[k] = list;
+                self.out.text(base).push_str(&list);
+                self.notify(base_cnt, Value::Num(cnt as f64), "");
+                std::mem::swap(&mut self.lists[k], &mut list);
             }
+            self.scratch = list;
         }
 
         // Step 10: all-stop or decisions.
-        let mut allstop = "clear".to_string();
+        let mut allstop: std::borrow::Cow<'static, str> = "clear".into();
         if report.halted {
             allstop = "BehaviorError".into();
         } else if report.ofnum == 0 {
@@ -982,48 +1015,48 @@ impl Helm {
                 .map(|v| v.name())
                 .collect();
             if !missing.is_empty() {
-                allstop = format!("MissingDecVars:{}", missing.join(","));
-                self.notify("BHV_ERROR", Value::Str(allstop.clone()), "");
+                let msg = format!("MissingDecVars:{}", missing.join(","));
+                self.notify("BHV_ERROR", Value::Str(msg.clone()), "");
+                allstop = msg.into();
             }
         }
         if allstop != "clear" {
             self.post_allstop(&allstop);
         } else {
             self.post_allstop("clear");
-            for i in 0..self.config.domain.len() {
-                let name = self.config.domain.vars()[i].name().to_string();
-                let upper = name.to_ascii_uppercase();
-                let var = if upper == "COURSE" {
-                    format!("{}DESIRED_HEADING", self.config.helm_prefix)
-                } else {
-                    format!("{}DESIRED_{upper}", self.config.helm_prefix)
-                };
+            for (i, v) in self.config.domain.vars().iter().enumerate() {
                 let val = report
                     .decisions
                     .iter()
-                    .find(|(n, _)| *n == name)
+                    .find(|(n, _)| n == v.name())
                     .map_or(0.0, |d| d.1);
-                self.notify(&var, Value::Num(val), "");
+                self.out.push(&self.desired_vars[i], Value::Num(val), "");
             }
         }
         self.notify("IVPHELM_CREATE_CPU", Value::Num(0.0), "");
         self.notify("IVPHELM_LOOP_CPU", Value::Num(0.0), "");
-        let mut upd: Vec<(String, String)> = self
+        let mut upd: Vec<(&str, &str)> = self
             .slots
             .iter()
             .filter(|s| !s.common.update_var.is_empty())
-            .map(|s| (s.common.name.clone(), s.common.update_var.clone()))
+            .map(|s| (s.common.name.as_str(), s.common.update_var.as_str()))
             .collect();
-        upd.sort();
-        let upd = upd
-            .iter()
-            .map(|(a, b)| format!("{a}={b}"))
-            .collect::<Vec<_>>()
-            .join(",");
-        if upd != self.update_vars {
-            self.update_vars = upd.clone();
-            self.notify("IVPHELM_UPDATEVARS", Value::Str(upd), "");
+        upd.sort_unstable();
+        let mut text = std::mem::take(&mut self.scratch);
+        text.clear();
+        for (k, (a, b)) in upd.into_iter().enumerate() {
+            if k > 0 {
+                text.push(',');
+            }
+            text.push_str(a);
+            text.push('=');
+            text.push_str(b);
         }
+        if text != self.update_vars {
+            self.update_vars.clone_from(&text);
+            self.out.text("IVPHELM_UPDATEVARS").push_str(&text);
+        }
+        self.scratch = text;
         if allstop != "clear" && self.config.allow_park && self.config.park_on_allstop {
             self.has_control = false;
         }
@@ -1032,7 +1065,7 @@ impl Helm {
             self.refresh_subscriptions();
         }
         self.info.clear_deltas();
-        self.prev_report = rendered;
+        self.cur_report = std::mem::replace(&mut self.prev_report, rendered);
     }
 
     fn post_behavior_messages(&mut self, iter: u64, now: f64) {
@@ -1080,10 +1113,14 @@ impl Helm {
             }
         }
         self.messages = messages;
-        let vars = self.state_space_vars();
-        if vars != self.state_vars {
-            self.notify("IVPHELM_STATEVARS", Value::Str(vars.clone()), "");
-            self.state_vars = vars;
+        // Condition and flag variables change only with the behaviour set or an update.
+        if self.state_vars_dirty {
+            self.state_vars_dirty = false;
+            let vars = self.state_space_vars();
+            if vars != self.state_vars {
+                self.notify("IVPHELM_STATEVARS", Value::Str(vars.clone()), "");
+                self.state_vars = vars;
+            }
         }
         let pending = self.slots.iter().any(|s| s.state == RunState::Completed);
         if self.completed_pending != Some(pending) {
@@ -1105,6 +1142,7 @@ impl Helm {
                 ));
                 self.notify("IVPHELM_LIFE_EVENT", Value::Str(ev), "");
                 removed += 1;
+                self.state_vars_dirty = true;
             } else {
                 k += 1;
             }
@@ -1331,6 +1369,8 @@ impl Helm {
         }
         let updates: Vec<String> = self.info.deltas(&var).to_vec();
         let mut made = false;
+        // Even a faulty update applies its good parameters (conditions, flags...).
+        self.state_vars_dirty |= !updates.is_empty();
         for u in updates {
             let name = self.slots[i].common.name.clone();
             let mut result = format!("bhv={name},var={var},time=");
@@ -1433,7 +1473,7 @@ impl Helm {
 
     /// MOOS `isRunnable`: the state from conditions, duration and starvation. Returns the
     /// state and the first failed condition.
-    fn runnable(&mut self, i: usize, now: f64) -> (RunState, Option<String>) {
+    fn runnable(&mut self, i: usize, now: f64) -> (RunState, Option<Failed>) {
         if self.slots[i].completed {
             return (RunState::Completed, None);
         }
@@ -1444,11 +1484,10 @@ impl Helm {
                 .common
                 .conditions
                 .iter()
-                .find(|(_, c)| !c.evaluate(&lookup))
-                .map(|(t, _)| t.clone())
+                .position(|(_, c)| !c.evaluate(&lookup))
         };
-        if failed.is_some() {
-            return (RunState::Idle, failed);
+        if let Some(k) = failed {
+            return (RunState::Idle, Some(Failed::Condition(k)));
         }
         if self.slots[i].clock.reset_pending {
             self.reset_duration(i);
@@ -1466,7 +1505,10 @@ impl Helm {
             if self.slots[i].common.perpetual {
                 self.slots[i].clock.reset_pending = true;
             } else {
-                return (RunState::Completed, Some("completed-byduration".into()));
+                return (
+                    RunState::Completed,
+                    Some(Failed::Other("completed-byduration".into())),
+                );
             }
         }
         // MOOS `subDomain` leaves a behaviour an empty domain when the helm lacks one of its
@@ -1485,12 +1527,15 @@ impl Helm {
             );
             self.queue(i, "BHV_ERROR", Value::Str(msg), &PostKey::Repeatable);
             self.slots[i].ok = false;
-            return (RunState::Idle, Some("null-domain".into()));
+            return (RunState::Idle, Some(Failed::Other("null-domain".into())));
         }
         for (var, secs) in self.slots[i].common.starve.clone() {
             let age = self.info.age(&var);
             if age.is_none_or(|a| a > secs) {
-                return (RunState::Idle, Some(format!("VarStarve: {var}")));
+                return (
+                    RunState::Idle,
+                    Some(Failed::Other(format!("VarStarve: {var}"))),
+                );
             }
         }
         (RunState::Running, None)
@@ -1533,6 +1578,7 @@ impl Helm {
         }
         if self.check_updates(i, now) {
             self.subs_dirty = true;
+            self.state_vars_dirty = true;
             self.call(i, |b, ctx, out| {
                 b.on_set_param_complete(ctx, out);
                 None
@@ -1627,17 +1673,30 @@ impl Helm {
         }
         // BHV_STATUS, filtered on change.
         let slot = &self.slots[i];
-        let mut status = format!("name={}", slot.common.name);
-        if let Some(f) = &failed {
-            status.push_str(",pc=");
-            status.push_str(f);
+        let mut status = String::with_capacity(64);
+        status.push_str("name=");
+        status.push_str(&slot.common.name);
+        match &failed {
+            Some(Failed::Condition(k)) => {
+                status.push_str(",pc=");
+                status.push_str(&slot.common.conditions[*k].0);
+            }
+            Some(Failed::Other(f)) => {
+                status.push_str(",pc=");
+                status.push_str(f);
+            }
+            None => {}
         }
         if state == RunState::Active {
             status.push_str(",pwt=");
             fixed(&mut status, slot.common.pwt, 5);
-            status.push_str(&format!(",pcs={}", slot.pcs));
+            status.push_str(",pcs=");
+            uint(&mut status, slot.pcs as u64);
         }
-        status.push_str(&format!(",state={state},updates={}", slot.update_summary()));
+        status.push_str(",state=");
+        status.push_str(state.as_str());
+        status.push_str(",updates=");
+        slot.write_update_summary(&mut status);
         self.queue(i, "BHV_STATUS", Value::Str(status), &PostKey::Tag(""));
         if !self.slots[i].first_done {
             self.slots[i].first_done = true;

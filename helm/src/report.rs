@@ -1,6 +1,6 @@
 //! `IVPHELM_SUMMARY` and the behaviour lists (reference §4.7, MOOS `HelmReport`).
 
-use behaviors::fmt::{compact, fixed};
+use behaviors::fmt::{compact, fixed, uint};
 use ivp::Domain;
 
 /// One behaviour line of the report.
@@ -57,29 +57,33 @@ pub struct HelmReport {
 
 fn names(v: &[BhvLine]) -> String {
     let mut s = String::new();
+    write_names(v, &mut s);
+    s
+}
+
+fn write_names(v: &[BhvLine], s: &mut String) {
     for (i, b) in v.iter().enumerate() {
         if i > 0 {
             s.push(',');
         }
         s.push_str(&b.name);
     }
-    s
 }
 
-fn full(v: &[BhvLine], active: bool) -> String {
-    let mut s = String::new();
+fn full(v: &[BhvLine], active: bool, s: &mut String) {
+    s.clear();
     for (i, b) in v.iter().enumerate() {
         if i > 0 {
             s.push(':');
         }
         s.push_str(&b.name);
         s.push('$');
-        fixed(&mut s, b.time, 2);
+        fixed(s, b.time, 2);
         if active {
             s.push('$');
-            fixed(&mut s, b.pwt, 5);
+            fixed(s, b.pwt, 5);
             s.push('$');
-            s.push_str(&b.pcs.to_string());
+            uint(s, b.pcs as u64);
             s.push_str("$0.00000");
         }
         s.push('$');
@@ -88,7 +92,6 @@ fn full(v: &[BhvLine], active: bool) -> String {
             s.push_str("$1");
         }
     }
-    s
 }
 
 impl HelmReport {
@@ -104,10 +107,20 @@ impl HelmReport {
     pub fn idle_names(&self) -> String {
         names(&self.idle)
     }
+    /// Writes the comma-separated names of list `k` (0 active, 1 running, 2 idle) into `out`.
+    pub fn write_names(&self, k: usize, out: &mut String) {
+        out.clear();
+        let v = match k {
+            0 => &self.active,
+            1 => &self.running,
+            _ => &self.idle,
+        };
+        write_names(v, out);
+    }
 
-    fn decision_summary(&self) -> String {
-        let mut s = String::new();
-        if let Some(d) = &self.domain {
+    fn decision_summary(&self, domain: Option<&Domain>, s: &mut String) {
+        s.clear();
+        if let Some(d) = self.domain.as_ref().or(domain) {
             for (i, v) in d.vars().iter().enumerate() {
                 if i > 0 {
                     s.push(',');
@@ -116,33 +129,40 @@ impl HelmReport {
                 s.push_str(v.name());
                 s.push(':');
                 match self.decisions.iter().find(|(n, _)| n == v.name()) {
-                    Some((_, x)) => compact(&mut s, *x, 5),
+                    Some((_, x)) => compact(s, *x, 5),
                     None => s.push_str("varbalk"),
                 }
             }
         }
-        s
     }
 
     /// The report's fields as strings, for comparing with the next report (the helm keeps the
     /// previous one rendered). `domain` is the rendered domain (`IVPHELM_DOMAIN` format).
     pub fn render(&self, domain: &str) -> Rendered {
-        Rendered {
-            ofnum: self.ofnum,
-            pcs_formed: self.pcs_formed,
-            pcs_cached: self.pcs_cached,
-            warnings: self.warnings,
-            decisions: self.decision_summary(),
-            halted: self.halted,
-            active_goal: self.active_goal,
-            modes: self.modes.clone(),
-            running: full(&self.running, false),
-            active: full(&self.active, true),
-            idle: full(&self.idle, false),
-            completed: full(&self.completed, false),
-            domain: domain.to_string(),
-            halt_msg: self.halt_msg.clone(),
-        }
+        let mut r = Rendered::default();
+        self.render_into(domain, None, &mut r);
+        r
+    }
+
+    /// [`HelmReport::render`] into an existing [`Rendered`], reusing its strings. `dom` is the
+    /// decision domain when the report carries none (`domain: None` spares the helm a copy of
+    /// its domain every iteration).
+    pub fn render_into(&self, domain: &str, dom: Option<&Domain>, r: &mut Rendered) {
+        r.ofnum = self.ofnum;
+        r.pcs_formed = self.pcs_formed;
+        r.pcs_cached = self.pcs_cached;
+        r.warnings = self.warnings;
+        self.decision_summary(dom, &mut r.decisions);
+        r.halted = self.halted;
+        r.active_goal = self.active_goal;
+        r.modes.clone_from(&self.modes);
+        full(&self.running, false, &mut r.running);
+        full(&self.active, true, &mut r.active);
+        full(&self.idle, false, &mut r.idle);
+        full(&self.completed, false, &mut r.completed);
+        r.domain.clear();
+        r.domain.push_str(domain);
+        r.halt_msg.clone_from(&self.halt_msg);
     }
 
     /// The `IVPHELM_SUMMARY` string: `iter` and `utc_time` always, other fields only when they
