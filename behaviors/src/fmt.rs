@@ -20,6 +20,24 @@ pub fn fixed(out: &mut String, v: f64, prec: usize) {
     }
 }
 
+/// Appends `v` with `prec` decimals exactly as Rust's `format!("{v:.prec$}")` does (a
+/// negative value that rounds to zero keeps its sign, unlike [`fixed`]).
+///
+/// ```
+/// let mut s = String::new();
+/// behaviors::fmt::std_fixed(&mut s, -0.2, 0);
+/// s.push(',');
+/// behaviors::fmt::std_fixed(&mut s, 12.5, 0);
+/// assert_eq!(s, format!("{:.0},{:.0}", -0.2, 12.5));
+/// ```
+pub fn std_fixed(out: &mut String, v: f64, prec: usize) {
+    let start = out.len();
+    fixed(out, v, prec);
+    if v.is_sign_negative() && !v.is_nan() && !out[start..].starts_with('-') {
+        out.insert(start, '-');
+    }
+}
+
 /// Appends `v` with at most `prec` decimals, trailing zeros and a trailing `.` removed
 /// (MOOS `doubleToStringX(v, prec)`).
 ///
@@ -142,6 +160,29 @@ mod tests {
         }
     }
 
+    #[test]
+    fn std_fixed_is_std_formatting() {
+        for v in [
+            0.0,
+            -0.0,
+            -0.2,
+            0.5,
+            1.5,
+            2.5,
+            -2.5,
+            1e12,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ] {
+            for prec in 0..3 {
+                let mut s = String::new();
+                std_fixed(&mut s, v, prec);
+                assert_eq!(s, format!("{v:.prec$}"), "{v} {prec}");
+            }
+        }
+    }
+
     proptest::proptest! {
         #[test]
         fn fixed_matches_std_formatting(v in -1.0e7f64..1.0e7, prec in 0usize..7) {
@@ -152,6 +193,13 @@ mod tests {
                 exact.remove(0);
             }
             proptest::prop_assert_eq!(fast, exact);
+        }
+
+        #[test]
+        fn std_fixed_matches_std(v in -1.0e4f64..1.0e4, prec in 0usize..4) {
+            let mut s = String::new();
+            std_fixed(&mut s, v, prec);
+            proptest::prop_assert_eq!(s, format!("{v:.prec$}"));
         }
     }
 }

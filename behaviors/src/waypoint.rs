@@ -606,17 +606,23 @@ impl Waypoint {
         let dist = (osx - self.nextpt.x).hypot(osy - self.nextpt.y);
         let eta = dist / osv;
         if self.var_report != "silent" {
-            let stat = format!(
-                "vname={},behavior-name={},index={},hits={}/{},cycles={},dist={:.0},eta={:.0}",
-                ctx.ownship,
-                ctx.name,
-                self.curr_ix,
-                self.capture_hits,
-                self.capture_hits + self.nonmono_hits,
-                self.cycles,
-                dist,
-                eta
-            );
+            let mut stat = String::with_capacity(96);
+            stat.push_str("vname=");
+            stat.push_str(ctx.ownship);
+            stat.push_str(",behavior-name=");
+            stat.push_str(ctx.name);
+            stat.push_str(",index=");
+            crate::fmt::uint(&mut stat, self.curr_ix as u64);
+            stat.push_str(",hits=");
+            crate::fmt::uint(&mut stat, u64::from(self.capture_hits));
+            stat.push('/');
+            crate::fmt::uint(&mut stat, u64::from(self.capture_hits + self.nonmono_hits));
+            stat.push_str(",cycles=");
+            crate::fmt::uint(&mut stat, u64::from(self.cycles));
+            stat.push_str(",dist=");
+            crate::fmt::std_fixed(&mut stat, dist, 0);
+            stat.push_str(",eta=");
+            crate::fmt::std_fixed(&mut stat, eta, 0);
             let var = self.post_names()[0].clone();
             out.post(var, stat);
         }

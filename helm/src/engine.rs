@@ -1184,6 +1184,19 @@ impl Helm {
         out.join(",")
     }
 
+    /// [`Helm::queue`] for a variable name the caller owns (kept unless `post_mapping`
+    /// renames it).
+    fn queue_owned(&mut self, i: usize, var: String, value: Value, key: &PostKey) {
+        let renamed = match self.slots[i].common.mapped(&var) {
+            None => return,
+            Some(m) if m == var => None,
+            Some(m) => Some(m.to_string()),
+        };
+        let var = renamed.unwrap_or(var);
+        let key = key.clone();
+        self.messages.push((i, Message { var, value, key }));
+    }
+
     /// Queues a behaviour message with the duplicate-filter key of `key`.
     fn queue(&mut self, i: usize, var: &str, value: Value, key: &PostKey) {
         let common = &self.slots[i].common;
@@ -1336,7 +1349,7 @@ impl Helm {
         let mut emit = std::mem::take(&mut self.emit);
         for e in emit.emits.drain(..) {
             match e {
-                Emit::Post { var, value, key } => self.queue(i, &var, value, &key),
+                Emit::Post { var, value, key } => self.queue_owned(i, var, value, &key),
                 Emit::Flag { flag, repeatable } => self.post_flag(i, &flag, repeatable),
                 Emit::Complete => self.set_complete(i),
             }
