@@ -195,12 +195,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
         if tapped.is_empty() {
             return;
         }
-        taps.extend(
-            posts
-                .iter()
-                .filter(|p| tapped.contains(&p.key))
-                .cloned(),
-        );
+        taps.extend(posts.iter().filter(|p| tapped.contains(&p.key)).cloned());
     }
 
     /// Turns the CMOOSApp `<APP>_STATUS` posts (every 2 s per app) on or off (default on).
@@ -543,5 +538,37 @@ mod tests {
         assert!(Poke::parse("NOEQUALS", "h").is_err());
         assert!(Poke::parse("=3", "h").is_err());
         assert!(Poke::parse("X=1@-3", "h").unwrap().value == Value::text("1@-3"));
+    }
+
+    struct Counter {
+        n: u32,
+    }
+
+    impl App for Counter {
+        fn name(&self) -> &str {
+            "counter"
+        }
+        fn app_tick(&self) -> f64 {
+            2.0
+        }
+        fn iterate(&mut self, _now: f64, out: &mut Vec<Post>) {
+            self.n += 1;
+            out.push(Post::double("COUNT", f64::from(self.n)));
+            out.push(Post::text("OTHER", "x"));
+        }
+    }
+
+    #[test]
+    fn taps_copy_every_post_of_a_key_in_order() {
+        let mut s = Scheduler::new(Bus::new("t", 0.0), VirtualClock, 0.0);
+        s.add_app(Box::new(Counter { n: 0 })).unwrap();
+        s.tap("COUNT");
+        s.run(2.0).unwrap();
+        let taps = s.take_taps();
+        // Ticks at 0, 0.5, 1, 1.5 and 2 s: five posts, none of OTHER.
+        let values: Vec<f64> = taps.iter().filter_map(|p| p.value.as_f64()).collect();
+        assert_eq!(values, vec![1.0, 2.0, 3.0, 4.0, 5.0]);
+        assert!(taps.iter().all(|p| p.key == "COUNT"));
+        assert!(s.take_taps().is_empty());
     }
 }
