@@ -107,6 +107,16 @@ pub struct Waypoint {
     engine_prev: Option<Point>,
     prev_ix: Option<usize>,
     views: Views,
+    spd_cache: Option<SpeedFunction>,
+}
+
+/// A built speed function and what it was built from.
+#[derive(Debug, Clone)]
+struct SpeedFunction {
+    ipf_type: IpfType,
+    speed: f64,
+    domain: ivp::Domain,
+    f: IvpFunction,
 }
 
 /// The configured status variables, for [`Views::names`].
@@ -224,6 +234,7 @@ impl Waypoint {
             engine_prev: None,
             prev_ix: None,
             views: Views::default(),
+            spd_cache: None,
         }
     }
 
@@ -649,22 +660,43 @@ impl Waypoint {
         }
     }
 
-    fn build_of(&self, ctx: &Ctx<'_>, out: &mut Out) -> Option<IvpFunction> {
+    /// The speed objective function for `speed`, built once per (type, speed, domain): the
+    /// cruise speed rarely changes while the course function is rebuilt every iteration.
+    fn speed_of(&mut self, ctx: &Ctx<'_>, speed: f64) -> Option<&IvpFunction> {
+        let fresh = self.spd_cache.as_ref().is_some_and(|c| {
+            c.ipf_type == self.ipf_type
+                && c.speed.to_bits() == speed.to_bits()
+                && c.domain == *ctx.domain
+        });
+        if !fresh {
+            self.spd_cache = None;
+            let f = match self.ipf_type {
+                IpfType::Zaic => {
+                    let mut z = ZaicPeak::new(ctx.domain, "speed").ok()?;
+                    z.set_params(speed, speed / 2.0, 1.6, 20.0, 0.0, 100.0)
+                        .ok()?;
+                    z.extract().ok()?
+                }
+                IpfType::ZaicSpd => {
+                    let z = ZaicSpd::new(ctx.domain, "speed", speed, 0.1, speed + 0.4, 70.0, 20.0)
+                        .ok()?;
+                    z.extract().ok()?
+                }
+            };
+            self.spd_cache = Some(SpeedFunction {
+                ipf_type: self.ipf_type,
+                speed,
+                domain: ctx.domain.clone(),
+                f,
+            });
+        }
+        self.spd_cache.as_ref().map(|c| &c.f)
+    }
+
+    fn build_of(&mut self, ctx: &Ctx<'_>, out: &mut Out) -> Option<IvpFunction> {
         let (osx, osy, osh, _) = self.os;
         let speed = self.desired_speed(osx, osy);
-        let spd = match self.ipf_type {
-            IpfType::Zaic => {
-                let mut z = ZaicPeak::new(ctx.domain, "speed").ok()?;
-                z.set_params(speed, speed / 2.0, 1.6, 20.0, 0.0, 100.0)
-                    .ok()?;
-                z.extract().ok()?
-            }
-            IpfType::ZaicSpd => {
-                let z =
-                    ZaicSpd::new(ctx.domain, "speed", speed, 0.1, speed + 0.4, 70.0, 20.0).ok()?;
-                z.extract().ok()?
-            }
-        };
+        self.speed_of(ctx, speed)?;
         let bearing = geometry::relative_angle(osx, osy, self.trackpt.x, self.trackpt.y);
         let mut crs = ZaicPeak::new(ctx.domain, "course").ok()?;
         crs.set_value_wrap(true);
@@ -680,7 +712,8 @@ impl Waypoint {
         .ok()?;
         crs.set_combine(ivp::Combine::Sum);
         let crs = crs.extract().ok()?;
-        match couple_weighted(&crs, &spd, self.patience, 100.0 - self.patience, true) {
+        let spd = &self.spd_cache.as_ref()?.f;
+        match couple_weighted(&crs, spd, self.patience, 100.0 - self.patience, true) {
             Ok(f) => Some(f),
             Err(e) => {
                 out.warning(ctx.name, &format!("Failure on the CRS_SPD COUPLER: {e}"));
