@@ -136,11 +136,6 @@ impl Slot {
             .duration
             .unwrap_or_else(|| self.bhv.default_duration())
     }
-    fn update_summary(&self) -> String {
-        let mut s = String::new();
-        self.write_update_summary(&mut s);
-        s
-    }
     /// Appends `good/total` updates, or `n/a` without an `updates` variable.
     fn write_update_summary(&self, out: &mut String) {
         if self.common.update_var.is_empty() {
@@ -305,6 +300,8 @@ pub struct Helm {
     prev_report: Rendered,
     /// Last-but-one report's buffers, reused for the next one.
     cur_report: Rendered,
+    /// Report lines of earlier iterations, reused for the next report.
+    line_pool: Vec<BhvLine>,
     /// `DESIRED_<VAR>` (with the helm prefix) for each domain variable, in domain order.
     desired_vars: Vec<String>,
     domain_str: String,
@@ -506,6 +503,7 @@ impl Helm {
             init_vars_done: false,
             prev_report: Rendered::default(),
             cur_report: Rendered::default(),
+            line_pool: Vec::new(),
             desired_vars: Vec::new(),
             domain_str: String::new(),
             lists: Default::default(),
@@ -887,19 +885,26 @@ impl Helm {
                 report.halted = true;
                 break;
             }
-            let line = BhvLine {
-                name: slot.common.name.clone(),
-                time: slot.entered,
-                updates: slot.update_summary(),
-                pwt: slot.common.pwt,
-                pcs: slot.pcs,
-            };
+            // Report lines reuse the strings of earlier iterations' lines.
+            let mut line = self.line_pool.pop().unwrap_or_else(|| BhvLine {
+                name: String::new(),
+                time: 0.0,
+                updates: String::new(),
+                pwt: 0.0,
+                pcs: 0,
+            });
+            line.name.clone_from(&slot.common.name);
+            line.time = slot.entered;
+            line.updates.clear();
+            slot.write_update_summary(&mut line.updates);
+            line.pwt = slot.common.pwt;
+            line.pcs = slot.pcs;
             if let Some(f) = f {
                 if !self.slots[i].bhv.is_constraint() {
                     report.active_goal = true;
                 }
-                let name = self.slots[i].common.name.clone();
-                if let Err(e) = self.problem.add(&name, f) {
+                let name = &self.slots[i].common.name;
+                if let Err(e) = self.problem.add(name, f) {
                     let msg = format!("{name}: DomainVar not recognized: {e}");
                     self.messages.push((
                         i,
@@ -1066,6 +1071,14 @@ impl Helm {
         }
         self.info.clear_deltas();
         self.cur_report = std::mem::replace(&mut self.prev_report, rendered);
+        for list in [
+            &mut report.active,
+            &mut report.running,
+            &mut report.idle,
+            &mut report.completed,
+        ] {
+            self.line_pool.append(list);
+        }
     }
 
     fn post_behavior_messages(&mut self, iter: u64, now: f64) {

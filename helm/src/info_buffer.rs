@@ -33,9 +33,15 @@ pub struct Entry {
 /// ```
 #[derive(Debug, Clone, Default)]
 pub struct InfoBuffer {
-    vars: FxHashMap<String, Entry>,
-    deltas: FxHashMap<String, Deltas>,
+    vars: FxHashMap<String, Var>,
     now: f64,
+}
+
+/// A variable's entry and its string values of this iteration (one map lookup per write).
+#[derive(Debug, Clone)]
+struct Var {
+    entry: Entry,
+    deltas: Deltas,
 }
 
 /// One variable's string values of this iteration: the first `len` of `items` (the rest are
@@ -73,11 +79,13 @@ impl InfoBuffer {
     }
     /// Writes a variable (string values are also recorded as this iteration's deltas).
     pub fn set(&mut self, var: &str, value: Value, source: &str, msg_time: f64) {
-        self.record_delta(var, &value);
         match self.vars.get_mut(var) {
-            Some(e) => {
-                e.value = value;
-                Self::touch(e, self.now, source, msg_time);
+            Some(v) => {
+                if let Value::Str(s) = &value {
+                    v.deltas.push(s);
+                }
+                v.entry.value = value;
+                Self::touch(&mut v.entry, self.now, source, msg_time);
             }
             None => self.insert(var, value, source, msg_time),
         }
@@ -86,34 +94,26 @@ impl InfoBuffer {
     /// [`InfoBuffer::set`] from a borrowed value: an existing entry's string is overwritten
     /// in place (no allocation once the buffer has seen the variable).
     pub fn set_ref(&mut self, var: &str, value: &Value, source: &str, msg_time: f64) {
-        self.record_delta(var, value);
         match self.vars.get_mut(var) {
-            Some(e) => {
-                match (&mut e.value, value) {
+            Some(v) => {
+                match (&mut v.entry.value, value) {
                     (Value::Str(old), Value::Str(new)) => {
+                        v.deltas.push(new);
                         if old != new {
                             old.clear();
                             old.push_str(new);
                         }
                     }
-                    (slot, v) => *slot = v.clone(),
+                    (slot, new) => {
+                        if let Value::Str(s) = new {
+                            v.deltas.push(s);
+                        }
+                        *slot = new.clone();
+                    }
                 }
-                Self::touch(e, self.now, source, msg_time);
+                Self::touch(&mut v.entry, self.now, source, msg_time);
             }
             None => self.insert(var, value.clone(), source, msg_time),
-        }
-    }
-
-    fn record_delta(&mut self, var: &str, value: &Value) {
-        if let Value::Str(s) = value {
-            match self.deltas.get_mut(var) {
-                Some(d) => d.push(s),
-                None => {
-                    let mut d = Deltas::default();
-                    d.push(s);
-                    self.deltas.insert(var.to_string(), d);
-                }
-            }
         }
     }
 
@@ -127,19 +127,22 @@ impl InfoBuffer {
     }
 
     fn insert(&mut self, var: &str, value: Value, source: &str, msg_time: f64) {
-        self.vars.insert(
-            var.to_string(),
-            Entry {
-                value,
-                time: self.now,
-                msg_time,
-                source: source.to_string(),
-            },
-        );
+        let mut deltas = Deltas::default();
+        if let Value::Str(s) = &value {
+            deltas.push(s);
+        }
+        let entry = Entry {
+            value,
+            time: self.now,
+            msg_time,
+            source: source.to_string(),
+        };
+        self.vars.insert(var.to_string(), Var { entry, deltas });
     }
+
     /// The entry of a variable.
     pub fn get(&self, var: &str) -> Option<&Entry> {
-        self.vars.get(var)
+        self.vars.get(var).map(|v| &v.entry)
     }
     /// Whether the variable has ever been written.
     pub fn is_known(&self, var: &str) -> bool {
@@ -148,21 +151,21 @@ impl InfoBuffer {
     /// Seconds since the variable was written (`None` if never): 0 for mail applied in this
     /// iteration.
     pub fn age(&self, var: &str) -> Option<f64> {
-        self.vars.get(var).map(|e| self.now - e.time)
+        self.get(var).map(|e| self.now - e.time)
     }
     /// The string values written during this iteration, oldest first.
     pub fn deltas(&self, var: &str) -> &[String] {
-        self.deltas.get(var).map_or(&[], Deltas::as_slice)
+        self.vars.get(var).map_or(&[], |v| v.deltas.as_slice())
     }
     /// Forgets this iteration's deltas (keeps the allocations).
     pub fn clear_deltas(&mut self) {
-        for v in self.deltas.values_mut() {
-            v.len = 0;
+        for v in self.vars.values_mut() {
+            v.deltas.len = 0;
         }
     }
     /// The value as a condition operand.
     pub fn condition_value(&self, var: &str) -> Option<mission::condition::Value<'_>> {
-        Some(match &self.vars.get(var)?.value {
+        Some(match &self.get(var)?.value {
             Value::Num(v) => mission::condition::Value::Num(*v),
             Value::Str(s) => mission::condition::Value::Str(s),
         })
@@ -174,14 +177,14 @@ impl Info for InfoBuffer {
         self.now
     }
     fn num(&self, var: &str) -> Option<f64> {
-        match &self.vars.get(var)?.value {
+        match &self.get(var)?.value {
             Value::Num(v) => Some(*v),
             Value::Str(s) if mission::condition::is_numeric(s.trim()) => s.trim().parse().ok(),
             Value::Str(_) => None,
         }
     }
     fn text(&self, var: &str) -> Option<&str> {
-        self.vars.get(var)?.value.as_str()
+        self.get(var)?.value.as_str()
     }
     fn age(&self, var: &str) -> Option<f64> {
         InfoBuffer::age(self, var)
