@@ -34,7 +34,7 @@ fn dive_mission_dives_surveys_surfaces_for_gps_and_loiters() {
         a == b,
         "two lockstep runs of the dive mission wrote different alogs"
     );
-    assert!(stdout.contains("completed:   loiter"), "{stdout}");
+    assert!(stdout.contains("completed:   survey, loiter"), "{stdout}");
 
     let log = parse(&a);
     let t = track(&log);

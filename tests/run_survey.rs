@@ -22,7 +22,7 @@ fn surface_survey_completes_and_is_repeatable() {
         a == b,
         "two lockstep runs of the survey wrote different alogs"
     );
-    assert!(stdout.contains("completed:   return"), "{stdout}");
+    assert!(stdout.contains("completed:   survey, return"), "{stdout}");
 
     let log = parse(&a);
     let t = track(&log);

@@ -120,6 +120,7 @@ pub async fn run_apps(
     for v in &vars {
         poker.register(v, 0.0);
     }
+    let slowest_period = apps.iter().map(|a| 1.0 / a.app_tick()).fold(0.0, f64::max);
     let (stop_tx, stop_rx) = watch::channel(false);
     let mut tasks = Vec::new();
     for mut app in apps {
@@ -178,6 +179,13 @@ pub async fn run_apps(
             }
         }
     };
+    // Let the apps (pLogger above all) take in the posts of the last moment, as MOOS apps
+    // still running after a mission ends would, before they are stopped: one period of
+    // the slowest app, in warped time, at most one wall second.
+    if !tasks.is_empty() {
+        let wall = (slowest_period / config.warp).min(1.0);
+        tokio::time::sleep(Duration::from_secs_f64(wall)).await;
+    }
     let _ = stop_tx.send(true);
     for t in tasks {
         joined(t).await?;

@@ -410,10 +410,24 @@ fn finish(args: &RunArgs, ended: &Ended, alog_path: Option<&str>) -> i32 {
                 if let Some((x, y)) = s.final_position {
                     let _ = writeln!(out, "  final x,y:   {x:.1}, {y:.1}");
                 }
-                let done = if s.completed.is_empty() {
+                // Every behaviour that completed during the run (the helm's later reports
+                // may drop it, e.g. once the mission is no longer active).
+                let mut completed: Vec<String> = Vec::new();
+                for e in log.entries.iter().filter(|e| e.var == "IVPHELM_SUMMARY") {
+                    let list = e
+                        .value
+                        .as_str()
+                        .and_then(|v| behaviour_list(v, "completed_bhvs"));
+                    for b in list.unwrap_or_default() {
+                        if !completed.contains(&b) {
+                            completed.push(b);
+                        }
+                    }
+                }
+                let done = if completed.is_empty() {
                     "none".to_string()
                 } else {
-                    s.completed.join(", ")
+                    completed.join(", ")
                 };
                 let _ = writeln!(out, "  completed:   {done}");
                 if let Some(h) = &s.helm_state {
@@ -639,11 +653,9 @@ fn mission_for_externals(
 fn start_externals(externals: &[AntlerRun], mission: &Path) -> Vec<Child> {
     let mut children = Vec::new();
     for ext in externals {
+        // pAntler's argv: `app mission_file moos_name`.
         let mut cmd = Command::new(&ext.app);
-        cmd.arg(mission);
-        if ext.moos_name() != base(&ext.app) {
-            cmd.arg(ext.moos_name());
-        }
+        cmd.arg(mission).arg(ext.moos_name());
         cmd.stdin(std::process::Stdio::null())
             .stdout(std::process::Stdio::null());
         match cmd.spawn() {
