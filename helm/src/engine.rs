@@ -199,19 +199,21 @@ impl Outbox {
         p.value = value;
         p.aux.push_str(aux);
     }
-    /// Posts a string value written by the caller into the returned (cleared) buffer.
-    fn text(&mut self, var: &str) -> &mut String {
+    /// Posts a string value that `write` writes into a cleared buffer (the string of an
+    /// earlier posting when there is one).
+    fn text(&mut self, var: &str, write: impl FnOnce(&mut String)) {
         let p = self.next(var);
-        if !matches!(p.value, Value::Str(_)) {
-            p.value = Value::Str(String::new());
-        }
-        match &mut p.value {
-            Value::Str(s) => {
-                s.clear();
-                s
-            }
-            Value::Num(_) => unreachable!("set to a string above"),
-        }
+        let mut s = match std::mem::replace(&mut p.value, Value::Num(0.0)) {
+            Value::Str(s) => s,
+            Value::Num(_) => String::new(),
+        };
+        s.clear();
+        write(&mut s);
+        p.value = Value::Str(s);
+    }
+    /// Posts a copy of `text`.
+    fn text_copy(&mut self, var: &str, text: &str) {
+        self.text(var, |s| s.push_str(text));
     }
 }
 
@@ -822,7 +824,7 @@ impl Helm {
             }
         } else {
             let s = self.state.as_str();
-            self.out.text("IVPHELM_STATE").push_str(s);
+            self.out.text_copy("IVPHELM_STATE", s);
         }
         if !self.state.enabled() {
             self.info.clear_deltas();
@@ -965,13 +967,15 @@ impl Helm {
         report.warnings = self.warnings;
         let mut rendered = std::mem::take(&mut self.cur_report);
         report.render_into(&self.domain_str, Some(&self.config.domain), &mut rendered);
-        let summary = self.out.text("IVPHELM_SUMMARY");
-        if self.rejournal {
-            self.rejournal = false;
-            rendered.summary(iter, now, &Rendered::default(), summary);
-        } else {
-            rendered.summary(iter, now, &self.prev_report, summary);
-        }
+        let full = std::mem::take(&mut self.rejournal);
+        let prev = &self.prev_report;
+        self.out.text("IVPHELM_SUMMARY", |summary| {
+            if full {
+                rendered.summary(iter, now, &Rendered::default(), summary);
+            } else {
+                rendered.summary(iter, now, prev, summary);
+            }
+        });
         self.notify("IVPHELM_IPF_CNT", Value::Num(report.ofnum as f64), "");
         self.notify(
             "IVPHELM_TOTAL_PCS_FORMED",
@@ -993,7 +997,7 @@ impl Helm {
                     ["IVPHELM_BHV_RUNNING", "IVPHELM_BHV_RUNNING_CNT"],
                     ["IVPHELM_BHV_IDLE", "IVPHELM_BHV_IDLE_CNT"],
                 ][k];
-                self.out.text(base).push_str(&list);
+                self.out.text_copy(base, &list);
                 self.notify(base_cnt, Value::Num(cnt as f64), "");
                 std::mem::swap(&mut self.lists[k], &mut list);
             }
@@ -1059,7 +1063,7 @@ impl Helm {
         }
         if text != self.update_vars {
             self.update_vars.clone_from(&text);
-            self.out.text("IVPHELM_UPDATEVARS").push_str(&text);
+            self.out.text_copy("IVPHELM_UPDATEVARS", &text);
         }
         self.scratch = text;
         if allstop != "clear" && self.config.allow_park && self.config.park_on_allstop {
