@@ -1,0 +1,130 @@
+//! `coug helm|sim|pid|nodereporter MISSION.moos [ALIAS]`: the single apps by subcommand,
+//! each its own MOOS client of a `coug db`, under the MOOS name pAntler would give them
+//! (the variant the mission's ANTLER block runs; the alias when one is given).
+
+mod common;
+
+use std::collections::BTreeSet;
+use std::io::{BufRead, BufReader};
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc;
+use std::time::Duration;
+
+use common::*;
+use moosdb_client::{Client, ClientConfig};
+
+struct Procs(Vec<Child>);
+
+impl Drop for Procs {
+    fn drop(&mut self) {
+        for c in &mut self.0 {
+            let _ = c.kill();
+            let _ = c.wait();
+        }
+    }
+}
+
+fn mission_with_port(port: u16) -> String {
+    let text = std::fs::read_to_string(corpus("s1_alpha/alpha.moos")).unwrap();
+    text.lines()
+        .map(|l| {
+            if l.trim_start().starts_with("ServerPort") {
+                format!("ServerPort = {port}")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+#[test]
+fn subcommands_join_the_db_under_their_moos_names() {
+    let dir = fresh_dir("app-subcommands");
+    std::fs::copy(corpus("s1_alpha/alpha.bhv"), dir.join("alpha.bhv")).unwrap();
+    std::fs::write(dir.join("alpha.moos"), mission_with_port(9000)).unwrap();
+    let mut procs = Procs(Vec::new());
+    let mut db = Command::new(env!("CARGO_BIN_EXE_coug"))
+        .current_dir(&dir)
+        .args(["db", "alpha.moos", "--port", "0"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let out = db.stdout.take().unwrap();
+    procs.0.push(db);
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        for line in BufReader::new(out).lines().map_while(Result::ok) {
+            let _ = tx.send(line);
+        }
+    });
+    let port: u16 = loop {
+        let line = rx
+            .recv_timeout(Duration::from_secs(60))
+            .expect("coug db announces its port");
+        if let Some(r) = line.split("listening on 127.0.0.1:").nth(1) {
+            break r.split_whitespace().next().unwrap().parse().unwrap();
+        }
+    };
+    std::fs::write(dir.join("alpha.moos"), mission_with_port(port)).unwrap();
+    for args in [
+        vec!["helm", "alpha.moos"],
+        vec!["sim", "alpha.moos"],
+        vec!["pid", "alpha.moos"],
+        vec!["nodereporter", "alpha.moos", "pNodeReporter_2"],
+    ] {
+        let c = Command::new(env!("CARGO_BIN_EXE_coug"))
+            .current_dir(&dir)
+            .args(&args)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        procs.0.push(c);
+    }
+    let expected: BTreeSet<&str> = [
+        "PHELMIVP_STATUS",
+        "USIMMARINEV22_STATUS",
+        "PMARINEPIDV22_STATUS",
+        "PNODEREPORTER_2_STATUS",
+    ]
+    .into_iter()
+    .collect();
+    let rt = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .unwrap();
+    let seen = rt.block_on(async {
+        let (client, mut inbox) = Client::start(ClientConfig::new("test_watch", "127.0.0.1", port));
+        tokio::time::timeout(Duration::from_secs(30), client.wait_connected())
+            .await
+            .expect("connects")
+            .expect("accepted");
+        for v in &expected {
+            client.register(v, 0.0);
+        }
+        let mut seen = BTreeSet::new();
+        let deadline = tokio::time::Instant::now() + Duration::from_secs(60);
+        while seen.len() < expected.len() {
+            match tokio::time::timeout_at(deadline, inbox.recv()).await {
+                Ok(Some(m)) => {
+                    seen.insert(m.key_str().into_owned());
+                }
+                _ => break,
+            }
+        }
+        client.close().await;
+        seen
+    });
+    let seen: BTreeSet<&str> = seen.iter().map(String::as_str).collect();
+    assert_eq!(seen, expected);
+}
+
+#[test]
+fn a_subcommand_without_a_mission_exits_1_with_usage() {
+    let dir = fresh_dir("app-usage");
+    let out = coug(&dir, &["helm"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("usage: coug helm MISSION.moos"));
+}
