@@ -768,7 +768,8 @@ fn realtime(
             }
         };
         let result = tokio::select! {
-            r = run_apps(p.apps, &cfg, spec) => r,
+            r = run_apps(p.apps, &cfg, spec) => Some(r),
+            _ = tokio::signal::ctrl_c() => None,
             _ = progress_task => unreachable!("the progress loop never ends"),
         };
         let wall = wall.elapsed().as_secs_f64();
@@ -780,6 +781,11 @@ fn realtime(
             let _ = c.wait();
         }
         server.shutdown();
+        let Some(result) = result else {
+            // The apps (and the logger, which flushes) are dropped with the task set.
+            eprintln!("coug run: interrupted after {wall:.1} wall s; log: {alog_path}");
+            return Ok(130);
+        };
         let end = result.map_err(|e| vec![e.to_string()])?;
         let ended = Ended {
             outcome: end.outcome,
