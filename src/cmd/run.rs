@@ -16,6 +16,8 @@ use std::collections::HashMap;
 use std::io::{BufWriter, IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use clap::Args;
@@ -522,6 +524,26 @@ fn alog_path_of(m: &MissionFile, dir: &Path, opened: &NaiveDateTime) -> String {
     config.alog_path(opened)
 }
 
+/// A flag set on Ctrl-C (watched by a helper thread), so a lockstep run can stop
+/// between steps with its log flushed.
+fn interrupt_flag() -> Arc<AtomicBool> {
+    let flag = Arc::new(AtomicBool::new(false));
+    let f = flag.clone();
+    let rt = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build();
+    if let Ok(rt) = rt {
+        std::thread::spawn(move || {
+            rt.block_on(async {
+                if tokio::signal::ctrl_c().await.is_ok() {
+                    f.store(true, Ordering::Relaxed);
+                }
+            });
+        });
+    }
+    flag
+}
+
 fn lockstep(
     args: &RunArgs,
     loaded: &Loaded,
@@ -563,12 +585,23 @@ fn lockstep(
         next_sim: 0.0,
         ..Progress::default()
     };
+    let interrupted = interrupt_flag();
     let wall = Instant::now();
     let end = start + args.max_time;
     // One-second steps: the progress line samples the helm's summary at each.
     let step = 1.0;
     let mut t = start;
     let outcome = loop {
+        if interrupted.load(Ordering::Relaxed) {
+            progress.finish();
+            // Dropping the scheduler drops the logger, which flushes the alog.
+            drop(s);
+            eprintln!(
+                "coug run: interrupted at {:.1} simulated s; log: {alog_path}",
+                t - start
+            );
+            return Ok(130);
+        }
         t = (t + step).min(end);
         match s.advance(t).map_err(|e| vec![e.to_string()])? {
             Some(o) => break o,
