@@ -1393,10 +1393,11 @@ impl Helm {
     }
 
     fn check_updates(&mut self, i: usize, now: f64) -> bool {
-        let var = self.slots[i].common.update_var.clone();
-        if var.is_empty() {
+        let var = &self.slots[i].common.update_var;
+        if var.is_empty() || self.info.deltas(var).is_empty() {
             return false;
         }
+        let var = var.clone();
         let updates: Vec<String> = self.info.deltas(&var).to_vec();
         let mut made = false;
         // Even a faulty update applies its good parameters (conditions, flags...).
