@@ -1,6 +1,7 @@
 //! The decision domain: ordered, discretised decision variables (pHelmIvP's `IvPDomain`).
 
 use std::fmt;
+use std::sync::Arc;
 
 use super::error::DomainError;
 
@@ -18,7 +19,7 @@ pub enum Snap {
 /// One decision variable: `points` evenly spaced values from `low` to `high`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DomainVar {
-    name: String,
+    name: Arc<str>,
     low: f64,
     high: f64,
     points: u32,
@@ -57,7 +58,7 @@ impl DomainVar {
             return Err(DomainError::ZeroRangeManyPoints(name.to_string()));
         }
         Ok(Self {
-            name: name.to_string(),
+            name: Arc::from(name),
             low,
             high,
             points,
@@ -221,9 +222,12 @@ fn parse_number(spec: &str, field: &'static str, text: &str) -> Result<f64, Doma
 }
 
 /// An ordered list of decision variables with unique names.
+///
+/// The variables are shared: cloning a domain (every built function carries one) copies a
+/// pointer, not the variables.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Domain {
-    vars: Vec<DomainVar>,
+    vars: Arc<Vec<DomainVar>>,
 }
 
 impl Domain {
@@ -262,7 +266,7 @@ impl Domain {
         if self.index_of(var.name()).is_some() {
             return Err(DomainError::Duplicate(var.name().to_string()));
         }
-        self.vars.push(var);
+        Arc::make_mut(&mut self.vars).push(var);
         Ok(())
     }
 
@@ -284,11 +288,11 @@ impl Domain {
     }
     /// Position of the variable called `name`.
     pub fn index_of(&self, name: &str) -> Option<usize> {
-        self.vars.iter().position(|v| v.name == name)
+        self.vars.iter().position(|v| &*v.name == name)
     }
     /// The variable called `name`.
     pub fn get(&self, name: &str) -> Option<&DomainVar> {
-        self.vars.iter().find(|v| v.name == name)
+        self.vars.iter().find(|v| &*v.name == name)
     }
     /// The one-variable domain holding only `name` (MOOS-IvP's `subDomain`).
     pub fn sub_domain(&self, name: &str) -> Result<Domain, DomainError> {
@@ -296,7 +300,7 @@ impl Domain {
             .get(name)
             .ok_or_else(|| DomainError::UnknownVar(name.to_string()))?;
         Ok(Domain {
-            vars: vec![var.clone()],
+            vars: Arc::new(vec![var.clone()]),
         })
     }
     /// Number of grid points in the whole domain (product over variables), saturating.
