@@ -1,8 +1,7 @@
 //! `coug db [MISSION.moos] [--port N] [--host ADDR] [--community NAME]`: a standalone MOOSDB.
 //!
-//! Also holds what `coug poke` and `coug scope` share: the tiny reader of a mission's
-//! `ServerHost` / `ServerPort` / `Community` / `MOOSTimeWarp` and the connect helper.
-//! TODO: switch to `mission::moos` once that parser is available to the binary.
+//! Also holds what `coug poke` and `coug scope` share: a mission's `ServerHost` /
+//! `ServerPort` / `Community` / `MOOSTimeWarp` (read with `mission::moos`) and the connect helper.
 
 use std::net::{IpAddr, Ipv4Addr, SocketAddr, ToSocketAddrs};
 use std::path::{Path, PathBuf};
@@ -46,45 +45,35 @@ pub struct MissionComms {
     pub client_timeout: Option<f64>,
 }
 
-/// Reads `key = value` lines outside `ProcessConfig` blocks (`//` comments stripped, keys
-/// case-insensitive, first occurrence wins).
+/// Reads the comms settings from a `.moos` text's top-level parameters (keys
+/// case-insensitive, first occurrence wins), with `mission::moos`.
 pub fn parse_mission_comms(text: &str) -> anyhow::Result<MissionComms> {
-    let mut out = MissionComms::default();
-    let mut depth = 0usize;
-    for (n, raw) in text.lines().enumerate() {
-        let line = raw.split("//").next().unwrap_or("").trim();
-        if line.starts_with('{') {
-            depth += 1;
-            continue;
-        }
-        if line.starts_with('}') {
-            depth = depth.saturating_sub(1);
-            continue;
-        }
-        if depth > 0 {
-            continue;
-        }
-        let Some((k, v)) = line.split_once('=') else {
-            continue;
-        };
-        let (k, v) = (k.trim().to_ascii_lowercase(), v.trim().to_string());
-        let bad = |what: &str| format!("line {}: {what} `{v}` is not valid", n + 1);
-        match k.as_str() {
-            "serverhost" if out.host.is_none() => out.host = Some(v),
-            "serverport" if out.port.is_none() => {
-                out.port = Some(v.parse().with_context(|| bad("ServerPort"))?)
-            }
-            "community" if out.community.is_none() => out.community = Some(v),
-            "moostimewarp" if out.warp.is_none() => {
-                out.warp = Some(v.parse().with_context(|| bad("MOOSTimeWarp"))?)
-            }
-            "clienttimeout" if out.client_timeout.is_none() => {
-                out.client_timeout = Some(v.parse().with_context(|| bad("ClientTimeout"))?)
-            }
-            _ => {}
-        }
+    let src = mission::source::SourceMap::from_text("mission", text);
+    let parsed = mission::moos::parse_moos(&src);
+    let m = &parsed.value;
+    let text_of = |key: &str| m.global(key).map(str::to_string);
+    fn number<T: std::str::FromStr>(
+        m: &mission::moos::MissionFile,
+        key: &str,
+    ) -> anyhow::Result<Option<T>>
+    where
+        T::Err: std::error::Error + Send + Sync + 'static,
+    {
+        m.global(key)
+            .map(|v| {
+                v.trim()
+                    .parse::<T>()
+                    .with_context(|| format!("{key} `{v}` is not valid"))
+            })
+            .transpose()
     }
-    Ok(out)
+    Ok(MissionComms {
+        host: text_of("ServerHost"),
+        port: number(m, "ServerPort")?,
+        community: text_of("Community"),
+        warp: number(m, "MOOSTimeWarp")?,
+        client_timeout: number(m, "ClientTimeout")?,
+    })
 }
 
 /// [`parse_mission_comms`] of a file.
