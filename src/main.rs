@@ -1,5 +1,8 @@
 //! `coug`: one binary that runs MOOS-IvP missions with a native Rust helm, MOOSDB and vehicle.
 
+// Doc comments here are clap help texts, where `[ALIAS]` is usage notation, not a link.
+#![allow(rustdoc::broken_intra_doc_links)]
+
 use clap::{Parser, Subcommand};
 
 mod cmd {
