@@ -3,63 +3,9 @@
 //! and all postings.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use helm::{Helm, Mail, Value};
-use mission::source::SourceMap;
 
-fn corpus(rel: &str) -> String {
-    let p = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/corpus/").to_string() + rel;
-    std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("corpus file {p} missing: {e}"))
-}
-
-fn nav(x: f64, y: f64, h: f64, v: f64, t: f64) -> [Mail; 4] {
-    [
-        Mail::new("NAV_X", x, t),
-        Mail::new("NAV_Y", y, t),
-        Mail::new("NAV_HEADING", h, t),
-        Mail::new("NAV_SPEED", v, t),
-    ]
-}
-
-/// The alpha helm driven to mid-survey by a point-mass vehicle; returns it with the time.
-fn mid_survey() -> (Helm, f64, (f64, f64, f64, f64)) {
-    let moos = mission::moos::parse_moos(&SourceMap::from_text(
-        "alpha.moos",
-        &corpus("moos-ivp-missions/s1_alpha/alpha.moos"),
-    ));
-    let bhv = mission::bhv::parse_bhv(&SourceMap::from_text(
-        "alpha.bhv",
-        &corpus("moos-ivp-missions/s1_alpha/alpha.bhv"),
-    ));
-    let mut helm = Helm::from_mission(&moos.value, &bhv);
-    assert!(helm.config_errors().is_empty());
-    let (mut x, mut y, mut h, mut v) = (0.0f64, -20.0f64, 180.0f64, 0.0f64);
-    let (mut dh, mut dv) = (h, 0.0);
-    let dt = 0.25;
-    let mut t = 0.0;
-    while t < 120.0 {
-        t += dt;
-        let err = (dh - h + 540.0).rem_euclid(360.0) - 180.0;
-        h = (h + err.clamp(-10.0, 10.0)).rem_euclid(360.0);
-        v += (dv - v).clamp(-0.125, 0.125);
-        x += h.to_radians().sin() * v * dt;
-        y += h.to_radians().cos() * v * dt;
-        helm.on_mail(&nav(x, y, h, v, t));
-        if (t - 1.0).abs() < 1e-9 {
-            helm.on_mail(&[Mail::new("MOOS_MANUAL_OVERRIDE", "false", t)]);
-        }
-        if (t - 2.0).abs() < 1e-9 {
-            helm.on_mail(&[Mail::new("DEPLOY", "true", t)]);
-        }
-        for p in helm.iterate(t) {
-            match (p.var.as_str(), &p.value) {
-                ("DESIRED_HEADING", Value::Num(d)) => dh = *d,
-                ("DESIRED_SPEED", Value::Num(d)) => dv = *d,
-                _ => {}
-            }
-        }
-    }
-    (helm, t, (x, y, h, v))
-}
+mod common;
+use common::{mid_survey, nav};
 
 fn bench(c: &mut Criterion) {
     let (mut helm, mut t, (x, y, h, v)) = mid_survey();
