@@ -127,6 +127,34 @@ struct WaypointNames<'a> {
     suffix: &'a str,
 }
 
+/// A view string with the key it was rendered for.
+#[derive(Debug, Clone)]
+struct Cached<K> {
+    key: Option<K>,
+    text: String,
+}
+
+impl<K> Default for Cached<K> {
+    fn default() -> Self {
+        Self {
+            key: None,
+            text: String::new(),
+        }
+    }
+}
+
+impl<K: PartialEq> Cached<K> {
+    /// The text for `key`, rendered by `render` only when the key differs from the last one.
+    fn get(&mut self, key: K, render: impl FnOnce(&mut String)) -> String {
+        if self.key.as_ref() != Some(&key) {
+            self.text.clear();
+            render(&mut self.text);
+            self.key = Some(key);
+        }
+        self.text.clone()
+    }
+}
+
 /// The last rendered view strings with the inputs they were rendered from: the views are
 /// posted every iteration but change rarely, so they are re-rendered only when an input
 /// changes (parameters, which include the drawing hints, reset the cache).
@@ -135,10 +163,8 @@ struct Views {
     /// The vehicle and behaviour names the texts were rendered for.
     ownship: String,
     name: String,
-    nextpt: Option<(bool, Point)>,
-    nextpt_text: String,
-    trackpt: Option<(bool, Point)>,
-    trackpt_text: String,
+    nextpt: Cached<(bool, Point)>,
+    trackpt: Cached<(bool, Point)>,
     seglist: Option<(bool, SegList)>,
     seglist_text: String,
     /// `<var_report><suffix>`, `<var_index><suffix>`, `<var_cyindex><suffix>`.
@@ -518,15 +544,12 @@ impl Waypoint {
 
     fn nextpt_view(&mut self, ctx: &Ctx<'_>, active: bool) -> String {
         self.views.check_ctx(ctx);
-        let key = (active, self.nextpt);
-        if self.views.nextpt != Some(key) {
-            let mut s = std::mem::take(&mut self.views.nextpt_text);
-            s.clear();
-            self.render_nextpt(ctx, active, &mut s);
-            self.views.nextpt_text = s;
-            self.views.nextpt = Some(key);
-        }
-        self.views.nextpt_text.clone()
+        let mut view = std::mem::take(&mut self.views.nextpt);
+        let text = view.get((active, self.nextpt), |s| {
+            self.render_nextpt(ctx, active, s)
+        });
+        self.views.nextpt = view;
+        text
     }
 
     fn render_nextpt(&self, ctx: &Ctx<'_>, active: bool, s: &mut String) {
@@ -545,15 +568,12 @@ impl Waypoint {
 
     fn trackpt_view(&mut self, ctx: &Ctx<'_>, active: bool) -> String {
         self.views.check_ctx(ctx);
-        let key = (active, self.trackpt);
-        if self.views.trackpt != Some(key) {
-            let mut s = std::mem::take(&mut self.views.trackpt_text);
-            s.clear();
-            self.render_trackpt(ctx, active, &mut s);
-            self.views.trackpt_text = s;
-            self.views.trackpt = Some(key);
-        }
-        self.views.trackpt_text.clone()
+        let mut view = std::mem::take(&mut self.views.trackpt);
+        let text = view.get((active, self.trackpt), |s| {
+            self.render_trackpt(ctx, active, s)
+        });
+        self.views.trackpt = view;
+        text
     }
 
     fn render_trackpt(&self, ctx: &Ctx<'_>, active: bool, s: &mut String) {
