@@ -2,63 +2,20 @@
 //! the simulator, the marine PID, the node reporter and pLogger, deployed as `--deploy`
 //! would, until `MISSION = complete`.
 
-use chrono::NaiveDate;
-use mission::source::SourceMap;
-use runtime::antler::{LogTarget, logger_config, plan};
-use runtime::helm::HelmApp;
-use runtime::logger::SharedBuffer;
+mod support;
+
+use runtime::Outcome;
 use runtime::plot::PlotData;
-use runtime::{App, Bus, Outcome, Poke, Scheduler, VirtualClock};
-
-const START: f64 = 1_786_000_000.0;
-const DIR: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/../../shared/corpus/moos-ivp-missions/s1_alpha"
-);
-
-fn read(name: &str) -> String {
-    let path = format!("{DIR}/{name}");
-    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("corpus file {path} is required: {e}"))
-}
+use support::{START, run_corpus};
 
 fn run() -> (Outcome, Vec<u8>) {
-    let m = mission::moos::parse_moos(&SourceMap::from_text("alpha.moos", &read("alpha.moos")));
-    assert!(!m.has_errors());
-    let m = m.value;
-    let bhv = mission::bhv::parse_bhv(&SourceMap::from_text("alpha.bhv", &read("alpha.bhv")));
-    let buf = SharedBuffer::default();
-    let target = LogTarget {
-        config: logger_config(&m),
-        writer: Box::new(buf.clone()),
-        opened: NaiveDate::from_ymd_opt(2026, 8, 5)
-            .unwrap()
-            .and_hms_opt(18, 22, 55)
-            .unwrap(),
-        opened_on: "Thu Jan  1 00:00:00 1970".into(),
-    };
-    let p = plan(&m, START, 1, Some(target), &mut |run, block| {
-        (run.app == "pHelmIvP").then(|| {
-            let h = HelmApp::new(run.moos_name(), block.cloned(), &m, &bhv);
-            let errors = h.config_errors();
-            if errors.is_empty() {
-                Ok(Box::new(h) as Box<dyn App>)
-            } else {
-                Err(errors.join("; "))
-            }
-        })
-    })
-    .unwrap();
-    let mut s = Scheduler::new(Bus::new(&p.globals.community, START), VirtualClock, START);
-    for app in p.apps {
-        s.add_app(app).unwrap();
-    }
-    for poke in ["DEPLOY=true", "MOOS_MANUAL_OVERRIDE=false"] {
-        s.add_poke(Poke::parse(poke, "pHelmIvP").unwrap()).unwrap();
-    }
-    s.set_until(mission::condition::parse_condition("MISSION = complete").unwrap());
-    let outcome = s.run(1800.0).unwrap();
-    s.deliver_pending().unwrap();
-    (outcome, buf.contents())
+    run_corpus(
+        "s1_alpha",
+        "alpha",
+        &["DEPLOY=true", "MOOS_MANUAL_OVERRIDE=false"],
+        "MISSION = complete",
+        1800.0,
+    )
 }
 
 #[test]

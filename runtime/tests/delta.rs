@@ -2,66 +2,26 @@
 //! uSimMarine, pMarinePID, pNodeReporter, its GPS uTimerScript, pLogger), deployed, with
 //! `SURVEY=true` at 300 s and `RETURN=true` at 1200 s, until `DEPLOY = false`.
 
-use chrono::NaiveDate;
-use mission::source::SourceMap;
-use runtime::antler::{LogTarget, logger_config, plan};
-use runtime::helm::HelmApp;
-use runtime::logger::SharedBuffer;
-use runtime::summary::RunSummary;
-use runtime::{App, Bus, Outcome, Poke, Scheduler, VirtualClock};
+mod support;
 
-const START: f64 = 1_786_000_000.0;
-const DIR: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/../../shared/corpus/moos-ivp-missions/s4_delta"
-);
+use runtime::Outcome;
+use runtime::summary::RunSummary;
+use support::{START, run_corpus};
 
 #[test]
 fn delta_loiters_surveys_and_returns() {
-    let read = |n: &str| {
-        std::fs::read_to_string(format!("{DIR}/{n}"))
-            .unwrap_or_else(|e| panic!("corpus file {DIR}/{n} is required: {e}"))
-    };
-    let m =
-        mission::moos::parse_moos(&SourceMap::from_text("delta.moos", &read("delta.moos"))).value;
-    let bhv = mission::bhv::parse_bhv(&SourceMap::from_text("delta.bhv", &read("delta.bhv")));
-    let buf = SharedBuffer::default();
-    let target = LogTarget {
-        config: logger_config(&m),
-        writer: Box::new(buf.clone()),
-        opened: NaiveDate::from_ymd_opt(2026, 8, 5)
-            .unwrap()
-            .and_hms_opt(18, 22, 55)
-            .unwrap(),
-        opened_on: "Thu Jan  1 00:00:00 1970".into(),
-    };
-    let p = plan(&m, START, 1, Some(target), &mut |run, block| {
-        (run.app == "pHelmIvP").then(|| {
-            let h = HelmApp::new(run.moos_name(), block.cloned(), &m, &bhv);
-            let e = h.config_errors();
-            if e.is_empty() {
-                Ok(Box::new(h) as Box<dyn App>)
-            } else {
-                Err(e.join("; "))
-            }
-        })
-    })
-    .unwrap();
-    let mut s = Scheduler::new(Bus::new(&p.globals.community, START), VirtualClock, START);
-    for app in p.apps {
-        s.add_app(app).unwrap();
-    }
-    for poke in [
-        "DEPLOY=true",
-        "MOOS_MANUAL_OVERRIDE=false",
-        "SURVEY=true@300",
-        "RETURN=true@1200",
-    ] {
-        s.add_poke(Poke::parse(poke, "pHelmIvP").unwrap()).unwrap();
-    }
-    s.set_until(mission::condition::parse_condition("DEPLOY = false").unwrap());
-    let outcome = s.run(3600.0).unwrap();
-    s.deliver_pending().unwrap();
+    let (outcome, bytes) = run_corpus(
+        "s4_delta",
+        "delta",
+        &[
+            "DEPLOY=true",
+            "MOOS_MANUAL_OVERRIDE=false",
+            "SURVEY=true@300",
+            "RETURN=true@1200",
+        ],
+        "DEPLOY = false",
+        3600.0,
+    );
     let Outcome::ConditionMet { time } = outcome else {
         panic!("delta did not end: {outcome:?}");
     };
@@ -70,7 +30,7 @@ fn delta_loiters_surveys_and_returns() {
         "ended before the return was asked: {}",
         time - START
     );
-    let log = alog::parse(std::str::from_utf8(&buf.contents()).unwrap()).unwrap();
+    let log = alog::parse(std::str::from_utf8(&bytes).unwrap()).unwrap();
     // Hierarchical modes in the expected order, each entered after its poke.
     let modes: Vec<(f64, &str)> = log
         .entries

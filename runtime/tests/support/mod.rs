@@ -1,0 +1,72 @@
+//! Shared set-up of the corpus mission tests: a real mission's ANTLER apps (the helm and the
+//! built-in apps) in lockstep, with pLogger writing its alog into memory.
+
+use chrono::NaiveDate;
+use mission::source::SourceMap;
+use runtime::antler::{LogTarget, logger_config, plan};
+use runtime::helm::HelmApp;
+use runtime::logger::SharedBuffer;
+use runtime::{App, Bus, Outcome, Poke, Scheduler, VirtualClock};
+
+/// The fixed MOOS start time of every lockstep run (so logs are byte-identical).
+pub const START: f64 = 1_786_000_000.0;
+
+/// Runs `../shared/corpus/moos-ivp-missions/<folder>/<name>.moos` (with `<name>.bhv`) in
+/// lockstep with `pokes` (uPokeDB syntax, `@T` for a time) until `until` holds or `max_time`
+/// simulated seconds pass. Returns the outcome and the alog bytes.
+pub fn run_corpus(
+    folder: &str,
+    name: &str,
+    pokes: &[&str],
+    until: &str,
+    max_time: f64,
+) -> (Outcome, Vec<u8>) {
+    let dir = format!(
+        "{}/../../shared/corpus/moos-ivp-missions/{folder}",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let read = |file: &str| {
+        let path = format!("{dir}/{file}");
+        std::fs::read_to_string(&path)
+            .unwrap_or_else(|e| panic!("corpus file {path} is required: {e}"))
+    };
+    let moos_file = format!("{name}.moos");
+    let bhv_file = format!("{name}.bhv");
+    let m = mission::moos::parse_moos(&SourceMap::from_text(&moos_file, &read(&moos_file)));
+    assert!(!m.has_errors(), "{moos_file} has errors");
+    let m = m.value;
+    let bhv = mission::bhv::parse_bhv(&SourceMap::from_text(&bhv_file, &read(&bhv_file)));
+    let buf = SharedBuffer::default();
+    let target = LogTarget {
+        config: logger_config(&m),
+        writer: Box::new(buf.clone()),
+        opened: NaiveDate::from_ymd_opt(2026, 8, 5)
+            .unwrap()
+            .and_hms_opt(18, 22, 55)
+            .unwrap(),
+        opened_on: "Thu Jan  1 00:00:00 1970".into(),
+    };
+    let p = plan(&m, START, 1, Some(target), &mut |run, block| {
+        (run.app == "pHelmIvP").then(|| {
+            let h = HelmApp::new(run.moos_name(), block.cloned(), &m, &bhv);
+            let errors = h.config_errors();
+            if errors.is_empty() {
+                Ok(Box::new(h) as Box<dyn App>)
+            } else {
+                Err(errors.join("; "))
+            }
+        })
+    })
+    .unwrap();
+    let mut s = Scheduler::new(Bus::new(&p.globals.community, START), VirtualClock, START);
+    for app in p.apps {
+        s.add_app(app).unwrap();
+    }
+    for poke in pokes {
+        s.add_poke(Poke::parse(poke, "pHelmIvP").unwrap()).unwrap();
+    }
+    s.set_until(mission::condition::parse_condition(until).unwrap());
+    let outcome = s.run(max_time).unwrap();
+    s.deliver_pending().unwrap();
+    (outcome, buf.contents())
+}
