@@ -542,51 +542,47 @@ impl Waypoint {
         self.odo_leg = 0.0;
     }
 
-    fn nextpt_view(&mut self, ctx: &Ctx<'_>, active: bool) -> String {
+    /// The VIEW_POINT text of the next point (`trackpt == false`) or the track point, rendered
+    /// only when the point or the active state changed.
+    fn point_view(&mut self, ctx: &Ctx<'_>, active: bool, trackpt: bool) -> String {
         self.views.check_ctx(ctx);
-        let mut view = std::mem::take(&mut self.views.nextpt);
-        let text = view.get((active, self.nextpt), |s| {
-            self.render_nextpt(ctx, active, s)
-        });
-        self.views.nextpt = view;
+        let pt = if trackpt { self.trackpt } else { self.nextpt };
+        let slot = if trackpt {
+            &mut self.views.trackpt
+        } else {
+            &mut self.views.nextpt
+        };
+        let mut view = std::mem::take(slot);
+        let text = view.get((active, pt), |s| self.render_point(ctx, active, trackpt, s));
+        if trackpt {
+            self.views.trackpt = view;
+        } else {
+            self.views.nextpt = view;
+        }
         text
     }
 
-    fn render_nextpt(&self, ctx: &Ctx<'_>, active: bool, s: &mut String) {
-        let label = format!("{}'s nextpt", ctx.ownship);
+    fn render_point(&self, ctx: &Ctx<'_>, active: bool, trackpt: bool, s: &mut String) {
+        let (pt, which) = if trackpt {
+            (self.trackpt, "trackpt")
+        } else {
+            (self.nextpt, "nextpt")
+        };
+        let label = format!("{}'s {which}", ctx.ownship);
         if !active {
             ViewPoint::erase_spec(&label, s);
             return;
         }
-        let mut vp = ViewPoint::new(self.nextpt);
+        let mut vp = ViewPoint::new(pt);
         vp.attrs.label = label;
-        vp.attrs.label_color = Some(self.hint_nextpt_lcolor.clone());
         vp.attrs.vertex_color = Some(self.hint_nextpt_color.clone());
-        vp.attrs.vertex_size = Some(self.hint_nextpt_vertex_size);
-        vp.spec(s);
-    }
-
-    fn trackpt_view(&mut self, ctx: &Ctx<'_>, active: bool) -> String {
-        self.views.check_ctx(ctx);
-        let mut view = std::mem::take(&mut self.views.trackpt);
-        let text = view.get((active, self.trackpt), |s| {
-            self.render_trackpt(ctx, active, s)
-        });
-        self.views.trackpt = view;
-        text
-    }
-
-    fn render_trackpt(&self, ctx: &Ctx<'_>, active: bool, s: &mut String) {
-        let label = format!("{}'s trackpt", ctx.ownship);
-        if !active {
-            ViewPoint::erase_spec(&label, s);
-            return;
+        if trackpt {
+            vp.attrs.label_color = Some(self.hint_nextpt_color.clone());
+            vp.attrs.vertex_size = Some(4.0);
+        } else {
+            vp.attrs.label_color = Some(self.hint_nextpt_lcolor.clone());
+            vp.attrs.vertex_size = Some(self.hint_nextpt_vertex_size);
         }
-        let mut vp = ViewPoint::new(self.trackpt);
-        vp.attrs.label = label;
-        vp.attrs.label_color = Some(self.hint_nextpt_color.clone());
-        vp.attrs.vertex_color = Some(self.hint_nextpt_color.clone());
-        vp.attrs.vertex_size = Some(4.0);
         vp.spec(s);
     }
 
@@ -1056,12 +1052,12 @@ impl Behavior for Waypoint {
     fn on_run_to_idle(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
         out.post_key(
             "VIEW_POINT",
-            self.trackpt_view(ctx, false),
+            self.point_view(ctx, false, true),
             PostKey::Tag("trk"),
         );
         out.post_key(
             "VIEW_POINT",
-            self.nextpt_view(ctx, false),
+            self.point_view(ctx, false, false),
             PostKey::Tag("wpt"),
         );
         out.post("VIEW_SEGLIST", self.seglist_view(ctx, false));
@@ -1083,7 +1079,7 @@ impl Behavior for Waypoint {
         let Some(os) = nav(ctx.info) else {
             out.post_key(
                 "VIEW_POINT",
-                self.nextpt_view(ctx, false),
+                self.point_view(ctx, false, false),
                 PostKey::Tag("wpt"),
             );
             out.error("No ownship X/Y/heading info in info_buffer.");
@@ -1134,7 +1130,7 @@ impl Behavior for Waypoint {
         if !next_point {
             out.post_key(
                 "VIEW_POINT",
-                self.nextpt_view(ctx, false),
+                self.point_view(ctx, false, false),
                 PostKey::Tag("wpt"),
             );
             return None;
@@ -1143,13 +1139,13 @@ impl Behavior for Waypoint {
         out.post("VIEW_SEGLIST", self.seglist_view(ctx, true));
         out.post_key(
             "VIEW_POINT",
-            self.nextpt_view(ctx, true),
+            self.point_view(ctx, true, false),
             PostKey::Tag("wpt"),
         );
         let far = self.nextpt.dist(&self.trackpt) > 5.0;
         out.post_key(
             "VIEW_POINT",
-            self.trackpt_view(ctx, far),
+            self.point_view(ctx, far, true),
             PostKey::Tag("trk"),
         );
         if !self.var_dist_prev.is_empty() {
