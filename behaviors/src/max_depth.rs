@@ -12,8 +12,9 @@ use crate::param::number;
 /// utility (with a tiny tie-breaking rise toward `max_depth`), utility falls linearly to 0
 /// over the tolerance below it, and deeper depths get 0.
 ///
-/// As in MOOS-IvP (which the reference does not mention): the default `duration` is 0, so a
-/// mission must set `duration = no-time-limit`; negative numbers are clipped to 0; a missing
+/// As in MOOS-IvP at a2a9b716: there is no default `duration` (the behaviour never times out
+/// unless a `duration` line says so; `BHV_MaxDepth`'s constructor leaves `IvPBehavior`'s −1
+/// alone, unlike the constant-* behaviours); negative numbers are clipped to 0; a missing
 /// `NAV_DEPTH` only raises a `BHV_WARNING`. `depth_slack_var` receives `max_depth −
 /// NAV_DEPTH` every running iteration.
 #[derive(Debug, Clone)]
@@ -58,9 +59,6 @@ impl Behavior for MaxDepth {
 
     fn info_vars(&self, out: &mut Vec<String>) {
         add_vars(out, ["NAV_DEPTH"]);
-    }
-    fn default_duration(&self) -> f64 {
-        0.0
     }
     fn set_param(
         &mut self,

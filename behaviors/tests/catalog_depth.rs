@@ -125,18 +125,26 @@ fn every_catalog_parameter_is_accepted_and_every_accepted_one_is_listed() {
 }
 
 #[test]
-fn create_knows_the_new_types_and_their_default_durations() {
-    for (kind, dur) in [
-        ("BHV_ConstantDepth", 0.0),
-        ("BHV_MaxDepth", 0.0),
-        ("BHV_GoToDepth", -1.0),
-        ("BHV_PeriodicSurface", -1.0),
-        ("BHV_StationKeep", -1.0),
-        ("BHV_OpRegion", -1.0),
-    ] {
-        assert!(behaviors::KINDS.contains(&kind));
+fn every_type_has_the_default_duration_of_its_cpp_constructor() {
+    // MOOS-IvP a2a9b716: only the BHV_ConstantSpeed/Heading/Depth constructors set
+    // m_duration = 0; every other behaviour keeps IvPBehavior's -1 (no time limit). A guard
+    // such as BHV_MaxDepth with 0 would complete on its first iteration and guard nothing.
+    for kind in behaviors::KINDS {
         let b = behaviors::create(&kind.to_ascii_lowercase()).unwrap();
-        assert_eq!(b.kind(), kind);
-        assert_eq!(b.default_duration(), dur, "{kind}");
+        assert_eq!(b.kind(), *kind);
+        let want = match *kind {
+            "BHV_ConstantSpeed" | "BHV_ConstantHeading" | "BHV_ConstantDepth" => 0.0,
+            _ => -1.0,
+        };
+        assert_eq!(b.default_duration(), want, "{kind}");
+    }
+    for kind in [
+        "BHV_MaxDepth",
+        "BHV_GoToDepth",
+        "BHV_PeriodicSurface",
+        "BHV_StationKeep",
+        "BHV_OpRegion",
+    ] {
+        assert!(behaviors::KINDS.contains(&kind), "{kind}");
     }
 }

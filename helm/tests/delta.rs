@@ -872,3 +872,79 @@ fn opregion_posts_its_polygon_at_configuration_on_the_first_iteration() {
         "{posts:?}"
     );
 }
+
+// ---------------------------------------------------------------------------------------------
+// Safety defaults: BHV_MaxDepth has no default duration (IvPBehavior's −1; only the constant-*
+// behaviours set 0 in their constructors at MOOS-IvP a2a9b716).
+
+const DEEP_VS_MAXDEPTH: &str = "\
+Behavior = BHV_ConstantHeading
+{
+  name = hdg
+  heading = 90
+  duration = no-time-limit
+}
+Behavior = BHV_ConstantSpeed
+{
+  name = spd
+  speed = 2
+  duration = no-time-limit
+}
+Behavior = BHV_ConstantDepth
+{
+  name = deep
+  pwt = 120
+  depth = 30
+  duration = no-time-limit
+}
+Behavior = BHV_MaxDepth
+{
+  name = maxd
+  pwt = 300
+  max_depth = 12
+  tolerance = 4
+  depth_slack_var = DEPTH_SLACK
+}
+";
+
+#[test]
+fn max_depth_without_a_duration_line_keeps_guarding_and_posts_its_slack() {
+    let mut helm = uuv_helm(DEEP_VS_MAXDEPTH);
+    assert!(
+        helm.config_errors().is_empty(),
+        "{:?}",
+        helm.config_errors()
+    );
+    let mut slack = Vec::new();
+    let mut seen_active = false;
+    let mut t = 0.0;
+    // 20 simulated minutes at 4 Hz, the vehicle held at 10 m.
+    while t < 1200.0 {
+        let posts = at(&mut helm, t, 0.0, 10.0, &[]);
+        if let Some(v) = get(&posts, "DEPTH_SLACK").and_then(Value::as_num) {
+            slack.push(v);
+        }
+        if let Some(d) = get(&posts, "DESIRED_DEPTH").and_then(Value::as_num) {
+            // ConstantDepth alone would ask for 30 m; MaxDepth's LEQ (pwt 300, summit 12,
+            // base width 4) outweighs it everywhere deeper than 12 m.
+            assert!(d <= 12.0, "t={t}: DESIRED_DEPTH {d} deeper than max_depth");
+        }
+        let summary = get(&posts, "IVPHELM_SUMMARY").and_then(Value::as_str);
+        if let Some(done) = summary.and_then(|s| s.split(",completed_bhvs=").nth(1)) {
+            let done = done.split(',').next().unwrap_or_default();
+            assert!(!done.contains("maxd"), "t={t}: maxd completed: {done}");
+        }
+        if let Some(active) = summary.and_then(|s| s.split(",active_bhvs=").nth(1)) {
+            seen_active |= active
+                .split(',')
+                .next()
+                .unwrap_or_default()
+                .contains("maxd");
+        }
+        t += 0.25;
+    }
+    // max_depth − NAV_DEPTH = 12 − 10; posted once (duplicate filter), never with another value.
+    assert!(!slack.is_empty(), "DEPTH_SLACK never posted");
+    assert!(slack.iter().all(|s| *s == 2.0), "{slack:?}");
+    assert!(seen_active, "maxd never listed as active");
+}

@@ -1,6 +1,8 @@
 //! Shared set-up of the corpus mission tests: a real mission's ANTLER apps (the helm and the
 //! built-in apps) in lockstep, with pLogger writing its alog into memory.
 
+#![allow(dead_code)]
+
 use chrono::NaiveDate;
 use mission::source::SourceMap;
 use runtime::antler::{LogTarget, logger_config, plan};
@@ -25,10 +27,22 @@ pub fn run_corpus(
         "{}/../../shared/corpus/moos-ivp-missions/{folder}",
         env!("CARGO_MANIFEST_DIR")
     );
+    run_dir(&dir, name, pokes, until, max_time)
+}
+
+/// As [`run_corpus`], for `<dir>/<name>.moos` and `<dir>/<name>.bhv` anywhere (e.g. a mission
+/// of this crate's `tests/data`).
+pub fn run_dir(
+    dir: &str,
+    name: &str,
+    pokes: &[&str],
+    until: &str,
+    max_time: f64,
+) -> (Outcome, Vec<u8>) {
     let read = |file: &str| {
         let path = format!("{dir}/{file}");
         std::fs::read_to_string(&path)
-            .unwrap_or_else(|e| panic!("corpus file {path} is required: {e}"))
+            .unwrap_or_else(|e| panic!("mission file {path} is required: {e}"))
     };
     let moos_file = format!("{name}.moos");
     let bhv_file = format!("{name}.bhv");
