@@ -14,6 +14,7 @@ mod cmd {
     pub mod poke;
     pub mod run;
     pub mod scope;
+    pub mod signal;
 }
 
 /// Command line of the `coug` binary.

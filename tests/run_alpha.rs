@@ -78,7 +78,7 @@ fn max_time_first_exits_2_with_what_is_pending() {
 }
 
 #[test]
-fn errors_in_files_exit_1_with_file_and_line() {
+fn a_bad_behaviour_file_runs_the_helm_in_malconfig_and_bad_arguments_exit_1() {
     let dir = fresh_dir("run-bad-files");
     std::fs::write(
         dir.join("bad.moos"),
@@ -91,13 +91,50 @@ fn errors_in_files_exit_1_with_file_and_line() {
         "initialize DEPLOY = false\nBehavior = BHV_Waypoint\n{\n  name = w\n  condition = DEPLOY ==\n}\n",
     )
     .unwrap();
+    // A bad behaviour file is a helm configuration error: as pHelmIvP, the helm runs in
+    // MALCONFIG (never drives) and says why; the run goes on to its end.
     let out = coug(
         &dir,
-        &["run", "bad.moos", "--lockstep", "--log-dir", "logs"],
+        &[
+            "run",
+            "bad.moos",
+            "--lockstep",
+            "--log-dir",
+            "logs",
+            "--until",
+            "DEPLOY = true",
+            "--max-time",
+            "20",
+        ],
     );
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{stderr}");
-    assert!(stderr.contains("bad.bhv:5"), "{stderr}");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("MALCONFIG") && stderr.contains("bad.bhv:5"),
+        "{stderr}"
+    );
+    assert!(stdout.contains("helm state:  MALCONFIG"), "{stdout}");
+    assert!(
+        stdout.contains("malconfig:   ") && stdout.contains("bad.bhv:5"),
+        "{stdout}"
+    );
+    let log = parse(&std::fs::read(find_alog(&dir.join("logs"))).unwrap());
+    let states: Vec<&str> = log
+        .entries
+        .iter()
+        .filter(|e| e.var == "IVPHELM_STATE")
+        .filter_map(|e| e.value.as_str())
+        .collect();
+    assert!(
+        states.len() > 10 && states.iter().all(|s| *s == "MALCONFIG"),
+        "{states:?}"
+    );
+    assert!(
+        !log.entries.iter().any(|e| e.var.starts_with("DESIRED_")),
+        "a MALCONFIG helm posted a decision"
+    );
+    std::fs::remove_dir_all(dir.join("logs")).unwrap();
     let out = coug(
         &dir,
         &["run", "missing.moos", "--lockstep", "--log-dir", "logs"],

@@ -166,7 +166,11 @@ fn max_depth_shapes_the_depth_decision_when_violated() {
 #[test]
 fn max_depth_parameter_values() {
     let mut b = Bhv::new("BHV_MaxDepth", "md", uuv_domain());
-    assert_eq!(b.bhv.default_duration(), -1.0, "no time limit, as in MOOS-IvP");
+    assert_eq!(
+        b.bhv.default_duration(),
+        -1.0,
+        "no time limit, as in MOOS-IvP"
+    );
     assert!(matches!(
         b.set("max_depth", "seven"),
         Err(ParamError::BadValue { .. })

@@ -554,6 +554,24 @@ impl Helm {
         self
     }
 
+    /// Adds a configuration problem found outside the engine (e.g. a behaviour file that
+    /// cannot be read): the helm goes to MALCONFIG, as pHelmIvP does on any config warning
+    /// before its first iteration, and never drives.
+    ///
+    /// ```
+    /// use helm::{Helm, HelmState};
+    /// use helm::config::{ConfigError, Globals};
+    /// let bhv = mission::bhv::BehaviorFile::default();
+    /// let mut h = Helm::from_config(&[("domain", "course:0:359:360")], &Globals::default(), &bhv);
+    /// h.add_config_error(ConfigError::Behavior("behaviour file `x.bhv` not found".into()));
+    /// assert_eq!(h.state(), HelmState::Malconfig);
+    /// ```
+    pub fn add_config_error(&mut self, error: ConfigError) {
+        self.errors.push(error);
+        self.state = HelmState::Malconfig;
+        self.has_control = false;
+    }
+
     /// The configuration problems (empty unless MALCONFIG).
     pub fn config_errors(&self) -> &[ConfigError] {
         &self.errors

@@ -1,10 +1,14 @@
 //! pHelmIvP: the `helm` crate's engine behind the [`App`] trait.
 
-use ::helm::config::Globals;
+use std::path::Path;
+
+use ::helm::config::{ConfigError, Globals};
 use ::helm::{Helm, HelmState};
 use mission::Parsed;
 use mission::bhv::BehaviorFile;
 use mission::moos::{MissionFile, ProcessConfig};
+use mission::nsplug::Options;
+use mission::source::FileSource;
 
 use crate::app::{App, Mail, Post, Subscription, Value};
 
@@ -60,6 +64,48 @@ impl HelmApp {
         }
     }
 
+    /// The helm called `name` of `mission` (whose folder is `dir`), with the behaviour file
+    /// its block names read through `fs` and nsplug-expanded with `opts`. Never fails, as
+    /// pHelmIvP never exits on a bad configuration: a missing block, a missing or unreadable
+    /// behaviour file and every error in it put the helm in MALCONFIG with the reasons
+    /// ([`HelmApp::config_errors`], `file:line` where known); the app still joins the
+    /// community, posts `IVPHELM_STATE = MALCONFIG` every iteration and never drives.
+    pub fn from_mission_files(
+        name: &str,
+        mission: &MissionFile,
+        dir: &Path,
+        opts: &Options,
+        fs: &dyn FileSource,
+    ) -> HelmApp {
+        let loaded = load_behaviors(mission, dir, name, opts, fs);
+        HelmApp::from_behaviors(name, mission, loaded.as_ref().map_err(Vec::as_slice))
+    }
+
+    /// The helm called `name` of `mission` with its behaviour file as [`load_behaviors`]
+    /// returned it: `Err` reasons put the helm in MALCONFIG (see
+    /// [`HelmApp::from_mission_files`]).
+    pub fn from_behaviors(
+        name: &str,
+        mission: &MissionFile,
+        loaded: Result<&Parsed<BehaviorFile>, &[String]>,
+    ) -> HelmApp {
+        let block = mission.process(name).cloned();
+        match loaded {
+            Ok(bhv) => HelmApp::new(name, block, mission, bhv),
+            Err(errors) => {
+                let empty = Parsed {
+                    value: BehaviorFile::default(),
+                    diagnostics: Vec::new(),
+                };
+                let mut app = HelmApp::new(name, block, mission, &empty);
+                for e in errors {
+                    app.helm.add_config_error(ConfigError::Behavior(e.clone()));
+                }
+                app
+            }
+        }
+    }
+
     /// The helm's configuration problems (empty when it can drive).
     pub fn config_errors(&self) -> Vec<String> {
         self.helm
@@ -72,6 +118,51 @@ impl HelmApp {
     /// The helm state (PARK, DRIVE, MALCONFIG, DISABLED).
     pub fn state(&self) -> HelmState {
         self.helm.state()
+    }
+}
+
+/// Reads the behaviour file named by the `behaviors =` line of helm block `name` (relative
+/// to the mission's folder `dir`), nsplug-expanded with `opts`. The errors are
+/// `file:line: ...` messages: no block, no `behaviors =` line, a file that cannot be read, or
+/// error lines in it (warnings stay in the returned file's diagnostics).
+pub fn load_behaviors(
+    mission: &MissionFile,
+    dir: &Path,
+    name: &str,
+    opts: &Options,
+    fs: &dyn FileSource,
+) -> Result<Parsed<BehaviorFile>, Vec<String>> {
+    let Some(block) = mission.process(name) else {
+        return Err(vec![format!(
+            "no ProcessConfig = {name} block in the mission"
+        )]);
+    };
+    let Some(file) = block.params("behaviors").next() else {
+        return Err(vec![format!(
+            "{}:{}: {name}: no `behaviors =` file in its ProcessConfig block",
+            block.span.file_name(),
+            block.span.line
+        )]);
+    };
+    let bpath = dir.join(&file.value);
+    let b = mission::load_bhv(fs, &bpath, opts).map_err(|d| {
+        vec![format!(
+            "{}:{}: behaviour file `{}`: {d}",
+            file.span.file_name(),
+            file.span.line,
+            bpath.display()
+        )]
+    })?;
+    let errors: Vec<String> = b
+        .diagnostics
+        .iter()
+        .filter(|d| d.is_error())
+        .map(|d| d.to_string())
+        .collect();
+    if errors.is_empty() {
+        Ok(b)
+    } else {
+        Err(errors)
     }
 }
 

@@ -15,7 +15,9 @@ use runtime::antler::{Built, MissionGlobals, build};
 use runtime::helm::HelmApp;
 use runtime::remote::{AppArgs, RemoteConfig};
 
-use super::run::{load, load_behaviors};
+use mission::source::FsSource;
+
+use super::run::{load, report_malconfig};
 
 /// The MOOS app names coug answers to when invoked under them.
 pub const APP_NAMES: &[&str] = &[
@@ -136,23 +138,10 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
             .parent()
             .unwrap_or(Path::new(""))
             .to_path_buf();
-        let bhv = match load_behaviors(m, &dir, &moos_name, &Options::new()) {
-            Ok(b) => b,
-            Err(errors) => {
-                for e in errors {
-                    eprintln!("{moos_name}: {e}");
-                }
-                return 1;
-            }
-        };
-        let h = HelmApp::new(&moos_name, m.process(&moos_name).cloned(), m, &bhv);
-        let errors = h.config_errors();
-        if !errors.is_empty() {
-            for e in errors {
-                eprintln!("{moos_name}: {e}");
-            }
-            return 1;
-        }
+        // A bad configuration never ends the process: the helm joins the community in
+        // MALCONFIG, says why, and never drives (as pHelmIvP).
+        let h = HelmApp::from_mission_files(&moos_name, m, &dir, &Options::new(), &FsSource);
+        report_malconfig(&moos_name, &h);
         Box::new(h)
     } else {
         let mut warnings = Vec::new();
@@ -204,9 +193,7 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
     };
     let mut app = app;
     let result = rt.block_on(async {
-        let stop = async {
-            let _ = tokio::signal::ctrl_c().await;
-        };
+        let stop = super::signal::shutdown();
         runtime::remote::run(&mut *app, &cfg, stop).await
     });
     match result {

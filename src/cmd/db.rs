@@ -195,7 +195,7 @@ pub fn run(args: &DbArgs) -> anyhow::Result<()> {
             "coug db: MOOSDB_{community} listening on {} (Ctrl-C to stop)",
             server.local_addr()
         );
-        tokio::signal::ctrl_c().await?;
+        super::signal::shutdown().await;
         server.shutdown();
         Ok(())
     })

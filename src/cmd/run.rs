@@ -32,7 +32,7 @@ use moosdb_client::time::Warp;
 use moosdb_client::{Server, ServerConfig};
 use runtime::antler::{LogTarget, MissionGlobals, Plan, logger_config, plan};
 use runtime::chrono::{self, NaiveDateTime};
-use runtime::helm::HelmApp;
+use runtime::helm::{HelmApp, load_behaviors};
 use runtime::realtime::{RunSpec, run_apps};
 use runtime::remote::RemoteConfig;
 use runtime::summary::{RunSummary, behaviour_list};
@@ -96,8 +96,9 @@ pub struct Loaded {
     pub mission: MissionFile,
     /// The expanded mission text (written for external apps when it differs).
     pub text: String,
-    /// Parsed behaviour files by the helm's MOOS name.
-    pub behaviors: HashMap<String, Parsed<BehaviorFile>>,
+    /// Each helm's behaviour file by the helm's MOOS name, or why it cannot be used (the
+    /// helm then runs in MALCONFIG).
+    pub behaviors: HashMap<String, Result<Parsed<BehaviorFile>, Vec<String>>>,
     /// True when macros changed the text (external apps then get an expanded copy).
     pub expanded: bool,
 }
@@ -140,15 +141,8 @@ pub fn load(
             continue;
         }
         let name = run.moos_name().to_string();
-        if mission.process(&name).is_none() {
-            continue;
-        }
-        match load_behaviors(&mission, &dir, &name, &opts) {
-            Ok(b) => {
-                behaviors.insert(name, b);
-            }
-            Err(mut e) => errors.append(&mut e),
-        }
+        let bhv = load_behaviors(&mission, &dir, &name, &opts, &FsSource);
+        behaviors.insert(name, bhv);
     }
     if errors.is_empty() {
         let expanded = text.trim_end() != original.trim_end();
@@ -163,46 +157,20 @@ pub fn load(
     }
 }
 
-/// Loads the behaviour file named by the `behaviors =` line of helm block `name`
-/// (relative to the mission's folder `dir`), nsplug-expanded with `opts`.
-pub fn load_behaviors(
-    mission: &MissionFile,
-    dir: &Path,
-    name: &str,
-    opts: &Options,
-) -> Result<Parsed<BehaviorFile>, Vec<String>> {
-    let Some(block) = mission.process(name) else {
-        return Err(vec![format!(
-            "no ProcessConfig = {name} block in the mission"
-        )]);
-    };
-    let Some(file) = block.params("behaviors").next() else {
-        return Err(vec![format!(
-            "{}:{}: {name}: no `behaviors =` file in its ProcessConfig block",
-            block.span.file_name(),
-            block.span.line
-        )]);
-    };
-    let bpath = dir.join(&file.value);
-    if !bpath.is_file() {
-        return Err(vec![format!(
-            "{}:{}: behaviour file `{}` not found",
-            file.span.file_name(),
-            file.span.line,
-            bpath.display()
-        )]);
-    }
-    let b = mission::load_bhv(&FsSource, &bpath, opts).map_err(|d| vec![d.to_string()])?;
-    let errors: Vec<String> = b
-        .diagnostics
-        .iter()
-        .filter(|d| d.is_error())
-        .map(|d| d.to_string())
-        .collect();
+/// Says on stderr why a helm is in MALCONFIG (it runs anyway, as pHelmIvP does: it posts
+/// `IVPHELM_STATE = MALCONFIG` and never drives).
+pub fn report_malconfig(name: &str, helm: &HelmApp) {
+    let errors = helm.config_errors();
     if errors.is_empty() {
-        Ok(b)
-    } else {
-        Err(errors)
+        return;
+    }
+    eprintln!(
+        "{name}: MALCONFIG: the helm will not drive ({} configuration error{}):",
+        errors.len(),
+        if errors.len() == 1 { "" } else { "s" }
+    );
+    for e in errors {
+        eprintln!("{name}:   {e}");
     }
 }
 
@@ -246,23 +214,17 @@ fn make_plan(
     log: Option<LogTarget>,
 ) -> Result<Plan, String> {
     let m = &loaded.mission;
-    plan(m, start, seed, log, &mut |run: &AntlerRun, block| {
+    plan(m, start, seed, log, &mut |run: &AntlerRun, _block| {
         if base(&run.app) != "pHelmIvP" {
             return None;
         }
         let name = run.moos_name();
-        let Some(bhv) = loaded.behaviors.get(name) else {
-            return Some(Err(format!(
-                "no ProcessConfig = {name} block with a `behaviors =` file"
-            )));
+        let h = match loaded.behaviors.get(name) {
+            Some(bhv) => HelmApp::from_behaviors(name, m, bhv.as_ref().map_err(Vec::as_slice)),
+            None => HelmApp::from_behaviors(name, m, Err(&[])),
         };
-        let h = HelmApp::new(name, block.cloned(), m, bhv);
-        let errors = h.config_errors();
-        Some(if errors.is_empty() {
-            Ok(Box::new(h) as Box<dyn App>)
-        } else {
-            Err(errors.join("; "))
-        })
+        report_malconfig(name, &h);
+        Some(Ok(Box::new(h) as Box<dyn App>))
     })
     .map_err(|e| e.to_string())
 }
@@ -435,6 +397,15 @@ fn finish(args: &RunArgs, ended: &Ended, alog_path: Option<&str>) -> i32 {
                 if let Some(h) = &s.helm_state {
                     let _ = writeln!(out, "  helm state:  {h}");
                 }
+                for e in log
+                    .entries
+                    .iter()
+                    .filter(|e| e.var == "IVPHELM_CONFIG_WARNING")
+                {
+                    if let Some(why) = e.value.as_str() {
+                        let _ = writeln!(out, "  malconfig:   {why}");
+                    }
+                }
             }
             None => {
                 let _ = writeln!(out, "  (the log could not be read back for totals)");
@@ -535,9 +506,8 @@ fn interrupt_flag() -> Arc<AtomicBool> {
     if let Ok(rt) = rt {
         std::thread::spawn(move || {
             rt.block_on(async {
-                if tokio::signal::ctrl_c().await.is_ok() {
-                    f.store(true, Ordering::Relaxed);
-                }
+                super::signal::shutdown().await;
+                f.store(true, Ordering::Relaxed);
             });
         });
     }
@@ -802,7 +772,7 @@ fn realtime(
         };
         let result = tokio::select! {
             r = run_apps(p.apps, &cfg, spec) => Some(r),
-            _ = tokio::signal::ctrl_c() => None,
+            _ = super::signal::shutdown() => None,
             _ = progress_task => unreachable!("the progress loop never ends"),
         };
         let wall = wall.elapsed().as_secs_f64();

@@ -107,7 +107,7 @@ pub fn run(args: &ScopeArgs) -> anyhow::Result<()> {
                     let _ = client.notify(&status_var, Value::string(&s));
                 }
                 _ = &mut deadline, if args.once => break,
-                _ = tokio::signal::ctrl_c() => break,
+                _ = super::signal::shutdown() => break,
             }
         }
         print!("{}", render(vars, &latest, start));
