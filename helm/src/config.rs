@@ -122,10 +122,13 @@ impl Default for HelmConfig {
     }
 }
 
-fn boolean(v: &str) -> Option<bool> {
+/// A MOOS boolean as pHelmIvP reads it (MOOS-IvP `setBooleanOnString`, case-insensitive):
+/// `true`/`yes`/`on`, `false`/`no`/`off`, or `toggle` (flips `current`).
+fn boolean(v: &str, current: bool) -> Option<bool> {
     match v.trim().to_ascii_lowercase().as_str() {
-        "true" => Some(true),
-        "false" => Some(false),
+        "true" | "yes" | "on" => Some(true),
+        "false" | "no" | "off" => Some(false),
+        "toggle" => Some(!current),
         _ => None,
     }
 }
@@ -164,10 +167,11 @@ impl HelmConfig {
                 value: value.to_string(),
                 expected: expected.to_string(),
             };
-            let set_bool = |slot: &mut bool, errs: &mut Vec<ConfigError>| match boolean(value) {
-                Some(b) => *slot = b,
-                None => errs.push(bad("true or false")),
-            };
+            let set_bool =
+                |slot: &mut bool, errs: &mut Vec<ConfigError>| match boolean(value, *slot) {
+                    Some(b) => *slot = b,
+                    None => errs.push(bad("true, false, yes, no, on, off or toggle")),
+                };
             match key.to_ascii_lowercase().as_str() {
                 "behaviors" => {
                     if c.behavior_files.iter().any(|f| f == value) {
@@ -224,26 +228,47 @@ impl HelmConfig {
                     }
                     _ => errs.push(bad("positive seconds")),
                 },
+                // Any number (MOOS `setDoubleOnString`: negative values are taken too).
                 "nav_grace" => match number(value) {
-                    Some(s) if s >= 0.0 => c.nav_grace = s,
-                    _ => errs.push(bad("seconds >= 0")),
-                },
-                "contact_max_age" => match number(value) {
-                    Some(s) => c.contact_max_age = s.clamp(10.0, 1800.0),
+                    Some(s) => c.nav_grace = s,
                     _ => errs.push(bad("seconds")),
                 },
-                "hold_on_app" | "hold_on_apps" => c.hold_on_apps.extend(
-                    value
-                        .split(',')
-                        .map(str::trim)
-                        .filter(|s| !s.is_empty())
-                        .map(str::to_string),
-                ),
+                // MOOS `setDoubleRngOnString(10, 1800)`: a value outside the range is clipped
+                // AND reported, so the helm is MALCONFIG.
+                "contact_max_age" => match number(value) {
+                    Some(s) => {
+                        c.contact_max_age = s.clamp(10.0, 1800.0);
+                        if !(10.0..=1800.0).contains(&s) {
+                            errs.push(bad("seconds in [10, 1800]"));
+                        }
+                    }
+                    _ => errs.push(bad("seconds")),
+                },
+                // Comma-separated app names: each non-empty, without white space, and not
+                // given before (in this line or an earlier one).
+                "hold_on_app" | "hold_on_apps" => {
+                    for app in value.split(',').map(str::trim) {
+                        if app.is_empty()
+                            || app.contains(char::is_whitespace)
+                            || c.hold_on_apps.iter().any(|a| a == app)
+                        {
+                            errs.push(bad("app names, each once, without white space"));
+                            break;
+                        }
+                        c.hold_on_apps.push(app.to_string());
+                    }
+                }
+                // `vname,seconds`, one line per vehicle.
                 "node_skew" => match value.split_once(',') {
-                    Some((name, secs)) if !name.trim().is_empty() && number(secs).is_some() => c
-                        .node_skews
-                        .push((name.trim().to_string(), number(secs).unwrap_or(0.0))),
-                    _ => errs.push(bad("vname,seconds")),
+                    Some((name, secs))
+                        if !name.trim().is_empty()
+                            && number(secs).is_some()
+                            && !c.node_skews.iter().any(|(n, _)| n == name.trim()) =>
+                    {
+                        c.node_skews
+                            .push((name.trim().to_string(), number(secs).unwrap_or(0.0)))
+                    }
+                    _ => errs.push(bad("vname,seconds (once per vehicle)")),
                 },
                 // Dynamic behaviour libraries and platform-model generation are accepted; coug
                 // links its behaviours statically.
@@ -252,16 +277,9 @@ impl HelmConfig {
                 | "bhv_dir_not_found_ok"
                 | "bhv_dirs_not_found_ok"
                 | "pmgen" => {}
-                // CMOOSApp / AppCasting parameters pHelmIvP accepts silently.
-                "apptick"
-                | "commstick"
-                | "maxapptick"
-                | "app_logging"
-                | "term_report_interval"
-                | "max_appcast_events"
-                | "deprecated_ok"
-                | "max_run_warnings"
-                | "iteratemode" => {}
+                // The lines AppCastingMOOSApp's unhandled-line check lets through (MOOS-IvP
+                // a2a9b716); any other unknown line is a config warning, so MALCONFIG.
+                k if mission::catalog::APP_CASTING_PARAMS.contains(&k) => {}
                 _ => errs.push(ConfigError::UnknownParam {
                     key: key.to_string(),
                     value: value.to_string(),
@@ -370,5 +388,113 @@ mod tests {
                 .count(),
             3
         );
+    }
+
+    fn parse_one(key: &str, value: &str) -> (HelmConfig, Vec<ConfigError>) {
+        HelmConfig::parse(&[("domain", "course,0,359,360"), (key, value)], &g())
+    }
+
+    #[test]
+    fn every_parameter_coug_check_accepts_is_one_the_helm_accepts() {
+        // `coug check` (mission::catalog) and the helm must agree on the block's keys.
+        for key in mission::catalog::HELM_PARAMS {
+            let (_, e) = parse_one(key, "1");
+            assert!(
+                !e.iter()
+                    .any(|e| matches!(e, ConfigError::UnknownParam { .. })),
+                "{key}: {e:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn booleans_are_read_as_moos_set_boolean_on_string() {
+        for (v, want) in [
+            ("yes", true),
+            ("ON", true),
+            ("True", true),
+            ("no", false),
+            ("off", false),
+        ] {
+            let (c, e) = parse_one("start_engaged", v);
+            assert!(e.is_empty(), "{v}: {e:?}");
+            assert_eq!(c.start_engaged, want, "{v}");
+        }
+        // `toggle` flips the current value (allow_park defaults to true).
+        let (c, e) = parse_one("allow_park", "toggle");
+        assert!(e.is_empty() && !c.allow_park);
+        let (_, e) = parse_one("park_on_allstop", "1");
+        assert_eq!(e.len(), 1, "1 is not a MOOS boolean: {e:?}");
+    }
+
+    #[test]
+    fn contact_max_age_out_of_range_is_clipped_and_reported() {
+        let (c, e) = parse_one("contact_max_age", "60");
+        assert!(e.is_empty() && c.contact_max_age == 60.0);
+        for (v, clipped) in [("5", 10.0), ("4000", 1800.0)] {
+            let (c, e) = parse_one("contact_max_age", v);
+            assert_eq!(c.contact_max_age, clipped);
+            assert_eq!(e.len(), 1, "{v}: {e:?}");
+        }
+    }
+
+    #[test]
+    fn node_skew_and_hold_on_apps_follow_the_cpp_rules() {
+        let (c, e) = HelmConfig::parse(
+            &[
+                ("domain", "course,0,359,360"),
+                ("node_skew", "abe,2"),
+                ("node_skew", "ben, 3.5"),
+            ],
+            &g(),
+        );
+        assert!(e.is_empty(), "{e:?}");
+        assert_eq!(c.node_skews, vec![("abe".into(), 2.0), ("ben".into(), 3.5)]);
+        let (_, e) = HelmConfig::parse(
+            &[
+                ("domain", "course,0,359,360"),
+                ("node_skew", "abe,2"),
+                ("node_skew", "abe,4"),
+            ],
+            &g(),
+        );
+        assert_eq!(e.len(), 1, "a second skew for one vehicle: {e:?}");
+        assert_eq!(parse_one("node_skew", "abe,soon").1.len(), 1);
+        let (c, e) = parse_one("hold_on_apps", "pContactMgrV20, uFldNodeComms");
+        assert!(e.is_empty(), "{e:?}");
+        assert_eq!(c.hold_on_apps, ["pContactMgrV20", "uFldNodeComms"]);
+        for bad in ["a,,b", "a,a", "p Contact"] {
+            assert_eq!(parse_one("hold_on_app", bad).1.len(), 1, "{bad}");
+        }
+    }
+
+    #[test]
+    fn only_the_app_casting_lines_pass_the_unhandled_check() {
+        for key in [
+            "AppTick",
+            "CommsTick",
+            "MaxAppTick",
+            "app_logging",
+            "term_report_interval",
+            "max_appcast_events",
+            "deprecated_ok",
+        ] {
+            assert!(parse_one(key, "4").1.is_empty(), "{key}");
+        }
+        // Unhandled in pHelmIvP at a2a9b716 (config warning, hence MALCONFIG).
+        for key in [
+            "IterateMode",
+            "max_appcast_run_warnings",
+            "max_run_warnings",
+        ] {
+            let (_, e) = parse_one(key, "1");
+            assert!(
+                matches!(e[..], [ConfigError::UnknownParam { .. }]),
+                "{key}: {e:?}"
+            );
+        }
+        // nav_grace takes any number, as setDoubleOnString.
+        let (c, e) = parse_one("nav_grace", "-1");
+        assert!(e.is_empty() && c.nav_grace == -1.0);
     }
 }

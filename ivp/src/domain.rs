@@ -154,18 +154,11 @@ impl DomainVar {
         let name = fields[0];
         let low = parse_number(spec, "low", fields[1])?;
         let high = parse_number(spec, "high", fields[2])?;
-        let optional = match fields.get(4) {
-            None => false,
-            Some(f) if f.eq_ignore_ascii_case("optional") => true,
-            Some(f) => {
-                return Err(DomainError::BadField {
-                    spec: spec.to_string(),
-                    field: "5th",
-                    found: (*f).to_string(),
-                    expected: "`optional`",
-                });
-            }
-        };
+        // pHelmIvP: a 5th field of `optional` (any case) makes the variable optional; any
+        // other 5th field leaves it mandatory (it is not an error).
+        let optional = fields
+            .get(4)
+            .is_some_and(|f| f.eq_ignore_ascii_case("optional"));
         let points_field = fields[3];
         let points = if let Some(d) = strip_prefix_ci(points_field, "delta=") {
             let delta = parse_number(spec, "delta", d)?;
@@ -395,10 +388,14 @@ mod tests {
             DomainVar::parse("course:zero:359:360"),
             Err(DomainError::BadField { field: "low", .. })
         ));
-        assert!(matches!(
-            DomainVar::parse("course:0:359:360:maybe"),
-            Err(DomainError::BadField { field: "5th", .. })
-        ));
+        // pHelmIvP reads any 5th field other than `optional` as "mandatory".
+        let v = DomainVar::parse("course:0:359:360:maybe").unwrap();
+        assert!(!v.is_optional());
+        assert!(
+            DomainVar::parse("course:0:359:360:OPTIONAL")
+                .unwrap()
+                .is_optional()
+        );
         assert!(matches!(
             DomainVar::parse("course:0:359:1"),
             Err(DomainError::SinglePointRange(_))

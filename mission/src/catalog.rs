@@ -288,8 +288,9 @@ pub const BEHAVIORS: &[BehaviorType] = &[
     },
 ];
 
-/// pHelmIvP's own ProcessConfig parameters (ivp-helm.md §4.1), plus the CMOOSApp and
-/// AppCasting parameters it accepts silently.
+/// pHelmIvP's own ProcessConfig parameters (MOOS-IvP a2a9b716 `HelmIvP::OnStartUp`), plus
+/// [`APP_CASTING_PARAMS`]. Any other line is an unhandled config line: a config warning,
+/// which puts pHelmIvP in MALCONFIG.
 pub const HELM_PARAMS: &[&str] = &[
     "behaviors",
     "domain",
@@ -324,18 +325,24 @@ pub const HELM_PARAMS: &[&str] = &[
     "term_report_interval",
     "max_appcast_events",
     "deprecated_ok",
-    "iteratemode",
-    "sortmailbytime",
-    "catchcommandmessages",
-    "moos_quiet",
-    "moos_iterate_no_comms",
-    "moos_no_comms",
+];
+
+/// The lines an AppCasting MOOS app's unhandled-line check lets through without a warning
+/// (MOOS-IvP a2a9b716 `AppCastingMOOSApp::reportUnhandledConfigWarning`), lower case.
+pub const APP_CASTING_PARAMS: &[&str] = &[
+    "apptick",
+    "commstick",
+    "maxapptick",
+    "app_logging",
+    "term_report_interval",
+    "max_appcast_events",
+    "deprecated_ok",
 ];
 
 /// Whether pHelmIvP accepts `key` in its ProcessConfig block (case-insensitive).
 pub fn helm_accepts(key: &str) -> bool {
     let k = key.to_ascii_lowercase();
-    HELM_PARAMS.contains(&k.as_str()) || k.starts_with("moos_suicide_")
+    HELM_PARAMS.contains(&k.as_str())
 }
 
 /// The behaviour type named `kind` (case-insensitive), if coug knows it.
