@@ -263,7 +263,11 @@ fn runtime_updates_good_bad_and_duplicate() {
         .unwrap()
         .as_str()
         .unwrap();
-    assert!(r.contains("result=param_error"), "{r}");
+    // MOOS-IvP IvPBehavior::checkUpdates: the value as received, after `val=`.
+    assert_eq!(
+        r,
+        "bhv=hdg,var=HDG_UPDATE,time=2.00,result=param_error,val=heading=east # peakwidth=5"
+    );
     let w = get(&posts, "BHV_WARNING").unwrap().as_str().unwrap();
     assert_eq!(
         w,
@@ -276,12 +280,9 @@ fn runtime_updates_good_bad_and_duplicate() {
 
     // The same string again is a duplicate; a name mismatch is neither good nor bad.
     let posts = s.step(3.0, 0.0, 0.0, 0.0, &[("HDG_UPDATE", "heading=90")]);
-    assert!(
-        get(&posts, "IVPHELM_UPDATE_RESULT")
-            .unwrap()
-            .as_str()
-            .unwrap()
-            .contains("result=duplicate")
+    assert_eq!(
+        get(&posts, "IVPHELM_UPDATE_RESULT").and_then(Value::as_str),
+        Some("bhv=hdg,var=HDG_UPDATE,time=3.00,result=duplicate,val=heading=90")
     );
     let posts = s.step(
         4.0,
@@ -290,12 +291,9 @@ fn runtime_updates_good_bad_and_duplicate() {
         0.0,
         &[("HDG_UPDATE", "name=other # heading=10")],
     );
-    assert!(
-        get(&posts, "IVPHELM_UPDATE_RESULT")
-            .unwrap()
-            .as_str()
-            .unwrap()
-            .contains("result=name_mismatch")
+    assert_eq!(
+        get(&posts, "IVPHELM_UPDATE_RESULT").and_then(Value::as_str),
+        Some("bhv=hdg,var=HDG_UPDATE,time=4.00,result=name_mismatch,val=name=other # heading=10")
     );
     assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(90.0)));
 }
