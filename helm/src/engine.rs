@@ -709,7 +709,10 @@ impl Helm {
         for var in self.registered.clone() {
             self.notify("IVPHELM_REGISTER", Value::Str(var), "");
         }
-        for f in self.config.behavior_files.clone() {
+        // pHelmIvP keeps the files in a set: one request per file, in name order.
+        let mut files = self.config.behavior_files.clone();
+        files.sort();
+        for f in files {
             self.notify(
                 "PLOGGER_CMD",
                 Value::Str(format!("COPY_FILE_REQUEST = {f}")),

@@ -121,8 +121,9 @@ impl HelmApp {
     }
 }
 
-/// Reads the behaviour file named by the `behaviors =` line of helm block `name` (relative
-/// to the mission's folder `dir`), nsplug-expanded with `opts`. The errors are
+/// Reads the behaviour files named by the `behaviors =` lines of helm block `name` (relative
+/// to the mission's folder `dir`), each nsplug-expanded with `opts`, as one set (pHelmIvP
+/// reads every file, each once, in name order). The errors are
 /// `file:line: ...` messages: no block, no `behaviors =` line, a file that cannot be read, or
 /// error lines in it (warnings stay in the returned file's diagnostics).
 pub fn load_behaviors(
@@ -137,22 +138,36 @@ pub fn load_behaviors(
             "no ProcessConfig = {name} block in the mission"
         )]);
     };
-    let Some(file) = block.params("behaviors").next() else {
+    // pHelmIvP keeps its `behaviors =` files in a set: each file once, read in name order.
+    let mut files: Vec<_> = block.params("behaviors").collect();
+    if files.is_empty() {
         return Err(vec![format!(
             "{}:{}: {name}: no `behaviors =` file in its ProcessConfig block",
             block.span.file_name(),
             block.span.line
         )]);
+    }
+    files.sort_by(|a, b| a.value.cmp(&b.value));
+    files.dedup_by(|a, b| a.value == b.value);
+    let mut b = Parsed {
+        value: BehaviorFile::default(),
+        diagnostics: Vec::new(),
     };
-    let bpath = dir.join(&file.value);
-    let b = mission::load_bhv(fs, &bpath, opts).map_err(|d| {
-        vec![format!(
-            "{}:{}: behaviour file `{}`: {d}",
-            file.span.file_name(),
-            file.span.line,
-            bpath.display()
-        )]
-    })?;
+    for file in files {
+        let bpath = dir.join(&file.value);
+        let mut one = mission::load_bhv(fs, &bpath, opts).map_err(|d| {
+            vec![format!(
+                "{}:{}: behaviour file `{}`: {d}",
+                file.span.file_name(),
+                file.span.line,
+                bpath.display()
+            )]
+        })?;
+        b.value.initializes.append(&mut one.value.initializes);
+        b.value.modes.append(&mut one.value.modes);
+        b.value.behaviors.append(&mut one.value.behaviors);
+        b.diagnostics.append(&mut one.diagnostics);
+    }
     let errors: Vec<String> = b
         .diagnostics
         .iter()
@@ -246,5 +261,54 @@ mod tests {
         dedup.sort();
         dedup.dedup();
         assert_eq!(dedup.len(), n, "no duplicate registrations");
+    }
+
+    const MOOS_TWO_FILES: &str = "Community = c\nLatOrigin = 43.8\nLongOrigin = -70.3\n\
+        ProcessConfig = pHelmIvP\n{\n  behaviors = b.bhv\n  behaviors = a.bhv\n  \
+        domain = course:0:359:360\n  domain = speed:0:4:41\n}\n";
+
+    fn mission_of(text: &str) -> MissionFile {
+        mission::moos::parse_moos(&SourceMap::from_text("m.moos", text)).value
+    }
+
+    #[test]
+    fn every_behaviors_file_is_read_in_name_order() {
+        let m = mission_of(MOOS_TWO_FILES);
+        let fs = mission::source::MemorySource::new()
+            .with(
+                "a.bhv",
+                "Behavior = BHV_ConstantSpeed\n{\n  name = spd\n  speed = 1\n}\n",
+            )
+            .with(
+                "b.bhv",
+                "Behavior = BHV_ConstantHeading\n{\n  name = hdg\n  heading = 10\n}\n",
+            );
+        let b = load_behaviors(&m, Path::new(""), "pHelmIvP", &Options::new(), &fs).unwrap();
+        let names: Vec<&str> = b.value.behaviors.iter().map(|s| s.kind.as_str()).collect();
+        assert_eq!(names, ["BHV_ConstantSpeed", "BHV_ConstantHeading"]);
+        let h = HelmApp::from_mission_files("pHelmIvP", &m, Path::new(""), &Options::new(), &fs);
+        assert!(h.config_errors().is_empty(), "{:?}", h.config_errors());
+    }
+
+    #[test]
+    fn a_missing_or_broken_behaviour_file_is_malconfig_not_a_failure() {
+        let m = mission_of(MOOS_TWO_FILES);
+        let only_a = mission::source::MemorySource::new().with(
+            "a.bhv",
+            "Behavior = BHV_ConstantSpeed\n{\n  name = spd\n  speed = 1\n}\n",
+        );
+        let h =
+            HelmApp::from_mission_files("pHelmIvP", &m, Path::new(""), &Options::new(), &only_a);
+        assert_eq!(h.state(), HelmState::Malconfig);
+        let errors = h.config_errors();
+        assert!(
+            errors.len() == 1 && errors[0].contains("m.moos:") && errors[0].contains("b.bhv"),
+            "{errors:?}"
+        );
+        // No block at all: MALCONFIG too.
+        let h =
+            HelmApp::from_mission_files("pHelmIvP_2", &m, Path::new(""), &Options::new(), &only_a);
+        assert_eq!(h.state(), HelmState::Malconfig);
+        assert!(!h.config_errors().is_empty());
     }
 }
