@@ -321,6 +321,31 @@ impl Behavior for Loiter {
         "BHV_Loiter"
     }
 
+    /// The loiter's own macros (MOOS-IvP a2a9b716 `BHV_Loiter::expandMacros`), usable in all
+    /// of its flags: `PTS` (vertex count), `CX`/`CY` (centre of the polygon's bounding box,
+    /// up to 3 decimals, trailing zeros dropped), `CENTER` (`x=CX,y=CY` with up to 2
+    /// decimals), `CWISE` (the current direction as MOOS prints a bool through its integer
+    /// overload: `1` clockwise, `0` counter-clockwise) and `RAD` (largest centre-to-vertex
+    /// distance, up to 3 decimals).
+    fn macro_value(&self, name: &str, out: &mut String) -> bool {
+        let c = self.poly.center();
+        match name {
+            "PTS" => crate::fmt::compact(out, self.poly.len() as f64, 0),
+            "CX" => crate::fmt::compact(out, c.x, 3),
+            "CY" => crate::fmt::compact(out, c.y, 3),
+            "CENTER" => {
+                out.push_str("x=");
+                crate::fmt::compact(out, c.x, 2);
+                out.push_str(",y=");
+                crate::fmt::compact(out, c.y, 2);
+            }
+            "CWISE" => out.push(if self.clockwise_now { '1' } else { '0' }),
+            "RAD" => crate::fmt::compact(out, self.poly.max_radius(), 3),
+            _ => return false,
+        }
+        true
+    }
+
     fn default_name(&self) -> &'static str {
         "bhv_loiter"
     }

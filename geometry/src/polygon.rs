@@ -328,6 +328,22 @@ impl Polygon {
         bbox_center(&self.pts)
     }
 
+    /// The largest distance from [`Polygon::center`] to a vertex (MOOS `max_radius`); 0 if
+    /// empty.
+    ///
+    /// ```
+    /// use geometry::{Point, Polygon};
+    /// let sq = Polygon::new(vec![Point::new(0.0, 0.0), Point::new(0.0, 6.0), Point::new(8.0, 6.0), Point::new(8.0, 0.0)]);
+    /// assert_eq!(sq.max_radius(), 5.0);
+    /// ```
+    pub fn max_radius(&self) -> f64 {
+        let c = self.center();
+        self.pts
+            .iter()
+            .map(|p| (p.x - c.x).hypot(p.y - c.y))
+            .fold(0.0, f64::max)
+    }
+
     /// Index of the vertex nearest `(x, y)` (first one on ties); `None` if empty.
     pub fn closest_vertex(&self, x: f64, y: f64) -> Option<usize> {
         closest_vertex(&self.pts, x, y)

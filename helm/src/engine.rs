@@ -1669,10 +1669,6 @@ impl Helm {
                 self.slots[i].clock.account(now, false);
             }
             _ => {
-                if matches!(old, RunState::Idle | RunState::New) {
-                    self.post_flags(i, FlagKind::Run);
-                }
-                self.post_flags(i, FlagKind::Runx);
                 if old == RunState::Idle {
                     self.call(i, |b, ctx, out| {
                         b.on_idle_to_run(ctx, out);
@@ -1687,6 +1683,13 @@ impl Helm {
                     b.state_durations(idle, run);
                     b.on_run(ctx, out)
                 });
+                // As pHelmIvP's BehaviorSet since Feb 2026: run flags (on entering the run
+                // state) and runx flags (every running iteration) go out after on_run, so
+                // behaviour macros set there are current in them.
+                if matches!(old, RunState::Idle | RunState::New) {
+                    self.post_flags(i, FlagKind::Run);
+                }
+                self.post_flags(i, FlagKind::Runx);
                 if f.as_ref().is_some_and(|f| {
                     f.pieces()
                         .any(|p| p.max_val().is_nan() || p.min_val().is_nan())

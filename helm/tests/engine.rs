@@ -950,3 +950,64 @@ fn unnamed_behaviours_get_moos_ivp_default_names() {
         Some("name=maxdepth,pc=GO = true,state=idle,updates=n/a")
     );
 }
+
+const LOITER_MACROS_BHV: &str = "\
+initialize DEPLOY = false
+Behavior = BHV_Loiter
+{
+  name      = loiter
+  condition = DEPLOY = true
+  speed     = 1.5
+  polygon   = 0,0 : 0,-40 : 60,-40 : 60,0
+  runflag   = LOITER_AT = $[CENTER]
+  runxflag  = LOITER_INFO = cx=$[CX],cy=$[CY],rad=$[RAD],pts=$[PTS],cw=$[CWISE]
+}
+";
+
+#[test]
+fn loiter_macros_expand_in_run_and_runx_flags_after_on_run() {
+    let mut s = Script::new(helm_with(&[("start_engaged", "true")], LOITER_MACROS_BHV));
+    s.step(0.0, 100.0, 100.0, 180.0, &[]);
+    let posts = s.step(1.0, 100.0, 100.0, 180.0, &[("DEPLOY", "true")]);
+    // Bounding-box centre (30,-20); largest centre-to-vertex distance hypot(30,20) =
+    // 36.05551..., printed by MOOS doubleToStringX(v, 3).
+    assert_eq!(
+        get(&posts, "LOITER_AT").and_then(Value::as_str),
+        Some("x=30,y=-20"),
+        "{posts:?}"
+    );
+    let info = get(&posts, "LOITER_INFO").and_then(Value::as_str).unwrap();
+    assert!(
+        info.starts_with("cx=30,cy=-20,rad=36.056,pts=4,cw="),
+        "{info}"
+    );
+    // runx flags: every running iteration (repeatable); run flags only on entry.
+    let posts = s.step(2.0, 100.0, 100.0, 180.0, &[]);
+    assert!(get(&posts, "LOITER_INFO").is_some(), "{posts:?}");
+    assert!(get(&posts, "LOITER_AT").is_none(), "{posts:?}");
+}
+
+#[test]
+fn run_flags_see_the_values_on_run_just_set() {
+    // The waypoint picks its next point inside on_run; since Feb 2026 pHelmIvP posts run
+    // flags after on_run, so $[NX]/$[NY] name the first point already on entry.
+    let bhv = "\
+initialize DEPLOY = false
+Behavior = BHV_Waypoint
+{
+  name      = wpt
+  condition = DEPLOY = true
+  speed     = 2
+  points    = 60,-40 : 60,-160
+  runflag   = FIRST_WPT = $[NX],$[NY]
+}
+";
+    let mut s = Script::new(helm_with(&[("start_engaged", "true")], bhv));
+    s.step(0.0, 0.0, 0.0, 0.0, &[]);
+    let posts = s.step(1.0, 0.0, 0.0, 0.0, &[("DEPLOY", "true")]);
+    assert_eq!(
+        get(&posts, "FIRST_WPT").and_then(Value::as_str),
+        Some("60,-40"),
+        "{posts:?}"
+    );
+}
