@@ -68,6 +68,13 @@ pub struct Loiter {
     capture_hits: u32,
     nonmono_hits: u32,
     next: Point,
+    /// Bonus (degrees, negative favours) for the vertex ahead when acquiring from inside.
+    spiral_factor: f64,
+    /// `slingshot`: complete once the bearing to the centre has swept more than this many
+    /// degrees while loitering (−1 = off).
+    slingshot_deg: f64,
+    bearing_last_deg: Option<f64>,
+    bearing_total_deg: f64,
 }
 
 impl Default for Loiter {
@@ -136,6 +143,10 @@ impl Loiter {
             capture_hits: 0,
             nonmono_hits: 0,
             next: Point::new(0.0, 0.0),
+            spiral_factor: SPIRAL_FACTOR,
+            slingshot_deg: -1.0,
+            bearing_last_deg: None,
+            bearing_total_deg: 0.0,
         }
     }
 
@@ -231,7 +242,7 @@ impl Loiter {
             let (a, b) = (v[i], v[(i + 1) % n]);
             let mut ang = geometry::angle::turn_angle(x, y, a.x, a.y, b.x, b.y).abs();
             if i == ahead {
-                ang += SPIRAL_FACTOR;
+                ang += self.spiral_factor;
             }
             if ang < low {
                 low = ang;
@@ -316,6 +327,9 @@ fn center_ok(v: &str) -> bool {
 /// MOOS `LoiterEngine` default spiral factor: a small bonus for the vertex ahead.
 const SPIRAL_FACTOR: f64 = -2.0;
 
+/// The smallest largest-radius `mod_poly_rad` shrinks a polygon to, m (MOOS LoiterEngine).
+const MIN_MOD_RADIUS: f64 = 5.0;
+
 impl Behavior for Loiter {
     fn kind(&self) -> &'static str {
         "BHV_Loiter"
@@ -380,14 +394,18 @@ impl Behavior for Loiter {
                 self.set_clockwise(cw);
             }
             "speed" => self.speed = clip(number_min(param, v, 0.0)?),
-            "speed_alt" => self.speed_alt = clip(number(param, v)?),
+            // Negative values are taken; not clipped to the domain (MOOS).
+            "speed_alt" => self.speed_alt = number(param, v)?,
             "use_alt_speed" => self.use_alt_speed = boolean(param, v)?,
+            // `best`, or a MOOS boolean (`true`/`yes`/`on`, `false`/`no`/`off`, `toggle`).
             "clockwise" => {
                 self.direction = match v.to_ascii_lowercase().as_str() {
-                    "true" => Direction::Clockwise,
-                    "false" => Direction::CounterClockwise,
+                    "true" | "yes" | "on" => Direction::Clockwise,
+                    "false" | "no" | "off" => Direction::CounterClockwise,
+                    "toggle" if self.clockwise_now => Direction::CounterClockwise,
+                    "toggle" => Direction::Clockwise,
                     "best" => Direction::Best,
-                    _ => return Err(ParamError::bad(param, value, "true, false or best")),
+                    _ => return Err(ParamError::bad(param, value, "a boolean or best")),
                 };
                 if self.direction != Direction::Best {
                     self.set_clockwise(self.direction == Direction::Clockwise);
@@ -395,7 +413,7 @@ impl Behavior for Loiter {
             }
             "capture_radius" | "radius" => self.capture_radius = number_min(param, v, 0.0)?,
             "slip_radius" | "nm_radius" => self.slip_radius = number_min(param, v, 0.0)?,
-            "acquire_dist" => self.acquire_dist = number_min(param, v, 0.0)?,
+            "acquire_dist" | "acquire_distance" => self.acquire_dist = number_min(param, v, 0.0)?,
             "patience" => {
                 let d = number(param, v)?;
                 if !(1.0..=99.0).contains(&d) {
@@ -427,23 +445,18 @@ impl Behavior for Loiter {
                 self.center_pending = true;
             }
             "center_activate" => self.center_activate = boolean(param, v)?,
-            "ipf_type" | "ipf-type" => {
-                self.zaic_spd = match v.to_ascii_lowercase().as_str() {
-                    "zaic" => false,
-                    "zaic_spd" => true,
-                    _ => return Err(ParamError::bad(param, value, "zaic or zaic_spd")),
-                }
-            }
+            // MOOS takes any value and keeps the type unless it is `zaic` or `zaic_spd`.
+            "ipf_type" | "ipf-type" => match v.to_ascii_lowercase().as_str() {
+                "zaic" => self.zaic_spd = false,
+                "zaic_spd" => self.zaic_spd = true,
+                _ => {}
+            },
+            // `_` + the value in upper case; empty or with white space is rejected (MOOS).
             "post_suffix" => {
-                if v.contains(char::is_whitespace) {
+                if v.is_empty() || v.contains(char::is_whitespace) {
                     return Err(ParamError::bad(param, value, "a suffix without spaces"));
                 }
-                let up = v.to_ascii_uppercase();
-                self.suffix = if up.is_empty() || up.starts_with('_') {
-                    up
-                } else {
-                    format!("_{up}")
-                };
+                self.suffix = format!("_{}", v.to_ascii_uppercase());
             }
             "visual_hints" => {
                 for h in v.split(',') {
@@ -471,13 +484,39 @@ impl Behavior for Loiter {
                     }
                 }
             }
-            "mod_poly_rad" | "spiral_factor" | "slingshot" => {
-                return Err(ParamError::bad(
-                    param,
-                    value,
-                    "a parameter coug does not support yet",
-                ));
+            // Grows (or shrinks) the polygon about its vertex centroid so that its largest
+            // radius changes by the value, never below 5 m; the vertex being sought is kept
+            // and the loiter re-acquires (MOOS LoiterEngine::modPolyRad).
+            "mod_poly_rad" => {
+                let delta = number(param, v)?;
+                if !self.poly.is_empty() {
+                    let cur = self.poly.max_radius();
+                    let amt = (cur + delta).max(MIN_MOD_RADIUS) - cur;
+                    let n = self.poly.len() as f64;
+                    let (sx, sy) = self
+                        .poly
+                        .vertices()
+                        .iter()
+                        .fold((0.0, 0.0), |(sx, sy), p| (sx + p.x, sy + p.y));
+                    let (cx, cy) = (sx / n, sy / n);
+                    let pts = self
+                        .poly
+                        .vertices()
+                        .iter()
+                        .map(|p| p.project(geometry::relative_angle(cx, cy, p.x, p.y), amt))
+                        .collect();
+                    self.poly = Polygon::new(pts);
+                }
+                self.acquire = true;
+                self.mode = "idle";
             }
+            // MOOS LoiterEngine::setSpiralFactor: any text (atof), 0..100 mapped onto a bonus
+            // of −75..−1 degrees for the vertex ahead.
+            "spiral_factor" => {
+                let pct = crate::param::atof(v) / 100.0;
+                self.spiral_factor = -75.0 + pct * 74.0;
+            }
+            "slingshot" => self.slingshot_deg = number_min(param, v, 0.0)?,
             _ => return Err(ParamError::unknown(param)),
         }
         Ok(())
@@ -507,11 +546,15 @@ impl Behavior for Loiter {
 
     fn on_idle(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
         self.post_erasables(ctx, out);
+        self.bearing_last_deg = None;
+        self.bearing_total_deg = 0.0;
     }
 
     fn on_complete(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
         self.post_erasables(ctx, out);
         out.post("LOITER_COMPLETE", "true");
+        self.bearing_last_deg = None;
+        self.bearing_total_deg = 0.0;
     }
 
     fn on_run(&mut self, ctx: &Ctx<'_>, out: &mut Out) -> Option<IvpFunction> {
@@ -564,6 +607,20 @@ impl Behavior for Loiter {
                 self.vertex_out(x, y, self.clockwise_now)
             };
             self.cpa = None;
+        }
+        // slingshot: sweep of the bearing from ownship to the centre while loitering.
+        let mut slingshot_done = false;
+        if !self.acquire && self.slingshot_deg > -1.0 {
+            let c = self.poly.center();
+            let bng = geometry::relative_angle(x, y, c.x, c.y);
+            if let Some(last) = self.bearing_last_deg {
+                let delta = geometry::angle::angle_diff(bng, last);
+                self.bearing_total_deg += delta;
+                out.post("LOITER_BNG_TOTAL", self.bearing_total_deg);
+                out.post("LOITER_BNG_DELTA", delta);
+            }
+            self.bearing_last_deg = Some(bng);
+            slingshot_done = self.bearing_total_deg > self.slingshot_deg;
         }
         // Waypoint engine on the vertices, repeating forever.
         let verts = self.poly.vertices();
@@ -650,6 +707,9 @@ impl Behavior for Loiter {
             out.post_int(format!("LOITER_ETA_TO_POLY{sfx}"), eta);
         } else {
             out.post(format!("LOITER_ETA_TO_POLY{sfx}"), eta);
+        }
+        if slingshot_done {
+            out.complete();
         }
         ipf
     }
@@ -895,5 +955,112 @@ mod tests {
             (v.x - 100.0).abs() <= 30.0 && (v.y + 20.0).abs() <= 30.0,
             "{v:?}"
         );
+    }
+
+    fn set(l: &mut Loiter, k: &str, v: &str) -> Result<(), ParamError> {
+        let d = domain();
+        let i = info(0.0, 0.0, 0.0);
+        let ctx = Ctx {
+            info: &i,
+            domain: &d,
+            ownship: "abe",
+            name: "loiter",
+            perpetual: false,
+        };
+        l.set_param(k, v, &mut Common::new("BHV_Loiter"), &ctx)
+    }
+
+    fn near(a: Point, x: f64, y: f64) -> bool {
+        (a.x - x).abs() < 1e-9 && (a.y - y).abs() < 1e-9
+    }
+
+    #[test]
+    fn mod_poly_rad_grows_and_shrinks_about_the_centroid_with_a_5_m_floor() {
+        let mut l = loiter(&[("polygon", SQUARE)]);
+        // Centroid (0,100), largest radius hypot(20,20); +10 m moves every vertex 10 m out
+        // along its diagonal: (-20,80) -> (-20 - 10/sqrt2, 80 - 10/sqrt2).
+        set(&mut l, "mod_poly_rad", "10").unwrap();
+        let h = 10.0 / 2f64.sqrt();
+        let v = l.poly.vertices().to_vec();
+        assert!(v.iter().any(|p| near(*p, -20.0 - h, 80.0 - h)), "{v:?}");
+        assert!(v.iter().any(|p| near(*p, 20.0 + h, 120.0 + h)), "{v:?}");
+        assert!((l.poly.max_radius() - (800f64.sqrt() + 10.0)).abs() < 1e-9);
+        assert!(l.acquire && l.mode == "idle");
+        // A shrink below 5 m stops at 5 m.
+        set(&mut l, "mod_poly_rad", "-100").unwrap();
+        assert!(
+            (l.poly.max_radius() - 5.0).abs() < 1e-9,
+            "{}",
+            l.poly.max_radius()
+        );
+        assert!(matches!(
+            set(&mut l, "mod_poly_rad", "big"),
+            Err(ParamError::BadValue { .. })
+        ));
+    }
+
+    #[test]
+    fn slingshot_completes_after_the_bearing_sweep_and_posts_its_progress() {
+        let mut l = loiter(&[("polygon", SQUARE), ("slingshot", "90")]);
+        assert!(matches!(
+            set(&mut l, "slingshot", "-1"),
+            Err(ParamError::BadValue { .. })
+        ));
+        // Inside the square on a 10 m circle about its centre, 30 degrees a step.
+        let mut totals = Vec::new();
+        let mut done_at = None;
+        for k in 0..6 {
+            let a = (k as f64 * 30.0).to_radians();
+            let (x, y) = (10.0 * a.sin(), 100.0 + 10.0 * a.cos());
+            let (_, _, out) = run(&mut l, x, y, 90.0, k == 0);
+            if let Some(crate::Value::Num(t)) = posted(&out, "LOITER_BNG_TOTAL") {
+                totals.push((t * 1e6).round() / 1e6);
+            }
+            if out.completed && done_at.is_none() {
+                done_at = Some(k);
+            }
+        }
+        assert_eq!(totals[..4], [30.0, 60.0, 90.0, 120.0]);
+        // 90 is not more than 90: completion comes with the fourth step (120).
+        assert_eq!(done_at, Some(4));
+        // Off by default: no sweep postings.
+        let mut plain = loiter(&[("polygon", SQUARE)]);
+        let (_, _, out) = run(&mut plain, 0.0, 110.0, 90.0, true);
+        let (_, _, out2) = run(&mut plain, 10.0, 100.0, 90.0, false);
+        assert!(
+            posted(&out, "LOITER_BNG_TOTAL").is_none()
+                && posted(&out2, "LOITER_BNG_TOTAL").is_none()
+        );
+    }
+
+    #[test]
+    fn spiral_factor_and_the_other_cpp_value_rules() {
+        let mut l = loiter(&[]);
+        assert_eq!(l.spiral_factor, -2.0);
+        set(&mut l, "spiral_factor", "50").unwrap();
+        assert_eq!(l.spiral_factor, -38.0);
+        set(&mut l, "spiral_factor", "lots").unwrap();
+        assert_eq!(l.spiral_factor, -75.0, "atof of text is 0");
+        // clockwise takes MOOS booleans and toggle.
+        set(&mut l, "clockwise", "no").unwrap();
+        assert!(!l.clockwise_now);
+        set(&mut l, "clockwise", "toggle").unwrap();
+        assert!(l.clockwise_now);
+        assert!(set(&mut l, "clockwise", "sideways").is_err());
+        // acquire_distance is an alias; ipf_type keeps its value on an unknown type.
+        set(&mut l, "acquire_distance", "25").unwrap();
+        assert_eq!(l.acquire_dist, 25.0);
+        set(&mut l, "ipf_type", "zaic_spd").unwrap();
+        set(&mut l, "ipf_type", "roc").unwrap();
+        assert!(l.zaic_spd);
+        // post_suffix: `_` + upper case, never empty.
+        set(&mut l, "post_suffix", "a1").unwrap();
+        assert_eq!(l.suffix, "_A1");
+        set(&mut l, "post_suffix", "_b").unwrap();
+        assert_eq!(l.suffix, "__B");
+        assert!(set(&mut l, "post_suffix", "").is_err());
+        // speed_alt is taken as given (negative ok, not clipped to the domain).
+        set(&mut l, "speed_alt", "9").unwrap();
+        assert_eq!(l.speed_alt, 9.0);
     }
 }

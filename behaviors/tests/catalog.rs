@@ -96,9 +96,6 @@ fn catalog_parameters_are_known() {
         [
             "BHV_Waypoint.draw_path_loop",
             "BHV_Waypoint.eager_prev_index_flag",
-            "BHV_Loiter.mod_poly_rad",
-            "BHV_Loiter.spiral_factor",
-            "BHV_Loiter.slingshot",
         ]
     );
     for p in mission::catalog::COMMON_PARAMS {

@@ -140,6 +140,7 @@ pub const BEHAVIORS: &[BehaviorType] = &[
             "slip_radius",
             "nm_radius",
             "acquire_dist",
+            "acquire_distance",
             "patience",
             "center_assign",
             "xcenter_assign",
