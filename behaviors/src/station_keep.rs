@@ -8,7 +8,7 @@ use ivp::{IvpFunction, ZaicPeak, couple};
 
 use crate::behavior::{Behavior, Ctx, Out, ParamError, PostKey, add_vars};
 use crate::common::Common;
-use crate::fmt::fixed;
+use crate::fmt::{compact, fixed};
 use crate::param::{boolean, number};
 
 /// Hibernation state (`PSKEEP_MODE`), used with `hibernation_radius`.
@@ -56,11 +56,13 @@ enum Transit {
 /// Posts `DIST_TO_STATION`, `PSKEEP_MODE`, `BHV_SETTINGS` on each start and the
 /// `VIEW_POLYGON` circles `<us>:station-keep-out|in|hiber` (erased when it stops running).
 ///
-/// Differences from MOOS-IvP, deliberate: without a hibernation radius the mode stays
-/// `DISABLED` (MOOS briefly reports `HIBERNATING` and asks for speed 0 for one iteration
-/// whenever the station is set); `DIST_TO_STATION` is the distance to the station just set
-/// (MOOS posts the previous value, −1 at first); `station_pt` also takes the other point forms
-/// (`x=..,y=..`).
+/// As MOOS-IvP at a2a9b716, case for case: whenever the station is (re)set the mode becomes
+/// `HIBERNATING` for that iteration, even without a hibernation radius (then the next
+/// iteration, being outside radius −1, turns it to `SEEKING_STATION`, and reaching the inner
+/// radius turns it back); `DIST_TO_STATION` is posted before it is recomputed on an iteration
+/// that (re)sets the station (−1 before the first measurement); while the centre still follows
+/// ownship (`center_activate` within `swing_time`) the course peak is ownship's heading; an
+/// inner radius larger than the outer one raises the outer radius to it.
 #[derive(Debug, Clone)]
 pub struct StationKeep {
     static_station: Option<Point>,
@@ -137,7 +139,7 @@ impl StationKeep {
 
     /// The desired speed at distance `dist` from the station.
     pub fn desired_speed(&self, dist: f64) -> f64 {
-        let outer = self.outer_radius.max(self.inner_radius);
+        let outer = self.outer_radius;
         if self.mode == KeepMode::Hibernating || dist <= self.inner_radius {
             0.0
         } else if dist < outer {
@@ -189,10 +191,8 @@ impl StationKeep {
     }
 
     fn post_circles(&self, ctx: &Ctx<'_>, out: &mut Out, active: bool) {
-        // Nothing was drawn before a station is known.
-        let Some(st) = self.station.or(self.static_station) else {
-            return;
-        };
+        // MOOS draws (or erases) at the current station, the origin before one is set.
+        let st = self.station.unwrap_or_default();
         let mut base = String::from("radial:: x=");
         fixed(&mut base, st.x, 1);
         base.push_str(",y=");
@@ -200,11 +200,11 @@ impl StationKeep {
         base.push_str(&format!(",source={}:{},pts=32", ctx.ownship, ctx.name));
         if self.hint_edge_size >= 0.0 {
             base.push_str(",edge_size=");
-            fixed(&mut base, self.hint_edge_size, 5);
+            compact(&mut base, self.hint_edge_size, 5);
         }
         if self.hint_vertex_size >= 0.0 {
             base.push_str(",vertex_size=");
-            fixed(&mut base, self.hint_vertex_size, 5);
+            compact(&mut base, self.hint_vertex_size, 5);
         }
         for (k, v) in [
             ("edge_color", &self.hint_edge_color),
@@ -361,11 +361,15 @@ impl Behavior for StationKeep {
 
     fn on_run(&mut self, ctx: &Ctx<'_>, out: &mut Out) -> Option<IvpFunction> {
         let now = ctx.info.now();
-        let mark = *self.mark_time.get_or_insert(now);
         let (Some(x), Some(y)) = (ctx.info.num("NAV_X"), ctx.info.num("NAV_Y")) else {
             out.error("No ownship X/Y info in info_buffer.");
             return None;
         };
+        let Some(heading) = ctx.info.num("NAV_HEADING").map(geometry::angle_360) else {
+            out.error("No ownship heading info in info_buffer.");
+            return None;
+        };
+        let mark = *self.mark_time.get_or_insert(now);
         let mut ctr_changed = false;
         if self.center_pending {
             if self.center_activate {
@@ -380,31 +384,37 @@ impl Behavior for StationKeep {
                 ctr_changed = true;
             }
         }
-        let Some(st) = self.station else {
-            out.post("DIST_TO_STATION", self.dist);
-            out.warning(ctx.name, "STATION_POINT_NOT_SET");
-            self.post_circles(ctx, out, false);
-            return None;
-        };
-        self.dist = (x - st.x).hypot(y - st.y);
         if ctr_changed {
-            if self.mode != KeepMode::Disabled {
-                self.mode = KeepMode::Hibernating;
-                self.transit = Transit::Idle;
-            }
+            // A new station: hibernate this iteration; the distance is measured next time.
+            self.mode = KeepMode::Hibernating;
+            self.transit = Transit::Idle;
         } else {
+            let st = self.station.unwrap_or_default();
+            self.dist = (x - st.x).hypot(y - st.y);
             self.history.push_front((now, self.dist));
             while self.history.back().is_some_and(|(t, _)| now - t > 10.0) {
                 self.history.pop_back();
             }
         }
         out.post("DIST_TO_STATION", self.dist);
+        let Some(st) = self.station else {
+            out.warning(ctx.name, "STATION_POINT_NOT_SET");
+            self.post_circles(ctx, out, false);
+            return None;
+        };
+        if self.inner_radius > self.outer_radius {
+            self.outer_radius = self.inner_radius;
+        }
         self.update_hibernation();
         out.post("PSKEEP_MODE", self.mode.as_str());
         self.post_circles(ctx, out, true);
 
         let desired = self.desired_speed(self.dist);
-        let bearing = geometry::relative_angle(x, y, st.x, st.y);
+        let bearing = if self.center_pending {
+            heading
+        } else {
+            geometry::relative_angle(x, y, st.x, st.y)
+        };
         let mut spd = ZaicPeak::new(ctx.domain, "speed").ok()?;
         let mut crs = ZaicPeak::new(ctx.domain, "course").ok()?;
         crs.set_value_wrap(true);

@@ -42,9 +42,11 @@ fn speeds_switch_at_the_inner_and_outer_radii() {
     assert_eq!(decision(&mut b, 4.0, 0.0, 14.0).unwrap().1, 2.5);
     let (_, out) = b.run(5.0);
     assert_eq!(posted(&out, "DIST_TO_STATION"), Some(&Value::Num(14.0)));
+    // MOOS-IvP a2a9b716: setting the station hibernates once even without a hibernation
+    // radius; outside radius -1 the next iteration seeks (speeds as above).
     assert_eq!(
         posted(&out, "PSKEEP_MODE"),
-        Some(&Value::Str("DISABLED".into()))
+        Some(&Value::Str("SEEKING_STATION".into()))
     );
     let circles: Vec<String> = posted_all(&out, "VIEW_POLYGON")
         .iter()
@@ -201,4 +203,117 @@ fn no_station_and_bad_values() {
     );
     assert_eq!(d.mode(), KeepMode::Disabled);
     assert_eq!(decision(&mut b, 2.0, 5.0, 100.0).unwrap().1, 1.5);
+}
+
+#[test]
+fn station_set_iteration_as_the_cpp_state_machine() {
+    let mut b = keep(&[("station_pt", "x=12,y=-121"), ("inner_radius", "4")]);
+    // First running iteration: the station is set; distance not yet measured (-1), mode
+    // HIBERNATING, speed 0 whatever the distance.
+    b.nav(12.0, -61.0, 0.0, 1.0, 0.0);
+    let (f, out) = b.run(0.0);
+    assert_eq!(posted(&out, "DIST_TO_STATION"), Some(&Value::Num(-1.0)));
+    assert_eq!(
+        posted(&out, "PSKEEP_MODE"),
+        Some(&Value::Str("HIBERNATING".into()))
+    );
+    let d = decide(&b.domain, &[("sk", f.unwrap(), 100.0)]);
+    assert_eq!(d.get("speed"), Some(0.0));
+    // Then 60 m away: seek at the transit speed.
+    let (crs, spd) = decision(&mut b, 1.0, 12.0, -61.0).unwrap();
+    assert_eq!((crs, spd), (180.0, 2.5));
+    // Inside the inner radius the seek ends (HIBERNATING), and with no hibernation radius the
+    // next iteration seeks again: the C++ toggles between the two while on station.
+    let modes: Vec<String> = (0..3)
+        .map(|k| {
+            b.nav(12.0, -119.0, 0.0, 1.0, 0.0);
+            let (_, out) = b.run(2.0 + k as f64);
+            posted(&out, "PSKEEP_MODE")
+                .unwrap()
+                .as_str()
+                .unwrap()
+                .to_string()
+        })
+        .collect();
+    assert_eq!(modes, ["HIBERNATING", "SEEKING_STATION", "HIBERNATING"]);
+}
+
+#[test]
+fn inner_beyond_outer_raises_the_outer_radius_and_hint_sizes_are_compact() {
+    let mut b = keep(&[
+        ("station_pt", "0,0"),
+        ("inner_radius", "20"),
+        ("outer_radius", "10"),
+        ("visual_hints", "edge_size=2.5, vertex_size=3"),
+    ]);
+    b.nav(0.0, -50.0, 0.0, 1.0, 0.0);
+    b.run(0.0);
+    let (_, out) = b.run(1.0);
+    let circles: Vec<&str> = posted_all(&out, "VIEW_POLYGON")
+        .iter()
+        .map(|v| v.as_str().unwrap())
+        .collect();
+    // Outer radius raised to 20; the collapsed inner circle is not drawn.
+    assert_eq!(
+        circles,
+        [
+            "radial:: x=0.0,y=0.0,source=abe:skeep,pts=32,edge_size=2.5,vertex_size=3,\
+          edge_color=light_blue,label_color=white,vertex_color=red,\
+          label=abe:station-keep-out,radius=20.0"
+        ]
+    );
+}
+
+#[test]
+fn without_a_station_the_circles_are_erased_at_the_origin() {
+    let mut b = keep(&[]);
+    b.nav(5.0, 5.0, 0.0, 1.0, 0.0);
+    let (f, out) = b.run(0.0);
+    assert!(f.is_none());
+    // MOOS measures to its unset station (0,0) all the same.
+    assert_eq!(
+        posted(&out, "DIST_TO_STATION"),
+        Some(&Value::Num(50f64.sqrt()))
+    );
+    let circles: Vec<&str> = posted_all(&out, "VIEW_POLYGON")
+        .iter()
+        .map(|v| v.as_str().unwrap())
+        .collect();
+    assert_eq!(circles.len(), 3, "{circles:?}");
+    assert!(
+        circles
+            .iter()
+            .all(|c| c.starts_with("radial:: x=0.0,y=0.0,") && c.ends_with(",active=false"))
+    );
+    assert!(circles[2].contains("label=abe:station-keep-hiber,radius=-1.0"));
+}
+
+#[test]
+fn during_the_swing_time_the_course_is_ownship_heading() {
+    let mut b = keep(&[("center_activate", "true"), ("swing_time", "5")]);
+    b.nav(0.0, 0.0, 135.0, 1.0, 0.0);
+    b.run(0.0);
+    b.nav(3.0, -3.0, 135.0, 1.0, 0.0);
+    let (f, _) = b.run(1.0);
+    let d = decide(&b.domain, &[("sk", f.unwrap(), 100.0)]);
+    assert_eq!(d.get("course"), Some(135.0));
+}
+
+#[test]
+fn settings_are_posted_on_each_start_in_the_cpp_format() {
+    let mut b = keep(&[
+        ("point", "x=12,y=-121"),
+        ("hibernation_radius", "30"),
+        ("outer_speed", "1.25"),
+    ]);
+    b.nav(0.0, 0.0, 0.0, 1.0, 0.0);
+    let (_, out) = b.start(0.0);
+    assert_eq!(
+        posted(&out, "BHV_SETTINGS"),
+        Some(&Value::Str(
+            "type=BHV_StationKeep,name=skeep,x=12.00,y=-121.00,inner_radius=4.0,\
+             outer_radius=15.0,hibernation_radius=30.0,outer_speed=1.2,center_activate=false"
+                .into()
+        ))
+    );
 }
