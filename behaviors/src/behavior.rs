@@ -394,6 +394,10 @@ pub trait Behavior: Send {
     /// `m_duration_running_time`, accounted up to the previous iteration).
     fn state_durations(&mut self, _idle: f64, _running: f64) {}
 
+    /// Each iteration, after updates are applied: the helm's iteration number (MOOS
+    /// `setHelmIteration`, the `IVPHELM_ITER` value), for behaviours whose output depends on it.
+    fn set_helm_iteration(&mut self, _iteration: u64) {}
+
     /// Every idle iteration.
     fn on_idle(&mut self, _ctx: &Ctx<'_>, _out: &mut Out) {}
 

@@ -48,6 +48,7 @@ mod go_to_depth;
 mod loiter;
 mod max_depth;
 mod op_region;
+mod op_region_v24;
 pub mod param;
 mod periodic_surface;
 mod station_keep;
@@ -63,6 +64,7 @@ pub use go_to_depth::GoToDepth;
 pub use loiter::Loiter;
 pub use max_depth::MaxDepth;
 pub use op_region::{Breach, OpRegion};
+pub use op_region_v24::OpRegionV24;
 pub use periodic_surface::{AscentGrade, PeriodicSurface, Phase};
 pub use station_keep::{KeepMode, StationKeep};
 pub use timer::Timer;
@@ -86,6 +88,7 @@ pub fn create(kind: &str) -> Option<Box<dyn Behavior>> {
         "bhv_constantdepth" => Box::new(ConstantDepth::new()),
         "bhv_maxdepth" => Box::new(MaxDepth::new()),
         "bhv_opregion" => Box::new(OpRegion::new()),
+        "bhv_opregionv24" => Box::new(OpRegionV24::new()),
         "bhv_periodicsurface" => Box::new(PeriodicSurface::new()),
         "bhv_gotodepth" => Box::new(GoToDepth::new()),
         "bhv_stationkeep" => Box::new(StationKeep::new()),
@@ -103,6 +106,7 @@ pub const KINDS: &[&str] = &[
     "BHV_ConstantDepth",
     "BHV_MaxDepth",
     "BHV_OpRegion",
+    "BHV_OpRegionV24",
     "BHV_PeriodicSurface",
     "BHV_GoToDepth",
     "BHV_StationKeep",

@@ -344,6 +344,72 @@ impl Polygon {
             .fold(0.0, f64::max)
     }
 
+    /// The polygon grown outward by `dist` metres (MOOS-IvP `XYPolyExpander::getBufferPoly`):
+    /// every edge is moved out by `dist` along its normal (the side away from the vertex
+    /// centroid), and each corner is rounded by points every `deg_delta` degrees (clipped to
+    /// `[0.2, 45]`) on a circle of radius `dist` about the original vertex; an edge end within
+    /// 1 m of the point before it is dropped. Returns `None` for a non-convex polygon, or when
+    /// the result is not convex (MOOS then tries to repair it; coug keeps the caller's
+    /// fallback).
+    ///
+    /// ```
+    /// use geometry::{Point, Polygon};
+    /// let sq = Polygon::new(vec![Point::new(0.0, 0.0), Point::new(0.0, 10.0), Point::new(10.0, 10.0), Point::new(10.0, 0.0)]);
+    /// let b = sq.buffered(5.0, 15.0).unwrap();
+    /// assert!(b.contains(-4.0, 5.0) && b.contains(5.0, 14.0) && !b.contains(-6.0, 5.0));
+    /// ```
+    pub fn buffered(&self, dist: f64, deg_delta: f64) -> Option<Polygon> {
+        use crate::angle::{angle_360, angle_diff, relative_angle};
+        if !self.is_convex() {
+            return None;
+        }
+        let deg_delta = deg_delta.clamp(0.2, 45.0);
+        let v = &self.pts;
+        let n = v.len();
+        let (sx, sy) = v
+            .iter()
+            .fold((0.0, 0.0), |(sx, sy), p| (sx + p.x, sy + p.y));
+        let c = Point::new(sx / n as f64, sy / n as f64);
+        // Each edge moved out: (start, end).
+        let moved: Vec<(Point, Point)> = (0..n)
+            .map(|i| {
+                let (a, b) = (v[i], v[(i + 1) % n]);
+                let along = relative_angle(a.x, a.y, b.x, b.y);
+                let to_c = relative_angle(a.x, a.y, c.x, c.y);
+                let (b1, b2) = (angle_360(along - 90.0), angle_360(along + 90.0));
+                let out = if angle_diff(b1, to_c) < angle_diff(b2, to_c) {
+                    b2
+                } else {
+                    b1
+                };
+                (a.project(out, dist), b.project(out, dist))
+            })
+            .collect();
+        let clockwise = self.is_clockwise();
+        let mut pts: Vec<Point> = Vec::new();
+        for k in 0..n {
+            // At vertex k: the end of the previous edge, the corner arc, the start of edge k.
+            let from = moved[(k + n - 1) % n].1;
+            let to = moved[k].0;
+            pts.push(from);
+            let vk = v[k];
+            let a1 = relative_angle(vk.x, vk.y, from.x, from.y);
+            let a2 = relative_angle(vk.x, vk.y, to.x, to.y);
+            let steps = (angle_diff(a1, a2) / deg_delta).max(0.0) as u32;
+            for j in 1..steps {
+                let step = f64::from(j) * deg_delta;
+                let a = angle_360(if clockwise { a1 + step } else { a1 - step });
+                pts.push(vk.project(a, dist));
+            }
+            let last = pts[pts.len() - 1];
+            if pts.len() < 2 || (to.x - last.x).hypot(to.y - last.y) > 1.0 {
+                pts.push(to);
+            }
+        }
+        let p = Polygon::new(pts);
+        p.is_convex().then_some(p)
+    }
+
     /// Index of the vertex nearest `(x, y)` (first one on ties); `None` if empty.
     pub fn closest_vertex(&self, x: f64, y: f64) -> Option<usize> {
         closest_vertex(&self.pts, x, y)

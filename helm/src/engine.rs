@@ -1636,6 +1636,8 @@ impl Helm {
                 None
             });
         }
+        let iteration = self.iteration;
+        self.slots[i].bhv.set_helm_iteration(iteration);
         self.check_duration_reset(i);
         let (mut state, failed) = self.runnable(i, now);
         let mut ipf = None;

@@ -948,3 +948,83 @@ fn max_depth_without_a_duration_line_keeps_guarding_and_posts_its_slack() {
     assert!(slack.iter().all(|s| *s == 2.0), "{slack:?}");
     assert!(seen_active, "maxd never listed as active");
 }
+
+// ---------------------------------------------------------------------------------------------
+// BHV_OpRegionV24 in the engine.
+
+const V24: &str = "\
+Behavior = BHV_ConstantDepth
+{
+  name = dep
+  depth = 0
+  duration = no-time-limit
+}
+Behavior = BHV_ConstantHeading
+{
+  name = hdg
+  heading = 90
+  duration = no-time-limit
+}
+Behavior = BHV_ConstantSpeed
+{
+  name = spd
+  speed = 2
+  duration = no-time-limit
+}
+Behavior = BHV_OpRegionV24
+{
+  name = opr
+  pwt = 300
+  core_poly = -50,-50 : -50,50 : 50,50 : 50,-50
+  save_dist = 10
+  halt_dist = 40
+  trigger_exit_time = 0
+  breached_poly_flag = OPREG_BREACH = halt
+  save_flag = OPREG_SAVE = $[SECS_OUT_SAVE_POLY]
+}
+";
+
+#[test]
+fn opregion_v24_halt_breach_all_stops_and_the_save_poly_turns_the_vehicle_back() {
+    let mut helm = uuv_helm(V24);
+    assert!(
+        helm.config_errors().is_empty(),
+        "{:?}",
+        helm.config_errors()
+    );
+    let mut t = 0.0;
+    while t < 3.0 {
+        at(&mut helm, t, 0.0, 0.0, &[]);
+        t += 0.5;
+    }
+    // Inside the core: the constant heading (east) wins.
+    let posts = at(&mut helm, t, 20.0, 0.0, &[]);
+    assert_eq!(
+        get(&posts, "DESIRED_HEADING"),
+        Some(&Value::Num(90.0)),
+        "{posts:?}"
+    );
+    // 65 m east: outside the 60 m save polygon, still inside the 90 m halt polygon. The
+    // recovery function (pwt 300) turns the vehicle back; the save flag expands its macro.
+    let posts = at(&mut helm, t + 0.5, 65.0, 0.0, &[]);
+    let hdg = get(&posts, "DESIRED_HEADING")
+        .and_then(Value::as_num)
+        .unwrap();
+    assert!(
+        (180.0..=360.0).contains(&hdg),
+        "heading {hdg} does not turn back"
+    );
+    assert_eq!(
+        get(&posts, "OPREG_SAVE"),
+        Some(&Value::Num(0.0)),
+        "{posts:?}"
+    );
+    assert!(get(&posts, "BHV_ERROR").is_none());
+    // 95 m east: outside the halt polygon after an entry: the helm all-stops at once.
+    let posts = at(&mut helm, t + 1.0, 95.0, 0.0, &[]);
+    let e = get(&posts, "BHV_ERROR").and_then(Value::as_str).unwrap();
+    assert_eq!(e, "opr: OpRegion HaltPoly Failure");
+    assert!(is_str(get(&posts, "OPREG_BREACH"), "halt"));
+    assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "BehaviorError"));
+    assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Num(0.0)));
+}

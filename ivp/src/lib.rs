@@ -40,5 +40,5 @@ pub use reflector::Reflector;
 pub use solver::{Decision, DecisionVar, Problem, Solver};
 pub use zaic::{
     BREAK_TIES, Combine, PeakComponent, SEGMENT_TOLERANCE, ZaicHdg, ZaicHeq, ZaicLeq, ZaicPeak,
-    ZaicSpd, join_knots, segment,
+    ZaicSpd, ZaicVector, join_knots, segment,
 };

@@ -913,3 +913,93 @@ impl ZaicHdg {
         Ok(f)
     }
 }
+
+/// ZAIC_Vector: a one-variable function through given `(value, utility)` pairs (MOOS-IvP
+/// `ZAIC_Vector`, as BHV_OpRegionV24 builds its heading preference). Each value is snapped to
+/// the nearest grid index; pairs that land on the same index are averaged; the first and last
+/// utilities are extended to the ends of the variable's range; consecutive knots are joined
+/// with linear pieces ([`join_knots`]). Values out of order are sorted first.
+///
+/// ```
+/// use ivp::{Domain, ZaicVector};
+/// let d = Domain::parse_specs(["course:0:359:360"]).unwrap();
+/// let f = ZaicVector::new(&d, "course", &[90.0, 180.0], &[100.0, 0.0]).unwrap().extract().unwrap();
+/// assert_eq!(f.eval(&[0]), Some(100.0));   // extended to the low end
+/// assert_eq!(f.eval(&[135]), Some(50.0));  // linear between the knots
+/// assert_eq!(f.eval(&[359]), Some(0.0));   // extended to the high end
+/// ```
+#[derive(Debug, Clone)]
+pub struct ZaicVector {
+    domain: Domain,
+    knots: Vec<(u32, f64)>,
+}
+
+impl ZaicVector {
+    /// A function over `var` of `domain` through the pairs `values[i] -> utilities[i]`.
+    /// Fails without the variable, with lengths that differ, or with fewer than one pair.
+    pub fn new(
+        domain: &Domain,
+        var: &str,
+        values: &[f64],
+        utilities: &[f64],
+    ) -> Result<Self, IvpError> {
+        let domain = one_var("ZAIC_Vector", domain, var)?;
+        let dv = domain.vars()[0].clone();
+        if values.len() != utilities.len() || values.is_empty() {
+            return Err(IvpError::BadParam {
+                builder: "ZAIC_Vector",
+                param: "utilities",
+                value: utilities.len() as f64,
+                expected: "as many utilities as values, at least one",
+            });
+        }
+        if let Some(u) = utilities.iter().find(|u| !u.is_finite()) {
+            return Err(IvpError::BadParam {
+                builder: "ZAIC_Vector",
+                param: "utilities",
+                value: *u,
+                expected: "finite utilities",
+            });
+        }
+        let mut pairs: Vec<(u32, f64)> = values
+            .iter()
+            .zip(utilities)
+            .map(|(v, u)| (dv.index(*v, crate::Snap::Nearest), *u))
+            .collect();
+        pairs.sort_by_key(|p| p.0);
+        let mut knots: Vec<(u32, f64)> = Vec::with_capacity(pairs.len() + 2);
+        let mut k = 0;
+        while k < pairs.len() {
+            let ix = pairs[k].0;
+            let (mut total, mut n) = (0.0, 0.0);
+            while k < pairs.len() && pairs[k].0 == ix {
+                total += pairs[k].1;
+                n += 1.0;
+                k += 1;
+            }
+            knots.push((ix, total / n));
+        }
+        let last = dv.points() - 1;
+        if knots[0].0 != 0 {
+            knots.insert(0, (0, knots[0].1));
+        }
+        if let Some(&(ix, u)) = knots.last()
+            && ix != last
+        {
+            knots.push((last, u));
+        }
+        Ok(ZaicVector { domain, knots })
+    }
+
+    /// The knots `(index, utility)` the function joins.
+    pub fn knots(&self) -> &[(u32, f64)] {
+        &self.knots
+    }
+
+    /// The function.
+    pub fn extract(&self) -> Result<IvpFunction, IvpError> {
+        let mut f = IvpFunction::new(self.domain.clone());
+        join_knots(&self.knots, &mut f);
+        Ok(f)
+    }
+}
