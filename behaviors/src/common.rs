@@ -1,10 +1,36 @@
 //! Parameters every behaviour accepts (reference §5.5, MOOS `IvPBehavior::setParam`) and the
 //! flag syntax (§4.5).
+//!
+//! # Conformance with IvPBehavior (MOOS-IvP a2a9b716)
+//!
+//! Keys are case-insensitive; a leading `_` is ignored.
+//!
+//! | parameter | aliases | type | default | validation (C++ rule) | runtime update | coug |
+//! |---|---|---|---|---|---|---|
+//! | name | descriptor | text | the type's descriptor | set by the spec | no | done |
+//! | pwt | priwt, priority | number | 100 | number >= 0 | yes | done |
+//! | condition | | condition | none | parses (`,` read as `=`); each line adds one | yes | done |
+//! | comms_policy | | enum | open | open, lean, dire | yes | done |
+//! | duration | | seconds | −1 (0 for ConstantSpeed/Heading/Depth) | number >= 0, `-1` or `no-time-limit` | yes | done |
+//! | duration_status | | var | none | any | yes | done |
+//! | duration_reset | | `VAR=VAL` | none | VAR non-empty | yes | done |
+//! | duration_idle_decay | | bool | true | MOOS boolean (yes/no/on/off/toggle) | yes | done |
+//! | perpetual | | bool | false | any value; `true` (any case) sets it | yes | done |
+//! | post_mapping | | `VAR,NEWVAR` | none | no white space in either | yes | done |
+//! | updates | | var | none | any; subscribed | no | done |
+//! | nostarve | no_starve | `VAR,...,secs` | none | variables and a number | yes | done |
+//! | build_info | | text | none | `clear`, else prepended (`a # b`) | yes | done |
+//! | precision | | text | none | as `build_info = precision=<v>` | yes | done |
+//! | runflag, runxflag, activeflag, inactiveflag, idleflag, endflag, configflag | run_flag, runx_flag, active_flag, inactive_flag, idle_flag, end_flag, config_flag | flag | none | `VAR = value [[if] condition]`, `clearall` | yes | done |
+//! | spawnflag, spawnxflag | spawn_flag, spawnx_flag | flag | none | as above | yes | done (spawnx on the first iteration; no spawning) |
+//! | templating | | enum | disallow | | no | refused: `spawn`/`clone` (behaviour spawning is not supported) |
+//! | max_spawnings | | number | | number | no | done (accepted; no spawning) |
+//! | us | | name | community | any | yes | open: not accepted (unknown parameter, MALCONFIG) |
 
 use mission::condition::{Condition, parse_condition};
 
 use crate::behavior::ParamError;
-use crate::param::{boolean, is_number, number};
+use crate::param::{is_number, moos_boolean, number};
 
 /// Which flag list a flag belongs to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -281,7 +307,9 @@ impl Common {
                 }
                 self.duration_reset = Some((var.trim().to_string(), val.trim().to_string()));
             }
-            "duration_idle_decay" => self.duration_idle_decay = boolean(param, v)?,
+            "duration_idle_decay" => {
+                self.duration_idle_decay = moos_boolean(param, v, self.duration_idle_decay)?
+            }
             "post_mapping" => {
                 let Some((a, b)) = v.split_once(',') else {
                     return bad("VAR,NEWVAR");
@@ -405,5 +433,38 @@ mod tests {
         let f = Flag::parse("#all+ X = 1 [if] (A = 2)").unwrap();
         assert_eq!(f.dest, "all+");
         assert!(f.is_local() && f.condition.is_some());
+    }
+
+    #[test]
+    fn aliases_and_the_remaining_cpp_rules() {
+        let mut c = Common::new("x");
+        c.set_param("priwt", "50").unwrap();
+        assert_eq!(c.pwt, 50.0);
+        c.set_param("priority", "70").unwrap();
+        assert_eq!(c.pwt, 70.0);
+        assert!(c.set_param("pwt", "-1").is_err());
+        c.set_param("duration", "-1").unwrap();
+        assert_eq!(c.duration, Some(-1.0));
+        assert!(c.set_param("duration", "-2").is_err());
+        // duration_idle_decay takes MOOS booleans.
+        c.set_param("duration_idle_decay", "no").unwrap();
+        assert!(!c.duration_idle_decay);
+        c.set_param("duration_idle_decay", "toggle").unwrap();
+        assert!(c.duration_idle_decay);
+        // build_info prepends; precision is a build_info entry; clear empties it.
+        c.set_param("build_info", "A=1").unwrap();
+        c.set_param("precision", "LOW").unwrap();
+        assert_eq!(c.build_info, "precision=low # a=1");
+        c.set_param("build_info", "clear").unwrap();
+        assert!(c.build_info.is_empty());
+        // Spawn flags parse like the others; templating other than disallow is refused.
+        c.set_param("spawn_flag", "S = 1").unwrap();
+        c.set_param("spawnxflag", "SX = 1").unwrap();
+        assert_eq!(c.flags(FlagKind::Spawn).len(), 1);
+        assert_eq!(c.flags(FlagKind::Spawnx).len(), 1);
+        assert!(c.set_param("templating", "spawn").is_err());
+        c.set_param("max_spawnings", "5").unwrap();
+        assert!(c.set_param("comms_policy", "noisy").is_err());
+        c.set_param("comms_policy", "LEAN").unwrap();
     }
 }

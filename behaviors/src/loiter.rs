@@ -1,4 +1,46 @@
 //! BHV_Loiter (reference §6.2): circles a convex polygon clockwise or counter-clockwise.
+//!
+//! # Conformance with BHV_Loiter (MOOS-IvP a2a9b716)
+//!
+//! | parameter | aliases | type | default | validation (C++ rule) | runtime update | coug |
+//! |---|---|---|---|---|---|---|
+//! | polygon | | polygon | none | convex (any `string2Poly` form) | yes | done |
+//! | speed | | m/s | 0 | number >= 0, clipped to the domain's top | yes | done |
+//! | speed_alt | | m/s | −1 (unused) | number (negative ok, not clipped) | yes | done |
+//! | use_alt_speed | | bool | false | MOOS boolean | yes | done |
+//! | clockwise | | bool or `best` | true | MOOS boolean, toggle, `best` | yes | done |
+//! | capture_radius | radius | m | 3 | number >= 0 | yes | done |
+//! | slip_radius | nm_radius | m | 15 | number >= 0 (0 = off) | yes | done |
+//! | acquire_dist | acquire_distance | m | 10 | number >= 0 | yes | done |
+//! | patience | | 1..99 | 50 | number in [1, 99] | yes | done |
+//! | center_assign | | `present_position`, `x,y`, `x=..,y=..` | none | the C++ takes any text and ignores what it cannot read | yes | open: coug rejects such text (MALCONFIG) |
+//! | xcenter_assign, ycenter_assign | | number | none | appended to the pending centre | yes | done |
+//! | center_activate | | bool | false | `true`/`false` | yes | done |
+//! | mod_poly_rad | | m | | number; grows the polygon about its vertex centroid, largest radius >= 5 m | yes | done |
+//! | spiral_factor | | 0..100 | (bonus −2°) | any text (`atof`); bonus −75 + 0.74 × value | yes | done |
+//! | slingshot | | degrees | −1 (off) | number >= 0; completes after that much bearing sweep | yes | done |
+//! | ipf_type | ipf-type | enum | zaic | `zaic`, `zaic_spd`; other values keep the type | yes | done |
+//! | post_suffix | | text | none | non-empty, no white space; `_` + upper case | yes | done |
+//! | visual_hints | | hints | | vertex/edge/nextpt sizes and colours, label, lcolor | yes | done |
+//!
+//! | variable | when | format | coug |
+//! |---|---|---|---|
+//! | LOITER_REPORT`<sfx>` | running and idle iterations | `index=..,capture_hits=..,nonmono_hits=..,acquire_mode=true\|false` | done |
+//! | LOITER_INDEX`<sfx>`, LOITER_MODE`<sfx>`, LOITER_ACQUIRE`<sfx>` | same | number; `idle`, `acquiring_*`, `recovering_*`, `stable`; 1/0 | done |
+//! | LOITER_DIST_TO_POLY`<sfx>`, LOITER_ETA_TO_POLY`<sfx>` | same | integer above 10 (ETA also at 0), else decimal | done |
+//! | LOITER_DIST_TO_VERT | running iterations (never suffixed) | metres | done |
+//! | LOITER_BNG_TOTAL, LOITER_BNG_DELTA | with `slingshot`, while loitering | degrees | done |
+//! | LOITER_COMPLETE | on completion | `true` | done |
+//! | BHV_SETTINGS | each idle→running transition (repeatable) | `type=BHV_Loiter,name=..,x=..,y=..,clockwise=..,dynamic_clockwise=..,center_activate=..,desired_speed=..,polygon="pts={..}"` | done |
+//! | VIEW_POLYGON, VIEW_POINT | running (drawn), idle/complete (erased) | `<us>_<name>` polygon, `<us>_waypoint` point | done |
+//!
+//! | macro | meaning | coug |
+//! |---|---|---|
+//! | PTS | vertex count | done |
+//! | CX, CY | bounding-box centre (3 decimals, compact) | done |
+//! | CENTER | `x=CX,y=CY` (2 decimals) | done |
+//! | CWISE | `1` clockwise, `0` counter-clockwise (the C++ int overload) | done |
+//! | RAD | largest centre-to-vertex distance | done |
 
 use geometry::spec::parse_polygon;
 use geometry::{Point, Polygon, ViewPoint, ViewPolygon};
@@ -75,6 +117,9 @@ pub struct Loiter {
     slingshot_deg: f64,
     bearing_last_deg: Option<f64>,
     bearing_total_deg: f64,
+    /// Signed distance to the polygon (negative inside) and its ETA, as last measured.
+    dist_to_poly: f64,
+    eta_to_poly: f64,
 }
 
 impl Default for Loiter {
@@ -147,6 +192,38 @@ impl Loiter {
             slingshot_deg: -1.0,
             bearing_last_deg: None,
             bearing_total_deg: 0.0,
+            dist_to_poly: 0.0,
+            eta_to_poly: 0.0,
+        }
+    }
+
+    /// MOOS `postStatusReports`: LOITER_REPORT, _INDEX, _MODE, _ACQUIRE, _DIST_TO_POLY and
+    /// _ETA_TO_POLY (with the `post_suffix`; distance and ETA as integers above 10).
+    fn post_status_reports(&self, out: &mut Out) {
+        let sfx = &self.suffix;
+        out.post(
+            format!("LOITER_REPORT{sfx}"),
+            format!(
+                "index={},capture_hits={},nonmono_hits={},acquire_mode={}",
+                self.curr_ix, self.capture_hits, self.nonmono_hits, self.acquire
+            ),
+        );
+        out.post(format!("LOITER_INDEX{sfx}"), self.curr_ix as f64);
+        out.post(format!("LOITER_MODE{sfx}"), self.mode);
+        out.post(
+            format!("LOITER_ACQUIRE{sfx}"),
+            if self.acquire { 1.0 } else { 0.0 },
+        );
+        let (dist, eta) = (self.dist_to_poly, self.eta_to_poly);
+        if dist > 10.0 {
+            out.post_int(format!("LOITER_DIST_TO_POLY{sfx}"), dist);
+        } else {
+            out.post(format!("LOITER_DIST_TO_POLY{sfx}"), dist);
+        }
+        if eta > 10.0 || eta == 0.0 {
+            out.post_int(format!("LOITER_ETA_TO_POLY{sfx}"), eta);
+        } else {
+            out.post(format!("LOITER_ETA_TO_POLY{sfx}"), eta);
         }
     }
 
@@ -522,7 +599,24 @@ impl Behavior for Loiter {
         Ok(())
     }
 
-    fn on_idle_to_run(&mut self, ctx: &Ctx<'_>, _out: &mut Out) {
+    fn on_idle_to_run(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
+        // MOOS postConfigStatus.
+        let c = self.poly.center();
+        let mut st = format!("type=BHV_Loiter,name={},x=", ctx.name);
+        crate::fmt::fixed(&mut st, c.x, 2);
+        st.push_str(",y=");
+        crate::fmt::fixed(&mut st, c.y, 2);
+        st.push_str(&format!(
+            ",clockwise={},dynamic_clockwise={},center_activate={},desired_speed=",
+            self.clockwise_now,
+            self.direction == Direction::Best,
+            self.center_activate
+        ));
+        crate::fmt::fixed(&mut st, self.speed, 1);
+        st.push_str(",polygon=\"");
+        st.push_str(&ViewPolygon::new(self.poly.clone()).to_spec());
+        st.push('"');
+        out.post_key("BHV_SETTINGS", st, crate::behavior::PostKey::Repeatable);
         if self.center_activate {
             self.center_assign = "present_position".into();
             self.center_pending = true;
@@ -546,6 +640,8 @@ impl Behavior for Loiter {
 
     fn on_idle(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
         self.post_erasables(ctx, out);
+        self.mode = "idle";
+        self.post_status_reports(out);
         self.bearing_last_deg = None;
         self.bearing_total_deg = 0.0;
     }
@@ -644,10 +740,7 @@ impl Behavior for Loiter {
         }
         self.next = verts[self.curr_ix];
         let next = self.next;
-        out.post(
-            format!("LOITER_DIST_TO_VERT{}", self.suffix),
-            (x - next.x).hypot(y - next.y),
-        );
+        out.post("LOITER_DIST_TO_VERT", (x - next.x).hypot(y - next.y));
 
         let speed = self.effective_speed();
         let spd = if self.zaic_spd {
@@ -684,30 +777,9 @@ impl Behavior for Loiter {
         pt.attrs.vertex_size = Some(self.hint_nextpt_vertex_size);
         out.post("VIEW_POINT", pt.to_spec());
 
-        let sfx = &self.suffix;
-        out.post(
-            format!("LOITER_REPORT{sfx}"),
-            format!(
-                "index={},capture_hits={},nonmono_hits={},acquire_mode={}",
-                self.curr_ix, self.capture_hits, self.nonmono_hits, self.acquire
-            ),
-        );
-        out.post(format!("LOITER_INDEX{sfx}"), self.curr_ix as f64);
-        out.post(format!("LOITER_MODE{sfx}"), self.mode);
-        out.post(
-            format!("LOITER_ACQUIRE{sfx}"),
-            if self.acquire { 1.0 } else { 0.0 },
-        );
-        if dist_poly > 10.0 {
-            out.post_int(format!("LOITER_DIST_TO_POLY{sfx}"), dist_poly);
-        } else {
-            out.post(format!("LOITER_DIST_TO_POLY{sfx}"), dist_poly);
-        }
-        if eta > 10.0 || eta == 0.0 {
-            out.post_int(format!("LOITER_ETA_TO_POLY{sfx}"), eta);
-        } else {
-            out.post(format!("LOITER_ETA_TO_POLY{sfx}"), eta);
-        }
+        self.dist_to_poly = dist_poly;
+        self.eta_to_poly = eta;
+        self.post_status_reports(out);
         if slingshot_done {
             out.complete();
         }
@@ -1062,5 +1134,39 @@ mod tests {
         // speed_alt is taken as given (negative ok, not clipped to the domain).
         set(&mut l, "speed_alt", "9").unwrap();
         assert_eq!(l.speed_alt, 9.0);
+    }
+
+    #[test]
+    fn settings_on_start_idle_reports_and_unsuffixed_vertex_distance() {
+        let mut l = loiter(&[("polygon", SQUARE), ("speed", "1.25"), ("post_suffix", "a")]);
+        let (_, _, out) = run(&mut l, 0.0, 0.0, 0.0, true);
+        assert_eq!(
+            posted(&out, "BHV_SETTINGS").and_then(|v| v.as_str()),
+            Some(
+                "type=BHV_Loiter,name=loiter,x=0.00,y=100.00,clockwise=true,\
+                 dynamic_clockwise=false,center_activate=false,desired_speed=1.2,\
+                 polygon=\"pts={-20,80:-20,120:20,120:20,80}\""
+            )
+        );
+        // The suffix applies to the status reports, not to LOITER_DIST_TO_VERT.
+        assert!(posted(&out, "LOITER_DIST_TO_VERT").is_some());
+        assert!(posted(&out, "LOITER_MODE_A").is_some());
+        // Idle: erased drawings and the status reports with mode idle.
+        let d = domain();
+        let i = info(0.0, 0.0, 0.0);
+        let ctx = Ctx {
+            info: &i,
+            domain: &d,
+            ownship: "abe",
+            name: "loiter",
+            perpetual: false,
+        };
+        let mut out = Out::default();
+        l.on_idle(&ctx, &mut out);
+        assert_eq!(
+            posted(&out, "LOITER_MODE_A"),
+            Some(&crate::Value::Str("idle".into()))
+        );
+        assert!(posted(&out, "LOITER_REPORT_A").is_some());
     }
 }

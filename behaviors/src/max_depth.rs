@@ -17,6 +17,22 @@ use crate::param::number;
 /// alone, unlike the constant-* behaviours); negative numbers are clipped to 0; a missing
 /// `NAV_DEPTH` only raises a `BHV_WARNING`. `depth_slack_var` receives `max_depth −
 /// NAV_DEPTH` every running iteration.
+///
+/// # Conformance with BHV_MaxDepth (MOOS-IvP a2a9b716)
+///
+/// | parameter | aliases | type | default | validation (C++ rule) | runtime update | coug |
+/// |---|---|---|---|---|---|---|
+/// | max_depth | | m | 0 | number; negative clipped to 0 | yes | done |
+/// | basewidth | tolerance | m | 100 | number; negative clipped to 0 | yes | done |
+/// | depth_slack_var | | var | none | no white space | yes | done |
+/// | duration (common) | | s | −1: no time limit | | yes | done |
+///
+/// | variable | when | format | coug |
+/// |---|---|---|---|
+/// | `depth_slack_var` | every running iteration with NAV_DEPTH (filtered on change) | `max_depth − NAV_DEPTH` | done |
+/// | BHV_WARNING | running without NAV_DEPTH | `No ownship DEPTH info in info_buffer.` | done |
+/// | BHV_ERROR | the function cannot be built | `Unable to generate constant-depth IvP function` | done |
+/// | BHV_ERROR | no `depth` in the helm domain | C++: `No 'depth' variable in the helm domain`; coug: null domain, `Null IvPDomain given to Behavior` | open: message differs |
 #[derive(Debug, Clone)]
 pub struct MaxDepth {
     /// The deepest allowed depth, m.
@@ -91,8 +107,9 @@ impl Behavior for MaxDepth {
             .and_then(|_| z.extract());
         match built {
             Ok(f) => Some(f),
-            Err(e) => {
-                out.error(format!("Unable to generate max-depth IvP function: {e}"));
+            // The C++ message says "constant-depth" (copied from BHV_ConstantDepth).
+            Err(_) => {
+                out.error("Unable to generate constant-depth IvP function");
                 None
             }
         }

@@ -94,7 +94,7 @@ use ivp::{IvpFunction, ZaicPeak, ZaicVector, couple_weighted};
 use crate::behavior::{Behavior, Ctx, Out, ParamError, add_flag_vars, add_vars};
 use crate::common::{Common, Flag};
 use crate::fmt::compact;
-use crate::param::number;
+use crate::param::{moos_boolean, number};
 
 /// Visual hints by key (MOOS `HintHolder`): colours and sizes, with per-object prefixes
 /// (`core_edge_color`) falling back to the general key (`edge_color`).
@@ -553,15 +553,6 @@ fn nonneg(param: &str, value: &str) -> Result<f64, ParamError> {
     Ok(d)
 }
 
-fn moos_bool(param: &str, value: &str, current: bool) -> Result<bool, ParamError> {
-    match value.trim().to_ascii_lowercase().as_str() {
-        "true" | "yes" | "on" => Ok(true),
-        "false" | "no" | "off" => Ok(false),
-        "toggle" => Ok(!current),
-        _ => Err(ParamError::bad(param, value, "a MOOS boolean")),
-    }
-}
-
 impl Behavior for OpRegionV24 {
     fn kind(&self) -> &'static str {
         "BHV_OpRegionV24"
@@ -640,7 +631,7 @@ impl Behavior for OpRegionV24 {
                 self.reset();
             }
             "trigger_on_poly_entry" => {
-                self.trigger_on_poly_entry = moos_bool(param, v, self.trigger_on_poly_entry)?
+                self.trigger_on_poly_entry = moos_boolean(param, v, self.trigger_on_poly_entry)?
             }
             "trigger_entry_time" => self.trigger_entry_time = nonneg(param, v)?,
             "trigger_exit_time" => self.trigger_exit_time = nonneg(param, v)?,
@@ -651,10 +642,10 @@ impl Behavior for OpRegionV24 {
             "save_flag" => self.flag_list(Flags::Save).push(flag(v)?),
             "savex_flag" => self.flag_list(Flags::Savex).push(flag(v)?),
             "draw_save_status" => {
-                self.draw_save_status = moos_bool(param, v, self.draw_save_status)?
+                self.draw_save_status = moos_boolean(param, v, self.draw_save_status)?
             }
             "draw_halt_status" => {
-                self.draw_halt_status = moos_bool(param, v, self.draw_halt_status)?
+                self.draw_halt_status = moos_boolean(param, v, self.draw_halt_status)?
             }
             "visual_hints" => {
                 if !self.hints.set(v) {

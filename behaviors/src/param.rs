@@ -62,6 +62,28 @@ pub fn number_min(param: &str, value: &str, min: f64) -> Result<f64, ParamError>
     Ok(v)
 }
 
+/// Parses a MOOS boolean as `setBooleanOnString` does (any case): `true`/`yes`/`on`,
+/// `false`/`no`/`off`, or `toggle`, which flips `current`.
+///
+/// ```
+/// use behaviors::param::moos_boolean;
+/// assert_eq!(moos_boolean("p", "Yes", false), Ok(true));
+/// assert_eq!(moos_boolean("p", "toggle", true), Ok(false));
+/// assert!(moos_boolean("p", "1", false).is_err());
+/// ```
+pub fn moos_boolean(param: &str, value: &str, current: bool) -> Result<bool, ParamError> {
+    match value.trim().to_ascii_lowercase().as_str() {
+        "true" | "yes" | "on" => Ok(true),
+        "false" | "no" | "off" => Ok(false),
+        "toggle" => Ok(!current),
+        _ => Err(ParamError::bad(
+            param,
+            value,
+            "true, false, yes, no, on, off or toggle",
+        )),
+    }
+}
+
 /// Parses a boolean (`true`/`false`, any case).
 pub fn boolean(param: &str, value: &str) -> Result<bool, ParamError> {
     match value.trim().to_ascii_lowercase().as_str() {

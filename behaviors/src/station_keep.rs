@@ -1,4 +1,27 @@
 //! BHV_StationKeep (reference §6.10): holds position near a station point.
+//!
+//! # Conformance with BHV_StationKeep (MOOS-IvP a2a9b716)
+//!
+//! | parameter | aliases | type | default | validation (C++ rule) | runtime update | coug |
+//! |---|---|---|---|---|---|---|
+//! | station_pt | point | point | none | `x,y`, `x=..,y=..` (any `string2Point` form) | yes | done |
+//! | center_activate | | bool | false | `true`/`false` | yes | done |
+//! | inner_radius | | m | 4 | number > 0 | yes | done |
+//! | outer_radius | | m | 15 | number > 0 (raised to the inner radius when smaller) | yes | done |
+//! | outer_speed | | m/s | 1.2 | number > 0; raises transit_speed to it | yes | done |
+//! | transit_speed | extra_speed | m/s | 2.5 | number > 0 | yes | done |
+//! | swing_time | | s | 0 | number, clipped to [0, 60] | yes | done |
+//! | hibernation_radius | | m | −1 (off) | number > 0, or `off`/`-1` | yes | done |
+//! | visual_hints | | hints | vertex red, edge light_blue, label white, sizes 1 | colours, sizes | yes | open: colour names not checked against MOOS's table |
+//!
+//! | variable | when | format | coug |
+//! |---|---|---|---|
+//! | DIST_TO_STATION | every running iteration (before it is remeasured on a station set; −1 before the first) | metres | done |
+//! | PSKEEP_MODE | every running iteration with a station | `HIBERNATING`, `SEEKING_STATION` (`DISABLED` before a station is ever set) | done |
+//! | BHV_SETTINGS | each idle→running transition (repeatable) | `type=BHV_StationKeep,name=..,x=..,y=..,inner_radius=..,outer_radius=..,hibernation_radius=..,outer_speed=..,center_activate=..` | done |
+//! | VIEW_POLYGON | running (drawn), running→idle and no station (erased) | `radial:: x=..,y=..,source=<us>:<name>,pts=32,...,label=<us>:station-keep-out\|in\|hiber,radius=..` | done |
+//! | BHV_WARNING | running without a station | `STATION_POINT_NOT_SET` | done |
+//! | BHV_ERROR | no NAV_X/NAV_Y, no NAV_HEADING | `No ownship X/Y info in info_buffer.`, `No ownship heading info in info_buffer.` | done |
 
 use std::collections::VecDeque;
 

@@ -272,11 +272,11 @@ impl HelmConfig {
                 },
                 // Dynamic behaviour libraries and platform-model generation are accepted; coug
                 // links its behaviours statically.
-                "ivp_behavior_dir"
-                | "ivp_behavior_dirs"
-                | "bhv_dir_not_found_ok"
-                | "bhv_dirs_not_found_ok"
-                | "pmgen" => {}
+                "ivp_behavior_dir" | "ivp_behavior_dirs" | "pmgen" => {}
+                "bhv_dir_not_found_ok" | "bhv_dirs_not_found_ok" => {
+                    let mut ok = false;
+                    set_bool(&mut ok, &mut errs)
+                }
                 // The lines AppCastingMOOSApp's unhandled-line check lets through (MOOS-IvP
                 // a2a9b716); any other unknown line is a config warning, so MALCONFIG.
                 k if mission::catalog::APP_CASTING_PARAMS.contains(&k) => {}
@@ -496,5 +496,43 @@ mod tests {
         // nav_grace takes any number, as setDoubleOnString.
         let (c, e) = parse_one("nav_grace", "-1");
         assert!(e.is_empty() && c.nav_grace == -1.0);
+    }
+
+    #[test]
+    fn the_remaining_keys_validate_as_the_cpp() {
+        // ok_skew: `any` (skews ignored) or seconds >= 0.
+        assert_eq!(parse_one("ok_skew", "ANY").0.ok_skew, None);
+        assert_eq!(parse_one("ok_skew", "2.5").0.ok_skew, Some(2.5));
+        assert_eq!(parse_one("ok_skew", "-1").1.len(), 1);
+        // verbose: verbose/true/terse/false/quiet only.
+        for v in ["verbose", "TRUE", "terse", "false", "quiet"] {
+            assert!(parse_one("verbose", v).1.is_empty(), "{v}");
+        }
+        assert_eq!(parse_one("verbose", "loud").1.len(), 1);
+        // helm_alias, helm_prefix, other_override_var: non-empty, no white space.
+        for key in ["helm_alias", "helm_prefix", "other_override_var"] {
+            assert!(parse_one(key, "NAME_1").1.is_empty(), "{key}");
+            assert_eq!(parse_one(key, "two words").1.len(), 1, "{key}");
+        }
+        // seed_random, goals_mandatory, bhv_dir_not_found_ok: booleans.
+        assert!(!parse_one("seed_random", "false").0.seed_random);
+        assert_eq!(parse_one("seed_random", "sometimes").1.len(), 1);
+        assert_eq!(parse_one("bhv_dir_not_found_ok", "sometimes").1.len(), 1);
+        // standby: positive seconds, refused by coug (standby helms are not supported).
+        let (c, e) = parse_one("standby", "5");
+        assert_eq!(c.standby, Some(5.0));
+        assert!(
+            matches!(&e[..], [ConfigError::BadValue { expected, .. }] if expected.contains("not supported"))
+        );
+        assert_eq!(parse_one("standby", "0").1.len(), 1);
+        // Behaviour libraries and pmgen are accepted (coug links its behaviours statically).
+        for key in [
+            "ivp_behavior_dir",
+            "ivp_behavior_dirs",
+            "bhv_dir_not_found_ok",
+            "pmgen",
+        ] {
+            assert!(parse_one(key, "true").1.is_empty(), "{key}");
+        }
     }
 }

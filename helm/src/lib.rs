@@ -24,3 +24,7 @@ pub mod report;
 pub mod runstate;
 
 pub use engine::{Helm, HelmState, Mail, Posting, Value};
+
+/// The conformance tables: every pHelmIvP parameter and posting, and coug's status for each.
+#[doc = include_str!("conformance.md")]
+pub mod conformance {}
