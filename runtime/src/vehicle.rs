@@ -117,10 +117,17 @@ impl VehicleApp {
         ))
     }
 
-    /// pMarinePIDV22 (or pMarinePID) from its block.
-    pub fn marine_pid(name: &str, block: ProcessConfig) -> Result<Self, VehicleAppError> {
-        let (cfg, unknown) =
+    /// pMarinePIDV22 (`legacy` false) or the older pMarinePID (`legacy` true) from its block.
+    /// Configuration problems are warnings ([`VehicleApp::warnings`]); the app runs, as the
+    /// C++ apps do.
+    pub fn marine_pid(
+        name: &str,
+        block: ProcessConfig,
+        legacy: bool,
+    ) -> Result<Self, VehicleAppError> {
+        let (mut cfg, unknown) =
             PidConfig::from_params_lenient(params(&block)).map_err(|e| located(&block, e))?;
+        cfg.legacy = legacy;
         let w = warnings(&block, unknown);
         let pid = MarinePid::new(cfg);
         let subs = pid.subscriptions();

@@ -213,7 +213,7 @@ async fn vehicle_apps_swap_in_as_separate_moos_clients_with_warp() {
     let start = observer.moos_time();
     let mut sim =
         VehicleApp::simulator("uSimMarineV22", block("uSimMarineV22"), None, start, false).unwrap();
-    let mut pid = VehicleApp::marine_pid("pMarinePIDV22", block("pMarinePIDV22")).unwrap();
+    let mut pid = VehicleApp::marine_pid("pMarinePIDV22", block("pMarinePIDV22"), false).unwrap();
     let mut rep =
         VehicleApp::node_reporter("pNodeReporter", block("pNodeReporter"), "alpha", start).unwrap();
     let mut helm = ScriptedHelm;

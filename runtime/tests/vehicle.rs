@@ -62,7 +62,7 @@ fn run() -> (Vec<u8>, Outcome) {
     .unwrap();
     assert!(sim.warnings().is_empty(), "{:?}", sim.warnings());
     assert_eq!(sim.app_tick(), 4.0);
-    let pid = VehicleApp::marine_pid("pMarinePIDV22", block(&m, "pMarinePIDV22")).unwrap();
+    let pid = VehicleApp::marine_pid("pMarinePIDV22", block(&m, "pMarinePIDV22"), false).unwrap();
     assert_eq!(pid.app_tick(), 20.0);
     let rep =
         VehicleApp::node_reporter("pNodeReporter", block(&m, "pNodeReporter"), "alpha", START)

@@ -4,9 +4,10 @@
 //! case-insensitive and surrounding blanks are ignored, as MOOS does. Each config type offers
 //!
 //! * `from_params`, strict: the first unknown key or bad value is an error, and
-//! * `from_params_lenient`: bad values are still errors, but unknown keys are returned as a
-//!   list of [`ConfigError::UnknownKey`] next to the config, so the caller can warn (as the
-//!   MOOS apps do with `reportUnhandledConfigWarning`) and carry on.
+//! * `from_params_lenient`: unknown keys, bad values and missing required keys are returned
+//!   as a list of [`ConfigError`]s next to the config (bad values leave the default in
+//!   place), so the caller can warn (as the MOOS apps do with `reportConfigWarning`) and
+//!   carry on: a swap-in app never exits on its configuration.
 //!
 //! The generic `CMOOSApp` keys (`AppTick`, `CommsTick`, `MaxAppTick`, `IterateMode`, ...) are
 //! accepted by every app and ignored here.
@@ -142,7 +143,8 @@ pub fn parse_bool(s: &str) -> Option<bool> {
 }
 
 /// Runs `apply` over every pair; `apply` returns `Ok(false)` for keys it does not know.
-/// Returns the unknown keys as errors, or the first bad value as the error.
+/// Returns every problem (unknown keys and bad values, in file order): none is fatal, as
+/// the C++ apps report them as config warnings and run on with the defaults.
 pub(crate) fn apply_params<'a, T>(
     app: &'static str,
     target: &mut T,
@@ -161,11 +163,15 @@ pub(crate) fn apply_params<'a, T>(
             key: key_t,
             value: value.trim(),
         };
-        if !apply(target, &lower, p)? {
-            unknown.push(ConfigError::UnknownKey {
+        match apply(target, &lower, p) {
+            Ok(true) => {}
+            Ok(false) => unknown.push(ConfigError::UnknownKey {
                 app,
                 key: key_t.to_string(),
-            });
+            }),
+            // As an AppCasting MOOS app: a config warning, the setting keeps its default and
+            // the app runs on.
+            Err(e) => unknown.push(e),
         }
     }
     Ok(unknown)

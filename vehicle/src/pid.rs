@@ -14,18 +14,57 @@
 //! Each loop is a [`ScalarPid`]: `out = kp*e + kd*mean(last 9 de/dt) + I`, `I += ki*e*dt`
 //! clamped to the integral limit (and held at 0 when `ki <= 0`), output clamped.
 //!
-//! Control requires every input to have been received and, unless `simulation = true`, to be
-//! fresher than `tardy_helm_threshold` / `tardy_nav_threshold` (else `PID_STALE` is posted and
-//! the outputs are zero), and no manual override (`MOOS_MANUAL_OVERRIDE`, initially true).
+//! pMarinePIDV22 at MOOS-IvP a2a9b716 ([`step`]): control requires every input to have been
+//! received and, unless `simulation = true`, to be fresher than `tardy_helm_threshold` /
+//! `tardy_nav_threshold` (else `PID_STALE` is posted and the outputs are zero); thrust below
+//! 0.01 is 0, and rudder and elevator are computed only with a positive thrust; the loops run
+//! during a manual override (`MOOS_MANUAL_OVERRIDE`, initially true), whose outputs are the
+//! all-stop, posted once. [`PidConfig::legacy`] selects the older pMarinePID rules.
 //!
-//! This follows the current MOOS-IvP `PIDEngine`: thrust may be negative, and rudder and
-//! elevator are computed whatever the thrust. (Older releases zeroed thrust below 0.01,
-//! computed rudder/elevator only for positive thrust, and latched the override on staleness.)
-//! While overridden the loops are not run, so no integral or thrust builds up meanwhile.
+//! As the C++ (its quirks kept, so that a swap-in behaves the same): `PID_THRUST_CAP` is read
+//! and clipped but not applied to the posted thrust; with `simulation = true` the controller
+//! never takes control. Mail skew (`ok_skew`) is not checked: mail carries no separate source
+//! time here.
 //!
-//! Differences from the C++ app, on purpose: `enable_thrust_cap`/`PID_THRUST_CAP` really cap
-//! the posted thrust (the C++ computes the cap and then posts the uncapped value), and mail
-//! skew (`ok_skew`) is not checked because mail carries no separate source time here.
+//! # Conformance with pMarinePIDV22 (MOOS-IvP a2a9b716)
+//!
+//! A bad or missing value is a config warning ([`PidConfig::from_params_lenient`]); the app
+//! runs on (gains default to 0), as the C++ does.
+//!
+//! | parameter | aliases | type | default | validation (C++ rule) | runtime update | coug |
+//! |---|---|---|---|---|---|---|
+//! | yaw_pid_kp, yaw_pid_kd, yaw_pid_ki | | number | 0 (warning when missing) | number | no | done |
+//! | yaw_pid_integral_limit | yaw_pid_ki_limit | number | 0 (warning when missing) | number | no | done |
+//! | maxrudder | | number | 100 (warning when missing) | number | no | done |
+//! | speed_pid_kp, _kd, _ki, _integral_limit | | number | 0 (warning when missing) | number | no | done |
+//! | maxthrust | | number | 100 (warning when missing) | number | no | done |
+//! | speed_factor | | number | 0 | number >= 0 (a negative one is not taken) | SPEED_FACTOR (any number) | done |
+//! | depth_control | | bool | true | MOOS boolean | no | done |
+//! | z_to_pitch_pid_kp, _kd, _ki, _integral_limit | | number | 0 | number | no | done |
+//! | maxpitch | | degrees | 15 | number | no | done |
+//! | pitch_pid_kp, _kd, _ki, _integral_limit | | number | 0 | number | no | done |
+//! | maxelevator | | degrees | 13 | number | no | done |
+//! | simulation | | bool | false | MOOS boolean (no staleness check; never in control) | no | done |
+//! | sim_instability | | 0..100 | 0 | clipped | no | done |
+//! | tardy_helm_threshold, tardy_nav_threshold | | s | 2 | number, negative to 0 | no | done |
+//! | heading_debug, speed_debug, depth_debug | | bool | false | `true` enables | no | done |
+//! | ignore_nav_yaw | | bool | false | MOOS boolean | no | done |
+//! | pid_verbose | verbose | bool | true | MOOS boolean | PID_VERBOSE | done |
+//! | enable_thrust_cap | | bool | false | MOOS boolean; registers PID_THRUST_CAP | PID_THRUST_CAP (clipped 20..100, not applied) | done |
+//! | output_suffix | | word | none | no white space; upper-cased | no | done |
+//! | active_start | | | | deprecated, accepted | no | done |
+//!
+//! | variable | when | format | coug |
+//! |---|---|---|---|
+//! | DESIRED_RUDDER`<sfx>`, DESIRED_THRUST`<sfx>`, DESIRED_ELEVATOR`<sfx>` (with depth control) | every iteration in control; zeros once on losing control | numbers | done |
+//! | PID_HAS_CONTROL | override changes | `true` / `false` | done |
+//! | PID_STALE | each stale input, each iteration | `Stale DesHdg:<s>` (DesSpd, NavHdg, NavSpd, DesDepth, NavDep, NavPitch) | done |
+//! | PID_SPD_DEBUG, PID_HDG_DEBUG, PID_DEP_DEBUG | with the `*_debug` switch, when the loop ran | `PID_SPEED:  (Want):.. (Curr):.. (Diff):.. (Fctr\|Delt):.. THRUST:..` etc. | done |
+//! | PID_MAX_SAT_HDG_DEBUG, _SPD_, _DEP_ | with the debug switch, on saturation | PID debug string | open: not posted |
+//!
+//! Subscriptions: NAV_HEADING, NAV_SPEED, NAV_DEPTH, NAV_PITCH, DESIRED_HEADING, DESIRED_SPEED,
+//! DESIRED_DEPTH, PID_VERBOSE, SPEED_FACTOR, MOOS_MANUAL_OVERIDE, MOOS_MANUAL_OVERRIDE,
+//! PID_THRUST_CAP (with the cap), NAV_YAW (unless ignored). done.
 
 use std::sync::Arc;
 
@@ -195,6 +234,9 @@ pub struct PidConfig {
     pub depth_debug: bool,
     /// `VERBOSE` / `PID_VERBOSE` (console only in the C++ app; kept for completeness).
     pub verbose: bool,
+    /// Run as the older `pMarinePID` (thrust floored at 0, rudder always computed, no
+    /// control while overridden) rather than `pMarinePIDV22`. Set by the app's program name.
+    pub legacy: bool,
 }
 
 impl Default for PidConfig {
@@ -221,6 +263,7 @@ impl Default for PidConfig {
             speed_debug: false,
             depth_debug: false,
             verbose: true,
+            legacy: false,
         }
     }
 }
@@ -286,9 +329,12 @@ impl PidConfig {
         } else {
             &[]
         });
+        // As the C++ (`handleYawSettings` ...): a missing gain is a config warning and the
+        // loop runs with 0.
+        let mut unknown = unknown;
         for key in required {
             if !seen.contains(key) {
-                return Err(ConfigError::Missing { app: APP, key });
+                unknown.push(ConfigError::Missing { app: APP, key });
             }
         }
         Ok((cfg, unknown))
@@ -435,6 +481,16 @@ pub struct PidOutputs {
     pub has_control: bool,
     /// Age in seconds of each stale input, indexed as [`STALE_LABELS`].
     pub stale: [Option<f64>; 7],
+    /// The speed loop ran this step (pMarinePIDV22 debug postings follow the loops run).
+    pub ran_speed: bool,
+    /// The heading loop ran this step.
+    pub ran_heading: bool,
+    /// The depth loops ran this step.
+    pub ran_depth: bool,
+    /// Speed loop output added to the previous thrust (0 with a speed factor).
+    pub delta_thrust: f64,
+    /// Desired heading in (−180, 180] and heading error, degrees (heading loop inputs).
+    pub heading_terms: (f64, f64),
 }
 
 fn age(now: f64, v: Stamped) -> Option<f64> {
@@ -442,7 +498,119 @@ fn age(now: f64, v: Stamped) -> Option<f64> {
 }
 
 /// One controller step at time `now`. Pure: the returned state replaces the given one.
+///
+/// As pMarinePIDV22 at MOOS-IvP a2a9b716 (`PIDEngine::setDesiredValues`): nothing is computed
+/// until every input has been received; unless `simulation`, stale inputs stop the step (and
+/// `stale` is remembered); thrust is `desired speed × speed_factor` or the previous thrust
+/// plus the speed loop, **set to 0 below 0.01** (so a zero or negative desired speed, or a
+/// negative `SPEED_FACTOR`, stops the vehicle) and clamped to `±maxthrust`; the rudder and
+/// the elevator are computed only when the thrust is positive. The loops run even under a
+/// manual override; control is `!override && !stale`. As in the C++, `stale` starts true and
+/// is only updated by the staleness check, so with `simulation = true` the controller never
+/// has control (its outputs stay at the all-stop).
 pub fn step(
+    cfg: &PidConfig,
+    state: &PidState,
+    inputs: &PidInputs,
+    now: f64,
+) -> (PidState, PidOutputs) {
+    if cfg.legacy {
+        return step_legacy(cfg, state, inputs, now);
+    }
+    let mut s = *state;
+    let mut out = PidOutputs::default();
+    let control = |s: &PidState| !inputs.manual_override && !s.stale;
+    let (Some((des_hdg, _)), Some((des_spd, _)), Some((hdg, _)), Some((spd, _))) = (
+        inputs.desired_heading,
+        inputs.desired_speed,
+        inputs.heading,
+        inputs.speed,
+    ) else {
+        out.has_control = control(&s);
+        return (s, out);
+    };
+    if cfg.depth_control
+        && (inputs.desired_depth.is_none() || inputs.depth.is_none() || inputs.pitch.is_none())
+    {
+        out.has_control = control(&s);
+        return (s, out);
+    }
+    if !cfg.simulation {
+        let helm = cfg.tardy_helm_threshold;
+        let nav = cfg.tardy_nav_threshold;
+        let checks: [(Stamped, f64, bool); 7] = [
+            (inputs.desired_heading, helm, true),
+            (inputs.desired_speed, helm, true),
+            (inputs.heading, nav, true),
+            (inputs.speed, nav, true),
+            (inputs.desired_depth, helm, cfg.depth_control),
+            (inputs.depth, nav, cfg.depth_control),
+            (inputs.pitch, nav, cfg.depth_control),
+        ];
+        for (i, (v, thresh, active)) in checks.into_iter().enumerate() {
+            if let Some(a) = age(now, v).filter(|a| active && *a > thresh) {
+                out.stale[i] = Some(a);
+            }
+        }
+        s.stale = out.stale.iter().any(Option::is_some);
+        if s.stale {
+            return (s, out);
+        }
+    }
+
+    // Speed.
+    out.ran_speed = true;
+    let mut thrust = if cfg.speed_factor != 0.0 {
+        des_spd * cfg.speed_factor
+    } else {
+        out.delta_thrust = s.speed_pid.run(des_spd - spd, now);
+        s.thrust + out.delta_thrust
+    };
+    if thrust < 0.01 {
+        thrust = 0.0;
+    }
+    thrust = thrust.clamp(-cfg.max_thrust.abs(), cfg.max_thrust.abs());
+    s.thrust = thrust;
+    out.thrust = thrust;
+
+    if thrust > 0.0 {
+        // Heading.
+        out.ran_heading = true;
+        let des180 = angle180(des_hdg);
+        let err = angle180(hdg - des180);
+        out.heading_terms = (des180, err);
+        let mut rudder = -s.heading_pid.run(err, now);
+        if cfg.sim_instability > 0.0 {
+            let duration = 10.0;
+            let mut elapsed = now - s.bias_time;
+            if elapsed > duration {
+                elapsed = 0.0;
+                s.bias_time = now;
+                s.bias_side = -s.bias_side;
+            }
+            rudder += s.bias_side * (elapsed / duration) * cfg.sim_instability;
+        }
+        out.rudder = rudder.clamp(-cfg.max_rudder.abs(), cfg.max_rudder.abs());
+
+        // Depth.
+        if cfg.depth_control
+            && let (Some((des_dep, _)), Some((dep, _)), Some((pitch, _))) =
+                (inputs.desired_depth, inputs.depth, inputs.pitch)
+        {
+            out.ran_depth = true;
+            let max_pitch = cfg.max_pitch_deg.to_radians();
+            let pitch_des = s.z_pid.run(dep - des_dep, now).clamp(-max_pitch, max_pitch);
+            out.desired_pitch = pitch_des;
+            let elev = s.pitch_pid.run(pitch - pitch_des, now).to_degrees();
+            out.elevator = elev.clamp(-cfg.max_elevator.abs(), cfg.max_elevator.abs());
+        }
+    }
+    out.has_control = control(&s);
+    (s, out)
+}
+
+/// The older pMarinePID's step (see [`PidConfig::legacy`]).
+fn step_legacy(
     cfg: &PidConfig,
     state: &PidState,
     inputs: &PidInputs,
@@ -687,7 +855,9 @@ impl MarinePid {
             }
         } else {
             out.push(Posting::double(&self.rudder_var, o.rudder));
-            let thrust = if self.cfg.enable_thrust_cap {
+            // As the C++ at a2a9b716: PID_THRUST_CAP is read and clipped to [20, 100] but the
+            // posted thrust is the uncapped one (the capped value is computed and unused).
+            let thrust = if self.cfg.legacy && self.cfg.enable_thrust_cap {
                 o.thrust.min(self.thrust_cap)
             } else {
                 o.thrust
@@ -697,8 +867,12 @@ impl MarinePid {
                 out.push(Posting::double(&self.elevator_var, o.elevator));
             }
             self.allstop_posted = false;
-            self.post_debug(&o, out);
+            if self.cfg.legacy {
+                self.post_debug(&o, out);
+            }
         }
+        // The engine's postings, in the order the C++ engine queues them: control changes
+        // (from mail), staleness, then the loops' debug reports.
         out.append(&mut self.pending);
         for (label, a) in STALE_LABELS.iter().zip(o.stale) {
             if let Some(a) = a {
@@ -707,6 +881,59 @@ impl MarinePid {
                     format!("Stale {label}:{}", double_x(a, 3)),
                 ));
             }
+        }
+        if !self.cfg.legacy {
+            self.post_debug_v22(&o, out);
+        }
+    }
+
+    /// The cap `PID_THRUST_CAP` last set (20..100; 100 by default).
+    pub fn thrust_cap(&self) -> f64 {
+        self.thrust_cap
+    }
+
+    /// pMarinePIDV22's `PID_SPD_DEBUG`, `PID_HDG_DEBUG`, `PID_DEP_DEBUG` (each when its loop
+    /// ran and its `*_debug` switch is on), numbers as `doubleToString(v, 5)`.
+    fn post_debug_v22(&self, o: &PidOutputs, out: &mut Vec<Posting>) {
+        let val = |v: Stamped| v.map_or(0.0, |(v, _)| v);
+        let f = |v: f64| format!("{v:.5}");
+        if self.cfg.speed_debug && o.ran_speed {
+            let (want, curr) = (val(self.inputs.desired_speed), val(self.inputs.speed));
+            let mid = if self.cfg.speed_factor != 0.0 {
+                format!(" (Fctr):{}", f(self.cfg.speed_factor))
+            } else {
+                format!(" (Delt):{}", f(o.delta_thrust))
+            };
+            let s = format!(
+                "PID_SPEED:  (Want):{} (Curr):{} (Diff):{}{mid} THRUST:{}",
+                f(want),
+                f(curr),
+                f(want - curr),
+                f(o.thrust)
+            );
+            out.push(Posting::string(&self.debug_vars[1], s));
+        }
+        if self.cfg.heading_debug && o.ran_heading {
+            let (des180, err) = o.heading_terms;
+            let s = format!(
+                "PID_COURSE:  (Want):{} (Curr):{} (Diff):{} RUDDER:{}",
+                f(des180),
+                f(val(self.inputs.heading)),
+                f(err),
+                f(o.rudder)
+            );
+            out.push(Posting::string(&self.debug_vars[0], s));
+        }
+        if self.cfg.depth_debug && o.ran_depth {
+            let (want, curr) = (val(self.inputs.desired_depth), val(self.inputs.depth));
+            let s = format!(
+                "PID_DEPTH:  (Want):{} (Curr):{} (Diff):{} ELEVATOR:{}",
+                f(want),
+                f(curr),
+                f(curr - want),
+                f(o.elevator)
+            );
+            out.push(Posting::string(&self.debug_vars[2], s));
         }
     }
 

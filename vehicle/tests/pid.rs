@@ -353,3 +353,132 @@ fn required_keys_are_enforced() {
     assert!(!cfg.depth_control);
     assert!(PidConfig::from_params(surface.iter().copied().chain([("maxrudder", "x")])).is_err());
 }
+
+/// A pMarinePIDV22 with the golf gains, fed every input at `t` (override lifted first).
+fn v22_running(
+    mut cfg: PidConfig,
+    des_hdg: f64,
+    des_spd: f64,
+) -> (MarinePid, Vec<vehicle::moos::Posting>) {
+    cfg.legacy = false;
+    let mut app = MarinePid::new(cfg);
+    app.on_mail("MOOS_MANUAL_OVERRIDE", MailValue::Str("false"), 0.0);
+    for (v, x) in [
+        ("DESIRED_HEADING", des_hdg),
+        ("DESIRED_SPEED", des_spd),
+        ("DESIRED_DEPTH", 5.0),
+        ("NAV_HEADING", 90.0),
+        ("NAV_SPEED", 1.0),
+        ("NAV_DEPTH", 0.0),
+        ("NAV_PITCH", 0.0),
+    ] {
+        app.on_mail(v, MailValue::Double(x), 0.0);
+    }
+    let mut out = Vec::new();
+    app.iterate(0.1, &mut out);
+    (app, out)
+}
+
+fn num(out: &[vehicle::moos::Posting], var: &str) -> Option<f64> {
+    last_posting(out, var).and_then(|p| p.as_f64())
+}
+
+#[test]
+fn v22_zero_or_negative_desired_speed_is_an_all_stop_of_every_actuator() {
+    // speed_factor 20 (golf): desired 0 or -1 gives thrust below 0.01, so 0, and then the
+    // rudder and elevator are not computed (0) although the heading is 90 deg off.
+    for des in [0.0, -1.0] {
+        let (app, out) = v22_running(golf_pid(), 180.0, des);
+        assert!(app.last_outputs().has_control);
+        assert_eq!(num(&out, "DESIRED_THRUST"), Some(0.0), "speed {des}");
+        assert_eq!(num(&out, "DESIRED_RUDDER"), Some(0.0), "speed {des}");
+        assert_eq!(num(&out, "DESIRED_ELEVATOR"), Some(0.0), "speed {des}");
+    }
+    // A small positive speed still steers.
+    let (_, out) = v22_running(golf_pid(), 180.0, 0.5);
+    assert_eq!(num(&out, "DESIRED_THRUST"), Some(10.0));
+    assert!(num(&out, "DESIRED_RUDDER").unwrap() != 0.0);
+}
+
+#[test]
+fn v22_negative_speed_factor_stops_and_a_negative_config_factor_is_ignored() {
+    let (mut app, _) = v22_running(golf_pid(), 90.0, 2.0);
+    app.on_mail("SPEED_FACTOR", MailValue::Double(-20.0), 0.2);
+    let mut out = Vec::new();
+    app.iterate(0.3, &mut out);
+    assert_eq!(num(&out, "DESIRED_THRUST"), Some(0.0));
+    // In the block, a negative factor is not taken (setNonNegDoubleOnString): a warning,
+    // and the speed loop is used (factor 0).
+    let text = common::mission_file("s7_golf/golf.moos");
+    let block = common::process_config(&text, "pMarinePID");
+    let mut pairs: Vec<(&str, &str)> = common::pairs(&block).collect();
+    pairs.retain(|(k, _)| !k.eq_ignore_ascii_case("speed_factor"));
+    pairs.push(("speed_factor", "-3"));
+    let (cfg, warnings) = PidConfig::from_params_lenient(pairs).unwrap();
+    assert_eq!(cfg.speed_factor, 0.0);
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+}
+
+#[test]
+fn v22_simulation_mode_never_takes_control() {
+    // MOOS-IvP a2a9b716: with `simulation = true` the staleness check, the only place that
+    // clears the initial "stale" state, is skipped: the outputs stay at the all-stop.
+    let mut cfg = golf_pid();
+    cfg.simulation = true;
+    let (mut app, out) = v22_running(cfg, 180.0, 2.0);
+    assert!(!app.last_outputs().has_control);
+    assert_eq!(num(&out, "DESIRED_THRUST"), Some(0.0));
+    assert_eq!(num(&out, "DESIRED_RUDDER"), Some(0.0));
+    let mut out = Vec::new();
+    app.iterate(0.2, &mut out);
+    assert!(
+        !out.iter().any(|p| p.var.starts_with("DESIRED_")),
+        "the all-stop is posted once: {out:?}"
+    );
+}
+
+#[test]
+fn v22_thrust_cap_is_read_and_clipped_but_not_applied() {
+    let mut cfg = golf_pid();
+    cfg.enable_thrust_cap = true;
+    let (mut app, _) = v22_running(cfg, 90.0, 4.0);
+    assert!(app.subscriptions().contains(&"PID_THRUST_CAP"));
+    app.on_mail("PID_THRUST_CAP", MailValue::Double(50.0), 0.2);
+    assert_eq!(app.thrust_cap(), 50.0);
+    app.on_mail("PID_THRUST_CAP", MailValue::Double(5.0), 0.2);
+    assert_eq!(app.thrust_cap(), 20.0, "clipped to [20, 100]");
+    let mut out = Vec::new();
+    app.iterate(0.3, &mut out);
+    // 4 m/s x speed factor 20: the C++ posts the uncapped 80.
+    assert_eq!(num(&out, "DESIRED_THRUST"), Some(80.0));
+}
+
+#[test]
+fn v22_debug_reports_follow_the_loops_in_the_cpp_format() {
+    let mut cfg = golf_pid();
+    cfg.speed_debug = true;
+    cfg.heading_debug = true;
+    let (_, out) = v22_running(cfg, 270.0, 2.0);
+    let spd = last_posting(&out, "PID_SPD_DEBUG")
+        .unwrap()
+        .as_str()
+        .unwrap()
+        .to_string();
+    assert_eq!(
+        spd,
+        "PID_SPEED:  (Want):2.00000 (Curr):1.00000 (Diff):1.00000 (Fctr):20.00000 THRUST:40.00000"
+    );
+    let hdg = last_posting(&out, "PID_HDG_DEBUG")
+        .unwrap()
+        .as_str()
+        .unwrap()
+        .to_string();
+    // The desired heading in (-180, 180]: 270 -> -90; error angle180(90 - -90) = 180.
+    assert!(
+        hdg.starts_with("PID_COURSE:  (Want):-90.00000 (Curr):90.00000 (Diff):180.00000 RUDDER:"),
+        "{hdg}"
+    );
+    // Debug reports come after the actuator postings.
+    let ix = |v: &str| out.iter().position(|p| &*p.var == v).unwrap();
+    assert!(ix("DESIRED_THRUST") < ix("PID_SPD_DEBUG"));
+}
