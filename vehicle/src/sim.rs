@@ -485,10 +485,14 @@ impl SimConfig {
             }
             "depth_control" => self.depth_control = p.bool()?,
             "legacy" => self.legacy = p.bool()?,
-            // Accepted for compatibility; these features (dual ground-truth state, trim and
-            // buoyancy handshakes, worm holes, sailing) are not simulated.
+            // Not simulated by coug yet (dual ground-truth state, trim handshakes, worm
+            // holes, sailing): a config warning, never a silent difference.
             "dual_state" | "trim_tolerance" | "max_trim_delay" | "wormhole" | "wind_conditions"
-            | "polar_plot" => {}
+            | "polar_plot" => {
+                return Err(p.bad(
+                    "a setting coug's simulator supports (this feature is not simulated yet)",
+                ));
+            }
             _ => return Ok(false),
         }
         Ok(true)

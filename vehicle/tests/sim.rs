@@ -564,3 +564,22 @@ proptest::proptest! {
         }
     }
 }
+
+#[test]
+fn unsimulated_features_are_warnings_not_silent() {
+    // uSimMarineV22 features coug does not simulate yet: each is reported, the rest applies.
+    for (k, v) in [
+        ("dual_state", "true"),
+        ("wormhole", "tag=one, madrid_poly={0,0:10,0:10,10}"),
+        ("wind_conditions", "dir=90,mag=5"),
+        ("polar_plot", "0,0:90,1:180,0.5"),
+        ("trim_tolerance", "1"),
+        ("max_trim_delay", "5"),
+    ] {
+        let (cfg, warnings) =
+            vehicle::sim::SimConfig::from_params_lenient([(k, v), ("turn_rate", "50")]).unwrap();
+        assert_eq!(warnings.len(), 1, "{k}: {warnings:?}");
+        assert!(warnings[0].to_string().contains("not simulated"), "{k}");
+        assert_eq!(cfg.turn_rate, 50.0, "{k}: the other settings still apply");
+    }
+}
