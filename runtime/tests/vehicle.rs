@@ -196,3 +196,47 @@ fn the_vehicle_run_is_deterministic() {
     assert!(a.len() > 100_000);
     assert_eq!(a, b);
 }
+
+/// The swap-in contract of the vehicle apps: a bad or unsupported setting is a config
+/// warning naming the file and line; the app is built and runs with the rest.
+#[test]
+fn vehicle_apps_run_on_with_config_warnings() {
+    let text = "Community = abe\nProcessConfig = pNodeReporter\n{\n  platform_type = kayak\n  \
+                nohelm_threshold = -1\n  rider = var=LEG_ID, policy=always\n}\n\
+                ProcessConfig = pMarinePIDV22\n{\n  yaw_pid_kp = fast\n  speed_factor = 20\n}\n";
+    let m = mission::moos::parse_moos(&SourceMap::from_text("w.moos", text)).value;
+    let rep = VehicleApp::node_reporter("pNodeReporter", block(&m, "pNodeReporter"), "abe", START)
+        .expect("the reporter runs");
+    let w = rep.warnings();
+    assert_eq!(w.len(), 2, "{w:?}");
+    assert!(
+        w[0].starts_with("w.moos:5: ") && w[0].contains("nohelm_threshold"),
+        "{w:?}"
+    );
+    assert!(
+        w[1].starts_with("w.moos:6: ") && w[1].contains("not implemented"),
+        "{w:?}"
+    );
+    let pid = VehicleApp::marine_pid("pMarinePIDV22", block(&m, "pMarinePIDV22"), false)
+        .expect("the PID runs");
+    let w = pid.warnings();
+    assert!(
+        w.iter()
+            .any(|x| x.starts_with("w.moos:10: ") && x.contains("yaw_pid_kp")),
+        "{w:?}"
+    );
+    assert!(
+        w.iter().any(|x| x.contains("maxrudder")),
+        "missing gains are named: {w:?}"
+    );
+    // The reporter still reports.
+    let mut s = Scheduler::new(Bus::new("abe", START), VirtualClock, START);
+    s.add_app(Box::new(rep)).unwrap();
+    s.add_poke(Poke::parse("NAV_X=5", "uPokeDB").unwrap())
+        .unwrap();
+    s.add_poke(Poke::parse("NAV_Y=7", "uPokeDB").unwrap())
+        .unwrap();
+    s.run(5.0).unwrap();
+    let report = s.current("NODE_REPORT_LOCAL").expect("a node report");
+    assert!(report.as_str().unwrap().contains("X=5"), "{report:?}");
+}

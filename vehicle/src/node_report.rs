@@ -14,8 +14,10 @@
 //! last one is older than `nohelm_threshold` (5 s), else the helm state (`DRIVE`, `PARK`,
 //! ...), replaced by the `modes=` field of `IVPHELM_SUMMARY` when driving with modes.
 //!
-//! Accepted but not implemented (no effect): riders, platform reports, alternative-nav
-//! reports, extrapolation pruning, JSON reports, cross-fill policies other than `literal`.
+//! Not implemented yet, each reported as a config warning when set (the app runs on without
+//! it): riders, platform reports, alternative-nav reports, extrapolation pruning, JSON reports,
+//! course over ground, heading error, vsource, transparency, aspect, blackout variance,
+//! cross-fill policies other than `literal`, the MISSION_HASH odometer.
 
 use std::fmt::Write as _;
 use std::sync::Arc;
@@ -143,11 +145,38 @@ impl NodeReportConfig {
                         p.bad("literal, fill-empty, global, use-latest, local or global-terse")
                     );
                 }
+                if v != "literal" {
+                    return Err(p.bad(
+                        "literal (the other cross-fill policies are not implemented by coug yet)",
+                    ));
+                }
             }
-            "blackout_variance" | "platform_aspect" | "rider" | "plat_report_input"
-            | "plat_report_var" | "platform_variable" | "plat_report_output" | "alt_nav_prefix"
-            | "alt_nav_name" | "alt_nav_group" | "extrap_enabled" | "extrap_pos_thresh"
-            | "extrap_hdg_thresh" | "extrap_max_gap" | "json_report" => {}
+            // pNodeReporter settings coug does not implement yet: a config warning each (the
+            // app runs on), never a silent difference.
+            "blackout_variance"
+            | "platform_aspect"
+            | "rider"
+            | "plat_report_input"
+            | "plat_report_var"
+            | "platform_variable"
+            | "plat_report_output"
+            | "alt_nav_prefix"
+            | "alt_nav_name"
+            | "alt_nav_group"
+            | "extrap_enabled"
+            | "extrap_pos_thresh"
+            | "extrap_hdg_thresh"
+            | "extrap_max_gap"
+            | "json_report"
+            | "report_cog"
+            | "hdg_error"
+            | "platform_vsource"
+            | "vsource"
+            | "platform_transparency" => {
+                return Err(
+                    p.bad("a setting coug's node reporter implements (not implemented yet)")
+                );
+            }
             _ => return Ok(false),
         }
         Ok(true)
