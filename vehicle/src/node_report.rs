@@ -16,7 +16,7 @@
 //!
 //! Not implemented yet, each reported as a config warning when set (the app runs on without
 //! it): riders, platform reports, alternative-nav reports, extrapolation pruning, JSON reports,
-//! course over ground, heading error, vsource, transparency, aspect, blackout variance,
+//! course over ground, heading error, vsource, aspect, blackout variance,
 //! cross-fill policies other than `literal`, the MISSION_HASH odometer.
 
 use std::fmt::Write as _;
