@@ -153,26 +153,11 @@ impl NodeReportConfig {
             }
             // pNodeReporter settings coug does not implement yet: a config warning each (the
             // app runs on), never a silent difference.
-            "blackout_variance"
-            | "platform_aspect"
-            | "rider"
-            | "plat_report_input"
-            | "plat_report_var"
-            | "platform_variable"
-            | "plat_report_output"
-            | "alt_nav_prefix"
-            | "alt_nav_name"
-            | "alt_nav_group"
-            | "extrap_enabled"
-            | "extrap_pos_thresh"
-            | "extrap_hdg_thresh"
-            | "extrap_max_gap"
-            | "json_report"
-            | "report_cog"
-            | "hdg_error"
-            | "platform_vsource"
-            | "vsource"
-            | "platform_transparency" => {
+            "blackout_variance" | "platform_aspect" | "rider" | "plat_report_input"
+            | "plat_report_var" | "platform_variable" | "plat_report_output" | "alt_nav_prefix"
+            | "alt_nav_name" | "alt_nav_group" | "extrap_enabled" | "extrap_pos_thresh"
+            | "extrap_hdg_thresh" | "extrap_max_gap" | "json_report" | "report_cog"
+            | "hdg_error" | "platform_vsource" | "vsource" => {
                 return Err(
                     p.bad("a setting coug's node reporter implements (not implemented yet)")
                 );
