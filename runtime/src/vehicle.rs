@@ -107,7 +107,7 @@ impl VehicleApp {
         cfg.legacy = legacy;
         let w = warnings(&block, unknown);
         let sim = Simulator::new(cfg, grid, start);
-        let subs = Simulator::subscriptions().to_vec();
+        let subs = sim.subscriptions();
         Ok(VehicleApp::new(
             name,
             block,

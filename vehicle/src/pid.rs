@@ -268,6 +268,41 @@ impl Default for PidConfig {
     }
 }
 
+/// Every key the PID engine takes from a block (MOOS-IvP `PIDEngine::setConfigParams`): the
+/// ones uSimMarineV22 hands to its embedded PID.
+pub const ENGINE_KEYS: &[&str] = &[
+    "speed_factor",
+    "simulation",
+    "sim_instability",
+    "tardy_helm_threshold",
+    "tardy_nav_threshold",
+    "yaw_pid_kp",
+    "yaw_pid_kd",
+    "yaw_pid_ki",
+    "yaw_pid_integral_limit",
+    "yaw_pid_ki_limit",
+    "maxrudder",
+    "heading_debug",
+    "speed_pid_kp",
+    "speed_pid_kd",
+    "speed_pid_ki",
+    "speed_pid_integral_limit",
+    "maxthrust",
+    "speed_debug",
+    "depth_control",
+    "z_to_pitch_pid_kp",
+    "z_to_pitch_pid_kd",
+    "z_to_pitch_pid_ki",
+    "z_to_pitch_pid_integral_limit",
+    "maxpitch",
+    "depth_debug",
+    "pitch_pid_kp",
+    "pitch_pid_kd",
+    "pitch_pid_ki",
+    "pitch_pid_integral_limit",
+    "maxelevator",
+];
+
 const REQUIRED_ALWAYS: &[&str] = &[
     "yaw_pid_kp",
     "yaw_pid_kd",
@@ -839,6 +874,33 @@ impl MarinePid {
         }
     }
 
+    /// One step of the engine at `now` as uSimMarineV22's embedded PID runs it: the
+    /// outputs are returned (for the simulator to apply, whether or not the PID has control,
+    /// as the C++ does) and only the engine's own postings (`PID_HAS_CONTROL`, `PID_STALE`,
+    /// debug reports) are appended to `out`.
+    pub fn iterate_embedded(&mut self, now: f64, out: &mut Vec<Posting>) -> PidOutputs {
+        let (s, o) = step(&self.cfg, &self.state, &self.inputs, now);
+        self.state = s;
+        self.last = o;
+        self.post_engine(&o, out);
+        o
+    }
+
+    fn post_engine(&mut self, o: &PidOutputs, out: &mut Vec<Posting>) {
+        out.append(&mut self.pending);
+        for (label, a) in STALE_LABELS.iter().zip(o.stale) {
+            if let Some(a) = a {
+                out.push(Posting::string(
+                    &self.stale_var,
+                    format!("Stale {label}:{}", double_x(a, 3)),
+                ));
+            }
+        }
+        if !self.cfg.legacy {
+            self.post_debug_v22(o, out);
+        }
+    }
+
     /// One iteration at time `now`; appends the postings to `out`.
     pub fn iterate(&mut self, now: f64, out: &mut Vec<Posting>) {
         let (s, o) = step(&self.cfg, &self.state, &self.inputs, now);
@@ -873,18 +935,7 @@ impl MarinePid {
         }
         // The engine's postings, in the order the C++ engine queues them: control changes
         // (from mail), staleness, then the loops' debug reports.
-        out.append(&mut self.pending);
-        for (label, a) in STALE_LABELS.iter().zip(o.stale) {
-            if let Some(a) = a {
-                out.push(Posting::string(
-                    &self.stale_var,
-                    format!("Stale {label}:{}", double_x(a, 3)),
-                ));
-            }
-        }
-        if !self.cfg.legacy {
-            self.post_debug_v22(&o, out);
-        }
+        self.post_engine(&o, out);
     }
 
     /// The cap `PID_THRUST_CAP` last set (20..100; 100 by default).

@@ -311,6 +311,9 @@ pub struct SimConfig {
     /// Publish depth-related outputs (`<P>_Z`, `<P>_PITCH`, `<P>_YAW`, `TRUE_X/Y`,
     /// `SIMULATION_MODE`); true as in `uSimMarineV22` unless `depth_control = false`.
     pub depth_control: bool,
+    /// The embedded PID (uSimMarineV22 with PID gains in its block): it turns DESIRED_HEADING,
+    /// DESIRED_SPEED and DESIRED_DEPTH into the simulator's actuators directly.
+    pub pid: Option<crate::pid::PidConfig>,
     /// Older `uSimMarine` model: no turn-speed map (turn rate independent of speed), and
     /// the navigation is published on every iteration (`nav_modulo` is not used).
     pub legacy: bool,
@@ -348,6 +351,7 @@ impl Default for SimConfig {
             post_des_thrust: None,
             post_des_rudder: None,
             depth_control: true,
+            pid: None,
             legacy: false,
             nav_modulo: 2,
         }
@@ -414,7 +418,34 @@ impl SimConfig {
         params: impl IntoIterator<Item = (&'a str, &'a str)>,
     ) -> Result<(Self, Vec<ConfigError>), ConfigError> {
         let mut cfg = SimConfig::default();
-        let unknown = apply_params(APP, &mut cfg, params, Self::apply_one)?;
+        let pairs: Vec<(&str, &str)> = params.into_iter().collect();
+        let lower = |k: &str| k.trim().to_ascii_lowercase();
+        let is_pid = |k: &str| crate::pid::ENGINE_KEYS.contains(&lower(k).as_str());
+        // The PID engine takes its keys first (`depth_control` also serves the model).
+        let sim_pairs = pairs
+            .iter()
+            .filter(|(k, _)| !is_pid(k) || lower(k) == "depth_control")
+            .copied();
+        let mut unknown = apply_params(APP, &mut cfg, sim_pairs, Self::apply_one)?;
+        let pid_pairs: Vec<(&str, &str)> =
+            pairs.iter().filter(|(k, _)| is_pid(k)).copied().collect();
+        // uSimMarineV22 embeds the PID when the block has yaw gains
+        // (`PIDEngine::hasConfigSettingsForPID`); other PID keys alone are taken and unused.
+        let coupled = pid_pairs.iter().any(|(k, _)| {
+            matches!(
+                lower(k).as_str(),
+                "yaw_pid_kp"
+                    | "yaw_pid_kd"
+                    | "yaw_pid_ki"
+                    | "yaw_pid_integral_limit"
+                    | "yaw_pid_ki_limit"
+            )
+        });
+        if coupled {
+            let (pid, w) = crate::pid::PidConfig::from_params_lenient(pid_pairs)?;
+            unknown.extend(w);
+            cfg.pid = Some(pid);
+        }
         Ok((cfg, unknown))
     }
 
@@ -877,11 +908,28 @@ pub struct Simulator {
     drift_fresh: bool,
     reset_count: u32,
     rudder_time: f64,
+    pid: Option<Box<crate::pid::MarinePid>>,
 }
+
+/// What the embedded PID takes from the mail (uSimMarineV22 `OnNewMail`, PID part).
+const PID_MAIL: &[&str] = &[
+    "MOOS_MANUAL_OVERIDE",
+    "MOOS_MANUAL_OVERRIDE",
+    "PID_VERBOSE",
+    "SPEED_FACTOR",
+    "DESIRED_HEADING",
+    "DESIRED_SPEED",
+    "DESIRED_DEPTH",
+    "NAV_HEADING",
+    "NAV_SPEED",
+    "NAV_DEPTH",
+    "NAV_PITCH",
+];
 
 impl Simulator {
     /// A simulator at the configured start pose; `start_time` is the MOOS time of start-up.
     pub fn new(cfg: SimConfig, grid: Option<LocalGrid>, start_time: f64) -> Self {
+        let cfg_pid = cfg.pid.clone();
         let state = SimState::at(&cfg.start);
         let inputs = SimInputs::from_config(&cfg);
         let vars = SimVars::new(&cfg);
@@ -899,6 +947,7 @@ impl Simulator {
             drift_fresh: true,
             reset_count: 0,
             rudder_time: start_time,
+            pid: cfg_pid.map(|c| Box::new(crate::pid::MarinePid::new(c))),
         }
     }
 
@@ -917,9 +966,17 @@ impl Simulator {
         &self.cfg
     }
 
-    /// The variables this app subscribes to.
-    pub fn subscriptions() -> &'static [&'static str] {
-        &[
+    /// The variables this app subscribes to. With the embedded PID, the helm's DESIRED_*
+    /// and the override replace the actuator commands (uSimMarineV22 `registerVariables`).
+    pub fn subscriptions(&self) -> Vec<&'static str> {
+        const ACTUATORS: &[&str] = &[
+            "DESIRED_THRUST",
+            "DESIRED_RUDDER",
+            "DESIRED_ELEVATOR",
+            "DESIRED_THRUST_L",
+            "DESIRED_THRUST_R",
+        ];
+        let all: &[&str] = &[
             "DESIRED_THRUST",
             "DESIRED_RUDDER",
             "DESIRED_ELEVATOR",
@@ -946,15 +1003,31 @@ impl Simulator {
             "USM_RESET",
             "THRUST_MODE_REVERSE",
             "THRUST_MODE_DIFFERENTIAL",
-        ]
+        ];
+        let mut v: Vec<&'static str> = Vec::with_capacity(all.len() + 6);
+        if self.pid.is_some() {
+            v.extend([
+                "DESIRED_HEADING",
+                "DESIRED_SPEED",
+                "DESIRED_DEPTH",
+                "SPEED_FACTOR",
+                "MOOS_MANUAL_OVERIDE",
+                "MOOS_MANUAL_OVERRIDE",
+            ]);
+            v.extend(all.iter().filter(|x| !ACTUATORS.contains(x)));
+        } else {
+            v.extend(all);
+        }
+        v
     }
 
     fn set_rudder(&mut self, desired: f64, time: f64) {
         let prev = self.inputs.rudder;
+        // Without a slew limit the C++ still caps one change at 100 degrees.
         let max_change = if self.cfg.max_rudder_degs_per_sec > 0.0 {
             (time - self.rudder_time) * self.cfg.max_rudder_degs_per_sec
         } else {
-            f64::INFINITY
+            100.0
         };
         let change = (desired - prev).clamp(-max_change.max(0.0), max_change.max(0.0));
         self.inputs.rudder = prev + change;
@@ -964,6 +1037,11 @@ impl Simulator {
     /// Takes one piece of mail. Unknown variables are ignored; returns any immediate postings
     /// (`USM_RESET_COUNT`).
     pub fn on_mail(&mut self, var: &str, value: MailValue<'_>, time: f64) -> Option<Posting> {
+        if let Some(pid) = &mut self.pid
+            && PID_MAIL.contains(&var)
+        {
+            pid.on_mail(var, value, time);
+        }
         let d = value.as_f64();
         let s = value.as_str().unwrap_or("");
         match (var, d) {
@@ -1086,18 +1164,38 @@ impl Simulator {
             self.post_nav(&nav, out);
             return;
         }
-        if !self.enabled || self.paused {
+        if !self.enabled {
+            return;
+        }
+        // The embedded PID: fed ownship from the model, its outputs set the actuators
+        // directly (whether or not it has control, as the C++ does); `post_des_thrust` /
+        // `post_des_rudder` publish them.
+        if let Some(mut pid) = self.pid.take() {
+            let st = self.state;
+            pid.on_mail("NAV_HEADING", MailValue::Double(st.heading), time);
+            pid.on_mail("NAV_SPEED", MailValue::Double(st.speed), time);
+            if pid.config().depth_control {
+                pid.on_mail("NAV_DEPTH", MailValue::Double(st.depth), time);
+                pid.on_mail("NAV_PITCH", MailValue::Double(st.pitch), time);
+            }
+            let o = pid.iterate_embedded(time, out);
+            self.set_rudder(o.rudder, time);
+            self.inputs.thrust = o.thrust;
+            self.inputs.elevator = o.elevator;
+            if let Some(v) = &self.vars.post_thrust {
+                out.push(Posting::double(v, o.thrust));
+            }
+            if let Some(v) = &self.vars.post_rudder {
+                out.push(Posting::double(v, o.rudder));
+            }
+            self.pid = Some(pid);
+        }
+        if self.paused {
             // Paused time is excluded from the model's clock.
             return;
         }
         let (s, nav) = step(&self.cfg, &self.state, &self.inputs, dt, self.grid.as_ref());
         self.state = s;
-        if let Some(v) = &self.vars.post_thrust {
-            out.push(Posting::double(v, self.inputs.thrust));
-        }
-        if let Some(v) = &self.vars.post_rudder {
-            out.push(Posting::double(v, self.inputs.rudder));
-        }
         if self
             .iteration
             .is_multiple_of(u64::from(self.cfg.nav_every()))

@@ -583,3 +583,85 @@ fn unsimulated_features_are_warnings_not_silent() {
         assert_eq!(cfg.turn_rate, 50.0, "{k}: the other settings still apply");
     }
 }
+
+#[test]
+fn embedded_pid_drives_the_model_from_the_helm_outputs() {
+    // uSimMarineV22 with PID gains in its block runs the PID itself (no pMarinePIDV22).
+    let params = [
+        ("start_pos", "x=0,y=0,heading=0,speed=0"),
+        ("turn_rate", "70"),
+        ("yaw_pid_kp", "1.2"),
+        ("yaw_pid_kd", "0"),
+        ("yaw_pid_ki", "0"),
+        ("yaw_pid_integral_limit", "0.07"),
+        ("maxrudder", "100"),
+        ("speed_pid_kp", "1"),
+        ("speed_pid_kd", "0"),
+        ("speed_pid_ki", "0"),
+        ("speed_pid_integral_limit", "0.07"),
+        ("maxthrust", "100"),
+        ("speed_factor", "20"),
+        ("depth_control", "false"),
+        ("post_des_thrust", "SIM_THRUST"),
+    ];
+    let (cfg, warnings) = SimConfig::from_params_lenient(params).unwrap();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let pid = cfg.pid.as_ref().expect("embedded PID");
+    assert_eq!(pid.speed_factor, 20.0);
+    let mut sim = Simulator::new(cfg, None, 0.0);
+    let subs = sim.subscriptions();
+    assert!(subs.contains(&"DESIRED_HEADING") && subs.contains(&"MOOS_MANUAL_OVERRIDE"));
+    assert!(!subs.contains(&"DESIRED_RUDDER") && !subs.contains(&"DESIRED_THRUST"));
+    sim.on_mail("MOOS_MANUAL_OVERRIDE", MailValue::Str("false"), 0.0);
+    let mut out = Vec::new();
+    let mut t = 0.0;
+    while t < 60.0 {
+        t += 0.1;
+        sim.on_mail("DESIRED_HEADING", MailValue::Double(90.0), t);
+        sim.on_mail("DESIRED_SPEED", MailValue::Double(2.0), t);
+        out.clear();
+        sim.iterate(t, &mut out);
+    }
+    // Thrust 2 m/s x 20 = 40 (posted as asked), heading brought round to 90.
+    assert_eq!(
+        last_posting(&out, "SIM_THRUST").unwrap().as_f64(),
+        Some(40.0)
+    );
+    assert!(
+        close(sim.state().heading, 90.0, 2.0),
+        "{}",
+        sim.state().heading
+    );
+    assert!(close(sim.state().speed, 2.0, 0.1), "{}", sim.state().speed);
+    // Without yaw gains the PID keys are taken but no PID is embedded.
+    let (cfg, w) = SimConfig::from_params_lenient([("speed_factor", "20")]).unwrap();
+    assert!(cfg.pid.is_none() && w.is_empty(), "{w:?}");
+    // Without the embedded PID, post_des_thrust is not posted (the C++ posts it only from
+    // the embedded PID).
+    let mut plain = Simulator::new(
+        SimConfig::from_params([("post_des_thrust", "SIM_THRUST")]).unwrap(),
+        None,
+        0.0,
+    );
+    let mut out = Vec::new();
+    plain.on_mail("DESIRED_THRUST", MailValue::Double(30.0), 0.0);
+    plain.iterate(0.1, &mut out);
+    assert!(last_posting(&out, "SIM_THRUST").is_none(), "{out:?}");
+}
+
+#[test]
+fn rudder_slew_limit_caps_the_rudder_change_per_second() {
+    let cfg = SimConfig::from_params([("max_rudder_degs_per_sec", "10")]).unwrap();
+    let mut sim = Simulator::new(cfg, None, 0.0);
+    sim.on_mail("DESIRED_RUDDER", MailValue::Double(40.0), 0.5);
+    assert_eq!(sim.inputs().rudder, 5.0, "10 deg/s for 0.5 s");
+    sim.on_mail("DESIRED_RUDDER", MailValue::Double(40.0), 1.5);
+    assert_eq!(sim.inputs().rudder, 15.0);
+    sim.on_mail("DESIRED_RUDDER", MailValue::Double(-40.0), 2.0);
+    assert_eq!(sim.inputs().rudder, 10.0);
+    // No limit set: one change is still capped at 100 degrees (uSimMarineV22).
+    let mut sim = Simulator::new(SimConfig::default(), None, 0.0);
+    sim.on_mail("DESIRED_RUDDER", MailValue::Double(-100.0), 1.0);
+    sim.on_mail("DESIRED_RUDDER", MailValue::Double(100.0), 1.1);
+    assert_eq!(sim.inputs().rudder, 0.0);
+}
