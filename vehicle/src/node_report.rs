@@ -18,6 +18,49 @@
 //! it): riders, platform reports, alternative-nav reports, extrapolation pruning, JSON reports,
 //! course over ground, heading error, vsource, aspect, blackout variance,
 //! cross-fill policies other than `literal`, the MISSION_HASH odometer.
+//!
+//! # Conformance with pNodeReporter (MOOS-IvP a2a9b716)
+//!
+//! A bad value or a setting coug does not implement is a config warning; the app runs on.
+//!
+//! | parameter | aliases | type | default | validation (C++ rule) | runtime update | coug |
+//! |---|---|---|---|---|---|---|
+//! | platform_type | vessel_type | text | unknown | any | no | done |
+//! | platform_color | | colour | none | a colour | PLATFORM_COLOR, NODE_COLOR_CHANGE (allow_color_change) | done (colour names not checked) |
+//! | platform_length | vessel_length | m | by type | number >= 0 | no | done |
+//! | platform_beam | | m | none | number >= 0 | no | open: implemented, untested |
+//! | platform_transparency | | number | none | number | no | open: implemented, untested |
+//! | platform_group | group | text | none | any | NODE_GROUP_UPDATE | done |
+//! | coord_policy_global | | bool | false | MOOS boolean | no | done |
+//! | terse_reports | | bool | false | MOOS boolean | no | done |
+//! | blackout_interval | | s | 0 | number >= 0 | no | done |
+//! | node_report_output | node_report_summary, node_report_var | var | NODE_REPORT_LOCAL | no white space | no | done |
+//! | nohelm_threshold | | s | 5 | number > 0 | no | open: implemented, untested |
+//! | nav_grace_period | | s | 60 | number | no | open: implemented, untested |
+//! | paused | | bool | false | MOOS boolean | PNR_PAUSE | open: implemented, untested |
+//! | allow_color_change | | bool | false | MOOS boolean | no | open: implemented, untested |
+//! | cross_fill_policy | crossfill_policy | enum | literal | literal, fill-empty, global, use-latest, local, global-terse | no | refused: warning for all but `literal` |
+//! | platform_aspect | | `key=value` | none | | no | refused: warning, not implemented |
+//! | blackout_variance | | s | 0 | >= 0 | no | refused: warning, not implemented |
+//! | rider | | spec | none | | no | refused: warning, riders not implemented |
+//! | plat_report_input | plat_report_var, platform_variable | spec | none | | no | refused: warning, platform reports not implemented |
+//! | plat_report_output | | var | PLATFORM_REPORT_LOCAL | | no | refused: warning |
+//! | platform_vsource | vsource | text | none | | no | refused: warning |
+//! | alt_nav_prefix, alt_nav_name, alt_nav_group | | text | none | | no | refused: warning, alternative-nav reports not implemented |
+//! | extrap_enabled, extrap_pos_thresh, extrap_hdg_thresh, extrap_max_gap | | | | | no | refused: warning, extrapolation pruning not implemented |
+//! | json_report | | var or true | none | | no | refused: warning, JSON reports not implemented |
+//! | report_cog | | bool | false | | no | refused: warning, course over ground not implemented |
+//! | hdg_error | | number | | > 0 | no | refused: warning, heading error not implemented |
+//!
+//! | variable | when | format | coug |
+//! |---|---|---|---|
+//! | NODE_REPORT_LOCAL (node_report_output) | each iteration (blackout permitting) | NodeRecord spec (above) | done |
+//! | PNR_POST_GAP | each report | seconds since the last | done |
+//! | `<output>_FIRST`, JSON and dual reports | first report / json_report | | open |
+//! | PLATFORM_REPORT_LOCAL | platform reports | | refused (see plat_report_input) |
+//! | PNR_EXTRAP_POS_GAP, PNR_EXTRAP_HDG_GAP | extrapolation | | refused (see extrap_*) |
+//! | PNR_MHASH (MISSION_HASH odometer) | MISSION_HASH mail | | open: not implemented |
+//! | PNODEREPORTER_PID | start-up | pid | open: not posted |
 
 use std::fmt::Write as _;
 use std::sync::Arc;

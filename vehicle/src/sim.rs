@@ -25,6 +25,54 @@
 //! `DESIRED_ELEVATOR` and the environment variables as mail, and publishes `<prefix>_X`, ...
 //! every second iteration (`nav_modulo = 2`), as `uSimMarineV22` does; the legacy `uSimMarine`
 //! publishes on every iteration.
+//!
+//! # Conformance with uSimMarineV22 (MOOS-IvP a2a9b716)
+//!
+//! A bad value or a setting coug does not simulate is a config warning; the app runs on.
+//!
+//! | parameter | aliases | type | default | validation (C++ rule) | runtime update | coug |
+//! |---|---|---|---|---|---|---|
+//! | start_pos | | `x=,y=,heading=,speed=,depth=` | origin | pairs | USM_RESET | done |
+//! | start_x, start_y, start_heading, start_speed, start_depth | | number | 0 | number | no | open: implemented, no test of each key |
+//! | prefix | | word | NAV | | no | done |
+//! | turn_rate | | 0..100 | 70 | number, clipped | USM_TURN_RATE | done |
+//! | turn_radius | | m | | number | USM_TURN_RADIUS | done |
+//! | thrust_map | | `thrust:speed,...` | none | ascending pairs | no | done |
+//! | thrust_factor | | number | 20 | >= 0 | no | done |
+//! | thrust_reflect | | bool | false | MOOS boolean | no | done |
+//! | thrust_mode_reverse, thrust_mode_diff | | bool / mode | false / normal | | THRUST_MODE_REVERSE, THRUST_MODE_DIFFERENTIAL | done |
+//! | turn_spd_loss | | 0..1 | 0.85 | number in range | no | done |
+//! | turn_spd_map_full_speed, _null_speed, _full_rate, _null_rate | | number | | number | no | open: implemented, untested |
+//! | max_acceleration, max_deceleration | | m/s² | 0 (off), 0.5 | >= 0 | no | done |
+//! | max_speed | | m/s | 5 | > 0 | no | done |
+//! | buoyancy_rate | | m/s | 0.025 | number | BUOYANCY_RATE | done |
+//! | max_depth_rate, max_depth_rate_speed | | number | 0.5, 2.0 | number | no | done (rate), open: speed untested |
+//! | default_water_depth | | m | 0 | number | WATER_DEPTH | done |
+//! | drift_x, drift_y, drift_vector | | m/s, `ang,mag` | 0 | number / pair | CURRENT_X/Y, DRIFT_X/Y, DRIFT_VECTOR(_ADD/_MULT) | done |
+//! | rotate_speed | | deg/s | 0 | number | ROTATE_SPEED | open: implemented, untested |
+//! | max_rudder_degs_per_sec | | deg/s | 0 (one change still capped at 100) | number | no | done |
+//! | sim_pause | | bool | false | MOOS boolean | USM_SIM_PAUSED | open: implemented, untested |
+//! | post_des_thrust, post_des_rudder | | var | none | not DESIRED_THRUST/RUDDER | no | done (posted from the embedded PID only) |
+//! | post_navpos_summary | | bool | false | MOOS boolean | no | open: implemented, untested |
+//! | PID keys (`yaw_pid_kp` ... `maxelevator`, `speed_factor`, `depth_control`, ...) | | | | as pMarinePIDV22; yaw gains embed the PID | SPEED_FACTOR, MOOS_MANUAL_OVERRIDE, DESIRED_* | done |
+//! | dual_state | | bool | false | MOOS boolean | no | refused: warning, ground-truth dual state (`NAV_GT_*`) not simulated |
+//! | wind_conditions, polar_plot | | specs | none | | WIND_CONDITIONS | refused: warning, wind and polar speed cap not simulated |
+//! | wormhole | | spec | none | | no | refused: warning, wormholes not simulated |
+//! | trim_tolerance, max_trim_delay | | number | | | TRIM_CONTROL | refused: warning, trim handshake not simulated |
+//!
+//! | variable | when | format | coug |
+//! |---|---|---|---|
+//! | `<P>_X`, `_Y`, `_LAT`, `_LONG`, `_HEADING`, `_SPEED`, `_DEPTH` | every 2nd iteration (legacy: every) | numbers | done |
+//! | `<P>_Z`, `_PITCH`, `_YAW`, SIMULATION_MODE, TRUE_X, TRUE_Y | with depth | numbers, `TRUE` | done |
+//! | `<P>_HEADING_OVER_GROUND`, `_SPEED_OVER_GROUND`, `_ALTITUDE` | with nav | numbers | done |
+//! | USM_RESET_COUNT | on USM_RESET | count | done |
+//! | USM_DRIFT_SUMMARY | drift changes | `ang=..,mag=..,xmag=..,ymag=..` | done |
+//! | USM_NAVPOS_SUMMARY | with post_navpos_summary | `x=..,y=..[,lat=..,lon=..]` | open: untested |
+//! | PID_* (embedded PID) | as pMarinePIDV22 | | done |
+//! | `<P>_GT_*` | with dual_state | | refused (see dual_state) |
+//! | USM_NOGO | skewed PID mail | skew | open: mail skew not checked |
+//! | BUOYANCY_REPORT, TRIM_REPORT | buoyancy/trim control | | open: not posted |
+//! | VIEW_POLYGON, VIEW_ARROW, `<P>_TRANSP` | wind/wormhole visuals | | refused (see wind, wormhole) |
 
 use std::sync::Arc;
 
