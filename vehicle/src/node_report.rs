@@ -26,7 +26,7 @@
 //! | parameter | aliases | type | default | validation (C++ rule) | runtime update | coug |
 //! |---|---|---|---|---|---|---|
 //! | platform_type | vessel_type | text | unknown | any | no | done |
-//! | platform_color | | colour | none | a colour | PLATFORM_COLOR, NODE_COLOR_CHANGE (allow_color_change) | done (colour names not checked) |
+//! | platform_color | | colour | none | a colour | PLATFORM_COLOR, NODE_COLOR_CHANGE (allow_color_change) | open: colour names not checked |
 //! | platform_length | vessel_length | m | by type | number >= 0 | no | done |
 //! | platform_beam | | m | none | number >= 0 | no | open: implemented, untested |
 //! | platform_transparency | | number | none | number | no | open: implemented, untested |
