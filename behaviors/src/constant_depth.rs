@@ -1,4 +1,22 @@
 //! BHV_ConstantDepth (reference §6.3): a ZAIC_PEAK preference on `depth`.
+//!
+//! # Conformance with BHV_ConstantDepth (MOOS-IvP a2a9b716)
+//!
+//! | parameter | aliases | type | default | validation (C++ rule) | runtime update | coug |
+//! |---|---|---|---|---|---|---|
+//! | depth | | m | 0 | number; negative clipped to 0 | yes | done |
+//! | peakwidth | | m | 3 | number; negative clipped to 0 | yes | done |
+//! | basewidth | | m | 100 | number; negative clipped to 0 | yes | done |
+//! | summitdelta | | 0..100 | 50 | number, clipped to [0, 100] | yes | done |
+//! | depth_mismatch_var | | var | none | no white space (empty turns it off) | yes | done |
+//! | duration (common) | | s | 0 (the constructor's) | | yes | done |
+//!
+//! | variable | when | format | coug |
+//! |---|---|---|---|
+//! | `depth_mismatch_var` | each running iteration with NAV_DEPTH | \|NAV_DEPTH − depth\| | done |
+//! | BHV_WARNING | running without NAV_DEPTH | `No ownship DEPTH info in info_buffer.` | done |
+//! | BHV_ERROR | no `depth` in the domain | `Null IvPDomain given to Behavior` (the helm's check, before the behaviour runs, as in the C++) | done |
+//! | BHV_WARNING | ZAIC warnings | the ZAIC's text | open: not posted |
 
 use ivp::{IvpFunction, ZaicPeak};
 

@@ -1,4 +1,23 @@
 //! BHV_ConstantHeading (reference §6.4): a wrapping ZAIC_PEAK preference on `course`.
+//!
+//! # Conformance with BHV_ConstantHeading (MOOS-IvP a2a9b716)
+//!
+//! | parameter | aliases | type | default | validation (C++ rule) | runtime update | coug |
+//! |---|---|---|---|---|---|---|
+//! | heading | | degrees | 0 | number; wrapped to [0, 360) and snapped to the domain | yes | done |
+//! | peakwidth | | degrees | 10 | number; negative clipped to 0 | yes | done |
+//! | basewidth | | degrees | 170 | number; negative clipped to 0 | yes | done |
+//! | summitdelta | | 0..100 | 25 | number, clipped to [0, 100] | yes | done |
+//! | complete_thresh | | degrees | −1 (off) | number; completes when \|heading error\| is below it | yes | done |
+//! | heading_mismatch_var | | var | none | no white space | yes | done |
+//! | duration (common) | | s | 0 (the constructor's) | | yes | done |
+//!
+//! | variable | when | format | coug |
+//! |---|---|---|---|
+//! | `heading_mismatch_var` | each running iteration with NAV_HEADING | \|angle180(NAV_HEADING − heading)\| | done |
+//! | BHV_WARNING | running without NAV_HEADING | `No ownship HEADING info in info_buffer.` | done |
+//! | BHV_ERROR | no `course` in the domain | `Null IvPDomain given to Behavior` (the helm's check, before the behaviour runs, as in the C++) | done |
+//! | BHV_WARNING | ZAIC warnings | the ZAIC's text | open: not posted |
 
 use ivp::{IvpFunction, ZaicPeak};
 
@@ -100,6 +119,9 @@ impl Behavior for ConstantHeading {
     }
 
     fn on_run(&mut self, ctx: &Ctx<'_>, out: &mut Out) -> Option<IvpFunction> {
+        if ctx.info.num("NAV_HEADING").is_none() {
+            out.warning(ctx.name, "No ownship HEADING info in info_buffer.");
+        }
         if let Some(h) = ctx.info.num("NAV_HEADING") {
             let err = geometry::angle_180(h - self.heading).abs();
             if !self.mismatch_var.is_empty() {

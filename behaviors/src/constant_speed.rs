@@ -1,4 +1,22 @@
 //! BHV_ConstantSpeed (reference §6.5): a ZAIC_PEAK preference on `speed`.
+//!
+//! # Conformance with BHV_ConstantSpeed (MOOS-IvP a2a9b716)
+//!
+//! | parameter | aliases | type | default | validation (C++ rule) | runtime update | coug |
+//! |---|---|---|---|---|---|---|
+//! | speed | | m/s | 0 | number; negative clipped to 0 | yes | done |
+//! | peakwidth | | m/s | 0 | number; negative clipped to 0 | yes | done |
+//! | basewidth | | m/s | 0.2 | number; negative clipped to 0 | yes | done |
+//! | summitdelta | | 0..100 | 0 | number, clipped to [0, 100] | yes | done |
+//! | speed_mismatch_var | | var | none | no white space | yes | done |
+//! | duration (common) | | s | 0 (the constructor's) | | yes | done |
+//!
+//! | variable | when | format | coug |
+//! |---|---|---|---|
+//! | `speed_mismatch_var` | each running iteration with NAV_SPEED | \|NAV_SPEED − speed\| | done |
+//! | BHV_WARNING | running without NAV_SPEED | `No ownship SPEED info in info_buffer.` | done |
+//! | BHV_ERROR | no `speed` in the domain | `Null IvPDomain given to Behavior` (the helm's check, before the behaviour runs, as in the C++) | done |
+//! | BHV_WARNING | ZAIC warnings | the ZAIC's text | open: not posted |
 
 use ivp::{IvpFunction, ZaicPeak};
 
@@ -87,10 +105,12 @@ impl Behavior for ConstantSpeed {
     }
 
     fn on_run(&mut self, ctx: &Ctx<'_>, out: &mut Out) -> Option<IvpFunction> {
-        if !self.mismatch_var.is_empty()
-            && let Some(v) = ctx.info.num("NAV_SPEED")
-        {
-            out.post(self.mismatch_var.clone(), (v - self.speed).abs());
+        match ctx.info.num("NAV_SPEED") {
+            Some(v) if !self.mismatch_var.is_empty() => {
+                out.post(self.mismatch_var.clone(), (v - self.speed).abs());
+            }
+            Some(_) => {}
+            None => out.warning(ctx.name, "No ownship SPEED info in info_buffer."),
         }
         let mut z = match ZaicPeak::new(ctx.domain, "speed") {
             Ok(z) => z,

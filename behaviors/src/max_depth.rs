@@ -32,7 +32,7 @@ use crate::param::number;
 /// | `depth_slack_var` | every running iteration with NAV_DEPTH (filtered on change) | `max_depth − NAV_DEPTH` | done |
 /// | BHV_WARNING | running without NAV_DEPTH | `No ownship DEPTH info in info_buffer.` | done |
 /// | BHV_ERROR | the function cannot be built | `Unable to generate constant-depth IvP function` | done |
-/// | BHV_ERROR | no `depth` in the helm domain | C++: `No 'depth' variable in the helm domain`; coug: null domain, `Null IvPDomain given to Behavior` | open: message differs |
+/// | BHV_ERROR | no `depth` in the helm domain | `Null IvPDomain given to Behavior` (the helm's check, before the behaviour runs, as in the C++) | done |
 #[derive(Debug, Clone)]
 pub struct MaxDepth {
     /// The deepest allowed depth, m.
