@@ -1,4 +1,19 @@
 //! BHV_GoToDepth (reference §6.6): a sequence of depths, each held for a time.
+//!
+//! # Conformance with BHV_GoToDepth (MOOS-IvP a2a9b716)
+//!
+//! | parameter | aliases | type | default | validation (C++ rule) | runtime update | coug |
+//! |---|---|---|---|---|---|---|
+//! | depth | | `d[,t]:d[,t]:...` | none | each depth and time a number >= 0; appends | yes | done |
+//! | repeat | | integer | 0 | integer >= 0 | yes | done |
+//! | arrival_delta | capture_delta | m | 1 | number >= 0 | yes | done |
+//! | arrival_flag | capture_flag | var | none | posted as `GTD_<value>` | yes | done |
+//!
+//! | variable | when | format | coug |
+//! |---|---|---|---|
+//! | `GTD_<arrival_flag>` | each arrival at a level | arrivals so far | done |
+//! | LEVEL_DEPTH | each running iteration | current level's depth | done |
+//! | BHV_ERROR | running without NAV_DEPTH | `No ownship Depth info in Helm info_buffer.` | done |
 
 use ivp::{IvpFunction, ZaicPeak};
 

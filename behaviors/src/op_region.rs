@@ -1,4 +1,31 @@
 //! BHV_OpRegion (reference §6.11): the operating-region safety monitor.
+//!
+//! # Conformance with BHV_OpRegion (MOOS-IvP a2a9b716)
+//!
+//! | parameter | aliases | type | default | validation (C++ rule) | runtime update | coug |
+//! |---|---|---|---|---|---|---|
+//! | polygon | | polygon | none | convex; each line adds one | yes | done |
+//! | max_depth | | m | 0 (off) | number >= 0 | yes | done |
+//! | min_altitude | | m | 0 (off) | number >= 0 | yes | done |
+//! | max_time | | s | 0 (off) | number >= 0 | yes | done |
+//! | trigger_entry_time | | s | 1 | number >= 0 | yes | done |
+//! | trigger_exit_time | | s | 0.5 | number >= 0 | yes | done |
+//! | breached_poly_flag, breached_time_flag, breached_altitude_flag, breached_depth_flag | | flag | none | `VAR=value` | yes | done |
+//! | soft_poly_breach | | bool | false | MOOS boolean | yes | done |
+//! | reset_var | | var | none | no white space | yes | open: a `depth` reset re-arms the depth flags (the C++ re-arms them on `altitude`) |
+//! | time_remaining_var | | var | none | no white space | yes | done |
+//! | opregion_poly_var | | var | none | no white space | yes | done |
+//! | visual_hints | | hints | vertex brown, edge aqua, sizes 3 and 1 | colours, sizes | yes | open: colour names not checked |
+//!
+//! | variable | when | format | coug |
+//! |---|---|---|---|
+//! | OPREG_TRAJECTORY_PERIM_DIST, _ETA, OPREG_ABSOLUTE_PERIM_DIST, _ETA | each running iteration | integers above the C++ thresholds, else decimals | done |
+//! | OPREG_TIME_REMAINING, `time_remaining_var` | with max_time | seconds | done |
+//! | SECS_IN_POLY | each running iteration | seconds inside the polygon | done |
+//! | `opregion_poly_var` | configuration and updates | `pts={...}` | done |
+//! | VIEW_POLYGON | running (drawn), idle (`active=false`) | polygon spec | done |
+//! | MOOS_MANUAL_OVERRIDE | soft polygon breach (repeatable) | `true` | done |
+//! | BHV_ERROR | a breach | `BHV_OpRegion Polygon containment failure: ...`, `OpRegion Depth failure: ...`, `OpRegion Altitude failure: ...`, `OpRegion timeout failure: ...` | done |
 
 use geometry::spec::parse_polygon;
 use geometry::{Polygon, ViewPolygon};
@@ -539,6 +566,7 @@ impl Behavior for OpRegion {
         }
 
         self.post_time_remaining(out);
+        out.post("SECS_IN_POLY", self.secs_in);
         self.post_view(ctx, out, true);
         None
     }

@@ -1,5 +1,26 @@
 //! BHV_PeriodicSurface (reference §6.7): comes to the surface every `period` seconds and waits
 //! there for a fix.
+//!
+//! # Conformance with BHV_PeriodicSurface (MOOS-IvP a2a9b716)
+//!
+//! | parameter | aliases | type | default | validation (C++ rule) | runtime update | coug |
+//! |---|---|---|---|---|---|---|
+//! | period | | s | 300 | number > 0 | yes | done |
+//! | mark_variable | | var | GPS_UPDATE_RECEIVED | no white space; subscribed | yes | done |
+//! | acomms_mark_variable | | var | none | no white space; subscribed | yes | done |
+//! | pending_status_var | pending_status_variable | var | PENDING_SURFACE | no white space | yes | done |
+//! | atsurface_status_var | atsurface_status_variable | var | TIME_AT_SURFACE | no white space | yes | done |
+//! | ascent_speed | speed_to_surface | m/s | −1 (the speed at ascent start) | number | yes | done |
+//! | zero_speed_depth | | m | 0 | number >= 0 | yes | done |
+//! | max_time_at_surface | | s | 300 | number > 0 | yes | done |
+//! | ascent_grade | | enum | linear | linear, quadratic, quasi, fullspeed | yes | done |
+//!
+//! | variable | when | format | coug |
+//! |---|---|---|---|
+//! | `pending_status_var` | while waiting | whole seconds to the next ascent | done |
+//! | `atsurface_status_var` | while waiting (0) and at the surface | whole seconds at the surface | done |
+//! | PERIODIC_ASCEND | ascent start / at the surface | `true` / `false` | done |
+//! | PSF_AT_SURFACE_TIMEOUT | `max_time_at_surface` passed without a mark | `Timestamp=<t>` | done |
 
 use ivp::{IvpFunction, ZaicPeak, couple};
 

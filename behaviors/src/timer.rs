@@ -1,4 +1,18 @@
 //! BHV_Timer (reference §6.9): no objective function; posts its idle and running time.
+//!
+//! # Conformance with BHV_Timer (MOOS-IvP a2a9b716)
+//!
+//! | parameter | aliases | type | default | validation (C++ rule) | runtime update | coug |
+//! |---|---|---|---|---|---|---|
+//! | var_status_idle | | var | TIMER_IDLE | no white space (coug also refuses an empty name) | yes | done |
+//! | var_status_running | | var | TIMER_RUNNING | no white space (coug also refuses an empty name) | yes | done |
+//! | status_suffix | | text | none | no white space; `_` prefixed unless present (the C++ crashes on an empty one; coug refuses it) | yes | done |
+//! | duration (common) | | s | −1 | | yes | done |
+//!
+//! | variable | when | format | coug |
+//! |---|---|---|---|
+//! | `var_status_idle` + suffix | every iteration, idle or running | seconds idle (duration clock) | done |
+//! | `var_status_running` + suffix | every iteration, idle or running | seconds running (duration clock) | done |
 
 use ivp::IvpFunction;
 
@@ -138,6 +152,52 @@ mod tests {
                 ("TIMER_RUNNING_A".to_string(), 0.0),
                 ("TIMER_IDLE_A".to_string(), 2.5),
                 ("TIMER_RUNNING_A".to_string(), 1.5)
+            ]
+        );
+    }
+
+    #[test]
+    fn names_and_suffix_follow_the_cpp_rules() {
+        let d = ivp::Domain::parse_specs(["course:0:359:360"]).unwrap();
+        let info = MapInfo::new(0.0);
+        let ctx = Ctx {
+            info: &info,
+            domain: &d,
+            ownship: "abe",
+            name: "t",
+            perpetual: false,
+        };
+        let mut t = Timer::new();
+        let mut c = Common::new("BHV_Timer");
+        t.set_param("status_suffix", "leg", &mut c, &ctx).unwrap();
+        assert_eq!(t.suffix, "_leg");
+        t.set_param("status_suffix", "_two", &mut c, &ctx).unwrap();
+        assert_eq!(t.suffix, "_two");
+        t.set_param("var_status_idle", "IDLE_T", &mut c, &ctx)
+            .unwrap();
+        for (p, v) in [
+            ("var_status_running", "A B"),
+            ("status_suffix", ""),
+            ("var_status_idle", " "),
+        ] {
+            assert!(t.set_param(p, v, &mut c, &ctx).is_err(), "{p} = {v:?}");
+        }
+        t.state_durations(2.0, 3.5);
+        let mut out = Out::default();
+        t.on_idle(&ctx, &mut out);
+        let posted: Vec<(String, f64)> = out
+            .emits
+            .iter()
+            .filter_map(|e| match e {
+                crate::Emit::Post { var, value, .. } => Some((var.clone(), value.as_num()?)),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(
+            posted,
+            [
+                ("IDLE_T_two".to_string(), 2.0),
+                ("TIMER_RUNNING_two".to_string(), 3.5)
             ]
         );
     }

@@ -317,3 +317,14 @@ fn bad_values_are_rejected() {
     assert!(out.error.is_none());
     assert!(posted_all(&out, "VIEW_POLYGON").is_empty());
 }
+
+#[test]
+fn seconds_inside_the_polygon_are_posted_every_iteration() {
+    let mut b = region(&[]);
+    b.nav(0.0, 0.0, 0.0, 2.0, 0.0);
+    let (_, out) = b.run(10.0);
+    assert_eq!(posted(&out, "SECS_IN_POLY"), Some(&Value::Num(0.0)));
+    b.run(11.0);
+    let (_, out) = b.run(12.5);
+    assert_eq!(posted(&out, "SECS_IN_POLY"), Some(&Value::Num(2.5)));
+}
