@@ -6,13 +6,13 @@
 //! | parameter | aliases | type | default | validation (C++ rule) | runtime update | coug |
 //! |---|---|---|---|---|---|---|
 //! | period | | s | 300 | number > 0 | yes | done |
-//! | mark_variable | | var | GPS_UPDATE_RECEIVED | no white space; subscribed | yes | done |
-//! | acomms_mark_variable | | var | none | no white space; subscribed | yes | done |
-//! | pending_status_var | pending_status_variable | var | PENDING_SURFACE | no white space | yes | done |
-//! | atsurface_status_var | atsurface_status_variable | var | TIME_AT_SURFACE | no white space | yes | done |
-//! | ascent_speed | speed_to_surface | m/s | −1 (the speed at ascent start) | number | yes | done |
+//! | mark_variable | | var | GPS_UPDATE_RECEIVED | non-empty; subscribed | yes | done |
+//! | acomms_mark_variable | | `VAR,interval,max_time` | none | VAR without white space, 0 < interval <= max_time; subscribed | yes | done |
+//! | pending_status_var | pending_status_variable | var | PENDING_SURFACE | non-empty | yes | done |
+//! | atsurface_status_var | atsurface_status_variable | var | TIME_AT_SURFACE | non-empty | yes | done |
+//! | ascent_speed | speed_to_surface | m/s | −1 (`current`: the speed at ascent start) | number >= 0 or `current` | yes | done |
 //! | zero_speed_depth | | m | 0 | number >= 0 | yes | done |
-//! | max_time_at_surface | | s | 300 | number > 0 | yes | done |
+//! | max_time_at_surface | | s | 300 | number >= 0 | yes | done |
 //! | ascent_grade | | enum | linear | linear, quadratic, quasi, fullspeed | yes | done |
 //!
 //! | variable | when | format | coug |
