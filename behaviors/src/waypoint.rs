@@ -1,5 +1,62 @@
 //! BHV_Waypoint (reference §6.1): follows a list of points with capture/slip radii, capture
 //! line, lead point, repeats, flags and viewer postings.
+//!
+//! # Conformance with BHV_Waypoint (MOOS-IvP a2a9b716)
+//!
+//! | parameter | aliases | type | default | validation (C++ rule) | runtime update | coug |
+//! |---|---|---|---|---|---|---|
+//! | points | polygon | seglist / polygon / pattern | none | any `string2SegList` form | yes | done |
+//! | xpoints | | points | | replaces a route of the same length | yes | done |
+//! | point | | point | | a single point | yes | done |
+//! | newpt | | point | | appends a point | yes | open: untested |
+//! | speed | | m/s | 0 | number >= 0, clipped to the domain | yes | done |
+//! | speed_alt | | m/s | | number | yes | done |
+//! | use_alt_speed | | bool | false | MOOS boolean | yes | done |
+//! | capture_radius | radius | m | 3 | number >= 0 | yes | done |
+//! | slip_radius | nm_radius | m | 15 | number >= 0 | yes | done |
+//! | capture_line | | bool / absolute | false | | yes | done |
+//! | lead | | m | −1 (off) | number | yes | done |
+//! | lead_damper | | m | −1 (off) | number | yes | done |
+//! | lead_to_start | | bool | false | MOOS boolean | yes | done |
+//! | lead_condition | | condition | none | | yes | done |
+//! | order | | normal, reverse, toggle | normal | | yes | done |
+//! | repeat | | integer or forever | 0 | | yes | done |
+//! | currix | | index | 0 | index within the route | yes | done |
+//! | greedy_tour | | bool | false | | yes | done |
+//! | shortest_tour | | bool | false | | yes | open: untested |
+//! | wpt_status | wpt_status_var | var | WPT_STAT | | yes | done (alias untested) |
+//! | wpt_index | wpt_index_var | var | WPT_INDEX | | yes | open: untested |
+//! | cycle_index_var | | var | CYCLE_INDEX | | yes | open: untested |
+//! | wpt_dist_to_prev, wpt_dist_to_next | | var | none | | yes | done |
+//! | post_suffix | | text | none | | yes | done |
+//! | cycleflag, wptflag | | flag | none | `VAR=value` | yes | done |
+//! | wptflag_on_start | | bool | false | MOOS boolean | yes | done |
+//! | reset_on_idle | | bool | false | MOOS boolean | yes | done |
+//! | ipf_type | ipf-type | zaic, zaic_spd, roc | zaic | | yes | refused: `roc` (MALCONFIG); zaic/zaic_spd open: untested |
+//! | crs_spd_zaic_ratio | | 1..99 | 50 | | yes | open: untested |
+//! | patience | | 1..99 | 50 | | yes | done |
+//! | efficiency_measure | | all, off | off | | yes | done |
+//! | end_spd | | `slow_dist=..,stop_dist=..` | none | slow > stop >= 0 | yes | done |
+//! | visual_hints | | hints | | sizes, colours | yes | open: untested |
+//! | draw_path_loop | | bool | | | yes | refused: not supported yet (MALCONFIG) |
+//! | eager_prev_index_flag | | bool | false | | yes | refused: not supported yet (MALCONFIG) |
+//!
+//! | variable | when | format | coug |
+//! |---|---|---|---|
+//! | WPT_STAT`<sfx>` | each running iteration | `vname=..,behavior-name=..,index=..,hits=..,cycles=..,dist=..,eta=..` | done |
+//! | WPT_INDEX`<sfx>`, CYCLE_INDEX`<sfx>` | on change | numbers | done |
+//! | `wpt_dist_to_prev`, `wpt_dist_to_next` | each running iteration | metres | done |
+//! | WPT_EFF_DIST_*, WPT_EFF_TIME_*, WPT_EFF_SUMM_*, WPT_ODO | with efficiency_measure | numbers / summary | done |
+//! | VIEW_SEGLIST, VIEW_POINT (`wpt`, `trk`) | running (drawn), idle (erased) | specs | done |
+//! | BHV_SETTINGS | each start | settings string | open: not posted |
+//! | WAYPT_UPIECE | | | open: not posted |
+//!
+//! | macro | meaning | coug |
+//! |---|---|---|
+//! | POINTS, SPEED, SPEED_ALT, USE_SPEED_ALT, IPF_TYPE, WPT_FLAG_ON_START, LEAD_TO_START, LEAD_DAMPER, ORDER | configuration (numbers 3 decimals, booleans 1/0) | done |
+//! | NI, NX, NY, PI, PX, PY, X, Y, IX | next/previous point and index | done |
+//! | CYCLES, CYCREM, WPTS_HIT, WPTS_REM, WPTS | progress counts | done |
+//! | CYC_DIST_TOGO, ALL_DIST_TOGO | distance to the end of the cycle / of all cycles (−1 if endless) | done |
 
 use geometry::spec::{parse_point, parse_waypoints};
 use geometry::{Point, SegList, Segment, ViewPoint, ViewSegList};
@@ -293,6 +350,42 @@ impl Waypoint {
         self.raw = seglist;
         self.apply_order();
         self.prev_ix = None;
+    }
+
+    /// Distance from ownship to the end of the current cycle: to the next point, then along
+    /// the remaining legs (MOOS `WaypointEngine::distToEndCycle`); −1 without a next point.
+    fn dist_to_end_cycle(&self) -> f64 {
+        let pts = self.points.points();
+        let Some(next) = pts.get(self.curr_ix) else {
+            return -1.0;
+        };
+        let (x, y) = (self.os.0, self.os.1);
+        let mut d = (next.x - x).hypot(next.y - y);
+        for w in pts[self.curr_ix..].windows(2) {
+            d += (w[1].x - w[0].x).hypot(w[1].y - w[0].y);
+        }
+        d
+    }
+
+    /// [`Waypoint::dist_to_end_cycle`] plus the remaining full cycles, each the route length
+    /// plus the gap from its last point back to its first (MOOS `distToEndFinal`); −1 when
+    /// repeating endlessly.
+    fn dist_to_end_final(&self) -> f64 {
+        if self.endless {
+            return -1.0;
+        }
+        let to_end = self.dist_to_end_cycle();
+        let remaining = self.repeats.saturating_sub(self.repeats_sofar);
+        let pts = self.points.points();
+        if to_end < 0.0 || remaining == 0 || pts.is_empty() {
+            return to_end;
+        }
+        let legs: f64 = pts
+            .windows(2)
+            .map(|w| (w[1].x - w[0].x).hypot(w[1].y - w[0].y))
+            .sum();
+        let (a, b) = (pts[0], pts[pts.len() - 1]);
+        to_end + f64::from(remaining) * (legs + (a.x - b.x).hypot(a.y - b.y))
     }
 
     /// The speed to request at ownship `(x, y)`: the effective speed, tapered by `end_spd`
@@ -1159,14 +1252,34 @@ impl Behavior for Waypoint {
 
     fn macro_value(&self, name: &str, out: &mut String) -> bool {
         let n = self.points.len();
+        // Numbers as MOOS `macroExpand(double)`: doubleToStringX(v, 3); booleans through the
+        // integer overload (1/0).
+        let flag = |out: &mut String, b: bool| out.push(if b { '1' } else { '0' });
         match name {
-            "SPEED" => compact(out, self.speed, 2),
-            "X" => compact(out, self.hitpt.x, 2),
-            "Y" => compact(out, self.hitpt.y, 2),
-            "PX" => compact(out, self.prevpt.map_or(self.hitpt.x, |p| p.x), 2),
-            "PY" => compact(out, self.prevpt.map_or(self.hitpt.y, |p| p.y), 2),
-            "NX" => compact(out, self.nextpt.x, 2),
-            "NY" => compact(out, self.nextpt.y, 2),
+            "POINTS" => geometry::spec::write_points(out, self.points.points(), 1),
+            "SPEED" => compact(out, self.speed, 3),
+            "SPEED_ALT" => compact(out, self.speed_alt, 3),
+            "USE_SPEED_ALT" => flag(out, self.use_alt_speed),
+            "IPF_TYPE" => out.push_str(match self.ipf_type {
+                IpfType::Zaic => "zaic",
+                IpfType::ZaicSpd => "zaic_spd",
+            }),
+            "WPT_FLAG_ON_START" => flag(out, self.wptflag_on_start),
+            "LEAD_TO_START" => flag(out, self.lead_to_start),
+            "LEAD_DAMPER" => compact(out, self.lead_damper, 3),
+            "ORDER" => out.push_str(if self.reverse { "reverse" } else { "normal" }),
+            "PI" => match self.prev_ix {
+                Some(i) => compact(out, i as f64, 0),
+                None => out.push_str("-1"),
+            },
+            "CYC_DIST_TOGO" => compact(out, self.dist_to_end_cycle(), 3),
+            "ALL_DIST_TOGO" => compact(out, self.dist_to_end_final(), 3),
+            "X" => compact(out, self.hitpt.x, 3),
+            "Y" => compact(out, self.hitpt.y, 3),
+            "PX" => compact(out, self.prevpt.map_or(self.hitpt.x, |p| p.x), 3),
+            "PY" => compact(out, self.prevpt.map_or(self.hitpt.y, |p| p.y), 3),
+            "NX" => compact(out, self.nextpt.x, 3),
+            "NY" => compact(out, self.nextpt.y, 3),
             "IX" | "NI" => compact(out, self.curr_ix as f64, 0),
             "CYCLES" => compact(out, f64::from(self.cycles), 0),
             "CYCREM" => compact(

@@ -1011,3 +1011,31 @@ Behavior = BHV_Waypoint
         "{posts:?}"
     );
 }
+
+#[test]
+fn waypoint_macros_expand_as_the_cpp() {
+    let bhv = "\
+initialize DEPLOY = false
+Behavior = BHV_Waypoint
+{
+  name      = wpt
+  condition = DEPLOY = true
+  speed     = 2.125
+  repeat    = 1
+  points    = 60,-40 : 60,-160
+  runflag   = M = pts:$[POINTS]|spd:$[SPEED]|alt:$[USE_SPEED_ALT]|ipf:$[IPF_TYPE]|ord:$[ORDER]|cyc:$[CYC_DIST_TOGO]|all:$[ALL_DIST_TOGO]|nx:$[NX]
+}
+";
+    let mut s = Script::new(helm_with(&[("start_engaged", "true")], bhv));
+    s.step(0.0, 0.0, 0.0, 0.0, &[]);
+    let posts = s.step(1.0, 0.0, 0.0, 0.0, &[("DEPLOY", "true")]);
+    // To the end of the cycle: hypot(60, 40) + 120 = 192.111; plus one more cycle of the
+    // 120 m leg and the 120 m gap back: 432.111 (doubleToStringX(v, 3)).
+    assert_eq!(
+        get(&posts, "M").and_then(Value::as_str),
+        Some(
+            "pts:pts={60,-40:60,-160}|spd:2.125|alt:0|ipf:zaic|ord:normal|cyc:192.111|all:432.111|nx:60"
+        ),
+        "{posts:?}"
+    );
+}
