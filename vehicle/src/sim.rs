@@ -55,7 +55,7 @@
 //! | post_des_thrust, post_des_rudder | | var | none | not DESIRED_THRUST/RUDDER | no | done (posted from the embedded PID only) |
 //! | post_navpos_summary | | bool | false | MOOS boolean | no | open: implemented, untested |
 //! | PID keys (`yaw_pid_kp` ... `maxelevator`, `speed_factor`, `depth_control`, ...) | | | | as pMarinePIDV22; yaw gains embed the PID | SPEED_FACTOR, MOOS_MANUAL_OVERRIDE, DESIRED_* | done |
-//! | dual_state | | bool | false | MOOS boolean | no | refused: warning, ground-truth dual state (`NAV_GT_*`) not simulated |
+//! | dual_state | | bool | false | MOOS boolean; nav without drift, `<P>_GT_*` with it | no | done |
 //! | wind_conditions, polar_plot | | specs | none | | WIND_CONDITIONS | refused: warning, wind and polar speed cap not simulated |
 //! | wormhole | | spec | none | | no | refused: warning, wormholes not simulated |
 //! | trim_tolerance, max_trim_delay | | number | | | TRIM_CONTROL | refused: warning, trim handshake not simulated |
@@ -69,7 +69,7 @@
 //! | USM_DRIFT_SUMMARY | drift changes | `ang=..,mag=..,xmag=..,ymag=..` | done |
 //! | USM_NAVPOS_SUMMARY | with post_navpos_summary | `x=..,y=..[,lat=..,lon=..]` | open: untested |
 //! | PID_* (embedded PID) | as pMarinePIDV22 | | done |
-//! | `<P>_GT_*` | with dual_state | | refused (see dual_state) |
+//! | `<P>_GT_*` | with dual_state, with the nav | the ground-truth record | done |
 //! | USM_NOGO | skewed PID mail | skew | open: mail skew not checked |
 //! | BUOYANCY_REPORT, TRIM_REPORT | buoyancy/trim control | | open: not posted |
 //! | VIEW_POLYGON, VIEW_ARROW, `<P>_TRANSP` | wind/wormhole visuals | | refused (see wind, wormhole) |
@@ -352,6 +352,9 @@ pub struct SimConfig {
     pub paused: bool,
     /// Also post `USM_NAVPOS_SUMMARY` (`post_navpos_summary`).
     pub post_navpos_summary: bool,
+    /// `DUAL_STATE`: the navigation (`<P>_*`) ignores the drift and a second, ground-truth
+    /// state with the drift is posted as `<P>_GT_*` (uSimMarineV22 `m_dual_state`).
+    pub dual_state: bool,
     /// Echo the applied thrust/rudder under these names (`post_des_thrust`, `post_des_rudder`).
     pub post_des_thrust: Option<String>,
     /// See `post_des_thrust`.
@@ -396,6 +399,7 @@ impl Default for SimConfig {
             thrust_mode_differential: false,
             paused: false,
             post_navpos_summary: false,
+            dual_state: false,
             post_des_thrust: None,
             post_des_rudder: None,
             depth_control: true,
@@ -564,10 +568,10 @@ impl SimConfig {
             }
             "depth_control" => self.depth_control = p.bool()?,
             "legacy" => self.legacy = p.bool()?,
-            // Not simulated by coug yet (dual ground-truth state, trim handshakes, worm
+            // Not simulated by coug yet (trim handshakes, worm
             // holes, sailing): a config warning, never a silent difference.
-            "dual_state" | "trim_tolerance" | "max_trim_delay" | "wormhole" | "wind_conditions"
-            | "polar_plot" => {
+            "dual_state" => self.dual_state = p.bool()?,
+            "trim_tolerance" | "max_trim_delay" | "wormhole" | "wind_conditions" | "polar_plot" => {
                 return Err(p.bad(
                     "a setting coug's simulator supports (this feature is not simulated yet)",
                 ));
@@ -948,6 +952,8 @@ pub struct Simulator {
     state: SimState,
     inputs: SimInputs,
     vars: SimVars,
+    /// The ground-truth state and its variables, with `dual_state`.
+    ground_truth: Option<(SimState, SimVars)>,
     last_time: f64,
     paused: bool,
     enabled: bool,
@@ -981,6 +987,13 @@ impl Simulator {
         let state = SimState::at(&cfg.start);
         let inputs = SimInputs::from_config(&cfg);
         let vars = SimVars::new(&cfg);
+        let ground_truth = cfg.dual_state.then(|| {
+            let gt_cfg = SimConfig {
+                prefix: format!("{}_GT", cfg.prefix),
+                ..cfg.clone()
+            };
+            (state, SimVars::new(&gt_cfg))
+        });
         Simulator {
             paused: cfg.paused,
             cfg,
@@ -988,6 +1001,7 @@ impl Simulator {
             state,
             inputs,
             vars,
+            ground_truth,
             last_time: start_time,
             enabled: true,
             obstacle_hit: false,
@@ -1175,6 +1189,9 @@ impl Simulator {
                         time: t,
                         ..SimState::at(&pose)
                     };
+                    if let Some((gt, _)) = &mut self.ground_truth {
+                        *gt = self.state;
+                    }
                 }
                 self.reset_count += 1;
                 return Some(Posting::double(
@@ -1242,13 +1259,34 @@ impl Simulator {
             // Paused time is excluded from the model's clock.
             return;
         }
-        let (s, nav) = step(&self.cfg, &self.state, &self.inputs, dt, self.grid.as_ref());
+        let (s, nav) = if self.ground_truth.is_some() {
+            // The navigation state does not feel the drift; the ground truth does.
+            let still = SimInputs {
+                drift_x: 0.0,
+                drift_y: 0.0,
+                ..self.inputs
+            };
+            step(&self.cfg, &self.state, &still, dt, self.grid.as_ref())
+        } else {
+            step(&self.cfg, &self.state, &self.inputs, dt, self.grid.as_ref())
+        };
         self.state = s;
+        let gt_nav = match &mut self.ground_truth {
+            Some((gt, _)) => {
+                let (g, gnav) = step(&self.cfg, gt, &self.inputs, dt, self.grid.as_ref());
+                *gt = g;
+                Some(gnav)
+            }
+            None => None,
+        };
         if self
             .iteration
             .is_multiple_of(u64::from(self.cfg.nav_every()))
         {
             self.post_nav(&nav, out);
+            if let (Some(gnav), Some((_, gv))) = (&gt_nav, &self.ground_truth) {
+                self.post_nav_as(gv, gnav, out);
+            }
         }
         if self.drift_fresh {
             let (dx, dy) = (self.inputs.drift_x, self.inputs.drift_y);
@@ -1265,7 +1303,11 @@ impl Simulator {
     }
 
     fn post_nav(&self, nav: &NavOutputs, out: &mut Vec<Posting>) {
-        let v = &self.vars;
+        self.post_nav_as(&self.vars, nav, out);
+    }
+
+    /// Posts a navigation record under the variable names `v` (`<P>_*` or `<P>_GT_*`).
+    fn post_nav_as(&self, v: &SimVars, nav: &NavOutputs, out: &mut Vec<Posting>) {
         out.push(Posting::double(&v.x, nav.x));
         out.push(Posting::double(&v.y, nav.y));
         if let (Some(lat), Some(lon)) = (nav.lat, nav.lon) {

@@ -96,17 +96,7 @@ fn simulator_blocks() {
     // Parameters of older simulator versions (FLOAT_RATE, FORCE_X/Y) and a typo of CommsTick
     // in three missions: uSimMarineV22 reports all of them as unhandled too.
     let keys: Vec<&str> = unknown.keys().map(String::as_str).collect();
-    // One mission asks for `dual_state`, which coug does not simulate yet: a warning.
-    assert_eq!(
-        keys,
-        [
-            "bad:dual_state",
-            "commstic",
-            "float_rate",
-            "force_x",
-            "force_y"
-        ]
-    );
+    assert_eq!(keys, ["commstic", "float_rate", "force_x", "force_y"]);
 }
 
 #[test]

@@ -569,7 +569,6 @@ proptest::proptest! {
 fn unsimulated_features_are_warnings_not_silent() {
     // uSimMarineV22 features coug does not simulate yet: each is reported, the rest applies.
     for (k, v) in [
-        ("dual_state", "true"),
         ("wormhole", "tag=one, madrid_poly={0,0:10,0:10,10}"),
         ("wind_conditions", "dir=90,mag=5"),
         ("polar_plot", "0,0:90,1:180,0.5"),
@@ -664,4 +663,41 @@ fn rudder_slew_limit_caps_the_rudder_change_per_second() {
     sim.on_mail("DESIRED_RUDDER", MailValue::Double(-100.0), 1.0);
     sim.on_mail("DESIRED_RUDDER", MailValue::Double(100.0), 1.1);
     assert_eq!(sim.inputs().rudder, 0.0);
+}
+
+#[test]
+fn dual_state_posts_the_drifting_ground_truth_beside_the_drift_free_nav() {
+    let cfg = SimConfig::from_params([("prefix", "NAV"), ("dual_state", "true"), ("drift_x", "1")])
+        .unwrap();
+    assert!(cfg.dual_state);
+    let mut sim = Simulator::new(cfg, None, 0.0);
+    let mut out = Vec::new();
+    let mut t = 0.0;
+    for _ in 0..100 {
+        t += 0.1;
+        out.clear();
+        sim.iterate(t, &mut out);
+        if !out.iter().any(|p| &*p.var == "NAV_X") {
+            out.clear();
+            t += 0.1;
+            sim.iterate(t, &mut out);
+        }
+    }
+    // No thrust: the navigation stays put, the ground truth drifts 1 m/s east.
+    let x = last_posting(&out, "NAV_X").unwrap().as_f64().unwrap();
+    let gx = last_posting(&out, "NAV_GT_X").unwrap().as_f64().unwrap();
+    assert_eq!(x, 0.0);
+    assert!(close(gx, t, 0.05), "ground truth {gx} after {t} s");
+    assert!(last_posting(&out, "NAV_GT_HEADING").is_some());
+    // USM_RESET moves both.
+    sim.on_mail("USM_RESET", MailValue::Str("x=5,y=6"), t);
+    out.clear();
+    sim.iterate(t + 0.1, &mut out);
+    sim.iterate(t + 0.2, &mut out);
+    assert!(close(
+        last_posting(&out, "NAV_GT_X").unwrap().as_f64().unwrap(),
+        5.2,
+        0.05
+    ));
+    assert_eq!(last_posting(&out, "NAV_X").unwrap().as_f64(), Some(5.0));
 }
