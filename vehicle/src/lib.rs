@@ -28,6 +28,7 @@ pub mod geodesy;
 pub mod moos;
 pub mod node_report;
 pub mod pid;
+pub mod polar;
 pub mod sim;
 
 pub use config::ConfigError;

@@ -56,7 +56,8 @@
 //! | post_navpos_summary | | bool | false | MOOS boolean | no | open: implemented, untested |
 //! | PID keys (`yaw_pid_kp` ... `maxelevator`, `speed_factor`, `depth_control`, ...) | | | | as pMarinePIDV22; yaw gains embed the PID | SPEED_FACTOR, MOOS_MANUAL_OVERRIDE, DESIRED_* | done |
 //! | dual_state | | bool | false | MOOS boolean; nav without drift, `<P>_GT_*` with it | no | done |
-//! | wind_conditions, polar_plot | | specs | none | | WIND_CONDITIONS | refused: warning, wind and polar speed cap not simulated |
+//! | wind_conditions | | `spd=..,dir=..` | none | known keys, numbers, dir and spd >= 0 | WIND_CONDITIONS | done |
+//! | polar_plot | | `angle,pct:...` | none | angles 0..180 each once, pct >= 0; with a wind, speed capped at pct × wind speed (only above 0) | no | done |
 //! | wormhole | | spec | none | | no | refused: warning, wormholes not simulated |
 //! | trim_tolerance, max_trim_delay | | number | | | TRIM_CONTROL | refused: warning, trim handshake not simulated |
 //!
@@ -72,7 +73,7 @@
 //! | `<P>_GT_*` | with dual_state, with the nav | the ground-truth record | done |
 //! | USM_NOGO | skewed PID mail | skew | open: mail skew not checked |
 //! | BUOYANCY_REPORT, TRIM_REPORT | buoyancy/trim control | | open: not posted |
-//! | VIEW_POLYGON, VIEW_ARROW, `<P>_TRANSP` | wind/wormhole visuals | | refused (see wind, wormhole) |
+//! | VIEW_ARROW (wind), VIEW_POLYGON and `<P>_TRANSP` (wormholes) | visuals | | open: not posted |
 
 use std::sync::Arc;
 
@@ -352,6 +353,10 @@ pub struct SimConfig {
     pub paused: bool,
     /// Also post `USM_NAVPOS_SUMMARY` (`post_navpos_summary`).
     pub post_navpos_summary: bool,
+    /// `WIND_CONDITIONS` at start-up (`spd=..,dir=..`); with a polar plot it caps the speed.
+    pub wind: Option<crate::polar::Wind>,
+    /// `POLAR_PLOT` set points (`angle,pct:...`).
+    pub polar: crate::polar::Polar,
     /// `DUAL_STATE`: the navigation (`<P>_*`) ignores the drift and a second, ground-truth
     /// state with the drift is posted as `<P>_GT_*` (uSimMarineV22 `m_dual_state`).
     pub dual_state: bool,
@@ -400,6 +405,8 @@ impl Default for SimConfig {
             paused: false,
             post_navpos_summary: false,
             dual_state: false,
+            wind: None,
+            polar: crate::polar::Polar::default(),
             post_des_thrust: None,
             post_des_rudder: None,
             depth_control: true,
@@ -569,9 +576,20 @@ impl SimConfig {
             "depth_control" => self.depth_control = p.bool()?,
             "legacy" => self.legacy = p.bool()?,
             // Not simulated by coug yet (trim handshakes, worm
-            // holes, sailing): a config warning, never a silent difference.
+            // holes): a config warning, never a silent difference.
             "dual_state" => self.dual_state = p.bool()?,
-            "trim_tolerance" | "max_trim_delay" | "wormhole" | "wind_conditions" | "polar_plot" => {
+            "wind_conditions" => {
+                self.wind = Some(
+                    crate::polar::Wind::parse(p.value, self.wind)
+                        .ok_or_else(|| p.bad("spd=<m/s>,dir=<degrees>"))?,
+                )
+            }
+            "polar_plot" => {
+                if !self.polar.add_points(p.value) {
+                    return Err(p.bad("angle,pct:... with angles in 0..180, each once, pct >= 0"));
+                }
+            }
+            "trim_tolerance" | "max_trim_delay" | "wormhole" => {
                 return Err(p.bad(
                     "a setting coug's simulator supports (this feature is not simulated yet)",
                 ));
@@ -643,6 +661,8 @@ pub struct SimInputs {
     pub rotate_speed: f64,
     /// Rise rate, m/s.
     pub buoyancy_rate: f64,
+    /// The wind (start-up `wind_conditions`, then `WIND_CONDITIONS` mail).
+    pub wind: Option<crate::polar::Wind>,
 }
 
 impl SimInputs {
@@ -653,6 +673,7 @@ impl SimInputs {
             drift_y: cfg.drift_y,
             rotate_speed: cfg.rotate_speed,
             buoyancy_rate: cfg.buoyancy_rate,
+            wind: cfg.wind,
             ..SimInputs::default()
         }
     }
@@ -709,8 +730,18 @@ pub fn turn_rate_at(cfg: &SimConfig, speed: f64) -> f64 {
     }
 }
 
-fn step_speed(cfg: &SimConfig, prev: f64, dt: f64, thrust: f64, rudder: f64) -> f64 {
+fn step_speed(
+    cfg: &SimConfig,
+    prev: f64,
+    dt: f64,
+    thrust: f64,
+    rudder: f64,
+    max_sail_mps: f64,
+) -> f64 {
     let mut next = cfg.thrust_map.speed(thrust);
+    if max_sail_mps > 0.0 && next > max_sail_mps {
+        next = max_sail_mps;
+    }
     let loss = (rudder.clamp(-100.0, 100.0).abs() / 100.0) * cfg.turn_spd_loss;
     next *= 1.0 - loss;
     if next > prev && cfg.max_acceleration > 0.0 && (next - prev) / dt > cfg.max_acceleration {
@@ -749,12 +780,19 @@ pub fn step(
             } else {
                 (l, r)
             };
-            s.speed = step_speed(cfg, prior_speed, dt, (l + r) / 2.0, (l - r) / 2.0);
+            s.speed = step_speed(cfg, prior_speed, dt, (l + r) / 2.0, (l - r) / 2.0, -1.0);
             36.0 * ((l - r) / 200.0) * dt + inputs.rotate_speed * dt
         } else {
             let thrust = sign * inputs.thrust;
             let mut rudder = sign * inputs.rudder;
-            s.speed = step_speed(cfg, prior_speed, dt, thrust, rudder);
+            // Sailing: wind and polar plot cap the speed on the prior heading.
+            let max_sail = match inputs.wind {
+                Some(w) if cfg.polar.is_set() => {
+                    cfg.polar.fraction(prior_heading, w.dir_deg) * w.speed_mps
+                }
+                _ => -1.0,
+            };
+            s.speed = step_speed(cfg, prior_speed, dt, thrust, rudder, max_sail);
             if s.speed == 0.0 {
                 rudder = 0.0;
             }
@@ -1052,6 +1090,7 @@ impl Simulator {
             "USM_TURN_RADIUS",
             "OBSTACLE_HIT",
             "BUOYANCY_RATE",
+            "WIND_CONDITIONS",
             "WATER_DEPTH",
             "CURRENT_X",
             "DRIFT_X",
@@ -1121,6 +1160,11 @@ impl Simulator {
                 self.inputs.thrust_right = v.clamp(-100.0, 100.0)
             }
             ("BUOYANCY_RATE", Some(v)) => self.inputs.buoyancy_rate = v,
+            ("WIND_CONDITIONS", _) => {
+                if let Some(w) = crate::polar::Wind::parse(s, self.inputs.wind) {
+                    self.inputs.wind = Some(w);
+                }
+            }
             ("ROTATE_SPEED", Some(v)) => self.inputs.rotate_speed = v,
             ("WATER_DEPTH", Some(v)) if v >= 0.0 => self.cfg.water_depth = v,
             ("CURRENT_X" | "DRIFT_X", Some(v)) => {

@@ -570,8 +570,6 @@ fn unsimulated_features_are_warnings_not_silent() {
     // uSimMarineV22 features coug does not simulate yet: each is reported, the rest applies.
     for (k, v) in [
         ("wormhole", "tag=one, madrid_poly={0,0:10,0:10,10}"),
-        ("wind_conditions", "dir=90,mag=5"),
-        ("polar_plot", "0,0:90,1:180,0.5"),
         ("trim_tolerance", "1"),
         ("max_trim_delay", "5"),
     ] {
@@ -700,4 +698,36 @@ fn dual_state_posts_the_drifting_ground_truth_beside_the_drift_free_nav() {
         0.05
     ));
     assert_eq!(last_posting(&out, "NAV_X").unwrap().as_f64(), Some(5.0));
+}
+
+#[test]
+fn wind_and_polar_plot_cap_the_speed_and_wind_conditions_change_at_run_time() {
+    let cfg = SimConfig::from_params([
+        ("prefix", "NAV"),
+        ("start_pos", "x=0,y=0,heading=90,speed=0"),
+        ("wind_conditions", "spd=2, dir=0"),
+        ("polar_plot", "0,0:90,100:180,50"),
+    ])
+    .unwrap();
+    assert!(SimConfig::from_params([("polar_plot", "0,0:200,10")]).is_err());
+    assert!(SimConfig::from_params([("wind_conditions", "gust=4")]).is_err());
+    let mut sim = Simulator::new(cfg, None, 0.0);
+    sim.on_mail("DESIRED_THRUST", MailValue::Double(100.0), 0.0);
+    let run = |sim: &mut Simulator, t: &mut f64, secs: f64| {
+        let mut out = Vec::new();
+        for _ in 0..(secs * 10.0) as usize {
+            *t += 0.1;
+            sim.iterate(*t, &mut out);
+        }
+    };
+    let mut t = 0.0;
+    // Beam reach (90 deg off a wind from the north): 100 % of 2 m/s, though the thrust map
+    // alone would give 5 m/s.
+    run(&mut sim, &mut t, 5.0);
+    assert!(close(sim.state().speed, 2.0, 1e-9), "{}", sim.state().speed);
+    // The wind drops to 1 m/s from the east: on heading 90 we head straight into it, where
+    // the polar gives 0 and (as the C++, which caps only above 0) the speed is not capped.
+    sim.on_mail("WIND_CONDITIONS", MailValue::Str("spd=1,dir=90"), t);
+    run(&mut sim, &mut t, 5.0);
+    assert!(close(sim.state().speed, 5.0, 1e-9), "{}", sim.state().speed);
 }
