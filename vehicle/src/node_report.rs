@@ -16,7 +16,7 @@
 //!
 //! Not implemented yet, each reported as a config warning when set (the app runs on without
 //! it): riders, platform reports, alternative-nav reports, extrapolation pruning, JSON reports,
-//! course over ground, heading error, vsource, aspect, blackout variance,
+//! vsource, aspect, blackout variance,
 //! cross-fill policies other than `literal`, the MISSION_HASH odometer.
 //!
 //! # Conformance with pNodeReporter (MOOS-IvP a2a9b716)
@@ -49,14 +49,15 @@
 //! | alt_nav_prefix, alt_nav_name, alt_nav_group | | text | none | | no | refused: warning, alternative-nav reports not implemented |
 //! | extrap_enabled, extrap_pos_thresh, extrap_hdg_thresh, extrap_max_gap | | | | | no | refused: warning, extrapolation pruning not implemented |
 //! | json_report | | var or true | none | | no | refused: warning, JSON reports not implemented |
-//! | report_cog | | bool | false | | no | refused: warning, course over ground not implemented |
-//! | hdg_error | | number | | > 0 | no | refused: warning, heading error not implemented |
+//! | report_cog | | bool | false | MOOS boolean; `COG=` (bearing between iterations) from the next report on | no | done |
+//! | hdg_error | | degrees | 0 | number > 0; added to the reported heading | no | done |
 //!
 //! | variable | when | format | coug |
 //! |---|---|---|---|
 //! | NODE_REPORT_LOCAL (node_report_output) | each iteration (blackout permitting) | NodeRecord spec (above) | done |
 //! | PNR_POST_GAP | each report | seconds since the last | done |
-//! | `<output>_FIRST`, JSON and dual reports | first report / json_report | | open |
+//! | `<output>_FIRST` | the first report | as the report | done |
+//! | JSON and dual reports | json_report | | refused (see json_report) |
 //! | PLATFORM_REPORT_LOCAL | platform reports | | refused (see plat_report_input) |
 //! | PNR_EXTRAP_POS_GAP, PNR_EXTRAP_HDG_GAP | extrapolation | | refused (see extrap_*) |
 //! | PNR_MHASH (MISSION_HASH odometer) | MISSION_HASH mail | | open: not implemented |
@@ -102,6 +103,12 @@ pub struct NodeReportConfig {
     pub paused: bool,
     /// `allow_color_change`: honour `NODE_COLOR_CHANGE`.
     pub allow_color_change: bool,
+    /// `REPORT_COG`: add the course over ground (bearing from the previous iteration's
+    /// position) as `COG=` to the reports.
+    pub report_cog: bool,
+    /// `HDG_ERROR`: degrees added to the reported heading (for testing how heading errors are
+    /// handled downstream); 0 = none.
+    pub hdg_error_deg: f64,
 }
 
 impl Default for NodeReportConfig {
@@ -121,6 +128,8 @@ impl Default for NodeReportConfig {
             nav_grace_period: 60.0,
             paused: false,
             allow_color_change: false,
+            report_cog: false,
+            hdg_error_deg: 0.0,
         }
     }
 }
@@ -172,6 +181,8 @@ impl NodeReportConfig {
             "nav_grace_period" => self.nav_grace_period = p.f64()?,
             "paused" => self.paused = p.bool()?,
             "allow_color_change" => self.allow_color_change = p.bool()?,
+            "report_cog" => self.report_cog = p.bool()?,
+            "hdg_error" => self.hdg_error_deg = p.pos()?,
             "crossfill_policy" | "cross_fill_policy" => {
                 let v = p.value.to_ascii_lowercase().replace('_', "-");
                 if ![
@@ -199,8 +210,8 @@ impl NodeReportConfig {
             "blackout_variance" | "platform_aspect" | "rider" | "plat_report_input"
             | "plat_report_var" | "platform_variable" | "plat_report_output" | "alt_nav_prefix"
             | "alt_nav_name" | "alt_nav_group" | "extrap_enabled" | "extrap_pos_thresh"
-            | "extrap_hdg_thresh" | "extrap_max_gap" | "json_report" | "report_cog"
-            | "hdg_error" | "platform_vsource" | "vsource" => {
+            | "extrap_hdg_thresh" | "extrap_max_gap" | "json_report" | "platform_vsource"
+            | "vsource" => {
                 return Err(
                     p.bad("a setting coug's node reporter implements (not implemented yet)")
                 );
@@ -323,6 +334,8 @@ pub struct ReportInputs<'a> {
     pub time: f64,
     /// TRANSPARENCY field.
     pub transparency: Option<f64>,
+    /// COG field (course over ground, degrees), once known with `report_cog`.
+    pub cog: Option<f64>,
 }
 
 /// Appends a `NODE_REPORT_LOCAL` string to `out` (the `NodeRecord::getSpec` layout).
@@ -353,6 +366,9 @@ pub fn write_report(out: &mut String, cfg: &NodeReportConfig, r: &ReportInputs<'
     }
     if let Some(v) = nav.heading {
         num(out, ",HDG=", v, 2);
+    }
+    if let Some(v) = r.cog {
+        num(out, ",COG=", v, 2);
     }
     if let (false, Some(v)) = (cfg.terse_reports, nav.depth) {
         num(out, ",DEP=", v, 2);
@@ -420,6 +436,9 @@ pub struct NodeReporter {
     start_time: f64,
     last_post_time: Option<f64>,
     reports_posted: u64,
+    /// Position at the previous iteration and the course over ground (`report_cog`).
+    last_xy: Option<(f64, f64)>,
+    cog: Option<f64>,
     buf: String,
     var_report: Arc<str>,
     var_first: Arc<str>,
@@ -447,6 +466,8 @@ impl NodeReporter {
             start_time,
             last_post_time: None,
             reports_posted: 0,
+            last_xy: None,
+            cog: None,
             buf: String::with_capacity(256),
         }
     }
@@ -576,9 +597,14 @@ impl NodeReporter {
         if post {
             let gap = self.last_post_time.map_or(0.0, |t| now - t);
             let mode = self.helm.mode(now, self.cfg.nohelm_threshold);
+            // HDG_ERROR: the posted report carries the heading plus the error.
+            let mut nav = self.nav;
+            if self.cfg.hdg_error_deg != 0.0 {
+                nav.heading = nav.heading.map(|h| angle360(h + self.cfg.hdg_error_deg));
+            }
             let inputs = ReportInputs {
                 name: &self.name,
-                nav: self.nav,
+                nav,
                 color: self.color.as_deref(),
                 group: self.group.as_deref(),
                 mode: &mode,
@@ -589,6 +615,7 @@ impl NodeReporter {
                 thrust_mode_reverse: self.thrust_mode_reverse,
                 time: now,
                 transparency: self.transparency,
+                cog: self.cog,
             };
             self.buf.clear();
             write_report(&mut self.buf, &self.cfg, &inputs);
@@ -601,5 +628,14 @@ impl NodeReporter {
             self.last_post_time = Some(now);
         }
         self.load_warning = None;
+        // REPORT_COG: the bearing from the previous iteration's position to this one goes
+        // into the next reports (MOOS `cogRecord` on the last formed record).
+        let xy = self.nav.x.zip(self.nav.y);
+        if self.cfg.report_cog
+            && let (Some((x0, y0)), Some((x1, y1))) = (self.last_xy, xy)
+        {
+            self.cog = Some(crate::angle::rel_ang(x0, y0, x1, y1));
+        }
+        self.last_xy = xy;
     }
 }

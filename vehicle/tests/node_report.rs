@@ -170,3 +170,41 @@ fn reads_real_mission_blocks() {
     );
     assert!(NodeReportConfig::from_params([("platform_length", "-1")]).is_err());
 }
+
+#[test]
+fn heading_error_and_course_over_ground() {
+    let cfg = NodeReportConfig::from_params([
+        ("platform_type", "kayak"),
+        ("hdg_error", "15"),
+        ("report_cog", "true"),
+    ])
+    .unwrap();
+    assert!(
+        NodeReportConfig::from_params([("hdg_error", "0")]).is_err(),
+        "must be > 0"
+    );
+    let mut app = NodeReporter::new(cfg, "abe", 0.0);
+    let nav = |app: &mut NodeReporter, x: f64, y: f64, t: f64| {
+        d(app, "NAV_X", x, t);
+        d(app, "NAV_Y", y, t);
+        d(app, "NAV_SPEED", 1.0, t);
+        d(app, "NAV_HEADING", 350.0, t);
+    };
+    nav(&mut app, 0.0, 0.0, 0.0);
+    let mut out = Vec::new();
+    app.iterate(1.0, &mut out);
+    // The heading is reported with the error (350 + 15 = 5); no COG before two positions.
+    let first = report(&out);
+    assert!(
+        first.contains(",HDG=5,") && !first.contains("COG"),
+        "{first}"
+    );
+    // Moving north-east: the COG of the step appears from the next report on.
+    nav(&mut app, 10.0, 10.0, 2.0);
+    out.clear();
+    app.iterate(2.0, &mut out);
+    assert!(!report(&out).contains("COG"), "{}", report(&out));
+    out.clear();
+    app.iterate(3.0, &mut out);
+    assert!(report(&out).contains(",HDG=5,COG=45,"), "{}", report(&out));
+}
