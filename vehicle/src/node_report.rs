@@ -16,7 +16,7 @@
 //!
 //! Not implemented yet, each reported as a config warning when set (the app runs on without
 //! it): riders, platform reports, alternative-nav reports, extrapolation pruning, JSON reports,
-//! vsource, aspect, blackout variance,
+//! blackout variance,
 //! cross-fill policies other than `literal`, the MISSION_HASH odometer.
 //!
 //! # Conformance with pNodeReporter (MOOS-IvP a2a9b716)
@@ -40,12 +40,12 @@
 //! | paused | | bool | false | MOOS boolean | PNR_PAUSE | open: implemented, untested |
 //! | allow_color_change | | bool | false | MOOS boolean | no | open: implemented, untested |
 //! | cross_fill_policy | crossfill_policy | enum | literal | literal, fill-empty, global, use-latest, local, global-terse | no | refused: warning for all but `literal` |
-//! | platform_aspect | | `key=value` | none | | no | refused: warning, not implemented |
+//! | platform_aspect | | `key=value` | none | both sides non-empty, no second `=`; appended to the reports in key order | no | done |
 //! | blackout_variance | | s | 0 | >= 0 | no | refused: warning, not implemented |
 //! | rider | | spec | none | | no | refused: warning, riders not implemented |
 //! | plat_report_input | plat_report_var, platform_variable | spec | none | | no | refused: warning, platform reports not implemented |
 //! | plat_report_output | | var | PLATFORM_REPORT_LOCAL | | no | refused: warning |
-//! | platform_vsource | vsource | text | none | | no | refused: warning |
+//! | platform_vsource | vsource | text | none | any; `VSOURCE=` after GROUP | no | done |
 //! | alt_nav_prefix, alt_nav_name, alt_nav_group | | text | none | | no | refused: warning, alternative-nav reports not implemented |
 //! | extrap_enabled, extrap_pos_thresh, extrap_hdg_thresh, extrap_max_gap | | | | | no | refused: warning, extrapolation pruning not implemented |
 //! | json_report | | var or true | none | | no | refused: warning, JSON reports not implemented |
@@ -109,6 +109,11 @@ pub struct NodeReportConfig {
     /// `HDG_ERROR`: degrees added to the reported heading (for testing how heading errors are
     /// handled downstream); 0 = none.
     pub hdg_error_deg: f64,
+    /// `PLATFORM_VSOURCE` / `VSOURCE`: the `VSOURCE=` field (where the position comes from).
+    pub vsource: String,
+    /// `PLATFORM_ASPECT = key=value` lines: extra `key=value` fields at the end of each
+    /// report, in key order.
+    pub aspects: std::collections::BTreeMap<String, String>,
 }
 
 impl Default for NodeReportConfig {
@@ -130,6 +135,8 @@ impl Default for NodeReportConfig {
             allow_color_change: false,
             report_cog: false,
             hdg_error_deg: 0.0,
+            vsource: String::new(),
+            aspects: std::collections::BTreeMap::new(),
         }
     }
 }
@@ -182,6 +189,15 @@ impl NodeReportConfig {
             "paused" => self.paused = p.bool()?,
             "allow_color_change" => self.allow_color_change = p.bool()?,
             "report_cog" => self.report_cog = p.bool()?,
+            "platform_vsource" | "vsource" => self.vsource = p.value.to_string(),
+            "platform_aspect" => {
+                let (k, v) = p.value.split_once('=').unwrap_or((p.value, ""));
+                let (k, v) = (k.trim(), v.trim());
+                if k.is_empty() || v.is_empty() || v.contains('=') {
+                    return Err(p.bad("key=value"));
+                }
+                self.aspects.insert(k.to_string(), v.to_string());
+            }
             "hdg_error" => self.hdg_error_deg = p.pos()?,
             "crossfill_policy" | "cross_fill_policy" => {
                 let v = p.value.to_ascii_lowercase().replace('_', "-");
@@ -207,11 +223,10 @@ impl NodeReportConfig {
             }
             // pNodeReporter settings coug does not implement yet: a config warning each (the
             // app runs on), never a silent difference.
-            "blackout_variance" | "platform_aspect" | "rider" | "plat_report_input"
-            | "plat_report_var" | "platform_variable" | "plat_report_output" | "alt_nav_prefix"
-            | "alt_nav_name" | "alt_nav_group" | "extrap_enabled" | "extrap_pos_thresh"
-            | "extrap_hdg_thresh" | "extrap_max_gap" | "json_report" | "platform_vsource"
-            | "vsource" => {
+            "blackout_variance" | "rider" | "plat_report_input" | "plat_report_var"
+            | "platform_variable" | "plat_report_output" | "alt_nav_prefix" | "alt_nav_name"
+            | "alt_nav_group" | "extrap_enabled" | "extrap_pos_thresh" | "extrap_hdg_thresh"
+            | "extrap_max_gap" | "json_report" => {
                 return Err(
                     p.bad("a setting coug's node reporter implements (not implemented yet)")
                 );
@@ -384,6 +399,7 @@ pub fn write_report(out: &mut String, cfg: &NodeReportConfig, r: &ReportInputs<'
     text(out, ",TYPE=", &cfg.platform_type);
     text(out, ",COLOR=", r.color.unwrap_or(""));
     text(out, ",GROUP=", r.group.unwrap_or(""));
+    text(out, ",VSOURCE=", &cfg.vsource);
     text(out, ",MODE=", r.mode);
     text(out, ",MODE_AUX=", r.mode_aux.unwrap_or(""));
     text(out, ",ALLSTOP=", r.allstop);
@@ -417,6 +433,12 @@ pub fn write_report(out: &mut String, cfg: &NodeReportConfig, r: &ReportInputs<'
     num(out, ",LENGTH=", length, 2);
     if let Some(b) = cfg.platform_beam {
         num(out, ",BEAM=", b, 2);
+    }
+    for (k, v) in &cfg.aspects {
+        out.push(',');
+        out.push_str(k);
+        out.push('=');
+        out.push_str(v);
     }
 }
 

@@ -208,3 +208,28 @@ fn heading_error_and_course_over_ground() {
     app.iterate(3.0, &mut out);
     assert!(report(&out).contains(",HDG=5,COG=45,"), "{}", report(&out));
 }
+
+#[test]
+fn vsource_and_aspects_in_the_report() {
+    let cfg = NodeReportConfig::from_params([
+        ("platform_type", "kayak"),
+        ("group", "blue"),
+        ("vsource", "gps"),
+        ("platform_aspect", "zeta=1"),
+        ("platform_aspect", "alpha=two"),
+    ])
+    .unwrap();
+    assert!(NodeReportConfig::from_params([("platform_aspect", "a=b=c")]).is_err());
+    assert!(NodeReportConfig::from_params([("platform_aspect", "=b")]).is_err());
+    let mut app = NodeReporter::new(cfg, "abe", 0.0);
+    d(&mut app, "NAV_X", 1.0, 0.0);
+    d(&mut app, "NAV_Y", 2.0, 0.0);
+    let mut out = Vec::new();
+    app.iterate(1.0, &mut out);
+    let r = report(&out);
+    assert!(r.contains(",GROUP=blue,VSOURCE=gps,"), "{r}");
+    assert!(
+        r.ends_with(",alpha=two,zeta=1"),
+        "properties in key order: {r}"
+    );
+}
