@@ -16,8 +16,7 @@
 //!
 //! Not implemented yet, each reported as a config warning when set (the app runs on without
 //! it): riders, platform reports, alternative-nav reports, extrapolation pruning, JSON reports,
-//! blackout variance,
-//! cross-fill policies other than `literal`, the MISSION_HASH odometer.
+//! blackout variance, cross-fill policies other than `literal`.
 //!
 //! # Conformance with pNodeReporter (MOOS-IvP a2a9b716)
 //!
@@ -60,7 +59,7 @@
 //! | JSON and dual reports | json_report | | refused (see json_report) |
 //! | PLATFORM_REPORT_LOCAL | platform reports | | refused (see plat_report_input) |
 //! | PNR_EXTRAP_POS_GAP, PNR_EXTRAP_HDG_GAP | extrapolation | | refused (see extrap_*) |
-//! | PNR_MHASH (MISSION_HASH odometer) | MISSION_HASH mail | | open: not implemented |
+//! | PNR_MHASH | after MISSION_HASH, when the largest distance from the start grows by 2 % and 1 m | `mhash=<hash>,ext=<m, 1 decimal>` | done |
 //! | PNODEREPORTER_PID | start-up | pid | open: not posted |
 
 use std::fmt::Write as _;
@@ -442,6 +441,47 @@ pub fn write_report(out: &mut String, cfg: &NodeReportConfig, r: &ReportInputs<'
     }
 }
 
+/// The odometer behind `PNR_MHASH` (MOOS `Odometer` plus pNodeReporter's posting rule).
+#[derive(Debug, Clone, Copy, Default)]
+struct MhashOdometer {
+    /// Position at the previous update, and where the extent is measured from.
+    curr: Option<(f64, f64)>,
+    orig: (f64, f64),
+    /// Largest extent since the last reset.
+    max_extent: f64,
+    /// Largest extent in this mission, and the value last posted.
+    max_extent_mission: f64,
+    max_extent_posted: f64,
+}
+
+impl MhashOdometer {
+    fn reset_extent(&mut self) {
+        self.max_extent = 0.0;
+        if let Some(c) = self.curr {
+            self.orig = c;
+        }
+    }
+
+    /// Takes a position; returns the extent to post, if any.
+    fn update(&mut self, x: f64, y: f64) -> Option<f64> {
+        if self.curr.is_none() {
+            self.orig = (x, y);
+        }
+        self.curr = Some((x, y));
+        let ext = (x - self.orig.0).hypot(y - self.orig.1);
+        self.max_extent = self.max_extent.max(ext);
+        self.max_extent_mission = self.max_extent_mission.max(self.max_extent);
+        let (now, prev) = (self.max_extent_mission, self.max_extent_posted);
+        let grew = (prev == 0.0 && now > 0.0) || now > prev * 1.02;
+        if grew && now - prev >= 1.0 {
+            self.max_extent_posted = now;
+            Some(now)
+        } else {
+            None
+        }
+    }
+}
+
 /// The `pNodeReporter` app.
 pub struct NodeReporter {
     cfg: NodeReportConfig,
@@ -458,6 +498,9 @@ pub struct NodeReporter {
     start_time: f64,
     last_post_time: Option<f64>,
     reports_posted: u64,
+    /// The mission hash (`MISSION_HASH`, `mhash=` token) and its odometer (`PNR_MHASH`).
+    mhash: String,
+    odo: MhashOdometer,
     /// Position at the previous iteration and the course over ground (`report_cog`).
     last_xy: Option<(f64, f64)>,
     cog: Option<f64>,
@@ -465,6 +508,7 @@ pub struct NodeReporter {
     var_report: Arc<str>,
     var_first: Arc<str>,
     var_gap: Arc<str>,
+    var_mhash: Arc<str>,
 }
 
 impl NodeReporter {
@@ -474,6 +518,7 @@ impl NodeReporter {
             var_report: cfg.node_report_output.as_str().into(),
             var_first: format!("{}_FIRST", cfg.node_report_output).into(),
             var_gap: "PNR_POST_GAP".into(),
+            var_mhash: "PNR_MHASH".into(),
             color: cfg.platform_color.clone(),
             group: cfg.group.clone(),
             transparency: cfg.transparency,
@@ -490,6 +535,8 @@ impl NodeReporter {
             reports_posted: 0,
             last_xy: None,
             cog: None,
+            mhash: String::new(),
+            odo: MhashOdometer::default(),
             buf: String::with_capacity(256),
         }
     }
@@ -527,6 +574,7 @@ impl NodeReporter {
             "NODE_COLOR_CHANGE",
             "PLATFORM_COLOR",
             "PNR_PAUSE",
+            "MISSION_HASH",
         ]
     }
 
@@ -553,6 +601,17 @@ impl NodeReporter {
             }
             ("THRUST_MODE_REVERSE", _) => self.thrust_mode_reverse = s.eq_ignore_ascii_case("true"),
             ("AUX_MODE", _) => self.mode_aux = Some(s.to_string()),
+            ("MISSION_HASH", _) => {
+                // The `mhash=` token of the posting; a new mission restarts the extent.
+                self.mhash = s
+                    .split(',')
+                    .filter_map(|t| t.split_once('='))
+                    .find(|(k, _)| k.trim() == "mhash")
+                    .map(|(_, v)| v.trim().to_string())
+                    .unwrap_or_default();
+                self.odo.max_extent_mission = 0.0;
+                self.odo.reset_extent();
+            }
             ("PNR_PAUSE", _) => {
                 if let Some(b) = crate::config::parse_bool(s) {
                     self.paused = b;
@@ -659,5 +718,16 @@ impl NodeReporter {
             self.cog = Some(crate::angle::rel_ang(x0, y0, x1, y1));
         }
         self.last_xy = xy;
+        // MISSION_HASH odometer: the largest distance from where the mission started,
+        // posted when it has grown by 2 % and at least 1 m (MOOS `updateMHashOdo`).
+        if !self.mhash.is_empty()
+            && let Some(ext) = self
+                .odo
+                .update(self.nav.x.unwrap_or(0.0), self.nav.y.unwrap_or(0.0))
+        {
+            let mut msg = format!("mhash={},ext=", self.mhash);
+            push_double_x(&mut msg, ext, 1);
+            out.push(Posting::string(&self.var_mhash, msg));
+        }
     }
 }

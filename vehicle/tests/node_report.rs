@@ -233,3 +233,34 @@ fn vsource_and_aspects_in_the_report() {
         "properties in key order: {r}"
     );
 }
+
+#[test]
+fn mission_hash_odometer_posts_the_growing_extent() {
+    let cfg = NodeReportConfig::from_params([("platform_type", "kayak")]).unwrap();
+    let mut app = NodeReporter::new(cfg, "abe", 0.0);
+    assert!(NodeReporter::subscriptions().contains(&"MISSION_HASH"));
+    let mut posted = Vec::new();
+    let mut step = |app: &mut NodeReporter, x: f64, y: f64, t: f64| {
+        d(app, "NAV_X", x, t);
+        d(app, "NAV_Y", y, t);
+        let mut out = Vec::new();
+        app.iterate(t, &mut out);
+        if let Some(p) = last_posting(&out, "PNR_MHASH") {
+            posted.push(p.as_str().unwrap().to_string());
+        }
+    };
+    // Nothing before a mission hash is known.
+    step(&mut app, 50.0, 0.0, 1.0);
+    s(
+        &mut app,
+        "MISSION_HASH",
+        "mhash=ABC-123,utc=1786000000",
+        1.5,
+    );
+    step(&mut app, 50.0, 0.0, 2.0);
+    step(&mut app, 50.5, 0.0, 3.0); // 0.5 m: under the 1 m step
+    step(&mut app, 53.0, 4.0, 4.0); // 5 m from the start
+    step(&mut app, 53.05, 4.0, 5.0); // not 2 % more
+    step(&mut app, 60.0, 0.0, 6.0); // 10 m
+    assert_eq!(posted, ["mhash=ABC-123,ext=5", "mhash=ABC-123,ext=10"]);
+}
