@@ -151,7 +151,9 @@ impl VehicleApp {
             .map_err(|e| located(&block, e))?;
         let w = warnings(&block, unknown);
         let rep = NodeReporter::new(cfg, community, start);
-        let subs = NodeReporter::subscriptions().to_vec();
+        let riders: Vec<String> = rep.rider_vars().map(str::to_string).collect();
+        let mut subs = NodeReporter::subscriptions().to_vec();
+        subs.extend(riders.iter().map(String::as_str));
         Ok(VehicleApp::new(
             name,
             block,

@@ -15,7 +15,7 @@
 //! ...), replaced by the `modes=` field of `IVPHELM_SUMMARY` when driving with modes.
 //!
 //! Not implemented yet, each reported as a config warning when set (the app runs on without
-//! it): riders, platform reports, alternative-nav reports, extrapolation pruning, JSON reports,
+//! it): platform reports, alternative-nav reports, extrapolation pruning, JSON reports,
 //! blackout variance, cross-fill policies other than `literal`.
 //!
 //! # Conformance with pNodeReporter (MOOS-IvP a2a9b716)
@@ -41,7 +41,7 @@
 //! | cross_fill_policy | crossfill_policy | enum | literal | literal, fill-empty, global, use-latest, local, global-terse | no | refused: warning for all but `literal` |
 //! | platform_aspect | | `key=value` | none | both sides non-empty, no second `=`; appended to the reports in key order | no | done |
 //! | blackout_variance | | s | 0 | >= 0 | no | refused: warning, not implemented |
-//! | rider | | spec | none | | no | refused: warning, riders not implemented |
+//! | rider | | `var=..,policy=always\|updated\|updated+S\|S,rfld=..,prec=..` | none | not a report field; policy, alphanumeric rfld, prec >= 0 (max 10); one per variable; subscribed | yes (mail) | done |
 //! | plat_report_input | plat_report_var, platform_variable | spec | none | | no | refused: warning, platform reports not implemented |
 //! | plat_report_output | | var | PLATFORM_REPORT_LOCAL | | no | refused: warning |
 //! | platform_vsource | vsource | text | none | any; `VSOURCE=` after GROUP | no | done |
@@ -113,6 +113,8 @@ pub struct NodeReportConfig {
     /// `PLATFORM_ASPECT = key=value` lines: extra `key=value` fields at the end of each
     /// report, in key order.
     pub aspects: std::collections::BTreeMap<String, String>,
+    /// `RIDER` lines: MOOS variables whose latest values ride along in the reports.
+    pub riders: Vec<RiderConfig>,
 }
 
 impl Default for NodeReportConfig {
@@ -136,6 +138,7 @@ impl Default for NodeReportConfig {
             hdg_error_deg: 0.0,
             vsource: String::new(),
             aspects: std::collections::BTreeMap::new(),
+            riders: Vec::new(),
         }
     }
 }
@@ -222,10 +225,19 @@ impl NodeReportConfig {
             }
             // pNodeReporter settings coug does not implement yet: a config warning each (the
             // app runs on), never a silent difference.
-            "blackout_variance" | "rider" | "plat_report_input" | "plat_report_var"
-            | "platform_variable" | "plat_report_output" | "alt_nav_prefix" | "alt_nav_name"
-            | "alt_nav_group" | "extrap_enabled" | "extrap_pos_thresh" | "extrap_hdg_thresh"
-            | "extrap_max_gap" | "json_report" => {
+            "rider" => {
+                let r = RiderConfig::parse(p.value).ok_or_else(|| {
+                    p.bad("var=VAR[, policy=always|updated|updated+S|S][, rfld=F][, prec=N]")
+                })?;
+                if self.riders.iter().any(|x| x.var == r.var) {
+                    return Err(p.bad("a rider variable given once"));
+                }
+                self.riders.push(r);
+            }
+            "blackout_variance" | "plat_report_input" | "plat_report_var" | "platform_variable"
+            | "plat_report_output" | "alt_nav_prefix" | "alt_nav_name" | "alt_nav_group"
+            | "extrap_enabled" | "extrap_pos_thresh" | "extrap_hdg_thresh" | "extrap_max_gap"
+            | "json_report" => {
                 return Err(
                     p.bad("a setting coug's node reporter implements (not implemented yet)")
                 );
@@ -234,6 +246,107 @@ impl NodeReportConfig {
         }
         Ok(true)
     }
+}
+
+/// When a rider's value goes into a report (MOOS `NodeRider` policies).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RiderPolicy {
+    /// In every report (once a value is known).
+    Always,
+    /// In the reports that follow an update; with a period > 0 also repeated every that
+    /// many seconds (then under the variable's own name).
+    Updated {
+        /// Repeat period, s (−1 or 0: never).
+        period_s: f64,
+    },
+    /// Every that many seconds.
+    Every {
+        /// Period, s.
+        period_s: f64,
+    },
+}
+
+/// One `rider = var=..., policy=..., rfld=..., prec=...` line.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RiderConfig {
+    /// The MOOS variable (not a report field name such as `X` or `MODE`).
+    pub var: String,
+    /// When it rides.
+    pub policy: RiderPolicy,
+    /// The report field name (default: the variable).
+    pub field: String,
+    /// Decimals for a number (default 4, at most 10).
+    pub precision: usize,
+}
+
+impl RiderConfig {
+    /// Parses a rider line as MOOS `NodeRiderSet::addNodeRider`; `None` when any part is bad.
+    ///
+    /// ```
+    /// use vehicle::node_report::{RiderConfig, RiderPolicy};
+    /// let r = RiderConfig::parse("var=LEG_ID, policy=updated+10, rfld=LEG").unwrap();
+    /// assert_eq!(r.policy, RiderPolicy::Updated { period_s: 10.0 });
+    /// assert!(RiderConfig::parse("var=X").is_none(), "a report field");
+    /// ```
+    pub fn parse(spec: &str) -> Option<RiderConfig> {
+        const RESERVED: &[&str] = &[
+            "NAME", "X", "Y", "SPD", "HDG", "DEP", "LAT", "LON", "TYPE", "COLOR", "MODE",
+            "ALLSTOP", "INDEX", "YAW", "TIME", "LENGTH",
+        ];
+        let mut r = RiderConfig {
+            var: String::new(),
+            policy: RiderPolicy::Always,
+            field: String::new(),
+            precision: 4,
+        };
+        let number = |v: &str| crate::config::parse_number(v).filter(|d| *d >= 0.0);
+        for part in spec.split(',') {
+            let (k, v) = part.split_once('=').unwrap_or((part, ""));
+            let (k, v) = (k.trim(), v.trim());
+            match k {
+                "var" if !v.contains(char::is_whitespace) && !RESERVED.contains(&v) => {
+                    r.var = v.to_string()
+                }
+                "policy" => {
+                    r.policy = match v {
+                        "always" => RiderPolicy::Always,
+                        "updated" => RiderPolicy::Updated { period_s: -1.0 },
+                        _ => match v.strip_prefix("updated+") {
+                            Some(f) => RiderPolicy::Updated {
+                                period_s: number(f)?,
+                            },
+                            None => RiderPolicy::Every {
+                                period_s: number(v)?,
+                            },
+                        },
+                    }
+                }
+                "rfld" if !v.is_empty() && v.chars().all(|c| c.is_ascii_alphanumeric()) => {
+                    r.field = v.to_string()
+                }
+                "prec" => {
+                    // C `atoi`: the leading integer, 0 when there is none; negative is bad.
+                    let digits: String = v
+                        .char_indices()
+                        .take_while(|(i, c)| c.is_ascii_digit() || (*i == 0 && *c == '-'))
+                        .map(|(_, c)| c)
+                        .collect();
+                    let n: i64 = digits.parse().unwrap_or(0);
+                    r.precision = usize::try_from(n).ok()?.min(10);
+                }
+                _ => return None,
+            }
+        }
+        (!r.var.is_empty()).then_some(r)
+    }
+}
+
+/// A rider's latest value and freshness.
+#[derive(Debug, Clone, Default)]
+struct RiderState {
+    value: String,
+    last_time: f64,
+    fresh: bool,
 }
 
 /// Ownship navigation as last received (`NAV_*`).
@@ -501,6 +614,8 @@ pub struct NodeReporter {
     /// The mission hash (`MISSION_HASH`, `mhash=` token) and its odometer (`PNR_MHASH`).
     mhash: String,
     odo: MhashOdometer,
+    /// One state per configured rider.
+    riders: Vec<RiderState>,
     /// Position at the previous iteration and the course over ground (`report_cog`).
     last_xy: Option<(f64, f64)>,
     cog: Option<f64>,
@@ -514,6 +629,7 @@ pub struct NodeReporter {
 impl NodeReporter {
     /// A reporter for vehicle `name` (the MOOS community), started at `start_time`.
     pub fn new(cfg: NodeReportConfig, name: &str, start_time: f64) -> Self {
+        let rider_count = cfg.riders.len();
         NodeReporter {
             var_report: cfg.node_report_output.as_str().into(),
             var_first: format!("{}_FIRST", cfg.node_report_output).into(),
@@ -537,6 +653,7 @@ impl NodeReporter {
             cog: None,
             mhash: String::new(),
             odo: MhashOdometer::default(),
+            riders: vec![RiderState::default(); rider_count],
             buf: String::with_capacity(256),
         }
     }
@@ -578,10 +695,68 @@ impl NodeReporter {
         ]
     }
 
+    /// The rider variables (subscribed in addition to [`NodeReporter::subscriptions`]).
+    pub fn rider_vars(&self) -> impl Iterator<Item = &str> {
+        self.cfg.riders.iter().map(|r| r.var.as_str())
+    }
+
+    /// The riders' part of a report (MOOS `NodeRiderSet::getRiderReports`), with its quirks:
+    /// an `updated` rider repeated by its period rides under the variable's name, and a rider
+    /// with nothing to say after one that did leaves a trailing comma.
+    fn rider_reports(&mut self, now: f64) -> String {
+        let mut reports = String::new();
+        for (cfg, st) in self.cfg.riders.iter().zip(&mut self.riders) {
+            if st.value.is_empty() {
+                continue;
+            }
+            let field = if cfg.field.is_empty() {
+                &cfg.var
+            } else {
+                &cfg.field
+            };
+            let value = if st.value.contains(',') {
+                format!("{{{}}}", st.value)
+            } else {
+                st.value.clone()
+            };
+            let elapsed = now - st.last_time;
+            let report = match cfg.policy {
+                RiderPolicy::Always => format!("{field}={value}"),
+                RiderPolicy::Updated { .. } if st.fresh => format!("{field}={value}"),
+                RiderPolicy::Updated { period_s } if period_s > 0.0 && elapsed >= period_s => {
+                    st.last_time = now;
+                    format!("{}={value}", cfg.var)
+                }
+                RiderPolicy::Updated { .. } => String::new(),
+                RiderPolicy::Every { period_s } if elapsed >= period_s => {
+                    st.last_time = now;
+                    format!("{field}={value}")
+                }
+                RiderPolicy::Every { .. } => String::new(),
+            };
+            st.fresh = false;
+            if !reports.is_empty() {
+                reports.push(',');
+            }
+            reports.push_str(&report);
+        }
+        reports
+    }
+
     /// Takes one piece of mail received at `time`.
     pub fn on_mail(&mut self, var: &str, value: MailValue<'_>, time: f64) {
         let d = value.as_f64();
         let s = value.as_str().unwrap_or("");
+        for (cfg, state) in self.cfg.riders.iter().zip(&mut self.riders) {
+            if cfg.var == var {
+                state.value = match (s, d) {
+                    ("", Some(x)) => format!("{x:.*}", cfg.precision),
+                    _ => s.to_string(),
+                };
+                state.last_time = time;
+                state.fresh = true;
+            }
+        }
         match (var, d) {
             ("NAV_X", Some(v)) => self.nav.x = Some(v),
             ("NAV_Y", Some(v)) => self.nav.y = Some(v),
@@ -700,6 +875,11 @@ impl NodeReporter {
             };
             self.buf.clear();
             write_report(&mut self.buf, &self.cfg, &inputs);
+            let riders = self.rider_reports(now);
+            if !riders.is_empty() {
+                self.buf.push(',');
+                self.buf.push_str(&riders);
+            }
             if self.reports_posted == 0 {
                 out.push(Posting::string(&self.var_first, self.buf.as_str()));
             }

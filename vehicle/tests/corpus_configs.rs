@@ -116,15 +116,8 @@ fn node_reporter_blocks() {
         NodeReportConfig::from_params_lenient(common::pairs(kv))
     });
     eprintln!("unknown reporter keys: {unknown:?}");
-    // Riders and the alternative-nav report, which coug does not implement yet, are reported
-    // as config warnings (one mission asks for the latter, two for riders).
+    // The alternative-nav report, which coug does not implement yet, is reported as a config
+    // warning (one mission asks for it).
     let found: Vec<(&str, usize)> = unknown.iter().map(|(k, n)| (k.as_str(), *n)).collect();
-    assert_eq!(
-        found,
-        [
-            ("bad:alt_nav_group", 1),
-            ("bad:alt_nav_prefix", 1),
-            ("bad:rider", 2)
-        ]
-    );
+    assert_eq!(found, [("bad:alt_nav_group", 1), ("bad:alt_nav_prefix", 1)]);
 }

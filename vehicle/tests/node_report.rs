@@ -264,3 +264,57 @@ fn mission_hash_odometer_posts_the_growing_extent() {
     step(&mut app, 60.0, 0.0, 6.0); // 10 m
     assert_eq!(posted, ["mhash=ABC-123,ext=5", "mhash=ABC-123,ext=10"]);
 }
+
+#[test]
+fn riders_follow_their_policies_with_the_cpp_quirks() {
+    let cfg = NodeReportConfig::from_params([
+        ("platform_type", "kayak"),
+        ("rider", "var=LEG_ID, policy=always, rfld=LEG"),
+        ("rider", "var=BATT, policy=updated"),
+        ("rider", "var=TEMP, policy=5, prec=1"),
+    ])
+    .unwrap();
+    for bad in [
+        "var=X",
+        "var=A, policy=sometimes",
+        "var=A, rfld=a-b",
+        "var=A, color=red",
+        "var=A, prec=-1",
+    ] {
+        assert!(
+            NodeReportConfig::from_params([("rider", bad)]).is_err(),
+            "{bad}"
+        );
+    }
+    assert!(
+        NodeReportConfig::from_params([("rider", "var=A"), ("rider", "var=A, policy=updated")])
+            .is_err(),
+        "one rider per variable"
+    );
+    let mut app = NodeReporter::new(cfg, "abe", 0.0);
+    assert_eq!(
+        app.rider_vars().collect::<Vec<_>>(),
+        ["LEG_ID", "BATT", "TEMP"]
+    );
+    d(&mut app, "NAV_X", 1.0, 0.0);
+    d(&mut app, "NAV_Y", 2.0, 0.0);
+    s(&mut app, "LEG_ID", "leg_3", 0.5);
+    d(&mut app, "BATT", 12.345_67, 0.5);
+    d(&mut app, "TEMP", 20.26, 0.5);
+    let mut out = Vec::new();
+    app.iterate(1.0, &mut out);
+    // TEMP (every 5 s) has nothing to say yet: MOOS leaves the comma.
+    assert!(
+        report(&out).ends_with(",LENGTH=4,LEG=leg_3,BATT=12.3457,"),
+        "{}",
+        report(&out)
+    );
+    out.clear();
+    app.iterate(6.0, &mut out);
+    // BATT is no longer fresh; TEMP's period has passed.
+    assert!(
+        report(&out).ends_with(",LENGTH=4,LEG=leg_3,,TEMP=20.3"),
+        "{}",
+        report(&out)
+    );
+}
