@@ -532,6 +532,24 @@ fn age(now: f64, v: Stamped) -> Option<f64> {
     v.map(|(_, t)| now - t)
 }
 
+/// The age of each input older than its threshold (`tardy_helm_threshold` for the helm's
+/// DESIRED_*, `tardy_nav_threshold` for NAV_*; depth inputs only with depth control),
+/// indexed as [`STALE_LABELS`].
+fn stale_ages(cfg: &PidConfig, inputs: &PidInputs, now: f64) -> [Option<f64>; 7] {
+    let helm = cfg.tardy_helm_threshold;
+    let nav = cfg.tardy_nav_threshold;
+    let checks: [(Stamped, f64, bool); 7] = [
+        (inputs.desired_heading, helm, true),
+        (inputs.desired_speed, helm, true),
+        (inputs.heading, nav, true),
+        (inputs.speed, nav, true),
+        (inputs.desired_depth, helm, cfg.depth_control),
+        (inputs.depth, nav, cfg.depth_control),
+        (inputs.pitch, nav, cfg.depth_control),
+    ];
+    checks.map(|(v, thresh, active)| age(now, v).filter(|a| active && *a > thresh))
+}
+
 /// One controller step at time `now`. Pure: the returned state replaces the given one.
 ///
 /// As pMarinePIDV22 at MOOS-IvP a2a9b716 (`PIDEngine::setDesiredValues`): nothing is computed
@@ -571,22 +589,7 @@ pub fn step(
         return (s, out);
     }
     if !cfg.simulation {
-        let helm = cfg.tardy_helm_threshold;
-        let nav = cfg.tardy_nav_threshold;
-        let checks: [(Stamped, f64, bool); 7] = [
-            (inputs.desired_heading, helm, true),
-            (inputs.desired_speed, helm, true),
-            (inputs.heading, nav, true),
-            (inputs.speed, nav, true),
-            (inputs.desired_depth, helm, cfg.depth_control),
-            (inputs.depth, nav, cfg.depth_control),
-            (inputs.pitch, nav, cfg.depth_control),
-        ];
-        for (i, (v, thresh, active)) in checks.into_iter().enumerate() {
-            if let Some(a) = age(now, v).filter(|a| active && *a > thresh) {
-                out.stale[i] = Some(a);
-            }
-        }
+        out.stale = stale_ages(cfg, inputs, now);
         s.stale = out.stale.iter().any(Option::is_some);
         if s.stale {
             return (s, out);
@@ -667,22 +670,7 @@ fn step_legacy(
         return (s, out);
     }
     if !cfg.simulation {
-        let helm = cfg.tardy_helm_threshold;
-        let nav = cfg.tardy_nav_threshold;
-        let checks: [(Stamped, f64, bool); 7] = [
-            (inputs.desired_heading, helm, true),
-            (inputs.desired_speed, helm, true),
-            (inputs.heading, nav, true),
-            (inputs.speed, nav, true),
-            (inputs.desired_depth, helm, cfg.depth_control),
-            (inputs.depth, nav, cfg.depth_control),
-            (inputs.pitch, nav, cfg.depth_control),
-        ];
-        for (i, (v, thresh, active)) in checks.into_iter().enumerate() {
-            if let Some(a) = age(now, v).filter(|a| active && *a > thresh) {
-                out.stale[i] = Some(a);
-            }
-        }
+        out.stale = stale_ages(cfg, inputs, now);
         s.stale = out.stale.iter().any(Option::is_some);
         if s.stale {
             return (s, out);
