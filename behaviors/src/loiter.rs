@@ -847,6 +847,19 @@ mod tests {
         (dec.get("course").unwrap(), dec.get("speed").unwrap(), out)
     }
 
+    /// Runs `f` with the test context at ownship (0, 0), heading 0.
+    fn with_ctx<R>(f: impl FnOnce(&Ctx<'_>) -> R) -> R {
+        let d = domain();
+        let i = info(0.0, 0.0, 0.0);
+        f(&Ctx {
+            info: &i,
+            domain: &d,
+            ownship: "abe",
+            name: "loiter",
+            perpetual: false,
+        })
+    }
+
     fn posted<'a>(out: &'a Out, var: &str) -> Option<&'a crate::Value> {
         out.emits.iter().find_map(|e| match e {
             Emit::Post { var: v, value, .. } if v == var => Some(value),
@@ -940,17 +953,8 @@ mod tests {
     #[test]
     fn idle_erases_and_completion_is_posted() {
         let mut l = loiter(&[("polygon", SQUARE)]);
-        let d = domain();
-        let i = info(0.0, 0.0, 0.0);
-        let ctx = Ctx {
-            info: &i,
-            domain: &d,
-            ownship: "abe",
-            name: "loiter",
-            perpetual: false,
-        };
         let mut out = Out::default();
-        l.on_idle(&ctx, &mut out);
+        with_ctx(|ctx| l.on_idle(ctx, &mut out));
         assert!(
             posted(&out, "VIEW_POLYGON")
                 .unwrap()
@@ -965,7 +969,7 @@ mod tests {
                 .unwrap()
                 .contains("active=false")
         );
-        l.on_complete(&ctx, &mut out);
+        with_ctx(|ctx| l.on_complete(ctx, &mut out));
         assert_eq!(
             posted(&out, "LOITER_COMPLETE").unwrap().as_str(),
             Some("true")
@@ -973,7 +977,7 @@ mod tests {
         // No polygon: a warning and no function.
         let mut empty = Loiter::new();
         let mut out = Out::default();
-        assert!(empty.on_run(&ctx, &mut out).is_none());
+        assert!(with_ctx(|ctx| empty.on_run(ctx, &mut out)).is_none());
         assert!(
             posted(&out, "BHV_WARNING")
                 .unwrap()
@@ -1030,16 +1034,7 @@ mod tests {
     }
 
     fn set(l: &mut Loiter, k: &str, v: &str) -> Result<(), ParamError> {
-        let d = domain();
-        let i = info(0.0, 0.0, 0.0);
-        let ctx = Ctx {
-            info: &i,
-            domain: &d,
-            ownship: "abe",
-            name: "loiter",
-            perpetual: false,
-        };
-        l.set_param(k, v, &mut Common::new("BHV_Loiter"), &ctx)
+        with_ctx(|ctx| l.set_param(k, v, &mut Common::new("BHV_Loiter"), ctx))
     }
 
     fn near(a: Point, x: f64, y: f64) -> bool {
@@ -1152,17 +1147,8 @@ mod tests {
         assert!(posted(&out, "LOITER_DIST_TO_VERT").is_some());
         assert!(posted(&out, "LOITER_MODE_A").is_some());
         // Idle: erased drawings and the status reports with mode idle.
-        let d = domain();
-        let i = info(0.0, 0.0, 0.0);
-        let ctx = Ctx {
-            info: &i,
-            domain: &d,
-            ownship: "abe",
-            name: "loiter",
-            perpetual: false,
-        };
         let mut out = Out::default();
-        l.on_idle(&ctx, &mut out);
+        with_ctx(|ctx| l.on_idle(ctx, &mut out));
         assert_eq!(
             posted(&out, "LOITER_MODE_A"),
             Some(&crate::Value::Str("idle".into()))
