@@ -202,7 +202,7 @@ fn the_vehicle_run_is_deterministic() {
 #[test]
 fn vehicle_apps_run_on_with_config_warnings() {
     let text = "Community = abe\nProcessConfig = pNodeReporter\n{\n  platform_type = kayak\n  \
-                nohelm_threshold = -1\n  json_report = true\n}\n\
+                nohelm_threshold = -1\n  extrap_enabled = true\n}\n\
                 ProcessConfig = pMarinePIDV22\n{\n  yaw_pid_kp = fast\n  speed_factor = 20\n}\n";
     let m = mission::moos::parse_moos(&SourceMap::from_text("w.moos", text)).value;
     let rep = VehicleApp::node_reporter("pNodeReporter", block(&m, "pNodeReporter"), "abe", START)

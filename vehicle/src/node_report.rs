@@ -15,7 +15,7 @@
 //! ...), replaced by the `modes=` field of `IVPHELM_SUMMARY` when driving with modes.
 //!
 //! Not implemented yet, each reported as a config warning when set (the app runs on without
-//! it): platform reports, alternative-nav reports, extrapolation pruning, JSON reports,
+//! it): platform reports, alternative-nav reports, extrapolation pruning,
 //! blackout variance, cross-fill policies other than `literal`.
 //!
 //! # Conformance with pNodeReporter (MOOS-IvP a2a9b716)
@@ -47,7 +47,7 @@
 //! | platform_vsource | vsource | text | none | any; `VSOURCE=` after GROUP | no | done |
 //! | alt_nav_prefix, alt_nav_name, alt_nav_group | | text | none | | no | refused: warning, alternative-nav reports not implemented |
 //! | extrap_enabled, extrap_pos_thresh, extrap_hdg_thresh, extrap_max_gap | | | | | no | refused: warning, extrapolation pruning not implemented |
-//! | json_report | | var or true | none | | no | refused: warning, JSON reports not implemented |
+//! | json_report | | `true` or a var | none (`false`: none) | no white space; `true`: the report variable carries JSON; a var: JSON there beside the usual report | no | done |
 //! | report_cog | | bool | false | MOOS boolean; `COG=` (bearing between iterations) from the next report on | no | done |
 //! | hdg_error | | degrees | 0 | number > 0; added to the reported heading | no | done |
 //!
@@ -56,7 +56,7 @@
 //! | NODE_REPORT_LOCAL (node_report_output) | each iteration (blackout permitting) | NodeRecord spec (above) | done |
 //! | PNR_POST_GAP | each report | seconds since the last | done |
 //! | `<output>_FIRST` | the first report | as the report | done |
-//! | JSON and dual reports | json_report | | refused (see json_report) |
+//! | JSON reports (and `<json var>_FIRST`) | with json_report | `{"NAME":"abe","X":1.5,...}` (MOOS `cspToJson`) | done |
 //! | PLATFORM_REPORT_LOCAL | platform reports | | refused (see plat_report_input) |
 //! | PNR_EXTRAP_POS_GAP, PNR_EXTRAP_HDG_GAP | extrapolation | | refused (see extrap_*) |
 //! | PNR_MHASH | after MISSION_HASH, when the largest distance from the start grows by 2 % and 1 m | `mhash=<hash>,ext=<m, 1 decimal>` | done |
@@ -115,6 +115,9 @@ pub struct NodeReportConfig {
     pub aspects: std::collections::BTreeMap<String, String>,
     /// `RIDER` lines: MOOS variables whose latest values ride along in the reports.
     pub riders: Vec<RiderConfig>,
+    /// `JSON_REPORT`: empty (reports as `key=value`), `true` (the report variable carries
+    /// JSON instead) or a variable that receives the JSON beside the usual report.
+    pub json_report: String,
 }
 
 impl Default for NodeReportConfig {
@@ -139,6 +142,7 @@ impl Default for NodeReportConfig {
             vsource: String::new(),
             aspects: std::collections::BTreeMap::new(),
             riders: Vec::new(),
+            json_report: String::new(),
         }
     }
 }
@@ -191,6 +195,11 @@ impl NodeReportConfig {
             "paused" => self.paused = p.bool()?,
             "allow_color_change" => self.allow_color_change = p.bool()?,
             "report_cog" => self.report_cog = p.bool()?,
+            "json_report" => {
+                let v = p.word()?;
+                // As the C++: exactly `false` means none.
+                self.json_report = if v == "false" { String::new() } else { v };
+            }
             "platform_vsource" | "vsource" => self.vsource = p.value.to_string(),
             "platform_aspect" => {
                 let (k, v) = p.value.split_once('=').unwrap_or((p.value, ""));
@@ -236,8 +245,7 @@ impl NodeReportConfig {
             }
             "blackout_variance" | "plat_report_input" | "plat_report_var" | "platform_variable"
             | "plat_report_output" | "alt_nav_prefix" | "alt_nav_name" | "alt_nav_group"
-            | "extrap_enabled" | "extrap_pos_thresh" | "extrap_hdg_thresh" | "extrap_max_gap"
-            | "json_report" => {
+            | "extrap_enabled" | "extrap_pos_thresh" | "extrap_hdg_thresh" | "extrap_max_gap" => {
                 return Err(
                     p.bad("a setting coug's node reporter implements (not implemented yet)")
                 );
@@ -552,6 +560,45 @@ pub fn write_report(out: &mut String, cfg: &NodeReportConfig, r: &ReportInputs<'
         out.push('=');
         out.push_str(v);
     }
+}
+
+/// A `key=value,...` report as JSON (MOOS `cspToJson`): keys quoted, values quoted unless
+/// numbers or already quoted; a braced input gives an empty string.
+///
+/// ```
+/// assert_eq!(
+///     vehicle::node_report::csp_to_json("NAME=abe,X=1.5,TYPE=kayak"),
+///     r#"{"NAME":"abe","X":1.5,"TYPE":"kayak"}"#
+/// );
+/// ```
+pub fn csp_to_json(csp: &str) -> String {
+    let t = csp.trim();
+    if t.starts_with('{') && t.ends_with('}') {
+        return String::new();
+    }
+    let quoted = |x: &str| x.len() >= 2 && x.starts_with('"') && x.ends_with('"');
+    let t = if quoted(t) { &t[1..t.len() - 1] } else { t };
+    let mut out = String::from("{");
+    for (i, pair) in t.split(',').enumerate() {
+        let (k, v) = pair.split_once('=').unwrap_or((pair, ""));
+        let (k, v) = (k.trim(), v.trim());
+        if i != 0 {
+            out.push(',');
+        }
+        if quoted(k) {
+            out.push_str(k);
+        } else {
+            let _ = write!(out, "\"{k}\"");
+        }
+        out.push(':');
+        if quoted(v) || crate::config::parse_number(v).is_some() {
+            out.push_str(v);
+        } else {
+            let _ = write!(out, "\"{v}\"");
+        }
+    }
+    out.push('}');
+    out
 }
 
 /// The odometer behind `PNR_MHASH` (MOOS `Odometer` plus pNodeReporter's posting rule).
@@ -880,10 +927,30 @@ impl NodeReporter {
                 self.buf.push(',');
                 self.buf.push_str(&riders);
             }
-            if self.reports_posted == 0 {
-                out.push(Posting::string(&self.var_first, self.buf.as_str()));
+            let json = &self.cfg.json_report;
+            let first = self.reports_posted == 0;
+            if json.is_empty() {
+                if first {
+                    out.push(Posting::string(&self.var_first, self.buf.as_str()));
+                }
+                out.push(Posting::string(&self.var_report, self.buf.as_str()));
+            } else if json.eq_ignore_ascii_case("true") {
+                let j = csp_to_json(&self.buf);
+                if first {
+                    out.push(Posting::string(&self.var_first, j.as_str()));
+                }
+                out.push(Posting::string(&self.var_report, j));
+            } else {
+                let j = csp_to_json(&self.buf);
+                if first {
+                    let var: Arc<str> = format!("{json}_FIRST").into();
+                    out.push(Posting::string(&var, j.as_str()));
+                    out.push(Posting::string(&self.var_first, self.buf.as_str()));
+                }
+                let var: Arc<str> = json.as_str().into();
+                out.push(Posting::string(&var, j));
+                out.push(Posting::string(&self.var_report, self.buf.as_str()));
             }
-            out.push(Posting::string(&self.var_report, self.buf.as_str()));
             out.push(Posting::double(&self.var_gap, gap));
             self.reports_posted += 1;
             self.last_post_time = Some(now);

@@ -318,3 +318,48 @@ fn riders_follow_their_policies_with_the_cpp_quirks() {
         report(&out)
     );
 }
+
+#[test]
+fn json_reports_replace_or_join_the_usual_report() {
+    let nav = |app: &mut NodeReporter| {
+        d(app, "NAV_X", 1.5, 0.0);
+        d(app, "NAV_Y", 2.0, 0.0);
+    };
+    // `true`: the report variable carries JSON.
+    let cfg = NodeReportConfig::from_params([("platform_type", "kayak"), ("json_report", "true")])
+        .unwrap();
+    let mut app = NodeReporter::new(cfg, "abe", 0.0);
+    nav(&mut app);
+    let mut out = Vec::new();
+    app.iterate(1.0, &mut out);
+    let r = report(&out);
+    assert!(
+        r.starts_with(r#"{"NAME":"abe","X":1.5,"Y":2,"TYPE":"kayak","#),
+        "{r}"
+    );
+    assert_eq!(
+        last_posting(&out, "NODE_REPORT_LOCAL_FIRST")
+            .unwrap()
+            .as_str(),
+        Some(r.as_str())
+    );
+    // A variable: JSON there, the usual report as before.
+    let cfg =
+        NodeReportConfig::from_params([("platform_type", "kayak"), ("json_report", "NR_JSON")])
+            .unwrap();
+    let mut app = NodeReporter::new(cfg, "abe", 0.0);
+    nav(&mut app);
+    let mut out = Vec::new();
+    app.iterate(1.0, &mut out);
+    assert!(report(&out).starts_with("NAME=abe,X=1.5,Y=2,"));
+    let j = last_posting(&out, "NR_JSON")
+        .unwrap()
+        .as_str()
+        .unwrap()
+        .to_string();
+    assert!(j.starts_with(r#"{"NAME":"abe""#), "{j}");
+    assert!(last_posting(&out, "NR_JSON_FIRST").is_some());
+    // `false` is none.
+    let cfg = NodeReportConfig::from_params([("json_report", "false")]).unwrap();
+    assert!(cfg.json_report.is_empty());
+}
