@@ -237,6 +237,7 @@ pub fn build(
                 block.unwrap_or_else(empty),
                 &globals.community,
                 start,
+                globals.grid(),
             )?;
             warnings.extend(v.warnings().iter().cloned());
             Box::new(v)

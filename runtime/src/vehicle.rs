@@ -140,17 +140,19 @@ impl VehicleApp {
         ))
     }
 
-    /// pNodeReporter from its block, reporting as vehicle `community`.
+    /// pNodeReporter from its block, reporting as vehicle `community`; `grid` (the mission's
+    /// origin) serves the cross-fill policies.
     pub fn node_reporter(
         name: &str,
         block: ProcessConfig,
         community: &str,
         start: f64,
+        grid: Option<LocalGrid>,
     ) -> Result<Self, VehicleAppError> {
         let (cfg, unknown) = NodeReportConfig::from_params_lenient(params(&block))
             .map_err(|e| located(&block, e))?;
         let w = warnings(&block, unknown);
-        let rep = NodeReporter::new(cfg, community, start);
+        let rep = NodeReporter::new(cfg, community, start).with_grid(grid);
         let riders: Vec<String> = rep.rider_vars().map(str::to_string).collect();
         let mut subs = NodeReporter::subscriptions().to_vec();
         subs.extend(riders.iter().map(String::as_str));

@@ -214,8 +214,14 @@ async fn vehicle_apps_swap_in_as_separate_moos_clients_with_warp() {
     let mut sim =
         VehicleApp::simulator("uSimMarineV22", block("uSimMarineV22"), None, start, false).unwrap();
     let mut pid = VehicleApp::marine_pid("pMarinePIDV22", block("pMarinePIDV22"), false).unwrap();
-    let mut rep =
-        VehicleApp::node_reporter("pNodeReporter", block("pNodeReporter"), "alpha", start).unwrap();
+    let mut rep = VehicleApp::node_reporter(
+        "pNodeReporter",
+        block("pNodeReporter"),
+        "alpha",
+        start,
+        None,
+    )
+    .unwrap();
     let mut helm = ScriptedHelm;
     let (stop_tx, stop_rx) = watch::channel(false);
     let watch = async {

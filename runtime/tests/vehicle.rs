@@ -64,9 +64,14 @@ fn run() -> (Vec<u8>, Outcome) {
     assert_eq!(sim.app_tick(), 4.0);
     let pid = VehicleApp::marine_pid("pMarinePIDV22", block(&m, "pMarinePIDV22"), false).unwrap();
     assert_eq!(pid.app_tick(), 20.0);
-    let rep =
-        VehicleApp::node_reporter("pNodeReporter", block(&m, "pNodeReporter"), "alpha", START)
-            .unwrap();
+    let rep = VehicleApp::node_reporter(
+        "pNodeReporter",
+        block(&m, "pNodeReporter"),
+        "alpha",
+        START,
+        None,
+    )
+    .unwrap();
     let buf = SharedBuffer::default();
     let opened = NaiveDate::from_ymd_opt(2026, 8, 5)
         .unwrap()
@@ -205,8 +210,14 @@ fn vehicle_apps_run_on_with_config_warnings() {
                 nohelm_threshold = -1\n  extrap_enabled = true\n}\n\
                 ProcessConfig = pMarinePIDV22\n{\n  yaw_pid_kp = fast\n  speed_factor = 20\n}\n";
     let m = mission::moos::parse_moos(&SourceMap::from_text("w.moos", text)).value;
-    let rep = VehicleApp::node_reporter("pNodeReporter", block(&m, "pNodeReporter"), "abe", START)
-        .expect("the reporter runs");
+    let rep = VehicleApp::node_reporter(
+        "pNodeReporter",
+        block(&m, "pNodeReporter"),
+        "abe",
+        START,
+        None,
+    )
+    .expect("the reporter runs");
     let w = rep.warnings();
     assert_eq!(w.len(), 2, "{w:?}");
     assert!(

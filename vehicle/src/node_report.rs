@@ -16,7 +16,7 @@
 //!
 //! Not implemented yet, each reported as a config warning when set (the app runs on without
 //! it): platform reports, alternative-nav reports, extrapolation pruning,
-//! blackout variance, cross-fill policies other than `literal`.
+//! blackout variance.
 //!
 //! # Conformance with pNodeReporter (MOOS-IvP a2a9b716)
 //!
@@ -38,7 +38,7 @@
 //! | nav_grace_period | | s | 60 | number | no | open: implemented, untested |
 //! | paused | | bool | false | MOOS boolean | PNR_PAUSE | open: implemented, untested |
 //! | allow_color_change | | bool | false | MOOS boolean | no | open: implemented, untested |
-//! | cross_fill_policy | crossfill_policy | enum | literal | literal, fill-empty, global, use-latest, local, global-terse | no | refused: warning for all but `literal` |
+//! | cross_fill_policy | crossfill_policy | enum | literal | literal, fill-empty, global, use-latest, local, global-terse (`_` read as `-`); fills before each report with the mission's origin | no | done |
 //! | platform_aspect | | `key=value` | none | both sides non-empty, no second `=`; appended to the reports in key order | no | done |
 //! | blackout_variance | | s | 0 | >= 0 | no | refused: warning, not implemented |
 //! | rider | | `var=..,policy=always\|updated\|updated+S\|S,rfld=..,prec=..` | none | not a report field; policy, alphanumeric rfld, prec >= 0 (max 10); one per variable; subscribed | yes (mail) | done |
@@ -118,6 +118,8 @@ pub struct NodeReportConfig {
     /// `JSON_REPORT`: empty (reports as `key=value`), `true` (the report variable carries
     /// JSON instead) or a variable that receives the JSON beside the usual report.
     pub json_report: String,
+    /// `CROSS_FILL_POLICY`: how local and global positions fill each other in the reports.
+    pub crossfill: CrossFill,
 }
 
 impl Default for NodeReportConfig {
@@ -143,6 +145,7 @@ impl Default for NodeReportConfig {
             aspects: std::collections::BTreeMap::new(),
             riders: Vec::new(),
             json_report: String::new(),
+            crossfill: CrossFill::Literal,
         }
     }
 }
@@ -226,11 +229,13 @@ impl NodeReportConfig {
                         p.bad("literal, fill-empty, global, use-latest, local or global-terse")
                     );
                 }
-                if v != "literal" {
-                    return Err(p.bad(
-                        "literal (the other cross-fill policies are not implemented by coug yet)",
-                    ));
-                }
+                self.crossfill = match v.as_str() {
+                    "fill-empty" => CrossFill::FillEmpty,
+                    "global" | "global-terse" => CrossFill::Global,
+                    "use-latest" => CrossFill::UseLatest,
+                    "local" => CrossFill::Local,
+                    _ => CrossFill::Literal,
+                };
             }
             // pNodeReporter settings coug does not implement yet: a config warning each (the
             // app runs on), never a silent difference.
@@ -254,6 +259,22 @@ impl NodeReportConfig {
         }
         Ok(true)
     }
+}
+
+/// How a report's local (X/Y) and global (LAT/LON) positions fill each other (MOOS
+/// `crossFillCoords`), using the mission's LatOrigin/LongOrigin.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CrossFill {
+    /// Each as received (default).
+    Literal,
+    /// X/Y from LAT/LON when both are known (`global`, `global-terse`).
+    Global,
+    /// LAT/LON from X/Y when both are known.
+    Local,
+    /// Fill the pair never received from the other.
+    FillEmpty,
+    /// Fill the staler pair from the fresher one.
+    UseLatest,
 }
 
 /// When a rider's value goes into a report (MOOS `NodeRider` policies).
@@ -663,6 +684,10 @@ pub struct NodeReporter {
     odo: MhashOdometer,
     /// One state per configured rider.
     riders: Vec<RiderState>,
+    /// The mission's local grid (cross-filling), and when X/Y and LAT/LON last arrived.
+    grid: Option<crate::geodesy::LocalGrid>,
+    xy_time: f64,
+    latlon_time: f64,
     /// Position at the previous iteration and the course over ground (`report_cog`).
     last_xy: Option<(f64, f64)>,
     cog: Option<f64>,
@@ -701,6 +726,9 @@ impl NodeReporter {
             mhash: String::new(),
             odo: MhashOdometer::default(),
             riders: vec![RiderState::default(); rider_count],
+            grid: None,
+            xy_time: 0.0,
+            latlon_time: 0.0,
             buf: String::with_capacity(256),
         }
     }
@@ -740,6 +768,45 @@ impl NodeReporter {
             "PNR_PAUSE",
             "MISSION_HASH",
         ]
+    }
+
+    /// The mission's local grid (from LatOrigin/LongOrigin), for the cross-fill policies.
+    pub fn with_grid(mut self, grid: Option<crate::geodesy::LocalGrid>) -> Self {
+        self.grid = grid;
+        self
+    }
+
+    /// Fills X/Y or LAT/LON of the kept record as the policy says (before a report).
+    fn cross_fill(&mut self) {
+        let Some(grid) = &self.grid else {
+            return;
+        };
+        let n = &mut self.nav;
+        let (xy, ll) = (n.x.zip(n.y), n.lat.zip(n.lon));
+        let to_local = |(lat, lon): (f64, f64)| grid.to_local(lat, lon).ok();
+        let to_global = |(x, y): (f64, f64)| grid.to_latlon(x, y).ok();
+        let fill = match self.cfg.crossfill {
+            CrossFill::Literal => None,
+            CrossFill::Global => ll.and_then(to_local).map(|p| (true, p)),
+            CrossFill::Local => xy.and_then(to_global).map(|p| (false, p)),
+            CrossFill::FillEmpty => match (n.x.is_none() && n.y.is_none(), ll, xy) {
+                (true, Some(g), _) => to_local(g).map(|p| (true, p)),
+                (false, _, Some(l)) if n.lat.is_none() && n.lon.is_none() => {
+                    to_global(l).map(|p| (false, p))
+                }
+                _ => None,
+            },
+            CrossFill::UseLatest if self.xy_time == self.latlon_time => None,
+            CrossFill::UseLatest if self.xy_time < self.latlon_time => {
+                ll.and_then(to_local).map(|p| (true, p))
+            }
+            CrossFill::UseLatest => xy.and_then(to_global).map(|p| (false, p)),
+        };
+        match fill {
+            Some((true, (x, y))) => (n.x, n.y) = (Some(x), Some(y)),
+            Some((false, (lat, lon))) => (n.lat, n.lon) = (Some(lat), Some(lon)),
+            None => {}
+        }
     }
 
     /// The rider variables (subscribed in addition to [`NodeReporter::subscriptions`]).
@@ -805,10 +872,22 @@ impl NodeReporter {
             }
         }
         match (var, d) {
-            ("NAV_X", Some(v)) => self.nav.x = Some(v),
-            ("NAV_Y", Some(v)) => self.nav.y = Some(v),
-            ("NAV_LAT", Some(v)) => self.nav.lat = Some(v),
-            ("NAV_LONG", Some(v)) => self.nav.lon = Some(v),
+            ("NAV_X", Some(v)) => {
+                self.nav.x = Some(v);
+                self.xy_time = time;
+            }
+            ("NAV_Y", Some(v)) => {
+                self.nav.y = Some(v);
+                self.xy_time = time;
+            }
+            ("NAV_LAT", Some(v)) => {
+                self.nav.lat = Some(v);
+                self.latlon_time = time;
+            }
+            ("NAV_LONG", Some(v)) => {
+                self.nav.lon = Some(v);
+                self.latlon_time = time;
+            }
             ("NAV_SPEED", Some(v)) => self.nav.speed = Some(v),
             ("NAV_HEADING", Some(v)) => self.nav.heading = Some(angle360(v)),
             ("NAV_DEPTH", Some(v)) => self.nav.depth = Some(v),
@@ -900,6 +979,7 @@ impl NodeReporter {
         if post {
             let gap = self.last_post_time.map_or(0.0, |t| now - t);
             let mode = self.helm.mode(now, self.cfg.nohelm_threshold);
+            self.cross_fill();
             // HDG_ERROR: the posted report carries the heading plus the error.
             let mut nav = self.nav;
             if self.cfg.hdg_error_deg != 0.0 {

@@ -363,3 +363,51 @@ fn json_reports_replace_or_join_the_usual_report() {
     let cfg = NodeReportConfig::from_params([("json_report", "false")]).unwrap();
     assert!(cfg.json_report.is_empty());
 }
+
+#[test]
+fn cross_fill_policies_fill_positions_from_the_mission_origin() {
+    use vehicle::geodesy::LocalGrid;
+    let grid = LocalGrid::new(43.8253, -70.3304).unwrap();
+    let (lat, lon) = grid.to_latlon(100.0, 200.0).unwrap();
+    let run = |policy: &str, mail: &[(&str, f64)]| -> String {
+        let cfg = NodeReportConfig::from_params([
+            ("platform_type", "kayak"),
+            ("cross_fill_policy", policy),
+        ])
+        .unwrap();
+        let mut app = NodeReporter::new(cfg, "abe", 0.0).with_grid(Some(grid.clone()));
+        for (i, (var, v)) in mail.iter().enumerate() {
+            d(&mut app, var, *v, i as f64);
+        }
+        let mut out = Vec::new();
+        app.iterate(10.0, &mut out);
+        report(&out)
+    };
+    // global: X/Y from LAT/LON.
+    let r = run("global", &[("NAV_LAT", lat), ("NAV_LONG", lon)]);
+    assert!(r.starts_with("NAME=abe,X=100,Y=200,"), "{r}");
+    // local: LAT/LON from X/Y (8 decimals).
+    let r = run("local", &[("NAV_X", 100.0), ("NAV_Y", 200.0)]);
+    assert!(
+        r.contains(&format!(",LAT={lat:.8}").trim_end_matches('0')),
+        "{r}"
+    );
+    // fill_empty (underscore read as dash): only the pair never received.
+    let r = run("fill_empty", &[("NAV_X", 100.0), ("NAV_Y", 200.0)]);
+    assert!(r.contains(",LAT="), "{r}");
+    // use-latest: the staler pair (X/Y here, older) comes from the fresher one.
+    let r = run(
+        "use-latest",
+        &[
+            ("NAV_X", 1.0),
+            ("NAV_Y", 1.0),
+            ("NAV_LAT", lat),
+            ("NAV_LONG", lon),
+        ],
+    );
+    assert!(r.starts_with("NAME=abe,X=100,Y=200,"), "{r}");
+    // literal: as received.
+    let r = run("literal", &[("NAV_X", 1.0), ("NAV_Y", 1.0)]);
+    assert!(!r.contains("LAT="), "{r}");
+    assert!(NodeReportConfig::from_params([("cross_fill_policy", "sometimes")]).is_err());
+}
