@@ -389,7 +389,7 @@ fn cross_fill_policies_fill_positions_from_the_mission_origin() {
     // local: LAT/LON from X/Y (8 decimals).
     let r = run("local", &[("NAV_X", 100.0), ("NAV_Y", 200.0)]);
     assert!(
-        r.contains(&format!(",LAT={lat:.8}").trim_end_matches('0')),
+        r.contains(format!(",LAT={lat:.8}").trim_end_matches('0')),
         "{r}"
     );
     // fill_empty (underscore read as dash): only the pair never received.
