@@ -195,7 +195,7 @@ impl App for VehicleApp {
         self.subs.clone()
     }
 
-    fn on_mail(&mut self, mail: &[Mail], _now: f64, out: &mut Vec<Post>) {
+    fn on_mail(&mut self, mail: &[Mail], now: f64, out: &mut Vec<Post>) {
         for m in mail {
             let v = match &m.value {
                 Value::Double(x) => MailValue::Double(*x),
@@ -203,8 +203,10 @@ impl App for VehicleApp {
                 Value::Binary(_) => continue,
             };
             match &mut self.inner {
+                // The simulator handles mail at the app's time (MOOSTime() in the C++), and
+                // needs the writer to tell drift sources apart.
                 Inner::Sim(s) => {
-                    if let Some(p) = s.on_mail(&m.key, v, m.time) {
+                    if let Some(p) = s.on_mail_from(&m.key, v, now, &m.source) {
                         self.postings.push(p);
                     }
                 }

@@ -18,6 +18,7 @@
 //! | [`pid`] | `pMarinePIDV22` |
 //! | [`cougars`] | the CoUGARs Gen-1 depth/pitch/heading controllers, fin mixing and actuators |
 //! | [`node_report`] | `pNodeReporter` (`NODE_REPORT_LOCAL`) |
+//! | [`wormhole`] | uSimMarineV22's wormholes |
 //! | [`geodesy`] | MOOS-IvP's UTM-based local grid, without its cross-zone bug |
 #![warn(missing_docs)]
 
@@ -30,6 +31,7 @@ pub mod node_report;
 pub mod pid;
 pub mod polar;
 pub mod sim;
+pub mod wormhole;
 
 pub use config::ConfigError;
 pub use moos::{MailValue, Posting, Value};

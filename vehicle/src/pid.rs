@@ -739,6 +739,9 @@ pub struct MarinePid {
     stale_var: Arc<str>,
     debug_vars: [Arc<str>; 3],
     last: PidOutputs,
+    /// The engine's clock: the time of the last iteration (0 before the first). As in
+    /// `PIDEngine`, mail is stamped with it, and a stamp of 0 means "never received".
+    engine_time: f64,
 }
 
 impl MarinePid {
@@ -762,6 +765,7 @@ impl MarinePid {
                 "PID_DEP_DEBUG".into(),
             ],
             last: PidOutputs::default(),
+            engine_time: 0.0,
             cfg,
         }
     }
@@ -831,10 +835,20 @@ impl MarinePid {
         }
     }
 
-    /// Takes one piece of mail received at `time`.
+    /// Takes one piece of mail. As `PIDEngine` does, each input is stamped with the engine's
+    /// time (the time of the last iteration), not with `_time`; before the first iteration
+    /// that stamp is 0, which the engine reads as "not received". The legacy pMarinePID
+    /// stamps mail with the time it is handled (`time`).
     pub fn on_mail(&mut self, var: &str, value: MailValue<'_>, time: f64) {
         let d = value.as_f64();
-        let stamp = |v: f64| Some((v, time));
+        let (now, legacy) = (self.engine_time, self.cfg.legacy);
+        let stamp = |v: f64| {
+            if legacy {
+                Some((v, time))
+            } else {
+                (now != 0.0).then_some((v, now))
+            }
+        };
         match (var, d) {
             ("MOOS_MANUAL_OVERIDE" | "MOOS_MANUAL_OVERRIDE", _) => {
                 if let Some(s) = value.as_str() {
@@ -857,7 +871,12 @@ impl MarinePid {
             ("NAV_SPEED", Some(v)) => self.inputs.speed = stamp(v),
             ("NAV_DEPTH", Some(v)) => self.inputs.depth = stamp(v),
             ("NAV_PITCH", Some(v)) => self.inputs.pitch = stamp(v),
-            ("PID_THRUST_CAP", Some(v)) => self.thrust_cap = v.clamp(20.0, 100.0),
+            // A string mail only (`setDoubleClipRngOnString` on the string value).
+            ("PID_THRUST_CAP", _) => {
+                if let Some(v) = value.as_str().and_then(crate::config::parse_number) {
+                    self.thrust_cap = v.clamp(20.0, 100.0);
+                }
+            }
             _ => {}
         }
     }
@@ -867,6 +886,7 @@ impl MarinePid {
     /// as the C++ does) and only the engine's own postings (`PID_HAS_CONTROL`, `PID_STALE`,
     /// debug reports) are appended to `out`.
     pub fn iterate_embedded(&mut self, now: f64, out: &mut Vec<Posting>) -> PidOutputs {
+        self.engine_time = now;
         let (s, o) = step(&self.cfg, &self.state, &self.inputs, now);
         self.state = s;
         self.last = o;
@@ -891,6 +911,7 @@ impl MarinePid {
 
     /// One iteration at time `now`; appends the postings to `out`.
     pub fn iterate(&mut self, now: f64, out: &mut Vec<Posting>) {
+        self.engine_time = now;
         let (s, o) = step(&self.cfg, &self.state, &self.inputs, now);
         self.state = s;
         self.last = o;

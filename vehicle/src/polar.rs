@@ -22,17 +22,56 @@ impl Wind {
     /// assert!(Wind::parse("gust=3", None).is_none());
     /// ```
     pub fn parse(spec: &str, current: Option<Wind>) -> Option<Wind> {
-        let mut w = current.unwrap_or_default();
+        let mut w = current;
+        Wind::apply(spec, &mut w).then_some(w).flatten()
+    }
+
+    /// Applies `spd=<m/s>,dir=<deg>` to `wind` piece by piece, as `WindModel::setConditions`:
+    /// a number `spd` >= 0 or `dir` >= 0 is taken (the wind becomes set); a negative `spd` is
+    /// skipped; anything else stops there and gives `false`, the pieces before it staying
+    /// applied. Returns `true` when every piece was read (the wind is then set).
+    ///
+    /// ```
+    /// use vehicle::polar::Wind;
+    /// let mut w = None;
+    /// assert!(!Wind::apply("spd=5,gust=3", &mut w));
+    /// assert_eq!(w.unwrap().speed_mps, 5.0, "the speed before the bad piece stays");
+    /// ```
+    pub fn apply(spec: &str, wind: &mut Option<Wind>) -> bool {
         for part in spec.split(',') {
-            let (k, v) = part.split_once('=')?;
-            let d = crate::config::parse_number(v)?;
-            match k.trim() {
-                "spd" if d >= 0.0 => w.speed_mps = d,
-                "dir" if d >= 0.0 => w.dir_deg = crate::angle::angle360(d),
-                _ => return None,
+            let (k, v) = part.split_once('=').unwrap_or((part, ""));
+            let d = crate::config::parse_number(v);
+            match (k.trim(), d) {
+                ("spd", Some(d)) => {
+                    if d >= 0.0 {
+                        wind.get_or_insert_default().speed_mps = d;
+                    }
+                }
+                ("dir", Some(d)) if d >= 0.0 => {
+                    wind.get_or_insert_default().dir_deg = crate::angle::angle360(d)
+                }
+                _ => return false,
             }
         }
-        Some(w)
+        wind.get_or_insert_default();
+        true
+    }
+
+    /// The `VIEW_ARROW` uSimMarineV22 posts for this wind (MOOS `WindModel::getArrowSpec`):
+    /// an arrow at the origin pointing where the wind blows to, drawn green.
+    ///
+    /// ```
+    /// use vehicle::polar::Wind;
+    /// let w = Wind { dir_deg: 45.0, speed_mps: 3.0 };
+    /// assert_eq!(w.arrow_spec(), "ctrx=0,ctry=0,ang=225,bwid=5,blen=20,hwid=10,hlen=10,\
+    /// label=windmod,edge_color=off,vertex_color=off,fill_color=green,fill_transparency=0.2");
+    /// ```
+    pub fn arrow_spec(&self) -> String {
+        let ang = crate::moos::double_x(crate::angle::angle360(self.dir_deg + 180.0), 1);
+        format!(
+            "ctrx=0,ctry=0,ang={ang},bwid=5,blen=20,hwid=10,hlen=10,label=windmod,\
+             edge_color=off,vertex_color=off,fill_color=green,fill_transparency=0.2"
+        )
     }
 }
 

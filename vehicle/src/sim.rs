@@ -273,34 +273,58 @@ pub struct StartPose {
 
 impl StartPose {
     /// Applies a `start_pos`/`USM_RESET` spec: `x=0,y=-20,heading=180,speed=0,depth=0`, or the
-    /// older positional `x,y,heading,speed,depth`.
+    /// older positional `x,y,heading,speed,depth` (MOOS `initPosition`): each field is applied
+    /// in turn, values read as C `atof` reads them (a non-number is 0); an unknown field stops
+    /// there with an error, the fields before it staying applied.
     pub fn apply_spec(&mut self, spec: &str) -> Result<(), &'static str> {
         for (i, item) in spec.split(',').enumerate() {
-            let item = item.trim();
-            if item.is_empty() {
-                continue;
-            }
+            let item = item.trim().to_ascii_lowercase();
             let (key, val) = match item.split_once('=') {
-                Some((k, v)) => (k.trim().to_ascii_lowercase(), v.trim()),
-                None => {
-                    let k = ["x", "y", "heading", "speed", "depth"]
-                        .get(i)
-                        .ok_or("too many fields")?;
-                    ((*k).to_string(), item)
-                }
+                Some((k, v)) if !v.trim().is_empty() => (k.trim().to_string(), v.trim().to_string()),
+                Some((k, _)) => (String::new(), k.trim().to_string()),
+                None => (String::new(), item.clone()),
             };
-            let v = parse_number(val).ok_or("a number")?;
+            let key = if key.is_empty() {
+                ["x", "y", "heading", "speed", "depth"]
+                    .get(i)
+                    .map_or(String::new(), |k| (*k).to_string())
+            } else {
+                key
+            };
+            let v = atof(&val);
             match key.as_str() {
                 "x" => self.x = v,
                 "y" => self.y = v,
                 "heading" | "deg" | "hdg" => self.heading = v,
                 "speed" | "spd" => self.speed = v,
-                "depth" | "dep" => self.depth = v.max(0.0),
-                _ => return Err("x, y, heading, speed or depth"),
+                "depth" | "dep" => self.depth = v,
+                _ => return Err("x, y, heading (deg, hdg), speed (spd) or depth (dep)"),
             }
         }
         Ok(())
     }
+}
+
+/// C's `atof`: the longest leading decimal number of `s` (after blanks), 0 when there is none.
+///
+/// ```
+/// assert_eq!(vehicle::sim::atof(" 12.5m"), 12.5);
+/// assert_eq!(vehicle::sim::atof("abc"), 0.0);
+/// ```
+pub fn atof(s: &str) -> f64 {
+    let t = s.trim_start();
+    let b = t.as_bytes();
+    let mut end = 0;
+    let mut best = 0.0;
+    while end < b.len() {
+        end += 1;
+        if let Ok(v) = t[..end].parse::<f64>()
+            && !t[..end].ends_with(|c: char| c.is_ascii_alphabetic())
+        {
+            best = v;
+        }
+    }
+    if best.is_finite() { best } else { 0.0 }
 }
 
 /// `uSimMarineV22` configuration. `Default` gives the MOOS defaults.
@@ -357,6 +381,18 @@ pub struct SimConfig {
     pub wind: Option<crate::polar::Wind>,
     /// `POLAR_PLOT` set points (`angle,pct:...`).
     pub polar: crate::polar::Polar,
+    /// The wind direction the polar plot was last told (MOOS `PolarPlot::setWindAngle`, only on
+    /// a fully read `wind_conditions`), degrees.
+    pub polar_wind_deg: f64,
+    /// How many `start_pos` lines the block had: each counts as a reset (MOOS `initPosition`),
+    /// so the first `USM_RESET` posts `USM_RESET_COUNT` = this + 1.
+    pub start_pos_count: u32,
+    /// The wormholes (`wormhole = tag=..,madrid_poly=..,weber_poly=..,connection=..`).
+    pub wormholes: crate::wormhole::WormHoleSet,
+    /// `trim_tolerance`, degrees (5): a TRIM_CONTROL request completes once |pitch| is within it.
+    pub trim_tolerance_deg: f64,
+    /// `max_trim_delay`, seconds (10): a TRIM_CONTROL request completes after this anyway.
+    pub max_trim_delay_s: f64,
     /// `DUAL_STATE`: the navigation (`<P>_*`) ignores the drift and a second, ground-truth
     /// state with the drift is posted as `<P>_GT_*` (uSimMarineV22 `m_dual_state`).
     pub dual_state: bool,
@@ -407,6 +443,11 @@ impl Default for SimConfig {
             dual_state: false,
             wind: None,
             polar: crate::polar::Polar::default(),
+            polar_wind_deg: 0.0,
+            start_pos_count: 0,
+            wormholes: crate::wormhole::WormHoleSet::default(),
+            trim_tolerance_deg: 5.0,
+            max_trim_delay_s: 10.0,
             post_des_thrust: None,
             post_des_rudder: None,
             depth_control: true,
@@ -480,12 +521,9 @@ impl SimConfig {
         let pairs: Vec<(&str, &str)> = params.into_iter().collect();
         let lower = |k: &str| k.trim().to_ascii_lowercase();
         let is_pid = |k: &str| crate::pid::ENGINE_KEYS.contains(&lower(k).as_str());
-        // The PID engine takes its keys first (`depth_control` also serves the model).
-        let sim_pairs = pairs
-            .iter()
-            .filter(|(k, _)| !is_pid(k) || lower(k) == "depth_control")
-            .copied();
-        let mut unknown = apply_params(APP, &mut cfg, sim_pairs, Self::apply_one)?;
+        // The PID engine takes its keys first (`PIDEngine::setConfigParams`): they are never
+        // reported as unhandled by the simulator, and have effect only when the PID is embedded.
+        let sim_pairs = pairs.iter().filter(|(k, _)| !is_pid(k)).copied();
         let pid_pairs: Vec<(&str, &str)> =
             pairs.iter().filter(|(k, _)| is_pid(k)).copied().collect();
         // uSimMarineV22 embeds the PID when the block has yaw gains
@@ -501,8 +539,29 @@ impl SimConfig {
             )
         });
         if coupled {
+            // A depth_control that is not a boolean fails the PID's depth settings: the C++
+            // start-up stops there, so the simulator runs uncoupled with every default.
+            if let Some((k, v)) = pid_pairs
+                .iter()
+                .find(|(k, _)| lower(k) == "depth_control")
+                .filter(|(_, v)| crate::config::parse_bool(v).is_none() && lower(v) != "toggle")
+            {
+                return Ok((
+                    SimConfig::default(),
+                    vec![ConfigError::BadValue {
+                        app: APP,
+                        key: k.trim().to_string(),
+                        value: v.trim().to_string(),
+                        expected: "true or false (Improper DEP PID Setting: the simulator runs uncoupled, with its defaults)",
+                    }],
+                ));
+            }
+        }
+        let mut unknown = apply_params(APP, &mut cfg, sim_pairs, Self::apply_one)?;
+        if coupled {
             let (pid, w) = crate::pid::PidConfig::from_params_lenient(pid_pairs)?;
             unknown.extend(w);
+            cfg.depth_control = pid.depth_control;
             cfg.pid = Some(pid);
         }
         Ok((cfg, unknown))
@@ -516,45 +575,72 @@ impl SimConfig {
             "start_heading" => self.start.heading = p.f64()?,
             "start_speed" => self.start.speed = p.f64()?,
             "start_depth" => self.start.depth = p.non_neg()?,
-            "start_pos" => self.start.apply_spec(p.value).map_err(|e| p.bad(e))?,
+            "start_pos" => {
+                self.start_pos_count += 1;
+                self.start.apply_spec(p.value).map_err(|e| p.bad(e))?
+            }
             "turn_rate" => self.turn_rate = p.f64()?.clamp(0.0, 100.0),
             "thrust_map" => self
                 .thrust_map
                 .add_spec(p.value)
                 .map_err(|_| p.bad("ascending thrust:speed pairs, thrust in -100..100"))?,
-            "thrust_factor" => self.thrust_map.thrust_factor = p.non_neg()?,
-            "thrust_reflect" => self.thrust_map.reflect = p.bool()?,
-            "turn_spd_loss" => self.turn_spd_loss = p.range(0.0, 1.0, "a number in 0..1")?,
+            // The C++ applies a number >= 0 but never marks the line handled: it always warns.
+            "thrust_factor" => {
+                if let Ok(v) = p.non_neg() {
+                    self.thrust_map.thrust_factor = v;
+                }
+                return Err(p.bad("(uSimMarineV22 reports every thrust_factor line as unhandled)"));
+            }
+            "thrust_reflect" => {
+                self.thrust_map.reflect = match p.value.to_ascii_lowercase().as_str() {
+                    "true" => true,
+                    "false" => false,
+                    _ => return Err(p.bad("true or false")),
+                }
+            }
+            // Read with `atof` (a non-number is 0), then checked against [0, 1].
+            "turn_spd_loss" => match atof(p.value) {
+                v if (0.0..=1.0).contains(&v) => self.turn_spd_loss = v,
+                _ => return Err(p.bad("a number in 0..1")),
+            },
             "max_acceleration" => self.max_acceleration = p.non_neg()?,
             "max_deceleration" => self.max_deceleration = p.non_neg()?,
             "buoyancy_rate" => self.buoyancy_rate = p.f64()?,
             "max_depth_rate" => self.max_depth_rate = p.f64()?,
             "max_depth_rate_speed" => self.max_depth_rate_speed = p.f64()?,
             "max_speed" => self.max_speed = p.pos()?,
-            "drift_x" | "current_x" => self.drift_x = p.f64()?,
-            "drift_y" | "current_y" => self.drift_y = p.f64()?,
+            "drift_x" => self.drift_x = p.f64()?,
+            "drift_y" => self.drift_y = p.f64()?,
             "drift_vector" => {
                 let (x, y) = drift_from_vector(p.value).ok_or_else(|| p.bad("angle,magnitude"))?;
                 self.drift_x = x;
                 self.drift_y = y;
             }
             "rotate_speed" => self.rotate_speed = p.f64()?,
-            "default_water_depth" | "water_depth" => self.water_depth = p.non_neg()?,
+            "default_water_depth" => self.water_depth = p.non_neg()?,
             "turn_radius" => self.turn_radius = p.non_neg()?,
             "max_rudder_degs_per_sec" => self.max_rudder_degs_per_sec = p.non_neg()?,
-            "turn_spd_map_null_speed" => self.tsm_null_speed = p.non_neg()?,
+            "turn_spd_map_null_speed" => self.tsm_null_speed = p.pos()?,
             "turn_spd_map_null_rate" => self.tsm_null_rate = p.range(0.0, 100.0, "0..100")?,
             // The C++ engine overwrites the full speed (5 m/s) and full rate (turn_rate) of the
-            // map on every step, so these two keys are accepted but have no effect there either.
-            "turn_spd_map_full_speed" | "turn_spd_map_full_rate" => {
-                p.non_neg()?;
+            // map on every step, so these two keys are checked but have no effect there either.
+            "turn_spd_map_full_speed" => {
+                p.pos()?;
             }
+            "turn_spd_map_full_rate" => match parse_number(p.value) {
+                Some(v) if v > 0.0 && v <= 100.0 => {}
+                _ => return Err(p.bad("a number in (0, 100]")),
+            },
+            // The C++ applies a valid value but never marks the line handled: it always warns.
             "thrust_mode_reverse" => {
-                self.thrust_mode_reverse = match p.value.to_ascii_lowercase().as_str() {
-                    "reverse" | "true" => true,
-                    "normal" | "false" => false,
-                    _ => return Err(p.bad("reverse, normal, true or false")),
+                match p.value.to_ascii_lowercase().as_str() {
+                    "reverse" | "true" => self.thrust_mode_reverse = true,
+                    "normal" | "false" => self.thrust_mode_reverse = false,
+                    _ => {}
                 }
+                return Err(p.bad(
+                    "reverse, normal, true or false (uSimMarineV22 reports every thrust_mode_reverse line as unhandled)",
+                ));
             }
             "thrust_mode_diff" => {
                 self.thrust_mode_differential = match p.value.to_ascii_lowercase().as_str() {
@@ -565,35 +651,45 @@ impl SimConfig {
             }
             "sim_pause" => self.paused = p.bool()?,
             "post_navpos_summary" => self.post_navpos_summary = p.bool()?,
-            "post_des_thrust" => {
-                let w = p.word()?;
-                self.post_des_thrust = (w != "DESIRED_THRUST").then_some(w);
+            "post_des_thrust" if p.value != "DESIRED_THRUST" => {
+                self.post_des_thrust = Some(p.word()?)
             }
-            "post_des_rudder" => {
-                let w = p.word()?;
-                self.post_des_rudder = (w != "DESIRED_RUDDER").then_some(w);
+            "post_des_rudder" if p.value != "DESIRED_RUDDER" => {
+                self.post_des_rudder = Some(p.word()?)
             }
-            "depth_control" => self.depth_control = p.bool()?,
-            "legacy" => self.legacy = p.bool()?,
-            // Not simulated by coug yet (trim handshakes, worm
-            // holes): a config warning, never a silent difference.
+            "post_des_thrust" | "post_des_rudder" => {
+                return Err(p.bad("a variable other than the one the PID posts"));
+            }
             "dual_state" => self.dual_state = p.bool()?,
             "wind_conditions" => {
-                self.wind = Some(
-                    crate::polar::Wind::parse(p.value, self.wind)
-                        .ok_or_else(|| p.bad("spd=<m/s>,dir=<degrees>"))?,
-                )
+                if !crate::polar::Wind::apply(p.value, &mut self.wind) {
+                    return Err(p.bad("spd=<m/s>,dir=<degrees>"));
+                }
+                self.polar_wind_deg = self.wind.map_or(0.0, |w| w.dir_deg);
             }
             "polar_plot" => {
                 if !self.polar.add_points(p.value) {
                     return Err(p.bad("angle,pct:... with angles in 0..180, each once, pct >= 0"));
                 }
             }
-            "trim_tolerance" | "max_trim_delay" | "wormhole" => {
-                return Err(p.bad(
-                    "a setting coug's simulator supports (this feature is not simulated yet)",
-                ));
-            }
+            "trim_tolerance" => self.trim_tolerance_deg = p.f64()?,
+            "max_trim_delay" => self.max_trim_delay_s = p.f64()?,
+            "wormhole" => self.wormholes.add_config(p.value).map_err(|e| {
+                p.bad(match e {
+                    crate::wormhole::WormHoleError::NoTag => "a wormhole with tag=<name>",
+                    crate::wormhole::WormHoleError::BadPolygon(_) => {
+                        "convex madrid_poly / weber_poly polygons"
+                    }
+                    crate::wormhole::WormHoleError::BadConnection => {
+                        "connection = both, from_madrid or from_weber"
+                    }
+                    crate::wormhole::WormHoleError::BadDelay => "delay >= 0",
+                    crate::wormhole::WormHoleError::BadIdChange => "id_change = true or false",
+                    crate::wormhole::WormHoleError::UnknownField(_) => {
+                        "tag, madrid_poly, weber_poly, connection, delay, id_change"
+                    }
+                })
+            })?,
             _ => return Ok(false),
         }
         Ok(true)
@@ -663,6 +759,8 @@ pub struct SimInputs {
     pub buoyancy_rate: f64,
     /// The wind (start-up `wind_conditions`, then `WIND_CONDITIONS` mail).
     pub wind: Option<crate::polar::Wind>,
+    /// The wind direction the polar plot uses (updated only by a fully read wind spec).
+    pub polar_wind_deg: f64,
 }
 
 impl SimInputs {
@@ -674,6 +772,7 @@ impl SimInputs {
             rotate_speed: cfg.rotate_speed,
             buoyancy_rate: cfg.buoyancy_rate,
             wind: cfg.wind,
+            polar_wind_deg: cfg.polar_wind_deg,
             ..SimInputs::default()
         }
     }
@@ -715,15 +814,20 @@ pub fn turn_rate_at(cfg: &SimConfig, speed: f64) -> f64 {
     if cfg.legacy {
         return cfg.turn_rate;
     }
-    let (ns, nr, fs, fr) = (
-        cfg.tsm_null_speed,
-        cfg.tsm_null_rate,
-        TURN_MAP_FULL_SPEED,
-        cfg.turn_rate,
-    );
+    // Each step the C++ sets the map's full speed to 5 m/s and its full rate to turn_rate
+    // (refused when turn_rate is 0, leaving the map's own 100); both setters pull the null
+    // point down to the full one.
+    let fs = TURN_MAP_FULL_SPEED;
+    let fr = if cfg.turn_rate > 0.0 && cfg.turn_rate <= 100.0 {
+        cfg.turn_rate
+    } else {
+        100.0
+    };
+    let ns = cfg.tsm_null_speed.min(fs);
+    let nr = cfg.tsm_null_rate.min(fr);
     if speed <= ns {
         nr
-    } else if speed >= fs || fs <= ns {
+    } else if speed >= fs {
         fr
     } else {
         nr + (fr - nr) * (speed - ns) / (fs - ns)
@@ -788,7 +892,7 @@ pub fn step(
             // Sailing: wind and polar plot cap the speed on the prior heading.
             let max_sail = match inputs.wind {
                 Some(w) if cfg.polar.is_set() => {
-                    cfg.polar.fraction(prior_heading, w.dir_deg) * w.speed_mps
+                    cfg.polar.fraction(prior_heading, inputs.polar_wind_deg) * w.speed_mps
                 }
                 _ => -1.0,
             };
@@ -840,6 +944,7 @@ pub fn step(
         }
 
         // 4: position from the mean speed and the circular mean heading.
+        let model_speed = s.speed;
         let speed = (s.speed + prior_speed) / 2.0;
         let (h0, h1) = (prior_heading.to_radians(), s.heading.to_radians());
         let hdg = (h0.sin() + h1.sin()).atan2(h0.cos() + h1.cos());
@@ -855,7 +960,7 @@ pub fn step(
         s.speed_og = (xdot + inputs.drift_x).hypot(ydot + inputs.drift_y);
         s.heading_og = rel_ang(px, py, s.x, s.y);
         if cfg.turn_radius > 0.0 {
-            enforce_turn_limit(cfg, state, prior_heading, &mut s);
+            enforce_turn_limit(cfg, state, prior_heading, model_speed, &mut s);
         }
         s.time += dt;
     }
@@ -864,23 +969,33 @@ pub fn step(
 }
 
 /// Limits the heading change of a step to what the minimum turn radius allows (the C++
-/// `enforceTurnLimit`, with the radius scaled by speed/max_speed).
-fn enforce_turn_limit(cfg: &SimConfig, prev: &SimState, prior_heading: f64, s: &mut SimState) {
+/// `enforceTurnLimit`): the radius is scaled by speed/max_speed, the speed being the mean of
+/// the thrust-map speed of this step (`model_speed`) and the new (mean) speed, as the C++
+/// record copies give it. As in the C++ only x, y and the heading change (not the yaw).
+/// Where the C++ would take `asin` of a ratio above 1 (a step longer than the turn circle)
+/// and produce NaN, the step is left unlimited.
+fn enforce_turn_limit(
+    cfg: &SimConfig,
+    prev: &SimState,
+    prior_heading: f64,
+    model_speed: f64,
+    s: &mut SimState,
+) {
     let (h1, h2) = (prior_heading, s.heading);
     if h1 == h2 {
         return;
     }
-    let v = (prev.speed + s.speed) / 2.0;
+    let v = (model_speed + s.speed) / 2.0;
     let mut radius = cfg.turn_radius;
     if cfg.max_speed > 0.0 && v < cfg.max_speed {
-        radius *= v / cfg.max_speed;
+        radius *= 1.0 - (cfg.max_speed - v) / cfg.max_speed;
     }
     let dist = (prev.x - s.x).hypot(prev.y - s.y);
-    if radius <= 0.0 || dist <= 0.0 {
+    if radius <= 0.0 {
         return;
     }
     let ratio = dist / (2.0 * radius);
-    if ratio >= 1.0 {
+    if ratio > 1.0 {
         return;
     }
     let phi = ratio.asin().to_degrees();
@@ -893,7 +1008,6 @@ fn enforce_turn_limit(cfg: &SimConfig, prev: &SimState, prior_heading: f64, s: &
     s.x = prev.x + dir.to_radians().sin() * dist;
     s.y = prev.y + dir.to_radians().cos() * dist;
     s.heading = angle360(if port { h1 - 2.0 * phi } else { h1 + 2.0 * phi });
-    s.yaw = -angle180(s.heading).to_radians();
 }
 
 /// The published view of a state.
@@ -988,19 +1102,27 @@ pub struct Simulator {
     cfg: SimConfig,
     grid: Option<LocalGrid>,
     state: SimState,
+    /// The ground-truth record (MOOS `m_record_gt`): propagated (with the drift) only with
+    /// `dual_state`, but always kept, reset and informed with the navigation record.
+    gt: SimState,
     inputs: SimInputs,
     vars: SimVars,
-    /// The ground-truth state and its variables, with `dual_state`.
-    ground_truth: Option<(SimState, SimVars)>,
+    /// `<P>_GT_*` names, with `dual_state`.
+    gt_vars: Option<SimVars>,
     last_time: f64,
     paused: bool,
     enabled: bool,
     obstacle_hit: bool,
     iteration: u64,
     drift_fresh: bool,
+    drift_sources: std::collections::BTreeSet<String>,
     reset_count: u32,
     rudder_time: f64,
     pid: Option<Box<crate::pid::MarinePid>>,
+    buoyancy_request: Option<f64>,
+    trim_request: Option<f64>,
+    last_report: f64,
+    transp_var: Arc<str>,
 }
 
 /// What the embedded PID takes from the mail (uSimMarineV22 `OnNewMail`, PID part).
@@ -1018,6 +1140,33 @@ const PID_MAIL: &[&str] = &[
     "NAV_PITCH",
 ];
 
+/// The mail whose value is a number.
+const NUMERIC_MAIL: &[&str] = &[
+    "DESIRED_THRUST",
+    "DESIRED_RUDDER",
+    "DESIRED_ELEVATOR",
+    "DESIRED_THRUST_L",
+    "DESIRED_THRUST_R",
+    "BUOYANCY_RATE",
+    "ROTATE_SPEED",
+    "CURRENT_X",
+    "DRIFT_X",
+    "CURRENT_Y",
+    "DRIFT_Y",
+    "DRIFT_VECTOR_MULT",
+    "WATER_DEPTH",
+    "USM_TURN_RATE",
+    "USM_TURN_RADIUS",
+    "NAV_X",
+    "NAV_Y",
+    "NAV_HEADING",
+];
+
+/// Seconds before a BUOYANCY_CONTROL / TRIM_CONTROL request may complete (the C++ `m_buoyancy_delay`).
+const BUOYANCY_DELAY_S: f64 = 5.0;
+/// Seconds between "progressing" reports (the C++ `m_report_interval`).
+const REPORT_INTERVAL_S: f64 = 5.0;
+
 impl Simulator {
     /// A simulator at the configured start pose; `start_time` is the MOOS time of start-up.
     pub fn new(cfg: SimConfig, grid: Option<LocalGrid>, start_time: f64) -> Self {
@@ -1025,35 +1174,45 @@ impl Simulator {
         let state = SimState::at(&cfg.start);
         let inputs = SimInputs::from_config(&cfg);
         let vars = SimVars::new(&cfg);
-        let ground_truth = cfg.dual_state.then(|| {
-            let gt_cfg = SimConfig {
+        let gt_vars = cfg.dual_state.then(|| {
+            SimVars::new(&SimConfig {
                 prefix: format!("{}_GT", cfg.prefix),
                 ..cfg.clone()
-            };
-            (state, SimVars::new(&gt_cfg))
+            })
         });
         Simulator {
             paused: cfg.paused,
-            cfg,
             grid,
             state,
+            gt: state,
             inputs,
             vars,
-            ground_truth,
+            gt_vars,
             last_time: start_time,
             enabled: true,
             obstacle_hit: false,
             iteration: 0,
             drift_fresh: true,
-            reset_count: 0,
-            rudder_time: start_time,
+            drift_sources: std::collections::BTreeSet::new(),
+            reset_count: cfg.start_pos_count,
+            rudder_time: 0.0,
             pid: cfg_pid.map(|c| Box::new(crate::pid::MarinePid::new(c))),
+            buoyancy_request: None,
+            trim_request: None,
+            last_report: 0.0,
+            transp_var: format!("{}_TRANSP", cfg.prefix).into(),
+            cfg,
         }
     }
 
-    /// The current simulated state.
+    /// The current simulated (navigation) state.
     pub fn state(&self) -> &SimState {
         &self.state
+    }
+
+    /// The ground-truth state (moves apart from [`Simulator::state`] only with `dual_state`).
+    pub fn ground_truth(&self) -> &SimState {
+        &self.gt
     }
 
     /// The current inputs (latest actuator commands and environment).
@@ -1066,31 +1225,44 @@ impl Simulator {
         &self.cfg
     }
 
+    /// The number of resets so far (`start_pos` lines and USM_RESET mail).
+    pub fn reset_count(&self) -> u32 {
+        self.reset_count
+    }
+
     /// The variables this app subscribes to. With the embedded PID, the helm's DESIRED_*
     /// and the override replace the actuator commands (uSimMarineV22 `registerVariables`).
     pub fn subscriptions(&self) -> Vec<&'static str> {
-        const ACTUATORS: &[&str] = &[
-            "DESIRED_THRUST",
-            "DESIRED_RUDDER",
-            "DESIRED_ELEVATOR",
-            "DESIRED_THRUST_L",
-            "DESIRED_THRUST_R",
-        ];
-        let all: &[&str] = &[
-            "DESIRED_THRUST",
-            "DESIRED_RUDDER",
-            "DESIRED_ELEVATOR",
-            "DESIRED_THRUST_L",
-            "DESIRED_THRUST_R",
+        let mut v: Vec<&'static str> = Vec::with_capacity(40);
+        if self.pid.is_some() {
+            v.extend([
+                "DESIRED_HEADING",
+                "DESIRED_SPEED",
+                "DESIRED_DEPTH",
+                "SPEED_FACTOR",
+                "MOOS_MANUAL_OVERIDE",
+                "MOOS_MANUAL_OVERRIDE",
+            ]);
+        } else {
+            v.extend([
+                "DESIRED_RUDDER",
+                "DESIRED_THRUST",
+                "DESIRED_ELEVATOR",
+                "DESIRED_THRUST_L",
+                "DESIRED_THRUST_R",
+            ]);
+        }
+        v.extend([
             "NAV_X",
             "NAV_Y",
             "NAV_HEADING",
             "USM_ENABLED",
-            "USM_TURN_RATE",
             "USM_TURN_RADIUS",
+            "USM_TURN_RATE",
             "OBSTACLE_HIT",
-            "BUOYANCY_RATE",
+            "USM_RESET_NAV",
             "WIND_CONDITIONS",
+            "BUOYANCY_RATE",
             "WATER_DEPTH",
             "CURRENT_X",
             "DRIFT_X",
@@ -1102,178 +1274,235 @@ impl Simulator {
             "ROTATE_SPEED",
             "USM_SIM_PAUSED",
             "USM_RESET",
+            "TRIM_CONTROL",
+            "BUOYANCY_CONTROL",
             "THRUST_MODE_REVERSE",
             "THRUST_MODE_DIFFERENTIAL",
-        ];
-        let mut v: Vec<&'static str> = Vec::with_capacity(all.len() + 6);
-        if self.pid.is_some() {
-            v.extend([
-                "DESIRED_HEADING",
-                "DESIRED_SPEED",
-                "DESIRED_DEPTH",
-                "SPEED_FACTOR",
-                "MOOS_MANUAL_OVERIDE",
-                "MOOS_MANUAL_OVERRIDE",
-            ]);
-            v.extend(all.iter().filter(|x| !ACTUATORS.contains(x)));
-        } else {
-            v.extend(all);
-        }
+        ]);
         v
     }
 
+    /// MOOS `setRudder(value, time)`: the change from the current rudder is capped at
+    /// `max_rudder_degs_per_sec` × the time since the last command (100 without a limit).
     fn set_rudder(&mut self, desired: f64, time: f64) {
+        if self.cfg.thrust_mode_differential {
+            return;
+        }
         let prev = self.inputs.rudder;
-        // Without a slew limit the C++ still caps one change at 100 degrees.
         let max_change = if self.cfg.max_rudder_degs_per_sec > 0.0 {
             (time - self.rudder_time) * self.cfg.max_rudder_degs_per_sec
         } else {
             100.0
         };
-        let change = (desired - prev).clamp(-max_change.max(0.0), max_change.max(0.0));
+        let mut change = desired - prev;
+        if change > 0.0 {
+            change = change.min(max_change);
+        } else if -change > max_change {
+            change = -max_change;
+        }
         self.inputs.rudder = prev + change;
         self.rudder_time = time;
     }
 
-    /// Takes one piece of mail. Unknown variables are ignored; returns any immediate postings
-    /// (`USM_RESET_COUNT`).
+    fn set_drift(&mut self, x: f64, y: f64, source: &str) {
+        self.inputs.drift_x = x;
+        self.inputs.drift_y = y;
+        // As `setDriftX/Y`: the summary is re-posted when a source drifts the vehicle for the
+        // first time.
+        if !source.is_empty() && self.drift_sources.insert(source.to_string()) {
+            self.drift_fresh = true;
+        }
+    }
+
+    /// Takes one piece of mail with no known source; see [`Simulator::on_mail_from`].
     pub fn on_mail(&mut self, var: &str, value: MailValue<'_>, time: f64) -> Option<Posting> {
+        self.on_mail_from(var, value, time, "")
+    }
+
+    /// Takes one piece of mail written by `source` (the first drift mail from each source
+    /// re-posts `USM_DRIFT_SUMMARY`). Unknown variables are ignored; returns any immediate
+    /// posting (`USM_RESET_COUNT`, `BUOYANCY_REPORT`, `TRIM_REPORT`).
+    pub fn on_mail_from(
+        &mut self,
+        var: &str,
+        value: MailValue<'_>,
+        time: f64,
+        source: &str,
+    ) -> Option<Posting> {
         if let Some(pid) = &mut self.pid
             && PID_MAIL.contains(&var)
         {
             pid.on_mail(var, value, time);
         }
-        let d = value.as_f64();
+        // Numeric variables take double mail only (a string leaves the setting as it was).
+        let num = match value {
+            MailValue::Double(d) => Some(d),
+            MailValue::Str(_) => None,
+        };
+        let d = num.unwrap_or(0.0);
         let s = value.as_str().unwrap_or("");
-        match (var, d) {
-            ("DESIRED_THRUST", Some(v)) if !self.cfg.thrust_mode_differential => {
-                self.inputs.thrust = v
-            }
-            ("DESIRED_RUDDER", Some(v)) if !self.cfg.thrust_mode_differential => {
-                self.set_rudder(v, time)
-            }
-            ("DESIRED_ELEVATOR", Some(v)) => self.inputs.elevator = v,
-            ("DESIRED_THRUST_L", Some(v)) if self.cfg.thrust_mode_differential => {
-                self.inputs.thrust_left = v.clamp(-100.0, 100.0)
-            }
-            ("DESIRED_THRUST_R", Some(v)) if self.cfg.thrust_mode_differential => {
-                self.inputs.thrust_right = v.clamp(-100.0, 100.0)
-            }
-            ("BUOYANCY_RATE", Some(v)) => self.inputs.buoyancy_rate = v,
-            ("WIND_CONDITIONS", _) => {
-                if let Some(w) = crate::polar::Wind::parse(s, self.inputs.wind) {
-                    self.inputs.wind = Some(w);
+        let normal = !self.cfg.thrust_mode_differential;
+        match var {
+            _ if num.is_none() && NUMERIC_MAIL.contains(&var) => {}
+            "DESIRED_THRUST" if normal => self.inputs.thrust = d,
+            "DESIRED_RUDDER" => self.set_rudder(d, time),
+            "DESIRED_ELEVATOR" => self.inputs.elevator = d,
+            "DESIRED_THRUST_L" | "DESIRED_THRUST_R" if !normal => {
+                let v = d.clamp(-100.0, 100.0);
+                match (var == "DESIRED_THRUST_L", self.cfg.thrust_mode_reverse) {
+                    (true, false) => self.inputs.thrust_left = v,
+                    (true, true) => self.inputs.thrust_right = -v,
+                    (false, false) => self.inputs.thrust_right = v,
+                    (false, true) => self.inputs.thrust_left = -v,
                 }
             }
-            ("ROTATE_SPEED", Some(v)) => self.inputs.rotate_speed = v,
-            ("WATER_DEPTH", Some(v)) if v >= 0.0 => self.cfg.water_depth = v,
-            ("CURRENT_X" | "DRIFT_X", Some(v)) => {
-                self.inputs.drift_x = v;
-                self.drift_fresh = true;
-            }
-            ("CURRENT_Y" | "DRIFT_Y", Some(v)) => {
-                self.inputs.drift_y = v;
-                self.drift_fresh = true;
-            }
-            ("DRIFT_VECTOR" | "DRIFT_VECTOR_ADD", _) => {
-                if let Some((x, y)) = drift_from_vector(s) {
-                    if var == "DRIFT_VECTOR" {
-                        self.inputs.drift_x = x;
-                        self.inputs.drift_y = y;
-                    } else {
-                        self.inputs.drift_x += x;
-                        self.inputs.drift_y += y;
-                    }
-                    self.drift_fresh = true;
-                }
-            }
-            ("DRIFT_VECTOR_MULT", Some(m)) => {
-                self.inputs.drift_x *= m;
-                self.inputs.drift_y *= m;
-                self.drift_fresh = true;
-            }
-            ("USM_TURN_RATE", Some(v)) => self.cfg.turn_rate = v.clamp(0.0, 100.0),
-            ("USM_TURN_RADIUS", Some(v)) if v >= 0.0 => self.cfg.turn_radius = v,
-            ("USM_SIM_PAUSED", _) => {
+            "USM_SIM_PAUSED" => {
                 if let Some(p) = crate::config::parse_bool(s) {
                     self.paused = p;
                 }
             }
-            ("OBSTACLE_HIT", _) => {
-                if let Some(h) = crate::config::parse_bool(s) {
-                    self.obstacle_hit = h;
-                }
-            }
-            ("USM_ENABLED", _) => {
-                if let Some(e) = crate::config::parse_bool(s) {
-                    self.enabled = e;
-                }
-            }
-            ("THRUST_MODE_REVERSE", _) => match s.to_ascii_lowercase().as_str() {
+            "THRUST_MODE_REVERSE" => match s.to_ascii_lowercase().as_str() {
                 "reverse" | "true" => self.cfg.thrust_mode_reverse = true,
                 "normal" | "false" => self.cfg.thrust_mode_reverse = false,
                 _ => {}
             },
-            ("THRUST_MODE_DIFFERENTIAL", _) => match s.to_ascii_lowercase().as_str() {
+            "THRUST_MODE_DIFFERENTIAL" => match s.to_ascii_lowercase().as_str() {
                 "differential" | "true" => self.cfg.thrust_mode_differential = true,
                 "normal" | "false" => self.cfg.thrust_mode_differential = false,
                 _ => {}
             },
-            ("USM_RESET", _) => {
-                let mut pose = StartPose {
-                    x: self.state.x,
-                    y: self.state.y,
-                    heading: self.state.heading,
-                    speed: self.state.speed,
-                    depth: self.state.depth,
-                };
-                if pose.apply_spec(s).is_ok() {
-                    let t = self.state.time;
-                    self.state = SimState {
-                        time: t,
-                        ..SimState::at(&pose)
-                    };
-                    if let Some((gt, _)) = &mut self.ground_truth {
-                        *gt = self.state;
+            "BUOYANCY_RATE" => self.inputs.buoyancy_rate = d,
+            "WIND_CONDITIONS" => {
+                if crate::polar::Wind::apply(s, &mut self.inputs.wind) {
+                    self.inputs.polar_wind_deg = self.inputs.wind.map_or(0.0, |w| w.dir_deg);
+                }
+            }
+            "ROTATE_SPEED" => self.inputs.rotate_speed = d,
+            "CURRENT_X" | "DRIFT_X" => self.set_drift(d, self.inputs.drift_y, source),
+            "CURRENT_Y" | "DRIFT_Y" => self.set_drift(self.inputs.drift_x, d, source),
+            "DRIFT_VECTOR" | "DRIFT_VECTOR_ADD" => {
+                if let Some((x, y)) = drift_from_vector(s) {
+                    if var == "DRIFT_VECTOR" {
+                        self.set_drift(x, y, source);
+                    } else {
+                        let (dx, dy) = (self.inputs.drift_x + x, self.inputs.drift_y + y);
+                        self.set_drift(dx, dy, source);
                     }
                 }
+            }
+            "DRIFT_VECTOR_MULT" => {
+                let (dx, dy) = (self.inputs.drift_x, self.inputs.drift_y);
+                let ang = rel_ang(0.0, 0.0, dx, dy);
+                let mag = dx.hypot(dy) * d;
+                let r = crate::angle::heading_to_radians(ang);
+                self.set_drift(r.cos() * mag, r.sin() * mag, source);
+            }
+            "WATER_DEPTH" if d >= 0.0 => self.cfg.water_depth = d,
+            "USM_RESET" => {
                 self.reset_count += 1;
+                let pose = |st: &SimState| StartPose {
+                    x: st.x,
+                    y: st.y,
+                    heading: st.heading,
+                    speed: st.speed,
+                    depth: st.depth,
+                };
+                let mut p = pose(&self.state);
+                let _ = p.apply_spec(s);
+                let mut g = pose(&self.gt);
+                let _ = g.apply_spec(s);
+                for (st, p) in [(&mut self.state, p), (&mut self.gt, g)] {
+                    st.x = p.x;
+                    st.y = p.y;
+                    st.heading = p.heading;
+                    st.speed = p.speed;
+                    st.depth = p.depth;
+                }
                 return Some(Posting::double(
                     &self.vars.reset_count,
                     f64::from(self.reset_count),
                 ));
             }
-            ("NAV_X", Some(v)) if !self.enabled => {
-                self.state.x = v;
-                self.inputs.rudder = 0.0;
+            "USM_TURN_RATE" => self.cfg.turn_rate = d.clamp(0.0, 100.0),
+            "USM_TURN_RADIUS" if d >= 0.0 => self.cfg.turn_radius = d,
+            "USM_ENABLED" => {
+                if let Some(e) = crate::config::parse_bool(s) {
+                    self.enabled = e;
+                }
             }
-            ("NAV_Y", Some(v)) if !self.enabled => {
-                self.state.y = v;
-                self.inputs.rudder = 0.0;
+            "OBSTACLE_HIT" => {
+                if let Some(h) = crate::config::parse_bool(s) {
+                    self.obstacle_hit = h;
+                }
             }
-            ("NAV_HEADING", Some(v)) if !self.enabled => {
-                self.state.heading = angle360(v);
-                self.inputs.rudder = 0.0;
+            "USM_RESET_NAV" => self.state = self.gt,
+            "NAV_X" if !self.enabled => self.inform(Some(d), None, None),
+            "NAV_Y" if !self.enabled => self.inform(None, Some(d), None),
+            "NAV_HEADING" if !self.enabled => self.inform(None, None, Some(d)),
+            "BUOYANCY_CONTROL" if s.eq_ignore_ascii_case("true") => {
+                self.inputs.buoyancy_rate = 0.0;
+                self.buoyancy_request = Some(time);
+                self.last_report = time;
+                return Some(Posting::string(
+                    &"BUOYANCY_REPORT".into(),
+                    "status=1,error=0,progressing,buoyancy=0.0",
+                ));
+            }
+            "TRIM_CONTROL" if s.eq_ignore_ascii_case("true") => {
+                self.trim_request = Some(time);
+                self.last_report = time;
+                return Some(Posting::string(
+                    &"TRIM_REPORT".into(),
+                    "status=1,error=0,progressing,trim_pitch=0.0,trim_roll=0.0",
+                ));
             }
             _ => {}
         }
         None
     }
 
+    /// MOOS `informX/Y/Heading`: both records take the value and the rudder is centred.
+    fn inform(&mut self, x: Option<f64>, y: Option<f64>, heading: Option<f64>) {
+        for st in [&mut self.state, &mut self.gt] {
+            if let Some(x) = x {
+                st.x = x;
+            }
+            if let Some(y) = y {
+                st.y = y;
+            }
+            if let Some(h) = heading {
+                st.heading = h;
+            }
+        }
+        self.inputs.rudder = 0.0;
+    }
+
+    fn nav_due(&self) -> bool {
+        self.iteration
+            .is_multiple_of(u64::from(self.cfg.nav_every()))
+    }
+
     /// One app iteration at MOOS time `time`: advance the model and append this iteration's
-    /// postings to `out`.
+    /// postings to `out`, in the C++ order: the embedded PID's, the navigation (and ground
+    /// truth), trim/buoyancy reports, the drift summary, the wind arrow, the wormholes.
     pub fn iterate(&mut self, time: f64, out: &mut Vec<Posting>) {
         self.iteration += 1;
-        let dt = time - self.last_time;
-        self.last_time = time;
         if self.obstacle_hit {
-            // Stopped where it hit: the pose is published with zero speed, nothing moves.
-            self.state.speed = 0.0;
-            let nav = nav_outputs(&self.cfg, &self.state, self.grid.as_ref());
-            self.post_nav(&nav, out);
+            // Stopped where it hit: the record is posted (twice, as the C++ does) with zero
+            // speed and the model's clock is not advanced.
+            if self.nav_due() {
+                let st = SimState {
+                    speed: 0.0,
+                    ..self.state
+                };
+                let nav = nav_outputs(&self.cfg, &st, self.grid.as_ref());
+                self.post_nav_as(&self.vars, &nav, out);
+                self.post_nav_as(&self.vars, &nav, out);
+            }
             return;
         }
         if !self.enabled {
+            self.last_time = time;
             return;
         }
         // The embedded PID: fed ownship from the model, its outputs set the actuators
@@ -1289,7 +1518,9 @@ impl Simulator {
             }
             let o = pid.iterate_embedded(time, out);
             self.set_rudder(o.rudder, time);
-            self.inputs.thrust = o.thrust;
+            if !self.cfg.thrust_mode_differential {
+                self.inputs.thrust = o.thrust;
+            }
             self.inputs.elevator = o.elevator;
             if let Some(v) = &self.vars.post_thrust {
                 out.push(Posting::double(v, o.thrust));
@@ -1300,36 +1531,31 @@ impl Simulator {
             self.pid = Some(pid);
         }
         if self.paused {
-            // Paused time is excluded from the model's clock.
-            return;
-        }
-        let (s, nav) = if self.ground_truth.is_some() {
-            // The navigation state does not feel the drift; the ground truth does.
-            let still = SimInputs {
-                drift_x: 0.0,
-                drift_y: 0.0,
-                ..self.inputs
-            };
-            step(&self.cfg, &self.state, &still, dt, self.grid.as_ref())
+            // Paused time is excluded from the model's clock; the record is still posted.
+            self.last_time = time;
         } else {
-            step(&self.cfg, &self.state, &self.inputs, dt, self.grid.as_ref())
-        };
-        self.state = s;
-        let gt_nav = match &mut self.ground_truth {
-            Some((gt, _)) => {
-                let (g, gnav) = step(&self.cfg, gt, &self.inputs, dt, self.grid.as_ref());
-                *gt = g;
-                Some(gnav)
+            let dt = time - self.last_time;
+            self.last_time = time;
+            if self.gt_vars.is_some() {
+                // The navigation state does not feel the drift; the ground truth does.
+                let still = SimInputs {
+                    drift_x: 0.0,
+                    drift_y: 0.0,
+                    ..self.inputs
+                };
+                self.state = step(&self.cfg, &self.state, &still, dt, self.grid.as_ref()).0;
+                self.gt = step(&self.cfg, &self.gt, &self.inputs, dt, self.grid.as_ref()).0;
+            } else {
+                self.state = step(&self.cfg, &self.state, &self.inputs, dt, self.grid.as_ref()).0;
             }
-            None => None,
-        };
-        if self
-            .iteration
-            .is_multiple_of(u64::from(self.cfg.nav_every()))
-        {
-            self.post_nav(&nav, out);
-            if let (Some(gnav), Some((_, gv))) = (&gt_nav, &self.ground_truth) {
-                self.post_nav_as(gv, gnav, out);
+        }
+        self.buoyancy_and_trim(time, out);
+        if self.nav_due() {
+            let nav = nav_outputs(&self.cfg, &self.state, self.grid.as_ref());
+            self.post_nav_as(&self.vars, &nav, out);
+            if let Some(gv) = &self.gt_vars {
+                let gnav = nav_outputs(&self.cfg, &self.gt, self.grid.as_ref());
+                self.post_nav_as(gv, &gnav, out);
             }
         }
         if self.drift_fresh {
@@ -1344,10 +1570,72 @@ impl Simulator {
             out.push(Posting::string(&self.vars.drift_summary, summary));
             self.drift_fresh = false;
         }
+        if let Some(w) = self.inputs.wind
+            && self.cfg.polar.is_set()
+            && self.iteration.is_multiple_of(50)
+        {
+            out.push(Posting::string(&"VIEW_ARROW".into(), w.arrow_spec()));
+        }
+        if !self.cfg.wormholes.is_empty() {
+            if let Some(p) = self.cfg.wormholes.apply(time, self.state.x, self.state.y) {
+                self.inform(Some(p.x), Some(p.y), None);
+            }
+            out.push(Posting::double(
+                &self.transp_var,
+                self.cfg.wormholes.transparency(),
+            ));
+            if self.iteration.is_multiple_of(10) {
+                let view: Arc<str> = "VIEW_POLYGON".into();
+                for hole in self.cfg.wormholes.holes() {
+                    for poly in hole.polygons() {
+                        out.push(Posting::string(&view, poly.to_spec()));
+                    }
+                }
+            }
+        }
     }
 
-    fn post_nav(&self, nav: &NavOutputs, out: &mut Vec<Posting>) {
-        self.post_nav_as(&self.vars, nav, out);
+    /// The BUOYANCY_CONTROL / TRIM_CONTROL handshakes (MOOS `handleBuoyancyAndTrim`), which
+    /// run only with depth control.
+    fn buoyancy_and_trim(&mut self, now: f64, out: &mut Vec<Posting>) {
+        if !self.cfg.depth_control {
+            return;
+        }
+        if let Some(t0) = self.buoyancy_request {
+            if now - t0 >= BUOYANCY_DELAY_S {
+                out.push(Posting::string(
+                    &"BUOYANCY_REPORT".into(),
+                    "status=2,error=0,completed,buoyancy=0.0",
+                ));
+                self.buoyancy_request = None;
+            } else if now - self.last_report >= REPORT_INTERVAL_S {
+                out.push(Posting::string(
+                    &"BUOYANCY_REPORT".into(),
+                    "status=1,error=0,progressing,buoyancy=0.0",
+                ));
+                self.last_report = now;
+            }
+        }
+        if let Some(t0) = self.trim_request {
+            let pitch_deg = self.state.pitch.to_degrees();
+            let pitch = format!("{pitch_deg:.5}");
+            let elapsed = now - t0;
+            if (pitch_deg.abs() <= self.cfg.trim_tolerance_deg && elapsed >= BUOYANCY_DELAY_S)
+                || elapsed >= self.cfg.max_trim_delay_s
+            {
+                out.push(Posting::string(
+                    &"TRIM_REPORT".into(),
+                    format!("status=2,error=0,completed,trim_pitch={pitch},trim_roll=0.0"),
+                ));
+                self.trim_request = None;
+            } else if now - self.last_report >= REPORT_INTERVAL_S {
+                out.push(Posting::string(
+                    &"TRIM_REPORT".into(),
+                    format!("status=1,error=0,progressing,trim_pitch={pitch},trim_roll=0.0"),
+                ));
+                self.last_report = now;
+            }
+        }
     }
 
     /// Posts a navigation record under the variable names `v` (`<P>_*` or `<P>_GT_*`).
@@ -1360,7 +1648,10 @@ impl Simulator {
         }
         if self.cfg.post_navpos_summary {
             let mut s = format!("x={},y={}", double_x(nav.x, 3), double_x(nav.y, 3));
-            if let (Some(lat), Some(lon)) = (nav.lat, nav.lon) {
+            if let (Some(lat), Some(lon)) = (nav.lat, nav.lon)
+                && lat != 0.0
+                && lon != 0.0
+            {
                 s.push_str(&format!(
                     ",lat={},lon={}",
                     double_x(lat, 7),
