@@ -311,14 +311,14 @@ fn nav_yaw_and_output_suffix() {
     let mut cfg = golf_pid();
     cfg.output_suffix = "_L".into();
     let mut app = MarinePid::new(cfg);
+    let mut out = Vec::new();
+    app.iterate(0.05, &mut out);
     app.on_mail(
         "NAV_YAW",
         MailValue::Double(-std::f64::consts::FRAC_PI_2),
         0.0,
     );
     assert_eq!(app.inputs().heading.unwrap().0, 90.0);
-    let mut out = Vec::new();
-    app.iterate(0.0, &mut out);
     assert!(last_posting(&out, "DESIRED_RUDDER_L").is_some());
 }
 
@@ -362,6 +362,10 @@ fn v22_running(
 ) -> (MarinePid, Vec<vehicle::moos::Posting>) {
     cfg.legacy = false;
     let mut app = MarinePid::new(cfg);
+    // PIDEngine stamps mail with its clock, the time of the last iteration (0, "never
+    // received", before the first): the app has iterated once before the inputs come.
+    let mut out = Vec::new();
+    app.iterate(0.05, &mut out);
     app.on_mail("MOOS_MANUAL_OVERRIDE", MailValue::Str("false"), 0.0);
     for (v, x) in [
         ("DESIRED_HEADING", des_hdg),
@@ -374,7 +378,6 @@ fn v22_running(
     ] {
         app.on_mail(v, MailValue::Double(x), 0.0);
     }
-    let mut out = Vec::new();
     app.iterate(0.1, &mut out);
     (app, out)
 }
@@ -443,10 +446,15 @@ fn v22_thrust_cap_is_read_and_clipped_but_not_applied() {
     cfg.enable_thrust_cap = true;
     let (mut app, _) = v22_running(cfg, 90.0, 4.0);
     assert!(app.subscriptions().contains(&"PID_THRUST_CAP"));
+    // `setDoubleClipRngOnString` reads the string value: a double mail is not taken.
     app.on_mail("PID_THRUST_CAP", MailValue::Double(50.0), 0.2);
+    assert_eq!(app.thrust_cap(), 100.0);
+    app.on_mail("PID_THRUST_CAP", MailValue::Str("50"), 0.2);
     assert_eq!(app.thrust_cap(), 50.0);
-    app.on_mail("PID_THRUST_CAP", MailValue::Double(5.0), 0.2);
+    app.on_mail("PID_THRUST_CAP", MailValue::Str("5"), 0.2);
     assert_eq!(app.thrust_cap(), 20.0, "clipped to [20, 100]");
+    app.on_mail("PID_THRUST_CAP", MailValue::Str("fast"), 0.2);
+    assert_eq!(app.thrust_cap(), 20.0, "a non-number is not taken");
     let mut out = Vec::new();
     app.iterate(0.3, &mut out);
     // 4 m/s x speed factor 20: the C++ posts the uncapped 80.
