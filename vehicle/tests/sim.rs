@@ -719,3 +719,381 @@ fn wind_and_polar_plot_cap_the_speed_and_wind_conditions_change_at_run_time() {
     run(&mut sim, &mut t, 5.0);
     assert!(close(sim.state().speed, 5.0, 1e-9), "{}", sim.state().speed);
 }
+
+/// Iterates `sim` at `t0 + 1`, `t0 + 2`, ... `t0 + n` seconds, collecting every posting.
+fn run_secs(sim: &mut Simulator, t0: f64, n: u32) -> Vec<vehicle::moos::Posting> {
+    let mut out = Vec::new();
+    for i in 1..=n {
+        sim.iterate(t0 + f64::from(i), &mut out);
+    }
+    out
+}
+
+fn all_of(out: &[vehicle::moos::Posting], var: &str) -> Vec<vehicle::Value> {
+    out.iter()
+        .filter(|p| &*p.var == var)
+        .map(|p| p.value.clone())
+        .collect()
+}
+
+#[test]
+fn usm_reset_counts_start_pos_lines_and_sets_only_the_given_fields() {
+    // `initPosition` counts every call, the start_pos line included: the first USM_RESET
+    // posts 2. Fields not given keep their values.
+    let cfg = SimConfig::from_params([
+        ("prefix", "NAV"),
+        ("start_pos", "x=1,y=2,heading=30,speed=0"),
+    ])
+    .unwrap();
+    assert_eq!(cfg.start_pos_count, 1);
+    let mut sim = Simulator::new(cfg, None, 0.0);
+    let p = sim
+        .on_mail("USM_RESET", MailValue::Str("x=5, y=6"), 0.0)
+        .unwrap();
+    assert_eq!((&*p.var, p.value.as_f64()), ("USM_RESET_COUNT", Some(2.0)));
+    let st = sim.state();
+    assert_eq!((st.x, st.y, st.heading), (5.0, 6.0, 30.0));
+    // The older positional form x,y,heading,speed,depth.
+    sim.on_mail("USM_RESET", MailValue::Str("7,8,90"), 0.0);
+    assert_eq!((sim.state().x, sim.state().y, sim.state().heading), (7.0, 8.0, 90.0));
+    // `hdg` and `dep` aliases; an unknown field stops there (the fields before it stay
+    // applied) and the reset is still counted.
+    let p = sim
+        .on_mail("USM_RESET", MailValue::Str("hdg=180,x=-3,foo=1,y=99"), 0.0)
+        .unwrap();
+    assert_eq!(p.value.as_f64(), Some(4.0));
+    assert_eq!((sim.state().x, sim.state().y, sim.state().heading), (-3.0, 8.0, 180.0));
+    // Values are read with atof: a non-number is 0.
+    sim.on_mail("USM_RESET", MailValue::Str("x=abc"), 0.0);
+    assert_eq!(sim.state().x, 0.0);
+    assert_eq!(sim.reset_count(), 5);
+    // Without start_pos the first reset is 1.
+    let mut plain = Simulator::new(SimConfig::default(), None, 0.0);
+    let p = plain.on_mail("USM_RESET", MailValue::Str("x=1"), 0.0).unwrap();
+    assert_eq!(p.value.as_f64(), Some(1.0));
+    // A start_pos with a bad field is a warning; its count still grows.
+    let (cfg, w) = SimConfig::from_params_lenient([("start_pos", "x=4,z=1")]).unwrap();
+    assert_eq!((cfg.start.x, cfg.start_pos_count, w.len()), (4.0, 1, 1));
+}
+
+#[test]
+fn paused_sim_posts_its_record_and_excludes_the_paused_time() {
+    let cfg = SimConfig::from_params([("prefix", "NAV"), ("sim_pause", "true")]).unwrap();
+    let mut sim = Simulator::new(cfg, None, 0.0);
+    sim.on_mail("DESIRED_THRUST", MailValue::Double(40.0), 0.0);
+    // Paused: the navigation is still posted every second iteration, and it does not move.
+    let out = run_secs(&mut sim, 0.0, 4);
+    assert_eq!(all_of(&out, "NAV_SPEED").len(), 2);
+    assert_eq!(last_posting(&out, "NAV_SPEED").unwrap().as_f64(), Some(0.0));
+    sim.on_mail("USM_SIM_PAUSED", MailValue::Str("false"), 4.0);
+    // One second after the pause ends: thrust 40 / factor 20 = 2 m/s, mean speed 1 m/s over
+    // 1 s, not over the 5 s since start.
+    let mut out = Vec::new();
+    sim.iterate(5.0, &mut out);
+    assert_eq!(sim.state().speed, 1.0);
+    assert_eq!(sim.state().y, 1.0);
+}
+
+#[test]
+fn drift_summary_is_posted_at_start_and_on_each_new_drift_source() {
+    let mut sim = Simulator::new(SimConfig::default(), None, 0.0);
+    let out = run_secs(&mut sim, 0.0, 1);
+    assert_eq!(
+        all_of(&out, "USM_DRIFT_SUMMARY"),
+        vec![vehicle::Value::Str("ang=0, mag=0, xmag=0, ymag=0".into())]
+    );
+    sim.on_mail_from("DRIFT_X", MailValue::Double(3.0), 1.0, "uTimerScript");
+    sim.on_mail_from("DRIFT_Y", MailValue::Double(4.0), 1.0, "uTimerScript");
+    let out = run_secs(&mut sim, 1.0, 1);
+    // relAng(0,0,3,4) = 36.87 deg, magnitude 5.
+    assert_eq!(
+        all_of(&out, "USM_DRIFT_SUMMARY"),
+        vec![vehicle::Value::Str("ang=36.87, mag=5, xmag=3, ymag=4".into())]
+    );
+    // The same source again: the drift changes, no new summary.
+    sim.on_mail_from("DRIFT_VECTOR", MailValue::Str("90,2"), 2.0, "uTimerScript");
+    let out = run_secs(&mut sim, 2.0, 1);
+    assert!(all_of(&out, "USM_DRIFT_SUMMARY").is_empty());
+    assert!(close(sim.inputs().drift_x, 2.0, 1e-12));
+    // A new source: a summary; DRIFT_VECTOR_MULT scales the vector.
+    sim.on_mail_from("DRIFT_VECTOR_MULT", MailValue::Double(1.5), 3.0, "pOther");
+    let out = run_secs(&mut sim, 3.0, 1);
+    assert_eq!(
+        all_of(&out, "USM_DRIFT_SUMMARY"),
+        vec![vehicle::Value::Str("ang=90, mag=3, xmag=3, ymag=0".into())]
+    );
+    // Mail without a source (start-up rule) never re-posts it.
+    sim.on_mail("DRIFT_X", MailValue::Double(1.0), 4.0);
+    assert!(all_of(&run_secs(&mut sim, 4.0, 1), "USM_DRIFT_SUMMARY").is_empty());
+}
+
+#[test]
+fn usm_reset_nav_moves_the_nav_record_to_the_ground_truth() {
+    let cfg = SimConfig::from_params([
+        ("prefix", "NAV"),
+        ("dual_state", "true"),
+        ("drift_x", "1"),
+    ])
+    .unwrap();
+    let mut sim = Simulator::new(cfg, None, 0.0);
+    assert!(sim.subscriptions().contains(&"USM_RESET_NAV"));
+    let out = run_secs(&mut sim, 0.0, 4);
+    // Nav without drift stays at 0; ground truth drifts 1 m/s east for 4 s.
+    assert_eq!(last_posting(&out, "NAV_X").unwrap().as_f64(), Some(0.0));
+    assert_eq!(last_posting(&out, "NAV_GT_X").unwrap().as_f64(), Some(4.0));
+    sim.on_mail("USM_RESET_NAV", MailValue::Str("true"), 4.0);
+    assert_eq!(sim.state().x, 4.0);
+    let out = run_secs(&mut sim, 4.0, 2);
+    assert_eq!(last_posting(&out, "NAV_X").unwrap().as_f64(), Some(4.0));
+    assert_eq!(last_posting(&out, "NAV_GT_X").unwrap().as_f64(), Some(6.0));
+    // Without dual_state the ground truth is not propagated: USM_RESET_NAV goes back to it.
+    let mut single = Simulator::new(
+        SimConfig::from_params([("drift_x", "1"), ("start_pos", "x=2,y=3")]).unwrap(),
+        None,
+        0.0,
+    );
+    run_secs(&mut single, 0.0, 3);
+    assert_eq!(single.state().x, 5.0);
+    single.on_mail("USM_RESET_NAV", MailValue::Str("true"), 3.0);
+    assert_eq!((single.state().x, single.state().y), (2.0, 3.0));
+}
+
+const WORM: &str = "tag=One, madrid_poly={0,0:10,0:10,10:0,10}, weber_poly=pts={100,0:110,0:110,10:100,10}";
+
+#[test]
+fn wormholes_fade_carry_and_emerge() {
+    let cfg = SimConfig::from_params([
+        ("prefix", "NAV"),
+        ("start_pos", "x=5,y=5"),
+        ("wormhole", WORM),
+    ])
+    .unwrap();
+    let holes = cfg.wormholes.holes();
+    assert_eq!(holes.len(), 1);
+    assert_eq!(holes[0].tag, "one");
+    let mut sim = Simulator::new(cfg, None, 0.0);
+    let out = run_secs(&mut sim, 0.0, 12);
+    // Entered at t=1 (half the 10 s tunnel to fade), carried at t=6, emerged after t=11.
+    let transp: Vec<f64> = all_of(&out, "NAV_TRANSP")
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    let want = [1.0, 0.8, 0.6, 0.4, 0.2, 0.0, 0.2, 0.4, 0.6, 0.8, 1.0, 1.0];
+    assert_eq!(transp.len(), want.len());
+    for (got, want) in transp.iter().zip(want) {
+        assert!(close(*got, want, 1e-12), "{transp:?}");
+    }
+    // Same offset from the weber centroid (105,5) as from the madrid one (5,5); posted from
+    // the next navigation report (the C++ moves the vehicle after posting).
+    let xs: Vec<f64> = all_of(&out, "NAV_X")
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    assert_eq!(xs, vec![5.0, 5.0, 5.0, 105.0, 105.0, 105.0]);
+    // The polygons every 10th iteration: weber first.
+    assert_eq!(
+        all_of(&out, "VIEW_POLYGON"),
+        vec![
+            vehicle::Value::Str("pts={100,0:110,0:110,10:100,10},label=one_weber,label_color=invisible,edge_color=invisible,vertex_color=invisible,fill_color=white,fill_transparency=0.1".into()),
+            vehicle::Value::Str("pts={0,0:10,0:10,10:0,10},label=one_madrid,label_color=invisible,edge_color=invisible,vertex_color=invisible,fill_color=white,fill_transparency=0.1".into()),
+        ]
+    );
+}
+
+#[test]
+fn wormhole_config_is_checked_as_the_cpp_does() {
+    let bad = |spec: &str| {
+        let (cfg, w) = SimConfig::from_params_lenient([("wormhole", spec)]).unwrap();
+        assert_eq!(w.len(), 1, "{spec}: {w:?}");
+        assert!(matches!(w[0], ConfigError::BadValue { .. }), "{spec}");
+        cfg
+    };
+    bad("madrid_poly={0,0:10,0:10,10}");
+    bad("tag=a, connection=sideways");
+    bad("tag=a, delay=-1");
+    bad("tag=a, id_change=maybe");
+    bad("tag=a, colour=red");
+    // A non-convex polygon; the tag is still registered (as the C++), without polygons.
+    let cfg = bad("tag=z, madrid_poly={0,0:10,0:5,2:10,10:0,10}");
+    assert_eq!(cfg.wormholes.holes().len(), 1);
+    assert!(cfg.wormholes.holes()[0].madrid.is_none());
+    // `connection = both` is accepted and never carries a vehicle.
+    let cfg = SimConfig::from_params([
+        ("start_pos", "x=5,y=5"),
+        ("wormhole", &format!("{WORM}, connection=both, delay=2, id_change=false")),
+    ])
+    .unwrap();
+    let mut sim = Simulator::new(cfg, None, 0.0);
+    run_secs(&mut sim, 0.0, 12);
+    assert_eq!(sim.state().x, 5.0);
+}
+
+#[test]
+fn wind_conditions_apply_piece_by_piece_and_the_arrow_is_posted_every_50th_iteration() {
+    let cfg = SimConfig::from_params([
+        ("wind_conditions", "spd=2,dir=0"),
+        ("polar_plot", "0,0:90,100:180,50"),
+    ])
+    .unwrap();
+    let mut sim = Simulator::new(cfg, None, 0.0);
+    // A bad piece: the speed before it is taken, the polar keeps its old wind angle.
+    sim.on_mail("WIND_CONDITIONS", MailValue::Str("spd=3,gust=1,dir=90"), 0.0);
+    let w = sim.inputs().wind.unwrap();
+    assert_eq!((w.speed_mps, w.dir_deg, sim.inputs().polar_wind_deg), (3.0, 0.0, 0.0));
+    // A negative speed is skipped, the rest read: the polar follows.
+    sim.on_mail("WIND_CONDITIONS", MailValue::Str("spd=-1,dir=450"), 0.0);
+    let w = sim.inputs().wind.unwrap();
+    assert_eq!((w.speed_mps, w.dir_deg, sim.inputs().polar_wind_deg), (3.0, 90.0, 90.0));
+    let mut out = Vec::new();
+    for i in 1..=100 {
+        sim.iterate(f64::from(i) * 0.1, &mut out);
+    }
+    let arrows = all_of(&out, "VIEW_ARROW");
+    assert_eq!(arrows.len(), 2, "iterations 50 and 100");
+    assert_eq!(
+        arrows[0].as_str().unwrap(),
+        "ctrx=0,ctry=0,ang=270,bwid=5,blen=20,hwid=10,hlen=10,label=windmod,edge_color=off,vertex_color=off,fill_color=green,fill_transparency=0.2"
+    );
+    // Without a polar plot there is no sailing and no arrow.
+    let mut plain = Simulator::new(
+        SimConfig::from_params([("wind_conditions", "spd=2,dir=0")]).unwrap(),
+        None,
+        0.0,
+    );
+    assert!(all_of(&run_secs(&mut plain, 0.0, 50), "VIEW_ARROW").is_empty());
+}
+
+#[test]
+fn trim_and_buoyancy_handshakes_report_as_the_cpp() {
+    let cfg = SimConfig::from_params([("trim_tolerance", "5"), ("max_trim_delay", "8")]).unwrap();
+    let mut sim = Simulator::new(cfg, None, 0.0);
+    let p = sim
+        .on_mail("BUOYANCY_CONTROL", MailValue::Str("true"), 0.0)
+        .unwrap();
+    assert_eq!(
+        (&*p.var, p.value.as_str()),
+        ("BUOYANCY_REPORT", Some("status=1,error=0,progressing,buoyancy=0.0"))
+    );
+    assert_eq!(sim.inputs().buoyancy_rate, 0.0);
+    let p = sim.on_mail("TRIM_CONTROL", MailValue::Str("TRUE"), 0.0).unwrap();
+    assert_eq!(
+        p.value.as_str(),
+        Some("status=1,error=0,progressing,trim_pitch=0.0,trim_roll=0.0")
+    );
+    let out = run_secs(&mut sim, 0.0, 6);
+    // Both complete once 5 s have passed (the pitch, 0 at rest, is within the tolerance).
+    assert_eq!(
+        all_of(&out, "BUOYANCY_REPORT"),
+        vec![vehicle::Value::Str("status=2,error=0,completed,buoyancy=0.0".into())]
+    );
+    assert_eq!(
+        all_of(&out, "TRIM_REPORT"),
+        vec![vehicle::Value::Str(
+            "status=2,error=0,completed,trim_pitch=0.00000,trim_roll=0.0".into()
+        )]
+    );
+    let ix = |v: &str| out.iter().position(|p| &*p.var == v).unwrap();
+    assert!(ix("BUOYANCY_REPORT") < ix("USM_X").max(ix("TRIM_REPORT") + 1));
+}
+
+#[test]
+fn sim_config_rules_follow_on_startup() {
+    let warn = |k: &str, v: &str| {
+        let (cfg, w) = SimConfig::from_params_lenient([(k, v)]).unwrap();
+        (cfg, w.len())
+    };
+    // Keys the C++ block does not take (mail names only, or coug inventions).
+    for k in ["current_x", "current_y", "water_depth", "legacy"] {
+        assert!(matches!(
+            SimConfig::from_params([(k, "1")]),
+            Err(ConfigError::UnknownKey { .. })
+        ));
+    }
+    // thrust_factor: applied when >= 0, but always reported unhandled.
+    let (cfg, n) = warn("thrust_factor", "10");
+    assert_eq!((cfg.thrust_map.thrust_factor, n), (10.0, 1));
+    let (cfg, n) = warn("thrust_factor", "-1");
+    assert_eq!((cfg.thrust_map.thrust_factor, n), (20.0, 1));
+    // turn_spd_loss is read with atof: a non-number is 0, accepted.
+    let (cfg, n) = warn("turn_spd_loss", "abc");
+    assert_eq!((cfg.turn_spd_loss, n), (0.0, 0));
+    let (cfg, n) = warn("turn_spd_loss", "1.5");
+    assert_eq!((cfg.turn_spd_loss, n), (0.85, 1));
+    // post_des_* naming the PID's own variable is unhandled.
+    let (cfg, n) = warn("post_des_thrust", "DESIRED_THRUST");
+    assert_eq!((cfg.post_des_thrust, n), (None, 1));
+    let (cfg, n) = warn("post_des_rudder", "SIM_RUDDER");
+    assert_eq!((cfg.post_des_rudder.as_deref(), n), (Some("SIM_RUDDER"), 0));
+    // thrust_reflect takes true/false only.
+    assert_eq!(warn("thrust_reflect", "yes").1, 1);
+    // Turn-speed map: null speed > 0, full rate in (0, 100].
+    assert_eq!(warn("turn_spd_map_null_speed", "0").1, 1);
+    assert_eq!(warn("turn_spd_map_full_rate", "0").1, 1);
+    assert_eq!(warn("turn_spd_map_full_rate", "100").1, 0);
+    // Negative limits are refused.
+    for k in ["max_acceleration", "max_deceleration", "max_rudder_degs_per_sec", "turn_radius", "default_water_depth"] {
+        assert_eq!(warn(k, "-1").1, 1, "{k}");
+    }
+    assert_eq!(warn("max_speed", "0").1, 1);
+    // Without the embedded PID, PID keys (depth_control included) are taken silently and
+    // have no effect: depth outputs stay on.
+    let (cfg, n) = warn("depth_control", "false");
+    assert_eq!((cfg.depth_control, n), (true, 0));
+    assert_eq!(warn("maxrudder", "40").1, 0);
+}
+
+#[test]
+fn a_bad_depth_control_with_the_embedded_pid_leaves_the_sim_uncoupled_with_defaults() {
+    let (cfg, w) = SimConfig::from_params_lenient([
+        ("prefix", "NAV"),
+        ("yaw_pid_kp", "1"),
+        ("depth_control", "maybe"),
+    ])
+    .unwrap();
+    assert_eq!(w.len(), 1);
+    assert!(w[0].to_string().contains("Improper DEP PID Setting"), "{}", w[0]);
+    assert!(cfg.pid.is_none());
+    assert_eq!(cfg.prefix, "USM", "the simulator's own settings were never read");
+}
+
+#[test]
+fn embedded_pid_with_speed_factor_and_no_depth_control() {
+    let cfg = SimConfig::from_params([
+        ("prefix", "NAV"),
+        ("post_des_thrust", "SIM_THRUST"),
+        ("yaw_pid_kp", "1"),
+        ("yaw_pid_kd", "0"),
+        ("yaw_pid_ki", "0"),
+        ("yaw_pid_integral_limit", "0"),
+        ("maxrudder", "100"),
+        ("speed_pid_kp", "1"),
+        ("speed_pid_kd", "0"),
+        ("speed_pid_ki", "0"),
+        ("speed_pid_integral_limit", "0"),
+        ("maxthrust", "100"),
+        ("speed_factor", "20"),
+        ("depth_control", "false"),
+    ])
+    .unwrap();
+    assert!(!cfg.depth_control);
+    let mut sim = Simulator::new(cfg, None, 0.0);
+    let subs = sim.subscriptions();
+    assert!(subs.contains(&"DESIRED_SPEED") && !subs.contains(&"DESIRED_THRUST"));
+    run_secs(&mut sim, 0.0, 1);
+    sim.on_mail("MOOS_MANUAL_OVERRIDE", MailValue::Str("false"), 1.0);
+    sim.on_mail("DESIRED_HEADING", MailValue::Double(0.0), 1.0);
+    sim.on_mail("DESIRED_SPEED", MailValue::Double(1.5), 1.0);
+    let out = run_secs(&mut sim, 1.0, 2);
+    // Thrust = desired speed x speed factor = 30, handed to the model and echoed.
+    assert_eq!(last_posting(&out, "SIM_THRUST").unwrap().as_f64(), Some(30.0));
+    assert_eq!(sim.inputs().thrust, 30.0);
+    // No depth control: none of the depth outputs.
+    assert!(last_posting(&out, "NAV_Z").is_none() && last_posting(&out, "SIMULATION_MODE").is_none());
+    // SPEED_FACTOR at run time.
+    // (The helm keeps posting: inputs older than tardy_helm_threshold = 2 s are stale.)
+    sim.on_mail("SPEED_FACTOR", MailValue::Double(10.0), 3.0);
+    sim.on_mail("DESIRED_HEADING", MailValue::Double(0.0), 3.0);
+    sim.on_mail("DESIRED_SPEED", MailValue::Double(1.5), 3.0);
+    let out = run_secs(&mut sim, 3.0, 1);
+    assert_eq!(last_posting(&out, "SIM_THRUST").unwrap().as_f64(), Some(15.0));
+}
