@@ -21,10 +21,12 @@
 //! during a manual override (`MOOS_MANUAL_OVERRIDE`, initially true), whose outputs are the
 //! all-stop, posted once. [`PidConfig::legacy`] selects the older pMarinePID rules.
 //!
-//! As the C++ (its quirks kept, so that a swap-in behaves the same): `PID_THRUST_CAP` is read
-//! and clipped but not applied to the posted thrust; with `simulation = true` the controller
-//! never takes control. Mail skew (`ok_skew`) is not checked: mail carries no separate source
-//! time here.
+//! As the C++ (its quirks kept, so that a swap-in behaves the same): `PID_THRUST_CAP` (a
+//! string mail) is read and clipped but not applied to the posted thrust; with
+//! `simulation = true` the controller never takes control; inputs are stamped with the
+//! engine's clock (the last iteration's time, 0 = never received before the first
+//! iteration), so ages in `PID_STALE` count from there. Mail skew (`ok_skew`) is not checked:
+//! mail carries no separate source time here.
 //!
 //! # Conformance with pMarinePIDV22 (MOOS-IvP a2a9b716)
 //!
@@ -50,7 +52,7 @@
 //! | heading_debug, speed_debug, depth_debug | | bool | false | `true` enables | no | done |
 //! | ignore_nav_yaw | | bool | false | MOOS boolean | no | done |
 //! | pid_verbose | verbose | bool | true | MOOS boolean | PID_VERBOSE | done |
-//! | enable_thrust_cap | | bool | false | MOOS boolean; registers PID_THRUST_CAP | PID_THRUST_CAP (clipped 20..100, not applied) | done |
+//! | enable_thrust_cap | | bool | false | MOOS boolean; registers PID_THRUST_CAP | PID_THRUST_CAP (string mail, clipped 20..100, not applied to the posting as in the C++) | done |
 //! | output_suffix | | word | none | no white space; upper-cased | no | done |
 //! | active_start | | | | deprecated, accepted | no | done |
 //!
@@ -60,7 +62,8 @@
 //! | PID_HAS_CONTROL | override changes | `true` / `false` | done |
 //! | PID_STALE | each stale input, each iteration | `Stale DesHdg:<s>` (DesSpd, NavHdg, NavSpd, DesDepth, NavDep, NavPitch) | done |
 //! | PID_SPD_DEBUG, PID_HDG_DEBUG, PID_DEP_DEBUG | with the `*_debug` switch, when the loop ran | `PID_SPEED:  (Want):.. (Curr):.. (Diff):.. (Fctr\|Delt):.. THRUST:..` etc. | done |
-//! | PID_MAX_SAT_HDG_DEBUG, _SPD_, _DEP_ | with the debug switch, on saturation | PID debug string | open: not posted |
+//! | PID_MAX_SAT_HDG_DEBUG, _SPD_, _DEP_ | with the debug switch, on saturation | ScalarPID debug string | open: not posted |
+//! | DESIRED_* on zero/negative desired speed or negative SPEED_FACTOR | in control | thrust below 0.01 is 0, then rudder and elevator 0 | done |
 //!
 //! Subscriptions: NAV_HEADING, NAV_SPEED, NAV_DEPTH, NAV_PITCH, DESIRED_HEADING, DESIRED_SPEED,
 //! DESIRED_DEPTH, PID_VERBOSE, SPEED_FACTOR, MOOS_MANUAL_OVERIDE, MOOS_MANUAL_OVERRIDE,

@@ -28,52 +28,74 @@
 //!
 //! # Conformance with uSimMarineV22 (MOOS-IvP a2a9b716)
 //!
-//! A bad value or a setting coug does not simulate is a config warning; the app runs on.
+//! A bad value, or a line the C++ reports as unhandled, is a config warning
+//! ([`SimConfig::from_params_lenient`]); the app runs on, as the C++ does. Keys of the PID
+//! engine (see [`crate::pid::ENGINE_KEYS`]) are taken silently and used only when the block
+//! has a yaw gain (the embedded PID).
 //!
 //! | parameter | aliases | type | default | validation (C++ rule) | runtime update | coug |
 //! |---|---|---|---|---|---|---|
-//! | start_pos | | `x=,y=,heading=,speed=,depth=` | origin | pairs | USM_RESET | done |
-//! | start_x, start_y, start_heading, start_speed, start_depth | | number | 0 | number | no | open: implemented, no test of each key |
-//! | prefix | | word | NAV | | no | done |
+//! | start_pos | | `x=,y=,heading=,speed=,depth=` or `x,y,hdg,spd,dep` | origin | fields in turn (`deg`/`hdg`, `spd`, `dep` aliases), values by atof; an unknown field warns, the fields before it stay; each line counts as a reset | USM_RESET | done |
+//! | start_x, start_y, start_heading, start_speed, start_depth | | number | 0 | number; start_depth >= 0 | no | done |
+//! | prefix | | word | USM | no white space | no | done |
 //! | turn_rate | | 0..100 | 70 | number, clipped | USM_TURN_RATE | done |
-//! | turn_radius | | m | | number | USM_TURN_RADIUS | done |
-//! | thrust_map | | `thrust:speed,...` | none | ascending pairs | no | done |
-//! | thrust_factor | | number | 20 | >= 0 | no | done |
-//! | thrust_reflect | | bool | false | MOOS boolean | no | done |
-//! | thrust_mode_reverse, thrust_mode_diff | | bool / mode | false / normal | | THRUST_MODE_REVERSE, THRUST_MODE_DIFFERENTIAL | done |
-//! | turn_spd_loss | | 0..1 | 0.85 | number in range | no | done |
-//! | turn_spd_map_full_speed, _null_speed, _full_rate, _null_rate | | number | | number | no | open: implemented, untested |
-//! | max_acceleration, max_deceleration | | m/s² | 0 (off), 0.5 | >= 0 | no | done |
-//! | max_speed | | m/s | 5 | > 0 | no | done |
+//! | turn_radius | | m | 0 | number >= 0 | USM_TURN_RADIUS | done |
+//! | thrust_map | | `thrust:speed,...` | none | thrust in -100..100, sign rules, ascending | no | done |
+//! | thrust_factor | | number | 20 | number >= 0 applied; the line is always reported unhandled | no | done |
+//! | thrust_reflect | | `true`/`false` | false | true or false only | no | done |
+//! | thrust_mode_reverse | | reverse/normal/true/false | false | applied when valid; always reported unhandled | THRUST_MODE_REVERSE | done |
+//! | thrust_mode_diff | | differential/normal/true/false | normal | one of those | THRUST_MODE_DIFFERENTIAL | done |
+//! | turn_spd_loss | | 0..1 | 0.85 | atof, in [0, 1] | no | done |
+//! | turn_spd_map_null_speed | | m/s | 0 | > 0 | no | done |
+//! | turn_spd_map_null_rate | | 0..100 | 0 | in [0, 100] | no | done |
+//! | turn_spd_map_full_speed, turn_spd_map_full_rate | | number | 5 / turn_rate | > 0 / (0, 100]; overwritten each step by the C++ (no effect) | no | done |
+//! | max_acceleration, max_deceleration | | m/s² | 0 (off), 0.5 | number >= 0 | no | done |
+//! | max_speed | | m/s | 5 | number > 0 | no | done |
 //! | buoyancy_rate | | m/s | 0.025 | number | BUOYANCY_RATE | done |
-//! | max_depth_rate, max_depth_rate_speed | | number | 0.5, 2.0 | number | no | done (rate), open: speed untested |
-//! | default_water_depth | | m | 0 | number | WATER_DEPTH | done |
-//! | drift_x, drift_y, drift_vector | | m/s, `ang,mag` | 0 | number / pair | CURRENT_X/Y, DRIFT_X/Y, DRIFT_VECTOR(_ADD/_MULT) | done |
-//! | rotate_speed | | deg/s | 0 | number | ROTATE_SPEED | open: implemented, untested |
-//! | max_rudder_degs_per_sec | | deg/s | 0 (one change still capped at 100) | number | no | done |
-//! | sim_pause | | bool | false | MOOS boolean | USM_SIM_PAUSED | open: implemented, untested |
-//! | post_des_thrust, post_des_rudder | | var | none | not DESIRED_THRUST/RUDDER | no | done (posted from the embedded PID only) |
-//! | post_navpos_summary | | bool | false | MOOS boolean | no | open: implemented, untested |
-//! | PID keys (`yaw_pid_kp` ... `maxelevator`, `speed_factor`, `depth_control`, ...) | | | | as pMarinePIDV22; yaw gains embed the PID | SPEED_FACTOR, MOOS_MANUAL_OVERRIDE, DESIRED_* | done |
-//! | dual_state | | bool | false | MOOS boolean; nav without drift, `<P>_GT_*` with it | no | done |
-//! | wind_conditions | | `spd=..,dir=..` | none | known keys, numbers, dir and spd >= 0 | WIND_CONDITIONS | done |
+//! | max_depth_rate, max_depth_rate_speed | | number | 0.5, 2.0 | number | no | done |
+//! | default_water_depth | | m | 0 | number >= 0 | WATER_DEPTH | done |
+//! | drift_x, drift_y, drift_vector | | m/s, `ang,mag` | 0 | number / two numbers | CURRENT_X/Y, DRIFT_X/Y, DRIFT_VECTOR(_ADD/_MULT) | done |
+//! | rotate_speed | | deg/s | 0 | number | ROTATE_SPEED | done |
+//! | max_rudder_degs_per_sec | | deg/s | 0 (one change still capped at 100) | number >= 0 | no | done |
+//! | sim_pause | | bool | false | MOOS boolean | USM_SIM_PAUSED | done |
+//! | dual_state | | bool | false | MOOS boolean; nav without drift, `<P>_GT_*` with it | USM_RESET_NAV | done |
+//! | wind_conditions | | `spd=..,dir=..` | none | piece by piece: spd (a negative one skipped), dir >= 0; anything else warns, earlier pieces stay; the polar's wind angle only on success | WIND_CONDITIONS | done |
 //! | polar_plot | | `angle,pct:...` | none | angles 0..180 each once, pct >= 0; with a wind, speed capped at pct × wind speed (only above 0) | no | done |
-//! | wormhole | | spec | none | | no | refused: warning, wormholes not simulated |
-//! | trim_tolerance, max_trim_delay | | number | | | TRIM_CONTROL | refused: warning, trim handshake not simulated |
+//! | wormhole | | `tag=..,madrid_poly=..,weber_poly=..,connection=..,delay=..,id_change=..` | none | tag required; convex polygons; connection both/from_madrid/from_weber; delay >= 0; id_change boolean; unknown field warns | no | done |
+//! | trim_tolerance, max_trim_delay | | number | 5, 10 | number | TRIM_CONTROL | done |
+//! | post_des_thrust, post_des_rudder | | var | none | no white space; DESIRED_THRUST / DESIRED_RUDDER is unhandled | no | done |
+//! | post_navpos_summary | | bool | false | MOOS boolean | no | done |
+//! | PID keys (`yaw_pid_kp` ... `maxelevator`, `speed_factor`, `depth_control`, ...) | | | | as pMarinePIDV22; a yaw gain embeds the PID; a non-boolean depth_control then leaves the sim uncoupled with all defaults (Improper DEP PID Setting) | SPEED_FACTOR, MOOS_MANUAL_OVERRIDE, DESIRED_* | done |
 //!
 //! | variable | when | format | coug |
 //! |---|---|---|---|
-//! | `<P>_X`, `_Y`, `_LAT`, `_LONG`, `_HEADING`, `_SPEED`, `_DEPTH` | every 2nd iteration (legacy: every) | numbers | done |
-//! | `<P>_Z`, `_PITCH`, `_YAW`, SIMULATION_MODE, TRUE_X, TRUE_Y | with depth | numbers, `TRUE` | done |
-//! | `<P>_HEADING_OVER_GROUND`, `_SPEED_OVER_GROUND`, `_ALTITUDE` | with nav | numbers | done |
-//! | USM_RESET_COUNT | on USM_RESET | count | done |
-//! | USM_DRIFT_SUMMARY | drift changes | `ang=..,mag=..,xmag=..,ymag=..` | done |
-//! | USM_NAVPOS_SUMMARY | with post_navpos_summary | `x=..,y=..[,lat=..,lon=..]` | open: untested |
-//! | PID_* (embedded PID) | as pMarinePIDV22 | | done |
-//! | `<P>_GT_*` | with dual_state, with the nav | the ground-truth record | done |
-//! | USM_NOGO | skewed PID mail | skew | open: mail skew not checked |
-//! | BUOYANCY_REPORT, TRIM_REPORT | buoyancy/trim control | | open: not posted |
-//! | VIEW_ARROW (wind), VIEW_POLYGON and `<P>_TRANSP` (wormholes) | visuals | | open: not posted |
+//! | `<P>_X`, `_Y`, `_LAT`, `_LONG`, `_HEADING`, `_SPEED`, `_DEPTH` | every 2nd iteration (legacy: every), also while paused | numbers; speed snapped to 0.01, capped at max_speed | done |
+//! | `<P>_Z`, `_PITCH`, `_YAW`, SIMULATION_MODE, TRUE_X, TRUE_Y | with the nav, with depth control | numbers, `TRUE` | done |
+//! | `<P>_HEADING_OVER_GROUND`, `_SPEED_OVER_GROUND`, `_ALTITUDE` | with the nav (altitude with a water depth) | numbers | done |
+//! | `<P>_GT_*` | with dual_state, after the nav | the ground-truth record | done |
+//! | USM_RESET_COUNT | on USM_RESET | count (start_pos lines included) | done |
+//! | USM_DRIFT_SUMMARY | at start, and when a new source first sets the drift | `ang=..,  mag=.., xmag=.., ymag=..` | done |
+//! | USM_NAVPOS_SUMMARY | with post_navpos_summary, with the nav | `x=..,y=..[,lat=..,lon=..]` | done |
+//! | post_des_thrust / post_des_rudder variables | embedded PID, every iteration | numbers | done |
+//! | PID_HAS_CONTROL, PID_STALE, PID_*_DEBUG (embedded PID) | as pMarinePIDV22 | | done |
+//! | BUOYANCY_REPORT | on BUOYANCY_CONTROL=true, every 5 s, completed after 5 s | `status=1,error=0,progressing,buoyancy=0.0` / `status=2,...completed...` | done |
+//! | TRIM_REPORT | on TRIM_CONTROL=true, every 5 s, completed within tolerance after 5 s or after max_trim_delay | `status=..,error=0,..,trim_pitch=<deg, 5 dp>,trim_roll=0.0` | done |
+//! | VIEW_ARROW | sailing (wind and polar), every 50th iteration | `ctrx=0,ctry=0,ang=..,bwid=5,blen=20,hwid=10,hlen=10,label=windmod,...` | done |
+//! | `<P>_TRANSP` | with wormholes, every iteration | transparency 0..1 | done |
+//! | VIEW_POLYGON | with wormholes, every 10th iteration, weber then madrid | polygon spec, `label=<tag>_weber`, white fill 0.1 | done |
+//! | USM_NOGO | skewed PID mail | skew | refused: mail skew is not modelled (in-process mail carries no clock skew) |
+//!
+//! Subscriptions (done): DESIRED_RUDDER/THRUST/ELEVATOR/THRUST_L/THRUST_R (without the
+//! embedded PID) or DESIRED_HEADING/SPEED/DEPTH, SPEED_FACTOR, MOOS_MANUAL_OVERIDE/OVERRIDE
+//! (with it); NAV_X, NAV_Y, NAV_HEADING (informed while disabled), USM_ENABLED,
+//! USM_TURN_RADIUS, USM_TURN_RATE, OBSTACLE_HIT, USM_RESET_NAV, WIND_CONDITIONS,
+//! BUOYANCY_RATE, WATER_DEPTH, CURRENT_X/Y, DRIFT_X/Y, DRIFT_VECTOR(_ADD/_MULT), ROTATE_SPEED,
+//! USM_SIM_PAUSED, USM_RESET, TRIM_CONTROL, BUOYANCY_CONTROL, THRUST_MODE_REVERSE,
+//! THRUST_MODE_DIFFERENTIAL.
+//!
+//! Known differences kept on purpose: where the C++ turn limit would take `asin` of a ratio
+//! above 1 (NaN position) the step is left unlimited; the wind arrow's angle follows the wind
+//! direction even when only a speed was ever given (the C++ arrow then stays at 0).
 
 use std::sync::Arc;
 

@@ -490,3 +490,47 @@ fn v22_debug_reports_follow_the_loops_in_the_cpp_format() {
     let ix = |v: &str| out.iter().position(|p| &*p.var == v).unwrap();
     assert!(ix("DESIRED_THRUST") < ix("PID_SPD_DEBUG"));
 }
+
+#[test]
+fn v22_mail_is_stamped_with_the_engine_clock() {
+    // PIDEngine stamps inputs with its own time (the last iteration's), 0 before the first
+    // iteration, and 0 means "never received": mail before the first iteration does not count.
+    let mut app = MarinePid::new(golf_pid());
+    app.on_mail("MOOS_MANUAL_OVERRIDE", MailValue::Str("false"), 1.0);
+    app.on_mail("DESIRED_HEADING", MailValue::Double(90.0), 1.0);
+    assert!(app.inputs().desired_heading.is_none());
+    let mut out = Vec::new();
+    app.iterate(10.0, &mut out);
+    app.on_mail("DESIRED_HEADING", MailValue::Double(90.0), 11.5);
+    assert_eq!(app.inputs().desired_heading, Some((90.0, 10.0)));
+    for (v, x) in [
+        ("DESIRED_SPEED", 2.0),
+        ("DESIRED_DEPTH", 0.0),
+        ("NAV_HEADING", 90.0),
+        ("NAV_SPEED", 2.0),
+        ("NAV_DEPTH", 0.0),
+        ("NAV_PITCH", 0.0),
+    ] {
+        app.on_mail(v, MailValue::Double(x), 11.5);
+    }
+    // Ages are counted from the stamp (10), not the mail time: 12.5 - 10 = 2.5 > 2.
+    out.clear();
+    app.iterate(12.5, &mut out);
+    let stale: Vec<&str> = out
+        .iter()
+        .filter(|p| &*p.var == "PID_STALE")
+        .filter_map(|p| p.value.as_str())
+        .collect();
+    assert_eq!(
+        stale,
+        vec![
+            "Stale DesHdg:2.5",
+            "Stale DesSpd:2.5",
+            "Stale NavHdg:2.5",
+            "Stale NavSpd:2.5",
+            "Stale DesDepth:2.5",
+            "Stale NavDep:2.5",
+            "Stale NavPitch:2.5"
+        ]
+    );
+}

@@ -1097,3 +1097,45 @@ fn embedded_pid_with_speed_factor_and_no_depth_control() {
     let out = run_secs(&mut sim, 3.0, 1);
     assert_eq!(last_posting(&out, "SIM_THRUST").unwrap().as_f64(), Some(15.0));
 }
+
+#[test]
+fn start_keys_rotate_speed_depth_rate_speed_and_navpos_summary() {
+    let (cfg, w) = SimConfig::from_params_lenient([
+        ("start_x", "3"),
+        ("start_y", "4"),
+        ("start_heading", "90"),
+        ("start_speed", "0"),
+        ("start_depth", "2"),
+        ("rotate_speed", "10"),
+        ("post_navpos_summary", "true"),
+        ("max_depth_rate_speed", "4"),
+        ("start_speed", "fast"),
+    ])
+    .unwrap();
+    assert_eq!(w.len(), 1, "start_speed=fast: {w:?}");
+    assert_eq!(
+        (cfg.start.x, cfg.start.y, cfg.start.heading, cfg.start.depth),
+        (3.0, 4.0, 90.0, 2.0)
+    );
+    assert_eq!(SimConfig::from_params_lenient([("start_depth", "-1")]).unwrap().1.len(), 1);
+    let mut sim = Simulator::new(cfg.clone(), None, 0.0);
+    let out = run_secs(&mut sim, 0.0, 2);
+    // Rudder 0, speed 0: only the external rotation turns it, 10 deg/s for 2 s.
+    assert_eq!(last_posting(&out, "USM_HEADING").unwrap().as_f64(), Some(110.0));
+    assert_eq!(
+        last_posting(&out, "USM_NAVPOS_SUMMARY").unwrap().as_str(),
+        Some("x=3,y=4")
+    );
+    // Depth rate at 1 m/s with max_depth_rate_speed 4: sqrt(1/4) x 0.5 m/s at full elevator.
+    let s0 = SimState {
+        speed: 1.0,
+        ..SimState::default()
+    };
+    let inp = SimInputs {
+        thrust: 20.0,
+        elevator: 100.0,
+        ..SimInputs::default()
+    };
+    let s1 = step(&SimConfig { rotate_speed: 0.0, ..cfg }, &s0, &inp, 1.0, None).0;
+    assert!(close(s1.depth, 0.25, 1e-12), "{}", s1.depth);
+}
