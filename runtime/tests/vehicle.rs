@@ -251,3 +251,46 @@ fn vehicle_apps_run_on_with_config_warnings() {
     let report = s.current("NODE_REPORT_LOCAL").expect("a node report");
     assert!(report.as_str().unwrap().contains("X=5"), "{report:?}");
 }
+
+#[test]
+fn simulator_runs_on_with_config_warnings_and_takes_drift_from_a_source() {
+    let text = "Community = abe\nProcessConfig = uSimMarineV22\n{\n  prefix = NAV\n  \
+                current_x = 1\n  wormhole = tag=w1, connection=sideways\n  \
+                start_pos = x=10, y=20\n}\n";
+    let m = mission::moos::parse_moos(&SourceMap::from_text("s.moos", text)).value;
+    let sim = VehicleApp::simulator(
+        "uSimMarineV22",
+        block(&m, "uSimMarineV22"),
+        None,
+        START,
+        false,
+    )
+    .expect("the simulator runs");
+    let w = sim.warnings();
+    assert_eq!(w.len(), 2, "{w:?}");
+    assert!(
+        w[0].starts_with("s.moos:5: ") && w[0].contains("current_x"),
+        "{w:?}"
+    );
+    assert!(
+        w[1].starts_with("s.moos:6: ") && w[1].contains("connection"),
+        "{w:?}"
+    );
+    let mut s = Scheduler::new(Bus::new("abe", START), VirtualClock, START);
+    s.add_app(Box::new(sim)).unwrap();
+    s.add_poke(Poke::parse("DRIFT_X=2", "uPokeDB").unwrap())
+        .unwrap();
+    s.run(3.0).unwrap();
+    // The other settings applied: the prefix and the start position.
+    let y = s.current("NAV_Y").expect("navigation is posted");
+    assert_eq!(y.as_f64(), Some(20.0));
+    // The first drift from uPokeDB re-posted the summary.
+    let summary = s.current("USM_DRIFT_SUMMARY").expect("a drift summary");
+    assert_eq!(summary.as_str(), Some("ang=90, mag=2, xmag=2, ymag=0"));
+    assert!(
+        s.current("NAV_X").unwrap().as_f64().unwrap() > 10.0,
+        "drifting east"
+    );
+    // The (rejected) wormhole still has its tag registered, so <prefix>_TRANSP is posted.
+    assert_eq!(s.current("NAV_TRANSP").and_then(|v| v.as_f64()), Some(1.0));
+}

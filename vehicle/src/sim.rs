@@ -302,7 +302,9 @@ impl StartPose {
         for (i, item) in spec.split(',').enumerate() {
             let item = item.trim().to_ascii_lowercase();
             let (key, val) = match item.split_once('=') {
-                Some((k, v)) if !v.trim().is_empty() => (k.trim().to_string(), v.trim().to_string()),
+                Some((k, v)) if !v.trim().is_empty() => {
+                    (k.trim().to_string(), v.trim().to_string())
+                }
                 Some((k, _)) => (String::new(), k.trim().to_string()),
                 None => (String::new(), item.clone()),
             };
@@ -1394,10 +1396,9 @@ impl Simulator {
                 _ => {}
             },
             "BUOYANCY_RATE" => self.inputs.buoyancy_rate = d,
-            "WIND_CONDITIONS" => {
-                if crate::polar::Wind::apply(s, &mut self.inputs.wind) {
-                    self.inputs.polar_wind_deg = self.inputs.wind.map_or(0.0, |w| w.dir_deg);
-                }
+            // Applied piece by piece; the polar's wind angle follows only a fully read spec.
+            "WIND_CONDITIONS" if crate::polar::Wind::apply(s, &mut self.inputs.wind) => {
+                self.inputs.polar_wind_deg = self.inputs.wind.map_or(0.0, |w| w.dir_deg);
             }
             "ROTATE_SPEED" => self.inputs.rotate_speed = d,
             "CURRENT_X" | "DRIFT_X" => self.set_drift(d, self.inputs.drift_y, source),

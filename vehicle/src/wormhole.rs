@@ -134,7 +134,11 @@ fn split_outside_braces(s: &str) -> Vec<&str> {
     parts
 }
 
-fn wormhole_polygon(value: &str, label: String, what: &'static str) -> Result<ViewPolygon, WormHoleError> {
+fn wormhole_polygon(
+    value: &str,
+    label: String,
+    what: &'static str,
+) -> Result<ViewPolygon, WormHoleError> {
     let v = value.trim();
     let spec = if v.starts_with('{') && v.ends_with('}') && v.len() >= 2 {
         v[1..v.len() - 1].to_string()
@@ -212,10 +216,18 @@ impl WormHoleSet {
             };
             match key {
                 "madrid_poly" => {
-                    hole.madrid = Some(wormhole_polygon(value, format!("{tag}_madrid"), "madrid_poly")?)
+                    hole.madrid = Some(wormhole_polygon(
+                        value,
+                        format!("{tag}_madrid"),
+                        "madrid_poly",
+                    )?)
                 }
                 "weber_poly" => {
-                    hole.weber = Some(wormhole_polygon(value, format!("{tag}_weber"), "weber_poly")?)
+                    hole.weber = Some(wormhole_polygon(
+                        value,
+                        format!("{tag}_weber"),
+                        "weber_poly",
+                    )?)
                 }
                 "connection" => {
                     hole.connection = match value.to_ascii_lowercase().as_str() {

@@ -755,21 +755,29 @@ fn usm_reset_counts_start_pos_lines_and_sets_only_the_given_fields() {
     assert_eq!((st.x, st.y, st.heading), (5.0, 6.0, 30.0));
     // The older positional form x,y,heading,speed,depth.
     sim.on_mail("USM_RESET", MailValue::Str("7,8,90"), 0.0);
-    assert_eq!((sim.state().x, sim.state().y, sim.state().heading), (7.0, 8.0, 90.0));
+    assert_eq!(
+        (sim.state().x, sim.state().y, sim.state().heading),
+        (7.0, 8.0, 90.0)
+    );
     // `hdg` and `dep` aliases; an unknown field stops there (the fields before it stay
     // applied) and the reset is still counted.
     let p = sim
         .on_mail("USM_RESET", MailValue::Str("hdg=180,x=-3,foo=1,y=99"), 0.0)
         .unwrap();
     assert_eq!(p.value.as_f64(), Some(4.0));
-    assert_eq!((sim.state().x, sim.state().y, sim.state().heading), (-3.0, 8.0, 180.0));
+    assert_eq!(
+        (sim.state().x, sim.state().y, sim.state().heading),
+        (-3.0, 8.0, 180.0)
+    );
     // Values are read with atof: a non-number is 0.
     sim.on_mail("USM_RESET", MailValue::Str("x=abc"), 0.0);
     assert_eq!(sim.state().x, 0.0);
     assert_eq!(sim.reset_count(), 5);
     // Without start_pos the first reset is 1.
     let mut plain = Simulator::new(SimConfig::default(), None, 0.0);
-    let p = plain.on_mail("USM_RESET", MailValue::Str("x=1"), 0.0).unwrap();
+    let p = plain
+        .on_mail("USM_RESET", MailValue::Str("x=1"), 0.0)
+        .unwrap();
     assert_eq!(p.value.as_f64(), Some(1.0));
     // A start_pos with a bad field is a warning; its count still grows.
     let (cfg, w) = SimConfig::from_params_lenient([("start_pos", "x=4,z=1")]).unwrap();
@@ -808,7 +816,9 @@ fn drift_summary_is_posted_at_start_and_on_each_new_drift_source() {
     // relAng(0,0,3,4) = 36.87 deg, magnitude 5.
     assert_eq!(
         all_of(&out, "USM_DRIFT_SUMMARY"),
-        vec![vehicle::Value::Str("ang=36.87, mag=5, xmag=3, ymag=4".into())]
+        vec![vehicle::Value::Str(
+            "ang=36.87, mag=5, xmag=3, ymag=4".into()
+        )]
     );
     // The same source again: the drift changes, no new summary.
     sim.on_mail_from("DRIFT_VECTOR", MailValue::Str("90,2"), 2.0, "uTimerScript");
@@ -829,12 +839,8 @@ fn drift_summary_is_posted_at_start_and_on_each_new_drift_source() {
 
 #[test]
 fn usm_reset_nav_moves_the_nav_record_to_the_ground_truth() {
-    let cfg = SimConfig::from_params([
-        ("prefix", "NAV"),
-        ("dual_state", "true"),
-        ("drift_x", "1"),
-    ])
-    .unwrap();
+    let cfg = SimConfig::from_params([("prefix", "NAV"), ("dual_state", "true"), ("drift_x", "1")])
+        .unwrap();
     let mut sim = Simulator::new(cfg, None, 0.0);
     assert!(sim.subscriptions().contains(&"USM_RESET_NAV"));
     let out = run_secs(&mut sim, 0.0, 4);
@@ -858,7 +864,8 @@ fn usm_reset_nav_moves_the_nav_record_to_the_ground_truth() {
     assert_eq!((single.state().x, single.state().y), (2.0, 3.0));
 }
 
-const WORM: &str = "tag=One, madrid_poly={0,0:10,0:10,10:0,10}, weber_poly=pts={100,0:110,0:110,10:100,10}";
+const WORM: &str =
+    "tag=One, madrid_poly={0,0:10,0:10,10:0,10}, weber_poly=pts={100,0:110,0:110,10:100,10}";
 
 #[test]
 fn wormholes_fade_carry_and_emerge() {
@@ -920,7 +927,10 @@ fn wormhole_config_is_checked_as_the_cpp_does() {
     // `connection = both` is accepted and never carries a vehicle.
     let cfg = SimConfig::from_params([
         ("start_pos", "x=5,y=5"),
-        ("wormhole", &format!("{WORM}, connection=both, delay=2, id_change=false")),
+        (
+            "wormhole",
+            &format!("{WORM}, connection=both, delay=2, id_change=false"),
+        ),
     ])
     .unwrap();
     let mut sim = Simulator::new(cfg, None, 0.0);
@@ -937,13 +947,23 @@ fn wind_conditions_apply_piece_by_piece_and_the_arrow_is_posted_every_50th_itera
     .unwrap();
     let mut sim = Simulator::new(cfg, None, 0.0);
     // A bad piece: the speed before it is taken, the polar keeps its old wind angle.
-    sim.on_mail("WIND_CONDITIONS", MailValue::Str("spd=3,gust=1,dir=90"), 0.0);
+    sim.on_mail(
+        "WIND_CONDITIONS",
+        MailValue::Str("spd=3,gust=1,dir=90"),
+        0.0,
+    );
     let w = sim.inputs().wind.unwrap();
-    assert_eq!((w.speed_mps, w.dir_deg, sim.inputs().polar_wind_deg), (3.0, 0.0, 0.0));
+    assert_eq!(
+        (w.speed_mps, w.dir_deg, sim.inputs().polar_wind_deg),
+        (3.0, 0.0, 0.0)
+    );
     // A negative speed is skipped, the rest read: the polar follows.
     sim.on_mail("WIND_CONDITIONS", MailValue::Str("spd=-1,dir=450"), 0.0);
     let w = sim.inputs().wind.unwrap();
-    assert_eq!((w.speed_mps, w.dir_deg, sim.inputs().polar_wind_deg), (3.0, 90.0, 90.0));
+    assert_eq!(
+        (w.speed_mps, w.dir_deg, sim.inputs().polar_wind_deg),
+        (3.0, 90.0, 90.0)
+    );
     let mut out = Vec::new();
     for i in 1..=100 {
         sim.iterate(f64::from(i) * 0.1, &mut out);
@@ -972,10 +992,15 @@ fn trim_and_buoyancy_handshakes_report_as_the_cpp() {
         .unwrap();
     assert_eq!(
         (&*p.var, p.value.as_str()),
-        ("BUOYANCY_REPORT", Some("status=1,error=0,progressing,buoyancy=0.0"))
+        (
+            "BUOYANCY_REPORT",
+            Some("status=1,error=0,progressing,buoyancy=0.0")
+        )
     );
     assert_eq!(sim.inputs().buoyancy_rate, 0.0);
-    let p = sim.on_mail("TRIM_CONTROL", MailValue::Str("TRUE"), 0.0).unwrap();
+    let p = sim
+        .on_mail("TRIM_CONTROL", MailValue::Str("TRUE"), 0.0)
+        .unwrap();
     assert_eq!(
         p.value.as_str(),
         Some("status=1,error=0,progressing,trim_pitch=0.0,trim_roll=0.0")
@@ -984,7 +1009,9 @@ fn trim_and_buoyancy_handshakes_report_as_the_cpp() {
     // Both complete once 5 s have passed (the pitch, 0 at rest, is within the tolerance).
     assert_eq!(
         all_of(&out, "BUOYANCY_REPORT"),
-        vec![vehicle::Value::Str("status=2,error=0,completed,buoyancy=0.0".into())]
+        vec![vehicle::Value::Str(
+            "status=2,error=0,completed,buoyancy=0.0".into()
+        )]
     );
     assert_eq!(
         all_of(&out, "TRIM_REPORT"),
@@ -1031,7 +1058,13 @@ fn sim_config_rules_follow_on_startup() {
     assert_eq!(warn("turn_spd_map_full_rate", "0").1, 1);
     assert_eq!(warn("turn_spd_map_full_rate", "100").1, 0);
     // Negative limits are refused.
-    for k in ["max_acceleration", "max_deceleration", "max_rudder_degs_per_sec", "turn_radius", "default_water_depth"] {
+    for k in [
+        "max_acceleration",
+        "max_deceleration",
+        "max_rudder_degs_per_sec",
+        "turn_radius",
+        "default_water_depth",
+    ] {
         assert_eq!(warn(k, "-1").1, 1, "{k}");
     }
     assert_eq!(warn("max_speed", "0").1, 1);
@@ -1051,9 +1084,16 @@ fn a_bad_depth_control_with_the_embedded_pid_leaves_the_sim_uncoupled_with_defau
     ])
     .unwrap();
     assert_eq!(w.len(), 1);
-    assert!(w[0].to_string().contains("Improper DEP PID Setting"), "{}", w[0]);
+    assert!(
+        w[0].to_string().contains("Improper DEP PID Setting"),
+        "{}",
+        w[0]
+    );
     assert!(cfg.pid.is_none());
-    assert_eq!(cfg.prefix, "USM", "the simulator's own settings were never read");
+    assert_eq!(
+        cfg.prefix, "USM",
+        "the simulator's own settings were never read"
+    );
 }
 
 #[test]
@@ -1085,17 +1125,25 @@ fn embedded_pid_with_speed_factor_and_no_depth_control() {
     sim.on_mail("DESIRED_SPEED", MailValue::Double(1.5), 1.0);
     let out = run_secs(&mut sim, 1.0, 2);
     // Thrust = desired speed x speed factor = 30, handed to the model and echoed.
-    assert_eq!(last_posting(&out, "SIM_THRUST").unwrap().as_f64(), Some(30.0));
+    assert_eq!(
+        last_posting(&out, "SIM_THRUST").unwrap().as_f64(),
+        Some(30.0)
+    );
     assert_eq!(sim.inputs().thrust, 30.0);
     // No depth control: none of the depth outputs.
-    assert!(last_posting(&out, "NAV_Z").is_none() && last_posting(&out, "SIMULATION_MODE").is_none());
+    assert!(
+        last_posting(&out, "NAV_Z").is_none() && last_posting(&out, "SIMULATION_MODE").is_none()
+    );
     // SPEED_FACTOR at run time.
     // (The helm keeps posting: inputs older than tardy_helm_threshold = 2 s are stale.)
     sim.on_mail("SPEED_FACTOR", MailValue::Double(10.0), 3.0);
     sim.on_mail("DESIRED_HEADING", MailValue::Double(0.0), 3.0);
     sim.on_mail("DESIRED_SPEED", MailValue::Double(1.5), 3.0);
     let out = run_secs(&mut sim, 3.0, 1);
-    assert_eq!(last_posting(&out, "SIM_THRUST").unwrap().as_f64(), Some(15.0));
+    assert_eq!(
+        last_posting(&out, "SIM_THRUST").unwrap().as_f64(),
+        Some(15.0)
+    );
 }
 
 #[test]
@@ -1117,11 +1165,20 @@ fn start_keys_rotate_speed_depth_rate_speed_and_navpos_summary() {
         (cfg.start.x, cfg.start.y, cfg.start.heading, cfg.start.depth),
         (3.0, 4.0, 90.0, 2.0)
     );
-    assert_eq!(SimConfig::from_params_lenient([("start_depth", "-1")]).unwrap().1.len(), 1);
+    assert_eq!(
+        SimConfig::from_params_lenient([("start_depth", "-1")])
+            .unwrap()
+            .1
+            .len(),
+        1
+    );
     let mut sim = Simulator::new(cfg.clone(), None, 0.0);
     let out = run_secs(&mut sim, 0.0, 2);
     // Rudder 0, speed 0: only the external rotation turns it, 10 deg/s for 2 s.
-    assert_eq!(last_posting(&out, "USM_HEADING").unwrap().as_f64(), Some(110.0));
+    assert_eq!(
+        last_posting(&out, "USM_HEADING").unwrap().as_f64(),
+        Some(110.0)
+    );
     assert_eq!(
         last_posting(&out, "USM_NAVPOS_SUMMARY").unwrap().as_str(),
         Some("x=3,y=4")
@@ -1136,6 +1193,16 @@ fn start_keys_rotate_speed_depth_rate_speed_and_navpos_summary() {
         elevator: 100.0,
         ..SimInputs::default()
     };
-    let s1 = step(&SimConfig { rotate_speed: 0.0, ..cfg }, &s0, &inp, 1.0, None).0;
+    let s1 = step(
+        &SimConfig {
+            rotate_speed: 0.0,
+            ..cfg
+        },
+        &s0,
+        &inp,
+        1.0,
+        None,
+    )
+    .0;
     assert!(close(s1.depth, 0.25, 1e-12), "{}", s1.depth);
 }
