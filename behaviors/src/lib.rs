@@ -45,6 +45,7 @@ mod constant_heading;
 mod constant_speed;
 pub mod fmt;
 mod go_to_depth;
+pub mod hints;
 mod loiter;
 mod max_depth;
 mod op_region;

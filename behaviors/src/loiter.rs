@@ -536,27 +536,20 @@ impl Behavior for Loiter {
                 self.suffix = format!("_{}", v.to_ascii_uppercase());
             }
             "visual_hints" => {
-                for h in v.split(',') {
-                    let (k, val) = h.split_once('=').unwrap_or((h, ""));
-                    let (k, val) = (k.trim().to_ascii_lowercase(), val.trim());
-                    let num = val.parse::<f64>().ok().filter(|d| *d >= 0.0);
-                    match (k.as_str(), num) {
-                        ("vertex_size", Some(d)) => self.hint_vertex_size = d,
-                        ("edge_size", Some(d)) => self.hint_edge_size = d,
-                        ("nextpt_vertex_size", Some(d)) => self.hint_nextpt_vertex_size = d,
-                        ("vertex_color", _) if !val.is_empty() => {
-                            self.hint_vertex_color = val.into()
-                        }
-                        ("edge_color", _) if !val.is_empty() => self.hint_edge_color = val.into(),
-                        ("nextpt_color", _) if !val.is_empty() => {
-                            self.hint_nextpt_color = val.into()
-                        }
-                        ("nextpt_lcolor", _) if !val.is_empty() => {
-                            self.hint_nextpt_lcolor = val.into()
-                        }
-                        ("label", _) => self.hint_poly_label = val.into(),
-                        ("lcolor" | "label_color", _) => self.hint_poly_lcolor = val.into(),
-                        // MOOS ignores hints it does not know.
+                use crate::hints::{color, pairs, size};
+                for (k, val) in pairs(v) {
+                    match (k.as_str(), color(val), size(val)) {
+                        ("vertex_size", _, Some(d)) => self.hint_vertex_size = d,
+                        ("edge_size", _, Some(d)) => self.hint_edge_size = d,
+                        ("nextpt_vertex_size", _, Some(d)) => self.hint_nextpt_vertex_size = d,
+                        ("vertex_color", Some(c), _) => self.hint_vertex_color = c.into(),
+                        ("edge_color", Some(c), _) => self.hint_edge_color = c.into(),
+                        ("nextpt_color", Some(c), _) => self.hint_nextpt_color = c.into(),
+                        ("nextpt_lcolor", Some(c), _) => self.hint_nextpt_lcolor = c.into(),
+                        ("label", _, _) => self.hint_poly_label = val.into(),
+                        // The C++ takes any label colour here, unchecked.
+                        ("lcolor" | "label_color", _, _) => self.hint_poly_lcolor = val.into(),
+                        // MOOS ignores unknown hints and bad values.
                         _ => {}
                     }
                 }

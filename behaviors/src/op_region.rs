@@ -15,7 +15,7 @@
 //! | reset_var | | var | none | no white space | yes | open: a `depth` reset re-arms the depth flags (the C++ re-arms them on `altitude`) |
 //! | time_remaining_var | | var | none | no white space | yes | done |
 //! | opregion_poly_var | | var | none | no white space | yes | done |
-//! | visual_hints | | hints | vertex brown, edge aqua, sizes 3 and 1 | colours, sizes | yes | open: colour names not checked |
+//! | visual_hints | | hints | vertex brown, edge aqua, label aqua, sizes 3 and 1 | MOOS colours (`isColor`), sizes numbers >= 0; a bad hint is ignored | yes | done |
 //!
 //! | variable | when | format | coug |
 //! |---|---|---|---|
@@ -111,6 +111,7 @@ pub struct OpRegion {
     poly_var: String,
     hint_vertex_color: String,
     hint_edge_color: String,
+    hint_label_color: String,
     hint_vertex_size: f64,
     hint_edge_size: f64,
     first_time: bool,
@@ -152,6 +153,7 @@ impl OpRegion {
             poly_var: String::new(),
             hint_vertex_color: "brown".into(),
             hint_edge_color: "aqua".into(),
+            hint_label_color: "aqua".into(),
             hint_vertex_size: 3.0,
             hint_edge_size: 1.0,
             first_time: true,
@@ -316,6 +318,7 @@ impl OpRegion {
             self.hints_applied = true;
             v.attrs.vertex_color = Some(self.hint_vertex_color.clone());
             v.attrs.edge_color = Some(self.hint_edge_color.clone());
+            v.attrs.label_color = Some(self.hint_label_color.clone());
             v.attrs.vertex_size = Some(self.hint_vertex_size);
             v.attrs.edge_size = Some(self.hint_edge_size);
         }
@@ -463,18 +466,17 @@ impl Behavior for OpRegion {
                 self.poly_var = no_white(v)?;
             }
             "visual_hints" => {
+                use crate::hints::{color, pairs, size};
                 self.hints_applied = false;
-                for h in v.split(',') {
-                    let (k, val) = h.split_once('=').unwrap_or((h, ""));
-                    let (k, val) = (k.trim().to_ascii_lowercase(), val.trim());
-                    let num = val.parse::<f64>().ok().filter(|d| *d >= 0.0);
-                    match (k.as_str(), num) {
-                        ("vertex_color", _) if !val.is_empty() => {
-                            self.hint_vertex_color = val.into()
-                        }
-                        ("edge_color", _) if !val.is_empty() => self.hint_edge_color = val.into(),
-                        ("vertex_size", Some(d)) => self.hint_vertex_size = d,
-                        ("edge_size", Some(d)) => self.hint_edge_size = d,
+                for (k, val) in pairs(v) {
+                    let size = size(val).filter(|d| *d >= 0.0);
+                    match (k.as_str(), color(val), size) {
+                        ("vertex_color", Some(c), _) => self.hint_vertex_color = c.into(),
+                        ("edge_color", Some(c), _) => self.hint_edge_color = c.into(),
+                        ("label_color", Some(c), _) => self.hint_label_color = c.into(),
+                        ("vertex_size", _, Some(d)) => self.hint_vertex_size = d,
+                        ("edge_size", _, Some(d)) => self.hint_edge_size = d,
+                        // MOOS ignores unknown hints and bad values.
                         _ => {}
                     }
                 }

@@ -130,7 +130,7 @@ impl Hints {
             let (k, v) = hint.split_once('=').unwrap_or((hint, ""));
             let (k, v) = (k.trim().to_ascii_lowercase(), v.trim());
             if k.contains("color") {
-                if v.is_empty() || v.contains(char::is_whitespace) {
+                if crate::hints::color(v).is_none() {
                     return false;
                 }
                 self.colors

@@ -12,7 +12,7 @@
 //! | transit_speed | extra_speed | m/s | 2.5 | number > 0 | yes | done |
 //! | swing_time | | s | 0 | number, clipped to [0, 60] | yes | done |
 //! | hibernation_radius | | m | −1 (off) | number > 0, or `off`/`-1` | yes | done |
-//! | visual_hints | | hints | vertex red, edge light_blue, label white, sizes 1 | colours, sizes | yes | open: colour names not checked against MOOS's table |
+//! | visual_hints | | hints | vertex red, edge light_blue, label white, sizes 1 | MOOS colours (`isColor`), sizes numbers; a bad hint is ignored | yes | done |
 //!
 //! | variable | when | format | coug |
 //! |---|---|---|---|
@@ -333,18 +333,15 @@ impl Behavior for StationKeep {
             "extra_speed" | "transit_speed" => self.transit_speed = positive(v)?,
             "swing_time" => self.swing_time = number(param, v)?.clamp(0.0, 60.0),
             "visual_hints" => {
-                for h in v.split(',') {
-                    let (k, val) = h.split_once('=').unwrap_or((h, ""));
-                    let (k, val) = (k.trim().to_ascii_lowercase(), val.trim());
-                    let num = val.parse::<f64>().ok();
-                    match (k.as_str(), num) {
-                        ("vertex_color", _) if !val.is_empty() => {
-                            self.hint_vertex_color = val.into()
-                        }
-                        ("edge_color", _) if !val.is_empty() => self.hint_edge_color = val.into(),
-                        ("label_color", _) if !val.is_empty() => self.hint_label_color = val.into(),
-                        ("vertex_size", Some(d)) => self.hint_vertex_size = d,
-                        ("edge_size", Some(d)) => self.hint_edge_size = d,
+                use crate::hints::{color, pairs, size};
+                for (k, val) in pairs(v) {
+                    match (k.as_str(), color(val), size(val)) {
+                        ("vertex_color", Some(c), _) => self.hint_vertex_color = c.into(),
+                        ("edge_color", Some(c), _) => self.hint_edge_color = c.into(),
+                        ("label_color", Some(c), _) => self.hint_label_color = c.into(),
+                        ("vertex_size", _, Some(d)) => self.hint_vertex_size = d,
+                        ("edge_size", _, Some(d)) => self.hint_edge_size = d,
+                        // MOOS ignores unknown hints and bad values.
                         _ => {}
                     }
                 }

@@ -328,3 +328,38 @@ fn seconds_inside_the_polygon_are_posted_every_iteration() {
     let (_, out) = b.run(12.5);
     assert_eq!(posted(&out, "SECS_IN_POLY"), Some(&Value::Num(2.5)));
 }
+
+#[test]
+fn visual_hints_keep_only_moos_colours_and_non_negative_sizes() {
+    // Defaults (C++ constructor): vertex brown, edge aqua, label aqua, vertex 3, edge 1.
+    let mut b = region(&[]);
+    b.nav(0.0, 0.0, 0.0, 2.0, 0.0);
+    let (_, out) = b.run(1.0);
+    let view = posted(&out, "VIEW_POLYGON").unwrap().as_str().unwrap();
+    for attr in [
+        "label_color=aqua",
+        "edge_color=aqua",
+        "vertex_color=brown",
+        "vertex_size=3",
+        "edge_size=1",
+    ] {
+        assert!(view.contains(attr), "{attr} missing in {view}");
+    }
+    // A name MOOS does not know, a negative size and a non-number are ignored; the rest apply.
+    let mut b = region(&[(
+        "visual_hints",
+        "edge_color=bluish, label_color=Dark_Green, vertex_size=-2, edge_size=2x, vertex_color=gray40",
+    )]);
+    b.nav(0.0, 0.0, 0.0, 2.0, 0.0);
+    let (_, out) = b.run(1.0);
+    let view = posted(&out, "VIEW_POLYGON").unwrap().as_str().unwrap();
+    for attr in [
+        "label_color=Dark_Green",
+        "edge_color=aqua",
+        "vertex_color=gray40",
+        "vertex_size=3",
+        "edge_size=1",
+    ] {
+        assert!(view.contains(attr), "{attr} missing in {view}");
+    }
+}

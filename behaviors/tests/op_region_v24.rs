@@ -43,6 +43,7 @@ fn defaults_and_bad_values() {
         ("breached_poly_flag", "NOEQUALS"),
         ("draw_save_status", "perhaps"),
         ("visual_hints", "edge_size=wide"),
+        ("visual_hints", "core_edge_color=greenish"),
         ("dynamic_region_var", "TWO WORDS"),
         ("core_poly", "0,0 : 10,10 : 10,0 : 0,10"),
     ] {

@@ -317,3 +317,33 @@ fn settings_are_posted_on_each_start_in_the_cpp_format() {
         ))
     );
 }
+
+#[test]
+fn visual_hints_with_unknown_colours_or_bad_sizes_are_ignored() {
+    let mut b = keep(&[
+        ("station_pt", "0,0"),
+        ("inner_radius", "5"),
+        ("outer_radius", "10"),
+        (
+            "visual_hints",
+            "edge_color=reddish, vertex_color=hex:00,label_color=yellow, edge_size=-1, vertex_size=two",
+        ),
+    ]);
+    b.nav(0.0, -50.0, 0.0, 1.0, 0.0);
+    b.run(0.0);
+    let (_, out) = b.run(1.0);
+    let outer = posted_all(&out, "VIEW_POLYGON")
+        .iter()
+        .map(|v| v.as_str().unwrap().to_string())
+        .find(|s| s.contains("station-keep-out"))
+        .unwrap();
+    // `hex:00` is cut at its comma (MOOS splits the list first) and is not a colour; a
+    // negative edge size is a number, so it applies (StationKeep does not check the sign) and
+    // leaves the circle's edge size unset, so it is not written.
+    assert_eq!(
+        outer,
+        "radial:: x=0.0,y=0.0,source=abe:skeep,pts=32,vertex_size=1,\
+         edge_color=light_blue,label_color=yellow,vertex_color=red,\
+         label=abe:station-keep-out,radius=10.0"
+    );
+}

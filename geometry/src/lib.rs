@@ -26,6 +26,7 @@
 #![warn(missing_docs)]
 
 pub mod angle;
+pub mod color;
 pub mod error;
 pub mod pattern;
 pub mod point;
