@@ -17,7 +17,7 @@
 //! | `heading_mismatch_var` | each running iteration with NAV_HEADING | \|angle180(NAV_HEADING − heading)\| | done |
 //! | BHV_WARNING | running without NAV_HEADING | `No ownship HEADING info in info_buffer.` | done |
 //! | BHV_ERROR | no `course` in the domain | `Null IvPDomain given to Behavior` (the helm's check, before the behaviour runs, as in the C++) | done |
-//! | BHV_WARNING | ZAIC warnings | the ZAIC's text | open: not posted |
+//! | BHV_WARNING | ZAIC warnings | the ZAIC's text | done: none can arise (widths clipped at 0, summit delta to [0, 100] = the utility range); tested |
 
 use ivp::{IvpFunction, ZaicPeak};
 

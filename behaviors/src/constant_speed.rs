@@ -16,7 +16,7 @@
 //! | `speed_mismatch_var` | each running iteration with NAV_SPEED | \|NAV_SPEED − speed\| | done |
 //! | BHV_WARNING | running without NAV_SPEED | `No ownship SPEED info in info_buffer.` | done |
 //! | BHV_ERROR | no `speed` in the domain | `Null IvPDomain given to Behavior` (the helm's check, before the behaviour runs, as in the C++) | done |
-//! | BHV_WARNING | ZAIC warnings | the ZAIC's text | open: not posted |
+//! | BHV_WARNING | ZAIC warnings | the ZAIC's text | done: none can arise (widths clipped at 0, summit delta to [0, 100] = the utility range); tested |
 
 use ivp::{IvpFunction, ZaicPeak};
 

@@ -2,15 +2,16 @@
 
 use crate::behavior::ParamError;
 
-/// Whether `s` is a number as MOOS `isNumber` reads it (optional sign, digits, one `.`,
-/// optional exponent).
+/// Whether `s` is a number as MOOS `isNumber` reads it (optional sign, digits, one `.`, no
+/// exponent: `1e3` is not a number to MOOS).
 ///
 /// ```
 /// assert!(behaviors::param::is_number("-3.5"));
 /// assert!(!behaviors::param::is_number("3m"));
+/// assert!(!behaviors::param::is_number("1e3"));
 /// ```
 pub fn is_number(s: &str) -> bool {
-    mission::condition::is_numeric(s.trim())
+    geometry::is_number(s)
 }
 
 /// The number at the start of `s`, as C's `atof` reads it (what MOOS-IvP uses where it does

@@ -49,6 +49,8 @@ fn values_are_clipped_or_rejected_as_the_cpp() {
     }
     for (p, v) in [
         ("speed", "fast"),
+        // MOOS isNumber has no exponent: `2e1` fails setParam (MALCONFIG) as in the C++.
+        ("speed", "2e1"),
         ("speed_mismatch_var", "A B"),
         ("peakwidth", "x"),
     ] {
@@ -105,4 +107,29 @@ fn mismatch_variables_and_missing_nav_warnings() {
     d.nav(0.0, 0.0, 0.0, 1.0, 12.5);
     let (_, out) = d.run(1.0);
     assert_eq!(posted(&out, "DEP_MISS"), Some(&Value::Num(2.5)));
+}
+
+#[test]
+fn clipped_values_leave_the_zaic_without_warnings() {
+    // The C++ posts the ZAIC's warnings as BHV_WARNING; every ZAIC_PEAK warning needs a width
+    // below 0 or a summit delta above the utility range (100), which the clips above rule out.
+    for (kind, summit) in [
+        ("BHV_ConstantSpeed", ("speed", "-3")),
+        ("BHV_ConstantHeading", ("heading", "-725")),
+        ("BHV_ConstantDepth", ("depth", "-8")),
+    ] {
+        let mut b = Bhv::new(kind, "c", uuv_domain());
+        for (p, v) in [
+            summit,
+            ("peakwidth", "-2"),
+            ("basewidth", "-3"),
+            ("summitdelta", "1000000"),
+        ] {
+            b.set(p, v).unwrap_or_else(|e| panic!("{kind}: {p} = {v}: {e}"));
+        }
+        b.nav(0.0, 0.0, 0.0, 1.0, 0.0);
+        let (f, out) = b.run(0.0);
+        assert!(f.is_some(), "{kind}: a function");
+        assert_eq!(warnings(&out), Vec::<String>::new(), "{kind}");
+    }
 }

@@ -60,7 +60,7 @@ pub(crate) fn lower(s: &str) -> Cow<'_, str> {
 
 /// MOOS `isNumber`: optional leading `+` or `-`, decimal digits with at most one `.`, at least
 /// one digit, no exponent. Surrounding blanks are allowed.
-pub(crate) fn is_number(s: &str) -> bool {
+pub fn is_number(s: &str) -> bool {
     let s = s.trim();
     let body = s
         .strip_prefix('+')
