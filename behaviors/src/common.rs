@@ -25,7 +25,7 @@
 //! | spawnflag, spawnxflag | spawn_flag, spawnx_flag | flag | none | as above | yes | done (spawnx on the first iteration; no spawning) |
 //! | templating | | enum | disallow | | no | refused: `spawn`/`clone` (behaviour spawning is not supported) |
 //! | max_spawnings | | number | | number | no | done (accepted; no spawning) |
-//! | us | | name | community | any | yes | open: not accepted (unknown parameter, MALCONFIG) |
+//! | us | | name | community | any; overwritten by the helm's community after loading, an update changes `$[OWNSHIP]`, node messages' `src_node` and `<US>_NAV_GROUP` | yes | done |
 
 use mission::condition::{Condition, parse_condition};
 
@@ -215,6 +215,11 @@ pub struct Common {
     pub comms_policy: String,
     /// `build_info` hints (kept, unused).
     pub build_info: String,
+    /// `us`: the vehicle name this behaviour uses for `$[OWNSHIP]`, node messages and
+    /// `<US>_NAV_GROUP` (MOOS `m_us_name`). The helm sets it to its own community once the
+    /// behaviours are loaded (so a `.bhv` line has no lasting effect, as in the C++); a later
+    /// update may change it. `None`: the helm's community.
+    pub us: Option<String>,
 }
 
 impl Common {
@@ -236,6 +241,7 @@ impl Common {
             post_mapping: Vec::new(),
             comms_policy: "open".to_string(),
             build_info: String::new(),
+            us: None,
         }
     }
 
@@ -278,6 +284,8 @@ impl Common {
                 }
                 self.name = v.to_string();
             }
+            // Any text, as the C++ (even empty).
+            "us" => self.us = Some(v.to_string()),
             "pwt" | "priwt" | "priority" => {
                 let p = number(param, v)?;
                 if p < 0.0 {

@@ -447,6 +447,8 @@ impl Helm {
                     )));
                 }
             }
+            // The C++ helm gives every loaded behaviour its own name as `us`.
+            slot.common.us = None;
             if slots.iter().any(|s| s.common.name == slot.common.name) {
                 errors.push(ConfigError::Behavior(format!(
                     "{}: Line {}: duplicate behavior name {}",
@@ -1292,7 +1294,7 @@ impl Helm {
         }
         if matches!(dest, "all" | "all+" | "group" | "group+") {
             let group = if dest.starts_with("group") {
-                let var = format!("{}_NAV_GROUP", self.ownship.to_ascii_uppercase());
+                let var = format!("{}_NAV_GROUP", self.us(i).to_ascii_uppercase());
                 Some(self.info.text(&var).unwrap_or("").to_string())
             } else {
                 None
@@ -1306,9 +1308,14 @@ impl Helm {
         }
     }
 
+    /// The vehicle name behaviour `i` goes by (its `us`, else the helm's community).
+    fn us(&self, i: usize) -> &str {
+        self.slots[i].common.us.as_deref().unwrap_or(&self.ownship)
+    }
+
     /// A `NODE_MESSAGE` spec (MOOS `NodeMessage::getSpec`) from this helm's behaviour `i`.
     fn node_message(&self, i: usize, var: &str, value: &Value, group: Option<&str>) -> String {
-        let mut s = format!("src_node={},dest_node=all", self.ownship);
+        let mut s = format!("src_node={},dest_node=all", self.us(i));
         if let Some(g) = group.filter(|g| !g.is_empty()) {
             s.push_str(",dest_group=");
             s.push_str(g);
@@ -1349,7 +1356,7 @@ impl Helm {
                 slot.ctr[k] += 1;
             }
         }
-        let ownship = &self.ownship;
+        let ownship = slot.common.us.as_deref().unwrap_or(&self.ownship);
         let nav = |v: &str| info.num(v).unwrap_or(0.0);
         expand(text, out, |name, o| {
             if slot.bhv.macro_value(name, o) {
@@ -1603,7 +1610,7 @@ impl Helm {
             let ctx = Ctx {
                 info: &self.info,
                 domain: &self.config.domain,
-                ownship: &self.ownship,
+                ownship: slot.common.us.as_deref().unwrap_or(&self.ownship),
                 name: &slot.common.name,
                 perpetual: slot.common.perpetual,
             };

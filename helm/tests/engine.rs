@@ -1039,3 +1039,30 @@ Behavior = BHV_Waypoint
         "{posts:?}"
     );
 }
+
+#[test]
+fn us_from_the_bhv_file_is_replaced_by_the_community_but_an_update_renames() {
+    // The C++ helm sets `us` to its community for every behaviour once loaded; a later
+    // update sets the behaviour's own name for $[OWNSHIP] (and node messages).
+    let bhv = "\
+Behavior = BHV_ConstantSpeed
+{
+  name       = cs
+  speed      = 1
+  us         = bob
+  condition  = GO = true
+  duration   = no-time-limit
+  updates    = CS_UPDATE
+  runflag    = WHO = $[OWNSHIP]
+}
+";
+    let helm = helm_with(&[("start_engaged", "true")], bhv);
+    assert_eq!(helm.config_errors(), &[]);
+    let mut s = Script::new(helm);
+    s.step(0.0, 0.0, 0.0, 0.0, &[]);
+    let posts = s.step(1.0, 0.0, 0.0, 0.0, &[("GO", "true")]);
+    assert!(is_str(get(&posts, "WHO"), "abe"), "{posts:?}");
+    s.step(2.0, 0.0, 0.0, 0.0, &[("GO", "false"), ("CS_UPDATE", "us=carol")]);
+    let posts = s.step(3.0, 0.0, 0.0, 0.0, &[("GO", "true")]);
+    assert!(is_str(get(&posts, "WHO"), "carol"), "{posts:?}");
+}
