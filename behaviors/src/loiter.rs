@@ -13,8 +13,8 @@
 //! | slip_radius | nm_radius | m | 15 | number >= 0 (0 = off) | yes | done |
 //! | acquire_dist | acquire_distance | m | 10 | number >= 0 | yes | done |
 //! | patience | | 1..99 | 50 | number in [1, 99] | yes | done |
-//! | center_assign | | `present_position`, `x,y`, `x=..,y=..` | none | the C++ takes any text and ignores what it cannot read | yes | open: coug rejects such text (MALCONFIG) |
-//! | xcenter_assign, ycenter_assign | | number | none | appended to the pending centre | yes | done |
+//! | center_assign | | `present_position`, `x,y`, `x=..,y=..` | none | any text; applied at once with the last iteration's position, what cannot be read ignored silently | yes | done |
+//! | xcenter_assign, ycenter_assign | | number | none | any text, appended as `,x=<v>` / `,y=<v>` to the pending assignment (applied at the next run; a non-number ignored) | yes | done |
 //! | center_activate | | bool | false | `true`/`false` | yes | done |
 //! | mod_poly_rad | | m | | number; grows the polygon about its vertex centroid, largest radius >= 5 m | yes | done |
 //! | spiral_factor | | 0..100 | (bonus −2°) | any text (`atof`); bonus −75 + 0.74 × value | yes | done |
@@ -83,6 +83,8 @@ pub struct Loiter {
     /// Direction setting.
     pub direction: Direction,
     clockwise_now: bool,
+    /// Ownship position at the last run iteration (MOOS `m_osx`, `m_osy`; 0 before any).
+    os: Point,
     /// Capture radius, m (default 3).
     pub capture_radius: f64,
     /// Slip radius, m (default 15).
@@ -160,6 +162,7 @@ impl Loiter {
             poly: Polygon::default(),
             center_assign: String::new(),
             center_pending: false,
+            os: Point::new(0.0, 0.0),
             speed: 0.0,
             speed_alt: -1.0,
             use_alt_speed: false,
@@ -356,49 +359,41 @@ impl Loiter {
     }
 
     /// MOOS `updateCenter`: `present_position`, `x,y`, `x=..,y=..`, `x=..` or `y=..`.
-    fn update_center(&mut self, x: f64, y: f64) -> Result<(), ()> {
-        let a = self.center_assign.to_ascii_lowercase();
-        let c = self.poly.center();
-        let new = if a == "present_position" {
-            Point::new(x, y)
+    /// Applies a pending centre assignment (MOOS `updateCenter`): `present_position` moves
+    /// the polygon to ownship's last position; `x=..,y=..` pieces set what they name with a
+    /// number; `x,y` sets both when both are numbers; anything else is ignored silently.
+    /// The assignment is consumed either way.
+    fn update_center(&mut self) {
+        if !self.center_pending {
+            return;
+        }
+        let a = std::mem::take(&mut self.center_assign).to_ascii_lowercase();
+        self.center_pending = false;
+        let num = |t: &str| crate::param::is_number(t).then(|| crate::param::atof(t.trim()));
+        if a == "present_position" {
+            self.set_center(self.os);
         } else if a.contains('=') {
-            let mut p = c;
+            let mut p = self.poly.center();
+            let mut any = false;
             for part in a.split(',') {
-                let (k, v) = part.split_once('=').ok_or(())?;
-                let v: f64 = v.trim().parse().map_err(|_| ())?;
-                match k.trim() {
-                    "x" => p.x = v,
-                    "y" => p.y = v,
-                    _ => return Err(()),
+                let kv: Vec<&str> = part.split('=').collect();
+                if let [k, v] = kv[..] {
+                    match (k.trim(), num(v)) {
+                        ("x", Some(x)) => (p.x, any) = (x, true),
+                        ("y", Some(y)) => (p.y, any) = (y, true),
+                        _ => {}
+                    }
                 }
             }
-            p
-        } else {
-            let (a, b) = a.split_once(',').ok_or(())?;
-            Point::new(
-                a.trim().parse().map_err(|_| ())?,
-                b.trim().parse().map_err(|_| ())?,
-            )
-        };
-        self.set_center(new);
-        Ok(())
+            if any {
+                self.set_center(p);
+            }
+        } else if let [sx, sy] = a.split(',').collect::<Vec<_>>()[..]
+            && let (Some(x), Some(y)) = (num(sx), num(sy))
+        {
+            self.set_center(Point::new(x, y));
+        }
     }
-}
-
-/// Whether a `center_assign` value has one of the forms MOOS reads.
-fn center_ok(v: &str) -> bool {
-    let l = v.trim().to_ascii_lowercase();
-    if l == "present_position" {
-        return true;
-    }
-    let num = |t: &str| crate::param::is_number(t.trim());
-    if l.contains('=') {
-        return l.split(',').all(|p| {
-            p.split_once('=')
-                .is_some_and(|(k, n)| matches!(k.trim(), "x" | "y") && num(n))
-        });
-    }
-    l.split_once(',').is_some_and(|(a, b)| num(a) && num(b))
 }
 
 /// MOOS `LoiterEngine` default spiral factor: a small bonus for the vertex ahead.
@@ -498,27 +493,17 @@ impl Behavior for Loiter {
                 }
                 self.patience = d;
             }
+            // Any text (MOOS): what cannot be read is ignored when applied, which is at
+            // once, with the position of the last iteration.
             "center_assign" => {
-                if !center_ok(v) {
-                    return Err(ParamError::bad(
-                        param,
-                        value,
-                        "present_position, x,y or x=..,y=..",
-                    ));
-                }
                 self.center_assign = v.to_string();
                 self.center_pending = true;
+                self.update_center();
             }
+            // Appended to the pending assignment, applied at the next run iteration.
             "xcenter_assign" | "ycenter_assign" => {
-                number(param, v)?;
                 let axis = if param == "xcenter_assign" { "x" } else { "y" };
-                if !self.center_assign.contains('=') {
-                    self.center_assign.clear();
-                }
-                if !self.center_assign.is_empty() {
-                    self.center_assign.push(',');
-                }
-                self.center_assign.push_str(&format!("{axis}={v}"));
+                self.center_assign.push_str(&format!(",{axis}={v}"));
                 self.center_pending = true;
             }
             "center_activate" => self.center_activate = boolean(param, v)?,
@@ -660,13 +645,8 @@ impl Behavior for Loiter {
         };
         // A pending centre assignment applies before the distance is measured (as the MOOS
         // unit tests of the newer BHV_Loiter expect).
-        if self.center_pending {
-            self.center_pending = false;
-            if self.update_center(x, y).is_err() {
-                out.warning(ctx.name, "Bad center assignment ignored");
-            }
-            self.center_assign.clear();
-        }
+        self.os = Point::new(x, y);
+        self.update_center();
         let dist_poly = self.poly.signed_distance(x, y).unwrap_or(0.0);
         let eta = if dist_poly > 0.0 && h > 0.001 && v > 0.0 {
             dist_poly / v
@@ -1024,6 +1004,36 @@ mod tests {
             (v.x - 100.0).abs() <= 30.0 && (v.y + 20.0).abs() <= 30.0,
             "{v:?}"
         );
+    }
+
+    #[test]
+    fn center_assignments_read_what_they_can_and_ignore_the_rest() {
+        // Square centred on (0,100).
+        let mut l = loiter(&[("polygon", SQUARE)]);
+        let c = |l: &Loiter| l.poly.center();
+        // Unreadable text is accepted and changes nothing (MOOS ignores it silently).
+        for junk in ["north", "x=abc", "1,2,3", "z=4", "1e3,5"] {
+            set(&mut l, "center_assign", junk).unwrap();
+            assert!(near(c(&l), 0.0, 100.0), "{junk}: {:?}", c(&l));
+        }
+        // Applied at once: only the readable piece counts.
+        set(&mut l, "center_assign", "x=10, y=oops").unwrap();
+        assert!(near(c(&l), 10.0, 100.0), "{:?}", c(&l));
+        set(&mut l, "center_assign", " -5 , 7 ").unwrap();
+        assert!(near(c(&l), -5.0, 7.0), "{:?}", c(&l));
+        // present_position at configuration: ownship's position is still (0,0) (MOOS m_osx).
+        set(&mut l, "center_assign", "Present_Position").unwrap();
+        assert!(near(c(&l), 0.0, 0.0), "{:?}", c(&l));
+        // x/ycenter_assign wait for the next run; a non-number piece is ignored there.
+        set(&mut l, "xcenter_assign", "40").unwrap();
+        set(&mut l, "ycenter_assign", "far").unwrap();
+        assert!(near(c(&l), 0.0, 0.0));
+        run(&mut l, 0.0, 0.0, 0.0, true);
+        assert!(near(c(&l), 40.0, 0.0), "{:?}", c(&l));
+        // present_position as an update uses the last run iteration's position.
+        run(&mut l, 3.0, 4.0, 0.0, false);
+        set(&mut l, "center_assign", "present_position").unwrap();
+        assert!(near(c(&l), 3.0, 4.0), "{:?}", c(&l));
     }
 
     fn set(l: &mut Loiter, k: &str, v: &str) -> Result<(), ParamError> {
