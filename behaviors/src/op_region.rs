@@ -12,7 +12,7 @@
 //! | trigger_exit_time | | s | 0.5 | number >= 0 | yes | done |
 //! | breached_poly_flag, breached_time_flag, breached_altitude_flag, breached_depth_flag | | flag | none | `VAR=value` | yes | done |
 //! | soft_poly_breach | | bool | false | MOOS boolean | yes | done |
-//! | reset_var | | var | none | no white space | yes | open: a `depth` reset re-arms the depth flags (the C++ re-arms them on `altitude`) |
+//! | reset_var | | var | none | no white space; `true`, `poly`, `time`, `altitude` (re-arms the altitude and the depth flags, as the C++); `depth` does nothing | yes | done |
 //! | time_remaining_var | | var | none | no white space | yes | done |
 //! | opregion_poly_var | | var | none | no white space | yes | done |
 //! | visual_hints | | hints | vertex brown, edge aqua, label aqua, sizes 3 and 1 | MOOS colours (`isColor`), sizes numbers >= 0; a bad hint is ignored | yes | done |
@@ -82,11 +82,12 @@ impl Breach {
 /// `<ownship>:<name>:opreg` unless the polygon has one; `active=false` while idle).
 ///
 /// `reset_var` acts when it is posted during the iteration (any new posting, even of the same
-/// value, as MOOS tests the variable's age): `true` resets everything, `poly`, `time`,
-/// `altitude` or `depth` one limit.
+/// value, as MOOS tests the variable's age): `true` resets everything, `poly` or `time` one
+/// limit, `altitude` both the altitude and the depth flags (as the C++ does; `depth` resets
+/// nothing).
 ///
-/// Differences from MOOS-IvP, deliberate: a `depth` reset re-arms the depth flags (MOOS re-arms
-/// them on `altitude`); without `max_time` the `time_remaining_var` is posted as −1 only.
+/// Without `max_time` the `time_remaining_var` gets −1 and then 0 each iteration, as the C++
+/// (which falls through after posting −1).
 #[derive(Debug, Clone)]
 pub struct OpRegion {
     polygons: Vec<Polygon>,
@@ -226,7 +227,9 @@ impl OpRegion {
         if all || v == "altitude" {
             self.flags_posted[Breach::Altitude.index()] = false;
         }
-        if all || v == "depth" {
+        // As the C++ at a2a9b716: the depth flags are re-armed by `altitude` (and `true`);
+        // a `depth` reset re-arms nothing.
+        if all || v == "altitude" {
             self.flags_posted[Breach::Depth.index()] = false;
         }
     }
@@ -282,9 +285,9 @@ impl OpRegion {
         if self.time_remaining_var.is_empty() {
             return;
         }
+        // As the C++: without a max_time, −1 and then (falling through) 0 are both posted.
         if self.max_time <= 0.0 {
             out.post(self.time_remaining_var.clone(), -1.0);
-            return;
         }
         let rem = (self.max_time - self.elapsed).max(0.0);
         if rem > 10.0 {

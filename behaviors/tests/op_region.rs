@@ -363,3 +363,35 @@ fn visual_hints_keep_only_moos_colours_and_non_negative_sizes() {
         assert!(view.contains(attr), "{attr} missing in {view}");
     }
 }
+
+#[test]
+fn depth_flags_are_rearmed_by_an_altitude_reset_not_a_depth_reset() {
+    // The C++ at a2a9b716 re-arms the depth breach flags on `altitude` (and `true`) only.
+    let mut b = region(&[
+        ("max_depth", "30"),
+        ("reset_var", "OPREG_RESET"),
+        ("breached_depth_flag", "D_BREACH=1"),
+    ]);
+    b.nav(0.0, 0.0, 0.0, 1.0, 31.0);
+    assert_eq!(flags(&b.run(0.0).1), ["D_BREACH"]);
+    assert!(flags(&b.run(1.0).1).is_empty(), "posted once");
+    b.post(2.0, "OPREG_RESET", "depth");
+    let out = b.run(2.0).1;
+    assert!(out.error.is_some(), "still breached");
+    assert!(flags(&out).is_empty(), "a depth reset re-arms nothing");
+    b.post(3.0, "OPREG_RESET", "altitude");
+    assert_eq!(flags(&b.run(3.0).1), ["D_BREACH"], "re-armed by altitude");
+    b.post(4.0, "OPREG_RESET", "true");
+    assert_eq!(flags(&b.run(4.0).1), ["D_BREACH"], "re-armed by true");
+}
+
+#[test]
+fn time_remaining_var_without_max_time_posts_minus_one_then_zero() {
+    let mut b = region(&[("time_remaining_var", "LEFT")]);
+    b.nav(0.0, 0.0, 0.0, 1.0, 0.0);
+    let out = b.run(0.0).1;
+    assert_eq!(
+        posted_all(&out, "LEFT"),
+        [&Value::Num(-1.0), &Value::Num(0.0)]
+    );
+}
