@@ -125,7 +125,8 @@ fn clipped_values_leave_the_zaic_without_warnings() {
             ("basewidth", "-3"),
             ("summitdelta", "1000000"),
         ] {
-            b.set(p, v).unwrap_or_else(|e| panic!("{kind}: {p} = {v}: {e}"));
+            b.set(p, v)
+                .unwrap_or_else(|e| panic!("{kind}: {p} = {v}: {e}"));
         }
         b.nav(0.0, 0.0, 0.0, 1.0, 0.0);
         let (f, out) = b.run(0.0);

@@ -196,7 +196,9 @@ pub fn color_rgb(s: &str) -> Option<[f64; 3]> {
     if let Some(level) = grey_level(&name) {
         return Some([level; 3]);
     }
-    let i = NAMED.binary_search_by(|(n, _)| n.cmp(&name.as_str())).ok()?;
+    let i = NAMED
+        .binary_search_by(|(n, _)| n.cmp(&name.as_str()))
+        .ok()?;
     let v = NAMED[i].1;
     let byte = |shift: u32| f64::from((v >> shift) & 0xff) / 255.0;
     Some([byte(16), byte(8), byte(0)])
@@ -223,7 +225,10 @@ fn hex_rgb(s: &str) -> Option<[f64; 3]> {
         .chars()
         .filter(|&c| c != ' ' && c != '\t')
         .collect();
-    if !body.bytes().all(|b| b.is_ascii_digit() || b == b',' || (b'a'..=b'f').contains(&b)) {
+    if !body
+        .bytes()
+        .all(|b| b.is_ascii_digit() || b == b',' || (b'a'..=b'f').contains(&b))
+    {
         return None;
     }
     let parts: Vec<&str> = body.split(',').collect();
@@ -239,7 +244,9 @@ fn hex_rgb(s: &str) -> Option<[f64; 3]> {
 
 /// Three numbers split on the first separator found of `,` `%` `$` `#` `:`, each clipped to 0..1.
 fn dec_rgb(s: &str) -> Option<[f64; 3]> {
-    let sep = [',', '%', '$', '#', ':'].into_iter().find(|&c| s.contains(c))?;
+    let sep = [',', '%', '$', '#', ':']
+        .into_iter()
+        .find(|&c| s.contains(c))?;
     let parts: Vec<&str> = s.split(sep).map(str::trim).collect();
     if parts.len() != 3 || !parts.iter().all(|p| is_number(p)) {
         return None;

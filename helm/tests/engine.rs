@@ -1062,7 +1062,13 @@ Behavior = BHV_ConstantSpeed
     s.step(0.0, 0.0, 0.0, 0.0, &[]);
     let posts = s.step(1.0, 0.0, 0.0, 0.0, &[("GO", "true")]);
     assert!(is_str(get(&posts, "WHO"), "abe"), "{posts:?}");
-    s.step(2.0, 0.0, 0.0, 0.0, &[("GO", "false"), ("CS_UPDATE", "us=carol")]);
+    s.step(
+        2.0,
+        0.0,
+        0.0,
+        0.0,
+        &[("GO", "false"), ("CS_UPDATE", "us=carol")],
+    );
     let posts = s.step(3.0, 0.0, 0.0, 0.0, &[("GO", "true")]);
     assert!(is_str(get(&posts, "WHO"), "carol"), "{posts:?}");
 }

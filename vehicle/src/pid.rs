@@ -62,7 +62,7 @@
 //! | PID_HAS_CONTROL | override changes | `true` / `false` | done |
 //! | PID_STALE | each stale input, each iteration | `Stale DesHdg:<s>` (DesSpd, NavHdg, NavSpd, DesDepth, NavDep, NavPitch) | done |
 //! | PID_SPD_DEBUG, PID_HDG_DEBUG, PID_DEP_DEBUG | with the `*_debug` switch, when the loop ran | `PID_SPEED:  (Want):.. (Curr):.. (Diff):.. (Fctr\|Delt):.. THRUST:..` etc. | done |
-//! | PID_MAX_SAT_HDG_DEBUG, _SPD_, _DEP_ | with the debug switch, on saturation | ScalarPID debug string | open: not posted |
+//! | PID_MAX_SAT_HDG_DEBUG, _SPD_, _DEP_ | with the debug switch, on saturation of that loop, before its report | ScalarPID's debug string, always empty at a2a9b716: `""`, `""`, `Z:` / `P:` | done |
 //! | DESIRED_* on zero/negative desired speed or negative SPEED_FACTOR | in control | thrust below 0.01 is 0, then rudder and elevator 0 | done |
 //!
 //! Subscriptions: NAV_HEADING, NAV_SPEED, NAV_DEPTH, NAV_PITCH, DESIRED_HEADING, DESIRED_SPEED,
@@ -529,6 +529,21 @@ pub struct PidOutputs {
     pub delta_thrust: f64,
     /// Desired heading in (−180, 180] and heading error, degrees (heading loop inputs).
     pub heading_terms: (f64, f64),
+    /// Which loops hit their output limit this step: heading, speed, depth-to-pitch, pitch.
+    pub saturated: Saturation,
+}
+
+/// Which of the PID loops hit their output limit in a step (ScalarPID `getMaxSat`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Saturation {
+    /// The heading loop.
+    pub heading: bool,
+    /// The speed loop (never with a speed factor: that loop does not run).
+    pub speed: bool,
+    /// The depth-to-pitch loop.
+    pub depth_to_pitch: bool,
+    /// The pitch-to-elevator loop.
+    pub pitch: bool,
 }
 
 fn age(now: f64, v: Stamped) -> Option<f64> {
@@ -605,6 +620,7 @@ pub fn step(
         des_spd * cfg.speed_factor
     } else {
         out.delta_thrust = s.speed_pid.run(des_spd - spd, now);
+        out.saturated.speed = s.speed_pid.saturated();
         s.thrust + out.delta_thrust
     };
     if thrust < 0.01 {
@@ -621,6 +637,7 @@ pub fn step(
         let err = angle180(hdg - des180);
         out.heading_terms = (des180, err);
         let mut rudder = -s.heading_pid.run(err, now);
+        out.saturated.heading = s.heading_pid.saturated();
         if cfg.sim_instability > 0.0 {
             let duration = 10.0;
             let mut elapsed = now - s.bias_time;
@@ -641,8 +658,10 @@ pub fn step(
             out.ran_depth = true;
             let max_pitch = cfg.max_pitch_deg.to_radians();
             let pitch_des = s.z_pid.run(dep - des_dep, now).clamp(-max_pitch, max_pitch);
+            out.saturated.depth_to_pitch = s.z_pid.saturated();
             out.desired_pitch = pitch_des;
             let elev = s.pitch_pid.run(pitch - pitch_des, now).to_degrees();
+            out.saturated.pitch = s.pitch_pid.saturated();
             out.elevator = elev.clamp(-cfg.max_elevator.abs(), cfg.max_elevator.abs());
         }
     }
@@ -741,6 +760,8 @@ pub struct MarinePid {
     has_control_var: Arc<str>,
     stale_var: Arc<str>,
     debug_vars: [Arc<str>; 3],
+    /// PID_MAX_SAT_HDG_DEBUG, PID_MAX_SAT_SPD_DEBUG, PID_MAX_SAT_DEP_DEBUG.
+    max_sat_vars: [Arc<str>; 3],
     last: PidOutputs,
     /// The engine's clock: the time of the last iteration (0 before the first). As in
     /// `PIDEngine`, mail is stamped with it, and a stamp of 0 means "never received".
@@ -766,6 +787,11 @@ impl MarinePid {
                 "PID_HDG_DEBUG".into(),
                 "PID_SPD_DEBUG".into(),
                 "PID_DEP_DEBUG".into(),
+            ],
+            max_sat_vars: [
+                "PID_MAX_SAT_HDG_DEBUG".into(),
+                "PID_MAX_SAT_SPD_DEBUG".into(),
+                "PID_MAX_SAT_DEP_DEBUG".into(),
             ],
             last: PidOutputs::default(),
             engine_time: 0.0,
@@ -957,9 +983,18 @@ impl MarinePid {
 
     /// pMarinePIDV22's `PID_SPD_DEBUG`, `PID_HDG_DEBUG`, `PID_DEP_DEBUG` (each when its loop
     /// ran and its `*_debug` switch is on), numbers as `doubleToString(v, 5)`.
+    ///
+    /// Before each report, on saturation of that loop, `PID_MAX_SAT_<HDG|SPD|DEP>_DEBUG`: the
+    /// C++ posts ScalarPID's debug string, which stays empty at a2a9b716 (nothing turns the
+    /// loops' own debug switch on), so the heading and speed ones are empty strings and the
+    /// depth one is `Z:` (depth-to-pitch loop) and/or `P:` (pitch loop).
     fn post_debug_v22(&self, o: &PidOutputs, out: &mut Vec<Posting>) {
         let val = |v: Stamped| v.map_or(0.0, |(v, _)| v);
         let f = |v: f64| format!("{v:.5}");
+        let sat = &o.saturated;
+        if self.cfg.speed_debug && o.ran_speed && sat.speed {
+            out.push(Posting::string(&self.max_sat_vars[1], ""));
+        }
         if self.cfg.speed_debug && o.ran_speed {
             let (want, curr) = (val(self.inputs.desired_speed), val(self.inputs.speed));
             let mid = if self.cfg.speed_factor != 0.0 {
@@ -976,6 +1011,9 @@ impl MarinePid {
             );
             out.push(Posting::string(&self.debug_vars[1], s));
         }
+        if self.cfg.heading_debug && o.ran_heading && sat.heading {
+            out.push(Posting::string(&self.max_sat_vars[0], ""));
+        }
         if self.cfg.heading_debug && o.ran_heading {
             let (des180, err) = o.heading_terms;
             let s = format!(
@@ -988,6 +1026,11 @@ impl MarinePid {
             out.push(Posting::string(&self.debug_vars[0], s));
         }
         if self.cfg.depth_debug && o.ran_depth {
+            for (hit, tag) in [(sat.depth_to_pitch, "Z:"), (sat.pitch, "P:")] {
+                if hit {
+                    out.push(Posting::string(&self.max_sat_vars[2], tag));
+                }
+            }
             let (want, curr) = (val(self.inputs.desired_depth), val(self.inputs.depth));
             let s = format!(
                 "PID_DEPTH:  (Want):{} (Curr):{} (Diff):{} ELEVATOR:{}",

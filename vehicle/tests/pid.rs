@@ -534,3 +534,34 @@ fn v22_mail_is_stamped_with_the_engine_clock() {
         ]
     );
 }
+
+#[test]
+fn v22_max_saturation_debug_postings_precede_each_report() {
+    // golf: yaw kp 0.5, maxrudder 100; z-to-pitch kp 0.12 (limit maxpitch 15 deg), pitch kp
+    // 0.5 (limit maxelevator 13 deg). Heading error 180: 0.5 x 180 = 90 < 100, no saturation.
+    let mut cfg = golf_pid();
+    cfg.heading_debug = true;
+    cfg.depth_debug = true;
+    let (_, out) = v22_running(cfg.clone(), 270.0, 2.0);
+    assert!(last_posting(&out, "PID_MAX_SAT_HDG_DEBUG").is_none());
+    // Depth error 0 - 5: 0.12 x -5 = -0.6 rad beyond 15 deg (0.262 rad): the depth-to-pitch
+    // loop saturates ("Z:"); the pitch loop's 0.5 x 0.262 = 0.131 rad is within 13 deg.
+    let sats: Vec<&str> = out
+        .iter()
+        .filter(|p| &*p.var == "PID_MAX_SAT_DEP_DEBUG")
+        .map(|p| p.value.as_str().unwrap())
+        .collect();
+    assert_eq!(sats, ["Z:"]);
+    let ix = |v: &str| out.iter().position(|p| &*p.var == v).unwrap();
+    assert!(ix("PID_MAX_SAT_DEP_DEBUG") < ix("PID_DEP_DEBUG"));
+    // A rudder limit of 50 saturates the heading loop: an empty debug string (ScalarPID's
+    // own debug text is never switched on at a2a9b716), posted before PID_HDG_DEBUG.
+    cfg.max_rudder = 50.0;
+    let (_, out) = v22_running(cfg, 270.0, 2.0);
+    assert_eq!(
+        last_posting(&out, "PID_MAX_SAT_HDG_DEBUG").and_then(|v| v.as_str()),
+        Some("")
+    );
+    let ix = |v: &str| out.iter().position(|p| &*p.var == v).unwrap();
+    assert!(ix("PID_MAX_SAT_HDG_DEBUG") < ix("PID_HDG_DEBUG"));
+}
