@@ -213,7 +213,7 @@ fn grey_level(name: &str) -> Option<f64> {
         return None;
     }
     let n: u32 = digits.parse().ok()?;
-    (n % 5 == 0 && (5..=95).contains(&n)).then(|| f64::from(n) / 100.0)
+    (n.is_multiple_of(5) && (5..=95).contains(&n)).then(|| f64::from(n) / 100.0)
 }
 
 /// `hex:rr,gg,bb` (also `hex,rr,gg,bb`): three two-digit hex bytes, blanks ignored.
