@@ -2,8 +2,13 @@
 
 // Doc comments here are clap help texts, where `[ALIAS]` is usage notation, not a link.
 #![allow(rustdoc::broken_intra_doc_links)]
+// Output goes through `out.rs`, which ends quietly on a closed pipe instead of panicking.
+#![deny(clippy::print_stdout, clippy::print_stderr)]
 
 use clap::{Parser, Subcommand};
+
+#[macro_use]
+mod out;
 
 mod cmd {
     pub mod app;
@@ -97,8 +102,8 @@ fn main() -> anyhow::Result<()> {
         }
         Command::InstallAliases(args) => cmd::app::install_aliases(&args)?,
         Command::Info => {
-            println!("coug {}", env!("CARGO_PKG_VERSION"));
-            println!(
+            outln!("coug {}", env!("CARGO_PKG_VERSION"));
+            outln!(
                 "Commands: run, check, nsplug, plot, db, poke, scope, helm, sim, pid, nodereporter, install-aliases (`coug help` for details)."
             );
         }

@@ -68,14 +68,14 @@ fn variant(mission: &mission::moos::MissionFile, choices: &[&'static str]) -> &'
 pub fn run_subcommand(which: &str, args: &AppCommandArgs) -> i32 {
     let parsed = AppArgs::parse(&args.args);
     let Some(path) = parsed.mission.as_deref() else {
-        eprintln!("coug {which}: usage: coug {which} MISSION.moos [ALIAS] [--alias=NAME]");
+        errln!("coug {which}: usage: coug {which} MISSION.moos [ALIAS] [--alias=NAME]");
         return 1;
     };
     let loaded = match load(Path::new(path), &[], &[]) {
         Ok(l) => l,
         Err(errors) => {
             for e in errors {
-                eprintln!("coug {which}: {e}");
+                errln!("coug {which}: {e}");
             }
             return 1;
         }
@@ -107,13 +107,13 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
         return match super::db::run(&db) {
             Ok(()) => 0,
             Err(e) => {
-                eprintln!("MOOSDB: {e:#}");
+                errln!("MOOSDB: {e:#}");
                 1
             }
         };
     }
     let Some(path) = parsed.mission.as_deref() else {
-        eprintln!("{program}: usage: {program} MISSION.moos [ALIAS] [--alias=NAME]");
+        errln!("{program}: usage: {program} MISSION.moos [ALIAS] [--alias=NAME]");
         return 1;
     };
     let moos_name = parsed.alias.clone().unwrap_or_else(|| program.to_string());
@@ -121,7 +121,7 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
         Ok(l) => l,
         Err(errors) => {
             for e in errors {
-                eprintln!("{moos_name}: {e}");
+                errln!("{moos_name}: {e}");
             }
             return 1;
         }
@@ -129,7 +129,7 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
     let m = &loaded.mission;
     let (globals, warnings) = MissionGlobals::from_mission(m);
     for w in warnings {
-        eprintln!("{moos_name}: warning: {w}");
+        errln!("{moos_name}: warning: {w}");
     }
     let warp = globals.time_warp;
     let start = moosdb_client::time::unix_now() * warp;
@@ -157,16 +157,16 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
         ) {
             Ok(Built::App(a)) => {
                 for w in warnings {
-                    eprintln!("{moos_name}: warning: {w}");
+                    errln!("{moos_name}: warning: {w}");
                 }
                 a
             }
             Ok(_) => {
-                eprintln!("{program}: not an app coug builds");
+                errln!("{program}: not an app coug builds");
                 return 1;
             }
             Err(e) => {
-                eprintln!("{moos_name}: {e}");
+                errln!("{moos_name}: {e}");
                 return 1;
             }
         }
@@ -187,7 +187,7 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
     {
         Ok(rt) => rt,
         Err(e) => {
-            eprintln!("{moos_name}: {e}");
+            errln!("{moos_name}: {e}");
             return 1;
         }
     };
@@ -199,7 +199,7 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
     match result {
         Ok(()) => 0,
         Err(e) => {
-            eprintln!("{moos_name}: {e}");
+            errln!("{moos_name}: {e}");
             1
         }
     }
@@ -228,7 +228,7 @@ pub fn install_aliases(args: &InstallAliasesArgs) -> anyhow::Result<()> {
             Err(_) => {}
         }
         make_link(&exe, &link).with_context(|| format!("cannot create {}", link.display()))?;
-        println!("{} -> {}", link.display(), exe.display());
+        outln!("{} -> {}", link.display(), exe.display());
     }
     Ok(())
 }

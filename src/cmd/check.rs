@@ -35,15 +35,15 @@ pub fn run(args: &CheckArgs) -> i32 {
         }
     }
     if files.is_empty() {
-        eprintln!("coug check: no file given (arguments with `=` are macro definitions)");
+        errln!("coug check: no file given (arguments with `=` are macro definitions)");
         return 2;
     }
     let findings = check_files(&FsSource, &files, &opts);
     for f in &findings {
         if args.context {
-            println!("{}", f.render());
+            outln!("{}", f.render());
         } else {
-            println!("{f}");
+            outln!("{f}");
         }
     }
     i32::from(findings.iter().any(|f| f.is_error()))

@@ -191,7 +191,7 @@ pub fn run(args: &DbArgs) -> anyhow::Result<()> {
         let server = Server::bind(cfg)
             .await
             .with_context(|| format!("cannot listen on {host}:{port}"))?;
-        println!(
+        outln!(
             "coug db: MOOSDB_{community} listening on {} (Ctrl-C to stop)",
             server.local_addr()
         );

@@ -51,8 +51,8 @@ pub fn run(args: &NsplugArgs) -> i32 {
     let out = match preprocess(&FsSource, &args.input, &opts) {
         Ok(out) => out,
         Err(e) => {
-            eprintln!("{}", e.render());
-            eprintln!(
+            errln!("{}", e.render());
+            errln!(
                 "coug nsplug: aborted without writing {}",
                 args.output.display()
             );
@@ -60,17 +60,17 @@ pub fn run(args: &NsplugArgs) -> i32 {
         }
     };
     for w in &out.diagnostics {
-        eprintln!("{}", w.render());
+        errln!("{}", w.render());
     }
     let text = out.source.text();
     if args.output.as_os_str() == "-" {
-        print!("{text}");
+        out!("{text}");
         return 0;
     }
     match std::fs::write(&args.output, text) {
         Ok(()) => 0,
         Err(e) => {
-            eprintln!("coug nsplug: cannot write {}: {e}", args.output.display());
+            errln!("coug nsplug: cannot write {}: {e}", args.output.display());
             1
         }
     }

@@ -78,11 +78,11 @@ pub fn run(args: &PokeArgs) -> anyhow::Result<()> {
         for p in &pokes {
             client.notify(&p.var, p.value.clone())?;
             match &p.value {
-                Value::Double(d) => println!("{} = {d} (double)", p.var),
+                Value::Double(d) => outln!("{} = {d} (double)", p.var),
                 Value::String(s) => {
-                    println!("{} = {} (string)", p.var, String::from_utf8_lossy(s))
+                    outln!("{} = {} (string)", p.var, String::from_utf8_lossy(s))
                 }
-                Value::Binary(b) => println!("{} = <{} bytes> (binary)", p.var, b.len()),
+                Value::Binary(b) => outln!("{} = <{} bytes> (binary)", p.var, b.len()),
             }
         }
         client.close().await;

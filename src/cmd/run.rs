@@ -130,7 +130,7 @@ pub fn load(
         } else if d.kind != DiagnosticKind::UndefinedMacro {
             // `$(X)` left for the apps (uTimerScript's `$(COUNT)`, behaviour flags' `$(X)`)
             // is normal in a mission; `coug check` lists them.
-            eprintln!("coug run: warning: {d}");
+            errln!("coug run: warning: {d}");
         }
     }
     let mission = parsed.value;
@@ -164,13 +164,13 @@ pub fn report_malconfig(name: &str, helm: &HelmApp) {
     if errors.is_empty() {
         return;
     }
-    eprintln!(
+    errln!(
         "{name}: MALCONFIG: the helm will not drive ({} configuration error{}):",
         errors.len(),
         if errors.len() == 1 { "" } else { "s" }
     );
     for e in errors {
-        eprintln!("{name}:   {e}");
+        errln!("{name}:   {e}");
     }
 }
 
@@ -311,7 +311,7 @@ impl Progress {
 
     fn finish(&mut self) {
         if self.printed_inline {
-            eprintln!();
+            errln!();
             self.printed_inline = false;
         }
     }
@@ -423,14 +423,14 @@ fn finish(args: &RunArgs, ended: &Ended, alog_path: Option<&str>) -> i32 {
             let _ = writeln!(out, "  log:         (none)");
         }
     }
-    print!("{out}");
+    out!("{out}");
     if code == 2 {
         let pending: Vec<String> = ended
             .until_values
             .iter()
             .map(|(k, v)| format!("{k} = {}", fmt_value(v)))
             .collect();
-        eprintln!(
+        errln!(
             "coug run: still pending after {sim:.1} simulated s: {} (now {})",
             args.until.as_deref().unwrap_or(""),
             pending.join(", ")
@@ -452,7 +452,7 @@ pub fn run(args: &RunArgs) -> i32 {
         Ok(code) => code,
         Err(messages) => {
             for m in messages {
-                eprintln!("coug run: {m}");
+                errln!("coug run: {m}");
             }
             1
         }
@@ -529,10 +529,10 @@ fn lockstep(
     let alog_path = alog_path_of(&loaded.mission, log_dir, &opened);
     let p = make_plan(loaded, start, args.seed, Some(target)).map_err(|e| vec![e])?;
     for w in &p.warnings {
-        eprintln!("coug run: warning: {w}");
+        errln!("coug run: warning: {w}");
     }
     for ext in &p.external {
-        eprintln!(
+        errln!(
             "coug run: warning: {}:{}: {} is not built into coug; skipped in lockstep",
             ext.span.file_name(),
             ext.span.line,
@@ -566,7 +566,7 @@ fn lockstep(
             progress.finish();
             // Dropping the scheduler drops the logger, which flushes the alog.
             drop(s);
-            eprintln!(
+            errln!(
                 "coug run: interrupted at {:.1} simulated s; log: {alog_path}",
                 t - start
             );
@@ -663,10 +663,10 @@ fn start_externals(externals: &[AntlerRun], mission: &Path) -> Vec<Child> {
             .stdout(std::process::Stdio::null());
         match cmd.spawn() {
             Ok(c) => {
-                eprintln!("coug run: started {} (pid {})", ext.app, c.id());
+                errln!("coug run: started {} (pid {})", ext.app, c.id());
                 children.push(c);
             }
-            Err(e) => eprintln!(
+            Err(e) => errln!(
                 "coug run: warning: {}:{}: cannot start {}: {e}; running without it",
                 ext.span.file_name(),
                 ext.span.line,
@@ -717,7 +717,7 @@ fn realtime(
             .await
             .map_err(|e| vec![format!("cannot listen on {addr}: {e}")])?;
         let port = server.local_addr().port();
-        eprintln!(
+        errln!(
             "coug run: MOOSDB_{} listening on {} (warp {warp_f})",
             globals.community,
             server.local_addr()
@@ -728,7 +728,7 @@ fn realtime(
         let alog_path = alog_path_of(&loaded.mission, log_dir, &opened);
         let p = make_plan(loaded, start, args.seed, Some(target)).map_err(|e| vec![e])?;
         for w in &p.warnings {
-            eprintln!("coug run: warning: {w}");
+            errln!("coug run: warning: {w}");
         }
         let mut children = Vec::new();
         if !p.external.is_empty() {
@@ -777,7 +777,7 @@ fn realtime(
         };
         let wall = wall.elapsed().as_secs_f64();
         if terminal {
-            eprintln!();
+            errln!();
         }
         for mut c in children {
             let _ = c.kill();
@@ -786,7 +786,7 @@ fn realtime(
         server.shutdown();
         let Some(result) = result else {
             // The apps (and the logger, which flushes) are dropped with the task set.
-            eprintln!("coug run: interrupted after {wall:.1} wall s; log: {alog_path}");
+            errln!("coug run: interrupted after {wall:.1} wall s; log: {alog_path}");
             return Ok(130);
         };
         let end = result.map_err(|e| vec![e.to_string()])?;

@@ -98,7 +98,7 @@ pub fn run(args: &ScopeArgs) -> anyhow::Result<()> {
                     }
                 }
                 _ = refresh.tick(), if !args.once => {
-                    print!("\x1b[2J\x1b[H{}", render(vars, &latest, start));
+                    out!("\x1b[2J\x1b[H{}", render(vars, &latest, start));
                 }
                 _ = status.tick() => {
                     // Like every MOOS app: keeps the DB's pushes flowing to idle clients.
@@ -110,7 +110,7 @@ pub fn run(args: &ScopeArgs) -> anyhow::Result<()> {
                 _ = super::signal::shutdown() => break,
             }
         }
-        print!("{}", render(vars, &latest, start));
+        out!("{}", render(vars, &latest, start));
         client.close().await;
         Ok(())
     })
