@@ -1,7 +1,8 @@
 //! The built-in pLogger: logs mail to an alog file through the [`alog`] crate.
 //!
 //! File I/O stays with the caller: the logger writes to any [`Write`] it is given (a file
-//! the binary opened at [`LoggerConfig::alog_path`], or a [`SharedBuffer`] in tests).
+//! the binary opened with [`LoggerConfig::claim_session`], a [`LateSink`] the file is attached
+//! to once the mission has started, or a [`SharedBuffer`] in tests).
 //! Supported: `Log = VAR @ period`, `WildcardLogging` (in-process: every variable),
 //! `WildCardOmitPattern`, `AsyncLog`, `File`, `PATH` / global `GlobalLogPath`,
 //! `FileTimeStamp`, `DoublePrecision`, `LogAuxSrc`, `MarkDataType`, and the
@@ -20,6 +21,59 @@ use crate::app::{App, Mail, Post, Subscription, Value, is_true};
 
 /// Seconds between `LOGGER_DIRECTORY` posts.
 pub const DIRECTORY_PERIOD: f64 = 10.0;
+
+/// A log writer handed to the apps before its file exists: the file is attached with
+/// [`LateSink::attach`] once the mission has been read and checked, so a mission that fails
+/// to start creates nothing on disk. Writing before a file is attached is an error.
+#[derive(Clone, Default)]
+pub struct LateSink(Arc<Mutex<Option<Box<dyn Write + Send>>>>);
+
+impl LateSink {
+    /// A sink with no file yet.
+    pub fn new() -> Self {
+        LateSink::default()
+    }
+
+    /// Attaches the writer every later write goes to.
+    pub fn attach(&self, w: Box<dyn Write + Send>) {
+        *self.0.lock().unwrap_or_else(|p| p.into_inner()) = Some(w);
+    }
+
+    fn with<R>(&self, f: impl FnOnce(&mut (dyn Write + Send)) -> io::Result<R>) -> io::Result<R> {
+        match self
+            .0
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .as_deref_mut()
+        {
+            Some(w) => f(w),
+            None => Err(io::Error::other("the log file is not open yet")),
+        }
+    }
+}
+
+impl Write for LateSink {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        self.with(|w| w.write(buf))
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        self.with(|w| w.flush())
+    }
+}
+
+/// Why a log session could not be claimed.
+#[derive(Debug, thiserror::Error)]
+pub enum ClaimError {
+    /// A log already exists under the name; coug never writes over a log.
+    #[error(
+        "{0} exists already; coug never writes over a log (remove it, or keep FileTimeStamp = true)"
+    )]
+    Exists(String),
+    /// The disk refused.
+    #[error("cannot create {0}: {1}")]
+    Io(String, #[source] io::Error),
+}
 
 /// pLogger's settings, read from its `ProcessConfig` block.
 #[derive(Debug, Clone, PartialEq)]
@@ -142,6 +196,44 @@ impl LoggerConfig {
     pub fn alog_path(&self, opened: &NaiveDateTime) -> String {
         let root = self.root_name(opened);
         format!("{}/{root}/{root}.alog", self.path)
+    }
+
+    /// Claims a new session for a log opened at `opened`: creates `<path>/` if needed, then the
+    /// session directory `<path>/<root>/` (which must not exist yet) and the alog file in it,
+    /// created new. When the name is taken (another run in the same second), the next
+    /// second's name is tried, up to 60 times: an existing log is never opened for writing.
+    /// Returns the time whose name was claimed and the open file.
+    ///
+    /// Everything else in this module is free of I/O; this is the one place that touches the
+    /// disk, for the binary to call once the mission has been read and checked.
+    pub fn claim_session(
+        &self,
+        opened: &NaiveDateTime,
+    ) -> Result<(NaiveDateTime, std::fs::File), ClaimError> {
+        std::fs::create_dir_all(&self.path).map_err(|e| ClaimError::Io(self.path.clone(), e))?;
+        let mut at = *opened;
+        for _ in 0..60 {
+            let dir = self.directory(&at);
+            match std::fs::create_dir(&dir) {
+                Ok(()) => {
+                    let path = self.alog_path(&at);
+                    let file = std::fs::OpenOptions::new()
+                        .write(true)
+                        .create_new(true)
+                        .open(&path)
+                        .map_err(|e| ClaimError::Io(path, e))?;
+                    return Ok((at, file));
+                }
+                Err(e) if e.kind() == io::ErrorKind::AlreadyExists => {
+                    if !self.file_time_stamp {
+                        return Err(ClaimError::Exists(dir));
+                    }
+                    at += chrono::Duration::seconds(1);
+                }
+                Err(e) => return Err(ClaimError::Io(dir, e)),
+            }
+        }
+        Err(ClaimError::Exists(self.directory(&at)))
     }
 
     /// True when a variable is not logged: MISSION_FILE always; a `WildCardOmitPattern`
@@ -353,6 +445,34 @@ mod tests {
     fn block(text: &str) -> ProcessConfig {
         let src = SourceMap::from_text("t.moos", text);
         mission::moos::parse_moos(&src).value.processes[0].clone()
+    }
+
+    #[test]
+    fn a_claimed_session_never_reuses_an_existing_name() {
+        let root = std::env::temp_dir().join(format!("coug-claim-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&root);
+        let mut c = LoggerConfig {
+            file: "LOG".into(),
+            path: root.to_string_lossy().into_owned(),
+            ..LoggerConfig::default()
+        };
+        let t = chrono::NaiveDate::from_ymd_opt(2026, 11, 24)
+            .unwrap()
+            .and_hms_opt(10, 0, 0)
+            .unwrap();
+        let (a, _) = c.claim_session(&t).unwrap();
+        assert_eq!(a, t);
+        // The same second again: the next second's name.
+        let (b, _) = c.claim_session(&t).unwrap();
+        assert_eq!(b, t + chrono::Duration::seconds(1));
+        assert!(std::path::Path::new(&c.alog_path(&b)).is_file());
+        // Without time stamps the one name is taken: refused, the old file untouched.
+        c.file_time_stamp = false;
+        c.claim_session(&t).unwrap();
+        std::fs::write(c.alog_path(&t), "old").unwrap();
+        assert!(matches!(c.claim_session(&t), Err(ClaimError::Exists(_))));
+        assert_eq!(std::fs::read_to_string(c.alog_path(&t)).unwrap(), "old");
+        std::fs::remove_dir_all(&root).unwrap();
     }
 
     #[test]

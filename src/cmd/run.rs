@@ -33,6 +33,7 @@ use moosdb_client::{Server, ServerConfig};
 use runtime::antler::{LogTarget, MissionGlobals, Plan, logger_config, plan};
 use runtime::chrono::{self, NaiveDateTime};
 use runtime::helm::{HelmApp, load_behaviors};
+use runtime::logger::LateSink;
 use runtime::realtime::{RunSpec, run_apps};
 use runtime::remote::RemoteConfig;
 use runtime::summary::{RunSummary, behaviour_list};
@@ -187,23 +188,39 @@ fn pokes(args: &RunArgs, helm: &str) -> Result<Vec<Poke>, String> {
         .collect()
 }
 
-/// Opens the alog of a session under `dir` and returns the logger's target.
-fn log_target(m: &MissionFile, dir: &Path, opened: NaiveDateTime) -> Result<LogTarget, String> {
+/// The logger's target for a session under `dir` whose contents are dated `opened`. The
+/// writer is a [`LateSink`]: nothing is created on disk until [`open_log`].
+fn log_target(m: &MissionFile, dir: &Path, opened: NaiveDateTime) -> (LogTarget, LateSink) {
     let mut config = logger_config(m);
     config.path = dir.to_string_lossy().trim_end_matches('/').to_string();
     if config.path.is_empty() {
         config.path = ".".into();
     }
-    let session = config.directory(&opened);
-    std::fs::create_dir_all(&session).map_err(|e| format!("cannot create {session}: {e}"))?;
-    let path = config.alog_path(&opened);
-    let file = std::fs::File::create(&path).map_err(|e| format!("cannot create {path}: {e}"))?;
-    Ok(LogTarget {
+    let sink = LateSink::new();
+    let target = LogTarget {
         config,
-        writer: Box::new(BufWriter::with_capacity(1 << 16, file)),
+        writer: Box::new(sink.clone()),
         opened,
         opened_on: OPENED_ON.into(),
-    })
+    };
+    (target, sink)
+}
+
+/// Creates the session's folder and alog, named from `named` (the wall-clock start), never
+/// over an existing log, attaches the file to `sink`, and returns the alog's path.
+fn open_log(
+    m: &MissionFile,
+    dir: &Path,
+    named: NaiveDateTime,
+    sink: &LateSink,
+) -> Result<String, String> {
+    let (target, _) = log_target(m, dir, named);
+    let (at, file) = target
+        .config
+        .claim_session(&named)
+        .map_err(|e| e.to_string())?;
+    sink.attach(Box::new(BufWriter::with_capacity(1 << 16, file)));
+    Ok(target.config.alog_path(&at))
 }
 
 /// Resolves the ANTLER block with coug's helm for every `pHelmIvP` line.
@@ -486,13 +503,9 @@ fn run_inner(args: &RunArgs) -> Result<i32, Vec<String>> {
     }
 }
 
-fn alog_path_of(m: &MissionFile, dir: &Path, opened: &NaiveDateTime) -> String {
-    let mut config = logger_config(m);
-    config.path = dir.to_string_lossy().trim_end_matches('/').to_string();
-    if config.path.is_empty() {
-        config.path = ".".into();
-    }
-    config.alog_path(opened)
+/// The local wall-clock time, to the second (log names).
+fn wall_now() -> NaiveDateTime {
+    chrono::Local::now().naive_local()
 }
 
 /// A flag set on Ctrl-C (watched by a helper thread), so a lockstep run can stop
@@ -525,9 +538,11 @@ fn lockstep(
     let opened = chrono::DateTime::from_timestamp(start as i64, 0)
         .map(|d| d.naive_utc())
         .unwrap_or_default();
-    let target = log_target(&loaded.mission, log_dir, opened).map_err(|e| vec![e])?;
-    let alog_path = alog_path_of(&loaded.mission, log_dir, &opened);
+    let (target, sink) = log_target(&loaded.mission, log_dir, opened);
     let p = make_plan(loaded, start, args.seed, Some(target)).map_err(|e| vec![e])?;
+    // The files are named from the wall-clock start (two runs never share a name); their
+    // contents keep the virtual date, so a lockstep log is byte-identical run to run.
+    let alog_path = open_log(&loaded.mission, log_dir, wall_now(), &sink).map_err(|e| vec![e])?;
     for w in &p.warnings {
         errln!("coug run: warning: {w}");
     }
@@ -723,10 +738,10 @@ fn realtime(
             server.local_addr()
         );
         let start = moosdb_client::time::unix_now() * warp_f;
-        let opened = chrono::Local::now().naive_local();
-        let target = log_target(&loaded.mission, log_dir, opened).map_err(|e| vec![e])?;
-        let alog_path = alog_path_of(&loaded.mission, log_dir, &opened);
+        let opened = wall_now();
+        let (target, sink) = log_target(&loaded.mission, log_dir, opened);
         let p = make_plan(loaded, start, args.seed, Some(target)).map_err(|e| vec![e])?;
+        let alog_path = open_log(&loaded.mission, log_dir, opened, &sink).map_err(|e| vec![e])?;
         for w in &p.warnings {
             errln!("coug run: warning: {w}");
         }
