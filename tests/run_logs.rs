@@ -105,7 +105,7 @@ fn a_mission_that_fails_to_start_creates_and_touches_nothing() {
         .map(|e| e.path())
         .collect();
     assert_eq!(before.len(), after.len(), "no coug-run-* folder: {after:?}");
-    assert_eq!(alogs(&dir.join("logs")), [earlier.clone()]);
+    assert_eq!(alogs(&dir.join("logs")), std::slice::from_ref(&earlier));
     assert_eq!(
         std::fs::read_to_string(&earlier).unwrap(),
         "%% an earlier log\n"
