@@ -111,3 +111,112 @@ fn a_mission_that_fails_to_start_creates_and_touches_nothing() {
         "%% an earlier log\n"
     );
 }
+
+/// The surface survey with its pLogger block's settings replaced, written into `dir` beside
+/// a copy of its behaviour file.
+fn survey_with_logger(dir: &Path, settings: &str) -> PathBuf {
+    let src = project_mission("surface_survey/survey.moos");
+    let text = std::fs::read_to_string(&src).unwrap();
+    let text = text.replace(
+        "  File          = SURVEY\n  AsyncLog      = true\n  FileTimeStamp = true\n",
+        settings,
+    );
+    assert!(text.contains(settings));
+    let m = dir.join("survey.moos");
+    std::fs::write(&m, &text).unwrap();
+    std::fs::copy(
+        project_mission("surface_survey/survey.bhv"),
+        dir.join("survey.bhv"),
+    )
+    .unwrap();
+    m
+}
+
+#[test]
+fn plogger_path_file_and_timestamp_settings_are_followed_with_its_copies() {
+    let dir = fresh_dir("run-logs-plogger");
+    let m = survey_with_logger(
+        &dir,
+        "  File          = MYLOG\n  PATH          = ./my_logs/\n  FileTimeStamp = false\n  SyncLog       = true @ 0.2\n  WildcardExclusionLog = true\n",
+    );
+    // Run from another folder: PATH is relative to where the run starts, as pLogger's is.
+    let cwd = dir.join("cwd");
+    std::fs::create_dir_all(&cwd).unwrap();
+    let out = coug(
+        &cwd,
+        &[
+            "run",
+            m.to_str().unwrap(),
+            "--lockstep",
+            "--deploy",
+            "--max-time",
+            "20",
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    let session = cwd.join("my_logs/MYLOG");
+    assert!(session.join("MYLOG.alog").is_file(), "{stderr}");
+    // The mission copy under a banner naming it, and the helm's behaviour file copied on its
+    // PLOGGER_CMD = COPY_FILE_REQUEST (pLogger's `<name>._<ext>`).
+    let copy = std::fs::read_to_string(session.join("MYLOG._moos")).unwrap();
+    assert!(copy.starts_with("%%%%"), "{copy}");
+    assert!(
+        copy.contains("%% LOG FILE:       ./my_logs/MYLOG/MYLOG._moos\n"),
+        "{copy}"
+    );
+    let body: Vec<&str> = copy.lines().skip(5).collect();
+    let original = std::fs::read_to_string(&m).unwrap();
+    assert_eq!(body, original.lines().collect::<Vec<_>>());
+    assert_eq!(
+        std::fs::read(session.join("survey._bhv")).unwrap(),
+        std::fs::read(dir.join("survey.bhv")).unwrap()
+    );
+    // WildcardExclusionLog: what WildCardOmitPattern (`*_STATUS`) keeps out of the alog goes
+    // to the `.xlog`, in the alog's line format without a banner.
+    let alog = std::fs::read_to_string(session.join("MYLOG.alog")).unwrap();
+    let xlog = std::fs::read_to_string(session.join("MYLOG.xlog")).unwrap();
+    assert!(!alog.contains("PHELMIVP_STATUS"));
+    let first = xlog.lines().next().unwrap();
+    assert!(first.starts_with("0.00000         "), "{first}");
+    assert!(
+        xlog.lines().any(|l| l.contains(" PHELMIVP_STATUS ")),
+        "{xlog}"
+    );
+    // Every record (DB_VARSUMMARY's value spans lines) is of an omitted variable.
+    for l in xlog.lines() {
+        let mut f = l.split_whitespace();
+        if f.next().is_some_and(|t| t.parse::<f64>().is_ok()) {
+            let var = f.next().unwrap();
+            assert!(
+                var.ends_with("_STATUS") || var == "DB_VARSUMMARY" || var == "DB_RWSUMMARY",
+                "{l}"
+            );
+        }
+    }
+    // A key coug's pLogger does not support is named, with its line.
+    assert!(
+        stderr.contains("survey.moos:39: pLogger: SyncLog = true @ 0.2: not supported"),
+        "{stderr}"
+    );
+    // Without a time stamp the next run finds the name taken: refused, nothing overwritten.
+    let before = std::fs::read(session.join("MYLOG.alog")).unwrap();
+    let out = coug(
+        &cwd,
+        &[
+            "run",
+            m.to_str().unwrap(),
+            "--lockstep",
+            "--deploy",
+            "--max-time",
+            "20",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("never writes over a log"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(std::fs::read(session.join("MYLOG.alog")).unwrap(), before);
+}

@@ -69,6 +69,18 @@ impl<W: Write> AlogWriter<W> {
         Ok(w)
     }
 
+    /// A writer without a banner (pLogger's `.xlog` of excluded variables has none): records
+    /// relative to `log_start`, DoublePrecision 5.
+    pub fn headless(out: W, log_start: f64, mark_data_type: bool) -> Self {
+        AlogWriter {
+            out,
+            log_start,
+            precision: 5,
+            mark_data_type,
+            line: String::with_capacity(256),
+        }
+    }
+
     /// Sets the number of decimals of double values (pLogger `DoublePrecision`, default 5).
     pub fn set_double_precision(&mut self, decimals: usize) {
         self.precision = decimals;

@@ -39,6 +39,7 @@ fn main() {
                 .and_hms_opt(0, 0, 0)
                 .unwrap(),
             opened_on: "Thu Jan  1 00:00:00 1970".into(),
+            side: None,
         };
         let p = plan(&m, START, 1, Some(target), &mut |run, block| {
             (run.app == "pHelmIvP").then(|| {

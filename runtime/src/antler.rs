@@ -108,6 +108,8 @@ pub struct LogTarget {
     pub opened: NaiveDateTime,
     /// The banner's `FILE OPENED ON` text.
     pub opened_on: String,
+    /// The mission copy and requested copies beside the alog (none: the alog only).
+    pub side: Option<crate::logger::SideFiles>,
 }
 
 /// The settings of a mission's pLogger block (wildcard logging when there is none).
@@ -202,14 +204,22 @@ pub fn build(
     let app: Box<dyn App> = match base(program) {
         "MOOSDB" => return Ok(Built::Db),
         "pLogger" => match log.take() {
-            Some(t) => Box::new(Logger::new(
-                moos_name,
-                block,
-                t.config,
-                t.writer,
-                &t.opened,
-                &t.opened_on,
-            )),
+            Some(t) => {
+                if let Some(b) = &block {
+                    warnings.extend(LoggerConfig::warnings(b));
+                }
+                Box::new(
+                    Logger::new(
+                        moos_name,
+                        block,
+                        t.config,
+                        t.writer,
+                        &t.opened,
+                        &t.opened_on,
+                    )
+                    .with_side_files(t.side),
+                )
+            }
             None => return Ok(Built::NoLogTarget),
         },
         "uTimerScript" => {
@@ -275,14 +285,10 @@ pub fn plan(
     };
     let has_logger = runs.iter().any(|r| base(&r.app) == "pLogger");
     if !has_logger && let Some(t) = log.take() {
-        plan.apps.push(Box::new(Logger::new(
-            "pLogger",
-            None,
-            t.config,
-            t.writer,
-            &t.opened,
-            &t.opened_on,
-        )));
+        plan.apps.push(Box::new(
+            Logger::new("pLogger", None, t.config, t.writer, &t.opened, &t.opened_on)
+                .with_side_files(t.side),
+        ));
     }
     for run in runs {
         let name = run.moos_name().to_string();
@@ -356,6 +362,7 @@ mod tests {
                 .and_hms_opt(3, 4, 5)
                 .unwrap(),
             opened_on: "Thu Jan  1 00:00:00 1970".into(),
+            side: None,
         }
     }
 

@@ -4,10 +4,14 @@
 //! the binary opened with [`LoggerConfig::claim_session`], a [`LateSink`] the file is attached
 //! to once the mission has started, or a [`SharedBuffer`] in tests).
 //! Supported: `Log = VAR @ period`, `WildcardLogging` (in-process: every variable),
-//! `WildCardOmitPattern`, `AsyncLog`, `File`, `PATH` / global `GlobalLogPath`,
-//! `FileTimeStamp`, `DoublePrecision`, `LogAuxSrc`, `MarkDataType`, and the
-//! `LOGGER_DIRECTORY` post (at start and every 10 s). Not written: `.slog`, `.ylog`,
-//! `.blog` (a binary value is logged as its `<MOOS_BINARY>` reference only), `._moos`.
+//! `WildCardOmitPattern`, `WildcardExclusionLog` (`.xlog`), `AsyncLog`, `File`, `PATH` /
+//! global `GlobalLogPath`, `FileTimeStamp`, `DoublePrecision`, `LogAuxSrc`, `MarkDataType`
+//! (the first line of a key counts, as MOOS reads it), the `LOGGER_DIRECTORY` post (at start
+//! and every 10 s), the mission copy `<root>._moos` and `PLOGGER_CMD = COPY_FILE_REQUEST=<path>`
+//! copies (`<name>._<ext>`). Not written, each named in a config warning when asked for:
+//! `.slog` (`SyncLog`), `WildCardPattern`, `UTCLogDirectories`, `LoggingDirectorySummaryFile`,
+//! `MarkExternalCommunityMessages`, `CompressAlogs`, `DynamicSyncLogColumns`; `.ylog` and the
+//! `.blog` bytes (a binary value is logged as its `<MOOS_BINARY>` reference only).
 
 use std::io::{self, Write};
 use std::sync::{Arc, Mutex};
@@ -26,7 +30,45 @@ pub const DIRECTORY_PERIOD: f64 = 10.0;
 /// [`LateSink::attach`] once the mission has been read and checked, so a mission that fails
 /// to start creates nothing on disk. Writing before a file is attached is an error.
 #[derive(Clone, Default)]
-pub struct LateSink(Arc<Mutex<Option<Box<dyn Write + Send>>>>);
+pub struct LateSink(Arc<Mutex<Option<Attached>>>);
+
+/// What a [`LateSink`] writes to once attached.
+struct Attached {
+    alog: Box<dyn Write + Send>,
+    folder: std::path::PathBuf,
+    /// The first write error (the run has failed: see [`LateSink::close`]).
+    failed: Option<io::Error>,
+    /// Further files written record by record (pLogger's `.xlog`).
+    streams: Vec<io::BufWriter<std::fs::File>>,
+}
+
+impl Attached {
+    /// Remembers the first error of the session.
+    fn keep_first_error<T>(&mut self, r: &io::Result<T>) {
+        if let Err(e) = r
+            && self.failed.is_none()
+        {
+            self.failed = Some(io::Error::new(e.kind(), e.to_string()));
+        }
+    }
+}
+
+/// A further log file of a [`LateSink`]'s session (see [`LateSink::open_stream`]); its write
+/// errors fail the session like the alog's.
+pub struct SideStream {
+    sink: LateSink,
+    index: usize,
+}
+
+impl Write for SideStream {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        self.sink.with_stream(self.index, |w| w.write(buf))
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        self.sink.with_stream(self.index, |w| w.flush())
+    }
+}
 
 impl LateSink {
     /// A sink with no file yet.
@@ -34,21 +76,113 @@ impl LateSink {
         LateSink::default()
     }
 
-    /// Attaches the writer every later write goes to.
-    pub fn attach(&self, w: Box<dyn Write + Send>) {
-        *self.0.lock().unwrap_or_else(|p| p.into_inner()) = Some(w);
+    /// Attaches the alog writer every later write goes to, and the session folder side files
+    /// ([`LateSink::side_file`]) are written in.
+    pub fn attach(&self, alog: Box<dyn Write + Send>, folder: std::path::PathBuf) {
+        *self.lock() = Some(Attached {
+            alog,
+            folder,
+            failed: None,
+            streams: Vec::new(),
+        });
+    }
+
+    /// Writes `bytes` as a new file `name` in the session folder (never over an existing
+    /// file), as pLogger writes `<root>._moos` and the copies apps request.
+    pub fn side_file(&self, name: &str, bytes: &[u8]) -> io::Result<()> {
+        let mut g = self.lock();
+        let Some(a) = g.as_mut() else {
+            return Err(io::Error::other("the log folder is not open yet"));
+        };
+        let r = std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(a.folder.join(name))
+            .and_then(|mut f| {
+                f.write_all(bytes)?;
+                f.flush()
+            });
+        // A name already there is not a disk failure: the caller decides.
+        if !matches!(&r, Err(e) if e.kind() == io::ErrorKind::AlreadyExists) {
+            a.keep_first_error(&r);
+        }
+        r
+    }
+
+    /// Opens a new file `name` in the session folder (never over an existing one) to be
+    /// written through the returned stream; it is flushed by [`LateSink::close`].
+    pub fn open_stream(&self, name: &str) -> io::Result<SideStream> {
+        let mut g = self.lock();
+        let Some(a) = g.as_mut() else {
+            return Err(io::Error::other("the log folder is not open yet"));
+        };
+        let f = std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(a.folder.join(name));
+        a.keep_first_error(&f);
+        a.streams.push(io::BufWriter::with_capacity(1 << 14, f?));
+        Ok(SideStream {
+            sink: self.clone(),
+            index: a.streams.len() - 1,
+        })
+    }
+
+    /// The session folder's name (the root of the files on disk), once attached.
+    pub fn root(&self) -> Option<String> {
+        let g = self.lock();
+        let folder = &g.as_ref()?.folder;
+        Some(folder.file_name()?.to_string_lossy().into_owned())
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, Option<Attached>> {
+        self.0.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// Flushes the alog and reports the first write error of the whole session, if any: a
+    /// log that could not be written is a failed run. Later writes fail.
+    pub fn close(&self) -> io::Result<()> {
+        let Some(mut a) = self.lock().take() else {
+            return Ok(());
+        };
+        let mut flushed = a.alog.flush();
+        for st in &mut a.streams {
+            flushed = flushed.and(st.flush());
+        }
+        match a.failed.take() {
+            Some(e) => Err(e),
+            None => flushed,
+        }
     }
 
     fn with<R>(&self, f: impl FnOnce(&mut (dyn Write + Send)) -> io::Result<R>) -> io::Result<R> {
-        match self
-            .0
-            .lock()
-            .unwrap_or_else(|p| p.into_inner())
-            .as_deref_mut()
-        {
-            Some(w) => f(w),
-            None => Err(io::Error::other("the log file is not open yet")),
-        }
+        self.with_target(None, f)
+    }
+
+    fn with_stream<R>(
+        &self,
+        index: usize,
+        f: impl FnOnce(&mut (dyn Write + Send)) -> io::Result<R>,
+    ) -> io::Result<R> {
+        self.with_target(Some(index), f)
+    }
+
+    /// Runs `f` on the alog (`None`) or a side stream, keeping the first error.
+    fn with_target<R>(
+        &self,
+        stream: Option<usize>,
+        f: impl FnOnce(&mut (dyn Write + Send)) -> io::Result<R>,
+    ) -> io::Result<R> {
+        let mut g = self.lock();
+        let Some(a) = g.as_mut() else {
+            return Err(io::Error::other("the log file is not open"));
+        };
+        let r = match stream {
+            None => f(a.alog.as_mut()),
+            Some(i) => f(&mut a.streams[i]),
+        };
+        a.keep_first_error(&r);
+        r
     }
 }
 
@@ -98,6 +232,9 @@ pub struct LoggerConfig {
     pub log_aux_src: bool,
     /// `MarkDataType` (default false).
     pub mark_data_type: bool,
+    /// `WildcardExclusionLog` (default false): variables the omit patterns keep out of the
+    /// alog go to `<root>.xlog` (same line format, no banner) instead of nowhere.
+    pub exclusion_log: bool,
 }
 
 impl Default for LoggerConfig {
@@ -113,6 +250,7 @@ impl Default for LoggerConfig {
             double_precision: 5,
             log_aux_src: false,
             mark_data_type: false,
+            exclusion_log: false,
         }
     }
 }
@@ -141,9 +279,16 @@ impl LoggerConfig {
         let mut c = LoggerConfig::default();
         if let Some(b) = block {
             c.wildcard = false;
+            // As MOOS's GetConfigurationParam: the first line of a key counts (`Log` and
+            // `WildCardOmitPattern` lines all do).
+            let mut seen = std::collections::HashSet::new();
             for p in &b.entries {
                 let v: String = p.value.chars().filter(|ch| !ch.is_whitespace()).collect();
                 let key = p.key.to_ascii_lowercase();
+                let multi = matches!(key.as_str(), "log" | "wildcardomitpattern");
+                if !multi && (v.is_empty() || !seen.insert(key.clone())) {
+                    continue;
+                }
                 match key.as_str() {
                     "file" => c.file = v,
                     "path" => c.path = v,
@@ -160,6 +305,7 @@ impl LoggerConfig {
                     }
                     "logauxsrc" => c.log_aux_src = is_true(&v),
                     "markdatatype" => c.mark_data_type = is_true(&v),
+                    "wildcardexclusionlog" => c.exclusion_log = is_true(&v),
                     "log" => {
                         let (var, period) = match v.split_once('@') {
                             Some((var, rest)) => (var, atof(rest.split(',').next().unwrap_or(""))),
@@ -180,6 +326,55 @@ impl LoggerConfig {
             c.path.pop();
         }
         c
+    }
+
+    /// Config warnings for a pLogger block: each key coug's pLogger does not support (named,
+    /// with file:line) and each key pLogger does not know (pLogger ignores those silently).
+    /// The generic MOOS app keys (AppTick, CommsTick, ...) pass.
+    pub fn warnings(block: &ProcessConfig) -> Vec<String> {
+        const SUPPORTED: &[&str] = &[
+            "file",
+            "path",
+            "filetimestamp",
+            "asynclog",
+            "wildcardlogging",
+            "wildcardomitpattern",
+            "doubleprecision",
+            "logauxsrc",
+            "markdatatype",
+            "wildcardexclusionlog",
+            "log",
+        ];
+        const UNSUPPORTED: &[&str] = &[
+            "synclog",
+            "wildcardpattern",
+            "utclogdirectories",
+            "loggingdirectorysummaryfile",
+            "markexternalcommunitymessages",
+            "compressalogs",
+            "dynamicsynclogcolumns",
+        ];
+        const GENERIC: &[&str] = &["apptick", "commstick", "maxapptick", "iteratemode"];
+        let mut out = Vec::new();
+        for p in &block.entries {
+            let k = p.key.to_ascii_lowercase();
+            let why = if UNSUPPORTED.contains(&k.as_str()) {
+                "not supported by coug's pLogger; ignored"
+            } else if SUPPORTED.contains(&k.as_str()) || GENERIC.contains(&k.as_str()) {
+                continue;
+            } else {
+                "not a pLogger parameter; ignored (as pLogger does)"
+            };
+            out.push(format!(
+                "{}:{}: {}: {} = {}: {why}",
+                p.span.file_name(),
+                p.span.line,
+                block.name,
+                p.key,
+                p.value
+            ));
+        }
+        out
     }
 
     /// The session's root name (`<File>_D_M_YYYY_____HH_MM_SS`, or `<File>`).
@@ -287,7 +482,60 @@ pub struct Logger<W: Write> {
     last_dir_post: f64,
     blog_offset: u64,
     blog_name: String,
+    root: String,
+    side: Option<SideFiles>,
+    xlog: Option<AlogWriter<SideStream>>,
     error: Option<io::Error>,
+}
+
+/// Writes one mail as a log record: the source as `src:aux` with `LogAuxSrc`, binary data as
+/// its reference into the `.blog` at `blog_offset` (which advances).
+fn record<W: Write>(
+    w: &mut AlogWriter<W>,
+    m: &Mail,
+    log_aux_src: bool,
+    blog_name: &str,
+    blog_offset: &mut u64,
+) -> io::Result<()> {
+    let src;
+    let source = if log_aux_src && !m.source_aux.is_empty() {
+        src = format!("{}:{}", m.source, m.source_aux);
+        src.as_str()
+    } else {
+        m.source.as_str()
+    };
+    match &m.value {
+        Value::Double(x) => w.record(m.time, &m.key, source, alog::Value::Double(*x)),
+        Value::String(s) => w.record(m.time, &m.key, source, alog::Value::String(s)),
+        Value::Binary(b) => {
+            let offset = *blog_offset;
+            *blog_offset += b.len() as u64;
+            w.record(
+                m.time,
+                &m.key,
+                source,
+                alog::Value::Binary {
+                    file: blog_name,
+                    offset,
+                    bytes: b.len() as u64,
+                },
+            )
+        }
+    }
+}
+
+/// pLogger's files beside the alog: the mission copy `<root>._moos` written at start-up, and
+/// the copies apps request with `PLOGGER_CMD = COPY_FILE_REQUEST=<path>` (the helm asks for
+/// each behaviour file): `<name>._<ext>` (`<name>._bak` without an extension).
+#[derive(Clone)]
+pub struct SideFiles {
+    /// The mission text as run (after nsplug), copied under the banner into `<root>._moos`.
+    pub mission_text: String,
+    /// Where the files go (the session folder, once claimed).
+    pub folder: LateSink,
+    /// The folder relative request paths are read from (the mission file's folder, where
+    /// pAntler starts the apps).
+    pub base_dir: std::path::PathBuf,
 }
 
 impl<W: Write> Logger<W> {
@@ -309,6 +557,9 @@ impl<W: Write> Logger<W> {
             file_path: config.alog_path(opened),
             directory: config.directory(opened),
             blog_name: format!("{root}.blog"),
+            root,
+            side: None,
+            xlog: None,
             block,
             config,
             sink: Some(sink),
@@ -318,6 +569,61 @@ impl<W: Write> Logger<W> {
             blog_offset: 0,
             error: None,
         }
+    }
+
+    /// Also writes the mission copy and requested copies beside the alog.
+    pub fn with_side_files(mut self, side: Option<SideFiles>) -> Self {
+        self.side = side;
+        self
+    }
+
+    /// Copies a file an app asked for (`COPY_FILE_REQUEST=<path>`) into the session folder.
+    /// A file that cannot be read is skipped with a warning (pLogger skips it too); a failed
+    /// write is a failed log.
+    fn copy_requested(&mut self, path: &str) {
+        let Some(side) = &self.side else {
+            return;
+        };
+        let p = side.base_dir.join(path);
+        let stem = p
+            .file_stem()
+            .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+        let ext = p
+            .extension()
+            .map_or_else(|| "bak".to_string(), |e| e.to_string_lossy().into_owned());
+        match std::fs::read(&p) {
+            Ok(bytes) => match side.folder.side_file(&format!("{stem}._{ext}"), &bytes) {
+                // Asked again (a restarted helm): the copy is there already.
+                Err(e) if e.kind() == io::ErrorKind::AlreadyExists => {}
+                r => self.note(r),
+            },
+            Err(e) => tracing::warn!("{}: cannot copy {path}: {e}", self.name),
+        }
+    }
+
+    /// Writes `<root>._moos`: the banner naming the copy, then the mission text.
+    fn copy_mission(&mut self, log_start: f64) {
+        let Some(side) = &self.side else {
+            return;
+        };
+        let dir = self.file_path.rsplit_once('/').map_or(".", |(d, _)| d);
+        let path = format!("{dir}/{}._moos", self.root);
+        let header = Header {
+            path: &path,
+            opened_on: &self.opened_on,
+            log_start,
+            mark_data_type: false,
+        };
+        let r = AlogWriter::new(Vec::new(), &header).and_then(|w| {
+            let mut bytes = w.into_inner();
+            for line in side.mission_text.lines() {
+                bytes.extend_from_slice(line.as_bytes());
+                bytes.push(b'\n');
+            }
+            let root = side.folder.root().unwrap_or_else(|| self.root.clone());
+            side.folder.side_file(&format!("{root}._moos"), &bytes)
+        });
+        self.note(r);
     }
 
     /// The first write error, if any (the logger stops writing after it).
@@ -341,36 +647,38 @@ impl<W: Write> Logger<W> {
 
     fn log(&mut self, m: &Mail) {
         if self.config.omitted(&m.key) {
+            if self.config.wildcard
+                && let Some(x) = self.xlog.as_mut()
+            {
+                let r = record(
+                    x,
+                    m,
+                    self.config.log_aux_src,
+                    &self.blog_name,
+                    &mut self.blog_offset,
+                );
+                self.note(r);
+            }
+            return;
+        }
+        // Subscribed as pLogger's command variable only: logged like any other variable
+        // only when wildcard logging or a `Log =` line asks for it.
+        if m.key == "PLOGGER_CMD"
+            && !self.config.wildcard
+            && !self.config.logs.iter().any(|(v, _)| v == "PLOGGER_CMD")
+        {
             return;
         }
         let Some(w) = self.writer.as_mut() else {
             return;
         };
-        let src;
-        let source = if self.config.log_aux_src && !m.source_aux.is_empty() {
-            src = format!("{}:{}", m.source, m.source_aux);
-            src.as_str()
-        } else {
-            m.source.as_str()
-        };
-        let r = match &m.value {
-            Value::Double(x) => w.record(m.time, &m.key, source, alog::Value::Double(*x)),
-            Value::String(s) => w.record(m.time, &m.key, source, alog::Value::String(s)),
-            Value::Binary(b) => {
-                let offset = self.blog_offset;
-                self.blog_offset += b.len() as u64;
-                w.record(
-                    m.time,
-                    &m.key,
-                    source,
-                    alog::Value::Binary {
-                        file: &self.blog_name,
-                        offset,
-                        bytes: b.len() as u64,
-                    },
-                )
-            }
-        };
+        let r = record(
+            w,
+            m,
+            self.config.log_aux_src,
+            &self.blog_name,
+            &mut self.blog_offset,
+        );
         self.note(r);
     }
 }
@@ -394,6 +702,9 @@ impl<W: Write + 'static> App for Logger<W> {
         if self.config.wildcard {
             subs.push(Subscription::var("*"));
         }
+        if self.side.is_some() {
+            subs.push(Subscription::var("PLOGGER_CMD"));
+        }
         subs
     }
 
@@ -415,6 +726,21 @@ impl<W: Write + 'static> App for Logger<W> {
                 Err(e) => self.error = Some(e),
             }
         }
+        self.copy_mission(now);
+        if self.config.exclusion_log
+            && self.config.wildcard
+            && let Some(side) = &self.side
+        {
+            let root = side.folder.root().unwrap_or_else(|| self.root.clone());
+            match side.folder.open_stream(&format!("{root}.xlog")) {
+                Ok(st) => {
+                    let mut x = AlogWriter::headless(st, now, self.config.mark_data_type);
+                    x.set_double_precision(self.config.double_precision);
+                    self.xlog = Some(x);
+                }
+                Err(e) => self.note(Err(e)),
+            }
+        }
         out.push(Post::text("LOGGER_DIRECTORY", self.directory.clone()));
         self.last_dir_post = now;
     }
@@ -422,6 +748,13 @@ impl<W: Write + 'static> App for Logger<W> {
     fn on_mail(&mut self, mail: &[Mail], _now: f64, _out: &mut Vec<Post>) {
         for m in mail {
             self.log(m);
+            if m.key == "PLOGGER_CMD"
+                && let Value::String(cmd) = &m.value
+                && let Some((task, path)) = cmd.split_once('=')
+                && task.trim().eq_ignore_ascii_case("COPY_FILE_REQUEST")
+            {
+                self.copy_requested(path.trim());
+            }
         }
     }
 
@@ -473,6 +806,39 @@ mod tests {
         assert!(matches!(c.claim_session(&t), Err(ClaimError::Exists(_))));
         assert_eq!(std::fs::read_to_string(c.alog_path(&t)).unwrap(), "old");
         std::fs::remove_dir_all(&root).unwrap();
+    }
+
+    /// A disk that refuses every write.
+    struct Full;
+
+    impl Write for Full {
+        fn write(&mut self, _: &[u8]) -> io::Result<usize> {
+            Err(io::Error::new(io::ErrorKind::StorageFull, "no space left"))
+        }
+        fn flush(&mut self) -> io::Result<()> {
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn a_late_sink_fails_before_it_is_attached_and_reports_the_first_write_error_on_close() {
+        let mut sink = LateSink::new();
+        assert!(sink.write_all(b"x").is_err(), "nothing is open yet");
+        assert!(sink.side_file("a._moos", b"x").is_err());
+        sink.attach(Box::new(Full), std::env::temp_dir());
+        assert!(sink.write_all(b"x").is_err());
+        let e = sink.close().unwrap_err();
+        assert_eq!(e.kind(), io::ErrorKind::StorageFull);
+        // Closed: later writes fail, a second close has nothing to report.
+        assert!(sink.write_all(b"x").is_err());
+        assert!(sink.close().is_ok());
+        // A healthy session closes cleanly and its bytes are all written.
+        let buf = SharedBuffer::default();
+        let mut ok = LateSink::new();
+        ok.attach(Box::new(buf.clone()), std::env::temp_dir());
+        ok.write_all(b"abc").unwrap();
+        ok.close().unwrap();
+        assert_eq!(buf.contents(), b"abc");
     }
 
     #[test]

@@ -49,6 +49,7 @@ fn run(seed: u64) -> (Vec<u8>, Outcome, Vec<String>, Option<runtime::Value>) {
         writer: Box::new(buf.clone()),
         opened,
         opened_on: "Thu Jan  1 00:00:00 1970".into(),
+        side: None,
     };
     let p = plan(&m, START, seed, Some(target), &mut |run, _| {
         (run.app == "pHelmIvP").then(|| Ok(Box::new(ScriptedHelm) as Box<dyn App>))

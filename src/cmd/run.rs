@@ -33,7 +33,7 @@ use moosdb_client::{Server, ServerConfig};
 use runtime::antler::{LogTarget, MissionGlobals, Plan, logger_config, plan};
 use runtime::chrono::{self, NaiveDateTime};
 use runtime::helm::{HelmApp, load_behaviors};
-use runtime::logger::LateSink;
+use runtime::logger::{LateSink, SideFiles};
 use runtime::realtime::{RunSpec, run_apps};
 use runtime::remote::RemoteConfig;
 use runtime::summary::{RunSummary, behaviour_list};
@@ -74,7 +74,8 @@ pub struct RunArgs {
     /// End the run after this many simulated seconds (exit 2 if `--until` is pending).
     #[arg(long, value_name = "SECONDS", default_value_t = 3600.0)]
     pub max_time: f64,
-    /// Where pLogger writes (default: a timestamped folder under the current directory).
+    /// The folder pLogger's session folder goes in (default: the mission's GlobalLogPath,
+    /// else the pLogger block's PATH, else the current directory, as pLogger).
     #[arg(long, value_name = "DIR")]
     pub log_dir: Option<PathBuf>,
     /// MOOSDB port in real time (default: the mission's ServerPort; 0 picks a free one).
@@ -102,6 +103,8 @@ pub struct Loaded {
     pub behaviors: HashMap<String, Result<Parsed<BehaviorFile>, Vec<String>>>,
     /// True when macros changed the text (external apps then get an expanded copy).
     pub expanded: bool,
+    /// The mission file's folder (relative paths in the mission are read from there).
+    pub dir: PathBuf,
 }
 
 fn base(app: &str) -> &str {
@@ -152,6 +155,7 @@ pub fn load(
             text,
             behaviors,
             expanded,
+            dir,
         })
     } else {
         Err(errors)
@@ -190,7 +194,8 @@ fn pokes(args: &RunArgs, helm: &str) -> Result<Vec<Poke>, String> {
 
 /// The logger's target for a session under `dir` whose contents are dated `opened`. The
 /// writer is a [`LateSink`]: nothing is created on disk until [`open_log`].
-fn log_target(m: &MissionFile, dir: &Path, opened: NaiveDateTime) -> (LogTarget, LateSink) {
+fn log_target(loaded: &Loaded, dir: &Path, opened: NaiveDateTime) -> (LogTarget, LateSink) {
+    let m = &loaded.mission;
     let mut config = logger_config(m);
     config.path = dir.to_string_lossy().trim_end_matches('/').to_string();
     if config.path.is_empty() {
@@ -202,6 +207,11 @@ fn log_target(m: &MissionFile, dir: &Path, opened: NaiveDateTime) -> (LogTarget,
         writer: Box::new(sink.clone()),
         opened,
         opened_on: OPENED_ON.into(),
+        side: Some(SideFiles {
+            mission_text: loaded.text.clone(),
+            folder: sink.clone(),
+            base_dir: loaded.dir.clone(),
+        }),
     };
     (target, sink)
 }
@@ -209,17 +219,18 @@ fn log_target(m: &MissionFile, dir: &Path, opened: NaiveDateTime) -> (LogTarget,
 /// Creates the session's folder and alog, named from `named` (the wall-clock start), never
 /// over an existing log, attaches the file to `sink`, and returns the alog's path.
 fn open_log(
-    m: &MissionFile,
+    loaded: &Loaded,
     dir: &Path,
     named: NaiveDateTime,
     sink: &LateSink,
 ) -> Result<String, String> {
-    let (target, _) = log_target(m, dir, named);
+    let (target, _) = log_target(loaded, dir, named);
     let (at, file) = target
         .config
         .claim_session(&named)
         .map_err(|e| e.to_string())?;
-    sink.attach(Box::new(BufWriter::with_capacity(1 << 16, file)));
+    let folder = PathBuf::from(target.config.directory(&at));
+    sink.attach(Box::new(BufWriter::with_capacity(1 << 16, file)), folder);
     Ok(target.config.alog_path(&at))
 }
 
@@ -456,13 +467,6 @@ fn finish(args: &RunArgs, ended: &Ended, alog_path: Option<&str>) -> i32 {
     code
 }
 
-fn default_log_dir() -> PathBuf {
-    PathBuf::from(format!(
-        "coug-run-{}",
-        chrono::Local::now().format("%Y%m%d-%H%M%S")
-    ))
-}
-
 /// Runs `coug run`; returns the process exit code.
 pub fn run(args: &RunArgs) -> i32 {
     match run_inner(args) {
@@ -495,12 +499,22 @@ fn run_inner(args: &RunArgs) -> Result<i32, Vec<String>> {
         .find(|r| base(&r.app) == "pHelmIvP")
         .map_or_else(|| "pHelmIvP".to_string(), |r| r.moos_name().to_string());
     let pokes = pokes(args, &helm).map_err(|e| vec![e])?;
-    let log_dir = args.log_dir.clone().unwrap_or_else(default_log_dir);
+    // As pLogger: GlobalLogPath, else the pLogger block's PATH, else `./`; --log-dir wins.
+    let log_dir = args
+        .log_dir
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(logger_config(&loaded.mission).path));
     if args.lockstep {
         lockstep(args, &loaded, pokes, until, &log_dir)
     } else {
         realtime(args, &loaded, pokes, until, &log_dir)
     }
+}
+
+/// Flushes and closes the alog: any write error of the session fails the run.
+fn close_log(sink: &LateSink, alog_path: &str) -> Result<(), Vec<String>> {
+    sink.close()
+        .map_err(|e| vec![format!("the log {alog_path} could not be written: {e}")])
 }
 
 /// The local wall-clock time, to the second (log names).
@@ -538,11 +552,11 @@ fn lockstep(
     let opened = chrono::DateTime::from_timestamp(start as i64, 0)
         .map(|d| d.naive_utc())
         .unwrap_or_default();
-    let (target, sink) = log_target(&loaded.mission, log_dir, opened);
+    let (target, sink) = log_target(loaded, log_dir, opened);
     let p = make_plan(loaded, start, args.seed, Some(target)).map_err(|e| vec![e])?;
     // The files are named from the wall-clock start (two runs never share a name); their
     // contents keep the virtual date, so a lockstep log is byte-identical run to run.
-    let alog_path = open_log(&loaded.mission, log_dir, wall_now(), &sink).map_err(|e| vec![e])?;
+    let alog_path = open_log(loaded, log_dir, wall_now(), &sink).map_err(|e| vec![e])?;
     for w in &p.warnings {
         errln!("coug run: warning: {w}");
     }
@@ -579,8 +593,8 @@ fn lockstep(
     let outcome = loop {
         if interrupted.load(Ordering::Relaxed) {
             progress.finish();
-            // Dropping the scheduler drops the logger, which flushes the alog.
             drop(s);
+            close_log(&sink, &alog_path)?;
             errln!(
                 "coug run: interrupted at {:.1} simulated s; log: {alog_path}",
                 t - start
@@ -614,8 +628,8 @@ fn lockstep(
         wall,
         until_values: s.until_values(),
     };
-    // Dropping the scheduler drops the logger, which flushes the alog.
     drop(s);
+    close_log(&sink, &alog_path)?;
     Ok(finish(args, &ended, Some(&alog_path)))
 }
 
@@ -739,9 +753,9 @@ fn realtime(
         );
         let start = moosdb_client::time::unix_now() * warp_f;
         let opened = wall_now();
-        let (target, sink) = log_target(&loaded.mission, log_dir, opened);
+        let (target, sink) = log_target(loaded, log_dir, opened);
         let p = make_plan(loaded, start, args.seed, Some(target)).map_err(|e| vec![e])?;
-        let alog_path = open_log(&loaded.mission, log_dir, opened, &sink).map_err(|e| vec![e])?;
+        let alog_path = open_log(loaded, log_dir, opened, &sink).map_err(|e| vec![e])?;
         for w in &p.warnings {
             errln!("coug run: warning: {w}");
         }
@@ -800,11 +814,12 @@ fn realtime(
         }
         server.shutdown();
         let Some(result) = result else {
-            // The apps (and the logger, which flushes) are dropped with the task set.
+            close_log(&sink, &alog_path)?;
             errln!("coug run: interrupted after {wall:.1} wall s; log: {alog_path}");
             return Ok(130);
         };
         let end = result.map_err(|e| vec![e.to_string()])?;
+        close_log(&sink, &alog_path)?;
         let ended = Ended {
             outcome: end.outcome,
             start,

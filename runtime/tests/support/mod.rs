@@ -59,6 +59,7 @@ pub fn run_dir(
             .and_hms_opt(18, 22, 55)
             .unwrap(),
         opened_on: "Thu Jan  1 00:00:00 1970".into(),
+        side: None,
     };
     let p = plan(&m, START, 1, Some(target), &mut |run, block| {
         (run.app == "pHelmIvP").then(|| {
