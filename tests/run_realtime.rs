@@ -130,3 +130,43 @@ fn warp_10_run_serves_node_reports_to_an_outside_client() {
     let log = parse(&std::fs::read(find_alog(&dir.join("logs"))).unwrap());
     assert!(track(&log).len() > 50);
 }
+
+#[test]
+fn real_time_progress_names_the_active_behaviours_at_any_warp() {
+    // The helm writes `active_bhvs` into IVPHELM_SUMMARY only when it changes; at warp 50 the
+    // helm posts far faster than the progress line is drawn, so the latest summary alone
+    // almost never has the field. The progress follows every posting, as in lockstep.
+    let mission = project_mission("surface_survey/survey.moos");
+    let dir = fresh_dir("run-realtime-progress");
+    let out = coug(
+        &dir,
+        &[
+            "run",
+            mission.to_str().unwrap(),
+            "--warp",
+            "50",
+            "--port",
+            "0",
+            "--deploy",
+            "--max-time",
+            "60",
+            "--log-dir",
+            "logs",
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    let late: Vec<&str> = stderr
+        .lines()
+        .filter(|l| {
+            l.strip_prefix("t=")
+                .and_then(|r| r.trim_start().split('s').next())
+                .and_then(|t| t.trim().parse::<f64>().ok())
+                .is_some_and(|t| t >= 10.0)
+        })
+        .collect();
+    assert!(late.len() >= 3, "{stderr}");
+    for l in late {
+        assert!(l.contains("active=survey,cruise"), "{l}\n{stderr}");
+    }
+}

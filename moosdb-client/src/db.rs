@@ -338,6 +338,9 @@ pub struct Database {
     names: HashMap<Bytes, ClientId>,
     filters: BTreeMap<Bytes, Vec<Filter>>,
     next_id: u64,
+    /// Variables whose every accepted write is kept for [`Database::take_taps`].
+    tapped: Vec<Bytes>,
+    taps: Vec<Message>,
 }
 
 /// Delivers `msg` into the held mail of the client called `name` (if connected).
@@ -387,6 +390,8 @@ impl Database {
             names: HashMap::new(),
             filters: BTreeMap::new(),
             next_id: 1,
+            tapped: Vec::new(),
+            taps: Vec::new(),
         }
     }
 
@@ -622,6 +627,21 @@ impl Database {
             .collect()
     }
 
+    /// Keeps every accepted write of `key` from now on, for [`Database::take_taps`]: an
+    /// in-process observer sees each posting, not only the latest value (as a MOOS client
+    /// with a zero-period subscription would, without being one).
+    pub fn tap(&mut self, key: &str) {
+        let k = Bytes::copy_from_slice(key.as_bytes());
+        if !self.tapped.contains(&k) {
+            self.tapped.push(k);
+        }
+    }
+
+    /// The tapped writes since the last call, in the order they were made.
+    pub fn take_taps(&mut self) -> Vec<Message> {
+        std::mem::take(&mut self.taps)
+    }
+
     /// The current value of a variable as the DB would replay it, if it was ever written.
     pub fn current(&self, key: &str) -> Option<Message> {
         let (k, v) = self.vars.get_key_value(key.as_bytes())?;
@@ -801,6 +821,9 @@ impl Database {
             var.stats_time = t;
         }
         msg.msg_type = MsgType::Notify;
+        if self.tapped.contains(&msg.key) {
+            self.taps.push(msg.clone());
+        }
         for (client, sub) in var.subscribers.iter_mut() {
             if sub.expired(t) {
                 sub.last_sent = t;

@@ -257,7 +257,10 @@ fn make_plan(
     .map_err(|e| e.to_string())
 }
 
-/// What the progress line shows, read from the DB's current values.
+/// What the progress line shows: the helm state and position from the DB's current values,
+/// the active behaviours from every IVPHELM_SUMMARY posting (the helm writes `active_bhvs`
+/// only when it changes, so the latest value alone does not say it), in lockstep and real
+/// time alike.
 #[derive(Default)]
 struct Progress {
     active: Vec<String>,
@@ -275,6 +278,13 @@ fn text(v: Option<Value>) -> Option<String> {
 }
 
 impl Progress {
+    /// Takes one IVPHELM_SUMMARY posting.
+    fn observe_summary(&mut self, summary: &str) {
+        if let Some(a) = behaviour_list(summary, "active_bhvs") {
+            self.active = a;
+        }
+    }
+
     fn line(
         &mut self,
         sim: f64,
@@ -312,11 +322,6 @@ impl Progress {
         terminal: bool,
         every: f64,
     ) {
-        if let Some(s) = text(get("IVPHELM_SUMMARY"))
-            && let Some(a) = behaviour_list(&s, "active_bhvs")
-        {
-            self.active = a;
-        }
         let due = if terminal {
             self.last_line
                 .is_none_or(|t| t.elapsed() >= Duration::from_millis(200))
@@ -608,12 +613,8 @@ fn lockstep(
             None => {}
         }
         for p in s.take_taps() {
-            if let Some(a) = p
-                .value
-                .as_str()
-                .and_then(|v| behaviour_list(v, "active_bhvs"))
-            {
-                progress.active = a;
+            if let Some(v) = p.value.as_str() {
+                progress.observe_summary(v);
             }
         }
         let get = |k: &str| s.current(k);
@@ -779,6 +780,7 @@ fn realtime(
         let wall = Instant::now();
         let db = &server;
         let every = args.progress_every;
+        db.with_db(|d| d.tap("IVPHELM_SUMMARY"));
         let progress_task = async move {
             let mut progress = Progress::default();
             let mut tick =
@@ -796,6 +798,9 @@ fn realtime(
                             _ => None,
                         })
                 };
+                for m in db.with_db(|d| d.take_taps()) {
+                    progress.observe_summary(&m.sval_str());
+                }
                 progress.tick(now - start, &wall, &get, terminal, every);
             }
         };
