@@ -28,6 +28,7 @@
 #![warn(missing_docs)]
 
 pub mod bhv;
+pub mod buttons;
 pub mod catalog;
 pub mod check;
 pub mod condition;

@@ -23,6 +23,7 @@ use std::time::{Duration, Instant};
 use clap::Args;
 use mission::Parsed;
 use mission::bhv::BehaviorFile;
+use mission::buttons::{self, ButtonValue};
 use mission::condition::{Condition, parse_condition};
 use mission::diagnostic::DiagnosticKind;
 use mission::moos::{AntlerRun, MissionFile, parse_moos};
@@ -37,7 +38,7 @@ use runtime::logger::{LateSink, SideFiles};
 use runtime::realtime::{RunSpec, run_apps};
 use runtime::remote::RemoteConfig;
 use runtime::summary::{RunSummary, behaviour_list};
-use runtime::{App, Bus, Outcome, Poke, Scheduler, Value, VirtualClock};
+use runtime::{App, Bus, Outcome, Poke, PokeAt, Scheduler, Value, VirtualClock};
 
 /// MOOS time at which every lockstep run starts (so two runs log the same bytes).
 pub const LOCKSTEP_START: f64 = 1_786_000_000.0;
@@ -65,9 +66,14 @@ pub struct RunArgs {
     /// `T` seconds after the start (`VAR=VALUE@T`). Repeatable.
     #[arg(long = "poke", value_name = "VAR=VALUE[@T]")]
     pub pokes: Vec<String>,
-    /// Shorthand for `--poke DEPLOY=true --poke MOOS_MANUAL_OVERRIDE=false`.
+    /// Press the mission's DEPLOY button (pMarineViewer's `button_* = DEPLOY # ...`), or, when
+    /// it has none, post DEPLOY=true and MOOS_MANUAL_OVERRIDE=false.
     #[arg(long)]
     pub deploy: bool,
+    /// Press the pMarineViewer button with this label (or key, `button_two`) after the helm's
+    /// first iteration, as an operator would (repeatable, in order).
+    #[arg(long = "button", value_name = "LABEL")]
+    pub buttons: Vec<String>,
     /// End the run when this condition (.bhv syntax) holds, e.g. "MISSION = complete".
     #[arg(long, value_name = "CONDITION")]
     pub until: Option<String>,
@@ -179,17 +185,57 @@ pub fn report_malconfig(name: &str, helm: &HelmApp) {
     }
 }
 
-/// The pokes of the command line (`--deploy` first), aimed at the first helm.
-fn pokes(args: &RunArgs, helm: &str) -> Result<Vec<Poke>, String> {
-    let mut texts: Vec<&str> = Vec::new();
+/// The pokes of the command line: `--deploy`, the `--button` presses, then the `--poke`s,
+/// each after the first helm's first iteration unless timed. `start` is the run's MOOS start
+/// time (a button's `$[UTC]`).
+fn pokes(args: &RunArgs, m: &MissionFile, helm: &str, start: f64) -> Result<Vec<Poke>, String> {
+    let all = buttons::buttons(m);
+    let mut out = Vec::new();
+    let mut presses = 0u32;
+    let mut press = |b: &buttons::Button, out: &mut Vec<Poke>| {
+        for (var, v) in &b.postings {
+            let value = match v {
+                ButtonValue::Double(x) => Value::Double(*x),
+                ButtonValue::Text(t) => Value::text(t.clone()),
+                ButtonValue::Utc => Value::Double(start),
+                ButtonValue::PressCount => Value::Double(f64::from(presses)),
+            };
+            out.push(Poke {
+                key: var.clone(),
+                value,
+                at: PokeAt::AfterFirstIterate(helm.to_string()),
+            });
+        }
+        presses += 1;
+    };
     if args.deploy {
-        texts.extend(["DEPLOY=true", "MOOS_MANUAL_OVERRIDE=false"]);
+        match buttons::find(&all, "DEPLOY") {
+            Some(b) => press(b, &mut out),
+            None => {
+                for t in ["DEPLOY=true", "MOOS_MANUAL_OVERRIDE=false"] {
+                    out.push(Poke::parse(t, helm).map_err(|e| e.to_string())?);
+                }
+            }
+        }
     }
-    texts.extend(args.pokes.iter().map(String::as_str));
-    texts
-        .into_iter()
-        .map(|t| Poke::parse(t, helm).map_err(|e| format!("--poke {t}: {e}")))
-        .collect()
+    for name in &args.buttons {
+        let Some(b) = buttons::find(&all, name) else {
+            let labels: Vec<&str> = all.iter().map(|b| b.label.as_str()).collect();
+            return Err(if labels.is_empty() {
+                format!("--button {name}: the mission has no pMarineViewer buttons")
+            } else {
+                format!(
+                    "--button {name}: no such button; the mission's buttons: {}",
+                    labels.join(", ")
+                )
+            });
+        };
+        press(b, &mut out);
+    }
+    for t in &args.pokes {
+        out.push(Poke::parse(t, helm).map_err(|e| format!("--poke {t}: {e}"))?);
+    }
+    Ok(out)
 }
 
 /// The logger's target for a session under `dir` whose contents are dated `opened`. The
@@ -503,7 +549,13 @@ fn run_inner(args: &RunArgs) -> Result<i32, Vec<String>> {
         .into_iter()
         .find(|r| base(&r.app) == "pHelmIvP")
         .map_or_else(|| "pHelmIvP".to_string(), |r| r.moos_name().to_string());
-    let pokes = pokes(args, &helm).map_err(|e| vec![e])?;
+    // A button's `$[UTC]`: the run's start (lockstep's virtual one, or now).
+    let start = if args.lockstep {
+        LOCKSTEP_START
+    } else {
+        moosdb_client::time::unix_now() * args.warp.unwrap_or(1.0)
+    };
+    let pokes = pokes(args, &loaded.mission, &helm, start).map_err(|e| vec![e])?;
     // As pLogger: GlobalLogPath, else the pLogger block's PATH, else `./`; --log-dir wins.
     let log_dir = args
         .log_dir
