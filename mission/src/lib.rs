@@ -36,6 +36,7 @@ pub mod diagnostic;
 pub mod moos;
 pub mod nsplug;
 pub mod source;
+pub mod until;
 
 use diagnostic::Diagnostic;
 use source::Span;

@@ -556,6 +556,20 @@ fn run_inner(args: &RunArgs) -> Result<i32, Vec<String>> {
         moosdb_client::time::unix_now() * args.warp.unwrap_or(1.0)
     };
     let pokes = pokes(args, &loaded.mission, &helm, start).map_err(|e| vec![e])?;
+    if let Some(c) = &until {
+        let bhvs: Vec<&BehaviorFile> = loaded
+            .behaviors
+            .values()
+            .filter_map(|b| b.as_ref().ok().map(|p| &p.value))
+            .collect();
+        let poked: Vec<&str> = pokes.iter().map(|p| p.key.as_str()).collect();
+        for v in mission::until::unknown_vars(c, &loaded.text, &bhvs, &poked) {
+            errln!(
+                "coug run: warning: --until: nothing in the mission posts, initialises or names {v}; the run may go on to --max-time ({} s)",
+                args.max_time
+            );
+        }
+    }
     // As pLogger: GlobalLogPath, else the pLogger block's PATH, else `./`; --log-dir wins.
     let log_dir = args
         .log_dir
