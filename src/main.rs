@@ -33,7 +33,7 @@ struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Print the version and what each part of coug does today.
+    /// Print the version and what each command does.
     Info,
     /// Preprocess, parse and validate mission files (.moos, .bhv); exit 1 on any error.
     Check(cmd::check::CheckArgs),
@@ -57,8 +57,9 @@ enum Command {
     Pid(cmd::app::AppCommandArgs),
     /// pNodeReporter as its own MOOS process: MISSION.moos [ALIAS].
     Nodereporter(cmd::app::AppCommandArgs),
-    /// Create links named MOOSDB, pHelmIvP, uSimMarine(V22), pMarinePID(V22), pNodeReporter in DIR
-    /// so pAntler starts coug in place of the C++ apps.
+    /// Create links named MOOSDB, pHelmIvP, uSimMarine(V22), pMarinePID(V22), pNodeReporter,
+    /// pLogger, uTimerScript, uPokeDB and uXMS in DIR so pAntler starts coug in place of the
+    /// C++ apps.
     InstallAliases(cmd::app::InstallAliasesArgs),
 }
 
@@ -72,41 +73,85 @@ fn init_tracing(level: &str) {
         .init();
 }
 
-fn main() -> anyhow::Result<()> {
-    // Invoked under a MOOS app's name (a link from `coug install-aliases`): be that app.
+fn main() {
     let argv: Vec<String> = std::env::args().collect();
+    // Invoked under a MOOS app's name (a link from `coug install-aliases`): be that app.
+    let mut cli_args = argv.clone();
     if let Some(app) = argv.first().and_then(|a| cmd::app::app_from_argv0(a)) {
-        init_tracing("info");
-        std::process::exit(cmd::app::run_app(app, &argv[1..]));
+        match cmd::app::command_for_alias(app, &argv[1..]) {
+            Some(args) => cli_args = args,
+            None => {
+                init_tracing("info");
+                std::process::exit(cmd::app::run_app(app, &argv[1..]));
+            }
+        }
     }
-    let cli = Cli::parse();
+    let cli = Cli::parse_from(cli_args);
     // `coug run` prints its own progress; the DB's per-client log lines would drown it.
     let level = match cli.command {
         Some(Command::Run(_)) => "warn",
         _ => "info",
     };
     init_tracing(level);
-    match cli.command.unwrap_or(Command::Info) {
-        Command::Check(args) => std::process::exit(cmd::check::run(&args)),
-        Command::Nsplug(args) => std::process::exit(cmd::nsplug::run(&args)),
-        Command::Plot(args) => cmd::plot::run(&args)?,
-        Command::Db(args) => cmd::db::run(&args)?,
-        Command::Poke(args) => cmd::poke::run(&args)?,
-        Command::Scope(args) => cmd::scope::run(&args)?,
-        Command::Run(args) => std::process::exit(cmd::run::run(&args)),
-        Command::Helm(args) => std::process::exit(cmd::app::run_subcommand("helm", &args)),
-        Command::Sim(args) => std::process::exit(cmd::app::run_subcommand("sim", &args)),
-        Command::Pid(args) => std::process::exit(cmd::app::run_subcommand("pid", &args)),
-        Command::Nodereporter(args) => {
-            std::process::exit(cmd::app::run_subcommand("nodereporter", &args))
+    std::process::exit(match cli.command.unwrap_or(Command::Info) {
+        Command::Check(args) => cmd::check::run(&args),
+        Command::Nsplug(args) => cmd::nsplug::run(&args),
+        Command::Plot(args) => report("plot", cmd::plot::run(&args)),
+        Command::Db(args) => report("db", cmd::db::run(&args)),
+        Command::Poke(args) => report("poke", cmd::poke::run(&args)),
+        Command::Scope(args) => report("scope", cmd::scope::run(&args)),
+        Command::Run(args) => cmd::run::run(&args),
+        Command::Helm(args) => cmd::app::run_subcommand("helm", &args),
+        Command::Sim(args) => cmd::app::run_subcommand("sim", &args),
+        Command::Pid(args) => cmd::app::run_subcommand("pid", &args),
+        Command::Nodereporter(args) => cmd::app::run_subcommand("nodereporter", &args),
+        Command::InstallAliases(args) => {
+            report("install-aliases", cmd::app::install_aliases(&args))
         }
-        Command::InstallAliases(args) => cmd::app::install_aliases(&args)?,
         Command::Info => {
-            outln!("coug {}", env!("CARGO_PKG_VERSION"));
-            outln!(
-                "Commands: run, check, nsplug, plot, db, poke, scope, helm, sim, pid, nodereporter, install-aliases (`coug help` for details)."
-            );
+            info();
+            0
+        }
+    })
+}
+
+/// The one style of a command's error for users: `coug CMD: error: what (why)`, no
+/// backtrace; exit status 1.
+fn report(command: &str, result: anyhow::Result<()>) -> i32 {
+    match result {
+        Ok(()) => 0,
+        Err(e) => {
+            errln!("coug {command}: error: {e:#}");
+            1
         }
     }
-    Ok(())
+}
+
+/// `coug info`: the version and what each part does.
+fn info() {
+    outln!(
+        "coug {}: one binary for MOOS-IvP missions, in Rust.",
+        env!("CARGO_PKG_VERSION")
+    );
+    outln!();
+    outln!("Run and inspect missions:");
+    outln!("  run       a whole mission in one process (lockstep or real time), like pAntler");
+    outln!("  check     preprocess, parse and validate .moos/.bhv files");
+    outln!("  nsplug    expand an nsplug template");
+    outln!("  plot      draw an alog's track, waypoints, polygons and depth");
+    outln!("Talk to a MOOSDB:");
+    outln!("  db        a MOOSDB C++ MOOS apps can join (alias MOOSDB)");
+    outln!("  poke      post values (alias uPokeDB)");
+    outln!("  scope     watch variables (alias uXMS)");
+    outln!("One app as its own MOOS process (for pAntler):");
+    outln!("  helm      pHelmIvP");
+    outln!("  sim       uSimMarineV22 / uSimMarine");
+    outln!("  pid       pMarinePIDV22 / pMarinePID");
+    outln!("  nodereporter  pNodeReporter");
+    outln!(
+        "  install-aliases DIR  links named after the apps: {}",
+        cmd::app::APP_NAMES.join(", ")
+    );
+    outln!();
+    outln!("`coug help COMMAND` for the options of each.");
 }

@@ -154,3 +154,25 @@ pub fn load_bhv(
         diagnostics,
     })
 }
+
+/// Whether a parsed `.moos` file is a MOOS mission at all: it has a `ProcessConfig` block or
+/// one of the community settings (`ServerHost`, `ServerPort`, `Community`, `MOOSTimeWarp`,
+/// `LatOrigin`, `LongOrigin`). Commands refuse other files as missions (a random text file
+/// parses to nothing, with the MOOS reader skipping its lines).
+///
+/// ```
+/// let m = |t: &str| mission::moos::parse_moos(&mission::source::SourceMap::from_text("m", t)).value;
+/// assert!(mission::is_mission(&m("ServerPort = 9000\n")));
+/// assert!(!mission::is_mission(&m("just some words\n")));
+/// ```
+pub fn is_mission(m: &moos::MissionFile) -> bool {
+    const GLOBALS: &[&str] = &[
+        "ServerHost",
+        "ServerPort",
+        "Community",
+        "MOOSTimeWarp",
+        "LatOrigin",
+        "LongOrigin",
+    ];
+    !m.processes.is_empty() || GLOBALS.iter().any(|k| m.global(k).is_some())
+}

@@ -163,10 +163,10 @@ pub async fn run<A: App + ?Sized>(
     let mut last_status: Option<f64> = None;
     let mut mail = Vec::new();
     loop {
-        tokio::select! {
-            _ = tick.tick() => {}
-            _ = &mut stop => break,
-        }
+        let stopping = tokio::select! {
+            _ = tick.tick() => false,
+            _ = &mut stop => true,
+        };
         let now = client.moos_time();
         mail.clear();
         while let Some(m) = inbox.try_recv() {
@@ -179,6 +179,11 @@ pub async fn run<A: App + ?Sized>(
         mail.sort_by(|a: &Mail, b: &Mail| a.time.total_cmp(&b.time));
         if !mail.is_empty() {
             app.on_mail(&mail, now, &mut posts);
+        }
+        // Asked to stop: the mail already received is handled (a logger logs it), nothing
+        // more is posted.
+        if stopping {
+            break;
         }
         if last_status.is_none_or(|t| now - t >= STATUS_PERIOD) {
             last_status = Some(now);

@@ -11,15 +11,17 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use mission::nsplug::Options;
 use runtime::App;
-use runtime::antler::{Built, MissionGlobals, build};
+use runtime::antler::{Built, LogTarget, MissionGlobals, build};
 use runtime::helm::HelmApp;
+use runtime::logger::{LateSink, LoggerConfig, SideFiles};
 use runtime::remote::{AppArgs, RemoteConfig};
 
 use mission::source::FsSource;
 
 use super::run::{load, report_malconfig};
 
-/// The MOOS app names coug answers to when invoked under them.
+/// The MOOS app names coug answers to when invoked under them (links made by
+/// `coug install-aliases`): each does that app's job.
 pub const APP_NAMES: &[&str] = &[
     "MOOSDB",
     "pHelmIvP",
@@ -28,7 +30,49 @@ pub const APP_NAMES: &[&str] = &[
     "pMarinePID",
     "pMarinePIDV22",
     "pNodeReporter",
+    "pLogger",
+    "uTimerScript",
+    "uPokeDB",
+    "uXMS",
 ];
+
+/// The `coug` command line an alias that is a coug command stands for: `uPokeDB ARGS` is
+/// `coug poke ARGS`, `uXMS ARGS` is `coug scope ARGS`. `None` for the MOOS apps.
+pub fn command_for_alias(app: &str, args: &[String]) -> Option<Vec<String>> {
+    let sub = match app {
+        "uPokeDB" => "poke",
+        "uXMS" => "scope",
+        _ => return None,
+    };
+    let mut argv = vec!["coug".to_string(), sub.to_string()];
+    argv.extend(args.iter().cloned());
+    Some(argv)
+}
+
+/// The usage text of an app alias (`--help`, `-h`).
+fn usage(program: &str) -> String {
+    let what = match program {
+        "MOOSDB" => {
+            return format!(
+                "{program} (coug {v}): a MOOSDB that C++ MOOS clients can join.\n\nUsage: {program} [MISSION.moos] [--moos_port=N]\n",
+                v = env!("CARGO_PKG_VERSION")
+            );
+        }
+        "pHelmIvP" => "the IvP helm",
+        "uSimMarine" | "uSimMarineV22" => "the marine vehicle simulator",
+        "pMarinePID" | "pMarinePIDV22" => "the heading, speed and depth PID controller",
+        "pNodeReporter" => "node reports (NODE_REPORT_LOCAL)",
+        "pLogger" => "the logger (alog, ._moos and requested copies)",
+        "uTimerScript" => "timed postings from a script",
+        _ => "a MOOS app",
+    };
+    format!(
+        "{program} (coug {v}): {what}, as its own MOOS process configured by the mission's\n\
+         ProcessConfig block of its MOOS name.\n\n\
+         Usage: {program} MISSION.moos [ALIAS] [--alias=NAME]\n",
+        v = env!("CARGO_PKG_VERSION")
+    )
+}
 
 /// Arguments of `coug helm|sim|pid|nodereporter`: MOOS app conventions.
 #[derive(Debug, Args)]
@@ -75,7 +119,7 @@ pub fn run_subcommand(which: &str, args: &AppCommandArgs) -> i32 {
         Ok(l) => l,
         Err(errors) => {
             for e in errors {
-                errln!("coug {which}: {e}");
+                errln!("coug {which}: error: {e}");
             }
             return 1;
         }
@@ -92,6 +136,14 @@ pub fn run_subcommand(which: &str, args: &AppCommandArgs) -> i32 {
 /// Runs coug as the MOOS app `program` with the MOOS-style arguments `args` (after the
 /// program name); returns the exit code.
 pub fn run_app(program: &str, args: &[String]) -> i32 {
+    if args.iter().any(|a| a == "--help" || a == "-h") {
+        out!("{}", usage(program));
+        return 0;
+    }
+    if args.iter().any(|a| a == "--version" || a == "-v") {
+        outln!("{program} (coug {})", env!("CARGO_PKG_VERSION"));
+        return 0;
+    }
     let parsed = AppArgs::parse(args);
     if program == "MOOSDB" {
         let port = args.iter().find_map(|a| {
@@ -107,7 +159,7 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
         return match super::db::run(&db) {
             Ok(()) => 0,
             Err(e) => {
-                errln!("MOOSDB: {e:#}");
+                errln!("MOOSDB: error: {e:#}");
                 1
             }
         };
@@ -121,7 +173,7 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
         Ok(l) => l,
         Err(errors) => {
             for e in errors {
-                errln!("{moos_name}: {e}");
+                errln!("{moos_name}: error: {e}");
             }
             return 1;
         }
@@ -133,6 +185,7 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
     }
     let warp = globals.time_warp;
     let start = moosdb_client::time::unix_now() * warp;
+    let mut log_sink: Option<LateSink> = None;
     let app: Box<dyn App> = if program == "pHelmIvP" {
         let dir = Path::new(path)
             .parent()
@@ -145,6 +198,19 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
         Box::new(h)
     } else {
         let mut warnings = Vec::new();
+        let mut log = None;
+        if program == "pLogger" {
+            match open_session(&moos_name, &loaded) {
+                Ok((target, sink)) => {
+                    log = Some(target);
+                    log_sink = Some(sink);
+                }
+                Err(e) => {
+                    errln!("{moos_name}: error: {e}");
+                    return 1;
+                }
+            }
+        }
         match build(
             program,
             &moos_name,
@@ -152,7 +218,7 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
             &globals,
             start,
             1,
-            &mut None,
+            &mut log,
             &mut warnings,
         ) {
             Ok(Built::App(a)) => {
@@ -166,7 +232,7 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
                 return 1;
             }
             Err(e) => {
-                errln!("{moos_name}: {e}");
+                errln!("{moos_name}: error: {e}");
                 return 1;
             }
         }
@@ -187,7 +253,7 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
     {
         Ok(rt) => rt,
         Err(e) => {
-            errln!("{moos_name}: {e}");
+            errln!("{moos_name}: error: {e}");
             return 1;
         }
     };
@@ -196,13 +262,50 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
         let stop = super::signal::shutdown();
         runtime::remote::run(&mut *app, &cfg, stop).await
     });
+    drop(app);
+    // A log that could not be written is a failed run.
+    if let Some(sink) = log_sink
+        && let Err(e) = sink.close()
+    {
+        errln!("{moos_name}: error: the log could not be written: {e}");
+        return 1;
+    }
     match result {
         Ok(()) => 0,
         Err(e) => {
-            errln!("{moos_name}: {e}");
+            errln!("{moos_name}: error: {e}");
             1
         }
     }
+}
+
+/// pLogger as its own process: claims a new log session where the mission's block of
+/// `moos_name` (or GlobalLogPath) says, named from now, with the mission copy beside it.
+fn open_session(
+    moos_name: &str,
+    loaded: &super::run::Loaded,
+) -> Result<(LogTarget, LateSink), String> {
+    let m = &loaded.mission;
+    let config = LoggerConfig::from_config(m.process(moos_name), m.global("GlobalLogPath"));
+    let now = runtime::chrono::Local::now().naive_local();
+    let (at, file) = config.claim_session(&now).map_err(|e| e.to_string())?;
+    let sink = LateSink::new();
+    sink.attach(
+        Box::new(std::io::BufWriter::with_capacity(1 << 16, file)),
+        PathBuf::from(config.directory(&at)),
+    );
+    let target = LogTarget {
+        config,
+        writer: Box::new(sink.clone()),
+        opened: at,
+        opened_on: super::run::OPENED_ON.into(),
+        side: Some(SideFiles {
+            mission_text: loaded.text.clone(),
+            folder: sink.clone(),
+            base_dir: loaded.dir.clone(),
+        }),
+    };
+    Ok((target, sink))
 }
 
 /// Arguments of `coug install-aliases`.

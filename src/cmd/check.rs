@@ -35,7 +35,7 @@ pub fn run(args: &CheckArgs) -> i32 {
         }
     }
     if files.is_empty() {
-        errln!("coug check: no file given (arguments with `=` are macro definitions)");
+        errln!("coug check: error: no file given (arguments with `=` are macro definitions)");
         return 2;
     }
     let findings = check_files(&FsSource, &files, &opts);

@@ -51,6 +51,11 @@ pub fn parse_mission_comms(text: &str) -> anyhow::Result<MissionComms> {
     let src = mission::source::SourceMap::from_text("mission", text);
     let parsed = mission::moos::parse_moos(&src);
     let m = &parsed.value;
+    if !mission::is_mission(m) {
+        anyhow::bail!(
+            "not a MOOS mission file (no ServerHost, ServerPort, Community or ProcessConfig)"
+        );
+    }
     let text_of = |key: &str| m.global(key).map(str::to_string);
     fn number<T: std::str::FromStr>(
         m: &mission::moos::MissionFile,

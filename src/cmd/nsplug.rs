@@ -70,7 +70,10 @@ pub fn run(args: &NsplugArgs) -> i32 {
     match std::fs::write(&args.output, text) {
         Ok(()) => 0,
         Err(e) => {
-            errln!("coug nsplug: cannot write {}: {e}", args.output.display());
+            errln!(
+                "coug nsplug: error: cannot write {}: {e}",
+                args.output.display()
+            );
             1
         }
     }

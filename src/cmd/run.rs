@@ -44,7 +44,7 @@ use runtime::{App, Bus, Outcome, Poke, PokeAt, Scheduler, Value, VirtualClock};
 pub const LOCKSTEP_START: f64 = 1_786_000_000.0;
 
 /// The banner's `FILE OPENED ON` text (pLogger 2024 prints the Unix epoch there).
-const OPENED_ON: &str = "Thu Jan  1 00:00:00 1970";
+pub const OPENED_ON: &str = "Thu Jan  1 00:00:00 1970";
 
 /// Arguments of `coug run`.
 #[derive(Debug, Args)]
@@ -144,6 +144,9 @@ pub fn load(
         }
     }
     let mission = parsed.value;
+    if !mission::is_mission(&mission) {
+        return Err(vec![not_a_mission(path)]);
+    }
     let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
     let mut behaviors = HashMap::new();
     for run in mission.antler_runs() {
@@ -524,7 +527,7 @@ pub fn run(args: &RunArgs) -> i32 {
         Ok(code) => code,
         Err(messages) => {
             for m in messages {
-                errln!("coug run: {m}");
+                errln!("coug run: error: {m}");
             }
             1
         }
@@ -586,6 +589,14 @@ fn run_inner(args: &RunArgs) -> Result<i32, Vec<String>> {
 fn close_log(sink: &LateSink, alog_path: &str) -> Result<(), Vec<String>> {
     sink.close()
         .map_err(|e| vec![format!("the log {alog_path} could not be written: {e}")])
+}
+
+/// Why a file is refused as a mission (see [`mission::is_mission`]).
+pub fn not_a_mission(path: &Path) -> String {
+    format!(
+        "{}: not a MOOS mission file (no ServerHost, ServerPort, Community or ProcessConfig)",
+        path.display()
+    )
 }
 
 /// The local wall-clock time, to the second (log names).
