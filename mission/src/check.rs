@@ -9,6 +9,12 @@
 //! - a behaviour condition testing a mode variable for a value no `set` block gives
 //!   (`MODE == SURVEYNG`; warning).
 //!
+//! nsplug's undefined-macro warnings are kept only for macros nsplug should have expanded: a
+//! `$(NAME)` that the line's program expands itself at run time (uTimerScript's `$(COUNT)` and
+//! random variables, pMarineViewer's click macros `$(XPOS)`, the helm's flag macros; see
+//! [`catalog::is_runtime_macro`]) is not reported. The helm's `$[NAME]` is never an nsplug
+//! macro.
+//!
 //! A `.moos` file's pHelmIvP `behaviors = FILE` entries are checked too (resolved beside the
 //! `.moos` file) unless they were named on the command line already. Variables posted by the
 //! `.moos` processes (`VAR=value` pairs in their parameters, e.g. pMarineViewer buttons or

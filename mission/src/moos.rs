@@ -14,10 +14,18 @@
 //! Lines starting with `<tag>` (section markers of nsplug plug files, see
 //! [`crate::nsplug`]) are skipped.
 //!
+//! As MOOS's own reader, lines it skips are read past: a line without `=` (free text, `#`
+//! lines), one with nothing before `=` (`=====` banners), a `{` or `}` outside a block. They
+//! are warnings outside blocks and in the blocks of the programs of
+//! [`crate::catalog::MOOS_CONFIG_APPS`], and not reported in other programs' blocks, which may
+//! hold their own syntax (Goby's protobuf text); braces nested in a block are balanced.
+//!
 //! Differences from MOOS's own reader, on purpose: [`MissionFile::global`] only looks at lines
 //! outside `ProcessConfig` blocks (MOOS scans the whole file), values keep their inner spaces,
-//! and `ProcessConfig = NAME {` with the brace on the same line is accepted (MOOS wants the
-//! `{` on the next line and would not find the block; coug warns).
+//! `ProcessConfig = NAME {` with the brace on the same line is accepted (MOOS wants the
+//! `{` on the next line and would not find the block; coug warns), and a `}` nested in a block
+//! closes its `{` (MOOS ends the block at the first `}`; coug warns when the program is one it
+//! knows).
 
 use std::fmt;
 
