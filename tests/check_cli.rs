@@ -165,3 +165,129 @@ fn nsplug_expands_templates_like_the_launch_scripts_do() {
         "{stderr}"
     );
 }
+
+#[test]
+fn check_prints_at_most_max_findings_per_file_and_says_how_many_were_left_out() {
+    let dir = scratch("cap");
+    // Thousands of lines MOOS would skip (warnings), and one real error at the end.
+    let mut text = String::from("ServerPort = 9000\n");
+    for i in 0..5000 {
+        text.push_str(&format!("garbage line {i}\n"));
+    }
+    text.push_str("ProcessConfig = pShare\n");
+    std::fs::write(dir.join("big.moos"), &text).unwrap();
+    std::fs::write(dir.join("small.moos"), "just text\n").unwrap();
+    let big = dir.join("big.moos");
+    let small = dir.join("small.moos");
+    let (big_s, small_s) = (big.to_str().unwrap(), small.to_str().unwrap());
+
+    let (code, stdout, _) = coug(&["check", big_s, small_s]);
+    assert_eq!(code, 1, "the error left out still sets the exit code");
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert_eq!(lines.len(), 50 + 1 + 1, "{}", lines[..5].join("\n"));
+    assert!(lines[..50].iter().all(|l| l.starts_with(big_s)), "{stdout}");
+    assert!(lines[0].contains(":2:1: warning: line without `=`: MOOS ignores this line"));
+    assert!(lines.contains(&format!("{small_s}:1:1: warning: line without `=`: MOOS ignores this line: expected `key = value`, found `just text`").as_str()));
+    assert_eq!(
+        *lines.last().unwrap(),
+        format!(
+            "{big_s}: note: 4951 more findings not shown (1 error, 4950 warnings); \
+             --max-findings 0 shows them all"
+        )
+    );
+
+    let (_, stdout, _) = coug(&["check", big_s, "--max-findings", "3"]);
+    assert_eq!(stdout.lines().count(), 4, "{stdout}");
+    let (code, stdout, _) = coug(&["check", big_s, "--max-findings", "0"]);
+    assert_eq!(code, 1);
+    assert_eq!(stdout.lines().count(), 5001, "every finding, no summary");
+}
+
+#[test]
+fn check_accepts_a_goby_app_block_and_the_lines_moos_skips() {
+    let dir = scratch("goby");
+    std::fs::write(
+        dir.join("goby.moos"),
+        "ServerHost = localhost\nServerPort = 9000\nMIT Sailing Pavilion (use this one)\n\
+         ==================\n\
+         ProcessConfig = ANTLER\n{\n  Run = MOOSDB @ NewConsole = false\n  \
+         Run = pAcommsHandler @ NewConsole = false\n}\n\
+         ProcessConfig = pAcommsHandler\n{\n  common {\n    log: false\n  }\n  modem_id: 2\n  \
+         driver_cfg {\n    [micromodem.Config.reset_nvram]: true\n  }\n}\n\
+         ProcessConfig = uProcessWatch\n{\n  # Linux:\n  watch_all = true\n}\n",
+    )
+    .unwrap();
+    let f = dir.join("goby.moos");
+    let (code, stdout, _) = coug(&["check", f.to_str().unwrap()]);
+    assert_eq!(code, 0, "{stdout}");
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert_eq!(lines.len(), 3, "{stdout}");
+    for (line, text) in [
+        (3, "line without `="),
+        (4, "nothing before `="),
+        (22, "line without `="),
+    ] {
+        assert!(
+            lines.iter().any(|l| l.contains(&format!(":{line}:"))
+                && l.contains(&format!("warning: {text}"))
+                && l.contains("MOOS ignores this line")),
+            "line {line}: {stdout}"
+        );
+    }
+}
+
+#[test]
+fn check_does_not_warn_about_the_apps_own_runtime_macros() {
+    let dir = scratch("runtime-macros");
+    std::fs::write(
+        dir.join("m.moos"),
+        "Community = $(VNAME)\n\
+         ProcessConfig = uTimerScript\n{\n  \
+         randvar = varname=ANG, min=0, max=359, key=at_reset\n  \
+         event = var=GPS_UPDATE_RECEIVED, val=\"RCVD_$(COUNT)\", time=0.5\n  \
+         event = var=DRIFT, val=\"$(ANG),{$(7)*0.2}\", time=1\n  \
+         event = var=OWN, val=\"$(COUNT)_$(SHORE)\", time=2\n}\n\
+         ProcessConfig = pMarineViewer\n{\n  \
+         left_context[pt] = VIEW_POINT = x=$(XPOS),y=$(YPOS),label=$(VNAME)\n  \
+         button_one = DEPLOY # DEPLOY_ALL=true # STAMP=$(UTC)\n  \
+         button_two = GO # GO_$(XPOS)=true\n}\n\
+         ProcessConfig = pHelmIvP\n{\n  behaviors = m.bhv\n}\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("m.bhv"),
+        "initialize DEPLOY = false\n\
+         Behavior = BHV_Loiter\n{\n  condition = DEPLOY = true\n  \
+         endflag = LOITER_DONE = $[OSX],$[OSY]\n  endflag = PT = $(X),$(Y)\n  \
+         polygon = format=radial, x=$[OSX], y=$[OSY], radius=20, pts=8\n}\n",
+    )
+    .unwrap();
+    let m = dir.join("m.moos");
+    let m_s = m.to_str().unwrap();
+    let (code, stdout, _) = coug(&["check", m_s]);
+    assert_eq!(code, 0, "{stdout}");
+    let macros: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.contains("undefined macro"))
+        .collect();
+    // The nsplug macros: `$(VNAME)` in a global line, `$(SHORE)` after a runtime `$(COUNT)`
+    // (reported at its own column), and `$(XPOS)` in a button, which pMarineViewer does not
+    // expand.
+    assert_eq!(macros.len(), 3, "{stdout}");
+    assert!(
+        macros[0].starts_with(&format!("{m_s}:1:13: warning: undefined macro"))
+            && macros[0].ends_with("found `$(VNAME)`"),
+        "{stdout}"
+    );
+    assert!(
+        macros[1].starts_with(&format!("{m_s}:7:34: warning:"))
+            && macros[1].ends_with("found `$(SHORE)`"),
+        "{stdout}"
+    );
+    assert!(
+        macros[2].starts_with(&format!("{m_s}:13:24: warning:"))
+            && macros[2].ends_with("found `$(XPOS)`"),
+        "{stdout}"
+    );
+    assert!(!stdout.contains("OSX"), "{stdout}");
+}

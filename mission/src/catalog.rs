@@ -433,3 +433,148 @@ pub fn names_output_var(key: &str) -> bool {
     let k = param_name(key);
     (k.ends_with("_var") && k != "reset_var") || OUTPUT_VAR_PARAMS.contains(&k.as_str())
 }
+
+/// The programs whose `ProcessConfig` block coug reads line by line as MOOS `key = value`
+/// lines: the MOOS core and essentials, every app of MOOS-IvP's `ivp/src` (a2a9b716) and its
+/// deprecated apps. A block of any other program is kept (its `key = value` lines are
+/// entries) but its other lines are not reported: such programs may read their block
+/// themselves in another syntax (Goby's apps read protobuf text, `modem_id: 2`).
+pub const MOOS_CONFIG_APPS: &[&str] = &[
+    // MOOS core and essentials.
+    "ANTLER",
+    "MOOSDB",
+    "pAntler",
+    "pLogger",
+    "pMOOSBridge",
+    "pScheduler",
+    "pShare",
+    "iRemote",
+    "iRemoteLite",
+    "uMS",
+    "uPoke",
+    "uPlayBack",
+    // MOOS-IvP.
+    "iBlinkStick",
+    "iSay",
+    "pAutoPoke",
+    "pBasicContactMgr",
+    "pContactMgrV20",
+    "pDeadManPost",
+    "pEchoVar",
+    "pHelmIvP",
+    "pHostInfo",
+    "pMapMarkers",
+    "pMarinePID",
+    "pMarinePIDV22",
+    "pMarineViewer",
+    "pMissionEval",
+    "pMissionHash",
+    "pNodeReporter",
+    "pObstacleMgr",
+    "pRealm",
+    "pSearchGrid",
+    "pSpoofNode",
+    "pXRelay",
+    "uCommand",
+    "uFldBeaconRangeSensor",
+    "uFldCollObDetect",
+    "uFldCollisionDetect",
+    "uFldContactRangeSensor",
+    "uFldDelve",
+    "uFldGenericSensor",
+    "uFldMessageHandler",
+    "uFldNodeBroker",
+    "uFldNodeComms",
+    "uFldObstacleSim",
+    "uFldPathCheck",
+    "uFldScope",
+    "uFldShoreBroker",
+    "uFunctionVis",
+    "uHelmScope",
+    "uLoadWatch",
+    "uMAC",
+    "uMACView",
+    "uMayFinish",
+    "uMemWatch",
+    "uPlotViewer",
+    "uPokeDB",
+    "uProcessWatch",
+    "uQueryDB",
+    "uSimMarine",
+    "uSimMarineV22",
+    "uSimMarineV23",
+    "uTermCommand",
+    "uTimerScript",
+    "uXMS",
+];
+
+/// Whether coug reads the block of program `app` (a base name, case-insensitive) line by
+/// line; see [`MOOS_CONFIG_APPS`].
+///
+/// ```
+/// assert!(mission::catalog::reads_moos_config("uTimerScript"));
+/// assert!(mission::catalog::reads_moos_config("phelmivp"));
+/// assert!(!mission::catalog::reads_moos_config("pAcommsHandler"));
+/// ```
+pub fn reads_moos_config(app: &str) -> bool {
+    MOOS_CONFIG_APPS.iter().any(|a| a.eq_ignore_ascii_case(app))
+}
+
+/// The `$(NAME)` macros uTimerScript expands itself in its event values (MOOS-IvP a2a9b716
+/// `TS_MOOSApp`), besides `$(1)`..`$(20)` and the names of its `rand_var`/`rand_pair`s.
+pub const TIMER_SCRIPT_MACROS: &[&str] = &[
+    "DBTIME", "UTCTIME", "UTC", "COUNT", "TCOUNT", "NAV_X", "NAV_Y", "IDX",
+];
+
+/// The `$(NAME)` macros pMarineViewer expands itself when a mouse click posts a
+/// `left_context`/`right_context` pair (MOOS-IvP a2a9b716 `PMV_Viewer`).
+pub const VIEWER_CLICK_MACROS: &[&str] = &[
+    "XPOS",
+    "X",
+    "YPOS",
+    "Y",
+    "IX",
+    "BIX",
+    "UTC",
+    "LAT",
+    "LON",
+    "HDG",
+    "VNAME",
+    "UP_VNAME",
+    "VNAME_CLOSEST",
+    "UP_VNAME_CLOSEST",
+];
+
+/// The `$(NAME)` macros pMarineViewer expands itself in a button or action posting.
+pub const VIEWER_BUTTON_MACROS: &[&str] = &["UTC", "BIX"];
+
+/// Whether `$(name)` in the value of parameter `key` of a block of program `app` is a macro
+/// the app expands at run time (not an nsplug macro). `block_vars` are the names the block
+/// itself declares as random variables (uTimerScript's `rand_var = varname=ANG, ...`).
+///
+/// ```
+/// use mission::catalog::is_runtime_macro;
+/// assert!(is_runtime_macro("uTimerScript", "event", "COUNT", &[]));
+/// assert!(is_runtime_macro("uTimerScript", "event", "7", &[]));
+/// assert!(is_runtime_macro("uTimerScript", "event", "ANG", &["ANG".into()]));
+/// assert!(is_runtime_macro("pMarineViewer", "left_context[pt]", "XPOS", &[]));
+/// assert!(!is_runtime_macro("pMarineViewer", "button_one", "XPOS", &[]));
+/// assert!(!is_runtime_macro("pNodeReporter", "platform_type", "COUNT", &[]));
+/// ```
+pub fn is_runtime_macro(app: &str, key: &str, name: &str, block_vars: &[String]) -> bool {
+    let k = key.to_ascii_lowercase();
+    if app.eq_ignore_ascii_case("uTimerScript") {
+        TIMER_SCRIPT_MACROS.contains(&name)
+            || name.parse::<u32>().is_ok_and(|n| (1..=20).contains(&n))
+            || block_vars.iter().any(|v| v == name)
+    } else if app.eq_ignore_ascii_case("pMarineViewer") {
+        if k.starts_with("left_context") || k.starts_with("right_context") {
+            VIEWER_CLICK_MACROS.contains(&name)
+        } else {
+            (k.starts_with("button") || k.starts_with("action"))
+                && VIEWER_BUTTON_MACROS.contains(&name)
+        }
+    } else {
+        false
+    }
+}

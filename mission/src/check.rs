@@ -9,6 +9,12 @@
 //! - a behaviour condition testing a mode variable for a value no `set` block gives
 //!   (`MODE == SURVEYNG`; warning).
 //!
+//! nsplug's undefined-macro warnings are kept only for macros nsplug should have expanded: a
+//! `$(NAME)` that the line's program expands itself at run time (uTimerScript's `$(COUNT)` and
+//! random variables, pMarineViewer's click macros `$(XPOS)`, the helm's flag macros; see
+//! [`catalog::is_runtime_macro`]) is not reported. The helm's `$[NAME]` is never an nsplug
+//! macro.
+//!
 //! A `.moos` file's pHelmIvP `behaviors = FILE` entries are checked too (resolved beside the
 //! `.moos` file) unless they were named on the command line already. Variables posted by the
 //! `.moos` processes (`VAR=value` pairs in their parameters, e.g. pMarineViewer buttons or
@@ -23,16 +29,18 @@
 //!     "a.bhv:3:3: error: unknown parameter `sped` for BHV_Loiter (did you mean `speed`?)");
 //! ```
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
+use std::sync::Arc;
 
 use crate::bhv::{BehaviorFile, param_name, parse_bhv};
 use crate::catalog::{self, WELL_KNOWN_VARS};
 use crate::condition::{Condition, Operand, RelOp, moos_compat};
-use crate::diagnostic::{Diagnostic, DiagnosticKind};
-use crate::moos::{MissionFile, parse_moos};
-use crate::nsplug::{Options, preprocess};
-use crate::source::{FileSource, SourceMap, Span};
+use crate::diagnostic::{Diagnostic, DiagnosticKind, quote_found};
+use crate::moos::{MissionFile, ProcessConfig, parse_moos};
+use crate::nsplug::{Options, expand_macros, preprocess, unexpanded_macros};
+use crate::source::{FileSource, SourceMap, Span, column_of};
 
 /// A parsed file of a check run.
 enum Parsed {
@@ -78,25 +86,32 @@ pub fn check_files(fs: &dyn FileSource, paths: &[PathBuf], opts: &Options) -> Ve
             }
         };
         let bhv = is_bhv(&path);
-        for d in pre.diagnostics {
-            // `$(X)` in behaviour flags is a helm macro, expanded at run time, not by nsplug.
-            let helm_macro = bhv
-                && d.kind == DiagnosticKind::UndefinedMacro
-                && d.source_line.as_deref().is_some_and(|l| {
-                    let key = l.split('=').next().unwrap_or("");
-                    param_name(key.trim()).ends_with("flag")
-                });
-            if !helm_macro {
-                out.push(d);
-            }
-        }
         if bhv {
+            for d in pre.diagnostics {
+                // `$(X)` in behaviour flags is a helm macro, expanded at run time, not by nsplug.
+                let helm_macro = d.kind == DiagnosticKind::UndefinedMacro
+                    && d.source_line.as_deref().is_some_and(|l| {
+                        let key = l.split('=').next().unwrap_or("");
+                        param_name(key.trim()).ends_with("flag")
+                    });
+                if !helm_macro {
+                    out.push(d);
+                }
+            }
             let p = parse_bhv(&pre.source);
             out.extend(p.diagnostics);
             parsed.push(Parsed::Bhv(p.value));
             sources.push(pre.source);
         } else {
             let p = parse_moos(&pre.source);
+            let lines = entry_lines(&p.value);
+            for mut d in pre.diagnostics {
+                if d.kind != DiagnosticKind::UndefinedMacro
+                    || nsplug_macro_left(&mut d, &lines, &pre.macros)
+                {
+                    out.push(d);
+                }
+            }
             out.extend(p.diagnostics);
             let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
             for helm in helm_blocks(&p.value) {
@@ -132,6 +147,77 @@ pub fn check_files(fs: &dyn FileSource, paths: &[PathBuf], opts: &Options) -> Ve
     }
     attach_source_lines(&mut out, &sources);
     out
+}
+
+/// Where each entry of a `.moos` file's blocks is: (file, line) -> the block's program, the
+/// key, and the random-variable names the block declares (uTimerScript's `rand_var`).
+type EntryLines = HashMap<(usize, u32), (String, String, Rc<Vec<String>>)>;
+
+fn entry_lines(m: &MissionFile) -> EntryLines {
+    let mut out = HashMap::new();
+    for block in &m.processes {
+        let program = m.program_of(block);
+        let vars = Rc::new(random_vars(block));
+        for e in &block.entries {
+            let at = (Arc::as_ptr(&e.span.file) as usize, e.span.line);
+            out.insert(at, (program.clone(), e.key.clone(), vars.clone()));
+        }
+    }
+    out
+}
+
+/// The names of uTimerScript's random variables (`rand_var = varname=ANG, min=0, max=359`
+/// and `rand_pair = varname1=X, varname2=Y, ...`), which its events use as `$(ANG)`.
+fn random_vars(block: &ProcessConfig) -> Vec<String> {
+    let specs = ["rand_var", "randvar", "rand_pair", "randpair"]
+        .into_iter()
+        .flat_map(|k| block.get_all(k));
+    let mut out = Vec::new();
+    for spec in specs {
+        for part in spec.split(',') {
+            if let Some((k, v)) = part.split_once('=')
+                && matches!(k.trim(), "varname" | "varname1" | "varname2")
+            {
+                out.push(v.trim().to_string());
+            }
+        }
+    }
+    out
+}
+
+/// Whether the undefined-macro warning `d` is about a macro nsplug should have expanded
+/// (else every macro left in the line is one that the line's program expands itself at run
+/// time: uTimerScript's `$(COUNT)`, pMarineViewer's `$(XPOS)`). When the line has both kinds,
+/// the warning is moved to the first nsplug macro.
+fn nsplug_macro_left(
+    d: &mut Diagnostic,
+    lines: &EntryLines,
+    macros: &HashMap<String, String>,
+) -> bool {
+    let at = (Arc::as_ptr(&d.span.file) as usize, d.span.line);
+    let (Some((program, key, vars)), Some(text)) = (lines.get(&at), d.source_line.as_deref())
+    else {
+        return true;
+    };
+    let (expanded, _) = expand_macros(text, macros);
+    let runtime = |m: &str| {
+        m.strip_prefix("$(")
+            .and_then(|r| r.strip_suffix(')'))
+            .is_some_and(|name| catalog::is_runtime_macro(program, key, name, vars))
+    };
+    let Some((_, first)) = unexpanded_macros(&expanded)
+        .into_iter()
+        .find(|(_, m)| !runtime(m))
+    else {
+        return false;
+    };
+    if d.found.as_deref() != Some(&quote_found(first))
+        && let Some(col) = text.find(first)
+    {
+        d.span = d.span.at_col(column_of(text, col));
+        d.found = Some(quote_found(first));
+    }
+    true
 }
 
 /// Conditions coug reads but pHelmIvP rejects (its behaviour or mode is then a fatal

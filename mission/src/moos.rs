@@ -14,13 +14,22 @@
 //! Lines starting with `<tag>` (section markers of nsplug plug files, see
 //! [`crate::nsplug`]) are skipped.
 //!
+//! As MOOS's own reader, lines it skips are read past: a line without `=` (free text, `#`
+//! lines), one with nothing before `=` (`=====` banners), a `{` or `}` outside a block. They
+//! are warnings outside blocks and in the blocks of the programs of
+//! [`crate::catalog::MOOS_CONFIG_APPS`], and not reported in other programs' blocks, which may
+//! hold their own syntax (Goby's protobuf text); braces nested in a block are balanced.
+//!
 //! Differences from MOOS's own reader, on purpose: [`MissionFile::global`] only looks at lines
 //! outside `ProcessConfig` blocks (MOOS scans the whole file), values keep their inner spaces,
-//! and `ProcessConfig = NAME {` with the brace on the same line is accepted (MOOS wants the
-//! `{` on the next line and would not find the block; coug warns).
+//! `ProcessConfig = NAME {` with the brace on the same line is accepted (MOOS wants the
+//! `{` on the next line and would not find the block; coug warns), and a `}` nested in a block
+//! closes its `{` (MOOS ends the block at the first `}`; coug warns when the program is one it
+//! knows).
 
 use std::fmt;
 
+use crate::catalog;
 use crate::diagnostic::{Diagnostic, DiagnosticKind, quote_found};
 use crate::source::{SourceLine, SourceMap, Span, column_of};
 use crate::{Param, Parsed, strip_comment};
@@ -140,6 +149,30 @@ impl MissionFile {
             .find(|p| p.name.eq_ignore_ascii_case(name))
     }
 
+    /// The program that reads `block`: the base name of the program of the ANTLER `Run` line
+    /// that gives it its MOOS name (`Run = uTimerScript @ NewConsole = false ~ uTS_2`), else
+    /// the block's own name.
+    ///
+    /// ```
+    /// use mission::source::SourceMap;
+    /// let text = "ProcessConfig = ANTLER\n{\n  Run = /opt/uTimerScript @ X = 1 ~ uTS_2\n}\n\
+    ///             ProcessConfig = uTS_2\n{\n}\nProcessConfig = pShare\n{\n}\n";
+    /// let m = mission::moos::parse_moos(&SourceMap::from_text("a.moos", text)).value;
+    /// assert_eq!(m.program_of(&m.processes[1]), "uTimerScript");
+    /// assert_eq!(m.program_of(&m.processes[2]), "pShare");
+    /// ```
+    pub fn program_of(&self, block: &ProcessConfig) -> String {
+        self.antler_runs()
+            .into_iter()
+            .find(|r| {
+                r.alias
+                    .as_deref()
+                    .is_some_and(|a| a.eq_ignore_ascii_case(&block.name))
+            })
+            .map(|r| r.app.rsplit('/').next().unwrap_or(&r.app).to_string())
+            .unwrap_or_else(|| block.name.clone())
+    }
+
     /// The `Run` lines of the ANTLER block, in file order (empty without an ANTLER block).
     pub fn antler_runs(&self) -> Vec<AntlerRun> {
         self.process("ANTLER")
@@ -198,17 +231,68 @@ pub(crate) fn split_param(text: &str) -> Option<(usize, &str, &str)> {
 struct Open {
     block: ProcessConfig,
     line: SourceLine,
+    /// Depth of `{ ... }` nested inside the block (Goby's protobuf text: `common {`).
+    depth: usize,
+}
+
+/// What MOOS's reader says about a line it skips, for a block's program or the global section.
+const SKIPPED: &str = "MOOS ignores this line";
+
+/// A finding and the index of its source line, to put findings back in file order.
+type Found = (usize, Diagnostic);
+
+/// `code` with the text between double quotes blanked out (braces and `=` in strings do not
+/// count).
+fn unquoted(code: &str) -> String {
+    let mut quoted = false;
+    code.chars()
+        .map(|c| {
+            if c == '"' {
+                quoted = !quoted;
+                c
+            } else if quoted {
+                ' '
+            } else {
+                c
+            }
+        })
+        .collect()
+}
+
+/// `{` minus `}` outside double quotes.
+fn brace_balance(code: &str) -> isize {
+    let u = unquoted(code);
+    let count = |ch| isize::try_from(u.matches(ch).count()).unwrap_or(isize::MAX);
+    count('{') - count('}')
+}
+
+/// Whether the whole line is one macro reference such as `$(NODE_OFFSETS_LIST)` (left by
+/// nsplug, which already reported it).
+fn is_lone_macro(trimmed: &str) -> bool {
+    (trimmed.starts_with("$(") || trimmed.starts_with("%("))
+        && trimmed.ends_with(')')
+        && trimmed[2..].find(')') == Some(trimmed.len() - 3)
 }
 
 /// Parses preprocessed `.moos` text. Never fails: what cannot be read is reported.
+///
+/// As MOOS's reader (`CMOOSFileReader`, `CProcessConfigReader`), a line without `=` or with
+/// nothing before it is skipped: outside a block and in the block of a program of
+/// [`catalog::MOOS_CONFIG_APPS`] it is a warning; in the block of another program it is not
+/// reported, since such programs may read their block in their own syntax. Braces nested in a
+/// block (`common {` ... `}`) are balanced and their lines are not entries. A `}` or `{` with
+/// no block is a warning. A block MOOS cannot find (no `{` after `ProcessConfig`, never
+/// closed) is an error: its program would run without its configuration.
 pub fn parse_moos(src: &SourceMap) -> Parsed<MissionFile> {
     let mut file = MissionFile::default();
-    let mut diags = Vec::new();
+    let mut diags: Vec<Found> = Vec::new();
+    // Findings about lines of a block, by block index: reported only for known programs.
+    let mut block_notes: Vec<(usize, Found)> = Vec::new();
     let mut open: Option<Open> = None;
     // A `ProcessConfig = X` line waiting for its `{`.
     let mut pending: Option<(ProcessConfig, SourceLine)> = None;
 
-    for line in src.lines() {
+    for (idx, line) in src.lines().iter().enumerate() {
         let raw = line.text.as_str();
         let code = strip_comment(raw);
         let trimmed = code.trim();
@@ -218,28 +302,37 @@ pub fn parse_moos(src: &SourceMap) -> Parsed<MissionFile> {
         }
         let indent = code.len() - code.trim_start().len();
         let at = |byte: usize| line.span(column_of(raw, byte));
+        // A skipped line: a note of the open block, else a finding of the global section.
+        let skip = |open: &Option<Open>,
+                    d: Diagnostic,
+                    diags: &mut Vec<Found>,
+                    notes: &mut Vec<(usize, Found)>| match open {
+            Some(_) => notes.push((file.processes.len(), (idx, d))),
+            None => diags.push((idx, d)),
+        };
 
         if let Some((header, hline)) = pending.take() {
             if let Some(rest) = trimmed.strip_prefix('{') {
                 open = Some(Open {
                     block: header,
                     line: hline,
+                    depth: 0,
                 });
                 if rest.trim().is_empty() {
                     continue;
                 }
                 // Text after the `{` is read as the first line of the block.
                 let off = code.find('{').map_or(indent, |p| p + 1);
-                read_block_line(
-                    &code[off..],
-                    off,
-                    line,
-                    open.as_mut().map(|o| &mut o.block),
-                    &mut diags,
-                );
+                if let Some(o) = open.as_mut() {
+                    match block_entry(&code[off..], off, line) {
+                        Ok(p) => o.block.entries.push(p),
+                        Err(d) => block_notes.push((file.processes.len(), (idx, d))),
+                    }
+                }
                 continue;
             }
-            diags.push(
+            diags.push((
+                idx,
                 Diagnostic::error(
                     DiagnosticKind::MissingOpenBrace,
                     at(indent),
@@ -251,71 +344,125 @@ pub fn parse_moos(src: &SourceMap) -> Parsed<MissionFile> {
                 .expected("`{` on the next line")
                 .found(quote_found(trimmed))
                 .with_line(line),
-            );
+            ));
             // Recover as if the `{` had been there: the lines that follow are the block's.
             open = Some(Open {
                 block: header,
                 line: hline,
+                depth: 0,
             });
+        }
+
+        let balance = brace_balance(code);
+        let header =
+            split_param(code).is_some_and(|(_, k, _)| k.eq_ignore_ascii_case("ProcessConfig"));
+
+        // Inside braces nested in a block: only the braces count, until the block's own `}`.
+        if let Some(o) = open.as_mut().filter(|o| o.depth > 0 && !header) {
+            let depth = isize::try_from(o.depth).unwrap_or(isize::MAX) + balance;
+            if depth >= 0 {
+                o.depth = usize::try_from(depth).unwrap_or(0);
+                continue;
+            }
+            // More `}` than the nesting: the last one closes the block.
+            o.depth = 0;
+            if let Some(o) = open.take() {
+                file.processes.push(o.block);
+            }
+            continue;
         }
 
         if trimmed.starts_with('}') {
             match open.take() {
                 Some(o) => file.processes.push(o.block),
-                None => diags.push(
-                    Diagnostic::error(
+                None => diags.push((
+                    idx,
+                    Diagnostic::warning(
                         DiagnosticKind::UnexpectedCloseBrace,
                         at(indent),
-                        "`}` without an open block",
+                        format!("`}}` without an open block: {SKIPPED}"),
                     )
                     .expected("a `ProcessConfig = NAME` line and `{` before it")
                     .found("`}`")
                     .with_line(line),
-                ),
+                )),
             }
             continue;
         }
 
+        // A line that opens braces of its own in a block (`common {`, or `{` alone): nested.
+        let has_eq = unquoted(code).contains('=');
+        if let Some(o) = open.as_mut().filter(|_| balance > 0 && !has_eq) {
+            o.depth = usize::try_from(balance).unwrap_or(0);
+            block_notes.push((
+                file.processes.len(),
+                (
+                    idx,
+                    Diagnostic::warning(
+                        DiagnosticKind::UnexpectedLine,
+                        at(indent),
+                        format!(
+                            "`{{` nested in the block of {}: MOOS does not nest blocks, it \
+                             ignores this line and ends the block at the next `}}` (coug \
+                             skips to the matching `}}`)",
+                            o.block.name
+                        ),
+                    )
+                    .expected("`key = value`")
+                    .found(quote_found(trimmed))
+                    .with_line(line),
+                ),
+            ));
+            continue;
+        }
+
         if trimmed.starts_with('{') {
-            diags.push(
-                Diagnostic::error(
+            diags.push((
+                idx,
+                Diagnostic::warning(
                     DiagnosticKind::UnexpectedLine,
                     at(indent),
-                    "`{` without a `ProcessConfig = NAME` line before it",
+                    format!("`{{` without a `ProcessConfig = NAME` line before it: {SKIPPED}"),
                 )
                 .expected("`ProcessConfig = NAME` on the line before")
                 .found("`{`")
                 .with_line(line),
-            );
+            ));
             continue;
         }
 
         let Some((kstart, key, value)) = split_param(code) else {
-            diags.push(
-                Diagnostic::error(
-                    DiagnosticKind::MissingEquals,
-                    at(indent),
-                    "parameter line without `=`",
-                )
-                .expected("`key = value`")
-                .found(quote_found(trimmed))
-                .with_line(line),
-            );
+            // A line that is only a macro nsplug left: nsplug reported it already.
+            if !is_lone_macro(trimmed) {
+                skip(
+                    &open,
+                    missing_equals(trimmed, at(indent), line),
+                    &mut diags,
+                    &mut block_notes,
+                );
+            }
             continue;
         };
         if key.is_empty() {
-            diags.push(
-                Diagnostic::error(DiagnosticKind::EmptyKey, at(kstart), "nothing before `=`")
-                    .expected("a parameter name before `=`")
-                    .found(quote_found(trimmed))
-                    .with_line(line),
+            skip(
+                &open,
+                Diagnostic::warning(
+                    DiagnosticKind::EmptyKey,
+                    at(kstart),
+                    format!("nothing before `=`: {SKIPPED}"),
+                )
+                .expected("a parameter name before `=`")
+                .found(quote_found(trimmed))
+                .with_line(line),
+                &mut diags,
+                &mut block_notes,
             );
             continue;
         }
 
         if key.eq_ignore_ascii_case("ProcessConfig") {
             if let Some(o) = open.take() {
-                diags.push(unterminated(&o, line));
+                diags.push((idx, unterminated(&o, line)));
                 file.processes.push(o.block);
             }
             let (name, brace) = match value.strip_suffix('{') {
@@ -328,7 +475,8 @@ pub fn parse_moos(src: &SourceMap) -> Parsed<MissionFile> {
                 entries: Vec::new(),
             };
             if name.is_empty() {
-                diags.push(
+                diags.push((
+                    idx,
                     Diagnostic::error(
                         DiagnosticKind::UnexpectedLine,
                         at(code.find('=').map_or(kstart, |p| p + 1)),
@@ -337,10 +485,11 @@ pub fn parse_moos(src: &SourceMap) -> Parsed<MissionFile> {
                     .expected("a process name, e.g. `ProcessConfig = pHelmIvP`")
                     .found("end of line")
                     .with_line(line),
-                );
+                ));
             }
             if brace {
-                diags.push(
+                diags.push((
+                    idx,
                     Diagnostic::warning(
                         DiagnosticKind::MissingOpenBrace,
                         at(code.rfind('{').unwrap_or(kstart)),
@@ -348,10 +497,11 @@ pub fn parse_moos(src: &SourceMap) -> Parsed<MissionFile> {
                     )
                     .expected("`{` on its own line")
                     .with_line(line),
-                );
+                ));
                 open = Some(Open {
                     block,
                     line: line.clone(),
+                    depth: 0,
                 });
             } else {
                 pending = Some((block, line.clone()));
@@ -379,8 +529,10 @@ pub fn parse_moos(src: &SourceMap) -> Parsed<MissionFile> {
         }
     }
 
+    let end = src.lines().len();
     if let Some((header, hline)) = pending {
-        diags.push(
+        diags.push((
+            end,
             Diagnostic::error(
                 DiagnosticKind::MissingOpenBrace,
                 header.span.clone(),
@@ -389,7 +541,7 @@ pub fn parse_moos(src: &SourceMap) -> Parsed<MissionFile> {
             .expected("`{` on the next line")
             .found("end of file")
             .with_line(&hline),
-        );
+        ));
     }
     if let Some(o) = open {
         let d = Diagnostic::error(
@@ -400,13 +552,38 @@ pub fn parse_moos(src: &SourceMap) -> Parsed<MissionFile> {
         .expected("`}` before the end of the file")
         .found("end of file")
         .with_line(&o.line);
-        diags.push(d);
+        diags.push((end, d));
         file.processes.push(o.block);
     }
+
+    // The skipped lines of a block count only for programs that read MOOS `key = value` lines.
+    let known: Vec<bool> = file
+        .processes
+        .iter()
+        .map(|p| catalog::reads_moos_config(&file.program_of(p)))
+        .collect();
+    diags.extend(
+        block_notes
+            .into_iter()
+            .filter(|(b, _)| known.get(*b).copied().unwrap_or(false))
+            .map(|(_, found)| found),
+    );
+    diags.sort_by_key(|(i, _)| *i);
     Parsed {
         value: file,
-        diagnostics: diags,
+        diagnostics: diags.into_iter().map(|(_, d)| d).collect(),
     }
+}
+
+fn missing_equals(trimmed: &str, span: Span, line: &SourceLine) -> Diagnostic {
+    Diagnostic::warning(
+        DiagnosticKind::MissingEquals,
+        span,
+        format!("line without `=`: {SKIPPED}"),
+    )
+    .expected("`key = value`")
+    .found(quote_found(trimmed))
+    .with_line(line)
 }
 
 fn unterminated(o: &Open, next: &SourceLine) -> Diagnostic {
@@ -424,29 +601,14 @@ fn unterminated(o: &Open, next: &SourceLine) -> Diagnostic {
 }
 
 /// Reads text that follows a `{` on the same line as a block entry.
-fn read_block_line(
-    text: &str,
-    offset: usize,
-    line: &SourceLine,
-    block: Option<&mut ProcessConfig>,
-    diags: &mut Vec<Diagnostic>,
-) {
-    let Some(block) = block else { return };
+fn block_entry(text: &str, offset: usize, line: &SourceLine) -> Result<Param, Diagnostic> {
+    let span = |k: usize| line.span(column_of(&line.text, offset + k));
     match split_param(text) {
-        Some((k, key, value)) if !key.is_empty() => block.entries.push(Param {
+        Some((k, key, value)) if !key.is_empty() => Ok(Param {
             key: key.to_string(),
             value: value.to_string(),
-            span: line.span(column_of(&line.text, offset + k)),
+            span: span(k),
         }),
-        _ => diags.push(
-            Diagnostic::error(
-                DiagnosticKind::MissingEquals,
-                line.span(column_of(&line.text, offset)),
-                "parameter line without `=`",
-            )
-            .expected("`key = value`")
-            .found(quote_found(text.trim()))
-            .with_line(line),
-        ),
+        _ => Err(missing_equals(text.trim(), span(0), line)),
     }
 }

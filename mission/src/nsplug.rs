@@ -594,3 +594,20 @@ fn find_macro(s: &str) -> Option<(usize, usize)> {
     let len = s[at..].find(')').map_or(s.len() - at, |e| e + 1);
     Some((at, len))
 }
+
+/// Every `$(...)` and `%(...)` left in `s`, in order: byte offset and text (to the first `)`,
+/// or to the end of the line when unclosed).
+///
+/// ```
+/// let left = mission::nsplug::unexpanded_macros("x=$(XPOS),y=%(Y) $(Z");
+/// assert_eq!(left, vec![(2, "$(XPOS)"), (12, "%(Y)"), (17, "$(Z")]);
+/// ```
+pub fn unexpanded_macros(s: &str) -> Vec<(usize, &str)> {
+    let mut out = Vec::new();
+    let mut from = 0;
+    while let Some((at, len)) = find_macro(&s[from..]) {
+        out.push((from + at, &s[from + at..from + at + len]));
+        from += at + len;
+    }
+    out
+}

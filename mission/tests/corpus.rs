@@ -254,3 +254,40 @@ fn templates_expanded_with_their_macros_parse_and_check_clean() {
         problems.join("\n")
     );
 }
+
+/// The stock missions that are complete as written (no `#include`, not a `meta_`/`plug_`
+/// template) use `$(X)` only as the apps' own run-time macros (uTimerScript's `$(COUNT)` and
+/// random variables, pMarineViewer's `$(XPOS)`, the helm's flag macros): `coug check` warns
+/// about none of them.
+#[test]
+fn complete_stock_missions_get_no_warning_about_runtime_macros() {
+    let dir = corpus_dir();
+    let path = Path::new(SHARED).join("corpus/MACROS.txt");
+    let text = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    let mut checked = Vec::new();
+    let mut warned = Vec::new();
+    for l in text.lines().filter(|l| !l.starts_with('#')) {
+        let f: Vec<&str> = l.split('\t').collect();
+        let (Some(name), Some(&"includes=0"), Some(macros)) = (f.first(), f.get(1), f.get(2))
+        else {
+            continue;
+        };
+        let base = name.rsplit('/').next().unwrap_or(name);
+        if *macros == "macros=" || base.starts_with("meta_") || base.starts_with("plug") {
+            continue;
+        }
+        checked.push(name.to_string());
+        for d in check_files(&FsSource, &[dir.join(name)], &Options::new()) {
+            if d.kind == DiagnosticKind::UndefinedMacro {
+                warned.push(d.to_string());
+            }
+        }
+    }
+    println!(
+        "complete missions with run-time macros: {}",
+        checked.join(" ")
+    );
+    assert!(checked.len() >= 14, "{checked:?}");
+    assert!(warned.is_empty(), "{}", warned.join("\n"));
+}

@@ -49,10 +49,12 @@ fn moos_unterminated_block() {
 
 #[test]
 fn moos_extra_close_brace() {
+    // MOOS's reader skips a `}` that closes nothing: a warning, not an error.
     let d = only(moos_errors("ProcessConfig = A\n{\n  x = 1\n}\n  }\n"));
+    assert_eq!(d.severity, Severity::Warning);
     assert_eq!(
         d.to_string(),
-        "m.moos:5:3: error: `}` without an open block: expected a `ProcessConfig = NAME` line and `{` before it, found `}`"
+        "m.moos:5:3: warning: `}` without an open block: MOOS ignores this line: expected a `ProcessConfig = NAME` line and `{` before it, found `}`"
     );
     assert!(
         d.render().ends_with("  5 |   }\n    |   ^"),
@@ -63,10 +65,13 @@ fn moos_extra_close_brace() {
 
 #[test]
 fn moos_line_without_equals() {
-    let d = only(moos_errors("ProcessConfig = A\n{\n  AppTick 4\n}\n"));
+    // MOOS skips the line: a warning in the block of a program that reads `key = value`.
+    let d = only(moos_errors(
+        "ProcessConfig = pNodeReporter\n{\n  AppTick 4\n}\n",
+    ));
     assert_eq!(
         d.to_string(),
-        "m.moos:3:3: error: parameter line without `=`: expected `key = value`, found `AppTick 4`"
+        "m.moos:3:3: warning: line without `=`: MOOS ignores this line: expected `key = value`, found `AppTick 4`"
     );
     // A forgotten `{`: one error, and the lines are still read as the block's.
     let p = parse_moos(&SourceMap::from_text(

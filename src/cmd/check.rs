@@ -1,9 +1,11 @@
 //! `coug check FILE... [NAME=VALUE]...`: preprocess, parse and validate mission files.
 
+use std::collections::HashMap;
 use std::path::PathBuf;
 
 use clap::Args;
 use mission::check::check_files;
+use mission::diagnostic::Diagnostic;
 use mission::nsplug::Options;
 use mission::source::FsSource;
 
@@ -19,10 +21,35 @@ pub struct CheckArgs {
     /// Also print each finding's source line with a caret under the column.
     #[arg(long)]
     pub context: bool,
+    /// Most findings printed per file (with the files it includes); a summary line counts
+    /// the rest. 0 prints them all.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_FINDINGS)]
+    pub max_findings: usize,
 }
 
-/// Runs the check, prints one line per finding on stdout; returns the exit code:
-/// 1 if any finding is an error, 0 otherwise.
+/// Default of `--max-findings`.
+pub const DEFAULT_MAX_FINDINGS: usize = 50;
+
+/// The file named on the command line (or found through `behaviors =`) that a finding's
+/// file was included from, if it was.
+fn top_file(d: &Diagnostic) -> String {
+    let mut file = d.span.file.clone();
+    while let Some(site) = file.included_from.clone() {
+        file = site.file;
+    }
+    file.name.clone()
+}
+
+/// What was left out for one file: errors, warnings.
+#[derive(Default)]
+struct LeftOut {
+    errors: usize,
+    warnings: usize,
+}
+
+/// Runs the check, prints one line per finding on stdout (at most `--max-findings` per file,
+/// then one line counting the rest); returns the exit code: 1 if any finding is an error, left
+/// out or not, 0 otherwise.
 pub fn run(args: &CheckArgs) -> i32 {
     let mut opts = Options::new();
     opts.include_paths = args.include_paths.clone();
@@ -39,12 +66,48 @@ pub fn run(args: &CheckArgs) -> i32 {
         return 2;
     }
     let findings = check_files(&FsSource, &files, &opts);
+    let mut shown: HashMap<String, usize> = HashMap::new();
+    let mut left: Vec<(String, LeftOut)> = Vec::new();
     for f in &findings {
-        if args.context {
-            outln!("{}", f.render());
+        let file = top_file(f);
+        let n = shown.entry(file.clone()).or_default();
+        if args.max_findings == 0 || *n < args.max_findings {
+            *n += 1;
+            if args.context {
+                outln!("{}", f.render());
+            } else {
+                outln!("{f}");
+            }
+            continue;
+        }
+        let i = match left.iter().position(|(name, _)| *name == file) {
+            Some(i) => i,
+            None => {
+                left.push((file, LeftOut::default()));
+                left.len() - 1
+            }
+        };
+        if f.is_error() {
+            left[i].1.errors += 1;
         } else {
-            outln!("{f}");
+            left[i].1.warnings += 1;
         }
     }
+    for (file, l) in &left {
+        let n = l.errors + l.warnings;
+        outln!(
+            "{file}: note: {n} more finding{} not shown ({} error{}, {} warning{}); \
+             --max-findings 0 shows them all",
+            plural(n),
+            l.errors,
+            plural(l.errors),
+            l.warnings,
+            plural(l.warnings)
+        );
+    }
     i32::from(findings.iter().any(|f| f.is_error()))
+}
+
+fn plural(n: usize) -> &'static str {
+    if n == 1 { "" } else { "s" }
 }

@@ -911,3 +911,39 @@ fn realtime(
         Ok(finish(args, &ended, Some(&alog_path)))
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn write(name: &str, text: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("coug-run-load-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let path = dir.join(name);
+        std::fs::write(&path, text).expect("write mission");
+        path
+    }
+
+    #[test]
+    fn lines_moos_skips_are_skipped_but_blocks_moos_cannot_find_stop_the_run() {
+        // Free text, a banner and a `#` line: MOOS ignores them, and so does the run.
+        let ok = write(
+            "skips.moos",
+            "ServerPort = 9000\nMIT Sailing Pavilion (use this one)\n=====\n\
+             ProcessConfig = ANTLER\n{\n  # Linux:\n  Run = MOOSDB @ NewConsole = false\n}\n",
+        );
+        let loaded = load(&ok, &[], &[]).unwrap_or_else(|e| panic!("{e:?}"));
+        assert_eq!(loaded.mission.antler_runs().len(), 1);
+        assert_eq!(loaded.mission.global("ServerPort"), Some("9000"));
+        // A block without its `{`: the app would run without its configuration.
+        let bad = write(
+            "nobrace.moos",
+            "ServerPort = 9000\nProcessConfig = ANTLER\n  Run = MOOSDB\n}\n",
+        );
+        let errors = load(&bad, &[], &[]).err().expect("refused");
+        assert!(
+            errors[0].contains("is not followed by its block"),
+            "{errors:?}"
+        );
+    }
+}
