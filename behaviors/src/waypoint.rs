@@ -267,6 +267,13 @@ impl Default for Waypoint {
     }
 }
 
+/// The behaviour's own macros (see [`Behavior::macro_value`]).
+const MACROS: [&str; 25] = [
+    "POINTS", "SPEED", "SPEED_ALT", "USE_SPEED_ALT", "IPF_TYPE", "WPT_FLAG_ON_START",
+    "LEAD_TO_START", "LEAD_DAMPER", "ORDER", "NI", "NX", "NY", "PI", "PX", "PY", "X", "Y", "IX",
+    "CYCLES", "CYCREM", "WPTS_HIT", "WPTS_REM", "WPTS", "CYC_DIST_TOGO", "ALL_DIST_TOGO",
+];
+
 /// The integer prefix of a number, as C's `atoi` reads it.
 fn atoi(s: &str) -> i64 {
     let t = s.trim_start();
@@ -626,6 +633,26 @@ impl Waypoint {
         self.set_seglist(SegList::from_points(tour));
     }
 
+    /// `f` with this behaviour's macros expanded now (the C++ expands them when the flag is
+    /// posted, mid-iteration); the helm expands the rest.
+    fn flag_now(&self, f: &Flag) -> Flag {
+        let mut f = f.clone();
+        if let crate::common::FlagValue::Str(s) = &mut f.value
+            && s.contains(['[', '('])
+        {
+            for m in MACROS {
+                for pat in [format!("$[{m}]"), format!("$({m})")] {
+                    if s.contains(&pat) {
+                        let mut v = String::new();
+                        self.macro_value(m, &mut v);
+                        *s = s.replace(&pat, &v);
+                    }
+                }
+            }
+        }
+        f
+    }
+
     fn lead_allowed(&self, ctx: &Ctx<'_>) -> bool {
         self.lead_conditions.iter().all(|c| {
             c.evaluate(&|n: &str| match ctx.info.text(n) {
@@ -666,7 +693,7 @@ impl Waypoint {
                 );
             }
             for f in &self.cycle_flags {
-                out.flag(f, true);
+                out.flag(&self.flag_now(f), true);
             }
         }
         if step == Step::Completed {
@@ -1441,7 +1468,7 @@ impl Behavior for Waypoint {
             }
             // Not repeatable: the helm's duplicate filter applies, as in the C++.
             for f in &self.wpt_flags {
-                out.flag(f, false);
+                out.flag(&self.flag_now(f), false);
             }
             self.wpt_flag_published = true;
         }
