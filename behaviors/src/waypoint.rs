@@ -269,9 +269,31 @@ impl Default for Waypoint {
 
 /// The behaviour's own macros (see [`Behavior::macro_value`]).
 const MACROS: [&str; 25] = [
-    "POINTS", "SPEED", "SPEED_ALT", "USE_SPEED_ALT", "IPF_TYPE", "WPT_FLAG_ON_START",
-    "LEAD_TO_START", "LEAD_DAMPER", "ORDER", "NI", "NX", "NY", "PI", "PX", "PY", "X", "Y", "IX",
-    "CYCLES", "CYCREM", "WPTS_HIT", "WPTS_REM", "WPTS", "CYC_DIST_TOGO", "ALL_DIST_TOGO",
+    "POINTS",
+    "SPEED",
+    "SPEED_ALT",
+    "USE_SPEED_ALT",
+    "IPF_TYPE",
+    "WPT_FLAG_ON_START",
+    "LEAD_TO_START",
+    "LEAD_DAMPER",
+    "ORDER",
+    "NI",
+    "NX",
+    "NY",
+    "PI",
+    "PX",
+    "PY",
+    "X",
+    "Y",
+    "IX",
+    "CYCLES",
+    "CYCREM",
+    "WPTS_HIT",
+    "WPTS_REM",
+    "WPTS",
+    "CYC_DIST_TOGO",
+    "ALL_DIST_TOGO",
 ];
 
 /// The integer prefix of a number, as C's `atoi` reads it.
@@ -1213,8 +1235,8 @@ impl Behavior for Waypoint {
             "currix" if atof(v) >= 0.0 => self.set_curr_index(atof(v) as usize),
             "greedy_tour" | "shortest_tour" => {
                 // The C++ ignores a value that is not a boolean.
-                self.greedy_pending = moos_boolean(param, v, self.greedy_pending)
-                    .unwrap_or(self.greedy_pending);
+                self.greedy_pending =
+                    moos_boolean(param, v, self.greedy_pending).unwrap_or(self.greedy_pending);
             }
             "draw_path_loop" => self.draw_path_loop = moos_boolean(param, v, self.draw_path_loop)?,
             "use_alt_speed" => {

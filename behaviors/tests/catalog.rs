@@ -40,7 +40,10 @@ fn catalog_parameters_are_known() {
             "visual_hints" => "vertex_size=3",
             "cycleflag" | "wptflag" | "lead_condition" => "A = 1",
             "end_spd" => "slow_dist=10,stop_dist=1",
-            "greedy_tour" | "shortest_tour" | "reset_on_idle" | "draw_path_loop"
+            "greedy_tour"
+            | "shortest_tour"
+            | "reset_on_idle"
+            | "draw_path_loop"
             | "eager_prev_index_flag" => "true",
             "clockwise" => "true",
             "center_assign" => "5,5",

@@ -57,7 +57,11 @@ fn is_bad(r: Result<(), ParamError>) -> bool {
 
 #[test]
 fn newpt_appends_in_normal_order_and_is_ignored_when_reversed() {
-    let mut b = wpt(&[("points", "0,10:0,20"), ("radius", "2"), ("slip_radius", "0")]);
+    let mut b = wpt(&[
+        ("points", "0,10:0,20"),
+        ("radius", "2"),
+        ("slip_radius", "0"),
+    ]);
     b.set("newpt", "0,30").unwrap();
     b.set("newpt", "x=5,y=30").unwrap();
     assert!(is_bad(b.set("newpt", "nowhere")));
@@ -186,7 +190,11 @@ fn crs_spd_zaic_ratio_splits_the_function_between_course_and_speed() {
     // function's lowest value is at speed 0 (and 4). OF_Coupler scales the course function
     // to [0, ratio] and the speed function to [0, 100 - ratio]: at course 90 and speed 0 the
     // value is the ratio itself.
-    for (param, ratio) in [("crs_spd_zaic_ratio", 80.0), ("patience", 30.0), ("patience", 50.0)] {
+    for (param, ratio) in [
+        ("crs_spd_zaic_ratio", 80.0),
+        ("patience", 30.0),
+        ("patience", 50.0),
+    ] {
         let r = ratio.to_string();
         let mut b = wpt(&[("points", "100,0"), ("speed", "2"), (param, r.as_str())]);
         let (f, _) = run_at(&mut b, 0.0, 0.0, 0.0, 90.0);
@@ -198,13 +206,20 @@ fn crs_spd_zaic_ratio_splits_the_function_between_course_and_speed() {
     // A speed-only competitor at weight 40 asking for speed 0: with 80% on course the
     // waypoint's speed share (20) loses; with 20% on course (speed share 80) it wins.
     for (ratio, want) in [("80", 0.0), ("20", 2.0)] {
-        let mut b = wpt(&[("points", "100,0"), ("speed", "2"), ("crs_spd_zaic_ratio", ratio)]);
+        let mut b = wpt(&[
+            ("points", "100,0"),
+            ("speed", "2"),
+            ("crs_spd_zaic_ratio", ratio),
+        ]);
         let (f, _) = run_at(&mut b, 0.0, 0.0, 0.0, 90.0);
         let mut stop = ivp::ZaicPeak::new(&b.domain, "speed").unwrap();
         stop.set_params(0.0, 0.0, 2.0, 0.0, 0.0, 100.0).unwrap();
         let d = decide(
             &b.domain,
-            &[("wpt", f.unwrap(), 100.0), ("stop", stop.extract().unwrap(), 40.0)],
+            &[
+                ("wpt", f.unwrap(), 100.0),
+                ("stop", stop.extract().unwrap(), 40.0),
+            ],
         );
         assert_eq!(d.get("speed"), Some(want), "ratio {ratio}");
         assert_eq!(d.get("course"), Some(90.0));
@@ -223,7 +238,11 @@ fn crs_spd_zaic_ratio_splits_the_function_between_course_and_speed() {
 fn ipf_type_zaic_spd_shapes_the_speed_function() {
     // ZAIC_SPD(med 2, low 0.1, high 2.4, low util 70, high util 20), 0 at the domain ends:
     // with half the function on speed, at course 90 the value is 50 + speed utility / 2.
-    let mut b = wpt(&[("points", "100,0"), ("speed", "2"), ("ipf-type", "ZAIC_SPD")]);
+    let mut b = wpt(&[
+        ("points", "100,0"),
+        ("speed", "2"),
+        ("ipf-type", "ZAIC_SPD"),
+    ]);
     assert_eq!(macro_of(&b, "IPF_TYPE"), "zaic_spd");
     let (f, _) = run_at(&mut b, 0.0, 0.0, 0.0, 90.0);
     let f = f.unwrap();
@@ -255,7 +274,10 @@ fn visual_hints_draw_the_route_and_points() {
             "visual_hints",
             "nextpt_color=red, nextpt_lcolor=green, nextpt_vertex_size=8, vertex_color=orange",
         ),
-        ("visual_hints", "edge_size=2,vertex_size=-1,label_color=gray50,foo=3"),
+        (
+            "visual_hints",
+            "edge_size=2,vertex_size=-1,label_color=gray50,foo=3",
+        ),
     ]);
     run_at(&mut b, 0.0, 0.0, 0.0, 0.0);
     // 50 m along the leg with lead 10: the track point is 10 m ahead of the next point's
@@ -315,7 +337,11 @@ fn visual_hints_draw_the_route_and_points() {
         &mut Out::default(),
     );
     let (_, out) = run_at(&mut b, 0.0, 0.0, 50.0, 0.0);
-    assert!(text(&out, "VIEW_SEGLIST").unwrap().ends_with(",edge_size=4"));
+    assert!(
+        text(&out, "VIEW_SEGLIST")
+            .unwrap()
+            .ends_with(",edge_size=4")
+    );
 }
 
 #[test]
@@ -345,10 +371,7 @@ fn draw_path_loop_draws_a_convex_route_as_a_polygon() {
     );
 
     // A route that is not a convex polygon is not drawn as one; nor without the flag.
-    let mut b = wpt(&[
-        ("points", "0,0:10,10:0,10:10,0"),
-        ("draw_path_loop", "yes"),
-    ]);
+    let mut b = wpt(&[("points", "0,0:10,10:0,10:10,0"), ("draw_path_loop", "yes")]);
     let (_, out) = run_at(&mut b, 0.0, 5.0, -20.0, 0.0);
     assert_eq!(posted(&out, "VIEW_POLYGON"), None);
     b.set("draw_path_loop", "toggle").unwrap();
@@ -432,8 +455,13 @@ fn bhv_settings_after_configuration_and_updates() {
 
     // After an update the C++ posts it twice (checkUpdates, then onSetParamComplete).
     let mut b = wpt(&[("points", "5,5"), ("order", "reverse"), ("repeat", "3")]);
-    let s = posted_all(&b.configured, "BHV_SETTINGS")[0].as_str().unwrap();
-    assert!(s.contains(",order=reverse,repeats=3,") && s.ends_with(",slip_radius=15,crs_spd_zaic_ratio=50"));
+    let s = posted_all(&b.configured, "BHV_SETTINGS")[0]
+        .as_str()
+        .unwrap();
+    assert!(
+        s.contains(",order=reverse,repeats=3,")
+            && s.ends_with(",slip_radius=15,crs_spd_zaic_ratio=50")
+    );
     assert_eq!(
         posted_all(&b.configured, "BHV_WARNING")[0].as_str(),
         Some("wpt: cycles/repeats not supported with single waypt")
@@ -465,7 +493,11 @@ fn bhv_settings_after_configuration_and_updates() {
 #[test]
 fn waypt_upiece_is_never_posted() {
     // The C++ WAYPT_UPIECE posting is commented out (roc branch); nothing posts it.
-    let mut b = wpt(&[("points", "0,10:0,20"), ("radius", "2"), ("efficiency_measure", "all")]);
+    let mut b = wpt(&[
+        ("points", "0,10:0,20"),
+        ("radius", "2"),
+        ("efficiency_measure", "all"),
+    ]);
     for (t, y) in [(0.0, 0.0), (1.0, 9.0), (2.0, 19.0)] {
         let (_, out) = run_at(&mut b, t, 0.0, y, 0.0);
         assert_eq!(posted(&out, "WAYPT_UPIECE"), None);
@@ -525,7 +557,12 @@ fn moos_number_and_boolean_reads() {
     assert_eq!(macro_of(&b, "USE_SPEED_ALT"), "0");
     // end_spd needs both distances, stop <= slow.
     b.set("end_spd", "slow_dist=10,stop_dist=10").unwrap();
-    for bad in ["slow_dist=10", "slow_dist=0,stop_dist=0", "stop_dist=5,slow_dist=4", "SLOW_DIST=10,stop_dist=1"] {
+    for bad in [
+        "slow_dist=10",
+        "slow_dist=0,stop_dist=0",
+        "stop_dist=5,slow_dist=4",
+        "SLOW_DIST=10,stop_dist=1",
+    ] {
         assert!(is_bad(b.set("end_spd", bad)), "{bad}");
     }
 }
@@ -544,6 +581,76 @@ fn end_spd_tapers_along_the_rest_of_the_route() {
     let (f, _) = run_at(&mut b, 1.0, 0.0, 10.0, 0.0);
     let d = decide(&b.domain, &[("wpt", f.unwrap(), 100.0)]);
     assert_eq!(d.get("course"), Some(0.0));
-    assert!((d.get("speed").unwrap() - 1.3).abs() < 1e-9, "{:?}", d.get("speed"));
+    assert!(
+        (d.get("speed").unwrap() - 1.3).abs() < 1e-9,
+        "{:?}",
+        d.get("speed")
+    );
     assert_eq!(macro_of(&b, "ALL_DIST_TOGO"), "30");
+}
+
+#[test]
+fn aliases_toggles_and_clipping() {
+    // speed clips to the domain (0..4).
+    let mut b = wpt(&[("points", "0,10:0,20"), ("speed", "9")]);
+    assert_eq!(macro_of(&b, "SPEED"), "4");
+    // order toggle flips and restarts at index 0.
+    b.set("currix", "1").unwrap();
+    b.set("order", "toggle").unwrap();
+    assert_eq!(
+        (macro_of(&b, "ORDER"), macro_of(&b, "NI")),
+        ("reverse".into(), "0".into())
+    );
+    assert_eq!(macro_of(&b, "POINTS"), "pts={0,20:0,10}");
+    b.set("order", "toggle").unwrap();
+    assert_eq!(macro_of(&b, "ORDER"), "normal");
+
+    // wpt_status_var is wpt_status; silent turns the report off.
+    let mut b = wpt(&[("points", "0,10"), ("wpt_status_var", "MY_STAT")]);
+    let (_, out) = run_at(&mut b, 0.0, 0.0, 0.0, 0.0);
+    assert_eq!(
+        text(&out, "MY_STAT"),
+        Some("vname=abe,behavior-name=wpt,index=0,hits=0/0,cycles=0,dist=10,eta=10")
+    );
+    b.set("wpt_status", "Silent").unwrap();
+    let (_, out) = run_at(&mut b, 1.0, 0.0, 1.0, 0.0);
+    assert!(posted(&out, "MY_STAT").is_none() && posted(&out, "WPT_STAT").is_none());
+
+    // nm_radius is slip_radius: leaving a point passed 10 m away counts as arrival.
+    let mut b = wpt(&[("points", "0,100:0,200"), ("nm_radius", "12")]);
+    run_at(&mut b, 0.0, 10.0, 90.0, 0.0);
+    run_at(&mut b, 1.0, 10.0, 100.0, 0.0);
+    run_at(&mut b, 2.0, 10.0, 102.0, 0.0);
+    assert_eq!(macro_of(&b, "NI"), "1");
+    let mut b = wpt(&[("points", "0,100:0,200"), ("nm_radius", "8")]);
+    run_at(&mut b, 0.0, 10.0, 90.0, 0.0);
+    run_at(&mut b, 1.0, 10.0, 100.0, 0.0);
+    run_at(&mut b, 2.0, 10.0, 102.0, 0.0);
+    assert_eq!(macro_of(&b, "NI"), "0");
+
+    // Several lead conditions must all hold.
+    let mut b = wpt(&[
+        ("points", "0,0:0,100"),
+        ("radius", "2"),
+        ("lead", "10"),
+        ("lead_condition", "A = 1"),
+        ("lead_condition", "B = 1"),
+    ]);
+    run_at(&mut b, 0.0, 0.0, 0.0, 0.0);
+    b.num("A", 1.0).num("B", 0.0);
+    let (_, out) = run_at(&mut b, 1.0, 3.0, 50.0, 0.0);
+    assert!(
+        posted_all(&out, "VIEW_POINT")[1]
+            .as_str()
+            .unwrap()
+            .contains("active=false")
+    );
+    b.num("B", 1.0);
+    let (_, out) = run_at(&mut b, 2.0, 3.0, 50.0, 0.0);
+    assert!(
+        posted_all(&out, "VIEW_POINT")[1]
+            .as_str()
+            .unwrap()
+            .starts_with("x=0,y=60,")
+    );
 }
