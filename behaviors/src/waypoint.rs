@@ -36,7 +36,8 @@
 //! | cycleflag, wptflag | | flag | none | `VAR=value` | yes | done |
 //! | wptflag_on_start | | MOOS boolean | false | | yes | done |
 //! | reset_on_idle | | MOOS boolean | false | | yes | done |
-//! | ipf_type | ipf-type | zaic, zaic_spd, roc, rate_of_closure | zaic | any value accepted, an unknown one ignored | yes | done: zaic, zaic_spd; refused: `roc`/`rate_of_closure` (MALCONFIG): needs the reflector's smart refinement (`RT_Smart`, `PQueue`, `RT_Evaluator`), which the ivp crate lacks |
+//! | ipf_type | ipf-type | zaic, zaic_spd | zaic | any case; any other value accepted and ignored | yes | done |
+//! | ipf_type = roc | rate_of_closure | | | | | refused: needs the reflector's smart refinement (`RT_Smart`, `PQueue`, `RT_Evaluator`) over `AOF_Waypoint`, which the ivp crate lacks (MALCONFIG) |
 //! | crs_spd_zaic_ratio | patience | % course | 50 | in [1, 99] | yes | done |
 //! | efficiency_measure | | all, off | off | any case | yes | done |
 //! | end_spd | | `slow_dist=..,stop_dist=..` | none | both given, slow > 0, stop >= 0, stop <= slow | yes | done |
