@@ -39,6 +39,7 @@
 #![warn(missing_docs)]
 
 mod behavior;
+pub mod color;
 mod common;
 mod constant_depth;
 mod constant_heading;

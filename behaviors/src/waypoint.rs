@@ -3,69 +3,77 @@
 //!
 //! # Conformance with BHV_Waypoint (MOOS-IvP a2a9b716)
 //!
+//! Numbers the C++ reads with `atof` (`radius`, `slip_radius`, `lead_damper`, `currix`,
+//! `crs_spd_zaic_ratio`) take the numeric prefix of the value (`"abc"` is 0); `repeat` reads
+//! the integer prefix of a number (`2.5` is 2). Booleans marked "MOOS boolean" take
+//! `true/false/yes/no/on/off/toggle` in any case.
+//!
 //! | parameter | aliases | type | default | validation (C++ rule) | runtime update | coug |
 //! |---|---|---|---|---|---|---|
-//! | points | polygon | seglist / polygon / pattern | none | any `string2SegList` form | yes | done |
-//! | xpoints | | points | | replaces a route of the same length | yes | done |
-//! | point | | point | | a single point | yes | done |
-//! | newpt | | point | | appends a point | yes | open: untested |
+//! | points | polygon, xpoints | seglist / polygon / pattern; `empty`, `start` | none | any `string2SegList` / `string2Poly` form, at least one point; `empty` and `start` only record the intent (the route is kept) | yes | done |
+//! | xpoints | | points | | same length as the route; keeps the index and the reported indices | yes | done |
+//! | point | | point; `empty`, `start` | | `string2Point`; `start`: the first known position (3 decimals) once the route is empty | yes | done |
+//! | newpt | | point | | `string2Point`; appended to the route, ignored (accepted) while the order is reversed | yes | done |
 //! | speed | | m/s | 0 | number >= 0, clipped to the domain | yes | done |
-//! | speed_alt | | m/s | | number | yes | done |
-//! | use_alt_speed | | bool | false | MOOS boolean | yes | done |
-//! | capture_radius | radius | m | 3 | number >= 0 | yes | done |
-//! | slip_radius | nm_radius | m | 15 | number >= 0 | yes | done |
-//! | capture_line | | bool / absolute | false | | yes | done |
-//! | lead | | m | −1 (off) | number | yes | done |
-//! | lead_damper | | m | −1 (off) | number | yes | done |
-//! | lead_to_start | | bool | false | MOOS boolean | yes | done |
-//! | lead_condition | | condition | none | | yes | done |
-//! | order | | normal, reverse, toggle | normal | | yes | done |
-//! | repeat | | integer or forever | 0 | | yes | done |
-//! | currix | | index | 0 | index within the route | yes | done |
-//! | greedy_tour | | bool | false | | yes | done |
-//! | shortest_tour | | bool | false | | yes | open: untested |
-//! | wpt_status | wpt_status_var | var | WPT_STAT | | yes | done (alias untested) |
-//! | wpt_index | wpt_index_var | var | WPT_INDEX | | yes | open: untested |
-//! | cycle_index_var | | var | CYCLE_INDEX | | yes | open: untested |
-//! | wpt_dist_to_prev, wpt_dist_to_next | | var | none | | yes | done |
-//! | post_suffix | | text | none | | yes | done |
+//! | speed_alt | | m/s | −1 (unused) | number >= 0 | yes | done |
+//! | use_alt_speed | | MOOS boolean | false | any value accepted, a bad one ignored | yes | done |
+//! | capture_radius | radius | m | 3 | > 0 | yes | done |
+//! | slip_radius | nm_radius | m | 15 | >= 0 | yes | done |
+//! | capture_line | | true, false, absolute | false | `absolute` also zeroes both radii | yes | done |
+//! | lead | | m | −1 (off) | number; <= 0 turns it off | yes | done |
+//! | lead_damper | | m | −1 (off) | > 0 | yes | done |
+//! | lead_to_start | | MOOS boolean | false | | yes | done |
+//! | lead_condition | | condition | none | logic condition (`,` read as `=`); several must all hold | yes | done |
+//! | order | | normal, reverse(d), toggle | normal | exact lower case | yes | done |
+//! | repeat | | integer or `forever` | 0 | number >= 0; > 0 or `forever` makes the behaviour perpetual | yes | done |
+//! | currix | | index | 0 | >= 0; an index past the route is accepted and ignored | yes | done |
+//! | greedy_tour | shortest_tour | MOOS boolean | false | any value accepted, a bad one ignored; the route is reordered nearest-first from the next known position (then reversed again if the order is reversed) | yes | done |
+//! | wpt_status | wpt_status_var | var or `silent` | WPT_STAT | non-empty, no white space | yes | done |
+//! | wpt_index | wpt_index_var | var or `silent` | WPT_INDEX | non-empty, no white space | yes | done |
+//! | cycle_index_var | | var or `silent` | CYCLE_INDEX | non-empty, no white space | yes | done |
+//! | wpt_dist_to_prev, wpt_dist_to_next | | var, empty or `silent` (off) | off | no white space | yes | done |
+//! | post_suffix | | text | none | no white space; `_` prepended | yes | done |
 //! | cycleflag, wptflag | | flag | none | `VAR=value` | yes | done |
-//! | wptflag_on_start | | bool | false | MOOS boolean | yes | done |
-//! | reset_on_idle | | bool | false | MOOS boolean | yes | done |
-//! | ipf_type | ipf-type | zaic, zaic_spd, roc | zaic | | yes | refused: `roc` (MALCONFIG); zaic/zaic_spd open: untested |
-//! | crs_spd_zaic_ratio | | 1..99 | 50 | | yes | open: untested |
-//! | patience | | 1..99 | 50 | | yes | done |
-//! | efficiency_measure | | all, off | off | | yes | done |
-//! | end_spd | | `slow_dist=..,stop_dist=..` | none | slow > stop >= 0 | yes | done |
-//! | visual_hints | | hints | | sizes, colours | yes | open: untested |
-//! | draw_path_loop | | bool | | | yes | refused: not supported yet (MALCONFIG) |
-//! | eager_prev_index_flag | | bool | false | | yes | refused: not supported yet (MALCONFIG) |
+//! | wptflag_on_start | | MOOS boolean | false | | yes | done |
+//! | reset_on_idle | | MOOS boolean | false | | yes | done |
+//! | ipf_type | ipf-type | zaic, zaic_spd | zaic | any case; any other value accepted and ignored | yes | done |
+//! | ipf_type = roc | rate_of_closure | | | | | refused: needs the reflector's smart refinement (`RT_Smart`, `PQueue`, `RT_Evaluator`) over `AOF_Waypoint`, which the ivp crate lacks (MALCONFIG) |
+//! | crs_spd_zaic_ratio | patience | % course | 50 | in [1, 99] | yes | done |
+//! | efficiency_measure | | all, off | off | any case | yes | done |
+//! | end_spd | | `slow_dist=..,stop_dist=..` | none | both given, slow > 0, stop >= 0, stop <= slow | yes | done |
+//! | visual_hints | | hints | see [`Waypoint::new`] | each hint a colour (`isColor`) or a number; stops at the first bad one | yes | done |
+//! | draw_path_loop | | MOOS boolean | false | | yes | done |
+//! | eager_prev_index_flag | | MOOS boolean | false | | yes | done |
 //!
 //! | variable | when | format | coug |
 //! |---|---|---|---|
-//! | WPT_STAT`<sfx>` | each running iteration | `vname=..,behavior-name=..,index=..,hits=..,cycles=..,dist=..,eta=..` | done |
-//! | WPT_INDEX`<sfx>`, CYCLE_INDEX`<sfx>` | on change | numbers | done |
-//! | `wpt_dist_to_prev`, `wpt_dist_to_next` | each running iteration | metres | done |
-//! | WPT_EFF_DIST_*, WPT_EFF_TIME_*, WPT_EFF_SUMM_*, WPT_ODO | with efficiency_measure | numbers / summary | done |
-//! | VIEW_SEGLIST, VIEW_POINT (`wpt`, `trk`) | running (drawn), idle (erased) | specs | done |
-//! | BHV_SETTINGS | each start | settings string | open: not posted |
-//! | WAYPT_UPIECE | | | open: not posted |
+//! | WPT_STAT`<sfx>` | each running iteration with a point to go; `completed`/`cycled` on those events | `vname=..,behavior-name=..,index=..,hits=..,cycles=..,dist=..,eta=..` | done |
+//! | WPT_INDEX`<sfx>` | running, when the index differs from the last reported one | number | done |
+//! | CYCLE_INDEX`<sfx>` | running, when the cycle count changes (not at 0) | number | done |
+//! | `wpt_dist_to_prev`, `wpt_dist_to_next` | each running iteration with a point to go; −1 on running→idle | metres | done |
+//! | WPT_ODO`<sfx>`, WPT_EFF_DIST_*, WPT_EFF_TIME_*, WPT_EFF_SUMM_* | WPT_ODO each running iteration; the rest on arrivals with efficiency_measure | numbers / summary | done |
+//! | VIEW_SEGLIST, VIEW_POINT (`wpt`, `trk`) | running (drawn), running→idle and completed (erased) | specs | done |
+//! | VIEW_POLYGON | with draw_path_loop, when the route is a convex polygon, before VIEW_SEGLIST | spec | done |
+//! | BHV_SETTINGS | after configuration (once) and after each successful update (twice: the C++ posts it from `checkUpdates` and from `onSetParamComplete`), repeatable | `type=BHV_Waypoint,name=..,points=..,speed=..,...,crs_spd_zaic_ratio=..` | done |
+//! | BHV_WARNING | after configuration/updates | `cycles/repeats not supported with single waypt`; `No waypts given. Set val to empty if intentional` (or its retraction, a filtered posting) | done |
+//! | WAYPT_UPIECE | never: the C++ posting is commented out | | done (not posted) |
 //!
 //! | macro | meaning | coug |
 //! |---|---|---|
 //! | POINTS, SPEED, SPEED_ALT, USE_SPEED_ALT, IPF_TYPE, WPT_FLAG_ON_START, LEAD_TO_START, LEAD_DAMPER, ORDER | configuration (numbers 3 decimals, booleans 1/0) | done |
-//! | NI, NX, NY, PI, PX, PY, X, Y, IX | next/previous point and index | done |
+//! | NI, NX, NY, PI, PX, PY, X, Y, IX | next/previous point and index (X, Y = PX, PY) | done |
 //! | CYCLES, CYCREM, WPTS_HIT, WPTS_REM, WPTS | progress counts | done |
 //! | CYC_DIST_TOGO, ALL_DIST_TOGO | distance to the end of the cycle / of all cycles (−1 if endless) | done |
 
 use geometry::spec::{parse_point, parse_waypoints};
-use geometry::{Point, SegList, Segment, ViewPoint, ViewSegList};
+use geometry::{Attributes, Point, Polygon, SegList, Segment, ViewPoint, ViewPolygon, ViewSegList};
 use ivp::{IvpFunction, PeakComponent, ZaicPeak, ZaicSpd, couple_weighted};
 
 use crate::behavior::{Behavior, Ctx, Out, ParamError, PostKey, add_flag_vars, add_vars, nav};
+use crate::color::Hints;
 use crate::common::{Common, Flag};
 use crate::fmt::compact;
-use crate::param::{boolean, number, number_min};
+use crate::param::{atof, is_number, moos_boolean};
 
 /// Result of one waypoint-engine step (MOOS `WaypointEngine::setNextWaypoint`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -91,13 +99,25 @@ pub enum IpfType {
     ZaicSpd,
 }
 
+impl IpfType {
+    fn name(self) -> &'static str {
+        match self {
+            IpfType::Zaic => "zaic",
+            IpfType::ZaicSpd => "zaic_spd",
+        }
+    }
+}
+
 /// The waypoint behaviour. See the module docs and reference §6.1.
 #[derive(Debug, Clone)]
 pub struct Waypoint {
+    // --- the waypoint engine (MOOS `WaypointEngine`) ---
     raw: SegList,
     points: SegList,
     reverse: bool,
     curr_ix: usize,
+    /// The engine's previous index (for the distance to the previous point).
+    prev_ix: Option<usize>,
     cpa: Option<f64>,
     /// Capture radius, m (default 3).
     pub capture_radius: f64,
@@ -112,8 +132,11 @@ pub struct Waypoint {
     capture_hits: u32,
     nonmono_hits: u32,
     complete: bool,
-    prevpt: Option<Point>,
-    markpt: Option<Point>,
+    perpetual: bool,
+    /// The previous point handed to the engine for this iteration's capture line.
+    engine_prev: Option<Point>,
+
+    // --- configuration ---
     /// Cruise speed, m/s.
     pub speed: f64,
     /// Alternative speed (−1 = unused).
@@ -139,30 +162,37 @@ pub struct Waypoint {
     cycle_flags: Vec<Flag>,
     wpt_flags: Vec<Flag>,
     wptflag_on_start: bool,
-    started: bool,
+    eager_prev_index: bool,
+    reset_on_idle: bool,
+    draw_path_loop: bool,
     efficiency: bool,
-    hint_vertex_size: f64,
-    hint_edge_size: f64,
-    hint_vertex_color: String,
-    hint_edge_color: String,
-    hint_nextpt_color: String,
-    hint_nextpt_lcolor: String,
-    hint_nextpt_vertex_size: f64,
+    hints: Hints,
+    lead_conditions: Vec<mission::condition::Condition>,
+    slow_dist: f64,
+    stop_dist: f64,
+    waypts_init: String,
+    greedy_pending: bool,
+
+    // --- state ---
+    wpt_flag_published: bool,
+    waypt_hit: bool,
+    /// The previous point (MOOS `m_prevpt`): coordinates are kept when it is invalidated.
+    prevpt: Point,
+    prevpt_valid: bool,
+    markpt: Option<Point>,
+    prev_waypt_index: i64,
+    prev_cycle_index: u32,
     nextpt: Point,
     trackpt: Point,
-    hitpt: Point,
+    nextpt_attrs: Attributes,
+    trackpt_attrs: Attributes,
     os: (f64, f64, f64, f64),
     odo_prev: Option<Point>,
     odo_leg: f64,
     odo_mark: Option<(Point, f64)>,
+    odo_disq: bool,
     odo_totals: [f64; 4],
-    start_pending: bool,
-    greedy_pending: bool,
-    reset_on_idle: bool,
-    lead_condition: Option<mission::condition::Condition>,
-    end_spd: Option<(f64, f64)>,
-    engine_prev: Option<Point>,
-    prev_ix: Option<usize>,
+    param_completes: u32,
     views: Views,
     spd_cache: Option<SpeedFunction>,
 }
@@ -174,14 +204,6 @@ struct SpeedFunction {
     speed: f64,
     domain: ivp::Domain,
     f: IvpFunction,
-}
-
-/// The configured status variables, for [`Views::names`].
-struct WaypointNames<'a> {
-    report: &'a str,
-    index: &'a str,
-    cyindex: &'a str,
-    suffix: &'a str,
 }
 
 /// A view string with the key it was rendered for.
@@ -222,20 +244,12 @@ struct Views {
     name: String,
     nextpt: Cached<(bool, Point)>,
     trackpt: Cached<(bool, Point)>,
-    seglist: Option<(bool, SegList)>,
-    seglist_text: String,
+    seglist: Cached<SegList>,
     /// `<var_report><suffix>`, `<var_index><suffix>`, `<var_cyindex><suffix>`.
     names: Option<[String; 3]>,
 }
 
 impl Views {
-    /// The status variable names with the suffix (built once per configuration).
-    fn names(&mut self, wpt: &WaypointNames<'_>) -> &[String; 3] {
-        self.names.get_or_insert_with(|| {
-            [wpt.report, wpt.index, wpt.cyindex].map(|v| format!("{v}{}", wpt.suffix))
-        })
-    }
-
     /// Forgets every text rendered for another vehicle or behaviour name.
     fn check_ctx(&mut self, ctx: &Ctx<'_>) {
         if self.ownship != ctx.ownship || self.name != ctx.name {
@@ -254,14 +268,69 @@ impl Default for Waypoint {
     }
 }
 
+/// The behaviour's own macros (see [`Behavior::macro_value`]).
+const MACROS: [&str; 25] = [
+    "POINTS",
+    "SPEED",
+    "SPEED_ALT",
+    "USE_SPEED_ALT",
+    "IPF_TYPE",
+    "WPT_FLAG_ON_START",
+    "LEAD_TO_START",
+    "LEAD_DAMPER",
+    "ORDER",
+    "NI",
+    "NX",
+    "NY",
+    "PI",
+    "PX",
+    "PY",
+    "X",
+    "Y",
+    "IX",
+    "CYCLES",
+    "CYCREM",
+    "WPTS_HIT",
+    "WPTS_REM",
+    "WPTS",
+    "CYC_DIST_TOGO",
+    "ALL_DIST_TOGO",
+];
+
+/// The integer prefix of a number, as C's `atoi` reads it.
+fn atoi(s: &str) -> i64 {
+    let t = s.trim_start();
+    let (sign, digits) = match t.as_bytes().first() {
+        Some(b'-') => (-1, &t[1..]),
+        Some(b'+') => (1, &t[1..]),
+        _ => (1, t),
+    };
+    let end = digits
+        .find(|c: char| !c.is_ascii_digit())
+        .unwrap_or(digits.len());
+    sign * digits[..end].parse::<i64>().unwrap_or(0)
+}
+
 impl Waypoint {
-    /// The MOOS defaults (no points, speed 0, capture radius 3, slip radius 15).
+    /// The MOOS defaults: no points, speed 0, capture radius 3, slip radius 15, hints
+    /// `vertex_size=3, edge_size=1, vertex_color=dodger_blue, edge_color=white,
+    /// label_color=white, nextpt_color=yellow, nextpt_label_color=aqua, nextpt_vertex_size=5`.
     pub fn new() -> Self {
+        let mut hints = Hints::default();
+        hints.set_measure("vertex_size", "3");
+        hints.set_measure("edge_size", "1");
+        hints.set_color("vertex_color", "dodger_blue");
+        hints.set_color("edge_color", "white");
+        hints.set_color("label_color", "white");
+        hints.set_color("nextpt_color", "yellow");
+        hints.set_color("nextpt_label_color", "aqua");
+        hints.set_measure("nextpt_vertex_size", "5");
         Waypoint {
             raw: SegList::new(),
             points: SegList::new(),
             reverse: false,
             curr_ix: 0,
+            prev_ix: None,
             cpa: None,
             capture_radius: 3.0,
             slip_radius: 15.0,
@@ -272,9 +341,9 @@ impl Waypoint {
             cycles: 0,
             capture_hits: 0,
             nonmono_hits: 0,
-            complete: false,
-            prevpt: None,
-            markpt: None,
+            complete: true,
+            perpetual: false,
+            engine_prev: None,
             speed: 0.0,
             speed_alt: -1.0,
             use_alt_speed: false,
@@ -292,30 +361,34 @@ impl Waypoint {
             cycle_flags: Vec::new(),
             wpt_flags: Vec::new(),
             wptflag_on_start: false,
-            started: false,
+            eager_prev_index: false,
+            reset_on_idle: false,
+            draw_path_loop: false,
             efficiency: false,
-            hint_vertex_size: 3.0,
-            hint_edge_size: 1.0,
-            hint_vertex_color: "dodger_blue".into(),
-            hint_edge_color: "white".into(),
-            hint_nextpt_color: "yellow".into(),
-            hint_nextpt_lcolor: "aqua".into(),
-            hint_nextpt_vertex_size: 5.0,
+            hints,
+            lead_conditions: Vec::new(),
+            slow_dist: -1.0,
+            stop_dist: -1.0,
+            waypts_init: String::new(),
+            greedy_pending: false,
+            wpt_flag_published: false,
+            waypt_hit: false,
+            prevpt: Point::new(0.0, 0.0),
+            prevpt_valid: false,
+            markpt: None,
+            prev_waypt_index: -1,
+            prev_cycle_index: 0,
             nextpt: Point::new(0.0, 0.0),
             trackpt: Point::new(0.0, 0.0),
-            hitpt: Point::new(0.0, 0.0),
+            nextpt_attrs: Attributes::default(),
+            trackpt_attrs: Attributes::default(),
             os: (0.0, 0.0, 0.0, 0.0),
             odo_prev: None,
             odo_leg: 0.0,
             odo_mark: None,
+            odo_disq: false,
             odo_totals: [0.0; 4],
-            start_pending: false,
-            greedy_pending: false,
-            reset_on_idle: false,
-            lead_condition: None,
-            end_spd: None,
-            engine_prev: None,
-            prev_ix: None,
+            param_completes: 0,
             views: Views::default(),
             spd_cache: None,
         }
@@ -346,20 +419,66 @@ impl Waypoint {
         }
     }
 
-    fn set_points(&mut self, seglist: SegList) {
-        self.raw = seglist;
-        self.apply_order();
+    // ----- engine (MOOS WaypointEngine) -----
+
+    /// A new route (MOOS `setSegList`): index 0, cycle count 0, not complete; reversed when
+    /// the order is reversed. Hits and repeats so far are kept.
+    fn set_seglist(&mut self, seglist: SegList) {
+        self.curr_ix = 0;
+        self.complete = false;
+        self.cpa = None;
+        self.cycles = 0;
         self.prev_ix = None;
+        self.raw = seglist;
+        self.points = self.raw.clone();
+        if self.reverse {
+            self.points.reverse();
+        }
     }
 
-    /// Distance from ownship to the end of the current cycle: to the next point, then along
+    /// MOOS `setReverse`: a change of order restarts the route at index 0.
+    fn set_reverse(&mut self, reverse: bool) {
+        if self.reverse == reverse {
+            return;
+        }
+        self.reverse = reverse;
+        self.points = self.raw.clone();
+        if reverse {
+            self.points.reverse();
+        }
+        self.curr_ix = 0;
+        self.prev_ix = None;
+        self.complete = false;
+    }
+
+    /// MOOS `setCurrIndex`: ignored past the last point.
+    fn set_curr_index(&mut self, i: usize) {
+        if i < self.points.len() {
+            self.curr_ix = i;
+            self.cpa = None;
+        }
+    }
+
+    /// MOOS `resetForNewTraversal`.
+    fn reset_for_new_traversal(&mut self) {
+        self.repeats_sofar = 0;
+        self.cpa = None;
+        self.curr_ix = 0;
+        self.prev_ix = None;
+        self.complete = false;
+    }
+
+    fn point_at(&self, i: usize) -> Point {
+        self.points.get(i).unwrap_or(Point::new(0.0, 0.0))
+    }
+
+    /// Distance from `(x, y)` to the end of the current cycle: to the next point, then along
     /// the remaining legs (MOOS `WaypointEngine::distToEndCycle`); −1 without a next point.
-    fn dist_to_end_cycle(&self) -> f64 {
+    fn dist_to_end_cycle(&self, x: f64, y: f64) -> f64 {
         let pts = self.points.points();
         let Some(next) = pts.get(self.curr_ix) else {
             return -1.0;
         };
-        let (x, y) = (self.os.0, self.os.1);
         let mut d = (next.x - x).hypot(next.y - y);
         for w in pts[self.curr_ix..].windows(2) {
             d += (w[1].x - w[0].x).hypot(w[1].y - w[0].y);
@@ -370,14 +489,14 @@ impl Waypoint {
     /// [`Waypoint::dist_to_end_cycle`] plus the remaining full cycles, each the route length
     /// plus the gap from its last point back to its first (MOOS `distToEndFinal`); −1 when
     /// repeating endlessly.
-    fn dist_to_end_final(&self) -> f64 {
+    fn dist_to_end_final(&self, x: f64, y: f64) -> f64 {
         if self.endless {
             return -1.0;
         }
-        let to_end = self.dist_to_end_cycle();
+        let to_end = self.dist_to_end_cycle(x, y);
         let remaining = self.repeats.saturating_sub(self.repeats_sofar);
         let pts = self.points.points();
-        if to_end < 0.0 || remaining == 0 || pts.is_empty() {
+        if to_end < 0.0 || remaining == 0 {
             return to_end;
         }
         let legs: f64 = pts
@@ -386,39 +505,6 @@ impl Waypoint {
             .sum();
         let (a, b) = (pts[0], pts[pts.len() - 1]);
         to_end + f64::from(remaining) * (legs + (a.x - b.x).hypot(a.y - b.y))
-    }
-
-    /// The speed to request at ownship `(x, y)`: the effective speed, tapered by `end_spd`
-    /// (linear from full speed at `slow_dist` to 0 at `stop_dist` from the final point).
-    pub fn desired_speed(&self, x: f64, y: f64) -> f64 {
-        let speed = self.effective_speed();
-        match (self.end_spd, self.points.points().last()) {
-            (Some((slow, stop)), Some(last)) => {
-                let d = (x - last.x).hypot(y - last.y);
-                speed * ((d - stop) / (slow - stop)).clamp(0.0, 1.0)
-            }
-            _ => speed,
-        }
-    }
-
-    /// Reorders the points as a greedy nearest-neighbour tour from `(x, y)`.
-    fn greedy(&mut self, x: f64, y: f64) {
-        let mut left: Vec<Point> = self.points.points().to_vec();
-        let mut tour = Vec::with_capacity(left.len());
-        let mut here = Point::new(x, y);
-        while !left.is_empty() {
-            let (i, _) = left
-                .iter()
-                .enumerate()
-                .min_by(|a, b| a.1.dist(&here).total_cmp(&b.1.dist(&here)))
-                .unwrap_or((0, &here));
-            here = left.remove(i);
-            tour.push(here);
-        }
-        self.raw = SegList::from_points(tour);
-        self.points = self.raw.clone();
-        self.curr_ix = 0;
-        self.cpa = None;
     }
 
     /// Distance to the previous waypoint as MOOS `distToPrevWpt` gives it (−1 if none).
@@ -432,27 +518,33 @@ impl Waypoint {
         }
     }
 
-    fn apply_order(&mut self) {
-        self.points = self.raw.clone();
-        if self.reverse {
-            self.points.reverse();
+    /// The speed to request at ownship `(x, y)`: the effective speed, tapered by `end_spd`
+    /// along the distance still to go (MOOS `distToEndFinal`: to the end of this cycle plus
+    /// the remaining cycles): 0 within `stop_dist`, linear up to full speed at `slow_dist`.
+    /// As in the C++, an endless route (distance −1) with `end_spd` asks for speed 0.
+    pub fn desired_speed(&self, x: f64, y: f64) -> f64 {
+        let mut speed = self.effective_speed();
+        if self.slow_dist > 0.0 {
+            let d = self.dist_to_end_final(x, y);
+            if d <= self.stop_dist {
+                speed = 0.0;
+            } else if d < self.slow_dist {
+                let range = self.slow_dist - self.stop_dist;
+                let pct = if range > 0.0 {
+                    (d - self.stop_dist) / range
+                } else {
+                    0.0
+                };
+                speed *= pct;
+            }
         }
-        self.curr_ix = 0;
-        self.cpa = None;
-        self.complete = false;
-        self.repeats_sofar = 0;
-        self.markpt = None;
-    }
-
-    fn reset_for_new_traversal(&mut self) {
-        self.repeats_sofar = 0;
-        self.cpa = None;
-        self.curr_ix = 0;
-        self.complete = false;
+        speed
     }
 
     /// One step of the waypoint engine for ownship at `(x, y)` (MOOS `setNextWaypoint`):
-    /// capture radius, slip radius (non-monotonic arrival) and capture line.
+    /// capture radius, slip radius (non-monotonic arrival) and capture line. At the end of
+    /// the route a behaviour that is not perpetual completes; a perpetual one cycles until
+    /// its repeats are used up.
     pub fn step(&mut self, x: f64, y: f64) -> Step {
         let n = self.points.len();
         if n == 0 {
@@ -461,7 +553,6 @@ impl Waypoint {
         if self.complete {
             return Step::Completed;
         }
-        self.engine_prev = self.prevpt;
         let pt = self.points.points()[self.curr_ix];
         let dist = (x - pt.x).hypot(y - pt.y);
         let cpa = match self.cpa {
@@ -478,7 +569,7 @@ impl Waypoint {
             self.nonmono_hits += 1;
         }
         if self.capture_line
-            && let Some(prev) = self.prevpt
+            && let Some(prev) = self.engine_prev
             && Segment::from_xy(prev.x, prev.y, pt.x, pt.y).passed_end(x, y)
             && (prev.x != pt.x || prev.y != pt.y)
         {
@@ -492,12 +583,19 @@ impl Waypoint {
             self.cycles += 1;
             self.curr_ix = 0;
             self.cpa = None;
-            self.repeats_sofar += 1;
-            if self.endless || self.repeats_sofar <= self.repeats {
-                return Step::Cycled;
+            if self.perpetual {
+                self.repeats_sofar += 1;
+                if !self.endless && self.repeats_sofar > self.repeats {
+                    self.complete = true;
+                }
+            } else {
+                self.complete = true;
             }
-            self.complete = true;
-            return Step::Completed;
+            return if self.complete {
+                Step::Completed
+            } else {
+                Step::Cycled
+            };
         }
         self.prev_ix = Some(self.curr_ix - 1);
         self.engine_prev = None;
@@ -506,15 +604,98 @@ impl Waypoint {
         Step::Advanced
     }
 
-    fn post_wpt_flags(&mut self, out: &mut Out) {
-        for f in &self.wpt_flags {
-            out.flag(f, true);
+    // ----- behaviour -----
+
+    /// MOOS `updateInfoIn`: reads ownship (an error without it) and applies a pending
+    /// greedy tour. `None` when ownship is unknown.
+    fn update_info_in(&mut self, ctx: &Ctx<'_>, out: &mut Out) -> Option<(f64, f64, f64, f64)> {
+        if ctx.info.num("NAV_X").is_none() || ctx.info.num("NAV_Y").is_none() {
+            out.error("No ownship X/Y info in info_buffer.");
+            return None;
+        }
+        let Some(os) = nav(ctx.info) else {
+            out.error("No ownship heading info in info_buffer.");
+            return None;
+        };
+        self.os = os;
+        if self.greedy_pending {
+            self.greedy_pending = false;
+            self.greedy(os.0, os.1);
+        }
+        Some(os)
+    }
+
+    /// MOOS `onEveryState`: with `points = start` and an empty route, the route becomes the
+    /// first known position (written with 3 decimals, as the C++ passes it to `point`).
+    fn every_state(&mut self, ctx: &Ctx<'_>) {
+        if self.points.is_empty()
+            && self.waypts_init == "start"
+            && let (Some(x), Some(y)) = (ctx.info.num("NAV_X"), ctx.info.num("NAV_Y"))
+        {
+            let round = |v: f64| crate::fmt::compact_string(v, 3).parse().unwrap_or(v);
+            self.set_seglist(SegList::from_points(vec![Point::new(round(x), round(y))]));
+            self.markpt = None;
         }
     }
 
+    /// Reorders the route nearest-first from `(x, y)` (MOOS `greedyPath`: the first of equally
+    /// near points wins), then sets it as a new route.
+    fn greedy(&mut self, x: f64, y: f64) {
+        let mut left: Vec<Point> = self.points.points().to_vec();
+        let mut tour = Vec::with_capacity(left.len());
+        let mut here = Point::new(x, y);
+        while !left.is_empty() {
+            let (i, _) = left
+                .iter()
+                .enumerate()
+                .min_by(|a, b| a.1.dist(&here).total_cmp(&b.1.dist(&here)))
+                .unwrap_or((0, &here));
+            here = left.remove(i);
+            tour.push(here);
+        }
+        self.set_seglist(SegList::from_points(tour));
+    }
+
+    /// `f` with this behaviour's macros expanded now (the C++ expands them when the flag is
+    /// posted, mid-iteration); the helm expands the rest.
+    fn flag_now(&self, f: &Flag) -> Flag {
+        let mut f = f.clone();
+        if let crate::common::FlagValue::Str(s) = &mut f.value
+            && s.contains(['[', '('])
+        {
+            for m in MACROS {
+                for pat in [format!("$[{m}]"), format!("$({m})")] {
+                    if s.contains(&pat) {
+                        let mut v = String::new();
+                        self.macro_value(m, &mut v);
+                        *s = s.replace(&pat, &v);
+                    }
+                }
+            }
+        }
+        f
+    }
+
+    fn lead_allowed(&self, ctx: &Ctx<'_>) -> bool {
+        self.lead_conditions.iter().all(|c| {
+            c.evaluate(&|n: &str| match ctx.info.text(n) {
+                Some(s) => Some(mission::condition::Value::Str(s)),
+                None => ctx.info.num(n).map(mission::condition::Value::Num),
+            })
+        })
+    }
+
     fn set_next_waypoint(&mut self, ctx: &Ctx<'_>, out: &mut Out) -> bool {
+        self.waypt_hit = false;
+        if self.points.is_empty() {
+            return false;
+        }
+        self.engine_prev = self.prevpt_valid.then_some(self.prevpt);
         let (osx, osy, _, _) = self.os;
         let step = self.step(osx, osy);
+        if matches!(step, Step::Completed | Step::Cycled | Step::Advanced) {
+            self.waypt_hit = true;
+        }
         if step == Step::Empty {
             return false;
         }
@@ -523,7 +704,7 @@ impl Waypoint {
         }
         out.post(format!("WPT_ODO{}", self.suffix), self.odo_leg);
         if matches!(step, Step::Completed | Step::Cycled) {
-            if self.var_report != "silent" {
+            if !self.var_report.eq_ignore_ascii_case("silent") {
                 let word = if step == Step::Completed {
                     "completed"
                 } else {
@@ -535,16 +716,13 @@ impl Waypoint {
                 );
             }
             for f in &self.cycle_flags {
-                out.flag(f, true);
+                out.flag(&self.flag_now(f), true);
             }
         }
         if step == Step::Completed {
-            let n = self.points.len();
-            self.hitpt = self.points.points()[n - 1];
-            self.post_wpt_flags(out);
             out.complete();
             self.markpt = None;
-            if ctx.perpetual {
+            if self.perpetual {
                 self.reset_for_new_traversal();
             }
             return false;
@@ -552,13 +730,7 @@ impl Waypoint {
         let next = self.points.points()[self.curr_ix];
         self.nextpt = next;
         self.trackpt = next;
-        let lead_ok = self.lead_condition.as_ref().is_none_or(|c| {
-            c.evaluate(&|n: &str| match ctx.info.text(n) {
-                Some(s) => Some(mission::condition::Value::Str(s)),
-                None => ctx.info.num(n).map(mission::condition::Value::Num),
-            })
-        });
-        if self.lead > 0.0 && lead_ok {
+        if self.lead >= 0.0 && self.lead_allowed(ctx) {
             let anchor = if self.curr_ix > 0 {
                 Some(self.points.points()[self.curr_ix - 1])
             } else if self.cycles > 0 {
@@ -582,11 +754,16 @@ impl Waypoint {
         }
         let now = ctx.info.now();
         let here = Point::new(self.os.0, self.os.1);
-        let Some((mark, t0)) = self.odo_mark else {
-            self.odo_mark = Some((here, now));
-            self.odo_leg = 0.0;
-            return;
+        let mark = match self.odo_mark {
+            Some(m) if !self.odo_disq => m,
+            _ => {
+                self.odo_mark = Some((here, now));
+                self.odo_leg = 0.0;
+                self.odo_disq = false;
+                return;
+            }
         };
+        let (mark, t0) = mark;
         let lin = here.dist(&mark);
         let lin_time = if self.speed > 0.0 {
             lin / self.speed
@@ -635,90 +812,120 @@ impl Waypoint {
         self.odo_leg = 0.0;
     }
 
-    /// The VIEW_POINT text of the next point (`trackpt == false`) or the track point, rendered
-    /// only when the point or the active state changed.
+    /// The point drawings' attributes from the hints (MOOS `onSetParamComplete`): the
+    /// general hints first, then the next-point colour and sizes over them.
+    fn apply_point_hints(&mut self, ctx: &Ctx<'_>) {
+        let h = &self.hints;
+        let set = |slot: &mut Option<String>, c: Option<&str>| {
+            if let Some(p) = c.and_then(crate::color::pack) {
+                *slot = Some(p);
+            }
+        };
+        let t = &mut self.trackpt_attrs;
+        t.label = format!("{}'s trackpt", ctx.ownship);
+        h.apply(t, "trackpt", false, false);
+        t.vertex_size = Some(4.0);
+        set(&mut t.label_color, h.color("nextpt_color"));
+        set(&mut t.vertex_color, h.color("nextpt_color"));
+        let n = &mut self.nextpt_attrs;
+        n.label = format!("{}'s nextpt", ctx.ownship);
+        h.apply(n, "nextpt", false, false);
+        n.vertex_size = Some(h.measure("nextpt_vertex_size"));
+        set(&mut n.vertex_color, h.color("nextpt_color"));
+        set(&mut n.label_color, h.color("nextpt_label_color"));
+    }
+
+    /// The VIEW_POINT of the next point (`trackpt == false`, drawn with `active=true`) or the
+    /// track point; the erase form when `!active`.
     fn point_view(&mut self, ctx: &Ctx<'_>, active: bool, trackpt: bool) -> String {
         self.views.check_ctx(ctx);
-        let pt = if trackpt { self.trackpt } else { self.nextpt };
+        let (pt, attrs) = if trackpt {
+            (self.trackpt, &self.trackpt_attrs)
+        } else {
+            (self.nextpt, &self.nextpt_attrs)
+        };
         let slot = if trackpt {
             &mut self.views.trackpt
         } else {
             &mut self.views.nextpt
         };
-        let mut view = std::mem::take(slot);
-        let text = view.get((active, pt), |s| self.render_point(ctx, active, trackpt, s));
-        if trackpt {
-            self.views.trackpt = view;
-        } else {
-            self.views.nextpt = view;
-        }
-        text
+        slot.get((active, pt), |s| {
+            if !active {
+                ViewPoint::erase_spec(&attrs.label, s);
+                return;
+            }
+            let mut vp = ViewPoint::new(pt);
+            if trackpt {
+                vp.attrs = attrs.clone();
+                vp.spec(s);
+            } else {
+                // `get_spec("active=true")`: the active state is written out.
+                vp.spec(s);
+                s.push_str(",active=true");
+                let base = s.len();
+                attrs.write_spec(s, base - 1);
+            }
+        })
     }
 
-    fn render_point(&self, ctx: &Ctx<'_>, active: bool, trackpt: bool, s: &mut String) {
-        let (pt, which) = if trackpt {
-            (self.trackpt, "trackpt")
-        } else {
-            (self.nextpt, "nextpt")
-        };
-        let label = format!("{}'s {which}", ctx.ownship);
-        if !active {
-            ViewPoint::erase_spec(&label, s);
+    /// The route drawing (MOOS `postViewableSegList`): with draw_path_loop a convex route is
+    /// also drawn as a polygon; an edge colour `off` draws the erase form instead.
+    fn post_seglist(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
+        self.views.check_ctx(ctx);
+        let label = format!("{}_{}", ctx.ownship, ctx.name);
+        if self.hints.color("edge_color") == Some("off") {
+            let mut s = String::from("pts={0,0:9,0:0,9},active=false,label=");
+            s.push_str(&label);
+            out.post("VIEW_SEGLIST", s);
             return;
         }
-        let mut vp = ViewPoint::new(pt);
-        vp.attrs.label = label;
-        vp.attrs.vertex_color = Some(self.hint_nextpt_color.clone());
-        if trackpt {
-            vp.attrs.label_color = Some(self.hint_nextpt_color.clone());
-            vp.attrs.vertex_size = Some(4.0);
-        } else {
-            vp.attrs.label_color = Some(self.hint_nextpt_lcolor.clone());
-            vp.attrs.vertex_size = Some(self.hint_nextpt_vertex_size);
+        if self.draw_path_loop {
+            let poly = Polygon::new(self.points.points().to_vec());
+            if poly.is_convex() {
+                let mut vp = ViewPolygon::new(poly);
+                self.hints.apply(&mut vp.attrs, "", true, true);
+                out.post("VIEW_POLYGON", vp.to_spec());
+            }
         }
-        vp.spec(s);
+        let hints = &self.hints;
+        let text = self.views.seglist.get(self.points.clone(), |s| {
+            let mut v = ViewSegList::new(self.points.clone());
+            v.precision = 3;
+            v.attrs.label = label.clone();
+            hints.apply(&mut v.attrs, "", true, false);
+            v.spec(s);
+        });
+        out.post("VIEW_SEGLIST", text);
     }
 
-    fn seglist_view(&mut self, ctx: &Ctx<'_>, active: bool) -> String {
-        self.views.check_ctx(ctx);
-        let fresh = match &self.views.seglist {
-            Some((a, pts)) => *a == active && (!active || *pts == self.points),
-            None => false,
-        };
-        if !fresh {
-            let pts = if active {
-                self.points.clone()
-            } else {
-                SegList::new()
-            };
-            self.views.seglist_text = self.render_seglist(ctx, active, pts.clone());
-            self.views.seglist = Some((active, pts));
-        }
-        self.views.seglist_text.clone()
-    }
-
-    fn render_seglist(&self, ctx: &Ctx<'_>, active: bool, points: SegList) -> String {
-        let mut v = ViewSegList::new(points);
-        v.precision = 3;
+    /// MOOS `postErasables`: both points and the route (its points, `active=false`).
+    fn post_erasables(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
+        out.post_key(
+            "VIEW_POINT",
+            self.point_view(ctx, false, true),
+            PostKey::Tag("trk"),
+        );
+        out.post_key(
+            "VIEW_POINT",
+            self.point_view(ctx, false, false),
+            PostKey::Tag("wpt"),
+        );
+        let mut v = ViewSegList::new(self.points.clone());
         v.attrs.label = format!("{}_{}", ctx.ownship, ctx.name);
-        v.attrs.active = active;
-        if active {
-            v.attrs.vertex_color = Some(self.hint_vertex_color.clone());
-            v.attrs.edge_color = Some(self.hint_edge_color.clone());
-            v.attrs.edge_size = Some(self.hint_edge_size);
-            v.attrs.vertex_size = Some(self.hint_vertex_size);
-        }
-        v.to_spec()
+        v.attrs.active = false;
+        out.post("VIEW_SEGLIST", v.to_spec());
     }
 
     fn post_names(&mut self) -> &[String; 3] {
-        let w = WaypointNames {
-            report: &self.var_report,
-            index: &self.var_index,
-            cyindex: &self.var_cyindex,
-            suffix: &self.suffix,
-        };
-        self.views.names(&w)
+        let (r, i, c, s) = (
+            &self.var_report,
+            &self.var_index,
+            &self.var_cyindex,
+            &self.suffix,
+        );
+        self.views
+            .names
+            .get_or_insert_with(|| [r, i, c].map(|v| format!("{v}{s}")))
     }
 
     fn post_status(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
@@ -746,27 +953,66 @@ impl Waypoint {
             let var = self.post_names()[0].clone();
             out.post(var, stat);
         }
-        if self.var_index != "silent" {
+        if self.var_index != "silent" && self.curr_ix as i64 != self.prev_waypt_index {
             let var = self.post_names()[1].clone();
             out.post(var, self.curr_ix as f64);
         }
     }
 
-    fn hint(&mut self, hint: &str) {
-        let (k, v) = hint.split_once('=').unwrap_or((hint, ""));
-        let (k, v) = (k.trim().to_ascii_lowercase(), v.trim());
-        let num = v.parse::<f64>().ok().filter(|d| *d >= 0.0);
-        match (k.as_str(), num) {
-            ("vertex_size", Some(d)) => self.hint_vertex_size = d,
-            ("edge_size", Some(d)) => self.hint_edge_size = d,
-            ("nextpt_vertex_size", Some(d)) => self.hint_nextpt_vertex_size = d,
-            ("vertex_color", _) if !v.is_empty() => self.hint_vertex_color = v.into(),
-            ("edge_color", _) if !v.is_empty() => self.hint_edge_color = v.into(),
-            ("nextpt_color", _) if !v.is_empty() => self.hint_nextpt_color = v.into(),
-            ("nextpt_lcolor", _) if !v.is_empty() => self.hint_nextpt_lcolor = v.into(),
-            // MOOS ignores hints it does not know.
-            _ => {}
+    /// The BHV_SETTINGS text (MOOS `postConfigStatus`).
+    fn settings(&self, name: &str) -> String {
+        let x1 = |v: f64| crate::fmt::compact_string(v, 1);
+        let mut pts = String::new();
+        geometry::spec::write_points(&mut pts, self.points.points(), 1);
+        let mut s = format!("type=BHV_Waypoint,name={name},points={pts}");
+        s.push_str(&format!(
+            ",speed={},speed_alt={},currix={},greedy_tour={},use_alt_speed={}",
+            x1(self.speed),
+            x1(self.speed_alt),
+            self.curr_ix,
+            self.greedy_pending,
+            self.use_alt_speed
+        ));
+        s.push_str(&format!(
+            ",wpt_status={},wpt_dist_to_prev={},wpt_dist_to_next={},wpt_index={}",
+            self.var_report, self.var_dist_prev, self.var_dist_next, self.var_index
+        ));
+        // The C++ writes post_suffix twice.
+        s.push_str(&format!(
+            ",cycle_index_var={},post_suffix={},post_suffix={},ipf_type={}",
+            self.var_cyindex,
+            self.suffix,
+            self.suffix,
+            self.ipf_type.name()
+        ));
+        s.push_str(&format!(
+            ",lead={},lead_damper={},lead_to_start={},order={}",
+            x1(self.lead),
+            x1(self.lead_damper),
+            self.lead_to_start,
+            if self.reverse { "reverse" } else { "normal" }
+        ));
+        if self.endless {
+            s.push_str(",repeats=forever");
+        } else {
+            s.push_str(&format!(",repeats={}", self.repeats));
         }
+        s.push_str(&format!(
+            ",efficiency_measure={},capture_radius={},slip_radius={}",
+            if self.efficiency { "all" } else { "off" },
+            x1(self.capture_radius),
+            x1(self.slip_radius)
+        ));
+        if self.capture_line {
+            if self.capture_radius == 0.0 && self.slip_radius == 0.0 {
+                s.push_str(",capture_line=absolute");
+            } else {
+                s.push_str(",capture_line=true");
+            }
+        }
+        s.push_str(",crs_spd_zaic_ratio=");
+        compact(&mut s, self.patience, 2);
+        s
     }
 
     /// The speed objective function for `speed`, built once per (type, speed, domain): the
@@ -805,7 +1051,17 @@ impl Waypoint {
     fn build_of(&mut self, ctx: &Ctx<'_>, out: &mut Out) -> Option<IvpFunction> {
         let (osx, osy, osh, _) = self.os;
         let speed = self.desired_speed(osx, osy);
-        self.speed_of(ctx, speed)?;
+        if self.speed_of(ctx, speed).is_none() {
+            let util = match self.ipf_type {
+                IpfType::Zaic => "ZAIC_PEAK",
+                IpfType::ZaicSpd => "ZAIC_SPD",
+            };
+            out.warning(
+                ctx.name,
+                &format!("Failure on the SPD ZAIC via {util} utility"),
+            );
+            return None;
+        }
         let bearing = geometry::relative_angle(osx, osy, self.trackpt.x, self.trackpt.y);
         let mut crs = ZaicPeak::new(ctx.domain, "course").ok()?;
         crs.set_value_wrap(true);
@@ -830,6 +1086,86 @@ impl Waypoint {
             }
         }
     }
+
+    fn set_points_param(
+        &mut self,
+        param: &str,
+        value: &str,
+        ctx: &Ctx<'_>,
+    ) -> Result<(), ParamError> {
+        let lower = value.to_ascii_lowercase();
+        if lower == "empty" || lower == "start" {
+            self.waypts_init = lower;
+            return Ok(());
+        }
+        let (x, y) = (self.os.0, self.os.1);
+        let (x, y) = nav(ctx.info).map_or((x, y), |n| (n.0, n.1));
+        let parsed = parse_waypoints(value, x, y)
+            .map_err(|_| ParamError::bad(param, value, "a point list or polygon"))?;
+        if parsed.seglist.is_empty() {
+            return Err(ParamError::bad(param, value, "at least one point"));
+        }
+        if param == "xpoints" && parsed.seglist.len() != self.points.len() {
+            return Err(ParamError::bad(
+                param,
+                value,
+                "as many points as the current route",
+            ));
+        }
+        let (ix, prev_wpt, prev_cyc) = (self.curr_ix, self.prev_waypt_index, self.prev_cycle_index);
+        self.set_seglist(parsed.seglist);
+        self.markpt = None;
+        self.prev_cycle_index = 0;
+        self.prev_waypt_index = -1;
+        self.prevpt_valid = false;
+        if param == "xpoints" {
+            self.set_curr_index(ix);
+            self.prev_waypt_index = prev_wpt;
+            self.prev_cycle_index = prev_cyc;
+        }
+        Ok(())
+    }
+
+    fn set_var_name(param: &str, value: &str, slot: &mut String) -> Result<(), ParamError> {
+        if value.is_empty() || value.contains(char::is_whitespace) {
+            return Err(ParamError::bad(param, value, "a variable name"));
+        }
+        *slot = if value.eq_ignore_ascii_case("silent") {
+            "silent".into()
+        } else {
+            value.into()
+        };
+        Ok(())
+    }
+
+    /// MOOS `setEndSpeed`: `slow_dist=<pos>,stop_dist=<non-neg>`, both given, stop <= slow.
+    fn set_end_speed(&mut self, value: &str) -> bool {
+        let (mut slow, mut stop) = (-1.0, -1.0);
+        for part in value.split(',').filter(|p| !p.is_empty()) {
+            let (k, v) = part.split_once('=').unwrap_or((part, ""));
+            let (k, v) = (k.trim(), v.trim());
+            let ok = match k {
+                "slow_dist" if is_number(v) && atof(v) > 0.0 => {
+                    slow = atof(v);
+                    true
+                }
+                "stop_dist" if is_number(v) && atof(v) >= 0.0 => {
+                    stop = atof(v);
+                    true
+                }
+                _ => false,
+            };
+            if !ok {
+                return false;
+            }
+        }
+        if slow < 0.0 || stop < 0.0 || stop > slow {
+            return false;
+        }
+        self.slow_dist = slow;
+        self.stop_dist = stop;
+        true
+    }
 }
 
 impl Behavior for Waypoint {
@@ -847,7 +1183,7 @@ impl Behavior for Waypoint {
 
     fn info_vars(&self, out: &mut Vec<String>) {
         add_vars(out, ["NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"]);
-        if let Some(c) = &self.lead_condition {
+        for c in &self.lead_conditions {
             add_vars(out, c.variables());
         }
         add_flag_vars(out, &self.wpt_flags);
@@ -863,119 +1199,60 @@ impl Behavior for Waypoint {
     ) -> Result<(), ParamError> {
         self.views = Views::default();
         let v = value.trim();
-        let var_name = |v: &str| !v.is_empty() && !v.contains(char::is_whitespace);
+        let bad = |expected| Err(ParamError::bad(param, value, expected));
         match param {
-            "points" | "polygon" | "xpoints" if v.eq_ignore_ascii_case("empty") => {
-                self.set_points(SegList::new());
-            }
-            "points" | "polygon" | "xpoints" => {
-                let (x, y) = nav(ctx.info).map_or((0.0, 0.0), |n| (n.0, n.1));
-                let parsed = parse_waypoints(v, x, y)
-                    .map_err(|_| ParamError::bad(param, value, "a point list or polygon"))?;
-                if parsed.seglist.is_empty() {
-                    return Err(ParamError::bad(param, value, "at least one point"));
-                }
-                if param == "xpoints" {
-                    // Same-length replacement keeping the progress along the route.
-                    if parsed.seglist.len() != self.raw.len() {
-                        return Err(ParamError::bad(
-                            param,
-                            value,
-                            "as many points as the current route",
-                        ));
-                    }
-                    let ix = self.curr_ix;
-                    let (cycles, hits) = (self.repeats_sofar, self.complete);
-                    self.raw = parsed.seglist;
-                    self.points = self.raw.clone();
-                    if self.reverse {
-                        self.points.reverse();
-                    }
-                    self.curr_ix = ix;
-                    self.repeats_sofar = cycles;
-                    self.complete = hits;
-                } else {
-                    self.set_points(parsed.seglist);
-                }
-            }
-            "point"
-                if v.eq_ignore_ascii_case("start")
-                    || v.eq_ignore_ascii_case("present_position") =>
-            {
-                // The position is taken when the behaviour first sees the vehicle's position.
-                match nav(ctx.info) {
-                    Some(n) => self.set_points(SegList::from_points(vec![Point::new(n.0, n.1)])),
-                    None => {
-                        self.set_points(SegList::new());
-                        self.start_pending = true;
-                    }
-                }
+            "points" | "polygon" | "xpoints" => self.set_points_param(param, v, ctx)?,
+            "point" if v.eq_ignore_ascii_case("start") || v.eq_ignore_ascii_case("empty") => {
+                self.waypts_init = v.to_ascii_lowercase();
             }
             "point" => {
-                let p = {
-                    parse_point(v)
-                        .map_err(|_| ParamError::bad(param, value, "a point x,y"))?
-                        .point
-                };
-                self.set_points(SegList::from_points(vec![p]));
+                let p = parse_point(v).map_err(|_| ParamError::bad(param, value, "a point x,y"))?;
+                self.set_seglist(SegList::from_points(vec![p.point]));
+                self.markpt = None;
             }
             "newpt" => {
                 let p = parse_point(v).map_err(|_| ParamError::bad(param, value, "a point x,y"))?;
-                self.raw.push(p.point);
-                let ix = self.curr_ix;
-                self.points = self.raw.clone();
-                if self.reverse {
-                    self.points.reverse();
-                }
-                self.curr_ix = ix.min(self.points.len() - 1);
-                self.complete = false;
-            }
-            "speed" => {
-                let s = number_min(param, v, 0.0)?;
-                let max = ctx.domain.get("speed").map_or(s, |d| d.high());
-                self.speed = s.min(max);
-            }
-            "speed_alt" => {
-                let s = number(param, v)?;
-                let max = ctx.domain.get("speed").map_or(s, |d| d.high());
-                self.speed_alt = s.min(max);
-            }
-            "use_alt_speed" => self.use_alt_speed = boolean(param, v)?,
-            "currix" => {
-                // As in MOOS, an index past the last point is accepted and ignored.
-                let i = number_min(param, v, 0.0)? as usize;
-                if i < self.points.len() {
-                    self.curr_ix = i;
-                    self.cpa = None;
+                // MOOS `addWaypoint`: only in the normal order.
+                if !self.reverse {
+                    self.raw.push(p.point);
+                    self.points.push(p.point);
                 }
             }
-            "wpt_status" | "wpt_status_var" if var_name(v) => {
-                self.var_report = if v.eq_ignore_ascii_case("silent") {
-                    "silent".into()
-                } else {
-                    v.into()
+            "speed" if is_number(v) && atof(v) >= 0.0 => {
+                let max = ctx.domain.get("speed").map_or(f64::MAX, |d| d.high());
+                let s = atof(v).min(max);
+                if s != self.speed {
+                    self.odo_disq = true;
+                }
+                self.speed = s;
+            }
+            "speed_alt" if is_number(v) && atof(v) >= 0.0 => {
+                let s = atof(v);
+                if s != self.speed_alt {
+                    self.odo_disq = true;
+                }
+                self.speed_alt = s;
+            }
+            "currix" if atof(v) >= 0.0 => self.set_curr_index(atof(v) as usize),
+            "greedy_tour" | "shortest_tour" => {
+                // The C++ ignores a value that is not a boolean.
+                self.greedy_pending =
+                    moos_boolean(param, v, self.greedy_pending).unwrap_or(self.greedy_pending);
+            }
+            "draw_path_loop" => self.draw_path_loop = moos_boolean(param, v, self.draw_path_loop)?,
+            "use_alt_speed" => {
+                let prev = self.use_alt_speed;
+                self.use_alt_speed = moos_boolean(param, v, prev).unwrap_or(prev);
+                if prev != self.use_alt_speed {
+                    self.odo_disq = true;
                 }
             }
-            "wpt_index" | "wpt_index_var" if var_name(v) => {
-                self.var_index = if v.eq_ignore_ascii_case("silent") {
-                    "silent".into()
-                } else {
-                    v.into()
-                }
-            }
-            "cycle_index_var" if var_name(v) => {
-                self.var_cyindex = if v.eq_ignore_ascii_case("silent") {
-                    "silent".into()
-                } else {
-                    v.into()
-                }
-            }
-            "wpt_status" | "wpt_status_var" | "wpt_index" | "wpt_index_var" | "cycle_index_var" => {
-                return Err(ParamError::bad(param, value, "a variable name"));
-            }
+            "wpt_status" | "wpt_status_var" => Self::set_var_name(param, v, &mut self.var_report)?,
+            "wpt_index" | "wpt_index_var" => Self::set_var_name(param, v, &mut self.var_index)?,
+            "cycle_index_var" => Self::set_var_name(param, v, &mut self.var_cyindex)?,
             "wpt_dist_to_prev" | "wpt_dist_to_next" => {
                 if v.contains(char::is_whitespace) {
-                    return Err(ParamError::bad(param, value, "a variable name"));
+                    return bad("a variable name");
                 }
                 let name = if v.eq_ignore_ascii_case("silent") {
                     String::new()
@@ -990,7 +1267,7 @@ impl Behavior for Waypoint {
             }
             "post_suffix" => {
                 if v.contains(char::is_whitespace) {
-                    return Err(ParamError::bad(param, value, "a suffix without spaces"));
+                    return bad("a suffix without spaces");
                 }
                 self.suffix = if v.is_empty() || v.starts_with('_') {
                     v.into()
@@ -1007,159 +1284,159 @@ impl Behavior for Waypoint {
                     self.wpt_flags.push(f);
                 }
             }
-            "wptflag_on_start" => self.wptflag_on_start = boolean(param, v)?,
-            "ipf_type" | "ipf-type" => {
-                self.ipf_type = match v.to_ascii_lowercase().as_str() {
-                    "zaic" => IpfType::Zaic,
-                    "zaic_spd" => IpfType::ZaicSpd,
-                    _ => return Err(ParamError::bad(param, value, "zaic or zaic_spd")),
+            "ipf_type" | "ipf-type" => match v.to_ascii_lowercase().as_str() {
+                "zaic" => self.ipf_type = IpfType::Zaic,
+                "zaic_spd" => self.ipf_type = IpfType::ZaicSpd,
+                "roc" | "rate_of_closure" => {
+                    return bad("zaic or zaic_spd (coug does not support roc)");
                 }
-            }
-            "lead" => {
-                let d = number(param, v)?;
+                // The C++ accepts and ignores any other value.
+                _ => {}
+            },
+            "lead" if is_number(v) => {
+                let d = atof(v);
                 self.lead = if d <= 0.0 { -1.0 } else { d };
             }
-            "lead_damper" => {
-                let d = number(param, v)?;
-                if d <= 0.0 {
-                    return Err(ParamError::bad(param, value, "a positive distance"));
-                }
-                self.lead_damper = d;
+            "wptflag_on_start" => {
+                self.wptflag_on_start = moos_boolean(param, v, self.wptflag_on_start)?;
             }
+            "reset_on_idle" => self.reset_on_idle = moos_boolean(param, v, self.reset_on_idle)?,
+            "eager_prev_index_flag" => {
+                self.eager_prev_index = moos_boolean(param, v, self.eager_prev_index)?;
+            }
+            "lead_to_start" => self.lead_to_start = moos_boolean(param, v, self.lead_to_start)?,
+            "lead_damper" if atof(v) > 0.0 => self.lead_damper = atof(v),
             "lead_condition" => {
                 let c = mission::condition::parse_condition(&v.replace(',', "="))
                     .map_err(|_| ParamError::bad(param, value, "a logic condition"))?;
-                self.lead_condition = Some(c);
+                self.lead_conditions.push(c);
             }
-            "end_spd" => {
-                let mut slow = None;
-                let mut stop = None;
-                for part in v.split(',') {
-                    let (k, x) = part.split_once('=').unwrap_or((part, ""));
-                    let x = number(param, x)?;
-                    match k.trim().to_ascii_lowercase().as_str() {
-                        "slow_dist" => slow = Some(x),
-                        "stop_dist" => stop = Some(x),
-                        _ => {
-                            return Err(ParamError::bad(param, value, "slow_dist=..,stop_dist=.."));
-                        }
-                    }
-                }
-                match (slow, stop.unwrap_or(0.0)) {
-                    (Some(a), b) if a > b && b >= 0.0 => self.end_spd = Some((a, b)),
-                    _ => {
-                        return Err(ParamError::bad(param, value, "slow_dist > stop_dist >= 0"));
-                    }
-                }
+            "order" => match v {
+                "toggle" => self.set_reverse(!self.reverse),
+                "reverse" | "reversed" => self.set_reverse(true),
+                "normal" => self.set_reverse(false),
+                _ => return bad("normal, reverse or toggle"),
+            },
+            "repeat" if v.eq_ignore_ascii_case("forever") => {
+                common.perpetual = true;
+                self.endless = true;
             }
-            "greedy_tour" | "shortest_tour" => self.greedy_pending = boolean(param, v)?,
-            "reset_on_idle" => self.reset_on_idle = boolean(param, v)?,
-            "lead_to_start" => self.lead_to_start = boolean(param, v)?,
-            "order" => {
-                let l = v.to_ascii_lowercase();
-                self.reverse = match l.as_str() {
-                    "normal" => false,
-                    "reverse" | "reversed" => true,
-                    "toggle" => !self.reverse,
-                    _ => return Err(ParamError::bad(param, value, "normal, reverse or toggle")),
-                };
-                self.apply_order();
+            "efficiency_measure" => {
+                self.efficiency = match v.to_ascii_lowercase().as_str() {
+                    "all" => true,
+                    "off" => false,
+                    _ => return bad("all or off"),
+                }
             }
             "repeat" => {
-                if v.eq_ignore_ascii_case("forever") {
-                    common.perpetual = true;
-                    self.endless = true;
-                } else {
-                    let r = number_min(param, v, 0.0)?;
-                    if r.fract() != 0.0 {
-                        return Err(ParamError::bad(param, value, "a whole number or forever"));
-                    }
-                    if r > 0.0 {
-                        common.perpetual = true;
-                    }
-                    self.repeats = r as u32;
-                    self.endless = false;
+                let r = atoi(v);
+                if r < 0 || !is_number(v) {
+                    return bad("a whole number or forever");
                 }
+                if r > 0 {
+                    common.perpetual = true;
+                }
+                self.repeats = r as u32;
+                self.endless = false;
             }
             "radius" | "capture_radius" => {
-                let d = number(param, v)?;
-                if d <= 0.0 {
-                    return Err(ParamError::bad(param, value, "a positive radius"));
+                if atof(v) <= 0.0 {
+                    return bad("a positive radius");
                 }
-                self.capture_radius = d;
+                self.capture_radius = atof(v);
             }
-            "nm_radius" | "slip_radius" => self.slip_radius = number_min(param, v, 0.0)?,
+            "nm_radius" | "slip_radius" => {
+                if atof(v) < 0.0 {
+                    return bad("a radius >= 0");
+                }
+                self.slip_radius = atof(v);
+            }
             "capture_line" => match v.to_ascii_lowercase().as_str() {
                 "absolute" => {
                     self.capture_line = true;
                     self.capture_radius = 0.0;
                     self.slip_radius = 0.0;
                 }
-                _ => self.capture_line = boolean(param, v)?,
+                "true" => self.capture_line = true,
+                "false" => self.capture_line = false,
+                _ => return bad("true, false or absolute"),
             },
             "crs_spd_zaic_ratio" | "patience" => {
-                let d = number(param, v)?;
+                let d = atof(v);
                 if !(1.0..=99.0).contains(&d) {
-                    return Err(ParamError::bad(param, value, "a number in [1, 99]"));
+                    return bad("a number in [1, 99]");
                 }
                 self.patience = d;
             }
-            "efficiency_measure" => {
-                self.efficiency = match v.to_ascii_lowercase().as_str() {
-                    "all" => true,
-                    "off" => false,
-                    _ => return Err(ParamError::bad(param, value, "all or off")),
-                }
-            }
             "visual_hints" => {
-                for h in v.split(',') {
-                    self.hint(h);
+                if !self.hints.set_hints(v) {
+                    return bad("hints key=colour or key=size");
                 }
             }
-            "draw_path_loop" | "eager_prev_index_flag" => {
-                return Err(ParamError::bad(
-                    param,
-                    value,
-                    "a parameter coug does not support yet",
-                ));
+            "end_spd" => {
+                if !self.set_end_speed(v) {
+                    return bad("slow_dist=..,stop_dist=.. with 0 <= stop_dist <= slow_dist");
+                }
             }
+            "speed" | "speed_alt" => return bad("a number >= 0"),
+            "currix" => return bad("an index >= 0"),
+            "lead" => return bad("a number"),
+            "lead_damper" => return bad("a positive distance"),
             _ => return Err(ParamError::unknown(param)),
         }
         Ok(())
     }
 
-    fn on_idle(&mut self, ctx: &Ctx<'_>, _out: &mut Out) {
-        if self.start_pending
-            && let Some((x, y, _, _)) = nav(ctx.info)
-        {
-            self.start_pending = false;
-            self.set_points(SegList::from_points(vec![Point::new(x, y)]));
+    fn on_set_param_complete(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
+        self.views = Views::default();
+        self.apply_point_hints(ctx);
+        if self.points.len() == 1 && self.repeats > 0 {
+            out.warning(ctx.name, "cycles/repeats not supported with single waypt");
+        }
+        let no_pts = "No waypts given. Set val to empty if intentional";
+        if self.points.is_empty() {
+            if self.waypts_init != "empty" && self.waypts_init != "start" {
+                out.warning(ctx.name, no_pts);
+            }
+        } else {
+            // MOOS `postRetractWMessage`: a filtered posting under its own key.
+            out.post_key(
+                "BHV_WARNING",
+                format!("{}: {no_pts}", ctx.name),
+                PostKey::Tag("retract"),
+            );
+        }
+        // After an update the C++ posts the settings twice: from `checkUpdates` and from
+        // `onSetParamComplete`; once after the configuration.
+        let times = if self.param_completes == 0 { 1 } else { 2 };
+        self.param_completes += 1;
+        for _ in 0..times {
+            out.post_key("BHV_SETTINGS", self.settings(ctx.name), PostKey::Repeatable);
         }
     }
 
-    fn on_idle_to_run(&mut self, _ctx: &Ctx<'_>, _out: &mut Out) {
+    fn on_idle(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
+        self.every_state(ctx);
+        self.update_info_in(ctx, out);
+    }
+
+    fn on_idle_to_run(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
+        self.every_state(ctx);
+        if self.update_info_in(ctx, out).is_none() {
+            return;
+        }
+        self.odo_disq = true;
         self.odo_prev = None;
-        self.odo_mark = None;
     }
 
     fn on_run_to_idle(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
-        out.post_key(
-            "VIEW_POINT",
-            self.point_view(ctx, false, true),
-            PostKey::Tag("trk"),
-        );
-        out.post_key(
-            "VIEW_POINT",
-            self.point_view(ctx, false, false),
-            PostKey::Tag("wpt"),
-        );
-        out.post("VIEW_SEGLIST", self.seglist_view(ctx, false));
-        self.cpa = None;
+        self.post_erasables(ctx, out);
         if self.reset_on_idle {
             self.reset_for_new_traversal();
-            self.prevpt = None;
-            self.prev_ix = None;
         }
+        self.cpa = None;
+        self.odo_mark = None;
+        self.odo_disq = true;
         if !self.var_dist_prev.is_empty() {
             out.post(self.var_dist_prev.clone(), -1.0);
         }
@@ -1168,57 +1445,60 @@ impl Behavior for Waypoint {
         }
     }
 
+    fn on_complete(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
+        self.post_erasables(ctx, out);
+    }
+
     fn on_run(&mut self, ctx: &Ctx<'_>, out: &mut Out) -> Option<IvpFunction> {
-        let Some(os) = nav(ctx.info) else {
-            out.post_key(
-                "VIEW_POINT",
-                self.point_view(ctx, false, false),
-                PostKey::Tag("wpt"),
-            );
-            out.error("No ownship X/Y/heading info in info_buffer.");
+        self.every_state(ctx);
+        if self.points.is_empty() {
+            return None;
+        }
+        self.perpetual = ctx.perpetual;
+        let Some(os) = self.update_info_in(ctx, out) else {
+            // `get_spec("active=false")`: the next point as it is, marked inactive.
+            let mut s = String::new();
+            ViewPoint::new(self.nextpt).spec(&mut s);
+            s.push_str(",active=false");
+            let base = s.len() - 1;
+            self.nextpt_attrs.write_spec(&mut s, base);
+            out.post_key("VIEW_POINT", s, PostKey::Tag("wpt"));
             return None;
         };
-        self.os = os;
         let here = Point::new(os.0, os.1);
-        if self.start_pending {
-            self.start_pending = false;
-            self.set_points(SegList::from_points(vec![here]));
-        }
-        if self.greedy_pending {
-            self.greedy_pending = false;
-            self.greedy(here.x, here.y);
-        }
         if let Some(p) = self.odo_prev {
             self.odo_leg += here.dist(&p);
         }
         self.odo_prev = Some(here);
 
-        let this = self.points.get(self.curr_ix);
-        if self.prevpt.is_none() {
-            self.prevpt = Some(here);
-        }
-        if !self.started {
-            self.started = true;
-            if self.wptflag_on_start {
-                self.hitpt = here;
-                if let Some(p) = this {
-                    self.nextpt = p;
-                }
-                self.post_wpt_flags(out);
-            }
+        let this = self.point_at(self.curr_ix);
+        let this_i = self.curr_ix as i64;
+        if !self.prevpt_valid {
+            self.prevpt = here;
+            self.prevpt_valid = true;
         }
         let next_point = self.set_next_waypoint(ctx, out);
-        let next = self.points.get(self.curr_ix);
-        if let (Some(t), Some(n)) = (this, next)
-            && (t.x != n.x || t.y != n.y)
-        {
-            self.prevpt = Some(t);
-            self.hitpt = t;
-            self.post_wpt_flags(out);
+        let next = self.point_at(self.curr_ix);
+        let post_flags = next.x != this.x
+            || next.y != this.y
+            || (self.wptflag_on_start && !self.wpt_flag_published)
+            || self.waypt_hit;
+        if post_flags {
+            self.prevpt = this;
+            self.prevpt_valid = true;
+            if self.eager_prev_index {
+                self.prev_waypt_index = this_i;
+            }
+            // Not repeatable: the helm's duplicate filter applies, as in the C++.
+            for f in &self.wpt_flags {
+                out.flag(&self.flag_now(f), false);
+            }
+            self.wpt_flag_published = true;
         }
-        if self.var_cyindex != "silent" {
+        if self.var_cyindex != "silent" && self.cycles != self.prev_cycle_index {
             let var = self.post_names()[2].clone();
             out.post(var, f64::from(self.cycles));
+            self.prev_cycle_index = self.cycles;
         }
         if !next_point {
             out.post_key(
@@ -1229,7 +1509,10 @@ impl Behavior for Waypoint {
             return None;
         }
         self.post_status(ctx, out);
-        out.post("VIEW_SEGLIST", self.seglist_view(ctx, true));
+        if !self.eager_prev_index {
+            self.prev_waypt_index = self.curr_ix as i64;
+        }
+        self.post_seglist(ctx, out);
         out.post_key(
             "VIEW_POINT",
             self.point_view(ctx, true, false),
@@ -1255,29 +1538,22 @@ impl Behavior for Waypoint {
         // Numbers as MOOS `macroExpand(double)`: doubleToStringX(v, 3); booleans through the
         // integer overload (1/0).
         let flag = |out: &mut String, b: bool| out.push(if b { '1' } else { '0' });
+        let (osx, osy) = (self.os.0, self.os.1);
         match name {
             "POINTS" => geometry::spec::write_points(out, self.points.points(), 1),
             "SPEED" => compact(out, self.speed, 3),
             "SPEED_ALT" => compact(out, self.speed_alt, 3),
             "USE_SPEED_ALT" => flag(out, self.use_alt_speed),
-            "IPF_TYPE" => out.push_str(match self.ipf_type {
-                IpfType::Zaic => "zaic",
-                IpfType::ZaicSpd => "zaic_spd",
-            }),
+            "IPF_TYPE" => out.push_str(self.ipf_type.name()),
             "WPT_FLAG_ON_START" => flag(out, self.wptflag_on_start),
             "LEAD_TO_START" => flag(out, self.lead_to_start),
             "LEAD_DAMPER" => compact(out, self.lead_damper, 3),
             "ORDER" => out.push_str(if self.reverse { "reverse" } else { "normal" }),
-            "PI" => match self.prev_ix {
-                Some(i) => compact(out, i as f64, 0),
-                None => out.push_str("-1"),
-            },
-            "CYC_DIST_TOGO" => compact(out, self.dist_to_end_cycle(), 3),
-            "ALL_DIST_TOGO" => compact(out, self.dist_to_end_final(), 3),
-            "X" => compact(out, self.hitpt.x, 3),
-            "Y" => compact(out, self.hitpt.y, 3),
-            "PX" => compact(out, self.prevpt.map_or(self.hitpt.x, |p| p.x), 3),
-            "PY" => compact(out, self.prevpt.map_or(self.hitpt.y, |p| p.y), 3),
+            "PI" => compact(out, self.prev_waypt_index as f64, 0),
+            "CYC_DIST_TOGO" => compact(out, self.dist_to_end_cycle(osx, osy), 3),
+            "ALL_DIST_TOGO" => compact(out, self.dist_to_end_final(osx, osy), 3),
+            "X" | "PX" => compact(out, self.prevpt.x, 3),
+            "Y" | "PY" => compact(out, self.prevpt.y, 3),
             "NX" => compact(out, self.nextpt.x, 3),
             "NY" => compact(out, self.nextpt.y, 3),
             "IX" | "NI" => compact(out, self.curr_ix as f64, 0),
