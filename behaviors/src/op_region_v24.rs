@@ -84,91 +84,41 @@
 //! | TIME_LEFT, DEPTH_LEFT, ALT_LEFT | remaining margins (whole metres for depth/altitude) | done |
 //! | DIST_TO_*, TRAJ_DIST_TO_*, ETA_TO_*, TRAJ_ETA_TO_* | distances and times to CORE/SAVE/HALT | done |
 
-use std::collections::BTreeMap;
-
 use geometry::pattern::Radial;
 use geometry::spec::parse_polygon;
 use geometry::{Polygon, ViewPolygon};
 use ivp::{IvpFunction, ZaicPeak, ZaicVector, couple_weighted};
 
 use crate::behavior::{Behavior, Ctx, Out, ParamError, add_flag_vars, add_vars};
+use crate::color::Hints;
 use crate::common::{Common, Flag};
 use crate::fmt::compact;
 use crate::param::{moos_boolean, number};
 
-/// Visual hints by key (MOOS `HintHolder`): colours and sizes, with per-object prefixes
-/// (`core_edge_color`) falling back to the general key (`edge_color`).
-#[derive(Debug, Clone, Default)]
-struct Hints {
-    colors: BTreeMap<String, String>,
-    measures: BTreeMap<String, f64>,
+/// The drawing defaults of the C++ constructor (MOOS `HintHolder`): general keys, and
+/// per-polygon prefixes (`core_edge_color`) that take precedence.
+fn default_hints() -> Hints {
+    let mut h = Hints::default();
+    h.set_measure("vertex_size", "0");
+    h.set_measure("edge_size", "1");
+    for (k, v) in [
+        ("vertex_color", "gray50"),
+        ("edge_color", "gray50"),
+        ("label_color", "off"),
+        ("core_edge_color", "gray30"),
+        ("save_edge_color", "gray50"),
+        ("halt_edge_color", "pink"),
+        ("save_status_edge_color", "yellow"),
+        ("halt_status_edge_color", "red"),
+    ] {
+        h.set_color(k, v);
+    }
+    h
 }
 
-impl Hints {
-    fn defaults() -> Hints {
-        let mut h = Hints::default();
-        h.measures.insert("vertex_size".into(), 0.0);
-        h.measures.insert("edge_size".into(), 1.0);
-        for (k, v) in [
-            ("vertex_color", "gray50"),
-            ("edge_color", "gray50"),
-            ("label_color", "off"),
-            ("core_edge_color", "gray30"),
-            ("save_edge_color", "gray50"),
-            ("halt_edge_color", "pink"),
-            ("save_status_edge_color", "yellow"),
-            ("halt_status_edge_color", "red"),
-        ] {
-            h.colors.insert(k.into(), v.into());
-        }
-        h
-    }
-
-    /// `key=value,...`; false at the first bad hint (earlier ones stay set, as in MOOS).
-    fn set(&mut self, hints: &str) -> bool {
-        for hint in hints.split(',') {
-            let (k, v) = hint.split_once('=').unwrap_or((hint, ""));
-            let (k, v) = (k.trim().to_ascii_lowercase(), v.trim());
-            if k.contains("color") {
-                if crate::hints::color(v).is_none() {
-                    return false;
-                }
-                self.colors
-                    .insert(k.replace("lcolor", "label_color"), v.into());
-            } else {
-                if !crate::param::is_number(v) {
-                    return false;
-                }
-                let d = crate::param::atof(v);
-                if d >= 0.0 {
-                    self.measures.insert(k, d);
-                }
-            }
-        }
-        true
-    }
-
-    fn apply(&self, v: &mut ViewPolygon, prefix: &str) {
-        let color = |k: &str| {
-            self.colors
-                .get(&format!("{prefix}_{k}"))
-                .or_else(|| self.colors.get(k))
-                .cloned()
-        };
-        let measure = |k: &str| {
-            self.measures
-                .get(&format!("{prefix}_{k}"))
-                .or_else(|| self.measures.get(k))
-                .copied()
-        };
-        let a = &mut v.attrs;
-        a.label_color = color("label_color").or(a.label_color.take());
-        a.vertex_color = color("vertex_color").or(a.vertex_color.take());
-        a.edge_color = color("edge_color").or(a.edge_color.take());
-        a.fill_color = color("fill_color").or(a.fill_color.take());
-        a.edge_size = measure("edge_size").or(a.edge_size);
-        a.vertex_size = measure("vertex_size").or(a.vertex_size);
-    }
+/// Applies the hints under `prefix` to a polygon (MOOS `applyHints` for an `XYPolygon`).
+fn apply_hints(h: &Hints, v: &mut ViewPolygon, prefix: &str) {
+    h.apply(&mut v.attrs, prefix, true, true);
 }
 
 /// The breach and save flag lists.
@@ -264,7 +214,7 @@ impl OpRegionV24 {
             secs_out_save: 0.0,
             time_exited_save: 0.0,
             start_time: 0.0,
-            hints: Hints::defaults(),
+            hints: default_hints(),
             committed_turn: "none",
             helm_iter: 0,
             now: 0.0,
@@ -331,7 +281,7 @@ impl OpRegionV24 {
     fn post_viewable(&self, out: &mut Out) {
         let mut post = |v: &ViewPolygon, prefix: &str| {
             let mut v = v.clone();
-            self.hints.apply(&mut v, prefix);
+            apply_hints(&self.hints, &mut v, prefix);
             v.precision = 3;
             out.post("VIEW_POLYGON", v.to_spec());
         };
@@ -396,7 +346,7 @@ impl OpRegionV24 {
         }
         if self.draw_halt_status {
             let mut v = self.status_circle(ctx, 8);
-            self.hints.apply(&mut v, "halt_status");
+            apply_hints(&self.hints, &mut v, "halt_status");
             out.post("VIEW_POLYGON", v.to_spec());
         }
         self.post_flags(Flags::Poly, out);
@@ -648,7 +598,7 @@ impl Behavior for OpRegionV24 {
                 self.draw_halt_status = moos_boolean(param, v, self.draw_halt_status)?
             }
             "visual_hints" => {
-                if !self.hints.set(v) {
+                if !self.hints.set_hints(v) {
                     return Err(ParamError::bad(param, value, "key=value hints"));
                 }
             }
@@ -791,7 +741,7 @@ impl Behavior for OpRegionV24 {
         if self.draw_save_status {
             let mut v = self.status_circle(ctx, 12);
             v.attrs.duration = Some(2.0);
-            self.hints.apply(&mut v, "save_status");
+            apply_hints(&self.hints, &mut v, "save_status");
             out.post("VIEW_POLYGON", v.to_spec());
         }
         let f = self.recovery_function(ctx, out);
@@ -865,17 +815,17 @@ mod tests {
 
     #[test]
     fn hints_fall_back_from_prefix_to_general() {
-        let mut h = Hints::defaults();
-        assert!(h.set("edge_size=2, lcolor=white"));
-        assert!(!h.set("vertex_size=big"));
+        let mut h = default_hints();
+        assert!(h.set_hints("edge_size=2, lcolor=white"));
+        assert!(!h.set_hints("vertex_size=big"));
         let mut v = empty_poly();
-        h.apply(&mut v, "core");
+        apply_hints(&h, &mut v, "core");
         assert_eq!(v.attrs.edge_color.as_deref(), Some("gray30"));
         assert_eq!(v.attrs.label_color.as_deref(), Some("white"));
         assert_eq!(v.attrs.edge_size, Some(2.0));
         assert_eq!(v.attrs.vertex_size, Some(0.0));
         let mut v = empty_poly();
-        h.apply(&mut v, "halt_status");
+        apply_hints(&h, &mut v, "halt_status");
         assert_eq!(v.attrs.edge_color.as_deref(), Some("red"));
     }
 

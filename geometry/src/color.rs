@@ -247,7 +247,13 @@ fn dec_rgb(s: &str) -> Option<[f64; 3]> {
     let sep = [',', '%', '$', '#', ':']
         .into_iter()
         .find(|&c| s.contains(c))?;
-    let parts: Vec<&str> = s.split(sep).map(str::trim).collect();
+    // MOOS `parseString`: a trailing separator adds no empty piece.
+    let parts: Vec<&str> = s
+        .strip_suffix(sep)
+        .unwrap_or(s)
+        .split(sep)
+        .map(str::trim)
+        .collect();
     if parts.len() != 3 || !parts.iter().all(|p| is_number(p)) {
         return None;
     }
@@ -279,7 +285,7 @@ mod tests {
         assert!(!is_color("hex:0,80,ff") && !is_color("hex:00,80,fg"));
         assert_eq!(color_rgb("2,-1,0.5"), Some([1.0, 0.0, 0.5]));
         assert!(!is_color("0,0,0") && !is_color("1,x,0") && !is_color("1,1"));
-        assert!(is_color("0.5:0.5:0.5") && is_color("0.1%0.2%0.3"));
+        assert!(is_color("0.5:0.5:0.5") && is_color("0.1%0.2%0.3") && is_color("1,1,1,"));
         assert!(is_color("OFF") && is_color("Empty") && !is_color(""));
     }
 }
