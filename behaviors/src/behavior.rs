@@ -374,7 +374,21 @@ pub trait Behavior: Send {
     /// configuration go out on the helm's first iteration, before the behaviour's own
     /// postings of that iteration (as pHelmIvP does with those made in `onSetParamComplete`);
     /// after an update, in the iteration of the update.
-    fn on_set_param_complete(&mut self, _ctx: &Ctx<'_>, _out: &mut Out) {}
+    ///
+    /// The default posts [`Behavior::config_status`] (MOOS `IvPBehavior::onSetParamComplete`
+    /// calls `postConfigStatus`); an override that should post it calls
+    /// [`post_config_status`].
+    fn on_set_param_complete(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
+        post_config_status(&*self, ctx, out);
+    }
+
+    /// The behaviour's settings as MOOS `postConfigStatus` posts them in BHV_SETTINGS
+    /// (`type=BHV_Loiter,name=..,...`), or `None` for a behaviour that posts none. The helm
+    /// posts it after each successful update (MOOS `checkUpdates`), besides what
+    /// [`Behavior::on_set_param_complete`] does.
+    fn config_status(&self, _name: &str) -> Option<String> {
+        None
+    }
 
     /// Appends the MOOS variables this behaviour reads from the info buffer (MOOS
     /// `addInfoVars`), so that the helm subscribes to them: navigation variables, a mark or
@@ -417,5 +431,12 @@ pub trait Behavior: Send {
     /// returns true, or returns false if `name` is not one of its macros.
     fn macro_value(&self, _name: &str, _out: &mut String) -> bool {
         false
+    }
+}
+
+/// Posts `b`'s [`Behavior::config_status`] as BHV_SETTINGS (repeatable), if it has one.
+pub fn post_config_status<B: Behavior + ?Sized>(b: &B, ctx: &Ctx<'_>, out: &mut Out) {
+    if let Some(s) = b.config_status(ctx.name) {
+        out.post_key("BHV_SETTINGS", s, PostKey::Repeatable);
     }
 }

@@ -57,7 +57,9 @@ mod station_keep;
 mod timer;
 mod waypoint;
 
-pub use behavior::{Behavior, Ctx, Emit, Info, MapInfo, Out, ParamError, PostKey, Value, nav};
+pub use behavior::{
+    Behavior, Ctx, Emit, Info, MapInfo, Out, ParamError, PostKey, Value, nav, post_config_status,
+};
 pub use common::{Common, Flag, FlagKind, FlagValue};
 pub use constant_depth::ConstantDepth;
 pub use constant_heading::ConstantHeading;

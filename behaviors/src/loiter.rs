@@ -577,10 +577,9 @@ impl Behavior for Loiter {
         Ok(())
     }
 
-    fn on_idle_to_run(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
-        // MOOS postConfigStatus.
+    fn config_status(&self, name: &str) -> Option<String> {
         let c = self.poly.center();
-        let mut st = format!("type=BHV_Loiter,name={},x=", ctx.name);
+        let mut st = format!("type=BHV_Loiter,name={name},x=");
         crate::fmt::fixed(&mut st, c.x, 2);
         st.push_str(",y=");
         crate::fmt::fixed(&mut st, c.y, 2);
@@ -594,7 +593,11 @@ impl Behavior for Loiter {
         st.push_str(",polygon=\"");
         st.push_str(&ViewPolygon::new(self.poly.clone()).to_spec());
         st.push('"');
-        out.post_key("BHV_SETTINGS", st, crate::behavior::PostKey::Repeatable);
+        Some(st)
+    }
+
+    fn on_idle_to_run(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
+        crate::behavior::post_config_status(&*self, ctx, out);
         if self.center_activate {
             self.center_assign = "present_position".into();
             self.center_pending = true;

@@ -351,9 +351,9 @@ impl Behavior for StationKeep {
         Ok(())
     }
 
-    fn on_idle_to_run(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
+    fn config_status(&self, name: &str) -> Option<String> {
         let st = self.static_station.unwrap_or_default();
-        let mut s = format!("type=BHV_StationKeep,name={},x=", ctx.name);
+        let mut s = format!("type=BHV_StationKeep,name={name},x=");
         fixed(&mut s, st.x, 2);
         s.push_str(",y=");
         fixed(&mut s, st.y, 2);
@@ -367,7 +367,11 @@ impl Behavior for StationKeep {
             fixed(&mut s, v, 1);
         }
         s.push_str(&format!(",center_activate={}", self.center_activate));
-        out.post_key("BHV_SETTINGS", s, PostKey::Repeatable);
+        Some(s)
+    }
+
+    fn on_idle_to_run(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
+        crate::behavior::post_config_status(&*self, ctx, out);
     }
 
     fn on_run_to_idle(&mut self, ctx: &Ctx<'_>, out: &mut Out) {

@@ -192,7 +192,6 @@ pub struct Waypoint {
     odo_mark: Option<(Point, f64)>,
     odo_disq: bool,
     odo_totals: [f64; 4],
-    param_completes: u32,
     views: Views,
     spd_cache: Option<SpeedFunction>,
 }
@@ -388,7 +387,6 @@ impl Waypoint {
             odo_mark: None,
             odo_disq: false,
             odo_totals: [0.0; 4],
-            param_completes: 0,
             views: Views::default(),
             spd_cache: None,
         }
@@ -1406,13 +1404,12 @@ impl Behavior for Waypoint {
                 PostKey::Tag("retract"),
             );
         }
-        // After an update the C++ posts the settings twice: from `checkUpdates` and from
-        // `onSetParamComplete`; once after the configuration.
-        let times = if self.param_completes == 0 { 1 } else { 2 };
-        self.param_completes += 1;
-        for _ in 0..times {
-            out.post_key("BHV_SETTINGS", self.settings(ctx.name), PostKey::Repeatable);
-        }
+        // (After an update the helm has posted the settings once already, from `checkUpdates`.)
+        crate::behavior::post_config_status(&*self, ctx, out);
+    }
+
+    fn config_status(&self, name: &str) -> Option<String> {
+        Some(self.settings(name))
     }
 
     fn on_idle(&mut self, ctx: &Ctx<'_>, out: &mut Out) {

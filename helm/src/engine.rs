@@ -1638,7 +1638,9 @@ impl Helm {
         if self.check_updates(i, now) {
             self.subs_dirty = true;
             self.state_vars_dirty = true;
+            // MOOS: `checkUpdates` posts the settings, then `onSetParamComplete` runs.
             self.call(i, |b, ctx, out| {
+                behaviors::post_config_status(b, ctx, out);
                 b.on_set_param_complete(ctx, out);
                 None
             });

@@ -1072,3 +1072,41 @@ Behavior = BHV_ConstantSpeed
     let posts = s.step(3.0, 0.0, 0.0, 0.0, &[("GO", "true")]);
     assert!(is_str(get(&posts, "WHO"), "carol"), "{posts:?}");
 }
+
+#[test]
+fn bhv_settings_once_after_configuration_twice_after_each_update_and_on_each_start() {
+    // MOOS: onSetParamComplete posts postConfigStatus at configuration; after an update
+    // checkUpdates posts it and onSetParamComplete again; Loiter and StationKeep also post
+    // it on each idle-to-running transition.
+    let bhv = "\
+Behavior = BHV_Loiter
+{
+  name      = lt
+  speed     = 1
+  condition = GO = true
+  duration  = no-time-limit
+  updates   = LT_UPDATE
+  polygon   = format=radial, x=0, y=0, radius=20, pts=4
+}
+";
+    let mut s = Script::new(helm_with(&[("start_engaged", "true")], bhv));
+    let count = |p: &[Posting]| all(p, "BHV_SETTINGS").len();
+    let first = s.step(0.0, 0.0, 0.0, 0.0, &[]);
+    let second = s.step(1.0, 0.0, 0.0, 0.0, &[]);
+    assert_eq!(
+        count(&first) + count(&second),
+        1,
+        "once after configuration"
+    );
+    let upd = s.step(2.0, 0.0, 0.0, 0.0, &[("LT_UPDATE", "speed=1.5")]);
+    let settings = all(&upd, "BHV_SETTINGS");
+    assert_eq!(settings.len(), 2, "{upd:?}");
+    assert!(
+        settings[1]
+            .as_str()
+            .unwrap()
+            .contains(",desired_speed=1.5,")
+    );
+    let run = s.step(3.0, 0.0, 0.0, 0.0, &[("GO", "true")]);
+    assert_eq!(count(&run), 1, "on the start of running");
+}
