@@ -1,6 +1,6 @@
 //! `coug run` in real time starts the ANTLER apps it does not build in from PATH, the way
 //! pAntler does (`APP MISSION.moos MOOSNAME`), giving them a mission whose ServerPort is
-//! the DB's real port; a missing one is a warning, not a failure. Unix only (the stand-in
+//! the DB's real port and whose MOOSTimeWarp is the run's; a missing one is a warning, not a failure. Unix only (the stand-in
 //! app is a shell script).
 
 #![cfg(unix)]
@@ -22,7 +22,8 @@ fn external_apps_start_from_path_and_missing_ones_warn() {
     std::fs::write(
         &script,
         "#!/bin/sh\nprintf '%s\\n' \"$@\" > \"$PWD/args.txt\"\n\
-         grep -i '^ServerPort' \"$1\" > \"$PWD/port.txt\"\nexec sleep 60\n",
+         grep -i '^ServerPort' \"$1\" > \"$PWD/port.txt\"\n\
+         grep -i '^MOOSTimeWarp' \"$1\" > \"$PWD/warp.txt\"\nexec sleep 60\n",
     )
     .unwrap();
     std::fs::set_permissions(&script, std::fs::Permissions::from_mode(0o755)).unwrap();
@@ -75,4 +76,7 @@ fn external_apps_start_from_path_and_missing_ones_warn() {
     assert_eq!(args[1], "fake_2");
     let port_line = std::fs::read_to_string(dir.join("port.txt")).unwrap();
     assert_eq!(port_line.trim(), format!("ServerPort = {port}"));
+    // The run's warp, not the file's 1 (pAntler's `--MOOSTimeWarp=10` overload).
+    let warp_line = std::fs::read_to_string(dir.join("warp.txt")).unwrap();
+    assert_eq!(warp_line.trim(), "MOOSTimeWarp = 10");
 }

@@ -711,21 +711,31 @@ fn lockstep(
     Ok(finish(args, &ended, Some(&alog_path)))
 }
 
-/// Writes the expanded mission (with the DB's actual port) for external apps, when the
-/// original file does not describe this run.
+/// Writes the mission for the external apps when the original file does not describe this
+/// run: macros expanded, and the run's settings written over the file's, as pAntler does
+/// with its `--NAME=VALUE` overloads (a `MISSION.moos++` copy): the DB's actual
+/// `ServerPort`, and the run's `MOOSTimeWarp` when `--warp` changed it.
 fn mission_for_externals(
     args: &RunArgs,
     loaded: &Loaded,
     globals: &MissionGlobals,
     port: u16,
+    warp: f64,
     log_dir: &Path,
 ) -> Result<PathBuf, String> {
-    if !loaded.expanded && port == globals.server_port {
+    let mut overrides: Vec<(&str, String)> = Vec::new();
+    if port != globals.server_port {
+        overrides.push(("ServerPort", port.to_string()));
+    }
+    if warp != globals.time_warp {
+        overrides.push(("MOOSTimeWarp", moosdb_client::db::fmt_g6(warp)));
+    }
+    if !loaded.expanded && overrides.is_empty() {
         return Ok(args.mission.clone());
     }
     let mut out = String::new();
     let mut depth = 0usize;
-    let mut replaced = false;
+    let mut written = vec![false; overrides.len()];
     for line in loaded.text.lines() {
         let t = line.trim_start();
         if t.starts_with('{') {
@@ -733,20 +743,29 @@ fn mission_for_externals(
         } else if t.starts_with('}') {
             depth = depth.saturating_sub(1);
         }
-        let is_port = depth == 0
-            && t.split('=')
-                .next()
-                .is_some_and(|k| k.trim().eq_ignore_ascii_case("ServerPort"));
-        if is_port && t.contains('=') {
-            out.push_str(&format!("ServerPort = {port}\n"));
-            replaced = true;
-        } else {
-            out.push_str(line);
-            out.push('\n');
+        let key = t.split('=').next().map(str::trim).unwrap_or("");
+        let hit = (depth == 0 && t.contains('='))
+            .then(|| {
+                overrides
+                    .iter()
+                    .position(|(k, _)| key.eq_ignore_ascii_case(k))
+            })
+            .flatten();
+        match hit {
+            Some(i) => {
+                out.push_str(&format!("{} = {}\n", overrides[i].0, overrides[i].1));
+                written[i] = true;
+            }
+            None => {
+                out.push_str(line);
+                out.push('\n');
+            }
         }
     }
-    if !replaced {
-        out.insert_str(0, &format!("ServerPort = {port}\n"));
+    for (i, (k, v)) in overrides.iter().enumerate().rev() {
+        if !written[i] {
+            out.insert_str(0, &format!("{k} = {v}\n"));
+        }
     }
     std::fs::create_dir_all(log_dir)
         .map_err(|e| format!("cannot create {}: {e}", log_dir.display()))?;
@@ -839,7 +858,7 @@ fn realtime(
         }
         let mut children = Vec::new();
         if !p.external.is_empty() {
-            let path = mission_for_externals(args, loaded, &globals, port, log_dir)
+            let path = mission_for_externals(args, loaded, &globals, port, warp_f, log_dir)
                 .map_err(|e| vec![e])?;
             children = start_externals(&p.external, &path);
         }
