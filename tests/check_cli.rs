@@ -93,18 +93,22 @@ fn check_warnings_alone_exit_0() {
     let dir = scratch("warnings");
     std::fs::write(
         dir.join("w.bhv"),
-        "Behavior = BHV_Unheard\n{\n  x = 1\n  condition = GHOST = 1\n}\n",
+        "Behavior = BHV_ConstantSpeed\n{\n  speed = 1\n  condition = GHOST = 1\n}\n",
     )
     .unwrap();
     let (code, stdout, _) = coug(&["check", dir.join("w.bhv").to_str().unwrap()]);
     assert_eq!(code, 0, "{stdout}");
-    assert_eq!(stdout.lines().count(), 2, "{stdout}");
-    assert!(
-        stdout.contains(":1:1: warning: unknown behaviour type `BHV_Unheard`"),
-        "{stdout}"
-    );
+    assert_eq!(stdout.lines().count(), 1, "{stdout}");
     assert!(
         stdout.contains(":4:15: warning: condition tests `GHOST`"),
+        "{stdout}"
+    );
+    // An unknown behaviour type is an error: the helm would be in MALCONFIG.
+    std::fs::write(dir.join("u.bhv"), "Behavior = BHV_Unheard\n{\n  x = 1\n}\n").unwrap();
+    let (code, stdout, _) = coug(&["check", dir.join("u.bhv").to_str().unwrap()]);
+    assert_eq!(code, 1, "{stdout}");
+    assert!(
+        stdout.contains(":1:1: error: unknown behaviour type `BHV_Unheard`"),
         "{stdout}"
     );
 }
@@ -184,7 +188,12 @@ fn check_prints_at_most_max_findings_per_file_and_says_how_many_were_left_out() 
     let (code, stdout, _) = coug(&["check", big_s, small_s]);
     assert_eq!(code, 1, "the error left out still sets the exit code");
     let lines: Vec<&str> = stdout.lines().collect();
-    assert_eq!(lines.len(), 50 + 1 + 1, "{}", lines[..5].join("\n"));
+    // 50 of big's, small's own line and its refusal as a mission, big's note.
+    assert_eq!(lines.len(), 50 + 2 + 1, "{}", lines[..5].join("\n"));
+    assert!(
+        stdout.contains("small.moos: not a MOOS mission file"),
+        "{stdout}"
+    );
     assert!(lines[..50].iter().all(|l| l.starts_with(big_s)), "{stdout}");
     assert!(lines[0].contains(":2:1: warning: line without `=`: MOOS ignores this line"));
     assert!(lines.contains(&format!("{small_s}:1:1: warning: line without `=`: MOOS ignores this line: expected `key = value`, found `just text`").as_str()));

@@ -350,11 +350,11 @@ fn check_behaviors(b: &BehaviorFile, out: &mut Vec<Diagnostic>) {
     for spec in &b.behaviors {
         let Some(kind) = catalog::behavior(&spec.kind) else {
             if !spec.kind.contains('$') {
-                out.push(Diagnostic::warning(
+                out.push(Diagnostic::error(
                     DiagnosticKind::UnknownBehavior,
                     spec.span.clone(),
                     format!(
-                        "unknown behaviour type `{}` (its parameters are not checked)",
+                        "unknown behaviour type `{}`: the helm would run in MALCONFIG and never drive",
                         spec.kind
                     ),
                 ));

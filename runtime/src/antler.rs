@@ -127,6 +127,9 @@ pub struct Plan {
     pub has_db: bool,
     /// Non-fatal findings, as `file:line: text` where known.
     pub warnings: Vec<String>,
+    /// Apps left out because the C++ app would end at start-up with their configuration
+    /// ([`App::startup_failure`]), as `file:line: name: why`.
+    pub failed: Vec<String>,
     /// The mission's globals.
     pub globals: MissionGlobals,
 }
@@ -201,25 +204,25 @@ pub fn build(
         span: mission::source::Span::new(&format!("(no ProcessConfig = {moos_name})"), 0, 0),
         entries: Vec::new(),
     };
+    if base(program) == "pLogger"
+        && let Some(b) = &block
+    {
+        warnings.extend(LoggerConfig::warnings(b));
+    }
     let app: Box<dyn App> = match base(program) {
         "MOOSDB" => return Ok(Built::Db),
         "pLogger" => match log.take() {
-            Some(t) => {
-                if let Some(b) = &block {
-                    warnings.extend(LoggerConfig::warnings(b));
-                }
-                Box::new(
-                    Logger::new(
-                        moos_name,
-                        block,
-                        t.config,
-                        t.writer,
-                        &t.opened,
-                        &t.opened_on,
-                    )
-                    .with_side_files(t.side),
+            Some(t) => Box::new(
+                Logger::new(
+                    moos_name,
+                    block,
+                    t.config,
+                    t.writer,
+                    &t.opened,
+                    &t.opened_on,
                 )
-            }
+                .with_side_files(t.side),
+            ),
             None => return Ok(Built::NoLogTarget),
         },
         "uTimerScript" => {
@@ -281,6 +284,7 @@ pub fn plan(
         external: Vec::new(),
         has_db: false,
         warnings: Vec::new(),
+        failed: Vec::new(),
         globals,
     };
     let has_logger = runs.iter().any(|r| base(&r.app) == "pLogger");
@@ -318,7 +322,15 @@ pub fn plan(
             &mut warnings,
         )?;
         match built {
-            Built::App(app) => plan.apps.push(app),
+            Built::App(app) => match app.startup_failure() {
+                // As pAntler with an app that ends at once: the run goes on without it.
+                Some(why) => plan.failed.push(format!(
+                    "{}:{}: {name}: {why}",
+                    run.span.file_name(),
+                    run.span.line
+                )),
+                None => plan.apps.push(app),
+            },
             Built::Db => plan.has_db = true,
             Built::NoLogTarget => warnings.push(format!(
                 "{}:{}: {name}: no log target given; not logging",

@@ -195,6 +195,13 @@ pub trait App {
     fn finished(&self) -> bool {
         false
     }
+
+    /// Why the C++ app would end at start-up with this configuration (its `OnStartUp`
+    /// returning false), if it would: the runner then leaves the app out and says why, and
+    /// `coug check` reports it as an error.
+    fn startup_failure(&self) -> Option<String> {
+        None
+    }
 }
 
 /// The AppTick of a block as CMOOSApp reads it: `AppTick` (default 5), values above 100 or

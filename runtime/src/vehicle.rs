@@ -72,6 +72,7 @@ pub struct VehicleApp {
     subs: Vec<Subscription>,
     postings: Vec<Posting>,
     warnings: Vec<String>,
+    startup_failure: Option<String>,
 }
 
 impl VehicleApp {
@@ -89,6 +90,7 @@ impl VehicleApp {
             subs: subs.into_iter().map(Subscription::var).collect(),
             postings: Vec::with_capacity(32),
             warnings,
+            startup_failure: None,
         }
     }
 
@@ -128,16 +130,27 @@ impl VehicleApp {
         let (mut cfg, unknown) =
             PidConfig::from_params_lenient(params(&block)).map_err(|e| located(&block, e))?;
         cfg.legacy = legacy;
+        // The older pMarinePID ends at start-up ("Improper PID Settings") when a required
+        // gain or limit is missing; pMarinePIDV22 only reports it and runs on.
+        let missing: Vec<&str> = unknown
+            .iter()
+            .filter_map(|e| match e {
+                ConfigError::Missing { key, .. } => Some(*key),
+                _ => None,
+            })
+            .collect();
+        let failure = (legacy && !missing.is_empty()).then(|| {
+            format!(
+                "Improper PID Settings ({} missing): pMarinePID ends at start-up",
+                missing.join(", ")
+            )
+        });
         let w = warnings(&block, unknown);
         let pid = MarinePid::new(cfg);
         let subs = pid.subscriptions();
-        Ok(VehicleApp::new(
-            name,
-            block,
-            Inner::Pid(Box::new(pid)),
-            subs,
-            w,
-        ))
+        let mut app = VehicleApp::new(name, block, Inner::Pid(Box::new(pid)), subs, w);
+        app.startup_failure = failure;
+        Ok(app)
     }
 
     /// pNodeReporter from its block, reporting as vehicle `community`; `grid` (the mission's
@@ -185,6 +198,10 @@ impl VehicleApp {
 impl App for VehicleApp {
     fn name(&self) -> &str {
         &self.name
+    }
+
+    fn startup_failure(&self) -> Option<String> {
+        self.startup_failure.clone()
     }
 
     fn process_config(&self) -> Option<&ProcessConfig> {

@@ -178,6 +178,9 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
             return 1;
         }
     };
+    for w in &loaded.warnings {
+        errln!("{moos_name}: warning: {w}");
+    }
     let m = &loaded.mission;
     let (globals, warnings) = MissionGlobals::from_mission(m);
     for w in warnings {
@@ -194,7 +197,7 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
         // A bad configuration never ends the process: the helm joins the community in
         // MALCONFIG, says why, and never drives (as pHelmIvP).
         let h = HelmApp::from_mission_files(&moos_name, m, &dir, &Options::new(), &FsSource);
-        report_malconfig(&moos_name, &h);
+        report_malconfig(&moos_name, &h.config_errors());
         Box::new(h)
     } else {
         let mut warnings = Vec::new();
@@ -224,6 +227,11 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
             Ok(Built::App(a)) => {
                 for w in warnings {
                     errln!("{moos_name}: warning: {w}");
+                }
+                // As the C++ app: a configuration it cannot start with ends it.
+                if let Some(why) = a.startup_failure() {
+                    errln!("{moos_name}: error: {why}");
+                    return 1;
                 }
                 a
             }

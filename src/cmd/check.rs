@@ -4,7 +4,7 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 
 use clap::Args;
-use mission::check::check_files;
+use mission::check::{check_files, is_bhv};
 use mission::diagnostic::Diagnostic;
 use mission::nsplug::Options;
 use mission::source::FsSource;
@@ -54,9 +54,11 @@ pub fn run(args: &CheckArgs) -> i32 {
     let mut opts = Options::new();
     opts.include_paths = args.include_paths.clone();
     let mut files = Vec::new();
+    let mut macros = Vec::new();
     for item in &args.items {
         if item.contains('=') {
             opts.define_arg(item);
+            macros.push(item.clone());
         } else {
             files.push(PathBuf::from(item));
         }
@@ -93,6 +95,50 @@ pub fn run(args: &CheckArgs) -> i32 {
             left[i].1.warnings += 1;
         }
     }
+    // Then what `coug run` would find starting each mission (one validation path): helms
+    // that would be in MALCONFIG, the apps' configuration warnings, missing blocks.
+    let mut run_errors = false;
+    for path in files.iter().filter(|p| !is_bhv(p)) {
+        let name = path.display().to_string();
+        if findings.iter().any(|f| f.is_error() && top_file(f) == name) {
+            continue;
+        }
+        let loaded = match super::run::load(path, &macros, &args.include_paths) {
+            Ok(l) => l,
+            Err(errors) => {
+                for e in errors {
+                    outln!("{}", finding("error", &e));
+                    run_errors = true;
+                }
+                continue;
+            }
+        };
+        let v = super::run::validate(&loaded);
+        // The reader's own warnings were listed above.
+        for w in &v.warnings[loaded.warnings.len()..] {
+            outln!("{}", finding("warning", w));
+        }
+        for (helm, reasons) in &v.malconfig {
+            for r in reasons {
+                outln!(
+                    "{}",
+                    finding(
+                        "error",
+                        &format!("{helm} would run in MALCONFIG (never driving): {r}")
+                    )
+                );
+            }
+            run_errors = true;
+        }
+        for f in &v.failed {
+            outln!("{}", finding("error", f));
+            run_errors = true;
+        }
+        for e in &v.errors {
+            outln!("{}", finding("error", &format!("{name}: {e}")));
+            run_errors = true;
+        }
+    }
     for (file, l) in &left {
         let n = l.errors + l.warnings;
         outln!(
@@ -105,7 +151,20 @@ pub fn run(args: &CheckArgs) -> i32 {
             plural(l.warnings)
         );
     }
-    i32::from(findings.iter().any(|f| f.is_error()))
+    i32::from(run_errors || findings.iter().any(|f| f.is_error()))
+}
+
+/// `file:line: SEVERITY: rest` for a finding that starts with `file:line: `, else
+/// `SEVERITY: finding`.
+fn finding(severity: &str, text: &str) -> String {
+    let mut parts = text.splitn(3, ':');
+    if let (Some(file), Some(line), Some(rest)) = (parts.next(), parts.next(), parts.next())
+        && !file.is_empty()
+        && line.trim().parse::<u32>().is_ok()
+    {
+        return format!("{file}:{}: {severity}:{rest}", line.trim());
+    }
+    format!("{severity}: {text}")
 }
 
 fn plural(n: usize) -> &'static str {

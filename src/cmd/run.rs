@@ -111,6 +111,8 @@ pub struct Loaded {
     pub expanded: bool,
     /// The mission file's folder (relative paths in the mission are read from there).
     pub dir: PathBuf,
+    /// The reader's and nsplug's warnings (an unexpanded `$(X)` is left to the apps).
+    pub warnings: Vec<String>,
 }
 
 fn base(app: &str) -> &str {
@@ -134,13 +136,14 @@ pub fn load(
     let original = std::fs::read_to_string(path).unwrap_or_default();
     let parsed = parse_moos(&pre.source);
     let mut errors = Vec::new();
+    let mut warnings = Vec::new();
     for d in pre.diagnostics.iter().chain(parsed.diagnostics.iter()) {
         if d.is_error() {
             errors.push(d.to_string());
         } else if d.kind != DiagnosticKind::UndefinedMacro {
             // `$(X)` left for the apps (uTimerScript's `$(COUNT)`, behaviour flags' `$(X)`)
             // is normal in a mission; `coug check` lists them.
-            errln!("coug run: warning: {d}");
+            warnings.push(d.to_string());
         }
     }
     let mission = parsed.value;
@@ -165,16 +168,120 @@ pub fn load(
             behaviors,
             expanded,
             dir,
+            warnings,
         })
     } else {
         Err(errors)
     }
 }
 
+/// What `coug run` finds wrong with a loaded mission before running it, and `coug check`
+/// reports: one path for both commands.
+#[derive(Debug, Default)]
+pub struct Validation {
+    /// Findings that do not stop the run (file:line first where known).
+    pub warnings: Vec<String>,
+    /// Each helm that would run in MALCONFIG (never driving), with why.
+    pub malconfig: Vec<(String, Vec<String>)>,
+    /// Apps that would end at start-up (the run goes on without them), with why.
+    pub failed: Vec<String>,
+    /// Why the run cannot start at all.
+    pub errors: Vec<String>,
+}
+
+/// The apps coug builds in (a `Run` line of one of these uses its ProcessConfig block).
+const BUILT_IN: &[&str] = &[
+    "pHelmIvP",
+    "uSimMarine",
+    "uSimMarineV22",
+    "pMarinePID",
+    "pMarinePIDV22",
+    "pNodeReporter",
+    "pLogger",
+    "uTimerScript",
+];
+
+/// Validates a loaded mission as `coug run` would start it: the reader's warnings, the apps'
+/// configuration warnings, helms that would be in MALCONFIG, built-in apps without a
+/// ProcessConfig block, and AppTick/CommsTick values MOOS cannot read.
+pub fn validate(loaded: &Loaded) -> Validation {
+    let mut v = Validation {
+        warnings: loaded.warnings.clone(),
+        ..Validation::default()
+    };
+    let m = &loaded.mission;
+    for block in &m.processes {
+        for key in ["AppTick", "CommsTick"] {
+            if let Some(p) = block
+                .entries
+                .iter()
+                .find(|p| p.key.eq_ignore_ascii_case(key))
+                && p.value.trim().parse::<f64>().is_err()
+            {
+                v.warnings.push(format!(
+                    "{}:{}: {}: {} = {}: not a number; MOOS cannot read it and keeps its default",
+                    p.span.file_name(),
+                    p.span.line,
+                    block.name,
+                    p.key,
+                    p.value
+                ));
+            }
+        }
+    }
+    for run in m.antler_runs() {
+        let name = run.moos_name();
+        if BUILT_IN.contains(&base(&run.app)) && m.process(name).is_none() {
+            v.warnings.push(format!(
+                "{}:{}: {} runs with no `ProcessConfig = {name}` block: every setting at its default",
+                run.span.file_name(),
+                run.span.line,
+                run.app
+            ));
+        }
+    }
+    let mut malconfig = Vec::new();
+    let planned = plan(m, 0.0, 0, None, &mut |run: &AntlerRun, _block| {
+        if base(&run.app) != "pHelmIvP" {
+            return None;
+        }
+        let h = helm_app(loaded, run.moos_name());
+        if !h.config_errors().is_empty() {
+            let reasons = h.config_errors().iter().map(ToString::to_string).collect();
+            malconfig.push((run.moos_name().to_string(), reasons));
+        }
+        Some(Ok(Box::new(h) as Box<dyn App>))
+    });
+    match planned {
+        Ok(p) => {
+            v.warnings.extend(
+                p.warnings
+                    .into_iter()
+                    .filter(|w| !w.contains("no log target given")),
+            );
+            v.failed = p.failed;
+        }
+        // A file without an ANTLER block is not a mission `coug run` can start (it says so
+        // when asked to), but it is a good MOOS file for apps started by hand.
+        Err(runtime::antler::LaunchError::NoAntler) => {}
+        Err(e) => v.errors.push(e.to_string()),
+    }
+    v.malconfig = malconfig;
+    v
+}
+
+/// The helm called `name` of a loaded mission (MALCONFIG when its configuration is bad).
+fn helm_app(loaded: &Loaded, name: &str) -> HelmApp {
+    let m = &loaded.mission;
+    match loaded.behaviors.get(name) {
+        Some(bhv) => HelmApp::from_behaviors(name, m, bhv.as_ref().map_err(Vec::as_slice)),
+        None => HelmApp::from_behaviors(name, m, Err(&[])),
+    }
+}
+
 /// Says on stderr why a helm is in MALCONFIG (it runs anyway, as pHelmIvP does: it posts
 /// `IVPHELM_STATE = MALCONFIG` and never drives).
-pub fn report_malconfig(name: &str, helm: &HelmApp) {
-    let errors = helm.config_errors();
+pub fn report_malconfig<E: std::fmt::Display>(name: &str, errors: &[E]) {
     if errors.is_empty() {
         return;
     }
@@ -295,12 +402,7 @@ fn make_plan(
         if base(&run.app) != "pHelmIvP" {
             return None;
         }
-        let name = run.moos_name();
-        let h = match loaded.behaviors.get(name) {
-            Some(bhv) => HelmApp::from_behaviors(name, m, bhv.as_ref().map_err(Vec::as_slice)),
-            None => HelmApp::from_behaviors(name, m, Err(&[])),
-        };
-        report_malconfig(name, &h);
+        let h = helm_app(loaded, run.moos_name());
         Some(Ok(Box::new(h) as Box<dyn App>))
     })
     .map_err(|e| e.to_string())
@@ -542,6 +644,19 @@ fn run_inner(args: &RunArgs) -> Result<i32, Vec<String>> {
         )]);
     }
     let loaded = load(&args.mission, &args.macros, &args.include_paths)?;
+    let checked = validate(&loaded);
+    if !checked.errors.is_empty() {
+        return Err(checked.errors);
+    }
+    for w in &checked.warnings {
+        errln!("coug run: warning: {w}");
+    }
+    for (name, reasons) in &checked.malconfig {
+        report_malconfig(name, reasons);
+    }
+    for f in &checked.failed {
+        errln!("coug run: error: {f}; the run goes on without it");
+    }
     let until = match &args.until {
         Some(u) => Some(parse_condition(u).map_err(|e| vec![format!("--until {u:?}: {e}")])?),
         None => None,
@@ -639,9 +754,7 @@ fn lockstep(
     // The files are named from the wall-clock start (two runs never share a name); their
     // contents keep the virtual date, so a lockstep log is byte-identical run to run.
     let alog_path = open_log(loaded, log_dir, wall_now(), &sink).map_err(|e| vec![e])?;
-    for w in &p.warnings {
-        errln!("coug run: warning: {w}");
-    }
+    // (The plan's warnings were printed by `validate`.)
     for ext in &p.external {
         errln!(
             "coug run: warning: {}:{}: {} is not built into coug; skipped in lockstep",
@@ -853,9 +966,6 @@ fn realtime(
         let (target, sink) = log_target(loaded, log_dir, opened);
         let p = make_plan(loaded, start, args.seed, Some(target)).map_err(|e| vec![e])?;
         let alog_path = open_log(loaded, log_dir, opened, &sink).map_err(|e| vec![e])?;
-        for w in &p.warnings {
-            errln!("coug run: warning: {w}");
-        }
         let mut children = Vec::new();
         if !p.external.is_empty() {
             let path = mission_for_externals(args, loaded, &globals, port, warp_f, log_dir)
