@@ -227,7 +227,7 @@ fn check_reports_unknown_types_parameters_and_variables() {
         [
             "m/alpha.moos:5:3: error: unknown pHelmIvP parameter `behaviour_dir`",
             "m/alpha.bhv:8:3: error: unknown parameter `capture_radiuss` for BHV_Waypoint (did you mean `capture_radius`?)",
-            "m/alpha.bhv:12:1: warning: unknown behaviour type `BHV_Mystery` (its parameters are not checked)",
+            "m/alpha.bhv:12:1: error: unknown behaviour type `BHV_Mystery`: the helm would run in MALCONFIG and never drive",
             "m/alpha.bhv:7:15: warning: condition tests `GHOST`, which nothing initializes or posts",
         ]
     );
@@ -236,7 +236,7 @@ fn check_reports_unknown_types_parameters_and_variables() {
             .iter()
             .filter(|d| d.severity == Severity::Error)
             .count(),
-        2
+        3
     );
 }
 
