@@ -145,6 +145,9 @@ fn a_misconfigured_helm_stays_up_in_malconfig_and_stops_on_sigint_and_sigterm() 
             helm.0.try_wait().unwrap().is_none(),
             "the helm exited on a configuration error"
         );
+        // PHELMIVP_PID: its process id, posted at start-up.
+        let pid = server.with_db(|d| d.current("PHELMIVP_PID").map(|m| m.dval));
+        assert_eq!(pid, Some(f64::from(helm.0.id())));
         let status = signal_and_wait(&mut helm, sig);
         let stderr = std::fs::read_to_string(&err_path).unwrap();
         assert!(stderr.contains("MALCONFIG"), "{stderr}");

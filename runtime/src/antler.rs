@@ -251,6 +251,7 @@ pub fn build(
                 &globals.community,
                 start,
                 globals.grid(),
+                seed ^ fnv(moos_name),
             )?;
             warnings.extend(v.warnings().iter().cloned());
             Box::new(v)

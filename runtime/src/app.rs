@@ -196,6 +196,10 @@ pub trait App {
         false
     }
 
+    /// Told the process id when the app runs as its own MOOS process (single-app mode), for
+    /// the apps that post it (pNodeReporter's PNODEREPORTER_PID, pHelmIvP's PHELMIVP_PID).
+    fn set_process_id(&mut self, _pid: u32) {}
+
     /// Why the C++ app would end at start-up with this configuration (its `OnStartUp`
     /// returning false), if it would: the runner then leaves the app out and says why, and
     /// `coug check` reports it as an error.

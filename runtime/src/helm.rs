@@ -19,6 +19,7 @@ pub struct HelmApp {
     helm: Helm,
     mail: Vec<::helm::Mail>,
     registered: Vec<String>,
+    pid: Option<u32>,
 }
 
 impl HelmApp {
@@ -61,6 +62,7 @@ impl HelmApp {
             helm,
             mail: Vec::new(),
             registered,
+            pid: None,
         }
     }
 
@@ -195,6 +197,18 @@ impl App for HelmApp {
             .iter()
             .map(|v| Subscription::var(v.clone()))
             .collect()
+    }
+
+    // pHelmIvP posts its process id first thing in OnStartUp (single-app mode only: in
+    // `coug run` the apps share one process and the log stays reproducible).
+    fn set_process_id(&mut self, pid: u32) {
+        self.pid = Some(pid);
+    }
+
+    fn on_startup(&mut self, _now: f64, out: &mut Vec<Post>) {
+        if let Some(pid) = self.pid {
+            out.push(Post::double("PHELMIVP_PID", f64::from(pid)));
+        }
     }
 
     fn new_subscriptions(&mut self) -> Vec<Subscription> {

@@ -152,6 +152,7 @@ pub async fn run<A: App + ?Sized>(
         subscribed.insert(s.pattern);
     }
     let started = client.moos_time();
+    app.set_process_id(std::process::id());
     let mut posts = Vec::new();
     let mut published = BTreeSet::new();
     app.on_startup(started, &mut posts);

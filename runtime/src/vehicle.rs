@@ -154,21 +154,24 @@ impl VehicleApp {
     }
 
     /// pNodeReporter from its block, reporting as vehicle `community`; `grid` (the mission's
-    /// origin) serves the cross-fill policies.
+    /// origin) serves the cross-fill policies; `seed` seeds the blackout draws.
     pub fn node_reporter(
         name: &str,
         block: ProcessConfig,
         community: &str,
         start: f64,
         grid: Option<LocalGrid>,
+        seed: u64,
     ) -> Result<Self, VehicleAppError> {
         let (cfg, unknown) = NodeReportConfig::from_params_lenient(params(&block))
             .map_err(|e| located(&block, e))?;
         let w = warnings(&block, unknown);
-        let rep = NodeReporter::new(cfg, community, start).with_grid(grid);
-        let riders: Vec<String> = rep.rider_vars().map(str::to_string).collect();
+        let rep = NodeReporter::new(cfg, community, start)
+            .with_grid(grid)
+            .with_seed(seed);
+        let extra = rep.extra_subscriptions();
         let mut subs = NodeReporter::subscriptions().to_vec();
-        subs.extend(riders.iter().map(String::as_str));
+        subs.extend(extra.iter().map(String::as_str));
         Ok(VehicleApp::new(
             name,
             block,
@@ -202,6 +205,12 @@ impl App for VehicleApp {
 
     fn startup_failure(&self) -> Option<String> {
         self.startup_failure.clone()
+    }
+
+    fn set_process_id(&mut self, pid: u32) {
+        if let Inner::Reporter(r) = &mut self.inner {
+            r.set_pid(pid);
+        }
     }
 
     fn process_config(&self) -> Option<&ProcessConfig> {

@@ -220,6 +220,7 @@ async fn vehicle_apps_swap_in_as_separate_moos_clients_with_warp() {
         "alpha",
         start,
         None,
+        0,
     )
     .unwrap();
     let mut helm = ScriptedHelm;

@@ -70,6 +70,7 @@ fn run() -> (Vec<u8>, Outcome) {
         "alpha",
         START,
         None,
+        0,
     )
     .unwrap();
     let buf = SharedBuffer::default();
@@ -207,7 +208,7 @@ fn the_vehicle_run_is_deterministic() {
 #[test]
 fn vehicle_apps_run_on_with_config_warnings() {
     let text = "Community = abe\nProcessConfig = pNodeReporter\n{\n  platform_type = kayak\n  \
-                nohelm_threshold = -1\n  extrap_enabled = true\n}\n\
+                nohelm_threshold = -1\n  extrap_enabled = maybe\n}\n\
                 ProcessConfig = pMarinePIDV22\n{\n  yaw_pid_kp = fast\n  speed_factor = 20\n}\n";
     let m = mission::moos::parse_moos(&SourceMap::from_text("w.moos", text)).value;
     let rep = VehicleApp::node_reporter(
@@ -216,6 +217,7 @@ fn vehicle_apps_run_on_with_config_warnings() {
         "abe",
         START,
         None,
+        0,
     )
     .expect("the reporter runs");
     let w = rep.warnings();
@@ -225,7 +227,7 @@ fn vehicle_apps_run_on_with_config_warnings() {
         "{w:?}"
     );
     assert!(
-        w[1].starts_with("w.moos:6: ") && w[1].contains("not implemented"),
+        w[1].starts_with("w.moos:6: ") && w[1].contains("extrap_enabled = maybe"),
         "{w:?}"
     );
     let pid = VehicleApp::marine_pid("pMarinePIDV22", block(&m, "pMarinePIDV22"), false)

@@ -14,9 +14,9 @@
 //! last one is older than `nohelm_threshold` (5 s), else the helm state (`DRIVE`, `PARK`,
 //! ...), replaced by the `modes=` field of `IVPHELM_SUMMARY` when driving with modes.
 //!
-//! Not implemented yet, each reported as a config warning when set (the app runs on without
-//! it): platform reports, alternative-nav reports, extrapolation pruning,
-//! blackout variance.
+//! Besides the node report: platform reports (`plat_report_input`), a second report from
+//! alternative navigation (`alt_nav_prefix`), extrapolation pruning (`extrap_enabled`), the
+//! mission-hash odometer, and PNODEREPORTER_PID in single-app mode.
 //!
 //! # Conformance with pNodeReporter (MOOS-IvP a2a9b716)
 //!
@@ -25,28 +25,28 @@
 //! | parameter | aliases | type | default | validation (C++ rule) | runtime update | coug |
 //! |---|---|---|---|---|---|---|
 //! | platform_type | vessel_type | text | unknown | any | no | done |
-//! | platform_color | | colour | none | a colour | PLATFORM_COLOR, NODE_COLOR_CHANGE (allow_color_change) | open: colour names not checked |
+//! | platform_color | | colour | none | MOOS `isColor` (else unhandled warning) | PLATFORM_COLOR, NODE_COLOR_CHANGE (allow_color_change), each only with a MOOS colour | done |
 //! | platform_length | vessel_length | m | by type | number >= 0 | no | done |
-//! | platform_beam | | m | none | number >= 0 | no | open: implemented, untested |
-//! | platform_transparency | | number | none | number | no | open: implemented, untested |
+//! | platform_beam | | m | none | number >= 0 | no | done |
+//! | platform_transparency | | number | none | number | NAV_TRANSP | done |
 //! | platform_group | group | text | none | any | NODE_GROUP_UPDATE | done |
 //! | coord_policy_global | | bool | false | MOOS boolean | no | done |
 //! | terse_reports | | bool | false | MOOS boolean | no | done |
-//! | blackout_interval | | s | 0 | number >= 0 | no | done |
+//! | blackout_interval | | s | 0 | number >= 0; holds back only the reports before the first (the C++ then resets the blackout to an unset base of 0) | no | done |
 //! | node_report_output | node_report_summary, node_report_var | var | NODE_REPORT_LOCAL | no white space | no | done |
-//! | nohelm_threshold | | s | 5 | number > 0 | no | open: implemented, untested |
-//! | nav_grace_period | | s | 60 | number | no | open: implemented, untested |
-//! | paused | | bool | false | MOOS boolean | PNR_PAUSE | open: implemented, untested |
-//! | allow_color_change | | bool | false | MOOS boolean | no | open: implemented, untested |
+//! | nohelm_threshold | | s | 5 | number > 0 | no | done |
+//! | nav_grace_period | | s | 60 | number | no | done |
+//! | paused | | bool | false | MOOS boolean; no node or platform reports while paused | PNR_PAUSE | done |
+//! | allow_color_change | | bool | false | MOOS boolean | no | done |
 //! | cross_fill_policy | crossfill_policy | enum | literal | literal, fill-empty, global, use-latest, local, global-terse (`_` read as `-`); fills before each report with the mission's origin | no | done |
 //! | platform_aspect | | `key=value` | none | both sides non-empty, no second `=`; appended to the reports in key order | no | done |
-//! | blackout_variance | | s | 0 | >= 0 | no | refused: warning, not implemented |
+//! | blackout_variance | | s | 0 | number >= 0; after each report the next blackout is drawn from [−v, +v) hundredths, clipped at 0 | no | done |
 //! | rider | | `var=..,policy=always\|updated\|updated+S\|S,rfld=..,prec=..` | none | not a report field; policy, alphanumeric rfld, prec >= 0 (max 10); one per variable; subscribed | yes (mail) | done |
-//! | plat_report_input | plat_report_var, platform_variable | spec | none | | no | refused: warning, platform reports not implemented |
-//! | plat_report_output | | var | PLATFORM_REPORT_LOCAL | | no | refused: warning |
+//! | plat_report_input | plat_report_var, platform_variable | `VAR[, gap=S][, alias=NAME]` | none | always taken; a name with white space or a repeat ignored | no | done |
+//! | plat_report_output | | var | PLATFORM_REPORT_LOCAL | no white space | no | done |
 //! | platform_vsource | vsource | text | none | any; `VSOURCE=` after GROUP | no | done |
-//! | alt_nav_prefix, alt_nav_name, alt_nav_group | | text | none | | no | refused: warning, alternative-nav reports not implemented |
-//! | extrap_enabled, extrap_pos_thresh, extrap_hdg_thresh, extrap_max_gap | | | | | no | refused: warning, extrapolation pruning not implemented |
+//! | alt_nav_prefix, alt_nav_name, alt_nav_group | | text | none, `_GT`, none | prefix any (`_` appended), name any (`_X` appended to the vehicle's), group no white space | no | done |
+//! | extrap_enabled, extrap_pos_thresh, extrap_hdg_thresh, extrap_max_gap | | bool, m, deg, s | false, 0.25, 1, 5 | boolean, numbers >= 0 | no | done |
 //! | json_report | | `true` or a var | none (`false`: none) | no white space; `true`: the report variable carries JSON; a var: JSON there beside the usual report | no | done |
 //! | report_cog | | bool | false | MOOS boolean; `COG=` (bearing between iterations) from the next report on | no | done |
 //! | hdg_error | | degrees | 0 | number > 0; added to the reported heading | no | done |
@@ -57,10 +57,11 @@
 //! | PNR_POST_GAP | each report | seconds since the last | done |
 //! | `<output>_FIRST` | the first report | as the report | done |
 //! | JSON reports (and `<json var>_FIRST`) | with json_report | `{"NAME":"abe","X":1.5,...}` (MOOS `cspToJson`) | done |
-//! | PLATFORM_REPORT_LOCAL | platform reports | | refused (see plat_report_input) |
-//! | PNR_EXTRAP_POS_GAP, PNR_EXTRAP_HDG_GAP | extrapolation | | refused (see extrap_*) |
+//! | PLATFORM_REPORT_LOCAL (plat_report_output) | each iteration an input changed and its gap passed | `platform=<name>,utc_time=<5 dp>,VAR=value,...` | done |
+//! | PNR_EXTRAP_POS_GAP, PNR_EXTRAP_HDG_GAP | extrap_enabled, within extrap_max_gap of the last report | metres, degrees | done |
+//! | alternative-nav report in node_report_output | with alt_nav_prefix, after the node report, while an alt-nav variable is under 5 s old | `NAME=<name>_GT,...` with its own position and group | done |
 //! | PNR_MHASH | after MISSION_HASH, when the largest distance from the start grows by 2 % and 1 m | `mhash=<hash>,ext=<m, 1 decimal>` | done |
-//! | PNODEREPORTER_PID | start-up | pid | open: not posted |
+//! | PNODEREPORTER_PID | start-up (single-app mode; in `coug run` the apps share one process and the log stays reproducible) | process id | done |
 
 use std::fmt::Write as _;
 use std::sync::Arc;
@@ -120,6 +121,70 @@ pub struct NodeReportConfig {
     pub json_report: String,
     /// `CROSS_FILL_POLICY`: how local and global positions fill each other in the reports.
     pub crossfill: CrossFill,
+    /// `blackout_variance`, s: after each report the next blackout is drawn uniformly from
+    /// [−variance, +variance) around 0 (see [`NodeReporter::iterate`]).
+    pub blackout_variance: f64,
+    /// `plat_report_input` lines: variables whose changes go into the platform report.
+    pub plat_vars: Vec<PlatVar>,
+    /// `plat_report_output` (`PLATFORM_REPORT_LOCAL`).
+    pub plat_report_output: String,
+    /// `alt_nav_prefix` (e.g. `NAV_GT_`; empty: off): a second report of the same vehicle
+    /// from these variables, `_` appended when missing.
+    pub alt_nav_prefix: String,
+    /// `alt_nav_name` (`_GT`): the second report's name, after the vehicle's when it starts
+    /// with `_`.
+    pub alt_nav_name: String,
+    /// `alt_nav_group`: the second report's group (default: the vehicle's).
+    pub alt_nav_group: Option<String>,
+    /// `extrap_enabled`: skip a report a receiver could extrapolate from the last one.
+    pub extrap_enabled: bool,
+    /// `extrap_pos_thresh`, m (0.25).
+    pub extrap_pos_thresh_m: f64,
+    /// `extrap_hdg_thresh`, degrees (1).
+    pub extrap_hdg_thresh_deg: f64,
+    /// `extrap_max_gap`, s (5): no pruning once the last report is this old.
+    pub extrap_max_gap_s: f64,
+}
+
+/// One `plat_report_input = VAR[, gap=S][, alias=NAME]` line.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlatVar {
+    /// The MOOS variable.
+    pub var: String,
+    /// The name it is reported under (default: the variable).
+    pub alias: Option<String>,
+    /// Least time between two reports of it, s (0).
+    pub gap_s: f64,
+}
+
+impl PlatVar {
+    /// Reads a line as MOOS `addPlatformVar`: the piece without `=` names the variable,
+    /// `gap=` (C `atof`, at least 0) and `alias=` (case as written, no white space) are
+    /// options. `None` for a variable name with white space or none at all.
+    ///
+    /// ```
+    /// let v = vehicle::node_report::PlatVar::parse("BATT_V, gap=2, alias=BV").unwrap();
+    /// assert_eq!((v.var.as_str(), v.alias.as_deref(), v.gap_s), ("BATT_V", Some("BV"), 2.0));
+    /// ```
+    pub fn parse(spec: &str) -> Option<PlatVar> {
+        let mut v = PlatVar {
+            var: String::new(),
+            alias: None,
+            gap_s: 0.0,
+        };
+        for piece in spec.split(',') {
+            let (left, right) = piece.split_once('=').unwrap_or((piece, ""));
+            let (left, right) = (left.trim(), right.trim());
+            if right.is_empty() {
+                v.var = left.to_string();
+            } else if left.eq_ignore_ascii_case("gap") {
+                v.gap_s = crate::sim::atof(right).max(0.0);
+            } else if left == "alias" && !right.contains(char::is_whitespace) {
+                v.alias = Some(right.to_string());
+            }
+        }
+        (!v.var.is_empty() && !v.var.contains(char::is_whitespace)).then_some(v)
+    }
 }
 
 impl Default for NodeReportConfig {
@@ -146,6 +211,16 @@ impl Default for NodeReportConfig {
             riders: Vec::new(),
             json_report: String::new(),
             crossfill: CrossFill::Literal,
+            blackout_variance: 0.0,
+            plat_vars: Vec::new(),
+            plat_report_output: "PLATFORM_REPORT_LOCAL".to_string(),
+            alt_nav_prefix: String::new(),
+            alt_nav_name: "_GT".to_string(),
+            alt_nav_group: None,
+            extrap_enabled: false,
+            extrap_pos_thresh_m: 0.25,
+            extrap_hdg_thresh_deg: 1.0,
+            extrap_max_gap_s: 5.0,
         }
     }
 }
@@ -182,7 +257,12 @@ impl NodeReportConfig {
     fn apply_one(&mut self, key: &str, p: Param<'_>) -> Result<bool, ConfigError> {
         match key {
             "platform_type" | "vessel_type" => self.platform_type = p.word()?,
-            "platform_color" => self.platform_color = Some(p.word()?),
+            "platform_color" => {
+                if !geometry::color::is_color(p.value) {
+                    return Err(p.bad("a MOOS colour"));
+                }
+                self.platform_color = Some(p.value.to_string());
+            }
             "platform_length" | "vessel_length" => self.platform_length = p.non_neg()?,
             "platform_beam" => self.platform_beam = Some(p.non_neg()?),
             "platform_group" | "group" => self.group = Some(p.word()?),
@@ -248,13 +328,28 @@ impl NodeReportConfig {
                 }
                 self.riders.push(r);
             }
-            "blackout_variance" | "plat_report_input" | "plat_report_var" | "platform_variable"
-            | "plat_report_output" | "alt_nav_prefix" | "alt_nav_name" | "alt_nav_group"
-            | "extrap_enabled" | "extrap_pos_thresh" | "extrap_hdg_thresh" | "extrap_max_gap" => {
-                return Err(
-                    p.bad("a setting coug's node reporter implements (not implemented yet)")
-                );
+            "blackout_variance" => self.blackout_variance = p.non_neg()?,
+            // Always taken (MOOS ignores a bad or repeated line without a word).
+            "plat_report_input" | "plat_report_var" | "platform_variable" => {
+                if let Some(v) = PlatVar::parse(p.value)
+                    && !self.plat_vars.iter().any(|x| x.var == v.var)
+                {
+                    self.plat_vars.push(v);
+                }
             }
+            "plat_report_output" => self.plat_report_output = p.word()?,
+            "alt_nav_prefix" => {
+                self.alt_nav_prefix = p.value.to_string();
+                if !self.alt_nav_prefix.is_empty() && !self.alt_nav_prefix.ends_with('_') {
+                    self.alt_nav_prefix.push('_');
+                }
+            }
+            "alt_nav_name" => self.alt_nav_name = p.value.to_string(),
+            "alt_nav_group" => self.alt_nav_group = Some(p.word()?),
+            "extrap_enabled" => self.extrap_enabled = p.bool()?,
+            "extrap_pos_thresh" => self.extrap_pos_thresh_m = p.non_neg()?,
+            "extrap_hdg_thresh" => self.extrap_hdg_thresh_deg = p.non_neg()?,
+            "extrap_max_gap" => self.extrap_max_gap_s = p.non_neg()?,
             _ => return Ok(false),
         }
         Ok(true)
@@ -376,6 +471,65 @@ struct RiderState {
     value: String,
     last_time: f64,
     fresh: bool,
+}
+
+/// How far the report `cur` at `now` is from what a receiver extrapolates from `last`,
+/// posted at `t` (MOOS `extrapolateRecord` with a 5 s decay, `rangeBetweenRecords`,
+/// `angleDiff`): (distance in m, heading difference in degrees). Unset values count as 0.
+fn extrapolation_gap(last: &NavRecord, t: f64, cur: &NavRecord, now: f64) -> (f64, f64) {
+    const DECAY_S: f64 = 5.0;
+    let (lx, ly) = (last.x.unwrap_or(0.0), last.y.unwrap_or(0.0));
+    let (lh, ls) = (last.heading.unwrap_or(0.0), last.speed.unwrap_or(0.0));
+    let (ex, ey) = if now <= t + 0.05 {
+        (lx, ly)
+    } else {
+        let dist = ls * (now - t).min(DECAY_S);
+        let r = lh.to_radians();
+        (lx + r.sin() * dist, ly + r.cos() * dist)
+    };
+    let d = (cur.x.unwrap_or(0.0) - ex).hypot(cur.y.unwrap_or(0.0) - ey);
+    let mut dh = (angle360(cur.heading.unwrap_or(0.0)) - angle360(lh)).abs();
+    if dh >= 180.0 {
+        dh = 360.0 - dh;
+    }
+    (d, dh)
+}
+
+/// Fills X/Y or LAT/LON of `n` as `policy` says (MOOS `crossFillCoords`); `xy_time` and
+/// `latlon_time` say which pair arrived last.
+fn cross_fill(
+    policy: CrossFill,
+    grid: Option<&crate::geodesy::LocalGrid>,
+    n: &mut NavRecord,
+    xy_time: f64,
+    latlon_time: f64,
+) {
+    let Some(grid) = grid else {
+        return;
+    };
+    let (xy, ll) = (n.x.zip(n.y), n.lat.zip(n.lon));
+    let to_local = |(lat, lon): (f64, f64)| grid.to_local(lat, lon).ok();
+    let to_global = |(x, y): (f64, f64)| grid.to_latlon(x, y).ok();
+    let fill = match policy {
+        CrossFill::Literal => None,
+        CrossFill::Global => ll.and_then(to_local).map(|p| (true, p)),
+        CrossFill::Local => xy.and_then(to_global).map(|p| (false, p)),
+        CrossFill::FillEmpty => match (n.x.is_none() && n.y.is_none(), ll, xy) {
+            (true, Some(g), _) => to_local(g).map(|p| (true, p)),
+            (false, _, Some(l)) if n.lat.is_none() && n.lon.is_none() => {
+                to_global(l).map(|p| (false, p))
+            }
+            _ => None,
+        },
+        CrossFill::UseLatest if xy_time == latlon_time => None,
+        CrossFill::UseLatest if xy_time < latlon_time => ll.and_then(to_local).map(|p| (true, p)),
+        CrossFill::UseLatest => xy.and_then(to_global).map(|p| (false, p)),
+    };
+    match fill {
+        Some((true, (x, y))) => (n.x, n.y) = (Some(x), Some(y)),
+        Some((false, (lat, lon))) => (n.lat, n.lon) = (Some(lat), Some(lon)),
+        None => {}
+    }
 }
 
 /// Ownship navigation as last received (`NAV_*`).
@@ -691,18 +845,67 @@ pub struct NodeReporter {
     /// Position at the previous iteration and the course over ground (`report_cog`).
     last_xy: Option<(f64, f64)>,
     cog: Option<f64>,
+    /// The alternative-nav record (`alt_nav_prefix`).
+    gt: AltNav,
+    /// The last report posted (extrapolation and PNR_POST_GAP), and when.
+    last_posted: Option<(NavRecord, f64)>,
+    /// The blackout now in effect, s (`blackout_interval` until the first report).
+    blackout_s: f64,
+    rng: fastrand::Rng,
+    /// One state per platform-report variable.
+    plat: Vec<PlatState>,
+    /// The process id to post once as PNODEREPORTER_PID (single-app mode).
+    pid: Option<u32>,
     buf: String,
     var_report: Arc<str>,
     var_first: Arc<str>,
     var_gap: Arc<str>,
     var_mhash: Arc<str>,
+    var_plat: Arc<str>,
+}
+
+/// The second, alternative-nav record of the vehicle (MOOS `m_record_gt`).
+#[derive(Debug, Clone, Default)]
+struct AltNav {
+    nav: NavRecord,
+    transparency: Option<f64>,
+    name: String,
+    group: Option<String>,
+    /// When one of its variables last arrived.
+    updated: Option<f64>,
+    xy_time: f64,
+    latlon_time: f64,
+}
+
+/// A platform-report variable's latest value and when it arrived and was last reported.
+#[derive(Debug, Clone, Default)]
+struct PlatState {
+    value: String,
+    received: f64,
+    posted: f64,
 }
 
 impl NodeReporter {
     /// A reporter for vehicle `name` (the MOOS community), started at `start_time`.
     pub fn new(cfg: NodeReportConfig, name: &str, start_time: f64) -> Self {
         let rider_count = cfg.riders.len();
+        let gt = AltNav {
+            transparency: cfg.transparency,
+            name: match cfg.alt_nav_name.strip_prefix('_') {
+                Some(_) => format!("{name}{}", cfg.alt_nav_name),
+                None => cfg.alt_nav_name.clone(),
+            },
+            group: cfg.alt_nav_group.clone().or_else(|| cfg.group.clone()),
+            ..AltNav::default()
+        };
         NodeReporter {
+            gt,
+            last_posted: None,
+            blackout_s: cfg.blackout_interval,
+            rng: fastrand::Rng::with_seed(0),
+            plat: vec![PlatState::default(); cfg.plat_vars.len()],
+            pid: None,
+            var_plat: cfg.plat_report_output.as_str().into(),
             var_report: cfg.node_report_output.as_str().into(),
             var_first: format!("{}_FIRST", cfg.node_report_output).into(),
             var_gap: "PNR_POST_GAP".into(),
@@ -770,6 +973,34 @@ impl NodeReporter {
         ]
     }
 
+    /// Seeds the draw of blackout intervals (`blackout_variance`).
+    pub fn with_seed(mut self, seed: u64) -> Self {
+        self.rng = fastrand::Rng::with_seed(seed);
+        self
+    }
+
+    /// Posts `PNODEREPORTER_PID = pid` at the next iteration, as the C++ app posts its own
+    /// process id at start-up (single-app mode; `coug run`'s apps share one process).
+    pub fn set_pid(&mut self, pid: u32) {
+        self.pid = Some(pid);
+    }
+
+    /// Variables subscribed besides [`NodeReporter::subscriptions`]: the riders, the
+    /// alternative-nav variables and the platform-report inputs.
+    pub fn extra_subscriptions(&self) -> Vec<String> {
+        let mut v: Vec<String> = self.rider_vars().map(str::to_string).collect();
+        let pre = &self.cfg.alt_nav_prefix;
+        if !pre.is_empty() {
+            for f in [
+                "X", "Y", "LAT", "LONG", "SPEED", "HEADING", "YAW", "DEPTH", "TRANSP",
+            ] {
+                v.push(format!("{pre}{f}"));
+            }
+        }
+        v.extend(self.cfg.plat_vars.iter().map(|p| p.var.clone()));
+        v
+    }
+
     /// The mission's local grid (from LatOrigin/LongOrigin), for the cross-fill policies.
     pub fn with_grid(mut self, grid: Option<crate::geodesy::LocalGrid>) -> Self {
         self.grid = grid;
@@ -778,35 +1009,66 @@ impl NodeReporter {
 
     /// Fills X/Y or LAT/LON of the kept record as the policy says (before a report).
     fn cross_fill(&mut self) {
-        let Some(grid) = &self.grid else {
-            return;
-        };
-        let n = &mut self.nav;
-        let (xy, ll) = (n.x.zip(n.y), n.lat.zip(n.lon));
-        let to_local = |(lat, lon): (f64, f64)| grid.to_local(lat, lon).ok();
-        let to_global = |(x, y): (f64, f64)| grid.to_latlon(x, y).ok();
-        let fill = match self.cfg.crossfill {
-            CrossFill::Literal => None,
-            CrossFill::Global => ll.and_then(to_local).map(|p| (true, p)),
-            CrossFill::Local => xy.and_then(to_global).map(|p| (false, p)),
-            CrossFill::FillEmpty => match (n.x.is_none() && n.y.is_none(), ll, xy) {
-                (true, Some(g), _) => to_local(g).map(|p| (true, p)),
-                (false, _, Some(l)) if n.lat.is_none() && n.lon.is_none() => {
-                    to_global(l).map(|p| (false, p))
-                }
-                _ => None,
-            },
-            CrossFill::UseLatest if self.xy_time == self.latlon_time => None,
-            CrossFill::UseLatest if self.xy_time < self.latlon_time => {
-                ll.and_then(to_local).map(|p| (true, p))
+        let (xy_t, ll_t) = (self.xy_time, self.latlon_time);
+        cross_fill(
+            self.cfg.crossfill,
+            self.grid.as_ref(),
+            &mut self.nav,
+            xy_t,
+            ll_t,
+        );
+    }
+
+    /// Posts the report in `self.buf` as `json_report` says, then PNR_POST_GAP = `gap`.
+    fn post_report(&mut self, out: &mut Vec<Posting>, gap: f64) {
+        let json = &self.cfg.json_report;
+        let first = self.reports_posted == 0;
+        if json.is_empty() {
+            if first {
+                out.push(Posting::string(&self.var_first, self.buf.as_str()));
             }
-            CrossFill::UseLatest => xy.and_then(to_global).map(|p| (false, p)),
-        };
-        match fill {
-            Some((true, (x, y))) => (n.x, n.y) = (Some(x), Some(y)),
-            Some((false, (lat, lon))) => (n.lat, n.lon) = (Some(lat), Some(lon)),
-            None => {}
+            out.push(Posting::string(&self.var_report, self.buf.as_str()));
+        } else if json.eq_ignore_ascii_case("true") {
+            let j = csp_to_json(&self.buf);
+            if first {
+                out.push(Posting::string(&self.var_first, j.as_str()));
+            }
+            out.push(Posting::string(&self.var_report, j));
+        } else {
+            let j = csp_to_json(&self.buf);
+            if first {
+                let var: Arc<str> = format!("{json}_FIRST").into();
+                out.push(Posting::string(&var, j.as_str()));
+                out.push(Posting::string(&self.var_first, self.buf.as_str()));
+            }
+            let var: Arc<str> = json.as_str().into();
+            out.push(Posting::string(&var, j));
+            out.push(Posting::string(&self.var_report, self.buf.as_str()));
         }
+        out.push(Posting::double(&self.var_gap, gap));
+        self.reports_posted += 1;
+    }
+
+    /// The platform report (MOOS `assemblePlatformReport`): each input changed since it was
+    /// last reported and at least its gap ago, as `VAR=value` (or its alias), after
+    /// `platform=<name>,utc_time=<now, 5 decimals>`; empty when none is due.
+    fn platform_report(&mut self, now: f64) -> String {
+        let mut r = String::new();
+        for (cfg, st) in self.cfg.plat_vars.iter().zip(&mut self.plat) {
+            if st.received != 0.0 && st.received > st.posted && now - st.posted > cfg.gap_s {
+                if !r.is_empty() {
+                    r.push(',');
+                }
+                r.push_str(cfg.alias.as_deref().unwrap_or(&cfg.var));
+                r.push('=');
+                r.push_str(&st.value);
+                st.posted = now;
+            }
+        }
+        if r.is_empty() {
+            return r;
+        }
+        format!("platform={},utc_time={now:.5},{r}", self.name)
     }
 
     /// The rider variables (subscribed in addition to [`NodeReporter::subscriptions`]).
@@ -871,6 +1133,74 @@ impl NodeReporter {
                 state.fresh = true;
             }
         }
+        // The platform report's inputs: a number as `doubleToString(v, 8)`, compacted.
+        for (cfg, st) in self.cfg.plat_vars.iter().zip(&mut self.plat) {
+            if cfg.var == var {
+                st.value = match (value.as_str(), d) {
+                    (None, Some(x)) => crate::moos::double_x(x, 8),
+                    _ => s.to_string(),
+                };
+                st.received = time;
+            }
+        }
+        // The alternative-nav record's own variables (`<prefix>X`, ...).
+        if let Some(field) = (!self.cfg.alt_nav_prefix.is_empty())
+            .then(|| var.strip_prefix(self.cfg.alt_nav_prefix.as_str()))
+            .flatten()
+            && let Some(v) = d
+        {
+            let g = &mut self.gt;
+            let known = match field {
+                "X" => {
+                    g.nav.x = Some(v);
+                    g.xy_time = time;
+                    true
+                }
+                "Y" => {
+                    g.nav.y = Some(v);
+                    g.xy_time = time;
+                    true
+                }
+                "LAT" => {
+                    g.nav.lat = Some(v);
+                    g.latlon_time = time;
+                    true
+                }
+                "LONG" => {
+                    g.nav.lon = Some(v);
+                    g.latlon_time = time;
+                    true
+                }
+                "TRANSP" => {
+                    g.transparency = Some(v);
+                    true
+                }
+                "SPEED" => {
+                    g.nav.speed = Some(v);
+                    true
+                }
+                "HEADING" => {
+                    g.nav.heading = Some(angle360(v));
+                    true
+                }
+                "DEPTH" => {
+                    g.nav.depth = Some(v);
+                    true
+                }
+                "ALTITUDE" => {
+                    g.nav.altitude = Some(v);
+                    true
+                }
+                "YAW" => {
+                    g.nav.yaw_seen = true;
+                    true
+                }
+                _ => false,
+            };
+            if known {
+                g.updated = Some(time);
+            }
+        }
         match (var, d) {
             ("NAV_X", Some(v)) => {
                 self.nav.x = Some(v);
@@ -894,11 +1224,13 @@ impl NodeReporter {
             ("NAV_ALTITUDE", Some(v)) => self.nav.altitude = Some(v),
             ("NAV_YAW", Some(_)) => self.nav.yaw_seen = true,
             ("NAV_TRANSP", Some(v)) => self.transparency = Some(v),
-            ("PLATFORM_COLOR", _) if !s.trim().is_empty() => {
-                self.color = Some(s.trim().to_string())
+            ("PLATFORM_COLOR", _) if geometry::color::is_color(s) => {
+                self.color = Some(s.to_string())
             }
-            ("NODE_COLOR_CHANGE", _) if self.cfg.allow_color_change && !s.trim().is_empty() => {
-                self.color = Some(s.trim().to_string())
+            ("NODE_COLOR_CHANGE", _)
+                if self.cfg.allow_color_change && geometry::color::is_color(s) =>
+            {
+                self.color = Some(s.to_string())
             }
             ("THRUST_MODE_REVERSE", _) => self.thrust_mode_reverse = s.eq_ignore_ascii_case("true"),
             ("AUX_MODE", _) => self.mode_aux = Some(s.to_string()),
@@ -929,7 +1261,10 @@ impl NodeReporter {
                     self.load_warning = Some(format!("{app}:{gap}"));
                 }
             }
-            ("NODE_GROUP_UPDATE", _) => self.group = Some(s.to_string()),
+            ("NODE_GROUP_UPDATE", _) => {
+                self.group = Some(s.to_string());
+                self.gt.group = Some(s.to_string());
+            }
             ("IVPHELM_SUMMARY", _) => {
                 self.helm.last_msg = Some(time);
                 for kv in s.split(',') {
@@ -964,20 +1299,45 @@ impl NodeReporter {
         }
     }
 
-    /// One iteration at `now`; appends `NODE_REPORT_LOCAL` (and `_FIRST`, `PNR_POST_GAP`).
+    /// One iteration at `now`, in the C++ app's order: the extrapolation gaps, the node report
+    /// (`_FIRST` before the first, then PNR_POST_GAP), the alternative-nav report, the
+    /// platform report, the mission-hash odometer.
+    ///
+    /// As pNodeReporter at a2a9b716, `blackout_interval` holds back only the reports before
+    /// the first one: after each report the blackout becomes 0 (the C++ resets it to a base
+    /// value that no parameter sets), drawn from [−variance, +variance) with
+    /// `blackout_variance` and clipped at 0.
     pub fn iterate(&mut self, now: f64, out: &mut Vec<Posting>) {
+        if let Some(pid) = self.pid.take() {
+            out.push(Posting::double(
+                &Arc::from("PNODEREPORTER_PID"),
+                f64::from(pid),
+            ));
+        }
         let time_to_post = match self.last_post_time {
             None => true,
-            Some(t) => self.cfg.blackout_interval <= 0.0 || now - t > self.cfg.blackout_interval,
+            Some(t) => self.blackout_s <= 0.0 || now - t > self.blackout_s,
         };
         let in_grace =
             self.cfg.nav_grace_period > 0.0 && now - self.start_time < self.cfg.nav_grace_period;
         let ok_nav = self.nav.valid() || in_grace;
+        let gap = self.last_posted.map_or(0.0, |(_, t)| now - t);
+        let mut pruned = false;
+        if self.cfg.extrap_enabled
+            && gap > 0.0
+            && gap < self.cfg.extrap_max_gap_s
+            && let Some((last, t)) = self.last_posted
+        {
+            let (dist, hdg_delta) = extrapolation_gap(&last, t, &self.nav, now);
+            pruned =
+                dist < self.cfg.extrap_pos_thresh_m && hdg_delta < self.cfg.extrap_hdg_thresh_deg;
+            out.push(Posting::double(&Arc::from("PNR_EXTRAP_POS_GAP"), dist));
+            out.push(Posting::double(&Arc::from("PNR_EXTRAP_HDG_GAP"), hdg_delta));
+        }
         let has_pos = (self.nav.x.is_some() && self.nav.y.is_some())
             || (self.nav.lat.is_some() && self.nav.lon.is_some());
-        let post = ok_nav && time_to_post && (has_pos || !in_grace) && !self.paused;
+        let post = ok_nav && time_to_post && !pruned && (has_pos || !in_grace);
         if post {
-            let gap = self.last_post_time.map_or(0.0, |t| now - t);
             let mode = self.helm.mode(now, self.cfg.nohelm_threshold);
             self.cross_fill();
             // HDG_ERROR: the posted report carries the heading plus the error.
@@ -1007,33 +1367,56 @@ impl NodeReporter {
                 self.buf.push(',');
                 self.buf.push_str(&riders);
             }
-            let json = &self.cfg.json_report;
-            let first = self.reports_posted == 0;
-            if json.is_empty() {
-                if first {
-                    out.push(Posting::string(&self.var_first, self.buf.as_str()));
-                }
-                out.push(Posting::string(&self.var_report, self.buf.as_str()));
-            } else if json.eq_ignore_ascii_case("true") {
-                let j = csp_to_json(&self.buf);
-                if first {
-                    out.push(Posting::string(&self.var_first, j.as_str()));
-                }
-                out.push(Posting::string(&self.var_report, j));
-            } else {
-                let j = csp_to_json(&self.buf);
-                if first {
-                    let var: Arc<str> = format!("{json}_FIRST").into();
-                    out.push(Posting::string(&var, j.as_str()));
-                    out.push(Posting::string(&self.var_first, self.buf.as_str()));
-                }
-                let var: Arc<str> = json.as_str().into();
-                out.push(Posting::string(&var, j));
-                out.push(Posting::string(&self.var_report, self.buf.as_str()));
+            if !self.paused {
+                self.post_report(out, gap);
+                self.last_posted = Some((self.nav, now));
             }
-            out.push(Posting::double(&self.var_gap, gap));
-            self.reports_posted += 1;
+            // The alternative-nav report, while its variables are fresh (5 s).
+            if self.gt.updated.is_some_and(|t| now - t < 5.0) {
+                let (xy_t, ll_t) = (self.gt.xy_time, self.gt.latlon_time);
+                cross_fill(
+                    self.cfg.crossfill,
+                    self.grid.as_ref(),
+                    &mut self.gt.nav,
+                    xy_t,
+                    ll_t,
+                );
+                let inputs = ReportInputs {
+                    name: &self.gt.name,
+                    nav: self.gt.nav,
+                    color: self.color.as_deref(),
+                    group: self.gt.group.as_deref(),
+                    mode: &mode,
+                    mode_aux: None,
+                    allstop: &self.helm.allstop,
+                    load_warning: None,
+                    index: self.reports_posted,
+                    thrust_mode_reverse: false,
+                    time: now,
+                    transparency: self.gt.transparency,
+                    cog: None,
+                };
+                let mut report = String::new();
+                write_report(&mut report, &self.cfg, &inputs);
+                let riders = self.rider_reports(now);
+                if !riders.is_empty() {
+                    report.push(',');
+                    report.push_str(&riders);
+                }
+                if !self.paused {
+                    out.push(Posting::string(&self.var_report, report));
+                }
+            }
             self.last_post_time = Some(now);
+            self.blackout_s = 0.0;
+            let v = self.cfg.blackout_variance;
+            if v > 0.0 {
+                // The C++ draws `rand() % (int)(v * 100)` hundredths.
+                let range = (v * 100.0) as u64;
+                let hundredths = if range > 0 { self.rng.u64(0..range) } else { 0 };
+                self.blackout_s = -v + 2.0 * (hundredths as f64 / 100.0);
+            }
+            self.blackout_s = self.blackout_s.max(0.0);
         }
         self.load_warning = None;
         // REPORT_COG: the bearing from the previous iteration's position to this one goes
@@ -1045,6 +1428,10 @@ impl NodeReporter {
             self.cog = Some(crate::angle::rel_ang(x0, y0, x1, y1));
         }
         self.last_xy = xy;
+        let plat = self.platform_report(now);
+        if !plat.is_empty() && !self.paused {
+            out.push(Posting::string(&self.var_plat, plat));
+        }
         // MISSION_HASH odometer: the largest distance from where the mission started,
         // posted when it has grown by 2 % and at least 1 m (MOOS `updateMHashOdo`).
         if !self.mhash.is_empty()

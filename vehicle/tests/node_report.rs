@@ -118,8 +118,22 @@ fn helm_gone_quiet_park_and_terse_global() {
     assert!(report(&out).contains(",MODE=NOHELM-7,"), "{}", report(&out));
 }
 
+/// A reporter with position, speed and heading known at `t`.
+fn with_nav(cfg: NodeReportConfig, t: f64) -> NodeReporter {
+    let mut app = NodeReporter::new(cfg, "ben", 0.0);
+    for (v, x) in [
+        ("NAV_X", 0.0),
+        ("NAV_Y", 0.0),
+        ("NAV_SPEED", 0.0),
+        ("NAV_HEADING", 0.0),
+    ] {
+        d(&mut app, v, x, t);
+    }
+    app
+}
+
 #[test]
-fn waits_for_nav_and_respects_blackout() {
+fn waits_for_nav_and_the_blackout_holds_only_until_the_first_report() {
     let cfg =
         NodeReportConfig::from_params([("blackout_interval", "5"), ("node_report_output", "NR")])
             .unwrap();
@@ -133,17 +147,38 @@ fn waits_for_nav_and_respects_blackout() {
     d(&mut app, "NAV_HEADING", 0.0, 1.0);
     app.iterate(2.0, &mut out);
     assert!(last_posting(&out, "NR").is_some());
+    // pNodeReporter at a2a9b716 resets the blackout after each report to a base value no
+    // parameter sets (0): the next iteration reports again.
     out.clear();
-    app.iterate(4.0, &mut out);
-    assert!(out.is_empty(), "inside the blackout interval");
-    app.iterate(7.5, &mut out);
+    app.iterate(2.25, &mut out);
+    let r = last_posting(&out, "NR").expect("reported again");
+    assert!(r.as_str().unwrap().contains("INDEX=1"), "{r:?}");
+}
+
+#[test]
+fn blackout_variance_draws_each_next_blackout_from_minus_to_plus_the_variance() {
+    let cfg = NodeReportConfig::from_params([("blackout_variance", "2")]).unwrap();
+    let mut app = with_nav(cfg, 0.0);
+    let (mut out, mut gaps) = (Vec::new(), Vec::new());
+    for i in 0..400 {
+        out.clear();
+        app.iterate(1.0 + f64::from(i) * 0.25, &mut out);
+        if let Some(g) = last_posting(&out, "PNR_POST_GAP").and_then(|v| v.as_f64()) {
+            gaps.push(g);
+        }
+    }
+    // A report is held while the gap is within the drawn blackout (< 2 s): every gap after
+    // the first is one tick (a draw of 0, half the time) up to just over 2 s.
+    assert!(gaps.len() > 100, "{}", gaps.len());
     assert!(
-        last_posting(&out, "NR")
-            .unwrap()
-            .as_str()
-            .unwrap()
-            .contains("INDEX=1")
+        gaps[1..].iter().all(|g| *g >= 0.25 && *g <= 2.25),
+        "{gaps:?}"
     );
+    assert!(
+        gaps.iter().filter(|g| **g == 0.25).count() > gaps.len() / 3,
+        "{gaps:?}"
+    );
+    assert!(gaps.iter().any(|g| *g > 1.0), "{gaps:?}");
 }
 
 #[test]
@@ -410,4 +445,235 @@ fn cross_fill_policies_fill_positions_from_the_mission_origin() {
     let r = run("literal", &[("NAV_X", 1.0), ("NAV_Y", 1.0)]);
     assert!(!r.contains("LAT="), "{r}");
     assert!(NodeReportConfig::from_params([("cross_fill_policy", "sometimes")]).is_err());
+}
+
+/// Every posting of `var`, as text (numbers in `{}` form).
+fn all_of(out: &[vehicle::Posting], var: &str) -> Vec<String> {
+    out.iter()
+        .filter(|p| &*p.var == var)
+        .map(|p| match (p.value.as_str(), p.value.as_f64()) {
+            (Some(s), _) => s.to_string(),
+            (None, Some(x)) => x.to_string(),
+            _ => String::new(),
+        })
+        .collect()
+}
+
+#[test]
+fn platform_reports_follow_changes_gaps_and_aliases() {
+    let cfg = NodeReportConfig::from_params([
+        ("plat_report_input", "BATT_V, gap=2"),
+        ("plat_report_var", "MODEM_STATE, alias=MODEM"),
+        ("platform_variable", "BATT_V"), // a repeat: ignored, as MOOS does
+        ("plat_report_output", "PLAT_OUT"),
+    ])
+    .unwrap();
+    assert_eq!(cfg.plat_vars.len(), 2);
+    let mut app = with_nav(cfg, 100.0);
+    assert!(app.extra_subscriptions().iter().any(|v| v == "MODEM_STATE"));
+    let mut out = Vec::new();
+    app.iterate(101.0, &mut out);
+    assert!(all_of(&out, "PLAT_OUT").is_empty(), "nothing received yet");
+    d(&mut app, "BATT_V", 12.500000001, 101.5);
+    s(&mut app, "MODEM_STATE", "idle", 101.5);
+    out.clear();
+    app.iterate(102.0, &mut out);
+    // Doubles as doubleToString(v, 8) compacted; utc_time with 5 decimals.
+    assert_eq!(
+        all_of(&out, "PLAT_OUT"),
+        ["platform=ben,utc_time=102.00000,BATT_V=12.5,MODEM=idle"]
+    );
+    // Unchanged: nothing. BATT_V changes again 0.5 s later: held by its 2 s gap, MODEM not.
+    out.clear();
+    app.iterate(102.25, &mut out);
+    assert!(all_of(&out, "PLAT_OUT").is_empty());
+    d(&mut app, "BATT_V", 12.4, 102.4);
+    s(&mut app, "MODEM_STATE", "busy", 102.4);
+    out.clear();
+    app.iterate(102.5, &mut out);
+    assert_eq!(
+        all_of(&out, "PLAT_OUT"),
+        ["platform=ben,utc_time=102.50000,MODEM=busy"]
+    );
+    out.clear();
+    app.iterate(104.25, &mut out);
+    assert_eq!(
+        all_of(&out, "PLAT_OUT"),
+        ["platform=ben,utc_time=104.25000,BATT_V=12.4"]
+    );
+    // Paused (PNR_PAUSE): no platform report either.
+    s(&mut app, "PNR_PAUSE", "true", 105.0);
+    d(&mut app, "BATT_V", 12.3, 105.0);
+    out.clear();
+    app.iterate(107.0, &mut out);
+    assert!(all_of(&out, "PLAT_OUT").is_empty());
+    assert!(all_of(&out, "NODE_REPORT_LOCAL").is_empty());
+}
+
+#[test]
+fn alternative_nav_reports_ride_in_the_same_variable_while_fresh() {
+    let cfg = NodeReportConfig::from_params([
+        ("alt_nav_prefix", "NAV_GT"),
+        ("alt_nav_group", "truth"),
+        ("platform_group", "blue"),
+    ])
+    .unwrap();
+    assert_eq!(cfg.alt_nav_prefix, "NAV_GT_", "`_` appended");
+    let mut app = with_nav(cfg, 0.0);
+    assert!(
+        app.extra_subscriptions()
+            .iter()
+            .any(|v| v == "NAV_GT_HEADING")
+    );
+    let mut out = Vec::new();
+    app.iterate(1.0, &mut out);
+    assert_eq!(
+        all_of(&out, "NODE_REPORT_LOCAL").len(),
+        1,
+        "no GT record yet"
+    );
+    for (v, x) in [
+        ("NAV_GT_X", 3.0),
+        ("NAV_GT_Y", 4.0),
+        ("NAV_GT_SPEED", 1.0),
+        ("NAV_GT_HEADING", 90.0),
+    ] {
+        d(&mut app, v, x, 1.5);
+    }
+    out.clear();
+    app.iterate(2.0, &mut out);
+    let reports = all_of(&out, "NODE_REPORT_LOCAL");
+    assert_eq!(reports.len(), 2, "{reports:?}");
+    assert!(
+        reports[0].starts_with("NAME=ben,X=0,Y=0,"),
+        "{}",
+        reports[0]
+    );
+    assert!(reports[0].contains(",GROUP=blue,"), "{}", reports[0]);
+    // `<name>_GT` (alt_nav_name `_GT`), its own position and group; the index after the
+    // primary report's increment.
+    let gt = &reports[1];
+    assert!(gt.starts_with("NAME=ben_GT,X=3,Y=4,SPD=1,HDG=90,"), "{gt}");
+    assert!(
+        gt.contains(",GROUP=truth,") && gt.contains(",INDEX=2,"),
+        "{gt}"
+    );
+    // 5 s without a GT variable: the GT report stops.
+    out.clear();
+    app.iterate(6.5, &mut out);
+    assert_eq!(all_of(&out, "NODE_REPORT_LOCAL").len(), 1);
+    // A name without `_` is the name itself.
+    let cfg = NodeReportConfig::from_params([("alt_nav_prefix", "GT_"), ("alt_nav_name", "ghost")])
+        .unwrap();
+    let mut app = with_nav(cfg, 0.0);
+    d(&mut app, "GT_X", 1.0, 0.5);
+    out.clear();
+    app.iterate(1.0, &mut out);
+    assert!(all_of(&out, "NODE_REPORT_LOCAL")[1].starts_with("NAME=ghost,X=1,"));
+}
+
+#[test]
+fn extrapolation_prunes_reports_a_receiver_could_predict() {
+    let cfg = NodeReportConfig::from_params([("extrap_enabled", "true")]).unwrap();
+    let mut app = NodeReporter::new(cfg, "ben", 0.0);
+    // Straight east at 2 m/s.
+    let nav = |app: &mut NodeReporter, t: f64, x: f64, h: f64| {
+        d(app, "NAV_X", x, t);
+        d(app, "NAV_Y", 0.0, t);
+        d(app, "NAV_SPEED", 2.0, t);
+        d(app, "NAV_HEADING", h, t);
+    };
+    let mut out = Vec::new();
+    nav(&mut app, 1.0, 0.0, 90.0);
+    app.iterate(1.0, &mut out);
+    assert_eq!(all_of(&out, "NODE_REPORT_LOCAL").len(), 1);
+    // 1 s later exactly where extrapolation puts it: gaps 0 and 0, pruned.
+    nav(&mut app, 2.0, 2.0, 90.0);
+    out.clear();
+    app.iterate(2.0, &mut out);
+    let pos: f64 = all_of(&out, "PNR_EXTRAP_POS_GAP")[0].parse().unwrap();
+    assert!(pos < 1e-9, "{pos}");
+    assert_eq!(all_of(&out, "PNR_EXTRAP_HDG_GAP"), ["0"]);
+    assert!(all_of(&out, "NODE_REPORT_LOCAL").is_empty(), "pruned");
+    // 0.3 m off the line (over the 0.25 m threshold): reported.
+    nav(&mut app, 3.0, 4.3, 90.0);
+    out.clear();
+    app.iterate(3.0, &mut out);
+    let gap: f64 = all_of(&out, "PNR_EXTRAP_POS_GAP")[0].parse().unwrap();
+    assert!((gap - 0.3).abs() < 1e-9, "{gap}");
+    assert_eq!(all_of(&out, "NODE_REPORT_LOCAL").len(), 1);
+    // On the line but turned 2 degrees (over 1): reported.
+    nav(&mut app, 4.0, 6.3, 92.0);
+    out.clear();
+    app.iterate(4.0, &mut out);
+    assert_eq!(all_of(&out, "PNR_EXTRAP_HDG_GAP"), ["2"]);
+    assert_eq!(all_of(&out, "NODE_REPORT_LOCAL").len(), 1);
+}
+
+#[test]
+fn display_settings_helm_threshold_grace_pause_and_colour_changes() {
+    let cfg = NodeReportConfig::from_params([
+        ("platform_beam", "1.5"),
+        ("platform_transparency", "0.3"),
+        ("nohelm_threshold", "2"),
+        ("nav_grace_period", "0"),
+        ("platform_color", "Dark_Green"),
+    ])
+    .unwrap();
+    let mut app = NodeReporter::new(cfg, "ben", 0.0);
+    let mut out = Vec::new();
+    // nav_grace_period 0: no grace; without nav nothing is reported at all.
+    app.iterate(0.5, &mut out);
+    assert!(out.is_empty());
+    for (v, x) in [
+        ("NAV_X", 0.0),
+        ("NAV_Y", 0.0),
+        ("NAV_SPEED", 0.0),
+        ("NAV_HEADING", 0.0),
+    ] {
+        d(&mut app, v, x, 1.0);
+    }
+    s(&mut app, "IVPHELM_STATE", "DRIVE", 1.0);
+    app.iterate(2.5, &mut out);
+    let r = report(&out);
+    assert!(
+        r.contains(",COLOR=Dark_Green,") && r.contains(",MODE=DRIVE,"),
+        "{r}"
+    );
+    assert!(
+        r.contains(",TRANSPARENCY=0.3,") && r.ends_with(",BEAM=1.5"),
+        "{r}"
+    );
+    // nohelm_threshold 2: 3.5 s after the helm's last word, NOHELM-4 (rounded).
+    out.clear();
+    app.iterate(4.5, &mut out);
+    assert!(report(&out).contains(",MODE=NOHELM-4,"), "{}", report(&out));
+    // NODE_COLOR_CHANGE is ignored without allow_color_change; PLATFORM_COLOR needs a colour.
+    s(&mut app, "NODE_COLOR_CHANGE", "red", 5.0);
+    s(&mut app, "PLATFORM_COLOR", "reddish", 5.0);
+    out.clear();
+    app.iterate(5.0, &mut out);
+    assert!(report(&out).contains(",COLOR=Dark_Green,"));
+    // paused = true from the block: no reports until PNR_PAUSE = false.
+    let cfg = NodeReportConfig::from_params([("paused", "true"), ("allow_color_change", "true")])
+        .unwrap();
+    let mut app = with_nav(cfg, 0.0);
+    out.clear();
+    app.iterate(1.0, &mut out);
+    assert!(all_of(&out, "NODE_REPORT_LOCAL").is_empty());
+    s(&mut app, "PNR_PAUSE", "false", 1.5);
+    s(&mut app, "NODE_COLOR_CHANGE", "orange", 1.5);
+    app.iterate(2.0, &mut out);
+    assert!(report(&out).contains(",COLOR=orange,"), "{}", report(&out));
+    // A colour MOOS does not know is a config warning; the PID posting of single-app mode.
+    let (_, w) = NodeReportConfig::from_params_lenient([("platform_color", "bluish")]).unwrap();
+    assert_eq!(w.len(), 1);
+    let mut app = with_nav(NodeReportConfig::default(), 0.0);
+    app.set_pid(4242);
+    out.clear();
+    app.iterate(1.0, &mut out);
+    assert_eq!(all_of(&out, "PNODEREPORTER_PID"), ["4242"]);
+    out.clear();
+    app.iterate(2.0, &mut out);
+    assert!(all_of(&out, "PNODEREPORTER_PID").is_empty(), "once");
 }
