@@ -30,6 +30,7 @@ pub mod plot;
 pub mod realtime;
 pub mod remote;
 pub mod scheduler;
+pub mod scope;
 pub mod summary;
 pub mod timer_script;
 pub mod vehicle;

@@ -111,11 +111,24 @@ pub fn warp_of(m: &MissionComms) -> anyhow::Result<Warp> {
 /// How `coug poke` and `coug scope` reach the DB.
 #[derive(Debug, Clone, Args)]
 pub struct ConnectArgs {
-    /// DB host (default: mission ServerHost, else localhost).
-    #[arg(long)]
+    /// DB host (default: mission ServerHost, else localhost). Also `--server_host`,
+    /// `--moos_host` (uXMS's names).
+    #[arg(
+        long,
+        visible_alias = "server_host",
+        alias = "serverhost",
+        alias = "moos_host",
+        alias = "mooshost"
+    )]
     pub host: Option<String>,
-    /// DB port (default: mission ServerPort, else 9000).
-    #[arg(long)]
+    /// DB port (default: mission ServerPort, else 9000). Also `--server_port`, `--moos_port`.
+    #[arg(
+        long,
+        visible_alias = "server_port",
+        alias = "serverport",
+        alias = "moos_port",
+        alias = "moosport"
+    )]
     pub port: Option<u16>,
     /// Seconds to wait for the DB before giving up.
     #[arg(long, default_value_t = 10.0)]

@@ -1,104 +1,120 @@
-//! `coug scope [MISSION.moos] [--host H] [--port N] [--once] VAR...`: watch variables like
-//! uXMS: the latest value, source and time of each, refreshed every second.
+//! `coug scope [MISSION.moos] [--host H] [--port N] [--once] [--all] [--show=COLS] VAR...`:
+//! watch variables like uXMS (see [`runtime::scope`]): names or wildcard patterns (`NAV_*`),
+//! times since the DB started, source and community columns; a plain table when stdout is
+//! not a terminal.
 
-use std::collections::HashMap;
-use std::fmt::Write as _;
+use std::io::IsTerminal;
 use std::time::Duration;
 
 use anyhow::bail;
 use clap::Args;
-use moosdb_client::{DataType, Message, Value};
+use moosdb_client::Value;
+use runtime::scope::{Columns, Scope, is_pattern};
 
 use super::db::{ConnectArgs, connect, split_mission};
 
 /// Arguments of `coug scope`.
 #[derive(Debug, Args)]
 pub struct ScopeArgs {
-    /// An optional mission file (first argument ending in `.moos`), then variable names.
-    #[arg(required = true, value_name = "[MISSION.moos] VAR")]
+    /// An optional mission file (first argument ending in `.moos`), then variable names or
+    /// MOOS wildcard patterns (`NAV_*`).
+    #[arg(value_name = "[MISSION.moos] VAR")]
     pub items: Vec<String>,
     /// Print the current values once and exit.
     #[arg(long)]
     pub once: bool,
+    /// Every variable, except `*_STATUS`, APPCAST, DB_RWSUMMARY and DB_VARSUMMARY (uXMS `-a`).
+    #[arg(short = 'a', long)]
+    pub all: bool,
+    /// Every variable, those included (uXMS `--alll`).
+    #[arg(long)]
+    pub alll: bool,
+    /// The columns besides name and value: any of `source`, `time`, `community`, comma
+    /// separated (default: all three).
+    #[arg(long, value_name = "COLS")]
+    pub show: Option<String>,
     /// Where the DB is.
     #[command(flatten)]
     pub connect: ConnectArgs,
 }
 
-fn value_text(m: &Message) -> String {
-    match m.data_type {
-        DataType::Double => moosdb_client::db::fmt_g6(m.dval),
-        DataType::String => format!("\"{}\"", m.sval_str()),
-        DataType::Binary => format!("<binary {} bytes>", m.sval.len()),
-        DataType::NotSet => "n/a".into(),
-    }
-}
-
-/// The table for `vars` (in the given order); times relative to `start` (MOOS time).
-pub fn render(vars: &[String], latest: &HashMap<String, Message>, start: f64) -> String {
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "{:<24} {:<20} {:>10}  VarValue",
-        "VarName", "(S)ource", "Time"
-    );
-    let _ = writeln!(
-        out,
-        "{:<24} {:<20} {:>10}  --------",
-        "-------", "--------", "----"
-    );
-    for v in vars {
-        match latest.get(v) {
-            Some(m) => {
-                let _ = writeln!(
-                    out,
-                    "{:<24} {:<20} {:>10.2}  {}",
-                    v,
-                    m.src_str(),
-                    m.time - start,
-                    value_text(m)
-                );
-            }
-            None => {
-                let _ = writeln!(out, "{v:<24} {:<20} {:>10}  n/a", "n/a", "n/a");
-            }
-        }
-    }
-    out
-}
-
 /// Connects, registers and prints until Ctrl-C (or once with `--once`).
 pub fn run(args: &ScopeArgs) -> anyhow::Result<()> {
     let (mission, vars) = split_mission(&args.items);
-    if vars.is_empty() {
-        bail!("nothing to scope: give variable names");
+    if vars.is_empty() && !args.all && !args.alll {
+        bail!("nothing to scope: give variable names or patterns, or --all");
     }
+    let cols = match &args.show {
+        None => Columns::default(),
+        Some(s) => {
+            let has = |c: &str| s.split(',').any(|x| x.trim().eq_ignore_ascii_case(c));
+            for x in s.split(',') {
+                if !["source", "time", "community"]
+                    .contains(&x.trim().to_ascii_lowercase().as_str())
+                {
+                    bail!("--show {s}: expected source, time or community");
+                }
+            }
+            Columns {
+                source: has("source"),
+                time: has("time"),
+                community: has("community"),
+            }
+        }
+    };
+    let mut scope = Scope::new(vars, args.all, args.alll);
+    let terminal = std::io::stdout().is_terminal();
     let name = format!("coug_scope_{}", std::process::id());
     let rt = tokio::runtime::Runtime::new()?;
     rt.block_on(async {
         let (client, mut mail) = connect(&name, mission.as_deref(), &args.connect).await?;
         let start = client.moos_time();
+        // The DB's uptime dates its start (times are shown since then).
+        client.register("DB_UPTIME", 0.0);
+        if args.all || args.alll {
+            client.register_pattern("*", "*", 0.0);
+        }
         for v in vars {
-            client.register(v, 0.0);
+            if is_pattern(v) {
+                client.register_pattern(v, "*", 0.0);
+            } else {
+                client.register(v, 0.0);
+            }
         }
         let status_var = format!("{}_STATUS", name.to_ascii_uppercase());
-        let mut latest: HashMap<String, Message> = HashMap::new();
         let mut refresh = tokio::time::interval(Duration::from_secs(1));
         let mut status = tokio::time::interval(Duration::from_secs(2));
-        // With --once: print when every variable has a value, or after 2 s.
+        // With --once: print when every named variable has a value and the DB's start is
+        // known, or after 2 s once that start is known (patterns and --all wait the 2 s), at
+        // the latest after --timeout.
         let deadline = tokio::time::sleep(Duration::from_secs(2));
         tokio::pin!(deadline);
+        let give_up = tokio::time::sleep(Duration::from_secs_f64(args.connect.timeout.max(2.0)));
+        tokio::pin!(give_up);
+        let mut waited = false;
+        let waits = args.all || args.alll || vars.iter().any(|v| is_pattern(v));
+        let mut first = true;
         loop {
             tokio::select! {
                 m = mail.recv() => {
                     let Some(m) = m else { break };
-                    latest.insert(m.key_str().into_owned(), m);
-                    if args.once && vars.iter().all(|v| latest.contains_key(v)) {
+                    scope.on_message(&m, client.moos_time());
+                    if args.once
+                        && ((!waits && scope.complete()) || (waited && scope.db_started()))
+                    {
                         break;
                     }
                 }
                 _ = refresh.tick(), if !args.once => {
-                    out!("\x1b[2J\x1b[H{}", render(vars, &latest, start));
+                    if terminal {
+                        out!("\x1b[2J\x1b[H{}", scope.render(cols));
+                    } else {
+                        if !first {
+                            outln!();
+                        }
+                        out!("{}", scope.render(cols));
+                    }
+                    first = false;
                 }
                 _ = status.tick() => {
                     // Like every MOOS app: keeps the DB's pushes flowing to idle clients.
@@ -106,37 +122,20 @@ pub fn run(args: &ScopeArgs) -> anyhow::Result<()> {
                     let s = format!("AppErrorFlag=false,Uptime={uptime:.2},MOOSName={name}");
                     let _ = client.notify(&status_var, Value::string(&s));
                 }
-                _ = &mut deadline, if args.once => break,
+                _ = &mut deadline, if args.once && !waited => {
+                    waited = true;
+                    if scope.db_started() {
+                        break;
+                    }
+                }
+                _ = &mut give_up, if args.once => break,
                 _ = super::signal::shutdown() => break,
             }
         }
-        out!("{}", render(vars, &latest, start));
+        if args.once {
+            out!("{}", scope.render(cols));
+        }
         client.close().await;
         Ok(())
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn table_shows_value_source_and_relative_time() {
-        let mut latest = HashMap::new();
-        let mut m = Message::notify("FOO", Value::Double(1.5), 105.25);
-        m.src = "uPokeDB".into();
-        latest.insert("FOO".to_string(), m);
-        let mut s = Message::notify("BAR", Value::string("hi there"), 101.0);
-        s.src = "pHelmIvP".into();
-        latest.insert("BAR".to_string(), s);
-        let t = render(&["FOO".into(), "BAR".into(), "BAZ".into()], &latest, 100.0);
-        let lines: Vec<&str> = t.lines().collect();
-        assert_eq!(lines.len(), 5);
-        assert!(lines[2].starts_with("FOO "));
-        assert!(
-            lines[2].contains("uPokeDB") && lines[2].contains("5.25") && lines[2].ends_with("1.5")
-        );
-        assert!(lines[3].contains("pHelmIvP") && lines[3].ends_with("\"hi there\""));
-        assert!(lines[4].starts_with("BAZ") && lines[4].ends_with("n/a"));
-    }
 }
