@@ -77,10 +77,16 @@ fn plot_writes_svg_and_png() {
     let text = std::fs::read_to_string(&svg).unwrap();
     let doc = roxmltree::Document::parse(&text).expect("valid SVG");
     assert_eq!(doc.root_element().tag_name().name(), "svg");
-    assert!(text.contains(">depth (m)</text>"));
+    let texts: Vec<String> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .filter_map(|n| n.text())
+        .map(|t| t.trim().to_string())
+        .collect();
+    assert!(texts.iter().any(|t| t == "depth (m)"), "{texts:?}");
     assert!(
-        text.contains(">dive.alog</text>"),
-        "title defaults to the file name"
+        texts.iter().any(|t| t == "dive"),
+        "title defaults to the mission's name: {texts:?}"
     );
 
     let png_path = dir.join("dive.png");

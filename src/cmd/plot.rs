@@ -18,7 +18,7 @@ pub struct PlotArgs {
     /// Image width in pixels.
     #[arg(long, default_value_t = 900)]
     pub width: u32,
-    /// Title (default: the log file's name).
+    /// Title (default: the mission's name, from the log file's name).
     #[arg(long)]
     pub title: Option<String>,
 }
@@ -48,7 +48,7 @@ pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
         title: args.title.clone().unwrap_or_else(|| {
             args.log
                 .file_name()
-                .map(|n| n.to_string_lossy().into_owned())
+                .map(|n| runtime::plot::mission_name(&n.to_string_lossy()))
                 .unwrap_or_default()
         }),
     };
