@@ -118,6 +118,8 @@ struct Slot {
     entered: f64,
     clock: DurationClock,
     first_done: bool,
+    /// The configuration-time postings went out (see [`Helm::holding`]).
+    config_posted: bool,
     completed: bool,
     ok: bool,
     good_updates: u32,
@@ -281,6 +283,8 @@ pub struct Helm {
     config: HelmConfig,
     errors: Vec<ConfigError>,
     ownship: String,
+    /// `hold_on_apps`, each with whether DB_CLIENTS has named it yet.
+    held_apps: Vec<(String, bool)>,
     info: InfoBuffer,
     modes: ModeSet,
     slots: Vec<Slot>,
@@ -424,6 +428,7 @@ impl Helm {
                 entered: 0.0,
                 clock: DurationClock::default(),
                 first_done: false,
+                config_posted: false,
                 completed: false,
                 ok: true,
                 good_updates: 0,
@@ -482,9 +487,15 @@ impl Helm {
         };
         let has_control = config.start_engaged && errors.is_empty();
         let problem = Problem::new(config.domain.clone());
+        let held_apps = config
+            .hold_on_apps
+            .iter()
+            .map(|a| (a.clone(), false))
+            .collect();
         let mut helm = Helm {
             app_name: APP_NAME.to_string(),
             modes: ModeSet::new(&bhv.modes),
+            held_apps,
             config,
             errors,
             ownship,
@@ -686,7 +697,23 @@ impl Helm {
 
     /// Queues mail for the next [`Helm::iterate`].
     pub fn on_mail(&mut self, mail: &[Mail]) {
+        // hold_on_apps: note each app named in DB_CLIENTS (pHelmIvP `checkHoldOnApps`).
+        if self.held_apps.iter().any(|(_, seen)| !seen) {
+            for m in mail.iter().filter(|m| m.var == "DB_CLIENTS") {
+                if let Value::Str(list) = &m.value {
+                    for (app, seen) in &mut self.held_apps {
+                        *seen |= list.split(',').any(|c| c.trim() == app.as_str());
+                    }
+                }
+            }
+        }
         self.pending.extend_from_slice(mail);
+    }
+
+    /// True while an app of `hold_on_apps` has not yet appeared in DB_CLIENTS: the
+    /// behaviours' configuration-time postings (MOOS's helm start messages) wait.
+    pub fn holding(&self) -> bool {
+        self.held_apps.iter().any(|(_, seen)| !seen)
     }
 
     fn notify(&mut self, var: &str, value: Value, aux: &str) {
@@ -1624,9 +1651,11 @@ impl Helm {
     /// One behaviour's iteration (MOOS `BehaviorSet::produceOF`, reference §4.4).
     fn produce(&mut self, i: usize, now: f64) -> Option<ivp::IvpFunction> {
         let old = self.slots[i].state;
-        if !self.slots[i].first_done {
+        if !self.slots[i].config_posted && !self.holding() {
             // Configuration-time postings first (MOOS queues them in the behaviour's message
-            // list before this iteration's), then the configflags.
+            // list before this iteration's), then the configflags; with hold_on_apps, only
+            // once every named app is in DB_CLIENTS.
+            self.slots[i].config_posted = true;
             let pending = std::mem::take(&mut self.slots[i].config_out);
             if !pending.emits.is_empty() || pending.error.is_some() {
                 let buffer = std::mem::replace(&mut self.emit, pending);

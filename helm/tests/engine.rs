@@ -1110,3 +1110,51 @@ Behavior = BHV_Loiter
     let run = s.step(3.0, 0.0, 0.0, 0.0, &[("GO", "true")]);
     assert_eq!(count(&run), 1, "on the start of running");
 }
+
+#[test]
+fn hold_on_apps_holds_the_configuration_postings_until_db_clients_names_them() {
+    // pHelmIvP posts its behaviours' start messages (made at configuration) only once every
+    // hold_on_apps app is in DB_CLIENTS; the helm decides meanwhile.
+    let bhv = "\
+Behavior = BHV_Loiter
+{
+  name      = lt
+  speed     = 1
+  duration  = no-time-limit
+  polygon   = format=radial, x=0, y=0, radius=20, pts=4
+}
+";
+    let helm = helm_with(
+        &[
+            ("start_engaged", "true"),
+            ("hold_on_apps", "pContactMgrV20, uFldNodeComms"),
+        ],
+        bhv,
+    );
+    assert!(helm.holding());
+    let mut s = Script::new(helm);
+    let count = |p: &[Posting]| all(p, "BHV_SETTINGS").len();
+    let mut seen = count(&s.step(0.0, 0.0, 0.0, 0.0, &[]));
+    let p = s.step(
+        1.0,
+        0.0,
+        0.0,
+        0.0,
+        &[("DB_CLIENTS", "pHelmIvP,pContactMgrV20,")],
+    );
+    seen += count(&p);
+    assert_eq!(seen, 0, "held: one app still missing");
+    assert!(
+        get(&p, "DESIRED_SPEED").is_some(),
+        "the helm decides meanwhile"
+    );
+    let p = s.step(
+        2.0,
+        0.0,
+        0.0,
+        0.0,
+        &[("DB_CLIENTS", "uFldNodeComms,pHelmIvP,pContactMgrV20,")],
+    );
+    assert_eq!(count(&p), 1, "released once all are seen");
+    assert!(!s.helm.holding());
+}
