@@ -16,8 +16,9 @@
 //! behaviour (one whose type is not a constraint, [`Behavior::is_constraint`]).
 //!
 //! Not modelled: standby helms and behaviour spawning (`templating = spawn`) are refused at
-//! configuration (MALCONFIG, never silently different); `RESTART_HELM` and node reports (the
-//! contact ledger) only reach the info buffer.
+//! configuration (MALCONFIG, never silently different); node reports (the contact ledger)
+//! only reach the info buffer. `RESTART_HELM` is handled by the app around the engine, which
+//! reads the files again ([`Helm::restart_from`]).
 
 use behaviors::fmt::{compact, fixed, uint};
 use behaviors::{Behavior, Common, Ctx, Emit, FlagKind, FlagValue, Info, Out, ParamError, PostKey};
@@ -327,6 +328,10 @@ pub struct Helm {
     refresh_pending: bool,
     refresh_time: f64,
     disabled_posted: bool,
+    /// Set by [`Helm::restart_from`]: IVPHELM_RESTARTED is posted once decisions resume.
+    restart_post_pending: bool,
+    /// A `type1` restart keeps the info buffer and does not post the initializes again.
+    skip_initialize: bool,
     emit: Out,
     scratch: String,
     registered: Vec<String>,
@@ -536,6 +541,8 @@ impl Helm {
             refresh_pending: false,
             refresh_time: 0.0,
             disabled_posted: false,
+            restart_post_pending: false,
+            skip_initialize: false,
             emit: Out::default(),
             scratch: String::new(),
             registered: Vec::new(),
@@ -710,6 +717,22 @@ impl Helm {
         self.pending.extend_from_slice(mail);
     }
 
+    /// Makes this freshly built helm the restart of `old` (pHelmIvP `RESTART_HELM`): it keeps
+    /// `old`'s control (manual override), its pending mail and, for `type1` (`keep_info`),
+    /// its info buffer without posting the initializes again (`type2` starts a fresh
+    /// buffer and posts them). It starts over (registrations, domain, mode set) at its next
+    /// iteration and posts `IVPHELM_RESTARTED = true` once it decides again.
+    pub fn restart_from(&mut self, old: Helm, keep_info: bool) {
+        self.has_control = old.has_control && self.errors.is_empty();
+        self.pending = old.pending;
+        self.held_apps = old.held_apps;
+        if keep_info {
+            self.info = old.info;
+            self.skip_initialize = true;
+        }
+        self.restart_post_pending = true;
+    }
+
     /// True while an app of `hold_on_apps` has not yet appeared in DB_CLIENTS: the
     /// behaviours' configuration-time postings (MOOS's helm start messages) wait.
     pub fn holding(&self) -> bool {
@@ -730,7 +753,7 @@ impl Helm {
             return;
         }
         for (var, value, deferred) in self.initializes.clone() {
-            if !deferred {
+            if !deferred && !self.skip_initialize {
                 self.info.set(&var, value.clone(), APP_NAME, now);
                 self.notify(&var, value, "HELM_VAR_INIT");
             }
@@ -903,6 +926,11 @@ impl Helm {
         // Step 7: no decision in the first second.
         if now - self.start_time < 1.0 {
             return self.out.as_slice();
+        }
+        // After a RESTART_HELM, one confirmation once decisions resume.
+        if self.restart_post_pending {
+            self.restart_post_pending = false;
+            self.notify("IVPHELM_RESTARTED", Value::Str("true".into()), "");
         }
         self.decide(now);
         self.out.as_slice()

@@ -20,6 +20,18 @@ pub struct HelmApp {
     mail: Vec<::helm::Mail>,
     registered: Vec<String>,
     pid: Option<u32>,
+    /// Where the helm's files come from, to read them again on `RESTART_HELM`.
+    reload: Option<Reload>,
+    /// Variables to register at the next `new_subscriptions` (after a restart).
+    unregistered: Vec<String>,
+}
+
+/// What a helm needs to read its configuration again (pHelmIvP `RESTART_HELM`).
+#[derive(Debug, Clone)]
+struct Reload {
+    mission: MissionFile,
+    dir: std::path::PathBuf,
+    opts: Options,
 }
 
 impl HelmApp {
@@ -63,6 +75,8 @@ impl HelmApp {
             mail: Vec::new(),
             registered,
             pid: None,
+            reload: None,
+            unregistered: Vec::new(),
         }
     }
 
@@ -81,6 +95,43 @@ impl HelmApp {
     ) -> HelmApp {
         let loaded = load_behaviors(mission, dir, name, opts, fs);
         HelmApp::from_behaviors(name, mission, loaded.as_ref().map_err(Vec::as_slice))
+            .with_reload(mission, dir, opts)
+    }
+
+    /// Lets the helm read its files again (from the file system) on `RESTART_HELM = type1`
+    /// (keeping its info buffer) or `type2` (a fresh one, initializes posted again), as
+    /// pHelmIvP does; without this a restart request is ignored.
+    pub fn with_reload(mut self, mission: &MissionFile, dir: &Path, opts: &Options) -> Self {
+        self.reload = Some(Reload {
+            mission: mission.clone(),
+            dir: dir.to_path_buf(),
+            opts: opts.clone(),
+        });
+        self
+    }
+
+    /// Rebuilds the helm from its files (see [`HelmApp::with_reload`]).
+    fn restart(&mut self, keep_info: bool) {
+        let Some(r) = self.reload.clone() else {
+            return;
+        };
+        let fresh = HelmApp::from_mission_files(
+            &self.name,
+            &r.mission,
+            &r.dir,
+            &r.opts,
+            &mission::source::FsSource,
+        );
+        let old = std::mem::replace(&mut self.helm, fresh.helm);
+        self.helm.restart_from(old, keep_info);
+        // The new set's registrations (mode-condition variables included) are made at the
+        // next `new_subscriptions`.
+        for v in fresh.registered {
+            if !self.registered.contains(&v) && !self.unregistered.contains(&v) {
+                self.unregistered.push(v);
+            }
+        }
+        tracing::warn!("{}: pHelmIvP has been re-started", self.name);
     }
 
     /// The helm called `name` of `mission` with its behaviour file as [`load_behaviors`]
@@ -213,6 +264,12 @@ impl App for HelmApp {
 
     fn new_subscriptions(&mut self) -> Vec<Subscription> {
         let mut fresh = Vec::new();
+        for v in std::mem::take(&mut self.unregistered) {
+            if !self.registered.contains(&v) {
+                fresh.push(Subscription::var(v.clone()));
+                self.registered.push(v);
+            }
+        }
         for v in self.helm.subscriptions() {
             if !self.registered.contains(&v) {
                 fresh.push(Subscription::var(v.clone()));
@@ -223,6 +280,14 @@ impl App for HelmApp {
     }
 
     fn on_mail(&mut self, mail: &[Mail], _now: f64, _out: &mut Vec<Post>) {
+        // RESTART_HELM = type1 | type2: the behaviours are read again (pHelmIvP).
+        for m in mail.iter().filter(|m| m.key == "RESTART_HELM") {
+            if let Value::String(kind) = &m.value
+                && (kind == "type1" || kind == "type2")
+            {
+                self.restart(kind == "type1");
+            }
+        }
         self.mail.clear();
         self.mail.extend(mail.iter().filter_map(|m| {
             let value = match &m.value {

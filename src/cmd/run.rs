@@ -113,6 +113,8 @@ pub struct Loaded {
     pub dir: PathBuf,
     /// The reader's and nsplug's warnings (an unexpanded `$(X)` is left to the apps).
     pub warnings: Vec<String>,
+    /// How the files were preprocessed (a helm's RESTART_HELM reads them again so).
+    pub opts: Options,
 }
 
 fn base(app: &str) -> &str {
@@ -169,6 +171,7 @@ pub fn load(
             expanded,
             dir,
             warnings,
+            opts,
         })
     } else {
         Err(errors)
@@ -273,10 +276,11 @@ pub fn validate(loaded: &Loaded) -> Validation {
 /// The helm called `name` of a loaded mission (MALCONFIG when its configuration is bad).
 fn helm_app(loaded: &Loaded, name: &str) -> HelmApp {
     let m = &loaded.mission;
-    match loaded.behaviors.get(name) {
+    let app = match loaded.behaviors.get(name) {
         Some(bhv) => HelmApp::from_behaviors(name, m, bhv.as_ref().map_err(Vec::as_slice)),
         None => HelmApp::from_behaviors(name, m, Err(&[])),
-    }
+    };
+    app.with_reload(m, &loaded.dir, &loaded.opts)
 }
 
 /// Says on stderr why a helm is in MALCONFIG (it runs anyway, as pHelmIvP does: it posts
