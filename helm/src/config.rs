@@ -133,6 +133,41 @@ fn boolean(v: &str, current: bool) -> Option<bool> {
     }
 }
 
+/// MOOS `PlatModelGenerator::setParams`: `#`-separated `param=value` pieces with `alg` holo or
+/// dubins; the dubins generator takes radius (`rad`) >= 0, spoke_degs (`degs`) > 0 and the
+/// numbers mod_radius and mod_spoke_degs; the holonomic one takes anything.
+fn pmgen_ok(spec: &str) -> bool {
+    let pieces: Vec<(&str, &str)> = spec
+        .split('#')
+        .map(|p| {
+            let (k, v) = p.split_once('=').unwrap_or((p, ""));
+            (k.trim(), v.trim())
+        })
+        .collect();
+    let alg = pieces
+        .iter()
+        .find(|(k, _)| *k == "alg")
+        .map(|(_, v)| v.to_ascii_lowercase());
+    let num = |v: &str| {
+        geometry::is_number(v)
+            .then(|| v.parse::<f64>().ok())
+            .flatten()
+    };
+    match alg.as_deref() {
+        Some("holo") => true,
+        Some("dubins") => pieces
+            .iter()
+            .filter(|(k, _)| *k != "alg")
+            .all(|(k, v)| match *k {
+                "radius" | "rad" => num(v).is_some_and(|x| x >= 0.0),
+                "spoke_degs" | "degs" => num(v).is_some_and(|x| x > 0.0),
+                "mod_radius" | "mod_spoke_degs" => num(v).is_some(),
+                _ => false,
+            }),
+        _ => false,
+    }
+}
+
 fn number(v: &str) -> Option<f64> {
     let t = v.trim();
     if mission::condition::is_numeric(t) {
@@ -270,9 +305,17 @@ impl HelmConfig {
                     }
                     _ => errs.push(bad("vname,seconds (once per vehicle)")),
                 },
-                // Dynamic behaviour libraries and platform-model generation are accepted; coug
-                // links its behaviours statically.
-                "ivp_behavior_dir" | "ivp_behavior_dirs" | "pmgen" => {}
+                // Dynamic behaviour libraries are accepted; coug links its behaviours statically.
+                "ivp_behavior_dir" | "ivp_behavior_dirs" => {}
+                // The platform-model generator's settings, checked as MOOS's
+                // `PlatModelGenerator::setParams` (no coug behaviour uses the model yet).
+                "pmgen" => {
+                    if !pmgen_ok(v.as_ref()) {
+                        errs.push(bad(
+                            "alg=holo|dubins#... (dubins: radius/rad >= 0, spoke_degs/degs > 0, mod_radius, mod_spoke_degs)",
+                        ))
+                    }
+                }
                 "bhv_dir_not_found_ok" | "bhv_dirs_not_found_ok" => {
                     let mut ok = false;
                     set_bool(&mut ok, &mut errs)
@@ -525,14 +568,32 @@ mod tests {
             matches!(&e[..], [ConfigError::BadValue { expected, .. }] if expected.contains("not supported"))
         );
         assert_eq!(parse_one("standby", "0").1.len(), 1);
-        // Behaviour libraries and pmgen are accepted (coug links its behaviours statically).
+        // Behaviour libraries are accepted (coug links its behaviours statically).
         for key in [
             "ivp_behavior_dir",
             "ivp_behavior_dirs",
             "bhv_dir_not_found_ok",
-            "pmgen",
         ] {
             assert!(parse_one(key, "true").1.is_empty(), "{key}");
+        }
+        // pmgen: MOOS's PlatModelGenerator rules.
+        for ok in [
+            "alg=holo",
+            "alg=HOLO#anything=1",
+            "alg=dubins#rad=10#degs=15",
+            "alg=dubins#radius=0#mod_radius=-2",
+        ] {
+            assert!(parse_one("pmgen", ok).1.is_empty(), "{ok}");
+        }
+        for bad in [
+            "true",
+            "alg=ackermann",
+            "alg=dubins#rad=-1",
+            "alg=dubins#degs=0",
+            "alg=dubins#speed=2",
+            "radius=3",
+        ] {
+            assert_eq!(parse_one("pmgen", bad).1.len(), 1, "{bad}");
         }
     }
 }
