@@ -5,25 +5,12 @@
 
 mod common;
 
-use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
-use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 use common::*;
 use moosdb_client::{Client, ClientConfig};
-
-struct Procs(Vec<Child>);
-
-impl Drop for Procs {
-    fn drop(&mut self) {
-        for c in &mut self.0 {
-            let _ = c.kill();
-            let _ = c.wait();
-        }
-    }
-}
 
 const NAMES: [&str; 11] = [
     "MOOSDB",
@@ -170,30 +157,8 @@ fn plogger_utimerscript_and_upokedb_aliases_do_their_jobs() {
     let dir = fresh_dir("aliases-apps");
     let bin = install(&dir);
     std::fs::write(dir.join("m.moos"), mission(9000)).unwrap();
-    let mut procs = Procs(Vec::new());
-    let mut db = Command::new(env!("CARGO_BIN_EXE_coug"))
-        .current_dir(&dir)
-        .args(["db", "m.moos", "--port", "0"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let out = db.stdout.take().unwrap();
-    procs.0.push(db);
-    let (tx, rx) = mpsc::channel();
-    std::thread::spawn(move || {
-        for line in BufReader::new(out).lines().map_while(Result::ok) {
-            let _ = tx.send(line);
-        }
-    });
-    let port: u16 = loop {
-        let line = rx
-            .recv_timeout(Duration::from_secs(60))
-            .expect("the DB's port");
-        if let Some(r) = line.split("listening on 127.0.0.1:").nth(1) {
-            break r.split_whitespace().next().unwrap().parse().unwrap();
-        }
-    };
+    let (db, port) = spawn_db(&dir, "m.moos");
+    let mut procs = vec![db];
     std::fs::write(dir.join("m.moos"), mission(port)).unwrap();
     let logger = Command::new(bin.join("pLogger"))
         .arg("m.moos")
@@ -235,7 +200,7 @@ fn plogger_utimerscript_and_upokedb_aliases_do_their_jobs() {
                         continue;
                     }
                     if k == "LOGGER_DIRECTORY" {
-                        if procs.0.len() == 1 {
+                        if procs.len() == 1 {
                             let timer = Command::new(bin.join("uTimerScript"))
                                 .arg("m.moos")
                                 .current_dir(&dir)
@@ -243,7 +208,7 @@ fn plogger_utimerscript_and_upokedb_aliases_do_their_jobs() {
                                 .stderr(Stdio::null())
                                 .spawn()
                                 .unwrap();
-                            procs.0.push(timer);
+                            procs.push(KillOnDrop(timer));
                         }
                         continue;
                     }

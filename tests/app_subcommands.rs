@@ -5,24 +5,11 @@
 mod common;
 
 use std::collections::BTreeSet;
-use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Stdio};
-use std::sync::mpsc;
+use std::process::{Command, Stdio};
 use std::time::Duration;
 
 use common::*;
 use moosdb_client::{Client, ClientConfig};
-
-struct Procs(Vec<Child>);
-
-impl Drop for Procs {
-    fn drop(&mut self) {
-        for c in &mut self.0 {
-            let _ = c.kill();
-            let _ = c.wait();
-        }
-    }
-}
 
 fn mission_with_port(port: u16) -> String {
     let text = std::fs::read_to_string(corpus("s1_alpha/alpha.moos")).unwrap();
@@ -43,30 +30,8 @@ fn subcommands_join_the_db_under_their_moos_names() {
     let dir = fresh_dir("app-subcommands");
     std::fs::copy(corpus("s1_alpha/alpha.bhv"), dir.join("alpha.bhv")).unwrap();
     std::fs::write(dir.join("alpha.moos"), mission_with_port(9000)).unwrap();
-    let mut procs = Procs(Vec::new());
-    let mut db = Command::new(env!("CARGO_BIN_EXE_coug"))
-        .current_dir(&dir)
-        .args(["db", "alpha.moos", "--port", "0"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let out = db.stdout.take().unwrap();
-    procs.0.push(db);
-    let (tx, rx) = mpsc::channel();
-    std::thread::spawn(move || {
-        for line in BufReader::new(out).lines().map_while(Result::ok) {
-            let _ = tx.send(line);
-        }
-    });
-    let port: u16 = loop {
-        let line = rx
-            .recv_timeout(Duration::from_secs(60))
-            .expect("coug db announces its port");
-        if let Some(r) = line.split("listening on 127.0.0.1:").nth(1) {
-            break r.split_whitespace().next().unwrap().parse().unwrap();
-        }
-    };
+    let (db, port) = spawn_db(&dir, "alpha.moos");
+    let mut procs = vec![db];
     std::fs::write(dir.join("alpha.moos"), mission_with_port(port)).unwrap();
     for args in [
         vec!["helm", "alpha.moos"],
@@ -81,7 +46,7 @@ fn subcommands_join_the_db_under_their_moos_names() {
             .stderr(Stdio::null())
             .spawn()
             .unwrap();
-        procs.0.push(c);
+        procs.push(KillOnDrop(c));
     }
     let expected: BTreeSet<&str> = [
         "PHELMIVP_STATUS",

@@ -4,22 +4,10 @@
 
 mod common;
 
-use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Stdio};
-use std::sync::mpsc;
 use std::time::Duration;
 
 use common::*;
 use moosdb_client::{Client, ClientConfig, Value};
-
-struct Kill(Child);
-
-impl Drop for Kill {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
 
 fn scope(dir: &std::path::Path, port: u16, args: &[&str]) -> (String, String) {
     let p = port.to_string();
@@ -42,29 +30,7 @@ fn scope(dir: &std::path::Path, port: u16, args: &[&str]) -> (String, String) {
 fn scope_shows_db_times_wildcards_all_and_plain_text() {
     let dir = fresh_dir("scope-cli");
     std::fs::write(dir.join("m.moos"), "ServerPort = 9000\nCommunity = abe\n").unwrap();
-    let mut db = Command::new(env!("CARGO_BIN_EXE_coug"))
-        .current_dir(&dir)
-        .args(["db", "m.moos", "--port", "0"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let out = db.stdout.take().unwrap();
-    let _db = Kill(db);
-    let (tx, rx) = mpsc::channel();
-    std::thread::spawn(move || {
-        for line in BufReader::new(out).lines().map_while(Result::ok) {
-            let _ = tx.send(line);
-        }
-    });
-    let port: u16 = loop {
-        let line = rx
-            .recv_timeout(Duration::from_secs(60))
-            .expect("the DB's port");
-        if let Some(r) = line.split("listening on 127.0.0.1:").nth(1) {
-            break r.split_whitespace().next().unwrap().parse().unwrap();
-        }
-    };
+    let (_db, port) = spawn_db(&dir, "m.moos");
     // Post three variables, then wait (bounded) until they are in the DB.
     let rt = tokio::runtime::Builder::new_current_thread()
         .enable_all()

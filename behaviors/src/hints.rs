@@ -13,7 +13,7 @@ use crate::param::{atof, is_number};
 /// assert_eq!(p, [("edge_color".to_string(), "red"), ("label".to_string(), "\"a,b\"")]);
 /// ```
 pub fn pairs(spec: &str) -> impl Iterator<Item = (String, &str)> {
-    split_outside_quotes(spec).into_iter().map(|hint| {
+    geometry::split_unquoted(spec, ',').into_iter().map(|hint| {
         let (k, v) = hint.split_once('=').unwrap_or((hint, ""));
         (k.trim().to_ascii_lowercase(), v.trim())
     })
@@ -27,25 +27,6 @@ pub fn color(value: &str) -> Option<&str> {
 /// `value` as a size when it is a MOOS number (C `atof` of it), else `None`.
 pub fn size(value: &str) -> Option<f64> {
     is_number(value).then(|| atof(value))
-}
-
-/// Splits on commas that are not inside double quotes.
-fn split_outside_quotes(s: &str) -> Vec<&str> {
-    let mut out = Vec::new();
-    let mut start = 0;
-    let mut quoted = false;
-    for (i, c) in s.char_indices() {
-        match c {
-            '"' => quoted = !quoted,
-            ',' if !quoted => {
-                out.push(&s[start..i]);
-                start = i + 1;
-            }
-            _ => {}
-        }
-    }
-    out.push(&s[start..]);
-    out
 }
 
 #[cfg(test)]

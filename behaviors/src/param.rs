@@ -14,34 +14,8 @@ pub fn is_number(s: &str) -> bool {
     geometry::is_number(s)
 }
 
-/// The number at the start of `s`, as C's `atof` reads it (what MOOS-IvP uses where it does
-/// not validate): leading blanks skipped, the longest numeric prefix taken, 0 when there is
-/// none.
-///
-/// ```
-/// use behaviors::param::atof;
-/// assert_eq!(atof(" 12.5m"), 12.5);
-/// assert_eq!(atof("-3e2x"), -300.0);
-/// assert_eq!(atof("abc"), 0.0);
-/// ```
-pub fn atof(s: &str) -> f64 {
-    let t = s.trim_start();
-    let b = t.as_bytes();
-    let mut end = 0;
-    let mut best = 0.0;
-    // Grow the prefix one byte at a time and keep the last one that parses.
-    while end < b.len() {
-        end += 1;
-        if let Ok(v) = t[..end].parse::<f64>()
-            && !t[..end].ends_with(['+', '-'])
-        {
-            best = v;
-        } else if !matches!(b[end - 1], b'0'..=b'9' | b'.' | b'e' | b'E' | b'+' | b'-') {
-            break;
-        }
-    }
-    if best.is_finite() { best } else { 0.0 }
-}
+/// C's `atof` as MOOS reads unvalidated numbers (see [`geometry::atof`]).
+pub use geometry::atof;
 
 /// Parses a number or returns [`ParamError::BadValue`].
 pub fn number(param: &str, value: &str) -> Result<f64, ParamError> {

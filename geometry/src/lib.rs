@@ -35,7 +35,7 @@ pub mod seglist;
 pub mod segment;
 pub mod spec;
 mod text;
-pub use text::is_number;
+pub use text::{atof, is_number, split_unquoted};
 
 pub use angle::{angle_180, angle_360, project_point, relative_angle};
 pub use error::ParseError;

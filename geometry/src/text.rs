@@ -83,6 +83,76 @@ pub fn is_number(s: &str) -> bool {
     digits > 0
 }
 
+/// The number at the start of `s` as C's `atof` reads it (what MOOS uses where it does not
+/// validate): leading blanks skipped, then the longest `[+-]digits[.digits][e[+-]digits]`
+/// prefix; 0 when there is none.
+///
+/// ```
+/// assert_eq!(geometry::atof(" 12.5m"), 12.5);
+/// assert_eq!(geometry::atof("-3e2x"), -300.0);
+/// assert_eq!(geometry::atof("2e"), 2.0);
+/// assert_eq!(geometry::atof("5°"), 5.0);
+/// assert_eq!(geometry::atof("abc"), 0.0);
+/// ```
+pub fn atof(s: &str) -> f64 {
+    let t = s.trim_start();
+    let b = t.as_bytes();
+    let digits = |mut i: usize| {
+        let start = i;
+        while i < b.len() && b[i].is_ascii_digit() {
+            i += 1;
+        }
+        (i, i - start)
+    };
+    let mut i = usize::from(matches!(b.first(), Some(b'+' | b'-')));
+    let (after_int, int_digits) = digits(i);
+    i = after_int;
+    let mut frac_digits = 0;
+    if b.get(i) == Some(&b'.') {
+        let (after_frac, n) = digits(i + 1);
+        frac_digits = n;
+        if int_digits + n > 0 {
+            i = after_frac;
+        }
+    }
+    if int_digits + frac_digits == 0 {
+        return 0.0;
+    }
+    if matches!(b.get(i), Some(b'e' | b'E')) {
+        let sign = usize::from(matches!(b.get(i + 1), Some(b'+' | b'-')));
+        let (after_exp, n) = digits(i + 1 + sign);
+        if n > 0 {
+            i = after_exp;
+        }
+    }
+    // The prefix is ASCII, so `i` is a char boundary.
+    t[..i]
+        .parse::<f64>()
+        .ok()
+        .filter(|v| v.is_finite())
+        .unwrap_or(0.0)
+}
+
+/// Splits on `sep` outside double quotes, pieces untrimmed (MOOS `parseStringQ`).
+///
+/// ```
+/// assert_eq!(geometry::split_unquoted("a=\"x#y\"#b", '#'), ["a=\"x#y\"", "b"]);
+/// ```
+pub fn split_unquoted(s: &str, sep: char) -> Vec<&str> {
+    let mut out = Vec::new();
+    let (mut start, mut quoted) = (0, false);
+    for (i, c) in s.char_indices() {
+        if c == '"' {
+            quoted = !quoted;
+        } else if c == sep && !quoted {
+            out.push(&s[start..i]);
+            start = i + c.len_utf8();
+        }
+    }
+    out.push(&s[start..]);
+    out
+}
+
 /// Parses a MOOS number (see [`is_number`]).
 pub(crate) fn number(s: &str) -> Option<f64> {
     if !is_number(s) {

@@ -789,19 +789,5 @@ fn is_else_token(t: &str) -> bool {
 
 /// Splits on commas outside double quotes.
 fn split_commas(s: &str) -> Vec<&str> {
-    let mut out = Vec::new();
-    let mut quoted = false;
-    let mut start = 0;
-    for (i, c) in s.char_indices() {
-        match c {
-            '"' => quoted = !quoted,
-            ',' if !quoted => {
-                out.push(&s[start..i]);
-                start = i + 1;
-            }
-            _ => {}
-        }
-    }
-    out.push(&s[start..]);
-    out
+    geometry::split_unquoted(s, ',')
 }

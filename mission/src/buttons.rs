@@ -67,24 +67,6 @@ fn button_key(param: &str) -> Option<String> {
     Some(format!("button_{name}"))
 }
 
-/// Splits on `#` outside double quotes.
-fn pieces(s: &str) -> Vec<&str> {
-    let mut out = Vec::new();
-    let (mut start, mut quoted) = (0, false);
-    for (i, c) in s.char_indices() {
-        match c {
-            '"' => quoted = !quoted,
-            '#' if !quoted => {
-                out.push(&s[start..i]);
-                start = i + 1;
-            }
-            _ => {}
-        }
-    }
-    out.push(&s[start..]);
-    out
-}
-
 fn typed(value: &str) -> ButtonValue {
     if value.len() >= 2 && value.starts_with('"') && value.ends_with('"') {
         return ButtonValue::Text(value[1..value.len() - 1].to_string());
@@ -136,7 +118,7 @@ pub fn buttons(m: &MissionFile) -> Vec<Button> {
                 out.len() - 1
             }
         };
-        for piece in pieces(&p.value) {
+        for piece in geometry::split_unquoted(&p.value, '#') {
             let (param, value) = piece.split_once('=').unwrap_or((piece, ""));
             let (param, value) = (param.trim(), value.trim());
             if param.is_empty() || param == "color" {

@@ -225,3 +225,47 @@ pub fn check_committed_png(mission_dir: &str) {
         info.height
     );
 }
+
+/// A child process killed (and reaped) when dropped.
+pub struct KillOnDrop(pub std::process::Child);
+
+impl Drop for KillOnDrop {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// Starts `coug db MISSION --port 0` in `cwd` and returns it with the port it announced on
+/// 127.0.0.1 (a bounded wait of 60 s).
+pub fn spawn_db(cwd: &Path, mission: &str) -> (KillOnDrop, u16) {
+    use std::io::{BufRead, BufReader};
+    use std::process::Stdio;
+    let mut db = Command::new(env!("CARGO_BIN_EXE_coug"))
+        .current_dir(cwd)
+        .args(["db", mission, "--port", "0"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("coug db starts");
+    let out = db.stdout.take().expect("piped stdout");
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        for line in BufReader::new(out).lines().map_while(Result::ok) {
+            let _ = tx.send(line);
+        }
+    });
+    let port = loop {
+        let line = rx
+            .recv_timeout(std::time::Duration::from_secs(60))
+            .expect("coug db announces its port within 60 s");
+        if let Some(r) = line.split("listening on 127.0.0.1:").nth(1) {
+            break r
+                .split_whitespace()
+                .next()
+                .and_then(|p| p.parse().ok())
+                .expect("a port number");
+        }
+    };
+    (KillOnDrop(db), port)
+}

@@ -329,27 +329,8 @@ impl StartPose {
     }
 }
 
-/// C's `atof`: the longest leading decimal number of `s` (after blanks), 0 when there is none.
-///
-/// ```
-/// assert_eq!(vehicle::sim::atof(" 12.5m"), 12.5);
-/// assert_eq!(vehicle::sim::atof("abc"), 0.0);
-/// ```
-pub fn atof(s: &str) -> f64 {
-    let t = s.trim_start();
-    let b = t.as_bytes();
-    let mut end = 0;
-    let mut best = 0.0;
-    while end < b.len() {
-        end += 1;
-        if let Ok(v) = t[..end].parse::<f64>()
-            && !t[..end].ends_with(|c: char| c.is_ascii_alphabetic())
-        {
-            best = v;
-        }
-    }
-    if best.is_finite() { best } else { 0.0 }
-}
+/// C's `atof` as MOOS reads unvalidated numbers (see [`geometry::atof`]).
+pub use geometry::atof;
 
 /// `uSimMarineV22` configuration. `Default` gives the MOOS defaults.
 #[derive(Debug, Clone, PartialEq)]
