@@ -103,6 +103,9 @@ fn unknown_helm_parameter_is_malconfig_and_never_decides() {
         .map(|v| v.as_str().unwrap())
         .collect();
     assert_eq!(why, ["Unhandled config line: bogus_param = 1"]);
+    // pHelmIvP posts behaviour-set warnings (IVPHELM_BHVSET_WARNING) only from an enabled
+    // helm: a MALCONFIG one returns before, so they are never posted here.
+    assert!(all(&first, "IVPHELM_BHVSET_WARNING").is_empty());
     for k in 1..20 {
         let posts = s.step(
             f64::from(k),
