@@ -358,7 +358,15 @@ impl LoggerConfig {
         let mut out = Vec::new();
         for p in &block.entries {
             let k = p.key.to_ascii_lowercase();
-            let why = if UNSUPPORTED.contains(&k.as_str()) {
+            // A switch set off asks for nothing: no warning (`SyncLog = false`).
+            let switch = matches!(
+                k.as_str(),
+                "synclog" | "utclogdirectories" | "markexternalcommunitymessages" | "compressalogs"
+            );
+            let on = is_true(p.value.split('@').next().unwrap_or("").trim());
+            let why = if UNSUPPORTED.contains(&k.as_str()) && switch && !on {
+                continue;
+            } else if UNSUPPORTED.contains(&k.as_str()) {
                 "not supported by coug's pLogger; ignored"
             } else if SUPPORTED.contains(&k.as_str()) || GENERIC.contains(&k.as_str()) {
                 continue;
@@ -778,6 +786,28 @@ mod tests {
     fn block(text: &str) -> ProcessConfig {
         let src = SourceMap::from_text("t.moos", text);
         mission::moos::parse_moos(&src).value.processes[0].clone()
+    }
+
+    #[test]
+    fn unsupported_keys_are_named_unless_switched_off() {
+        let b = block(
+            "ProcessConfig = pLogger\n{\n  AppTick = 4\n  SyncLog = false\n  CompressAlogs = true\n  \
+             LoggingDirectorySummaryFile = x\n  Filetime = 1\n  File = LOG\n}\n",
+        );
+        let w = LoggerConfig::warnings(&b);
+        assert_eq!(w.len(), 3, "{w:?}");
+        assert!(
+            w[0].contains("CompressAlogs = true: not supported"),
+            "{w:?}"
+        );
+        assert!(
+            w[1].contains("LoggingDirectorySummaryFile = x: not supported"),
+            "{w:?}"
+        );
+        assert!(
+            w[2].contains("Filetime = 1: not a pLogger parameter"),
+            "{w:?}"
+        );
     }
 
     #[test]
