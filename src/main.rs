@@ -45,7 +45,7 @@ enum Command {
     Db(cmd::db::DbArgs),
     /// Post values like uPokeDB: [MISSION.moos] VAR=VALUE... (VAR:=VALUE forces a string).
     Poke(cmd::poke::PokeArgs),
-    /// Watch variables like uXMS: [MISSION.moos] VAR... [--once].
+    /// Watch variables like uXMS: [MISSION.moos] VAR|PATTERN... [--all] [--show=COLS] [--once].
     Scope(cmd::scope::ScopeArgs),
     /// Run a whole mission: MISSION.moos [NAME=VALUE]... [--lockstep | --warp N] [--deploy] [--until COND].
     Run(cmd::run::RunArgs),
