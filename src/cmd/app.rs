@@ -22,19 +22,12 @@ use super::run::{load, report_malconfig};
 
 /// The MOOS app names coug answers to when invoked under them (links made by
 /// `coug install-aliases`): each does that app's job.
-pub const APP_NAMES: &[&str] = &[
-    "MOOSDB",
-    "pHelmIvP",
-    "uSimMarine",
-    "uSimMarineV22",
-    "pMarinePID",
-    "pMarinePIDV22",
-    "pNodeReporter",
-    "pLogger",
-    "uTimerScript",
-    "uPokeDB",
-    "uXMS",
-];
+pub const APP_NAMES: [&str; 11] = {
+    let b = super::run::BUILT_IN;
+    [
+        "MOOSDB", b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7], "uPokeDB", "uXMS",
+    ]
+};
 
 /// The `coug` command line an alias that is a coug command stands for: `uPokeDB ARGS` is
 /// `coug poke ARGS`, `uXMS ARGS` is `coug scope ARGS`. `None` for the MOOS apps.

@@ -193,7 +193,7 @@ pub struct Validation {
 }
 
 /// The apps coug builds in (a `Run` line of one of these uses its ProcessConfig block).
-const BUILT_IN: &[&str] = &[
+pub const BUILT_IN: &[&str] = &[
     "pHelmIvP",
     "uSimMarine",
     "uSimMarineV22",
