@@ -148,6 +148,22 @@ fn a_misconfigured_helm_stays_up_in_malconfig_and_stops_on_sigint_and_sigterm() 
         // PHELMIVP_PID: its process id, posted at start-up.
         let pid = server.with_db(|d| d.current("PHELMIVP_PID").map(|m| m.dval));
         assert_eq!(pid, Some(f64::from(helm.0.id())));
+        // IVPHELM_CPU every iteration (even in MALCONFIG), and the process's measured load
+        // in its status: a percentage, and a peak memory above 0 KiB.
+        let cpu = server.with_db(|d| d.current("IVPHELM_CPU").map(|m| m.dval));
+        assert!(cpu.is_some_and(|c| c.is_finite() && c >= 0.0), "{cpu:?}");
+        let status = server
+            .with_db(|d| {
+                d.current("PHELMIVP_STATUS")
+                    .map(|m| m.sval_str().into_owned())
+            })
+            .expect("a status");
+        let max_kb: f64 = status
+            .split(',')
+            .find_map(|kv| kv.strip_prefix("memory_max_kb="))
+            .and_then(|v| v.parse().ok())
+            .expect("memory_max_kb");
+        assert!(max_kb > 0.0, "{status}");
         let status = signal_and_wait(&mut helm, sig);
         let stderr = std::fs::read_to_string(&err_path).unwrap();
         assert!(stderr.contains("MALCONFIG"), "{stderr}");

@@ -196,6 +196,10 @@ pub trait App {
         false
     }
 
+    /// Told the process's load (sampled with each `<APP>_STATUS`) when the app runs as its
+    /// own MOOS process (pHelmIvP posts it as IVPHELM_CPU every iteration).
+    fn set_process_load(&mut self, _load: crate::procinfo::Load) {}
+
     /// Told the process id when the app runs as its own MOOS process (single-app mode), for
     /// the apps that post it (pNodeReporter's PNODEREPORTER_PID, pHelmIvP's PHELMIVP_PID).
     fn set_process_id(&mut self, _pid: u32) {}
@@ -225,23 +229,33 @@ pub fn app_tick_of(config: Option<&ProcessConfig>) -> f64 {
     }
 }
 
-/// CMOOSApp's `<APP>_STATUS` text (cpu and memory are not measured: 0):
-/// `AppErrorFlag=false,Uptime=..,cpuload=0,memory_kb=0,memory_max_kb=0,MOOSName=..,
-/// Publishing="A,B,",Subscribing="C,"`.
+/// CMOOSApp's `<APP>_STATUS` text:
+/// `AppErrorFlag=false,Uptime=..,cpuload=..,memory_kb=..,memory_max_kb=..,MOOSName=..,
+/// Publishing="A,B,",Subscribing="C,"`, the load figures with 4 significant digits; 0 when
+/// the process's load is not measured (`load` `None`: apps sharing `coug run`'s process).
 ///
 /// ```
-/// let s = runtime::app::status_text("pX", 2.5, &["A".to_string()].into(), &Default::default());
+/// let s = runtime::app::status_text("pX", 2.5, None, &["A".to_string()].into(), &Default::default());
+/// assert!(s.contains("cpuload=0,memory_kb=0,memory_max_kb=0,"));
 /// assert!(s.ends_with("MOOSName=pX,Publishing=\"A,\",Subscribing=\"\""));
 /// ```
 pub fn status_text(
     name: &str,
     uptime: f64,
+    load: Option<crate::procinfo::Load>,
     published: &std::collections::BTreeSet<String>,
     subscribed: &std::collections::BTreeSet<String>,
 ) -> String {
     let mut s = String::from("AppErrorFlag=false,Uptime=");
     alog::fmt_g(&mut s, uptime, 6);
-    s.push_str(",cpuload=0,memory_kb=0,memory_max_kb=0,MOOSName=");
+    let l = load.unwrap_or_default();
+    s.push_str(",cpuload=");
+    alog::fmt_g(&mut s, l.cpu_percent, 4);
+    s.push_str(",memory_kb=");
+    alog::fmt_g(&mut s, l.memory_kb as f64, 4);
+    s.push_str(",memory_max_kb=");
+    alog::fmt_g(&mut s, l.memory_max_kb as f64, 4);
+    s.push_str(",MOOSName=");
     s.push_str(name);
     s.push_str(",Publishing=\"");
     for p in published {

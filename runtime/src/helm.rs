@@ -24,6 +24,8 @@ pub struct HelmApp {
     reload: Option<Reload>,
     /// Variables to register at the next `new_subscriptions` (after a restart).
     unregistered: Vec<String>,
+    /// The process's CPU load, percent (single-app mode).
+    cpu_percent: Option<f64>,
 }
 
 /// What a helm needs to read its configuration again (pHelmIvP `RESTART_HELM`).
@@ -77,6 +79,7 @@ impl HelmApp {
             pid: None,
             reload: None,
             unregistered: Vec::new(),
+            cpu_percent: None,
         }
     }
 
@@ -256,6 +259,10 @@ impl App for HelmApp {
         self.pid = Some(pid);
     }
 
+    fn set_process_load(&mut self, load: crate::procinfo::Load) {
+        self.cpu_percent = Some(load.cpu_percent);
+    }
+
     fn on_startup(&mut self, _now: f64, out: &mut Vec<Post>) {
         if let Some(pid) = self.pid {
             out.push(Post::double("PHELMIVP_PID", f64::from(pid)));
@@ -307,6 +314,11 @@ impl App for HelmApp {
     }
 
     fn iterate(&mut self, now: f64, out: &mut Vec<Post>) {
+        // pHelmIvP posts its process's CPU load first thing in every iteration (single-app
+        // mode: `coug run`'s apps share one process).
+        if let Some(cpu) = self.cpu_percent {
+            out.push(Post::double("IVPHELM_CPU", cpu));
+        }
         for p in self.helm.iterate(now) {
             let value = match &p.value {
                 ::helm::Value::Num(x) => Value::Double(*x),

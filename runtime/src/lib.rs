@@ -27,6 +27,7 @@ pub mod clock;
 pub mod helm;
 pub mod logger;
 pub mod plot;
+pub mod procinfo;
 pub mod realtime;
 pub mod remote;
 pub mod scheduler;

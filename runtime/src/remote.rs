@@ -153,6 +153,9 @@ pub async fn run<A: App + ?Sized>(
     }
     let started = client.moos_time();
     app.set_process_id(std::process::id());
+    let mut procinfo = crate::procinfo::ProcInfo::new();
+    let mut load = procinfo.sample();
+    app.set_process_load(load);
     let mut posts = Vec::new();
     let mut published = BTreeSet::new();
     app.on_startup(started, &mut posts);
@@ -188,9 +191,17 @@ pub async fn run<A: App + ?Sized>(
         }
         if last_status.is_none_or(|t| now - t >= STATUS_PERIOD) {
             last_status = Some(now);
+            load = procinfo.sample();
+            app.set_process_load(load);
             posts.push(Post::text(
                 status_var.clone(),
-                status_text(app.name(), now - started, &published, &subscribed),
+                status_text(
+                    app.name(),
+                    now - started,
+                    Some(load),
+                    &published,
+                    &subscribed,
+                ),
             ));
         }
         app.iterate(now, &mut posts);

@@ -511,6 +511,7 @@ fn status_text(slot: &Slot, now: f64) -> String {
     crate::app::status_text(
         &slot.name,
         now - slot.started_at,
+        None,
         &slot.published,
         &slot.subscribed,
     )
