@@ -217,6 +217,14 @@ impl App for VehicleApp {
         Some(&self.block)
     }
 
+    fn on_startup(&mut self, _now: f64, out: &mut Vec<Post>) {
+        // pNodeReporter posts PNODEREPORTER_PID in OnStartUp (single-app mode only).
+        if let Inner::Reporter(r) = &mut self.inner {
+            r.on_startup(&mut self.postings);
+        }
+        self.flush(out);
+    }
+
     fn subscriptions(&self) -> Vec<Subscription> {
         self.subs.clone()
     }
@@ -237,7 +245,9 @@ impl App for VehicleApp {
                     }
                 }
                 Inner::Pid(p) => p.on_mail(&m.key, v, m.time),
-                Inner::Reporter(r) => r.on_mail(&m.key, v, m.time),
+                // pNodeReporter too stamps mail with its own time (m_curr_time, set to
+                // MOOSTime() in OnNewMail), not the poster's.
+                Inner::Reporter(r) => r.on_mail(&m.key, v, now),
             }
         }
         self.flush(out);

@@ -296,3 +296,91 @@ fn simulator_runs_on_with_config_warnings_and_takes_drift_from_a_source() {
     // The (rejected) wormhole still has its tag registered, so <prefix>_TRANSP is posted.
     assert_eq!(s.current("NAV_TRANSP").and_then(|v| v.as_f64()), Some(1.0));
 }
+
+/// pNodeReporter's wiring: PNODEREPORTER_PID at start-up (single-app mode), the `NAV_*`
+/// wildcard and the alt-nav and platform-report inputs subscribed, and mail stamped with
+/// the reporter's own time (MOOS `m_curr_time` in OnNewMail), not the writer's.
+#[test]
+fn node_reporter_startup_subscriptions_and_mail_time() {
+    use runtime::app::{Mail, Value};
+    let text = "Community = abe\nProcessConfig = pNodeReporter\n{\n  alt_nav_prefix = NAV_GT\n  \
+                plat_report_input = BATT_V, gap=1\n}\n";
+    let m = mission::moos::parse_moos(&SourceMap::from_text("n.moos", text)).value;
+    let make = || {
+        VehicleApp::node_reporter(
+            "pNodeReporter",
+            block(&m, "pNodeReporter"),
+            "abe",
+            START,
+            None,
+            0,
+        )
+        .unwrap()
+    };
+    let mut rep = make();
+    let subs: Vec<String> = rep.subscriptions().into_iter().map(|s| s.pattern).collect();
+    for v in [
+        "NAV_*",
+        "NAV_TRAJECTORY",
+        "NAV_GT_X",
+        "NAV_GT_TRANSP",
+        "BATT_V",
+    ] {
+        assert!(subs.iter().any(|s| s == v), "{v} in {subs:?}");
+    }
+    assert!(rep.subscriptions().iter().any(|s| s.is_wildcard()));
+    let mut out = Vec::new();
+    rep.set_process_id(4321);
+    rep.on_startup(START, &mut out);
+    assert_eq!(out.len(), 1);
+    assert_eq!(out[0].key, "PNODEREPORTER_PID");
+    assert_eq!(out[0].value, Value::Double(4321.0));
+    // Without a process id (`coug run`): nothing.
+    let mut out = Vec::new();
+    make().on_startup(START, &mut out);
+    assert!(out.is_empty());
+    // Mail written 100 s before the reporter reads it: the alt-nav record counts as fresh
+    // from the reading (within 5 s at START + 3), so its report follows the node report.
+    let mail = |key: &str, x: f64| Mail {
+        key: key.to_string(),
+        value: Value::Double(x),
+        time: START - 100.0,
+        source: "uSimMarine".to_string(),
+        source_aux: String::new(),
+        community: "abe".to_string(),
+    };
+    let batch: Vec<Mail> = [
+        ("NAV_X", 1.0),
+        ("NAV_Y", 2.0),
+        ("NAV_SPEED", 0.0),
+        ("NAV_HEADING", 0.0),
+        ("NAV_GT_X", 3.0),
+        ("NAV_GT_Y", 4.0),
+        ("BATT_V", 12.0),
+    ]
+    .into_iter()
+    .map(|(k, x)| mail(k, x))
+    .collect();
+    let mut out = Vec::new();
+    rep.on_mail(&batch, START + 1.0, &mut out);
+    rep.iterate(START + 3.0, &mut out);
+    let reports: Vec<String> = out
+        .iter()
+        .filter(|p| p.key == "NODE_REPORT_LOCAL")
+        .filter_map(|p| p.value.as_str().map(str::to_string))
+        .collect();
+    assert_eq!(reports.len(), 2, "{reports:?}");
+    assert!(
+        reports[1].starts_with("NAME=abe_GT,X=3,Y=4,"),
+        "{reports:?}"
+    );
+    // The platform input changed after its (zero) last report time: reported at once.
+    let plat: Vec<&Post> = out
+        .iter()
+        .filter(|p| p.key == "PLATFORM_REPORT_LOCAL")
+        .collect();
+    assert_eq!(
+        plat[0].value,
+        Value::String("platform=abe,utc_time=1786000003.00000,BATT_V=12".to_string())
+    );
+}

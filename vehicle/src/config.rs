@@ -117,6 +117,11 @@ impl Param<'_> {
         parse_bool(self.value).ok_or_else(|| self.bad("true or false"))
     }
 
+    /// A MOOS boolean as `setBooleanOnString` reads it: `toggle` flips `current`.
+    pub(crate) fn bool_or_toggle(&self, current: bool) -> Result<bool, ConfigError> {
+        set_bool_on_string(current, self.value).ok_or_else(|| self.bad("true, false or toggle"))
+    }
+
     pub(crate) fn word(&self) -> Result<String, ConfigError> {
         let v = self.value.trim();
         if v.is_empty() || v.chars().any(char::is_whitespace) {
@@ -136,6 +141,24 @@ pub fn parse_number(s: &str) -> Option<f64> {
 /// Parses a MOOS boolean (`true`/`false`, case-insensitive; also `yes`/`no`, `on`/`off`).
 pub fn parse_bool(s: &str) -> Option<bool> {
     match s.trim().to_ascii_lowercase().as_str() {
+        "true" | "yes" | "on" => Some(true),
+        "false" | "no" | "off" => Some(false),
+        _ => None,
+    }
+}
+
+/// MOOS `setBooleanOnString`: `true`/`yes`/`on` and `false`/`no`/`off` (any case), or
+/// `toggle`, which flips `current`; `None` for anything else. Blanks are not trimmed.
+///
+/// ```
+/// use vehicle::config::set_bool_on_string;
+/// assert_eq!(set_bool_on_string(false, "Toggle"), Some(true));
+/// assert_eq!(set_bool_on_string(true, "OFF"), Some(false));
+/// assert_eq!(set_bool_on_string(true, " true"), None);
+/// ```
+pub fn set_bool_on_string(current: bool, s: &str) -> Option<bool> {
+    match s.to_ascii_lowercase().as_str() {
+        "toggle" => Some(!current),
         "true" | "yes" | "on" => Some(true),
         "false" | "no" | "off" => Some(false),
         _ => None,

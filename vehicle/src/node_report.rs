@@ -267,17 +267,21 @@ impl NodeReportConfig {
             "platform_beam" => self.platform_beam = Some(p.non_neg()?),
             "platform_group" | "group" => self.group = Some(p.word()?),
             "platform_transparency" => self.transparency = Some(p.f64()?),
-            "coord_policy_global" => self.coord_policy_global = p.bool()?,
-            "terse_reports" => self.terse_reports = p.bool()?,
+            "coord_policy_global" => {
+                self.coord_policy_global = p.bool_or_toggle(self.coord_policy_global)?
+            }
+            "terse_reports" => self.terse_reports = p.bool_or_toggle(self.terse_reports)?,
             "blackout_interval" => self.blackout_interval = p.non_neg()?,
             "node_report_output" | "node_report_summary" | "node_report_var" => {
                 self.node_report_output = p.word()?
             }
             "nohelm_threshold" => self.nohelm_threshold = p.pos()?,
             "nav_grace_period" => self.nav_grace_period = p.f64()?,
-            "paused" => self.paused = p.bool()?,
-            "allow_color_change" => self.allow_color_change = p.bool()?,
-            "report_cog" => self.report_cog = p.bool()?,
+            "paused" => self.paused = p.bool_or_toggle(self.paused)?,
+            "allow_color_change" => {
+                self.allow_color_change = p.bool_or_toggle(self.allow_color_change)?
+            }
+            "report_cog" => self.report_cog = p.bool_or_toggle(self.report_cog)?,
             "json_report" => {
                 let v = p.word()?;
                 // As the C++: exactly `false` means none.
@@ -346,7 +350,7 @@ impl NodeReportConfig {
             }
             "alt_nav_name" => self.alt_nav_name = p.value.to_string(),
             "alt_nav_group" => self.alt_nav_group = Some(p.word()?),
-            "extrap_enabled" => self.extrap_enabled = p.bool()?,
+            "extrap_enabled" => self.extrap_enabled = p.bool_or_toggle(self.extrap_enabled)?,
             "extrap_pos_thresh" => self.extrap_pos_thresh_m = p.non_neg()?,
             "extrap_hdg_thresh" => self.extrap_hdg_thresh_deg = p.non_neg()?,
             "extrap_max_gap" => self.extrap_max_gap_s = p.non_neg()?,
@@ -480,15 +484,18 @@ fn extrapolation_gap(last: &NavRecord, t: f64, cur: &NavRecord, now: f64) -> (f6
     const DECAY_S: f64 = 5.0;
     let (lx, ly) = (last.x.unwrap_or(0.0), last.y.unwrap_or(0.0));
     let (lh, ls) = (last.heading.unwrap_or(0.0), last.speed.unwrap_or(0.0));
-    let (ex, ey) = if now <= t + 0.05 {
+    let (ex, ey) = if now <= 0.0 || now <= t + 0.05 {
         (lx, ly)
     } else {
+        // With the decay starting and ending at 5 s the speed holds for 5 s, then stops.
         let dist = ls * (now - t).min(DECAY_S);
-        let r = lh.to_radians();
-        (lx + r.sin() * dist, ly + r.cos() * dist)
+        let p = geometry::project_point(lx, ly, lh, dist);
+        (p.x, p.y)
     };
     let d = (cur.x.unwrap_or(0.0) - ex).hypot(cur.y.unwrap_or(0.0) - ey);
-    let mut dh = (angle360(cur.heading.unwrap_or(0.0)) - angle360(lh)).abs();
+    // MOOS `angleDiff`: 360 minus the difference from 180 on.
+    let (h1, h2) = (angle360(cur.heading.unwrap_or(0.0)), angle360(lh));
+    let mut dh = if h2 > h1 { h2 - h1 } else { h1 - h2 };
     if dh >= 180.0 {
         dh = 360.0 - dh;
     }
@@ -576,8 +583,12 @@ pub struct HelmInfo {
     pub status_standby: String,
     /// `modes=` of the summary (`none`).
     pub modes: String,
-    /// Last `IVPHELM_ALLSTOP` (`unknown`).
+    /// Last `IVPHELM_ALLSTOP` (`unknown`; `n/a` once the helm is MALCONFIG; empty, so no
+    /// ALLSTOP field, after a standby helm first stepped in until the next one).
     pub allstop: String,
+    /// A standby helm has stepped in (an `IVPHELM_STATE` ending in `+` was seen): the modes
+    /// and all-stop are cleared only the first time.
+    pub switch_noted: bool,
 }
 
 impl Default for HelmInfo {
@@ -588,31 +599,39 @@ impl Default for HelmInfo {
             status_standby: String::new(),
             modes: "none".to_string(),
             allstop: "unknown".to_string(),
+            switch_noted: false,
         }
     }
 }
 
 impl HelmInfo {
-    /// The MODE field at time `now`.
+    /// The MODE field at time `now`: `NOHELM-EVER` (no helm message yet) or `NOHELM-<s>`
+    /// (the last one more than `nohelm_threshold` ago), else the helm's state or modes.
+    ///
+    /// The C++ stands for "no message yet" with a message at time −1, which differs from
+    /// "never" only at MOOS times under the threshold; MOOS time is Unix time.
     pub fn mode(&self, now: f64, nohelm_threshold: f64) -> String {
         match self.last_msg {
-            None => "NOHELM-EVER".to_string(),
-            Some(t) if now - t > nohelm_threshold => format!("NOHELM-{:.0}", now - t),
-            Some(_) => {
-                let status = if self.status_standby == "DRIVE+" || self.status_standby == "PARK+" {
-                    &self.status_standby
-                } else {
-                    &self.status_primary
-                };
-                if (status == "DRIVE" || status == "DRIVE+")
-                    && self.modes != "none"
-                    && !self.modes.is_empty()
-                {
-                    self.modes.clone()
-                } else {
-                    status.clone()
-                }
+            None => return "NOHELM-EVER".to_string(),
+            Some(last) if now - last > nohelm_threshold => {
+                let mut m = String::from("NOHELM-");
+                crate::moos::push_double(&mut m, now - last, 0);
+                return m;
             }
+            Some(_) => {}
+        }
+        let status = if self.status_standby == "DRIVE+" || self.status_standby == "PARK+" {
+            &self.status_standby
+        } else {
+            &self.status_primary
+        };
+        if (status == "DRIVE" || status == "DRIVE+")
+            && self.modes != "none"
+            && !self.modes.is_empty()
+        {
+            self.modes.clone()
+        } else {
+            status.clone()
         }
     }
 }
@@ -646,6 +665,8 @@ pub struct ReportInputs<'a> {
     pub transparency: Option<f64>,
     /// COG field (course over ground, degrees), once known with `report_cog`.
     pub cog: Option<f64>,
+    /// `NAV_TRAJECTORY`, written `TRAJECTORY={...}` after BEAM.
+    pub trajectory: Option<&'a str>,
 }
 
 /// Appends a `NODE_REPORT_LOCAL` string to `out` (the `NodeRecord::getSpec` layout).
@@ -728,6 +749,11 @@ pub fn write_report(out: &mut String, cfg: &NodeReportConfig, r: &ReportInputs<'
     num(out, ",LENGTH=", length, 2);
     if let Some(b) = cfg.platform_beam {
         num(out, ",BEAM=", b, 2);
+    }
+    if let Some(t) = r.trajectory {
+        out.push_str(",TRAJECTORY={");
+        out.push_str(t);
+        out.push('}');
     }
     for (k, v) in &cfg.aspects {
         out.push(',');
@@ -856,6 +882,8 @@ pub struct NodeReporter {
     plat: Vec<PlatState>,
     /// The process id to post once as PNODEREPORTER_PID (single-app mode).
     pid: Option<u32>,
+    /// `NAV_TRAJECTORY`: the report's `TRAJECTORY={...}` field.
+    trajectory: Option<String>,
     buf: String,
     var_report: Arc<str>,
     var_first: Arc<str>,
@@ -871,7 +899,8 @@ struct AltNav {
     transparency: Option<f64>,
     name: String,
     group: Option<String>,
-    /// When one of its variables last arrived.
+    /// When one of its variables last arrived. (The C++ starts from time 0, which differs
+    /// from "never" only at MOOS times under 5 s; MOOS time is Unix time.)
     updated: Option<f64>,
     xy_time: f64,
     latlon_time: f64,
@@ -905,6 +934,7 @@ impl NodeReporter {
             rng: fastrand::Rng::with_seed(0),
             plat: vec![PlatState::default(); cfg.plat_vars.len()],
             pid: None,
+            trajectory: None,
             var_plat: cfg.plat_report_output.as_str().into(),
             var_report: cfg.node_report_output.as_str().into(),
             var_first: format!("{}_FIRST", cfg.node_report_output).into(),
@@ -947,8 +977,12 @@ impl NodeReporter {
     }
 
     /// The variables this app subscribes to.
+    ///
+    /// As the C++: every `NAV_*` variable (a wildcard registration, which brings e.g.
+    /// `NAV_GT_ALTITUDE` to an `alt_nav_prefix` of `NAV_GT`) besides the named ones.
     pub fn subscriptions() -> &'static [&'static str] {
         &[
+            "NAV_*",
             "NAV_X",
             "NAV_Y",
             "NAV_LAT",
@@ -959,6 +993,7 @@ impl NodeReporter {
             "NAV_ALTITUDE",
             "NAV_YAW",
             "NAV_TRANSP",
+            "NAV_TRAJECTORY",
             "IVPHELM_SUMMARY",
             "IVPHELM_STATE",
             "IVPHELM_ALLSTOP",
@@ -979,10 +1014,22 @@ impl NodeReporter {
         self
     }
 
-    /// Posts `PNODEREPORTER_PID = pid` at the next iteration, as the C++ app posts its own
-    /// process id at start-up (single-app mode; `coug run`'s apps share one process).
+    /// The process id to post as `PNODEREPORTER_PID` at start-up ([`NodeReporter::on_startup`]),
+    /// as the C++ app posts its own (single-app mode; `coug run`'s apps share one process and
+    /// post none, so the log stays reproducible).
     pub fn set_pid(&mut self, pid: u32) {
         self.pid = Some(pid);
+    }
+
+    /// Start-up (MOOS `OnStartUp`): posts `PNODEREPORTER_PID`, a double, when a process id
+    /// was given ([`NodeReporter::set_pid`]).
+    pub fn on_startup(&mut self, out: &mut Vec<Posting>) {
+        if let Some(pid) = self.pid.take() {
+            out.push(Posting::double(
+                &Arc::from("PNODEREPORTER_PID"),
+                f64::from(pid),
+            ));
+        }
     }
 
     /// Variables subscribed besides [`NodeReporter::subscriptions`]: the riders, the
@@ -1068,7 +1115,11 @@ impl NodeReporter {
         if r.is_empty() {
             return r;
         }
-        format!("platform={},utc_time={now:.5},{r}", self.name)
+        let mut report = format!("platform={},utc_time=", self.name);
+        crate::moos::push_double(&mut report, now, 5);
+        report.push(',');
+        report.push_str(&r);
+        report
     }
 
     /// The rider variables (subscribed in addition to [`NodeReporter::subscriptions`]).
@@ -1119,29 +1170,47 @@ impl NodeReporter {
         reports
     }
 
-    /// Takes one piece of mail received at `time`.
+    /// Takes one piece of mail, handled at `time`: the app's own time when it reads its mail
+    /// (MOOS `m_curr_time` in `OnNewMail`), not the time the message was posted. The
+    /// freshness of the alternative-nav record, the platform reports' gaps, the riders'
+    /// periods and the helm's silence all count from it.
     pub fn on_mail(&mut self, var: &str, value: MailValue<'_>, time: f64) {
         let d = value.as_f64();
         let s = value.as_str().unwrap_or("");
-        for (cfg, state) in self.cfg.riders.iter().zip(&mut self.riders) {
-            if cfg.var == var {
-                state.value = match (s, d) {
-                    ("", Some(x)) => format!("{x:.*}", cfg.precision),
-                    _ => s.to_string(),
-                };
-                state.last_time = time;
-                state.fresh = true;
+        match (var, d) {
+            ("NAV_X", Some(v)) => {
+                self.nav.x = Some(v);
+                self.xy_time = time;
             }
-        }
-        // The platform report's inputs: a number as `doubleToString(v, 8)`, compacted.
-        for (cfg, st) in self.cfg.plat_vars.iter().zip(&mut self.plat) {
-            if cfg.var == var {
-                st.value = match (value.as_str(), d) {
-                    (None, Some(x)) => crate::moos::double_x(x, 8),
-                    _ => s.to_string(),
-                };
-                st.received = time;
+            ("NAV_Y", Some(v)) => {
+                self.nav.y = Some(v);
+                self.xy_time = time;
             }
+            ("NAV_LAT", Some(v)) => {
+                self.nav.lat = Some(v);
+                self.latlon_time = time;
+            }
+            ("NAV_LONG", Some(v)) => {
+                self.nav.lon = Some(v);
+                self.latlon_time = time;
+            }
+            ("NAV_SPEED", Some(v)) => self.nav.speed = Some(v),
+            ("NAV_HEADING", Some(v)) => self.nav.heading = Some(angle360(v)),
+            ("NAV_DEPTH", Some(v)) => self.nav.depth = Some(v),
+            ("NAV_ALTITUDE", Some(v)) => self.nav.altitude = Some(v),
+            ("NAV_YAW", Some(_)) => self.nav.yaw_seen = true,
+            ("NAV_TRAJECTORY", _) => self.trajectory = Some(s.to_string()),
+            ("PLATFORM_COLOR", _) if geometry::color::is_color(s) => {
+                self.color = Some(s.to_string())
+            }
+            ("NODE_COLOR_CHANGE", _)
+                if self.cfg.allow_color_change && geometry::color::is_color(s) =>
+            {
+                self.color = Some(s.to_string())
+            }
+            ("THRUST_MODE_REVERSE", _) => self.thrust_mode_reverse = s.eq_ignore_ascii_case("true"),
+            ("NAV_TRANSP", Some(v)) => self.transparency = Some(v),
+            _ => {}
         }
         // The alternative-nav record's own variables (`<prefix>X`, ...).
         if let Some(field) = (!self.cfg.alt_nav_prefix.is_empty())
@@ -1201,85 +1270,44 @@ impl NodeReporter {
                 g.updated = Some(time);
             }
         }
-        match (var, d) {
-            ("NAV_X", Some(v)) => {
-                self.nav.x = Some(v);
-                self.xy_time = time;
-            }
-            ("NAV_Y", Some(v)) => {
-                self.nav.y = Some(v);
-                self.xy_time = time;
-            }
-            ("NAV_LAT", Some(v)) => {
-                self.nav.lat = Some(v);
-                self.latlon_time = time;
-            }
-            ("NAV_LONG", Some(v)) => {
-                self.nav.lon = Some(v);
-                self.latlon_time = time;
-            }
-            ("NAV_SPEED", Some(v)) => self.nav.speed = Some(v),
-            ("NAV_HEADING", Some(v)) => self.nav.heading = Some(angle360(v)),
-            ("NAV_DEPTH", Some(v)) => self.nav.depth = Some(v),
-            ("NAV_ALTITUDE", Some(v)) => self.nav.altitude = Some(v),
-            ("NAV_YAW", Some(_)) => self.nav.yaw_seen = true,
-            ("NAV_TRANSP", Some(v)) => self.transparency = Some(v),
-            ("PLATFORM_COLOR", _) if geometry::color::is_color(s) => {
-                self.color = Some(s.to_string())
-            }
-            ("NODE_COLOR_CHANGE", _)
-                if self.cfg.allow_color_change && geometry::color::is_color(s) =>
-            {
-                self.color = Some(s.to_string())
-            }
-            ("THRUST_MODE_REVERSE", _) => self.thrust_mode_reverse = s.eq_ignore_ascii_case("true"),
-            ("AUX_MODE", _) => self.mode_aux = Some(s.to_string()),
-            ("MISSION_HASH", _) => {
-                // The `mhash=` token of the posting; a new mission restarts the extent.
-                self.mhash = s
-                    .split(',')
-                    .filter_map(|t| t.split_once('='))
-                    .find(|(k, _)| k.trim() == "mhash")
-                    .map(|(_, v)| v.trim().to_string())
-                    .unwrap_or_default();
-                self.odo.max_extent_mission = 0.0;
-                self.odo.reset_extent();
-            }
-            ("PNR_PAUSE", _) => {
-                if let Some(b) = crate::config::parse_bool(s) {
+        if var == "MISSION_HASH" {
+            // The `mhash=` token of the posting; a new mission restarts the extent.
+            self.mhash = crate::moos::tok_string_parse(s, "mhash").to_string();
+            self.odo.max_extent_mission = 0.0;
+            self.odo.reset_extent();
+        }
+        match var {
+            "AUX_MODE" => self.mode_aux = Some(s.to_string()),
+            "PNR_PAUSE" => {
+                if let Some(b) = crate::config::set_bool_on_string(self.paused, s) {
                     self.paused = b;
                 }
             }
-            ("LOAD_WARNING", _) => {
-                let field = |k: &str| {
-                    s.split(',').find_map(|kv| {
-                        let (a, b) = kv.split_once('=')?;
-                        (a.trim() == k).then(|| b.trim().to_string())
-                    })
-                };
-                if let (Some(app), Some(gap)) = (field("app"), field("maxgap")) {
+            "LOAD_WARNING" => {
+                let app = crate::moos::tok_string_parse(s, "app");
+                let gap = crate::moos::tok_string_parse(s, "maxgap");
+                if !app.is_empty() && !gap.is_empty() {
                     self.load_warning = Some(format!("{app}:{gap}"));
                 }
             }
-            ("NODE_GROUP_UPDATE", _) => {
+            "NODE_GROUP_UPDATE" => {
                 self.group = Some(s.to_string());
                 self.gt.group = Some(s.to_string());
             }
-            ("IVPHELM_SUMMARY", _) => {
+            "IVPHELM_SUMMARY" => {
                 self.helm.last_msg = Some(time);
-                for kv in s.split(',') {
-                    if let Some(("modes", m)) =
-                        kv.split_once('=').map(|(a, b)| (a.trim(), b.trim()))
-                    {
-                        self.helm.modes = m.to_string();
+                for kv in crate::moos::parse_string(s, ',') {
+                    let (left, right) = kv.split_once('=').unwrap_or((kv, ""));
+                    if left.trim() == "modes" {
+                        self.helm.modes = right.trim().to_string();
                     }
                 }
             }
-            ("IVPHELM_ALLSTOP", _) => {
+            "IVPHELM_ALLSTOP" => {
                 self.helm.last_msg = Some(time);
                 self.helm.allstop = s.to_string();
             }
-            ("IVPHELM_STATE", _) => {
+            "IVPHELM_STATE" => {
                 self.helm.last_msg = Some(time);
                 let st = s.trim();
                 match st {
@@ -1291,11 +1319,48 @@ impl NodeReporter {
                     }
                     _ => {}
                 }
+                // A standby helm stepping in (`...+`): the first time, forget the modes and
+                // all-stop of the helm it replaced (MOOS `handleHelmSwitch`).
+                if st.ends_with('+') && !self.helm.switch_noted {
+                    self.helm.modes.clear();
+                    self.helm.allstop.clear();
+                    self.helm.switch_noted = true;
+                }
                 if st.starts_with("MALCONFIG") {
                     self.helm.allstop = "n/a".to_string();
                 }
             }
-            _ => {}
+            // Riders take every other variable (not the ones just above, as the C++).
+            _ => {
+                for (cfg, state) in self.cfg.riders.iter().zip(&mut self.riders) {
+                    if cfg.var == var {
+                        state.value = match (s, d) {
+                            ("", Some(x)) => {
+                                let mut v = String::new();
+                                crate::moos::push_double(&mut v, x, cfg.precision);
+                                v
+                            }
+                            _ => s.to_string(),
+                        };
+                        state.last_time = time;
+                        state.fresh = true;
+                    }
+                }
+            }
+        }
+        // The platform report's inputs: a number as `doubleToString(v, 8)`, compacted.
+        for (cfg, st) in self.cfg.plat_vars.iter().zip(&mut self.plat) {
+            if cfg.var == var {
+                st.value = match (value.as_str(), d) {
+                    (None, Some(x)) => {
+                        let mut v = String::new();
+                        crate::moos::push_double_compact(&mut v, x, 8);
+                        v
+                    }
+                    _ => s.to_string(),
+                };
+                st.received = time;
+            }
         }
     }
 
@@ -1303,17 +1368,11 @@ impl NodeReporter {
     /// (`_FIRST` before the first, then PNR_POST_GAP), the alternative-nav report, the
     /// platform report, the mission-hash odometer.
     ///
-    /// As pNodeReporter at a2a9b716, `blackout_interval` holds back only the reports before
-    /// the first one: after each report the blackout becomes 0 (the C++ resets it to a base
-    /// value that no parameter sets), drawn from [−variance, +variance) with
-    /// `blackout_variance` and clipped at 0.
+    /// As pNodeReporter at a2a9b716, `blackout_interval` holds back no report at all: the
+    /// first report is always due, and after each report the blackout becomes 0 (the C++
+    /// resets it to a base value that no parameter sets), then with `blackout_variance` `v`
+    /// is drawn as `-v + 2 * k / 100` for a whole `k` in `[0, v * 100)`, clipped at 0.
     pub fn iterate(&mut self, now: f64, out: &mut Vec<Posting>) {
-        if let Some(pid) = self.pid.take() {
-            out.push(Posting::double(
-                &Arc::from("PNODEREPORTER_PID"),
-                f64::from(pid),
-            ));
-        }
         let time_to_post = match self.last_post_time {
             None => true,
             Some(t) => self.blackout_s <= 0.0 || now - t > self.blackout_s,
@@ -1321,6 +1380,8 @@ impl NodeReporter {
         let in_grace =
             self.cfg.nav_grace_period > 0.0 && now - self.start_time < self.cfg.nav_grace_period;
         let ok_nav = self.nav.valid() || in_grace;
+        // Seconds since the last report posted, 0 before the first. (The C++ tests the
+        // record's timestamp for > 0, which differs only for a report at MOOS time 0.)
         let gap = self.last_posted.map_or(0.0, |(_, t)| now - t);
         let mut pruned = false;
         if self.cfg.extrap_enabled
@@ -1345,6 +1406,11 @@ impl NodeReporter {
             if self.cfg.hdg_error_deg != 0.0 {
                 nav.heading = nav.heading.map(|h| angle360(h + self.cfg.hdg_error_deg));
             }
+            if self.cfg.hdg_error_deg != 0.0 {
+                // The C++ forms the report twice (without, then with the error) and posts the
+                // second: the riders' updated and periodic values go to the discarded one.
+                let _ = self.rider_reports(now);
+            }
             let inputs = ReportInputs {
                 name: &self.name,
                 nav,
@@ -1359,6 +1425,7 @@ impl NodeReporter {
                 time: now,
                 transparency: self.transparency,
                 cog: self.cog,
+                trajectory: self.trajectory.as_deref(),
             };
             self.buf.clear();
             write_report(&mut self.buf, &self.cfg, &inputs);
@@ -1395,6 +1462,7 @@ impl NodeReporter {
                     time: now,
                     transparency: self.gt.transparency,
                     cog: None,
+                    trajectory: None,
                 };
                 let mut report = String::new();
                 write_report(&mut report, &self.cfg, &inputs);

@@ -668,12 +668,16 @@ fn display_settings_helm_threshold_grace_pause_and_colour_changes() {
     // A colour MOOS does not know is a config warning; the PID posting of single-app mode.
     let (_, w) = NodeReportConfig::from_params_lenient([("platform_color", "bluish")]).unwrap();
     assert_eq!(w.len(), 1);
+    // PNODEREPORTER_PID: posted by OnStartUp (`Notify(.., getpid())`, a double), not by
+    // the iterations.
     let mut app = with_nav(NodeReportConfig::default(), 0.0);
     app.set_pid(4242);
     out.clear();
-    app.iterate(1.0, &mut out);
-    assert_eq!(all_of(&out, "PNODEREPORTER_PID"), ["4242"]);
+    app.on_startup(&mut out);
+    assert_eq!(out.len(), 1);
+    assert_eq!(&*out[0].var, "PNODEREPORTER_PID");
+    assert_eq!(out[0].value.as_f64(), Some(4242.0));
     out.clear();
-    app.iterate(2.0, &mut out);
+    app.iterate(1.0, &mut out);
     assert!(all_of(&out, "PNODEREPORTER_PID").is_empty(), "once");
 }
