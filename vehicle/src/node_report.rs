@@ -1395,8 +1395,9 @@ impl NodeReporter {
             out.push(Posting::double(&Arc::from("PNR_EXTRAP_POS_GAP"), dist));
             out.push(Posting::double(&Arc::from("PNR_EXTRAP_HDG_GAP"), hdg_delta));
         }
-        let has_pos = (self.nav.x.is_some() && self.nav.y.is_some())
-            || (self.nav.lat.is_some() && self.nav.lon.is_some());
+        // Within the grace period a report needs a position: X and Y, or (as the C++'s
+        // `isSetLatLon`, which tests the longitude twice) just a longitude.
+        let has_pos = (self.nav.x.is_some() && self.nav.y.is_some()) || self.nav.lon.is_some();
         let post = ok_nav && time_to_post && !pruned && (has_pos || !in_grace);
         if post {
             let mode = self.helm.mode(now, self.cfg.nohelm_threshold);

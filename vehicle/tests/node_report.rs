@@ -681,3 +681,546 @@ fn display_settings_helm_threshold_grace_pause_and_colour_changes() {
     app.iterate(1.0, &mut out);
     assert!(all_of(&out, "PNODEREPORTER_PID").is_empty(), "once");
 }
+
+// ---------------------------------------------------------------------------------------
+// Case for case with NodeReporter.cpp at a2a9b716 (expected values worked out from it).
+
+/// A reporter started at 0 with position, speed and heading received at `t`.
+fn nav_at(cfg: NodeReportConfig, name: &str, t: f64) -> NodeReporter {
+    let mut app = NodeReporter::new(cfg, name, 0.0);
+    for (v, x) in [
+        ("NAV_X", 0.0),
+        ("NAV_Y", 0.0),
+        ("NAV_SPEED", 0.0),
+        ("NAV_HEADING", 0.0),
+    ] {
+        d(&mut app, v, x, t);
+    }
+    app
+}
+
+#[test]
+fn platform_report_inputs_gaps_aliases_and_numbers() {
+    use vehicle::node_report::PlatVar;
+    // addPlatformVar: the last piece without `=` names the variable; `gap` any case, below 0
+    // is 0; `alias` only in lower case (the C++ lowers a bool, not the key).
+    let v = PlatVar::parse("A, gap=2, B").unwrap();
+    assert_eq!((v.var.as_str(), v.gap_s), ("B", 2.0));
+    assert_eq!(PlatVar::parse("A, GAP=-3").unwrap().gap_s, 0.0);
+    assert_eq!(PlatVar::parse("A, ALIAS=Z").unwrap().alias, None);
+    assert_eq!(PlatVar::parse("A, alias=Z Z").unwrap().alias, None);
+    assert!(PlatVar::parse("A B").is_none());
+    let cfg = NodeReportConfig::from_params([
+        ("plat_report_input", "DEPTH_ERR, gap=1"),
+        ("plat_report_input", "GPS_SAT, alias=SATS"),
+    ])
+    .unwrap();
+    assert_eq!(cfg.plat_report_output, "PLATFORM_REPORT_LOCAL");
+    // No navigation at all (past the grace period): no node report, the platform report
+    // all the same.
+    let mut app = NodeReporter::new(cfg, "ben", 0.0);
+    d(&mut app, "DEPTH_ERR", -1e-12, 100.0);
+    d(&mut app, "GPS_SAT", 7.0, 100.0);
+    let mut out = Vec::new();
+    app.iterate(100.5, &mut out);
+    assert!(all_of(&out, "NODE_REPORT_LOCAL").is_empty());
+    // dstringCompact(doubleToString(v, 8)) keeps the sign of a negative zero.
+    assert_eq!(
+        all_of(&out, "PLATFORM_REPORT_LOCAL"),
+        ["platform=ben,utc_time=100.50000,DEPTH_ERR=-0,SATS=7"]
+    );
+    // Two changes within DEPTH_ERR's 1 s gap: the latest goes out once the gap has passed
+    // (strictly: exactly 1 s later is not enough).
+    d(&mut app, "DEPTH_ERR", 0.25, 100.7);
+    d(&mut app, "DEPTH_ERR", 0.125, 101.2);
+    out.clear();
+    app.iterate(101.5, &mut out);
+    assert!(all_of(&out, "PLATFORM_REPORT_LOCAL").is_empty());
+    out.clear();
+    app.iterate(101.75, &mut out);
+    assert_eq!(
+        all_of(&out, "PLATFORM_REPORT_LOCAL"),
+        ["platform=ben,utc_time=101.75000,DEPTH_ERR=0.125"]
+    );
+    // A string value as it came.
+    s(&mut app, "GPS_SAT", "none, lost", 102.0);
+    out.clear();
+    app.iterate(102.0, &mut out);
+    assert_eq!(
+        all_of(&out, "PLATFORM_REPORT_LOCAL"),
+        ["platform=ben,utc_time=102.00000,SATS=none, lost"]
+    );
+    // A value received at time 0 counts as never received.
+    let cfg = NodeReportConfig::from_params([("plat_report_input", "Z")]).unwrap();
+    let mut app = NodeReporter::new(cfg, "ben", 0.0);
+    d(&mut app, "Z", 1.0, 0.0);
+    out.clear();
+    app.iterate(1.0, &mut out);
+    assert!(all_of(&out, "PLATFORM_REPORT_LOCAL").is_empty());
+    // plat_report_output must be one word.
+    let (_, w) =
+        NodeReportConfig::from_params_lenient([("plat_report_output", "PLAT OUT")]).unwrap();
+    assert_eq!(w.len(), 1);
+}
+
+#[test]
+fn alternative_nav_report_field_for_field() {
+    let cfg = NodeReportConfig::from_params([
+        ("platform_type", "kayak"),
+        ("platform_color", "red"),
+        ("platform_group", "blue"),
+        ("platform_transparency", "0.5"),
+        ("alt_nav_prefix", "NAV_GT_"),
+        ("alt_nav_group", "truth"),
+        ("rider", "var=LEG, policy=always"),
+        ("rider", "var=BATT, policy=updated"),
+    ])
+    .unwrap();
+    assert_eq!(cfg.alt_nav_prefix, "NAV_GT_", "an ending `_` is kept");
+    let mut app = nav_at(cfg, "ben", 90.0);
+    s(&mut app, "IVPHELM_STATE", "DRIVE", 99.0);
+    s(&mut app, "IVPHELM_SUMMARY", "modes=MODE@ACTIVE", 99.0);
+    s(&mut app, "IVPHELM_ALLSTOP", "clear", 99.0);
+    s(&mut app, "AUX_MODE", "survey", 99.0);
+    s(&mut app, "THRUST_MODE_REVERSE", "TRUE", 99.0);
+    d(&mut app, "NAV_TRANSP", 0.9, 99.0);
+    s(&mut app, "LEG", "3", 99.0);
+    d(&mut app, "BATT", 12.5, 99.0);
+    for (v, x) in [
+        ("NAV_GT_X", 3.0),
+        ("NAV_GT_Y", 4.0),
+        ("NAV_GT_SPEED", 1.0),
+        ("NAV_GT_HEADING", 450.0),
+        ("NAV_GT_DEPTH", 2.0),
+        ("NAV_GT_ALTITUDE", 7.0),
+        ("NAV_GT_YAW", 1.0),
+    ] {
+        d(&mut app, v, x, 99.5);
+    }
+    let mut out = Vec::new();
+    app.iterate(100.0, &mut out);
+    let reports = all_of(&out, "NODE_REPORT_LOCAL");
+    // The vehicle's own report (index 0 unwritten), then the GT record: a copy of the
+    // record made at start-up (type, length, colour, transparency) with its own navigation,
+    // name and group, no MODE_AUX / THRUST_MODE_REVERSE / NAV_TRANSP, the index after the
+    // first report, YAW from its heading, and the riders asked a second time (the updated
+    // one has nothing more to say).
+    assert_eq!(
+        reports,
+        [
+            "NAME=ben,X=0,Y=0,SPD=0,HDG=0,TYPE=kayak,COLOR=red,GROUP=blue,MODE=MODE@ACTIVE,\
+             MODE_AUX=survey,ALLSTOP=clear,THRUST_MODE_REVERSE=true,TIME=100,TRANSPARENCY=0.9,\
+             LENGTH=4,LEG=3,BATT=12.5000",
+            "NAME=ben_GT,X=3,Y=4,SPD=1,HDG=90,DEP=2,TYPE=kayak,COLOR=red,GROUP=truth,\
+             MODE=MODE@ACTIVE,ALLSTOP=clear,ALTITUDE=7,INDEX=1,YAW=0,TIME=100,TRANSPARENCY=0.5,\
+             LENGTH=4,LEG=3,"
+        ]
+    );
+    // Only the vehicle's report is the _FIRST one.
+    assert_eq!(
+        all_of(&out, "NODE_REPORT_LOCAL_FIRST"),
+        [reports[0].clone()]
+    );
+    // Colour and group updates reach both records (the group overrides alt_nav_group).
+    s(&mut app, "PLATFORM_COLOR", "orange", 101.0);
+    s(&mut app, "NODE_GROUP_UPDATE", "green", 101.0);
+    out.clear();
+    app.iterate(104.0, &mut out);
+    let reports = all_of(&out, "NODE_REPORT_LOCAL");
+    assert_eq!(reports.len(), 2);
+    assert!(reports[1].contains(",COLOR=orange,GROUP=green,") && reports[1].contains(",INDEX=2,"));
+    // Fresh while less than 5 s old: 4.9 s after the update yes, exactly 5 s no.
+    d(&mut app, "NAV_GT_X", 5.0, 100.0);
+    out.clear();
+    app.iterate(104.9, &mut out);
+    assert_eq!(all_of(&out, "NODE_REPORT_LOCAL").len(), 2);
+    out.clear();
+    app.iterate(105.0, &mut out);
+    assert_eq!(all_of(&out, "NODE_REPORT_LOCAL").len(), 1);
+    // An unknown `<prefix>` variable does not refresh the record.
+    d(&mut app, "NAV_GT_PITCH", 1.0, 105.0);
+    out.clear();
+    app.iterate(105.5, &mut out);
+    assert_eq!(all_of(&out, "NODE_REPORT_LOCAL").len(), 1);
+    // Paused: neither report.
+    s(&mut app, "PNR_PAUSE", "true", 106.0);
+    d(&mut app, "NAV_GT_X", 5.0, 106.0);
+    out.clear();
+    app.iterate(106.5, &mut out);
+    assert!(all_of(&out, "NODE_REPORT_LOCAL").is_empty());
+}
+
+#[test]
+fn blackout_variance_range_and_the_interval_that_holds_nothing() {
+    // blackout_interval alone: the first report is due at once and the blackout is reset
+    // to 0 by every report, so every iteration reports.
+    let cfg = NodeReportConfig::from_params([("blackout_interval", "30")]).unwrap();
+    let mut app = nav_at(cfg, "ben", 1.0);
+    let mut out = Vec::new();
+    for i in 0..4 {
+        app.iterate(100.0 + f64::from(i), &mut out);
+    }
+    assert_eq!(all_of(&out, "NODE_REPORT_LOCAL").len(), 4);
+    assert_eq!(all_of(&out, "PNR_POST_GAP"), ["0", "1", "1", "1"]);
+    // Variance 0.5: the next blackout is -0.5 + 2k/100 for a whole k in [0, 50), clipped at
+    // 0, so at most 0.48 s: at 4 Hz a gap is one tick or two, never more.
+    let cfg = NodeReportConfig::from_params([("blackout_variance", "0.5")]).unwrap();
+    let mut app = nav_at(cfg, "ben", 1.0).with_seed(7);
+    out.clear();
+    for i in 0..2000 {
+        app.iterate(100.0 + f64::from(i) * 0.25, &mut out);
+    }
+    let gaps: Vec<String> = all_of(&out, "PNR_POST_GAP");
+    assert!(
+        gaps[1..].iter().all(|g| g == "0.25" || g == "0.5"),
+        "{gaps:?}"
+    );
+    // A two-tick gap needs k >= 38 (a blackout of at least 0.26 s): 12 draws in 50.
+    let long = gaps.iter().filter(|g| *g == "0.5").count() as f64;
+    let share = long / (gaps.len() - 1) as f64;
+    assert!((0.15..0.33).contains(&share), "{share}");
+    let (_, w) = NodeReportConfig::from_params_lenient([("blackout_variance", "-1")]).unwrap();
+    assert_eq!(w.len(), 1);
+}
+
+#[test]
+fn extrapolation_gaps_with_decay_and_strict_limits() {
+    let cfg = NodeReportConfig::from_params([("extrap_enabled", "true"), ("extrap_max_gap", "10")])
+        .unwrap();
+    let mut app = NodeReporter::new(cfg, "ben", 0.0);
+    let nav = |app: &mut NodeReporter, t: f64, x: f64, y: f64, h: f64| {
+        d(app, "NAV_X", x, t);
+        d(app, "NAV_Y", y, t);
+        d(app, "NAV_SPEED", 2.0, t);
+        d(app, "NAV_HEADING", h, t);
+    };
+    let mut out = Vec::new();
+    nav(&mut app, 10.0, 0.0, 0.0, 45.0);
+    app.iterate(10.0, &mut out);
+    assert!(
+        all_of(&out, "PNR_EXTRAP_POS_GAP").is_empty(),
+        "no report yet"
+    );
+    // 1 s on at 2 m/s, heading 45: predicted (sqrt 2, sqrt 2); at (1.5, 1.5) and 45.5 deg
+    // the gaps are sqrt 2 * (1.5 - sqrt 2) m and 0.5 deg, both under the limits: pruned.
+    nav(&mut app, 11.0, 1.5, 1.5, 45.5);
+    out.clear();
+    app.iterate(11.0, &mut out);
+    let r2 = std::f64::consts::SQRT_2;
+    let pos = last_posting(&out, "PNR_EXTRAP_POS_GAP")
+        .unwrap()
+        .as_f64()
+        .unwrap();
+    assert!((pos - r2 * (1.5 - r2)).abs() < 1e-12, "{pos}");
+    assert_eq!(
+        last_posting(&out, "PNR_EXTRAP_HDG_GAP").unwrap().as_f64(),
+        Some(0.5)
+    );
+    assert!(all_of(&out, "NODE_REPORT_LOCAL").is_empty());
+    // 7 s after the last report posted (t = 10; the pruned one does not count), under
+    // extrap_max_gap 10: the speed holds for 5 s only (decay from 5 to 5 s), so the
+    // prediction is 10 m along 45 degrees, not 14.
+    let p = 10.0 / r2;
+    nav(&mut app, 17.0, p, p, 45.0);
+    out.clear();
+    app.iterate(17.0, &mut out);
+    let pos = last_posting(&out, "PNR_EXTRAP_POS_GAP")
+        .unwrap()
+        .as_f64()
+        .unwrap();
+    assert!(pos < 1e-9, "{pos}");
+    assert!(all_of(&out, "NODE_REPORT_LOCAL").is_empty(), "pruned");
+    // Exactly extrap_max_gap after the last report: no comparison, reported.
+    out.clear();
+    app.iterate(20.0, &mut out);
+    assert!(all_of(&out, "PNR_EXTRAP_POS_GAP").is_empty());
+    assert_eq!(all_of(&out, "PNR_POST_GAP"), ["10"]);
+    // Exactly where predicted 0.5 s on, turned exactly the threshold (1 degree: not under
+    // it): reported.
+    let step = 0.5 * 2.0 * (45.0f64 / 180.0 * std::f64::consts::PI).sin();
+    nav(&mut app, 20.5, p + step, p + step, 46.0);
+    out.clear();
+    app.iterate(20.5, &mut out);
+    let pos = last_posting(&out, "PNR_EXTRAP_POS_GAP")
+        .unwrap()
+        .as_f64()
+        .unwrap();
+    assert!(pos < 1e-9, "{pos}");
+    assert_eq!(all_of(&out, "PNR_EXTRAP_HDG_GAP"), ["1"]);
+    assert_eq!(all_of(&out, "NODE_REPORT_LOCAL").len(), 1);
+    // Across north: 359 against 1 is 2 degrees (MOOS angleDiff).
+    let cfg = NodeReportConfig::from_params([("extrap_enabled", "true")]).unwrap();
+    let mut app = NodeReporter::new(cfg, "ben", 0.0);
+    nav(&mut app, 1.0, 0.0, 0.0, 359.0);
+    app.iterate(1.0, &mut out);
+    nav(&mut app, 1.02, 0.0, 0.0, 1.0);
+    out.clear();
+    // Within 0.05 s of the last report nothing is extrapolated.
+    app.iterate(1.02, &mut out);
+    assert_eq!(all_of(&out, "PNR_EXTRAP_POS_GAP"), ["0"]);
+    assert_eq!(all_of(&out, "PNR_EXTRAP_HDG_GAP"), ["2"]);
+    for (k, v) in [
+        ("extrap_pos_thresh", "-0.1"),
+        ("extrap_hdg_thresh", "x"),
+        ("extrap_max_gap", "-5"),
+        ("extrap_enabled", "maybe"),
+    ] {
+        let (_, w) = NodeReportConfig::from_params_lenient([(k, v)]).unwrap();
+        assert_eq!(w.len(), 1, "{k}");
+    }
+    let cfg = NodeReportConfig::from_params([("extrap_enabled", "toggle")]).unwrap();
+    assert!(cfg.extrap_enabled, "setBooleanOnString toggles the default");
+}
+
+#[test]
+fn colours_beam_transparency_and_trajectory() {
+    for (c, ok) in [
+        ("hex:ff,80,00", true),
+        ("0.2,0.4,0.6", true),
+        ("Dark_Green", true),
+        ("black", true),
+        ("invisible", true),
+        ("gray95", true),
+        ("grey07", false),
+        ("tomato", false),
+        ("tomatao", true),
+        ("bluish", false),
+    ] {
+        let (cfg, w) = NodeReportConfig::from_params_lenient([("platform_color", c)]).unwrap();
+        assert_eq!(w.is_empty(), ok, "{c}");
+        assert_eq!(cfg.platform_color.is_some(), ok, "{c}");
+    }
+    for (k, v) in [
+        ("platform_beam", "-1"),
+        ("platform_beam", "wide"),
+        ("platform_transparency", "clear"),
+        ("nohelm_threshold", "0"),
+        ("nav_grace_period", "soon"),
+        ("paused", "maybe"),
+        ("allow_color_change", "perhaps"),
+    ] {
+        let (_, w) = NodeReportConfig::from_params_lenient([(k, v)]).unwrap();
+        assert_eq!(w.len(), 1, "{k} = {v}");
+    }
+    let cfg = NodeReportConfig::from_params([
+        ("platform_beam", "0"),
+        ("platform_transparency", "-2"),
+        ("platform_aspect", "ID=439"),
+        ("allow_color_change", "true"),
+    ])
+    .unwrap();
+    let mut app = nav_at(cfg, "ben", 1.0);
+    s(&mut app, "NAV_TRAJECTORY", "pts={0,0:5,5}", 1.0);
+    // A colour change must name a colour even when allowed.
+    s(&mut app, "NODE_COLOR_CHANGE", "reddish", 1.0);
+    let mut out = Vec::new();
+    app.iterate(100.0, &mut out);
+    assert_eq!(
+        report(&out),
+        "NAME=ben,X=0,Y=0,SPD=0,HDG=0,TYPE=unknown,MODE=NOHELM-EVER,ALLSTOP=unknown,TIME=100,\
+         TRANSPARENCY=-2,LENGTH=0,BEAM=0,TRAJECTORY={pts={0,0:5,5}},ID=439"
+    );
+    s(&mut app, "NODE_COLOR_CHANGE", "hex:00,ff,00", 100.0);
+    d(&mut app, "NAV_TRANSP", 0.25, 100.0);
+    out.clear();
+    app.iterate(101.0, &mut out);
+    let r = report(&out);
+    assert!(r.contains(",TYPE=unknown,COLOR=hex:00,ff,00,MODE="), "{r}");
+    assert!(r.contains(",TRANSPARENCY=0.25,"), "{r}");
+}
+
+#[test]
+fn helm_silence_grace_period_and_pause() {
+    // nohelm_threshold 2: NOHELM only when strictly over it; the age with no decimals
+    // (printf rounds 2.5 to even: 2).
+    let cfg = NodeReportConfig::from_params([("nohelm_threshold", "2")]).unwrap();
+    let mut app = nav_at(cfg, "ben", 1.0);
+    s(&mut app, "IVPHELM_STATE", "PARK", 100.0);
+    let mut out = Vec::new();
+    app.iterate(102.0, &mut out);
+    assert!(report(&out).contains(",MODE=PARK,"), "{}", report(&out));
+    out.clear();
+    app.iterate(102.5, &mut out);
+    assert!(report(&out).contains(",MODE=NOHELM-2,"), "{}", report(&out));
+    // nav_grace_period (60 s by default): reports without speed or heading while in it,
+    // once there is a position (X and Y, or as the C++ tests it, a longitude alone).
+    let mut app = NodeReporter::new(NodeReportConfig::default(), "ben", 1000.0);
+    d(&mut app, "NAV_X", 5.0, 1001.0);
+    out.clear();
+    app.iterate(1001.0, &mut out);
+    assert!(out.is_empty(), "X without Y is no position");
+    d(&mut app, "NAV_LONG", -70.5, 1002.0);
+    app.iterate(1002.0, &mut out);
+    assert_eq!(
+        report(&out),
+        "NAME=ben,X=5,LON=-70.5,TYPE=unknown,MODE=NOHELM-EVER,ALLSTOP=unknown,TIME=1002,LENGTH=0"
+    );
+    out.clear();
+    app.iterate(1060.0, &mut out);
+    assert!(out.is_empty(), "grace over, still no speed/heading");
+    // A negative grace period is none.
+    let cfg = NodeReportConfig::from_params([("nav_grace_period", "-1")]).unwrap();
+    let mut app = NodeReporter::new(cfg, "ben", 1000.0);
+    d(&mut app, "NAV_X", 5.0, 1001.0);
+    d(&mut app, "NAV_Y", 5.0, 1001.0);
+    app.iterate(1001.0, &mut out);
+    assert!(out.is_empty());
+    // paused = toggle (from false); PNR_PAUSE toggles back; no report, _FIRST, PNR_POST_GAP
+    // or index while paused, the extrapolation gaps all the same.
+    let cfg =
+        NodeReportConfig::from_params([("paused", "toggle"), ("extrap_enabled", "true")]).unwrap();
+    assert!(cfg.paused);
+    let mut app = nav_at(cfg, "ben", 1.0);
+    out.clear();
+    app.iterate(100.0, &mut out);
+    assert!(out.is_empty());
+    s(&mut app, "PNR_PAUSE", " false", 100.0);
+    app.iterate(101.0, &mut out);
+    assert!(
+        out.is_empty(),
+        "` false` is no boolean to setBooleanOnString"
+    );
+    s(&mut app, "PNR_PAUSE", "Toggle", 101.0);
+    app.iterate(102.0, &mut out);
+    assert_eq!(all_of(&out, "PNR_POST_GAP"), ["0"]);
+    assert_eq!(all_of(&out, "NODE_REPORT_LOCAL_FIRST").len(), 1);
+    assert!(!report(&out).contains("INDEX"));
+    s(&mut app, "PNR_PAUSE", "ON", 102.0);
+    d(&mut app, "NAV_X", 3.0, 102.0);
+    out.clear();
+    app.iterate(103.0, &mut out);
+    assert_eq!(all_of(&out, "PNR_EXTRAP_POS_GAP"), ["3"]);
+    assert!(all_of(&out, "NODE_REPORT_LOCAL").is_empty());
+    s(&mut app, "PNR_PAUSE", "off", 103.0);
+    out.clear();
+    app.iterate(104.0, &mut out);
+    assert_eq!(all_of(&out, "PNR_POST_GAP"), ["2"]);
+    assert!(report(&out).contains(",INDEX=1,"), "{}", report(&out));
+}
+
+#[test]
+fn all_stop_sources_and_a_standby_helm_stepping_in() {
+    let mut app = nav_at(NodeReportConfig::default(), "ben", 1.0);
+    let mode_allstop = |app: &mut NodeReporter, t: f64| {
+        let mut out = Vec::new();
+        app.iterate(t, &mut out);
+        let r = report(&out);
+        let field = |k: &str| {
+            r.split(',')
+                .find_map(|kv| kv.strip_prefix(k))
+                .map(str::to_string)
+        };
+        (field("MODE="), field("ALLSTOP="))
+    };
+    let some = |a: &str, b: &str| (Some(a.to_string()), Some(b.to_string()));
+    // Before any helm word: ALLSTOP=unknown.
+    assert_eq!(
+        mode_allstop(&mut app, 100.0),
+        some("NOHELM-EVER", "unknown")
+    );
+    s(&mut app, "IVPHELM_STATE", "DRIVE", 100.0);
+    s(
+        &mut app,
+        "IVPHELM_SUMMARY",
+        "iter=3,modes=MODE@SURVEY",
+        100.0,
+    );
+    s(&mut app, "IVPHELM_ALLSTOP", "clear", 100.0);
+    assert_eq!(mode_allstop(&mut app, 100.5), some("MODE@SURVEY", "clear"));
+    // STANDBY from a standby helm changes nothing shown.
+    s(&mut app, "IVPHELM_STATE", "STANDBY", 101.0);
+    assert_eq!(mode_allstop(&mut app, 101.0), some("MODE@SURVEY", "clear"));
+    // The standby helm steps in (DRIVE+): the first time, modes and all-stop are forgotten.
+    s(&mut app, "IVPHELM_STATE", "DRIVE+", 102.0);
+    assert_eq!(mode_allstop(&mut app, 102.0), (Some("DRIVE+".into()), None));
+    s(&mut app, "IVPHELM_ALLSTOP", "ManualOverride", 103.0);
+    s(&mut app, "IVPHELM_SUMMARY", "modes=MODE@RETURN", 103.0);
+    assert_eq!(
+        mode_allstop(&mut app, 103.0),
+        some("MODE@RETURN", "ManualOverride")
+    );
+    // A second `+` state does not clear again; PARK+ shows as the state.
+    s(&mut app, "IVPHELM_STATE", "PARK+", 104.0);
+    assert_eq!(
+        mode_allstop(&mut app, 104.0),
+        some("PARK+", "ManualOverride")
+    );
+    // MALCONFIG (primary or standby): ALLSTOP=n/a; MALCONFIG+ leaves the primary state.
+    s(&mut app, "IVPHELM_STATE", "MALCONFIG+", 105.0);
+    assert_eq!(mode_allstop(&mut app, 105.0), some("MODE@RETURN", "n/a"));
+    s(&mut app, "IVPHELM_STATE", " MALCONFIG ", 106.0);
+    assert_eq!(mode_allstop(&mut app, 106.0), some("MALCONFIG", "n/a"));
+    // AUX_MODE is the MODE_AUX field, no all-stop source.
+    s(&mut app, "AUX_MODE", "ALLSTOP", 107.0);
+    let mut out = Vec::new();
+    app.iterate(107.0, &mut out);
+    assert!(report(&out).contains(",MODE=MALCONFIG,MODE_AUX=ALLSTOP,ALLSTOP=n/a,"));
+}
+
+#[test]
+fn riders_skip_the_keys_the_cpp_handles_itself_and_heading_error_spends_them() {
+    let cfg = NodeReportConfig::from_params([
+        ("rider", "var=AUX_MODE, policy=always"),
+        ("rider", "var=MISSION_HASH, policy=always, rfld=MH"),
+        ("rider", "var=NAV_X, policy=always, rfld=NX, prec=1"),
+    ])
+    .unwrap();
+    let mut app = nav_at(cfg, "ben", 1.0);
+    s(&mut app, "AUX_MODE", "m1", 1.0);
+    s(&mut app, "MISSION_HASH", "mhash=abc", 1.0);
+    d(&mut app, "NAV_X", 2.25, 1.0);
+    let mut out = Vec::new();
+    app.iterate(100.0, &mut out);
+    // AUX_MODE never reaches its rider (the C++'s mail chain handles it first), so the
+    // rider has no value and is skipped; MISSION_HASH and NAV_X do ride (2.25 as %.1f: 2.2).
+    assert!(
+        report(&out)
+            .ends_with(",MODE_AUX=m1,ALLSTOP=unknown,TIME=100,LENGTH=0,MH=mhash=abc,NX=2.2"),
+        "{}",
+        report(&out)
+    );
+    // With hdg_error the report is formed twice: an updated rider is spent on the first (and
+    // an empty report before any other leaves no comma).
+    let cfg = NodeReportConfig::from_params([
+        ("hdg_error", "1"),
+        ("rider", "var=BATT, policy=updated"),
+        ("rider", "var=LEG, policy=always"),
+    ])
+    .unwrap();
+    let mut app = nav_at(cfg, "ben", 1.0);
+    d(&mut app, "BATT", 12.0, 1.0);
+    s(&mut app, "LEG", "2", 1.0);
+    out.clear();
+    app.iterate(100.0, &mut out);
+    assert!(
+        report(&out).ends_with(
+            ",HDG=1,TYPE=unknown,MODE=NOHELM-EVER,ALLSTOP=unknown,TIME=100,LENGTH=0,LEG=2"
+        ),
+        "{}",
+        report(&out)
+    );
+    // LOAD_WARNING as tokStringParse reads it: a malformed piece before `maxgap` spoils it.
+    s(&mut app, "LOAD_WARNING", "app=pHelmIvP,maxgap=2.1", 100.0);
+    out.clear();
+    app.iterate(101.0, &mut out);
+    assert!(
+        report(&out).contains(",LOAD_WARNING=pHelmIvP:2.1,"),
+        "{}",
+        report(&out)
+    );
+    out.clear();
+    app.iterate(102.0, &mut out);
+    assert!(
+        !report(&out).contains("LOAD_WARNING"),
+        "cleared after one iteration"
+    );
+    s(
+        &mut app,
+        "LOAD_WARNING",
+        "app=pHelmIvP,late,maxgap=2.1",
+        102.0,
+    );
+    out.clear();
+    app.iterate(103.0, &mut out);
+    assert!(!report(&out).contains("LOAD_WARNING"), "{}", report(&out));
+}
