@@ -13,6 +13,8 @@
 //! MODE is `NOHELM-EVER` when no helm message was ever received, `NOHELM-<secs>` when the
 //! last one is older than `nohelm_threshold` (5 s), else the helm state (`DRIVE`, `PARK`,
 //! ...), replaced by the `modes=` field of `IVPHELM_SUMMARY` when driving with modes.
+//! `TRAJECTORY={..}` (from `NAV_TRAJECTORY`) follows BEAM. Mail is stamped with the app's
+//! own time when it reads it (MOOS `m_curr_time`), not the writer's.
 //!
 //! Besides the node report: platform reports (`plat_report_input`), a second report from
 //! alternative navigation (`alt_nav_prefix`), extrapolation pruning (`extrap_enabled`), the
@@ -24,29 +26,29 @@
 //!
 //! | parameter | aliases | type | default | validation (C++ rule) | runtime update | coug |
 //! |---|---|---|---|---|---|---|
-//! | platform_type | vessel_type | text | unknown | any | no | done |
-//! | platform_color | | colour | none | MOOS `isColor` (else unhandled warning) | PLATFORM_COLOR, NODE_COLOR_CHANGE (allow_color_change), each only with a MOOS colour | done |
+//! | platform_type | vessel_type | text | unknown | any (length guessed from it, skyw/skywalker 2 m among them) | no | done |
+//! | platform_color | | colour | none | MOOS `isColor`: a name of ColorParse's table (any case, `_` ignored, its `tomatao` spelling), grey/gray05..95, `hex:rr,gg,bb`, decimal triples, or black/empty/off/invisible (else unhandled warning) | PLATFORM_COLOR, NODE_COLOR_CHANGE (allow_color_change), each only with a MOOS colour, both to the alt-nav record too | done |
 //! | platform_length | vessel_length | m | by type | number >= 0 | no | done |
-//! | platform_beam | | m | none | number >= 0 | no | done |
-//! | platform_transparency | | number | none | number | NAV_TRANSP | done |
+//! | platform_beam | | m | none | number >= 0; `BEAM=` after LENGTH | no | done |
+//! | platform_transparency | | number | none | any number (negative too) | NAV_TRANSP (the vehicle's record only; the alt-nav one keeps it or takes `<prefix>TRANSP`) | done |
 //! | platform_group | group | text | none | any | NODE_GROUP_UPDATE | done |
 //! | coord_policy_global | | bool | false | MOOS boolean | no | done |
 //! | terse_reports | | bool | false | MOOS boolean | no | done |
-//! | blackout_interval | | s | 0 | number >= 0; holds back only the reports before the first (the C++ then resets the blackout to an unset base of 0) | no | done |
+//! | blackout_interval | | s | 0 | number >= 0; holds back no report: the first is always due and each report resets the blackout to a base of 0 that nothing sets | no | done |
 //! | node_report_output | node_report_summary, node_report_var | var | NODE_REPORT_LOCAL | no white space | no | done |
-//! | nohelm_threshold | | s | 5 | number > 0 | no | done |
-//! | nav_grace_period | | s | 60 | number | no | done |
-//! | paused | | bool | false | MOOS boolean; no node or platform reports while paused | PNR_PAUSE | done |
-//! | allow_color_change | | bool | false | MOOS boolean | no | done |
+//! | nohelm_threshold | | s | 5 | number > 0; NOHELM when the last helm message is strictly older, its age as `%.0f` | no | done |
+//! | nav_grace_period | | s | 60 | number; <= 0 is none; within it a report needs only a position (X and Y, or a longitude: the C++'s `isSetLatLon` tests the longitude twice) | no | done |
+//! | paused | | bool | false | MOOS boolean (`toggle` flips); no node, alt-nav or platform reports, PNR_POST_GAP or index counting while paused (extrapolation gaps still posted) | PNR_PAUSE (`setBooleanOnString`: any case, no blanks, `toggle`) | done |
+//! | allow_color_change | | bool | false | MOOS boolean (`toggle` flips) | no | done |
 //! | cross_fill_policy | crossfill_policy | enum | literal | literal, fill-empty, global, use-latest, local, global-terse (`_` read as `-`); fills before each report with the mission's origin | no | done |
 //! | platform_aspect | | `key=value` | none | both sides non-empty, no second `=`; appended to the reports in key order | no | done |
-//! | blackout_variance | | s | 0 | number >= 0; after each report the next blackout is drawn from [−v, +v) hundredths, clipped at 0 | no | done |
+//! | blackout_variance | | s | 0 | number >= 0; after each report the next blackout is `-v + 2k/100` for a whole `k` in `[0, v·100)`, clipped at 0 (coug's seeded generator stands for libc `rand()`; below 0.01 the C++ takes `rand() % 0`, coug draws 0) | no | done |
 //! | rider | | `var=..,policy=always\|updated\|updated+S\|S,rfld=..,prec=..` | none | not a report field; policy, alphanumeric rfld, prec >= 0 (max 10); one per variable; subscribed | yes (mail) | done |
-//! | plat_report_input | plat_report_var, platform_variable | `VAR[, gap=S][, alias=NAME]` | none | always taken; a name with white space or a repeat ignored | no | done |
+//! | plat_report_input | plat_report_var, platform_variable | `VAR[, gap=S][, alias=NAME]` | none | always taken; the last piece without `=` names it; `gap` any case, C `atof`, below 0 is 0; `alias` lower case only, no white space; a name with white space or a repeat ignored; subscribed | no | done |
 //! | plat_report_output | | var | PLATFORM_REPORT_LOCAL | no white space | no | done |
 //! | platform_vsource | vsource | text | none | any; `VSOURCE=` after GROUP | no | done |
-//! | alt_nav_prefix, alt_nav_name, alt_nav_group | | text | none, `_GT`, none | prefix any (`_` appended), name any (`_X` appended to the vehicle's), group no white space | no | done |
-//! | extrap_enabled, extrap_pos_thresh, extrap_hdg_thresh, extrap_max_gap | | bool, m, deg, s | false, 0.25, 1, 5 | boolean, numbers >= 0 | no | done |
+//! | alt_nav_prefix, alt_nav_name, alt_nav_group | | text | none, `_GT`, none | prefix any (`_` appended; X, Y, LAT, LONG, SPEED, HEADING, YAW, DEPTH, TRANSP subscribed, ALTITUDE only through the `NAV_*` wildcard), name any (`_X` appended to the vehicle's), group no white space | no | done |
+//! | extrap_enabled, extrap_pos_thresh, extrap_hdg_thresh, extrap_max_gap | | bool, m, deg, s | false, 0.25, 1, 5 | boolean, numbers >= 0; a report is skipped when both gaps are strictly under the thresholds, compared only while the last report posted is under `extrap_max_gap` old | no | done |
 //! | json_report | | `true` or a var | none (`false`: none) | no white space; `true`: the report variable carries JSON; a var: JSON there beside the usual report | no | done |
 //! | report_cog | | bool | false | MOOS boolean; `COG=` (bearing between iterations) from the next report on | no | done |
 //! | hdg_error | | degrees | 0 | number > 0; added to the reported heading | no | done |
@@ -57,11 +59,19 @@
 //! | PNR_POST_GAP | each report | seconds since the last | done |
 //! | `<output>_FIRST` | the first report | as the report | done |
 //! | JSON reports (and `<json var>_FIRST`) | with json_report | `{"NAME":"abe","X":1.5,...}` (MOOS `cspToJson`) | done |
-//! | PLATFORM_REPORT_LOCAL (plat_report_output) | each iteration an input changed and its gap passed | `platform=<name>,utc_time=<5 dp>,VAR=value,...` | done |
-//! | PNR_EXTRAP_POS_GAP, PNR_EXTRAP_HDG_GAP | extrap_enabled, within extrap_max_gap of the last report | metres, degrees | done |
-//! | alternative-nav report in node_report_output | with alt_nav_prefix, after the node report, while an alt-nav variable is under 5 s old | `NAME=<name>_GT,...` with its own position and group | done |
+//! | PLATFORM_REPORT_LOCAL (plat_report_output) | each iteration (with or without a node report, not while paused), with the inputs received (at a time other than 0) after their last report and more than their gap after it | `platform=<name>,utc_time=<5 dp>,VAR=value,...` (a number as `dstringCompact(doubleToString(v, 8))`, so `-0` stays) | done |
+//! | PNR_EXTRAP_POS_GAP, PNR_EXTRAP_HDG_GAP | extrap_enabled, from the second report on, while the last report posted is under extrap_max_gap old (also when paused or pruned) | metres from the position extrapolated (speed for at most 5 s, none within 0.05 s), degrees (MOOS `angleDiff`) | done |
+//! | alternative-nav report in node_report_output | with alt_nav_prefix, after the node report, while an alt-nav variable is under 5 s old | the start-up copy of the record (type, colour, length, beam, transparency, vsource, aspects) named `<name>_GT` with its own navigation and group (`alt_nav_group`, then NODE_GROUP_UPDATE), colour updates, the helm's mode and all-stop, the index after the report, riders asked again; no MODE_AUX, LOAD_WARNING, THRUST_MODE_REVERSE, COG, TRAJECTORY; no `_FIRST`, no JSON | done |
 //! | PNR_MHASH | after MISSION_HASH, when the largest distance from the start grows by 2 % and 1 m | `mhash=<hash>,ext=<m, 1 decimal>` | done |
-//! | PNODEREPORTER_PID | start-up (single-app mode; in `coug run` the apps share one process and the log stays reproducible) | process id | done |
+//! | PNODEREPORTER_PID | start-up, in OnStartUp (single-app mode; in `coug run` the apps share one process and the log stays reproducible) | process id, a double (`Notify(.., getpid())`) | done |
+//! | ALLSTOP field (all-stop sources) | each report | `IVPHELM_ALLSTOP` as received (`unknown` before); `n/a` once `IVPHELM_STATE` begins with MALCONFIG; the first state ending in `+` (a standby helm stepping in) clears it and the modes, so no ALLSTOP field until the next `IVPHELM_ALLSTOP`. No other all-stop source exists at a2a9b716 (`AUX_MODE` is the MODE_AUX field only) | done |
+//! | riders' mail | | every variable but AUX_MODE, PNR_PAUSE, LOAD_WARNING, NODE_GROUP_UPDATE and the IVPHELM_ ones (which the C++ handles before it); with hdg_error the riders are asked twice per report (the first report is discarded), so updated and periodic values are spent | done |
+//! | subscriptions | start-up | `NAV_*` (wildcard) and NAV_X/Y/LAT/LONG/SPEED/HEADING/YAW/DEPTH/TRAJECTORY/TRANSP, the alt-nav variables, NODE_COLOR_CHANGE, IVPHELM_SUMMARY/STATE/ALLSTOP, AUX_MODE, LOAD_WARNING, THRUST_MODE_REVERSE, NODE_GROUP_UPDATE, PNR_PAUSE, PLATFORM_COLOR, MISSION_HASH, the riders, the platform inputs | done |
+//!
+//! Two starting values differ from the C++ only at MOOS times under 5 s, which never occur
+//! (MOOS time is Unix time; coug's lockstep runs start in 2026): the C++ takes "no helm
+//! message yet" as one at time −1 and "no alt-nav variable yet" as one at time 0, and does
+//! not count a report posted at time 0 as a last report; coug takes them as never.
 
 use std::fmt::Write as _;
 use std::sync::Arc;
@@ -229,6 +239,7 @@ impl Default for NodeReportConfig {
 pub fn default_length(platform_type: &str) -> Option<f64> {
     Some(match platform_type.to_ascii_lowercase().as_str() {
         "kayak" | "mokai" | "auv" | "uuv" => 4.0,
+        "skyw" | "skywalker" => 2.0,
         "cray" | "crayx" | "bcray" | "bcrayx" | "glider" | "heron" | "swimmer" | "buoy" => 3.0,
         "ship" => 8.0,
         "longship" => 15.0,
@@ -256,7 +267,8 @@ impl NodeReportConfig {
 
     fn apply_one(&mut self, key: &str, p: Param<'_>) -> Result<bool, ConfigError> {
         match key {
-            "platform_type" | "vessel_type" => self.platform_type = p.word()?,
+            // Any text, as the C++ (`setType(value)`).
+            "platform_type" | "vessel_type" => self.platform_type = p.value.to_string(),
             "platform_color" => {
                 if !geometry::color::is_color(p.value) {
                     return Err(p.bad("a MOOS colour"));
@@ -265,7 +277,7 @@ impl NodeReportConfig {
             }
             "platform_length" | "vessel_length" => self.platform_length = p.non_neg()?,
             "platform_beam" => self.platform_beam = Some(p.non_neg()?),
-            "platform_group" | "group" => self.group = Some(p.word()?),
+            "platform_group" | "group" => self.group = Some(p.value.to_string()),
             "platform_transparency" => self.transparency = Some(p.f64()?),
             "coord_policy_global" => {
                 self.coord_policy_global = p.bool_or_toggle(self.coord_policy_global)?

@@ -1224,3 +1224,18 @@ fn riders_skip_the_keys_the_cpp_handles_itself_and_heading_error_spends_them() {
     app.iterate(103.0, &mut out);
     assert!(!report(&out).contains("LOAD_WARNING"), "{}", report(&out));
 }
+
+#[test]
+fn platform_type_and_group_are_any_text_and_skywalkers_are_two_metres() {
+    let cfg =
+        NodeReportConfig::from_params([("platform_type", "SkyWalker"), ("group", "red team")])
+            .unwrap();
+    let mut app = nav_at(cfg, "ben", 1.0);
+    let mut out = Vec::new();
+    app.iterate(100.0, &mut out);
+    assert_eq!(
+        report(&out),
+        "NAME=ben,X=0,Y=0,SPD=0,HDG=0,TYPE=SkyWalker,GROUP=red team,MODE=NOHELM-EVER,\
+         ALLSTOP=unknown,TIME=100,LENGTH=2"
+    );
+}
