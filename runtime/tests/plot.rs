@@ -349,3 +349,33 @@ fn the_depth_panel_time_axis_covers_the_whole_run() {
     assert!(lo > 380.0 && lo < 480.0, "depth trace starts at x={lo}");
     assert!(hi > 760.0, "depth trace ends at x={hi}");
 }
+
+#[test]
+fn png_text_keeps_its_case() {
+    // Lower-case letters are their own glyphs: "survey" and "SURVEY" draw differently
+    // (and both differ from no title).
+    let d = data(false);
+    let png_of = |title: &str| {
+        let bytes = to_png(
+            &d,
+            &PlotOptions {
+                width: 400,
+                title: title.into(),
+            },
+        )
+        .unwrap();
+        let mut reader = png::Decoder::new(std::io::Cursor::new(bytes))
+            .read_info()
+            .unwrap();
+        let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+        let info = reader.next_frame(&mut buf).unwrap();
+        buf.truncate(info.buffer_size());
+        buf
+    };
+    let (lower, upper, none) = (png_of("survey"), png_of("SURVEY"), png_of(""));
+    assert!(
+        lower != upper,
+        "\"survey\" drew the same pixels as \"SURVEY\""
+    );
+    assert!(lower != none, "the title drew nothing");
+}
