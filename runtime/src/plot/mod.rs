@@ -1,9 +1,12 @@
-//! `coug plot`: the vehicle track of an alog, with the waypoints, seglists and polygons the
-//! behaviours posted (`VIEW_POINT`, `VIEW_SEGLIST`, `VIEW_POLYGON`), equal-aspect axes in
-//! metres, a legend (track, start, end, waypoints, polygons), the mission's name as title,
-//! and a depth-versus-time panel over the run's time span when the vehicle dived. Drawn with
-//! `plotters` as SVG text or PNG bytes, with the DejaVu Sans font built in (no system fonts
-//! needed).
+//! `coug plot`: the vehicle track of an alog (NAV_X and NAV_Y of one instant make one
+//! point), with the waypoints, marked points and polygons the behaviours posted
+//! (`VIEW_SEGLIST`, `VIEW_POINT`, `VIEW_POLYGON`), equal-aspect axes in metres, a legend
+//! with an entry for each kind of thing drawn (track, start, end, waypoints, marked points,
+//! polygons) placed where it hides nothing, the mission's name as title ([`mission_title`]),
+//! and a depth-versus-time panel over the run's whole time span when the vehicle dived
+//! (deeper than [`DIVE_THRESHOLD`]). Drawn with `plotters` as SVG text or PNG bytes, with
+//! the DejaVu Sans font built in (the `dejavu` crate: no font files, no system font
+//! libraries).
 //!
 //! ```
 //! let log = alog::parse("%% LOGSTART 0\n0 NAV_X s 0\n0 NAV_Y s 0\n1 NAV_X s 10\n1 NAV_Y s 5\n").unwrap();
