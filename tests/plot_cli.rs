@@ -26,7 +26,7 @@ fn coug(args: &[&std::ffi::OsStr]) -> (i32, String) {
 /// A dive along a line and back, with a survey seglist, written as pLogger would.
 fn write_log(path: &std::path::Path) {
     let header = Header {
-        path: "./LOG/LOG.alog",
+        path: "./logs/Dive_Test_1_1_1970_____00_00_00/Dive_Test_1_1_1970_____00_00_00.alog",
         opened_on: "Thu Jan  1 00:00:00 1970",
         log_start: 1000.0,
         mark_data_type: false,
@@ -84,10 +84,26 @@ fn plot_writes_svg_and_png() {
         .map(|t| t.trim().to_string())
         .collect();
     assert!(texts.iter().any(|t| t == "depth (m)"), "{texts:?}");
+    // The title defaults to the mission's name as the log's banner gives it (the file was
+    // renamed dive.alog), in its own case.
     assert!(
-        texts.iter().any(|t| t == "dive"),
+        texts.iter().any(|t| t == "Dive_Test"),
         "title defaults to the mission's name: {texts:?}"
     );
+    for label in [
+        "x (m)",
+        "y (m)",
+        "time (s)",
+        "track",
+        "start",
+        "end",
+        "waypoints",
+    ] {
+        assert!(
+            texts.iter().any(|t| t == label),
+            "missing {label}: {texts:?}"
+        );
+    }
 
     let png_path = dir.join("dive.png");
     let (code, err) = coug(&[

@@ -84,6 +84,7 @@ fn svg_is_well_formed_with_track_overlays_and_depth_panel() {
         "start",
         "end",
         "waypoints",
+        "marked points",
         "polygons",
     ] {
         assert!(
@@ -152,4 +153,229 @@ fn a_log_without_a_track_is_an_error() {
     let d = PlotData::from_alog(&alog::parse("%% LOGSTART 0\n1.0 DEPLOY x true\n").unwrap());
     assert_eq!(to_svg(&d, &PlotOptions::default()), Err(PlotError::NoTrack));
     assert_eq!(to_png(&d, &PlotOptions::default()), Err(PlotError::NoTrack));
+}
+
+/// The `<text>` elements of an SVG, trimmed, with their `x` and font size.
+fn texts(svg: &str) -> Vec<(String, f64, f64)> {
+    let doc = roxmltree::Document::parse(svg).expect("valid XML");
+    doc.descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .filter_map(|n| {
+            let x = n.attribute("x")?.parse().ok()?;
+            let size = n.attribute("font-size")?.parse().ok()?;
+            Some((n.text()?.trim().to_string(), x, size))
+        })
+        .collect()
+}
+
+/// The points of the SVG's polylines of more than two points (not a legend's sample
+/// stroke) drawn in `stroke` (e.g. `"#1F77B4"`).
+fn polyline_points(svg: &str, stroke: &str) -> Vec<(f64, f64)> {
+    let doc = roxmltree::Document::parse(svg).expect("valid XML");
+    doc.descendants()
+        .filter(|n| n.has_tag_name("polyline") && n.attribute("stroke") == Some(stroke))
+        .filter(|n| n.attribute("points").unwrap().split_whitespace().count() > 2)
+        .flat_map(|n| {
+            n.attribute("points")
+                .unwrap()
+                .split_whitespace()
+                .map(|p| {
+                    let (x, y) = p.split_once(',').unwrap();
+                    (x.parse().unwrap(), y.parse().unwrap())
+                })
+                .collect::<Vec<(f64, f64)>>()
+        })
+        .collect()
+}
+
+const TRACK_STROKE: &str = "#1F77B4";
+const DEPTH_STROKE: &str = "#9467BD";
+
+fn svg_of(text: &str, title: &str) -> String {
+    let d = PlotData::from_alog(&alog::parse(text).unwrap());
+    to_svg(
+        &d,
+        &PlotOptions {
+            width: 800,
+            title: title.into(),
+        },
+    )
+    .unwrap()
+}
+
+#[test]
+fn the_legend_lists_only_what_is_drawn() {
+    // A bare track: no waypoints, marked points or polygons in the legend.
+    let mut log = String::from("%% LOGSTART 0\n");
+    for k in 0..50 {
+        log.push_str(&format!("{k}.0 NAV_X s {k}\n{k}.0 NAV_Y s {}\n", k / 2));
+    }
+    let svg = svg_of(&log, "Bare Track");
+    let t: Vec<String> = texts(&svg).into_iter().map(|t| t.0).collect();
+    for present in ["Bare Track", "track", "start", "end", "x (m)", "y (m)"] {
+        assert!(t.iter().any(|x| x == present), "missing {present}: {t:?}");
+    }
+    for absent in [
+        "waypoints",
+        "marked points",
+        "polygons",
+        "depth (m)",
+        "time (s)",
+    ] {
+        assert!(!t.iter().any(|x| x == absent), "unexpected {absent}: {t:?}");
+    }
+}
+
+#[test]
+fn the_legend_box_hides_none_of_the_track() {
+    // The synthetic square track fills the panel's corners: the legend gets its own band.
+    let svg = svg_of(&synthetic(true), "dive");
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let legend = doc
+        .descendants()
+        .find(|n| {
+            n.has_tag_name("rect")
+                && n.attribute("stroke") == Some("#000000")
+                && n.attribute("fill") == Some("none")
+        })
+        .expect("a legend box");
+    let f = |a: &str| legend.attribute(a).unwrap().parse::<f64>().unwrap();
+    let (x, y, w, h) = (f("x"), f("y"), f("width"), f("height"));
+    let track = polyline_points(&svg, TRACK_STROKE);
+    assert!(track.len() >= 400, "{}", track.len());
+    for &(px, py) in &track {
+        assert!(
+            !(x..=x + w).contains(&px) || !(y..=y + h).contains(&py),
+            "track point {px},{py} under the legend {x},{y} {w}x{h}"
+        );
+    }
+}
+
+#[test]
+fn tick_labels_are_plain_numbers() {
+    // "40", not "40.0"; and no "-0".
+    let svg = svg_of(&synthetic(false), "survey");
+    let t: Vec<String> = texts(&svg).into_iter().map(|t| t.0).collect();
+    assert!(t.iter().any(|x| x == "0"), "{t:?}");
+    assert!(t.iter().any(|x| x == "-100"), "{t:?}");
+    assert!(!t.iter().any(|x| x.ends_with(".0") || x == "-0"), "{t:?}");
+}
+
+#[test]
+fn long_tick_labels_leave_the_y_axis_name_whole() {
+    // Coordinates in the tens of kilometres (a local grid far from its origin): the tick
+    // labels are wider than usual and must not run into the rotated "y (m)".
+    let mut log = String::from("%% LOGSTART 0\n");
+    for k in 0..100 {
+        let (x, y) = (
+            -23_456.5 + f64::from(k) * 3.0,
+            -54_321.25 - f64::from(k) * 2.0,
+        );
+        log.push_str(&format!(
+            "{k}.0 NAV_X s {x}\n{k}.0 NAV_Y s {y}\n{k}.0 NAV_DEPTH s 120.5\n"
+        ));
+    }
+    let svg = svg_of(&log, "far");
+    let t = texts(&svg);
+    let (_, name_x, name_size) = t.iter().find(|t| t.0 == "y (m)").expect("y (m)").clone();
+    assert!(name_x >= 0.0);
+    // The rotated name takes x in [name_x - size/2, name_x + size]; each y tick label
+    // (right-aligned left of the plot) must start to the right of it. DejaVu Sans digits
+    // are 0.636 em wide, '-' 0.338 em, '.' 0.32 em.
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let mut checked = 0;
+    for n in doc
+        .descendants()
+        .filter(|n| n.has_tag_name("text") && n.attribute("text-anchor") == Some("end"))
+    {
+        let label = n.text().unwrap().trim();
+        let x: f64 = n.attribute("x").unwrap().parse().unwrap();
+        let size: f64 = n.attribute("font-size").unwrap().parse().unwrap();
+        let width: f64 = label
+            .chars()
+            .map(|c| match c {
+                '-' => 0.338,
+                '.' => 0.32,
+                _ => 0.636,
+            })
+            .sum::<f64>()
+            * size;
+        assert!(
+            x - width > name_x + name_size,
+            "tick {label:?} (from {}) runs into the y axis name (to {})",
+            x - width,
+            name_x + name_size
+        );
+        checked += 1;
+    }
+    assert!(checked >= 8, "{checked} y tick labels");
+}
+
+#[test]
+fn surface_noise_draws_no_depth_panel() {
+    // A surface vehicle whose depth sensor reads a few centimetres.
+    let mut log = String::from("%% LOGSTART 0\n");
+    for k in 0..50 {
+        let z = if k % 2 == 0 { 0.04 } else { 0.0 };
+        log.push_str(&format!(
+            "{k}.0 NAV_X s {k}\n{k}.0 NAV_Y s 0\n{k}.0 NAV_DEPTH s {z}\n"
+        ));
+    }
+    let svg = svg_of(&log, "surface");
+    assert!(!svg.contains("depth (m)"));
+    assert!(polyline_points(&svg, DEPTH_STROKE).is_empty());
+}
+
+#[test]
+fn the_depth_panel_time_axis_covers_the_whole_run() {
+    // The track runs 0..199.5 s; depth is logged only from 100 s on: its trace starts
+    // half way along the time axis, not at its left end.
+    let mut log = String::from("%% LOGSTART 0\n");
+    for k in 0..400 {
+        let t = f64::from(k) * 0.5;
+        log.push_str(&format!("{t} NAV_X s {k}\n{t} NAV_Y s 0\n"));
+        if t >= 100.0 {
+            log.push_str(&format!("{t} NAV_DEPTH s 3\n"));
+        }
+    }
+    let svg = svg_of(&log, "late depth");
+    assert!(svg.contains("depth (m)") && svg.contains("time (s)"));
+    let depth = polyline_points(&svg, DEPTH_STROKE);
+    assert!(!depth.is_empty());
+    let (lo, hi) = depth.iter().fold((f64::INFINITY, 0.0_f64), |(a, b), p| {
+        (a.min(p.0), b.max(p.0))
+    });
+    // The plot spans about 85..790 px of the 800; half way is about 435.
+    assert!(lo > 380.0 && lo < 480.0, "depth trace starts at x={lo}");
+    assert!(hi > 760.0, "depth trace ends at x={hi}");
+}
+
+#[test]
+fn png_text_keeps_its_case() {
+    // Lower-case letters are their own glyphs: "survey" and "SURVEY" draw differently
+    // (and both differ from no title).
+    let d = data(false);
+    let png_of = |title: &str| {
+        let bytes = to_png(
+            &d,
+            &PlotOptions {
+                width: 400,
+                title: title.into(),
+            },
+        )
+        .unwrap();
+        let mut reader = png::Decoder::new(std::io::Cursor::new(bytes))
+            .read_info()
+            .unwrap();
+        let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+        let info = reader.next_frame(&mut buf).unwrap();
+        buf.truncate(info.buffer_size());
+        buf
+    };
+    let (lower, upper, none) = (png_of("survey"), png_of("SURVEY"), png_of(""));
+    assert!(
+        lower != upper,
+        "\"survey\" drew the same pixels as \"SURVEY\""
+    );
+    assert!(lower != none, "the title drew nothing");
 }

@@ -18,7 +18,8 @@ pub struct PlotArgs {
     /// Image width in pixels.
     #[arg(long, default_value_t = 900)]
     pub width: u32,
-    /// Title (default: the mission's name, from the log file's name).
+    /// Title (default: the mission's name, from the log's `LOG FILE` banner line, else
+    /// from the log file's name).
     #[arg(long)]
     pub title: Option<String>,
 }
@@ -46,10 +47,8 @@ pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
     let opts = PlotOptions {
         width: args.width,
         title: args.title.clone().unwrap_or_else(|| {
-            args.log
-                .file_name()
-                .map(|n| runtime::plot::mission_name(&n.to_string_lossy()))
-                .unwrap_or_default()
+            let file = args.log.file_name().unwrap_or_default().to_string_lossy();
+            runtime::plot::mission_title(&log, &file)
         }),
     };
     let bytes = if ext.as_deref() == Some("svg") {

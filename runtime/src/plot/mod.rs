@@ -1,9 +1,12 @@
-//! `coug plot`: the vehicle track of an alog, with the waypoints, seglists and polygons the
-//! behaviours posted (`VIEW_POINT`, `VIEW_SEGLIST`, `VIEW_POLYGON`), equal-aspect axes in
-//! metres, a legend (track, start, end, waypoints, polygons), the mission's name as title,
-//! and a depth-versus-time panel over the run's time span when the vehicle dived. Drawn with
-//! `plotters` as SVG text or PNG bytes, with the DejaVu Sans font built in (no system fonts
-//! needed).
+//! `coug plot`: the vehicle track of an alog (NAV_X and NAV_Y of one instant make one
+//! point), with the waypoints, marked points and polygons the behaviours posted
+//! (`VIEW_SEGLIST`, `VIEW_POINT`, `VIEW_POLYGON`), equal-aspect axes in metres, a legend
+//! with an entry for each kind of thing drawn (track, start, end, waypoints, marked points,
+//! polygons) placed where it hides nothing, the mission's name as title ([`mission_title`]),
+//! and a depth-versus-time panel over the run's whole time span when the vehicle dived
+//! (deeper than [`DIVE_THRESHOLD`]). Drawn with `plotters` as SVG text or PNG bytes, with
+//! the DejaVu Sans font built in (the `dejavu` crate: no font files, no system font
+//! libraries).
 //!
 //! ```
 //! let log = alog::parse("%% LOGSTART 0\n0 NAV_X s 0\n0 NAV_Y s 0\n1 NAV_X s 10\n1 NAV_Y s 5\n").unwrap();
@@ -128,11 +131,37 @@ impl PlotData {
         d
     }
 
-    /// True when the vehicle went below the surface.
+    /// True when the vehicle dived: some NAV_DEPTH deeper than [`DIVE_THRESHOLD`] (a
+    /// surface vehicle's few centimetres of noise draw no depth panel).
     pub fn dived(&self) -> bool {
-        self.depth.iter().any(|&(_, z)| z > 0.0)
+        self.depth.iter().any(|&(_, z)| z > DIVE_THRESHOLD)
+    }
+
+    /// The run's time span `(first, last)` in log seconds: the track's and the depth
+    /// records' times together, widened to at least one second. The depth panel's time
+    /// axis covers it, so it shows the whole run the track panel shows.
+    pub fn time_span(&self) -> (f64, f64) {
+        let times = self
+            .track
+            .iter()
+            .map(|p| p.0)
+            .chain(self.depth.iter().map(|p| p.0));
+        let (mut lo, mut hi) = times.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), t| {
+            (a.min(t), b.max(t))
+        });
+        if !lo.is_finite() {
+            (lo, hi) = (0.0, 0.0);
+        }
+        if hi - lo < 1.0 {
+            hi = lo + 1.0;
+        }
+        (lo, hi)
     }
 }
+
+/// The depth in metres below which the vehicle counts as at the surface: a log whose
+/// NAV_DEPTH never exceeds it gets no depth panel.
+pub const DIVE_THRESHOLD: f64 = 0.1;
 
 /// Plot settings.
 #[derive(Debug, Clone, PartialEq)]
@@ -181,6 +210,31 @@ pub fn mission_name(file_name: &str) -> String {
     stem.to_string()
 }
 
+/// The mission's name for a plot's title: from the log's own banner (`%% LOG FILE:`, the
+/// path pLogger gave the log, named after the mission's `File` prefix), so that it
+/// survives copying or renaming the file; else from `file_name`. pLogger's time stamp is
+/// dropped either way (see [`mission_name`]).
+///
+/// ```
+/// let log = alog::parse("%% LOG FILE: ./logs/DIVE_24_11_2026_____20_27_49/DIVE_24_11_2026_____20_27_49.alog\n%% LOGSTART 0\n").unwrap();
+/// assert_eq!(runtime::plot::mission_title(&log, "run3.alog"), "DIVE");
+/// let headless = alog::parse("0.5 NAV_X s 1\n").unwrap();
+/// assert_eq!(runtime::plot::mission_title(&headless, "Run3.alog"), "Run3");
+/// ```
+pub fn mission_title(log: &Alog, file_name: &str) -> String {
+    let from_banner = log
+        .log_file
+        .as_deref()
+        .map(|p| p.trim().rsplit(['/', '\\']).next().unwrap_or(""))
+        .map(mission_name)
+        .unwrap_or_default();
+    if from_banner.trim().is_empty() {
+        mission_name(file_name)
+    } else {
+        from_banner
+    }
+}
+
 /// Height of the depth panel, pixels.
 pub(crate) const DEPTH_PANEL_H: u32 = 240;
 
@@ -218,5 +272,80 @@ mod tests {
         assert_eq!(d.points[0].points, vec![(5.0, 6.0)]);
         assert_eq!(d.polygons[0].label, "region");
         assert_eq!(d.polygons[0].points.len(), 3);
+    }
+
+    fn track_of(text: &str) -> Vec<(f64, f64, f64)> {
+        PlotData::from_alog(&alog::parse(text).unwrap()).track
+    }
+
+    #[test]
+    fn nav_x_and_nav_y_of_one_instant_are_one_track_point() {
+        // pLogger order within an instant varies (X then Y, Y then X, other variables in
+        // between); each instant is one point, never an L-shaped step.
+        let text = "%% LOGSTART 0\n\
+            0.1 NAV_X uSimMarine 0\n0.1 NAV_Y uSimMarine 0\n\
+            0.2 NAV_X uSimMarine 1\n0.2 NAV_Y uSimMarine 1\n\
+            0.3 NAV_Y uSimMarine 2\n0.3 NAV_DEPTH uSimMarine 0\n0.3 NAV_X uSimMarine 2\n\
+            0.4 NAV_X uSimMarine 3\n0.4 NAV_SPEED uSimMarine 1\n0.4 NAV_Y uSimMarine 3\n";
+        assert_eq!(
+            track_of(text),
+            vec![
+                (0.1, 0.0, 0.0),
+                (0.2, 1.0, 1.0),
+                (0.3, 2.0, 2.0),
+                (0.4, 3.0, 3.0)
+            ]
+        );
+    }
+
+    #[test]
+    fn a_lone_coordinate_update_keeps_the_other_coordinate() {
+        // NAV_X alone at 2.0 moves along x at the last y; NAV_Y alone at 3.0 moves along y.
+        // An update to the same position adds nothing.
+        let text = "%% LOGSTART 0\n\
+            1.0 NAV_X s 0\n1.0 NAV_Y s 5\n\
+            2.0 NAV_X s 4\n\
+            3.0 NAV_Y s 7\n\
+            4.0 NAV_Y s 7\n";
+        assert_eq!(
+            track_of(text),
+            vec![(1.0, 0.0, 5.0), (2.0, 4.0, 5.0), (3.0, 4.0, 7.0)]
+        );
+        // Before both are known there is no point: the first is where both are.
+        let text = "%% LOGSTART 0\n0.5 NAV_X s 9\n1.0 NAV_X s 1\n1.0 NAV_Y s 2\n";
+        assert_eq!(track_of(text), vec![(1.0, 1.0, 2.0)]);
+    }
+
+    #[test]
+    fn surface_noise_is_no_dive() {
+        let log = |z: f64| format!("%% LOGSTART 0\n0 NAV_X s 0\n0 NAV_Y s 0\n1 NAV_DEPTH s {z}\n");
+        let at = |z: f64| PlotData::from_alog(&alog::parse(&log(z)).unwrap());
+        assert!(!at(0.0).dived());
+        assert!(!at(0.05).dived(), "5 cm is surface noise");
+        assert!(at(0.5).dived());
+    }
+
+    #[test]
+    fn the_time_span_covers_track_and_depth() {
+        let text = "%% LOGSTART 0\n\
+            2.0 NAV_X s 0\n2.0 NAV_Y s 0\n50.0 NAV_X s 9\n\
+            10.0 NAV_DEPTH s 3\n60.0 NAV_DEPTH s 1\n";
+        let d = PlotData::from_alog(&alog::parse(text).unwrap());
+        assert_eq!(d.time_span(), (2.0, 60.0));
+        assert_eq!(PlotData::default().time_span(), (0.0, 1.0));
+    }
+
+    #[test]
+    fn the_title_is_the_mission_name_from_the_banner_else_the_file() {
+        let banner = "%%%%%%%%\n%% LOG FILE:       ./logs/DIVE_6_8_2026_____07_06_40/DIVE_6_8_2026_____07_06_40.alog\n%% LOGSTART 0\n";
+        let log = alog::parse(banner).unwrap();
+        assert_eq!(mission_title(&log, "copy.alog"), "DIVE");
+        let log = alog::parse("%% LOGSTART 0\n").unwrap();
+        assert_eq!(
+            mission_title(&log, "Henry_Survey_5_8_2026_____18_22_55.alog"),
+            "Henry_Survey"
+        );
+        let log = alog::parse("%% LOG FILE:\n%% LOGSTART 0\n").unwrap();
+        assert_eq!(mission_title(&log, "Mixed Case.alog"), "Mixed Case");
     }
 }
