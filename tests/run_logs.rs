@@ -139,20 +139,23 @@ fn plogger_path_file_and_timestamp_settings_are_followed_with_its_copies() {
         &dir,
         "  File          = MYLOG\n  PATH          = ./my_logs/\n  FileTimeStamp = false\n  SyncLog       = true @ 0.2\n  WildcardExclusionLog = true\n",
     );
+    let run = |cwd: &Path| {
+        coug(
+            cwd,
+            &[
+                "run",
+                m.to_str().unwrap(),
+                "--lockstep",
+                "--deploy",
+                "--max-time",
+                "20",
+            ],
+        )
+    };
     // Run from another folder: PATH is relative to where the run starts, as pLogger's is.
     let cwd = dir.join("cwd");
     std::fs::create_dir_all(&cwd).unwrap();
-    let out = coug(
-        &cwd,
-        &[
-            "run",
-            m.to_str().unwrap(),
-            "--lockstep",
-            "--deploy",
-            "--max-time",
-            "20",
-        ],
-    );
+    let out = run(&cwd);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(0), "{stderr}");
     let session = cwd.join("my_logs/MYLOG");
@@ -201,17 +204,7 @@ fn plogger_path_file_and_timestamp_settings_are_followed_with_its_copies() {
     );
     // Without a time stamp the next run finds the name taken: refused, nothing overwritten.
     let before = std::fs::read(session.join("MYLOG.alog")).unwrap();
-    let out = coug(
-        &cwd,
-        &[
-            "run",
-            m.to_str().unwrap(),
-            "--lockstep",
-            "--deploy",
-            "--max-time",
-            "20",
-        ],
-    );
+    let out = run(&cwd);
     assert_eq!(out.status.code(), Some(1));
     assert!(
         String::from_utf8_lossy(&out.stderr).contains("never writes over a log"),

@@ -20,18 +20,6 @@ use crate::logger::{Logger, LoggerConfig};
 use crate::timer_script::{TimerScript, TimerScriptError};
 use crate::vehicle::{VehicleApp, VehicleAppError};
 
-/// The apps [`plan`] builds itself (plus the DB, which is the bus).
-pub const BUILT_IN: &[&str] = &[
-    "MOOSDB",
-    "pLogger",
-    "uTimerScript",
-    "uSimMarine",
-    "uSimMarineV22",
-    "pMarinePID",
-    "pMarinePIDV22",
-    "pNodeReporter",
-];
-
 /// A mission's top-level settings, with MOOS defaults.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MissionGlobals {
@@ -182,6 +170,19 @@ pub enum Built {
     /// Not an app coug builds.
     Unknown,
 }
+
+/// The programs [`build`] makes (a `Run` line of one of these uses its ProcessConfig block);
+/// the MOOSDB is the run's own.
+pub const BUILT_IN: &[&str] = &[
+    "pHelmIvP",
+    "uSimMarine",
+    "uSimMarineV22",
+    "pMarinePID",
+    "pMarinePIDV22",
+    "pNodeReporter",
+    "pLogger",
+    "uTimerScript",
+];
 
 /// Builds the built-in app `program` (a base name such as `uSimMarineV22`) running as
 /// MOOS name `moos_name`, from the mission's block of that name (defaults without one).

@@ -23,7 +23,7 @@ use super::run::{load, report_malconfig};
 /// The MOOS app names coug answers to when invoked under them (links made by
 /// `coug install-aliases`): each does that app's job.
 pub const APP_NAMES: [&str; 11] = {
-    let b = super::run::BUILT_IN;
+    let b = runtime::antler::BUILT_IN;
     [
         "MOOSDB", b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7], "uPokeDB", "uXMS",
     ]

@@ -192,18 +192,6 @@ pub struct Validation {
     pub errors: Vec<String>,
 }
 
-/// The apps coug builds in (a `Run` line of one of these uses its ProcessConfig block).
-pub const BUILT_IN: &[&str] = &[
-    "pHelmIvP",
-    "uSimMarine",
-    "uSimMarineV22",
-    "pMarinePID",
-    "pMarinePIDV22",
-    "pNodeReporter",
-    "pLogger",
-    "uTimerScript",
-];
-
 /// Validates a loaded mission as `coug run` would start it: the reader's warnings, the apps'
 /// configuration warnings, helms that would be in MALCONFIG, built-in apps without a
 /// ProcessConfig block, and AppTick/CommsTick values MOOS cannot read.
@@ -234,7 +222,7 @@ pub fn validate(loaded: &Loaded) -> Validation {
     }
     for run in m.antler_runs() {
         let name = run.moos_name();
-        if BUILT_IN.contains(&base(&run.app)) && m.process(name).is_none() {
+        if runtime::antler::BUILT_IN.contains(&base(&run.app)) && m.process(name).is_none() {
             v.warnings.push(format!(
                 "{}:{}: {} runs with no `ProcessConfig = {name}` block: every setting at its default",
                 run.span.file_name(),
@@ -244,7 +232,15 @@ pub fn validate(loaded: &Loaded) -> Validation {
         }
     }
     let mut malconfig = Vec::new();
-    let planned = plan(m, 0.0, 0, None, &mut |run: &AntlerRun, _block| {
+    // Planned as the run plans it, with a log that goes nowhere (nothing touches the disk).
+    let log = LogTarget {
+        config: logger_config(m),
+        writer: Box::new(std::io::sink()),
+        opened: NaiveDateTime::default(),
+        opened_on: OPENED_ON.into(),
+        side: None,
+    };
+    let planned = plan(m, 0.0, 0, Some(log), &mut |run: &AntlerRun, _block| {
         if base(&run.app) != "pHelmIvP" {
             return None;
         }
@@ -257,11 +253,7 @@ pub fn validate(loaded: &Loaded) -> Validation {
     });
     match planned {
         Ok(p) => {
-            v.warnings.extend(
-                p.warnings
-                    .into_iter()
-                    .filter(|w| !w.contains("no log target given")),
-            );
+            v.warnings.extend(p.warnings);
             v.failed = p.failed;
         }
         // A file without an ANTLER block is not a mission `coug run` can start (it says so
