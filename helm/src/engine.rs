@@ -322,6 +322,8 @@ pub struct Helm {
     completed_count: Option<usize>,
     update_results: Vec<String>,
     messages: Vec<(usize, Message)>,
+    /// Scratch for the parts of a `BHV_IPF` posting.
+    ipf_parts: Vec<String>,
     warnings: u64,
     update_vars: String,
     rejournal: bool,
@@ -336,6 +338,22 @@ pub struct Helm {
     scratch: String,
     registered: Vec<String>,
     subs_dirty: bool,
+    /// Node reports from other vehicles (`IVPHELM_LEDGER_SUMMARY`).
+    ledger: crate::ledger::ContactLedger,
+    /// Contacts `BHV_ABLE_FILTER` disabled spawning for.
+    disabled_contacts: crate::ledger::DisabledContacts,
+    /// Run warnings for the appcast (MOOS `reportRunWarning`), oldest first.
+    run_warnings: Vec<RunWarning>,
+}
+
+/// A run warning the helm reports (MOOS `reportRunWarning` / `retractRunWarning`): the app
+/// shows it in its appcast.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RunWarning {
+    /// A warning to report (repeats are counted by the appcast).
+    Report(String),
+    /// A warning no longer true (a `BHV_WARNING` posted with a `retract` key).
+    Retract(String),
 }
 
 fn auto_value(v: &str) -> Value {
@@ -535,6 +553,7 @@ impl Helm {
             completed_count: None,
             update_results: Vec::new(),
             messages: Vec::new(),
+            ipf_parts: Vec::new(),
             warnings: 0,
             update_vars: String::new(),
             rejournal: false,
@@ -547,7 +566,11 @@ impl Helm {
             scratch: String::new(),
             registered: Vec::new(),
             subs_dirty: false,
+            ledger: crate::ledger::ContactLedger::new(45.0),
+            disabled_contacts: crate::ledger::DisabledContacts::default(),
+            run_warnings: Vec::new(),
         };
+        helm.ledger = crate::ledger::ContactLedger::new(helm.config.contact_max_age);
         helm.registered = helm.wanted_subscriptions();
         helm.desired_vars = helm
             .config
@@ -630,6 +653,7 @@ impl Helm {
             "MOOS_MANUAL_OVERRIDE",
             "RESTART_HELM",
             "IVPHELM_REJOURNAL",
+            "BHV_ABLE_FILTER",
             "NAV_X",
             "NAV_Y",
             "NAV_SPEED",
@@ -776,6 +800,14 @@ impl Helm {
         self.notify("IVPHELM_DOMAIN", Value::Str(dom), "");
         let ms = self.modes.definition();
         self.notify("IVPHELM_MODESET", Value::Str(ms), "");
+        for var in [
+            "IVPHELM_BHV_ACTIVE_CNT",
+            "IVPHELM_BHV_IDLE_CNT",
+            "IVPHELM_BHV_RUNNING_CNT",
+            "IVPHELM_BHV_DISABLED_CNT",
+        ] {
+            self.notify(var, Value::Num(0.0), "");
+        }
         if !self.config.helm_alias.is_empty() {
             let a = self.config.helm_alias.clone();
             self.notify("IVPHELM_ALIAS", Value::Str(a), "");
@@ -804,6 +836,7 @@ impl Helm {
                         m.var, m.source
                     );
                     fixed(&mut msg, skew, 2);
+                    self.run_warnings.push(RunWarning::Report(msg.clone()));
                     msg.push_str(" curr_time: ");
                     fixed(&mut msg, now, 3);
                     self.notify("IVPHELM_SKEW", Value::Str(msg), "");
@@ -837,6 +870,20 @@ impl Helm {
                 }
             } else if m.var == "IVPHELM_REJOURNAL" {
                 self.rejournal = true;
+            } else if m.var == "BHV_ABLE_FILTER" {
+                // BehaviorSet: every behaviour sees the filter (only contact behaviours act
+                // on it, none of coug's yet), then the helm's spawn blacklist.
+                if let Value::Str(s) = &m.value {
+                    self.disabled_contacts.apply(s);
+                }
+            } else if m.var == "NODE_REPORT_LOCAL" {
+                self.node_report_local(&m.value, now);
+            } else if matches!(
+                m.var.as_str(),
+                "AIS_REPORT" | "NODE_REPORT" | "AIS_REPORT_LOCAL"
+            ) {
+                self.node_report(&m.value, now);
+                self.info.set(&m.var, m.value.clone(), &m.source, m.time);
             } else if m.var == "HELM_MAP_CLEAR" {
                 self.refresh_pending = true;
             } else if m.source_aux != "HELM_VAR_INIT" {
@@ -845,6 +892,92 @@ impl Helm {
         }
         self.pending = mail;
         self.pending.clear();
+    }
+
+    /// A node report from another vehicle (pHelmIvP `processNodeReport`): into the ledger,
+    /// and its group and type into the info buffer as `<VNAME>_NAV_GROUP` / `_NAV_TYPE`
+    /// (for a rejected report the C++ sets `_NAV_GROUP` and `_NAV_TYPE`, empty, too).
+    fn node_report(&mut self, value: &Value, now: f64) {
+        let text = match value {
+            Value::Str(s) => s.as_str(),
+            Value::Num(_) => "",
+        };
+        let report = crate::ledger::NodeReport::parse(text);
+        let name = match self.ledger.process(&report, now) {
+            Ok(name) => name,
+            Err(why) => {
+                self.run_warnings
+                    .push(RunWarning::Report(format!("Bad NodeReport: {text}")));
+                self.run_warnings
+                    .push(RunWarning::Report(format!("The issue: {why}")));
+                String::new()
+            }
+        };
+        let (group, vtype) = match self.ledger.get(&name) {
+            Some(c) => (c.group.clone(), c.vtype.clone()),
+            None => (String::new(), String::new()),
+        };
+        let upper = name.to_ascii_uppercase();
+        self.info.set(
+            &format!("{upper}_NAV_GROUP"),
+            Value::Str(group),
+            APP_NAME,
+            now,
+        );
+        self.info
+            .set(&format!("{upper}_NAV_TYPE"), Value::Str(vtype), APP_NAME, now);
+    }
+
+    /// The vehicle's own report (pHelmIvP `processNodeReportLocal`): only its group, type,
+    /// color and length reach the info buffer, as `<VNAME>_NAV_*`; the report itself does
+    /// not.
+    fn node_report_local(&mut self, value: &Value, now: f64) {
+        let text = match value {
+            Value::Str(s) => s.as_str(),
+            Value::Num(_) => "",
+        };
+        let r = crate::ledger::NodeReport::parse(text);
+        let upper = r.name.to_ascii_uppercase();
+        if upper.is_empty() {
+            self.run_warnings
+                .push(RunWarning::Report("Unhandled NODE_REPORT_LOCAL".into()));
+            return;
+        }
+        for (suffix, v) in [("GROUP", r.group), ("TYPE", r.vtype), ("COLOR", r.color)] {
+            if !v.is_empty() {
+                self.info
+                    .set(&format!("{upper}_NAV_{suffix}"), Value::Str(v), APP_NAME, now);
+            }
+        }
+        if let Some(len) = r.length_m.filter(|&l| l != 0.0) {
+            self.info
+                .set(&format!("{upper}_NAV_LENGTH"), Value::Num(len), APP_NAME, now);
+        }
+    }
+
+    /// Keeps at most this many untaken run warnings (the oldest go first).
+    const MAX_RUN_WARNINGS: usize = 256;
+
+    fn cap_run_warnings(&mut self) {
+        let n = self.run_warnings.len();
+        if n > Self::MAX_RUN_WARNINGS {
+            self.run_warnings.drain(..n - Self::MAX_RUN_WARNINGS);
+        }
+    }
+
+    /// Takes the run warnings reported since the last call (the appcast shows them).
+    pub fn take_run_warnings(&mut self) -> Vec<RunWarning> {
+        std::mem::take(&mut self.run_warnings)
+    }
+
+    /// The contact ledger.
+    pub fn ledger(&self) -> &crate::ledger::ContactLedger {
+        &self.ledger
+    }
+
+    /// Whether `BHV_ABLE_FILTER` has disabled spawning contact behaviours for `contact`.
+    pub fn contact_disabled(&self, contact: &str) -> bool {
+        self.disabled_contacts.contains(contact)
     }
 
     fn post_allstop(&mut self, msg: &str) {
@@ -887,6 +1020,7 @@ impl Helm {
             self.startup(now);
         }
         self.handle_mail(now);
+        self.cap_run_warnings();
 
         // §4.3 step 1: status, IVPHELM_STATE.
         self.status_update();
@@ -918,6 +1052,12 @@ impl Helm {
                 }
             }
         }
+        // Step 5: the contact ledger drops stale contacts (those a behaviour still reasons
+        // about get twice the time: none until contact behaviours exist) and is summarised.
+        self.ledger.clear_stale(now, &[], 2.0);
+        let ledger = &self.ledger;
+        self.out
+            .text("IVPHELM_LEDGER_SUMMARY", |s| ledger.summary(20, s));
         // Step 6: manual override.
         if !self.has_control {
             self.post_allstop("ManualOverride");
@@ -933,6 +1073,7 @@ impl Helm {
             self.notify("IVPHELM_RESTARTED", Value::Str("true".into()), "");
         }
         self.decide(now);
+        self.cap_run_warnings();
         self.out.as_slice()
     }
 
@@ -1178,9 +1319,43 @@ impl Helm {
         self.notify("IVPHELM_ITER", Value::Num(iter as f64), "");
         let mut messages = std::mem::take(&mut self.messages);
         for (i, m) in messages.drain(..) {
+            if m.var == "BHV_IPF" {
+                // Muxed into parts of 2000 characters, id `<bhv>^<iteration>`, each posted
+                // with the behaviour's name as its source aux; not kept in the info buffer.
+                if let Value::Str(text) = &m.value {
+                    let name = &self.slots[i].common.name;
+                    let mut id = String::with_capacity(name.len() + 12);
+                    id.push_str(name);
+                    id.push('^');
+                    uint(&mut id, iter);
+                    let mut parts = std::mem::take(&mut self.ipf_parts);
+                    ivp::encode::mux(text, &id, 2000, &mut parts);
+                    for part in parts.drain(..) {
+                        let p = self.out.next(&m.var);
+                        p.value = Value::Str(part);
+                        p.aux.push_str(name);
+                    }
+                    self.ipf_parts = parts;
+                }
+                continue;
+            }
             self.info.set_ref(&m.var, &m.value, APP_NAME, now);
             if m.var == "BHV_WARNING" || m.var == "BHV_ERROR" {
                 self.warnings += 1;
+                // pHelmIvP shows them in its appcast; a warning whose key ends in
+                // `retract` withdraws the same text.
+                let text = match &m.value {
+                    Value::Str(t) => t.clone(),
+                    Value::Num(n) => n.to_string(),
+                };
+                let w = format!("{}: {text}", m.var);
+                let retract = m.var == "BHV_WARNING"
+                    && matches!(&m.key, PostKey::Tag(t) if t.ends_with("retract"));
+                self.run_warnings.push(if retract {
+                    RunWarning::Retract(w)
+                } else {
+                    RunWarning::Report(w)
+                });
             }
             let name = &self.slots[i].common.name;
             let tag = match m.key {
@@ -1771,6 +1946,16 @@ impl Helm {
                 let pwt = self.slots[i].common.pwt;
                 let f = f.filter(|_| pwt > 0.0).map(|f| f.with_pwt(pwt));
                 if let Some(f) = f {
+                    // BehaviorSet reports every function it receives (`m_report_ipf` is on
+                    // by default), before the active flags; the helm splits it into parts
+                    // when it posts the behaviour's messages.
+                    let mut text = String::new();
+                    let mut context = String::with_capacity(24);
+                    uint(&mut context, self.iteration);
+                    context.push(':');
+                    context.push_str(&self.slots[i].common.name);
+                    ivp::encode::encode(&f, &context, &mut text);
+                    self.queue(i, "BHV_IPF", Value::Str(text), &PostKey::Repeatable);
                     if old != RunState::Active {
                         self.post_flags(i, FlagKind::Active);
                     }
@@ -2041,5 +2226,200 @@ Behavior = BHV_ConstantSpeed
         assert_eq!(values(&p, "IVPHELM_ALLSTOP"), [&Value::Str("clear".into())]);
         assert_eq!(values(&p, "DESIRED_SPEED"), [&Value::Num(2.0)]);
         assert!(summary(&p).contains(",active_goal=true"), "{}", summary(&p));
+    }
+}
+
+#[cfg(test)]
+mod ipf_tests {
+    use super::*;
+    use mission::source::SourceMap;
+
+    const BHV: &str = "\
+Behavior = BHV_ConstantSpeed
+{
+  name     = spd
+  pwt      = 50
+  speed    = 2
+  duration = no-time-limit
+}
+";
+
+    #[test]
+    fn every_active_behaviour_posts_its_function_as_bhv_ipf_parts() {
+        let bhv = mission::bhv::parse_bhv(&SourceMap::from_text("g.bhv", BHV));
+        let g = Globals {
+            lat_origin: Some("0".into()),
+            long_origin: Some("0".into()),
+            community: Some("abe".into()),
+        };
+        let params = [
+            ("domain", "course:0:359:360"),
+            ("domain", "speed:0:4:41"),
+            ("start_engaged", "true"),
+        ];
+        let mut h = Helm::from_parsed(&params, &g, &bhv);
+        let nav = |h: &mut Helm, t: f64| {
+            for var in ["NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"] {
+                h.on_mail(&[Mail::new(var, 0.0, t)]);
+            }
+        };
+        nav(&mut h, 0.0);
+        assert!(h.iterate(0.0).iter().all(|p| p.var != "BHV_IPF"));
+        for (t, iter) in [(1.0, 1), (1.25, 2)] {
+            nav(&mut h, t);
+            let posts = h.iterate(t).to_vec();
+            let ipf: Vec<&Posting> = posts.iter().filter(|p| p.var == "BHV_IPF").collect();
+            assert_eq!(ipf.len(), 1, "{posts:?}");
+            assert_eq!(ipf[0].aux, "spd");
+            let text = ipf[0].value.as_str().unwrap();
+            let head = format!("P,spd^{iter},1,1,H,");
+            assert!(text.starts_with(&head), "{text}");
+            let whole = ivp::encode::demux([text]).unwrap();
+            // Context `<iteration>:<behaviour>`, one dimension, pwt 50, the speed domain,
+            // its whole-domain grid box.
+            let ctx = format!("{iter}:spd");
+            let expect = format!("H,{},{ctx},1,", ctx.len());
+            assert!(whole.starts_with(&expect), "{whole}");
+            assert!(whole.contains(",1,50,D,speed;0;4;41,G,40,F,0,"), "{whole}");
+            let (f, c) = ivp::encode::decode(&whole).unwrap();
+            assert_eq!(c, ctx);
+            assert_eq!(f.pwt(), 50.0);
+            // The speed objective peaks at 2 m/s (index 20), within the 4-dp rounding.
+            let top = f.eval(&[20]).unwrap();
+            assert!((top - 100.0).abs() < 1e-3, "{top}");
+            assert!(f.eval(&[0]).unwrap() < top);
+            // The function is not kept in the info buffer.
+            assert!(!h.info().is_known("BHV_IPF"));
+            // It goes out with the behaviours' messages: after IVPHELM_ITER, before the
+            // summary.
+            let at = |v: &str| posts.iter().position(|p| p.var == v).unwrap();
+            assert!(at("IVPHELM_ITER") < at("BHV_IPF"));
+            assert!(at("BHV_IPF") < at("IVPHELM_SUMMARY"));
+        }
+    }
+}
+
+#[cfg(test)]
+mod ledger_tests {
+    use super::*;
+    use behaviors::Info;
+    use mission::source::SourceMap;
+
+    fn helm(extra: &[(&str, &str)]) -> Helm {
+        let bhv = mission::bhv::parse_bhv(&SourceMap::from_text(
+            "g.bhv",
+            "Behavior = BHV_ConstantSpeed\n{\n name = spd\n speed = 1\n duration = no-time-limit\n}\n",
+        ));
+        let g = Globals {
+            lat_origin: Some("0".into()),
+            long_origin: Some("0".into()),
+            community: Some("abe".into()),
+        };
+        let mut params = vec![
+            ("domain", "course:0:359:360"),
+            ("domain", "speed:0:4:41"),
+        ];
+        params.extend_from_slice(extra);
+        Helm::from_parsed(&params, &g, &bhv)
+    }
+
+    fn nav(h: &mut Helm, t: f64) {
+        for var in ["NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"] {
+            h.on_mail(&[Mail::new(var, 0.0, t)]);
+        }
+    }
+
+    fn summaries(p: &[Posting]) -> Vec<String> {
+        p.iter()
+            .filter(|p| p.var == "IVPHELM_LEDGER_SUMMARY")
+            .map(|p| p.value.as_str().unwrap().to_string())
+            .collect()
+    }
+
+    #[test]
+    fn start_up_posts_zero_counts_between_the_mode_set_and_the_alias() {
+        let mut h = helm(&[("helm_alias", "hx")]);
+        let p = h.iterate(0.0).to_vec();
+        let vars: Vec<&str> = p.iter().map(|p| p.var.as_str()).collect();
+        let at = vars.iter().position(|v| *v == "IVPHELM_MODESET").unwrap();
+        assert_eq!(
+            vars[at + 1..at + 6],
+            [
+                "IVPHELM_BHV_ACTIVE_CNT",
+                "IVPHELM_BHV_IDLE_CNT",
+                "IVPHELM_BHV_RUNNING_CNT",
+                "IVPHELM_BHV_DISABLED_CNT",
+                "IVPHELM_ALIAS"
+            ]
+        );
+        assert!(p[at + 1..at + 5].iter().all(|p| p.value == Value::Num(0.0)));
+        // BHV_ABLE_FILTER is registered right after IVPHELM_REJOURNAL, as pHelmIvP does.
+        let regs: Vec<&str> = p
+            .iter()
+            .filter(|p| p.var == "IVPHELM_REGISTER")
+            .map(|p| p.value.as_str().unwrap())
+            .collect();
+        let r = regs.iter().position(|v| *v == "IVPHELM_REJOURNAL").unwrap();
+        assert_eq!(regs[r + 1], "BHV_ABLE_FILTER");
+    }
+
+    #[test]
+    fn node_reports_feed_the_ledger_and_the_info_buffer() {
+        let mut h = helm(&[("contact_max_age", "20")]);
+        // Held for navigation: no summary.
+        assert!(summaries(h.iterate(0.0)).is_empty());
+        nav(&mut h, 0.5);
+        h.on_mail(&[
+            Mail::new(
+                "NODE_REPORT",
+                "NAME=ben,X=5,Y=6,SPD=1,HDG=0,TIME=0.5,TYPE=kayak,GROUP=red",
+                0.5,
+            ),
+            Mail::new("NODE_REPORT_LOCAL", "NAME=abe,X=0,Y=0,TIME=0.5,TYPE=UUV,LENGTH=4", 0.5),
+            Mail::new("NODE_REPORT", "NAME=cal,X=5,Y=6", 0.5),
+        ]);
+        // Posted in the first second too (before the decision delay).
+        assert_eq!(summaries(h.iterate(0.5)), ["now:1, reps:1, who:ben"]);
+        let info = h.info();
+        assert_eq!(info.text("BEN_NAV_GROUP"), Some("red"));
+        assert_eq!(info.text("BEN_NAV_TYPE"), Some("kayak"));
+        assert!(info.is_known("NODE_REPORT"), "the report itself is kept");
+        // Own report: fields only, raw; the report is not kept.
+        assert_eq!(info.text("ABE_NAV_TYPE"), Some("UUV"));
+        assert_eq!(info.num("ABE_NAV_LENGTH"), Some(4.0));
+        assert!(!info.is_known("NODE_REPORT_LOCAL"));
+        assert!(!info.is_known("ABE_NAV_GROUP"), "no group reported");
+        // The rejected report: warnings, and the C++'s empty-name entries.
+        assert_eq!(info.text("_NAV_GROUP"), Some(""));
+        assert_eq!(
+            h.take_run_warnings(),
+            [
+                RunWarning::Report("Bad NodeReport: NAME=cal,X=5,Y=6".into()),
+                RunWarning::Report("The issue: Missing timestamp.".into())
+            ]
+        );
+        // Every iteration, also under manual override; stale after contact_max_age.
+        h.on_mail(&[Mail::new("MOOS_MANUAL_OVERRIDE", "true", 2.0)]);
+        nav(&mut h, 2.0);
+        assert_eq!(summaries(h.iterate(2.0)), ["now:1, reps:1, who:ben"]);
+        nav(&mut h, 20.6);
+        assert_eq!(summaries(h.iterate(20.6)), ["now:0, reps:1, who:"]);
+    }
+
+    #[test]
+    fn the_able_filter_is_taken_but_not_kept_in_the_info_buffer() {
+        let mut h = helm(&[("start_engaged", "true")]);
+        nav(&mut h, 0.0);
+        h.iterate(0.0);
+        h.on_mail(&[Mail::new("BHV_ABLE_FILTER", "action=disable,contact=ben", 1.0)]);
+        nav(&mut h, 1.0);
+        let p = h.iterate(1.0).to_vec();
+        assert!(h.contact_disabled("ben"));
+        assert!(!h.info().is_known("BHV_ABLE_FILTER"));
+        // No behaviour of coug's can be disabled: none listed, the behaviour stays active.
+        assert!(p.iter().all(|p| p.var != "IVPHELM_BHV_DISABLED"));
+        let active = p.iter().find(|p| p.var == "IVPHELM_BHV_ACTIVE").unwrap();
+        assert_eq!(active.value, Value::Str("spd".into()));
+        assert!(h.take_run_warnings().is_empty());
     }
 }

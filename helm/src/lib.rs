@@ -4,6 +4,7 @@
 //! - [`engine`]: [`Helm`], the iteration loop (reference `ivp-helm.md` §4): info buffer, modes,
 //!   behaviour run states, flags, postings, all-stop, summary.
 //! - [`config`]: the pHelmIvP ProcessConfig block (§4.1).
+//! - [`ledger`]: the contact ledger fed by node reports.
 //! - [`info_buffer`], [`mode`], [`runstate`], [`macro_expand`], [`allstop`], [`report`]: the
 //!   parts of the loop, each after its pHelmIvP counterpart.
 //!
@@ -18,6 +19,7 @@ pub mod config;
 pub mod engine;
 mod fxhash;
 pub mod info_buffer;
+pub mod ledger;
 pub mod macro_expand;
 pub mod mode;
 pub mod report;

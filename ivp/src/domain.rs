@@ -311,7 +311,13 @@ impl fmt::Display for Domain {
             if i > 0 {
                 f.write_str(":")?;
             }
-            write!(f, "{},{},{},{}", v.name, v.low, v.high, v.points)?;
+            let mut s = String::new();
+            s.push_str(&v.name);
+            s.push(',');
+            crate::encode::push_compact5(&mut s, v.low);
+            s.push(',');
+            crate::encode::push_compact5(&mut s, v.high);
+            write!(f, "{s},{}", v.points)?;
         }
         Ok(())
     }

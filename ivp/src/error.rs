@@ -103,4 +103,7 @@ pub enum IvpError {
     /// A reflector setting could not be read.
     #[error("reflector: {0}")]
     Reflector(String),
+    /// An encoded function (`BHV_IPF` text) could not be read.
+    #[error("encoded IvP function: {0}")]
+    Decode(String),
 }

@@ -26,6 +26,7 @@
 
 mod coupler;
 mod domain;
+pub mod encode;
 mod error;
 mod function;
 mod reflector;
