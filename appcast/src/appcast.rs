@@ -456,9 +456,14 @@ mod tests {
         ac.event("nan", Some(f64::NAN));
         ac.event("big", Some(1234.5));
         ac.event("round", Some(0.005));
+        ac.event("tie", Some(0.125));
         let got: Vec<&str> = ac.events().collect();
-        // 0.005 is 0.005000000000000000104 in binary, so it rounds up, as printf does.
-        assert_eq!(got, ["neg", "nan", "[1234.50]: big", "[0.01]: round"]);
+        // 0.005 is 0.005000000000000000104 in binary, so it rounds up; 0.125 is an exact tie
+        // and printf rounds it to even.
+        assert_eq!(
+            got,
+            ["neg", "nan", "[1234.50]: big", "[0.01]: round", "[0.12]: tie"]
+        );
 
         let mut ac = AppCast::new();
         for k in 0..10 {
