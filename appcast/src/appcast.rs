@@ -343,11 +343,7 @@ impl AppCast {
         let mut s = String::new();
         if with_header {
             let iter_str = format!("({})", self.iteration);
-            let warn_str = format!(
-                "{}/{}",
-                self.config_warnings.len(),
-                self.run_warning_total
-            );
+            let warn_str = format!("{}/{}", self.config_warnings.len(), self.run_warning_total);
             let title = format!("{} {}", self.proc_name, self.node_name);
             let now_len = warn_str.len() + title.len() + iter_str.len();
             let pad = " ".repeat(62usize.saturating_sub(now_len));
@@ -462,7 +458,13 @@ mod tests {
         // and printf rounds it to even.
         assert_eq!(
             got,
-            ["neg", "nan", "[1234.50]: big", "[0.01]: round", "[0.12]: tie"]
+            [
+                "neg",
+                "nan",
+                "[1234.50]: big",
+                "[0.01]: round",
+                "[0.12]: tie"
+            ]
         );
 
         let mut ac = AppCast::new();
@@ -483,7 +485,10 @@ mod tests {
         }
         ac.set_max_events(2);
         ac.event("e5", None);
-        assert_eq!(ac.events().collect::<Vec<_>>(), ["e1", "e2", "e3", "e4", "e5"]);
+        assert_eq!(
+            ac.events().collect::<Vec<_>>(),
+            ["e1", "e2", "e3", "e4", "e5"]
+        );
     }
 
     #[test]

@@ -307,13 +307,8 @@ impl AppCasting {
             },
             "TERM_REPORT_INTERVAL" => {
                 if is_numeric(value) {
-                    let mut v = atof(value);
-                    if v < 0.0 {
-                        v = 0.0;
-                    }
-                    if v > MAX_CONFIG_TERM_REPORT_INTERVAL {
-                        v = MAX_CONFIG_TERM_REPORT_INTERVAL;
-                    }
+                    // Same as the C++ pair of ifs, NaN included (it stays NaN).
+                    let v = atof(value).clamp(0.0, MAX_CONFIG_TERM_REPORT_INTERVAL);
                     self.term_report_interval = v;
                     None
                 } else {
@@ -369,16 +364,8 @@ impl AppCasting {
         while !rest.is_empty() {
             let (param, value) = split_line(chomp(&mut rest, ","));
             match param.as_str() {
-                "NODE" => {
-                    if value != self.ac.node_name() && value != "all" {
-                        return false;
-                    }
-                }
-                "APP" => {
-                    if value != self.ac.proc_name() && value != "all" {
-                        return false;
-                    }
-                }
+                "NODE" if value != self.ac.node_name() && value != "all" => return false,
+                "APP" if value != self.ac.proc_name() && value != "all" => return false,
                 "DURATION" => duration = value,
                 "THRESH" => thresh = value,
                 "KEY" => key = value,
@@ -388,13 +375,8 @@ impl AppCasting {
         if key.is_empty() {
             return false;
         }
-        let mut d = atof(duration);
-        if d < 0.0 {
-            d = 0.0;
-        }
-        if d > MAX_REQUEST_DURATION {
-            d = MAX_REQUEST_DURATION;
-        }
+        // Same as the C++ pair of ifs, NaN included (it stays NaN).
+        let d = atof(duration).clamp(0.0, MAX_REQUEST_DURATION);
         self.requests.insert(
             key.to_string(),
             Request {
@@ -621,4 +603,489 @@ fn split_line(line: &str) -> (String, &str) {
     let mut rest = line;
     let param = trim(chomp(&mut rest, "=")).to_ascii_uppercase();
     (param, trim(rest))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const NO_LINES: &[&str] = &[];
+
+    /// pFoo on community alpha, started at MOOS time 1000 with the given warp, no config.
+    fn started(warp: f64) -> AppCasting {
+        let mut app = AppCasting::new("pFoo");
+        assert!(app.start_up(Some("alpha"), Some(NO_LINES), 1000.0, warp));
+        app
+    }
+
+    #[test]
+    fn constructor_defaults() {
+        let app = AppCasting::new("pFoo");
+        assert_eq!(app.proc_name(), "pFoo");
+        assert_eq!(app.community(), "");
+        assert_eq!(app.term_report_interval(), 0.5);
+        assert_eq!(app.time_warp(), 1.0);
+        assert_eq!(app.comms_policy(), CommsPolicy::Open);
+        assert_eq!(app.app_logging(), AppLogging::Off);
+        assert!(!app.deprecated_ok());
+        assert_eq!(app.appcast().max_events(), 8);
+        assert_eq!(app.appcast().max_run_warnings(), 10);
+        assert_eq!(app.last_appcast_time(), None);
+    }
+
+    #[test]
+    fn start_up_warnings_in_cpp_order() {
+        let mut app = AppCasting::new("pFoo");
+        let lines = [
+            "MAX_APPCAST_EVENTS=x",
+            "COMMS_POLICY=loose",
+            "TERM_REPORT_INTERVAL=2",
+        ];
+        assert!(!app.start_up(None, Some(&lines[..]), 5.0, 0.0));
+        assert_eq!(
+            app.appcast().config_warnings(),
+            [
+                "Invalid comms_policy: loose",
+                "XCommunity/Vehicle name not found in mission file",
+                "Invalid MAX_APPCAST_EVENTS: x",
+                "MOOSTimeWarp invalid: 0. Using 0.001 instead.",
+            ]
+        );
+        assert_eq!(app.time_warp(), 0.001);
+        assert_eq!(app.term_report_interval(), 2.0);
+        assert_eq!(app.start_time(), 5.0);
+        assert!(app.new_cfg_warning());
+
+        let mut app = AppCasting::new("pFoo");
+        assert!(!app.start_up(Some("alpha"), None::<&[&str]>, 0.0, -2.5));
+        assert_eq!(
+            app.appcast().config_warnings(),
+            [
+                "No mission config block found for pFoo",
+                "MOOSTimeWarp invalid: -2.5. Using 0.001 instead.",
+            ]
+        );
+        assert_eq!(app.community(), "alpha");
+
+        let mut app = AppCasting::new("pFoo");
+        assert!(app.start_up(Some("alpha"), Some(NO_LINES), 0.0, 10.0));
+        assert!(app.appcast().config_warnings().is_empty());
+        assert!(!app.new_cfg_warning());
+    }
+
+    #[test]
+    fn config_keys_not_owned_are_left_to_the_app() {
+        let mut app = AppCasting::new("pFoo");
+        assert_eq!(app.consume_config_key("speed", "3"), None);
+        assert_eq!(app.consume_config_key("APPTICK", "4"), None);
+        assert_eq!(
+            app.consume_config_key(" term_report_interval ", " 2 "),
+            Some(Ok(()))
+        );
+        assert_eq!(app.term_report_interval(), 2.0);
+    }
+
+    #[test]
+    fn term_report_interval_config_clip_and_numeric_test() {
+        let mut app = AppCasting::new("pFoo");
+        let k = "TERM_REPORT_INTERVAL";
+        assert_eq!(app.consume_config_key(k, "-1"), Some(Ok(())));
+        assert_eq!(app.term_report_interval(), 0.0);
+        assert_eq!(app.consume_config_key(k, "20"), Some(Ok(())));
+        assert_eq!(app.term_report_interval(), 10.0);
+        assert_eq!(app.consume_config_key(k, "1e-1"), Some(Ok(())));
+        assert_eq!(app.term_report_interval(), 0.1);
+        // Numeric by character set, so "1.5.2" is accepted and reads as 1.5.
+        assert_eq!(app.consume_config_key(k, "1.5.2"), Some(Ok(())));
+        assert_eq!(app.term_report_interval(), 1.5);
+        assert_eq!(
+            app.consume_config_key(k, "fast"),
+            Some(Err("Invalid TERM_REPORT_INTERVAL: fast".to_string()))
+        );
+        assert_eq!(app.term_report_interval(), 1.5);
+        assert_eq!(
+            app.appcast().config_warnings(),
+            ["Invalid TERM_REPORT_INTERVAL: fast"]
+        );
+        assert!(app.new_cfg_warning());
+    }
+
+    #[test]
+    fn term_report_interval_mail_has_a_floor_only() {
+        let mut app = AppCasting::new("pFoo");
+        app.on_term_report_interval(0.1);
+        assert_eq!(app.term_report_interval(), 0.4);
+        app.on_term_report_interval(-1.0);
+        assert_eq!(app.term_report_interval(), 0.4);
+        app.on_term_report_interval(100.0);
+        assert_eq!(app.term_report_interval(), 100.0);
+        app.on_term_report_interval(0.4);
+        assert_eq!(app.term_report_interval(), 0.4);
+    }
+
+    #[test]
+    fn max_appcast_events_clip() {
+        let mut app = AppCasting::new("pFoo");
+        let k = "max_appcast_events";
+        assert_eq!(app.consume_config_key(k, "-3"), Some(Ok(())));
+        assert_eq!(app.appcast().max_events(), 0);
+        assert_eq!(app.consume_config_key(k, "99"), Some(Ok(())));
+        assert_eq!(app.appcast().max_events(), 50);
+        assert_eq!(app.consume_config_key(k, "12.9"), Some(Ok(())));
+        assert_eq!(app.appcast().max_events(), 12);
+        assert_eq!(
+            app.consume_config_key(k, "ten"),
+            Some(Err("Invalid MAX_APPCAST_EVENTS: ten".to_string()))
+        );
+        assert_eq!(app.appcast().max_events(), 12);
+    }
+
+    #[test]
+    fn max_appcast_run_warnings_quirks() {
+        let mut app = AppCasting::new("pFoo");
+        let k = "MAX_APPCAST_RUN_WARNINGS";
+        assert_eq!(app.consume_config_key(k, "-3"), Some(Ok(())));
+        assert_eq!(app.appcast().max_run_warnings(), 0);
+        assert_eq!(app.consume_config_key(k, "1000"), Some(Ok(())));
+        assert_eq!(app.appcast().max_run_warnings(), 1000);
+        // Above 1000 becomes 100, not 1000.
+        assert_eq!(app.consume_config_key(k, "1001"), Some(Ok(())));
+        assert_eq!(app.appcast().max_run_warnings(), 100);
+        // The warning names the events parameter.
+        assert_eq!(
+            app.consume_config_key(k, "many"),
+            Some(Err("Invalid MAX_APPCAST_EVENTS: many".to_string()))
+        );
+    }
+
+    #[test]
+    fn comms_policy_app_logging_deprecated_ok_config() {
+        let mut app = AppCasting::new("pFoo");
+        assert_eq!(app.consume_config_key("COMMS_POLICY", "LEAN"), Some(Ok(())));
+        assert_eq!(app.comms_policy(), CommsPolicy::Lean);
+        assert_eq!(
+            app.consume_config_key("COMMS_POLICY", "Closed"),
+            Some(Err("Invalid comms_policy: Closed".to_string()))
+        );
+        assert_eq!(app.comms_policy(), CommsPolicy::Lean);
+        assert_eq!(app.consume_config_key("APP_LOGGING", "TRUE"), Some(Ok(())));
+        assert_eq!(app.app_logging(), AppLogging::Log);
+        assert_eq!(app.consume_config_key("app_logging", "file"), Some(Ok(())));
+        assert_eq!(app.app_logging(), AppLogging::File);
+        assert_eq!(app.consume_config_key("APP_LOGGING", "off"), Some(Ok(())));
+        assert_eq!(app.app_logging(), AppLogging::Off);
+        assert_eq!(
+            app.consume_config_key("APP_LOGGING", "yes"),
+            Some(Err("Invalid APP_LOGGING: yes".to_string()))
+        );
+        assert_eq!(
+            app.consume_config_key("DEPRECATED_OK", "True"),
+            Some(Ok(()))
+        );
+        assert!(app.deprecated_ok());
+        assert_eq!(
+            app.consume_config_key("DEPRECATED_OK", "1"),
+            Some(Err("Invalid DEPRECATED_OK: 1".to_string()))
+        );
+        assert!(app.deprecated_ok());
+        assert_eq!(app.appcast().config_warnings().len(), 3);
+    }
+
+    #[test]
+    fn comms_policy_mail_never_laxer_than_config() {
+        let mut app = AppCasting::new("pFoo");
+        assert!(app.on_comms_policy("DIRE"));
+        assert_eq!(app.comms_policy(), CommsPolicy::Dire);
+        assert!(app.on_comms_policy("open"));
+        assert_eq!(app.comms_policy(), CommsPolicy::Open);
+        assert!(!app.on_comms_policy("Loose"));
+        assert_eq!(
+            app.appcast()
+                .run_warnings()
+                .get("Unhandled COMMS_POLICY:loose"),
+            Some(&1)
+        );
+
+        let mut app = AppCasting::new("pFoo");
+        let _ = app.consume_config_key("COMMS_POLICY", "lean");
+        // open under lean: accepted, ignored, no warning.
+        assert!(app.on_comms_policy("open"));
+        assert_eq!(app.comms_policy(), CommsPolicy::Lean);
+        assert!(app.on_comms_policy("dire"));
+        assert_eq!(app.comms_policy(), CommsPolicy::Dire);
+        assert!(app.on_comms_policy("lean"));
+        assert_eq!(app.comms_policy(), CommsPolicy::Lean);
+        assert_eq!(app.appcast().run_warning_total(), 0);
+
+        let mut app = AppCasting::new("pFoo");
+        let _ = app.consume_config_key("COMMS_POLICY", "dire");
+        assert!(!app.on_comms_policy("lean"));
+        assert!(app.on_comms_policy("open"));
+        assert_eq!(app.comms_policy(), CommsPolicy::Dire);
+        assert_eq!(
+            app.appcast()
+                .run_warnings()
+                .get("Unhandled COMMS_POLICY:lean"),
+            Some(&1)
+        );
+        assert!(app.new_run_warning());
+    }
+
+    #[test]
+    fn request_matching_node_and_app() {
+        let mut app = started(1.0);
+        assert!(app.on_request("node=alpha,app=pFoo,duration=3,key=k1", 1001.0));
+        assert!(app.on_request("node=all,app=all,duration=3,key=k2", 1001.0));
+        assert!(app.on_request(" NODE = alpha , App=pFoo , Key = k3 ", 1001.0));
+        assert!(!app.on_request("node=bravo,app=pFoo,duration=3,key=k4", 1001.0));
+        assert!(!app.on_request("node=alpha,app=pBar,duration=3,key=k5", 1001.0));
+        // Values are compared exactly.
+        assert!(!app.on_request("node=ALPHA,app=pFoo,key=k6", 1001.0));
+        assert!(!app.on_request("node=alpha,app=pfoo,key=k7", 1001.0));
+        assert!(!app.on_request("node=alpha,app=ALL,key=k8", 1001.0));
+        // The mismatch drops the request even after the key was read.
+        assert!(!app.on_request("key=k9,duration=3,node=bravo", 1001.0));
+        // No node / app pair at all: accepted.
+        assert!(app.on_request("key=k10,duration=3", 1001.0));
+        // No key or an empty one: dropped.
+        assert!(!app.on_request("node=alpha,app=pFoo,duration=3", 1001.0));
+        assert!(!app.on_request("node=alpha,app=pFoo,duration=3,key=", 1001.0));
+        let keys: Vec<&str> = app.requests().keys().map(String::as_str).collect();
+        assert_eq!(keys, ["k1", "k10", "k2", "k3"]);
+        assert_eq!(app.requests()["k3"].duration, 0.0);
+        assert_eq!(app.requests()["k3"].thresh, "any");
+        assert_eq!(app.requests()["k1"].start, 1001.0);
+    }
+
+    #[test]
+    fn request_duration_clip_and_atof() {
+        let mut app = started(1.0);
+        let d = |app: &mut AppCasting, v: &str| {
+            assert!(app.on_request(&format!("node=all,app=all,key=k,duration={v}"), 0.0));
+            app.requests()["k"].duration
+        };
+        assert_eq!(d(&mut app, "-5"), 0.0);
+        assert_eq!(d(&mut app, "45"), 30.0);
+        assert_eq!(d(&mut app, "3.0"), 3.0);
+        assert_eq!(d(&mut app, "2.5s"), 2.5);
+        assert_eq!(d(&mut app, "abc"), 0.0);
+        assert_eq!(d(&mut app, "inf"), 30.0);
+        assert!(d(&mut app, "nan").is_nan());
+    }
+
+    #[test]
+    fn later_request_with_same_key_replaces_the_earlier() {
+        let mut app = started(1.0);
+        assert!(app.on_request("node=all,app=all,duration=10,key=k,thresh=any", 1000.0));
+        assert!(app.on_request(
+            "node=all,app=all,duration=2,key=k,thresh=run_warning",
+            1005.0
+        ));
+        assert_eq!(app.requests().len(), 1);
+        assert_eq!(
+            app.requests()["k"],
+            Request {
+                duration: 2.0,
+                start: 1005.0,
+                thresh: "run_warning".to_string()
+            }
+        );
+    }
+
+    #[test]
+    fn pending_by_request_age_is_strict_and_in_moos_time() {
+        let mut app = started(10.0);
+        assert!(!app.appcast_requested(1000.0));
+        assert!(app.on_request("node=alpha,app=pFoo,duration=3,key=uMAC", 1000.0));
+        assert!(app.appcast_requested(1000.0));
+        assert!(app.appcast_requested(1002.999));
+        // 3 MOOS seconds, whatever the warp: elapsed == duration is expired.
+        assert!(!app.appcast_requested(1003.0));
+        // A zero-duration request is never live.
+        assert!(app.on_request("node=alpha,app=pFoo,duration=0,key=uMAC", 1000.0));
+        assert!(!app.appcast_requested(1000.0));
+    }
+
+    #[test]
+    fn thresh_run_warning_needs_a_new_run_warning() {
+        let mut app = started(1.0);
+        assert!(app.on_request(
+            "node=all,app=all,duration=5,key=k,thresh=run_warning",
+            1000.0
+        ));
+        assert!(!app.appcast_requested(1001.0));
+        app.report_run_warning("low battery");
+        assert!(app.appcast_requested(1001.0));
+        let _ = app.build(3, "", 1001.0);
+        assert!(!app.appcast_requested(1001.5));
+        // An unknown thresh never triggers, even with a new run warning.
+        assert!(app.on_request("node=all,app=all,duration=5,key=k,thresh=Any", 1002.0));
+        app.report_run_warning("again");
+        assert!(!app.appcast_requested(1002.0));
+    }
+
+    #[test]
+    fn new_config_warning_is_pending_without_any_request() {
+        let mut app = started(1.0);
+        app.report_config_warning("");
+        assert!(!app.appcast_requested(1000.0));
+        app.report_config_warning("bad param");
+        assert!(app.appcast_requested(1000.0));
+        assert!(app.due(1000.0, 10));
+        let _ = app.build(10, "", 1000.0);
+        assert!(!app.new_cfg_warning());
+        assert!(!app.due(1010.0, 11));
+    }
+
+    #[test]
+    fn first_iteration_is_always_pending() {
+        let app = started(1.0);
+        assert!(app.due(1000.0, 0));
+        assert!(app.due(1000.0, 1));
+        assert!(!app.due(1000.0, 2));
+    }
+
+    #[test]
+    fn rate_limit_is_real_time() {
+        let mut app = started(10.0);
+        assert!(app.on_request("node=all,app=all,duration=30,key=k", 1000.0));
+        assert!(app.due(1000.0, 1));
+        let _ = app.build(1, "", 1000.0);
+        assert_eq!(app.last_appcast_time(), Some(1000.0));
+        // Warp 10: 4.9 MOOS seconds are 0.49 real seconds, under the 0.5 s interval.
+        assert!(!app.due(1004.9, 2));
+        assert!(app.due(1005.0, 2));
+        // Even iteration 1 waits for the interval once something was posted.
+        assert!(!app.due(1001.0, 1));
+
+        let mut app = started(1.0);
+        let _ = app.consume_config_key("TERM_REPORT_INTERVAL", "0");
+        assert!(app.on_request("node=all,app=all,duration=30,key=k", 1000.0));
+        let _ = app.build(1, "", 1000.0);
+        assert!(app.due(1000.0, 2));
+    }
+
+    #[test]
+    fn rate_limit_nan_interval_or_warp_never_holds_back() {
+        let mut app = started(1.0);
+        app.on_term_report_interval(f64::NAN);
+        assert!(app.on_request("node=all,app=all,duration=30,key=k", 1000.0));
+        let _ = app.build(1, "", 1000.0);
+        assert!(app.due(1000.0, 2));
+        // A NaN warp passes the `<= 0` test, as in C++.
+        let mut app = AppCasting::new("pFoo");
+        assert!(app.start_up(Some("alpha"), Some(NO_LINES), 0.0, f64::NAN));
+        let _ = app.build(1, "", 0.0);
+        assert!(!app.due(0.1, 2));
+        assert!(app.on_request("key=k,duration=5", 0.1));
+        assert!(app.due(0.1, 2));
+    }
+
+    #[test]
+    fn build_returns_the_appcast_and_resets_the_flags() {
+        let mut app = started(1.0);
+        app.report_run_warning("w");
+        app.report_config_warning("c");
+        app.report_event("go", 1012.345);
+        let s = app.build(4, "line1\nline2", 1013.0);
+        assert_eq!(
+            s,
+            concat!(
+                "proc=pFoo!@#iter=4!@#node=alpha!@#iter=4!@#messages=line1!@line2!@!@#",
+                "config_warnings=c!@#events_total=1!@#events=[12.35]: go!@#",
+                "run_warning_total=1!@#run_warnings=1:w"
+            )
+        );
+        assert!(!app.new_run_warning());
+        assert!(!app.new_cfg_warning());
+        assert_eq!(app.appcast().iteration(), 4);
+        assert_eq!(app.appcast().messages(), "line1\nline2");
+    }
+
+    #[test]
+    fn events_are_stamped_from_start_up() {
+        let mut app = started(1.0);
+        app.report_event("a", 1002.5);
+        app.report_event("early", 999.0);
+        app.report_event("zero", 1000.0);
+        assert_eq!(
+            app.appcast().events().collect::<Vec<_>>(),
+            ["[2.50]: a", "early", "[0.00]: zero"]
+        );
+    }
+
+    #[test]
+    fn run_warnings_and_retraction() {
+        let mut app = started(1.0);
+        app.report_run_warning("");
+        assert!(!app.new_run_warning());
+        assert_eq!(app.warning_count(WarningFilter::Run), 0);
+        // Retracting with no run warnings at all does nothing.
+        app.retract_run_warning("x");
+        assert!(!app.new_run_warning());
+        app.report_run_warning("x");
+        app.report_run_warning("x");
+        app.report_config_warning("c");
+        assert_eq!(app.warning_count(WarningFilter::Run), 2);
+        assert_eq!(app.warning_count(WarningFilter::Config), 1);
+        assert_eq!(app.warning_count(WarningFilter::All), 3);
+        let _ = app.build(2, "", 1000.0);
+        app.retract_run_warning("y");
+        assert!(!app.new_run_warning());
+        app.retract_run_warning("x");
+        assert!(app.new_run_warning());
+        assert_eq!(app.warning_count(WarningFilter::Run), 0);
+    }
+
+    #[test]
+    fn run_warning_cap_from_config() {
+        let mut app = AppCasting::new("pFoo");
+        let lines = ["MAX_APPCAST_RUN_WARNINGS=1"];
+        assert!(app.start_up(Some("alpha"), Some(&lines[..]), 0.0, 1.0));
+        app.report_run_warning("a");
+        app.report_run_warning("b");
+        app.report_run_warning("a");
+        assert_eq!(app.appcast().run_warnings().get("a"), Some(&1));
+        assert_eq!(
+            app.appcast().run_warnings().get("Other Run Warnings"),
+            Some(&2)
+        );
+        assert_eq!(app.appcast().run_warning_total(), 3);
+    }
+
+    #[test]
+    fn unhandled_config_warning_text_and_exemptions() {
+        let mut app = AppCasting::new("pFoo");
+        app.report_unhandled_config_warning("");
+        for exempt in [
+            "AppTick=4",
+            "MAXAPPTICK = 10",
+            "commstick=4",
+            "APP_LOGGING=log",
+            "TERM_REPORT_INTERVAL=1",
+            "MAX_APPCAST_EVENTS=5",
+            "DEPRECATED_OK=true",
+        ] {
+            app.report_unhandled_config_warning(exempt);
+        }
+        assert!(app.appcast().config_warnings().is_empty());
+        app.report_unhandled_config_warning("foo = bar");
+        app.report_unhandled_config_warning("MAX_APPCAST_RUN_WARNINGS=3");
+        app.report_unhandled_config_warning("COMMS_POLICY=lean");
+        assert_eq!(
+            app.appcast().config_warnings(),
+            [
+                "Unhandled config line: foo = bar",
+                "Unhandled config line: MAX_APPCAST_RUN_WARNINGS=3",
+                "Unhandled config line: COMMS_POLICY=lean",
+            ]
+        );
+        assert!(app.new_cfg_warning());
+    }
+
+    #[test]
+    fn node_request_variable_is_upper_case() {
+        assert_eq!(node_request_var("henry"), "APPCAST_REQ_HENRY");
+        assert_eq!(node_request_var("abe_2"), "APPCAST_REQ_ABE_2");
+    }
 }

@@ -149,7 +149,9 @@ fn hex_float(s: &str) -> Option<f64> {
         let start = j;
         let mut exp: i32 = 0;
         while j < b.len() && b[j].is_ascii_digit() {
-            exp = exp.saturating_mul(10).saturating_add(i32::from(b[j] - b'0'));
+            exp = exp
+                .saturating_mul(10)
+                .saturating_add(i32::from(b[j] - b'0'));
             j += 1;
         }
         if j > start {
