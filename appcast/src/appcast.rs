@@ -627,6 +627,42 @@ mod tests {
     }
 
     #[test]
+    fn round_trip_normalises_the_messages_only() {
+        let mut ac = bare("pX", "n", 2);
+        ac.set_messages("a\nb");
+        assert_eq!(AppCast::parse(&ac.to_moos_string()).messages(), "a\nb\n");
+        ac.set_messages("");
+        assert_eq!(AppCast::parse(&ac.to_moos_string()).messages(), "");
+        ac.set_messages("  lead\ntrail  ");
+        // The field value is trimmed as a whole: the first line loses its leading blanks; the
+        // last line's trailing blanks are shielded by the `!@` that follows every line.
+        assert_eq!(
+            AppCast::parse(&ac.to_moos_string()).messages(),
+            "lead\ntrail  \n"
+        );
+    }
+
+    #[test]
+    fn parse_caps_are_one_thousand() {
+        let events: Vec<String> = (0..1001).map(|k| format!("e{k}")).collect();
+        let warnings: Vec<String> = (0..1001).map(|k| format!("1:w{k:04}")).collect();
+        let s = format!(
+            "events={}!@#run_warnings={}",
+            events.join("!@"),
+            warnings.join("!@")
+        );
+        let ac = AppCast::parse(&s);
+        assert_eq!(ac.events_total(), 1000);
+        assert_eq!(ac.events().next(), Some("e1"));
+        assert_eq!(ac.run_warnings().len(), 1000);
+        assert!(!ac.run_warnings().contains_key("w1000"));
+        // Once full, even a held text is not updated.
+        let mut ac = ac;
+        ac.set_run_warning("w0000", 9);
+        assert_eq!(ac.run_warnings().get("w0000"), Some(&1));
+    }
+
+    #[test]
     fn formatted_string_by_hand() {
         let mut ac = bare("pFoo", "alpha", 3);
         ac.set_messages("body");

@@ -422,7 +422,9 @@ impl AppCasting {
     }
 
     /// Adds an event stamped with MOOS seconds since start-up, `[<now - start, 2 decimals>]: `.
-    /// Before the start time (a negative stamp) the text is kept bare, as in C++.
+    /// Before the start time (a negative stamp) the text is kept bare, as in C++. The C++ stamps
+    /// with `m_curr_time`, the MOOS time at which the current iteration (or mail batch) began,
+    /// not the instant of the call; pass that time for identical stamps.
     pub fn report_event(&mut self, text: &str, now: f64) {
         self.ac.event(text, Some(now - self.start_time));
     }
@@ -451,7 +453,8 @@ impl AppCasting {
     }
 
     /// Counts a run warning (ignored if empty; see [`AppCast::run_warning`] for the cap) and
-    /// marks a new run warning, which triggers the `thresh=run_warning` requests.
+    /// marks a new run warning, which triggers the `thresh=run_warning` requests. (The C++
+    /// returns `false` always, a convenience for `return reportRunWarning(..)`; nothing here.)
     pub fn report_run_warning(&mut self, text: &str) {
         if text.is_empty() {
             return;
@@ -519,7 +522,8 @@ impl AppCasting {
     }
 
     /// The `APPCAST` value for iteration `iteration` with report body `messages` (lines
-    /// separated by `\n`), and marks it posted at MOOS time `now`: the new run / config warning
+    /// separated by `\n`), and marks it posted at MOOS time `now` (the same iteration-start time
+    /// given to [`due`](Self::due), as the C++ records `m_curr_time`): the new run / config warning
     /// flags are cleared and the rate-limit clock restarts. Call it only when
     /// [`due`](Self::due).
     pub fn build(&mut self, iteration: u32, messages: &str, now: f64) -> String {
