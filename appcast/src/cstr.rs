@@ -1,0 +1,313 @@
+//! The handful of MOOS utility and C library string routines the appcasting code leans on,
+//! rewritten with the behaviour that matters for byte-exact results: `MOOSChomp`,
+//! `MOOSTrimWhiteSpace`, `MOOSIsNumeric`, C `atof` / `atoi` (glibc), and the `%g`-like default
+//! formatting of a `double` written to a C++ stream.
+
+/// `MOOSChomp(s, sep)`: everything before the first `sep` is returned and removed from `s`
+/// together with the separator; without a separator (or with an empty one) the whole of `s` is
+/// returned and `s` is left empty.
+pub(crate) fn chomp<'a>(s: &mut &'a str, sep: &str) -> &'a str {
+    let whole: &'a str = s;
+    if !sep.is_empty()
+        && let Some(at) = whole.find(sep)
+    {
+        *s = &whole[at + sep.len()..];
+        return &whole[..at];
+    }
+    *s = "";
+    whole
+}
+
+/// The characters `MOOSTrimWhiteSpace` strips from both ends (no vertical tab, no form feed).
+fn is_moos_blank(c: char) -> bool {
+    matches!(c, ' ' | '\t' | '\n' | '\r')
+}
+
+/// `MOOSTrimWhiteSpace`: strips spaces, tabs, line feeds and carriage returns from both ends.
+pub(crate) fn trim(s: &str) -> &str {
+    s.trim_matches(is_moos_blank)
+}
+
+/// `MOOSIsNumeric`: after trimming, every character is one of `0-9 . e E - +`. The empty string
+/// counts as numeric (there is no character outside the set).
+pub(crate) fn is_numeric(s: &str) -> bool {
+    trim(s)
+        .chars()
+        .all(|c| c.is_ascii_digit() || matches!(c, '.' | 'e' | 'E' | '-' | '+'))
+}
+
+/// The white space C's `isspace` skips in the "C" locale.
+fn is_c_space(b: u8) -> bool {
+    matches!(b, b' ' | b'\t' | b'\n' | 0x0b | 0x0c | b'\r')
+}
+
+/// C `atof` (glibc `strtod` without the end pointer): leading white space, an optional sign,
+/// then the longest prefix that is a decimal number, a hexadecimal number (`0x`), `inf`,
+/// `infinity` or `nan`; 0 when nothing converts.
+pub(crate) fn atof(s: &str) -> f64 {
+    let b = s.as_bytes();
+    let mut i = 0;
+    while i < b.len() && is_c_space(b[i]) {
+        i += 1;
+    }
+    let mut negative = false;
+    if i < b.len() && (b[i] == b'+' || b[i] == b'-') {
+        negative = b[i] == b'-';
+        i += 1;
+    }
+    let rest = &s[i..];
+    let magnitude = unsigned_float(rest).unwrap_or(0.0);
+    if negative { -magnitude } else { magnitude }
+}
+
+/// The unsigned part of [`atof`]; `None` when no conversion can be made.
+fn unsigned_float(s: &str) -> Option<f64> {
+    let lower = s.get(..8.min(s.len())).unwrap_or("").to_ascii_lowercase();
+    if lower.starts_with("inf") {
+        return Some(f64::INFINITY);
+    }
+    if lower.starts_with("nan") {
+        return Some(f64::NAN);
+    }
+    let b = s.as_bytes();
+    if b.len() >= 2 && b[0] == b'0' && (b[1] == b'x' || b[1] == b'X') {
+        if let Some(v) = hex_float(&s[2..]) {
+            return Some(v);
+        }
+        // "0x" with no hexadecimal digit after it: strtod converts the leading "0".
+        return Some(0.0);
+    }
+    let mut i = 0;
+    let mut digits = 0;
+    while i < b.len() && b[i].is_ascii_digit() {
+        i += 1;
+        digits += 1;
+    }
+    if i < b.len() && b[i] == b'.' {
+        i += 1;
+        while i < b.len() && b[i].is_ascii_digit() {
+            i += 1;
+            digits += 1;
+        }
+    }
+    if digits == 0 {
+        return None;
+    }
+    let mantissa_end = i;
+    if i < b.len() && (b[i] == b'e' || b[i] == b'E') {
+        let mut j = i + 1;
+        if j < b.len() && (b[j] == b'+' || b[j] == b'-') {
+            j += 1;
+        }
+        let exp_digits_start = j;
+        while j < b.len() && b[j].is_ascii_digit() {
+            j += 1;
+        }
+        if j > exp_digits_start {
+            i = j;
+        }
+    }
+    let text = &s[..i];
+    // Rust's parser accepts "5.", ".5" and exponents; a mantissa alone is always valid.
+    text.parse::<f64>()
+        .ok()
+        .or_else(|| s[..mantissa_end].parse::<f64>().ok())
+}
+
+/// A hexadecimal float body (after `0x`): hex digits, an optional fraction, an optional binary
+/// exponent `p[+-]digits`. `None` when there is no hex digit.
+fn hex_float(s: &str) -> Option<f64> {
+    let b = s.as_bytes();
+    let mut i = 0;
+    let mut value = 0.0f64;
+    let mut digits = 0;
+    while i < b.len() && b[i].is_ascii_hexdigit() {
+        value = value * 16.0 + f64::from((b[i] as char).to_digit(16).unwrap_or(0));
+        i += 1;
+        digits += 1;
+    }
+    let mut scale = 0i32;
+    if i < b.len() && b[i] == b'.' {
+        i += 1;
+        while i < b.len() && b[i].is_ascii_hexdigit() {
+            value = value * 16.0 + f64::from((b[i] as char).to_digit(16).unwrap_or(0));
+            scale -= 4;
+            i += 1;
+            digits += 1;
+        }
+    }
+    if digits == 0 {
+        return None;
+    }
+    if i < b.len() && (b[i] == b'p' || b[i] == b'P') {
+        let mut j = i + 1;
+        let mut neg = false;
+        if j < b.len() && (b[j] == b'+' || b[j] == b'-') {
+            neg = b[j] == b'-';
+            j += 1;
+        }
+        let start = j;
+        let mut exp: i32 = 0;
+        while j < b.len() && b[j].is_ascii_digit() {
+            exp = exp
+                .saturating_mul(10)
+                .saturating_add(i32::from(b[j] - b'0'));
+            j += 1;
+        }
+        if j > start {
+            scale = scale.saturating_add(if neg { -exp } else { exp });
+        }
+    }
+    Some(value * 2f64.powi(scale))
+}
+
+/// C `atoi` as glibc does it, `(int) strtol(s, NULL, 10)`: leading white space, an optional
+/// sign, decimal digits; an out-of-range value saturates to the 64-bit `long` range and is then
+/// truncated to 32 bits; 0 when nothing converts.
+pub(crate) fn atoi(s: &str) -> i32 {
+    let b = s.as_bytes();
+    let mut i = 0;
+    while i < b.len() && is_c_space(b[i]) {
+        i += 1;
+    }
+    let mut negative = false;
+    if i < b.len() && (b[i] == b'+' || b[i] == b'-') {
+        negative = b[i] == b'-';
+        i += 1;
+    }
+    let mut value: i128 = 0;
+    while i < b.len() && b[i].is_ascii_digit() {
+        value = (value * 10 + i128::from(b[i] - b'0')).min(i128::from(i64::MAX) + 1);
+        i += 1;
+    }
+    if negative {
+        value = -value;
+    }
+    let long = value.clamp(i128::from(i64::MIN), i128::from(i64::MAX)) as i64;
+    long as i32
+}
+
+/// A `double` written to a default-formatted C++ stream (`%g` with 6 significant digits):
+/// trailing zeros dropped, scientific form (`1e+07`, `1.5e-05`) below 1e-4 or from 1e6 up.
+pub(crate) fn fmt_g(x: f64) -> String {
+    if x.is_nan() {
+        return if x.is_sign_negative() { "-nan" } else { "nan" }.to_string();
+    }
+    if x.is_infinite() {
+        return if x < 0.0 { "-inf" } else { "inf" }.to_string();
+    }
+    if x == 0.0 {
+        return if x.is_sign_negative() { "-0" } else { "0" }.to_string();
+    }
+    let sci = format!("{:.5e}", x);
+    let (mantissa, exp) = sci.split_once('e').unwrap_or((&sci, "0"));
+    let exp: i32 = exp.parse().unwrap_or(0);
+    if !(-4..6).contains(&exp) {
+        let mantissa = strip_zeros(mantissa);
+        let sign = if exp < 0 { '-' } else { '+' };
+        format!("{mantissa}e{sign}{:02}", exp.abs())
+    } else {
+        let decimals = (5 - exp).max(0) as usize;
+        strip_zeros(&format!("{:.*}", decimals, x)).to_string()
+    }
+}
+
+/// Drops the trailing zeros of a decimal fraction, and the point if nothing is left after it.
+fn strip_zeros(s: &str) -> &str {
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.')
+    } else {
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn chomp_splits_at_the_first_separator_or_takes_everything() {
+        let mut s = "a!@b!@#c";
+        assert_eq!(chomp(&mut s, "!@#"), "a!@b");
+        assert_eq!(s, "c");
+        assert_eq!(chomp(&mut s, "!@#"), "c");
+        assert_eq!(s, "");
+        let mut t = "x=1=2";
+        assert_eq!(chomp(&mut t, "="), "x");
+        assert_eq!(t, "1=2");
+        let mut u = "abc";
+        assert_eq!(chomp(&mut u, ""), "abc");
+        assert_eq!(u, "");
+    }
+
+    #[test]
+    fn trim_strips_only_the_four_moos_blanks() {
+        assert_eq!(trim(" \t\r\n a b \n"), "a b");
+        assert_eq!(trim("\x0ba\x0c"), "\x0ba\x0c");
+        assert_eq!(trim("   "), "");
+    }
+
+    #[test]
+    fn is_numeric_is_a_character_set_test() {
+        assert!(is_numeric(" 12.5 "));
+        assert!(is_numeric(""));
+        assert!(is_numeric("1.2.3e--"));
+        assert!(!is_numeric("0x10"));
+        assert!(!is_numeric("1 2"));
+        assert!(!is_numeric("inf"));
+    }
+
+    #[test]
+    fn atof_takes_the_longest_number_prefix() {
+        assert_eq!(atof("3.0"), 3.0);
+        assert_eq!(atof("  -2.5xyz"), -2.5);
+        assert_eq!(atof("1.2.3"), 1.2);
+        assert_eq!(atof("1e3"), 1000.0);
+        assert_eq!(atof("1e"), 1.0);
+        assert_eq!(atof("1e+"), 1.0);
+        assert_eq!(atof(".5"), 0.5);
+        assert_eq!(atof("5."), 5.0);
+        assert_eq!(atof("abc"), 0.0);
+        assert_eq!(atof(""), 0.0);
+        assert_eq!(atof("-"), 0.0);
+        assert_eq!(atof("."), 0.0);
+        assert_eq!(atof("0x1A"), 26.0);
+        assert_eq!(atof("0x1p3"), 8.0);
+        assert_eq!(atof("0x.8"), 0.5);
+        assert_eq!(atof("0xg"), 0.0);
+        assert_eq!(atof("1e999"), f64::INFINITY);
+        assert_eq!(atof("-Infinity"), f64::NEG_INFINITY);
+        assert!(atof("nan").is_nan());
+    }
+
+    #[test]
+    fn atoi_reads_a_decimal_prefix_and_wraps_like_glibc() {
+        assert_eq!(atoi("42"), 42);
+        assert_eq!(atoi(" -7x"), -7);
+        assert_eq!(atoi("1e3"), 1);
+        assert_eq!(atoi("2.9"), 2);
+        assert_eq!(atoi("+"), 0);
+        assert_eq!(atoi(""), 0);
+        // 2^32 + 5 fits a long and truncates to 5.
+        assert_eq!(atoi("4294967301"), 5);
+        // Beyond a long: LONG_MAX, whose low 32 bits are all ones.
+        assert_eq!(atoi("99999999999999999999999"), -1);
+        assert_eq!(atoi("-99999999999999999999999"), 0);
+    }
+
+    #[test]
+    fn fmt_g_matches_the_default_stream_format() {
+        assert_eq!(fmt_g(0.0), "0");
+        assert_eq!(fmt_g(-0.0), "-0");
+        assert_eq!(fmt_g(-1.0), "-1");
+        assert_eq!(fmt_g(-0.5), "-0.5");
+        assert_eq!(fmt_g(0.001), "0.001");
+        assert_eq!(fmt_g(0.0001), "0.0001");
+        assert_eq!(fmt_g(0.00001), "1e-05");
+        assert_eq!(fmt_g(-123456.0), "-123456");
+        assert_eq!(fmt_g(-1234567.0), "-1.23457e+06");
+        assert_eq!(fmt_g(1.0 / 3.0), "0.333333");
+        assert_eq!(fmt_g(-2.5e-7), "-2.5e-07");
+        assert_eq!(fmt_g(f64::NEG_INFINITY), "-inf");
+    }
+}
