@@ -176,6 +176,12 @@ impl AppCasting {
         }
     }
 
+    /// Moves the start time (the zero of event stamps) to MOOS time `now`, for an app whose
+    /// configuration is read before it connects.
+    pub fn set_start_time(&mut self, now: f64) {
+        self.start_time = now;
+    }
+
     /// `OnStartUp()` with no directives, in the C++ order (which is the order of the warnings):
     ///
     /// 1. `COMMS_POLICY`, `APP_LOGGING`, `DEPRECATED_OK` lines of the config block;

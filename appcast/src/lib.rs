@@ -61,6 +61,8 @@
 pub mod appcast;
 pub mod casting;
 mod cstr;
+pub mod table;
 
 pub use appcast::AppCast;
 pub use casting::{AppCasting, AppLogging, CommsPolicy, Request, WarningFilter};
+pub use table::Table;

@@ -32,6 +32,10 @@ pub enum ConfigError {
     /// A problem in the behaviour file.
     #[error("{0}")]
     Behavior(String),
+    /// A bad value of a parameter the appcasting layer reads (`TERM_REPORT_INTERVAL`,
+    /// `MAX_APPCAST_EVENTS`, `MAX_APPCAST_RUN_WARNINGS`), in libMOOS's words.
+    #[error("{0}")]
+    Appcast(String),
 }
 
 /// The mission-file globals pHelmIvP reads.

@@ -338,20 +338,39 @@ pub struct Helm {
     scratch: String,
     registered: Vec<String>,
     subs_dirty: bool,
+    /// The latest iteration ended in the first second of deciding (pHelmIvP returns before
+    /// its appcast then).
+    delayed: bool,
+    /// The latest decision iteration's report (for the appcast).
+    last_report: HelmReport,
+    /// The latest value each variable was posted with by a behaviour (the appcast's table;
+    /// pHelmIvP's `m_outgoing_*` maps), by variable name.
+    outgoing: std::collections::BTreeMap<String, Outgoing>,
     /// Node reports from other vehicles (`IVPHELM_LEDGER_SUMMARY`).
     ledger: crate::ledger::ContactLedger,
     /// Contacts `BHV_ABLE_FILTER` disabled spawning for.
     disabled_contacts: crate::ledger::DisabledContacts,
-    /// Run warnings for the appcast (MOOS `reportRunWarning`), oldest first.
-    run_warnings: Vec<RunWarning>,
+    /// Run warnings and events for the appcast, oldest first.
+    notes: Vec<AppcastNote>,
 }
 
-/// A run warning the helm reports (MOOS `reportRunWarning` / `retractRunWarning`): the app
-/// shows it in its appcast.
+/// A behaviour's latest posting of a variable.
+#[derive(Debug, Clone)]
+struct Outgoing {
+    value: Value,
+    time: f64,
+    bhv: String,
+    iter: u64,
+}
+
+/// What the helm reports for its appcast (MOOS `reportRunWarning`, `retractRunWarning`,
+/// `reportEvent`).
 #[derive(Debug, Clone, PartialEq)]
-pub enum RunWarning {
-    /// A warning to report (repeats are counted by the appcast).
-    Report(String),
+pub enum AppcastNote {
+    /// A run warning (repeats are counted by the appcast).
+    Warning(String),
+    /// An event (a behaviour's `BHV_EVENT` posting).
+    Event(String),
     /// A warning no longer true (a `BHV_WARNING` posted with a `retract` key).
     Retract(String),
 }
@@ -566,9 +585,12 @@ impl Helm {
             scratch: String::new(),
             registered: Vec::new(),
             subs_dirty: false,
+            delayed: false,
+            last_report: HelmReport::default(),
+            outgoing: std::collections::BTreeMap::new(),
             ledger: crate::ledger::ContactLedger::new(45.0),
             disabled_contacts: crate::ledger::DisabledContacts::default(),
-            run_warnings: Vec::new(),
+            notes: Vec::new(),
         };
         helm.ledger = crate::ledger::ContactLedger::new(helm.config.contact_max_age);
         helm.registered = helm.wanted_subscriptions();
@@ -836,7 +858,7 @@ impl Helm {
                         m.var, m.source
                     );
                     fixed(&mut msg, skew, 2);
-                    self.run_warnings.push(RunWarning::Report(msg.clone()));
+                    self.notes.push(AppcastNote::Warning(msg.clone()));
                     msg.push_str(" curr_time: ");
                     fixed(&mut msg, now, 3);
                     self.notify("IVPHELM_SKEW", Value::Str(msg), "");
@@ -906,10 +928,10 @@ impl Helm {
         let name = match self.ledger.process(&report, now) {
             Ok(name) => name,
             Err(why) => {
-                self.run_warnings
-                    .push(RunWarning::Report(format!("Bad NodeReport: {text}")));
-                self.run_warnings
-                    .push(RunWarning::Report(format!("The issue: {why}")));
+                self.notes
+                    .push(AppcastNote::Warning(format!("Bad NodeReport: {text}")));
+                self.notes
+                    .push(AppcastNote::Warning(format!("The issue: {why}")));
                 String::new()
             }
         };
@@ -924,8 +946,12 @@ impl Helm {
             APP_NAME,
             now,
         );
-        self.info
-            .set(&format!("{upper}_NAV_TYPE"), Value::Str(vtype), APP_NAME, now);
+        self.info.set(
+            &format!("{upper}_NAV_TYPE"),
+            Value::Str(vtype),
+            APP_NAME,
+            now,
+        );
     }
 
     /// The vehicle's own report (pHelmIvP `processNodeReportLocal`): only its group, type,
@@ -939,35 +965,43 @@ impl Helm {
         let r = crate::ledger::NodeReport::parse(text);
         let upper = r.name.to_ascii_uppercase();
         if upper.is_empty() {
-            self.run_warnings
-                .push(RunWarning::Report("Unhandled NODE_REPORT_LOCAL".into()));
+            self.notes
+                .push(AppcastNote::Warning("Unhandled NODE_REPORT_LOCAL".into()));
             return;
         }
         for (suffix, v) in [("GROUP", r.group), ("TYPE", r.vtype), ("COLOR", r.color)] {
             if !v.is_empty() {
-                self.info
-                    .set(&format!("{upper}_NAV_{suffix}"), Value::Str(v), APP_NAME, now);
+                self.info.set(
+                    &format!("{upper}_NAV_{suffix}"),
+                    Value::Str(v),
+                    APP_NAME,
+                    now,
+                );
             }
         }
         if let Some(len) = r.length_m.filter(|&l| l != 0.0) {
-            self.info
-                .set(&format!("{upper}_NAV_LENGTH"), Value::Num(len), APP_NAME, now);
+            self.info.set(
+                &format!("{upper}_NAV_LENGTH"),
+                Value::Num(len),
+                APP_NAME,
+                now,
+            );
         }
     }
 
     /// Keeps at most this many untaken run warnings (the oldest go first).
-    const MAX_RUN_WARNINGS: usize = 256;
+    const MAX_APPCAST_NOTES: usize = 256;
 
-    fn cap_run_warnings(&mut self) {
-        let n = self.run_warnings.len();
-        if n > Self::MAX_RUN_WARNINGS {
-            self.run_warnings.drain(..n - Self::MAX_RUN_WARNINGS);
+    fn cap_appcast_notes(&mut self) {
+        let n = self.notes.len();
+        if n > Self::MAX_APPCAST_NOTES {
+            self.notes.drain(..n - Self::MAX_APPCAST_NOTES);
         }
     }
 
     /// Takes the run warnings reported since the last call (the appcast shows them).
-    pub fn take_run_warnings(&mut self) -> Vec<RunWarning> {
-        std::mem::take(&mut self.run_warnings)
+    pub fn take_appcast_notes(&mut self) -> Vec<AppcastNote> {
+        std::mem::take(&mut self.notes)
     }
 
     /// The contact ledger.
@@ -1015,12 +1049,13 @@ impl Helm {
     /// one, and returns the postings in pHelmIvP's order.
     pub fn iterate(&mut self, now: f64) -> &[Posting] {
         self.out.clear();
+        self.delayed = false;
         self.info.set_now(now);
         if !self.started {
             self.startup(now);
         }
         self.handle_mail(now);
-        self.cap_run_warnings();
+        self.cap_appcast_notes();
 
         // §4.3 step 1: status, IVPHELM_STATE.
         self.status_update();
@@ -1065,6 +1100,7 @@ impl Helm {
         }
         // Step 7: no decision in the first second.
         if now - self.start_time < 1.0 {
+            self.delayed = true;
             return self.out.as_slice();
         }
         // After a RESTART_HELM, one confirmation once decisions resume.
@@ -1073,7 +1109,7 @@ impl Helm {
             self.notify("IVPHELM_RESTARTED", Value::Str("true".into()), "");
         }
         self.decide(now);
-        self.cap_run_warnings();
+        self.cap_appcast_notes();
         self.out.as_slice()
     }
 
@@ -1294,14 +1330,88 @@ impl Helm {
         }
         self.info.clear_deltas();
         self.cur_report = std::mem::replace(&mut self.prev_report, rendered);
+        // The report stays for the appcast; the one before it gives its lines back.
+        let mut old = std::mem::replace(&mut self.last_report, report);
         for list in [
-            &mut report.active,
-            &mut report.running,
-            &mut report.idle,
-            &mut report.completed,
+            &mut old.active,
+            &mut old.running,
+            &mut old.idle,
+            &mut old.completed,
         ] {
             self.line_pool.append(list);
         }
+    }
+
+    /// Whether the latest [`Helm::iterate`] stopped in the first second of deciding, before
+    /// any decision (pHelmIvP posts no appcast in that case).
+    pub fn in_decision_delay(&self) -> bool {
+        self.delayed
+    }
+
+    /// The report of the latest decision iteration (empty before the first).
+    pub fn last_report(&self) -> &HelmReport {
+        &self.last_report
+    }
+
+    /// The appcast body pHelmIvP builds (`buildReport`) at helm time `now`: in MALCONFIG a
+    /// boxed notice; otherwise the comms policy, the latest report's summary
+    /// ([`HelmReport::formatted_summary`]), the hold-on-apps status and the table of the
+    /// behaviours' latest postings.
+    pub fn appcast_body(&self, now: f64, comms_policy: &str, out: &mut String) {
+        if self.state == HelmState::Malconfig {
+            let bang = "!".repeat(49);
+            let blank = format!("!!{}!!", " ".repeat(45));
+            for line in [
+                bang.as_str(),
+                blank.as_str(),
+                "!!  The helm is in the MALCONFIG state due to  !!",
+                "!!  unresolved configuration warnings.         !!",
+                blank.as_str(),
+                bang.as_str(),
+            ] {
+                out.push_str(line);
+                out.push('\n');
+            }
+            return;
+        }
+        out.push_str("  Comms Policy: ");
+        out.push_str(comms_policy);
+        out.push('\n');
+        self.last_report
+            .formatted_summary(now, &self.config.domain, out);
+        let hold = if self.held_apps.is_empty() {
+            "none"
+        } else if self.holding() {
+            "waiting"
+        } else {
+            "satisfied"
+        };
+        out.push_str("Hold-On-Apps: ");
+        out.push_str(hold);
+        out.push_str("\n\n\n");
+        let mut table = appcast::Table::new(5);
+        table.push("Variable | Behavior | Time | Iter | Value");
+        table.add_header_lines();
+        table.set_max_width(4, 55);
+        table.set_no_pad(4);
+        let mut cell = String::new();
+        for (var, o) in &self.outgoing {
+            table.push(var);
+            table.push(&o.bhv);
+            cell.clear();
+            fixed(&mut cell, o.time - self.start_time, 2);
+            table.push(&cell);
+            cell.clear();
+            uint(&mut cell, o.iter);
+            table.push(&cell);
+            cell.clear();
+            match &o.value {
+                Value::Str(v) => cell.push_str(v),
+                Value::Num(x) => behaviors::fmt::compact(&mut cell, *x, 5),
+            }
+            table.push(&cell);
+        }
+        table.write(out);
     }
 
     fn post_behavior_messages(&mut self, iter: u64, now: f64) {
@@ -1351,10 +1461,10 @@ impl Helm {
                 let w = format!("{}: {text}", m.var);
                 let retract = m.var == "BHV_WARNING"
                     && matches!(&m.key, PostKey::Tag(t) if t.ends_with("retract"));
-                self.run_warnings.push(if retract {
-                    RunWarning::Retract(w)
+                self.notes.push(if retract {
+                    AppcastNote::Retract(w)
                 } else {
-                    RunWarning::Report(w)
+                    AppcastNote::Warning(w)
                 });
             }
             let name = &self.slots[i].common.name;
@@ -1375,6 +1485,30 @@ impl Helm {
                 }
             };
             if post {
+                match self.outgoing.get_mut(&m.var) {
+                    Some(o) => {
+                        o.value.clone_from(&m.value);
+                        o.time = now;
+                        o.bhv.clone_from(name);
+                        o.iter = iter;
+                    }
+                    None => {
+                        self.outgoing.insert(
+                            m.var.clone(),
+                            Outgoing {
+                                value: m.value.clone(),
+                                time: now,
+                                bhv: name.clone(),
+                                iter,
+                            },
+                        );
+                    }
+                }
+                if m.var == "BHV_EVENT"
+                    && let Value::Str(e) = &m.value
+                {
+                    self.notes.push(AppcastNote::Event(e.clone()));
+                }
                 let p = self.out.next(&m.var);
                 p.value = m.value;
                 uint(&mut p.aux, iter);
@@ -2315,10 +2449,7 @@ mod ledger_tests {
             long_origin: Some("0".into()),
             community: Some("abe".into()),
         };
-        let mut params = vec![
-            ("domain", "course:0:359:360"),
-            ("domain", "speed:0:4:41"),
-        ];
+        let mut params = vec![("domain", "course:0:359:360"), ("domain", "speed:0:4:41")];
         params.extend_from_slice(extra);
         Helm::from_parsed(&params, &g, &bhv)
     }
@@ -2375,7 +2506,11 @@ mod ledger_tests {
                 "NAME=ben,X=5,Y=6,SPD=1,HDG=0,TIME=0.5,TYPE=kayak,GROUP=red",
                 0.5,
             ),
-            Mail::new("NODE_REPORT_LOCAL", "NAME=abe,X=0,Y=0,TIME=0.5,TYPE=UUV,LENGTH=4", 0.5),
+            Mail::new(
+                "NODE_REPORT_LOCAL",
+                "NAME=abe,X=0,Y=0,TIME=0.5,TYPE=UUV,LENGTH=4",
+                0.5,
+            ),
             Mail::new("NODE_REPORT", "NAME=cal,X=5,Y=6", 0.5),
         ]);
         // Posted in the first second too (before the decision delay).
@@ -2392,10 +2527,10 @@ mod ledger_tests {
         // The rejected report: warnings, and the C++'s empty-name entries.
         assert_eq!(info.text("_NAV_GROUP"), Some(""));
         assert_eq!(
-            h.take_run_warnings(),
+            h.take_appcast_notes(),
             [
-                RunWarning::Report("Bad NodeReport: NAME=cal,X=5,Y=6".into()),
-                RunWarning::Report("The issue: Missing timestamp.".into())
+                AppcastNote::Warning("Bad NodeReport: NAME=cal,X=5,Y=6".into()),
+                AppcastNote::Warning("The issue: Missing timestamp.".into())
             ]
         );
         // Every iteration, also under manual override; stale after contact_max_age.
@@ -2411,7 +2546,11 @@ mod ledger_tests {
         let mut h = helm(&[("start_engaged", "true")]);
         nav(&mut h, 0.0);
         h.iterate(0.0);
-        h.on_mail(&[Mail::new("BHV_ABLE_FILTER", "action=disable,contact=ben", 1.0)]);
+        h.on_mail(&[Mail::new(
+            "BHV_ABLE_FILTER",
+            "action=disable,contact=ben",
+            1.0,
+        )]);
         nav(&mut h, 1.0);
         let p = h.iterate(1.0).to_vec();
         assert!(h.contact_disabled("ben"));
@@ -2420,6 +2559,6 @@ mod ledger_tests {
         assert!(p.iter().all(|p| p.var != "IVPHELM_BHV_DISABLED"));
         let active = p.iter().find(|p| p.var == "IVPHELM_BHV_ACTIVE").unwrap();
         assert_eq!(active.value, Value::Str("spd".into()));
-        assert!(h.take_run_warnings().is_empty());
+        assert!(h.take_appcast_notes().is_empty());
     }
 }

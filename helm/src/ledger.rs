@@ -360,7 +360,10 @@ mod tests {
         assert_eq!((r.x_m, r.y_m), (Some(10.5), Some(-3.0)));
         assert_eq!(r.lat_deg, None, "not a MOOS number");
         assert_eq!((r.vtype.as_str(), r.group.as_str()), ("kayak", "red"));
-        assert_eq!((r.time, r.depth_m, r.length_m), (Some(1000.25), Some(4.0), Some(4.0)));
+        assert_eq!(
+            (r.time, r.depth_m, r.length_m),
+            (Some(1000.25), Some(4.0), Some(4.0))
+        );
         let j = NodeReport::parse(r#"{"NAME":"cal","X":1,"Y":2,"UTC_TIME":5,"TYPE":"UUV"}"#);
         assert_eq!(j.name, "cal");
         assert_eq!((j.x_m, j.time), (Some(1.0), Some(5.0)));
@@ -416,7 +419,10 @@ mod tests {
         l.clear_stale(145.0, &[], 2.0);
         assert_eq!(l.len(), 3, "45 s old is not stale yet");
         l.clear_stale(145.5, &["abe"], 2.0);
-        assert!(l.get("abe").is_some(), "kept contacts get twice the threshold");
+        assert!(
+            l.get("abe").is_some(),
+            "kept contacts get twice the threshold"
+        );
         l.clear_stale(145.5, &[], 2.0);
         assert!(l.get("abe").is_none());
         l.clear_stale(1e6, &[], 2.0);
@@ -432,7 +438,10 @@ mod tests {
         d.apply("action=able,contact=345");
         assert!(!d.contains("345"));
         d.apply("action=enable,contact=9");
-        assert!(!d.contains("9"), "only `able` and `disable` touch the blacklist");
+        assert!(
+            !d.contains("9"),
+            "only `able` and `disable` touch the blacklist"
+        );
         d.apply("action=disable,vsource=ais");
         for k in 0..=DisabledContacts::MAX {
             d.apply(&format!("action=disable,contact=c{k}"));

@@ -263,3 +263,193 @@ impl Rendered {
         }
     }
 }
+
+/// MOOS `HelmReport::timeInState`: seconds in the state (2 decimals), `always` for a
+/// behaviour that entered it at time 0 or before.
+fn time_in_state(now: f64, entered: f64, out: &mut String) {
+    if entered > 0.0 {
+        fixed(out, now - entered, 2);
+    } else {
+        out.push_str("always");
+    }
+}
+
+impl HelmReport {
+    /// The lines of pHelmIvP's appcast summary (`HelmReport::formattedSummary`, terse), at
+    /// app time `now`, each ended by a newline. Solve, create and loop times are 0: the
+    /// engine reads no clock.
+    pub fn formatted_summary(&self, now: f64, domain: &Domain, out: &mut String) {
+        let line = |out: &mut String, label: &str, v: u64| {
+            out.push_str(label);
+            uint(out, v);
+            out.push('\n');
+        };
+        line(out, "  Helm Iteration:  ", self.iteration);
+        line(out, "  IvP Functions:   ", self.ofnum as u64);
+        line(out, "  Pieces (Formed): ", self.pcs_formed as u64);
+        line(out, "  Pieces (Cached): ", self.pcs_cached as u64);
+        out.push_str("  Mode(s):         ");
+        out.push_str(&self.modes);
+        out.push('\n');
+        for label in ["  SolveTime:   ", "  CreateTime:  ", "  LoopTime:    "] {
+            out.push_str(label);
+            out.push_str("0.00   (max=0.00)\n");
+        }
+        out.push_str("  Halted:         ");
+        out.push_str(if self.halted { "true" } else { "false" });
+        out.push_str("   (");
+        uint(out, self.warnings);
+        out.push_str(" warnings)\n");
+        out.push_str("  Active Goal:    ");
+        out.push_str(if self.active_goal { "true" } else { "false" });
+        out.push('\n');
+        out.push_str("Helm Decision: [");
+        out.push_str(&domain.to_string().replace(':', "] ["));
+        out.push_str("]\n");
+        {
+            for v in domain.vars() {
+                out.push_str("  ");
+                out.push_str(v.name());
+                match self.decisions.iter().find(|(n, _)| n == v.name()) {
+                    Some((_, x)) => {
+                        out.push_str(" = ");
+                        compact(out, *x, 5);
+                    }
+                    None => out.push_str(" = no-decision"),
+                }
+                out.push('\n');
+            }
+        }
+        out.push_str("Behaviors Spawnable: --------- (0)\n");
+        out.push_str("Behaviors Active: ---------- (");
+        uint(out, self.active.len() as u64);
+        out.push_str(")\n");
+        for b in &self.active {
+            out.push_str("  ");
+            out.push_str(&b.name);
+            out.push_str(" [");
+            time_in_state(now, b.time, out);
+            out.push_str("] (pwt=");
+            compact(out, b.pwt, 5);
+            out.push_str(") (pcs=");
+            uint(out, b.pcs as u64);
+            out.push_str(") (cpu=0) (upd=");
+            out.push_str(&b.updates);
+            out.push_str(")\n");
+        }
+        out.push_str("Behaviors Running: --------- (");
+        uint(out, self.running.len() as u64);
+        out.push_str(")\n");
+        for b in &self.running {
+            out.push_str("  ");
+            out.push_str(&b.name);
+            out.push_str(" [");
+            time_in_state(now, b.time, out);
+            out.push_str("]\n");
+        }
+        out.push_str("Behaviors Disabled: --------- (0)\n");
+        out.push_str("Behaviors Idle: ------------ (");
+        uint(out, self.idle.len() as u64);
+        out.push_str(")\n  ");
+        for (i, b) in self.idle.iter().enumerate() {
+            if i > 0 {
+                out.push_str(", ");
+            }
+            out.push_str(&b.name);
+            out.push('[');
+            time_in_state(now, b.time, out);
+            out.push(']');
+        }
+        out.push('\n');
+        out.push_str("Behaviors Completed: ------- (");
+        uint(out, self.completed.len() as u64);
+        out.push_str(")\n");
+        // Latest first (by time, then name, both descending), repeats counted.
+        let mut done: Vec<(f64, &str, usize)> = Vec::new();
+        for b in &self.completed {
+            match done.iter_mut().find(|(_, n, _)| *n == b.name) {
+                Some(e) => {
+                    e.0 = e.0.max(b.time);
+                    e.2 += 1;
+                }
+                None => done.push((b.time.max(0.0), &b.name, 1)),
+            }
+        }
+        done.sort_by(|a, b| b.0.total_cmp(&a.0).then_with(|| b.1.cmp(a.1)));
+        for (i, (t, name, n)) in done.iter().enumerate() {
+            if i > 0 {
+                out.push(',');
+            }
+            out.push_str(name);
+            if *n > 1 {
+                out.push('(');
+                uint(out, *n as u64);
+                out.push(')');
+            }
+            out.push('[');
+            time_in_state(self.time, *t, out);
+            out.push(']');
+        }
+        out.push('\n');
+    }
+}
+
+#[cfg(test)]
+mod summary_tests {
+    use super::*;
+
+    fn line(name: &str, time: f64) -> BhvLine {
+        BhvLine {
+            name: name.into(),
+            time,
+            updates: "n/a".into(),
+            pwt: 100.0,
+            pcs: 4,
+        }
+    }
+
+    #[test]
+    fn the_appcast_summary_has_pphelmivps_lines() {
+        let r = HelmReport {
+            iteration: 12,
+            time: 30.0,
+            ofnum: 1,
+            pcs_formed: 4,
+            warnings: 2,
+            decisions: vec![("speed".into(), 1.5)],
+            active_goal: true,
+            modes: "MODE@ACTIVE".into(),
+            active: vec![line("wpt", 20.5)],
+            idle: vec![line("ret", 0.0), line("sk", 10.0)],
+            completed: vec![line("a", 25.0), line("b", 28.0), line("a", 26.0)],
+            ..HelmReport::default()
+        };
+        let mut s = String::new();
+        let d = Domain::parse_specs(["course:0:359:360", "speed:0:4:41"]).unwrap();
+        r.formatted_summary(31.0, &d, &mut s);
+        let expected = "  Helm Iteration:  12
+  IvP Functions:   1
+  Pieces (Formed): 4
+  Pieces (Cached): 0
+  Mode(s):         MODE@ACTIVE
+  SolveTime:   0.00   (max=0.00)
+  CreateTime:  0.00   (max=0.00)
+  LoopTime:    0.00   (max=0.00)
+  Halted:         false   (2 warnings)
+  Active Goal:    true
+Helm Decision: [course,0,359,360] [speed,0,4,41]
+  course = no-decision
+  speed = 1.5
+Behaviors Spawnable: --------- (0)
+Behaviors Active: ---------- (1)
+  wpt [10.50] (pwt=100) (pcs=4) (cpu=0) (upd=n/a)
+Behaviors Running: --------- (0)
+Behaviors Disabled: --------- (0)
+Behaviors Idle: ------------ (2)
+  ret[always], sk[21.00]
+Behaviors Completed: ------- (3)
+b[2.00],a(2)[4.00]
+";
+        assert_eq!(s, expected);
+    }
+}

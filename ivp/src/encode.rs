@@ -99,11 +99,7 @@ pub fn mux(whole: &str, id: &str, packet_size: usize, out: &mut Vec<String>) {
     let header = id.len() + 50;
     let body = packet_size.saturating_sub(header);
     let bytes = whole.as_bytes();
-    let n = if body == 0 {
-        1
-    } else {
-        bytes.len() / body + 1
-    };
+    let n = if body == 0 { 1 } else { bytes.len() / body + 1 };
     let body = if body == 0 { bytes.len() } else { body };
     for k in 0..n {
         let from = (k * body).min(bytes.len());
@@ -159,7 +155,9 @@ pub fn demux<'a>(parts: impl IntoIterator<Item = &'a str>) -> Option<String> {
 pub fn decode(text: &str) -> Result<(IvpFunction, String), IvpError> {
     let bad = |why: &str| IvpError::Decode(why.to_string());
     let rest = text.strip_prefix("H,").ok_or_else(|| bad("no H header"))?;
-    let (len, rest) = rest.split_once(',').ok_or_else(|| bad("no context length"))?;
+    let (len, rest) = rest
+        .split_once(',')
+        .ok_or_else(|| bad("no context length"))?;
     let len: usize = len.parse().map_err(|_| bad("context length"))?;
     if rest.len() < len + 1 || !rest.is_char_boundary(len) {
         return Err(bad("context shorter than its length"));
@@ -354,7 +352,9 @@ mod tests {
         f.push_piece(&[180, 0], &[359, 20], &[-0.25, 0.0], 92.0)
             .unwrap();
         let s = encode_string(&f, "12:wpt,1");
-        assert!(s.starts_with("H,8,12:wpt,1,2,2,1,12.5,D,course;0;359;360:speed;0;2;21,G,359,20,F,"));
+        assert!(
+            s.starts_with("H,8,12:wpt,1,2,2,1,12.5,D,course;0;359;360:speed;0;2;21,G,359,20,F,")
+        );
         assert!(s.ends_with(",180,359,0,20,-0.25,0,92."), "{s}");
         let (g, ctx) = decode(&s).unwrap();
         assert_eq!(ctx, "12:wpt,1");

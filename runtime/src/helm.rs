@@ -26,6 +26,12 @@ pub struct HelmApp {
     unregistered: Vec<String>,
     /// The process's CPU load, percent (single-app mode).
     cpu_percent: Option<f64>,
+    /// Appcasting (AppCastingMOOSApp): requests, warnings, events, `APPCAST` postings.
+    appcast: appcast::AppCasting,
+    /// Iterations so far (AppCastingMOOSApp's counter).
+    app_iter: u32,
+    /// Scratch for the appcast body.
+    body: String,
 }
 
 /// What a helm needs to read its configuration again (pHelmIvP `RESTART_HELM`).
@@ -70,6 +76,31 @@ impl HelmApp {
                 }
             }
         }
+        // AppCastingMOOSApp reads its own keys first; a bad one is a configuration warning,
+        // which puts the helm in MALCONFIG. (A missing community or block is the helm's own
+        // configuration error already.)
+        let mut appcast = appcast::AppCasting::new(name);
+        let lines: Vec<String> = block
+            .iter()
+            .flat_map(|b| b.entries.iter().rev())
+            .map(|p| format!("{}={}", p.key, p.value))
+            .collect();
+        let warp = mission
+            .global("MOOSTimeWarp")
+            .and_then(|w| w.trim().parse::<f64>().ok())
+            .filter(|w| *w > 0.0)
+            .unwrap_or(1.0);
+        let community = mission.global("Community").unwrap_or("");
+        appcast.start_up(Some(community), Some(lines.as_slice()), 0.0, warp);
+        let mut helm = helm;
+        for w in appcast.appcast().config_warnings() {
+            helm.add_config_error(::helm::config::ConfigError::Appcast(w.clone()));
+        }
+        for e in helm.config_errors() {
+            if !matches!(e, ::helm::config::ConfigError::Appcast(_)) {
+                appcast.report_config_warning(&e.to_string());
+            }
+        }
         HelmApp {
             name: name.to_string(),
             block,
@@ -80,6 +111,9 @@ impl HelmApp {
             reload: None,
             unregistered: Vec::new(),
             cpu_percent: None,
+            appcast,
+            app_iter: 0,
+            body: String::new(),
         }
     }
 
@@ -247,9 +281,11 @@ impl App for HelmApp {
     }
 
     fn subscriptions(&self) -> Vec<Subscription> {
-        self.registered
+        appcast::casting::REGISTERED_VARIABLES
             .iter()
-            .map(|v| Subscription::var(v.clone()))
+            .map(|v| v.to_string())
+            .chain(self.registered.iter().cloned())
+            .map(Subscription::var)
             .collect()
     }
 
@@ -263,7 +299,8 @@ impl App for HelmApp {
         self.cpu_percent = Some(load.cpu_percent);
     }
 
-    fn on_startup(&mut self, _now: f64, out: &mut Vec<Post>) {
+    fn on_startup(&mut self, now: f64, out: &mut Vec<Post>) {
+        self.appcast.set_start_time(now);
         if let Some(pid) = self.pid {
             out.push(Post::double("PHELMIVP_PID", f64::from(pid)));
         }
@@ -295,8 +332,27 @@ impl App for HelmApp {
                 self.restart(kind == "type1");
             }
         }
+        // AppCastingMOOSApp takes its own mail before the app sees any.
+        for m in mail {
+            match (m.key.as_str(), &m.value) {
+                ("APPCAST_REQ", Value::String(v)) => {
+                    self.appcast.on_request(v, m.time);
+                }
+                ("TERM_REPORT_INTERVAL", Value::Double(x)) => {
+                    self.appcast.on_term_report_interval(*x);
+                }
+                ("TERM_REPORT_INTERVAL", _) => self.appcast.on_term_report_interval(-1.0),
+                ("COMMS_POLICY", Value::String(v)) => {
+                    self.appcast.on_comms_policy(v);
+                }
+                _ => {}
+            }
+        }
         self.mail.clear();
         self.mail.extend(mail.iter().filter_map(|m| {
+            if appcast::casting::REGISTERED_VARIABLES.contains(&m.key.as_str()) {
+                return None;
+            }
             let value = match &m.value {
                 Value::Double(x) => ::helm::Value::Num(*x),
                 Value::String(s) => ::helm::Value::Str(s.clone()),
@@ -319,6 +375,7 @@ impl App for HelmApp {
         if let Some(cpu) = self.cpu_percent {
             out.push(Post::double("IVPHELM_CPU", cpu));
         }
+        self.app_iter = self.app_iter.saturating_add(1);
         for p in self.helm.iterate(now) {
             let value = match &p.value {
                 ::helm::Value::Num(x) => Value::Double(*x),
@@ -326,6 +383,22 @@ impl App for HelmApp {
             };
             out.push(Post::new(p.var.clone(), value).with_aux(p.aux.clone()));
         }
+        for note in self.helm.take_appcast_notes() {
+            match note {
+                ::helm::engine::AppcastNote::Warning(w) => self.appcast.report_run_warning(&w),
+                ::helm::engine::AppcastNote::Retract(w) => self.appcast.retract_run_warning(&w),
+                ::helm::engine::AppcastNote::Event(e) => self.appcast.report_event(&e, now),
+            }
+        }
+        // pHelmIvP posts no report in the first second of deciding (it returns early).
+        if self.helm.in_decision_delay() || !self.appcast.due(now, self.app_iter) {
+            return;
+        }
+        self.body.clear();
+        let policy = self.appcast.comms_policy().as_str();
+        self.helm.appcast_body(now, policy, &mut self.body);
+        let value = self.appcast.build(self.app_iter, &self.body, now);
+        out.push(Post::text(appcast::casting::APPCAST_VAR, value));
     }
 }
 
@@ -401,5 +474,146 @@ mod tests {
             HelmApp::from_mission_files("pHelmIvP_2", &m, Path::new(""), &Options::new(), &only_a);
         assert_eq!(h.state(), HelmState::Malconfig);
         assert!(!h.config_errors().is_empty());
+    }
+}
+
+#[cfg(test)]
+mod appcast_tests {
+    use super::*;
+    use mission::source::SourceMap;
+
+    const MOOS: &str = "Community = alpha\nLatOrigin = 43.8\nLongOrigin = -70.3\n\
+        ProcessConfig = pHelmIvP\n{\n  behaviors = a.bhv\n  term_report_interval = 0.5\n  \
+        start_engaged = true\n  domain = course:0:359:360\n  domain = speed:0:4:41\n}\n";
+    const BHV: &str = "Behavior = BHV_ConstantSpeed\n{\n  name = spd\n  speed = 1\n  \
+        duration = no-time-limit\n}\n";
+
+    fn app(moos: &str) -> HelmApp {
+        let m = mission::moos::parse_moos(&SourceMap::from_text("m.moos", moos)).value;
+        let fs = mission::source::MemorySource::new().with("a.bhv", BHV);
+        HelmApp::from_mission_files("pHelmIvP", &m, Path::new(""), &Options::new(), &fs)
+    }
+
+    fn mail(key: &str, value: Value, time: f64) -> Mail {
+        Mail {
+            key: key.into(),
+            value,
+            time,
+            source: "uMAC".into(),
+            source_aux: String::new(),
+            community: "alpha".into(),
+        }
+    }
+
+    fn step(h: &mut HelmApp, t: f64, extra: Vec<Mail>) -> Vec<Post> {
+        let mut m: Vec<Mail> = ["NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"]
+            .iter()
+            .map(|v| mail(v, Value::Double(0.0), t))
+            .collect();
+        m.extend(extra);
+        let mut out = Vec::new();
+        h.on_mail(&m, t, &mut out);
+        h.iterate(t, &mut out);
+        out
+    }
+
+    fn appcasts(p: &[Post]) -> Vec<appcast::AppCast> {
+        p.iter()
+            .filter(|p| p.key == "APPCAST")
+            .map(|p| appcast::AppCast::parse(p.value.as_str().unwrap()))
+            .collect()
+    }
+
+    #[test]
+    fn the_helm_appcasts_on_request_with_its_report() {
+        let mut h = app(MOOS);
+        assert!(
+            h.subscriptions().iter().any(|s| s.pattern == "APPCAST_REQ"),
+            "AppCastingMOOSApp registers APPCAST_REQ"
+        );
+        let mut out = Vec::new();
+        h.on_startup(100.0, &mut out);
+        // First iteration: inside the first second of deciding, no report (pHelmIvP
+        // returns early); the second is past it but no longer "iteration < 2" and nobody
+        // asked: none either.
+        assert!(appcasts(&step(&mut h, 100.0, vec![])).is_empty());
+        assert!(appcasts(&step(&mut h, 101.0, vec![])).is_empty());
+        // A viewer asks: the next iteration posts one.
+        let req = "node=alpha,app=pHelmIvP,duration=3.0,key=uMAC_1,thresh=any";
+        let p = step(
+            &mut h,
+            101.25,
+            vec![mail("APPCAST_REQ", Value::text(req), 101.25)],
+        );
+        let ac = appcasts(&p);
+        assert_eq!(ac.len(), 1);
+        assert_eq!(ac[0].proc_name(), "pHelmIvP");
+        assert_eq!(ac[0].node_name(), "alpha");
+        assert_eq!(ac[0].iteration(), 3);
+        let raw = p
+            .iter()
+            .find(|p| p.key == "APPCAST")
+            .unwrap()
+            .value
+            .as_str()
+            .unwrap();
+        assert!(
+            raw.contains("!@#messages=  Comms Policy: open!@  Helm Iteration:  2!@"),
+            "{raw}"
+        );
+        let body = ac[0].messages();
+        assert!(
+            body.contains("Behaviors Active: ---------- (1)\n  spd ["),
+            "{body}"
+        );
+        assert!(body.contains("Hold-On-Apps: none"), "{body}");
+        // The table of the behaviours' latest postings, BHV_STATUS among them.
+        assert!(
+            body.contains("Variable    Behavior  Time  Iter  Value"),
+            "{body}"
+        );
+        assert!(
+            body.contains("\nBHV_STATUS  spd       1.00  1     name=spd,"),
+            "{body}"
+        );
+        // Rate limit: 0.5 s of real time between reports (warp 1).
+        assert!(appcasts(&step(&mut h, 101.5, vec![])).is_empty());
+        assert_eq!(appcasts(&step(&mut h, 101.75, vec![])).len(), 1);
+        // The request expires after its 3 s.
+        assert!(appcasts(&step(&mut h, 104.5, vec![])).is_empty());
+        // The appcast's own variables do not reach the helm's info buffer.
+        assert!(!h.helm.info().is_known("APPCAST_REQ"));
+        // A parked helm returns before the delay, with its report: the first iteration
+        // posts one ("iteration < 2").
+        let mut parked = app(&MOOS.replace("start_engaged = true", "start_engaged = false"));
+        parked.on_startup(0.0, &mut Vec::new());
+        let ac = appcasts(&step(&mut parked, 0.0, vec![]));
+        assert_eq!(ac.len(), 1);
+        assert!(ac[0].messages().contains("  Helm Iteration:  0\n"));
+        assert!(appcasts(&step(&mut parked, 0.25, vec![])).is_empty());
+    }
+
+    #[test]
+    fn a_malconfig_helm_appcasts_its_reasons_at_once() {
+        let moos = MOOS.replace("term_report_interval = 0.5", "term_report_interval = abc");
+        let mut h = app(&moos);
+        assert_eq!(h.state(), HelmState::Malconfig);
+        assert_eq!(
+            h.config_errors(),
+            ["Invalid TERM_REPORT_INTERVAL: abc".to_string()]
+        );
+        let mut out = Vec::new();
+        h.on_startup(0.0, &mut out);
+        let ac = appcasts(&step(&mut h, 0.0, vec![]));
+        assert_eq!(ac.len(), 1, "a new config warning makes a report due");
+        assert_eq!(
+            ac[0].config_warnings(),
+            ["Invalid TERM_REPORT_INTERVAL: abc".to_string()]
+        );
+        assert!(
+            ac[0]
+                .messages()
+                .contains("!!  The helm is in the MALCONFIG state due to  !!")
+        );
     }
 }
