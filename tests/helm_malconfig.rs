@@ -164,6 +164,25 @@ fn a_misconfigured_helm_stays_up_in_malconfig_and_stops_on_sigint_and_sigterm() 
             .and_then(|v| v.parse().ok())
             .expect("memory_max_kb");
         assert!(max_kb > 0.0, "{status}");
+        // Its appcast carries the reason as a configuration warning and the MALCONFIG
+        // notice as its report (posted unasked: a new configuration warning is due).
+        let cast = server
+            .with_db(|d| d.current("APPCAST").map(|m| m.sval_str().into_owned()))
+            .expect("an APPCAST");
+        let cast = appcast::AppCast::parse(&cast);
+        assert_eq!(cast.proc_name(), "pHelmIvP");
+        assert_eq!(cast.node_name(), "abe");
+        assert!(
+            cast.config_warnings()
+                .iter()
+                .any(|w| w.contains("capture_radius")),
+            "{:?}",
+            cast.config_warnings()
+        );
+        assert!(
+            cast.messages()
+                .contains("The helm is in the MALCONFIG state")
+        );
         let status = signal_and_wait(&mut helm, sig);
         let stderr = std::fs::read_to_string(&err_path).unwrap();
         assert!(stderr.contains("MALCONFIG"), "{stderr}");

@@ -152,6 +152,11 @@ pub struct AppCasting {
     comms_policy_config: CommsPolicy,
     app_logging: AppLogging,
     deprecated_ok: bool,
+    /// `LOADCAST_REQ`: how long (MOOS s) the latest request is honoured, and when it came.
+    lcast_duration: f64,
+    lcast_start: f64,
+    lcast_due: bool,
+    last_iterate: Option<f64>,
 }
 
 impl AppCasting {
@@ -173,7 +178,55 @@ impl AppCasting {
             comms_policy_config: CommsPolicy::Open,
             app_logging: AppLogging::Off,
             deprecated_ok: false,
+            lcast_duration: 0.0,
+            lcast_start: 0.0,
+            lcast_due: false,
+            last_iterate: None,
         }
+    }
+
+    /// A `LOADCAST_REQ` value (`app=<name|all|any>,duration=<s>,thresh=<load>`) received at MOOS
+    /// time `now`: for this app (exact name, `all` or `any`), the load figures are posted for
+    /// `duration` seconds (`atof`, clipped to [0, 30]); another app's request is ignored. The
+    /// threshold is read and, as in libMOOS, never used.
+    pub fn on_loadcast_request(&mut self, value: &str, now: f64) {
+        let (mut app, mut duration) = ("", "");
+        let mut rest = value;
+        while !rest.is_empty() {
+            let mut pair = chomp(&mut rest, ",");
+            let param = trim(chomp(&mut pair, "=")).to_ascii_uppercase();
+            let v = trim(pair);
+            match param.as_str() {
+                "APP" => app = v,
+                "DURATION" => duration = v,
+                _ => {}
+            }
+        }
+        if app != self.ac.proc_name() && app != "all" && app != "any" {
+            return;
+        }
+        self.lcast_duration = atof(duration).clamp(0.0, 30.0);
+        self.lcast_start = now;
+    }
+
+    /// Called as an iteration starts at MOOS time `now` (AppCastingMOOSApp::Iterate), with the
+    /// app's tick in Hz: while a load-cast request is fresh, the `<APP>_ITER_GAP` value, the
+    /// time since the previous iteration over the tick period (none for the first iteration
+    /// or a tick of 0).
+    pub fn iteration_started(&mut self, now: f64, app_freq: f64) -> Option<f64> {
+        self.lcast_due = now - self.lcast_start < self.lcast_duration;
+        let gap = match self.last_iterate {
+            Some(last) if self.lcast_due && app_freq > 0.0 => Some((now - last) * app_freq),
+            _ => None,
+        };
+        self.last_iterate = Some(now);
+        gap
+    }
+
+    /// While a load-cast request is fresh, the `<APP>_ITER_LEN` value for an iteration that
+    /// took `len_s` seconds: its length over the tick period (PostReport).
+    pub fn iteration_length(&self, len_s: f64, app_freq: f64) -> Option<f64> {
+        (self.lcast_due && app_freq > 0.0).then_some(len_s * app_freq)
     }
 
     /// Moves the start time (the zero of event stamps) to MOOS time `now`, for an app whose
@@ -613,6 +666,40 @@ fn split_line(line: &str) -> (String, &str) {
     let mut rest = line;
     let param = trim(chomp(&mut rest, "=")).to_ascii_uppercase();
     (param, trim(rest))
+}
+
+#[cfg(test)]
+mod loadcast_tests {
+    use super::*;
+
+    #[test]
+    fn load_figures_follow_a_fresh_request_for_this_app() {
+        let mut a = AppCasting::new("pFoo");
+        assert_eq!(a.iteration_started(10.0, 4.0), None, "no request");
+        a.on_loadcast_request("app=pBar,duration=5", 10.0);
+        assert_eq!(
+            a.iteration_started(10.25, 4.0),
+            None,
+            "another app's request"
+        );
+        a.on_loadcast_request(" app = pFoo , duration=50,thresh=2", 10.25);
+        // Gap 0.5 s at 4 Hz (period 0.25 s): 2; the duration is clipped to 30 s.
+        assert_eq!(a.iteration_started(10.75, 4.0), Some(2.0));
+        assert_eq!(a.iteration_length(0.05, 4.0), Some(0.2));
+        assert_eq!(a.iteration_started(11.0, 0.0), None, "no tick");
+        assert_eq!(
+            a.iteration_started(40.24, 4.0).map(|g| g.round()),
+            Some(117.0)
+        );
+        assert_eq!(a.iteration_started(40.25, 4.0), None, "30 s later: stale");
+        assert_eq!(a.iteration_length(0.05, 4.0), None);
+        a.on_loadcast_request("app=any,duration=-3", 41.0);
+        assert_eq!(
+            a.iteration_started(41.0, 4.0),
+            None,
+            "a negative duration is 0"
+        );
+    }
 }
 
 #[cfg(test)]

@@ -54,7 +54,7 @@
 //! | `APPCAST_REQ` (read) | viewer request | `node=,app=,duration=,key=,thresh=` | done ([`AppCasting::on_request`]) |
 //! | `TERM_REPORT_INTERVAL` (read) | any time | double | done |
 //! | `COMMS_POLICY` (read) | any time | `open`/`lean`/`dire` | done |
-//! | `LOADCAST_REQ` (read), `<APP>_ITER_GAP`, `<APP>_ITER_LEN` (posted) | load requests | ratios | open: not modelled |
+//! | `LOADCAST_REQ` (read), `<APP>_ITER_GAP`, `<APP>_ITER_LEN` (posted) | load requests | ratios to the tick period | done (`AppCasting::on_loadcast_request`, `iteration_started`, `iteration_length`) |
 //! | `APP_LOG` (posted) | `APP_LOGGING=log` | terminal text | open: not modelled |
 #![deny(missing_docs)]
 

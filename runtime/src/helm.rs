@@ -345,6 +345,7 @@ impl App for HelmApp {
                 ("COMMS_POLICY", Value::String(v)) => {
                     self.appcast.on_comms_policy(v);
                 }
+                ("LOADCAST_REQ", Value::String(v)) => self.appcast.on_loadcast_request(v, m.time),
                 _ => {}
             }
         }
@@ -370,6 +371,13 @@ impl App for HelmApp {
     }
 
     fn iterate(&mut self, now: f64, out: &mut Vec<Post>) {
+        // AppCastingMOOSApp::Iterate comes first: the iteration gap while a load cast is
+        // requested.
+        let tick = self.app_tick();
+        if let Some(gap) = self.appcast.iteration_started(now, tick) {
+            let var = format!("{}_ITER_GAP", self.name.to_ascii_uppercase());
+            out.push(Post::double(var, gap));
+        }
         // pHelmIvP posts its process's CPU load first thing in every iteration (single-app
         // mode: `coug run`'s apps share one process).
         if let Some(cpu) = self.cpu_percent {
@@ -391,7 +399,16 @@ impl App for HelmApp {
             }
         }
         // pHelmIvP posts no report in the first second of deciding (it returns early).
-        if self.helm.in_decision_delay() || !self.appcast.due(now, self.app_iter) {
+        if self.helm.in_decision_delay() {
+            return;
+        }
+        // PostReport: the iteration's length while a load cast is requested. An iteration
+        // takes no MOOS time here (time is an argument; the helm reads no clock): 0.
+        if let Some(len) = self.appcast.iteration_length(0.0, tick) {
+            let var = format!("{}_ITER_LEN", self.name.to_ascii_uppercase());
+            out.push(Post::double(var, len));
+        }
+        if !self.appcast.due(now, self.app_iter) {
             return;
         }
         self.body.clear();
@@ -583,6 +600,33 @@ mod appcast_tests {
         assert!(appcasts(&step(&mut h, 104.5, vec![])).is_empty());
         // The appcast's own variables do not reach the helm's info buffer.
         assert!(!h.helm.info().is_known("APPCAST_REQ"));
+        // A load cast: the gap between iterations over the tick period (AppTick 5: 0.2 s),
+        // and the iteration's length, 0 in MOOS time.
+        let p = step(
+            &mut h,
+            105.0,
+            vec![mail(
+                "LOADCAST_REQ",
+                Value::text("app=all,duration=2"),
+                105.0,
+            )],
+        );
+        let num =
+            |p: &[Post], k: &str| p.iter().find(|p| p.key == k).and_then(|p| p.value.as_f64());
+        // Mail comes before the iteration: 0.5 s since the one at 104.5.
+        assert_eq!(num(&p, "PHELMIVP_ITER_GAP"), Some(2.5));
+        assert_eq!(num(&p, "PHELMIVP_ITER_LEN"), Some(0.0));
+        assert_eq!(
+            p[0].key, "PHELMIVP_ITER_GAP",
+            "first thing in the iteration"
+        );
+        let p = step(&mut h, 105.2, vec![]);
+        assert_eq!(
+            num(&p, "PHELMIVP_ITER_GAP").map(|g| (g * 1e9).round() / 1e9),
+            Some(1.0)
+        );
+        let p = step(&mut h, 107.0, vec![]);
+        assert_eq!(num(&p, "PHELMIVP_ITER_GAP"), None, "the request lasted 2 s");
         // A parked helm returns before the delay, with its report: the first iteration
         // posts one ("iteration < 2").
         let mut parked = app(&MOOS.replace("start_engaged = true", "start_engaged = false"));
