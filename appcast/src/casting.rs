@@ -223,6 +223,16 @@ impl AppCasting {
         gap
     }
 
+    /// With `APP_LOGGING = log`, the `APP_LOG` value posted first in iteration `iteration`
+    /// (counted from 1): `iter=<iteration>,log=` followed by what the app wrote to its
+    /// terminal during the previous iteration, newlines as `!@#`. coug's apps write no
+    /// terminal text per iteration (their logs go through `tracing` to stderr), so `captured`
+    /// is normally empty.
+    pub fn app_log(&self, iteration: u32, captured: &str) -> Option<String> {
+        (self.app_logging == AppLogging::Log)
+            .then(|| format!("iter={iteration},log={}", captured.replace('\n', "!@#")))
+    }
+
     /// While a load-cast request is fresh, the `<APP>_ITER_LEN` value for an iteration that
     /// took `len_s` seconds: its length over the tick period (PostReport).
     pub fn iteration_length(&self, len_s: f64, app_freq: f64) -> Option<f64> {
@@ -671,6 +681,21 @@ fn split_line(line: &str) -> (String, &str) {
 #[cfg(test)]
 mod loadcast_tests {
     use super::*;
+
+    #[test]
+    fn app_log_is_posted_only_with_app_logging_log() {
+        let mut a = AppCasting::new("pFoo");
+        assert_eq!(a.app_log(1, ""), None);
+        assert!(a.consume_config_key("APP_LOGGING", "log").is_some());
+        assert_eq!(a.app_log(1, "").as_deref(), Some("iter=1,log="));
+        assert_eq!(
+            a.app_log(7, "a\nb\n").as_deref(),
+            Some("iter=7,log=a!@#b!@#")
+        );
+        let mut f = AppCasting::new("pFoo");
+        f.consume_config_key("APP_LOGGING", "file");
+        assert_eq!(f.app_log(1, ""), None, "file logging posts nothing");
+    }
 
     #[test]
     fn load_figures_follow_a_fresh_request_for_this_app() {

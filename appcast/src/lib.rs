@@ -55,7 +55,7 @@
 //! | `TERM_REPORT_INTERVAL` (read) | any time | double | done |
 //! | `COMMS_POLICY` (read) | any time | `open`/`lean`/`dire` | done |
 //! | `LOADCAST_REQ` (read), `<APP>_ITER_GAP`, `<APP>_ITER_LEN` (posted) | load requests | ratios to the tick period | done (`AppCasting::on_loadcast_request`, `iteration_started`, `iteration_length`) |
-//! | `APP_LOG` (posted) | `APP_LOGGING=log` | terminal text | open: not modelled |
+//! | `APP_LOG` (posted) | `APP_LOGGING=log`, first in each iteration | `iter=<n>,log=<terminal text of the previous iteration>` | done ([`AppCasting::app_log`]; coug's apps write no per-iteration terminal text, so the log part is empty) |
 #![deny(missing_docs)]
 
 pub mod appcast;

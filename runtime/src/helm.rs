@@ -374,6 +374,9 @@ impl App for HelmApp {
         // AppCastingMOOSApp::Iterate comes first: the iteration gap while a load cast is
         // requested.
         let tick = self.app_tick();
+        if let Some(log) = self.appcast.app_log(self.app_iter + 1, "") {
+            out.push(Post::text("APP_LOG", log));
+        }
         if let Some(gap) = self.appcast.iteration_started(now, tick) {
             let var = format!("{}_ITER_GAP", self.name.to_ascii_uppercase());
             out.push(Post::double(var, gap));
@@ -635,6 +638,23 @@ mod appcast_tests {
         assert_eq!(ac.len(), 1);
         assert!(ac[0].messages().contains("  Helm Iteration:  0\n"));
         assert!(appcasts(&step(&mut parked, 0.25, vec![])).is_empty());
+    }
+
+    #[test]
+    fn app_logging_log_posts_app_log_first_in_each_iteration() {
+        let mut h = app(&MOOS.replace("start_engaged = true", "app_logging = log"));
+        assert_eq!(h.state(), HelmState::Park);
+        h.on_startup(0.0, &mut Vec::new());
+        for (t, k) in [(0.0, 1), (0.2, 2)] {
+            let p = step(&mut h, t, vec![]);
+            assert_eq!(p[0].key, "APP_LOG");
+            assert_eq!(p[0].value.as_str(), Some(format!("iter={k},log=").as_str()));
+        }
+        assert!(
+            !step(&mut app(MOOS), 0.0, vec![])
+                .iter()
+                .any(|p| p.key == "APP_LOG")
+        );
     }
 
     #[test]
