@@ -11,6 +11,7 @@ use mission::nsplug::Options;
 use mission::source::FileSource;
 
 use crate::app::{App, Mail, Post, Subscription, Value};
+use crate::appcasting::{AppcastLayer, Note};
 
 /// The helm app: mail in, IvP decisions and behaviour postings out.
 pub struct HelmApp {
@@ -27,11 +28,7 @@ pub struct HelmApp {
     /// The process's CPU load, percent (single-app mode).
     cpu_percent: Option<f64>,
     /// Appcasting (AppCastingMOOSApp): requests, warnings, events, `APPCAST` postings.
-    appcast: appcast::AppCasting,
-    /// Iterations so far (AppCastingMOOSApp's counter).
-    app_iter: u32,
-    /// Scratch for the appcast body.
-    body: String,
+    appcast: AppcastLayer,
 }
 
 /// What a helm needs to read its configuration again (pHelmIvP `RESTART_HELM`).
@@ -79,26 +76,14 @@ impl HelmApp {
         // AppCastingMOOSApp reads its own keys first; a bad one is a configuration warning,
         // which puts the helm in MALCONFIG. (A missing community or block is the helm's own
         // configuration error already.)
-        let mut appcast = appcast::AppCasting::new(name);
-        let lines: Vec<String> = block
-            .iter()
-            .flat_map(|b| b.entries.iter().rev())
-            .map(|p| format!("{}={}", p.key, p.value))
-            .collect();
-        let warp = mission
-            .global("MOOSTimeWarp")
-            .and_then(|w| w.trim().parse::<f64>().ok())
-            .filter(|w| *w > 0.0)
-            .unwrap_or(1.0);
-        let community = mission.global("Community").unwrap_or("");
-        appcast.start_up(Some(community), Some(lines.as_slice()), 0.0, warp);
+        let mut appcast = AppcastLayer::new(name, block.as_ref(), mission);
         let mut helm = helm;
-        for w in appcast.appcast().config_warnings() {
+        for w in appcast.config_warnings() {
             helm.add_config_error(::helm::config::ConfigError::Appcast(w.clone()));
         }
         for e in helm.config_errors() {
             if !matches!(e, ::helm::config::ConfigError::Appcast(_)) {
-                appcast.report_config_warning(&e.to_string());
+                appcast.config_warning(&e.to_string());
             }
         }
         HelmApp {
@@ -112,8 +97,6 @@ impl HelmApp {
             unregistered: Vec::new(),
             cpu_percent: None,
             appcast,
-            app_iter: 0,
-            body: String::new(),
         }
     }
 
@@ -281,11 +264,8 @@ impl App for HelmApp {
     }
 
     fn subscriptions(&self) -> Vec<Subscription> {
-        appcast::casting::REGISTERED_VARIABLES
-            .iter()
-            .map(|v| v.to_string())
-            .chain(self.registered.iter().cloned())
-            .map(Subscription::var)
+        AppcastLayer::subscriptions()
+            .chain(self.registered.iter().cloned().map(Subscription::var))
             .collect()
     }
 
@@ -300,7 +280,7 @@ impl App for HelmApp {
     }
 
     fn on_startup(&mut self, now: f64, out: &mut Vec<Post>) {
-        self.appcast.set_start_time(now);
+        self.appcast.on_startup(now);
         if let Some(pid) = self.pid {
             out.push(Post::double("PHELMIVP_PID", f64::from(pid)));
         }
@@ -332,26 +312,11 @@ impl App for HelmApp {
                 self.restart(kind == "type1");
             }
         }
-        // AppCastingMOOSApp takes its own mail before the app sees any.
-        for m in mail {
-            match (m.key.as_str(), &m.value) {
-                ("APPCAST_REQ", Value::String(v)) => {
-                    self.appcast.on_request(v, m.time);
-                }
-                ("TERM_REPORT_INTERVAL", Value::Double(x)) => {
-                    self.appcast.on_term_report_interval(*x);
-                }
-                ("TERM_REPORT_INTERVAL", _) => self.appcast.on_term_report_interval(-1.0),
-                ("COMMS_POLICY", Value::String(v)) => {
-                    self.appcast.on_comms_policy(v);
-                }
-                ("LOADCAST_REQ", Value::String(v)) => self.appcast.on_loadcast_request(v, m.time),
-                _ => {}
-            }
-        }
         self.mail.clear();
+        // AppCastingMOOSApp takes its own mail before the app sees any.
+        let appcast = &mut self.appcast;
         self.mail.extend(mail.iter().filter_map(|m| {
-            if appcast::casting::REGISTERED_VARIABLES.contains(&m.key.as_str()) {
+            if !appcast.take_mail(m) {
                 return None;
             }
             let value = match &m.value {
@@ -371,22 +336,14 @@ impl App for HelmApp {
     }
 
     fn iterate(&mut self, now: f64, out: &mut Vec<Post>) {
-        // AppCastingMOOSApp::Iterate comes first: the iteration gap while a load cast is
-        // requested.
+        // AppCastingMOOSApp::Iterate comes first (APP_LOG, the load cast's gap).
         let tick = self.app_tick();
-        if let Some(log) = self.appcast.app_log(self.app_iter + 1, "") {
-            out.push(Post::text("APP_LOG", log));
-        }
-        if let Some(gap) = self.appcast.iteration_started(now, tick) {
-            let var = format!("{}_ITER_GAP", self.name.to_ascii_uppercase());
-            out.push(Post::double(var, gap));
-        }
+        self.appcast.begin(now, tick, out);
         // pHelmIvP posts its process's CPU load first thing in every iteration (single-app
         // mode: `coug run`'s apps share one process).
         if let Some(cpu) = self.cpu_percent {
             out.push(Post::double("IVPHELM_CPU", cpu));
         }
-        self.app_iter = self.app_iter.saturating_add(1);
         for p in self.helm.iterate(now) {
             let value = match &p.value {
                 ::helm::Value::Num(x) => Value::Double(*x),
@@ -395,30 +352,21 @@ impl App for HelmApp {
             out.push(Post::new(p.var.clone(), value).with_aux(p.aux.clone()));
         }
         for note in self.helm.take_appcast_notes() {
-            match note {
-                ::helm::engine::AppcastNote::Warning(w) => self.appcast.report_run_warning(&w),
-                ::helm::engine::AppcastNote::Retract(w) => self.appcast.retract_run_warning(&w),
-                ::helm::engine::AppcastNote::Event(e) => self.appcast.report_event(&e, now),
-            }
+            let note = match note {
+                ::helm::engine::AppcastNote::Warning(w) => Note::Warning(w),
+                ::helm::engine::AppcastNote::Retract(w) => Note::Retract(w),
+                ::helm::engine::AppcastNote::Event(e) => Note::Event(e),
+            };
+            self.appcast.note(note, now);
         }
         // pHelmIvP posts no report in the first second of deciding (it returns early).
         if self.helm.in_decision_delay() {
             return;
         }
-        // PostReport: the iteration's length while a load cast is requested. An iteration
-        // takes no MOOS time here (time is an argument; the helm reads no clock): 0.
-        if let Some(len) = self.appcast.iteration_length(0.0, tick) {
-            let var = format!("{}_ITER_LEN", self.name.to_ascii_uppercase());
-            out.push(Post::double(var, len));
-        }
-        if !self.appcast.due(now, self.app_iter) {
-            return;
-        }
-        self.body.clear();
-        let policy = self.appcast.comms_policy().as_str();
-        self.helm.appcast_body(now, policy, &mut self.body);
-        let value = self.appcast.build(self.app_iter, &self.body, now);
-        out.push(Post::text(appcast::casting::APPCAST_VAR, value));
+        let helm = &self.helm;
+        let policy = self.appcast.comms_policy();
+        self.appcast
+            .end(now, tick, out, |body| helm.appcast_body(now, policy, body));
     }
 }
 

@@ -12,7 +12,8 @@
 //!
 //! Apps ([`app`] defines the [`App`] trait, [`Mail`], [`Post`], [`Value`]):
 //! [`helm`] (pHelmIvP), [`vehicle`] (uSimMarine(V22), pMarinePID(V22), pNodeReporter),
-//! [`timer_script`] (uTimerScript), [`logger`] (pLogger, through the `alog` crate).
+//! [`timer_script`] (uTimerScript), [`logger`] (pLogger, through the `alog` crate);
+//! [`appcasting`] is libMOOS's AppCastingMOOSApp layer around the swap-in apps.
 //!
 //! After a run: [`summary`] (distance, depth, behaviour lists) and [`plot`] (SVG/PNG).
 //!
@@ -22,6 +23,7 @@
 
 pub mod antler;
 pub mod app;
+pub mod appcasting;
 pub mod bus;
 pub mod clock;
 pub mod helm;
