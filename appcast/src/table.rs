@@ -91,7 +91,7 @@ impl Table {
         let rows = self.cells.len().div_ceil(self.columns);
         for r in 0..rows {
             let row_start = out.len();
-            for j in 0..self.columns {
+            for (j, &wide) in widest.iter().enumerate() {
                 let cell = self
                     .cells
                     .get(r * self.columns + j)
@@ -100,7 +100,7 @@ impl Table {
                 let limit = self.max_width[j];
                 let cap = |w: usize| if limit > 0 { w.min(limit) } else { w };
                 if cell == HEADER_CELL {
-                    out.push_str(&"-".repeat(cap(widest[j])));
+                    out.push_str(&"-".repeat(cap(wide)));
                 } else {
                     let cell = if limit > 0 && cell.chars().count() > limit {
                         cut_middle(cell, limit)
@@ -109,8 +109,8 @@ impl Table {
                     };
                     let len = cell.chars().count();
                     out.push_str(&cell);
-                    if self.padded[j] && len < widest[j] {
-                        out.push_str(&" ".repeat(cap(widest[j]).saturating_sub(len)));
+                    if self.padded[j] && len < wide {
+                        out.push_str(&" ".repeat(cap(wide).saturating_sub(len)));
                     }
                 }
                 if j + 1 < self.columns {

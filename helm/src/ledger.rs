@@ -324,10 +324,10 @@ impl DisabledContacts {
             Some("disable") => {
                 self.names.insert(contact.clone());
                 self.order.push_front(contact);
-                if self.order.len() > Self::MAX {
-                    if let Some(old) = self.order.pop_back() {
-                        self.names.remove(&old);
-                    }
+                if self.order.len() > Self::MAX
+                    && let Some(old) = self.order.pop_back()
+                {
+                    self.names.remove(&old);
                 }
             }
             _ => {}

@@ -99,7 +99,7 @@ pub fn mux(whole: &str, id: &str, packet_size: usize, out: &mut Vec<String>) {
     let header = id.len() + 50;
     let body = packet_size.saturating_sub(header);
     let bytes = whole.as_bytes();
-    let n = if body == 0 { 1 } else { bytes.len() / body + 1 };
+    let n = bytes.len().checked_div(body).map_or(1, |q| q + 1);
     let body = if body == 0 { bytes.len() } else { body };
     for k in 0..n {
         let from = (k * body).min(bytes.len());
