@@ -28,7 +28,8 @@ out=$(cd "$out" && pwd)
 run() { # name mission args...
   local name=$1 mission=$2; shift 2
   local d; d=$(mktemp -d)
-  (cd "$d" && "$coug" run "$mission" --lockstep --log-dir logs "$@" >/dev/null)
+  (cd "$d" && "$coug" run "$mission" --lockstep --log-dir logs "$@" >/dev/null 2>"$d/stderr") \
+    || { cat "$d/stderr" >&2; exit 1; }
   find "$d/logs" -name '*.alog' -exec cp {} "$out/$name.alog" \;
   rm -rf "$d"
 }
