@@ -114,7 +114,7 @@ impl Table {
         let rows = self.cells.len().div_ceil(self.columns);
         for r in 0..rows {
             let row_start = out.len();
-            for j in 0..self.columns {
+            for (j, &widest) in widest.iter().enumerate() {
                 let cell = self
                     .cells
                     .get(r * self.columns + j)
@@ -123,7 +123,7 @@ impl Table {
                 let limit = self.max_width[j];
                 let cap = |w: usize| if limit > 0 { w.min(limit) } else { w };
                 if cell == HEADER_CELL {
-                    out.push_str(&"-".repeat(cap(widest[j])));
+                    out.push_str(&"-".repeat(cap(widest)));
                 } else {
                     let cell = if limit > 0 && cell.chars().count() > limit {
                         cut_middle(cell, limit)
@@ -131,8 +131,8 @@ impl Table {
                         cell.to_string()
                     };
                     let len = cell.chars().count();
-                    let fill = if self.padded[j] && len < widest[j] {
-                        " ".repeat(cap(widest[j]).saturating_sub(len))
+                    let fill = if self.padded[j] && len < widest {
+                        " ".repeat(cap(widest).saturating_sub(len))
                     } else {
                         String::new()
                     };
