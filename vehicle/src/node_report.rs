@@ -969,34 +969,6 @@ fn write_block(out: &mut String, label: &str, msg: &str, maxlen: usize) {
     }
 }
 
-/// A double as a C++ stream writes it by default (`%g`, 6 significant digits).
-fn stream_double(v: f64) -> String {
-    if v == 0.0 || !v.is_finite() {
-        return if v == 0.0 { "0".into() } else { v.to_string() };
-    }
-    let sci = format!("{v:.5e}");
-    let (mant, exp) = sci.split_once('e').unwrap_or((&sci, "0"));
-    let exp: i32 = exp.parse().unwrap_or(0);
-    let trim = |s: &str| -> String {
-        if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.').to_string()
-        } else {
-            s.to_string()
-        }
-    };
-    if !(-4..6).contains(&exp) {
-        format!(
-            "{}e{}{:02}",
-            trim(mant),
-            if exp < 0 { '-' } else { '+' },
-            exp.abs()
-        )
-    } else {
-        let digits = usize::try_from(5 - exp).unwrap_or(0);
-        trim(&format!("{v:.digits$}"))
-    }
-}
-
 /// The `pNodeReporter` app.
 pub struct NodeReporter {
     cfg: NodeReportConfig,
@@ -1205,7 +1177,7 @@ impl NodeReporter {
         line(
             out,
             "tr_interval:",
-            &stream_double(self.term_report_interval),
+            &crate::moos::stream_double(self.term_report_interval),
         );
         line(out, "extrap_enabled:    ", b(cfg.extrap_enabled));
         let pos_thresh = crate::moos::double_x(cfg.extrap_pos_thresh_m, 2);
@@ -1954,10 +1926,10 @@ mod appcast_tests {
 
     #[test]
     fn appcast_helpers() {
-        assert_eq!(stream_double(0.6), "0.6");
-        assert_eq!(stream_double(2.0), "2");
-        assert_eq!(stream_double(1234567.0), "1.23457e+06");
-        assert_eq!(stream_double(0.00001), "1e-05");
+        assert_eq!(crate::moos::stream_double(0.6), "0.6");
+        assert_eq!(crate::moos::stream_double(2.0), "2");
+        assert_eq!(crate::moos::stream_double(1234567.0), "1.23457e+06");
+        assert_eq!(crate::moos::stream_double(0.00001), "1e-05");
         let mut s = String::new();
         write_block(&mut s, "L: ", "", 50);
         assert_eq!(s, "L: ");
