@@ -1948,3 +1948,95 @@ impl Simulator {
         }
     }
 }
+
+#[cfg(test)]
+mod appcast_tests {
+    use super::*;
+
+    #[test]
+    fn appcast_body_as_usim_marine_builds_it() {
+        let cfg = SimConfig::from_params([
+            ("start_pos", "x=0, y=-20, heading=180, speed=0"),
+            ("prefix", "NAV"),
+        ])
+        .unwrap();
+        let mut sim = Simulator::new(cfg, None, 0.0);
+        let mut out = Vec::new();
+        sim.on_mail("DRIFT_X", MailValue::Double(0.5), 0.0);
+        // No thrust: only the drift (0.5 m/s east, no source named) moves the vehicle.
+        for i in 1..=4 {
+            sim.iterate(f64::from(i) * 0.25, &mut out);
+        }
+        let mut body = String::new();
+        sim.appcast_body(1.0, &mut body);
+        let lines: Vec<&str> = body.split('\n').collect();
+        // The drifted position is the simulator's; the (X,Y) row is checked against it.
+        let nav = *sim.state();
+        let xy = format!("{},{}", double_x(nav.x, 2), double_x(nav.y, 2));
+        assert_eq!(
+            lines[..9],
+            [
+                "Enabled:  true",
+                "TurnRate: 70",
+                "TurnRadius: 0",
+                "Datum: ?,?",
+                "Sailing:",
+                "  WindModel: spd=0, dir=0",
+                "  PolarPlot: ",
+                "  Enabled:   false",
+                "",
+            ]
+        );
+        assert_eq!(lines[9], "");
+        assert_eq!(
+            lines[10],
+            "  Start Pose    Current Pose (NAV)   Current Pose (GT)"
+        );
+        assert_eq!(
+            lines[11],
+            "------- -----   ------- ----------   ------- ---------"
+        );
+        assert_eq!(lines[12], "Headng: 180     Headng: 180           (same) -");
+        assert_eq!(lines[13], " Speed: 0        Speed: 0                    -");
+        assert_eq!(lines[14], " Depth: 0        Depth: 0                    -");
+        assert_eq!(lines[15], "   Alt: 0          Alt: 0                    -");
+        assert_eq!(&lines[16][..18], " (X,Y): 0,-20    (");
+        assert!(lines[16].contains(&format!("(X,Y): {xy}")), "{}", lines[16]);
+        assert_eq!(lines[17], "   Lat: 0          Lat: 0                    -");
+        assert_eq!(lines[18], "   Lon: 0          Lon: 0                    -");
+        let rest = [
+            "",
+            "Present Buoyancy rate: 0.025",
+            "        Starting rate: 0.025",
+            "",
+            "Ext Drift  X    Y   |  Mag  Ang  |  Rot.  |  Source(s)",
+            "---------  ---  --  |  ---  ---  |  ----  |  -----------",
+            " Starting  0    0   |  0    0    |  0     |  init_config",
+            "  Present  0.5  0   |  0.5  90   |  0     |  n/a",
+            "",
+            "Velocity Information: ",
+            "--------------------- ",
+            "     DESIRED_THRUST=0 ==> SPEED=0",
+            "     Using Thrust_Factor: true (20)",
+            "           Using Sailing: false",
+            "    PID Coupled: false",
+            "     Positive Thrust Map: n/a",
+            "     Negative Thrust Map: n/a",
+            "        Max Accereration: 0",
+            "        Max Decereration: 0.5",
+            "",
+            "             Thrust Mode: normal",
+            "     Thrust Mode Reverse: false",
+            "        DESIRED_THRUST_L: n/a",
+            "        DESIRED_THRUST_R: n/a",
+            "",
+            "Depth Information: ",
+            "------------------ ",
+            "           Max Depth Rate: 0.5",
+            "     Max Depth Rate Speed: 2",
+            "              Water Depth: 0",
+            "",
+        ];
+        assert_eq!(lines[19..], rest);
+    }
+}
