@@ -23,7 +23,8 @@ pub struct Table {
     cells: Vec<String>,
     max_width: Vec<usize>,
     padded: Vec<bool>,
-    pad: String,
+    right: Vec<bool>,
+    pads: Vec<String>,
 }
 
 /// A cell that stands for a header line of dashes.
@@ -32,12 +33,34 @@ const HEADER_CELL: &str = "{}";
 impl Table {
     /// An empty table of `columns` columns, two spaces between columns.
     pub fn new(columns: usize) -> Self {
+        Self::with_pad(columns, 2)
+    }
+
+    /// An empty table of `columns` columns, `pad` spaces after each column (the C++
+    /// `ACTable(columns, pad)`).
+    pub fn with_pad(columns: usize, pad: usize) -> Self {
         Self {
             columns,
             cells: Vec::new(),
             max_width: vec![0; columns],
             padded: vec![true; columns],
-            pad: "  ".into(),
+            right: vec![false; columns],
+            pads: vec![" ".repeat(pad); columns],
+        }
+    }
+
+    /// Sets the text written after column `ix` (C++ `setColumnPadStr`).
+    pub fn set_column_pad_str(&mut self, ix: usize, pad: &str) {
+        if let Some(p) = self.pads.get_mut(ix) {
+            *p = pad.to_string();
+        }
+    }
+
+    /// Justifies column `ix` to the right (`true`) or left (C++ `setColumnJustify`, where
+    /// anything but `left` pads on the left).
+    pub fn set_right_justify(&mut self, ix: usize, right: bool) {
+        if let Some(r) = self.right.get_mut(ix) {
+            *r = right;
         }
     }
 
@@ -91,7 +114,7 @@ impl Table {
         let rows = self.cells.len().div_ceil(self.columns);
         for r in 0..rows {
             let row_start = out.len();
-            for (j, &wide) in widest.iter().enumerate() {
+            for (j, &widest) in widest.iter().enumerate() {
                 let cell = self
                     .cells
                     .get(r * self.columns + j)
@@ -100,7 +123,7 @@ impl Table {
                 let limit = self.max_width[j];
                 let cap = |w: usize| if limit > 0 { w.min(limit) } else { w };
                 if cell == HEADER_CELL {
-                    out.push_str(&"-".repeat(cap(wide)));
+                    out.push_str(&"-".repeat(cap(widest)));
                 } else {
                     let cell = if limit > 0 && cell.chars().count() > limit {
                         cut_middle(cell, limit)
@@ -108,13 +131,21 @@ impl Table {
                         cell.to_string()
                     };
                     let len = cell.chars().count();
-                    out.push_str(&cell);
-                    if self.padded[j] && len < wide {
-                        out.push_str(&" ".repeat(cap(wide).saturating_sub(len)));
+                    let fill = if self.padded[j] && len < widest {
+                        " ".repeat(cap(widest).saturating_sub(len))
+                    } else {
+                        String::new()
+                    };
+                    if self.right[j] {
+                        out.push_str(&fill);
+                        out.push_str(&cell);
+                    } else {
+                        out.push_str(&cell);
+                        out.push_str(&fill);
                     }
                 }
                 if j + 1 < self.columns {
-                    out.push_str(&self.pad);
+                    out.push_str(&self.pads[j]);
                 }
             }
             let keep = out[row_start..].trim_end_matches([' ', '\t']).len();
@@ -167,6 +198,20 @@ mod tests {
             s,
             "Var       Value\n--------  --------\nA         012..abc\nLONGNAME  x"
         );
+    }
+
+    #[test]
+    fn pads_and_right_justification() {
+        let mut t = Table::with_pad(3, 1);
+        t.push("A | Bb | C");
+        t.set_column_pad_str(0, " | ");
+        t.set_right_justify(1, true);
+        t.push("xyz");
+        t.push("q");
+        t.push("w");
+        let mut s = String::new();
+        t.write(&mut s);
+        assert_eq!(s, "A   | Bb C\nxyz |  q w");
     }
 
     #[test]

@@ -216,6 +216,34 @@ pub fn tok_string_parse<'a>(s: &'a str, key: &str) -> &'a str {
     ""
 }
 
+/// A double as a C++ stream writes it by default (`%g`, 6 significant digits).
+pub(crate) fn stream_double(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return if v == 0.0 { "0".into() } else { v.to_string() };
+    }
+    let sci = format!("{v:.5e}");
+    let (mant, exp) = sci.split_once('e').unwrap_or((&sci, "0"));
+    let exp: i32 = exp.parse().unwrap_or(0);
+    let trim = |s: &str| -> String {
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s.to_string()
+        }
+    };
+    if !(-4..6).contains(&exp) {
+        format!(
+            "{}e{}{:02}",
+            trim(mant),
+            if exp < 0 { '-' } else { '+' },
+            exp.abs()
+        )
+    } else {
+        let digits = usize::try_from(5 - exp).unwrap_or(0);
+        trim(&format!("{v:.digits$}"))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

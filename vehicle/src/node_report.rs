@@ -327,7 +327,8 @@ impl NodeReportConfig {
                 }
                 self.crossfill = match v.as_str() {
                     "fill-empty" => CrossFill::FillEmpty,
-                    "global" | "global-terse" => CrossFill::Global,
+                    "global" => CrossFill::Global,
+                    "global-terse" => CrossFill::GlobalTerse,
                     "use-latest" => CrossFill::UseLatest,
                     "local" => CrossFill::Local,
                     _ => CrossFill::Literal,
@@ -378,14 +379,30 @@ impl NodeReportConfig {
 pub enum CrossFill {
     /// Each as received (default).
     Literal,
-    /// X/Y from LAT/LON when both are known (`global`, `global-terse`).
+    /// X/Y from LAT/LON when both are known (`global`).
     Global,
+    /// As [`CrossFill::Global`] (`global-terse`).
+    GlobalTerse,
     /// LAT/LON from X/Y when both are known.
     Local,
     /// Fill the pair never received from the other.
     FillEmpty,
     /// Fill the staler pair from the fresher one.
     UseLatest,
+}
+
+impl CrossFill {
+    /// The policy's name as configured (lower case, `-` for `_`).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            CrossFill::Literal => "literal",
+            CrossFill::Global => "global",
+            CrossFill::GlobalTerse => "global-terse",
+            CrossFill::Local => "local",
+            CrossFill::FillEmpty => "fill-empty",
+            CrossFill::UseLatest => "use-latest",
+        }
+    }
 }
 
 /// When a rider's value goes into a report (MOOS `NodeRider` policies).
@@ -481,6 +498,28 @@ impl RiderConfig {
     }
 }
 
+impl RiderConfig {
+    /// The rider as the appcast lists it (MOOS `NodeRider::getSpec`):
+    /// `var=V, policy=always|updated|updated+S|S[, rfld=F]`, periods with at most 2 decimals.
+    pub fn spec(&self) -> String {
+        let mut s = format!("var={}, policy=", self.var);
+        match self.policy {
+            RiderPolicy::Always => s.push_str("always"),
+            RiderPolicy::Updated { period_s } if period_s > 0.0 => {
+                s.push_str("updated+");
+                push_double_x(&mut s, period_s, 2);
+            }
+            RiderPolicy::Updated { .. } => s.push_str("updated"),
+            RiderPolicy::Every { period_s } => push_double_x(&mut s, period_s, 2),
+        }
+        if !self.field.is_empty() {
+            s.push_str(", rfld=");
+            s.push_str(&self.field);
+        }
+        s
+    }
+}
+
 /// A rider's latest value and freshness.
 #[derive(Debug, Clone, Default)]
 struct RiderState {
@@ -531,7 +570,7 @@ fn cross_fill(
     let to_global = |(x, y): (f64, f64)| grid.to_latlon(x, y).ok();
     let fill = match policy {
         CrossFill::Literal => None,
-        CrossFill::Global => ll.and_then(to_local).map(|p| (true, p)),
+        CrossFill::Global | CrossFill::GlobalTerse => ll.and_then(to_local).map(|p| (true, p)),
         CrossFill::Local => xy.and_then(to_global).map(|p| (false, p)),
         CrossFill::FillEmpty => match (n.x.is_none() && n.y.is_none(), ll, xy) {
             (true, Some(g), _) => to_local(g).map(|p| (true, p)),
@@ -855,6 +894,81 @@ impl MhashOdometer {
     }
 }
 
+/// The riders' part of a report (MOOS `NodeRiderSet::getRiderReports`) from `states`,
+/// which it updates (freshness spent, periods restarted).
+fn rider_reports_of(riders: &[RiderConfig], states: &mut [RiderState], now: f64) -> String {
+    let mut reports = String::new();
+    for (cfg, st) in riders.iter().zip(states.iter_mut()) {
+        if st.value.is_empty() {
+            continue;
+        }
+        let field = if cfg.field.is_empty() {
+            &cfg.var
+        } else {
+            &cfg.field
+        };
+        let value = if st.value.contains(',') {
+            format!("{{{}}}", st.value)
+        } else {
+            st.value.clone()
+        };
+        let elapsed = now - st.last_time;
+        let report = match cfg.policy {
+            RiderPolicy::Always => format!("{field}={value}"),
+            RiderPolicy::Updated { .. } if st.fresh => format!("{field}={value}"),
+            RiderPolicy::Updated { period_s } if period_s > 0.0 && elapsed >= period_s => {
+                st.last_time = now;
+                format!("{}={value}", cfg.var)
+            }
+            RiderPolicy::Updated { .. } => String::new(),
+            RiderPolicy::Every { period_s } if elapsed >= period_s => {
+                st.last_time = now;
+                format!("{field}={value}")
+            }
+            RiderPolicy::Every { .. } => String::new(),
+        };
+        st.fresh = false;
+        if !reports.is_empty() {
+            reports.push(',');
+        }
+        reports.push_str(&report);
+    }
+    reports
+}
+
+/// Appends `msg` as MOOS `ACBlock(label, msg, maxlen).getFormattedString()`: the pieces
+/// between commas (outside quotes and braces) joined again while a line stays within
+/// `maxlen`, a broken line ending in a comma; the first line after `label`, the others
+/// after as many blanks; each line ended by a newline.
+fn write_block(out: &mut String, label: &str, msg: &str, maxlen: usize) {
+    if msg.is_empty() {
+        out.push_str(label);
+        return;
+    }
+    let mut lines: Vec<String> = Vec::new();
+    let mut buffer = String::new();
+    for piece in crate::moos::parse_string_q(msg, ',') {
+        if buffer.is_empty() {
+            buffer = piece.to_string();
+        } else if buffer.len() + 1 + piece.len() <= maxlen {
+            buffer.push(',');
+            buffer.push_str(piece);
+        } else {
+            lines.push(std::mem::take(&mut buffer) + ",");
+            buffer = piece.to_string();
+        }
+    }
+    if !buffer.is_empty() {
+        lines.push(buffer);
+    }
+    let blank = " ".repeat(label.len());
+    for (i, l) in lines.iter().enumerate() {
+        out.push_str(if i == 0 { label } else { &blank });
+        out.push_str(l);
+        out.push('\n');
+    }
+}
+
 /// The `pNodeReporter` app.
 pub struct NodeReporter {
     cfg: NodeReportConfig,
@@ -902,6 +1016,16 @@ pub struct NodeReporter {
     var_gap: Arc<str>,
     var_mhash: Arc<str>,
     var_plat: Arc<str>,
+    /// Alternative-nav reports posted (the appcast's `alt_nav_postings`).
+    reports_posted_alt_nav: u64,
+    /// The INDEX of the record last reported (set when a report is formed).
+    record_index: u64,
+    /// The appcast's terminal report interval (`tr_interval`).
+    term_report_interval: f64,
+    /// The NAV run warning is up (MOOS `m_nav_warning_posted`).
+    nav_warning_posted: bool,
+    /// Run warnings and retractions not yet taken.
+    notes: std::collections::VecDeque<crate::AppcastNote>,
 }
 
 /// The second, alternative-nav record of the vehicle (MOOS `m_record_gt`).
@@ -916,6 +1040,8 @@ struct AltNav {
     updated: Option<f64>,
     xy_time: f64,
     latlon_time: f64,
+    /// The INDEX of its last report.
+    index: u64,
 }
 
 /// A platform-report variable's latest value and when it arrived and was last reported.
@@ -975,6 +1101,199 @@ impl NodeReporter {
             xy_time: 0.0,
             latlon_time: 0.0,
             buf: String::with_capacity(256),
+            reports_posted_alt_nav: 0,
+            record_index: 0,
+            term_report_interval: appcast::casting::DEFAULT_TERM_REPORT_INTERVAL,
+            nav_warning_posted: false,
+            notes: std::collections::VecDeque::new(),
+        }
+    }
+
+    /// Sets the terminal report interval the appcast shows as `tr_interval` (the app's
+    /// `TERM_REPORT_INTERVAL`; by default [`appcast::casting::DEFAULT_TERM_REPORT_INTERVAL`]).
+    pub fn set_term_report_interval(&mut self, seconds: f64) {
+        self.term_report_interval = seconds;
+    }
+
+    /// Takes the run warnings and retractions reported since the last call, oldest first
+    /// (at most [`crate::MAX_APPCAST_NOTES`]; see [`NodeReporter::appcast_body`]).
+    pub fn take_appcast_notes(&mut self) -> Vec<crate::AppcastNote> {
+        self.notes.drain(..).collect()
+    }
+
+    /// Appends the pNodeReporter appcast report body (`NodeReporter::buildReport`) as it
+    /// reads at the end of the iteration at `now`:
+    ///
+    /// ```text
+    /// tr_interval:0.5
+    /// extrap_enabled:    false
+    /// extrap_pos_thresh: 0.25
+    /// extrap_hdg_thresh: 1
+    /// extrap_max_gap:    0.25
+    /// Paused: false
+    /// Vehicle Configuration:
+    /// ...
+    /// Node Report Summary:
+    /// ----------------------------
+    /// Reports Posted: 12
+    ///  Latest Report: NAME=abe,X=1,Y=2,SPD=1.5,HDG=90,DEP=0,
+    ///                 LAT=43.8253,LON=-70.3304,TYPE=kayak,...
+    /// ```
+    ///
+    /// As the C++: `extrap_max_gap` shows the position threshold (its quirk),
+    /// `Blackout interval` the blackout now in effect (0 after a report without
+    /// `blackout_variance`), `Vehicle group` the configured group (not NODE_GROUP_UPDATE's).
+    /// The latest report is the vehicle's record reassembled at `now` (mode from the helm's
+    /// messages at `now`, the INDEX of its last report, no LOAD_WARNING, which an iteration
+    /// clears, the heading without `hdg_error`, the riders' values), cut into lines of at most
+    /// 50 characters at commas (MOOS `ACBlock`); the alternative-nav record follows as
+    /// ` Latest GT Report: ` once one of its variables arrived. `tr_interval` is written as a
+    /// C++ stream writes a double (6 significant digits), from
+    /// [`NodeReporter::set_term_report_interval`].
+    ///
+    /// One difference: the C++ reassembles the reports with its rider set, so building an
+    /// appcast spends `updated` riders and restarts periodic ones; coug's appcast reads a copy
+    /// of the riders and leaves the next posted report as it would be without an appcast.
+    ///
+    /// Appcast notes of pNodeReporter (`take_appcast_notes` reproduces the run warnings):
+    /// * run warning `Waiting for NAV_X/Y or NAV_LAT/LONG`, when an iteration finds no valid
+    ///   navigation (speed, heading and a position) after the `nav_grace_period`, once until
+    ///   retracted;
+    /// * its retraction, at the first iteration that finds navigation valid (or within the
+    ///   grace period) again;
+    /// * no events. Config warnings (at start-up only): `Lat or Lon Origin not set in *.moos
+    ///   file.`, `Geodesy init failed.`, `No config block found for pNodeReporter`,
+    ///   `Unrecognized platform type: <type>` (no length given and no guess for the type),
+    ///   and each unhandled line.
+    pub fn appcast_body(&self, now: f64, out: &mut String) {
+        let b = |v: bool| if v { "true" } else { "false" };
+        let cfg = &self.cfg;
+        const RULE: &str = "----------------------------\n";
+        let line = |out: &mut String, label: &str, value: &str| {
+            out.push_str(label);
+            out.push_str(value);
+            out.push('\n');
+        };
+        line(
+            out,
+            "tr_interval:",
+            &crate::moos::stream_double(self.term_report_interval),
+        );
+        line(out, "extrap_enabled:    ", b(cfg.extrap_enabled));
+        let pos_thresh = crate::moos::double_x(cfg.extrap_pos_thresh_m, 2);
+        line(out, "extrap_pos_thresh: ", &pos_thresh);
+        let hdg_thresh = crate::moos::double_x(cfg.extrap_hdg_thresh_deg, 2);
+        line(out, "extrap_hdg_thresh: ", &hdg_thresh);
+        // As the C++: the position threshold under the max-gap label.
+        line(out, "extrap_max_gap:    ", &pos_thresh);
+        line(out, "Paused: ", b(self.paused));
+        out.push_str("Vehicle Configuration:\n");
+        out.push_str(RULE);
+        line(out, "     Vehicle name: ", &self.name);
+        line(out, "     Vehicle type: ", &cfg.platform_type);
+        let mut len = String::new();
+        crate::moos::push_double(&mut len, self.length(), 1);
+        line(out, "   Vehicle length: ", &len);
+        line(
+            out,
+            "    Vehicle group: ",
+            cfg.group.as_deref().unwrap_or(""),
+        );
+        out.push_str("\nCrossFill Policy:\n");
+        out.push_str(RULE);
+        line(out, " cross_fill_policy: ", cfg.crossfill.as_str());
+        out.push_str("\nBlackout Configuration:\n");
+        out.push_str(RULE);
+        let mut v = String::new();
+        crate::moos::push_double(&mut v, self.blackout_s, 2);
+        line(out, "Blackout interval: ", &v);
+        v.clear();
+        crate::moos::push_double(&mut v, cfg.blackout_variance, 2);
+        line(out, "Blackout variance: ", &v);
+        out.push_str("\nAltNav Config and Status:\n");
+        out.push_str(RULE);
+        line(out, "   alt_nav_prefix: ", &cfg.alt_nav_prefix);
+        line(out, "     alt_nav_name: ", &cfg.alt_nav_name);
+        let alt_group = cfg.alt_nav_group.as_deref().unwrap_or("");
+        line(out, "    alt_nav_group: ", alt_group);
+        line(
+            out,
+            " alt_nav_postings: ",
+            &self.reports_posted_alt_nav.to_string(),
+        );
+        out.push('\n');
+        if !cfg.riders.is_empty() {
+            out.push_str("Riders:                     \n");
+            out.push_str(RULE);
+            for r in &cfg.riders {
+                line(out, "  ", &r.spec());
+            }
+            out.push('\n');
+        }
+        out.push_str("Node Report Summary:\n");
+        out.push_str(RULE);
+        line(out, "Reports Posted: ", &self.reports_posted.to_string());
+        // The records as they would be reassembled now, riders from a copy.
+        let mode = self.helm.mode(now, cfg.nohelm_threshold);
+        let mut riders = self.riders.clone();
+        let mut report = String::new();
+        let inputs = ReportInputs {
+            name: &self.name,
+            nav: self.nav,
+            color: self.color.as_deref(),
+            group: self.group.as_deref(),
+            mode: &mode,
+            mode_aux: self.mode_aux.as_deref(),
+            allstop: &self.helm.allstop,
+            load_warning: None,
+            index: self.record_index,
+            thrust_mode_reverse: self.thrust_mode_reverse,
+            time: now,
+            transparency: self.transparency,
+            cog: self.cog,
+            trajectory: self.trajectory.as_deref(),
+        };
+        write_report(&mut report, cfg, &inputs);
+        let r = rider_reports_of(&cfg.riders, &mut riders, now);
+        if !r.is_empty() {
+            report.push(',');
+            report.push_str(&r);
+        }
+        write_block(out, " Latest Report: ", &report, 50);
+        if self.gt.updated.is_some() {
+            let inputs = ReportInputs {
+                name: &self.gt.name,
+                nav: self.gt.nav,
+                color: self.color.as_deref(),
+                group: self.gt.group.as_deref(),
+                mode: &mode,
+                mode_aux: None,
+                allstop: &self.helm.allstop,
+                load_warning: None,
+                index: self.gt.index,
+                thrust_mode_reverse: false,
+                time: now,
+                transparency: self.gt.transparency,
+                cog: None,
+                trajectory: None,
+            };
+            report.clear();
+            write_report(&mut report, cfg, &inputs);
+            let r = rider_reports_of(&cfg.riders, &mut riders, now);
+            if !r.is_empty() {
+                report.push(',');
+                report.push_str(&r);
+            }
+            write_block(out, " Latest GT Report: ", &report, 50);
+        }
+    }
+
+    /// The platform length: configured, else guessed from the type (0 when unknown).
+    fn length(&self) -> f64 {
+        if self.cfg.platform_length > 0.0 {
+            self.cfg.platform_length
+        } else {
+            default_length(&self.cfg.platform_type).unwrap_or(0.0)
         }
     }
 
@@ -1143,43 +1462,7 @@ impl NodeReporter {
     /// an `updated` rider repeated by its period rides under the variable's name, and a rider
     /// with nothing to say after one that did leaves a trailing comma.
     fn rider_reports(&mut self, now: f64) -> String {
-        let mut reports = String::new();
-        for (cfg, st) in self.cfg.riders.iter().zip(&mut self.riders) {
-            if st.value.is_empty() {
-                continue;
-            }
-            let field = if cfg.field.is_empty() {
-                &cfg.var
-            } else {
-                &cfg.field
-            };
-            let value = if st.value.contains(',') {
-                format!("{{{}}}", st.value)
-            } else {
-                st.value.clone()
-            };
-            let elapsed = now - st.last_time;
-            let report = match cfg.policy {
-                RiderPolicy::Always => format!("{field}={value}"),
-                RiderPolicy::Updated { .. } if st.fresh => format!("{field}={value}"),
-                RiderPolicy::Updated { period_s } if period_s > 0.0 && elapsed >= period_s => {
-                    st.last_time = now;
-                    format!("{}={value}", cfg.var)
-                }
-                RiderPolicy::Updated { .. } => String::new(),
-                RiderPolicy::Every { period_s } if elapsed >= period_s => {
-                    st.last_time = now;
-                    format!("{field}={value}")
-                }
-                RiderPolicy::Every { .. } => String::new(),
-            };
-            st.fresh = false;
-            if !reports.is_empty() {
-                reports.push(',');
-            }
-            reports.push_str(&report);
-        }
-        reports
+        rider_reports_of(&self.cfg.riders, &mut self.riders, now)
     }
 
     /// Takes one piece of mail, handled at `time`: the app's own time when it reads its mail
@@ -1392,6 +1675,21 @@ impl NodeReporter {
         let in_grace =
             self.cfg.nav_grace_period > 0.0 && now - self.start_time < self.cfg.nav_grace_period;
         let ok_nav = self.nav.valid() || in_grace;
+        const NAV_WARNING: &str = "Waiting for NAV_X/Y or NAV_LAT/LONG";
+        if !ok_nav && !self.nav_warning_posted {
+            crate::push_note(
+                &mut self.notes,
+                crate::AppcastNote::Warning(NAV_WARNING.into()),
+            );
+            self.nav_warning_posted = true;
+        }
+        if ok_nav && self.nav_warning_posted {
+            crate::push_note(
+                &mut self.notes,
+                crate::AppcastNote::Retract(NAV_WARNING.into()),
+            );
+            self.nav_warning_posted = false;
+        }
         // Seconds since the last report posted, 0 before the first. (The C++ tests the
         // record's timestamp for > 0, which differs only for a report at MOOS time 0.)
         let gap = self.last_posted.map_or(0.0, |(_, t)| now - t);
@@ -1412,6 +1710,7 @@ impl NodeReporter {
         let has_pos = (self.nav.x.is_some() && self.nav.y.is_some()) || self.nav.lon.is_some();
         let post = ok_nav && time_to_post && !pruned && (has_pos || !in_grace);
         if post {
+            self.record_index = self.reports_posted;
             let mode = self.helm.mode(now, self.cfg.nohelm_threshold);
             self.cross_fill();
             // HDG_ERROR: the posted report carries the heading plus the error.
@@ -1461,6 +1760,7 @@ impl NodeReporter {
                     xy_t,
                     ll_t,
                 );
+                self.gt.index = self.reports_posted;
                 let inputs = ReportInputs {
                     name: &self.gt.name,
                     nav: self.gt.nav,
@@ -1486,6 +1786,7 @@ impl NodeReporter {
                 }
                 if !self.paused {
                     out.push(Posting::string(&self.var_report, report));
+                    self.reports_posted_alt_nav += 1;
                 }
             }
             self.last_post_time = Some(now);
@@ -1524,5 +1825,117 @@ impl NodeReporter {
             push_double_x(&mut msg, ext, 1);
             out.push(Posting::string(&self.var_mhash, msg));
         }
+    }
+}
+
+#[cfg(test)]
+mod appcast_tests {
+    use super::*;
+    use crate::AppcastNote;
+
+    #[test]
+    fn appcast_body_as_node_reporter_builds_it() {
+        let cfg = NodeReportConfig::from_params([
+            ("platform_type", "kayak"),
+            ("platform_color", "yellow"),
+            ("group", "red"),
+            ("nav_grace_period", "0"),
+            ("rider", "var=LEG_ID, policy=updated+10, rfld=LEG"),
+            ("alt_nav_prefix", "NAV_GT"),
+        ])
+        .unwrap();
+        let mut nr = NodeReporter::new(cfg, "abe", 1000.0);
+        let mut out = Vec::new();
+        nr.iterate(1001.0, &mut out);
+        for (var, v) in [
+            ("NAV_X", 10.0),
+            ("NAV_Y", -20.5),
+            ("NAV_SPEED", 1.5),
+            ("NAV_HEADING", 90.0),
+            ("NAV_DEPTH", 0.0),
+            ("LEG_ID", 3.0),
+            ("NAV_GT_X", 11.0),
+            ("NAV_GT_Y", -21.0),
+        ] {
+            nr.on_mail(var, MailValue::Double(v), 1001.5);
+        }
+        nr.on_mail("IVPHELM_STATE", MailValue::Str("DRIVE"), 1001.5);
+        nr.on_mail("IVPHELM_ALLSTOP", MailValue::Str("clear"), 1001.5);
+        nr.iterate(1002.0, &mut out);
+        nr.iterate(1003.0, &mut out);
+        let mut body = String::new();
+        nr.appcast_body(1003.0, &mut body);
+        // The rider was spent by the first report and is not due again for 10 s. The
+        // second report carried INDEX=1, the second GT report INDEX=2.
+        let expected = [
+            "tr_interval:0.5",
+            "extrap_enabled:    false",
+            "extrap_pos_thresh: 0.25",
+            "extrap_hdg_thresh: 1",
+            "extrap_max_gap:    0.25",
+            "Paused: false",
+            "Vehicle Configuration:",
+            "----------------------------",
+            "     Vehicle name: abe",
+            "     Vehicle type: kayak",
+            "   Vehicle length: 4.0",
+            "    Vehicle group: red",
+            "",
+            "CrossFill Policy:",
+            "----------------------------",
+            " cross_fill_policy: literal",
+            "",
+            "Blackout Configuration:",
+            "----------------------------",
+            "Blackout interval: 0.00",
+            "Blackout variance: 0.00",
+            "",
+            "AltNav Config and Status:",
+            "----------------------------",
+            "   alt_nav_prefix: NAV_GT_",
+            "     alt_nav_name: _GT",
+            "    alt_nav_group: ",
+            " alt_nav_postings: 2",
+            "",
+            "Riders:                     ",
+            "----------------------------",
+            "  var=LEG_ID, policy=updated+10, rfld=LEG",
+            "",
+            "Node Report Summary:",
+            "----------------------------",
+            "Reports Posted: 2",
+            " Latest Report: NAME=abe,X=10,Y=-20.5,SPD=1.5,HDG=90,DEP=0,",
+            "                TYPE=kayak,COLOR=yellow,GROUP=red,MODE=DRIVE,",
+            "                ALLSTOP=clear,INDEX=1,TIME=1003,LENGTH=4",
+            " Latest GT Report: NAME=abe_GT,X=11,Y=-21,TYPE=kayak,COLOR=yellow,",
+            "                   GROUP=red,MODE=DRIVE,ALLSTOP=clear,INDEX=2,",
+            "                   TIME=1003,LENGTH=4",
+        ];
+        let lines: Vec<&str> = body.split('\n').collect();
+        assert_eq!(lines.last(), Some(&""), "every line ends with a newline");
+        assert_eq!(lines[..lines.len() - 1], expected);
+        assert_eq!(
+            nr.take_appcast_notes(),
+            [
+                AppcastNote::Warning("Waiting for NAV_X/Y or NAV_LAT/LONG".into()),
+                AppcastNote::Retract("Waiting for NAV_X/Y or NAV_LAT/LONG".into()),
+            ]
+        );
+        assert!(nr.take_appcast_notes().is_empty());
+    }
+
+    #[test]
+    fn appcast_helpers() {
+        assert_eq!(crate::moos::stream_double(0.6), "0.6");
+        assert_eq!(crate::moos::stream_double(2.0), "2");
+        assert_eq!(crate::moos::stream_double(1234567.0), "1.23457e+06");
+        assert_eq!(crate::moos::stream_double(0.00001), "1e-05");
+        let mut s = String::new();
+        write_block(&mut s, "L: ", "", 50);
+        assert_eq!(s, "L: ");
+        let spec = RiderConfig::parse("var=A, policy=2.5").unwrap().spec();
+        assert_eq!(spec, "var=A, policy=2.5");
+        let spec = RiderConfig::parse("var=A, policy=updated").unwrap().spec();
+        assert_eq!(spec, "var=A, policy=updated");
     }
 }

@@ -766,6 +766,10 @@ pub struct MarinePid {
     /// The engine's clock: the time of the last iteration (0 before the first). As in
     /// `PIDEngine`, mail is stamped with it, and a stamp of 0 means "never received".
     engine_time: f64,
+    /// Iterations run (the engine's `m_iterations`, for the appcast's frequency).
+    iterations: u64,
+    /// When the app started (the engine's `m_start_time`); `None`: the first iteration's.
+    start_time: Option<f64>,
 }
 
 impl MarinePid {
@@ -795,7 +799,117 @@ impl MarinePid {
             ],
             last: PidOutputs::default(),
             engine_time: 0.0,
+            iterations: 0,
+            start_time: None,
             cfg,
+        }
+    }
+
+    /// Sets the start time (MOOS `OnStartUp`'s `MOOSTime()`), from which the appcast's
+    /// frequency counts. Without it the time of the first iteration stands in.
+    pub fn set_start_time(&mut self, time: f64) {
+        self.start_time = Some(time);
+    }
+
+    /// Counts one engine iteration at `now` (the C++ `setDesiredValues` count).
+    fn count_iteration(&mut self, now: f64) {
+        self.iterations += 1;
+        self.start_time.get_or_insert(now);
+    }
+
+    /// Appends the pMarinePIDV22 appcast report body (`MarinePID::buildReport`) as of `now`,
+    /// line by line as the C++ writes it:
+    ///
+    /// ```text
+    /// Frequency:<iterations / (now - start), 3 decimals>
+    /// Speed Factor:    <speed_factor>
+    /// PID has_control: <true|false>
+    ///   PID override: <true|false>
+    ///   PID stale:    <true|false>
+    ///
+    /// PID Settings:
+    /// ----------------------------
+    /// Thrust Cap Enabled: <bool>
+    /// Thrust Cap: <cap, 5 decimals>
+    /// YAW_PID_KP             = <kp>  (and KD, KI, INTEGRAL_LIMIT; SPEED_, then with depth
+    /// ...                              control PITCH_ and Z_TO_PITCH_ blocks)
+    /// ```
+    ///
+    /// Gains are written with at most 3 decimals, the maxima with at most 5 (MOOS
+    /// `doubleToStringX`); `Max pitch` is in radians, as the C++ engine holds it after
+    /// reading `maxpitch` (when `maxpitch` is missing, a config warning, the C++ would write
+    /// the unconverted 15 where coug writes 15° in radians). The frequency counts iterations
+    /// from [`MarinePid::set_start_time`] (else from the first iteration); it does not
+    /// depend on wall-clock time.
+    ///
+    /// Appcast notes: pMarinePIDV22 reports no run warnings and no events. Its only
+    /// appcast messages are config warnings at start-up (`Improper PID Setting`, and each
+    /// missing gain, `<KEY> not in Mission File`), which coug reports through
+    /// [`PidConfig::from_params_lenient`].
+    pub fn appcast_body(&self, now: f64, out: &mut String) {
+        use crate::moos::push_double;
+        let elapsed = now - self.start_time.unwrap_or(now);
+        let freq = if elapsed > 0.0 {
+            self.iterations as f64 / elapsed
+        } else {
+            0.0
+        };
+        let b = |v: bool| if v { "true" } else { "false" };
+        let cfg = &self.cfg;
+        let stale = self.state.stale;
+        let over = self.inputs.manual_override;
+        out.push_str("Frequency:");
+        push_double(out, freq, 3);
+        out.push('\n');
+        out.push_str("Speed Factor:    ");
+        out.push_str(&double_x(cfg.speed_factor, 5));
+        out.push('\n');
+        out.push_str("PID has_control: ");
+        out.push_str(b(!over && !stale));
+        out.push_str("\n  PID override: ");
+        out.push_str(b(over));
+        out.push_str("\n  PID stale:    ");
+        out.push_str(b(stale));
+        out.push_str("\n\nPID Settings: \n");
+        const RULE: &str = "----------------------------\n";
+        out.push_str(RULE);
+        out.push_str("Thrust Cap Enabled: ");
+        out.push_str(b(cfg.enable_thrust_cap));
+        out.push_str("\nThrust Cap: ");
+        push_double(out, self.thrust_cap, 5);
+        out.push('\n');
+        let gains = |out: &mut String, prefix: &str, g: &Gains| {
+            // The `=` lines up: the label is padded to the longest (`..._INTEGRAL_LIMIT`).
+            let width = prefix.len() + "INTEGRAL_LIMIT".len();
+            for (name, v) in [
+                ("KP", g.kp),
+                ("KD", g.kd),
+                ("KI", g.ki),
+                ("INTEGRAL_LIMIT", g.integral_limit),
+            ] {
+                let label = format!("{prefix}{name}");
+                out.push_str(&format!("{label:<width$} = "));
+                out.push_str(&double_x(v, 3));
+                out.push('\n');
+            }
+        };
+        let max = |out: &mut String, label: &str, v: f64| {
+            out.push_str(label);
+            out.push_str(&double_x(v, 5));
+            out.push('\n');
+        };
+        gains(out, "YAW_PID_", &cfg.yaw);
+        max(out, "Max rudder: ", cfg.max_rudder);
+        out.push_str(RULE);
+        gains(out, "SPEED_PID_", &cfg.speed);
+        max(out, "Max thrust: ", cfg.max_thrust);
+        if cfg.depth_control {
+            out.push_str(RULE);
+            gains(out, "PITCH_PID_", &cfg.pitch);
+            max(out, "Max pitch: ", cfg.max_pitch_deg.to_radians());
+            out.push_str(RULE);
+            gains(out, "Z_TO_PITCH_PID_", &cfg.z_to_pitch);
+            max(out, "Max elevator: ", cfg.max_elevator);
         }
     }
 
@@ -916,6 +1030,7 @@ impl MarinePid {
     /// debug reports) are appended to `out`.
     pub fn iterate_embedded(&mut self, now: f64, out: &mut Vec<Posting>) -> PidOutputs {
         self.engine_time = now;
+        self.count_iteration(now);
         let (s, o) = step(&self.cfg, &self.state, &self.inputs, now);
         self.state = s;
         self.last = o;
@@ -941,6 +1056,7 @@ impl MarinePid {
     /// One iteration at time `now`; appends the postings to `out`.
     pub fn iterate(&mut self, now: f64, out: &mut Vec<Posting>) {
         self.engine_time = now;
+        self.count_iteration(now);
         let (s, o) = step(&self.cfg, &self.state, &self.inputs, now);
         self.state = s;
         self.last = o;
@@ -1072,5 +1188,141 @@ impl MarinePid {
             );
             out.push(Posting::string(&self.debug_vars[2], s));
         }
+    }
+}
+
+#[cfg(test)]
+mod appcast_tests {
+    use super::*;
+
+    /// A typical M2 Kayak block (the alpha mission's pMarinePIDV22, with depth control).
+    fn kayak() -> MarinePid {
+        let cfg = PidConfig::from_params([
+            ("speed_factor", "20"),
+            ("sim_instability", "0"),
+            ("yaw_pid_kp", "1.2"),
+            ("yaw_pid_kd", "0.0"),
+            ("yaw_pid_ki", "0.3"),
+            ("yaw_pid_integral_limit", "0.07"),
+            ("maxrudder", "100"),
+            ("speed_pid_kp", "1.0"),
+            ("speed_pid_kd", "0.0"),
+            ("speed_pid_ki", "0.0"),
+            ("speed_pid_integral_limit", "0.07"),
+            ("maxthrust", "100"),
+            ("depth_control", "true"),
+            ("z_to_pitch_pid_kp", "0.12"),
+            ("z_to_pitch_pid_kd", "0.1"),
+            ("z_to_pitch_pid_ki", "0.004"),
+            ("z_to_pitch_pid_integral_limit", "0.05"),
+            ("maxpitch", "15"),
+            ("pitch_pid_kp", "0.5"),
+            ("pitch_pid_kd", "1.0"),
+            ("pitch_pid_ki", "0"),
+            ("pitch_pid_integral_limit", "0"),
+            ("maxelevator", "13"),
+        ])
+        .unwrap();
+        MarinePid::new(cfg)
+    }
+
+    #[test]
+    fn appcast_body_as_marine_pid_builds_it() {
+        let mut pid = kayak();
+        pid.set_start_time(100.0);
+        let mut out = Vec::new();
+        // Four iterations at 4 Hz; the helm lifts the override after the first.
+        for (i, t) in [100.25, 100.5, 100.75, 101.0].into_iter().enumerate() {
+            if i == 1 {
+                pid.on_mail("MOOS_MANUAL_OVERRIDE", MailValue::Str("false"), t);
+            }
+            pid.iterate(t, &mut out);
+        }
+        let mut body = String::new();
+        pid.appcast_body(101.0, &mut body);
+        // 4 iterations over 1 s; no input received, so stale (as at start) and not in control.
+        // maxpitch 15 degrees is 0.2617994 rad: 5 decimals 0.26180, trailing zero dropped.
+        let expected = [
+            "Frequency:4.000",
+            "Speed Factor:    20",
+            "PID has_control: false",
+            "  PID override: false",
+            "  PID stale:    true",
+            "",
+            "PID Settings: ",
+            "----------------------------",
+            "Thrust Cap Enabled: false",
+            "Thrust Cap: 100.00000",
+            "YAW_PID_KP             = 1.2",
+            "YAW_PID_KD             = 0",
+            "YAW_PID_KI             = 0.3",
+            "YAW_PID_INTEGRAL_LIMIT = 0.07",
+            "Max rudder: 100",
+            "----------------------------",
+            "SPEED_PID_KP             = 1",
+            "SPEED_PID_KD             = 0",
+            "SPEED_PID_KI             = 0",
+            "SPEED_PID_INTEGRAL_LIMIT = 0.07",
+            "Max thrust: 100",
+            "----------------------------",
+            "PITCH_PID_KP             = 0.5",
+            "PITCH_PID_KD             = 1",
+            "PITCH_PID_KI             = 0",
+            "PITCH_PID_INTEGRAL_LIMIT = 0",
+            "Max pitch: 0.2618",
+            "----------------------------",
+            "Z_TO_PITCH_PID_KP             = 0.12",
+            "Z_TO_PITCH_PID_KD             = 0.1",
+            "Z_TO_PITCH_PID_KI             = 0.004",
+            "Z_TO_PITCH_PID_INTEGRAL_LIMIT = 0.05",
+            "Max elevator: 13",
+        ];
+        let lines: Vec<&str> = body.split('\n').collect();
+        assert_eq!(lines.last(), Some(&""), "every line ends with a newline");
+        assert_eq!(lines[..lines.len() - 1], expected);
+    }
+
+    #[test]
+    fn appcast_body_in_control_without_depth() {
+        let cfg = PidConfig::from_params([
+            ("yaw_pid_kp", "0.5"),
+            ("yaw_pid_kd", "0"),
+            ("yaw_pid_ki", "0"),
+            ("yaw_pid_integral_limit", "0"),
+            ("maxrudder", "30.5"),
+            ("speed_pid_kp", "0.8"),
+            ("speed_pid_kd", "0"),
+            ("speed_pid_ki", "0.11"),
+            ("speed_pid_integral_limit", "0.07"),
+            ("maxthrust", "84"),
+            ("depth_control", "false"),
+        ])
+        .unwrap();
+        let mut pid = MarinePid::new(cfg);
+        let mut out = Vec::new();
+        pid.iterate(10.0, &mut out);
+        pid.on_mail("MOOS_MANUAL_OVERRIDE", MailValue::Str("false"), 10.0);
+        pid.iterate(10.5, &mut out);
+        for (var, v) in [
+            ("DESIRED_HEADING", 90.0),
+            ("DESIRED_SPEED", 1.5),
+            ("NAV_HEADING", 80.0),
+            ("NAV_SPEED", 1.0),
+        ] {
+            pid.on_mail(var, MailValue::Double(v), 10.5);
+        }
+        pid.iterate(11.0, &mut out);
+        pid.iterate(11.5, &mut out);
+        let mut body = String::new();
+        pid.appcast_body(11.5, &mut body);
+        // Started at the first iteration (10.0): 4 iterations in 1.5 s.
+        let head = "Frequency:2.667\nSpeed Factor:    0\nPID has_control: true\n  PID \
+                    override: false\n  PID stale:    false\n\n";
+        assert!(body.starts_with(head), "{body}");
+        assert!(body.ends_with(
+            "Max rudder: 30.5\n----------------------------\nSPEED_PID_KP             = \
+             0.8\nSPEED_PID_KD             = 0\nSPEED_PID_KI             = 0.11\n\
+             SPEED_PID_INTEGRAL_LIMIT = 0.07\nMax thrust: 84\n"
+        ));
     }
 }

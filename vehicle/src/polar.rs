@@ -118,6 +118,22 @@ impl Polar {
         true
     }
 
+    /// The set points as the appcast shows them (MOOS `PolarPlot::getSpec`):
+    /// `angle,value` (at most 1 and 2 decimals) joined by `:`, by angle; empty when none.
+    pub fn spec(&self) -> String {
+        self.points
+            .iter()
+            .map(|(h, v)| {
+                format!(
+                    "{},{}",
+                    crate::moos::double_x(*h, 1),
+                    crate::moos::double_x(*v, 2)
+                )
+            })
+            .collect::<Vec<_>>()
+            .join(":")
+    }
+
     /// Whether any set point is given.
     pub fn is_set(&self) -> bool {
         !self.points.is_empty()

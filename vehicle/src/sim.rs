@@ -1128,6 +1128,10 @@ pub struct Simulator {
     trim_request: Option<f64>,
     last_report: f64,
     transp_var: Arc<str>,
+    /// The environment at start-up (the C++ `cacheStartingInfo`), for the appcast.
+    start_inputs: SimInputs,
+    /// The water depth at start-up.
+    start_water_depth: f64,
 }
 
 /// What the embedded PID takes from the mail (uSimMarineV22 `OnNewMail`, PID part).
@@ -1206,7 +1210,269 @@ impl Simulator {
             trim_request: None,
             last_report: 0.0,
             transp_var: format!("{}_TRANSP", cfg.prefix).into(),
+            start_inputs: inputs,
+            start_water_depth: cfg.water_depth,
             cfg,
+        }
+    }
+
+    /// Appends the uSimMarineV22 appcast report body (`USM_MOOSApp::buildReport`): the
+    /// settings, the pose table (start, navigation, ground truth with `dual_state`), the
+    /// buoyancy, the drift table, the velocity and depth settings and the wormholes. `now`
+    /// is not needed (the C++ report shows no time) and is taken for a uniform signature.
+    ///
+    /// Reproduced as the C++ writes them, quirks included: the ground-truth column's heading
+    /// is the navigation heading, the positive thrust map is written `thrust,speed` pairs
+    /// (`, ` between pairs), `Accereration`/`Decereration`, the start column's latitude and
+    /// longitude are always 0 and its altitude is the water depth minus the start depth
+    /// unclipped. Approximated: the wind model without a `wind_conditions` is written as
+    /// the C++ default `spd=0, dir=0`; the polar plot as its points as configured
+    /// (`angle,pct` joined by `:`) where the C++ writes its interpolated set points; the
+    /// wormhole section as its `Total WormHoles: N` line only (the C++ adds each wormhole's
+    /// own summary lines).
+    ///
+    /// Appcast notes: uSimMarineV22 reports no run warnings and no events at a2a9b716;
+    /// its appcast messages are config warnings at start-up (`No config block found for
+    /// uSimMarineV22`, `Improper YAW PID Setting`, `Improper SPD PID Setting`,
+    /// `Improper DEP PID Setting`, and each unhandled line), which coug reports through
+    /// [`SimConfig::from_params_lenient`].
+    pub fn appcast_body(&self, _now: f64, out: &mut String) {
+        use crate::moos::{push_double_x, stream_double};
+        let b = |v: bool| if v { "true" } else { "false" };
+        let x = double_x;
+        let line = |out: &mut String, label: &str, value: &str| {
+            out.push_str(label);
+            out.push_str(value);
+            out.push('\n');
+        };
+        let cfg = &self.cfg;
+        let wd = cfg.water_depth;
+        let alt = |depth: f64| (wd - depth).max(0.0);
+        let latlon = |st: &SimState| {
+            self.grid
+                .as_ref()
+                .and_then(|g| g.to_latlon(st.x, st.y).ok())
+                .unwrap_or((0.0, 0.0))
+        };
+        let (nav, gt) = (&self.state, &self.gt);
+        let dual = cfg.dual_state;
+        let sailing = self.inputs.wind.is_some() && cfg.polar.is_set();
+        line(out, "Enabled:  ", b(self.enabled));
+        line(out, "TurnRate: ", &x(cfg.turn_rate, 2));
+        line(out, "TurnRadius: ", &x(cfg.turn_radius, 2));
+        let datum = match &self.grid {
+            Some(g) => format!("{},{}", x(g.lat_origin(), 9), x(g.lon_origin(), 9)),
+            None => "?,?".to_string(),
+        };
+        line(out, "Datum: ", &datum);
+        out.push_str("Sailing:\n");
+        let wind = match self.inputs.wind {
+            Some(w) => format!("spd={}, dir={}", x(w.speed_mps, 3), x(w.dir_deg, 5)),
+            None => "spd=0, dir=0".to_string(),
+        };
+        line(out, "  WindModel: ", &wind);
+        line(out, "  PolarPlot: ", &cfg.polar.spec());
+        line(out, "  Enabled:   ", b(sailing));
+        if let Some(v) = &cfg.post_des_thrust {
+            line(out, "  post_des_thrust:   ", v);
+        }
+        if let Some(v) = &cfg.post_des_rudder {
+            line(out, "  post_des_rudder:   ", v);
+        }
+        out.push_str("\n\n");
+
+        // Part 1: the poses.
+        let mut t = appcast::Table::with_pad(6, 1);
+        t.push("Start | Pose | Current | Pose (NAV) | Current | Pose (GT)");
+        t.add_header_lines();
+        t.set_column_pad_str(1, "   ");
+        t.set_column_pad_str(3, "   ");
+        for ix in [0, 2, 4] {
+            t.set_right_justify(ix, true);
+        }
+        let st = &cfg.start;
+        let (nav_lat, nav_lon) = latlon(nav);
+        let (gt_lat, gt_lon) = latlon(gt);
+        let rows: [(&str, String, String, String); 7] = [
+            (
+                "Headng:",
+                x(st.heading, 1),
+                x(nav.heading, 1),
+                x(nav.heading, 1),
+            ),
+            ("Speed:", x(st.speed, 2), x(nav.speed, 2), x(gt.speed, 2)),
+            ("Depth:", x(st.depth, 2), x(nav.depth, 1), x(gt.depth, 1)),
+            (
+                "Alt:",
+                x(self.start_water_depth - st.depth, 2),
+                x(alt(nav.depth), 1),
+                x(alt(gt.depth), 1),
+            ),
+            (
+                "(X,Y):",
+                format!("{},{}", x(st.x, 2), x(st.y, 2)),
+                format!("{},{}", x(nav.x, 2), x(nav.y, 2)),
+                format!("{},{}", x(gt.x, 2), x(gt.y, 2)),
+            ),
+            ("Lat:", "0".into(), x(nav_lat, 8), x(gt_lat, 8)),
+            ("Lon:", "0".into(), x(nav_lon, 8), x(gt_lon, 8)),
+        ];
+        for (i, (label, start, now_nav, now_gt)) in rows.iter().enumerate() {
+            t.push(label);
+            t.push(start);
+            t.push(label);
+            t.push(now_nav);
+            if dual {
+                t.push(label);
+                t.push(now_gt);
+            } else {
+                t.push(if i == 0 { "(same)" } else { " " });
+                t.push("-");
+            }
+        }
+        t.write(out);
+
+        // Part 2: buoyancy.
+        out.push_str("\n\n");
+        line(
+            out,
+            "Present Buoyancy rate: ",
+            &x(self.inputs.buoyancy_rate, 8),
+        );
+        line(
+            out,
+            "        Starting rate: ",
+            &x(self.start_inputs.buoyancy_rate, 8),
+        );
+
+        // Part 3: drift.
+        out.push('\n');
+        let mut t = appcast::Table::with_pad(7, 2);
+        t.push("Ext Drift | X | Y | Mag | Ang | Rot. |Source(s)");
+        t.add_header_lines();
+        t.set_right_justify(0, true);
+        for ix in [2, 4, 5] {
+            t.set_column_pad_str(ix, "  |  ");
+        }
+        let si = &self.start_inputs;
+        let (sx, sy) = (si.drift_x, si.drift_y);
+        t.push("Starting");
+        t.push(&x(sx, 4));
+        t.push(&x(sy, 4));
+        t.push(&x(sx.hypot(sy), 4));
+        t.push(&x(rel_ang(0.0, 0.0, sx, sy), 4));
+        t.push(&x(si.rotate_speed, 4));
+        t.push("init_config");
+        let (dx, dy) = (self.inputs.drift_x, self.inputs.drift_y);
+        let mag = x(dx.hypot(dy), 4);
+        let ang = if mag == "0" {
+            "0".to_string()
+        } else {
+            x(rel_ang(0.0, 0.0, dx, dy), 4)
+        };
+        let sources: Vec<&str> = self.drift_sources.iter().map(String::as_str).collect();
+        let sources = if sources.is_empty() {
+            "n/a".to_string()
+        } else {
+            sources.join(",")
+        };
+        t.push("Present");
+        t.push(&x(dx, 3));
+        t.push(&x(dy, 3));
+        t.push(&mag);
+        t.push(&ang);
+        t.push(&x(self.inputs.rotate_speed, 4));
+        t.push(&sources);
+        t.write(out);
+        out.push_str("\n\n");
+
+        // Part 4: speed and thrust.
+        out.push_str("Velocity Information: \n");
+        out.push_str("--------------------- \n");
+        out.push_str("     DESIRED_THRUST=");
+        out.push_str(&x(self.inputs.thrust, 1));
+        line(out, " ==> SPEED=", &x(nav.speed, 2));
+        let map = &cfg.thrust_map;
+        out.push_str("     Using Thrust_Factor: ");
+        out.push_str(b(map.using_thrust_factor()));
+        if map.using_thrust_factor() {
+            out.push_str(" (");
+            push_double_x(out, map.thrust_factor, 4);
+            out.push(')');
+        }
+        out.push('\n');
+        line(out, "           Using Sailing: ", b(sailing));
+        line(out, "    PID Coupled: ", b(self.pid.is_some()));
+        let pairs = |v: &[(f64, f64)], sep: &str| {
+            v.iter()
+                .map(|(t, s)| format!("{}{sep}{}", x(*t, 4), x(*s, 4)))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let mut pos = pairs(&map.pos, ",");
+        let mut neg = if map.reflect {
+            "Positive thrust-map reflected".to_string()
+        } else {
+            pairs(&map.neg, ":")
+        };
+        for m in [&mut pos, &mut neg] {
+            if m.is_empty() {
+                *m = "n/a".into();
+            }
+        }
+        line(out, "     Positive Thrust Map: ", &pos);
+        line(out, "     Negative Thrust Map: ", &neg);
+        line(
+            out,
+            "        Max Accereration: ",
+            &x(cfg.max_acceleration, 6),
+        );
+        line(
+            out,
+            "        Max Decereration: ",
+            &x(cfg.max_deceleration, 6),
+        );
+        out.push('\n');
+        let diff = cfg.thrust_mode_differential;
+        line(
+            out,
+            "             Thrust Mode: ",
+            if diff { "differential" } else { "normal" },
+        );
+        line(
+            out,
+            "     Thrust Mode Reverse: ",
+            b(cfg.thrust_mode_reverse),
+        );
+        let (l, r) = if diff {
+            (
+                x(self.inputs.thrust_left, 2),
+                x(self.inputs.thrust_right, 2),
+            )
+        } else {
+            ("n/a".to_string(), "n/a".to_string())
+        };
+        line(out, "        DESIRED_THRUST_L: ", &l);
+        line(out, "        DESIRED_THRUST_R: ", &r);
+
+        // Part 5: depth.
+        out.push_str("\nDepth Information: \n");
+        out.push_str("------------------ \n");
+        line(
+            out,
+            "           Max Depth Rate: ",
+            &x(cfg.max_depth_rate, 6),
+        );
+        line(
+            out,
+            "     Max Depth Rate Speed: ",
+            &x(cfg.max_depth_rate_speed, 6),
+        );
+        line(out, "              Water Depth: ", &stream_double(wd));
+        let holes = cfg.wormholes.len();
+        if holes > 0 {
+            out.push_str("\nWormHole Information:\n---------------------\n");
+            line(out, "Total WormHoles: ", &holes.to_string());
         }
     }
 
@@ -1680,5 +1946,97 @@ impl Simulator {
         if let Some(a) = nav.altitude {
             out.push(Posting::double(&v.altitude, a));
         }
+    }
+}
+
+#[cfg(test)]
+mod appcast_tests {
+    use super::*;
+
+    #[test]
+    fn appcast_body_as_usim_marine_builds_it() {
+        let cfg = SimConfig::from_params([
+            ("start_pos", "x=0, y=-20, heading=180, speed=0"),
+            ("prefix", "NAV"),
+        ])
+        .unwrap();
+        let mut sim = Simulator::new(cfg, None, 0.0);
+        let mut out = Vec::new();
+        sim.on_mail("DRIFT_X", MailValue::Double(0.5), 0.0);
+        // No thrust: only the drift (0.5 m/s east, no source named) moves the vehicle.
+        for i in 1..=4 {
+            sim.iterate(f64::from(i) * 0.25, &mut out);
+        }
+        let mut body = String::new();
+        sim.appcast_body(1.0, &mut body);
+        let lines: Vec<&str> = body.split('\n').collect();
+        // The drifted position is the simulator's; the (X,Y) row is checked against it.
+        let nav = *sim.state();
+        let xy = format!("{},{}", double_x(nav.x, 2), double_x(nav.y, 2));
+        assert_eq!(
+            lines[..9],
+            [
+                "Enabled:  true",
+                "TurnRate: 70",
+                "TurnRadius: 0",
+                "Datum: ?,?",
+                "Sailing:",
+                "  WindModel: spd=0, dir=0",
+                "  PolarPlot: ",
+                "  Enabled:   false",
+                "",
+            ]
+        );
+        assert_eq!(lines[9], "");
+        assert_eq!(
+            lines[10],
+            "  Start Pose    Current Pose (NAV)   Current Pose (GT)"
+        );
+        assert_eq!(
+            lines[11],
+            "------- -----   ------- ----------   ------- ---------"
+        );
+        assert_eq!(lines[12], "Headng: 180     Headng: 180           (same) -");
+        assert_eq!(lines[13], " Speed: 0        Speed: 0                    -");
+        assert_eq!(lines[14], " Depth: 0        Depth: 0                    -");
+        assert_eq!(lines[15], "   Alt: 0          Alt: 0                    -");
+        assert_eq!(&lines[16][..18], " (X,Y): 0,-20    (");
+        assert!(lines[16].contains(&format!("(X,Y): {xy}")), "{}", lines[16]);
+        assert_eq!(lines[17], "   Lat: 0          Lat: 0                    -");
+        assert_eq!(lines[18], "   Lon: 0          Lon: 0                    -");
+        let rest = [
+            "",
+            "Present Buoyancy rate: 0.025",
+            "        Starting rate: 0.025",
+            "",
+            "Ext Drift  X    Y   |  Mag  Ang  |  Rot.  |  Source(s)",
+            "---------  ---  --  |  ---  ---  |  ----  |  -----------",
+            " Starting  0    0   |  0    0    |  0     |  init_config",
+            "  Present  0.5  0   |  0.5  90   |  0     |  n/a",
+            "",
+            "Velocity Information: ",
+            "--------------------- ",
+            "     DESIRED_THRUST=0 ==> SPEED=0",
+            "     Using Thrust_Factor: true (20)",
+            "           Using Sailing: false",
+            "    PID Coupled: false",
+            "     Positive Thrust Map: n/a",
+            "     Negative Thrust Map: n/a",
+            "        Max Accereration: 0",
+            "        Max Decereration: 0.5",
+            "",
+            "             Thrust Mode: normal",
+            "     Thrust Mode Reverse: false",
+            "        DESIRED_THRUST_L: n/a",
+            "        DESIRED_THRUST_R: n/a",
+            "",
+            "Depth Information: ",
+            "------------------ ",
+            "           Max Depth Rate: 0.5",
+            "     Max Depth Rate Speed: 2",
+            "              Water Depth: 0",
+            "",
+        ];
+        assert_eq!(lines[19..], rest);
     }
 }

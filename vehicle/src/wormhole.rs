@@ -179,6 +179,11 @@ impl WormHoleSet {
         self.holes.is_empty()
     }
 
+    /// How many wormholes are configured.
+    pub fn len(&self) -> usize {
+        self.holes.len()
+    }
+
     /// The wormholes, in configuration order.
     pub fn holes(&self) -> &[WormHole] {
         &self.holes
