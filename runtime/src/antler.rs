@@ -235,13 +235,15 @@ pub fn build(
         app @ ("uSimMarine" | "uSimMarineV22") => {
             let b = block.unwrap_or_else(empty);
             let legacy = app == "uSimMarine";
-            let v = VehicleApp::simulator(moos_name, b, globals.grid(), start, legacy)?;
+            let v = VehicleApp::simulator(moos_name, b, globals.grid(), start, legacy)?
+                .with_appcast_globals(m.global("Community"), globals.time_warp);
             warnings.extend(v.warnings().iter().cloned());
             Box::new(v)
         }
         app @ ("pMarinePID" | "pMarinePIDV22") => {
             let legacy = app == "pMarinePID";
-            let v = VehicleApp::marine_pid(moos_name, block.unwrap_or_else(empty), legacy)?;
+            let v = VehicleApp::marine_pid(moos_name, block.unwrap_or_else(empty), legacy)?
+                .with_appcast_globals(m.global("Community"), globals.time_warp);
             warnings.extend(v.warnings().iter().cloned());
             Box::new(v)
         }
@@ -253,7 +255,8 @@ pub fn build(
                 start,
                 globals.grid(),
                 seed ^ fnv(moos_name),
-            )?;
+            )?
+            .with_appcast_globals(m.global("Community"), globals.time_warp);
             warnings.extend(v.warnings().iter().cloned());
             Box::new(v)
         }

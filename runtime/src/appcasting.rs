@@ -134,6 +134,11 @@ impl AppcastLayer {
         }
     }
 
+    /// The term-report interval in force, seconds of real time.
+    pub fn term_report_interval(&self) -> f64 {
+        self.cast.term_report_interval()
+    }
+
     /// The comms policy in force (`open`, `lean`, `dire`).
     pub fn comms_policy(&self) -> &'static str {
         self.cast.comms_policy().as_str()

@@ -10,6 +10,7 @@ use vehicle::sim::{SimConfig, Simulator};
 use vehicle::{ConfigError, MailValue, Posting};
 
 use crate::app::{App, Mail, Post, Subscription, Value};
+use crate::appcasting::{AppcastLayer, Note};
 
 /// A vehicle app's block that cannot be used, with where it is.
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
@@ -73,6 +74,8 @@ pub struct VehicleApp {
     postings: Vec<Posting>,
     warnings: Vec<String>,
     startup_failure: Option<String>,
+    /// AppCastingMOOSApp around the app.
+    appcast: AppcastLayer,
 }
 
 impl VehicleApp {
@@ -83,15 +86,37 @@ impl VehicleApp {
         subs: Vec<&str>,
         warnings: Vec<String>,
     ) -> Self {
+        let mut appcast = AppcastLayer::with_globals(name, Some(&block), None, 1.0);
+        for w in &warnings {
+            appcast.config_warning(w);
+        }
         VehicleApp {
             name: name.to_string(),
             block,
             inner,
-            subs: subs.into_iter().map(Subscription::var).collect(),
+            subs: AppcastLayer::subscriptions()
+                .chain(subs.into_iter().map(Subscription::var))
+                .collect(),
             postings: Vec::with_capacity(32),
             warnings,
             startup_failure: None,
+            appcast,
         }
+    }
+
+    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts (the node
+    /// name, the real-time rate limit); the block's appcasting keys are read again with
+    /// them.
+    pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
+        let mut layer = AppcastLayer::with_globals(&self.name, Some(&self.block), community, warp);
+        for w in &self.warnings {
+            layer.config_warning(w);
+        }
+        self.appcast = layer;
+        if let Inner::Reporter(r) = &mut self.inner {
+            r.set_term_report_interval(self.appcast.term_report_interval());
+        }
+        self
     }
 
     /// uSimMarineV22 (`legacy` false) or the older uSimMarine (`legacy` true) from its
@@ -217,7 +242,11 @@ impl App for VehicleApp {
         Some(&self.block)
     }
 
-    fn on_startup(&mut self, _now: f64, out: &mut Vec<Post>) {
+    fn on_startup(&mut self, now: f64, out: &mut Vec<Post>) {
+        self.appcast.on_startup(now);
+        if let Inner::Pid(p) = &mut self.inner {
+            p.set_start_time(now);
+        }
         // pNodeReporter posts PNODEREPORTER_PID in OnStartUp (single-app mode only).
         if let Inner::Reporter(r) = &mut self.inner {
             r.on_startup(&mut self.postings);
@@ -231,6 +260,10 @@ impl App for VehicleApp {
 
     fn on_mail(&mut self, mail: &[Mail], now: f64, out: &mut Vec<Post>) {
         for m in mail {
+            // AppCastingMOOSApp takes its own mail first.
+            if !self.appcast.take_mail(m) {
+                continue;
+            }
             let v = match &m.value {
                 Value::Double(x) => MailValue::Double(*x),
                 Value::String(s) => MailValue::Str(s),
@@ -254,11 +287,133 @@ impl App for VehicleApp {
     }
 
     fn iterate(&mut self, now: f64, out: &mut Vec<Post>) {
+        let tick = self.app_tick();
+        self.appcast.begin(now, tick, out);
         match &mut self.inner {
             Inner::Sim(s) => s.iterate(now, &mut self.postings),
             Inner::Pid(p) => p.iterate(now, &mut self.postings),
-            Inner::Reporter(r) => r.iterate(now, &mut self.postings),
+            Inner::Reporter(r) => {
+                r.set_term_report_interval(self.appcast.term_report_interval());
+                r.iterate(now, &mut self.postings);
+                for n in r.take_appcast_notes() {
+                    let note = match n {
+                        vehicle::AppcastNote::Warning(w) => Note::Warning(w),
+                        vehicle::AppcastNote::Retract(w) => Note::Retract(w),
+                        vehicle::AppcastNote::Event(e) => Note::Event(e),
+                    };
+                    self.appcast.note(note, now);
+                }
+            }
         }
         self.flush(out);
+        // PostReport: each app's report body, as its C++ buildReport writes it.
+        let inner = &self.inner;
+        self.appcast.end(now, tick, out, |body| match inner {
+            Inner::Sim(s) => s.appcast_body(now, body),
+            Inner::Pid(p) => p.appcast_body(now, body),
+            Inner::Reporter(r) => r.appcast_body(now, body),
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mission::source::SourceMap;
+
+    fn block(text: &str) -> ProcessConfig {
+        let src = SourceMap::from_text("v.moos", text);
+        mission::moos::parse_moos(&src).value.processes[0].clone()
+    }
+
+    fn mail(key: &str, value: Value, time: f64) -> Mail {
+        Mail {
+            key: key.into(),
+            value,
+            time,
+            source: "uMAC".into(),
+            source_aux: String::new(),
+            community: "abe".into(),
+        }
+    }
+
+    fn appcast_of(out: &[Post]) -> Option<appcast::AppCast> {
+        out.iter()
+            .find(|p| p.key == "APPCAST")
+            .map(|p| appcast::AppCast::parse(p.value.as_str().unwrap()))
+    }
+
+    #[test]
+    fn vehicle_apps_appcast_their_reports_on_request() {
+        let b = block(
+            "ProcessConfig = pMarinePIDV22\n{\n  AppTick = 4\n  yaw_pid_kp = 1.2\n  \
+             yaw_pid_kd = 0\n  yaw_pid_ki = 0\n  yaw_pid_integral_limit = 0\n  \
+             speed_pid_kp = 1\n  speed_pid_kd = 0\n  speed_pid_ki = 0\n  \
+             speed_pid_integral_limit = 0\n  maxrudder = 100\n  maxthrust = 100\n  \
+             term_report_interval = 0.4\n}\n",
+        );
+        let mut app = VehicleApp::marine_pid("pMarinePIDV22", b, false)
+            .unwrap()
+            .with_appcast_globals(Some("abe"), 1.0);
+        assert!(
+            app.subscriptions()
+                .iter()
+                .any(|s| s.pattern == "APPCAST_REQ")
+        );
+        let mut out = Vec::new();
+        app.on_startup(0.0, &mut out);
+        // The first iteration always reports.
+        app.iterate(0.25, &mut out);
+        let first = appcast_of(&out).expect("an appcast at iteration 1");
+        assert_eq!(first.proc_name(), "pMarinePIDV22");
+        assert_eq!(first.node_name(), "abe");
+        out.clear();
+        app.iterate(0.5, &mut out);
+        assert!(appcast_of(&out).is_none(), "nobody asked");
+        let req = "node=abe,app=all,duration=3,key=uMAC_7,thresh=any";
+        app.on_mail(&[mail("APPCAST_REQ", Value::text(req), 0.6)], 0.6, &mut out);
+        app.iterate(0.75, &mut out);
+        let cast = appcast_of(&out).expect("an appcast on request");
+        assert_eq!(cast.iteration(), 3);
+        assert!(
+            cast.messages().contains("PID has_control: false"),
+            "{}",
+            cast.messages()
+        );
+        // The request was the layer's: the PID never saw it.
+        assert!(!out.iter().any(|p| p.key == "APPCAST_REQ"));
+    }
+
+    #[test]
+    fn a_node_reporter_without_navigation_warns_in_its_appcast() {
+        let b = block(
+            "ProcessConfig = pNodeReporter\n{\n  AppTick = 4\n  platform_type = kayak\n  nav_grace_period = 5\n}\n",
+        );
+        let mut app = VehicleApp::node_reporter("pNodeReporter", b, "abe", 0.0, None, 1)
+            .unwrap()
+            .with_appcast_globals(Some("abe"), 1.0);
+        let mut out = Vec::new();
+        app.on_startup(0.0, &mut out);
+        let req = "node=abe,app=pNodeReporter,duration=30,key=k,thresh=any";
+        app.on_mail(&[mail("APPCAST_REQ", Value::text(req), 0.0)], 0.0, &mut out);
+        let mut warned = None;
+        for k in 1..=40 {
+            out.clear();
+            app.iterate(f64::from(k) * 0.25, &mut out);
+            if let Some(c) = appcast_of(&out)
+                && c.run_warning_total() > 0
+            {
+                warned = Some(c);
+                break;
+            }
+        }
+        let c = warned.expect("a run warning once the nav grace period is over");
+        assert!(
+            c.run_warnings()
+                .keys()
+                .any(|w| w.contains("Waiting for NAV_X/Y")),
+            "{:?}",
+            c.run_warnings()
+        );
     }
 }

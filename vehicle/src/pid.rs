@@ -63,6 +63,7 @@
 //! | PID_STALE | each stale input, each iteration | `Stale DesHdg:<s>` (DesSpd, NavHdg, NavSpd, DesDepth, NavDep, NavPitch) | done |
 //! | PID_SPD_DEBUG, PID_HDG_DEBUG, PID_DEP_DEBUG | with the `*_debug` switch, when the loop ran | `PID_SPEED:  (Want):.. (Curr):.. (Diff):.. (Fctr\|Delt):.. THRUST:..` etc. | done |
 //! | PID_MAX_SAT_HDG_DEBUG, _SPD_, _DEP_ | with the debug switch, on saturation of that loop, before its report | ScalarPID's debug string, always empty at a2a9b716: `""`, `""`, `Z:` / `P:` | done |
+//! | APPCAST, APP_LOG, PMARINEPIDV22_ITER_GAP/_ITER_LEN (AppCastingMOOSApp) | on request, a new config warning, the first iteration; load casts | the AppCast string; the body is `buildReport`'s ([`MarinePid::appcast_body`]; the frequency is counted in MOOS time) | done (`runtime::appcasting`, `runtime/src/vehicle.rs` tests) |
 //! | DESIRED_* on zero/negative desired speed or negative SPEED_FACTOR | in control | thrust below 0.01 is 0, then rudder and elevator 0 | done |
 //!
 //! Subscriptions: NAV_HEADING, NAV_SPEED, NAV_DEPTH, NAV_PITCH, DESIRED_HEADING, DESIRED_SPEED,

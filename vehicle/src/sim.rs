@@ -84,6 +84,7 @@
 //! | `<P>_TRANSP` | with wormholes, every iteration | transparency 0..1 | done |
 //! | VIEW_POLYGON | with wormholes, every 10th iteration, weber then madrid | polygon spec, `label=<tag>_weber`, white fill 0.1 | done |
 //! | USM_NOGO | skewed PID mail | skew | refused: mail skew is not modelled (in-process mail carries no clock skew) |
+//! | APPCAST, APP_LOG, USIMMARINEV22_ITER_GAP/_ITER_LEN (AppCastingMOOSApp) | on request, a new config warning, the first iteration; load casts | the AppCast string; the body is `buildReport`'s ([`Simulator::appcast_body`]; the wormhole lines are `WormHoleSet::getConfigSummary`'s) | done (`runtime::appcasting`; body test in this file) |
 //!
 //! Subscriptions (done): DESIRED_RUDDER/THRUST/ELEVATOR/THRUST_L/THRUST_R (without the
 //! embedded PID) or DESIRED_HEADING/SPEED/DEPTH, SPEED_FACTOR, MOOS_MANUAL_OVERIDE/OVERRIDE
@@ -1228,8 +1229,8 @@ impl Simulator {
     /// unclipped. Approximated: the wind model without a `wind_conditions` is written as
     /// the C++ default `spd=0, dir=0`; the polar plot as its points as configured
     /// (`angle,pct` joined by `:`) where the C++ writes its interpolated set points; the
-    /// wormhole section as its `Total WormHoles: N` line only (the C++ adds each wormhole's
-    /// own summary lines).
+    /// wormhole section as `Total WormHoles: N`, then per wormhole its `tag=..,
+    /// connection=.., delay=.., id_change=..` line and its two polygon specs.
     ///
     /// Appcast notes: uSimMarineV22 reports no run warnings and no events at a2a9b716;
     /// its appcast messages are config warnings at start-up (`No config block found for
@@ -1473,6 +1474,31 @@ impl Simulator {
         if holes > 0 {
             out.push_str("\nWormHole Information:\n---------------------\n");
             line(out, "Total WormHoles: ", &holes.to_string());
+            for h in cfg.wormholes.holes() {
+                let connection = match h.connection {
+                    crate::wormhole::Connection::FromMadrid => "from_madrid",
+                    crate::wormhole::Connection::FromWeber => "from_weber",
+                    crate::wormhole::Connection::Both => "both",
+                };
+                out.push_str("tag=");
+                out.push_str(&h.tag);
+                out.push_str(", connection=");
+                out.push_str(connection);
+                out.push_str(", delay=");
+                out.push_str(&double_x(h.delay_s, 5));
+                out.push_str(", id_change=");
+                out.push_str(if h.id_change { "true" } else { "false" });
+                out.push('\n');
+                // Only convex polygons are accepted; an unset one prints `null`.
+                for (label, poly) in [("madrid_poly: ", &h.madrid), ("weber_poly:  ", &h.weber)] {
+                    out.push_str(label);
+                    match poly {
+                        Some(p) => p.spec(out),
+                        None => out.push_str("null"),
+                    }
+                    out.push('\n');
+                }
+            }
         }
     }
 
@@ -1952,6 +1978,47 @@ impl Simulator {
 #[cfg(test)]
 mod appcast_tests {
     use super::*;
+
+    #[test]
+    fn appcast_body_lists_each_wormhole_as_its_config_summary() {
+        let cfg = SimConfig::from_params([
+            ("start_pos", "x=0, y=-20, heading=180, speed=0"),
+            (
+                "wormhole",
+                "tag=a,madrid_poly={0,0:10,0:10,10:0,10},weber_poly={100,0:110,0:110,10:100,10},\
+                 connection=from_weber,delay=2.5",
+            ),
+        ])
+        .unwrap();
+        let sim = Simulator::new(cfg, None, 0.0);
+        let mut body = String::new();
+        sim.appcast_body(0.0, &mut body);
+        let tail: Vec<&str> = body
+            .split('\n')
+            .skip_while(|l| *l != "WormHole Information:")
+            .collect();
+        assert_eq!(
+            tail[..4],
+            [
+                "WormHole Information:",
+                "---------------------",
+                "Total WormHoles: 1",
+                "tag=a, connection=from_weber, delay=2.5, id_change=true",
+            ]
+        );
+        assert!(
+            tail[4].starts_with("madrid_poly: pts={0,0:10,0:10,10:0,10}"),
+            "{}",
+            tail[4]
+        );
+        assert!(tail[4].contains("label=a_madrid"), "{}", tail[4]);
+        assert!(
+            tail[5].starts_with("weber_poly:  pts={100,0:110,0:110,10:100,10}"),
+            "{}",
+            tail[5]
+        );
+        assert_eq!(tail[6], "");
+    }
 
     #[test]
     fn appcast_body_as_usim_marine_builds_it() {
