@@ -139,6 +139,12 @@ impl LateSink {
         self.0.lock().unwrap_or_else(|p| p.into_inner())
     }
 
+    /// Whether a write of the session has failed (the run has then failed: stop it and
+    /// [`LateSink::close`] for the error).
+    pub fn has_failed(&self) -> bool {
+        self.lock().as_ref().is_some_and(|a| a.failed.is_some())
+    }
+
     /// Flushes the alog and reports the first write error of the whole session, if any: a
     /// log that could not be written is a failed run. Later writes fail.
     pub fn close(&self) -> io::Result<()> {

@@ -792,6 +792,13 @@ fn lockstep(
             );
             return Ok(130);
         }
+        // A log that cannot be written is a failed run: stop at once and say why.
+        if sink.has_failed() {
+            progress.finish();
+            drop(s);
+            close_log(&sink, &alog_path)?;
+            return Err(vec![format!("the log {alog_path} could not be written")]);
+        }
         t = (t + step).min(end);
         match s.advance(t).map_err(|e| vec![e.to_string()])? {
             Some(o) => break o,
@@ -1006,10 +1013,20 @@ fn realtime(
                 progress.tick(now - start, &wall, &get, terminal, every);
             }
         };
+        // A log that cannot be written is a failed run: it ends the run at once.
+        let log_failed = async {
+            loop {
+                tokio::time::sleep(std::time::Duration::from_millis(200)).await;
+                if sink.has_failed() {
+                    break;
+                }
+            }
+        };
         let result = tokio::select! {
-            r = run_apps(p.apps, &cfg, spec) => Some(r),
+            r = run_apps(p.apps, &cfg, spec) => Some(r.map_err(Some)),
             _ = super::signal::shutdown() => None,
             _ = progress_task => unreachable!("the progress loop never ends"),
+            _ = log_failed => Some(Err(None)),
         };
         let wall = wall.elapsed().as_secs_f64();
         if terminal {
@@ -1025,7 +1042,15 @@ fn realtime(
             errln!("coug run: interrupted after {wall:.1} wall s; log: {alog_path}");
             return Ok(130);
         };
-        let end = result.map_err(|e| vec![e.to_string()])?;
+        let end = match result {
+            Ok(end) => end,
+            Err(Some(e)) => return Err(vec![e.to_string()]),
+            // The log failed: the close reports why.
+            Err(None) => {
+                close_log(&sink, &alog_path)?;
+                return Err(vec![format!("the log {alog_path} could not be written")]);
+            }
+        };
         close_log(&sink, &alog_path)?;
         let ended = Ended {
             outcome: end.outcome,
