@@ -1,7 +1,6 @@
 //! The [`App`] trait: a MOOS app (CMOOSApp) as the scheduler drives it, and the values it
 //! exchanges ([`Mail`] in, [`Post`] out).
 
-use std::fmt;
 
 use mission::moos::ProcessConfig;
 
@@ -15,109 +14,7 @@ pub const MAX_APP_TICK: f64 = 100.0;
 /// Seconds between `<APP>_STATUS` posts (`STATUS_PERIOD`).
 pub const STATUS_PERIOD: f64 = 2.0;
 
-/// A MOOS value: double, string or binary.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Value {
-    /// A double (`'D'`).
-    Double(f64),
-    /// A string (`'S'`).
-    String(String),
-    /// Binary data (`'B'`).
-    Binary(Vec<u8>),
-}
-
-impl Value {
-    /// The number, if a double.
-    pub fn as_f64(&self) -> Option<f64> {
-        match self {
-            Value::Double(x) => Some(*x),
-            _ => None,
-        }
-    }
-
-    /// The text, if a string.
-    pub fn as_str(&self) -> Option<&str> {
-        match self {
-            Value::String(s) => Some(s),
-            _ => None,
-        }
-    }
-
-    /// A string value: `Value::text("true")`.
-    pub fn text(s: impl Into<String>) -> Value {
-        Value::String(s.into())
-    }
-}
-
-impl fmt::Display for Value {
-    /// Doubles as Rust prints them, strings raw, binary as `<N bytes>`.
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Value::Double(x) => write!(f, "{x}"),
-            Value::String(s) => f.write_str(s),
-            Value::Binary(b) => write!(f, "<{} bytes>", b.len()),
-        }
-    }
-}
-
-/// One message delivered to an app.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Mail {
-    /// Variable name.
-    pub key: String,
-    /// Value.
-    pub value: Value,
-    /// MOOS time the writer stamped it with.
-    pub time: f64,
-    /// The writer's MOOS name.
-    pub source: String,
-    /// The writer's auxiliary source text (often empty).
-    pub source_aux: String,
-    /// The writer's community.
-    pub community: String,
-}
-
-/// One value an app publishes. The scheduler stamps the time (the app's current time)
-/// and, when `source` is empty, the app's MOOS name.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Post {
-    /// Variable name.
-    pub key: String,
-    /// Value.
-    pub value: Value,
-    /// The publisher's MOOS name (empty: filled with the posting app's name).
-    pub source: String,
-    /// Auxiliary source text (`src_aux`; e.g. the helm's `HELM_VAR_INIT`), usually empty.
-    pub aux: String,
-}
-
-impl Post {
-    /// A post of any value with the source left for the scheduler to fill.
-    pub fn new(key: impl Into<String>, value: Value) -> Post {
-        Post {
-            key: key.into(),
-            value,
-            source: String::new(),
-            aux: String::new(),
-        }
-    }
-
-    /// Builder: sets the auxiliary source text.
-    pub fn with_aux(mut self, aux: impl Into<String>) -> Post {
-        self.aux = aux.into();
-        self
-    }
-
-    /// A double post: `Post::double("DESIRED_SPEED", 1.5)`.
-    pub fn double(key: impl Into<String>, x: f64) -> Post {
-        Post::new(key, Value::Double(x))
-    }
-
-    /// A string post: `Post::text("DEPLOY", "true")`.
-    pub fn text(key: impl Into<String>, s: impl Into<String>) -> Post {
-        Post::new(key, Value::String(s.into()))
-    }
-}
+pub use moos_types::{Mail, Post, Value};
 
 /// A registration: an exact variable name, or a MOOS wildcard pattern (`*`, `?`) on
 /// variable names, with the DB's minimum interval between deliveries (0 = every write).

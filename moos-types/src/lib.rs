@@ -1,0 +1,235 @@
+//! The MOOS data every coug crate exchanges: a variable's [`Value`] (a double, a string or
+//! binary data, as a `CMOOSMsg` carries), a borrowed view of one ([`ValueRef`]), a message an
+//! app receives ([`Mail`]) and one it publishes ([`Post`]).
+//!
+//! This crate sits at the bottom of the workspace: it depends on nothing, and the wire
+//! codec, the DB, the helm, the behaviours, the vehicle apps and the logger all speak these
+//! types, so no layer translates between private copies of them.
+//!
+//! ```
+//! use moos_types::{Mail, Post, Value};
+//! let m = Mail::new("DEPLOY", "true", 12.5).from("uPokeDB");
+//! assert_eq!(m.value.as_str(), Some("true"));
+//! let p = Post::double("DESIRED_SPEED", 1.5).with_aux("7:cruise");
+//! assert_eq!(p.value, Value::Double(1.5));
+//! ```
+
+#![warn(missing_docs)]
+
+use std::fmt;
+
+/// A MOOS variable's value.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Value {
+    /// A double (`'D'`).
+    Double(f64),
+    /// A string (`'S'`).
+    String(String),
+    /// Binary data (`'B'`).
+    Binary(Vec<u8>),
+}
+
+impl Value {
+    /// The double, if this is one.
+    pub fn as_f64(&self) -> Option<f64> {
+        match self {
+            Value::Double(x) => Some(*x),
+            _ => None,
+        }
+    }
+
+    /// The string, if this is one.
+    pub fn as_str(&self) -> Option<&str> {
+        match self {
+            Value::String(s) => Some(s),
+            _ => None,
+        }
+    }
+
+    /// A string value.
+    pub fn text(s: impl Into<String>) -> Value {
+        Value::String(s.into())
+    }
+
+    /// The borrowed view.
+    pub fn as_ref(&self) -> ValueRef<'_> {
+        match self {
+            Value::Double(x) => ValueRef::Double(*x),
+            Value::String(s) => ValueRef::String(s),
+            Value::Binary(b) => ValueRef::Binary(b),
+        }
+    }
+}
+
+impl From<f64> for Value {
+    fn from(v: f64) -> Self {
+        Value::Double(v)
+    }
+}
+
+impl From<&str> for Value {
+    fn from(v: &str) -> Self {
+        Value::String(v.to_string())
+    }
+}
+
+impl From<String> for Value {
+    fn from(v: String) -> Self {
+        Value::String(v)
+    }
+}
+
+impl fmt::Display for Value {
+    /// Doubles as Rust prints them, strings as they are, binary data as `<N bytes>`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Value::Double(x) => write!(f, "{x}"),
+            Value::String(s) => f.write_str(s),
+            Value::Binary(b) => write!(f, "<{} bytes>", b.len()),
+        }
+    }
+}
+
+/// A borrowed MOOS value (mail handed to an app without a copy).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ValueRef<'a> {
+    /// A double.
+    Double(f64),
+    /// A string.
+    String(&'a str),
+    /// Binary data.
+    Binary(&'a [u8]),
+}
+
+impl<'a> ValueRef<'a> {
+    /// The double, or a string that reads as a number (trimmed), as the MOOS apps take
+    /// numeric mail posted as text.
+    pub fn as_f64(&self) -> Option<f64> {
+        match *self {
+            ValueRef::Double(x) => Some(x),
+            ValueRef::String(s) => s.trim().parse().ok(),
+            ValueRef::Binary(_) => None,
+        }
+    }
+
+    /// The string, if this is one.
+    pub fn as_str(&self) -> Option<&'a str> {
+        match *self {
+            ValueRef::String(s) => Some(s),
+            _ => None,
+        }
+    }
+
+    /// An owned copy.
+    pub fn to_owned(&self) -> Value {
+        match *self {
+            ValueRef::Double(x) => Value::Double(x),
+            ValueRef::String(s) => Value::String(s.to_string()),
+            ValueRef::Binary(b) => Value::Binary(b.to_vec()),
+        }
+    }
+}
+
+/// A message delivered to an app.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mail {
+    /// Variable name.
+    pub key: String,
+    /// Value.
+    pub value: Value,
+    /// MOOS time of the write, seconds.
+    pub time: f64,
+    /// The writer's MOOS name.
+    pub source: String,
+    /// The writer's auxiliary source field (the helm's `<iter>:<behaviour>`,
+    /// `HELM_VAR_INIT`, ...).
+    pub source_aux: String,
+    /// The writer's community.
+    pub community: String,
+}
+
+impl Mail {
+    /// Mail with no source, aux or community.
+    pub fn new(key: &str, value: impl Into<Value>, time: f64) -> Mail {
+        Mail {
+            key: key.to_string(),
+            value: value.into(),
+            time,
+            source: String::new(),
+            source_aux: String::new(),
+            community: String::new(),
+        }
+    }
+
+    /// Builder: sets the source.
+    pub fn from(mut self, source: &str) -> Mail {
+        self.source = source.to_string();
+        self
+    }
+
+    /// Builder: sets the auxiliary source field.
+    pub fn with_aux(mut self, aux: &str) -> Mail {
+        self.source_aux = aux.to_string();
+        self
+    }
+}
+
+/// A value an app publishes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Post {
+    /// Variable name.
+    pub key: String,
+    /// Value.
+    pub value: Value,
+    /// The source to publish under, if not the app's own name (empty: the app's).
+    pub source: String,
+    /// Auxiliary source field.
+    pub aux: String,
+}
+
+impl Post {
+    /// A posting of `value` to `key`.
+    pub fn new(key: impl Into<String>, value: Value) -> Post {
+        Post {
+            key: key.into(),
+            value,
+            source: String::new(),
+            aux: String::new(),
+        }
+    }
+
+    /// Builder: sets the auxiliary source field.
+    pub fn with_aux(mut self, aux: impl Into<String>) -> Post {
+        self.aux = aux.into();
+        self
+    }
+
+    /// A double posting.
+    pub fn double(key: impl Into<String>, x: f64) -> Post {
+        Post::new(key, Value::Double(x))
+    }
+
+    /// A string posting.
+    pub fn text(key: impl Into<String>, s: impl Into<String>) -> Post {
+        Post::new(key, Value::String(s.into()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn views_and_conversions_agree() {
+        let v = Value::from(2.5);
+        assert_eq!(v.as_f64(), Some(2.5));
+        assert_eq!(v.as_str(), None);
+        assert_eq!(v.as_ref().to_owned(), v);
+        let s = Value::from(" 3.25 ");
+        assert_eq!(s.as_f64(), None, "an owned string is not a double");
+        assert_eq!(s.as_ref().as_f64(), Some(3.25), "mail text that reads as a number");
+        assert_eq!(Value::text("x").to_string(), "x");
+        assert_eq!(Value::Binary(vec![1, 2]).to_string(), "<2 bytes>");
+        assert_eq!(ValueRef::Binary(&[1]).as_f64(), None);
+    }
+}
