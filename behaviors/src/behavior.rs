@@ -6,47 +6,8 @@ use ivp::{Domain, IvpFunction};
 
 use crate::common::{Common, Flag};
 
-/// A posted value: MOOS variables are doubles or strings.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Value {
-    /// A double.
-    Num(f64),
-    /// A string.
-    Str(String),
-}
-
-impl Value {
-    /// The number, if this is one.
-    pub fn as_num(&self) -> Option<f64> {
-        match self {
-            Value::Num(v) => Some(*v),
-            Value::Str(_) => None,
-        }
-    }
-    /// The string, if this is one.
-    pub fn as_str(&self) -> Option<&str> {
-        match self {
-            Value::Str(s) => Some(s),
-            Value::Num(_) => None,
-        }
-    }
-}
-
-impl From<f64> for Value {
-    fn from(v: f64) -> Self {
-        Value::Num(v)
-    }
-}
-impl From<&str> for Value {
-    fn from(v: &str) -> Self {
-        Value::Str(v.to_string())
-    }
-}
-impl From<String> for Value {
-    fn from(v: String) -> Self {
-        Value::Str(v)
-    }
-}
+/// A posted value: the workspace's one MOOS value type.
+pub use moos_types::Value;
 
 /// How the helm's duplicate filter treats a posting (reference §4.5): by default a posting is
 /// made only when its value differs from the last one posted under the same key.
@@ -177,12 +138,12 @@ impl MapInfo {
     }
     /// Builder: sets a number (written at the current time).
     pub fn num(mut self, var: &str, v: f64) -> Self {
-        self.set(var, Value::Num(v));
+        self.set(var, Value::Double(v));
         self
     }
     /// Builder: sets a string (written at the current time).
     pub fn text(mut self, var: &str, v: &str) -> Self {
-        self.set(var, Value::Str(v.to_string()));
+        self.set(var, Value::String(v.to_string()));
         self
     }
     /// Sets a variable, written at the current time (its age is 0 until the time moves on).
@@ -190,7 +151,7 @@ impl MapInfo {
     /// ```
     /// use behaviors::{Info, MapInfo, Value};
     /// let mut info = MapInfo::new(5.0);
-    /// info.set("RESET", Value::Str("true".into()));
+    /// info.set("RESET", Value::String("true".into()));
     /// assert!(info.is_fresh("RESET"));
     /// info.set_now(7.5);
     /// assert_eq!(info.age("RESET"), Some(2.5));
@@ -210,10 +171,7 @@ impl Info for MapInfo {
         self.now
     }
     fn num(&self, var: &str) -> Option<f64> {
-        match &self.vars.get(var)?.0 {
-            Value::Num(v) => Some(*v),
-            Value::Str(s) => s.trim().parse().ok(),
-        }
+        self.vars.get(var)?.0.as_ref().as_f64()
     }
     fn text(&self, var: &str) -> Option<&str> {
         self.vars.get(var)?.0.as_str()

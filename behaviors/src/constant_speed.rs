@@ -173,7 +173,7 @@ mod tests {
         p.add("cs", f).unwrap();
         assert_eq!(p.solve().unwrap().get("speed"), Some(1.5));
         assert!(matches!(&out.emits[0], crate::Emit::Post { var, value, .. }
-            if var == "SPD_MISS" && value.as_num() == Some(0.5)));
+            if var == "SPD_MISS" && value.as_f64() == Some(0.5)));
         assert_eq!(b.default_duration(), 0.0);
     }
 }

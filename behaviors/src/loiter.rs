@@ -854,7 +854,7 @@ mod tests {
         assert_eq!(speed, 1.5);
         assert_eq!(
             posted(&out, "LOITER_ACQUIRE"),
-            Some(&crate::Value::Num(1.0))
+            Some(&crate::Value::Double(1.0))
         );
         assert_eq!(
             posted(&out, "LOITER_MODE").unwrap().as_str(),
@@ -917,7 +917,7 @@ mod tests {
         );
         assert_eq!(
             posted(&out, "LOITER_ACQUIRE_SURVEY"),
-            Some(&crate::Value::Num(0.0))
+            Some(&crate::Value::Double(0.0))
         );
         let poly = posted(&out, "VIEW_POLYGON").unwrap().as_str().unwrap();
         assert!(
@@ -1086,7 +1086,7 @@ mod tests {
             let a = (k as f64 * 30.0).to_radians();
             let (x, y) = (10.0 * a.sin(), 100.0 + 10.0 * a.cos());
             let (_, _, out) = run(&mut l, x, y, 90.0, k == 0);
-            if let Some(crate::Value::Num(t)) = posted(&out, "LOITER_BNG_TOTAL") {
+            if let Some(crate::Value::Double(t)) = posted(&out, "LOITER_BNG_TOTAL") {
                 totals.push((t * 1e6).round() / 1e6);
             }
             if out.completed && done_at.is_none() {
@@ -1157,7 +1157,7 @@ mod tests {
         with_ctx(|ctx| l.on_idle(ctx, &mut out));
         assert_eq!(
             posted(&out, "LOITER_MODE_A"),
-            Some(&crate::Value::Str("idle".into()))
+            Some(&crate::Value::String("idle".into()))
         );
         assert!(posted(&out, "LOITER_REPORT_A").is_some());
     }

@@ -141,7 +141,7 @@ mod tests {
             .emits
             .iter()
             .map(|e| match e {
-                crate::Emit::Post { var, value, .. } => (var.clone(), value.as_num().unwrap()),
+                crate::Emit::Post { var, value, .. } => (var.clone(), value.as_f64().unwrap()),
                 _ => unreachable!(),
             })
             .collect();
@@ -189,7 +189,7 @@ mod tests {
             .emits
             .iter()
             .filter_map(|e| match e {
-                crate::Emit::Post { var, value, .. } => Some((var.clone(), value.as_num()?)),
+                crate::Emit::Post { var, value, .. } => Some((var.clone(), value.as_f64()?)),
                 _ => None,
             })
             .collect();

@@ -677,8 +677,8 @@ impl Waypoint {
     fn lead_allowed(&self, ctx: &Ctx<'_>) -> bool {
         self.lead_conditions.iter().all(|c| {
             c.evaluate(&|n: &str| match ctx.info.text(n) {
-                Some(s) => Some(mission::condition::Value::Str(s)),
-                None => ctx.info.num(n).map(mission::condition::Value::Num),
+                Some(s) => Some(mission::condition::Value::String(s)),
+                None => ctx.info.num(n).map(mission::condition::Value::Double),
             })
         })
     }
@@ -1649,7 +1649,7 @@ mod tests {
             stat[0].as_str(),
             Some("vname=abe,behavior-name=wpt,index=0,hits=0/0,cycles=0,dist=100,eta=100")
         );
-        assert_eq!(posted(&out, "WPT_INDEX")[0].as_num(), Some(0.0));
+        assert_eq!(posted(&out, "WPT_INDEX")[0].as_f64(), Some(0.0));
         let seglist = posted(&out, "VIEW_SEGLIST")[0].as_str().unwrap();
         assert!(
             seglist.starts_with("pts={100,0},label=abe_wpt"),
@@ -2121,14 +2121,14 @@ mod tests {
         );
         let mut out = Out::default();
         assert!(run_at(&mut w, &c, 0.0, 0.0, 0.0, &mut out).is_some());
-        assert_eq!(posted(&out, "WPT_INDEX_CUSTOM")[0].as_num(), Some(1.0));
-        assert_eq!(posted(&out, "CUSTOM_DIST_TO_NEXT")[0].as_num(), Some(10.0));
+        assert_eq!(posted(&out, "WPT_INDEX_CUSTOM")[0].as_f64(), Some(1.0));
+        assert_eq!(posted(&out, "CUSTOM_DIST_TO_NEXT")[0].as_f64(), Some(10.0));
         let mut out = Out::default();
         assert!(run_at(&mut w, &c, 10.0, 0.0, 1.0, &mut out).is_some());
-        assert_eq!(posted(&out, "CYCLE_INDEX_CUSTOM")[0].as_num(), Some(1.0));
-        assert_eq!(posted(&out, "WPT_INDEX_CUSTOM")[0].as_num(), Some(0.0));
-        assert_eq!(posted(&out, "CUSTOM_DIST_TO_PREV")[0].as_num(), Some(10.0));
-        assert_eq!(posted(&out, "CUSTOM_DIST_TO_NEXT")[0].as_num(), Some(10.0));
+        assert_eq!(posted(&out, "CYCLE_INDEX_CUSTOM")[0].as_f64(), Some(1.0));
+        assert_eq!(posted(&out, "WPT_INDEX_CUSTOM")[0].as_f64(), Some(0.0));
+        assert_eq!(posted(&out, "CUSTOM_DIST_TO_PREV")[0].as_f64(), Some(10.0));
+        assert_eq!(posted(&out, "CUSTOM_DIST_TO_NEXT")[0].as_f64(), Some(10.0));
         let stat = posted(&out, "WPT_STATUS_CUSTOM")
             .into_iter()
             .filter_map(|v| v.as_str())
@@ -2160,8 +2160,8 @@ mod tests {
         let mut out = Out::default();
         assert!(run_at(&mut w, &c, 10.0, 0.0, 6.0, &mut out).is_none());
         assert!(out.completed);
-        assert!((posted(&out, "WPT_EFF_DIST_ALL")[0].as_num().unwrap() - 1.0).abs() < 1e-6);
-        assert!((posted(&out, "WPT_EFF_TIME_ALL")[0].as_num().unwrap() - 5.0 / 6.0).abs() < 1e-3);
+        assert!((posted(&out, "WPT_EFF_DIST_ALL")[0].as_f64().unwrap() - 1.0).abs() < 1e-6);
+        assert!((posted(&out, "WPT_EFF_TIME_ALL")[0].as_f64().unwrap() - 5.0 / 6.0).abs() < 1e-3);
         let sum = posted(&out, "WPT_EFF_SUMM_ALL")[0].as_str().unwrap();
         assert_eq!(
             sum,

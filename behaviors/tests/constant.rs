@@ -91,7 +91,7 @@ fn mismatch_variables_and_missing_nav_warnings() {
     );
     s.nav(0.0, 0.0, 0.0, 1.5, 0.0);
     let (_, out) = s.run(1.0);
-    assert_eq!(posted(&out, "SPD_MISS"), Some(&Value::Num(0.5)));
+    assert_eq!(posted(&out, "SPD_MISS"), Some(&Value::Double(0.5)));
     let mut h = Bhv::new("BHV_ConstantHeading", "ch", uuv_domain())
         .config(&[("heading", "350"), ("heading_mismatch_var", "HDG_MISS")]);
     let (_, out) = h.run(0.0);
@@ -101,12 +101,12 @@ fn mismatch_variables_and_missing_nav_warnings() {
     );
     h.nav(0.0, 0.0, 10.0, 1.0, 0.0);
     let (_, out) = h.run(1.0);
-    assert_eq!(posted(&out, "HDG_MISS"), Some(&Value::Num(20.0)));
+    assert_eq!(posted(&out, "HDG_MISS"), Some(&Value::Double(20.0)));
     let mut d = Bhv::new("BHV_ConstantDepth", "cd", uuv_domain())
         .config(&[("depth", "10"), ("depth_mismatch_var", "DEP_MISS")]);
     d.nav(0.0, 0.0, 0.0, 1.0, 12.5);
     let (_, out) = d.run(1.0);
-    assert_eq!(posted(&out, "DEP_MISS"), Some(&Value::Num(2.5)));
+    assert_eq!(posted(&out, "DEP_MISS"), Some(&Value::Double(2.5)));
 }
 
 #[test]

@@ -55,7 +55,7 @@ fn constant_depth_defaults_mismatch_and_missing_depth() {
     b.nav(0.0, 0.0, 0.0, 1.0, 23.5);
     let (f, out) = b.run(1.0);
     let f = f.unwrap();
-    assert_eq!(posted(&out, "DEPTH_MISS"), Some(&Value::Num(3.5)));
+    assert_eq!(posted(&out, "DEPTH_MISS"), Some(&Value::Double(3.5)));
     // Defaults: plateau 3 m with a 50 drop, base 100 m.
     assert!((at_depth(&f, 20) - 100.0).abs() < 1e-6);
     assert!(
@@ -72,7 +72,7 @@ fn constant_depth_defaults_mismatch_and_missing_depth() {
     b.num("NAV_X", 0.0);
     let (f, out) = b.run(1.0);
     assert!(f.is_some());
-    assert!(matches!(posted(&out, "BHV_WARNING"), Some(Value::Str(s)) if s.contains("DEPTH")));
+    assert!(matches!(posted(&out, "BHV_WARNING"), Some(Value::String(s)) if s.contains("DEPTH")));
 }
 
 #[test]
@@ -153,7 +153,7 @@ fn max_depth_shapes_the_depth_decision_when_violated() {
     md.nav(0.0, 0.0, 0.0, 1.0, 12.0);
     let (fcd, _) = cd.run(5.0);
     let (fmd, out) = md.run(5.0);
-    assert_eq!(posted(&out, "DEPTH_SLACK"), Some(&Value::Num(-5.0)));
+    assert_eq!(posted(&out, "DEPTH_SLACK"), Some(&Value::Double(-5.0)));
     let alone = decide(&cd.domain, &[("cd", fcd.clone().unwrap(), 100.0)]);
     assert_eq!(alone.get("depth"), Some(50.0));
     let both = decide(

@@ -31,12 +31,12 @@ fn levels_in_order_with_hold_times_then_complete() {
     b.num("NAV_DEPTH", 9.2);
     let (f, out) = b.run(1.0);
     assert!(f.is_some());
-    assert_eq!(posted(&out, "GTD_DEPTH"), Some(&Value::Num(1.0)));
+    assert_eq!(posted(&out, "GTD_DEPTH"), Some(&Value::Double(1.0)));
     assert_eq!(target(&mut b, 5.5, 10.0), Some(10.0), "still holding");
     // After 5 s: the next level, announced in LEVEL_DEPTH.
     b.num("NAV_DEPTH", 10.0);
     let (f, out) = b.run(6.0);
-    assert_eq!(posted(&out, "LEVEL_DEPTH"), Some(&Value::Num(20.0)));
+    assert_eq!(posted(&out, "LEVEL_DEPTH"), Some(&Value::Double(20.0)));
     assert_eq!(
         decide(&b.domain, &[("g", f.unwrap(), 100.0)]).get("depth"),
         Some(20.0)
@@ -45,9 +45,9 @@ fn levels_in_order_with_hold_times_then_complete() {
     assert_eq!(target(&mut b, 7.0, 14.0), Some(20.0));
     b.num("NAV_DEPTH", 23.0);
     let (_, out) = b.run(8.0);
-    assert_eq!(posted(&out, "GTD_DEPTH"), Some(&Value::Num(2.0)));
+    assert_eq!(posted(&out, "GTD_DEPTH"), Some(&Value::Double(2.0)));
     let (f, out) = b.run(8.5);
-    assert_eq!(posted(&out, "LEVEL_DEPTH"), Some(&Value::Num(5.0)));
+    assert_eq!(posted(&out, "LEVEL_DEPTH"), Some(&Value::Double(5.0)));
     assert!(f.is_some());
     // Up to 5 m, held 2 s, then done: complete, no function.
     assert_eq!(target(&mut b, 9.0, 5.5), Some(5.0));

@@ -24,25 +24,25 @@ fn inside_the_region_no_breach_and_perimeter_status() {
     // Heading north from the centre: 50 m to the edge, 25 s at 2 m/s; top speed 4 m/s.
     assert_eq!(
         posted(&out, "OPREG_TRAJECTORY_PERIM_DIST"),
-        Some(&Value::Num(50.0))
+        Some(&Value::Double(50.0))
     );
     assert_eq!(
         posted(&out, "OPREG_TRAJECTORY_PERIM_ETA"),
-        Some(&Value::Num(25.0))
+        Some(&Value::Double(25.0))
     );
     assert_eq!(
         posted(&out, "OPREG_ABSOLUTE_PERIM_DIST"),
-        Some(&Value::Num(50.0))
+        Some(&Value::Double(50.0))
     );
     assert_eq!(
         posted(&out, "OPREG_ABSOLUTE_PERIM_ETA"),
-        Some(&Value::Num(13.0))
+        Some(&Value::Double(13.0))
     );
     assert_eq!(
         posted(&out, "OPREG_TIME_REMAINING"),
-        Some(&Value::Num(60.0))
+        Some(&Value::Double(60.0))
     );
-    let Some(Value::Str(view)) = posted(&out, "VIEW_POLYGON") else {
+    let Some(Value::String(view)) = posted(&out, "VIEW_POLYGON") else {
         panic!("no VIEW_POLYGON")
     };
     assert!(
@@ -53,7 +53,7 @@ fn inside_the_region_no_breach_and_perimeter_status() {
     assert!(view.contains("vertex_color=brown"), "{view}");
     // Idle: the polygon is erased.
     let out = b.idle(11.0);
-    let Some(Value::Str(view)) = posted(&out, "VIEW_POLYGON") else {
+    let Some(Value::String(view)) = posted(&out, "VIEW_POLYGON") else {
         panic!("no erase")
     };
     assert!(view.contains("active=false"), "{view}");
@@ -147,7 +147,7 @@ fn depth_altitude_and_time_breaches_post_their_flags() {
     b.nav(0.0, 0.0, 0.0, 2.0, 10.0).num("NAV_ALTITUDE", 20.0);
     let out = b.run(100.0).1;
     assert!(out.error.is_none());
-    assert_eq!(posted(&out, "OPREG_LEFT"), Some(&Value::Num(50.0)));
+    assert_eq!(posted(&out, "OPREG_LEFT"), Some(&Value::Double(50.0)));
 
     // Depth alone.
     b.num("NAV_DEPTH", 30.5);
@@ -180,7 +180,7 @@ fn depth_altitude_and_time_breaches_post_their_flags() {
     b.run(100.0);
     let out = b.run(145.0).1;
     assert!(out.error.is_none());
-    assert_eq!(posted(&out, "OPREG_LEFT"), Some(&Value::Num(5.0)));
+    assert_eq!(posted(&out, "OPREG_LEFT"), Some(&Value::Double(5.0)));
     assert!(
         b.run(150.0).1.error.is_none(),
         "exactly max_time is allowed"
@@ -188,7 +188,10 @@ fn depth_altitude_and_time_breaches_post_their_flags() {
     let out = b.run(150.5).1;
     assert!(out.error.as_deref().unwrap().contains("timeout failure"));
     assert_eq!(flags(&out), ["OPREG_TIME_BREACH"]);
-    assert_eq!(posted(&out, "OPREG_TIME_REMAINING"), Some(&Value::Num(0.0)));
+    assert_eq!(
+        posted(&out, "OPREG_TIME_REMAINING"),
+        Some(&Value::Double(0.0))
+    );
 }
 
 #[test]
@@ -203,11 +206,11 @@ fn soft_poly_breach_parks_the_helm_instead_of_an_error() {
     assert!(out.error.is_none());
     assert_eq!(
         posted(&out, "MOOS_MANUAL_OVERRIDE"),
-        Some(&Value::Str("true".into()))
+        Some(&Value::String("true".into()))
     );
     assert_eq!(flags(&out), ["OPREG_POLY_BREACH"]);
     assert!(
-        matches!(posted(&out, "BHV_WARNING"), Some(Value::Str(w)) if w.contains("Soft polygon")),
+        matches!(posted(&out, "BHV_WARNING"), Some(Value::String(w)) if w.contains("Soft polygon")),
         "{out:?}"
     );
 }
@@ -274,7 +277,7 @@ fn several_polygons_must_all_contain_the_vehicle_and_poly_var() {
     // Posted at configuration (MOOS onSetParamComplete), not by the iterations.
     assert_eq!(
         posted(&b.configured, "OPREG_POLY"),
-        Some(&Value::Str("pts={0,-50:100,-50:100,50:0,50}".into()))
+        Some(&Value::String("pts={0,-50:100,-50:100,50:0,50}".into()))
     );
     b.nav(25.0, 0.0, 0.0, 1.0, 0.0);
     let out = b.run(0.0).1;
@@ -323,10 +326,10 @@ fn seconds_inside_the_polygon_are_posted_every_iteration() {
     let mut b = region(&[]);
     b.nav(0.0, 0.0, 0.0, 2.0, 0.0);
     let (_, out) = b.run(10.0);
-    assert_eq!(posted(&out, "SECS_IN_POLY"), Some(&Value::Num(0.0)));
+    assert_eq!(posted(&out, "SECS_IN_POLY"), Some(&Value::Double(0.0)));
     b.run(11.0);
     let (_, out) = b.run(12.5);
-    assert_eq!(posted(&out, "SECS_IN_POLY"), Some(&Value::Num(2.5)));
+    assert_eq!(posted(&out, "SECS_IN_POLY"), Some(&Value::Double(2.5)));
 }
 
 #[test]
@@ -392,6 +395,6 @@ fn time_remaining_var_without_max_time_posts_minus_one_then_zero() {
     let out = b.run(0.0).1;
     assert_eq!(
         posted_all(&out, "LEFT"),
-        [&Value::Num(-1.0), &Value::Num(0.0)]
+        [&Value::Double(-1.0), &Value::Double(0.0)]
     );
 }

@@ -195,7 +195,7 @@ fn save_poly_grown_from_core_steers_back_in() {
     assert!(f.is_none() && err(&out).is_none());
     assert_eq!(
         posted(&out, "VIEW_POLYGON"),
-        Some(&Value::Str(
+        Some(&Value::String(
             "pts={0,0:9,0:0,9},active=false,label=abe_stat".into()
         ))
     );
@@ -248,7 +248,10 @@ fn course_speed_weights_cycle_with_the_helm_iteration() {
     // Iteration 2: 50/50; the speed still peaks at the recovery speed.
     b.bhv.set_helm_iteration(2);
     let (f, out) = b.run(2.0);
-    assert_eq!(posted(&out, "COMMITTED"), Some(&Value::Str("none".into())));
+    assert_eq!(
+        posted(&out, "COMMITTED"),
+        Some(&Value::String("none".into()))
+    );
     let d = decide(&b.domain, &[("opr", f.unwrap(), 100.0)]);
     assert!((d.get("speed").unwrap() - 1.2).abs() < 1e-9, "{d:?}");
     assert_eq!(d.get("course"), Some(270.0), "straight at the nearest edge");

@@ -31,12 +31,12 @@ fn full_cycle_dive_ascend_surface_mark_dive() {
     b.nav(0.0, 0.0, 90.0, 1.3, 7.0);
     let (f, out) = b.run(10.0);
     assert!(f.is_none());
-    assert_eq!(posted(&out, "PENDING_SURFACE"), Some(&Value::Num(120.0)));
+    assert_eq!(posted(&out, "PENDING_SURFACE"), Some(&Value::Double(120.0)));
     // Waiting: no opinion, the countdown and TIME_AT_SURFACE = 0.
     let (f, out) = b.run(70.0);
     assert!(f.is_none());
-    assert_eq!(posted(&out, "PENDING_SURFACE"), Some(&Value::Num(60.0)));
-    assert_eq!(posted(&out, "TIME_AT_SURFACE"), Some(&Value::Num(0.0)));
+    assert_eq!(posted(&out, "PENDING_SURFACE"), Some(&Value::Double(60.0)));
+    assert_eq!(posted(&out, "TIME_AT_SURFACE"), Some(&Value::Double(0.0)));
     assert!(posted(&out, "PERIODIC_ASCEND").is_none());
     let (f, _) = b.run(129.75);
     assert!(f.is_none(), "0.25 s of the period left");
@@ -45,7 +45,7 @@ fn full_cycle_dive_ascend_surface_mark_dive() {
     let (f, out) = b.run(130.0);
     assert_eq!(
         posted(&out, "PERIODIC_ASCEND"),
-        Some(&Value::Str("true".into()))
+        Some(&Value::String("true".into()))
     );
     assert_eq!(speed_depth(&b, f.unwrap()), (1.0, 0.0));
     // fullspeed: the same speed all the way up.
@@ -59,13 +59,13 @@ fn full_cycle_dive_ascend_surface_mark_dive() {
     let (f, out) = b.run(134.0);
     assert_eq!(
         posted(&out, "PERIODIC_ASCEND"),
-        Some(&Value::Str("false".into()))
+        Some(&Value::String("false".into()))
     );
-    assert_eq!(posted(&out, "TIME_AT_SURFACE"), Some(&Value::Num(0.0)));
+    assert_eq!(posted(&out, "TIME_AT_SURFACE"), Some(&Value::Double(0.0)));
     assert_eq!(speed_depth(&b, f.unwrap()), (0.0, 0.0));
     b.nav(12.0, 0.0, 90.0, 0.0, 0.0);
     let (f, out) = b.run(137.6);
-    assert_eq!(posted(&out, "TIME_AT_SURFACE"), Some(&Value::Num(4.0)));
+    assert_eq!(posted(&out, "TIME_AT_SURFACE"), Some(&Value::Double(4.0)));
     assert_eq!(speed_depth(&b, f.unwrap()), (0.0, 0.0));
 
     // A GPS fix (new value of the mark variable): the cycle ends, the vehicle may dive.
@@ -74,8 +74,8 @@ fn full_cycle_dive_ascend_surface_mark_dive() {
     assert!(f.is_none());
     let (f, out) = b.run(139.0);
     assert!(f.is_none(), "waiting again");
-    assert_eq!(posted(&out, "TIME_AT_SURFACE"), Some(&Value::Num(0.0)));
-    assert_eq!(posted(&out, "PENDING_SURFACE"), Some(&Value::Num(119.0)));
+    assert_eq!(posted(&out, "TIME_AT_SURFACE"), Some(&Value::Double(0.0)));
+    assert_eq!(posted(&out, "PENDING_SURFACE"), Some(&Value::Double(119.0)));
     // The same value again is no mark: the next ascent comes 120 s after the fix.
     b.nav(50.0, 0.0, 90.0, 1.3, 7.0);
     assert!(b.run(257.0).0.is_none());
@@ -83,7 +83,7 @@ fn full_cycle_dive_ascend_surface_mark_dive() {
     assert!(f.is_some());
     assert_eq!(
         posted(&out, "PERIODIC_ASCEND"),
-        Some(&Value::Str("true".into()))
+        Some(&Value::String("true".into()))
     );
 }
 
@@ -104,7 +104,7 @@ fn a_fresh_posting_of_the_same_fix_is_no_mark_as_in_moos() {
     assert_eq!(b.info.age("GPS_UPDATE_RECEIVED"), Some(0.0), "fresh mail");
     let (f, out) = b.run(122.0);
     assert!(f.is_some(), "same value re-posted: still at the surface");
-    assert_eq!(posted(&out, "TIME_AT_SURFACE"), Some(&Value::Num(1.0)));
+    assert_eq!(posted(&out, "TIME_AT_SURFACE"), Some(&Value::Double(1.0)));
     b.post(123.0, "GPS_UPDATE_RECEIVED", "RCVD_2");
     let (f, _) = b.run(123.0);
     assert!(f.is_none(), "a new value is a mark");
@@ -151,12 +151,12 @@ fn surface_timeout_restarts_the_period() {
     assert!(f.is_none());
     assert_eq!(
         posted(&out, "PSF_AT_SURFACE_TIMEOUT"),
-        Some(&Value::Str("Timestamp=185.00".into()))
+        Some(&Value::String("Timestamp=185.00".into()))
     );
-    assert_eq!(posted(&out, "TIME_AT_SURFACE"), Some(&Value::Num(60.0)));
+    assert_eq!(posted(&out, "TIME_AT_SURFACE"), Some(&Value::Double(60.0)));
     let (f, out) = b.run(186.0);
     assert!(f.is_none());
-    assert_eq!(posted(&out, "PENDING_SURFACE"), Some(&Value::Num(119.0)));
+    assert_eq!(posted(&out, "PENDING_SURFACE"), Some(&Value::Double(119.0)));
 }
 
 #[test]
@@ -168,9 +168,9 @@ fn idle_start_counts_the_period_from_the_first_dive_and_numeric_marks() {
     // Submerged while idle: the period starts then.
     b.nav(0.0, 0.0, 0.0, 1.0, 3.0);
     let out = b.idle(5.0);
-    assert_eq!(posted(&out, "PENDING_SURFACE"), Some(&Value::Num(120.0)));
+    assert_eq!(posted(&out, "PENDING_SURFACE"), Some(&Value::Double(120.0)));
     let out = b.idle(65.0);
-    assert_eq!(posted(&out, "PENDING_SURFACE"), Some(&Value::Num(60.0)));
+    assert_eq!(posted(&out, "PENDING_SURFACE"), Some(&Value::Double(60.0)));
     // Running from 100: no extra mark, ascent at 125.
     assert!(b.run(100.0).0.is_none());
     assert!(b.run(124.0).0.is_none());
@@ -211,7 +211,7 @@ fn missing_nav_is_an_error_and_bad_values_are_rejected() {
     assert!(out.error.as_deref().unwrap().contains("NAV_DEPTH"));
     assert_eq!(
         posted(&out, "PENDING_SURFACE"),
-        Some(&Value::Str("ERROR".into()))
+        Some(&Value::String("ERROR".into()))
     );
 
     let mut b = Bhv::new("BHV_PeriodicSurface", "p", uuv_domain());

@@ -41,12 +41,12 @@ fn speeds_switch_at_the_inner_and_outer_radii() {
     assert_eq!(spd, 2.5);
     assert_eq!(decision(&mut b, 4.0, 0.0, 14.0).unwrap().1, 2.5);
     let (_, out) = b.run(5.0);
-    assert_eq!(posted(&out, "DIST_TO_STATION"), Some(&Value::Num(14.0)));
+    assert_eq!(posted(&out, "DIST_TO_STATION"), Some(&Value::Double(14.0)));
     // MOOS-IvP a2a9b716: setting the station hibernates once even without a hibernation
     // radius; outside radius -1 the next iteration seeks (speeds as above).
     assert_eq!(
         posted(&out, "PSKEEP_MODE"),
-        Some(&Value::Str("SEEKING_STATION".into()))
+        Some(&Value::String("SEEKING_STATION".into()))
     );
     let circles: Vec<String> = posted_all(&out, "VIEW_POLYGON")
         .iter()
@@ -71,14 +71,14 @@ fn center_activate_holds_where_it_was_activated() {
     b.nav(100.0, 50.0, 0.0, 1.0, 0.0);
     let (_, out) = b.start(10.0);
     assert!(
-        matches!(posted(&out, "BHV_SETTINGS"), Some(Value::Str(s)) if s.contains("center_activate=true"))
+        matches!(posted(&out, "BHV_SETTINGS"), Some(Value::String(s)) if s.contains("center_activate=true"))
     );
     // During the swing time the station follows the vehicle.
     assert_eq!(decision(&mut b, 11.0, 101.0, 50.0).unwrap().1, 0.0);
     assert_eq!(decision(&mut b, 12.0, 102.0, 50.0).unwrap().1, 0.0);
     let sk_station = |b: &mut Bhv| {
         let (_, out) = b.run(12.5);
-        posted(&out, "DIST_TO_STATION").unwrap().as_num().unwrap()
+        posted(&out, "DIST_TO_STATION").unwrap().as_f64().unwrap()
     };
     // After it, the station stays at (102, 50).
     b.nav(122.0, 50.0, 0.0, 1.0, 0.0);
@@ -106,7 +106,7 @@ fn hibernation_until_drifting_out_then_seek_the_inner_radius() {
     let (_, out) = b.run(1.0);
     assert_eq!(
         posted(&out, "PSKEEP_MODE"),
-        Some(&Value::Str("HIBERNATING".into()))
+        Some(&Value::String("HIBERNATING".into()))
     );
     assert_eq!(decision(&mut b, 2.0, 0.0, 24.0).unwrap().1, 0.0);
     // Out of it: seek the station at transit speed ...
@@ -114,7 +114,7 @@ fn hibernation_until_drifting_out_then_seek_the_inner_radius() {
     let (_, out) = b.run(3.5);
     assert_eq!(
         posted(&out, "PSKEEP_MODE"),
-        Some(&Value::Str("SEEKING_STATION".into()))
+        Some(&Value::String("SEEKING_STATION".into()))
     );
     // ... and keep seeking inside the hibernation radius while closing in ...
     let mut t = 4.0;
@@ -130,7 +130,7 @@ fn hibernation_until_drifting_out_then_seek_the_inner_radius() {
     let (_, out) = b.run(t + 1.0);
     assert_eq!(
         posted(&out, "PSKEEP_MODE"),
-        Some(&Value::Str("HIBERNATING".into()))
+        Some(&Value::String("HIBERNATING".into()))
     );
     // Drifting within the hibernation radius stays stopped.
     assert_eq!(decision(&mut b, t + 2.0, 0.0, 18.0).unwrap().1, 0.0);
@@ -143,7 +143,7 @@ fn stalled_progress_inside_the_hibernation_radius_ends_the_seek() {
     decision(&mut b, 1.0, 0.0, 30.0);
     assert_eq!(
         posted(&b.run(1.5).1, "PSKEEP_MODE"),
-        Some(&Value::Str("SEEKING_STATION".into()))
+        Some(&Value::String("SEEKING_STATION".into()))
     );
     // Closing in for more than 5 s inside the radius: progress noted ...
     let mut t = 2.0;
@@ -158,7 +158,7 @@ fn stalled_progress_inside_the_hibernation_radius_ends_the_seek() {
     }
     assert_eq!(
         posted(&b.run(t).1, "PSKEEP_MODE"),
-        Some(&Value::Str("HIBERNATING".into()))
+        Some(&Value::String("HIBERNATING".into()))
     );
 }
 
@@ -169,7 +169,7 @@ fn no_station_and_bad_values() {
     let (f, out) = b.run(0.0);
     assert!(f.is_none());
     assert!(
-        matches!(posted(&out, "BHV_WARNING"), Some(Value::Str(s)) if s.contains("STATION_POINT_NOT_SET"))
+        matches!(posted(&out, "BHV_WARNING"), Some(Value::String(s)) if s.contains("STATION_POINT_NOT_SET"))
     );
     for (p, v) in [
         ("station_pt", "here"),
@@ -212,10 +212,10 @@ fn station_set_iteration_as_the_cpp_state_machine() {
     // HIBERNATING, speed 0 whatever the distance.
     b.nav(12.0, -61.0, 0.0, 1.0, 0.0);
     let (f, out) = b.run(0.0);
-    assert_eq!(posted(&out, "DIST_TO_STATION"), Some(&Value::Num(-1.0)));
+    assert_eq!(posted(&out, "DIST_TO_STATION"), Some(&Value::Double(-1.0)));
     assert_eq!(
         posted(&out, "PSKEEP_MODE"),
-        Some(&Value::Str("HIBERNATING".into()))
+        Some(&Value::String("HIBERNATING".into()))
     );
     let d = decide(&b.domain, &[("sk", f.unwrap(), 100.0)]);
     assert_eq!(d.get("speed"), Some(0.0));
@@ -273,7 +273,7 @@ fn without_a_station_the_circles_are_erased_at_the_origin() {
     // MOOS measures to its unset station (0,0) all the same.
     assert_eq!(
         posted(&out, "DIST_TO_STATION"),
-        Some(&Value::Num(50f64.sqrt()))
+        Some(&Value::Double(50f64.sqrt()))
     );
     let circles: Vec<&str> = posted_all(&out, "VIEW_POLYGON")
         .iter()
@@ -310,7 +310,7 @@ fn settings_are_posted_on_each_start_in_the_cpp_format() {
     let (_, out) = b.start(0.0);
     assert_eq!(
         posted(&out, "BHV_SETTINGS"),
-        Some(&Value::Str(
+        Some(&Value::String(
             "type=BHV_StationKeep,name=skeep,x=12.00,y=-121.00,inner_radius=4.0,\
              outer_radius=15.0,hibernation_radius=30.0,outer_speed=1.2,center_activate=false"
                 .into()

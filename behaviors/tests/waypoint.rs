@@ -24,7 +24,7 @@ fn run_at(b: &mut Bhv, t: f64, x: f64, y: f64, h: f64) -> (Option<IvpFunction>, 
 }
 
 fn num(out: &Out, var: &str) -> Option<f64> {
-    posted(out, var).and_then(Value::as_num)
+    posted(out, var).and_then(Value::as_f64)
 }
 
 fn text<'a>(out: &'a Out, var: &str) -> Option<&'a str> {

@@ -39,38 +39,8 @@ pub use behaviors::Value;
 /// The MOOS application name the helm posts under; mail from this source is its own.
 pub const APP_NAME: &str = "pHelmIvP";
 
-/// One incoming MOOS message.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Mail {
-    /// Variable.
-    pub var: String,
-    /// Value.
-    pub value: Value,
-    /// Posting application.
-    pub source: String,
-    /// Source auxiliary field (`HELM_VAR_INIT` mail is the helm's own initialization).
-    pub source_aux: String,
-    /// Message time stamp.
-    pub time: f64,
-}
-
-impl Mail {
-    /// A message with an empty source.
-    pub fn new(var: &str, value: impl Into<Value>, time: f64) -> Self {
-        Mail {
-            var: var.to_string(),
-            value: value.into(),
-            source: String::new(),
-            source_aux: String::new(),
-            time,
-        }
-    }
-    /// Builder: sets the source.
-    pub fn from(mut self, source: &str) -> Self {
-        self.source = source.to_string();
-        self
-    }
-}
+/// One incoming MOOS message: the workspace's one mail type.
+pub use moos_types::Mail;
 
 /// One posting of the helm.
 #[derive(Debug, Clone, PartialEq)]
@@ -186,7 +156,7 @@ impl Outbox {
         if self.len == self.posts.len() {
             self.posts.push(Posting {
                 var: String::new(),
-                value: Value::Num(0.0),
+                value: Value::Double(0.0),
                 aux: String::new(),
             });
         }
@@ -206,13 +176,13 @@ impl Outbox {
     /// earlier posting when there is one).
     fn text(&mut self, var: &str, write: impl FnOnce(&mut String)) {
         let p = self.next(var);
-        let mut s = match std::mem::replace(&mut p.value, Value::Num(0.0)) {
-            Value::Str(s) => s,
-            Value::Num(_) => String::new(),
+        let mut s = match std::mem::replace(&mut p.value, Value::Double(0.0)) {
+            Value::String(s) => s,
+            _ => String::new(),
         };
         s.clear();
         write(&mut s);
-        p.value = Value::Str(s);
+        p.value = Value::String(s);
     }
     /// Posts a copy of `text`.
     fn text_copy(&mut self, var: &str, text: &str) {
@@ -231,7 +201,7 @@ impl DupFilter {
     /// Whether a posting under `key` is new (updates the filter when it is).
     fn changed(&mut self, key: &str, value: &Value) -> bool {
         match value {
-            Value::Str(s) => match self.text.get_mut(key) {
+            Value::String(s) => match self.text.get_mut(key) {
                 Some(old) if old == s => false,
                 Some(old) => {
                     old.clone_from(s);
@@ -242,7 +212,7 @@ impl DupFilter {
                     true
                 }
             },
-            Value::Num(x) => match self.num.get_mut(key) {
+            Value::Double(x) => match self.num.get_mut(key) {
                 Some(old) if *old == *x => false,
                 Some(old) => {
                     *old = *x;
@@ -253,6 +223,8 @@ impl DupFilter {
                     true
                 }
             },
+            // Behaviours post no binary data; were one to, it would never be filtered.
+            Value::Binary(_) => true,
         }
     }
     fn clear(&mut self) {
@@ -277,7 +249,7 @@ impl DupFilter {
 /// helm.iterate(0.0);
 /// let posts = helm.iterate(1.0);
 /// let hdg = posts.iter().find(|p| p.var == "DESIRED_HEADING").unwrap();
-/// assert_eq!(hdg.value.as_num(), Some(90.0));
+/// assert_eq!(hdg.value.as_f64(), Some(90.0));
 /// ```
 pub struct Helm {
     app_name: String,
@@ -380,12 +352,12 @@ fn auto_value(v: &str) -> Value {
     if mission::condition::is_numeric(t)
         && let Ok(x) = t.parse::<f64>()
     {
-        return Value::Num(x);
+        return Value::Double(x);
     }
     if t.len() >= 2 && t.starts_with('"') && t.ends_with('"') {
-        return Value::Str(t[1..t.len() - 1].to_string());
+        return Value::String(t[1..t.len() - 1].to_string());
     }
-    Value::Str(t.to_string())
+    Value::String(t.to_string())
 }
 
 impl Helm {
@@ -743,24 +715,26 @@ impl Helm {
         for var in self.wanted_subscriptions() {
             if !self.registered.contains(&var) {
                 self.registered.push(var.clone());
-                self.notify("IVPHELM_REGISTER", Value::Str(var), "");
+                self.notify("IVPHELM_REGISTER", Value::String(var), "");
             }
         }
     }
 
     /// Queues mail for the next [`Helm::iterate`].
-    pub fn on_mail(&mut self, mail: &[Mail]) {
-        // hold_on_apps: note each app named in DB_CLIENTS (pHelmIvP `checkHoldOnApps`).
-        if self.held_apps.iter().any(|(_, seen)| !seen) {
-            for m in mail.iter().filter(|m| m.var == "DB_CLIENTS") {
-                if let Value::Str(list) = &m.value {
-                    for (app, seen) in &mut self.held_apps {
-                        *seen |= list.split(',').any(|c| c.trim() == app.as_str());
-                    }
+    pub fn on_mail<'a>(&mut self, mail: impl IntoIterator<Item = &'a Mail>) {
+        let holding = self.held_apps.iter().any(|(_, seen)| !seen);
+        for m in mail {
+            // hold_on_apps: note each app named in DB_CLIENTS (pHelmIvP `checkHoldOnApps`).
+            if holding
+                && m.key == "DB_CLIENTS"
+                && let Value::String(list) = &m.value
+            {
+                for (app, seen) in &mut self.held_apps {
+                    *seen |= list.split(',').any(|c| c.trim() == app.as_str());
                 }
             }
+            self.pending.push(m.clone());
         }
-        self.pending.extend_from_slice(mail);
     }
 
     /// Makes this freshly built helm the restart of `old` (pHelmIvP `RESTART_HELM`): it keeps
@@ -794,7 +768,7 @@ impl Helm {
         self.start_time = now;
         if self.state == HelmState::Malconfig {
             for e in self.errors.clone() {
-                self.notify("IVPHELM_CONFIG_WARNING", Value::Str(e.to_string()), "");
+                self.notify("IVPHELM_CONFIG_WARNING", Value::String(e.to_string()), "");
             }
             return;
         }
@@ -805,7 +779,7 @@ impl Helm {
             }
         }
         for var in self.registered.clone() {
-            self.notify("IVPHELM_REGISTER", Value::Str(var), "");
+            self.notify("IVPHELM_REGISTER", Value::String(var), "");
         }
         // pHelmIvP keeps the files in a set: one request per file, in name order.
         let mut files = self.config.behavior_files.clone();
@@ -813,26 +787,26 @@ impl Helm {
         for f in files {
             self.notify(
                 "PLOGGER_CMD",
-                Value::Str(format!("COPY_FILE_REQUEST = {f}")),
+                Value::String(format!("COPY_FILE_REQUEST = {f}")),
                 "",
             );
         }
         let dom = self.config.domain.to_string();
         self.domain_str.clone_from(&dom);
-        self.notify("IVPHELM_DOMAIN", Value::Str(dom), "");
+        self.notify("IVPHELM_DOMAIN", Value::String(dom), "");
         let ms = self.modes.definition();
-        self.notify("IVPHELM_MODESET", Value::Str(ms), "");
+        self.notify("IVPHELM_MODESET", Value::String(ms), "");
         for var in [
             "IVPHELM_BHV_ACTIVE_CNT",
             "IVPHELM_BHV_IDLE_CNT",
             "IVPHELM_BHV_RUNNING_CNT",
             "IVPHELM_BHV_DISABLED_CNT",
         ] {
-            self.notify(var, Value::Num(0.0), "");
+            self.notify(var, Value::Double(0.0), "");
         }
         if !self.config.helm_alias.is_empty() {
             let a = self.config.helm_alias.clone();
-            self.notify("IVPHELM_ALIAS", Value::Str(a), "");
+            self.notify("IVPHELM_ALIAS", Value::String(a), "");
         }
     }
 
@@ -852,25 +826,25 @@ impl Helm {
             }
             if let Some(ok) = self.config.ok_skew {
                 let skew = (now - m.time).abs().min(now - self.start_time);
-                if skew > ok && m.source != self.app_name && m.var != "HELM_MAP_CLEAR" {
+                if skew > ok && m.source != self.app_name && m.key != "HELM_MAP_CLEAR" {
                     let mut msg = format!(
                         "Helm ignores MOOS msg due to skew: {} Source={} Skew=",
-                        m.var, m.source
+                        m.key, m.source
                     );
                     fixed(&mut msg, skew, 2);
                     self.notes.push(AppcastNote::Warning(msg.clone()));
                     msg.push_str(" curr_time: ");
                     fixed(&mut msg, now, 3);
-                    self.notify("IVPHELM_SKEW", Value::Str(msg), "");
+                    self.notify("IVPHELM_SKEW", Value::String(msg), "");
                     continue;
                 }
             }
-            let is_override = m.var == "MOOS_MANUAL_OVERRIDE"
-                || m.var == "MOOS_MANUAL_OVERIDE"
+            let is_override = m.key == "MOOS_MANUAL_OVERRIDE"
+                || m.key == "MOOS_MANUAL_OVERIDE"
                 || (!self.config.other_override_var.is_empty()
-                    && m.var == self.config.other_override_var);
+                    && m.key == self.config.other_override_var);
             if is_override {
-                if let Value::Str(s) = &m.value {
+                if let Value::String(s) = &m.value {
                     if s.trim().eq_ignore_ascii_case("false") {
                         self.has_control = self.state != HelmState::Malconfig;
                     } else if s.trim().eq_ignore_ascii_case("true") && self.config.allow_park {
@@ -878,8 +852,8 @@ impl Helm {
                     }
                     self.status_update();
                 }
-                self.info.set(&m.var, m.value.clone(), &m.source, m.time);
-            } else if m.var == "IVPHELM_STATE" {
+                self.info.set(&m.key, m.value.clone(), &m.source, m.time);
+            } else if m.key == "IVPHELM_STATE" {
                 self.init_vars_ready = true;
                 let other = m.source != self.app_name;
                 if other
@@ -890,26 +864,26 @@ impl Helm {
                     self.post_allstop("DisabledByStandbyHelm");
                     self.state = HelmState::Disabled;
                 }
-            } else if m.var == "IVPHELM_REJOURNAL" {
+            } else if m.key == "IVPHELM_REJOURNAL" {
                 self.rejournal = true;
-            } else if m.var == "BHV_ABLE_FILTER" {
+            } else if m.key == "BHV_ABLE_FILTER" {
                 // BehaviorSet: every behaviour sees the filter (only contact behaviours act
                 // on it, none of coug's yet), then the helm's spawn blacklist.
-                if let Value::Str(s) = &m.value {
+                if let Value::String(s) = &m.value {
                     self.disabled_contacts.apply(s);
                 }
-            } else if m.var == "NODE_REPORT_LOCAL" {
+            } else if m.key == "NODE_REPORT_LOCAL" {
                 self.node_report_local(&m.value, now);
             } else if matches!(
-                m.var.as_str(),
+                m.key.as_str(),
                 "AIS_REPORT" | "NODE_REPORT" | "AIS_REPORT_LOCAL"
             ) {
                 self.node_report(&m.value, now);
-                self.info.set(&m.var, m.value.clone(), &m.source, m.time);
-            } else if m.var == "HELM_MAP_CLEAR" {
+                self.info.set(&m.key, m.value.clone(), &m.source, m.time);
+            } else if m.key == "HELM_MAP_CLEAR" {
                 self.refresh_pending = true;
             } else if m.source_aux != "HELM_VAR_INIT" {
-                self.info.set(&m.var, m.value.clone(), &m.source, m.time);
+                self.info.set(&m.key, m.value.clone(), &m.source, m.time);
             }
         }
         self.pending = mail;
@@ -921,8 +895,8 @@ impl Helm {
     /// (for a rejected report the C++ sets `_NAV_GROUP` and `_NAV_TYPE`, empty, too).
     fn node_report(&mut self, value: &Value, now: f64) {
         let text = match value {
-            Value::Str(s) => s.as_str(),
-            Value::Num(_) => "",
+            Value::String(s) => s.as_str(),
+            _ => "",
         };
         let report = crate::ledger::NodeReport::parse(text);
         let name = match self.ledger.process(&report, now) {
@@ -942,13 +916,13 @@ impl Helm {
         let upper = name.to_ascii_uppercase();
         self.info.set(
             &format!("{upper}_NAV_GROUP"),
-            Value::Str(group),
+            Value::String(group),
             APP_NAME,
             now,
         );
         self.info.set(
             &format!("{upper}_NAV_TYPE"),
-            Value::Str(vtype),
+            Value::String(vtype),
             APP_NAME,
             now,
         );
@@ -959,8 +933,8 @@ impl Helm {
     /// not.
     fn node_report_local(&mut self, value: &Value, now: f64) {
         let text = match value {
-            Value::Str(s) => s.as_str(),
-            Value::Num(_) => "",
+            Value::String(s) => s.as_str(),
+            _ => "",
         };
         let r = crate::ledger::NodeReport::parse(text);
         let upper = r.name.to_ascii_uppercase();
@@ -973,7 +947,7 @@ impl Helm {
             if !v.is_empty() {
                 self.info.set(
                     &format!("{upper}_NAV_{suffix}"),
-                    Value::Str(v),
+                    Value::String(v),
                     APP_NAME,
                     now,
                 );
@@ -982,7 +956,7 @@ impl Helm {
         if let Some(len) = r.length_m.filter(|&l| l != 0.0) {
             self.info.set(
                 &format!("{upper}_NAV_LENGTH"),
-                Value::Num(len),
+                Value::Double(len),
                 APP_NAME,
                 now,
             );
@@ -1020,9 +994,9 @@ impl Helm {
         }
         match self.allstop.update(msg) {
             AllStopAction::None => {}
-            AllStopAction::Announce(m) => self.notify("IVPHELM_ALLSTOP", Value::Str(m), ""),
+            AllStopAction::Announce(m) => self.notify("IVPHELM_ALLSTOP", Value::String(m), ""),
             AllStopAction::AnnounceAndZero(m) => {
-                self.notify("IVPHELM_ALLSTOP", Value::Str(m), "");
+                self.notify("IVPHELM_ALLSTOP", Value::String(m), "");
                 for i in 0..self.config.domain.len() {
                     let name = self.config.domain.vars()[i].name().to_ascii_uppercase();
                     let var = if name == "COURSE" {
@@ -1030,7 +1004,7 @@ impl Helm {
                     } else {
                         format!("DESIRED_{name}")
                     };
-                    self.notify(&var, Value::Num(0.0), "");
+                    self.notify(&var, Value::Double(0.0), "");
                 }
             }
         }
@@ -1062,7 +1036,7 @@ impl Helm {
         if self.state == HelmState::Disabled {
             if !self.disabled_posted {
                 self.disabled_posted = true;
-                self.notify("IVPHELM_STATE", Value::Str("DISABLED".into()), "");
+                self.notify("IVPHELM_STATE", Value::String("DISABLED".into()), "");
             }
         } else {
             let s = self.state.as_str();
@@ -1106,7 +1080,7 @@ impl Helm {
         // After a RESTART_HELM, one confirmation once decisions resume.
         if self.restart_post_pending {
             self.restart_post_pending = false;
-            self.notify("IVPHELM_RESTARTED", Value::Str("true".into()), "");
+            self.notify("IVPHELM_RESTARTED", Value::String("true".into()), "");
         }
         self.decide(now);
         self.cap_appcast_notes();
@@ -1167,7 +1141,7 @@ impl Helm {
                         i,
                         Message {
                             var: "BHV_ERROR".into(),
-                            value: Value::Str(msg),
+                            value: Value::String(msg),
                             key: PostKey::Repeatable,
                         },
                     ));
@@ -1204,7 +1178,7 @@ impl Helm {
 
         // Step 9: postings.
         for r in std::mem::take(&mut self.update_results) {
-            self.notify("IVPHELM_UPDATE_RESULT", Value::Str(r), "");
+            self.notify("IVPHELM_UPDATE_RESULT", Value::String(r), "");
         }
         if self.refresh_pending && now - self.refresh_time > 2.0 {
             self.filter.clear();
@@ -1212,7 +1186,7 @@ impl Helm {
             self.refresh_pending = false;
         }
         for (var, val) in modes {
-            let v = Value::Str(val);
+            let v = Value::String(val);
             if self.filter.changed("mode_set", &v) {
                 self.notify(&var, v, "HELM_MODE");
             }
@@ -1231,15 +1205,15 @@ impl Helm {
                 rendered.summary(iter, now, prev, summary);
             }
         });
-        self.notify("IVPHELM_IPF_CNT", Value::Num(report.ofnum as f64), "");
+        self.notify("IVPHELM_IPF_CNT", Value::Double(report.ofnum as f64), "");
         self.notify(
             "IVPHELM_TOTAL_PCS_FORMED",
-            Value::Num(report.pcs_formed as f64),
+            Value::Double(report.pcs_formed as f64),
             "",
         );
         self.notify(
             "IVPHELM_TOTAL_PCS_CACHED",
-            Value::Num(report.pcs_cached as f64),
+            Value::Double(report.pcs_cached as f64),
             "",
         );
         let counts = [report.active.len(), report.running.len(), report.idle.len()];
@@ -1253,7 +1227,7 @@ impl Helm {
                     ["IVPHELM_BHV_IDLE", "IVPHELM_BHV_IDLE_CNT"],
                 ][k];
                 self.out.text_copy(base, &list);
-                self.notify(base_cnt, Value::Num(cnt as f64), "");
+                self.notify(base_cnt, Value::Double(cnt as f64), "");
                 std::mem::swap(&mut self.lists[k], &mut list);
             }
             self.scratch = list;
@@ -1280,7 +1254,7 @@ impl Helm {
                 .collect();
             if !missing.is_empty() {
                 let msg = format!("MissingDecVars:{}", missing.join(","));
-                self.notify("BHV_ERROR", Value::Str(msg.clone()), "");
+                self.notify("BHV_ERROR", Value::String(msg.clone()), "");
                 allstop = msg.into();
             }
         }
@@ -1294,11 +1268,11 @@ impl Helm {
                     .iter()
                     .find(|(n, _)| n == v.name())
                     .map_or(0.0, |d| d.1);
-                self.out.push(&self.desired_vars[i], Value::Num(val), "");
+                self.out.push(&self.desired_vars[i], Value::Double(val), "");
             }
         }
-        self.notify("IVPHELM_CREATE_CPU", Value::Num(0.0), "");
-        self.notify("IVPHELM_LOOP_CPU", Value::Num(0.0), "");
+        self.notify("IVPHELM_CREATE_CPU", Value::Double(0.0), "");
+        self.notify("IVPHELM_LOOP_CPU", Value::Double(0.0), "");
         let mut upd: Vec<(&str, &str)> = self
             .slots
             .iter()
@@ -1406,8 +1380,9 @@ impl Helm {
             table.push(&cell);
             cell.clear();
             match &o.value {
-                Value::Str(v) => cell.push_str(v),
-                Value::Num(x) => behaviors::fmt::compact(&mut cell, *x, 5),
+                Value::String(v) => cell.push_str(v),
+                Value::Double(x) => behaviors::fmt::compact(&mut cell, *x, 5),
+                Value::Binary(b) => cell.push_str(&format!("<{} bytes>", b.len())),
             }
             table.push(&cell);
         }
@@ -1418,21 +1393,21 @@ impl Helm {
         let n = self.slots.len();
         if self.bhv_count != Some(n) {
             self.bhv_count = Some(n);
-            self.notify("IVPHELM_BHV_CNT", Value::Num(n as f64), "");
+            self.notify("IVPHELM_BHV_CNT", Value::Double(n as f64), "");
         }
         // No spawning: every behaviour ever is one of the file's.
         let ever = self.slots.len().max(self.bhv_count_ever.unwrap_or(0));
         if self.bhv_count_ever != Some(ever) {
             self.bhv_count_ever = Some(ever);
-            self.notify("IVPHELM_BHV_CNT_EVER", Value::Num(ever as f64), "");
+            self.notify("IVPHELM_BHV_CNT_EVER", Value::Double(ever as f64), "");
         }
-        self.notify("IVPHELM_ITER", Value::Num(iter as f64), "");
+        self.notify("IVPHELM_ITER", Value::Double(iter as f64), "");
         let mut messages = std::mem::take(&mut self.messages);
         for (i, m) in messages.drain(..) {
             if m.var == "BHV_IPF" {
                 // Muxed into parts of 2000 characters, id `<bhv>^<iteration>`, each posted
                 // with the behaviour's name as its source aux; not kept in the info buffer.
-                if let Value::Str(text) = &m.value {
+                if let Value::String(text) = &m.value {
                     let name = &self.slots[i].common.name;
                     let mut id = String::with_capacity(name.len() + 12);
                     id.push_str(name);
@@ -1442,7 +1417,7 @@ impl Helm {
                     ivp::encode::mux(text, &id, 2000, &mut parts);
                     for part in parts.drain(..) {
                         let p = self.out.next(&m.var);
-                        p.value = Value::Str(part);
+                        p.value = Value::String(part);
                         p.aux.push_str(name);
                     }
                     self.ipf_parts = parts;
@@ -1455,8 +1430,8 @@ impl Helm {
                 // pHelmIvP shows them in its appcast; a warning whose key ends in
                 // `retract` withdraws the same text.
                 let text = match &m.value {
-                    Value::Str(t) => t.clone(),
-                    Value::Num(n) => n.to_string(),
+                    Value::String(t) => t.clone(),
+                    v => v.to_string(),
                 };
                 let w = format!("{}: {text}", m.var);
                 let retract = m.var == "BHV_WARNING"
@@ -1505,7 +1480,7 @@ impl Helm {
                     }
                 }
                 if m.var == "BHV_EVENT"
-                    && let Value::Str(e) = &m.value
+                    && let Value::String(e) = &m.value
                 {
                     self.notes.push(AppcastNote::Event(e.clone()));
                 }
@@ -1522,7 +1497,7 @@ impl Helm {
             self.state_vars_dirty = false;
             let vars = self.state_space_vars();
             if vars != self.state_vars {
-                self.notify("IVPHELM_STATEVARS", Value::Str(vars.clone()), "");
+                self.notify("IVPHELM_STATEVARS", Value::String(vars.clone()), "");
                 self.state_vars = vars;
             }
         }
@@ -1530,7 +1505,7 @@ impl Helm {
         if self.completed_pending != Some(pending) {
             self.completed_pending = Some(pending);
             let v = if pending { "true" } else { "false" };
-            self.notify("IVPHELM_COMPLETED_PENDING", Value::Str(v.into()), "");
+            self.notify("IVPHELM_COMPLETED_PENDING", Value::String(v.into()), "");
         }
         // Completed behaviours leave the set (reference §4.4).
         let mut removed = 0;
@@ -1544,7 +1519,7 @@ impl Helm {
                     ", iter={iter}, bname={}, btype={}, event=death, seed=",
                     s.common.name, s.common.kind
                 ));
-                self.notify("IVPHELM_LIFE_EVENT", Value::Str(ev), "");
+                self.notify("IVPHELM_LIFE_EVENT", Value::String(ev), "");
                 removed += 1;
                 self.state_vars_dirty = true;
             } else {
@@ -1553,7 +1528,7 @@ impl Helm {
         }
         if self.completed_count != Some(removed) {
             self.completed_count = Some(removed);
-            self.notify("IVPHELM_COMPLETED_COUNT", Value::Num(removed as f64), "");
+            self.notify("IVPHELM_COMPLETED_COUNT", Value::Double(removed as f64), "");
         }
     }
 
@@ -1630,7 +1605,7 @@ impl Helm {
             }
         }
         let value = match &f.value {
-            FlagValue::Num(x) => Value::Num(*x),
+            FlagValue::Num(x) => Value::Double(*x),
             FlagValue::Str(s) => {
                 let mut out = std::mem::take(&mut self.scratch);
                 out.clear();
@@ -1639,9 +1614,9 @@ impl Helm {
                     && mission::condition::is_numeric(out.trim())
                     && let Ok(x) = out.trim().parse::<f64>()
                 {
-                    Value::Num(x)
+                    Value::Double(x)
                 } else {
-                    Value::Str(out.clone())
+                    Value::String(out.clone())
                 };
                 self.scratch = out;
                 v
@@ -1668,7 +1643,7 @@ impl Helm {
                 PostKey::Repeatable => PostKey::Repeatable,
                 _ => PostKey::Tag(""),
             };
-            self.queue(i, "NODE_MESSAGE_LOCAL", Value::Str(spec), &key);
+            self.queue(i, "NODE_MESSAGE_LOCAL", Value::String(spec), &key);
         }
     }
 
@@ -1689,17 +1664,19 @@ impl Helm {
             self.app_name, self.slots[i].common.name
         ));
         match value {
-            Value::Num(x) => {
+            Value::Double(x) => {
                 s.push_str(",double_val=");
                 compact(&mut s, *x, 6);
             }
-            Value::Str(v) if v.contains(',') && !(v.starts_with('"') && v.ends_with('"')) => {
+            Value::String(v) if v.contains(',') && !(v.starts_with('"') && v.ends_with('"')) => {
                 s.push_str(&format!(",string_val=\"{v}\""));
             }
-            Value::Str(v) => {
+            Value::String(v) => {
                 s.push_str(",string_val=");
                 s.push_str(v);
             }
+            // Behaviours post no binary data.
+            Value::Binary(_) => {}
         }
         s
     }
@@ -1768,7 +1745,7 @@ impl Helm {
             self.queue(
                 i,
                 "BHV_ERROR",
-                Value::Str(format!("{name}: {msg}")),
+                Value::String(format!("{name}: {msg}")),
                 &PostKey::Repeatable,
             );
             self.slots[i].ok = false;
@@ -1836,8 +1813,8 @@ impl Helm {
                             "Faulty update for behavior: {name}. Bad parameter(s): {}",
                             bad.join(",")
                         );
-                        self.queue(i, "BHV_WARNING", Value::Str(w.clone()), &PostKey::Var);
-                        self.queue(i, "BHV_CONFIG_WARNING", Value::Str(w), &PostKey::Var);
+                        self.queue(i, "BHV_WARNING", Value::String(w.clone()), &PostKey::Var);
+                        self.queue(i, "BHV_CONFIG_WARNING", Value::String(w), &PostKey::Var);
                         result.push_str(",result=param_error");
                     }
                 }
@@ -1858,8 +1835,9 @@ impl Helm {
         };
         let triggered = val.is_empty()
             || match &e.value {
-                Value::Str(s) => *s == val,
-                Value::Num(x) => val.trim().parse::<f64>().ok() == Some(*x),
+                Value::String(s) => *s == val,
+                Value::Double(x) => val.trim().parse::<f64>().ok() == Some(*x),
+                Value::Binary(_) => false,
             };
         if !triggered {
             return;
@@ -1877,7 +1855,7 @@ impl Helm {
         let status = self.slots[i].common.duration_status.clone();
         if !status.is_empty() {
             let d = self.slots[i].duration();
-            self.queue(i, &status, Value::Num(d), &PostKey::Var);
+            self.queue(i, &status, Value::Double(d), &PostKey::Var);
         }
     }
 
@@ -1891,7 +1869,7 @@ impl Helm {
         } else {
             (remaining + 0.5).floor()
         };
-        self.queue(i, &status, Value::Num(v), &PostKey::Var);
+        self.queue(i, &status, Value::Double(v), &PostKey::Var);
     }
 
     /// MOOS `isRunnable`: the state from conditions, duration and starvation. Returns the
@@ -1948,7 +1926,7 @@ impl Helm {
                 "{}: Null IvPDomain given to Behavior",
                 self.slots[i].common.name
             );
-            self.queue(i, "BHV_ERROR", Value::Str(msg), &PostKey::Repeatable);
+            self.queue(i, "BHV_ERROR", Value::String(msg), &PostKey::Repeatable);
             self.slots[i].ok = false;
             return (RunState::Idle, Some(Failed::Other("null-domain".into())));
         }
@@ -2074,7 +2052,7 @@ impl Helm {
                     f = None;
                     let name = self.slots[i].common.name.clone();
                     let msg = format!("{name}: NaN detected in IvP Function");
-                    self.queue(i, "BHV_ERROR", Value::Str(msg), &PostKey::Repeatable);
+                    self.queue(i, "BHV_ERROR", Value::String(msg), &PostKey::Repeatable);
                     self.slots[i].ok = false;
                 }
                 let pwt = self.slots[i].common.pwt;
@@ -2089,7 +2067,7 @@ impl Helm {
                     context.push(':');
                     context.push_str(&self.slots[i].common.name);
                     ivp::encode::encode(&f, &context, &mut text);
-                    self.queue(i, "BHV_IPF", Value::Str(text), &PostKey::Repeatable);
+                    self.queue(i, "BHV_IPF", Value::String(text), &PostKey::Repeatable);
                     if old != RunState::Active {
                         self.post_flags(i, FlagKind::Active);
                     }
@@ -2139,7 +2117,7 @@ impl Helm {
         status.push_str(state.as_str());
         status.push_str(",updates=");
         slot.write_update_summary(&mut status);
-        self.queue(i, "BHV_STATUS", Value::Str(status), &PostKey::Tag(""));
+        self.queue(i, "BHV_STATUS", Value::String(status), &PostKey::Tag(""));
         if !self.slots[i].first_done {
             self.slots[i].first_done = true;
             self.post_flags(i, FlagKind::Spawnx);
@@ -2291,10 +2269,10 @@ Behavior = BHV_ConstantSpeed
         step(&mut h, 0.0);
         // First decision iteration: announced, nothing zeroed.
         let p = step(&mut h, 1.0);
-        assert_eq!(values(&p, "IVPHELM_IPF_CNT"), [&Value::Num(2.0)]);
+        assert_eq!(values(&p, "IVPHELM_IPF_CNT"), [&Value::Double(2.0)]);
         assert_eq!(
             values(&p, "IVPHELM_ALLSTOP"),
-            [&Value::Str("NoGoalBehavior".into())]
+            [&Value::String("NoGoalBehavior".into())]
         );
         assert!(!p.iter().any(|p| p.var.starts_with("DESIRED_")), "{p:?}");
         assert!(!summary(&p).contains("active_goal"), "{}", summary(&p));
@@ -2302,10 +2280,10 @@ Behavior = BHV_ConstantSpeed
         let p = step(&mut h, 1.25);
         assert_eq!(
             values(&p, "IVPHELM_ALLSTOP"),
-            [&Value::Str("NoGoalBehavior".into())]
+            [&Value::String("NoGoalBehavior".into())]
         );
-        assert_eq!(values(&p, "DESIRED_HEADING"), [&Value::Num(0.0)]);
-        assert_eq!(values(&p, "DESIRED_SPEED"), [&Value::Num(0.0)]);
+        assert_eq!(values(&p, "DESIRED_HEADING"), [&Value::Double(0.0)]);
+        assert_eq!(values(&p, "DESIRED_SPEED"), [&Value::Double(0.0)]);
         // Then quiet: the all-stop message is unchanged.
         let p = step(&mut h, 1.5);
         assert!(values(&p, "IVPHELM_ALLSTOP").is_empty());
@@ -2317,9 +2295,12 @@ Behavior = BHV_ConstantSpeed
         let mut h = helm("true", &["spd"]);
         step(&mut h, 0.0);
         let p = step(&mut h, 1.0);
-        assert_eq!(values(&p, "IVPHELM_ALLSTOP"), [&Value::Str("clear".into())]);
-        assert_eq!(values(&p, "DESIRED_HEADING"), [&Value::Num(90.0)]);
-        assert_eq!(values(&p, "DESIRED_SPEED"), [&Value::Num(2.0)]);
+        assert_eq!(
+            values(&p, "IVPHELM_ALLSTOP"),
+            [&Value::String("clear".into())]
+        );
+        assert_eq!(values(&p, "DESIRED_HEADING"), [&Value::Double(90.0)]);
+        assert_eq!(values(&p, "DESIRED_SPEED"), [&Value::Double(2.0)]);
         assert!(summary(&p).contains(",active_goal=true"), "{}", summary(&p));
     }
 
@@ -2328,8 +2309,11 @@ Behavior = BHV_ConstantSpeed
         let mut h = helm("false", &["hdg", "spd"]);
         step(&mut h, 0.0);
         let p = step(&mut h, 1.0);
-        assert_eq!(values(&p, "IVPHELM_ALLSTOP"), [&Value::Str("clear".into())]);
-        assert_eq!(values(&p, "DESIRED_SPEED"), [&Value::Num(2.0)]);
+        assert_eq!(
+            values(&p, "IVPHELM_ALLSTOP"),
+            [&Value::String("clear".into())]
+        );
+        assert_eq!(values(&p, "DESIRED_SPEED"), [&Value::Double(2.0)]);
         assert!(!summary(&p).contains("active_goal"), "{}", summary(&p));
     }
 
@@ -2357,8 +2341,11 @@ Behavior = BHV_ConstantSpeed
             }
         }
         let p = step(&mut h, 1.5);
-        assert_eq!(values(&p, "IVPHELM_ALLSTOP"), [&Value::Str("clear".into())]);
-        assert_eq!(values(&p, "DESIRED_SPEED"), [&Value::Num(2.0)]);
+        assert_eq!(
+            values(&p, "IVPHELM_ALLSTOP"),
+            [&Value::String("clear".into())]
+        );
+        assert_eq!(values(&p, "DESIRED_SPEED"), [&Value::Double(2.0)]);
         assert!(summary(&p).contains(",active_goal=true"), "{}", summary(&p));
     }
 }
@@ -2483,7 +2470,11 @@ mod ledger_tests {
                 "IVPHELM_ALIAS"
             ]
         );
-        assert!(p[at + 1..at + 5].iter().all(|p| p.value == Value::Num(0.0)));
+        assert!(
+            p[at + 1..at + 5]
+                .iter()
+                .all(|p| p.value == Value::Double(0.0))
+        );
         // BHV_ABLE_FILTER is registered right after IVPHELM_REJOURNAL, as pHelmIvP does.
         let regs: Vec<&str> = p
             .iter()
@@ -2558,7 +2549,7 @@ mod ledger_tests {
         // No behaviour of coug's can be disabled: none listed, the behaviour stays active.
         assert!(p.iter().all(|p| p.var != "IVPHELM_BHV_DISABLED"));
         let active = p.iter().find(|p| p.var == "IVPHELM_BHV_ACTIVE").unwrap();
-        assert_eq!(active.value, Value::Str("spd".into()));
+        assert_eq!(active.value, Value::String("spd".into()));
         assert!(h.take_appcast_notes().is_empty());
     }
 }

@@ -25,7 +25,7 @@ pub struct Entry {
 /// use behaviors::{Info, Value};
 /// let mut b = InfoBuffer::new();
 /// b.set_now(10.0);
-/// b.set("DEPLOY", Value::Str("true".into()), "uPokeDB", 9.5);
+/// b.set("DEPLOY", Value::String("true".into()), "uPokeDB", 9.5);
 /// assert_eq!(b.text("DEPLOY"), Some("true"));
 /// assert_eq!(b.deltas("DEPLOY"), ["true"]);
 /// b.clear_deltas();
@@ -81,7 +81,7 @@ impl InfoBuffer {
     pub fn set(&mut self, var: &str, value: Value, source: &str, msg_time: f64) {
         match self.vars.get_mut(var) {
             Some(v) => {
-                if let Value::Str(s) = &value {
+                if let Value::String(s) = &value {
                     v.deltas.push(s);
                 }
                 v.entry.value = value;
@@ -97,7 +97,7 @@ impl InfoBuffer {
         match self.vars.get_mut(var) {
             Some(v) => {
                 match (&mut v.entry.value, value) {
-                    (Value::Str(old), Value::Str(new)) => {
+                    (Value::String(old), Value::String(new)) => {
                         v.deltas.push(new);
                         if old != new {
                             old.clear();
@@ -105,7 +105,7 @@ impl InfoBuffer {
                         }
                     }
                     (slot, new) => {
-                        if let Value::Str(s) = new {
+                        if let Value::String(s) = new {
                             v.deltas.push(s);
                         }
                         *slot = new.clone();
@@ -128,7 +128,7 @@ impl InfoBuffer {
 
     fn insert(&mut self, var: &str, value: Value, source: &str, msg_time: f64) {
         let mut deltas = Deltas::default();
-        if let Value::Str(s) = &value {
+        if let Value::String(s) = &value {
             deltas.push(s);
         }
         let entry = Entry {
@@ -165,10 +165,7 @@ impl InfoBuffer {
     }
     /// The value as a condition operand.
     pub fn condition_value(&self, var: &str) -> Option<mission::condition::Value<'_>> {
-        Some(match &self.get(var)?.value {
-            Value::Num(v) => mission::condition::Value::Num(*v),
-            Value::Str(s) => mission::condition::Value::Str(s),
-        })
+        Some(self.get(var)?.value.as_ref())
     }
 }
 
@@ -178,9 +175,9 @@ impl Info for InfoBuffer {
     }
     fn num(&self, var: &str) -> Option<f64> {
         match &self.get(var)?.value {
-            Value::Num(v) => Some(*v),
-            Value::Str(s) if mission::condition::is_numeric(s.trim()) => s.trim().parse().ok(),
-            Value::Str(_) => None,
+            Value::Double(v) => Some(*v),
+            Value::String(s) if mission::condition::is_numeric(s.trim()) => s.trim().parse().ok(),
+            Value::String(_) | Value::Binary(_) => None,
         }
     }
     fn text(&self, var: &str) -> Option<&str> {
@@ -207,10 +204,10 @@ mod tests {
         let mut a = InfoBuffer::new();
         let mut b = InfoBuffer::new();
         for (k, (now, v)) in [
-            (1.0, Value::Str("x=1".into())),
-            (1.0, Value::Str("x=22".into())),
-            (2.0, Value::Num(3.0)),
-            (3.0, Value::Str("y".into())),
+            (1.0, Value::String("x=1".into())),
+            (1.0, Value::String("x=22".into())),
+            (2.0, Value::Double(3.0)),
+            (3.0, Value::String("y".into())),
         ]
         .into_iter()
         .enumerate()
@@ -231,7 +228,7 @@ mod tests {
                 assert!(b.deltas("V").is_empty());
             }
         }
-        b.set_ref("V", &Value::Str("z".into()), "p", 3.0);
+        b.set_ref("V", &Value::String("z".into()), "p", 3.0);
         assert_eq!(b.deltas("V"), ["z"]);
         assert_eq!(b.text("V"), Some("z"));
         assert_eq!(b.get("V").unwrap().source, "p");

@@ -82,7 +82,7 @@ impl ModeSet {
         for e in &self.entries {
             let lookup = |name: &str| -> Option<Value<'_>> {
                 if let Some((_, v)) = local.iter().find(|(k, _)| k == name) {
-                    return Some(Value::Str(v));
+                    return Some(Value::String(v));
                 }
                 info.condition_value(name)
             };
@@ -109,7 +109,7 @@ impl ModeSet {
         local.sort_by(|a, b| a.0.cmp(&b.0));
         let now = info.now_time();
         for (k, v) in &local {
-            info.set(k, behaviors::Value::Str(v.clone()), "HELM_MODE", now);
+            info.set(k, behaviors::Value::String(v.clone()), "HELM_MODE", now);
         }
         self.results = local;
         &self.results
@@ -180,16 +180,16 @@ mod tests {
             "MODE#---,ACTIVE#---,INACTIVE#ACTIVE,RETURNING#ACTIVE,SURVEYING"
         );
         let mut info = InfoBuffer::new();
-        info.set("DEPLOY", behaviors::Value::Str("false".into()), "x", 0.0);
+        info.set("DEPLOY", behaviors::Value::String("false".into()), "x", 0.0);
         assert_eq!(
             m.evaluate(&mut info),
             [("MODE".to_string(), "INACTIVE".to_string())]
         );
-        info.set("DEPLOY", behaviors::Value::Str("true".into()), "x", 0.0);
-        info.set("RETURN", behaviors::Value::Str("false".into()), "x", 0.0);
+        info.set("DEPLOY", behaviors::Value::String("true".into()), "x", 0.0);
+        info.set("RETURN", behaviors::Value::String("false".into()), "x", 0.0);
         m.evaluate(&mut info);
         assert_eq!(m.summary(), "MODE@ACTIVE:SURVEYING");
-        info.set("RETURN", behaviors::Value::Str("true".into()), "x", 0.0);
+        info.set("RETURN", behaviors::Value::String("true".into()), "x", 0.0);
         m.evaluate(&mut info);
         assert_eq!(
             behaviors::Info::text(&info, "MODE"),

@@ -68,7 +68,7 @@ fn alpha_mission_posts_the_phelmivp_sequence() {
             .collect::<Vec<_>>(),
         ["ManualOverride"]
     );
-    assert_eq!(all(&parked, "DESIRED_SPEED"), [&Value::Num(0.0)]);
+    assert_eq!(all(&parked, "DESIRED_SPEED"), [&Value::Double(0.0)]);
     assert!(
         get(&parked, "IVPHELM_SUMMARY").is_none(),
         "no decisions while parked"
@@ -80,7 +80,7 @@ fn alpha_mission_posts_the_phelmivp_sequence() {
     assert_eq!(rig.helm.state(), HelmState::Drive);
     // First decision iteration: configflag CRUISE_SPD = $[SPEED], a lone numeric macro, is a
     // double; the survey waits for DEPLOY (its failed condition in BHV_STATUS).
-    assert_eq!(get(&posts, "CRUISE_SPD"), Some(&Value::Num(3.0)));
+    assert_eq!(get(&posts, "CRUISE_SPD"), Some(&Value::Double(3.0)));
     assert!(
         all(&posts, "BHV_STATUS").iter().any(
             |v| v.as_str() == Some("name=waypt_survey,pc=DEPLOY = true,state=idle,updates=0/0")
@@ -92,7 +92,7 @@ fn alpha_mission_posts_the_phelmivp_sequence() {
     assert!(get(&posts, "DESIRED_HEADING").is_none());
     let posts = rig.step(&[]);
     assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "NothingToDo"));
-    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(0.0)));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Double(0.0)));
     let summary = get(&posts, "IVPHELM_SUMMARY")
         .unwrap()
         .as_str()
@@ -113,8 +113,8 @@ fn alpha_mission_posts_the_phelmivp_sequence() {
     assert!(get(&posts, "CRUISE_SPD").is_none(), "configflags once");
     assert_eq!(all(&posts, "INFO").len(), 3, "three activeflags");
     assert!(is_str(get(&posts, "INFO"), "alpha"));
-    let hdg = get(&posts, "DESIRED_HEADING").unwrap().as_num().unwrap();
-    let spd = get(&posts, "DESIRED_SPEED").unwrap().as_num().unwrap();
+    let hdg = get(&posts, "DESIRED_HEADING").unwrap().as_f64().unwrap();
+    let spd = get(&posts, "DESIRED_SPEED").unwrap().as_f64().unwrap();
     // First point (60,-40) lies east-south-east of (0,-20): bearing ~108 degrees.
     assert!((95.0..=125.0).contains(&hdg), "first course {hdg}");
     // use_alt_speed = true with speed_alt = 1.2.
@@ -135,7 +135,7 @@ fn alpha_mission_posts_the_phelmivp_sequence() {
     });
     for (_, p) in &rig.log {
         if p.var == "WPT_INDEX" {
-            indices.push(p.value.as_num().unwrap());
+            indices.push(p.value.as_f64().unwrap());
         }
     }
     assert_eq!(indices, [0.0, 1.0, 2.0, 3.0, 4.0], "waypoints in order");
@@ -166,7 +166,7 @@ fn alpha_mission_posts_the_phelmivp_sequence() {
         "{posts:?}"
     );
     assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "clear"));
-    let spd = get(&posts, "DESIRED_SPEED").unwrap().as_num().unwrap();
+    let spd = get(&posts, "DESIRED_SPEED").unwrap().as_f64().unwrap();
     assert!((spd - 2.0).abs() < 1e-9, "return speed {spd}");
     let posts = rig.run_until(600.0, "MISSION=complete", |p| {
         p.iter()
@@ -197,8 +197,8 @@ fn alpha_mission_posts_the_phelmivp_sequence() {
         is_str(get(&posts, "IVPHELM_ALLSTOP"), "NothingToDo"),
         "{posts:?}"
     );
-    assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Num(0.0)));
-    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(0.0)));
+    assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Double(0.0)));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Double(0.0)));
     // DEPLOY=false (an endflag) now makes every behaviour idle.
     assert!(is_str(get(&posts, "IVPHELM_BHV_RUNNING"), ""));
     assert!(is_str(

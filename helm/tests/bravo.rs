@@ -55,7 +55,7 @@ fn bravo_modes_survey_return_and_stop() {
         summary.contains(",modes=MODE@ACTIVE:SURVEYING,"),
         "{summary}"
     );
-    assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Num(2.0)));
+    assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Double(2.0)));
 
     // The survey ends with RETURN=true; the mode switches on the next iteration.
     rig.run_until(900.0, "RETURN=true", |p| {
@@ -66,7 +66,7 @@ fn bravo_modes_survey_return_and_stop() {
         .log
         .iter()
         .filter(|(_, p)| p.var == "WPT_INDEX")
-        .map(|(_, p)| p.value.as_num().unwrap())
+        .map(|(_, p)| p.value.as_f64().unwrap())
         .collect();
     assert_eq!(indices, [0.0, 1.0, 2.0, 3.0, 4.0]);
     let posts = rig.step(&[]);
@@ -82,5 +82,5 @@ fn bravo_modes_survey_return_and_stop() {
     assert!(rig.vehicle.x.hypot(rig.vehicle.y) < 8.0);
     let posts = rig.step(&[]);
     assert!(is_str(get(&posts, "MODE"), "INACTIVE"), "{posts:?}");
-    assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Num(0.0)));
+    assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Double(0.0)));
 }

@@ -49,7 +49,7 @@ fn charlie_loiters_counter_clockwise_then_returns() {
     );
     assert!(is_str(get(&posts, "MODE"), "ACTIVE:LOITERING"));
     // speed 1.3 is between grid values (0.2 m/s steps): the lower of the tied neighbours.
-    let spd = get(&posts, "DESIRED_SPEED").unwrap().as_num().unwrap();
+    let spd = get(&posts, "DESIRED_SPEED").unwrap().as_f64().unwrap();
     assert!((spd - 1.2).abs() < 1e-9, "{spd}");
     let poly = get(&posts, "VIEW_POLYGON").unwrap().as_str().unwrap();
     assert!(poly.contains("label=LOITER_POLYGON"), "{poly}");
@@ -66,7 +66,7 @@ fn charlie_loiters_counter_clockwise_then_returns() {
     while rig.t < start + 400.0 {
         let posts = rig.step(&[]);
         if let Some(v) = get(&posts, "LOITER_INDEX") {
-            seen[v.as_num().unwrap() as usize] = true;
+            seen[v.as_f64().unwrap() as usize] = true;
         }
         let b = bearing(rig.vehicle.x, rig.vehicle.y);
         winding += angle_180(b - last);

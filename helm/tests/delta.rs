@@ -121,10 +121,10 @@ impl DeltaRig {
         let posts = self.helm.iterate(t).to_vec();
         for p in &posts {
             match (p.var.as_str(), &p.value) {
-                ("DESIRED_HEADING", Value::Num(v)) => self.des.0 = *v,
-                ("DESIRED_SPEED", Value::Num(v)) => self.des.1 = *v,
-                ("DESIRED_DEPTH", Value::Num(v)) => self.des.2 = *v,
-                ("TIME_AT_SURFACE", Value::Num(v)) => {
+                ("DESIRED_HEADING", Value::Double(v)) => self.des.0 = *v,
+                ("DESIRED_SPEED", Value::Double(v)) => self.des.1 = *v,
+                ("DESIRED_DEPTH", Value::Double(v)) => self.des.2 = *v,
+                ("TIME_AT_SURFACE", Value::Double(v)) => {
                     if *v > 3.0 && self.armed {
                         self.armed = false;
                         self.gps_due = Some(t + 0.75);
@@ -244,8 +244,8 @@ fn delta_mission_dives_surfaces_periodically_surveys_and_returns() {
             "cycle {cycle}: ascent starts submerged, at {:.1} m",
             rig.sub.depth
         );
-        assert_eq!(get(&posts, "DESIRED_DEPTH"), Some(&Value::Num(0.0)));
-        assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Num(1.0)));
+        assert_eq!(get(&posts, "DESIRED_DEPTH"), Some(&Value::Double(0.0)));
+        assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Double(1.0)));
         if cycle == 0 {
             let period = ascend_t - deployed;
             assert!(
@@ -261,23 +261,23 @@ fn delta_mission_dives_surfaces_periodically_surveys_and_returns() {
             "at the surface: {:.2} m",
             rig.sub.depth
         );
-        assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Num(0.0)));
-        assert_eq!(get(&posts, "DESIRED_DEPTH"), Some(&Value::Num(0.0)));
+        assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Double(0.0)));
+        assert_eq!(get(&posts, "DESIRED_DEPTH"), Some(&Value::Double(0.0)));
         // Waits at the surface, stopped, until the fix arrives.
         let fixes = rig.gps_count;
         rig.run_until(15.0, "GPS fix", |r, _| r.gps_count > fixes);
         let at_surface: Vec<f64> = rig
             .history("DESIRED_SPEED", ascend_t)
             .into_iter()
-            .skip_while(|(_, v)| *v != Value::Num(0.0))
+            .skip_while(|(_, v)| *v != Value::Double(0.0))
             .take_while(|(t, _)| *t < rig.t)
-            .map(|(_, v)| v.as_num().unwrap())
+            .map(|(_, v)| v.as_f64().unwrap())
             .collect();
         assert!(at_surface.len() > 10 && at_surface.iter().all(|s| *s == 0.0));
         assert!(
             rig.history("TIME_AT_SURFACE", ascend_t)
                 .iter()
-                .any(|(_, v)| v.as_num().unwrap() > 3.0)
+                .any(|(_, v)| v.as_f64().unwrap() > 3.0)
         );
         // The fix ends the surfacing: back to the loiter speed and down to 7 m.
         let posts = rig.step(&[]);
@@ -297,7 +297,7 @@ fn delta_mission_dives_surfaces_periodically_surveys_and_returns() {
     let loiter_vertices: Vec<f64> = rig
         .history("LOITER_INDEX", deployed)
         .iter()
-        .map(|(_, v)| v.as_num().unwrap())
+        .map(|(_, v)| v.as_f64().unwrap())
         .collect();
     assert!(
         loiter_vertices.len() >= 4,
@@ -323,12 +323,12 @@ fn delta_mission_dives_surfaces_periodically_surveys_and_returns() {
     rig.run_until(300.0, "survey index 3", |r, _| {
         r.history("WPT_INDEX", survey_start)
             .iter()
-            .any(|(_, v)| v.as_num() == Some(3.0))
+            .any(|(_, v)| v.as_f64() == Some(3.0))
     });
     let indices: Vec<f64> = rig
         .history("WPT_INDEX", survey_t)
         .iter()
-        .map(|(_, v)| v.as_num().unwrap())
+        .map(|(_, v)| v.as_f64().unwrap())
         .collect();
     assert_eq!(indices, [0.0, 1.0, 2.0, 3.0], "bowtie points in order");
     assert!(
@@ -364,7 +364,7 @@ fn delta_mission_dives_surfaces_periodically_surveys_and_returns() {
     let desired_depths: Vec<f64> = rig
         .history("DESIRED_DEPTH", 0.0)
         .iter()
-        .map(|(_, v)| v.as_num().unwrap())
+        .map(|(_, v)| v.as_f64().unwrap())
         .collect();
     assert!(desired_depths.iter().all(|d| *d <= 7.0));
     assert!(rig.helm.state() == HelmState::Drive);
@@ -453,7 +453,7 @@ fn assert_stopped_now(posts: &[Posting], why: &str) {
     for var in ["DESIRED_SPEED", "DESIRED_HEADING", "DESIRED_DEPTH"] {
         assert_eq!(
             get(posts, var),
-            Some(&Value::Num(0.0)),
+            Some(&Value::Double(0.0)),
             "{var} zeroed at once"
         );
     }
@@ -476,7 +476,7 @@ fn running_guard(bhv: &str) -> (Helm, f64) {
     let posts = at(&mut helm, t, 10.0, 5.0, &[]);
     assert_eq!(
         get(&posts, "DESIRED_SPEED"),
-        Some(&Value::Num(2.0)),
+        Some(&Value::Double(2.0)),
         "{posts:?}"
     );
     (helm, t)
@@ -487,7 +487,7 @@ fn opregion_polygon_breach_stops_the_vehicle_within_one_iteration() {
     let (mut helm, mut t) = running_guard(GUARDED);
     t += 0.5;
     let posts = at(&mut helm, t, 49.5, 5.0, &[]);
-    assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Num(2.0)));
+    assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Double(2.0)));
     assert!(get(&posts, "BHV_ERROR").is_none());
     t += 0.5;
     let posts = at(&mut helm, t, 50.5, 5.0, &[]);
@@ -500,7 +500,7 @@ fn opregion_polygon_breach_stops_the_vehicle_within_one_iteration() {
         assert!(
             all(&posts, "DESIRED_SPEED")
                 .iter()
-                .all(|v| v.as_num() == Some(0.0)),
+                .all(|v| v.as_f64() == Some(0.0)),
             "{posts:?}"
         );
     }
@@ -539,7 +539,7 @@ fn opregion_time_breach_stops_the_vehicle_within_one_iteration() {
         }
         assert_eq!(
             get(&posts, "DESIRED_SPEED"),
-            Some(&Value::Num(2.0)),
+            Some(&Value::Double(2.0)),
             "t={t}"
         );
     }
@@ -615,7 +615,7 @@ fn bad_values_are_malconfig_at_start_and_rejected_updates_at_run_time() {
         get(&posts, "BHV_ERROR").is_none(),
         "15 m is within the updated 20 m"
     );
-    assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Num(2.0)));
+    assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Double(2.0)));
     let posts = at(&mut helm, t + 1.5, 0.0, 21.0, &[]);
     assert_stopped_now(&posts, "max:20.00000");
 }
@@ -780,7 +780,7 @@ fn opregion_reset_acts_on_mail_of_this_iteration_even_when_repeated() {
             get(&posts, "BHV_ERROR").is_none(),
             "round {round}: reset by fresh mail: {posts:?}"
         );
-        assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Num(2.0)));
+        assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Double(2.0)));
         t += 0.5;
         // No new mail: the value stays in the buffer but resets nothing; the clock runs.
         let reset_at = t;
@@ -921,10 +921,10 @@ fn max_depth_without_a_duration_line_keeps_guarding_and_posts_its_slack() {
     // 20 simulated minutes at 4 Hz, the vehicle held at 10 m.
     while t < 1200.0 {
         let posts = at(&mut helm, t, 0.0, 10.0, &[]);
-        if let Some(v) = get(&posts, "DEPTH_SLACK").and_then(Value::as_num) {
+        if let Some(v) = get(&posts, "DEPTH_SLACK").and_then(Value::as_f64) {
             slack.push(v);
         }
-        if let Some(d) = get(&posts, "DESIRED_DEPTH").and_then(Value::as_num) {
+        if let Some(d) = get(&posts, "DESIRED_DEPTH").and_then(Value::as_f64) {
             // ConstantDepth alone would ask for 30 m; MaxDepth's LEQ (pwt 300, summit 12,
             // base width 4) outweighs it everywhere deeper than 12 m.
             assert!(d <= 12.0, "t={t}: DESIRED_DEPTH {d} deeper than max_depth");
@@ -1001,14 +1001,14 @@ fn opregion_v24_halt_breach_all_stops_and_the_save_poly_turns_the_vehicle_back()
     let posts = at(&mut helm, t, 20.0, 0.0, &[]);
     assert_eq!(
         get(&posts, "DESIRED_HEADING"),
-        Some(&Value::Num(90.0)),
+        Some(&Value::Double(90.0)),
         "{posts:?}"
     );
     // 65 m east: outside the 60 m save polygon, still inside the 90 m halt polygon. The
     // recovery function (pwt 300) turns the vehicle back; the save flag expands its macro.
     let posts = at(&mut helm, t + 0.5, 65.0, 0.0, &[]);
     let hdg = get(&posts, "DESIRED_HEADING")
-        .and_then(Value::as_num)
+        .and_then(Value::as_f64)
         .unwrap();
     assert!(
         (180.0..=360.0).contains(&hdg),
@@ -1016,7 +1016,7 @@ fn opregion_v24_halt_breach_all_stops_and_the_save_poly_turns_the_vehicle_back()
     );
     assert_eq!(
         get(&posts, "OPREG_SAVE"),
-        Some(&Value::Num(0.0)),
+        Some(&Value::Double(0.0)),
         "{posts:?}"
     );
     assert!(get(&posts, "BHV_ERROR").is_none());
@@ -1026,5 +1026,5 @@ fn opregion_v24_halt_breach_all_stops_and_the_save_poly_turns_the_vehicle_back()
     assert_eq!(e, "opr: OpRegion HaltPoly Failure");
     assert!(is_str(get(&posts, "OPREG_BREACH"), "halt"));
     assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "BehaviorError"));
-    assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Num(0.0)));
+    assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Double(0.0)));
 }

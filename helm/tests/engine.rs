@@ -182,10 +182,10 @@ fn decisions_need_control_nav_and_the_first_second() {
     let posts = s.at(0.75, &[]);
     assert!(!has_desired(&posts) && get(&posts, "IVPHELM_ITER").is_none());
     let posts = s.at(1.0, &[]);
-    assert_eq!(get(&posts, "IVPHELM_ITER"), Some(&Value::Num(1.0)));
+    assert_eq!(get(&posts, "IVPHELM_ITER"), Some(&Value::Double(1.0)));
     let pcs = get(&posts, "IVPHELM_TOTAL_PCS_FORMED")
         .unwrap()
-        .as_num()
+        .as_f64()
         .unwrap();
     assert!(pcs >= 2.0, "two functions, at least a piece each: {pcs}");
     let summary = get(&posts, "IVPHELM_SUMMARY").unwrap().as_str().unwrap();
@@ -195,11 +195,11 @@ fn decisions_need_control_nav_and_the_first_second() {
         )),
         "{summary}"
     );
-    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(45.0)));
-    assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Num(2.0)));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Double(45.0)));
+    assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Double(2.0)));
     // Decisions are posted every iteration, not only on change.
     let posts = s.at(1.25, &[]);
-    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(45.0)));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Double(45.0)));
     assert!(get(&posts, "IVPHELM_ALLSTOP").is_none());
 }
 
@@ -209,13 +209,13 @@ fn manual_override_mid_mission_stops_and_resumes() {
     s.step(0.0, 0.0, 0.0, 0.0, &[("DEPLOY", "true")]);
     let posts = s.step(1.0, 0.0, 0.0, 0.0, &[]);
     assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "clear"));
-    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(45.0)));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Double(45.0)));
 
     let posts = s.step(2.0, 0.0, 0.0, 0.0, &[("MOOS_MANUAL_OVERRIDE", "true")]);
     assert!(is_str(get(&posts, "IVPHELM_STATE"), "PARK"));
     assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "ManualOverride"));
-    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(0.0)));
-    assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Num(0.0)));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Double(0.0)));
+    assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Double(0.0)));
     let posts = s.step(3.0, 0.0, 0.0, 0.0, &[]);
     assert!(
         !has_desired(&posts),
@@ -226,7 +226,7 @@ fn manual_override_mid_mission_stops_and_resumes() {
     let posts = s.step(4.0, 0.0, 0.0, 0.0, &[("MOOS_MANUAL_OVERIDE", "FALSE")]);
     assert!(is_str(get(&posts, "IVPHELM_STATE"), "DRIVE"));
     assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "clear"));
-    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(45.0)));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Double(45.0)));
 
     // allow_park = false: override requests are ignored.
     let mut s = Script::new(helm_with(
@@ -236,7 +236,7 @@ fn manual_override_mid_mission_stops_and_resumes() {
     s.step(0.0, 0.0, 0.0, 0.0, &[("DEPLOY", "true")]);
     let posts = s.step(1.0, 0.0, 0.0, 0.0, &[("MOOS_MANUAL_OVERRIDE", "true")]);
     assert!(is_str(get(&posts, "IVPHELM_STATE"), "DRIVE"));
-    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(45.0)));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Double(45.0)));
 }
 
 #[test]
@@ -252,7 +252,7 @@ fn runtime_updates_good_bad_and_duplicate() {
         r,
         "bhv=hdg,var=HDG_UPDATE,time=1.00,result=success,val=heading=90"
     );
-    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(90.0)));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Double(90.0)));
 
     // A bad value: a warning, the result, and the old value kept.
     let posts = s.step(
@@ -276,7 +276,7 @@ fn runtime_updates_good_bad_and_duplicate() {
         w,
         "Faulty update for behavior: hdg. Bad parameter(s): heading"
     );
-    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(90.0)));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Double(90.0)));
     let summary = get(&posts, "IVPHELM_SUMMARY").unwrap().as_str().unwrap();
     assert!(summary.contains("hdg$1.00$100.00000$"), "{summary}");
     assert!(summary.contains("$1/2$1"), "updates good/total: {summary}");
@@ -298,7 +298,7 @@ fn runtime_updates_good_bad_and_duplicate() {
         get(&posts, "IVPHELM_UPDATE_RESULT").and_then(Value::as_str),
         Some("bhv=hdg,var=HDG_UPDATE,time=4.00,result=name_mismatch,val=name=other # heading=10")
     );
-    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(90.0)));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Double(90.0)));
 }
 
 #[test]
@@ -364,7 +364,7 @@ Behavior = BHV_ConstantHeading
     assert!(is_str(get(&posts, "MODE"), "ACTIVE:SURVEYING"));
     // speed is optional: a course-only decision is complete.
     assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "clear"));
-    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(100.0)));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Double(100.0)));
     let summary = get(&posts, "IVPHELM_SUMMARY").unwrap().as_str().unwrap();
     assert!(summary.contains("modes=MODE@ACTIVE:SURVEYING"), "{summary}");
     assert!(summary.contains("var=speed:varbalk"), "{summary}");
@@ -372,7 +372,7 @@ Behavior = BHV_ConstantHeading
     assert!(get(&posts, "MODE").is_none(), "mode posted on change only");
     let posts = s.step(4.0, 0.0, 0.0, 0.0, &[("RETURN", "true")]);
     assert!(is_str(get(&posts, "MODE"), "ACTIVE:RETURNING"));
-    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(280.0)));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Double(280.0)));
 }
 
 #[test]
@@ -388,7 +388,7 @@ fn missing_decision_variable_is_an_allstop() {
     ));
     assert!(!has_desired(&posts), "grace iteration");
     let posts = s.step(2.0, 0.0, 0.0, 0.0, &[]);
-    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(0.0)));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Double(0.0)));
 }
 
 #[test]
@@ -411,10 +411,13 @@ fn constant_heading_default_duration_zero_completes_at_once() {
     assert!(is_str(get(&posts, "IVPHELM_COMPLETED_PENDING"), "true"));
     assert_eq!(
         get(&posts, "IVPHELM_COMPLETED_COUNT"),
-        Some(&Value::Num(1.0))
+        Some(&Value::Double(1.0))
     );
     assert!(is_str(get(&posts, "IVPHELM_STATEVARS"), "DONE"));
-    assert_eq!(get(&posts, "IVPHELM_BHV_CNT_EVER"), Some(&Value::Num(1.0)));
+    assert_eq!(
+        get(&posts, "IVPHELM_BHV_CNT_EVER"),
+        Some(&Value::Double(1.0))
+    );
 }
 
 #[test]
@@ -442,24 +445,28 @@ Behavior = BHV_ConstantHeading
     let mut s = Script::new(helm_with(&[("start_engaged", "true")], bhv));
     s.step(0.0, 0.0, 0.0, 0.0, &[]);
     let posts = s.step(1.0, 0.0, 0.0, 0.0, &[]);
-    assert_eq!(get(&posts, "CS_RUN"), Some(&Value::Num(1.0)));
+    assert_eq!(get(&posts, "CS_RUN"), Some(&Value::Double(1.0)));
     assert!(is_str(get(&posts, "CS_ACTIVE"), "cs/abe"));
-    assert_eq!(get(&posts, "CS_LEFT"), Some(&Value::Num(3.0)));
+    assert_eq!(get(&posts, "CS_LEFT"), Some(&Value::Double(3.0)));
     let posts = s.step(2.0, 0.0, 0.0, 0.0, &[]);
-    assert_eq!(get(&posts, "CS_LEFT"), Some(&Value::Num(2.0)));
+    assert_eq!(get(&posts, "CS_LEFT"), Some(&Value::Double(2.0)));
     // A reset post restarts the clock.
     let posts = s.step(3.0, 0.0, 0.0, 0.0, &[("CS_RESET", "true")]);
-    assert_eq!(all(&posts, "CS_LEFT"), [&Value::Num(3.0)]);
+    assert_eq!(all(&posts, "CS_LEFT"), [&Value::Double(3.0)]);
     s.step(4.0, 0.0, 0.0, 0.0, &[]);
     s.step(5.0, 0.0, 0.0, 0.0, &[]);
     let posts = s.step(6.0, 0.0, 0.0, 0.0, &[]);
     // Expired 3 s after the reset: endflag with the running time since the reset (a solo
     // numeric macro posts a double), but perpetual keeps it alive.
-    assert_eq!(get(&posts, "CS_LEFT"), Some(&Value::Num(0.0)));
-    assert_eq!(get(&posts, "CS_END"), Some(&Value::Num(3.0)), "{posts:?}");
+    assert_eq!(get(&posts, "CS_LEFT"), Some(&Value::Double(0.0)));
+    assert_eq!(
+        get(&posts, "CS_END"),
+        Some(&Value::Double(3.0)),
+        "{posts:?}"
+    );
     assert_eq!(s.helm.behavior_names(), ["cs", "h"]);
     let posts = s.step(7.0, 0.0, 0.0, 0.0, &[]);
-    assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Num(1.0)));
+    assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Double(1.0)));
 }
 
 #[test]
@@ -529,18 +536,18 @@ Behavior = BHV_ConstantSpeed
     // Idle for two seconds: the timer posts both times every iteration (the helm filters
     // repeats); the times are accounted up to the previous iteration, as in pHelmIvP.
     let posts = s.step(1.0, 0.0, 0.0, 0.0, &[]);
-    assert_eq!(get(&posts, "TIMER_IDLE"), Some(&Value::Num(0.0)));
-    assert_eq!(get(&posts, "TIMER_RUNNING"), Some(&Value::Num(0.0)));
+    assert_eq!(get(&posts, "TIMER_IDLE"), Some(&Value::Double(0.0)));
+    assert_eq!(get(&posts, "TIMER_RUNNING"), Some(&Value::Double(0.0)));
     s.step(2.0, 0.0, 0.0, 0.0, &[]);
     let posts = s.step(3.0, 0.0, 0.0, 0.0, &[]);
-    assert_eq!(get(&posts, "TIMER_IDLE"), Some(&Value::Num(1.0)));
+    assert_eq!(get(&posts, "TIMER_IDLE"), Some(&Value::Double(1.0)));
     let posts = s.step(4.0, 0.0, 0.0, 0.0, &[("GO", "true")]);
     assert!(is_str(get(&posts, "IVPHELM_BHV_RUNNING"), "t"));
     // The duration clock starts now and drops the idle time; the time since the previous
     // iteration is then booked as running (pHelmIvP's updateStateDurations).
-    assert_eq!(get(&posts, "TIMER_IDLE"), Some(&Value::Num(0.0)));
+    assert_eq!(get(&posts, "TIMER_IDLE"), Some(&Value::Double(0.0)));
     let posts = s.step(5.0, 0.0, 0.0, 0.0, &[]);
-    assert_eq!(get(&posts, "TIMER_RUNNING"), Some(&Value::Num(1.0)));
+    assert_eq!(get(&posts, "TIMER_RUNNING"), Some(&Value::Double(1.0)));
     s.step(6.0, 0.0, 0.0, 0.0, &[]);
     let posts = s.step(7.0, 0.0, 0.0, 0.0, &[]);
     assert!(is_str(get(&posts, "TIMER_DONE"), "true"));
@@ -575,7 +582,7 @@ fn skewed_mail_is_ignored_and_deferred_initialize_waits() {
     let late = posts.iter().find(|p| p.var == "LATE").unwrap();
     assert_eq!(
         (&late.value, late.aux.as_str()),
-        (&Value::Num(7.0), "HELM_VAR_INIT")
+        (&Value::Double(7.0), "HELM_VAR_INIT")
     );
     assert!(
         get(&posts, "KNOWN").is_none(),
@@ -595,7 +602,10 @@ fn helm_prefix_and_park_on_allstop() {
     ));
     s.step(0.0, 0.0, 0.0, 0.0, &[("DEPLOY", "true")]);
     let posts = s.step(1.0, 0.0, 0.0, 0.0, &[]);
-    assert_eq!(get(&posts, "H1_DESIRED_HEADING"), Some(&Value::Num(45.0)));
+    assert_eq!(
+        get(&posts, "H1_DESIRED_HEADING"),
+        Some(&Value::Double(45.0))
+    );
     assert!(get(&posts, "DESIRED_HEADING").is_none());
     let posts = s.step(2.0, 0.0, 0.0, 0.0, &[("DEPLOY", "false")]);
     assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "NothingToDo"));
@@ -628,7 +638,7 @@ fn behavior_error_halts_the_helm() {
     assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "BehaviorError"));
     assert_eq!(
         get(&posts, "DESIRED_HEADING"),
-        Some(&Value::Num(0.0)),
+        Some(&Value::Double(0.0)),
         "zeros at once"
     );
     let summary = get(&posts, "IVPHELM_SUMMARY").unwrap().as_str().unwrap();
@@ -657,9 +667,9 @@ fn depth_domain_holds_for_nav_depth() {
         "no NAV_DEPTH yet: {posts:?}"
     );
     let posts = s.step(3.0, 0.0, 0.0, 0.0, &[("NAV_DEPTH", "4")]);
-    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(10.0)));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Double(10.0)));
     // Undecided optional variables are posted as 0 (pHelmIvP's getDecision default).
-    assert_eq!(get(&posts, "DESIRED_DEPTH"), Some(&Value::Num(0.0)));
+    assert_eq!(get(&posts, "DESIRED_DEPTH"), Some(&Value::Double(0.0)));
 }
 
 #[test]
@@ -677,11 +687,11 @@ Behavior = BHV_Waypoint
     let mut s = Script::new(helm_with(&[("start_engaged", "true")], bhv));
     s.step(0.0, 0.0, 0.0, 0.0, &[]);
     let posts = s.step(1.0, 0.0, 0.0, 0.0, &[]);
-    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(0.0)));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Double(0.0)));
     // Jump to the third point.
     let posts = s.step(2.0, 0.0, 0.0, 0.0, &[("WPT_UPDATE", "currix=2")]);
-    assert_eq!(get(&posts, "WPT_INDEX"), Some(&Value::Num(2.0)));
-    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(90.0)));
+    assert_eq!(get(&posts, "WPT_INDEX"), Some(&Value::Double(2.0)));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Double(90.0)));
     // New points; a radial polygon form starts at the vertex nearest the vehicle.
     let posts = s.step(
         3.0,
@@ -702,7 +712,7 @@ Behavior = BHV_Waypoint
     );
     let seg = get(&posts, "VIEW_SEGLIST").unwrap().as_str().unwrap();
     assert!(seg.starts_with("pts={"), "{seg}");
-    let hdg = get(&posts, "DESIRED_HEADING").unwrap().as_num().unwrap();
+    let hdg = get(&posts, "DESIRED_HEADING").unwrap().as_f64().unwrap();
     assert!((90.0..=270.0).contains(&hdg), "heading south-ish: {hdg}");
     // Arriving at the first radial vertex posts the wptflag with the point reached.
     let (nx, ny) = {
@@ -804,7 +814,7 @@ Behavior = BHV_ConstantSpeed
     s.step(0.0, 0.0, 0.0, 0.0, &[]);
     s.step(1.0, 0.0, 0.0, 0.0, &[]);
     let posts = s.step(2.0, 12.3456, -7.5, 370.0, &[("GO", "true")]);
-    assert_eq!(get(&posts, "RUN_NUM"), Some(&Value::Num(1.0)));
+    assert_eq!(get(&posts, "RUN_NUM"), Some(&Value::Double(1.0)));
     assert!(
         is_str(get(&posts, "OTHER"), "1/1"),
         "one increment per expansion"
@@ -816,7 +826,7 @@ Behavior = BHV_ConstantSpeed
     );
     s.step(3.0, 0.0, 0.0, 0.0, &[("GO", "false")]);
     let posts = s.step(4.0, 0.0, 0.0, 0.0, &[("GO", "true")]);
-    assert_eq!(get(&posts, "RUN_NUM"), Some(&Value::Num(2.0)));
+    assert_eq!(get(&posts, "RUN_NUM"), Some(&Value::Double(2.0)));
 }
 
 const NULL_DOMAIN_BHV: &str = "\
@@ -857,8 +867,8 @@ fn depth_behaviour_in_a_course_speed_helm_has_a_null_domain() {
     let posts = s.step(1.0, 0.0, 0.0, 0.0, &[]);
     assert!(get(&posts, "BHV_ERROR").is_none(), "{posts:?}");
     assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "clear"));
-    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(45.0)));
-    assert_eq!(get(&posts, "IVPHELM_IPF_CNT"), Some(&Value::Num(2.0)));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Double(45.0)));
+    assert_eq!(get(&posts, "IVPHELM_IPF_CNT"), Some(&Value::Double(2.0)));
     assert_eq!(
         status_of(&posts, "dep"),
         Some("name=dep,pc=DIVE = true,state=idle,updates=n/a")
@@ -875,13 +885,13 @@ fn depth_behaviour_in_a_course_speed_helm_has_a_null_domain() {
         "dep: Null IvPDomain given to Behavior"
     ));
     assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "BehaviorError"));
-    assert_eq!(get(&posts, "IVPHELM_IPF_CNT"), Some(&Value::Num(0.0)));
-    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Num(0.0)));
+    assert_eq!(get(&posts, "IVPHELM_IPF_CNT"), Some(&Value::Double(0.0)));
+    assert_eq!(get(&posts, "DESIRED_HEADING"), Some(&Value::Double(0.0)));
     // Idle again by its condition: the helm drives again.
     let posts = s.step(3.0, 0.0, 0.0, 0.0, &[("DIVE", "false")]);
     assert!(get(&posts, "BHV_ERROR").is_none(), "{posts:?}");
     assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "clear"));
-    assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Num(2.0)));
+    assert_eq!(get(&posts, "DESIRED_SPEED"), Some(&Value::Double(2.0)));
 }
 
 #[test]

@@ -103,7 +103,7 @@ proptest! {
                     allstop = p.value.as_str().unwrap_or("").to_string();
                 }
                 if p.var.starts_with("DESIRED_") {
-                    let v = p.value.as_num().expect("decisions are numbers");
+                    let v = p.value.as_f64().expect("decisions are numbers");
                     prop_assert!(v.is_finite());
                     if v != 0.0 {
                         prop_assert_eq!(&state, "DRIVE");
@@ -111,7 +111,7 @@ proptest! {
                     }
                 }
                 if p.var == "DESIRED_SPEED" {
-                    let v = p.value.as_num().unwrap();
+                    let v = p.value.as_f64().unwrap();
                     prop_assert!((0.0..=4.0).contains(&v));
                 }
             }
@@ -125,7 +125,7 @@ proptest! {
         for (state, posts) in run(&mut helm, &events) {
             prop_assert_eq!(&state, "MALCONFIG");
             prop_assert!(posts.iter().all(|p| !p.var.starts_with("DESIRED_")));
-            prop_assert!(posts.iter().all(|p| p.value != Value::Str("DRIVE".into())));
+            prop_assert!(posts.iter().all(|p| p.value != Value::String("DRIVE".into())));
         }
     }
 }

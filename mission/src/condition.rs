@@ -128,14 +128,10 @@ impl Condition {
     }
 }
 
-/// A variable's current value as the helm's info buffer holds it: a number or a string.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Value<'a> {
-    /// A double.
-    Num(f64),
-    /// A string (surrounding double quotes are ignored when comparing).
-    Str(&'a str),
-}
+/// A variable's current value as the helm's info buffer holds it (a borrowed MOOS value;
+/// surrounding double quotes of a string are ignored when comparing, and binary data
+/// satisfies no relation).
+pub use moos_types::ValueRef as Value;
 
 impl Condition {
     /// Evaluates the condition with current variable values, as pHelmIvP does: a relation on
@@ -148,8 +144,8 @@ impl Condition {
     /// use mission::condition::{parse_condition, Value};
     /// let c = parse_condition("(MODE == SURVEYING) and (DEPTH < 10)").unwrap();
     /// let vars = |n: &str| match n {
-    ///     "MODE" => Some(Value::Str("ACTIVE:SURVEYING")),
-    ///     "DEPTH" => Some(Value::Num(4.0)),
+    ///     "MODE" => Some(Value::String("ACTIVE:SURVEYING")),
+    ///     "DEPTH" => Some(Value::Double(4.0)),
     ///     _ => None,
     /// };
     /// assert!(c.evaluate(&vars));
@@ -179,7 +175,7 @@ where
     match o {
         Operand::Var(v) => lookup(v).map(Side::Val),
         Operand::Str(s) => Some(Side::Lit(s)),
-        Operand::Num(n) => Some(Side::Val(Value::Num(*n))),
+        Operand::Num(n) => Some(Side::Val(Value::Double(*n))),
     }
 }
 
@@ -192,7 +188,7 @@ enum Side<'c, 'a> {
 impl Side<'_, '_> {
     fn value(&self) -> Value<'_> {
         match self {
-            Side::Lit(s) => Value::Str(s),
+            Side::Lit(s) => Value::String(s),
             Side::Val(v) => *v,
         }
     }
@@ -211,7 +207,7 @@ fn numeric(s: &str) -> Option<f64> {
 
 fn relate(op: RelOp, l: Value<'_>, r: Value<'_>) -> bool {
     match (l, r) {
-        (Value::Str(a), Value::Str(b)) => {
+        (Value::String(a), Value::String(b)) => {
             let (a, b) = (unquote(a), unquote(b));
             match op {
                 RelOp::Eq => a == b,
@@ -223,9 +219,10 @@ fn relate(op: RelOp, l: Value<'_>, r: Value<'_>) -> bool {
                 RelOp::Ge => a >= b,
             }
         }
-        (Value::Num(a), Value::Num(b)) => compare_num(op, a, b),
-        (Value::Str(a), Value::Num(b)) => numeric(a).is_some_and(|a| compare_num(op, a, b)),
-        (Value::Num(a), Value::Str(b)) => numeric(b).is_some_and(|b| compare_num(op, a, b)),
+        (Value::Double(a), Value::Double(b)) => compare_num(op, a, b),
+        (Value::String(a), Value::Double(b)) => numeric(a).is_some_and(|a| compare_num(op, a, b)),
+        (Value::Double(a), Value::String(b)) => numeric(b).is_some_and(|b| compare_num(op, a, b)),
+        (Value::Binary(_), _) | (_, Value::Binary(_)) => false,
     }
 }
 
@@ -795,7 +792,7 @@ mod tests {
 
     #[test]
     fn colon_field_match_for_hierarchical_modes() {
-        let mode = [("MODE", Value::Str("ACTIVE:LOITERING"))];
+        let mode = [("MODE", Value::String("ACTIVE:LOITERING"))];
         assert!(eval("MODE == LOITERING", &mode));
         assert!(eval("MODE == ACTIVE", &mode));
         assert!(eval("MODE == ACTIVE:LOITERING", &mode));
@@ -803,7 +800,7 @@ mod tests {
         assert!(!eval("MODE == INACTIVE", &mode));
         assert!(!eval("MODE = LOITERING", &mode), "`=` is exact");
         assert!(eval("MODE = ACTIVE:LOITERING", &mode));
-        let deep = [("MODE", Value::Str("A:B:C"))];
+        let deep = [("MODE", Value::String("A:B:C"))];
         assert!(eval("MODE == A:B:C", &deep));
         assert!(eval("MODE == B:C", &deep));
         assert!(!eval("MODE == A:C", &deep));
@@ -812,9 +809,9 @@ mod tests {
     #[test]
     fn types_and_unknown_variables() {
         let v = [
-            ("N", Value::Num(5.0)),
-            ("S", Value::Str("abc")),
-            ("T", Value::Str("7")),
+            ("N", Value::Double(5.0)),
+            ("S", Value::String("abc")),
+            ("T", Value::String("7")),
         ];
         assert!(eval("N > 4", &v));
         assert!(eval("N == 5", &v));
@@ -834,7 +831,7 @@ mod tests {
         assert!(eval("!(GHOST = 1)", &v));
         assert!(eval(
             "N > $(T)",
-            &[("N", Value::Num(8.0)), ("T", Value::Str("7"))]
+            &[("N", Value::Double(8.0)), ("T", Value::String("7"))]
         ));
         assert!(!eval("N > $(U)", &v), "unknown right-hand variable: false");
         assert!(eval("(N = 1) or ((S = abc) and !(N < 0))", &v));

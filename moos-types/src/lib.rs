@@ -227,7 +227,11 @@ mod tests {
         assert_eq!(v.as_ref().to_owned(), v);
         let s = Value::from(" 3.25 ");
         assert_eq!(s.as_f64(), None, "an owned string is not a double");
-        assert_eq!(s.as_ref().as_f64(), Some(3.25), "mail text that reads as a number");
+        assert_eq!(
+            s.as_ref().as_f64(),
+            Some(3.25),
+            "mail text that reads as a number"
+        );
         assert_eq!(Value::text("x").to_string(), "x");
         assert_eq!(Value::Binary(vec![1, 2]).to_string(), "<2 bytes>");
         assert_eq!(ValueRef::Binary(&[1]).as_f64(), None);

@@ -1,7 +1,6 @@
 //! The [`App`] trait: a MOOS app (CMOOSApp) as the scheduler drives it, and the values it
 //! exchanges ([`Mail`] in, [`Post`] out).
 
-
 use mission::moos::ProcessConfig;
 
 /// CMOOSApp's default AppTick (`DEFAULT_MOOS_APP_FREQ`), Hz.

@@ -18,7 +18,6 @@ pub struct HelmApp {
     name: String,
     block: Option<ProcessConfig>,
     helm: Helm,
-    mail: Vec<::helm::Mail>,
     registered: Vec<String>,
     pid: Option<u32>,
     /// Where the helm's files come from, to read them again on `RESTART_HELM`.
@@ -90,7 +89,6 @@ impl HelmApp {
             name: name.to_string(),
             block,
             helm,
-            mail: Vec::new(),
             registered,
             pid: None,
             reload: None,
@@ -312,27 +310,13 @@ impl App for HelmApp {
                 self.restart(kind == "type1");
             }
         }
-        self.mail.clear();
-        // AppCastingMOOSApp takes its own mail before the app sees any.
+        // AppCastingMOOSApp takes its own mail before the app sees any; the helm reads no
+        // binary data.
         let appcast = &mut self.appcast;
-        self.mail.extend(mail.iter().filter_map(|m| {
-            if !appcast.take_mail(m) {
-                return None;
-            }
-            let value = match &m.value {
-                Value::Double(x) => ::helm::Value::Num(*x),
-                Value::String(s) => ::helm::Value::Str(s.clone()),
-                Value::Binary(_) => return None,
-            };
-            Some(::helm::Mail {
-                var: m.key.clone(),
-                value,
-                source: m.source.clone(),
-                source_aux: m.source_aux.clone(),
-                time: m.time,
-            })
-        }));
-        self.helm.on_mail(&self.mail);
+        let theirs = mail
+            .iter()
+            .filter(|m| appcast.take_mail(m) && !matches!(m.value, Value::Binary(_)));
+        self.helm.on_mail(theirs);
     }
 
     fn iterate(&mut self, now: f64, out: &mut Vec<Post>) {
@@ -345,11 +329,7 @@ impl App for HelmApp {
             out.push(Post::double("IVPHELM_CPU", cpu));
         }
         for p in self.helm.iterate(now) {
-            let value = match &p.value {
-                ::helm::Value::Num(x) => Value::Double(*x),
-                ::helm::Value::Str(s) => Value::String(s.clone()),
-            };
-            out.push(Post::new(p.var.clone(), value).with_aux(p.aux.clone()));
+            out.push(Post::new(p.var.clone(), p.value.clone()).with_aux(p.aux.clone()));
         }
         for note in self.helm.take_appcast_notes() {
             let note = match note {

@@ -50,8 +50,8 @@ fn to_value(m: &moosdb_client::Message) -> Option<Value> {
 fn holds(cond: &Condition, vals: &HashMap<String, Value>) -> bool {
     let lookup = |n: &str| -> Option<condition::Value<'_>> {
         match vals.get(n)? {
-            Value::Double(x) => Some(condition::Value::Num(*x)),
-            Value::String(s) => Some(condition::Value::Str(s)),
+            Value::Double(x) => Some(condition::Value::Double(*x)),
+            Value::String(s) => Some(condition::Value::String(s)),
             Value::Binary(_) => None,
         }
     };

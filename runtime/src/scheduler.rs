@@ -327,8 +327,8 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
         let lookup = |name: &str| -> Option<condition::Value<'_>> {
             let (_, v) = vals.iter().find(|(n, _)| n == name)?;
             match v.as_ref()? {
-                Value::Double(x) => Some(condition::Value::Num(*x)),
-                Value::String(s) => Some(condition::Value::Str(s)),
+                Value::Double(x) => Some(condition::Value::Double(*x)),
+                Value::String(s) => Some(condition::Value::String(s)),
                 Value::Binary(_) => None,
             }
         };

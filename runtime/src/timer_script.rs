@@ -572,8 +572,8 @@ impl TimerScript {
     fn conditions_hold(&self) -> bool {
         let lookup = |name: &str| -> Option<condition::Value<'_>> {
             match self.info.get(name)? {
-                Value::Double(x) => Some(condition::Value::Num(*x)),
-                Value::String(s) => Some(condition::Value::Str(s)),
+                Value::Double(x) => Some(condition::Value::Double(*x)),
+                Value::String(s) => Some(condition::Value::String(s)),
                 Value::Binary(_) => None,
             }
         };

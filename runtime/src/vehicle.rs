@@ -7,7 +7,7 @@ use vehicle::geodesy::LocalGrid;
 use vehicle::node_report::{NodeReportConfig, NodeReporter};
 use vehicle::pid::{MarinePid, PidConfig};
 use vehicle::sim::{SimConfig, Simulator};
-use vehicle::{ConfigError, MailValue, Posting};
+use vehicle::{ConfigError, Posting};
 
 use crate::app::{App, Mail, Post, Subscription, Value};
 use crate::appcasting::{AppcastLayer, Note};
@@ -213,13 +213,11 @@ impl VehicleApp {
     }
 
     fn flush(&mut self, out: &mut Vec<Post>) {
-        out.extend(self.postings.drain(..).map(|p| {
-            let value = match p.value {
-                vehicle::Value::Double(x) => Value::Double(x),
-                vehicle::Value::Str(s) => Value::String(s),
-            };
-            Post::new(p.var.as_ref(), value)
-        }));
+        out.extend(
+            self.postings
+                .drain(..)
+                .map(|p| Post::new(p.var.as_ref(), p.value)),
+        );
     }
 }
 
@@ -264,11 +262,11 @@ impl App for VehicleApp {
             if !self.appcast.take_mail(m) {
                 continue;
             }
-            let v = match &m.value {
-                Value::Double(x) => MailValue::Double(*x),
-                Value::String(s) => MailValue::Str(s),
-                Value::Binary(_) => continue,
-            };
+            // The vehicle apps read no binary data.
+            if matches!(m.value, Value::Binary(_)) {
+                continue;
+            }
+            let v = m.value.as_ref();
             match &mut self.inner {
                 // The simulator handles mail at the app's time (MOOSTime() in the C++), and
                 // needs the writer to tell drift sources apart.

@@ -30,7 +30,7 @@ use std::sync::Arc;
 
 use crate::angle::angle180;
 use crate::config::{ConfigError, Param, apply_params, parse_number, strict};
-use crate::moos::{MailValue, Posting};
+use crate::moos::{Posting, ValueRef};
 
 const APP: &str = "coug_controls";
 
@@ -848,7 +848,7 @@ impl CougarsControl {
 
     /// Takes one piece of mail. `NAV_PITCH` is MOOS's (radians, negative nose down);
     /// `COUG_ARM` / `COUG_SURFACE` are the arm and surface services.
-    pub fn on_mail(&mut self, var: &str, value: MailValue<'_>, _time: f64) {
+    pub fn on_mail(&mut self, var: &str, value: ValueRef<'_>, _time: f64) {
         let d = value.as_f64();
         let b = value.as_str().and_then(crate::config::parse_bool);
         match (var, d, b) {

@@ -34,7 +34,7 @@ pub mod sim;
 pub mod wormhole;
 
 pub use config::ConfigError;
-pub use moos::{MailValue, Posting, Value};
+pub use moos::{Posting, Value, ValueRef};
 
 /// A run warning, its retraction or an event an app reports for its appcast (the C++
 /// `reportRunWarning`, `retractRunWarning`, `reportEvent`), taken with the app's

@@ -3,59 +3,11 @@
 use std::fmt::Write as _;
 use std::sync::Arc;
 
-/// A value arriving as MOOS mail.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum MailValue<'a> {
-    /// A double-valued message.
-    Double(f64),
-    /// A string-valued message.
-    Str(&'a str),
-}
+/// A value arriving as MOOS mail, borrowed: the workspace's one view of a MOOS value.
+pub use moos_types::ValueRef;
 
-impl MailValue<'_> {
-    /// The value as a double: the number itself, or a string parsed as a number.
-    pub fn as_f64(&self) -> Option<f64> {
-        match *self {
-            MailValue::Double(d) => Some(d),
-            MailValue::Str(s) => s.trim().parse().ok(),
-        }
-    }
-
-    /// The value as a string slice (`None` for doubles).
-    pub fn as_str(&self) -> Option<&str> {
-        match *self {
-            MailValue::Double(_) => None,
-            MailValue::Str(s) => Some(s),
-        }
-    }
-}
-
-/// A value an app publishes.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Value {
-    /// A double-valued posting.
-    Double(f64),
-    /// A string-valued posting.
-    Str(String),
-}
-
-impl Value {
-    /// The double, if this is one.
-    pub fn as_f64(&self) -> Option<f64> {
-        match self {
-            Value::Double(d) => Some(*d),
-            Value::Str(_) => None,
-        }
-    }
-
-    /// The string, if this is one.
-    pub fn as_str(&self) -> Option<&str> {
-        match self {
-            Value::Double(_) => None,
-            Value::Str(s) => Some(s),
-        }
-    }
-}
+/// A value an app publishes: the workspace's one MOOS value type.
+pub use moos_types::Value;
 
 /// One `(variable, value)` pair an app wants published. Variable names are shared
 /// (`Arc<str>`), so building a posting does not allocate a new name.
@@ -80,7 +32,7 @@ impl Posting {
     pub fn string(var: &Arc<str>, value: impl Into<String>) -> Self {
         Posting {
             var: Arc::clone(var),
-            value: Value::Str(value.into()),
+            value: Value::String(value.into()),
         }
     }
 }

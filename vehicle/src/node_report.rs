@@ -79,7 +79,7 @@ use std::sync::Arc;
 
 use crate::angle::{angle360, heading_to_radians};
 use crate::config::{ConfigError, Param, apply_params, strict};
-use crate::moos::{MailValue, Posting, push_double_x};
+use crate::moos::{Posting, ValueRef, push_double_x};
 
 const APP: &str = "pNodeReporter";
 
@@ -1470,7 +1470,7 @@ impl NodeReporter {
     /// (MOOS `m_curr_time` in `OnNewMail`), not the time the message was posted. The
     /// freshness of the alternative-nav record, the platform reports' gaps, the riders'
     /// periods and the helm's silence all count from it.
-    pub fn on_mail(&mut self, var: &str, value: MailValue<'_>, time: f64) {
+    pub fn on_mail(&mut self, var: &str, value: ValueRef<'_>, time: f64) {
         let d = value.as_f64();
         let s = value.as_str().unwrap_or("");
         match (var, d) {
@@ -1858,10 +1858,10 @@ mod appcast_tests {
             ("NAV_GT_X", 11.0),
             ("NAV_GT_Y", -21.0),
         ] {
-            nr.on_mail(var, MailValue::Double(v), 1001.5);
+            nr.on_mail(var, ValueRef::Double(v), 1001.5);
         }
-        nr.on_mail("IVPHELM_STATE", MailValue::Str("DRIVE"), 1001.5);
-        nr.on_mail("IVPHELM_ALLSTOP", MailValue::Str("clear"), 1001.5);
+        nr.on_mail("IVPHELM_STATE", ValueRef::String("DRIVE"), 1001.5);
+        nr.on_mail("IVPHELM_ALLSTOP", ValueRef::String("clear"), 1001.5);
         nr.iterate(1002.0, &mut out);
         nr.iterate(1003.0, &mut out);
         let mut body = String::new();

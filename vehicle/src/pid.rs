@@ -74,7 +74,7 @@ use std::sync::Arc;
 
 use crate::angle::{angle180, angle360};
 use crate::config::{ConfigError, Param, apply_params, strict};
-use crate::moos::{MailValue, Posting, double_x};
+use crate::moos::{Posting, ValueRef, double_x};
 
 const APP: &str = "pMarinePIDV22";
 const DIFF_HISTORY: usize = 9;
@@ -983,7 +983,7 @@ impl MarinePid {
     /// time (the time of the last iteration), not with `_time`; before the first iteration
     /// that stamp is 0, which the engine reads as "not received". The legacy pMarinePID
     /// stamps mail with the time it is handled (`time`).
-    pub fn on_mail(&mut self, var: &str, value: MailValue<'_>, time: f64) {
+    pub fn on_mail(&mut self, var: &str, value: ValueRef<'_>, time: f64) {
         let d = value.as_f64();
         let (now, legacy) = (self.engine_time, self.cfg.legacy);
         let stamp = |v: f64| {
@@ -1235,7 +1235,7 @@ mod appcast_tests {
         // Four iterations at 4 Hz; the helm lifts the override after the first.
         for (i, t) in [100.25, 100.5, 100.75, 101.0].into_iter().enumerate() {
             if i == 1 {
-                pid.on_mail("MOOS_MANUAL_OVERRIDE", MailValue::Str("false"), t);
+                pid.on_mail("MOOS_MANUAL_OVERRIDE", ValueRef::String("false"), t);
             }
             pid.iterate(t, &mut out);
         }
@@ -1302,7 +1302,7 @@ mod appcast_tests {
         let mut pid = MarinePid::new(cfg);
         let mut out = Vec::new();
         pid.iterate(10.0, &mut out);
-        pid.on_mail("MOOS_MANUAL_OVERRIDE", MailValue::Str("false"), 10.0);
+        pid.on_mail("MOOS_MANUAL_OVERRIDE", ValueRef::String("false"), 10.0);
         pid.iterate(10.5, &mut out);
         for (var, v) in [
             ("DESIRED_HEADING", 90.0),
@@ -1310,7 +1310,7 @@ mod appcast_tests {
             ("NAV_HEADING", 80.0),
             ("NAV_SPEED", 1.0),
         ] {
-            pid.on_mail(var, MailValue::Double(v), 10.5);
+            pid.on_mail(var, ValueRef::Double(v), 10.5);
         }
         pid.iterate(11.0, &mut out);
         pid.iterate(11.5, &mut out);

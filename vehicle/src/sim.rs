@@ -103,7 +103,7 @@ use std::sync::Arc;
 use crate::angle::{angle180, angle360, rel_ang};
 use crate::config::{ConfigError, Param, apply_params, parse_number, strict};
 use crate::geodesy::LocalGrid;
-use crate::moos::{MailValue, Posting, double_x};
+use crate::moos::{Posting, ValueRef, double_x};
 
 const APP: &str = "uSimMarineV22";
 
@@ -1096,10 +1096,10 @@ impl SimVars {
 /// The `uSimMarineV22` app: state, latest inputs and MOOS naming around [`step`].
 ///
 /// ```
-/// use vehicle::{MailValue, sim::{SimConfig, Simulator}};
+/// use vehicle::{ValueRef, sim::{SimConfig, Simulator}};
 /// let cfg = SimConfig::from_params([("prefix", "NAV")]).unwrap();
 /// let mut sim = Simulator::new(cfg, None, 0.0);
-/// sim.on_mail("DESIRED_THRUST", MailValue::Double(40.0), 0.0);
+/// sim.on_mail("DESIRED_THRUST", ValueRef::Double(40.0), 0.0);
 /// let mut out = Vec::new();
 /// for i in 1..=20 { sim.iterate(f64::from(i) * 0.25, &mut out); }
 /// assert!(vehicle::moos::last_posting(&out, "NAV_SPEED").unwrap().as_f64().unwrap() > 1.9);
@@ -1612,7 +1612,7 @@ impl Simulator {
     }
 
     /// Takes one piece of mail with no known source; see [`Simulator::on_mail_from`].
-    pub fn on_mail(&mut self, var: &str, value: MailValue<'_>, time: f64) -> Option<Posting> {
+    pub fn on_mail(&mut self, var: &str, value: ValueRef<'_>, time: f64) -> Option<Posting> {
         self.on_mail_from(var, value, time, "")
     }
 
@@ -1622,7 +1622,7 @@ impl Simulator {
     pub fn on_mail_from(
         &mut self,
         var: &str,
-        value: MailValue<'_>,
+        value: ValueRef<'_>,
         time: f64,
         source: &str,
     ) -> Option<Posting> {
@@ -1633,8 +1633,8 @@ impl Simulator {
         }
         // Numeric variables take double mail only (a string leaves the setting as it was).
         let num = match value {
-            MailValue::Double(d) => Some(d),
-            MailValue::Str(_) => None,
+            ValueRef::Double(d) => Some(d),
+            ValueRef::String(_) | ValueRef::Binary(_) => None,
         };
         let d = num.unwrap_or(0.0);
         let s = value.as_str().unwrap_or("");
@@ -1806,11 +1806,11 @@ impl Simulator {
         // `post_des_rudder` publish them.
         if let Some(mut pid) = self.pid.take() {
             let st = self.state;
-            pid.on_mail("NAV_HEADING", MailValue::Double(st.heading), time);
-            pid.on_mail("NAV_SPEED", MailValue::Double(st.speed), time);
+            pid.on_mail("NAV_HEADING", ValueRef::Double(st.heading), time);
+            pid.on_mail("NAV_SPEED", ValueRef::Double(st.speed), time);
             if pid.config().depth_control {
-                pid.on_mail("NAV_DEPTH", MailValue::Double(st.depth), time);
-                pid.on_mail("NAV_PITCH", MailValue::Double(st.pitch), time);
+                pid.on_mail("NAV_DEPTH", ValueRef::Double(st.depth), time);
+                pid.on_mail("NAV_PITCH", ValueRef::Double(st.pitch), time);
             }
             let o = pid.iterate_embedded(time, out);
             self.set_rudder(o.rudder, time);
@@ -2029,7 +2029,7 @@ mod appcast_tests {
         .unwrap();
         let mut sim = Simulator::new(cfg, None, 0.0);
         let mut out = Vec::new();
-        sim.on_mail("DRIFT_X", MailValue::Double(0.5), 0.0);
+        sim.on_mail("DRIFT_X", ValueRef::Double(0.5), 0.0);
         // No thrust: only the drift (0.5 m/s east, no source named) moves the vehicle.
         for i in 1..=4 {
             sim.iterate(f64::from(i) * 0.25, &mut out);

@@ -7,7 +7,7 @@ use vehicle::moos::last_posting;
 use vehicle::node_report::{NodeReportConfig, NodeReporter};
 use vehicle::pid::{MarinePid, PidConfig};
 use vehicle::sim::{SimConfig, Simulator};
-use vehicle::{MailValue, Posting, Value};
+use vehicle::{Posting, ValueRef};
 
 enum Controller {
     Marine(Box<MarinePid>),
@@ -15,7 +15,7 @@ enum Controller {
 }
 
 impl Controller {
-    fn on_mail(&mut self, var: &str, v: MailValue<'_>, t: f64) {
+    fn on_mail(&mut self, var: &str, v: ValueRef<'_>, t: f64) {
         match self {
             Controller::Marine(c) => c.on_mail(var, v, t),
             Controller::Cougars(c) => c.on_mail(var, v, t),
@@ -29,13 +29,9 @@ impl Controller {
     }
 }
 
-fn deliver(postings: &[Posting], t: f64, mut to: impl FnMut(&str, MailValue<'_>, f64)) {
+fn deliver(postings: &[Posting], t: f64, mut to: impl FnMut(&str, ValueRef<'_>, f64)) {
     for p in postings {
-        let v = match &p.value {
-            Value::Double(d) => MailValue::Double(*d),
-            Value::Str(s) => MailValue::Str(s),
-        };
-        to(&p.var, v, t);
+        to(&p.var, p.value.as_ref(), t);
     }
 }
 
@@ -83,7 +79,7 @@ impl Mission {
                 ("DESIRED_DEPTH", dep),
             ];
             for (v, x) in helm {
-                self.ctl.on_mail(v, MailValue::Double(x), t);
+                self.ctl.on_mail(v, ValueRef::Double(x), t);
             }
             deliver(&self.nav, t, |v, x, t| self.ctl.on_mail(v, x, t));
             let mut cmds = Vec::new();
@@ -136,7 +132,7 @@ fn surface_pid() -> PidConfig {
 #[test]
 fn marine_pid_drives_the_simulator_through_moos_names() {
     let mut pid = MarinePid::new(surface_pid());
-    pid.on_mail("MOOS_MANUAL_OVERRIDE", MailValue::Str("false"), 0.0);
+    pid.on_mail("MOOS_MANUAL_OVERRIDE", ValueRef::String("false"), 0.0);
     let mut m = Mission::new(Controller::Marine(Box::new(pid)), 0.1);
     m.run(120.0, 180.0, 2.0, 5.0);
     let s = m.sim.state();
@@ -167,7 +163,7 @@ fn marine_pid_drives_the_simulator_through_moos_names() {
 #[test]
 fn cougars_controllers_drive_the_simulator_instead() {
     let mut c = CougarsControl::new(CougarsConfig::coug1(), 0.0);
-    c.on_mail("MOOS_MANUAL_OVERIDE", MailValue::Str("false"), 0.0);
+    c.on_mail("MOOS_MANUAL_OVERIDE", ValueRef::String("false"), 0.0);
     let mut m = Mission::new(Controller::Cougars(Box::new(c)), 0.08);
     // DESIRED_SPEED is thrust percent for the CoUGARs stack: 30 % -> 1.5 m/s in the simulator.
     m.run(150.0, 180.0, 30.0, 3.0);

@@ -1,6 +1,6 @@
 //! CoUGARs cascade, mixing and actuators.
 
-use vehicle::MailValue;
+use vehicle::ValueRef;
 use vehicle::cougars::{
     Actuators, ControllerInputs, CougPid, CougUvModel, CougUvState, CougarsConfig, CougarsControl,
     CougarsState, Gains, Kinematics, UCommand, compass_to_enu, pitch_schedule_constant, step,
@@ -355,17 +355,17 @@ fn actuator_pwm_mapping_and_failsafe() {
 fn moos_adapter_starts_on_override_false_and_maps_units() {
     let mut c = CougarsControl::new(CougarsConfig::coug1(), 0.0);
     let mut out = Vec::new();
-    c.on_mail("DESIRED_HEADING", MailValue::Double(100.0), 0.0);
-    c.on_mail("NAV_HEADING", MailValue::Double(90.0), 0.0);
-    c.on_mail("DESIRED_SPEED", MailValue::Double(30.0), 0.0);
-    c.on_mail("NAV_PITCH", MailValue::Double(-0.1), 0.0);
+    c.on_mail("DESIRED_HEADING", ValueRef::Double(100.0), 0.0);
+    c.on_mail("NAV_HEADING", ValueRef::Double(90.0), 0.0);
+    c.on_mail("DESIRED_SPEED", ValueRef::Double(30.0), 0.0);
+    c.on_mail("NAV_PITCH", ValueRef::Double(-0.1), 0.0);
     assert!(
         (c.inputs().pitch - 0.1f64.to_degrees()).abs() < 1e-12,
         "MOOS nose-down pitch is negative"
     );
     c.iterate(0.08, &mut out);
     assert!(out.is_empty(), "nothing before the start signal");
-    c.on_mail("MOOS_MANUAL_OVERRIDE", MailValue::Str("false"), 0.1);
+    c.on_mail("MOOS_MANUAL_OVERRIDE", ValueRef::String("false"), 0.1);
     c.iterate(10.0, &mut out);
     assert_eq!(
         last_posting(&out, "DESIRED_RUDDER").unwrap().as_f64(),
@@ -386,7 +386,7 @@ fn moos_adapter_starts_on_override_false_and_maps_units() {
         Some(1620.0)
     );
     out.clear();
-    c.on_mail("MOOS_MANUAL_OVERRIDE", MailValue::Str("true"), 10.1);
+    c.on_mail("MOOS_MANUAL_OVERRIDE", ValueRef::String("true"), 10.1);
     c.iterate(10.2, &mut out);
     assert_eq!(
         last_posting(&out, "DESIRED_THRUST").unwrap().as_f64(),

@@ -18,17 +18,13 @@ use std::sync::Arc;
 
 use vehicle::pid::{MarinePid, PidConfig};
 use vehicle::sim::{SimConfig, Simulator};
-use vehicle::{MailValue, Posting, Value};
+use vehicle::{Posting, ValueRef};
 
 const TOL: f64 = 0.5;
 
-fn deliver(postings: &[(Posting, f64)], mut to: impl FnMut(&str, MailValue<'_>, f64)) {
+fn deliver(postings: &[(Posting, f64)], mut to: impl FnMut(&str, ValueRef<'_>, f64)) {
     for (p, t) in postings {
-        let v = match &p.value {
-            Value::Double(d) => MailValue::Double(*d),
-            Value::Str(s) => MailValue::Str(s),
-        };
-        to(&p.var, v, *t);
+        to(&p.var, p.value.as_ref(), *t);
     }
 }
 
@@ -95,7 +91,7 @@ impl Delta {
         assert_eq!(sim_cfg.max_depth_rate, 5.0, "delta's block as expected");
         let pid_cfg = PidConfig::from_params(common::pairs(&pb)).expect("delta's pMarinePID block");
         let mut pid = MarinePid::new(pid_cfg);
-        pid.on_mail("MOOS_MANUAL_OVERRIDE", MailValue::Str("false"), 0.0);
+        pid.on_mail("MOOS_MANUAL_OVERRIDE", ValueRef::String("false"), 0.0);
         Delta {
             sim: Simulator::new(sim_cfg, None, 0.0),
             pid,

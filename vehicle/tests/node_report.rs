@@ -2,7 +2,7 @@
 
 mod common;
 
-use vehicle::MailValue;
+use vehicle::ValueRef;
 use vehicle::moos::last_posting;
 use vehicle::node_report::{NodeReportConfig, NodeReporter};
 
@@ -15,11 +15,11 @@ fn report(out: &[vehicle::Posting]) -> String {
 }
 
 fn d(app: &mut NodeReporter, var: &str, v: f64, t: f64) {
-    app.on_mail(var, MailValue::Double(v), t);
+    app.on_mail(var, ValueRef::Double(v), t);
 }
 
 fn s(app: &mut NodeReporter, var: &str, v: &str, t: f64) {
-    app.on_mail(var, MailValue::Str(v), t);
+    app.on_mail(var, ValueRef::String(v), t);
 }
 
 #[test]

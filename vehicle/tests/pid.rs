@@ -2,7 +2,7 @@
 
 mod common;
 
-use vehicle::MailValue;
+use vehicle::ValueRef;
 use vehicle::angle::angle180;
 use vehicle::moos::last_posting;
 use vehicle::pid::{MarinePid, PidConfig, PidInputs, PidState, ScalarPid, step};
@@ -220,7 +220,7 @@ fn stale_inputs_give_pid_stale_and_zero_outputs() {
             ("NAV_DEPTH", 0.0),
             ("NAV_PITCH", 0.0),
         ] {
-            app.on_mail(v, MailValue::Double(x), t);
+            app.on_mail(v, ValueRef::Double(x), t);
         }
     };
     // Under manual override (the initial state) the outputs are zero, posted once.
@@ -234,13 +234,13 @@ fn stale_inputs_give_pid_stale_and_zero_outputs() {
     app.iterate(0.1, &mut out);
     assert!(out.is_empty(), "zeros are posted only once: {out:?}");
 
-    app.on_mail("MOOS_MANUAL_OVERRIDE", MailValue::Str("false"), 0.2);
+    app.on_mail("MOOS_MANUAL_OVERRIDE", ValueRef::String("false"), 0.2);
     for (v, x) in [
         ("DESIRED_HEADING", 100.0),
         ("DESIRED_SPEED", 2.0),
         ("DESIRED_DEPTH", 0.0),
     ] {
-        app.on_mail(v, MailValue::Double(x), 0.2);
+        app.on_mail(v, ValueRef::Double(x), 0.2);
     }
     feed_nav(&mut app, 0.2);
     app.iterate(0.3, &mut out);
@@ -298,7 +298,7 @@ fn stale_inputs_give_pid_stale_and_zero_outputs() {
 
     // Override back on: PID_HAS_CONTROL=false.
     out.clear();
-    app.on_mail("MOOS_MANUAL_OVERIDE", MailValue::Str("true"), t);
+    app.on_mail("MOOS_MANUAL_OVERIDE", ValueRef::String("true"), t);
     app.iterate(t + 0.1, &mut out);
     assert_eq!(
         last_posting(&out, "PID_HAS_CONTROL").unwrap().as_str(),
@@ -315,7 +315,7 @@ fn nav_yaw_and_output_suffix() {
     app.iterate(0.05, &mut out);
     app.on_mail(
         "NAV_YAW",
-        MailValue::Double(-std::f64::consts::FRAC_PI_2),
+        ValueRef::Double(-std::f64::consts::FRAC_PI_2),
         0.0,
     );
     assert_eq!(app.inputs().heading.unwrap().0, 90.0);
@@ -366,7 +366,7 @@ fn v22_running(
     // received", before the first): the app has iterated once before the inputs come.
     let mut out = Vec::new();
     app.iterate(0.05, &mut out);
-    app.on_mail("MOOS_MANUAL_OVERRIDE", MailValue::Str("false"), 0.0);
+    app.on_mail("MOOS_MANUAL_OVERRIDE", ValueRef::String("false"), 0.0);
     for (v, x) in [
         ("DESIRED_HEADING", des_hdg),
         ("DESIRED_SPEED", des_spd),
@@ -376,7 +376,7 @@ fn v22_running(
         ("NAV_DEPTH", 0.0),
         ("NAV_PITCH", 0.0),
     ] {
-        app.on_mail(v, MailValue::Double(x), 0.0);
+        app.on_mail(v, ValueRef::Double(x), 0.0);
     }
     app.iterate(0.1, &mut out);
     (app, out)
@@ -406,7 +406,7 @@ fn v22_zero_or_negative_desired_speed_is_an_all_stop_of_every_actuator() {
 #[test]
 fn v22_negative_speed_factor_stops_and_a_negative_config_factor_is_ignored() {
     let (mut app, _) = v22_running(golf_pid(), 90.0, 2.0);
-    app.on_mail("SPEED_FACTOR", MailValue::Double(-20.0), 0.2);
+    app.on_mail("SPEED_FACTOR", ValueRef::Double(-20.0), 0.2);
     let mut out = Vec::new();
     app.iterate(0.3, &mut out);
     assert_eq!(num(&out, "DESIRED_THRUST"), Some(0.0));
@@ -447,13 +447,13 @@ fn v22_thrust_cap_is_read_and_clipped_but_not_applied() {
     let (mut app, _) = v22_running(cfg, 90.0, 4.0);
     assert!(app.subscriptions().contains(&"PID_THRUST_CAP"));
     // `setDoubleClipRngOnString` reads the string value: a double mail is not taken.
-    app.on_mail("PID_THRUST_CAP", MailValue::Double(50.0), 0.2);
+    app.on_mail("PID_THRUST_CAP", ValueRef::Double(50.0), 0.2);
     assert_eq!(app.thrust_cap(), 100.0);
-    app.on_mail("PID_THRUST_CAP", MailValue::Str("50"), 0.2);
+    app.on_mail("PID_THRUST_CAP", ValueRef::String("50"), 0.2);
     assert_eq!(app.thrust_cap(), 50.0);
-    app.on_mail("PID_THRUST_CAP", MailValue::Str("5"), 0.2);
+    app.on_mail("PID_THRUST_CAP", ValueRef::String("5"), 0.2);
     assert_eq!(app.thrust_cap(), 20.0, "clipped to [20, 100]");
-    app.on_mail("PID_THRUST_CAP", MailValue::Str("fast"), 0.2);
+    app.on_mail("PID_THRUST_CAP", ValueRef::String("fast"), 0.2);
     assert_eq!(app.thrust_cap(), 20.0, "a non-number is not taken");
     let mut out = Vec::new();
     app.iterate(0.3, &mut out);
@@ -496,12 +496,12 @@ fn v22_mail_is_stamped_with_the_engine_clock() {
     // PIDEngine stamps inputs with its own time (the last iteration's), 0 before the first
     // iteration, and 0 means "never received": mail before the first iteration does not count.
     let mut app = MarinePid::new(golf_pid());
-    app.on_mail("MOOS_MANUAL_OVERRIDE", MailValue::Str("false"), 1.0);
-    app.on_mail("DESIRED_HEADING", MailValue::Double(90.0), 1.0);
+    app.on_mail("MOOS_MANUAL_OVERRIDE", ValueRef::String("false"), 1.0);
+    app.on_mail("DESIRED_HEADING", ValueRef::Double(90.0), 1.0);
     assert!(app.inputs().desired_heading.is_none());
     let mut out = Vec::new();
     app.iterate(10.0, &mut out);
-    app.on_mail("DESIRED_HEADING", MailValue::Double(90.0), 11.5);
+    app.on_mail("DESIRED_HEADING", ValueRef::Double(90.0), 11.5);
     assert_eq!(app.inputs().desired_heading, Some((90.0, 10.0)));
     for (v, x) in [
         ("DESIRED_SPEED", 2.0),
@@ -511,7 +511,7 @@ fn v22_mail_is_stamped_with_the_engine_clock() {
         ("NAV_DEPTH", 0.0),
         ("NAV_PITCH", 0.0),
     ] {
-        app.on_mail(v, MailValue::Double(x), 11.5);
+        app.on_mail(v, ValueRef::Double(x), 11.5);
     }
     // Ages are counted from the stamp (10), not the mail time: 12.5 - 10 = 2.5 > 2.
     out.clear();

@@ -4,7 +4,7 @@ mod common;
 
 use vehicle::moos::last_posting;
 use vehicle::sim::{SimConfig, SimInputs, SimState, Simulator, StartPose, ThrustMap, step};
-use vehicle::{ConfigError, MailValue};
+use vehicle::{ConfigError, ValueRef};
 
 fn close(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol
@@ -347,8 +347,8 @@ fn adapter_posts_prefixed_nav_every_second_iteration() {
     let cfg = SimConfig::from_params([("PREFIX", "NAV"), ("default_water_depth", "50")]).unwrap();
     let grid = vehicle::geodesy::LocalGrid::new(43.8253, -70.3304).unwrap();
     let mut sim = Simulator::new(cfg, Some(grid), 100.0);
-    sim.on_mail("DESIRED_THRUST", MailValue::Double(40.0), 100.0);
-    sim.on_mail("DESIRED_ELEVATOR", MailValue::Double(10.0), 100.0);
+    sim.on_mail("DESIRED_THRUST", ValueRef::Double(40.0), 100.0);
+    sim.on_mail("DESIRED_ELEVATOR", ValueRef::Double(10.0), 100.0);
     let mut out = Vec::new();
     sim.iterate(100.1, &mut out);
     assert!(
@@ -387,16 +387,16 @@ fn adapter_posts_prefixed_nav_every_second_iteration() {
     );
     // An obstacle hit stops the vehicle where it is.
     out.clear();
-    sim.on_mail("OBSTACLE_HIT", MailValue::Str("true"), 100.25);
+    sim.on_mail("OBSTACLE_HIT", ValueRef::String("true"), 100.25);
     let (x, y) = (sim.state().x, sim.state().y);
     sim.iterate(100.3, &mut out);
     sim.iterate(100.4, &mut out);
     assert_eq!(last_posting(&out, "NAV_SPEED").unwrap().as_f64(), Some(0.0));
     assert_eq!((sim.state().x, sim.state().y), (x, y));
-    sim.on_mail("OBSTACLE_HIT", MailValue::Str("false"), 100.45);
+    sim.on_mail("OBSTACLE_HIT", ValueRef::String("false"), 100.45);
     // Reset through USM_RESET.
     let p = sim
-        .on_mail("USM_RESET", MailValue::Str("x=5,y=6,heading=45"), 100.3)
+        .on_mail("USM_RESET", ValueRef::String("x=5,y=6,heading=45"), 100.3)
         .unwrap();
     assert_eq!(p.value.as_f64(), Some(1.0));
     assert_eq!(
@@ -418,7 +418,7 @@ fn legacy_adapter_posts_nav_every_iteration() {
         };
         assert_eq!(cfg.nav_every(), if legacy { 1 } else { 2 });
         let mut sim = Simulator::new(cfg, None, 0.0);
-        sim.on_mail("DESIRED_THRUST", MailValue::Double(40.0), 0.0);
+        sim.on_mail("DESIRED_THRUST", ValueRef::Double(40.0), 0.0);
         for (i, want) in expected.into_iter().enumerate() {
             let mut out = Vec::new();
             sim.iterate(0.1 * (i + 1) as f64, &mut out);
@@ -597,13 +597,13 @@ fn embedded_pid_drives_the_model_from_the_helm_outputs() {
     let subs = sim.subscriptions();
     assert!(subs.contains(&"DESIRED_HEADING") && subs.contains(&"MOOS_MANUAL_OVERRIDE"));
     assert!(!subs.contains(&"DESIRED_RUDDER") && !subs.contains(&"DESIRED_THRUST"));
-    sim.on_mail("MOOS_MANUAL_OVERRIDE", MailValue::Str("false"), 0.0);
+    sim.on_mail("MOOS_MANUAL_OVERRIDE", ValueRef::String("false"), 0.0);
     let mut out = Vec::new();
     let mut t = 0.0;
     while t < 60.0 {
         t += 0.1;
-        sim.on_mail("DESIRED_HEADING", MailValue::Double(90.0), t);
-        sim.on_mail("DESIRED_SPEED", MailValue::Double(2.0), t);
+        sim.on_mail("DESIRED_HEADING", ValueRef::Double(90.0), t);
+        sim.on_mail("DESIRED_SPEED", ValueRef::Double(2.0), t);
         out.clear();
         sim.iterate(t, &mut out);
     }
@@ -629,7 +629,7 @@ fn embedded_pid_drives_the_model_from_the_helm_outputs() {
         0.0,
     );
     let mut out = Vec::new();
-    plain.on_mail("DESIRED_THRUST", MailValue::Double(30.0), 0.0);
+    plain.on_mail("DESIRED_THRUST", ValueRef::Double(30.0), 0.0);
     plain.iterate(0.1, &mut out);
     assert!(last_posting(&out, "SIM_THRUST").is_none(), "{out:?}");
 }
@@ -638,16 +638,16 @@ fn embedded_pid_drives_the_model_from_the_helm_outputs() {
 fn rudder_slew_limit_caps_the_rudder_change_per_second() {
     let cfg = SimConfig::from_params([("max_rudder_degs_per_sec", "10")]).unwrap();
     let mut sim = Simulator::new(cfg, None, 0.0);
-    sim.on_mail("DESIRED_RUDDER", MailValue::Double(40.0), 0.5);
+    sim.on_mail("DESIRED_RUDDER", ValueRef::Double(40.0), 0.5);
     assert_eq!(sim.inputs().rudder, 5.0, "10 deg/s for 0.5 s");
-    sim.on_mail("DESIRED_RUDDER", MailValue::Double(40.0), 1.5);
+    sim.on_mail("DESIRED_RUDDER", ValueRef::Double(40.0), 1.5);
     assert_eq!(sim.inputs().rudder, 15.0);
-    sim.on_mail("DESIRED_RUDDER", MailValue::Double(-40.0), 2.0);
+    sim.on_mail("DESIRED_RUDDER", ValueRef::Double(-40.0), 2.0);
     assert_eq!(sim.inputs().rudder, 10.0);
     // No limit set: one change is still capped at 100 degrees (uSimMarineV22).
     let mut sim = Simulator::new(SimConfig::default(), None, 0.0);
-    sim.on_mail("DESIRED_RUDDER", MailValue::Double(-100.0), 1.0);
-    sim.on_mail("DESIRED_RUDDER", MailValue::Double(100.0), 1.1);
+    sim.on_mail("DESIRED_RUDDER", ValueRef::Double(-100.0), 1.0);
+    sim.on_mail("DESIRED_RUDDER", ValueRef::Double(100.0), 1.1);
     assert_eq!(sim.inputs().rudder, 0.0);
 }
 
@@ -676,7 +676,7 @@ fn dual_state_posts_the_drifting_ground_truth_beside_the_drift_free_nav() {
     assert!(close(gx, t, 0.05), "ground truth {gx} after {t} s");
     assert!(last_posting(&out, "NAV_GT_HEADING").is_some());
     // USM_RESET moves both.
-    sim.on_mail("USM_RESET", MailValue::Str("x=5,y=6"), t);
+    sim.on_mail("USM_RESET", ValueRef::String("x=5,y=6"), t);
     out.clear();
     sim.iterate(t + 0.1, &mut out);
     sim.iterate(t + 0.2, &mut out);
@@ -700,7 +700,7 @@ fn wind_and_polar_plot_cap_the_speed_and_wind_conditions_change_at_run_time() {
     assert!(SimConfig::from_params([("polar_plot", "0,0:200,10")]).is_err());
     assert!(SimConfig::from_params([("wind_conditions", "gust=4")]).is_err());
     let mut sim = Simulator::new(cfg, None, 0.0);
-    sim.on_mail("DESIRED_THRUST", MailValue::Double(100.0), 0.0);
+    sim.on_mail("DESIRED_THRUST", ValueRef::Double(100.0), 0.0);
     let run = |sim: &mut Simulator, t: &mut f64, secs: f64| {
         let mut out = Vec::new();
         for _ in 0..(secs * 10.0) as usize {
@@ -715,7 +715,7 @@ fn wind_and_polar_plot_cap_the_speed_and_wind_conditions_change_at_run_time() {
     assert!(close(sim.state().speed, 2.0, 1e-9), "{}", sim.state().speed);
     // The wind drops to 1 m/s from the east: on heading 90 we head straight into it, where
     // the polar gives 0 and (as the C++, which caps only above 0) the speed is not capped.
-    sim.on_mail("WIND_CONDITIONS", MailValue::Str("spd=1,dir=90"), t);
+    sim.on_mail("WIND_CONDITIONS", ValueRef::String("spd=1,dir=90"), t);
     run(&mut sim, &mut t, 5.0);
     assert!(close(sim.state().speed, 5.0, 1e-9), "{}", sim.state().speed);
 }
@@ -748,13 +748,13 @@ fn usm_reset_counts_start_pos_lines_and_sets_only_the_given_fields() {
     assert_eq!(cfg.start_pos_count, 1);
     let mut sim = Simulator::new(cfg, None, 0.0);
     let p = sim
-        .on_mail("USM_RESET", MailValue::Str("x=5, y=6"), 0.0)
+        .on_mail("USM_RESET", ValueRef::String("x=5, y=6"), 0.0)
         .unwrap();
     assert_eq!((&*p.var, p.value.as_f64()), ("USM_RESET_COUNT", Some(2.0)));
     let st = sim.state();
     assert_eq!((st.x, st.y, st.heading), (5.0, 6.0, 30.0));
     // The older positional form x,y,heading,speed,depth.
-    sim.on_mail("USM_RESET", MailValue::Str("7,8,90"), 0.0);
+    sim.on_mail("USM_RESET", ValueRef::String("7,8,90"), 0.0);
     assert_eq!(
         (sim.state().x, sim.state().y, sim.state().heading),
         (7.0, 8.0, 90.0)
@@ -762,7 +762,11 @@ fn usm_reset_counts_start_pos_lines_and_sets_only_the_given_fields() {
     // `hdg` and `dep` aliases; an unknown field stops there (the fields before it stay
     // applied) and the reset is still counted.
     let p = sim
-        .on_mail("USM_RESET", MailValue::Str("hdg=180,x=-3,foo=1,y=99"), 0.0)
+        .on_mail(
+            "USM_RESET",
+            ValueRef::String("hdg=180,x=-3,foo=1,y=99"),
+            0.0,
+        )
         .unwrap();
     assert_eq!(p.value.as_f64(), Some(4.0));
     assert_eq!(
@@ -770,13 +774,13 @@ fn usm_reset_counts_start_pos_lines_and_sets_only_the_given_fields() {
         (-3.0, 8.0, 180.0)
     );
     // Values are read with atof: a non-number is 0.
-    sim.on_mail("USM_RESET", MailValue::Str("x=abc"), 0.0);
+    sim.on_mail("USM_RESET", ValueRef::String("x=abc"), 0.0);
     assert_eq!(sim.state().x, 0.0);
     assert_eq!(sim.reset_count(), 5);
     // Without start_pos the first reset is 1.
     let mut plain = Simulator::new(SimConfig::default(), None, 0.0);
     let p = plain
-        .on_mail("USM_RESET", MailValue::Str("x=1"), 0.0)
+        .on_mail("USM_RESET", ValueRef::String("x=1"), 0.0)
         .unwrap();
     assert_eq!(p.value.as_f64(), Some(1.0));
     // A start_pos with a bad field is a warning; its count still grows.
@@ -788,12 +792,12 @@ fn usm_reset_counts_start_pos_lines_and_sets_only_the_given_fields() {
 fn paused_sim_posts_its_record_and_excludes_the_paused_time() {
     let cfg = SimConfig::from_params([("prefix", "NAV"), ("sim_pause", "true")]).unwrap();
     let mut sim = Simulator::new(cfg, None, 0.0);
-    sim.on_mail("DESIRED_THRUST", MailValue::Double(40.0), 0.0);
+    sim.on_mail("DESIRED_THRUST", ValueRef::Double(40.0), 0.0);
     // Paused: the navigation is still posted every second iteration, and it does not move.
     let out = run_secs(&mut sim, 0.0, 4);
     assert_eq!(all_of(&out, "NAV_SPEED").len(), 2);
     assert_eq!(last_posting(&out, "NAV_SPEED").unwrap().as_f64(), Some(0.0));
-    sim.on_mail("USM_SIM_PAUSED", MailValue::Str("false"), 4.0);
+    sim.on_mail("USM_SIM_PAUSED", ValueRef::String("false"), 4.0);
     // One second after the pause ends: thrust 40 / factor 20 = 2 m/s, mean speed 1 m/s over
     // 1 s, not over the 5 s since start.
     let mut out = Vec::new();
@@ -808,32 +812,41 @@ fn drift_summary_is_posted_at_start_and_on_each_new_drift_source() {
     let out = run_secs(&mut sim, 0.0, 1);
     assert_eq!(
         all_of(&out, "USM_DRIFT_SUMMARY"),
-        vec![vehicle::Value::Str("ang=0, mag=0, xmag=0, ymag=0".into())]
+        vec![vehicle::Value::String(
+            "ang=0, mag=0, xmag=0, ymag=0".into()
+        )]
     );
-    sim.on_mail_from("DRIFT_X", MailValue::Double(3.0), 1.0, "uTimerScript");
-    sim.on_mail_from("DRIFT_Y", MailValue::Double(4.0), 1.0, "uTimerScript");
+    sim.on_mail_from("DRIFT_X", ValueRef::Double(3.0), 1.0, "uTimerScript");
+    sim.on_mail_from("DRIFT_Y", ValueRef::Double(4.0), 1.0, "uTimerScript");
     let out = run_secs(&mut sim, 1.0, 1);
     // relAng(0,0,3,4) = 36.87 deg, magnitude 5.
     assert_eq!(
         all_of(&out, "USM_DRIFT_SUMMARY"),
-        vec![vehicle::Value::Str(
+        vec![vehicle::Value::String(
             "ang=36.87, mag=5, xmag=3, ymag=4".into()
         )]
     );
     // The same source again: the drift changes, no new summary.
-    sim.on_mail_from("DRIFT_VECTOR", MailValue::Str("90,2"), 2.0, "uTimerScript");
+    sim.on_mail_from(
+        "DRIFT_VECTOR",
+        ValueRef::String("90,2"),
+        2.0,
+        "uTimerScript",
+    );
     let out = run_secs(&mut sim, 2.0, 1);
     assert!(all_of(&out, "USM_DRIFT_SUMMARY").is_empty());
     assert!(close(sim.inputs().drift_x, 2.0, 1e-12));
     // A new source: a summary; DRIFT_VECTOR_MULT scales the vector.
-    sim.on_mail_from("DRIFT_VECTOR_MULT", MailValue::Double(1.5), 3.0, "pOther");
+    sim.on_mail_from("DRIFT_VECTOR_MULT", ValueRef::Double(1.5), 3.0, "pOther");
     let out = run_secs(&mut sim, 3.0, 1);
     assert_eq!(
         all_of(&out, "USM_DRIFT_SUMMARY"),
-        vec![vehicle::Value::Str("ang=90, mag=3, xmag=3, ymag=0".into())]
+        vec![vehicle::Value::String(
+            "ang=90, mag=3, xmag=3, ymag=0".into()
+        )]
     );
     // Mail without a source (start-up rule) never re-posts it.
-    sim.on_mail("DRIFT_X", MailValue::Double(1.0), 4.0);
+    sim.on_mail("DRIFT_X", ValueRef::Double(1.0), 4.0);
     assert!(all_of(&run_secs(&mut sim, 4.0, 1), "USM_DRIFT_SUMMARY").is_empty());
 }
 
@@ -847,7 +860,7 @@ fn usm_reset_nav_moves_the_nav_record_to_the_ground_truth() {
     // Nav without drift stays at 0; ground truth drifts 1 m/s east for 4 s.
     assert_eq!(last_posting(&out, "NAV_X").unwrap().as_f64(), Some(0.0));
     assert_eq!(last_posting(&out, "NAV_GT_X").unwrap().as_f64(), Some(4.0));
-    sim.on_mail("USM_RESET_NAV", MailValue::Str("true"), 4.0);
+    sim.on_mail("USM_RESET_NAV", ValueRef::String("true"), 4.0);
     assert_eq!(sim.state().x, 4.0);
     let out = run_secs(&mut sim, 4.0, 2);
     assert_eq!(last_posting(&out, "NAV_X").unwrap().as_f64(), Some(4.0));
@@ -860,7 +873,7 @@ fn usm_reset_nav_moves_the_nav_record_to_the_ground_truth() {
     );
     run_secs(&mut single, 0.0, 3);
     assert_eq!(single.state().x, 5.0);
-    single.on_mail("USM_RESET_NAV", MailValue::Str("true"), 3.0);
+    single.on_mail("USM_RESET_NAV", ValueRef::String("true"), 3.0);
     assert_eq!((single.state().x, single.state().y), (2.0, 3.0));
 }
 
@@ -901,8 +914,8 @@ fn wormholes_fade_carry_and_emerge() {
     assert_eq!(
         all_of(&out, "VIEW_POLYGON"),
         vec![
-            vehicle::Value::Str("pts={100,0:110,0:110,10:100,10},label=one_weber,label_color=invisible,edge_color=invisible,vertex_color=invisible,fill_color=white,fill_transparency=0.1".into()),
-            vehicle::Value::Str("pts={0,0:10,0:10,10:0,10},label=one_madrid,label_color=invisible,edge_color=invisible,vertex_color=invisible,fill_color=white,fill_transparency=0.1".into()),
+            vehicle::Value::String("pts={100,0:110,0:110,10:100,10},label=one_weber,label_color=invisible,edge_color=invisible,vertex_color=invisible,fill_color=white,fill_transparency=0.1".into()),
+            vehicle::Value::String("pts={0,0:10,0:10,10:0,10},label=one_madrid,label_color=invisible,edge_color=invisible,vertex_color=invisible,fill_color=white,fill_transparency=0.1".into()),
         ]
     );
 }
@@ -949,7 +962,7 @@ fn wind_conditions_apply_piece_by_piece_and_the_arrow_is_posted_every_50th_itera
     // A bad piece: the speed before it is taken, the polar keeps its old wind angle.
     sim.on_mail(
         "WIND_CONDITIONS",
-        MailValue::Str("spd=3,gust=1,dir=90"),
+        ValueRef::String("spd=3,gust=1,dir=90"),
         0.0,
     );
     let w = sim.inputs().wind.unwrap();
@@ -958,7 +971,7 @@ fn wind_conditions_apply_piece_by_piece_and_the_arrow_is_posted_every_50th_itera
         (3.0, 0.0, 0.0)
     );
     // A negative speed is skipped, the rest read: the polar follows.
-    sim.on_mail("WIND_CONDITIONS", MailValue::Str("spd=-1,dir=450"), 0.0);
+    sim.on_mail("WIND_CONDITIONS", ValueRef::String("spd=-1,dir=450"), 0.0);
     let w = sim.inputs().wind.unwrap();
     assert_eq!(
         (w.speed_mps, w.dir_deg, sim.inputs().polar_wind_deg),
@@ -988,7 +1001,7 @@ fn trim_and_buoyancy_handshakes_report_as_the_cpp() {
     let cfg = SimConfig::from_params([("trim_tolerance", "5"), ("max_trim_delay", "8")]).unwrap();
     let mut sim = Simulator::new(cfg, None, 0.0);
     let p = sim
-        .on_mail("BUOYANCY_CONTROL", MailValue::Str("true"), 0.0)
+        .on_mail("BUOYANCY_CONTROL", ValueRef::String("true"), 0.0)
         .unwrap();
     assert_eq!(
         (&*p.var, p.value.as_str()),
@@ -999,7 +1012,7 @@ fn trim_and_buoyancy_handshakes_report_as_the_cpp() {
     );
     assert_eq!(sim.inputs().buoyancy_rate, 0.0);
     let p = sim
-        .on_mail("TRIM_CONTROL", MailValue::Str("TRUE"), 0.0)
+        .on_mail("TRIM_CONTROL", ValueRef::String("TRUE"), 0.0)
         .unwrap();
     assert_eq!(
         p.value.as_str(),
@@ -1009,13 +1022,13 @@ fn trim_and_buoyancy_handshakes_report_as_the_cpp() {
     // Both complete once 5 s have passed (the pitch, 0 at rest, is within the tolerance).
     assert_eq!(
         all_of(&out, "BUOYANCY_REPORT"),
-        vec![vehicle::Value::Str(
+        vec![vehicle::Value::String(
             "status=2,error=0,completed,buoyancy=0.0".into()
         )]
     );
     assert_eq!(
         all_of(&out, "TRIM_REPORT"),
-        vec![vehicle::Value::Str(
+        vec![vehicle::Value::String(
             "status=2,error=0,completed,trim_pitch=0.00000,trim_roll=0.0".into()
         )]
     );
@@ -1120,9 +1133,9 @@ fn embedded_pid_with_speed_factor_and_no_depth_control() {
     let subs = sim.subscriptions();
     assert!(subs.contains(&"DESIRED_SPEED") && !subs.contains(&"DESIRED_THRUST"));
     run_secs(&mut sim, 0.0, 1);
-    sim.on_mail("MOOS_MANUAL_OVERRIDE", MailValue::Str("false"), 1.0);
-    sim.on_mail("DESIRED_HEADING", MailValue::Double(0.0), 1.0);
-    sim.on_mail("DESIRED_SPEED", MailValue::Double(1.5), 1.0);
+    sim.on_mail("MOOS_MANUAL_OVERRIDE", ValueRef::String("false"), 1.0);
+    sim.on_mail("DESIRED_HEADING", ValueRef::Double(0.0), 1.0);
+    sim.on_mail("DESIRED_SPEED", ValueRef::Double(1.5), 1.0);
     let out = run_secs(&mut sim, 1.0, 2);
     // Thrust = desired speed x speed factor = 30, handed to the model and echoed.
     assert_eq!(
@@ -1136,9 +1149,9 @@ fn embedded_pid_with_speed_factor_and_no_depth_control() {
     );
     // SPEED_FACTOR at run time.
     // (The helm keeps posting: inputs older than tardy_helm_threshold = 2 s are stale.)
-    sim.on_mail("SPEED_FACTOR", MailValue::Double(10.0), 3.0);
-    sim.on_mail("DESIRED_HEADING", MailValue::Double(0.0), 3.0);
-    sim.on_mail("DESIRED_SPEED", MailValue::Double(1.5), 3.0);
+    sim.on_mail("SPEED_FACTOR", ValueRef::Double(10.0), 3.0);
+    sim.on_mail("DESIRED_HEADING", ValueRef::Double(0.0), 3.0);
+    sim.on_mail("DESIRED_SPEED", ValueRef::Double(1.5), 3.0);
     let out = run_secs(&mut sim, 3.0, 1);
     assert_eq!(
         last_posting(&out, "SIM_THRUST").unwrap().as_f64(),

@@ -68,13 +68,13 @@ impl Bhv {
 
     /// Sets a number in the info buffer.
     pub fn num(&mut self, var: &str, v: f64) -> &mut Self {
-        self.info.set(var, Value::Num(v));
+        self.info.set(var, Value::Double(v));
         self
     }
 
     /// Sets a string in the info buffer.
     pub fn text(&mut self, var: &str, v: &str) -> &mut Self {
-        self.info.set(var, Value::Str(v.to_string()));
+        self.info.set(var, Value::String(v.to_string()));
         self
     }
 

@@ -52,8 +52,8 @@ pub fn mid_survey() -> (Helm, f64, (f64, f64, f64, f64)) {
         }
         for p in helm.iterate(t) {
             match (p.var.as_str(), &p.value) {
-                ("DESIRED_HEADING", Value::Num(d)) => dh = *d,
-                ("DESIRED_SPEED", Value::Num(d)) => dv = *d,
+                ("DESIRED_HEADING", Value::Double(d)) => dh = *d,
+                ("DESIRED_SPEED", Value::Double(d)) => dv = *d,
                 _ => {}
             }
         }

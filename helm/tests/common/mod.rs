@@ -115,8 +115,8 @@ impl Rig {
         let posts = self.helm.iterate(t).to_vec();
         for p in &posts {
             match (p.var.as_str(), &p.value) {
-                ("DESIRED_HEADING", Value::Num(v)) => self.des_heading = *v,
-                ("DESIRED_SPEED", Value::Num(v)) => self.des_speed = *v,
+                ("DESIRED_HEADING", Value::Double(v)) => self.des_heading = *v,
+                ("DESIRED_SPEED", Value::Double(v)) => self.des_speed = *v,
                 _ => {}
             }
             if self.subs.contains(&p.var) {
