@@ -66,3 +66,19 @@ pub mod table;
 pub use appcast::AppCast;
 pub use casting::{AppCasting, AppLogging, CommsPolicy, Request, WarningFilter};
 pub use table::Table;
+
+/// What an app reports for its appcast besides its body (MOOS `reportRunWarning`,
+/// `retractRunWarning`, `reportEvent`); apps queue these and their appcasting layer
+/// applies them ([`AppCasting::report_run_warning`], ...).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Note {
+    /// A run warning (repeats are counted).
+    Warning(String),
+    /// A run warning withdrawn.
+    Retract(String),
+    /// An event.
+    Event(String),
+}
+
+/// The most notes an app keeps before its layer takes them (the oldest go first).
+pub const MAX_NOTES: usize = 256;

@@ -335,17 +335,8 @@ struct Outgoing {
     iter: u64,
 }
 
-/// What the helm reports for its appcast (MOOS `reportRunWarning`, `retractRunWarning`,
-/// `reportEvent`).
-#[derive(Debug, Clone, PartialEq)]
-pub enum AppcastNote {
-    /// A run warning (repeats are counted by the appcast).
-    Warning(String),
-    /// An event (a behaviour's `BHV_EVENT` posting).
-    Event(String),
-    /// A warning no longer true (a `BHV_WARNING` posted with a `retract` key).
-    Retract(String),
-}
+/// What the helm reports for its appcast: the workspace's one appcast note type.
+pub use appcast::Note as AppcastNote;
 
 fn auto_value(v: &str) -> Value {
     let t = v.trim();
@@ -963,8 +954,8 @@ impl Helm {
         }
     }
 
-    /// Keeps at most this many untaken run warnings (the oldest go first).
-    const MAX_APPCAST_NOTES: usize = 256;
+    /// Keeps at most this many untaken notes (the oldest go first).
+    const MAX_APPCAST_NOTES: usize = appcast::MAX_NOTES;
 
     fn cap_appcast_notes(&mut self) {
         let n = self.notes.len();

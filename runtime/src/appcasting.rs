@@ -16,15 +16,7 @@ use mission::moos::{MissionFile, ProcessConfig};
 use crate::app::{Mail, Post, Subscription, Value};
 
 /// What an app reports for its appcast besides its body.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Note {
-    /// A run warning (MOOS `reportRunWarning`).
-    Warning(String),
-    /// A run warning withdrawn (`retractRunWarning`).
-    Retract(String),
-    /// An event (`reportEvent`).
-    Event(String),
-}
+pub use appcast::Note;
 
 /// The appcasting state of one app.
 #[derive(Debug, Clone)]

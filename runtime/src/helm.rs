@@ -11,7 +11,7 @@ use mission::nsplug::Options;
 use mission::source::FileSource;
 
 use crate::app::{App, Mail, Post, Subscription, Value};
-use crate::appcasting::{AppcastLayer, Note};
+use crate::appcasting::AppcastLayer;
 
 /// The helm app: mail in, IvP decisions and behaviour postings out.
 pub struct HelmApp {
@@ -332,11 +332,6 @@ impl App for HelmApp {
             out.push(Post::new(p.var.clone(), p.value.clone()).with_aux(p.aux.clone()));
         }
         for note in self.helm.take_appcast_notes() {
-            let note = match note {
-                ::helm::engine::AppcastNote::Warning(w) => Note::Warning(w),
-                ::helm::engine::AppcastNote::Retract(w) => Note::Retract(w),
-                ::helm::engine::AppcastNote::Event(e) => Note::Event(e),
-            };
             self.appcast.note(note, now);
         }
         // pHelmIvP posts no report in the first second of deciding (it returns early).

@@ -10,7 +10,7 @@ use vehicle::sim::{SimConfig, Simulator};
 use vehicle::{ConfigError, Posting};
 
 use crate::app::{App, Mail, Post, Subscription, Value};
-use crate::appcasting::{AppcastLayer, Note};
+use crate::appcasting::AppcastLayer;
 
 /// A vehicle app's block that cannot be used, with where it is.
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
@@ -293,12 +293,7 @@ impl App for VehicleApp {
             Inner::Reporter(r) => {
                 r.set_term_report_interval(self.appcast.term_report_interval());
                 r.iterate(now, &mut self.postings);
-                for n in r.take_appcast_notes() {
-                    let note = match n {
-                        vehicle::AppcastNote::Warning(w) => Note::Warning(w),
-                        vehicle::AppcastNote::Retract(w) => Note::Retract(w),
-                        vehicle::AppcastNote::Event(e) => Note::Event(e),
-                    };
+                for note in r.take_appcast_notes() {
                     self.appcast.note(note, now);
                 }
             }

@@ -36,21 +36,11 @@ pub mod wormhole;
 pub use config::ConfigError;
 pub use moos::{Posting, Value, ValueRef};
 
-/// A run warning, its retraction or an event an app reports for its appcast (the C++
-/// `reportRunWarning`, `retractRunWarning`, `reportEvent`), taken with the app's
-/// `take_appcast_notes`.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum AppcastNote {
-    /// `reportRunWarning(text)`.
-    Warning(String),
-    /// `retractRunWarning(text)`.
-    Retract(String),
-    /// `reportEvent(text)`.
-    Event(String),
-}
+/// What an app reports for its appcast: the workspace's one appcast note type.
+pub use appcast::Note as AppcastNote;
 
 /// The most notes an app keeps between two `take_appcast_notes` (the oldest go first).
-pub const MAX_APPCAST_NOTES: usize = 256;
+pub use appcast::MAX_NOTES as MAX_APPCAST_NOTES;
 
 /// Appends `note` to `notes`, dropping the oldest beyond [`MAX_APPCAST_NOTES`].
 pub(crate) fn push_note(notes: &mut std::collections::VecDeque<AppcastNote>, note: AppcastNote) {
