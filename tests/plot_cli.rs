@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 use std::process::Command;
 
-use alog::{AlogWriter, Header, Value};
+use alog::{AlogWriter, Header, LogValue};
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("coug-plot-cli-{}-{name}", std::process::id()));
@@ -39,15 +39,15 @@ fn write_log(path: &std::path::Path) {
         } else {
             f64::from(300 - k)
         };
-        w.record(t, "NAV_X", "uSimMarine", Value::Double(x))
+        w.record(t, "NAV_X", "uSimMarine", LogValue::Double(x))
             .unwrap();
-        w.record(t, "NAV_Y", "uSimMarine", Value::Double(0.5 * x))
+        w.record(t, "NAV_Y", "uSimMarine", LogValue::Double(0.5 * x))
             .unwrap();
         w.record(
             t,
             "NAV_DEPTH",
             "uSimMarine",
-            Value::Double(if k < 20 { 0.0 } else { 5.0 }),
+            LogValue::Double(if k < 20 { 0.0 } else { 5.0 }),
         )
         .unwrap();
     }
@@ -55,7 +55,7 @@ fn write_log(path: &std::path::Path) {
         1001.0,
         "VIEW_SEGLIST",
         "pHelmIvP",
-        Value::String("pts={0,0:150,75},label=survey"),
+        LogValue::String("pts={0,0:150,75},label=survey"),
     )
     .unwrap();
     std::fs::write(path, w.into_inner()).unwrap();

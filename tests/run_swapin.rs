@@ -143,11 +143,9 @@ fn alias_links_run_alpha_as_separate_processes() {
             match m.key_str().as_ref() {
                 // The helm is up: deploy, as uPokeDB would.
                 "IVPHELM_STATE" if !deployed => {
+                    client.notify("DEPLOY", Value::from("true")).expect("poke");
                     client
-                        .notify("DEPLOY", Value::string("true"))
-                        .expect("poke");
-                    client
-                        .notify("MOOS_MANUAL_OVERRIDE", Value::string("false"))
+                        .notify("MOOS_MANUAL_OVERRIDE", Value::from("false"))
                         .expect("poke");
                     deployed = true;
                 }

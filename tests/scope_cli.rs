@@ -45,7 +45,7 @@ fn scope_shows_db_times_wildcards_all_and_plain_text() {
             .expect("accepted");
         client.notify("NAV_X", Value::Double(12.5)).unwrap();
         client.notify("NAV_Y", Value::Double(-3.0)).unwrap();
-        client.notify("FOO", Value::string("bar")).unwrap();
+        client.notify("FOO", Value::from("bar")).unwrap();
         client.register("FOO", 0.0);
         let deadline = tokio::time::Instant::now() + Duration::from_secs(30);
         loop {

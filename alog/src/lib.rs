@@ -5,16 +5,16 @@
 //! "opened on" text are arguments, so the same inputs always give the same bytes.
 //!
 //! ```
-//! use alog::{AlogWriter, Header, Value};
+//! use alog::{AlogWriter, Header, LogValue};
 //! let header = Header { path: "./LOG_A/LOG_A.alog", opened_on: "Thu Jan  1 00:00:00 1970",
 //!                       log_start: 1000.0, mark_data_type: false };
 //! let mut w = AlogWriter::new(Vec::new(), &header).unwrap();
-//! w.record(1012.5, "NAV_X", "uSimMarine", Value::Double(-23.1)).unwrap();
+//! w.record(1012.5, "NAV_X", "uSimMarine", LogValue::Double(-23.1)).unwrap();
 //! let text = String::from_utf8(w.into_inner()).unwrap();
 //! assert!(text.ends_with("12.50000        NAV_X                uSimMarine      -23.10000    \n"));
 //! let log = alog::parse(&text).unwrap();
 //! assert_eq!(log.log_start, Some(1000.0));
-//! assert_eq!(log.entries[0].value, alog::EntryValue::Double(-23.1));
+//! assert_eq!(log.entries[0].value, alog::Value::Double(-23.1));
 //! ```
 #![warn(missing_docs)]
 
@@ -25,5 +25,5 @@ mod writer;
 
 pub use naming::{ctime, log_root};
 pub use number::{fmt_fixed, fmt_g};
-pub use reader::{Alog, AlogError, Entry, EntryValue, parse, parse_line};
-pub use writer::{AlogWriter, BANNER_RULE, Header, Value};
+pub use reader::{Alog, AlogError, Entry, Value, parse, parse_line};
+pub use writer::{AlogWriter, BANNER_RULE, Header, LogValue};

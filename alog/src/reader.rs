@@ -2,32 +2,10 @@
 
 use thiserror::Error;
 
-/// A value read from an alog record.
-#[derive(Debug, Clone, PartialEq)]
-pub enum EntryValue {
-    /// A numeric value (`D:`-marked, or unmarked text that is a number).
-    Double(f64),
-    /// Any other value, as written (trimmed at both ends, as MOOS-IvP's alog tools do).
-    String(String),
-}
-
-impl EntryValue {
-    /// The number, if this is a double.
-    pub fn as_f64(&self) -> Option<f64> {
-        match self {
-            EntryValue::Double(x) => Some(*x),
-            EntryValue::String(_) => None,
-        }
-    }
-
-    /// The text, if this is a string.
-    pub fn as_str(&self) -> Option<&str> {
-        match self {
-            EntryValue::Double(_) => None,
-            EntryValue::String(s) => Some(s),
-        }
-    }
-}
+/// A value read from an alog record: a double (`D:`-marked, or unmarked text that is a
+/// number) or a string (as written, trimmed at both ends, as MOOS-IvP's alog tools do);
+/// the workspace's one MOOS value type.
+pub use moos_types::Value;
 
 /// One record: `(time, var, source, value)`; `time` is relative to LOGSTART as written.
 #[derive(Debug, Clone, PartialEq)]
@@ -39,7 +17,7 @@ pub struct Entry {
     /// Publishing app (with any `:aux` / `@community` suffix pLogger added).
     pub source: String,
     /// The value.
-    pub value: EntryValue,
+    pub value: Value,
 }
 
 /// A parsed alog file.
@@ -108,7 +86,7 @@ pub fn parse(text: &str) -> Result<Alog, AlogError> {
             Some(e) => log.entries.push(e),
             None => match log.entries.last_mut() {
                 Some(Entry {
-                    value: EntryValue::String(s),
+                    value: Value::String(s),
                     ..
                 }) => {
                     s.push('\n');
@@ -168,17 +146,17 @@ fn parse_line_marked(line: &str, marked: bool) -> Option<Entry> {
         if let Some(d) = raw.strip_prefix("D:") {
             d.trim()
                 .parse::<f64>()
-                .map(EntryValue::Double)
-                .unwrap_or_else(|_| EntryValue::String(d.to_string()))
+                .map(Value::Double)
+                .unwrap_or_else(|_| Value::String(d.to_string()))
         } else {
-            EntryValue::String(raw.strip_prefix("S:").unwrap_or(raw).to_string())
+            Value::String(raw.strip_prefix("S:").unwrap_or(raw).to_string())
         }
     } else if is_number(raw) {
         raw.parse::<f64>()
-            .map(EntryValue::Double)
-            .unwrap_or_else(|_| EntryValue::String(raw.to_string()))
+            .map(Value::Double)
+            .unwrap_or_else(|_| Value::String(raw.to_string()))
     } else {
-        EntryValue::String(raw.to_string())
+        Value::String(raw.to_string())
     };
     Some(Entry {
         time,

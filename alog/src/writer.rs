@@ -23,7 +23,7 @@ pub struct Header<'a> {
 
 /// A value to log.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Value<'a> {
+pub enum LogValue<'a> {
     /// A double, written fixed with the writer's precision, left-aligned in 12 columns.
     Double(f64),
     /// A string, written raw.
@@ -98,7 +98,7 @@ impl<W: Write> AlogWriter<W> {
         time: f64,
         var: &str,
         source: &str,
-        value: Value<'_>,
+        value: LogValue<'_>,
     ) -> io::Result<()> {
         self.line.clear();
         format_record(
@@ -171,7 +171,7 @@ fn format_record(
     rel_time: f64,
     var: &str,
     source: &str,
-    value: Value<'_>,
+    value: LogValue<'_>,
     precision: usize,
     mark: bool,
 ) {
@@ -187,7 +187,7 @@ fn format_record(
     push_padded(out, source, 15);
     out.push(' ');
     match value {
-        Value::Double(x) => {
+        LogValue::Double(x) => {
             if mark {
                 out.push_str("D:");
             }
@@ -198,13 +198,13 @@ fn format_record(
                 out.push(' ');
             }
         }
-        Value::String(s) => {
+        LogValue::String(s) => {
             if mark {
                 out.push_str("S:");
             }
             out.push_str(s);
         }
-        Value::Binary {
+        LogValue::Binary {
             file,
             offset,
             bytes,
@@ -262,7 +262,7 @@ mod tests {
         assert_eq!(lines.len(), 6);
     }
 
-    fn one(time: f64, var: &str, src: &str, v: Value<'_>, mark: bool) -> String {
+    fn one(time: f64, var: &str, src: &str, v: LogValue<'_>, mark: bool) -> String {
         let mut s = String::new();
         format_record(&mut s, time, var, src, v, 5, mark);
         s
@@ -275,13 +275,19 @@ mod tests {
                 12.34567,
                 "DESIRED_SPEED",
                 "pHelmIvP",
-                Value::Double(1.5),
+                LogValue::Double(1.5),
                 false
             ),
             "12.34567        DESIRED_SPEED        pHelmIvP        1.50000      \n"
         );
         assert_eq!(
-            one(12.34567, "NAV_X", "uSimMarine", Value::Double(-23.1), false),
+            one(
+                12.34567,
+                "NAV_X",
+                "uSimMarine",
+                LogValue::Double(-23.1),
+                false
+            ),
             "12.34567        NAV_X                uSimMarine      -23.10000    \n"
         );
     }
@@ -293,7 +299,7 @@ mod tests {
                 0.0,
                 "IVPHELM_STATE",
                 "pHelmIvP",
-                Value::String("DRIVE"),
+                LogValue::String("DRIVE"),
                 false
             ),
             "0.00000         IVPHELM_STATE        pHelmIvP        DRIVE \n"
@@ -305,13 +311,13 @@ mod tests {
                 123456789.5,
                 long_var,
                 long_src,
-                Value::String("a,b = c"),
+                LogValue::String("a,b = c"),
                 false
             ),
             format!("123456789.50000 {long_var} {long_src} a,b = c \n")
         );
         assert_eq!(
-            one(1.0, "V", "s", Value::String("two\nlines"), false),
+            one(1.0, "V", "s", LogValue::String("two\nlines"), false),
             "1.00000         V                    s               two\nlines \n"
         );
     }
@@ -319,11 +325,11 @@ mod tests {
     #[test]
     fn marking_binary_and_precision() {
         assert_eq!(
-            one(1.0, "X", "a", Value::Double(2.0), true),
+            one(1.0, "X", "a", LogValue::Double(2.0), true),
             "1.00000         X                    a               D:2.00000      \n"
         );
         assert_eq!(
-            one(1.0, "X", "a", Value::String("hi"), true),
+            one(1.0, "X", "a", LogValue::String("hi"), true),
             "1.00000         X                    a               S:hi \n"
         );
         assert_eq!(
@@ -331,7 +337,7 @@ mod tests {
                 1.0,
                 "IMG",
                 "cam",
-                Value::Binary {
+                LogValue::Binary {
                     file: "LOG.blog",
                     offset: 10,
                     bytes: 3
@@ -342,7 +348,7 @@ mod tests {
         );
         let mut w = AlogWriter::new(Vec::new(), &header(false)).unwrap();
         w.set_double_precision(2);
-        w.record(1786054976.123456, "X", "a", Value::Double(4.56789))
+        w.record(1786054976.123456, "X", "a", LogValue::Double(4.56789))
             .unwrap();
         let text = String::from_utf8(w.into_inner()).unwrap();
         assert!(

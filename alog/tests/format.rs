@@ -1,6 +1,6 @@
 //! The alog format end to end: MOOS-IvP-style text read back, and writer output read back.
 
-use alog::{AlogWriter, EntryValue, Header, Value, ctime, log_root, parse};
+use alog::{AlogWriter, Header, LogValue, Value, ctime, log_root, parse};
 use chrono::NaiveDate;
 
 /// A file laid out as pLogger 2024 writes it (banner with the epoch date quirk, the
@@ -35,7 +35,7 @@ fn reads_a_moos_ivp_style_file() {
         (e.time, e.var.as_str(), e.source.as_str()),
         (0.07912, "DB_TIME", "MOOSDB_alpha")
     );
-    assert_eq!(e.value, EntryValue::Double(1786054975.20258));
+    assert_eq!(e.value, Value::Double(1786054975.20258));
     assert_eq!(
         log.entries[1].value.as_str(),
         Some("pHelmIvP,uSimMarine,pLogger,")
@@ -59,15 +59,15 @@ fn writer_output_reads_back_and_is_deterministic() {
     };
     let write = || {
         let mut w = AlogWriter::new(Vec::new(), &header).unwrap();
-        w.record(5000.25, "DEPLOY", "uPokeDB", Value::String("true"))
+        w.record(5000.25, "DEPLOY", "uPokeDB", LogValue::String("true"))
             .unwrap();
-        w.record(5001.5, "NAV_DEPTH", "uSimMarine", Value::Double(3.25))
+        w.record(5001.5, "NAV_DEPTH", "uSimMarine", LogValue::Double(3.25))
             .unwrap();
-        w.record(5002.0, "NOTE", "app", Value::String("a b  c"))
+        w.record(5002.0, "NOTE", "app", LogValue::String("a b  c"))
             .unwrap();
-        w.record(5003.0, "MULTI", "app", Value::String("one\ntwo"))
+        w.record(5003.0, "MULTI", "app", LogValue::String("one\ntwo"))
             .unwrap();
-        w.record(5004.0, "LAST", "app", Value::Double(-0.5))
+        w.record(5004.0, "LAST", "app", LogValue::Double(-0.5))
             .unwrap();
         w.into_inner()
     };
@@ -76,7 +76,7 @@ fn writer_output_reads_back_and_is_deterministic() {
     let text = String::from_utf8(a).unwrap();
     let log = parse(&text).unwrap();
     assert_eq!(log.log_start, Some(5000.25));
-    let got: Vec<(f64, &str, &str, EntryValue)> = log
+    let got: Vec<(f64, &str, &str, Value)> = log
         .entries
         .iter()
         .map(|e| (e.time, e.var.as_str(), e.source.as_str(), e.value.clone()))
@@ -84,11 +84,11 @@ fn writer_output_reads_back_and_is_deterministic() {
     assert_eq!(
         got,
         vec![
-            (0.0, "DEPLOY", "uPokeDB", EntryValue::String("true".into())),
-            (1.25, "NAV_DEPTH", "uSimMarine", EntryValue::Double(3.25)),
-            (1.75, "NOTE", "app", EntryValue::String("a b  c".into())),
-            (2.75, "MULTI", "app", EntryValue::String("one\ntwo".into())),
-            (3.75, "LAST", "app", EntryValue::Double(-0.5)),
+            (0.0, "DEPLOY", "uPokeDB", Value::String("true".into())),
+            (1.25, "NAV_DEPTH", "uSimMarine", Value::Double(3.25)),
+            (1.75, "NOTE", "app", Value::String("a b  c".into())),
+            (2.75, "MULTI", "app", Value::String("one\ntwo".into())),
+            (3.75, "LAST", "app", Value::Double(-0.5)),
         ]
     );
 }
@@ -102,12 +102,12 @@ fn marked_types_read_back_as_written() {
         mark_data_type: true,
     };
     let mut w = AlogWriter::new(Vec::new(), &header).unwrap();
-    w.record(1.0, "S_NUM", "a", Value::String("42")).unwrap();
-    w.record(2.0, "D_NUM", "a", Value::Double(42.0)).unwrap();
+    w.record(1.0, "S_NUM", "a", LogValue::String("42")).unwrap();
+    w.record(2.0, "D_NUM", "a", LogValue::Double(42.0)).unwrap();
     let log = parse(std::str::from_utf8(w.get_ref()).unwrap()).unwrap();
     assert!(log.data_type_marking);
-    assert_eq!(log.entries[0].value, EntryValue::String("42".into()));
-    assert_eq!(log.entries[1].value, EntryValue::Double(42.0));
+    assert_eq!(log.entries[0].value, Value::String("42".into()));
+    assert_eq!(log.entries[1].value, Value::Double(42.0));
 }
 
 #[test]

@@ -8,7 +8,6 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
-use bytes::Bytes;
 use moosdb_client::{Client, ClientConfig, Server, ServerConfig, Value};
 
 const PAYLOAD: usize = 100;
@@ -67,7 +66,7 @@ async fn run(
     while server.with_db(|db| db.subscribers(&var).len()) < subs {
         tokio::time::sleep(Duration::from_millis(10)).await;
     }
-    let payload = Bytes::from(vec![b'x'; PAYLOAD]);
+    let payload = "x".repeat(PAYLOAD);
     let start = Instant::now();
     let window = 2000 * subs as u64;
     for i in 0..n {

@@ -14,7 +14,7 @@
 //! let (client, mut mail) = Client::start(ClientConfig::new("pExample", "127.0.0.1", 9000));
 //! client.wait_connected().await?;
 //! client.register("NAV_X", 0.0);
-//! client.notify("DEPLOY", Value::string("true"))?;
+//! client.notify("DEPLOY", Value::from("true"))?;
 //! while let Some(m) = mail.recv().await {
 //!     println!("{} = {}", m.key_str(), m.dval);
 //! }

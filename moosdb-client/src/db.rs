@@ -452,7 +452,7 @@ impl Database {
         w.community = self.community.clone();
         info!(client = %String::from_utf8_lossy(&name), asynchronous, "client connected");
         let event = format!("connected={}", String::from_utf8_lossy(&name));
-        self.internal_notify("DB_EVENT", Value::String(Bytes::from(event)), now);
+        self.internal_notify("DB_EVENT", Value::String(event), now);
         Handshake::Welcome { id, reply: w }
     }
 
@@ -489,7 +489,7 @@ impl Database {
         }
         info!(client = %name, "client disconnected");
         let event = format!("disconnected={name}");
-        self.internal_notify("DB_EVENT", Value::String(Bytes::from(event)), now);
+        self.internal_notify("DB_EVENT", Value::String(event), now);
         Some(name)
     }
 
@@ -916,9 +916,12 @@ impl Database {
             list.extend_from_slice(c);
             list.push(b',');
         }
-        self.internal_notify("DB_CLIENTS", Value::String(Bytes::from(list)), now);
+        // Client names are UTF-8 in practice; others are read lossily.
+        let list = String::from_utf8(list)
+            .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned());
+        self.internal_notify("DB_CLIENTS", Value::String(list), now);
         let summary = self.var_summary();
-        self.internal_notify("DB_VARSUMMARY", Value::String(Bytes::from(summary)), now);
+        self.internal_notify("DB_VARSUMMARY", Value::String(summary), now);
         let mut qos = String::new();
         let mut by_name: Vec<&ClientState> = self.clients.values().collect();
         by_name.sort_by(|a, b| a.name.cmp(&b.name));
@@ -935,9 +938,9 @@ impl Database {
                 );
             }
         }
-        self.internal_notify("DB_QOS", Value::String(Bytes::from(qos)), now);
+        self.internal_notify("DB_QOS", Value::String(qos), now);
         let rw = self.rw_summary(&clients);
-        self.internal_notify("DB_RWSUMMARY", Value::String(Bytes::from(rw)), now);
+        self.internal_notify("DB_RWSUMMARY", Value::String(rw), now);
     }
 
     fn var_summary(&self) -> String {
@@ -1185,7 +1188,7 @@ mod tests {
         let p = join(&mut db, "p", 1000.0);
         db.handle(p, vec![post("p", "X", Value::Double(1.0), 1.0)], t(1000.0))
             .unwrap();
-        db.handle(p, vec![post("p", "X", Value::string("no"), 1.0)], t(1000.1))
+        db.handle(p, vec![post("p", "X", Value::from("no"), 1.0)], t(1000.1))
             .unwrap();
         let cur = db.current("X").unwrap();
         assert_eq!(cur.data_type, DataType::Double);

@@ -12,7 +12,7 @@
 //! ```
 //! use moosdb_client::{packet, Message, Value};
 //! let mut bytes = Vec::new();
-//! packet::encode_packet(&[Message::notify("DEPLOY", Value::string("true"), 1.0)], &mut bytes);
+//! packet::encode_packet(&[Message::notify("DEPLOY", Value::from("true"), 1.0)], &mut bytes);
 //! let back = packet::decode_packet(bytes.into()).unwrap();
 //! assert_eq!(back[0].sval_str(), "true");
 //! ```

@@ -166,23 +166,9 @@ impl DataType {
     }
 }
 
-/// A value to publish.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Value {
-    /// A double (`'D'`).
-    Double(f64),
-    /// A string (`'S'`); any bytes.
-    String(Bytes),
-    /// Binary data (`'B'`).
-    Binary(Bytes),
-}
-
-impl Value {
-    /// A string value from text: `Value::string("true")`.
-    pub fn string(s: &str) -> Value {
-        Value::String(Bytes::copy_from_slice(s.as_bytes()))
-    }
-}
+/// A value to publish: the workspace's one MOOS value type (a string's or binary value's
+/// buffer becomes the message's without a copy).
+pub use moos_types::Value;
 
 /// One MOOS message with every wire field.
 ///
@@ -250,22 +236,23 @@ impl Message {
             Value::Double(v) => m.dval = v,
             Value::String(s) => {
                 m.data_type = DataType::String;
-                m.sval = s;
+                m.sval = Bytes::from(s);
             }
             Value::Binary(b) => {
                 m.data_type = DataType::Binary;
-                m.sval = b;
+                m.sval = Bytes::from(b);
             }
         }
         m
     }
 
-    /// The value carried by this message, by its data type (`None` for `'~'`).
+    /// The value carried by this message, by its data type (`None` for `'~'`); a string
+    /// that is not UTF-8 is read lossily.
     pub fn value(&self) -> Option<Value> {
         match self.data_type {
             DataType::Double => Some(Value::Double(self.dval)),
-            DataType::String => Some(Value::String(self.sval.clone())),
-            DataType::Binary => Some(Value::Binary(self.sval.clone())),
+            DataType::String => Some(Value::String(self.sval_str().into_owned())),
+            DataType::Binary => Some(Value::Binary(self.sval.to_vec())),
             DataType::NotSet => None,
         }
     }

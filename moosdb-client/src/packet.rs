@@ -173,7 +173,7 @@ mod tests {
     fn stream_decoder_handles_byte_by_byte_input() {
         let msgs = vec![
             Message::notify("A", Value::Double(2.0), 1.0),
-            Message::notify("B", Value::string("x"), 1.0),
+            Message::notify("B", Value::from("x"), 1.0),
         ];
         let mut bytes = Vec::new();
         encode_packet(&msgs, &mut bytes);

@@ -78,7 +78,7 @@ async fn handshake_timing_ids_and_reconnect() {
     assert!((c.skew() - 100.0).abs() < 1e-9, "skew from the Welcome");
     c.register("A", 0.5);
     c.notify("N", Value::Double(2.0)).unwrap();
-    c.notify("S", Value::string("s")).unwrap();
+    c.notify("S", Value::from("s")).unwrap();
     let packets = collect(&mut r, Duration::from_millis(3500)).await;
     let first = &packets[0].1;
     assert_eq!(

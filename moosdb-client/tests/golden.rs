@@ -48,7 +48,7 @@ fn worked_example_a_notify_double() {
 #[test]
 fn worked_example_b_notify_string() {
     check_example(
-        helm_msg("DEPLOY", Value::string("true"), 8),
+        helm_msg("DEPLOY", Value::from("true"), 8),
         "51000000 01000000 00
          48000000 08000000 4e 53
          08000000 7048656c6d497650 00000000 00000000

@@ -79,10 +79,9 @@ async fn register_notify_wildcard_unregister() {
     }
 
     publ.notify("X", Value::Double(1.5)).unwrap();
-    publ.notify_with("S", Value::string("hello"), Some(123.0), "aux:1")
+    publ.notify_with("S", Value::from("hello"), Some(123.0), "aux:1")
         .unwrap();
-    publ.notify("B", Value::Binary(Bytes::from_static(&[0, 255, 7])))
-        .unwrap();
+    publ.notify("B", Value::Binary(vec![0, 255, 7])).unwrap();
     let x = next_for(&mut mail, "X").await;
     assert_eq!(
         (x.dval, x.data_type, x.src_str().as_ref()),
@@ -198,7 +197,7 @@ async fn killed_client_leaves_db_clients_within_6s() {
     let w2 = watcher.clone();
     let status = tokio::spawn(async move {
         loop {
-            let _ = w2.notify("WATCHER_STATUS", Value::string("AppErrorFlag=false"));
+            let _ = w2.notify("WATCHER_STATUS", Value::from("AppErrorFlag=false"));
             tokio::time::sleep(Duration::from_millis(500)).await;
         }
     });
@@ -272,7 +271,7 @@ async fn db_restart_client_reconnects_and_resubscribes() {
     // before anything is posted.
     subscribed(&srv2, "resub", "R", true).await;
     publ.notify("R", Value::Double(42.0)).unwrap();
-    publ.notify("W_1", Value::string("w")).unwrap();
+    publ.notify("W_1", Value::from("w")).unwrap();
     assert_eq!(next_for(&mut mail, "R").await.dval, 42.0);
     assert_eq!(next_for(&mut mail, "W_1").await.sval_str(), "w");
 }
@@ -320,7 +319,7 @@ async fn stuck_client_does_not_stall_a_fast_subscriber() {
     subscribed(&srv, "fast", "SEQ", true).await;
     subscribed(&srv, "stuck", "SEQ", true).await;
     subscribed(&srv, "stuck", "BLOB", true).await;
-    let blob = Bytes::from(vec![7u8; 256 * 1024]);
+    let blob = vec![7u8; 256 * 1024];
     for _ in 0..200 {
         publ.notify("BLOB", Value::Binary(blob.clone())).unwrap();
     }
@@ -336,11 +335,8 @@ async fn stuck_client_does_not_stall_a_fast_subscriber() {
             while i - received.load(std::sync::atomic::Ordering::Relaxed) >= WINDOW {
                 tokio::time::sleep(Duration::from_millis(1)).await;
             }
-            publ.notify(
-                "SEQ",
-                Value::String(Bytes::from(format!("{i:08}{payload}"))),
-            )
-            .unwrap();
+            publ.notify("SEQ", Value::String(format!("{i:08}{payload}")))
+                .unwrap();
         }
     };
     let receiver = async {

@@ -519,8 +519,8 @@ fn record<W: Write>(
         m.source.as_str()
     };
     match &m.value {
-        Value::Double(x) => w.record(m.time, &m.key, source, alog::Value::Double(*x)),
-        Value::String(s) => w.record(m.time, &m.key, source, alog::Value::String(s)),
+        Value::Double(x) => w.record(m.time, &m.key, source, alog::LogValue::Double(*x)),
+        Value::String(s) => w.record(m.time, &m.key, source, alog::LogValue::String(s)),
         Value::Binary(b) => {
             let offset = *blog_offset;
             *blog_offset += b.len() as u64;
@@ -528,7 +528,7 @@ fn record<W: Write>(
                 m.time,
                 &m.key,
                 source,
-                alog::Value::Binary {
+                alog::LogValue::Binary {
                     file: blog_name,
                     offset,
                     bytes: b.len() as u64,

@@ -58,14 +58,6 @@ fn holds(cond: &Condition, vals: &HashMap<String, Value>) -> bool {
     cond.evaluate(&lookup)
 }
 
-fn to_client_value(v: &Value) -> moosdb_client::Value {
-    match v {
-        Value::Double(x) => moosdb_client::Value::Double(*x),
-        Value::String(s) => moosdb_client::Value::string(s),
-        Value::Binary(b) => moosdb_client::Value::Binary(bytes::Bytes::copy_from_slice(b)),
-    }
-}
-
 async fn joined(t: tokio::task::JoinHandle<Result<(), RemoteError>>) -> Result<(), RemoteError> {
     match t.await {
         Ok(r) => r,
@@ -110,7 +102,7 @@ pub async fn run_apps(
         waiting.into_iter().partition(|(s, _)| !names.contains(s));
     waiting = kept;
     for (_, p) in orphans {
-        poker.notify(&p.key, to_client_value(&p.value))?;
+        poker.notify(&p.key, p.value.clone())?;
     }
     let vars: Vec<String> = spec
         .until
@@ -144,7 +136,7 @@ pub async fn run_apps(
                 let key = m.key_str().into_owned();
                 if let Some(i) = waiting.iter().position(|(s, _)| *s == key) {
                     let (_, p) = waiting.remove(i);
-                    poker.notify(&p.key, to_client_value(&p.value))?;
+                    poker.notify(&p.key, p.value.clone())?;
                 }
                 if vars.contains(&key) && let Some(v) = to_value(&m) {
                     vals.insert(key, v);
@@ -155,7 +147,7 @@ pub async fn run_apps(
         let now = poker.moos_time();
         while timed.first().is_some_and(|(t, _)| *t <= now) {
             let (_, p) = timed.remove(0);
-            poker.notify(&p.key, to_client_value(&p.value))?;
+            poker.notify(&p.key, p.value.clone())?;
         }
         if waiting.is_empty()
             && let Some(c) = &spec.until

@@ -111,11 +111,7 @@ fn to_mail(m: &Message) -> Option<Mail> {
 
 fn send(client: &Client, posts: &mut Vec<Post>, published: &mut BTreeSet<String>) {
     for p in posts.drain(..) {
-        let value = match p.value {
-            Value::Double(x) => moosdb_client::Value::Double(x),
-            Value::String(s) => moosdb_client::Value::String(Bytes::from(s)),
-            Value::Binary(b) => moosdb_client::Value::Binary(Bytes::from(b)),
-        };
+        let value = p.value;
         // A post while reconnecting is lost, as CMOOSApp's Notify fails while offline.
         if client.notify_with(&p.key, value, None, &p.aux).is_ok() && !published.contains(&p.key) {
             published.insert(p.key);

@@ -1,7 +1,7 @@
 //! What a run did, for `coug run`'s progress line and closing summary: behaviour lists
 //! from `IVPHELM_SUMMARY`, and totals (distance, depth, helm state) from an alog.
 
-use alog::{Alog, EntryValue};
+use alog::{Alog, Value};
 
 /// The behaviour names of one list field of an `IVPHELM_SUMMARY` (`active_bhvs`,
 /// `running_bhvs`, `idle_bhvs`, `completed_bhvs`, `disabled_bhvs`): `None` when the report
@@ -63,18 +63,18 @@ impl RunSummary {
         for e in &log.entries {
             s.duration = s.duration.max(e.time);
             match (e.var.as_str(), &e.value) {
-                ("NAV_X", EntryValue::Double(v)) => x = Some(*v),
-                ("NAV_Y", EntryValue::Double(v)) => y = Some(*v),
-                ("NAV_DEPTH", EntryValue::Double(v)) => {
+                ("NAV_X", Value::Double(v)) => x = Some(*v),
+                ("NAV_Y", Value::Double(v)) => y = Some(*v),
+                ("NAV_DEPTH", Value::Double(v)) => {
                     s.max_depth = s.max_depth.max(*v);
                     s.final_depth = Some(*v);
                     continue;
                 }
-                ("IVPHELM_STATE", EntryValue::String(v)) => {
+                ("IVPHELM_STATE", Value::String(v)) => {
                     s.helm_state = Some(v.clone());
                     continue;
                 }
-                ("IVPHELM_SUMMARY", EntryValue::String(v)) => {
+                ("IVPHELM_SUMMARY", Value::String(v)) => {
                     if let Some(c) = behaviour_list(v, "completed_bhvs") {
                         s.completed = c;
                     }

@@ -194,15 +194,11 @@ fn app_tick_cadence_and_mail_order() {
     };
     assert_eq!(
         poke("HELLO"),
-        (0.0, "uPokeDB".into(), alog::EntryValue::Double(1.0))
+        (0.0, "uPokeDB".into(), alog::Value::Double(1.0))
     );
     assert_eq!(
         poke("GO"),
-        (
-            3.0,
-            "uPokeDB".into(),
-            alog::EntryValue::String("true".into())
-        )
+        (3.0, "uPokeDB".into(), alog::Value::String("true".into()))
     );
     // CMOOSApp-style status every 2 s, and the DB's own variables.
     let status: Vec<f64> = log

@@ -231,10 +231,8 @@ async fn vehicle_apps_swap_in_as_separate_moos_clients_with_warp() {
         let moved = tokio::time::timeout(Duration::from_secs(60), async {
             loop {
                 // The PID acts only once the override is lifted (as `--deploy` does).
-                let _ = observer.notify(
-                    "MOOS_MANUAL_OVERRIDE",
-                    moosdb_client::Value::string("false"),
-                );
+                let _ =
+                    observer.notify("MOOS_MANUAL_OVERRIDE", moosdb_client::Value::from("false"));
                 let Ok(Some(m)) =
                     tokio::time::timeout(Duration::from_millis(500), inbox.recv()).await
                 else {

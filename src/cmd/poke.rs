@@ -53,7 +53,7 @@ pub fn parse_poke(arg: &str) -> anyhow::Result<Poke> {
     let value = if !forced && !value.trim_start().starts_with('"') && is_numeric(value) {
         Value::Double(value.trim().parse().context("number")?)
     } else {
-        Value::string(value)
+        Value::from(value)
     };
     Ok(Poke {
         var: var.to_string(),
@@ -80,7 +80,7 @@ pub fn run(args: &PokeArgs) -> anyhow::Result<()> {
             match &p.value {
                 Value::Double(d) => outln!("{} = {d} (double)", p.var),
                 Value::String(s) => {
-                    outln!("{} = {} (string)", p.var, String::from_utf8_lossy(s))
+                    outln!("{} = {} (string)", p.var, s)
                 }
                 Value::Binary(b) => outln!("{} = <{} bytes> (binary)", p.var, b.len()),
             }
@@ -97,26 +97,20 @@ mod tests {
     #[test]
     fn numbers_are_doubles_unless_quoted_or_forced() {
         assert_eq!(parse_poke("FOO=3.5").unwrap().value, Value::Double(3.5));
-        assert_eq!(
-            parse_poke("BAR=hello").unwrap().value,
-            Value::string("hello")
-        );
-        assert_eq!(
-            parse_poke("NUMSTR:=2.5").unwrap().value,
-            Value::string("2.5")
-        );
+        assert_eq!(parse_poke("BAR=hello").unwrap().value, Value::from("hello"));
+        assert_eq!(parse_poke("NUMSTR:=2.5").unwrap().value, Value::from("2.5"));
         assert_eq!(
             parse_poke("QNUM=\"42\"").unwrap().value,
-            Value::string("\"42\"")
+            Value::from("\"42\"")
         );
         assert_eq!(parse_poke("X=-1e3").unwrap().value, Value::Double(-1000.0));
-        assert_eq!(parse_poke("X=nan").unwrap().value, Value::string("nan"));
+        assert_eq!(parse_poke("X=nan").unwrap().value, Value::from("nan"));
         let p = parse_poke("DEPLOY=true").unwrap();
         assert_eq!(p.var, "DEPLOY");
-        assert_eq!(p.value, Value::string("true"));
+        assert_eq!(p.value, Value::from("true"));
         assert_eq!(
             parse_poke("WPT=points=1,2:3,4").unwrap().value,
-            Value::string("points=1,2:3,4")
+            Value::from("points=1,2:3,4")
         );
         assert!(parse_poke("novalue").is_err());
         assert!(parse_poke("=3").is_err());

@@ -20,7 +20,7 @@ mod render;
 
 use std::collections::BTreeMap;
 
-use alog::{Alog, EntryValue};
+use alog::{Alog, Value};
 use thiserror::Error;
 
 pub use render::{to_png, to_svg};
@@ -88,7 +88,7 @@ impl PlotData {
         let mut polys = BTreeMap::new();
         for e in &log.entries {
             match (e.var.as_str(), &e.value) {
-                ("NAV_X", EntryValue::Double(v)) | ("NAV_Y", EntryValue::Double(v)) => {
+                ("NAV_X", Value::Double(v)) | ("NAV_Y", Value::Double(v)) => {
                     if e.var == "NAV_X" {
                         x = Some(*v);
                     } else {
@@ -103,20 +103,20 @@ impl PlotData {
                         }
                     }
                 }
-                ("NAV_DEPTH", EntryValue::Double(v)) => d.depth.push((e.time, *v)),
-                ("VIEW_POINT", EntryValue::String(s)) => {
+                ("NAV_DEPTH", Value::Double(v)) => d.depth.push((e.time, *v)),
+                ("VIEW_POINT", Value::String(s)) => {
                     if let Ok(p) = geometry::spec::parse_point(s) {
                         let pts = vec![(p.point.x, p.point.y)];
                         keep(&mut points, p.attrs.active, &p.attrs.label, pts);
                     }
                 }
-                ("VIEW_SEGLIST", EntryValue::String(s)) => {
+                ("VIEW_SEGLIST", Value::String(s)) => {
                     if let Ok(p) = geometry::spec::parse_seglist(s) {
                         let pts = p.seglist.points().iter().map(|q| (q.x, q.y)).collect();
                         keep(&mut segls, p.attrs.active, &p.attrs.label, pts);
                     }
                 }
-                ("VIEW_POLYGON", EntryValue::String(s)) => {
+                ("VIEW_POLYGON", Value::String(s)) => {
                     if let Ok(p) = geometry::spec::parse_polygon(s) {
                         let pts = p.polygon.vertices().iter().map(|q| (q.x, q.y)).collect();
                         keep(&mut polys, p.attrs.active, &p.attrs.label, pts);
