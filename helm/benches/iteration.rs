@@ -12,7 +12,7 @@ fn bench(c: &mut Criterion) {
     assert!(
         helm.iterate(t + 0.25)
             .iter()
-            .any(|p| p.var == "DESIRED_HEADING"),
+            .any(|p| p.key == "DESIRED_HEADING"),
         "the survey must be running"
     );
     t += 0.25;

@@ -42,16 +42,9 @@ pub const APP_NAME: &str = "pHelmIvP";
 /// One incoming MOOS message: the workspace's one mail type.
 pub use moos_types::Mail;
 
-/// One posting of the helm.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Posting {
-    /// Variable.
-    pub var: String,
-    /// Value.
-    pub value: Value,
-    /// Source auxiliary field (`HELM_VAR_INIT`, `HELM_MODE`, `<iter>:<behaviour>`, or "").
-    pub aux: String,
-}
+/// One posting of the helm (the workspace's one posting type; its `aux` is `HELM_VAR_INIT`,
+/// `HELM_MODE`, `<iter>:<behaviour>`, or empty).
+pub use moos_types::Post as Posting;
 
 /// The helm state posted as `IVPHELM_STATE` (reference §4.2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -154,16 +147,12 @@ impl Outbox {
     /// The next posting, with `var` and an empty `aux` (the caller sets value and aux).
     fn next(&mut self, var: &str) -> &mut Posting {
         if self.len == self.posts.len() {
-            self.posts.push(Posting {
-                var: String::new(),
-                value: Value::Double(0.0),
-                aux: String::new(),
-            });
+            self.posts.push(Posting::double(String::new(), 0.0));
         }
         let p = &mut self.posts[self.len];
         self.len += 1;
-        p.var.clear();
-        p.var.push_str(var);
+        p.key.clear();
+        p.key.push_str(var);
         p.aux.clear();
         p
     }
@@ -248,7 +237,7 @@ impl DupFilter {
 /// }
 /// helm.iterate(0.0);
 /// let posts = helm.iterate(1.0);
-/// let hdg = posts.iter().find(|p| p.var == "DESIRED_HEADING").unwrap();
+/// let hdg = posts.iter().find(|p| p.key == "DESIRED_HEADING").unwrap();
 /// assert_eq!(hdg.value.as_f64(), Some(90.0));
 /// ```
 pub struct Helm {
@@ -2245,7 +2234,7 @@ Behavior = BHV_ConstantSpeed
     fn values<'a>(posts: &'a [Posting], var: &str) -> Vec<&'a Value> {
         posts
             .iter()
-            .filter(|p| p.var == var)
+            .filter(|p| p.key == var)
             .map(|p| &p.value)
             .collect()
     }
@@ -2265,7 +2254,7 @@ Behavior = BHV_ConstantSpeed
             values(&p, "IVPHELM_ALLSTOP"),
             [&Value::String("NoGoalBehavior".into())]
         );
-        assert!(!p.iter().any(|p| p.var.starts_with("DESIRED_")), "{p:?}");
+        assert!(!p.iter().any(|p| p.key.starts_with("DESIRED_")), "{p:?}");
         assert!(!summary(&p).contains("active_goal"), "{}", summary(&p));
         // Second consecutive one: announced again, with zero decisions.
         let p = step(&mut h, 1.25);
@@ -2278,7 +2267,7 @@ Behavior = BHV_ConstantSpeed
         // Then quiet: the all-stop message is unchanged.
         let p = step(&mut h, 1.5);
         assert!(values(&p, "IVPHELM_ALLSTOP").is_empty());
-        assert!(!p.iter().any(|p| p.var.starts_with("DESIRED_")), "{p:?}");
+        assert!(!p.iter().any(|p| p.key.starts_with("DESIRED_")), "{p:?}");
     }
 
     #[test]
@@ -2376,11 +2365,11 @@ Behavior = BHV_ConstantSpeed
             }
         };
         nav(&mut h, 0.0);
-        assert!(h.iterate(0.0).iter().all(|p| p.var != "BHV_IPF"));
+        assert!(h.iterate(0.0).iter().all(|p| p.key != "BHV_IPF"));
         for (t, iter) in [(1.0, 1), (1.25, 2)] {
             nav(&mut h, t);
             let posts = h.iterate(t).to_vec();
-            let ipf: Vec<&Posting> = posts.iter().filter(|p| p.var == "BHV_IPF").collect();
+            let ipf: Vec<&Posting> = posts.iter().filter(|p| p.key == "BHV_IPF").collect();
             assert_eq!(ipf.len(), 1, "{posts:?}");
             assert_eq!(ipf[0].aux, "spd");
             let text = ipf[0].value.as_str().unwrap();
@@ -2404,7 +2393,7 @@ Behavior = BHV_ConstantSpeed
             assert!(!h.info().is_known("BHV_IPF"));
             // It goes out with the behaviours' messages: after IVPHELM_ITER, before the
             // summary.
-            let at = |v: &str| posts.iter().position(|p| p.var == v).unwrap();
+            let at = |v: &str| posts.iter().position(|p| p.key == v).unwrap();
             assert!(at("IVPHELM_ITER") < at("BHV_IPF"));
             assert!(at("BHV_IPF") < at("IVPHELM_SUMMARY"));
         }
@@ -2440,7 +2429,7 @@ mod ledger_tests {
 
     fn summaries(p: &[Posting]) -> Vec<String> {
         p.iter()
-            .filter(|p| p.var == "IVPHELM_LEDGER_SUMMARY")
+            .filter(|p| p.key == "IVPHELM_LEDGER_SUMMARY")
             .map(|p| p.value.as_str().unwrap().to_string())
             .collect()
     }
@@ -2449,7 +2438,7 @@ mod ledger_tests {
     fn start_up_posts_zero_counts_between_the_mode_set_and_the_alias() {
         let mut h = helm(&[("helm_alias", "hx")]);
         let p = h.iterate(0.0).to_vec();
-        let vars: Vec<&str> = p.iter().map(|p| p.var.as_str()).collect();
+        let vars: Vec<&str> = p.iter().map(|p| p.key.as_str()).collect();
         let at = vars.iter().position(|v| *v == "IVPHELM_MODESET").unwrap();
         assert_eq!(
             vars[at + 1..at + 6],
@@ -2469,7 +2458,7 @@ mod ledger_tests {
         // BHV_ABLE_FILTER is registered right after IVPHELM_REJOURNAL, as pHelmIvP does.
         let regs: Vec<&str> = p
             .iter()
-            .filter(|p| p.var == "IVPHELM_REGISTER")
+            .filter(|p| p.key == "IVPHELM_REGISTER")
             .map(|p| p.value.as_str().unwrap())
             .collect();
         let r = regs.iter().position(|v| *v == "IVPHELM_REJOURNAL").unwrap();
@@ -2538,8 +2527,8 @@ mod ledger_tests {
         assert!(h.contact_disabled("ben"));
         assert!(!h.info().is_known("BHV_ABLE_FILTER"));
         // No behaviour of coug's can be disabled: none listed, the behaviour stays active.
-        assert!(p.iter().all(|p| p.var != "IVPHELM_BHV_DISABLED"));
-        let active = p.iter().find(|p| p.var == "IVPHELM_BHV_ACTIVE").unwrap();
+        assert!(p.iter().all(|p| p.key != "IVPHELM_BHV_DISABLED"));
+        let active = p.iter().find(|p| p.key == "IVPHELM_BHV_ACTIVE").unwrap();
         assert_eq!(active.value, Value::String("spd".into()));
         assert!(h.take_appcast_notes().is_empty());
     }

@@ -34,7 +34,7 @@ fn alpha_mission_posts_the_phelmivp_sequence() {
 
     // --- Start-up: initialize lines, domain in pHelmIvP's (reversed) order, PARK.
     let posts = rig.step(&[]);
-    let deploy = posts.iter().find(|p| p.var == "DEPLOY").unwrap();
+    let deploy = posts.iter().find(|p| p.key == "DEPLOY").unwrap();
     assert_eq!(
         (deploy.value.as_str(), deploy.aux.as_str()),
         (Some("false"), "HELM_VAR_INIT")
@@ -58,7 +58,7 @@ fn alpha_mission_posts_the_phelmivp_sequence() {
     assert!(
         parked
             .iter()
-            .filter(|p| p.var == "IVPHELM_STATE")
+            .filter(|p| p.key == "IVPHELM_STATE")
             .all(|p| is_str(Some(&p.value), "PARK"))
     );
     assert_eq!(
@@ -131,10 +131,10 @@ fn alpha_mission_posts_the_phelmivp_sequence() {
     let mut indices: Vec<f64> = Vec::new();
     let posts = rig.run_until(900.0, "RETURN=true", |p| {
         p.iter()
-            .any(|x| x.var == "RETURN" && x.value.as_str() == Some("true"))
+            .any(|x| x.key == "RETURN" && x.value.as_str() == Some("true"))
     });
     for (_, p) in &rig.log {
-        if p.var == "WPT_INDEX" {
+        if p.key == "WPT_INDEX" {
             indices.push(p.value.as_f64().unwrap());
         }
     }
@@ -170,12 +170,12 @@ fn alpha_mission_posts_the_phelmivp_sequence() {
     assert!((spd - 2.0).abs() < 1e-9, "return speed {spd}");
     let posts = rig.run_until(600.0, "MISSION=complete", |p| {
         p.iter()
-            .any(|x| x.var == "MISSION" && x.value.as_str() == Some("complete"))
+            .any(|x| x.key == "MISSION" && x.value.as_str() == Some("complete"))
     });
     assert!(is_str(get(&posts, "DEPLOY"), "false"));
     assert!(
-        posts.iter().position(|p| p.var == "RETURN").unwrap()
-            < posts.iter().position(|p| p.var == "MISSION").unwrap(),
+        posts.iter().position(|p| p.key == "RETURN").unwrap()
+            < posts.iter().position(|p| p.key == "MISSION").unwrap(),
         "endflags in file order"
     );
     assert!((rig.vehicle.x).hypot(rig.vehicle.y + 20.0) < 9.0);

@@ -39,7 +39,7 @@ fn bravo_modes_survey_return_and_stop() {
     }
     let t = rig.t;
     let posts = rig.step(&[Mail::new("MOOS_MANUAL_OVERRIDE", "false", t)]);
-    let mode = posts.iter().find(|p| p.var == "MODE").unwrap();
+    let mode = posts.iter().find(|p| p.key == "MODE").unwrap();
     assert_eq!(
         (mode.value.as_str(), mode.aux.as_str()),
         (Some("INACTIVE"), "HELM_MODE")
@@ -60,12 +60,12 @@ fn bravo_modes_survey_return_and_stop() {
     // The survey ends with RETURN=true; the mode switches on the next iteration.
     rig.run_until(900.0, "RETURN=true", |p| {
         p.iter()
-            .any(|x| x.var == "RETURN" && x.value.as_str() == Some("true"))
+            .any(|x| x.key == "RETURN" && x.value.as_str() == Some("true"))
     });
     let indices: Vec<f64> = rig
         .log
         .iter()
-        .filter(|(_, p)| p.var == "WPT_INDEX")
+        .filter(|(_, p)| p.key == "WPT_INDEX")
         .map(|(_, p)| p.value.as_f64().unwrap())
         .collect();
     assert_eq!(indices, [0.0, 1.0, 2.0, 3.0, 4.0]);
@@ -76,7 +76,7 @@ fn bravo_modes_survey_return_and_stop() {
     // Back at (0,0): endflags RETURN=false and DEPLOY=false, then INACTIVE and all-stop.
     let posts = rig.run_until(600.0, "DEPLOY=false", |p| {
         p.iter()
-            .any(|x| x.var == "DEPLOY" && x.value.as_str() == Some("false"))
+            .any(|x| x.key == "DEPLOY" && x.value.as_str() == Some("false"))
     });
     assert!(is_str(get(&posts, "RETURN"), "false"));
     assert!(rig.vehicle.x.hypot(rig.vehicle.y) < 8.0);

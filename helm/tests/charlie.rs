@@ -93,12 +93,12 @@ fn charlie_loiters_counter_clockwise_then_returns() {
     assert!(is_str(get(&posts, "IVPHELM_BHV_ACTIVE"), "waypt_return"));
     // The loiter, now idle, erases its viewer objects.
     assert!(
-        posts.iter().any(|p| p.var == "VIEW_POLYGON"
+        posts.iter().any(|p| p.key == "VIEW_POLYGON"
             && p.value.as_str().is_some_and(|s| s.contains("active=false")))
     );
     rig.run_until(400.0, "STATION_KEEP=true", |p| {
         p.iter()
-            .any(|x| x.var == "STATION_KEEP" && x.value.as_str() == Some("true"))
+            .any(|x| x.key == "STATION_KEEP" && x.value.as_str() == Some("true"))
     });
     assert!((rig.vehicle.x - 15.0).hypot(rig.vehicle.y) < 16.0);
     let posts = rig.step(&[]);

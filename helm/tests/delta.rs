@@ -120,7 +120,7 @@ impl DeltaRig {
         self.helm.on_mail(&mail);
         let posts = self.helm.iterate(t).to_vec();
         for p in &posts {
-            match (p.var.as_str(), &p.value) {
+            match (p.key.as_str(), &p.value) {
                 ("DESIRED_HEADING", Value::Double(v)) => self.des.0 = *v,
                 ("DESIRED_SPEED", Value::Double(v)) => self.des.1 = *v,
                 ("DESIRED_DEPTH", Value::Double(v)) => self.des.2 = *v,
@@ -134,8 +134,8 @@ impl DeltaRig {
                 }
                 _ => {}
             }
-            if self.subs.contains(&p.var) {
-                let mut m = Mail::new(&p.var, p.value.clone(), t).from("pHelmIvP");
+            if self.subs.contains(&p.key) {
+                let mut m = Mail::new(&p.key, p.value.clone(), t).from("pHelmIvP");
                 m.source_aux = p.aux.clone();
                 self.feedback.push(m);
             }
@@ -167,7 +167,7 @@ impl DeltaRig {
     fn history(&self, var: &str, since: f64) -> Vec<(f64, Value)> {
         self.log
             .iter()
-            .filter(|(t, p)| *t >= since && p.var == var)
+            .filter(|(t, p)| *t >= since && p.key == var)
             .map(|(t, p)| (*t, p.value.clone()))
             .collect()
     }
@@ -176,7 +176,7 @@ impl DeltaRig {
 fn posted_str(posts: &[Posting], var: &str, val: &str) -> bool {
     posts
         .iter()
-        .any(|p| p.var == var && p.value.as_str() == Some(val))
+        .any(|p| p.key == var && p.value.as_str() == Some(val))
 }
 
 fn delta_helm() -> Helm {
@@ -840,12 +840,12 @@ fn opregion_posts_its_polygon_at_configuration_on_the_first_iteration() {
         }
         t += 0.5;
     }
-    let vars: Vec<&str> = first.iter().map(|p| p.var.as_str()).collect();
+    let vars: Vec<&str> = first.iter().map(|p| p.key.as_str()).collect();
     let poly = vars.iter().position(|v| *v == "OPREG_POLY");
     let conf = vars.iter().position(|v| *v == "OPREG_CONFIGURED");
     let status = first
         .iter()
-        .position(|p| p.var == "BHV_STATUS" && p.aux.ends_with(":opreg"));
+        .position(|p| p.key == "BHV_STATUS" && p.aux.ends_with(":opreg"));
     let (Some(poly), Some(conf), Some(status)) = (poly, conf, status) else {
         panic!("missing postings: {vars:?}");
     };

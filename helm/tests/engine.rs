@@ -60,7 +60,7 @@ impl Script {
 }
 
 fn has_desired(posts: &[Posting]) -> bool {
-    posts.iter().any(|p| p.var.starts_with("DESIRED_"))
+    posts.iter().any(|p| p.key.starts_with("DESIRED_"))
 }
 
 const HEADING_BHV: &str = "\
@@ -355,7 +355,7 @@ Behavior = BHV_ConstantHeading
         "MODE#---,ACTIVE#---,INACTIVE#ACTIVE,RETURNING#ACTIVE,SURVEYING"
     ));
     let posts = s.step(1.0, 0.0, 0.0, 0.0, &[]);
-    let mode = posts.iter().find(|p| p.var == "MODE").unwrap();
+    let mode = posts.iter().find(|p| p.key == "MODE").unwrap();
     assert_eq!(
         (mode.value.as_str(), mode.aux.as_str()),
         (Some("INACTIVE"), "HELM_MODE")
@@ -579,7 +579,7 @@ fn skewed_mail_is_ignored_and_deferred_initialize_waits() {
         "{skew}"
     );
     assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "NothingToDo"));
-    let late = posts.iter().find(|p| p.var == "LATE").unwrap();
+    let late = posts.iter().find(|p| p.key == "LATE").unwrap();
     assert_eq!(
         (&late.value, late.aux.as_str()),
         (&Value::Double(7.0), "HELM_VAR_INIT")

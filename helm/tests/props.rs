@@ -99,10 +99,10 @@ proptest! {
         let mut allstop = String::new();
         for (state, posts) in run(&mut helm, &events) {
             for p in &posts {
-                if p.var == "IVPHELM_ALLSTOP" {
+                if p.key == "IVPHELM_ALLSTOP" {
                     allstop = p.value.as_str().unwrap_or("").to_string();
                 }
-                if p.var.starts_with("DESIRED_") {
+                if p.key.starts_with("DESIRED_") {
                     let v = p.value.as_f64().expect("decisions are numbers");
                     prop_assert!(v.is_finite());
                     if v != 0.0 {
@@ -110,7 +110,7 @@ proptest! {
                         prop_assert_eq!(&allstop, "clear");
                     }
                 }
-                if p.var == "DESIRED_SPEED" {
+                if p.key == "DESIRED_SPEED" {
                     let v = p.value.as_f64().unwrap();
                     prop_assert!((0.0..=4.0).contains(&v));
                 }
@@ -124,7 +124,7 @@ proptest! {
         prop_assert!(!helm.config_errors().is_empty());
         for (state, posts) in run(&mut helm, &events) {
             prop_assert_eq!(&state, "MALCONFIG");
-            prop_assert!(posts.iter().all(|p| !p.var.starts_with("DESIRED_")));
+            prop_assert!(posts.iter().all(|p| !p.key.starts_with("DESIRED_")));
             prop_assert!(posts.iter().all(|p| p.value != Value::String("DRIVE".into())));
         }
     }

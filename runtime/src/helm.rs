@@ -329,7 +329,7 @@ impl App for HelmApp {
             out.push(Post::double("IVPHELM_CPU", cpu));
         }
         for p in self.helm.iterate(now) {
-            out.push(Post::new(p.var.clone(), p.value.clone()).with_aux(p.aux.clone()));
+            out.push(Post::new(p.key.clone(), p.value.clone()).with_aux(p.aux.clone()));
         }
         for note in self.helm.take_appcast_notes() {
             self.appcast.note(note, now);

@@ -114,13 +114,13 @@ impl Rig {
         self.helm.on_mail(&mail);
         let posts = self.helm.iterate(t).to_vec();
         for p in &posts {
-            match (p.var.as_str(), &p.value) {
+            match (p.key.as_str(), &p.value) {
                 ("DESIRED_HEADING", Value::Double(v)) => self.des_heading = *v,
                 ("DESIRED_SPEED", Value::Double(v)) => self.des_speed = *v,
                 _ => {}
             }
-            if self.subs.contains(&p.var) {
-                let mut m = Mail::new(&p.var, p.value.clone(), t).from("pHelmIvP");
+            if self.subs.contains(&p.key) {
+                let mut m = Mail::new(&p.key, p.value.clone(), t).from("pHelmIvP");
                 m.source_aux = p.aux.clone();
                 self.feedback.push(m);
             }
@@ -151,13 +151,13 @@ impl Rig {
 }
 
 pub fn get<'a>(posts: &'a [Posting], var: &str) -> Option<&'a Value> {
-    posts.iter().find(|p| p.var == var).map(|p| &p.value)
+    posts.iter().find(|p| p.key == var).map(|p| &p.value)
 }
 
 pub fn all<'a>(posts: &'a [Posting], var: &str) -> Vec<&'a Value> {
     posts
         .iter()
-        .filter(|p| p.var == var)
+        .filter(|p| p.key == var)
         .map(|p| &p.value)
         .collect()
 }
