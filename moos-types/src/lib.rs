@@ -204,14 +204,14 @@ impl Post {
         self
     }
 
-    /// A double posting.
-    pub fn double(key: impl Into<String>, x: f64) -> Post {
-        Post::new(key, Value::Double(x))
+    /// A double posting (the key is anything that reads as text: `&str`, `&Arc<str>`, ...).
+    pub fn double(key: impl AsRef<str>, x: f64) -> Post {
+        Post::new(key.as_ref(), Value::Double(x))
     }
 
     /// A string posting.
-    pub fn text(key: impl Into<String>, s: impl Into<String>) -> Post {
-        Post::new(key, Value::String(s.into()))
+    pub fn text(key: impl AsRef<str>, s: impl Into<String>) -> Post {
+        Post::new(key.as_ref(), Value::String(s.into()))
     }
 }
 

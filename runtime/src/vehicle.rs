@@ -213,11 +213,7 @@ impl VehicleApp {
     }
 
     fn flush(&mut self, out: &mut Vec<Post>) {
-        out.extend(
-            self.postings
-                .drain(..)
-                .map(|p| Post::new(p.var.as_ref(), p.value)),
-        );
+        out.append(&mut self.postings);
     }
 }
 

@@ -893,16 +893,16 @@ impl CougarsControl {
             .actuators
             .outputs(Some((&mixed, since_boot)), since_boot);
         let v = &self.vars;
-        out.push(Posting::double(&v[0], cmd.fin[0]));
+        out.push(Posting::double(&*v[0], cmd.fin[0]));
         // The simulator's elevator dives when positive; a negative pitch fin (port fin,
         // `fin[2]`) pitches the nose down, hence the sign.
-        out.push(Posting::double(&v[1], -cmd.fin[2]));
-        out.push(Posting::double(&v[2], mixed.thruster));
+        out.push(Posting::double(&*v[1], -cmd.fin[2]));
+        out.push(Posting::double(&*v[2], mixed.thruster));
         for i in 0..3 {
-            out.push(Posting::double(&v[3 + i], mixed.fin[i]));
-            out.push(Posting::double(&v[6 + i], f64::from(pwm.servo_us[i])));
+            out.push(Posting::double(&*v[3 + i], mixed.fin[i]));
+            out.push(Posting::double(&*v[6 + i], f64::from(pwm.servo_us[i])));
         }
-        out.push(Posting::double(&v[9], f64::from(pwm.thruster_us)));
+        out.push(Posting::double(&*v[9], f64::from(pwm.thruster_us)));
     }
 
     /// PWM outputs at `time` with the failsafe applied to the last command.

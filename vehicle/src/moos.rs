@@ -1,7 +1,6 @@
 //! MOOS-facing value types shared by the app adapters, and MOOS-IvP number formatting.
 
 use std::fmt::Write as _;
-use std::sync::Arc;
 
 /// A value arriving as MOOS mail, borrowed: the workspace's one view of a MOOS value.
 pub use moos_types::ValueRef;
@@ -9,40 +8,15 @@ pub use moos_types::ValueRef;
 /// A value an app publishes: the workspace's one MOOS value type.
 pub use moos_types::Value;
 
-/// One `(variable, value)` pair an app wants published. Variable names are shared
-/// (`Arc<str>`), so building a posting does not allocate a new name.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Posting {
-    /// The MOOS variable name.
-    pub var: Arc<str>,
-    /// The value.
-    pub value: Value,
-}
-
-impl Posting {
-    /// A double posting.
-    pub fn double(var: &Arc<str>, value: f64) -> Self {
-        Posting {
-            var: Arc::clone(var),
-            value: Value::Double(value),
-        }
-    }
-
-    /// A string posting.
-    pub fn string(var: &Arc<str>, value: impl Into<String>) -> Self {
-        Posting {
-            var: Arc::clone(var),
-            value: Value::String(value.into()),
-        }
-    }
-}
+/// One posting an app wants published: the workspace's one posting type.
+pub use moos_types::Post as Posting;
 
 /// Finds the last posting of `var` in `postings`.
 pub fn last_posting<'a>(postings: &'a [Posting], var: &str) -> Option<&'a Value> {
     postings
         .iter()
         .rev()
-        .find(|p| &*p.var == var)
+        .find(|p| p.key == var)
         .map(|p| &p.value)
 }
 

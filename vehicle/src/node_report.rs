@@ -1357,10 +1357,7 @@ impl NodeReporter {
     /// was given ([`NodeReporter::set_pid`]).
     pub fn on_startup(&mut self, out: &mut Vec<Posting>) {
         if let Some(pid) = self.pid.take() {
-            out.push(Posting::double(
-                &Arc::from("PNODEREPORTER_PID"),
-                f64::from(pid),
-            ));
+            out.push(Posting::double("PNODEREPORTER_PID", f64::from(pid)));
         }
     }
 
@@ -1404,27 +1401,27 @@ impl NodeReporter {
         let first = self.reports_posted == 0;
         if json.is_empty() {
             if first {
-                out.push(Posting::string(&self.var_first, self.buf.as_str()));
+                out.push(Posting::text(&*self.var_first, self.buf.as_str()));
             }
-            out.push(Posting::string(&self.var_report, self.buf.as_str()));
+            out.push(Posting::text(&*self.var_report, self.buf.as_str()));
         } else if json.eq_ignore_ascii_case("true") {
             let j = csp_to_json(&self.buf);
             if first {
-                out.push(Posting::string(&self.var_first, j.as_str()));
+                out.push(Posting::text(&*self.var_first, j.as_str()));
             }
-            out.push(Posting::string(&self.var_report, j));
+            out.push(Posting::text(&*self.var_report, j));
         } else {
             let j = csp_to_json(&self.buf);
             if first {
                 let var: Arc<str> = format!("{json}_FIRST").into();
-                out.push(Posting::string(&var, j.as_str()));
-                out.push(Posting::string(&self.var_first, self.buf.as_str()));
+                out.push(Posting::text(&*var, j.as_str()));
+                out.push(Posting::text(&*self.var_first, self.buf.as_str()));
             }
             let var: Arc<str> = json.as_str().into();
-            out.push(Posting::string(&var, j));
-            out.push(Posting::string(&self.var_report, self.buf.as_str()));
+            out.push(Posting::text(&*var, j));
+            out.push(Posting::text(&*self.var_report, self.buf.as_str()));
         }
-        out.push(Posting::double(&self.var_gap, gap));
+        out.push(Posting::double(&*self.var_gap, gap));
         self.reports_posted += 1;
     }
 
@@ -1703,8 +1700,8 @@ impl NodeReporter {
             let (dist, hdg_delta) = extrapolation_gap(&last, t, &self.nav, now);
             pruned =
                 dist < self.cfg.extrap_pos_thresh_m && hdg_delta < self.cfg.extrap_hdg_thresh_deg;
-            out.push(Posting::double(&Arc::from("PNR_EXTRAP_POS_GAP"), dist));
-            out.push(Posting::double(&Arc::from("PNR_EXTRAP_HDG_GAP"), hdg_delta));
+            out.push(Posting::double("PNR_EXTRAP_POS_GAP", dist));
+            out.push(Posting::double("PNR_EXTRAP_HDG_GAP", hdg_delta));
         }
         // Within the grace period a report needs a position: X and Y, or (as the C++'s
         // `isSetLatLon`, which tests the longitude twice) just a longitude.
@@ -1786,7 +1783,7 @@ impl NodeReporter {
                     report.push_str(&riders);
                 }
                 if !self.paused {
-                    out.push(Posting::string(&self.var_report, report));
+                    out.push(Posting::text(&*self.var_report, report));
                     self.reports_posted_alt_nav += 1;
                 }
             }
@@ -1813,7 +1810,7 @@ impl NodeReporter {
         self.last_xy = xy;
         let plat = self.platform_report(now);
         if !plat.is_empty() && !self.paused {
-            out.push(Posting::string(&self.var_plat, plat));
+            out.push(Posting::text(&*self.var_plat, plat));
         }
         // MISSION_HASH odometer: the largest distance from where the mission started,
         // posted when it has grown by 2 % and at least 1 m (MOOS `updateMHashOdo`).
@@ -1824,7 +1821,7 @@ impl NodeReporter {
         {
             let mut msg = format!("mhash={},ext=", self.mhash);
             push_double_x(&mut msg, ext, 1);
-            out.push(Posting::string(&self.var_mhash, msg));
+            out.push(Posting::text(&*self.var_mhash, msg));
         }
     }
 }

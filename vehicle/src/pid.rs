@@ -958,7 +958,7 @@ impl MarinePid {
             "true" => {
                 if !self.inputs.manual_override {
                     self.pending
-                        .push(Posting::string(&self.has_control_var, "false"));
+                        .push(Posting::text(&*self.has_control_var, "false"));
                 }
                 self.inputs.manual_override = true;
             }
@@ -973,7 +973,7 @@ impl MarinePid {
                 }
                 self.inputs.manual_override = false;
                 self.pending
-                    .push(Posting::string(&self.has_control_var, "true"));
+                    .push(Posting::text(&*self.has_control_var, "true"));
             }
             _ => {}
         }
@@ -1043,7 +1043,7 @@ impl MarinePid {
         out.append(&mut self.pending);
         for (label, a) in STALE_LABELS.iter().zip(o.stale) {
             if let Some(a) = a {
-                out.push(Posting::string(
+                out.push(Posting::text(
                     &self.stale_var,
                     format!("Stale {label}:{}", double_x(a, 3)),
                 ));
@@ -1063,15 +1063,15 @@ impl MarinePid {
         self.last = o;
         if !o.has_control {
             if !self.allstop_posted {
-                out.push(Posting::double(&self.rudder_var, 0.0));
-                out.push(Posting::double(&self.thrust_var, 0.0));
+                out.push(Posting::double(&*self.rudder_var, 0.0));
+                out.push(Posting::double(&*self.thrust_var, 0.0));
                 if self.cfg.depth_control {
-                    out.push(Posting::double(&self.elevator_var, 0.0));
+                    out.push(Posting::double(&*self.elevator_var, 0.0));
                 }
                 self.allstop_posted = true;
             }
         } else {
-            out.push(Posting::double(&self.rudder_var, o.rudder));
+            out.push(Posting::double(&*self.rudder_var, o.rudder));
             // As the C++ at a2a9b716: PID_THRUST_CAP is read and clipped to [20, 100] but the
             // posted thrust is the uncapped one (the capped value is computed and unused).
             let thrust = if self.cfg.legacy && self.cfg.enable_thrust_cap {
@@ -1079,9 +1079,9 @@ impl MarinePid {
             } else {
                 o.thrust
             };
-            out.push(Posting::double(&self.thrust_var, thrust));
+            out.push(Posting::double(&*self.thrust_var, thrust));
             if self.cfg.depth_control {
-                out.push(Posting::double(&self.elevator_var, o.elevator));
+                out.push(Posting::double(&*self.elevator_var, o.elevator));
             }
             self.allstop_posted = false;
             if self.cfg.legacy {
@@ -1110,7 +1110,7 @@ impl MarinePid {
         let f = |v: f64| format!("{v:.5}");
         let sat = &o.saturated;
         if self.cfg.speed_debug && o.ran_speed && sat.speed {
-            out.push(Posting::string(&self.max_sat_vars[1], ""));
+            out.push(Posting::text(&*self.max_sat_vars[1], ""));
         }
         if self.cfg.speed_debug && o.ran_speed {
             let (want, curr) = (val(self.inputs.desired_speed), val(self.inputs.speed));
@@ -1126,10 +1126,10 @@ impl MarinePid {
                 f(want - curr),
                 f(o.thrust)
             );
-            out.push(Posting::string(&self.debug_vars[1], s));
+            out.push(Posting::text(&*self.debug_vars[1], s));
         }
         if self.cfg.heading_debug && o.ran_heading && sat.heading {
-            out.push(Posting::string(&self.max_sat_vars[0], ""));
+            out.push(Posting::text(&*self.max_sat_vars[0], ""));
         }
         if self.cfg.heading_debug && o.ran_heading {
             let (des180, err) = o.heading_terms;
@@ -1140,12 +1140,12 @@ impl MarinePid {
                 f(err),
                 f(o.rudder)
             );
-            out.push(Posting::string(&self.debug_vars[0], s));
+            out.push(Posting::text(&*self.debug_vars[0], s));
         }
         if self.cfg.depth_debug && o.ran_depth {
             for (hit, tag) in [(sat.depth_to_pitch, "Z:"), (sat.pitch, "P:")] {
                 if hit {
-                    out.push(Posting::string(&self.max_sat_vars[2], tag));
+                    out.push(Posting::text(&*self.max_sat_vars[2], tag));
                 }
             }
             let (want, curr) = (val(self.inputs.desired_depth), val(self.inputs.depth));
@@ -1156,7 +1156,7 @@ impl MarinePid {
                 f(curr - want),
                 f(o.elevator)
             );
-            out.push(Posting::string(&self.debug_vars[2], s));
+            out.push(Posting::text(&*self.debug_vars[2], s));
         }
     }
 
@@ -1169,7 +1169,7 @@ impl MarinePid {
                 val(self.inputs.heading),
                 o.rudder
             );
-            out.push(Posting::string(&self.debug_vars[0], s));
+            out.push(Posting::text(&*self.debug_vars[0], s));
         }
         if self.cfg.speed_debug {
             let s = format!(
@@ -1178,7 +1178,7 @@ impl MarinePid {
                 val(self.inputs.speed),
                 o.thrust
             );
-            out.push(Posting::string(&self.debug_vars[1], s));
+            out.push(Posting::text(&*self.debug_vars[1], s));
         }
         if self.cfg.depth_debug && self.cfg.depth_control {
             let s = format!(
@@ -1187,7 +1187,7 @@ impl MarinePid {
                 val(self.inputs.depth),
                 o.elevator
             );
-            out.push(Posting::string(&self.debug_vars[2], s));
+            out.push(Posting::text(&*self.debug_vars[2], s));
         }
     }
 }

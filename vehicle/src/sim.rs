@@ -1739,16 +1739,16 @@ impl Simulator {
                 self.inputs.buoyancy_rate = 0.0;
                 self.buoyancy_request = Some(time);
                 self.last_report = time;
-                return Some(Posting::string(
-                    &"BUOYANCY_REPORT".into(),
+                return Some(Posting::text(
+                    "BUOYANCY_REPORT",
                     "status=1,error=0,progressing,buoyancy=0.0",
                 ));
             }
             "TRIM_CONTROL" if s.eq_ignore_ascii_case("true") => {
                 self.trim_request = Some(time);
                 self.last_report = time;
-                return Some(Posting::string(
-                    &"TRIM_REPORT".into(),
+                return Some(Posting::text(
+                    "TRIM_REPORT",
                     "status=1,error=0,progressing,trim_pitch=0.0,trim_roll=0.0",
                 ));
             }
@@ -1863,14 +1863,14 @@ impl Simulator {
                 double_x(dx, 3),
                 double_x(dy, 3)
             );
-            out.push(Posting::string(&self.vars.drift_summary, summary));
+            out.push(Posting::text(&*self.vars.drift_summary, summary));
             self.drift_fresh = false;
         }
         if let Some(w) = self.inputs.wind
             && self.cfg.polar.is_set()
             && self.iteration.is_multiple_of(50)
         {
-            out.push(Posting::string(&"VIEW_ARROW".into(), w.arrow_spec()));
+            out.push(Posting::text("VIEW_ARROW", w.arrow_spec()));
         }
         if !self.cfg.wormholes.is_empty() {
             if let Some(p) = self.cfg.wormholes.apply(time, self.state.x, self.state.y) {
@@ -1884,7 +1884,7 @@ impl Simulator {
                 let view: Arc<str> = "VIEW_POLYGON".into();
                 for hole in self.cfg.wormholes.holes() {
                     for poly in hole.polygons() {
-                        out.push(Posting::string(&view, poly.to_spec()));
+                        out.push(Posting::text(&*view, poly.to_spec()));
                     }
                 }
             }
@@ -1899,14 +1899,14 @@ impl Simulator {
         }
         if let Some(t0) = self.buoyancy_request {
             if now - t0 >= BUOYANCY_DELAY_S {
-                out.push(Posting::string(
-                    &"BUOYANCY_REPORT".into(),
+                out.push(Posting::text(
+                    "BUOYANCY_REPORT",
                     "status=2,error=0,completed,buoyancy=0.0",
                 ));
                 self.buoyancy_request = None;
             } else if now - self.last_report >= REPORT_INTERVAL_S {
-                out.push(Posting::string(
-                    &"BUOYANCY_REPORT".into(),
+                out.push(Posting::text(
+                    "BUOYANCY_REPORT",
                     "status=1,error=0,progressing,buoyancy=0.0",
                 ));
                 self.last_report = now;
@@ -1919,14 +1919,14 @@ impl Simulator {
             if (pitch_deg.abs() <= self.cfg.trim_tolerance_deg && elapsed >= BUOYANCY_DELAY_S)
                 || elapsed >= self.cfg.max_trim_delay_s
             {
-                out.push(Posting::string(
-                    &"TRIM_REPORT".into(),
+                out.push(Posting::text(
+                    "TRIM_REPORT",
                     format!("status=2,error=0,completed,trim_pitch={pitch},trim_roll=0.0"),
                 ));
                 self.trim_request = None;
             } else if now - self.last_report >= REPORT_INTERVAL_S {
-                out.push(Posting::string(
-                    &"TRIM_REPORT".into(),
+                out.push(Posting::text(
+                    "TRIM_REPORT",
                     format!("status=1,error=0,progressing,trim_pitch={pitch},trim_roll=0.0"),
                 ));
                 self.last_report = now;
@@ -1936,11 +1936,11 @@ impl Simulator {
 
     /// Posts a navigation record under the variable names `v` (`<P>_*` or `<P>_GT_*`).
     fn post_nav_as(&self, v: &SimVars, nav: &NavOutputs, out: &mut Vec<Posting>) {
-        out.push(Posting::double(&v.x, nav.x));
-        out.push(Posting::double(&v.y, nav.y));
+        out.push(Posting::double(&*v.x, nav.x));
+        out.push(Posting::double(&*v.y, nav.y));
         if let (Some(lat), Some(lon)) = (nav.lat, nav.lon) {
-            out.push(Posting::double(&v.lat, lat));
-            out.push(Posting::double(&v.lon, lon));
+            out.push(Posting::double(&*v.lat, lat));
+            out.push(Posting::double(&*v.lon, lon));
         }
         if self.cfg.post_navpos_summary {
             let mut s = format!("x={},y={}", double_x(nav.x, 3), double_x(nav.y, 3));
@@ -1954,23 +1954,23 @@ impl Simulator {
                     double_x(lon, 7)
                 ));
             }
-            out.push(Posting::string(&v.navpos_summary, s));
+            out.push(Posting::text(&*v.navpos_summary, s));
         }
-        out.push(Posting::double(&v.heading, nav.heading));
-        out.push(Posting::double(&v.speed, nav.speed));
-        out.push(Posting::double(&v.depth, nav.depth));
+        out.push(Posting::double(&*v.heading, nav.heading));
+        out.push(Posting::double(&*v.speed, nav.speed));
+        out.push(Posting::double(&*v.depth, nav.depth));
         if self.cfg.depth_control {
-            out.push(Posting::string(&v.sim_mode, "TRUE"));
-            out.push(Posting::double(&v.z, nav.z));
-            out.push(Posting::double(&v.pitch, nav.pitch));
-            out.push(Posting::double(&v.yaw, nav.yaw));
-            out.push(Posting::double(&v.true_x, nav.x));
-            out.push(Posting::double(&v.true_y, nav.y));
+            out.push(Posting::text(&*v.sim_mode, "TRUE"));
+            out.push(Posting::double(&*v.z, nav.z));
+            out.push(Posting::double(&*v.pitch, nav.pitch));
+            out.push(Posting::double(&*v.yaw, nav.yaw));
+            out.push(Posting::double(&*v.true_x, nav.x));
+            out.push(Posting::double(&*v.true_y, nav.y));
         }
-        out.push(Posting::double(&v.hog, nav.heading_og));
-        out.push(Posting::double(&v.sog, nav.speed_og));
+        out.push(Posting::double(&*v.hog, nav.heading_og));
+        out.push(Posting::double(&*v.sog, nav.speed_og));
         if let Some(a) = nav.altitude {
-            out.push(Posting::double(&v.altitude, a));
+            out.push(Posting::double(&*v.altitude, a));
         }
     }
 }

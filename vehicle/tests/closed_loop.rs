@@ -31,7 +31,7 @@ impl Controller {
 
 fn deliver(postings: &[Posting], t: f64, mut to: impl FnMut(&str, ValueRef<'_>, f64)) {
     for p in postings {
-        to(&p.var, p.value.as_ref(), t);
+        to(&p.key, p.value.as_ref(), t);
     }
 }
 

@@ -24,7 +24,7 @@ const TOL: f64 = 0.5;
 
 fn deliver(postings: &[(Posting, f64)], mut to: impl FnMut(&str, ValueRef<'_>, f64)) {
     for (p, t) in postings {
-        to(&p.var, p.value.as_ref(), *t);
+        to(&p.key, p.value.as_ref(), *t);
     }
 }
 

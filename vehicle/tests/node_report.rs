@@ -450,7 +450,7 @@ fn cross_fill_policies_fill_positions_from_the_mission_origin() {
 /// Every posting of `var`, as text (numbers in `{}` form).
 fn all_of(out: &[vehicle::Posting], var: &str) -> Vec<String> {
     out.iter()
-        .filter(|p| &*p.var == var)
+        .filter(|p| &*p.key == var)
         .map(|p| match (p.value.as_str(), p.value.as_f64()) {
             (Some(s), _) => s.to_string(),
             (None, Some(x)) => x.to_string(),
@@ -675,7 +675,7 @@ fn display_settings_helm_threshold_grace_pause_and_colour_changes() {
     out.clear();
     app.on_startup(&mut out);
     assert_eq!(out.len(), 1);
-    assert_eq!(&*out[0].var, "PNODEREPORTER_PID");
+    assert_eq!(&*out[0].key, "PNODEREPORTER_PID");
     assert_eq!(out[0].value.as_f64(), Some(4242.0));
     out.clear();
     app.iterate(1.0, &mut out);

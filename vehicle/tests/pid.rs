@@ -268,7 +268,7 @@ fn stale_inputs_give_pid_stale_and_zero_outputs() {
         feed_nav(&mut app, t);
         app.iterate(t, &mut out);
     }
-    let stale: Vec<_> = out.iter().filter(|p| &*p.var == "PID_STALE").collect();
+    let stale: Vec<_> = out.iter().filter(|p| &*p.key == "PID_STALE").collect();
     assert!(!stale.is_empty(), "no PID_STALE");
     let s = stale[0].value.as_str().unwrap();
     assert!(s.starts_with("Stale DesHdg:"), "{s}");
@@ -435,7 +435,7 @@ fn v22_simulation_mode_never_takes_control() {
     let mut out = Vec::new();
     app.iterate(0.2, &mut out);
     assert!(
-        !out.iter().any(|p| p.var.starts_with("DESIRED_")),
+        !out.iter().any(|p| p.key.starts_with("DESIRED_")),
         "the all-stop is posted once: {out:?}"
     );
 }
@@ -487,7 +487,7 @@ fn v22_debug_reports_follow_the_loops_in_the_cpp_format() {
         "{hdg}"
     );
     // Debug reports come after the actuator postings.
-    let ix = |v: &str| out.iter().position(|p| &*p.var == v).unwrap();
+    let ix = |v: &str| out.iter().position(|p| &*p.key == v).unwrap();
     assert!(ix("DESIRED_THRUST") < ix("PID_SPD_DEBUG"));
 }
 
@@ -518,7 +518,7 @@ fn v22_mail_is_stamped_with_the_engine_clock() {
     app.iterate(12.5, &mut out);
     let stale: Vec<&str> = out
         .iter()
-        .filter(|p| &*p.var == "PID_STALE")
+        .filter(|p| &*p.key == "PID_STALE")
         .filter_map(|p| p.value.as_str())
         .collect();
     assert_eq!(
@@ -548,11 +548,11 @@ fn v22_max_saturation_debug_postings_precede_each_report() {
     // loop saturates ("Z:"); the pitch loop's 0.5 x 0.262 = 0.131 rad is within 13 deg.
     let sats: Vec<&str> = out
         .iter()
-        .filter(|p| &*p.var == "PID_MAX_SAT_DEP_DEBUG")
+        .filter(|p| &*p.key == "PID_MAX_SAT_DEP_DEBUG")
         .map(|p| p.value.as_str().unwrap())
         .collect();
     assert_eq!(sats, ["Z:"]);
-    let ix = |v: &str| out.iter().position(|p| &*p.var == v).unwrap();
+    let ix = |v: &str| out.iter().position(|p| &*p.key == v).unwrap();
     assert!(ix("PID_MAX_SAT_DEP_DEBUG") < ix("PID_DEP_DEBUG"));
     // A rudder limit of 50 saturates the heading loop: an empty debug string (ScalarPID's
     // own debug text is never switched on at a2a9b716), posted before PID_HDG_DEBUG.
@@ -562,6 +562,6 @@ fn v22_max_saturation_debug_postings_precede_each_report() {
         last_posting(&out, "PID_MAX_SAT_HDG_DEBUG").and_then(|v| v.as_str()),
         Some("")
     );
-    let ix = |v: &str| out.iter().position(|p| &*p.var == v).unwrap();
+    let ix = |v: &str| out.iter().position(|p| &*p.key == v).unwrap();
     assert!(ix("PID_MAX_SAT_HDG_DEBUG") < ix("PID_HDG_DEBUG"));
 }

@@ -663,7 +663,7 @@ fn dual_state_posts_the_drifting_ground_truth_beside_the_drift_free_nav() {
         t += 0.1;
         out.clear();
         sim.iterate(t, &mut out);
-        if !out.iter().any(|p| &*p.var == "NAV_X") {
+        if !out.iter().any(|p| &*p.key == "NAV_X") {
             out.clear();
             t += 0.1;
             sim.iterate(t, &mut out);
@@ -731,7 +731,7 @@ fn run_secs(sim: &mut Simulator, t0: f64, n: u32) -> Vec<vehicle::moos::Posting>
 
 fn all_of(out: &[vehicle::moos::Posting], var: &str) -> Vec<vehicle::Value> {
     out.iter()
-        .filter(|p| &*p.var == var)
+        .filter(|p| &*p.key == var)
         .map(|p| p.value.clone())
         .collect()
 }
@@ -750,7 +750,7 @@ fn usm_reset_counts_start_pos_lines_and_sets_only_the_given_fields() {
     let p = sim
         .on_mail("USM_RESET", ValueRef::String("x=5, y=6"), 0.0)
         .unwrap();
-    assert_eq!((&*p.var, p.value.as_f64()), ("USM_RESET_COUNT", Some(2.0)));
+    assert_eq!((&*p.key, p.value.as_f64()), ("USM_RESET_COUNT", Some(2.0)));
     let st = sim.state();
     assert_eq!((st.x, st.y, st.heading), (5.0, 6.0, 30.0));
     // The older positional form x,y,heading,speed,depth.
@@ -1004,7 +1004,7 @@ fn trim_and_buoyancy_handshakes_report_as_the_cpp() {
         .on_mail("BUOYANCY_CONTROL", ValueRef::String("true"), 0.0)
         .unwrap();
     assert_eq!(
-        (&*p.var, p.value.as_str()),
+        (&*p.key, p.value.as_str()),
         (
             "BUOYANCY_REPORT",
             Some("status=1,error=0,progressing,buoyancy=0.0")
@@ -1032,7 +1032,7 @@ fn trim_and_buoyancy_handshakes_report_as_the_cpp() {
             "status=2,error=0,completed,trim_pitch=0.00000,trim_roll=0.0".into()
         )]
     );
-    let ix = |v: &str| out.iter().position(|p| &*p.var == v).unwrap();
+    let ix = |v: &str| out.iter().position(|p| &*p.key == v).unwrap();
     assert!(ix("BUOYANCY_REPORT") < ix("USM_X").max(ix("TRIM_REPORT") + 1));
 }
 
