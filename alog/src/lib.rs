@@ -19,11 +19,9 @@
 #![warn(missing_docs)]
 
 mod naming;
-mod number;
 mod reader;
 mod writer;
 
 pub use naming::{ctime, log_root};
-pub use number::{fmt_fixed, fmt_g};
 pub use reader::{Alog, AlogError, Entry, Value, parse, parse_line};
 pub use writer::{AlogWriter, BANNER_RULE, Header, LogValue};

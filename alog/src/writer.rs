@@ -2,7 +2,7 @@
 
 use std::io::{self, Write};
 
-use crate::number::{fmt_fixed, fmt_g};
+use moos_types::fmt::{fixed as fmt_fixed, g as fmt_g};
 
 /// The banner's first and last line: 59 `%`.
 pub const BANNER_RULE: &str = "%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%";

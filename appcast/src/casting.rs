@@ -16,7 +16,7 @@
 use std::collections::BTreeMap;
 
 use crate::appcast::AppCast;
-use crate::cstr::{atof, atoi, chomp, fmt_g, is_numeric, trim};
+use crate::cstr::{atof, atoi, chomp, is_numeric, trim};
 
 /// The variables every appcasting app subscribes to (interval 0) in `RegisterVariables()`.
 pub const REGISTERED_VARIABLES: [&str; 4] = [
@@ -302,7 +302,7 @@ impl AppCasting {
         if time_warp <= 0.0 {
             let msg = format!(
                 "MOOSTimeWarp invalid: {}. Using 0.001 instead.",
-                fmt_g(time_warp)
+                moos_types::fmt::g_string(time_warp, 6)
             );
             self.report_config_warning(&msg);
             self.time_warp = FALLBACK_TIME_WARP;

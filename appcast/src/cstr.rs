@@ -187,40 +187,6 @@ pub(crate) fn atoi(s: &str) -> i32 {
     long as i32
 }
 
-/// A `double` written to a default-formatted C++ stream (`%g` with 6 significant digits):
-/// trailing zeros dropped, scientific form (`1e+07`, `1.5e-05`) below 1e-4 or from 1e6 up.
-pub(crate) fn fmt_g(x: f64) -> String {
-    if x.is_nan() {
-        return if x.is_sign_negative() { "-nan" } else { "nan" }.to_string();
-    }
-    if x.is_infinite() {
-        return if x < 0.0 { "-inf" } else { "inf" }.to_string();
-    }
-    if x == 0.0 {
-        return if x.is_sign_negative() { "-0" } else { "0" }.to_string();
-    }
-    let sci = format!("{:.5e}", x);
-    let (mantissa, exp) = sci.split_once('e').unwrap_or((&sci, "0"));
-    let exp: i32 = exp.parse().unwrap_or(0);
-    if !(-4..6).contains(&exp) {
-        let mantissa = strip_zeros(mantissa);
-        let sign = if exp < 0 { '-' } else { '+' };
-        format!("{mantissa}e{sign}{:02}", exp.abs())
-    } else {
-        let decimals = (5 - exp).max(0) as usize;
-        strip_zeros(&format!("{:.*}", decimals, x)).to_string()
-    }
-}
-
-/// Drops the trailing zeros of a decimal fraction, and the point if nothing is left after it.
-fn strip_zeros(s: &str) -> &str {
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.')
-    } else {
-        s
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -293,21 +259,5 @@ mod tests {
         // Beyond a long: LONG_MAX, whose low 32 bits are all ones.
         assert_eq!(atoi("99999999999999999999999"), -1);
         assert_eq!(atoi("-99999999999999999999999"), 0);
-    }
-
-    #[test]
-    fn fmt_g_matches_the_default_stream_format() {
-        assert_eq!(fmt_g(0.0), "0");
-        assert_eq!(fmt_g(-0.0), "-0");
-        assert_eq!(fmt_g(-1.0), "-1");
-        assert_eq!(fmt_g(-0.5), "-0.5");
-        assert_eq!(fmt_g(0.001), "0.001");
-        assert_eq!(fmt_g(0.0001), "0.0001");
-        assert_eq!(fmt_g(0.00001), "1e-05");
-        assert_eq!(fmt_g(-123456.0), "-123456");
-        assert_eq!(fmt_g(-1234567.0), "-1.23457e+06");
-        assert_eq!(fmt_g(1.0 / 3.0), "0.333333");
-        assert_eq!(fmt_g(-2.5e-7), "-2.5e-07");
-        assert_eq!(fmt_g(f64::NEG_INFINITY), "-inf");
     }
 }

@@ -44,7 +44,8 @@ mod common;
 mod constant_depth;
 mod constant_heading;
 mod constant_speed;
-pub mod fmt;
+/// MOOS number formatting (the workspace's one set of helpers).
+pub use moos_types::fmt;
 mod go_to_depth;
 pub mod hints;
 mod loiter;

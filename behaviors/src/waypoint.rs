@@ -945,9 +945,9 @@ impl Waypoint {
             stat.push_str(",cycles=");
             crate::fmt::uint(&mut stat, u64::from(self.cycles));
             stat.push_str(",dist=");
-            crate::fmt::std_fixed(&mut stat, dist, 0);
+            crate::fmt::fixed(&mut stat, dist, 0);
             stat.push_str(",eta=");
-            crate::fmt::std_fixed(&mut stat, eta, 0);
+            crate::fmt::fixed(&mut stat, eta, 0);
             let var = self.post_names()[0].clone();
             out.post(var, stat);
         }

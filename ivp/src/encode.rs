@@ -239,17 +239,7 @@ fn push_uint(out: &mut String, v: u64) {
 /// MOOS `dstringCompact(doubleToString(v))`: 5 decimals, then trailing zeros and a trailing
 /// point dropped.
 pub(crate) fn push_compact5(out: &mut String, v: f64) {
-    use std::fmt::Write;
-    let start = out.len();
-    let _ = write!(out, "{v:.5}");
-    let keep = out[start..]
-        .trim_end_matches('0')
-        .trim_end_matches('.')
-        .len();
-    out.truncate(start + keep);
-    if out.len() == start {
-        out.push('0');
-    }
+    moos_types::fmt::dstring_compact(out, v, 5);
 }
 
 /// One weight as the C++ writer prints it (see the module docs).

@@ -16,7 +16,9 @@
 
 #![warn(missing_docs)]
 
-use std::fmt;
+pub mod fmt;
+
+use std::fmt as stdfmt;
 
 /// A MOOS variable's value.
 #[derive(Debug, Clone, PartialEq)]
@@ -79,9 +81,9 @@ impl From<String> for Value {
     }
 }
 
-impl fmt::Display for Value {
+impl stdfmt::Display for Value {
     /// Doubles as Rust prints them, strings as they are, binary data as `<N bytes>`.
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+    fn fmt(&self, f: &mut stdfmt::Formatter<'_>) -> stdfmt::Result {
         match self {
             Value::Double(x) => write!(f, "{x}"),
             Value::String(s) => f.write_str(s),

@@ -143,14 +143,14 @@ pub fn status_text(
     subscribed: &std::collections::BTreeSet<String>,
 ) -> String {
     let mut s = String::from("AppErrorFlag=false,Uptime=");
-    alog::fmt_g(&mut s, uptime, 6);
+    moos_types::fmt::g(&mut s, uptime, 6);
     let l = load.unwrap_or_default();
     s.push_str(",cpuload=");
-    alog::fmt_g(&mut s, l.cpu_percent, 4);
+    moos_types::fmt::g(&mut s, l.cpu_percent, 4);
     s.push_str(",memory_kb=");
-    alog::fmt_g(&mut s, l.memory_kb as f64, 4);
+    moos_types::fmt::g(&mut s, l.memory_kb as f64, 4);
     s.push_str(",memory_max_kb=");
-    alog::fmt_g(&mut s, l.memory_max_kb as f64, 4);
+    moos_types::fmt::g(&mut s, l.memory_max_kb as f64, 4);
     s.push_str(",MOOSName=");
     s.push_str(name);
     s.push_str(",Publishing=\"");

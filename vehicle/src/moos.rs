@@ -1,7 +1,5 @@
 //! MOOS-facing value types shared by the app adapters, and MOOS-IvP number formatting.
 
-use std::fmt::Write as _;
-
 /// A value arriving as MOOS mail, borrowed: the workspace's one view of a MOOS value.
 pub use moos_types::ValueRef;
 
@@ -18,64 +16,6 @@ pub fn last_posting<'a>(postings: &'a [Posting], var: &str) -> Option<&'a Value>
         .rev()
         .find(|p| p.key == var)
         .map(|p| &p.value)
-}
-
-/// Appends `val` formatted like MOOS-IvP's `doubleToString(val, digits)`: fixed-point with
-/// `digits` decimals (C `%.Nf`).
-///
-/// ```
-/// let mut s = String::new();
-/// vehicle::moos::push_double(&mut s, 102.0, 5);
-/// assert_eq!(s, "102.00000");
-/// ```
-pub fn push_double(out: &mut String, val: f64, digits: usize) {
-    // Writing to a String cannot fail.
-    let _ = write!(out, "{val:.digits$}");
-}
-
-/// Appends `val` formatted like MOOS-IvP's `dstringCompact(doubleToString(val, digits))`:
-/// fixed-point, then trailing zeros and a trailing point removed. Unlike
-/// [`push_double_x`] a negative value that rounds to zero stays `-0`.
-///
-/// ```
-/// let mut s = String::new();
-/// vehicle::moos::push_double_compact(&mut s, -1e-12, 8);
-/// assert_eq!(s, "-0");
-/// ```
-pub fn push_double_compact(out: &mut String, val: f64, digits: usize) {
-    let start = out.len();
-    push_double(out, val, digits);
-    if out[start..].contains('.') {
-        let trimmed = out[start..]
-            .trim_end_matches('0')
-            .trim_end_matches('.')
-            .len();
-        out.truncate(start + trimmed);
-    }
-}
-
-/// Appends `val` formatted like MOOS-IvP's `doubleToStringX(val, digits)`: fixed-point with
-/// `digits` decimals, then trailing zeros and a trailing point removed, and `-0` written `0`.
-///
-/// ```
-/// let mut s = String::new();
-/// vehicle::moos::push_double_x(&mut s, 12.50, 2);
-/// assert_eq!(s, "12.5");
-/// ```
-pub fn push_double_x(out: &mut String, val: f64, digits: usize) {
-    let start = out.len();
-    push_double_compact(out, val, digits);
-    if &out[start..] == "-0" {
-        out.truncate(start);
-        out.push('0');
-    }
-}
-
-/// `doubleToStringX` as a new string; see [`push_double_x`].
-pub fn double_x(val: f64, digits: usize) -> String {
-    let mut s = String::new();
-    push_double_x(&mut s, val, digits);
-    s
 }
 
 /// MOOS-IvP `parseString(s, sep)`: the pieces between separators; a separator at the very
@@ -142,47 +82,19 @@ pub fn tok_string_parse<'a>(s: &'a str, key: &str) -> &'a str {
     ""
 }
 
-/// A double as a C++ stream writes it by default (`%g`, 6 significant digits).
-pub(crate) fn stream_double(v: f64) -> String {
-    if v == 0.0 || !v.is_finite() {
-        return if v == 0.0 { "0".into() } else { v.to_string() };
-    }
-    let sci = format!("{v:.5e}");
-    let (mant, exp) = sci.split_once('e').unwrap_or((&sci, "0"));
-    let exp: i32 = exp.parse().unwrap_or(0);
-    let trim = |s: &str| -> String {
-        if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.').to_string()
-        } else {
-            s.to_string()
-        }
-    };
-    if !(-4..6).contains(&exp) {
-        format!(
-            "{}e{}{:02}",
-            trim(mant),
-            if exp < 0 { '-' } else { '+' },
-            exp.abs()
-        )
-    } else {
-        let digits = usize::try_from(5 - exp).unwrap_or(0);
-        trim(&format!("{v:.digits$}"))
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn double_x_compacts() {
-        assert_eq!(double_x(0.0, 2), "0");
-        assert_eq!(double_x(-0.001, 2), "0");
-        assert_eq!(double_x(100.0, 2), "100");
-        assert_eq!(double_x(12.34567, 2), "12.35");
-        assert_eq!(double_x(-20.5, 2), "-20.5");
-        assert_eq!(double_x(43.825300001, 8), "43.8253");
-        assert_eq!(double_x(7.0, 0), "7");
+        assert_eq!(moos_types::fmt::compact_string(0.0, 2), "0");
+        assert_eq!(moos_types::fmt::compact_string(-0.001, 2), "0");
+        assert_eq!(moos_types::fmt::compact_string(100.0, 2), "100");
+        assert_eq!(moos_types::fmt::compact_string(12.34567, 2), "12.35");
+        assert_eq!(moos_types::fmt::compact_string(-20.5, 2), "-20.5");
+        assert_eq!(moos_types::fmt::compact_string(43.825300001, 8), "43.8253");
+        assert_eq!(moos_types::fmt::compact_string(7.0, 0), "7");
     }
 
     #[test]

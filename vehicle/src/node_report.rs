@@ -79,7 +79,7 @@ use std::sync::Arc;
 
 use crate::angle::{angle360, heading_to_radians};
 use crate::config::{ConfigError, Param, apply_params, strict};
-use crate::moos::{Posting, ValueRef, push_double_x};
+use crate::moos::{Posting, ValueRef};
 
 const APP: &str = "pNodeReporter";
 
@@ -508,10 +508,10 @@ impl RiderConfig {
             RiderPolicy::Always => s.push_str("always"),
             RiderPolicy::Updated { period_s } if period_s > 0.0 => {
                 s.push_str("updated+");
-                push_double_x(&mut s, period_s, 2);
+                moos_types::fmt::compact(&mut s, period_s, 2);
             }
             RiderPolicy::Updated { .. } => s.push_str("updated"),
-            RiderPolicy::Every { period_s } => push_double_x(&mut s, period_s, 2),
+            RiderPolicy::Every { period_s } => moos_types::fmt::compact(&mut s, period_s, 2),
         }
         if !self.field.is_empty() {
             s.push_str(", rfld=");
@@ -667,7 +667,7 @@ impl HelmInfo {
             None => return "NOHELM-EVER".to_string(),
             Some(last) if now - last > nohelm_threshold => {
                 let mut m = String::from("NOHELM-");
-                crate::moos::push_double(&mut m, now - last, 0);
+                moos_types::fmt::fixed(&mut m, now - last, 0);
                 return m;
             }
             Some(_) => {}
@@ -725,7 +725,7 @@ pub struct ReportInputs<'a> {
 pub fn write_report(out: &mut String, cfg: &NodeReportConfig, r: &ReportInputs<'_>) {
     let num = |out: &mut String, key: &str, v: f64, digits: usize| {
         out.push_str(key);
-        push_double_x(out, v, digits);
+        moos_types::fmt::compact(out, v, digits);
     };
     let text = |out: &mut String, key: &str, v: &str| {
         if !v.is_empty() {
@@ -1178,12 +1178,12 @@ impl NodeReporter {
         line(
             out,
             "tr_interval:",
-            &crate::moos::stream_double(self.term_report_interval),
+            &moos_types::fmt::g_string(self.term_report_interval, 6),
         );
         line(out, "extrap_enabled:    ", b(cfg.extrap_enabled));
-        let pos_thresh = crate::moos::double_x(cfg.extrap_pos_thresh_m, 2);
+        let pos_thresh = moos_types::fmt::compact_string(cfg.extrap_pos_thresh_m, 2);
         line(out, "extrap_pos_thresh: ", &pos_thresh);
-        let hdg_thresh = crate::moos::double_x(cfg.extrap_hdg_thresh_deg, 2);
+        let hdg_thresh = moos_types::fmt::compact_string(cfg.extrap_hdg_thresh_deg, 2);
         line(out, "extrap_hdg_thresh: ", &hdg_thresh);
         // As the C++: the position threshold under the max-gap label.
         line(out, "extrap_max_gap:    ", &pos_thresh);
@@ -1193,7 +1193,7 @@ impl NodeReporter {
         line(out, "     Vehicle name: ", &self.name);
         line(out, "     Vehicle type: ", &cfg.platform_type);
         let mut len = String::new();
-        crate::moos::push_double(&mut len, self.length(), 1);
+        moos_types::fmt::fixed(&mut len, self.length(), 1);
         line(out, "   Vehicle length: ", &len);
         line(
             out,
@@ -1206,10 +1206,10 @@ impl NodeReporter {
         out.push_str("\nBlackout Configuration:\n");
         out.push_str(RULE);
         let mut v = String::new();
-        crate::moos::push_double(&mut v, self.blackout_s, 2);
+        moos_types::fmt::fixed(&mut v, self.blackout_s, 2);
         line(out, "Blackout interval: ", &v);
         v.clear();
-        crate::moos::push_double(&mut v, cfg.blackout_variance, 2);
+        moos_types::fmt::fixed(&mut v, cfg.blackout_variance, 2);
         line(out, "Blackout variance: ", &v);
         out.push_str("\nAltNav Config and Status:\n");
         out.push_str(RULE);
@@ -1445,7 +1445,7 @@ impl NodeReporter {
             return r;
         }
         let mut report = format!("platform={},utc_time=", self.name);
-        crate::moos::push_double(&mut report, now, 5);
+        moos_types::fmt::fixed(&mut report, now, 5);
         report.push(',');
         report.push_str(&r);
         report
@@ -1630,7 +1630,7 @@ impl NodeReporter {
                         state.value = match (s, d) {
                             ("", Some(x)) => {
                                 let mut v = String::new();
-                                crate::moos::push_double(&mut v, x, cfg.precision);
+                                moos_types::fmt::fixed(&mut v, x, cfg.precision);
                                 v
                             }
                             _ => s.to_string(),
@@ -1647,7 +1647,7 @@ impl NodeReporter {
                 st.value = match (value.as_str(), d) {
                     (None, Some(x)) => {
                         let mut v = String::new();
-                        crate::moos::push_double_compact(&mut v, x, 8);
+                        moos_types::fmt::dstring_compact(&mut v, x, 8);
                         v
                     }
                     _ => s.to_string(),
@@ -1820,7 +1820,7 @@ impl NodeReporter {
                 .update(self.nav.x.unwrap_or(0.0), self.nav.y.unwrap_or(0.0))
         {
             let mut msg = format!("mhash={},ext=", self.mhash);
-            push_double_x(&mut msg, ext, 1);
+            moos_types::fmt::compact(&mut msg, ext, 1);
             out.push(Posting::text(&*self.var_mhash, msg));
         }
     }
@@ -1924,10 +1924,10 @@ mod appcast_tests {
 
     #[test]
     fn appcast_helpers() {
-        assert_eq!(crate::moos::stream_double(0.6), "0.6");
-        assert_eq!(crate::moos::stream_double(2.0), "2");
-        assert_eq!(crate::moos::stream_double(1234567.0), "1.23457e+06");
-        assert_eq!(crate::moos::stream_double(0.00001), "1e-05");
+        assert_eq!(moos_types::fmt::g_string(0.6, 6), "0.6");
+        assert_eq!(moos_types::fmt::g_string(2.0, 6), "2");
+        assert_eq!(moos_types::fmt::g_string(1234567.0, 6), "1.23457e+06");
+        assert_eq!(moos_types::fmt::g_string(0.00001, 6), "1e-05");
         let mut s = String::new();
         write_block(&mut s, "L: ", "", 50);
         assert_eq!(s, "L: ");

@@ -74,7 +74,7 @@ use std::sync::Arc;
 
 use crate::angle::{angle180, angle360};
 use crate::config::{ConfigError, Param, apply_params, strict};
-use crate::moos::{Posting, ValueRef, double_x};
+use crate::moos::{Posting, ValueRef};
 
 const APP: &str = "pMarinePIDV22";
 const DIFF_HISTORY: usize = 9;
@@ -848,7 +848,6 @@ impl MarinePid {
     /// missing gain, `<KEY> not in Mission File`), which coug reports through
     /// [`PidConfig::from_params_lenient`].
     pub fn appcast_body(&self, now: f64, out: &mut String) {
-        use crate::moos::push_double;
         let elapsed = now - self.start_time.unwrap_or(now);
         let freq = if elapsed > 0.0 {
             self.iterations as f64 / elapsed
@@ -860,10 +859,10 @@ impl MarinePid {
         let stale = self.state.stale;
         let over = self.inputs.manual_override;
         out.push_str("Frequency:");
-        push_double(out, freq, 3);
+        moos_types::fmt::fixed(out, freq, 3);
         out.push('\n');
         out.push_str("Speed Factor:    ");
-        out.push_str(&double_x(cfg.speed_factor, 5));
+        out.push_str(&moos_types::fmt::compact_string(cfg.speed_factor, 5));
         out.push('\n');
         out.push_str("PID has_control: ");
         out.push_str(b(!over && !stale));
@@ -877,7 +876,7 @@ impl MarinePid {
         out.push_str("Thrust Cap Enabled: ");
         out.push_str(b(cfg.enable_thrust_cap));
         out.push_str("\nThrust Cap: ");
-        push_double(out, self.thrust_cap, 5);
+        moos_types::fmt::fixed(out, self.thrust_cap, 5);
         out.push('\n');
         let gains = |out: &mut String, prefix: &str, g: &Gains| {
             // The `=` lines up: the label is padded to the longest (`..._INTEGRAL_LIMIT`).
@@ -890,13 +889,13 @@ impl MarinePid {
             ] {
                 let label = format!("{prefix}{name}");
                 out.push_str(&format!("{label:<width$} = "));
-                out.push_str(&double_x(v, 3));
+                out.push_str(&moos_types::fmt::compact_string(v, 3));
                 out.push('\n');
             }
         };
         let max = |out: &mut String, label: &str, v: f64| {
             out.push_str(label);
-            out.push_str(&double_x(v, 5));
+            out.push_str(&moos_types::fmt::compact_string(v, 5));
             out.push('\n');
         };
         gains(out, "YAW_PID_", &cfg.yaw);
@@ -1045,7 +1044,7 @@ impl MarinePid {
             if let Some(a) = a {
                 out.push(Posting::text(
                     &self.stale_var,
-                    format!("Stale {label}:{}", double_x(a, 3)),
+                    format!("Stale {label}:{}", moos_types::fmt::compact_string(a, 3)),
                 ));
             }
         }

@@ -67,7 +67,7 @@ impl Wind {
     /// label=windmod,edge_color=off,vertex_color=off,fill_color=green,fill_transparency=0.2");
     /// ```
     pub fn arrow_spec(&self) -> String {
-        let ang = crate::moos::double_x(crate::angle::angle360(self.dir_deg + 180.0), 1);
+        let ang = moos_types::fmt::compact_string(crate::angle::angle360(self.dir_deg + 180.0), 1);
         format!(
             "ctrx=0,ctry=0,ang={ang},bwid=5,blen=20,hwid=10,hlen=10,label=windmod,\
              edge_color=off,vertex_color=off,fill_color=green,fill_transparency=0.2"
@@ -126,8 +126,8 @@ impl Polar {
             .map(|(h, v)| {
                 format!(
                     "{},{}",
-                    crate::moos::double_x(*h, 1),
-                    crate::moos::double_x(*v, 2)
+                    moos_types::fmt::compact_string(*h, 1),
+                    moos_types::fmt::compact_string(*v, 2)
                 )
             })
             .collect::<Vec<_>>()

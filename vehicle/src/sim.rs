@@ -103,7 +103,7 @@ use std::sync::Arc;
 use crate::angle::{angle180, angle360, rel_ang};
 use crate::config::{ConfigError, Param, apply_params, parse_number, strict};
 use crate::geodesy::LocalGrid;
-use crate::moos::{Posting, ValueRef, double_x};
+use crate::moos::{Posting, ValueRef};
 
 const APP: &str = "uSimMarineV22";
 
@@ -1238,9 +1238,8 @@ impl Simulator {
     /// `Improper DEP PID Setting`, and each unhandled line), which coug reports through
     /// [`SimConfig::from_params_lenient`].
     pub fn appcast_body(&self, _now: f64, out: &mut String) {
-        use crate::moos::{push_double_x, stream_double};
         let b = |v: bool| if v { "true" } else { "false" };
-        let x = double_x;
+        let x = moos_types::fmt::compact_string;
         let line = |out: &mut String, label: &str, value: &str| {
             out.push_str(label);
             out.push_str(value);
@@ -1398,7 +1397,7 @@ impl Simulator {
         out.push_str(b(map.using_thrust_factor()));
         if map.using_thrust_factor() {
             out.push_str(" (");
-            push_double_x(out, map.thrust_factor, 4);
+            moos_types::fmt::compact(out, map.thrust_factor, 4);
             out.push(')');
         }
         out.push('\n');
@@ -1469,7 +1468,11 @@ impl Simulator {
             "     Max Depth Rate Speed: ",
             &x(cfg.max_depth_rate_speed, 6),
         );
-        line(out, "              Water Depth: ", &stream_double(wd));
+        line(
+            out,
+            "              Water Depth: ",
+            &moos_types::fmt::g_string(wd, 6),
+        );
         let holes = cfg.wormholes.len();
         if holes > 0 {
             out.push_str("\nWormHole Information:\n---------------------\n");
@@ -1485,7 +1488,7 @@ impl Simulator {
                 out.push_str(", connection=");
                 out.push_str(connection);
                 out.push_str(", delay=");
-                out.push_str(&double_x(h.delay_s, 5));
+                out.push_str(&moos_types::fmt::compact_string(h.delay_s, 5));
                 out.push_str(", id_change=");
                 out.push_str(if h.id_change { "true" } else { "false" });
                 out.push('\n');
@@ -1858,10 +1861,10 @@ impl Simulator {
             let (dx, dy) = (self.inputs.drift_x, self.inputs.drift_y);
             let summary = format!(
                 "ang={}, mag={}, xmag={}, ymag={}",
-                double_x(rel_ang(0.0, 0.0, dx, dy), 2),
-                double_x(dx.hypot(dy), 2),
-                double_x(dx, 3),
-                double_x(dy, 3)
+                moos_types::fmt::compact_string(rel_ang(0.0, 0.0, dx, dy), 2),
+                moos_types::fmt::compact_string(dx.hypot(dy), 2),
+                moos_types::fmt::compact_string(dx, 3),
+                moos_types::fmt::compact_string(dy, 3)
             );
             out.push(Posting::text(&*self.vars.drift_summary, summary));
             self.drift_fresh = false;
@@ -1943,15 +1946,19 @@ impl Simulator {
             out.push(Posting::double(&*v.lon, lon));
         }
         if self.cfg.post_navpos_summary {
-            let mut s = format!("x={},y={}", double_x(nav.x, 3), double_x(nav.y, 3));
+            let mut s = format!(
+                "x={},y={}",
+                moos_types::fmt::compact_string(nav.x, 3),
+                moos_types::fmt::compact_string(nav.y, 3)
+            );
             if let (Some(lat), Some(lon)) = (nav.lat, nav.lon)
                 && lat != 0.0
                 && lon != 0.0
             {
                 s.push_str(&format!(
                     ",lat={},lon={}",
-                    double_x(lat, 7),
-                    double_x(lon, 7)
+                    moos_types::fmt::compact_string(lat, 7),
+                    moos_types::fmt::compact_string(lon, 7)
                 ));
             }
             out.push(Posting::text(&*v.navpos_summary, s));
@@ -2039,7 +2046,11 @@ mod appcast_tests {
         let lines: Vec<&str> = body.split('\n').collect();
         // The drifted position is the simulator's; the (X,Y) row is checked against it.
         let nav = *sim.state();
-        let xy = format!("{},{}", double_x(nav.x, 2), double_x(nav.y, 2));
+        let xy = format!(
+            "{},{}",
+            moos_types::fmt::compact_string(nav.x, 2),
+            moos_types::fmt::compact_string(nav.y, 2)
+        );
         assert_eq!(
             lines[..9],
             [
