@@ -134,6 +134,7 @@ pub fn parse_line(line: &str) -> Option<Entry> {
 }
 
 fn parse_line_marked(line: &str, marked: bool) -> Option<Entry> {
+    use moos_types::text::is_number;
     let (t, rest) = token(line)?;
     if !is_number(t) {
         return None;
@@ -176,55 +177,21 @@ fn token(s: &str) -> Option<(&str, &str)> {
     Some((&s[..end], &s[end..]))
 }
 
-/// Plain decimal notation: optional sign, digits with at most one point, optional exponent.
-fn is_number(s: &str) -> bool {
-    let b = s.as_bytes();
-    let mut i = 0;
-    if i < b.len() && (b[i] == b'+' || b[i] == b'-') {
-        i += 1;
-    }
-    let mut digits = 0;
-    let mut point = false;
-    while i < b.len() {
-        match b[i] {
-            b'0'..=b'9' => digits += 1,
-            b'.' if !point => point = true,
-            _ => break,
-        }
-        i += 1;
-    }
-    if digits == 0 {
-        return false;
-    }
-    if i < b.len() && (b[i] == b'e' || b[i] == b'E') {
-        i += 1;
-        if i < b.len() && (b[i] == b'+' || b[i] == b'-') {
-            i += 1;
-        }
-        let start = i;
-        while i < b.len() && b[i].is_ascii_digit() {
-            i += 1;
-        }
-        if i == start {
-            return false;
-        }
-    }
-    i == b.len()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn numbers() {
-        for s in ["1", "-2.5", "+3.", ".5", "1e5", "2.5E-3"] {
-            assert!(is_number(s), "{s}");
-        }
-        for s in [
-            "", "-", ".", "1e", "nan", "inf", "1.2.3", "12a", "0x10", "true",
-        ] {
-            assert!(!is_number(s), "{s}");
-        }
+    fn unmarked_values_are_doubles_when_moos_reads_them_as_numbers() {
+        let v = |raw: &str| parse_line(&format!("1.0 X src {raw}")).unwrap().value;
+        assert_eq!(v("-2.5"), Value::Double(-2.5));
+        assert_eq!(v("+3."), Value::Double(3.0));
+        // MOOS `isNumber` has no exponent.
+        assert_eq!(v("1e5"), Value::String("1e5".into()));
+        assert_eq!(v("true"), Value::String("true".into()));
+        assert!(
+            parse_line("1e3 X src 1").is_none(),
+            "a time must be a number"
+        );
     }
 }

@@ -5,7 +5,7 @@
 use std::collections::{BTreeMap, VecDeque};
 use std::fmt::Write as _;
 
-use crate::cstr::{atoi, chomp, trim};
+use moos_types::text::{atoi, chomp, trim};
 
 /// Separator between the `param=value` fields of an `APPCAST` string.
 pub const OUTER_SEPARATOR: &str = "!@#";

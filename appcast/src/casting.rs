@@ -16,7 +16,7 @@
 use std::collections::BTreeMap;
 
 use crate::appcast::AppCast;
-use crate::cstr::{atof, atoi, chomp, is_numeric, trim};
+use moos_types::text::{atof, atoi, chomp, moos_is_numeric as is_numeric, trim};
 
 /// The variables every appcasting app subscribes to (interval 0) in `RegisterVariables()`.
 pub const REGISTERED_VARIABLES: [&str; 4] = [

@@ -60,7 +60,6 @@
 
 pub mod appcast;
 pub mod casting;
-mod cstr;
 pub mod table;
 
 pub use appcast::AppCast;

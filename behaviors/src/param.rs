@@ -11,7 +11,7 @@ use crate::behavior::ParamError;
 /// assert!(!behaviors::param::is_number("1e3"));
 /// ```
 pub fn is_number(s: &str) -> bool {
-    geometry::is_number(s)
+    moos_types::text::is_number(s)
 }
 
 /// C's `atof` as MOOS reads unvalidated numbers (see [`geometry::atof`]).

@@ -58,80 +58,8 @@ pub(crate) fn lower(s: &str) -> Cow<'_, str> {
     }
 }
 
-/// MOOS `isNumber`: optional leading `+` or `-`, decimal digits with at most one `.`, at least
-/// one digit, no exponent. Surrounding blanks are allowed.
-pub fn is_number(s: &str) -> bool {
-    let s = s.trim();
-    let body = s
-        .strip_prefix('+')
-        .or_else(|| s.strip_prefix('-'))
-        .unwrap_or(s);
-    let mut digits = 0usize;
-    let mut dots = 0usize;
-    for b in body.bytes() {
-        match b {
-            b'0'..=b'9' => digits += 1,
-            b'.' => {
-                dots += 1;
-                if dots > 1 {
-                    return false;
-                }
-            }
-            _ => return false,
-        }
-    }
-    digits > 0
-}
-
-/// The number at the start of `s` as C's `atof` reads it (what MOOS uses where it does not
-/// validate): leading blanks skipped, then the longest `[+-]digits[.digits][e[+-]digits]`
-/// prefix; 0 when there is none.
-///
-/// ```
-/// assert_eq!(geometry::atof(" 12.5m"), 12.5);
-/// assert_eq!(geometry::atof("-3e2x"), -300.0);
-/// assert_eq!(geometry::atof("2e"), 2.0);
-/// assert_eq!(geometry::atof("5°"), 5.0);
-/// assert_eq!(geometry::atof("abc"), 0.0);
-/// ```
-pub fn atof(s: &str) -> f64 {
-    let t = s.trim_start();
-    let b = t.as_bytes();
-    let digits = |mut i: usize| {
-        let start = i;
-        while i < b.len() && b[i].is_ascii_digit() {
-            i += 1;
-        }
-        (i, i - start)
-    };
-    let mut i = usize::from(matches!(b.first(), Some(b'+' | b'-')));
-    let (after_int, int_digits) = digits(i);
-    i = after_int;
-    let mut frac_digits = 0;
-    if b.get(i) == Some(&b'.') {
-        let (after_frac, n) = digits(i + 1);
-        frac_digits = n;
-        if int_digits + n > 0 {
-            i = after_frac;
-        }
-    }
-    if int_digits + frac_digits == 0 {
-        return 0.0;
-    }
-    if matches!(b.get(i), Some(b'e' | b'E')) {
-        let sign = usize::from(matches!(b.get(i + 1), Some(b'+' | b'-')));
-        let (after_exp, n) = digits(i + 1 + sign);
-        if n > 0 {
-            i = after_exp;
-        }
-    }
-    // The prefix is ASCII, so `i` is a char boundary.
-    t[..i]
-        .parse::<f64>()
-        .ok()
-        .filter(|v| v.is_finite())
-        .unwrap_or(0.0)
-}
+/// MOOS `isNumber` and C `atof`: the workspace's one definition of each.
+pub use moos_types::text::{atof, is_number};
 
 /// Splits on `sep` outside double quotes, pieces untrimmed (MOOS `parseStringQ`).
 ///

@@ -266,40 +266,10 @@ pub fn field_match(a: &str, b: &str) -> bool {
     })
 }
 
-/// Whether `s` is a number as conditions read it: `[+-]digits[.digits][e[+-]digits]`.
+/// Whether `s` is a number as conditions read it: MOOS `isNumber` (no exponent), as the
+/// helm's `ParseNode` does.
 pub fn is_numeric(s: &str) -> bool {
-    let b = s.as_bytes();
-    let mut i = usize::from(matches!(b.first(), Some(b'+' | b'-')));
-    let start = i;
-    while i < b.len() && b[i].is_ascii_digit() {
-        i += 1;
-    }
-    let mut digits = i - start;
-    if i < b.len() && b[i] == b'.' {
-        i += 1;
-        let f = i;
-        while i < b.len() && b[i].is_ascii_digit() {
-            i += 1;
-        }
-        digits += i - f;
-    }
-    if digits == 0 {
-        return false;
-    }
-    if i < b.len() && (b[i] == b'e' || b[i] == b'E') {
-        i += 1;
-        if i < b.len() && (b[i] == b'+' || b[i] == b'-') {
-            i += 1;
-        }
-        let e = i;
-        while i < b.len() && b[i].is_ascii_digit() {
-            i += 1;
-        }
-        if i == e {
-            return false;
-        }
-    }
-    i == b.len()
+    moos_types::text::is_number(s)
 }
 
 fn is_word_char(c: char) -> bool {

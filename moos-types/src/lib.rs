@@ -17,6 +17,7 @@
 #![warn(missing_docs)]
 
 pub mod fmt;
+pub mod text;
 
 use std::fmt as stdfmt;
 

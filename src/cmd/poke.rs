@@ -4,7 +4,7 @@
 //! a string. A value in double quotes is a string, posted with its quotes as uPokeDB does
 //! (recorded traffic: `QNUM="42"` arrives as the 4-character string `"42"`).
 
-use anyhow::{Context, bail};
+use anyhow::bail;
 use clap::Args;
 use moosdb_client::Value;
 
@@ -30,15 +30,6 @@ pub struct Poke {
     pub value: Value,
 }
 
-/// True for text MOOS treats as a number (`MOOSIsNumeric`-like: a full float parse).
-fn is_numeric(s: &str) -> bool {
-    let t = s.trim();
-    !t.is_empty()
-        && t.parse::<f64>().is_ok()
-        && !t.eq_ignore_ascii_case("nan")
-        && !t.to_ascii_lowercase().contains("inf")
-}
-
 /// Parses `VAR=VALUE` / `VAR:=VALUE`.
 pub fn parse_poke(arg: &str) -> anyhow::Result<Poke> {
     let (var, value, forced) = match (arg.find(":="), arg.find('=')) {
@@ -50,11 +41,13 @@ pub fn parse_poke(arg: &str) -> anyhow::Result<Poke> {
     if var.is_empty() || var.contains(char::is_whitespace) {
         bail!("`{arg}`: bad variable name");
     }
-    let value = if !forced && !value.trim_start().starts_with('"') && is_numeric(value) {
-        Value::Double(value.trim().parse().context("number")?)
-    } else {
-        Value::from(value)
-    };
+    let value =
+        if !forced && !value.trim_start().starts_with('"') && moos_types::text::is_number(value) {
+            // uPokeDB: `isNumber` then `atof` (so `--5` reads as 0, as there).
+            Value::Double(moos_types::text::atof(value.trim()))
+        } else {
+            Value::from(value)
+        };
     Ok(Poke {
         var: var.to_string(),
         value,
@@ -103,7 +96,8 @@ mod tests {
             parse_poke("QNUM=\"42\"").unwrap().value,
             Value::from("\"42\"")
         );
-        assert_eq!(parse_poke("X=-1e3").unwrap().value, Value::Double(-1000.0));
+        // uPokeDB's `isNumber` has no exponent: a string, as there.
+        assert_eq!(parse_poke("X=-1e3").unwrap().value, Value::from("-1e3"));
         assert_eq!(parse_poke("X=nan").unwrap().value, Value::from("nan"));
         let p = parse_poke("DEPLOY=true").unwrap();
         assert_eq!(p.var, "DEPLOY");

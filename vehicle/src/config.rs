@@ -134,8 +134,7 @@ impl Param<'_> {
 
 /// Parses a number the way MOOS's `isNumber` + `atof` accept it (blanks around are allowed).
 pub fn parse_number(s: &str) -> Option<f64> {
-    let v: f64 = s.trim().parse().ok()?;
-    v.is_finite().then_some(v)
+    moos_types::text::is_number(s).then(|| moos_types::text::atof(s.trim()))
 }
 
 /// Parses a MOOS boolean (`true`/`false`, case-insensitive; also `yes`/`no`, `on`/`off`).

@@ -1,12 +1,50 @@
-//! The handful of MOOS utility and C library string routines the appcasting code leans on,
-//! rewritten with the behaviour that matters for byte-exact results: `MOOSChomp`,
-//! `MOOSTrimWhiteSpace`, `MOOSIsNumeric`, C `atof` / `atoi` (glibc), and the `%g`-like default
-//! formatting of a `double` written to a C++ stream.
+//! MOOS's text conventions, each once, with the C++ behaviour: MBUtils `isNumber`
+//! ([`is_number`]), libMOOS `MOOSIsNumeric` ([`moos_is_numeric`]), `MOOSChomp`
+//! ([`chomp`]), `MOOSTrimWhiteSpace` ([`trim`]), and C `atof` / `atoi` as glibc reads
+//! them ([`atof`], [`atoi`]). MOOS-IvP validates numbers with `isNumber` (no exponent) almost
+//! everywhere; `MOOSIsNumeric` (a character-set test) is libMOOS's, used by AppCasting.
+
+/// MBUtils `isNumber(s)` (blanks allowed): after trimming blanks and one leading `+` (when
+/// more follows), only digits, at most one `.`, and `-` signs before any digit or point;
+/// at least one digit. No exponent: `1e3` is not a number to MOOS-IvP; `--5` is.
+///
+/// ```
+/// use moos_types::text::is_number;
+/// assert!(is_number(" -3.5 ") && is_number("+.5") && is_number("--5"));
+/// assert!(!is_number("1e3") && !is_number("3m") && !is_number("1.2.3") && !is_number("-"));
+/// ```
+pub fn is_number(s: &str) -> bool {
+    // MBUtils `stripBlankEnds`: blanks and tabs in front; blanks, tabs, NULs, carriage
+    // returns and line feeds behind.
+    let t = s
+        .trim_start_matches([' ', '\t'])
+        .trim_end_matches([' ', '\t', '\0', '\r', '\n']);
+    let t = if t.len() > 1 {
+        t.strip_prefix('+').unwrap_or(t)
+    } else {
+        t
+    };
+    let (mut digits, mut points) = (0usize, 0usize);
+    for b in t.bytes() {
+        match b {
+            b'0'..=b'9' => digits += 1,
+            b'.' => {
+                points += 1;
+                if points > 1 {
+                    return false;
+                }
+            }
+            b'-' if digits == 0 && points == 0 => {}
+            _ => return false,
+        }
+    }
+    digits > 0
+}
 
 /// `MOOSChomp(s, sep)`: everything before the first `sep` is returned and removed from `s`
 /// together with the separator; without a separator (or with an empty one) the whole of `s` is
 /// returned and `s` is left empty.
-pub(crate) fn chomp<'a>(s: &mut &'a str, sep: &str) -> &'a str {
+pub fn chomp<'a>(s: &mut &'a str, sep: &str) -> &'a str {
     let whole: &'a str = s;
     if !sep.is_empty()
         && let Some(at) = whole.find(sep)
@@ -24,13 +62,13 @@ fn is_moos_blank(c: char) -> bool {
 }
 
 /// `MOOSTrimWhiteSpace`: strips spaces, tabs, line feeds and carriage returns from both ends.
-pub(crate) fn trim(s: &str) -> &str {
+pub fn trim(s: &str) -> &str {
     s.trim_matches(is_moos_blank)
 }
 
 /// `MOOSIsNumeric`: after trimming, every character is one of `0-9 . e E - +`. The empty string
 /// counts as numeric (there is no character outside the set).
-pub(crate) fn is_numeric(s: &str) -> bool {
+pub fn moos_is_numeric(s: &str) -> bool {
     trim(s)
         .chars()
         .all(|c| c.is_ascii_digit() || matches!(c, '.' | 'e' | 'E' | '-' | '+'))
@@ -44,7 +82,7 @@ fn is_c_space(b: u8) -> bool {
 /// C `atof` (glibc `strtod` without the end pointer): leading white space, an optional sign,
 /// then the longest prefix that is a decimal number, a hexadecimal number (`0x`), `inf`,
 /// `infinity` or `nan`; 0 when nothing converts.
-pub(crate) fn atof(s: &str) -> f64 {
+pub fn atof(s: &str) -> f64 {
     let b = s.as_bytes();
     let mut i = 0;
     while i < b.len() && is_c_space(b[i]) {
@@ -164,7 +202,7 @@ fn hex_float(s: &str) -> Option<f64> {
 /// C `atoi` as glibc does it, `(int) strtol(s, NULL, 10)`: leading white space, an optional
 /// sign, decimal digits; an out-of-range value saturates to the 64-bit `long` range and is then
 /// truncated to 32 bits; 0 when nothing converts.
-pub(crate) fn atoi(s: &str) -> i32 {
+pub fn atoi(s: &str) -> i32 {
     let b = s.as_bytes();
     let mut i = 0;
     while i < b.len() && is_c_space(b[i]) {
@@ -215,12 +253,12 @@ mod tests {
 
     #[test]
     fn is_numeric_is_a_character_set_test() {
-        assert!(is_numeric(" 12.5 "));
-        assert!(is_numeric(""));
-        assert!(is_numeric("1.2.3e--"));
-        assert!(!is_numeric("0x10"));
-        assert!(!is_numeric("1 2"));
-        assert!(!is_numeric("inf"));
+        assert!(moos_is_numeric(" 12.5 "));
+        assert!(moos_is_numeric(""));
+        assert!(moos_is_numeric("1.2.3e--"));
+        assert!(!moos_is_numeric("0x10"));
+        assert!(!moos_is_numeric("1 2"));
+        assert!(!moos_is_numeric("inf"));
     }
 
     #[test]
