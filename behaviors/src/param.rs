@@ -47,23 +47,12 @@ pub fn number_min(param: &str, value: &str, min: f64) -> Result<f64, ParamError>
 /// assert!(moos_boolean("p", "1", false).is_err());
 /// ```
 pub fn moos_boolean(param: &str, value: &str, current: bool) -> Result<bool, ParamError> {
-    match value.trim().to_ascii_lowercase().as_str() {
-        "true" | "yes" | "on" => Ok(true),
-        "false" | "no" | "off" => Ok(false),
-        "toggle" => Ok(!current),
-        _ => Err(ParamError::bad(
-            param,
-            value,
-            "true, false, yes, no, on, off or toggle",
-        )),
-    }
+    moos_types::text::set_boolean_on_string(current, value.trim())
+        .ok_or_else(|| ParamError::bad(param, value, "true, false, yes, no, on, off or toggle"))
 }
 
 /// Parses a boolean (`true`/`false`, any case).
 pub fn boolean(param: &str, value: &str) -> Result<bool, ParamError> {
-    match value.trim().to_ascii_lowercase().as_str() {
-        "true" => Ok(true),
-        "false" => Ok(false),
-        _ => Err(ParamError::bad(param, value, "true or false")),
-    }
+    moos_types::text::strict_bool(value.trim())
+        .ok_or_else(|| ParamError::bad(param, value, "true or false"))
 }

@@ -101,13 +101,7 @@ pub(crate) fn need_number(key: &str, s: &str) -> Result<f64, ParseError> {
 
 /// Parses a MOOS boolean (`true`/`false`, any case).
 pub(crate) fn boolean(s: &str) -> Option<bool> {
-    if s.eq_ignore_ascii_case("true") {
-        Some(true)
-    } else if s.eq_ignore_ascii_case("false") {
-        Some(false)
-    } else {
-        None
-    }
+    moos_types::text::strict_bool(s)
 }
 
 /// Removes every whitespace character (MOOS `removeWhite`).

@@ -129,12 +129,7 @@ impl Default for HelmConfig {
 /// A MOOS boolean as pHelmIvP reads it (MOOS-IvP `setBooleanOnString`, case-insensitive):
 /// `true`/`yes`/`on`, `false`/`no`/`off`, or `toggle` (flips `current`).
 fn boolean(v: &str, current: bool) -> Option<bool> {
-    match v.trim().to_ascii_lowercase().as_str() {
-        "true" | "yes" | "on" => Some(true),
-        "false" | "no" | "off" => Some(false),
-        "toggle" => Some(!current),
-        _ => None,
-    }
+    moos_types::text::set_boolean_on_string(current, v.trim())
 }
 
 /// MOOS `PlatModelGenerator::setParams`: `#`-separated `param=value` pieces with `alg` holo or

@@ -217,11 +217,8 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
 }
 
 fn parse_bool(v: &str) -> Result<bool, IvpError> {
-    match v.to_ascii_lowercase().as_str() {
-        "true" => Ok(true),
-        "false" => Ok(false),
-        _ => Err(IvpError::Reflector(format!("{v:?} is not true or false"))),
-    }
+    moos_types::text::strict_bool(v)
+        .ok_or_else(|| IvpError::Reflector(format!("{v:?} is not true or false")))
 }
 
 /// Splits `b` into pieces of `sizes` (the last piece per dimension may be smaller), first

@@ -41,6 +41,52 @@ pub fn is_number(s: &str) -> bool {
     digits > 0
 }
 
+/// MBUtils `setBooleanOnString(current, s)` (case-insensitive): `true`/`yes`/`on` and
+/// `false`/`no`/`off`, `toggle` flips `current`; `None` for anything else (blanks are not
+/// trimmed).
+///
+/// ```
+/// use moos_types::text::set_boolean_on_string as b;
+/// assert_eq!(b(false, "Yes"), Some(true));
+/// assert_eq!(b(true, "toggle"), Some(false));
+/// assert_eq!(b(false, "1"), None);
+/// assert_eq!(b(false, " true"), None);
+/// ```
+pub fn set_boolean_on_string(current: bool, s: &str) -> Option<bool> {
+    match s.to_ascii_lowercase().as_str() {
+        "toggle" => Some(!current),
+        "on" | "true" | "yes" => Some(true),
+        "off" | "false" | "no" => Some(false),
+        _ => None,
+    }
+}
+
+/// libMOOS `GetConfigurationParam(name, bool&)`, how MOOS core apps (pLogger, the DB) read a
+/// boolean setting: `TRUE` in any case, or a `MOOSIsNumeric` value whose `atof` is above 0;
+/// anything else is false (`yes` and `on` are false here).
+///
+/// ```
+/// use moos_types::text::config_bool;
+/// assert!(config_bool("True") && config_bool("1") && config_bool("2.5"));
+/// assert!(!config_bool("yes") && !config_bool("0") && !config_bool("false"));
+/// ```
+pub fn config_bool(s: &str) -> bool {
+    s.eq_ignore_ascii_case("true") || (moos_is_numeric(s) && atof(s) > 0.0)
+}
+
+/// A strict `true` / `false` (any case), as MOOS-IvP reads booleans with
+/// `tolower(value) == "true"`: geometry specs (`active=`), the IvP reflector; `None`
+/// otherwise.
+pub fn strict_bool(s: &str) -> Option<bool> {
+    if s.eq_ignore_ascii_case("true") {
+        Some(true)
+    } else if s.eq_ignore_ascii_case("false") {
+        Some(false)
+    } else {
+        None
+    }
+}
+
 /// `MOOSChomp(s, sep)`: everything before the first `sep` is returned and removed from `s`
 /// together with the separator; without a separator (or with an empty one) the whole of `s` is
 /// returned and `s` is left empty.

@@ -167,14 +167,6 @@ pub fn status_text(
     s
 }
 
-/// True for config values MOOS reads as true (`true`, `1`, `yes`, `on`; any case).
-pub fn is_true(s: &str) -> bool {
-    matches!(
-        s.trim().to_ascii_lowercase().as_str(),
-        "true" | "1" | "yes" | "on"
-    )
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

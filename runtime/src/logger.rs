@@ -21,7 +21,7 @@ use chrono::NaiveDateTime;
 use mission::moos::ProcessConfig;
 use moosdb_client::db::wildcard_match;
 
-use crate::app::{App, Mail, Post, Subscription, Value, is_true};
+use crate::app::{App, Mail, Post, Subscription, Value};
 
 /// Seconds between `LOGGER_DIRECTORY` posts.
 pub const DIRECTORY_PERIOD: f64 = 10.0;
@@ -298,9 +298,9 @@ impl LoggerConfig {
                 match key.as_str() {
                     "file" => c.file = v,
                     "path" => c.path = v,
-                    "filetimestamp" => c.file_time_stamp = is_true(&v),
-                    "asynclog" => c.async_log = is_true(&v),
-                    "wildcardlogging" => c.wildcard = is_true(&v),
+                    "filetimestamp" => c.file_time_stamp = moos_types::text::config_bool(&v),
+                    "asynclog" => c.async_log = moos_types::text::config_bool(&v),
+                    "wildcardlogging" => c.wildcard = moos_types::text::config_bool(&v),
                     "wildcardomitpattern" => c
                         .omit
                         .extend(v.split(',').filter(|s| !s.is_empty()).map(String::from)),
@@ -309,9 +309,9 @@ impl LoggerConfig {
                             c.double_precision = n.min(17);
                         }
                     }
-                    "logauxsrc" => c.log_aux_src = is_true(&v),
-                    "markdatatype" => c.mark_data_type = is_true(&v),
-                    "wildcardexclusionlog" => c.exclusion_log = is_true(&v),
+                    "logauxsrc" => c.log_aux_src = moos_types::text::config_bool(&v),
+                    "markdatatype" => c.mark_data_type = moos_types::text::config_bool(&v),
+                    "wildcardexclusionlog" => c.exclusion_log = moos_types::text::config_bool(&v),
                     "log" => {
                         let (var, period) = match v.split_once('@') {
                             Some((var, rest)) => (var, atof(rest.split(',').next().unwrap_or(""))),
@@ -369,7 +369,7 @@ impl LoggerConfig {
                 k.as_str(),
                 "synclog" | "utclogdirectories" | "markexternalcommunitymessages" | "compressalogs"
             );
-            let on = is_true(p.value.split('@').next().unwrap_or("").trim());
+            let on = moos_types::text::config_bool(p.value.split('@').next().unwrap_or("").trim());
             let why = if UNSUPPORTED.contains(&k.as_str()) && switch && !on {
                 continue;
             } else if UNSUPPORTED.contains(&k.as_str()) {

@@ -19,7 +19,8 @@ use mission::condition::{self, Condition, parse_condition};
 use mission::moos::ProcessConfig;
 use thiserror::Error;
 
-use crate::app::{App, Mail, Post, Subscription, Value, is_true};
+use crate::app::{App, Mail, Post, Subscription, Value};
+use moos_types::text::set_boolean_on_string;
 
 /// A config line uTimerScript cannot use.
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
@@ -316,8 +317,10 @@ impl TimerScript {
         match key {
             "event" => self.add_event(v)?,
             "script_name" => self.script_name = v.to_string(),
-            "script_atomic" => self.atomic = is_true(v),
-            "paused" => self.paused = is_true(v),
+            "script_atomic" => {
+                self.atomic = set_boolean_on_string(self.atomic, v).unwrap_or(self.atomic)
+            }
+            "paused" => self.paused = set_boolean_on_string(self.paused, v).unwrap_or(self.paused),
             "pause_var" | "pause_variable" => self.pause_var = v.to_string(),
             "reset_var" | "reset_variable" => self.reset_var = v.to_string(),
             "forward_var" | "forward_variable" => self.forward_var = v.to_string(),
@@ -374,7 +377,9 @@ impl TimerScript {
             "block_on" => self
                 .block_on
                 .extend(v.split(',').filter(|s| !s.is_empty()).map(String::from)),
-            "shuffle" => self.shuffle = is_true(v),
+            "shuffle" => {
+                self.shuffle = set_boolean_on_string(self.shuffle, v).unwrap_or(self.shuffle)
+            }
             "time_zero" => self.time_zero_db = v.eq_ignore_ascii_case("db_start"),
             _ => {}
         }

@@ -139,11 +139,11 @@ pub fn parse_number(s: &str) -> Option<f64> {
 
 /// Parses a MOOS boolean (`true`/`false`, case-insensitive; also `yes`/`no`, `on`/`off`).
 pub fn parse_bool(s: &str) -> Option<bool> {
-    match s.trim().to_ascii_lowercase().as_str() {
-        "true" | "yes" | "on" => Some(true),
-        "false" | "no" | "off" => Some(false),
-        _ => None,
+    let s = s.trim();
+    if s.eq_ignore_ascii_case("toggle") {
+        return None;
     }
+    moos_types::text::set_boolean_on_string(false, s)
 }
 
 /// MOOS `setBooleanOnString`: `true`/`yes`/`on` and `false`/`no`/`off` (any case), or
@@ -156,12 +156,7 @@ pub fn parse_bool(s: &str) -> Option<bool> {
 /// assert_eq!(set_bool_on_string(true, " true"), None);
 /// ```
 pub fn set_bool_on_string(current: bool, s: &str) -> Option<bool> {
-    match s.to_ascii_lowercase().as_str() {
-        "toggle" => Some(!current),
-        "true" | "yes" | "on" => Some(true),
-        "false" | "no" | "off" => Some(false),
-        _ => None,
-    }
+    moos_types::text::set_boolean_on_string(current, s)
 }
 
 /// Runs `apply` over every pair; `apply` returns `Ok(false)` for keys it does not know.
