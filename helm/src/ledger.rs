@@ -308,20 +308,16 @@ impl DisabledContacts {
     /// Applies the helm-level part of a `BHV_ABLE_FILTER` message (the `contact` and
     /// `action` fields, read as MOOS `tokStringParse`: case-sensitive keys, first match).
     pub fn apply(&mut self, msg: &str) {
-        let field = |key: &str| {
-            msg.split(',').find_map(|kv| {
-                let (k, v) = kv.split_once('=')?;
-                (k.trim() == key).then(|| v.trim().to_string())
-            })
-        };
-        let Some(contact) = field("contact").filter(|c| !c.is_empty()) else {
+        use moos_types::text::tok_string_parse;
+        let contact = tok_string_parse(msg, "contact").to_string();
+        if contact.is_empty() {
             return;
-        };
-        match field("action").as_deref() {
-            Some("able") => {
+        }
+        match tok_string_parse(msg, "action") {
+            "able" => {
                 self.names.remove(&contact);
             }
-            Some("disable") => {
+            "disable" => {
                 self.names.insert(contact.clone());
                 self.order.push_front(contact);
                 if self.order.len() > Self::MAX

@@ -7,16 +7,7 @@ use common::{Rig, Vehicle, corpus_file, get, is_str};
 use helm::{Helm, Mail};
 use mission::source::SourceMap;
 
-fn angle_180(a: f64) -> f64 {
-    let mut a = a % 360.0;
-    if a > 180.0 {
-        a -= 360.0;
-    }
-    if a <= -180.0 {
-        a += 360.0;
-    }
-    a
-}
+use geometry::angle_180;
 
 #[test]
 fn charlie_loiters_counter_clockwise_then_returns() {

@@ -1037,35 +1037,8 @@ pub fn val_from_string(s: &[u8], token: &[u8]) -> Option<Vec<u8>> {
     None
 }
 
-/// `MOOSWildCmp`: case-sensitive glob where `*` matches any run (also empty) and `?` any one
-/// byte.
-///
-/// ```
-/// use moosdb_client::db::wildcard_match;
-/// assert!(wildcard_match(b"NAV_*", b"NAV_X"));
-/// assert!(wildcard_match(b"*", b""));
-/// assert!(!wildcard_match(b"nav_*", b"NAV_X"));
-/// ```
-pub fn wildcard_match(pattern: &[u8], text: &[u8]) -> bool {
-    let (mut p, mut t) = (0usize, 0usize);
-    let mut star: Option<(usize, usize)> = None;
-    while t < text.len() {
-        if p < pattern.len() && (pattern[p] == b'?' || pattern[p] == text[t]) {
-            p += 1;
-            t += 1;
-        } else if p < pattern.len() && pattern[p] == b'*' {
-            star = Some((p, t));
-            p += 1;
-        } else if let Some((sp, st)) = star {
-            p = sp + 1;
-            t = st + 1;
-            star = Some((sp, st + 1));
-        } else {
-            return false;
-        }
-    }
-    pattern[p..].iter().all(|&b| b == b'*')
-}
+/// `MOOSWildCmp`: the workspace's one definition ([`moos_types::text::wildcard_match`]).
+pub use moos_types::text::wildcard_match;
 
 /// `HH:MM:SS.mmm` of a Unix time, in UTC (the C++ DB prints local time).
 pub fn time_of_day(t: f64) -> String {

@@ -3,26 +3,9 @@
 
 use std::f64::consts::PI;
 
-/// Wraps an angle in degrees into `[0, 360)`.
-///
-/// ```
-/// assert_eq!(vehicle::angle::angle360(-90.0), 270.0);
-/// ```
-pub fn angle360(deg: f64) -> f64 {
-    let a = deg.rem_euclid(360.0);
-    // rem_euclid can return 360.0 for tiny negative inputs because of rounding.
-    if a >= 360.0 { 0.0 } else { a }
-}
-
-/// Wraps an angle in degrees into `(-180, 180]`.
-///
-/// ```
-/// assert_eq!(vehicle::angle::angle180(270.0), -90.0);
-/// ```
-pub fn angle180(deg: f64) -> f64 {
-    let a = angle360(deg);
-    if a > 180.0 { a - 360.0 } else { a }
-}
+/// `[0, 360)` and `(-180, 180]` wrapping: the workspace's one definition of each
+/// (`geometry::angle_360`, `geometry::angle_180`; MOOS `angle360`, `angle180`).
+pub use geometry::{angle_180 as angle180, angle_360 as angle360};
 
 /// Wraps an angle in radians into `[-pi, pi]`, as MOOS-IvP's `radAngleWrap`.
 pub fn rad_angle_wrap(rad: f64) -> f64 {

@@ -18,69 +18,9 @@ pub fn last_posting<'a>(postings: &'a [Posting], var: &str) -> Option<&'a Value>
         .map(|p| &p.value)
 }
 
-/// MOOS-IvP `parseString(s, sep)`: the pieces between separators; a separator at the very
-/// end adds no empty piece, and an empty string has none.
-pub fn parse_string(s: &str, sep: char) -> Vec<&str> {
-    let mut pieces = Vec::new();
-    let mut rest = s;
-    while !rest.is_empty() {
-        match rest.find(sep) {
-            Some(i) => {
-                pieces.push(&rest[..i]);
-                rest = &rest[i + sep.len_utf8()..];
-            }
-            None => {
-                pieces.push(rest);
-                rest = "";
-            }
-        }
-    }
-    pieces
-}
-
-/// MOOS-IvP `parseStringQ(s, sep)`: as [`parse_string`], but a separator inside double
-/// quotes or braces does not split.
-pub fn parse_string_q(s: &str, sep: char) -> Vec<&str> {
-    let (mut pieces, mut in_quotes, mut braces, mut start) = (Vec::new(), false, 0u32, 0);
-    for (i, c) in s.char_indices() {
-        match c {
-            '"' => in_quotes = !in_quotes,
-            '{' => braces += 1,
-            '}' => braces = braces.saturating_sub(1),
-            c if c == sep && !in_quotes && braces == 0 => {
-                pieces.push(&s[start..i]);
-                start = i + c.len_utf8();
-            }
-            _ => {}
-        }
-    }
-    if start < s.len() {
-        pieces.push(&s[start..]);
-    }
-    pieces
-}
-
-/// MOOS-IvP `tokStringParse(s, key, ',', '=')`: the value (blank ends stripped) of the first
-/// `key=value` piece whose key (blank ends stripped) is `key`; empty when there is none, or
-/// when a piece before it is not exactly one `left=right` pair.
-///
-/// ```
-/// use vehicle::moos::tok_string_parse;
-/// assert_eq!(tok_string_parse("app=pHelmIvP, maxgap=2.5", "maxgap"), "2.5");
-/// assert_eq!(tok_string_parse("app=pHelmIvP,junk,maxgap=2.5", "maxgap"), "");
-/// ```
-pub fn tok_string_parse<'a>(s: &'a str, key: &str) -> &'a str {
-    for piece in parse_string_q(s, ',') {
-        let parts = parse_string(piece, '=');
-        if parts.len() != 2 {
-            return "";
-        }
-        if parts[0].trim() == key {
-            return parts[1].trim();
-        }
-    }
-    ""
-}
+/// MOOS-IvP's string splitting (`parseString`, `parseStringQ`, `tokStringParse`): the
+/// workspace's one definition of each.
+pub use moos_types::text::{parse_string, parse_string_q, tok_string_parse};
 
 #[cfg(test)]
 mod tests {
