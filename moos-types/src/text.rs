@@ -14,11 +14,7 @@
 /// assert!(!is_number("1e3") && !is_number("3m") && !is_number("1.2.3") && !is_number("-"));
 /// ```
 pub fn is_number(s: &str) -> bool {
-    // MBUtils `stripBlankEnds`: blanks and tabs in front; blanks, tabs, NULs, carriage
-    // returns and line feeds behind.
-    let t = s
-        .trim_start_matches([' ', '\t'])
-        .trim_end_matches([' ', '\t', '\0', '\r', '\n']);
+    let t = strip_blank_ends(s);
     let t = if t.len() > 1 {
         t.strip_prefix('+').unwrap_or(t)
     } else {
@@ -179,6 +175,53 @@ pub fn tok_string_parse<'a>(s: &'a str, key: &str) -> &'a str {
         }
     }
     ""
+}
+
+/// uPokeDB's `VAR=VALUE` (`setPoke`): with a `:=` anywhere, the text splits at it into
+/// exactly two parts, blank ends stripped, and the value is a string; otherwise the variable
+/// is what comes before the first `=` and the value what follows (blank ends stripped),
+/// a double when MOOS reads it as a number ([`is_number`], then [`atof`]), else a string.
+/// `None` without an `=` (or with more than one `:=`).
+///
+/// ```
+/// use moos_types::{Value, text::parse_poke};
+/// assert_eq!(parse_poke("DEPLOY = true"), Some(("DEPLOY", Value::from("true"))));
+/// assert_eq!(parse_poke("SPEED=1.5"), Some(("SPEED", Value::Double(1.5))));
+/// assert_eq!(parse_poke("ID:=42"), Some(("ID", Value::from("42"))));
+/// assert_eq!(parse_poke("X=1e3"), Some(("X", Value::from("1e3"))));
+/// assert_eq!(parse_poke("WPT=points=1,2"), Some(("WPT", Value::from("points=1,2"))));
+/// assert_eq!(parse_poke("novalue"), None);
+/// ```
+pub fn parse_poke(s: &str) -> Option<(&str, crate::Value)> {
+    if !s.contains('=') {
+        return None;
+    }
+    if s.contains(":=") {
+        let mut parts = s.split(":=");
+        let (left, right) = (parts.next()?, parts.next()?);
+        if parts.next().is_some() {
+            return None;
+        }
+        return Some((
+            strip_blank_ends(left),
+            crate::Value::from(strip_blank_ends(right)),
+        ));
+    }
+    let (left, right) = s.split_once('=')?;
+    let (left, right) = (strip_blank_ends(left), strip_blank_ends(right));
+    let value = if is_number(right) {
+        crate::Value::Double(atof(right))
+    } else {
+        crate::Value::from(right)
+    };
+    Some((left, value))
+}
+
+/// MBUtils `stripBlankEnds`: blanks and tabs in front; blanks, tabs, NULs, carriage returns
+/// and line feeds behind.
+pub fn strip_blank_ends(s: &str) -> &str {
+    s.trim_start_matches([' ', '\t'])
+        .trim_end_matches([' ', '\t', '\0', '\r', '\n'])
 }
 
 /// `MOOSChomp(s, sep)`: everything before the first `sep` is returned and removed from `s`

@@ -49,8 +49,8 @@ impl Poke {
     /// Reads `VAR=VALUE`, `VAR:=VALUE` (always a string) or either with `@T` (posted at
     /// `T` simulated seconds after the start; `T` must be a number >= 0, otherwise the
     /// `@...` is part of the value). Without a time, the poke goes out after `default_app`'s
-    /// first iterate. Values that are numbers are doubles (uPokeDB's rule); quotes are
-    /// kept as part of a string.
+    /// first iterate. The `VAR=VALUE` part is read as uPokeDB reads it
+    /// ([`moos_types::text::parse_poke`]).
     ///
     /// ```
     /// use runtime::scheduler::{Poke, PokeAt};
@@ -66,17 +66,10 @@ impl Poke {
             },
             None => (arg, PokeAt::AfterFirstIterate(default_app.to_string())),
         };
-        let (key, value) = if let Some((k, v)) = body.split_once(":=") {
-            if k.contains('=') {
-                split_plain(body)
-            } else {
-                (k, Value::text(v.trim()))
-            }
-        } else {
-            split_plain(body)
+        let Some((key, value)) = moos_types::text::parse_poke(body) else {
+            return Err(PokeError::Syntax(arg.to_string()));
         };
-        let key = key.trim();
-        if key.is_empty() || !body.contains('=') {
+        if key.is_empty() {
             return Err(PokeError::Syntax(arg.to_string()));
         }
         Ok(Poke {
@@ -85,16 +78,6 @@ impl Poke {
             at,
         })
     }
-}
-
-fn split_plain(body: &str) -> (&str, Value) {
-    let (k, v) = body.split_once('=').unwrap_or((body, ""));
-    let v = v.trim();
-    let value = match v.parse::<f64>() {
-        Ok(x) if condition::is_numeric(v) => Value::Double(x),
-        _ => Value::text(v),
-    };
-    (k, value)
 }
 
 /// How a run ended.

@@ -32,22 +32,12 @@ pub struct Poke {
 
 /// Parses `VAR=VALUE` / `VAR:=VALUE`.
 pub fn parse_poke(arg: &str) -> anyhow::Result<Poke> {
-    let (var, value, forced) = match (arg.find(":="), arg.find('=')) {
-        (Some(i), Some(j)) if i < j => (&arg[..i], &arg[i + 2..], true),
-        (_, Some(j)) => (&arg[..j], &arg[j + 1..], false),
-        _ => bail!("`{arg}` is not VAR=VALUE"),
+    let Some((var, value)) = moos_types::text::parse_poke(arg) else {
+        bail!("`{arg}` is not VAR=VALUE");
     };
-    let var = var.trim();
     if var.is_empty() || var.contains(char::is_whitespace) {
         bail!("`{arg}`: bad variable name");
     }
-    let value =
-        if !forced && !value.trim_start().starts_with('"') && moos_types::text::is_number(value) {
-            // uPokeDB: `isNumber` then `atof` (so `--5` reads as 0, as there).
-            Value::Double(moos_types::text::atof(value.trim()))
-        } else {
-            Value::from(value)
-        };
     Ok(Poke {
         var: var.to_string(),
         value,
