@@ -93,14 +93,9 @@ impl FlagKind {
 }
 
 /// A flag's value, typed as MOOS `VarDataPair` "auto" does: a number is a double, a quoted
-/// text a string without its quotes, anything else a string.
-#[derive(Debug, Clone, PartialEq)]
-pub enum FlagValue {
-    /// A double.
-    Num(f64),
-    /// A string (may contain macros).
-    Str(String),
-}
+/// text a string without its quotes, anything else a string (which may contain macros). The
+/// workspace's one MOOS value type.
+pub use moos_types::Value as FlagValue;
 
 /// One `VAR = value [if] CONDITION` flag (reference §4.5).
 #[derive(Debug, Clone, PartialEq)]
@@ -124,8 +119,8 @@ impl Flag {
     /// ```
     /// use behaviors::{Flag, FlagValue};
     /// let f = Flag::parse("RETURN = true").unwrap();
-    /// assert_eq!((f.var.as_str(), &f.value), ("RETURN", &FlagValue::Str("true".into())));
-    /// assert_eq!(Flag::parse("N = 3").unwrap().value, FlagValue::Num(3.0));
+    /// assert_eq!((f.var.as_str(), &f.value), ("RETURN", &FlagValue::String("true".into())));
+    /// assert_eq!(Flag::parse("N = 3").unwrap().value, FlagValue::Double(3.0));
     /// assert!(Flag::parse("SUMMARY=speed=$[SPEED]").is_some());
     /// assert!(Flag::parse("= 3").is_none());
     /// ```
@@ -152,11 +147,11 @@ impl Flag {
         }
         let solo_macro = is_solo_macro(val);
         let value = if is_number(val) {
-            FlagValue::Num(val.parse().ok()?)
+            FlagValue::Double(val.parse().ok()?)
         } else if val.len() >= 2 && val.starts_with('"') && val.ends_with('"') {
-            FlagValue::Str(val[1..val.len() - 1].to_string())
+            FlagValue::String(val[1..val.len() - 1].to_string())
         } else {
-            FlagValue::Str(val.to_string())
+            FlagValue::String(val.to_string())
         };
         Some(Flag {
             var: var.to_string(),
@@ -408,7 +403,7 @@ mod tests {
         assert_eq!(c.flags(FlagKind::End).len(), 2);
         assert_eq!(
             c.flags(FlagKind::End)[1].value,
-            FlagValue::Str("x y".into())
+            FlagValue::String("x y".into())
         );
         c.set_param("endflag", "clearall").unwrap();
         assert!(c.flags(FlagKind::End).is_empty());

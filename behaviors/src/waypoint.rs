@@ -658,7 +658,7 @@ impl Waypoint {
     /// posted, mid-iteration); the helm expands the rest.
     fn flag_now(&self, f: &Flag) -> Flag {
         let mut f = f.clone();
-        if let crate::common::FlagValue::Str(s) = &mut f.value
+        if let crate::common::FlagValue::String(s) = &mut f.value
             && s.contains(['[', '('])
         {
             for m in MACROS {

@@ -42,10 +42,7 @@ fn flag_values(out: &Out, var: &str) -> Vec<String> {
     out.emits
         .iter()
         .filter_map(|e| match e {
-            Emit::Flag { flag, .. } if flag.var == var => Some(match &flag.value {
-                behaviors::FlagValue::Num(x) => x.to_string(),
-                behaviors::FlagValue::Str(s) => s.clone(),
-            }),
+            Emit::Flag { flag, .. } if flag.var == var => Some(flag.value.to_string()),
             _ => None,
         })
         .collect()

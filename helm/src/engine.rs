@@ -1585,8 +1585,8 @@ impl Helm {
             }
         }
         let value = match &f.value {
-            FlagValue::Num(x) => Value::Double(*x),
-            FlagValue::Str(s) => {
+            FlagValue::Double(x) => Value::Double(*x),
+            FlagValue::String(s) => {
                 let mut out = std::mem::take(&mut self.scratch);
                 out.clear();
                 self.expand_macros(i, s, &mut out);
@@ -1601,6 +1601,8 @@ impl Helm {
                 self.scratch = out;
                 v
             }
+            // A flag's value is parsed from text: never binary.
+            FlagValue::Binary(b) => Value::Binary(b.clone()),
         };
         let key = if repeatable {
             PostKey::Repeatable
