@@ -37,7 +37,8 @@ fn a_log_that_fills_the_disk_mid_run_fails_the_run_with_a_clear_error() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "stderr: {stderr}");
     assert!(
-        stderr.contains("coug run: error: the log ") && stderr.contains("could not be written"),
+        stderr.contains("coug run: error: pLogger: the log logs/")
+            && stderr.contains("could not be written"),
         "{stderr}"
     );
     assert!(stderr.contains("os error 27"), "EFBIG named: {stderr}");
@@ -47,6 +48,8 @@ fn a_log_that_fills_the_disk_mid_run_fails_the_run_with_a_clear_error() {
     assert!(!stdout.contains("until condition met"), "{stdout}");
     // The log was written up to the limit and no further.
     let alog = common::find_alog(&dir.join("logs"));
+    let name = alog.file_name().unwrap().to_string_lossy();
+    assert!(stderr.contains(&*name), "the error names the file on disk: {stderr}");
     let len = std::fs::metadata(&alog).unwrap().len();
     assert!(len <= 200 * 1024, "{len} bytes");
 }

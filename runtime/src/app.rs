@@ -15,6 +15,25 @@ pub const STATUS_PERIOD: f64 = 2.0;
 
 pub use moos_types::{Mail, Post, Value};
 
+/// Why an app failed: the run ends with it (a failing disk is a failed run).
+#[derive(Debug, thiserror::Error)]
+pub enum AppError {
+    /// A file the app writes could not be written (a log on a full or read-only disk).
+    #[error("{app}: {what} could not be written: {source}")]
+    Io {
+        /// The app's MOOS name.
+        app: String,
+        /// What was being written (`the log logs/X/X.alog`).
+        what: String,
+        /// The error.
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+/// What an app's hooks return.
+pub type AppResult = Result<(), AppError>;
+
 /// A registration: an exact variable name, or a MOOS wildcard pattern (`*`, `?`) on
 /// variable names, with the DB's minimum interval between deliveries (0 = every write).
 #[derive(Debug, Clone, PartialEq)]
@@ -78,13 +97,23 @@ pub trait App {
     }
 
     /// OnStartUp: called once, after connecting, before the first mail and iterate.
-    fn on_startup(&mut self, _now: f64, _out: &mut Vec<Post>) {}
+    fn on_startup(&mut self, _now: f64, _out: &mut Vec<Post>) -> AppResult {
+        Ok(())
+    }
 
     /// OnNewMail: everything delivered since the last call, sorted by time.
-    fn on_mail(&mut self, _mail: &[Mail], _now: f64, _out: &mut Vec<Post>) {}
+    fn on_mail(&mut self, _mail: &[Mail], _now: f64, _out: &mut Vec<Post>) -> AppResult {
+        Ok(())
+    }
 
-    /// Iterate: one step of the app's work at time `now`.
-    fn iterate(&mut self, now: f64, out: &mut Vec<Post>);
+    /// Iterate: one step of the app's work at time `now`. An error ends the run.
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) -> AppResult;
+
+    /// The run is over (at MOOS time `now`): flush, close and report. An error fails the
+    /// run (a log that could not be completed).
+    fn stop(&mut self, _now: f64) -> AppResult {
+        Ok(())
+    }
 
     /// True once the app wants to stop (e.g. uTimerScript's `quit`); it is then no longer
     /// scheduled.

@@ -277,11 +277,12 @@ impl App for HelmApp {
         self.cpu_percent = Some(load.cpu_percent);
     }
 
-    fn on_startup(&mut self, now: f64, out: &mut Vec<Post>) {
+    fn on_startup(&mut self, now: f64, out: &mut Vec<Post>) -> crate::app::AppResult {
         self.appcast.on_startup(now);
         if let Some(pid) = self.pid {
             out.push(Post::double("PHELMIVP_PID", f64::from(pid)));
         }
+        Ok(())
     }
 
     fn new_subscriptions(&mut self) -> Vec<Subscription> {
@@ -301,7 +302,7 @@ impl App for HelmApp {
         fresh
     }
 
-    fn on_mail(&mut self, mail: &[Mail], _now: f64, _out: &mut Vec<Post>) {
+    fn on_mail(&mut self, mail: &[Mail], _now: f64, _out: &mut Vec<Post>) -> crate::app::AppResult {
         // RESTART_HELM = type1 | type2: the behaviours are read again (pHelmIvP).
         for m in mail.iter().filter(|m| m.key == "RESTART_HELM") {
             if let Value::String(kind) = &m.value
@@ -317,9 +318,10 @@ impl App for HelmApp {
             .iter()
             .filter(|m| appcast.take_mail(m) && !matches!(m.value, Value::Binary(_)));
         self.helm.on_mail(theirs);
+        Ok(())
     }
 
-    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) {
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) -> crate::app::AppResult {
         // AppCastingMOOSApp::Iterate comes first (APP_LOG, the load cast's gap).
         let tick = self.app_tick();
         self.appcast.begin(now, tick, out);
@@ -336,12 +338,13 @@ impl App for HelmApp {
         }
         // pHelmIvP posts no report in the first second of deciding (it returns early).
         if self.helm.in_decision_delay() {
-            return;
+            return Ok(());
         }
         let helm = &self.helm;
         let policy = self.appcast.comms_policy();
         self.appcast
             .end(now, tick, out, |body| helm.appcast_body(now, policy, body));
+        Ok(())
     }
 }
 
@@ -455,8 +458,8 @@ mod appcast_tests {
             .collect();
         m.extend(extra);
         let mut out = Vec::new();
-        h.on_mail(&m, t, &mut out);
-        h.iterate(t, &mut out);
+        h.on_mail(&m, t, &mut out).unwrap();
+        h.iterate(t, &mut out).unwrap();
         out
     }
 
@@ -475,7 +478,7 @@ mod appcast_tests {
             "AppCastingMOOSApp registers APPCAST_REQ"
         );
         let mut out = Vec::new();
-        h.on_startup(100.0, &mut out);
+        h.on_startup(100.0, &mut out).unwrap();
         // First iteration: inside the first second of deciding, no report (pHelmIvP
         // returns early); the second is past it but no longer "iteration < 2" and nobody
         // asked: none either.
@@ -556,7 +559,7 @@ mod appcast_tests {
         // A parked helm returns before the delay, with its report: the first iteration
         // posts one ("iteration < 2").
         let mut parked = app(&MOOS.replace("start_engaged = true", "start_engaged = false"));
-        parked.on_startup(0.0, &mut Vec::new());
+        parked.on_startup(0.0, &mut Vec::new()).unwrap();
         let ac = appcasts(&step(&mut parked, 0.0, vec![]));
         assert_eq!(ac.len(), 1);
         assert!(ac[0].messages().contains("  Helm Iteration:  0\n"));
@@ -567,7 +570,7 @@ mod appcast_tests {
     fn app_logging_log_posts_app_log_first_in_each_iteration() {
         let mut h = app(&MOOS.replace("start_engaged = true", "app_logging = log"));
         assert_eq!(h.state(), HelmState::Park);
-        h.on_startup(0.0, &mut Vec::new());
+        h.on_startup(0.0, &mut Vec::new()).unwrap();
         for (t, k) in [(0.0, 1), (0.2, 2)] {
             let p = step(&mut h, t, vec![]);
             assert_eq!(p[0].key, "APP_LOG");
@@ -590,7 +593,7 @@ mod appcast_tests {
             ["Invalid TERM_REPORT_INTERVAL: abc".to_string()]
         );
         let mut out = Vec::new();
-        h.on_startup(0.0, &mut out);
+        h.on_startup(0.0, &mut out).unwrap();
         let ac = appcasts(&step(&mut h, 0.0, vec![]));
         assert_eq!(ac.len(), 1, "a new config warning makes a report due");
         assert_eq!(

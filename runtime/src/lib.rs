@@ -41,7 +41,7 @@ pub mod vehicle;
 /// The date-time crate of [`antler::LogTarget`] (so callers need not depend on it).
 pub use chrono;
 
-pub use app::{App, Mail, Post, Subscription, Value};
+pub use app::{App, AppError, AppResult, Mail, Post, Subscription, Value};
 pub use bus::{Bus, BusError, DbHost, LocalDb};
 pub use clock::{Clock, VirtualClock, WarpedWallClock};
-pub use scheduler::{Outcome, Poke, PokeAt, Scheduler};
+pub use scheduler::{Outcome, Poke, PokeAt, RunError, Scheduler};

@@ -139,12 +139,6 @@ impl LateSink {
         self.0.lock().unwrap_or_else(|p| p.into_inner())
     }
 
-    /// Whether a write of the session has failed (the run has then failed: stop it and
-    /// [`LateSink::close`] for the error).
-    pub fn has_failed(&self) -> bool {
-        self.lock().as_ref().is_some_and(|a| a.failed.is_some())
-    }
-
     /// Flushes the alog and reports the first write error of the whole session, if any: a
     /// log that could not be written is a failed run. Later writes fail.
     pub fn close(&self) -> io::Result<()> {
@@ -500,6 +494,8 @@ pub struct Logger<W: Write> {
     side: Option<SideFiles>,
     xlog: Option<AlogWriter<SideStream>>,
     error: Option<io::Error>,
+    /// The write error was reported as the app's failure (later ones are not).
+    failed: bool,
 }
 
 /// Writes one mail as a log record: the source as `src:aux` with `LogAuxSrc`, binary data as
@@ -582,6 +578,7 @@ impl<W: Write> Logger<W> {
             last_dir_post: f64::NEG_INFINITY,
             blog_offset: 0,
             error: None,
+            failed: false,
         }
     }
 
@@ -640,9 +637,19 @@ impl<W: Write> Logger<W> {
         self.note(r);
     }
 
-    /// The first write error, if any (the logger stops writing after it).
-    pub fn io_error(&self) -> Option<&io::Error> {
-        self.error.as_ref()
+    /// The first write error as the app's failure (once: the run ends with it).
+    fn failure(&mut self) -> crate::app::AppResult {
+        match self.error.take() {
+            None => Ok(()),
+            Some(source) => {
+                self.failed = true;
+                Err(crate::app::AppError::Io {
+                    app: self.name.clone(),
+                    what: format!("the log {}", self.file_path),
+                    source,
+                })
+            }
+        }
     }
 
     /// The alog path written in the banner.
@@ -653,6 +660,7 @@ impl<W: Write> Logger<W> {
     fn note(&mut self, r: io::Result<()>) {
         if let Err(e) = r
             && self.error.is_none()
+            && !self.failed
         {
             self.error = Some(e);
             self.writer = None;
@@ -722,7 +730,7 @@ impl<W: Write + 'static> App for Logger<W> {
         subs
     }
 
-    fn on_startup(&mut self, now: f64, out: &mut Vec<Post>) {
+    fn on_startup(&mut self, now: f64, out: &mut Vec<Post>) -> crate::app::AppResult {
         if self.config.async_log
             && let Some(sink) = self.sink.take()
         {
@@ -757,9 +765,10 @@ impl<W: Write + 'static> App for Logger<W> {
         }
         out.push(Post::text("LOGGER_DIRECTORY", self.directory.clone()));
         self.last_dir_post = now;
+        self.failure()
     }
 
-    fn on_mail(&mut self, mail: &[Mail], _now: f64, _out: &mut Vec<Post>) {
+    fn on_mail(&mut self, mail: &[Mail], _now: f64, _out: &mut Vec<Post>) -> crate::app::AppResult {
         for m in mail {
             self.log(m);
             if m.key == "PLOGGER_CMD"
@@ -770,9 +779,10 @@ impl<W: Write + 'static> App for Logger<W> {
                 self.copy_requested(path.trim());
             }
         }
+        self.failure()
     }
 
-    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) {
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) -> crate::app::AppResult {
         if now - self.last_dir_post >= DIRECTORY_PERIOD {
             self.last_dir_post = now;
             out.push(Post::text("LOGGER_DIRECTORY", self.directory.clone()));
@@ -781,6 +791,20 @@ impl<W: Write + 'static> App for Logger<W> {
             let r = w.flush();
             self.note(r);
         }
+        self.failure()
+    }
+
+    /// Flushes the alog and the exclusion log; a failed write is the run's failure.
+    fn stop(&mut self, _now: f64) -> crate::app::AppResult {
+        if let Some(w) = self.writer.as_mut() {
+            let r = w.flush();
+            self.note(r);
+        }
+        if let Some(x) = self.xlog.as_mut() {
+            let r = x.flush();
+            self.note(r);
+        }
+        self.failure()
     }
 }
 

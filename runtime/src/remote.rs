@@ -18,7 +18,7 @@ use thiserror::Error;
 use crate::app::{App, Mail, Post, STATUS_PERIOD, Value, status_text};
 
 /// Why a remote app stopped with an error.
-#[derive(Debug, Clone, PartialEq, Error)]
+#[derive(Debug, Error)]
 pub enum RemoteError {
     /// The DB refused the app (its name is taken) or the client closed.
     #[error("{0}")]
@@ -26,6 +26,9 @@ pub enum RemoteError {
     /// `MOOSTimeWarp` outside MOOS's range.
     #[error("time warp {0} is outside (0, 400]")]
     Warp(f64),
+    /// The app failed (a log it could not write): the run ends.
+    #[error(transparent)]
+    App(#[from] crate::app::AppError),
 }
 
 /// Where a remote app connects.
@@ -154,7 +157,7 @@ pub async fn run<A: App + ?Sized>(
     app.set_process_load(load);
     let mut posts = Vec::new();
     let mut published = BTreeSet::new();
-    app.on_startup(started, &mut posts);
+    app.on_startup(started, &mut posts)?;
     send(&client, &mut posts, &mut published);
     let period = warp.pause(Duration::from_secs_f64(1.0 / app.app_tick()));
     let mut tick = tokio::time::interval(period);
@@ -177,8 +180,11 @@ pub async fn run<A: App + ?Sized>(
             }
         }
         mail.sort_by(|a: &Mail, b: &Mail| a.time.total_cmp(&b.time));
-        if !mail.is_empty() {
-            app.on_mail(&mail, now, &mut posts);
+        if !mail.is_empty()
+            && let Err(e) = app.on_mail(&mail, now, &mut posts)
+        {
+            client.close().await;
+            return Err(e.into());
         }
         // Asked to stop: the mail already received is handled (a logger logs it), nothing
         // more is posted.
@@ -200,7 +206,10 @@ pub async fn run<A: App + ?Sized>(
                 ),
             ));
         }
-        app.iterate(now, &mut posts);
+        if let Err(e) = app.iterate(now, &mut posts) {
+            client.close().await;
+            return Err(e.into());
+        }
         for s in app.new_subscriptions() {
             if s.is_wildcard() {
                 client.register_pattern(&s.pattern, "*", s.interval);
@@ -214,6 +223,8 @@ pub async fn run<A: App + ?Sized>(
             break;
         }
     }
+    // The run is over: the app flushes and closes what it writes.
+    let stopped = app.stop(client.moos_time());
     client.close().await;
-    Ok(())
+    Ok(stopped?)
 }

@@ -12,7 +12,7 @@ use mission::condition::{self, Condition};
 use moosdb_client::db::ClientId;
 use thiserror::Error;
 
-use crate::app::{App, Mail, Post, STATUS_PERIOD, Value};
+use crate::app::{App, AppError, Mail, Post, STATUS_PERIOD, Value};
 use crate::bus::{Bus, BusError, DbHost, LocalDb};
 use crate::clock::{Clock, VirtualClock};
 
@@ -35,6 +35,18 @@ pub struct Poke {
     pub value: Value,
     /// When.
     pub at: PokeAt,
+}
+
+/// Why a lockstep run stopped with an error: the bus refused something, or an app failed
+/// (its error ends the run at once).
+#[derive(Debug, Error)]
+pub enum RunError {
+    /// The bus (the in-process MOOSDB) refused a client or a registration.
+    #[error(transparent)]
+    Bus(#[from] BusError),
+    /// An app failed.
+    #[error(transparent)]
+    App(#[from] AppError),
 }
 
 /// A `--poke` argument that cannot be read.
@@ -188,7 +200,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
 
     /// Adds an app (connects it and makes its registrations). Apps run in the order added.
     /// An app added after the run began starts at the current time.
-    pub fn add_app(&mut self, mut app: Box<dyn App>) -> Result<(), BusError> {
+    pub fn add_app(&mut self, mut app: Box<dyn App>) -> Result<(), RunError> {
         let now = self.now;
         let name = app.name().to_string();
         let id = self.bus.connect(&name, now)?;
@@ -201,7 +213,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
         let mut published = BTreeSet::new();
         if self.started {
             self.posts.clear();
-            app.on_startup(now, &mut self.posts);
+            app.on_startup(now, &mut self.posts)?;
             published.extend(self.posts.iter().map(|p| p.key.clone()));
             self.bus.publish(id, &self.posts, &name, now)?;
         }
@@ -318,13 +330,13 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
         c.evaluate(&lookup)
     }
 
-    fn startup(&mut self) -> Result<(), BusError> {
+    fn startup(&mut self) -> Result<(), RunError> {
         self.started = true;
         let now = self.start;
         for i in 0..self.slots.len() {
             self.posts.clear();
             let slot = &mut self.slots[i];
-            slot.app.on_startup(now, &mut self.posts);
+            slot.app.on_startup(now, &mut self.posts)?;
             Self::publish(&mut self.bus, slot, &self.posts, now)?;
             Self::record_taps(&self.tapped, &mut self.taps, &self.posts);
         }
@@ -367,7 +379,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
 
     /// Processes every event due at or before MOOS time `t_end`. Returns the outcome if
     /// the run ended (condition met, or every app finished), `None` otherwise.
-    pub fn advance(&mut self, t_end: f64) -> Result<Option<Outcome>, BusError> {
+    pub fn advance(&mut self, t_end: f64) -> Result<Option<Outcome>, RunError> {
         if !self.started {
             self.startup()?;
             if self.until_holds() {
@@ -411,7 +423,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
 
     /// Runs until the `until` condition holds, every app finished, or `max_time`
     /// simulated seconds after the start.
-    pub fn run(&mut self, max_time: f64) -> Result<Outcome, BusError> {
+    pub fn run(&mut self, max_time: f64) -> Result<Outcome, RunError> {
         let end = self.start + max_time;
         Ok(self.advance(end)?.unwrap_or(Outcome::MaxTime { time: end }))
     }
@@ -420,7 +432,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
     /// at the current time. Call it when a run ends, so the logger records the posts of
     /// the last event (such as the one that met the `until` condition). Posts the apps
     /// make in reply are published.
-    pub fn deliver_pending(&mut self) -> Result<(), BusError> {
+    pub fn deliver_pending(&mut self) -> Result<(), RunError> {
         let now = self.now;
         for i in 0..self.slots.len() {
             if self.slots[i].done {
@@ -431,7 +443,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
             let slot = &mut self.slots[i];
             self.bus.fetch(slot.id, now, &mut self.mail)?;
             if !self.mail.is_empty() {
-                slot.app.on_mail(&self.mail, now, &mut self.posts);
+                slot.app.on_mail(&self.mail, now, &mut self.posts)?;
                 Self::publish(&mut self.bus, slot, &self.posts, now)?;
                 Self::record_taps(&self.tapped, &mut self.taps, &self.posts);
             }
@@ -439,13 +451,28 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
         Ok(())
     }
 
-    fn step(&mut self, i: usize, now: f64) -> Result<(), BusError> {
+    /// Ends the run: every app's stop hook (flush, close, report), in order. All run; the
+    /// first error is returned.
+    pub fn stop(&mut self) -> Result<(), AppError> {
+        let now = self.now;
+        let mut first = None;
+        for slot in &mut self.slots {
+            if let Err(e) = slot.app.stop(now)
+                && first.is_none()
+            {
+                first = Some(e);
+            }
+        }
+        first.map_or(Ok(()), Err)
+    }
+
+    fn step(&mut self, i: usize, now: f64) -> Result<(), RunError> {
         self.mail.clear();
         self.posts.clear();
         let slot = &mut self.slots[i];
         self.bus.fetch(slot.id, now, &mut self.mail)?;
         if !self.mail.is_empty() {
-            slot.app.on_mail(&self.mail, now, &mut self.posts);
+            slot.app.on_mail(&self.mail, now, &mut self.posts)?;
         }
         if self.status_posts
             && slot
@@ -457,7 +484,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
             let key = slot.status_var.clone();
             self.posts.push(Post::text(key, status));
         }
-        slot.app.iterate(now, &mut self.posts);
+        slot.app.iterate(now, &mut self.posts)?;
         for s in slot.app.new_subscriptions() {
             self.bus.subscribe(slot.id, &s, now)?;
             slot.subscribed.insert(s.pattern);
@@ -535,10 +562,11 @@ mod tests {
         fn app_tick(&self) -> f64 {
             2.0
         }
-        fn iterate(&mut self, _now: f64, out: &mut Vec<Post>) {
+        fn iterate(&mut self, _now: f64, out: &mut Vec<Post>) -> crate::app::AppResult {
             self.n += 1;
             out.push(Post::double("COUNT", f64::from(self.n)));
             out.push(Post::text("OTHER", "x"));
+            Ok(())
         }
     }
 

@@ -788,14 +788,15 @@ impl App for TimerScript {
             .collect()
     }
 
-    fn on_startup(&mut self, now: f64, _out: &mut Vec<Post>) {
+    fn on_startup(&mut self, now: f64, _out: &mut Vec<Post>) -> crate::app::AppResult {
         self.started_at = now;
         for rv in &mut self.rand_vars {
             rv.draw(&mut self.rng);
         }
+        Ok(())
     }
 
-    fn on_mail(&mut self, mail: &[Mail], now: f64, _out: &mut Vec<Post>) {
+    fn on_mail(&mut self, mail: &[Mail], now: f64, _out: &mut Vec<Post>) -> crate::app::AppResult {
         for m in mail {
             let key = m.key.as_str();
             if key == self.pause_var {
@@ -864,9 +865,10 @@ impl App for TimerScript {
                 self.info.insert(m.key.clone(), m.value.clone());
             }
         }
+        Ok(())
     }
 
-    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) {
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) -> crate::app::AppResult {
         // 1. Conditions (not re-checked mid-pass in atomic mode).
         let mid_pass = self.posted_local > 0 && self.posted_local < self.events.len();
         if !(self.atomic && mid_pass) {
@@ -937,6 +939,7 @@ impl App for TimerScript {
             }
             self.last_status = Some(now);
         }
+        Ok(())
     }
 
     fn finished(&self) -> bool {
@@ -971,7 +974,7 @@ mod tests {
     ) -> Vec<(f64, Post)> {
         let mut out = Vec::new();
         let mut posts = Vec::new();
-        ts.on_startup(start, &mut posts);
+        ts.on_startup(start, &mut posts).unwrap();
         let mut fed = 0;
         for k in 0..n {
             let now = start + k as f64 * dt;
@@ -989,9 +992,9 @@ mod tests {
                 .collect();
             fed += due.len();
             if !due.is_empty() {
-                ts.on_mail(&due, now, &mut posts);
+                ts.on_mail(&due, now, &mut posts).unwrap();
             }
-            ts.iterate(now, &mut posts);
+            ts.iterate(now, &mut posts).unwrap();
             out.extend(posts.drain(..).map(|p| (now, p)));
         }
         out
@@ -1290,7 +1293,8 @@ mod tests {
             }],
             1.2,
             &mut posts,
-        );
+        )
+        .unwrap();
         assert!(ts.finished());
     }
 

@@ -236,7 +236,7 @@ impl App for VehicleApp {
         Some(&self.block)
     }
 
-    fn on_startup(&mut self, now: f64, out: &mut Vec<Post>) {
+    fn on_startup(&mut self, now: f64, out: &mut Vec<Post>) -> crate::app::AppResult {
         self.appcast.on_startup(now);
         if let Inner::Pid(p) = &mut self.inner {
             p.set_start_time(now);
@@ -246,13 +246,14 @@ impl App for VehicleApp {
             r.on_startup(&mut self.postings);
         }
         self.flush(out);
+        Ok(())
     }
 
     fn subscriptions(&self) -> Vec<Subscription> {
         self.subs.clone()
     }
 
-    fn on_mail(&mut self, mail: &[Mail], now: f64, out: &mut Vec<Post>) {
+    fn on_mail(&mut self, mail: &[Mail], now: f64, out: &mut Vec<Post>) -> crate::app::AppResult {
         for m in mail {
             // AppCastingMOOSApp takes its own mail first.
             if !self.appcast.take_mail(m) {
@@ -278,9 +279,10 @@ impl App for VehicleApp {
             }
         }
         self.flush(out);
+        Ok(())
     }
 
-    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) {
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) -> crate::app::AppResult {
         let tick = self.app_tick();
         self.appcast.begin(now, tick, out);
         match &mut self.inner {
@@ -302,6 +304,7 @@ impl App for VehicleApp {
             Inner::Pid(p) => p.appcast_body(now, body),
             Inner::Reporter(r) => r.appcast_body(now, body),
         });
+        Ok(())
     }
 }
 
@@ -350,18 +353,19 @@ mod tests {
                 .any(|s| s.pattern == "APPCAST_REQ")
         );
         let mut out = Vec::new();
-        app.on_startup(0.0, &mut out);
+        app.on_startup(0.0, &mut out).unwrap();
         // The first iteration always reports.
-        app.iterate(0.25, &mut out);
+        app.iterate(0.25, &mut out).unwrap();
         let first = appcast_of(&out).expect("an appcast at iteration 1");
         assert_eq!(first.proc_name(), "pMarinePIDV22");
         assert_eq!(first.node_name(), "abe");
         out.clear();
-        app.iterate(0.5, &mut out);
+        app.iterate(0.5, &mut out).unwrap();
         assert!(appcast_of(&out).is_none(), "nobody asked");
         let req = "node=abe,app=all,duration=3,key=uMAC_7,thresh=any";
-        app.on_mail(&[mail("APPCAST_REQ", Value::text(req), 0.6)], 0.6, &mut out);
-        app.iterate(0.75, &mut out);
+        app.on_mail(&[mail("APPCAST_REQ", Value::text(req), 0.6)], 0.6, &mut out)
+            .unwrap();
+        app.iterate(0.75, &mut out).unwrap();
         let cast = appcast_of(&out).expect("an appcast on request");
         assert_eq!(cast.iteration(), 3);
         assert!(
@@ -382,13 +386,14 @@ mod tests {
             .unwrap()
             .with_appcast_globals(Some("abe"), 1.0);
         let mut out = Vec::new();
-        app.on_startup(0.0, &mut out);
+        app.on_startup(0.0, &mut out).unwrap();
         let req = "node=abe,app=pNodeReporter,duration=30,key=k,thresh=any";
-        app.on_mail(&[mail("APPCAST_REQ", Value::text(req), 0.0)], 0.0, &mut out);
+        app.on_mail(&[mail("APPCAST_REQ", Value::text(req), 0.0)], 0.0, &mut out)
+            .unwrap();
         let mut warned = None;
         for k in 1..=40 {
             out.clear();
-            app.iterate(f64::from(k) * 0.25, &mut out);
+            app.iterate(f64::from(k) * 0.25, &mut out).unwrap();
             if let Some(c) = appcast_of(&out)
                 && c.run_warning_total() > 0
             {

@@ -38,8 +38,8 @@ fn step(h: &mut HelmApp, t: f64, extra: &[Mail]) -> Vec<Post> {
         .collect();
     m.extend_from_slice(extra);
     let mut out = Vec::new();
-    h.on_mail(&m, t, &mut out);
-    h.iterate(t, &mut out);
+    h.on_mail(&m, t, &mut out).unwrap();
+    h.iterate(t, &mut out).unwrap();
     out
 }
 

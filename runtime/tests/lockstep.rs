@@ -22,9 +22,10 @@ impl App for Counter {
     fn app_tick(&self) -> f64 {
         4.0
     }
-    fn iterate(&mut self, _now: f64, out: &mut Vec<Post>) {
+    fn iterate(&mut self, _now: f64, out: &mut Vec<Post>) -> runtime::AppResult {
         out.push(Post::double("COUNT", f64::from(self.n)));
         self.n += 1;
+        Ok(())
     }
 }
 
@@ -48,21 +49,23 @@ impl App for Doubler {
     fn subscriptions(&self) -> Vec<Subscription> {
         vec![Subscription::var("COUNT")]
     }
-    fn on_mail(&mut self, mail: &[Mail], _now: f64, _out: &mut Vec<Post>) {
+    fn on_mail(&mut self, mail: &[Mail], _now: f64, _out: &mut Vec<Post>) -> runtime::AppResult {
         for m in mail {
             assert_eq!(m.source, "counter");
             let v = m.value.as_f64().unwrap();
             self.pending.push((m.time, v));
             self.last = Some(v);
         }
+        Ok(())
     }
-    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) {
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) -> runtime::AppResult {
         self.seen
             .borrow_mut()
             .push((now, std::mem::take(&mut self.pending)));
         if let Some(v) = self.last {
             out.push(Post::double("DOUBLE", 2.0 * v));
         }
+        Ok(())
     }
 }
 
@@ -237,12 +240,14 @@ impl App for Recorder {
     fn app_tick(&self) -> f64 {
         4.0
     }
-    fn on_startup(&mut self, now: f64, out: &mut Vec<Post>) {
+    fn on_startup(&mut self, now: f64, out: &mut Vec<Post>) -> runtime::AppResult {
         self.times.borrow_mut().push(("startup", now));
         out.push(Post::text("RECORDER_UP", "yes"));
+        Ok(())
     }
-    fn iterate(&mut self, now: f64, _out: &mut Vec<Post>) {
+    fn iterate(&mut self, now: f64, _out: &mut Vec<Post>) -> runtime::AppResult {
         self.times.borrow_mut().push(("iterate", now));
+        Ok(())
     }
 }
 
@@ -284,8 +289,9 @@ impl App for Ticker {
     fn app_tick(&self) -> f64 {
         self.hz
     }
-    fn iterate(&mut self, now: f64, _out: &mut Vec<Post>) {
+    fn iterate(&mut self, now: f64, _out: &mut Vec<Post>) -> runtime::AppResult {
         self.log.borrow_mut().push((self.name, now));
+        Ok(())
     }
 }
 

@@ -28,12 +28,13 @@ impl App for ScriptedHelm {
     fn name(&self) -> &str {
         "pHelmIvP"
     }
-    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) {
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) -> runtime::AppResult {
         let depth = if now - START < 150.0 { 5.0 } else { 0.0 };
         out.push(Post::text("IVPHELM_STATE", "DRIVE"));
         out.push(Post::double("DESIRED_HEADING", 90.0));
         out.push(Post::double("DESIRED_SPEED", 1.5));
         out.push(Post::double("DESIRED_DEPTH", depth));
+        Ok(())
     }
 }
 

@@ -19,8 +19,9 @@ impl App for Counter {
     fn app_tick(&self) -> f64 {
         10.0
     }
-    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) {
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) -> runtime::AppResult {
         out.push(Post::double("COUNTER_TIME", now));
+        Ok(())
     }
 }
 
@@ -36,15 +37,17 @@ impl App for Listener {
     fn subscriptions(&self) -> Vec<Subscription> {
         vec![Subscription::var("GO")]
     }
-    fn on_mail(&mut self, mail: &[Mail], _now: f64, _out: &mut Vec<Post>) {
+    fn on_mail(&mut self, mail: &[Mail], _now: f64, _out: &mut Vec<Post>) -> runtime::AppResult {
         for m in mail {
             self.go = m.value.as_str().map(String::from);
         }
+        Ok(())
     }
-    fn iterate(&mut self, _now: f64, out: &mut Vec<Post>) {
+    fn iterate(&mut self, _now: f64, out: &mut Vec<Post>) -> runtime::AppResult {
         if let Some(g) = &self.go {
             out.push(Post::text("GO_SEEN", g.clone()));
         }
+        Ok(())
     }
 }
 

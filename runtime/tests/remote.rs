@@ -20,12 +20,14 @@ impl App for Counter {
     fn app_tick(&self) -> f64 {
         20.0
     }
-    fn on_startup(&mut self, _now: f64, out: &mut Vec<Post>) {
+    fn on_startup(&mut self, _now: f64, out: &mut Vec<Post>) -> runtime::AppResult {
         out.push(Post::text("COUNTER_UP", "true"));
+        Ok(())
     }
-    fn iterate(&mut self, _now: f64, out: &mut Vec<Post>) {
+    fn iterate(&mut self, _now: f64, out: &mut Vec<Post>) -> runtime::AppResult {
         out.push(Post::double("COUNT", f64::from(self.n)));
         self.n += 1;
+        Ok(())
     }
 }
 
@@ -43,7 +45,7 @@ impl App for Doubler {
     fn subscriptions(&self) -> Vec<Subscription> {
         vec![Subscription::var("COUNT")]
     }
-    fn on_mail(&mut self, mail: &[Mail], _now: f64, _out: &mut Vec<Post>) {
+    fn on_mail(&mut self, mail: &[Mail], _now: f64, _out: &mut Vec<Post>) -> runtime::AppResult {
         assert!(
             mail.windows(2).all(|w| w[0].time <= w[1].time),
             "mail sorted by time"
@@ -52,11 +54,13 @@ impl App for Doubler {
             assert_eq!(m.source, "counter");
             self.last = m.value.as_f64();
         }
+        Ok(())
     }
-    fn iterate(&mut self, _now: f64, out: &mut Vec<Post>) {
+    fn iterate(&mut self, _now: f64, out: &mut Vec<Post>) -> runtime::AppResult {
         if let Some(v) = self.last {
             out.push(Post::double("DOUBLE", 2.0 * v).with_aux("doubled"));
         }
+        Ok(())
     }
 }
 
@@ -158,10 +162,8 @@ async fn a_taken_name_is_refused() {
         warp: 0.0,
         ..cfg.clone()
     };
-    assert_eq!(
-        run(&mut Counter { n: 0 }, &bad, std::future::pending()).await,
-        Err(RemoteError::Warp(0.0))
-    );
+    let r = run(&mut Counter { n: 0 }, &bad, std::future::pending()).await;
+    assert!(matches!(r, Err(RemoteError::Warp(w)) if w == 0.0), "{r:?}");
     first.close().await;
 }
 
@@ -175,11 +177,12 @@ impl App for ScriptedHelm {
     fn app_tick(&self) -> f64 {
         4.0
     }
-    fn iterate(&mut self, _now: f64, out: &mut Vec<Post>) {
+    fn iterate(&mut self, _now: f64, out: &mut Vec<Post>) -> runtime::AppResult {
         out.push(Post::text("IVPHELM_STATE", "DRIVE"));
         out.push(Post::double("DESIRED_HEADING", 90.0));
         out.push(Post::double("DESIRED_SPEED", 2.0));
         out.push(Post::double("DESIRED_DEPTH", 0.0));
+        Ok(())
     }
 }
 

@@ -39,12 +39,13 @@ impl App for ScriptedHelm {
     fn app_tick(&self) -> f64 {
         4.0
     }
-    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) {
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) -> runtime::AppResult {
         let heading = if now - START < 60.0 { 90.0 } else { 180.0 };
         out.push(Post::text("IVPHELM_STATE", "DRIVE"));
         out.push(Post::double("DESIRED_HEADING", heading));
         out.push(Post::double("DESIRED_SPEED", 2.0));
         out.push(Post::double("DESIRED_DEPTH", 0.0));
+        Ok(())
     }
 }
 
@@ -331,13 +332,13 @@ fn node_reporter_startup_subscriptions_and_mail_time() {
     assert!(rep.subscriptions().iter().any(|s| s.is_wildcard()));
     let mut out = Vec::new();
     rep.set_process_id(4321);
-    rep.on_startup(START, &mut out);
+    rep.on_startup(START, &mut out).unwrap();
     assert_eq!(out.len(), 1);
     assert_eq!(out[0].key, "PNODEREPORTER_PID");
     assert_eq!(out[0].value, Value::Double(4321.0));
     // Without a process id (`coug run`): nothing.
     let mut out = Vec::new();
-    make().on_startup(START, &mut out);
+    make().on_startup(START, &mut out).unwrap();
     assert!(out.is_empty());
     // Mail written 100 s before the reporter reads it: the alt-nav record counts as fresh
     // from the reading (within 5 s at START + 3), so its report follows the node report.
@@ -362,8 +363,8 @@ fn node_reporter_startup_subscriptions_and_mail_time() {
     .map(|(k, x)| mail(k, x))
     .collect();
     let mut out = Vec::new();
-    rep.on_mail(&batch, START + 1.0, &mut out);
-    rep.iterate(START + 3.0, &mut out);
+    rep.on_mail(&batch, START + 1.0, &mut out).unwrap();
+    rep.iterate(START + 3.0, &mut out).unwrap();
     let reports: Vec<String> = out
         .iter()
         .filter(|p| p.key == "NODE_REPORT_LOCAL")

@@ -38,7 +38,9 @@ use runtime::logger::{LateSink, SideFiles};
 use runtime::realtime::{RunSpec, run_apps};
 use runtime::remote::RemoteConfig;
 use runtime::summary::{RunSummary, behaviour_list};
-use runtime::{App, Bus, Outcome, Poke, PokeAt, Scheduler, Value, VirtualClock};
+use runtime::{
+    App, AppError, Bus, Outcome, Poke, PokeAt, RunError, Scheduler, Value, VirtualClock,
+};
 
 /// MOOS time at which every lockstep run starts (so two runs log the same bytes).
 pub const LOCKSTEP_START: f64 = 1_786_000_000.0;
@@ -696,6 +698,19 @@ fn run_inner(args: &RunArgs) -> Result<i32, Vec<String>> {
     }
 }
 
+/// An app's failure as the run's error. The only files the built-in apps write are the
+/// log session's (pLogger), so a write failure names the alog by its file on disk (the path
+/// in a lockstep log's banner carries the virtual date instead).
+fn app_failed(e: &AppError, alog_path: &str) -> Vec<String> {
+    match e {
+        AppError::Io { app, source, .. } => {
+            vec![format!(
+                "{app}: the log {alog_path} could not be written: {source}"
+            )]
+        }
+    }
+}
+
 /// Flushes and closes the alog: any write error of the session fails the run.
 fn close_log(sink: &LateSink, alog_path: &str) -> Result<(), Vec<String>> {
     sink.close()
@@ -784,6 +799,7 @@ fn lockstep(
     let outcome = loop {
         if interrupted.load(Ordering::Relaxed) {
             progress.finish();
+            s.stop().map_err(|e| app_failed(&e, &alog_path))?;
             drop(s);
             close_log(&sink, &alog_path)?;
             errln!(
@@ -792,15 +808,11 @@ fn lockstep(
             );
             return Ok(130);
         }
-        // A log that cannot be written is a failed run: stop at once and say why.
-        if sink.has_failed() {
-            progress.finish();
-            drop(s);
-            close_log(&sink, &alog_path)?;
-            return Err(vec![format!("the log {alog_path} could not be written")]);
-        }
         t = (t + step).min(end);
-        match s.advance(t).map_err(|e| vec![e.to_string()])? {
+        match s.advance(t).map_err(|e| match e {
+            RunError::App(e) => app_failed(&e, &alog_path),
+            e => vec![e.to_string()],
+        })? {
             Some(o) => break o,
             None if t >= end => break Outcome::MaxTime { time: end },
             None => {}
@@ -813,7 +825,10 @@ fn lockstep(
         let get = |k: &str| s.current(k);
         progress.tick(t - start, &wall, &get, terminal, args.progress_every);
     };
-    s.deliver_pending().map_err(|e| vec![e.to_string()])?;
+    s.deliver_pending().map_err(|e| match e {
+        RunError::App(e) => app_failed(&e, &alog_path),
+        e => vec![e.to_string()],
+    })?;
     let wall = wall.elapsed().as_secs_f64();
     progress.finish();
     let ended = Ended {
@@ -822,6 +837,7 @@ fn lockstep(
         wall,
         until_values: s.until_values(),
     };
+    s.stop().map_err(|e| app_failed(&e, &alog_path))?;
     drop(s);
     close_log(&sink, &alog_path)?;
     Ok(finish(args, &ended, Some(&alog_path)))
@@ -1013,20 +1029,10 @@ fn realtime(
                 progress.tick(now - start, &wall, &get, terminal, every);
             }
         };
-        // A log that cannot be written is a failed run: it ends the run at once.
-        let log_failed = async {
-            loop {
-                tokio::time::sleep(std::time::Duration::from_millis(200)).await;
-                if sink.has_failed() {
-                    break;
-                }
-            }
-        };
         let result = tokio::select! {
-            r = run_apps(p.apps, &cfg, spec) => Some(r.map_err(Some)),
+            r = run_apps(p.apps, &cfg, spec) => Some(r),
             _ = super::signal::shutdown() => None,
             _ = progress_task => unreachable!("the progress loop never ends"),
-            _ = log_failed => Some(Err(None)),
         };
         let wall = wall.elapsed().as_secs_f64();
         if terminal {
@@ -1042,15 +1048,11 @@ fn realtime(
             errln!("coug run: interrupted after {wall:.1} wall s; log: {alog_path}");
             return Ok(130);
         };
-        let end = match result {
-            Ok(end) => end,
-            Err(Some(e)) => return Err(vec![e.to_string()]),
-            // The log failed: the close reports why.
-            Err(None) => {
-                close_log(&sink, &alog_path)?;
-                return Err(vec![format!("the log {alog_path} could not be written")]);
-            }
-        };
+        // An app's failure (a log that could not be written) fails the run.
+        let end = result.map_err(|e| match e {
+            runtime::remote::RemoteError::App(e) => app_failed(&e, &alog_path),
+            e => vec![e.to_string()],
+        })?;
         close_log(&sink, &alog_path)?;
         let ended = Ended {
             outcome: end.outcome,
