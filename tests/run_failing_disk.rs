@@ -49,7 +49,10 @@ fn a_log_that_fills_the_disk_mid_run_fails_the_run_with_a_clear_error() {
     // The log was written up to the limit and no further.
     let alog = common::find_alog(&dir.join("logs"));
     let name = alog.file_name().unwrap().to_string_lossy();
-    assert!(stderr.contains(&*name), "the error names the file on disk: {stderr}");
+    assert!(
+        stderr.contains(&*name),
+        "the error names the file on disk: {stderr}"
+    );
     let len = std::fs::metadata(&alog).unwrap().len();
     assert!(len <= 200 * 1024, "{len} bytes");
 }
