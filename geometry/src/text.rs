@@ -113,73 +113,10 @@ pub(crate) fn remove_white(s: &str) -> Cow<'_, str> {
     }
 }
 
-/// Writes `v` with `prec` decimals, then drops trailing zeros and a trailing `.`, and writes
-/// `-0` as `0` (MOOS `doubleToStringX`). Writes into `out` without allocating a temporary.
-///
-/// Rounding is that of C's `printf("%.*f")`: the exact binary value is rounded to `prec`
-/// decimals, ties to even. A fast integer path handles the common case; values whose scaled
-/// fraction is too close to one half to decide safely (and large or non-finite values) go
-/// through Rust's exact formatter.
+/// Writes `v` as MOOS `doubleToStringX(v, prec)` (the workspace's one implementation,
+/// [`moos_types::fmt::compact`]).
 pub(crate) fn write_num(out: &mut String, v: f64, prec: usize) {
-    if !write_num_fast(out, v, prec) {
-        write_num_exact(out, v, prec);
-    }
-}
-
-const POW10: [u64; 7] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000];
-
-fn write_num_fast(out: &mut String, v: f64, prec: usize) -> bool {
-    use std::fmt::Write as _;
-    let Some(&scale) = POW10.get(prec) else {
-        return false;
-    };
-    let s = v.abs() * scale as f64;
-    // Below 2^30 the product's rounding error is under 1.2e-7, far from the 1e-6 margin.
-    if s.is_nan() || s >= 1_073_741_824.0 {
-        return false;
-    }
-    let fl = s.floor();
-    let frac = s - fl;
-    if (frac - 0.5).abs() < 1e-6 {
-        return false;
-    }
-    let n = fl as u64 + u64::from(frac > 0.5);
-    if n == 0 {
-        out.push('0');
-        return true;
-    }
-    if v < 0.0 {
-        out.push('-');
-    }
-    let (int, mut dec) = (n / scale, n % scale);
-    write!(out, "{int}").ok();
-    if dec != 0 {
-        let mut digits = prec;
-        while dec % 10 == 0 {
-            dec /= 10;
-            digits -= 1;
-        }
-        write!(out, ".{dec:0digits$}").ok();
-    }
-    true
-}
-
-fn write_num_exact(out: &mut String, v: f64, prec: usize) {
-    use std::fmt::Write as _;
-    let start = out.len();
-    // Writing into a String cannot fail.
-    write!(out, "{v:.prec$}").ok();
-    if out[start..].contains('.') {
-        let trimmed = out[start..].trim_end_matches('0').len();
-        out.truncate(start + trimmed);
-        if out.ends_with('.') {
-            out.pop();
-        }
-    }
-    if &out[start..] == "-0" {
-        out.truncate(start);
-        out.push('0');
-    }
+    moos_types::fmt::compact(out, v, prec);
 }
 
 #[cfg(test)]
@@ -204,42 +141,6 @@ mod tests {
         // printf rounds the exact binary value: 0.125 is exact, ties go to even.
         assert_eq!(fmt(0.125, 2), "0.12");
         assert_eq!(fmt(2.675, 2), "2.67");
-    }
-
-    #[test]
-    fn fast_path_matches_exact_formatting() {
-        // Deterministic pseudo-random sweep over magnitudes, signs and precisions.
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        for i in 0..200_000u64 {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            let mantissa = (state >> 11) as f64 / (1u64 << 53) as f64;
-            let exp = (i % 16) as i32 - 6;
-            let sign = if state & 1 == 1 { -1.0 } else { 1.0 };
-            let v = sign * mantissa * 10f64.powi(exp);
-            let prec = (i % 7) as usize;
-            let mut fast = String::new();
-            let mut exact = String::new();
-            if write_num_fast(&mut fast, v, prec) {
-                write_num_exact(&mut exact, v, prec);
-                assert_eq!(fast, exact, "v={v:e} prec={prec}");
-            }
-        }
-        for (v, p) in [
-            (0.5, 0),
-            (1.5, 0),
-            (2.5, 0),
-            (0.25, 1),
-            (1e-9, 3),
-            (-1e-9, 3),
-            (123.0, 6),
-        ] {
-            let (mut a, mut b) = (String::new(), String::new());
-            write_num(&mut a, v, p);
-            write_num_exact(&mut b, v, p);
-            assert_eq!(a, b, "v={v} p={p}");
-        }
     }
 
     #[test]

@@ -221,19 +221,7 @@ pub fn decode(text: &str) -> Result<(IvpFunction, String), IvpError> {
 }
 
 fn push_uint(out: &mut String, v: u64) {
-    let mut buf = [0u8; 20];
-    let mut i = buf.len();
-    let mut v = v;
-    loop {
-        i -= 1;
-        buf[i] = b'0' + (v % 10) as u8;
-        v /= 10;
-        if v == 0 {
-            break;
-        }
-    }
-    // Only ASCII digits were written.
-    out.push_str(std::str::from_utf8(&buf[i..]).unwrap_or("0"));
+    moos_types::fmt::uint(out, v);
 }
 
 /// MOOS `dstringCompact(doubleToString(v))`: 5 decimals, then trailing zeros and a trailing
