@@ -6,23 +6,32 @@
 
 mod common;
 
-use std::process::Command;
+use std::process::{Command, Output};
 
 use common::{fresh_dir, project_mission};
+
+/// Runs `coug` in `dir` with writes past `kib` KiB failing with EFBIG: the shell ignores
+/// SIGXFSZ (an ignored signal stays ignored across exec), so the write fails with an error
+/// instead of killing the process; the limit is in 1 KiB blocks.
+fn coug_with_file_limit(dir: &std::path::Path, kib: u32, args: &[&str]) -> Output {
+    Command::new("sh")
+        .current_dir(dir)
+        .arg("-c")
+        .arg(format!("trap '' XFSZ; ulimit -f {kib}; exec \"$0\" \"$@\""))
+        .arg(env!("CARGO_BIN_EXE_coug"))
+        .args(args)
+        .output()
+        .expect("sh runs")
+}
 
 #[test]
 fn a_log_that_fills_the_disk_mid_run_fails_the_run_with_a_clear_error() {
     let dir = fresh_dir("failing-disk");
     let mission = project_mission("surface_survey/survey.moos");
-    // The shell ignores SIGXFSZ (an ignored signal stays ignored across exec), so the
-    // write fails with an error instead of killing the process; the limit is in 1 KiB
-    // blocks.
-    let out = Command::new("sh")
-        .current_dir(&dir)
-        .arg("-c")
-        .arg("trap '' XFSZ; ulimit -f 200; exec \"$0\" \"$@\"")
-        .arg(env!("CARGO_BIN_EXE_coug"))
-        .args([
+    let out = coug_with_file_limit(
+        &dir,
+        200,
+        &[
             "run",
             mission.to_str().unwrap(),
             "--lockstep",
@@ -31,9 +40,8 @@ fn a_log_that_fills_the_disk_mid_run_fails_the_run_with_a_clear_error() {
             "MISSION = complete",
             "--log-dir",
             "logs",
-        ])
-        .output()
-        .expect("sh runs");
+        ],
+    );
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "stderr: {stderr}");
     assert!(
@@ -63,12 +71,10 @@ fn a_log_that_fills_the_disk_mid_run_fails_the_run_with_a_clear_error() {
 fn a_real_time_run_ends_when_its_log_cannot_be_written() {
     let dir = fresh_dir("failing-disk-realtime");
     let mission = project_mission("surface_survey/survey.moos");
-    let out = Command::new("sh")
-        .current_dir(&dir)
-        .arg("-c")
-        .arg("trap '' XFSZ; ulimit -f 40; exec \"$0\" \"$@\"")
-        .arg(env!("CARGO_BIN_EXE_coug"))
-        .args([
+    let out = coug_with_file_limit(
+        &dir,
+        40,
+        &[
             "run",
             mission.to_str().unwrap(),
             "--warp",
@@ -80,9 +86,8 @@ fn a_real_time_run_ends_when_its_log_cannot_be_written() {
             "3000",
             "--log-dir",
             "logs",
-        ])
-        .output()
-        .expect("sh runs");
+        ],
+    );
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "stderr: {stderr}");
     assert!(stderr.contains("could not be written"), "{stderr}");

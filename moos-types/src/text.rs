@@ -257,6 +257,20 @@ pub fn moos_is_numeric(s: &str) -> bool {
         .all(|c| c.is_ascii_digit() || matches!(c, '.' | 'e' | 'E' | '-' | '+'))
 }
 
+/// Where a C number conversion starts reading digits (after white space and one sign), and
+/// whether the sign was `-`.
+fn sign_prefix(b: &[u8]) -> (usize, bool) {
+    let mut i = 0;
+    while i < b.len() && is_c_space(b[i]) {
+        i += 1;
+    }
+    let negative = b.get(i) == Some(&b'-');
+    if matches!(b.get(i), Some(b'+' | b'-')) {
+        i += 1;
+    }
+    (i, negative)
+}
+
 /// The white space C's `isspace` skips in the "C" locale.
 fn is_c_space(b: u8) -> bool {
     matches!(b, b' ' | b'\t' | b'\n' | 0x0b | 0x0c | b'\r')
@@ -266,16 +280,7 @@ fn is_c_space(b: u8) -> bool {
 /// then the longest prefix that is a decimal number, a hexadecimal number (`0x`), `inf`,
 /// `infinity` or `nan`; 0 when nothing converts.
 pub fn atof(s: &str) -> f64 {
-    let b = s.as_bytes();
-    let mut i = 0;
-    while i < b.len() && is_c_space(b[i]) {
-        i += 1;
-    }
-    let mut negative = false;
-    if i < b.len() && (b[i] == b'+' || b[i] == b'-') {
-        negative = b[i] == b'-';
-        i += 1;
-    }
+    let (i, negative) = sign_prefix(s.as_bytes());
     let rest = &s[i..];
     let magnitude = unsigned_float(rest).unwrap_or(0.0);
     if negative { -magnitude } else { magnitude }
@@ -387,15 +392,7 @@ fn hex_float(s: &str) -> Option<f64> {
 /// truncated to 32 bits; 0 when nothing converts.
 pub fn atoi(s: &str) -> i32 {
     let b = s.as_bytes();
-    let mut i = 0;
-    while i < b.len() && is_c_space(b[i]) {
-        i += 1;
-    }
-    let mut negative = false;
-    if i < b.len() && (b[i] == b'+' || b[i] == b'-') {
-        negative = b[i] == b'-';
-        i += 1;
-    }
+    let (mut i, negative) = sign_prefix(b);
     let mut value: i128 = 0;
     while i < b.len() && b[i].is_ascii_digit() {
         value = (value * 10 + i128::from(b[i] - b'0')).min(i128::from(i64::MAX) + 1);

@@ -1122,6 +1122,26 @@ impl NodeReporter {
         self.notes.drain(..).collect()
     }
 
+    /// The inputs of the alternative-navigation (ground truth) report.
+    fn gt_inputs<'a>(&'a self, mode: &'a str, now: f64) -> ReportInputs<'a> {
+        ReportInputs {
+            name: &self.gt.name,
+            nav: self.gt.nav,
+            color: self.color.as_deref(),
+            group: self.gt.group.as_deref(),
+            mode,
+            mode_aux: None,
+            allstop: &self.helm.allstop,
+            load_warning: None,
+            index: self.gt.index,
+            thrust_mode_reverse: false,
+            time: now,
+            transparency: self.gt.transparency,
+            cog: None,
+            trajectory: None,
+        }
+    }
+
     /// Appends the pNodeReporter appcast report body (`NodeReporter::buildReport`) as it
     /// reads at the end of the iteration at `now`:
     ///
@@ -1262,22 +1282,7 @@ impl NodeReporter {
         }
         write_block(out, " Latest Report: ", &report, 50);
         if self.gt.updated.is_some() {
-            let inputs = ReportInputs {
-                name: &self.gt.name,
-                nav: self.gt.nav,
-                color: self.color.as_deref(),
-                group: self.gt.group.as_deref(),
-                mode: &mode,
-                mode_aux: None,
-                allstop: &self.helm.allstop,
-                load_warning: None,
-                index: self.gt.index,
-                thrust_mode_reverse: false,
-                time: now,
-                transparency: self.gt.transparency,
-                cog: None,
-                trajectory: None,
-            };
+            let inputs = self.gt_inputs(&mode, now);
             report.clear();
             write_report(&mut report, cfg, &inputs);
             let r = rider_reports_of(&cfg.riders, &mut riders, now);
@@ -1759,22 +1764,7 @@ impl NodeReporter {
                     ll_t,
                 );
                 self.gt.index = self.reports_posted;
-                let inputs = ReportInputs {
-                    name: &self.gt.name,
-                    nav: self.gt.nav,
-                    color: self.color.as_deref(),
-                    group: self.gt.group.as_deref(),
-                    mode: &mode,
-                    mode_aux: None,
-                    allstop: &self.helm.allstop,
-                    load_warning: None,
-                    index: self.reports_posted,
-                    thrust_mode_reverse: false,
-                    time: now,
-                    transparency: self.gt.transparency,
-                    cog: None,
-                    trajectory: None,
-                };
+                let inputs = self.gt_inputs(&mode, now);
                 let mut report = String::new();
                 write_report(&mut report, &self.cfg, &inputs);
                 let riders = self.rider_reports(now);
