@@ -152,7 +152,7 @@ fn info() {
     outln!("  nodereporter  pNodeReporter");
     outln!(
         "  install-aliases DIR  links named after the apps: {}",
-        cmd::app::APP_NAMES.join(", ")
+        cmd::app::app_names().collect::<Vec<_>>().join(", ")
     );
     outln!();
     outln!("`coug help COMMAND` for the options of each.");

@@ -10,15 +10,9 @@ use common::*;
 #[test]
 fn alpha_completes_in_order_and_logs_are_byte_identical() {
     let mission = corpus("s1_alpha/alpha.moos");
-    let args = [
-        "--deploy",
-        "--until",
-        "MISSION = complete",
-        "--max-time",
-        "1500",
-    ];
-    let (a, stdout) = run_lockstep("run-alpha-1", &mission, &args);
-    let (b, _) = run_lockstep("run-alpha-2", &mission, &args);
+    let opts = deploy_until("MISSION = complete", 1500.0);
+    let (a, stdout) = run_lockstep("run-alpha-1", &mission, &[], opts.clone());
+    let (b, _) = run_lockstep("run-alpha-1", &mission, &[], opts);
     assert!(a.len() > 1_000_000, "alog of {} bytes", a.len());
     assert!(a == b, "two lockstep runs of alpha wrote different alogs");
     assert!(stdout.contains("until condition met"), "{stdout}");

@@ -7,11 +7,14 @@ mod common;
 use common::*;
 
 /// Runs golf in lockstep with `press` until it is home again; returns the log.
-fn golf(name: &str, press: &[&str]) -> alog::Alog {
+fn golf(name: &str, press: RunOptions) -> alog::Alog {
     let mission = corpus("s7_golf/golf.moos");
-    let mut args = press.to_vec();
-    args.extend(["--until", "RETURNING = false", "--max-time", "1500"]);
-    let (bytes, stdout) = run_lockstep(name, &mission, &args);
+    let opts = RunOptions {
+        until: Some("RETURNING = false".into()),
+        max_time: 1500.0,
+        ..press
+    };
+    let (bytes, stdout) = run_lockstep(name, &mission, &[], opts);
     assert!(stdout.contains("until condition met"), "{stdout}");
     parse(&bytes)
 }
@@ -34,13 +37,25 @@ fn assert_surveyed_and_home(log: &alog::Alog) {
 
 #[test]
 fn deploy_presses_the_missions_deploy_button() {
-    let log = golf("golf-deploy", &["--deploy"]);
+    let log = golf(
+        "golf-deploy",
+        RunOptions {
+            deploy: true,
+            ..RunOptions::default()
+        },
+    );
     assert_surveyed_and_home(&log);
 }
 
 #[test]
 fn button_by_label_and_unknown_buttons_are_named() {
-    let log = golf("golf-button", &["--button", "deploy"]);
+    let log = golf(
+        "golf-button",
+        RunOptions {
+            buttons: vec!["deploy".into()],
+            ..RunOptions::default()
+        },
+    );
     assert_surveyed_and_home(&log);
     let dir = fresh_dir("golf-no-button");
     let m = corpus("s7_golf/golf.moos");

@@ -21,15 +21,9 @@ fn first_post(log: &alog::Alog, var: &str, val: &str) -> Option<f64> {
 #[test]
 fn dive_mission_dives_surveys_surfaces_for_gps_and_loiters() {
     let mission = project_mission("dive/dive.moos");
-    let args = [
-        "--deploy",
-        "--until",
-        "MISSION = complete",
-        "--max-time",
-        "1200",
-    ];
-    let (a, stdout) = run_lockstep("run-dive-1", &mission, &args);
-    let (b, _) = run_lockstep("run-dive-2", &mission, &args);
+    let opts = deploy_until("MISSION = complete", 1200.0);
+    let (a, stdout) = run_lockstep("run-dive-1", &mission, &[], opts.clone());
+    let (b, _) = run_lockstep("run-dive-1", &mission, &[], opts);
     assert!(
         a == b,
         "two lockstep runs of the dive mission wrote different alogs"
@@ -99,19 +93,12 @@ fn dive_mission_dives_surveys_surfaces_for_gps_and_loiters() {
 #[test]
 fn delta_dives_loiters_with_periodic_surfacing_surveys_and_returns() {
     let mission = corpus("s4_delta/delta.moos");
-    let args = [
-        "--deploy",
-        "--poke",
-        "SURVEY=true@300",
-        "--poke",
-        "RETURN=true@1200",
-        "--until",
-        "DEPLOY = false",
-        "--max-time",
-        "3000",
-    ];
-    let (a, _) = run_lockstep("run-delta-1", &mission, &args);
-    let (b, _) = run_lockstep("run-delta-2", &mission, &args);
+    let opts = RunOptions {
+        pokes: vec!["SURVEY=true@300".into(), "RETURN=true@1200".into()],
+        ..deploy_until("DEPLOY = false", 3000.0)
+    };
+    let (a, _) = run_lockstep("run-delta-1", &mission, &[], opts.clone());
+    let (b, _) = run_lockstep("run-delta-1", &mission, &[], opts);
     assert!(a == b, "two lockstep runs of delta wrote different alogs");
     let log = parse(&a);
     let t = track(&log);

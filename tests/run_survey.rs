@@ -9,15 +9,9 @@ use common::*;
 #[test]
 fn surface_survey_completes_and_is_repeatable() {
     let mission = project_mission("surface_survey/survey.moos");
-    let args = [
-        "--deploy",
-        "--until",
-        "MISSION = complete",
-        "--max-time",
-        "900",
-    ];
-    let (a, stdout) = run_lockstep("run-survey-1", &mission, &args);
-    let (b, _) = run_lockstep("run-survey-2", &mission, &args);
+    let opts = deploy_until("MISSION = complete", 900.0);
+    let (a, stdout) = run_lockstep("run-survey-1", &mission, &[], opts.clone());
+    let (b, _) = run_lockstep("run-survey-1", &mission, &[], opts);
     assert!(
         a == b,
         "two lockstep runs of the survey wrote different alogs"
@@ -58,14 +52,8 @@ fn macros_reach_the_behaviour_file() {
     let (a, _) = run_lockstep(
         "run-survey-slow",
         &mission,
-        &[
-            "SPEED=1.5",
-            "--deploy",
-            "--until",
-            "MISSION = complete",
-            "--max-time",
-            "900",
-        ],
+        &["SPEED=1.5"],
+        deploy_until("MISSION = complete", 900.0),
     );
     let log = parse(&a);
     let speeds: Vec<f64> = log

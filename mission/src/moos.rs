@@ -220,6 +220,55 @@ impl fmt::Display for MissionFile {
     }
 }
 
+/// The text of a mission with top-level settings replaced or added, as pAntler's
+/// command-line overloads (`--ServerPort=N`) change what its apps read: every line the
+/// parser reads as global `key` (case-insensitive) becomes `key = value`; a key the file
+/// lacks is added at the top, in the order given. Every other line (comments, blocks,
+/// free-format lines of third-party apps) is kept as written.
+///
+/// ```
+/// let text = "ServerPort = 9000 // the DB\nProcessConfig = A\n{\n  ServerPort = 1\n}\n";
+/// let out = mission::moos::override_globals(text, &[("serverport", "9011"), ("MOOSTimeWarp", "4")]);
+/// assert_eq!(out, "MOOSTimeWarp = 4\nServerPort = 9011\nProcessConfig = A\n{\n  ServerPort = 1\n}\n");
+/// ```
+pub fn override_globals(text: &str, overrides: &[(&str, &str)]) -> String {
+    // Parsed as one file, so each global's span line is its line in `text`.
+    let parsed = parse_moos(&SourceMap::from_text("mission", text));
+    let mut replace: Vec<Option<usize>> = Vec::new();
+    let mut found = vec![false; overrides.len()];
+    for g in &parsed.value.globals {
+        let Some(i) = overrides.iter().position(|(k, _)| g.is(k)) else {
+            continue;
+        };
+        let line = usize::try_from(g.span.line).unwrap_or(0).saturating_sub(1);
+        if replace.len() <= line {
+            replace.resize(line + 1, None);
+        }
+        replace[line] = Some(i);
+        found[i] = true;
+    }
+    let mut out = String::with_capacity(text.len() + 64);
+    for (i, (k, v)) in overrides.iter().enumerate() {
+        if !found[i] {
+            out.push_str(&format!("{k} = {v}\n"));
+        }
+    }
+    for (n, line) in crate::source::split_lines(text).enumerate() {
+        match replace.get(n).copied().flatten() {
+            Some(i) => {
+                let (k, v) = overrides[i];
+                let key = line.split('=').next().map_or(k, str::trim);
+                out.push_str(&format!("{key} = {v}\n"));
+            }
+            None => {
+                out.push_str(line);
+                out.push('\n');
+            }
+        }
+    }
+    out
+}
+
 /// Splits `key = value` at the first `=`: byte offset of the key start, key, value (trimmed).
 pub(crate) fn split_param(text: &str) -> Option<(usize, &str, &str)> {
     let eq = text.find('=')?;

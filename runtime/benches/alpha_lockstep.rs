@@ -11,7 +11,7 @@ use mission::Parsed;
 use mission::bhv::BehaviorFile;
 use mission::moos::MissionFile;
 use mission::source::SourceMap;
-use runtime::antler::{LogTarget, logger_config, plan};
+use runtime::antler::{Launch, LogTarget, logger_config, plan};
 use runtime::helm::HelmApp;
 use runtime::logger::SharedBuffer;
 use runtime::{App, Bus, Outcome, Poke, Scheduler, VirtualClock};
@@ -45,11 +45,15 @@ fn run(m: &MissionFile, bhv: &Parsed<BehaviorFile>) -> f64 {
         opened_on: "Thu Jan  1 00:00:00 1970".into(),
         side: None,
     };
-    let p = plan(m, START, 1, Some(target), &mut |run, block| {
-        (run.app == "pHelmIvP").then(|| {
-            Ok(Box::new(HelmApp::new(run.moos_name(), block.cloned(), m, bhv)) as Box<dyn App>)
-        })
-    })
+    let p = plan(
+        m,
+        Launch::new(START, 1).with_log(target),
+        &mut |run, block| {
+            (run.app == "pHelmIvP").then(|| {
+                Ok(Box::new(HelmApp::new(run.moos_name(), block.cloned(), m, bhv)) as Box<dyn App>)
+            })
+        },
+    )
     .expect("alpha plans");
     let mut s = Scheduler::new(Bus::new(&p.globals.community, START), VirtualClock, START);
     for app in p.apps {

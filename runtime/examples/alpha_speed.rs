@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use chrono::NaiveDate;
 use mission::source::SourceMap;
-use runtime::antler::{LogTarget, logger_config, plan};
+use runtime::antler::{Launch, LogTarget, logger_config, plan};
 use runtime::helm::HelmApp;
 use runtime::logger::SharedBuffer;
 use runtime::{App, Bus, Poke, Scheduler, VirtualClock};
@@ -41,14 +41,18 @@ fn main() {
             opened_on: "Thu Jan  1 00:00:00 1970".into(),
             side: None,
         };
-        let p = plan(&m, START, 1, Some(target), &mut |run, block| {
-            (run.app == "pHelmIvP").then(|| {
-                Ok(
-                    Box::new(HelmApp::new(run.moos_name(), block.cloned(), &m, &bhv))
-                        as Box<dyn App>,
-                )
-            })
-        })
+        let p = plan(
+            &m,
+            Launch::new(START, 1).with_log(target),
+            &mut |run, block| {
+                (run.app == "pHelmIvP").then(|| {
+                    Ok(
+                        Box::new(HelmApp::new(run.moos_name(), block.cloned(), &m, &bhv))
+                            as Box<dyn App>,
+                    )
+                })
+            },
+        )
         .expect("alpha plans");
         let mut s = Scheduler::new(Bus::new(&p.globals.community, START), VirtualClock, START);
         for app in p.apps {

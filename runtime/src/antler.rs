@@ -1,21 +1,29 @@
 //! Launching a mission in-process: the ANTLER block's `Run` lines resolved against coug's
 //! built-in apps (what pAntler does with processes, done with [`App`]s on one bus).
 //!
-//! Built in here: `MOOSDB` (the bus itself), `pLogger`, `uTimerScript`, `uSimMarine`,
-//! `uSimMarineV22`, `pMarinePID`, `pMarinePIDV22`, `pNodeReporter`. Other apps (the helm
-//! until its engine lands, viewers, ...) go to the caller's `custom` factory first; what
-//! nobody builds is listed in [`Plan::external`] for the caller to start from PATH (real
-//! time) or skip with a warning (lockstep). Each app reads the `ProcessConfig` block of
-//! its MOOS name (the alias after `~`, as MOOS apps do).
+//! The apps coug builds in are one registry, [`BUILT_INS`]: `MOOSDB` (the bus itself),
+//! `pHelmIvP`, `uSimMarine(V22)`, `pMarinePID(V22)`, `pNodeReporter`, `pLogger` and
+//! `uTimerScript`. A caller's `custom` factory is asked first for every `Run` line (tests
+//! with in-memory behaviours, user apps); what nobody builds is listed in
+//! [`Plan::external`] for the caller to start from PATH (real time) or skip with a warning
+//! (lockstep). Each app reads the `ProcessConfig` block of its MOOS name (the alias after
+//! `~`, as MOOS apps do).
 
+use std::collections::HashMap;
 use std::io::Write;
+use std::path::PathBuf;
 
 use chrono::NaiveDateTime;
+use mission::Parsed;
+use mission::bhv::BehaviorFile;
 use mission::moos::{AntlerRun, MissionFile, ProcessConfig};
+use mission::nsplug::Options;
+use mission::source::FsSource;
 use thiserror::Error;
 use vehicle::geodesy::LocalGrid;
 
 use crate::app::App;
+use crate::helm::HelmApp;
 use crate::logger::{Logger, LoggerConfig};
 use crate::timer_script::{TimerScript, TimerScriptError};
 use crate::vehicle::{VehicleApp, VehicleAppError};
@@ -148,8 +156,9 @@ pub enum LaunchError {
     NoAntler,
 }
 
-/// A factory for apps coug builds outside this crate (e.g. the helm): `Some` to take the
-/// `Run` line (an app, or an error message), `None` to leave it.
+/// A factory for apps the caller builds itself (a test's in-memory helm, a user's app):
+/// `Some` to take the `Run` line (an app, or an error message), `None` to leave it to the
+/// built-ins.
 pub type CustomFactory<'a> =
     dyn FnMut(&AntlerRun, Option<&ProcessConfig>) -> Option<Result<Box<dyn App>, String>> + 'a;
 
@@ -171,109 +180,275 @@ pub enum Built {
     Unknown,
 }
 
-/// The programs [`build`] makes (a `Run` line of one of these uses its ProcessConfig block);
-/// the MOOSDB is the run's own.
-pub const BUILT_IN: &[&str] = &[
-    "pHelmIvP",
-    "uSimMarine",
-    "uSimMarineV22",
-    "pMarinePID",
-    "pMarinePIDV22",
-    "pNodeReporter",
-    "pLogger",
-    "uTimerScript",
+/// Where each helm reads its behaviour files: the mission's folder (relative `behaviors =`
+/// paths), the nsplug options they are expanded with, and the files already read (by the
+/// helm's MOOS name) so a run and its check read them once.
+#[derive(Debug, Clone, Default)]
+pub struct HelmFiles {
+    /// The mission file's folder.
+    pub dir: PathBuf,
+    /// How the behaviour files are preprocessed (RESTART_HELM reads them again so).
+    pub opts: Options,
+    /// Behaviour files already read, by helm MOOS name (see [`crate::helm::load_behaviors`]); a helm not
+    /// in here reads its files when it is built.
+    pub loaded: HashMap<String, Result<Parsed<BehaviorFile>, Vec<String>>>,
+}
+
+/// Everything building a mission's apps needs besides the mission itself.
+pub struct Launch {
+    /// The MOOS time the run starts at.
+    pub start: f64,
+    /// Seeds every random draw (each app that draws mixes in its MOOS name).
+    pub seed: u64,
+    /// Where pLogger writes (taken by the first pLogger; none: pLogger is not run).
+    pub log: Option<LogTarget>,
+    /// Where the helms read their behaviour files.
+    pub helm_files: HelmFiles,
+}
+
+impl Launch {
+    /// A launch at MOOS time `start` with `seed`, no log target and behaviour files read
+    /// relative to the current directory.
+    pub fn new(start: f64, seed: u64) -> Launch {
+        Launch {
+            start,
+            seed,
+            log: None,
+            helm_files: HelmFiles::default(),
+        }
+    }
+
+    /// The same launch writing its log to `log`.
+    pub fn with_log(mut self, log: LogTarget) -> Launch {
+        self.log = Some(log);
+        self
+    }
+
+    /// The same launch reading behaviour files as `files` says.
+    pub fn with_helm_files(mut self, files: HelmFiles) -> Launch {
+        self.helm_files = files;
+        self
+    }
+}
+
+/// One app being built: its program and MOOS name, its block, the mission and the launch.
+pub struct BuildCx<'a> {
+    /// The program's base name (`uSimMarineV22`).
+    pub program: &'a str,
+    /// The MOOS name it runs under.
+    pub moos_name: &'a str,
+    /// Its `ProcessConfig` block, if the mission has one.
+    pub block: Option<ProcessConfig>,
+    /// The mission.
+    pub mission: &'a MissionFile,
+    /// The mission's globals.
+    pub globals: &'a MissionGlobals,
+    /// The launch settings.
+    pub launch: &'a mut Launch,
+    /// Where non-fatal findings go (`file:line: text`).
+    pub warnings: &'a mut Vec<String>,
+}
+
+impl BuildCx<'_> {
+    /// The block, or an empty one named after the MOOS name (every setting at its default).
+    fn block_or_empty(&mut self) -> ProcessConfig {
+        self.block.take().unwrap_or_else(|| ProcessConfig {
+            name: self.moos_name.to_string(),
+            span: mission::source::Span::new(
+                &format!("(no ProcessConfig = {})", self.moos_name),
+                0,
+                0,
+            ),
+            entries: Vec::new(),
+        })
+    }
+}
+
+/// One app coug builds in: the program name pAntler runs, what it does, and how it is made.
+/// [`BUILT_INS`] is the one list: the planner, the single-app mode, `coug install-aliases`
+/// and the checks all read it, so adding an app is adding an entry.
+pub struct BuiltIn {
+    /// The program name (a `Run` line's base name, and the alias name).
+    pub program: &'static str,
+    /// What the app does, for its usage text.
+    pub what: &'static str,
+    /// True when the app reads a `ProcessConfig` block of its MOOS name (the MOOSDB reads
+    /// only the globals).
+    pub reads_block: bool,
+    make: fn(&mut BuildCx<'_>) -> Result<Built, LaunchError>,
+}
+
+/// Every app coug builds in, MOOSDB first.
+pub const BUILT_INS: &[BuiltIn] = &[
+    BuiltIn {
+        program: "MOOSDB",
+        what: "the MOOS database",
+        reads_block: false,
+        make: |_| Ok(Built::Db),
+    },
+    BuiltIn {
+        program: "pHelmIvP",
+        what: "the IvP helm",
+        reads_block: true,
+        make: make_helm,
+    },
+    BuiltIn {
+        program: "uSimMarine",
+        what: "the marine vehicle simulator",
+        reads_block: true,
+        make: make_simulator,
+    },
+    BuiltIn {
+        program: "uSimMarineV22",
+        what: "the marine vehicle simulator",
+        reads_block: true,
+        make: make_simulator,
+    },
+    BuiltIn {
+        program: "pMarinePID",
+        what: "the heading, speed and depth PID controller",
+        reads_block: true,
+        make: make_pid,
+    },
+    BuiltIn {
+        program: "pMarinePIDV22",
+        what: "the heading, speed and depth PID controller",
+        reads_block: true,
+        make: make_pid,
+    },
+    BuiltIn {
+        program: "pNodeReporter",
+        what: "node reports (NODE_REPORT_LOCAL)",
+        reads_block: true,
+        make: make_node_reporter,
+    },
+    BuiltIn {
+        program: "pLogger",
+        what: "the logger (alog, ._moos and requested copies)",
+        reads_block: true,
+        make: make_logger,
+    },
+    BuiltIn {
+        program: "uTimerScript",
+        what: "timed postings from a script",
+        reads_block: true,
+        make: make_timer_script,
+    },
 ];
 
-/// Builds the built-in app `program` (a base name such as `uSimMarineV22`) running as
-/// MOOS name `moos_name`, from the mission's block of that name (defaults without one).
+/// The built-in app run by `program` (a path or base name), if coug builds it in.
+pub fn built_in(program: &str) -> Option<&'static BuiltIn> {
+    let b = base(program);
+    BUILT_INS.iter().find(|a| a.program == b)
+}
+
+fn make_helm(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    let files = &cx.launch.helm_files;
+    let name = cx.moos_name;
+    // A bad configuration never stops the helm: it runs in MALCONFIG and says why.
+    let app = match files.loaded.get(name) {
+        Some(b) => HelmApp::from_behaviors(name, cx.mission, b.as_ref().map_err(Vec::as_slice))
+            .with_reload(cx.mission, &files.dir, &files.opts),
+        None => HelmApp::from_mission_files(name, cx.mission, &files.dir, &files.opts, &FsSource),
+    };
+    Ok(Built::App(Box::new(app)))
+}
+
+fn make_simulator(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    let legacy = cx.program == "uSimMarine";
+    let b = cx.block_or_empty();
+    let v = VehicleApp::simulator(cx.moos_name, b, cx.globals.grid(), cx.launch.start, legacy)?
+        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
+    cx.warnings.extend(v.warnings().iter().cloned());
+    Ok(Built::App(Box::new(v)))
+}
+
+fn make_pid(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    let legacy = cx.program == "pMarinePID";
+    let b = cx.block_or_empty();
+    let v = VehicleApp::marine_pid(cx.moos_name, b, legacy)?
+        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
+    cx.warnings.extend(v.warnings().iter().cloned());
+    Ok(Built::App(Box::new(v)))
+}
+
+fn make_node_reporter(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    let b = cx.block_or_empty();
+    let v = VehicleApp::node_reporter(
+        cx.moos_name,
+        b,
+        &cx.globals.community,
+        cx.launch.start,
+        cx.globals.grid(),
+        cx.launch.seed ^ fnv(cx.moos_name),
+    )?
+    .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
+    cx.warnings.extend(v.warnings().iter().cloned());
+    Ok(Built::App(Box::new(v)))
+}
+
+fn make_logger(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    if let Some(b) = &cx.block {
+        cx.warnings.extend(LoggerConfig::warnings(b));
+    }
+    let Some(t) = cx.launch.log.take() else {
+        return Ok(Built::NoLogTarget);
+    };
+    Ok(Built::App(Box::new(
+        Logger::new(
+            cx.moos_name,
+            cx.block.take(),
+            t.config,
+            t.writer,
+            &t.opened,
+            &t.opened_on,
+        )
+        .with_side_files(t.side),
+    )))
+}
+
+fn make_timer_script(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    let b = cx.block_or_empty();
+    let seed = cx.launch.seed ^ fnv(cx.moos_name);
+    let ts = TimerScript::new(cx.moos_name, b, &cx.globals.community, seed)?;
+    cx.warnings.extend(ts.warnings().iter().cloned());
+    Ok(Built::App(Box::new(ts)))
+}
+
+/// Builds the built-in app `program` (a path or base name such as `uSimMarineV22`) running
+/// as MOOS name `moos_name`, from the mission's block of that name (defaults without one).
 /// Used for every `Run` line by [`plan`], and alone by the single-app mode. Non-fatal
 /// findings are appended to `warnings`.
-#[allow(clippy::too_many_arguments)]
 pub fn build(
     program: &str,
     moos_name: &str,
     m: &MissionFile,
     globals: &MissionGlobals,
-    start: f64,
-    seed: u64,
-    log: &mut Option<LogTarget>,
+    launch: &mut Launch,
     warnings: &mut Vec<String>,
 ) -> Result<Built, LaunchError> {
-    let block = m.process(moos_name).cloned();
-    let empty = || ProcessConfig {
-        name: moos_name.to_string(),
-        span: mission::source::Span::new(&format!("(no ProcessConfig = {moos_name})"), 0, 0),
-        entries: Vec::new(),
+    let Some(app) = built_in(program) else {
+        return Ok(Built::Unknown);
     };
-    if base(program) == "pLogger"
-        && let Some(b) = &block
-    {
-        warnings.extend(LoggerConfig::warnings(b));
-    }
-    let app: Box<dyn App> = match base(program) {
-        "MOOSDB" => return Ok(Built::Db),
-        "pLogger" => match log.take() {
-            Some(t) => Box::new(
-                Logger::new(
-                    moos_name,
-                    block,
-                    t.config,
-                    t.writer,
-                    &t.opened,
-                    &t.opened_on,
-                )
-                .with_side_files(t.side),
-            ),
-            None => return Ok(Built::NoLogTarget),
-        },
-        "uTimerScript" => {
-            let b = block.unwrap_or_else(empty);
-            let ts = TimerScript::new(moos_name, b, &globals.community, seed ^ fnv(moos_name))?;
-            warnings.extend(ts.warnings().iter().cloned());
-            Box::new(ts)
-        }
-        app @ ("uSimMarine" | "uSimMarineV22") => {
-            let b = block.unwrap_or_else(empty);
-            let legacy = app == "uSimMarine";
-            let v = VehicleApp::simulator(moos_name, b, globals.grid(), start, legacy)?
-                .with_appcast_globals(m.global("Community"), globals.time_warp);
-            warnings.extend(v.warnings().iter().cloned());
-            Box::new(v)
-        }
-        app @ ("pMarinePID" | "pMarinePIDV22") => {
-            let legacy = app == "pMarinePID";
-            let v = VehicleApp::marine_pid(moos_name, block.unwrap_or_else(empty), legacy)?
-                .with_appcast_globals(m.global("Community"), globals.time_warp);
-            warnings.extend(v.warnings().iter().cloned());
-            Box::new(v)
-        }
-        "pNodeReporter" => {
-            let v = VehicleApp::node_reporter(
-                moos_name,
-                block.unwrap_or_else(empty),
-                &globals.community,
-                start,
-                globals.grid(),
-                seed ^ fnv(moos_name),
-            )?
-            .with_appcast_globals(m.global("Community"), globals.time_warp);
-            warnings.extend(v.warnings().iter().cloned());
-            Box::new(v)
-        }
-        _ => return Ok(Built::Unknown),
+    let mut cx = BuildCx {
+        program: app.program,
+        moos_name,
+        block: m.process(moos_name).cloned(),
+        mission: m,
+        globals,
+        launch,
+        warnings,
     };
-    Ok(Built::App(app))
+    (app.make)(&mut cx)
 }
 
-/// Resolves the ANTLER block. `start` is the MOOS start time, `seed` seeds every random
-/// draw (each uTimerScript gets `seed` mixed with its name), `log` is where pLogger writes
-/// (a pLogger is added first when the block runs none; without a target pLogger is
-/// skipped with a warning). `custom` is consulted first for every `Run` line.
+/// Resolves the ANTLER block. `launch` gives the MOOS start time, the seed of every random
+/// draw, where pLogger writes (a pLogger is added first when the block runs none; without a
+/// target pLogger is skipped with a warning) and where the helms read their behaviours.
+/// `custom` is consulted first for every `Run` line.
 pub fn plan(
     m: &MissionFile,
-    start: f64,
-    seed: u64,
-    mut log: Option<LogTarget>,
+    mut launch: Launch,
     custom: &mut CustomFactory<'_>,
 ) -> Result<Plan, LaunchError> {
     let runs = m.antler_runs();
@@ -293,7 +468,7 @@ pub fn plan(
         globals,
     };
     let has_logger = runs.iter().any(|r| base(&r.app) == "pLogger");
-    if !has_logger && let Some(t) = log.take() {
+    if !has_logger && let Some(t) = launch.log.take() {
         plan.apps.push(Box::new(
             Logger::new("pLogger", None, t.config, t.writer, &t.opened, &t.opened_on)
                 .with_side_files(t.side),
@@ -321,9 +496,7 @@ pub fn plan(
             &name,
             m,
             &plan.globals,
-            start,
-            seed,
-            &mut log,
+            &mut launch,
             &mut warnings,
         )?;
         match built {
@@ -360,6 +533,13 @@ mod tests {
     use crate::logger::SharedBuffer;
     use mission::source::SourceMap;
 
+    fn corpus_dir(rel: &str) -> PathBuf {
+        PathBuf::from(format!(
+            "{}/../../shared/corpus/moos-ivp-missions/{rel}",
+            env!("CARGO_MANIFEST_DIR")
+        ))
+    }
+
     fn corpus(rel: &str) -> MissionFile {
         let path = format!(
             "{}/../../shared/corpus/moos-ivp-missions/{rel}",
@@ -390,16 +570,29 @@ mod tests {
     #[test]
     fn alpha_resolves_to_built_ins_and_externals() {
         let m = corpus("s1_alpha/alpha.moos");
-        let p = plan(&m, 0.0, 1, Some(target()), &mut |_, _| None).unwrap();
+        let files = HelmFiles {
+            dir: corpus_dir("s1_alpha"),
+            ..HelmFiles::default()
+        };
+        let launch = Launch::new(0.0, 1)
+            .with_log(target())
+            .with_helm_files(files);
+        let p = plan(&m, launch, &mut |_, _| None).unwrap();
         assert_eq!(
             names(&p),
-            vec!["pLogger", "uSimMarineV22", "pMarinePIDV22", "pNodeReporter"]
+            vec![
+                "pLogger",
+                "uSimMarineV22",
+                "pMarinePIDV22",
+                "pHelmIvP",
+                "pNodeReporter"
+            ]
         );
+        // The helm is built in and read its behaviours beside the mission.
+        let helm = p.apps.iter().find(|a| a.name() == "pHelmIvP").unwrap();
+        assert_eq!(helm.malconfig(), Vec::<String>::new());
         let ext: Vec<&str> = p.external.iter().map(|r| r.app.as_str()).collect();
-        assert_eq!(
-            ext,
-            vec!["pHelmIvP", "pMarineViewer", "uProcessWatch", "pRealm"]
-        );
+        assert_eq!(ext, vec!["pMarineViewer", "uProcessWatch", "pRealm"]);
         assert!(p.has_db);
         assert_eq!(p.globals.community, "alpha");
         assert_eq!(p.globals.server_port, 9000);
@@ -411,7 +604,7 @@ mod tests {
     fn delta_with_a_custom_helm() {
         let m = corpus("s4_delta/delta.moos");
         let mut asked = Vec::new();
-        let p = plan(&m, 0.0, 1, None, &mut |run, block| {
+        let p = plan(&m, Launch::new(0.0, 1), &mut |run, block| {
             asked.push(run.app.clone());
             (run.app == "pHelmIvP").then(|| {
                 assert!(block.is_some_and(|b| b.get("behaviors").is_some()));
@@ -425,10 +618,16 @@ mod tests {
             "s4_delta/delta.moos:25: pHelmIvP: no helm yet"
         );
         assert_eq!(asked.last().map(String::as_str), Some("pHelmIvP"));
-        let p = plan(&m, 0.0, 1, None, &mut |_, _| None).unwrap();
+        let p = plan(&m, Launch::new(0.0, 1), &mut |_, _| None).unwrap();
         assert_eq!(
             names(&p),
-            vec!["uSimMarine", "pNodeReporter", "pMarinePID", "uTimerScript"]
+            vec![
+                "uSimMarine",
+                "pNodeReporter",
+                "pMarinePID",
+                "pHelmIvP",
+                "uTimerScript"
+            ]
         );
         assert!(
             p.warnings.iter().any(|w| w.contains("not logging")),
@@ -443,34 +642,14 @@ mod tests {
         let m = corpus("s1_alpha/alpha.moos");
         let (g, _) = MissionGlobals::from_mission(&m);
         let mut w = Vec::new();
-        let mut log = None;
-        let b = build(
-            "uSimMarineV22",
-            "uSimMarineV22",
-            &m,
-            &g,
-            0.0,
-            1,
-            &mut log,
-            &mut w,
-        )
-        .unwrap();
+        let mut log = Launch::new(0.0, 1);
+        let b = build("uSimMarineV22", "uSimMarineV22", &m, &g, &mut log, &mut w).unwrap();
         let Built::App(sim) = b else {
             panic!("no simulator")
         };
         assert_eq!((sim.name(), sim.app_tick()), ("uSimMarineV22", 4.0));
         // An alias without its own block runs with defaults, or says what it lacks.
-        let b = build(
-            "/usr/bin/pNodeReporter",
-            "rep2",
-            &m,
-            &g,
-            0.0,
-            1,
-            &mut log,
-            &mut w,
-        )
-        .unwrap();
+        let b = build("/usr/bin/pNodeReporter", "rep2", &m, &g, &mut log, &mut w).unwrap();
         let Built::App(rep) = b else {
             panic!("no reporter")
         };
@@ -478,7 +657,7 @@ mod tests {
         // A PID without its gains runs (with zero gains), as pMarinePIDV22 does, and says
         // what it lacks.
         w.clear();
-        let b = build("pMarinePIDV22", "pid2", &m, &g, 0.0, 1, &mut log, &mut w).unwrap();
+        let b = build("pMarinePIDV22", "pid2", &m, &g, &mut log, &mut w).unwrap();
         assert!(matches!(b, Built::App(_)));
         assert!(
             w.iter().any(|x| x.starts_with("(no ProcessConfig = pid2):0: ")
@@ -486,15 +665,25 @@ mod tests {
             "{w:?}"
         );
         assert!(matches!(
-            build("MOOSDB", "MOOSDB", &m, &g, 0.0, 1, &mut log, &mut w),
+            build("MOOSDB", "MOOSDB", &m, &g, &mut log, &mut w),
             Ok(Built::Db)
         ));
         assert!(matches!(
-            build("pLogger", "pLogger", &m, &g, 0.0, 1, &mut log, &mut w),
+            build("pLogger", "pLogger", &m, &g, &mut log, &mut w),
             Ok(Built::NoLogTarget)
         ));
+        // The helm is built in; without its behaviour file (read from the current folder
+        // here) it runs in MALCONFIG and says why, as pHelmIvP does.
+        let Ok(Built::App(helm)) = build("pHelmIvP", "pHelmIvP", &m, &g, &mut log, &mut w) else {
+            panic!("no helm")
+        };
+        assert!(
+            helm.malconfig().iter().any(|e| e.contains("alpha.bhv")),
+            "{:?}",
+            helm.malconfig()
+        );
         assert!(matches!(
-            build("pHelmIvP", "pHelmIvP", &m, &g, 0.0, 1, &mut log, &mut w),
+            build("pMarineViewer", "pMarineViewer", &m, &g, &mut log, &mut w),
             Ok(Built::Unknown)
         ));
     }
@@ -505,17 +694,19 @@ mod tests {
                     Run = uTimerScript @ NewConsole = false ~ uTS_2\n}\n\
                     ProcessConfig = uTS_2\n{\n  AppTick = 2\n  event = var=X, val=1, time=1\n}\n";
         let m = mission::moos::parse_moos(&SourceMap::from_text("a.moos", text)).value;
-        let p = plan(&m, 0.0, 1, Some(target()), &mut |_, _| None).unwrap();
+        let p = plan(&m, Launch::new(0.0, 1).with_log(target()), &mut |_, _| None).unwrap();
         assert_eq!(names(&p), vec!["pLogger", "uTS_2"]);
         assert_eq!(p.apps[1].app_tick(), 2.0);
         let bad = "ProcessConfig = ANTLER\n{\n  Run = uTimerScript\n}\nProcessConfig = uTimerScript\n{\n  event = var=X, time=abc\n}\n";
         let m = mission::moos::parse_moos(&SourceMap::from_text("b.moos", bad)).value;
-        let e = plan(&m, 0.0, 1, None, &mut |_, _| None).err().unwrap();
+        let e = plan(&m, Launch::new(0.0, 1), &mut |_, _| None)
+            .err()
+            .unwrap();
         assert!(e.to_string().starts_with("b.moos:7: uTimerScript:"), "{e}");
         let none =
             mission::moos::parse_moos(&SourceMap::from_text("c.moos", "Community = x\n")).value;
         assert_eq!(
-            plan(&none, 0.0, 1, None, &mut |_, _| None).err(),
+            plan(&none, Launch::new(0.0, 1), &mut |_, _| None).err(),
             Some(LaunchError::NoAntler)
         );
     }

@@ -135,6 +135,13 @@ pub trait App {
     fn startup_failure(&self) -> Option<String> {
         None
     }
+
+    /// Why the app refuses to act on its configuration while it stays connected (pHelmIvP's
+    /// MALCONFIG: it posts `IVPHELM_STATE = MALCONFIG` and never drives); empty when it is
+    /// configured.
+    fn malconfig(&self) -> Vec<String> {
+        Vec::new()
+    }
 }
 
 /// The AppTick of a block as CMOOSApp reads it: `AppTick` (default 5), values above 100 or

@@ -253,6 +253,10 @@ pub fn load_behaviors(
 }
 
 impl App for HelmApp {
+    fn malconfig(&self) -> Vec<String> {
+        self.config_errors()
+    }
+
     fn name(&self) -> &str {
         &self.name
     }

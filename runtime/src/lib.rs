@@ -8,7 +8,9 @@
 //! - [`realtime`]: real time times a warp — each app a client of a TCP MOOSDB, so real
 //!   MOOS apps can join;
 //! - [`remote`]: one app as a MOOS process (the single-app swap-in mode);
-//! - [`antler`]: a mission's ANTLER block resolved into apps.
+//! - [`antler`]: a mission's ANTLER block resolved into apps (the registry of built-ins);
+//! - [`session`]: a whole mission run as a library (load, validate, plan, run lockstep or
+//!   real time, report), which `coug run` and the end-to-end tests call.
 //!
 //! Apps ([`app`] defines the [`App`] trait, [`Mail`], [`Post`], [`Value`]):
 //! [`helm`] (pHelmIvP), [`vehicle`] (uSimMarine(V22), pMarinePID(V22), pNodeReporter),
@@ -34,6 +36,7 @@ pub mod realtime;
 pub mod remote;
 pub mod scheduler;
 pub mod scope;
+pub mod session;
 pub mod summary;
 pub mod timer_script;
 pub mod vehicle;

@@ -7,7 +7,7 @@ use std::time::Duration;
 use mission::source::SourceMap;
 use moosdb_client::time::Warp;
 use moosdb_client::{Server, ServerConfig};
-use runtime::antler::plan;
+use runtime::antler::{Launch, plan};
 use runtime::helm::HelmApp;
 use runtime::realtime::{RunSpec, run_apps};
 use runtime::remote::RemoteConfig;
@@ -38,7 +38,7 @@ async fn alpha_completes_in_real_time_at_warp_40() {
     };
     let start = moosdb_client::time::unix_now() * warp;
     // No log target: pLogger is skipped (with a warning) here.
-    let p = plan(&m, start, 1, None, &mut |run, block| {
+    let p = plan(&m, Launch::new(start, 1), &mut |run, block| {
         (run.app == "pHelmIvP").then(|| {
             Ok(Box::new(HelmApp::new(run.moos_name(), block.cloned(), &m, &bhv)) as Box<dyn App>)
         })

@@ -5,7 +5,7 @@
 use chrono::NaiveDate;
 use mission::moos::MissionFile;
 use mission::source::SourceMap;
-use runtime::antler::{LogTarget, logger_config, plan};
+use runtime::antler::{Launch, LogTarget, logger_config, plan};
 use runtime::logger::SharedBuffer;
 use runtime::{App, Bus, Outcome, Poke, Post, Scheduler, VirtualClock};
 
@@ -52,9 +52,11 @@ fn run(seed: u64) -> (Vec<u8>, Outcome, Vec<String>, Option<runtime::Value>) {
         opened_on: "Thu Jan  1 00:00:00 1970".into(),
         side: None,
     };
-    let p = plan(&m, START, seed, Some(target), &mut |run, _| {
-        (run.app == "pHelmIvP").then(|| Ok(Box::new(ScriptedHelm) as Box<dyn App>))
-    })
+    let p = plan(
+        &m,
+        Launch::new(START, seed).with_log(target),
+        &mut |run, _| (run.app == "pHelmIvP").then(|| Ok(Box::new(ScriptedHelm) as Box<dyn App>)),
+    )
     .unwrap();
     let external: Vec<String> = p.external.iter().map(|r| r.app.clone()).collect();
     let mut s = Scheduler::new(Bus::new(&p.globals.community, START), VirtualClock, START);

@@ -9,25 +9,24 @@
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use mission::nsplug::Options;
 use runtime::App;
-use runtime::antler::{Built, LogTarget, MissionGlobals, build};
-use runtime::helm::HelmApp;
+use runtime::antler::{Built, HelmFiles, Launch, LogTarget, MissionGlobals, build};
 use runtime::logger::{LateSink, LoggerConfig, SideFiles};
 use runtime::remote::{AppArgs, RemoteConfig};
 
-use mission::source::FsSource;
+use runtime::session::{LoadedMission, OPENED_ON, load};
 
-use super::run::{load, report_malconfig};
+use super::run::report_malconfig;
 
 /// The MOOS app names coug answers to when invoked under them (links made by
-/// `coug install-aliases`): each does that app's job.
-pub const APP_NAMES: [&str; 11] = {
-    let b = runtime::antler::BUILT_IN;
-    [
-        "MOOSDB", b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7], "uPokeDB", "uXMS",
-    ]
-};
+/// `coug install-aliases`): every built-in app (`runtime::antler::BUILT_INS`, MOOSDB
+/// first), then the command aliases.
+pub fn app_names() -> impl Iterator<Item = &'static str> {
+    runtime::antler::BUILT_INS
+        .iter()
+        .map(|a| a.program)
+        .chain(["uPokeDB", "uXMS"])
+}
 
 /// The `coug` command line an alias that is a coug command stands for: `uPokeDB ARGS` is
 /// `coug poke ARGS`, `uXMS ARGS` is `coug scope ARGS`. `None` for the MOOS apps.
@@ -44,26 +43,17 @@ pub fn command_for_alias(app: &str, args: &[String]) -> Option<Vec<String>> {
 
 /// The usage text of an app alias (`--help`, `-h`).
 fn usage(program: &str) -> String {
-    let what = match program {
-        "MOOSDB" => {
-            return format!(
-                "{program} (coug {v}): a MOOSDB that C++ MOOS clients can join.\n\nUsage: {program} [MISSION.moos] [--moos_port=N]\n",
-                v = env!("CARGO_PKG_VERSION")
-            );
-        }
-        "pHelmIvP" => "the IvP helm",
-        "uSimMarine" | "uSimMarineV22" => "the marine vehicle simulator",
-        "pMarinePID" | "pMarinePIDV22" => "the heading, speed and depth PID controller",
-        "pNodeReporter" => "node reports (NODE_REPORT_LOCAL)",
-        "pLogger" => "the logger (alog, ._moos and requested copies)",
-        "uTimerScript" => "timed postings from a script",
-        _ => "a MOOS app",
-    };
+    let v = env!("CARGO_PKG_VERSION");
+    if program == "MOOSDB" {
+        return format!(
+            "{program} (coug {v}): a MOOSDB that C++ MOOS clients can join.\n\nUsage: {program} [MISSION.moos] [--moos_port=N]\n"
+        );
+    }
+    let what = runtime::antler::built_in(program).map_or("a MOOS app", |a| a.what);
     format!(
         "{program} (coug {v}): {what}, as its own MOOS process configured by the mission's\n\
          ProcessConfig block of its MOOS name.\n\n\
-         Usage: {program} MISSION.moos [ALIAS] [--alias=NAME]\n",
-        v = env!("CARGO_PKG_VERSION")
+         Usage: {program} MISSION.moos [ALIAS] [--alias=NAME]\n"
     )
 }
 
@@ -87,7 +77,7 @@ pub struct AppCommandArgs {
 pub fn app_from_argv0(argv0: &str) -> Option<&'static str> {
     let file = Path::new(argv0).file_name()?.to_str()?;
     let stem = file.strip_suffix(".exe").unwrap_or(file);
-    APP_NAMES.iter().copied().find(|n| *n == stem)
+    app_names().find(|n| *n == stem)
 }
 
 /// Which program a subcommand runs: the variant the mission's ANTLER block runs (e.g.
@@ -111,7 +101,7 @@ pub fn run_subcommand(which: &str, args: &AppCommandArgs) -> i32 {
     let loaded = match load(Path::new(path), &[], &[]) {
         Ok(l) => l,
         Err(errors) => {
-            for e in errors {
+            for e in errors.messages() {
                 errln!("coug {which}: error: {e}");
             }
             return 1;
@@ -165,7 +155,7 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
     let loaded = match load(Path::new(path), &[], &[]) {
         Ok(l) => l,
         Err(errors) => {
-            for e in errors {
+            for e in errors.messages() {
                 errln!("{moos_name}: error: {e}");
             }
             return 1;
@@ -182,45 +172,33 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
     let warp = globals.time_warp;
     let start = moosdb_client::time::unix_now() * warp;
     let mut log_sink: Option<LateSink> = None;
-    let app: Box<dyn App> = if program == "pHelmIvP" {
-        let dir = Path::new(path)
-            .parent()
-            .unwrap_or(Path::new(""))
-            .to_path_buf();
-        // A bad configuration never ends the process: the helm joins the community in
-        // MALCONFIG, says why, and never drives (as pHelmIvP).
-        let h = HelmApp::from_mission_files(&moos_name, m, &dir, &Options::new(), &FsSource);
-        report_malconfig(&moos_name, &h.config_errors());
-        Box::new(h)
-    } else {
-        let mut warnings = Vec::new();
-        let mut log = None;
-        if program == "pLogger" {
-            match open_session(&moos_name, &loaded) {
-                Ok((target, sink)) => {
-                    log = Some(target);
-                    log_sink = Some(sink);
-                }
-                Err(e) => {
-                    errln!("{moos_name}: error: {e}");
-                    return 1;
-                }
+    let mut launch = Launch::new(start, 1).with_helm_files(HelmFiles {
+        dir: loaded.dir.clone(),
+        opts: loaded.opts.clone(),
+        loaded: loaded.behaviors.clone(),
+    });
+    if program == "pLogger" {
+        match open_session(&moos_name, &loaded) {
+            Ok((target, sink)) => {
+                launch.log = Some(target);
+                log_sink = Some(sink);
+            }
+            Err(e) => {
+                errln!("{moos_name}: error: {e}");
+                return 1;
             }
         }
-        match build(
-            program,
-            &moos_name,
-            m,
-            &globals,
-            start,
-            1,
-            &mut log,
-            &mut warnings,
-        ) {
+    }
+    let mut warnings = Vec::new();
+    let app: Box<dyn App> =
+        match build(program, &moos_name, m, &globals, &mut launch, &mut warnings) {
             Ok(Built::App(a)) => {
                 for w in warnings {
                     errln!("{moos_name}: warning: {w}");
                 }
+                // A bad configuration never ends the helm: it joins the community in MALCONFIG,
+                // says why, and never drives (as pHelmIvP).
+                report_malconfig(&moos_name, &a.malconfig());
                 // As the C++ app: a configuration it cannot start with ends it.
                 if let Some(why) = a.startup_failure() {
                     errln!("{moos_name}: error: {why}");
@@ -236,8 +214,7 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
                 errln!("{moos_name}: error: {e}");
                 return 1;
             }
-        }
-    };
+        };
     let host = if globals.server_host.eq_ignore_ascii_case("localhost") {
         "127.0.0.1".to_string()
     } else {
@@ -282,10 +259,7 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
 
 /// pLogger as its own process: claims a new log session where the mission's block of
 /// `moos_name` (or GlobalLogPath) says, named from now, with the mission copy beside it.
-fn open_session(
-    moos_name: &str,
-    loaded: &super::run::Loaded,
-) -> Result<(LogTarget, LateSink), String> {
+fn open_session(moos_name: &str, loaded: &LoadedMission) -> Result<(LogTarget, LateSink), String> {
     let m = &loaded.mission;
     let config = LoggerConfig::from_config(m.process(moos_name), m.global("GlobalLogPath"));
     let now = runtime::chrono::Local::now().naive_local();
@@ -299,7 +273,7 @@ fn open_session(
         config,
         writer: Box::new(sink.clone()),
         opened: at,
-        opened_on: super::run::OPENED_ON.into(),
+        opened_on: OPENED_ON.into(),
         side: Some(SideFiles {
             mission_text: loaded.text.clone(),
             folder: sink.clone(),
@@ -316,14 +290,14 @@ pub struct InstallAliasesArgs {
     pub dir: PathBuf,
 }
 
-/// Creates `DIR/<app>` links to this binary for every app in [`APP_NAMES`]; existing links
+/// Creates `DIR/<app>` links to this binary for every app of [`app_names`]; existing links
 /// are replaced, other files are left alone (an error).
 pub fn install_aliases(args: &InstallAliasesArgs) -> anyhow::Result<()> {
     use anyhow::{Context, bail};
     let exe = std::env::current_exe().context("cannot find the coug binary")?;
     std::fs::create_dir_all(&args.dir)
         .with_context(|| format!("cannot create {}", args.dir.display()))?;
-    for name in APP_NAMES {
+    for name in app_names() {
         let link = args.dir.join(name);
         match std::fs::symlink_metadata(&link) {
             Ok(md) if md.file_type().is_symlink() => std::fs::remove_file(&link)

@@ -103,17 +103,17 @@ pub fn run(args: &CheckArgs) -> i32 {
         if findings.iter().any(|f| f.is_error() && top_file(f) == name) {
             continue;
         }
-        let loaded = match super::run::load(path, &macros, &args.include_paths) {
+        let loaded = match runtime::session::load(path, &macros, &args.include_paths) {
             Ok(l) => l,
             Err(errors) => {
-                for e in errors {
+                for e in errors.messages() {
                     outln!("{}", finding("error", &e));
                     run_errors = true;
                 }
                 continue;
             }
         };
-        let v = super::run::validate(&loaded);
+        let v = runtime::session::validate(&loaded);
         // The reader's own warnings were listed above.
         for w in &v.warnings[loaded.warnings.len()..] {
             outln!("{}", finding("warning", w));

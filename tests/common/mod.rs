@@ -6,6 +6,9 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+pub use runtime::session::RunOptions;
+use runtime::session::{self, Mode};
+
 /// The shared corpus of real MOOS-IvP missions (the test fails loudly without it).
 pub fn corpus(rel: &str) -> PathBuf {
     let p = PathBuf::from(concat!(
@@ -68,28 +71,47 @@ pub fn find_alog(dir: &Path) -> PathBuf {
     found.pop().unwrap()
 }
 
-/// Runs a mission in lockstep in a fresh folder `name` (logs to `logs/` there), asserts a
-/// zero exit, and returns the alog bytes and the stdout text.
-pub fn run_lockstep(name: &str, mission: &Path, extra: &[&str]) -> (Vec<u8>, String) {
+/// Lockstep options that deploy the mission and run until `until` holds, at most
+/// `max_time` simulated seconds.
+pub fn deploy_until(until: &str, max_time: f64) -> RunOptions {
+    RunOptions {
+        deploy: true,
+        until: Some(until.to_string()),
+        max_time,
+        ..RunOptions::default()
+    }
+}
+
+/// Runs a mission in lockstep, in process (`runtime::session`, what `coug run --lockstep`
+/// calls), with nsplug `macros`, logging to `logs/` in a fresh folder `name`; asserts the
+/// run completed (its `until` condition held) and returns the alog bytes and the closing
+/// summary `coug run` prints. The alog names its own path (as pLogger's does): two runs meant
+/// to log the same bytes use the same `name` (the folder is emptied first).
+pub fn run_lockstep(
+    name: &str,
+    mission: &Path,
+    macros: &[&str],
+    mut opts: RunOptions,
+) -> (Vec<u8>, String) {
     let dir = fresh_dir(name);
-    let m = mission.to_str().unwrap();
-    let mut args = vec!["run", m, "--lockstep", "--log-dir", "logs"];
-    args.extend_from_slice(extra);
-    let out = coug(&dir, &args);
-    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "coug run {m} failed\nstdout:\n{stdout}\nstderr (tail):\n{}",
-        tail(&stderr, 30)
+    let macros: Vec<String> = macros.iter().map(|m| m.to_string()).collect();
+    let loaded = session::load(mission, &macros, &[])
+        .unwrap_or_else(|e| panic!("{} does not load: {e}", mission.display()));
+    let checked = session::validate(&loaded);
+    assert!(checked.errors.is_empty(), "{:?}", checked.errors);
+    opts.mode = Mode::Lockstep;
+    opts.log_dir = Some(dir.join("logs"));
+    let report = session::run(&loaded, &opts, &mut session::Quiet)
+        .unwrap_or_else(|e| panic!("run of {} failed: {e}", mission.display()));
+    let summary = report.to_string();
+    assert!(
+        !report.until_pending(),
+        "run of {} ended before its until condition:\n{summary}",
+        mission.display()
     );
     let alog = find_alog(&dir.join("logs"));
-    assert!(
-        stdout.contains("log:         logs/"),
-        "summary names the log: {stdout}"
-    );
-    (std::fs::read(&alog).expect("alog readable"), stdout)
+    assert_eq!(Path::new(&report.alog), alog, "the report names the log");
+    (std::fs::read(&alog).expect("alog readable"), summary)
 }
 
 /// The last `n` lines of a text.

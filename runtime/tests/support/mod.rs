@@ -5,7 +5,7 @@
 
 use chrono::NaiveDate;
 use mission::source::SourceMap;
-use runtime::antler::{LogTarget, logger_config, plan};
+use runtime::antler::{Launch, LogTarget, logger_config, plan};
 use runtime::helm::HelmApp;
 use runtime::logger::SharedBuffer;
 use runtime::{App, Bus, Outcome, Poke, Scheduler, VirtualClock};
@@ -61,17 +61,21 @@ pub fn run_dir(
         opened_on: "Thu Jan  1 00:00:00 1970".into(),
         side: None,
     };
-    let p = plan(&m, START, 1, Some(target), &mut |run, block| {
-        (run.app == "pHelmIvP").then(|| {
-            let h = HelmApp::new(run.moos_name(), block.cloned(), &m, &bhv);
-            let errors = h.config_errors();
-            if errors.is_empty() {
-                Ok(Box::new(h) as Box<dyn App>)
-            } else {
-                Err(errors.join("; "))
-            }
-        })
-    })
+    let p = plan(
+        &m,
+        Launch::new(START, 1).with_log(target),
+        &mut |run, block| {
+            (run.app == "pHelmIvP").then(|| {
+                let h = HelmApp::new(run.moos_name(), block.cloned(), &m, &bhv);
+                let errors = h.config_errors();
+                if errors.is_empty() {
+                    Ok(Box::new(h) as Box<dyn App>)
+                } else {
+                    Err(errors.join("; "))
+                }
+            })
+        },
+    )
     .unwrap();
     let mut s = Scheduler::new(Bus::new(&p.globals.community, START), VirtualClock, START);
     for app in p.apps {
