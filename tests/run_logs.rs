@@ -199,7 +199,7 @@ fn plogger_path_file_and_timestamp_settings_are_followed_with_its_copies() {
     }
     // A key coug's pLogger does not support is named, with its line.
     assert!(
-        stderr.contains("survey.moos:39: pLogger: SyncLog = true @ 0.2: not supported"),
+        stderr.contains("survey.moos:39: warning: pLogger: SyncLog = true @ 0.2: not supported"),
         "{stderr}"
     );
     // Without a time stamp the next run finds the name taken: refused, nothing overwritten.

@@ -66,6 +66,16 @@ pub enum DiagnosticKind {
     UnknownVariable,
     /// A condition tests a mode variable for a value that no `set` block gives.
     UnknownMode,
+    /// A top-level setting (`ServerPort`, `LatOrigin`, ...) the apps cannot read; they keep
+    /// their default.
+    BadGlobal,
+    /// A setting an app cannot use, does not support or ignores; the app goes on without it.
+    AppSetting,
+    /// An app runs without a `ProcessConfig` block of its MOOS name (every setting at its
+    /// default).
+    NoConfigBlock,
+    /// An app of the ANTLER block that will not run (pLogger without a log target).
+    AppNotRun,
 }
 
 /// One finding: severity, kind, where, what was found, what was expected.
@@ -101,6 +111,12 @@ impl Diagnostic {
         }
     }
 
+    /// A warning about the line of `span`, shown as `file:line` (no column: the whole
+    /// setting is meant), as the apps' configuration warnings are.
+    pub fn line_warning(kind: DiagnosticKind, span: &Span, message: impl Into<String>) -> Self {
+        Self::warning(kind, span.at_col(0), message)
+    }
+
     /// A warning.
     pub fn warning(kind: DiagnosticKind, span: Span, message: impl Into<String>) -> Self {
         Diagnostic {
@@ -125,6 +141,12 @@ impl Diagnostic {
     pub fn with_line(mut self, line: &SourceLine) -> Self {
         self.source_line = Some(line.text.clone());
         self
+    }
+
+    /// `file:line: message` without the severity (the text an app's config warning shows
+    /// in its appcast).
+    pub fn located(&self) -> String {
+        format!("{}: {}", self.span, self.message)
     }
 
     /// Whether this is an error (not a warning).

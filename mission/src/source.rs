@@ -134,7 +134,7 @@ pub struct Span {
     pub file: Arc<SourceFile>,
     /// 1-based line number in `file`.
     pub line: u32,
-    /// 1-based column (character index + 1) in that line.
+    /// 1-based column (character index + 1) in that line; 0 when the whole line is meant.
     pub col: u32,
 }
 
@@ -167,8 +167,13 @@ impl Span {
 }
 
 impl fmt::Display for Span {
+    /// `file:line:col`, or `file:line` when the column is 0 (the whole line is meant).
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}:{}:{}", self.file.name, self.line, self.col)
+        if self.col == 0 {
+            write!(f, "{}:{}", self.file.name, self.line)
+        } else {
+            write!(f, "{}:{}:{}", self.file.name, self.line, self.col)
+        }
     }
 }
 

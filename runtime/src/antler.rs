@@ -16,9 +16,10 @@ use std::path::PathBuf;
 use chrono::NaiveDateTime;
 use mission::Parsed;
 use mission::bhv::BehaviorFile;
+use mission::diagnostic::{Diagnostic, DiagnosticKind};
 use mission::moos::{AntlerRun, MissionFile, ProcessConfig};
 use mission::nsplug::Options;
-use mission::source::FsSource;
+use mission::source::{FsSource, Span};
 use thiserror::Error;
 use vehicle::geodesy::LocalGrid;
 
@@ -48,14 +49,19 @@ pub struct MissionGlobals {
 impl MissionGlobals {
     /// Reads the globals; values that are not usable are reported and replaced by the
     /// default (as the MOOS apps do).
-    pub fn from_mission(m: &MissionFile) -> (MissionGlobals, Vec<String>) {
+    pub fn from_mission(m: &MissionFile) -> (MissionGlobals, Vec<Diagnostic>) {
         let mut warnings = Vec::new();
         let mut num = |key: &str| -> Option<f64> {
-            let v = m.global(key)?;
+            let p = m.globals.iter().find(|p| p.is(key))?;
+            let v = &p.value;
             match v.trim().parse::<f64>() {
                 Ok(x) if x.is_finite() => Some(x),
                 _ => {
-                    warnings.push(format!("{key} = {v}: not a number, ignored"));
+                    warnings.push(Diagnostic::line_warning(
+                        DiagnosticKind::BadGlobal,
+                        &p.span,
+                        format!("{key} = {v}: not a number, ignored"),
+                    ));
                     None
                 }
             }
@@ -67,7 +73,12 @@ impl MissionGlobals {
         let server_port = match port {
             Some(p) if (1.0..=65535.0).contains(&p) && p.fract() == 0.0 => p as u16,
             Some(p) => {
-                warnings.push(format!("ServerPort = {p}: not a port, using 9000"));
+                let at = m.globals.iter().find(|g| g.is("ServerPort"));
+                warnings.push(Diagnostic::line_warning(
+                    DiagnosticKind::BadGlobal,
+                    &at.map_or_else(|| Span::new("mission", 0, 0), |g| g.span.clone()),
+                    format!("ServerPort = {p}: not a port, using 9000"),
+                ));
                 9000
             }
             None => 9000,
@@ -121,8 +132,8 @@ pub struct Plan {
     pub external: Vec<AntlerRun>,
     /// True when the ANTLER block runs MOOSDB.
     pub has_db: bool,
-    /// Non-fatal findings, as `file:line: text` where known.
-    pub warnings: Vec<String>,
+    /// Non-fatal findings, each at its line.
+    pub warnings: Vec<Diagnostic>,
     /// Apps left out because the C++ app would end at start-up with their configuration
     /// ([`App::startup_failure`]), as `file:line: name: why`.
     pub failed: Vec<String>,
@@ -245,8 +256,8 @@ pub struct BuildCx<'a> {
     pub globals: &'a MissionGlobals,
     /// The launch settings.
     pub launch: &'a mut Launch,
-    /// Where non-fatal findings go (`file:line: text`).
-    pub warnings: &'a mut Vec<String>,
+    /// Where non-fatal findings go.
+    pub warnings: &'a mut Vec<Diagnostic>,
 }
 
 impl BuildCx<'_> {
@@ -425,7 +436,7 @@ pub fn build(
     m: &MissionFile,
     globals: &MissionGlobals,
     launch: &mut Launch,
-    warnings: &mut Vec<String>,
+    warnings: &mut Vec<Diagnostic>,
 ) -> Result<Built, LaunchError> {
     let Some(app) = built_in(program) else {
         return Ok(Built::Unknown);
@@ -456,8 +467,15 @@ pub fn plan(
         return Err(LaunchError::NoAntler);
     }
     let (globals, mut warnings) = MissionGlobals::from_mission(m);
-    if globals.origin.is_some() && globals.grid().is_none() {
-        warnings.push("LatOrigin/LongOrigin: not a valid origin; no NAV_LAT/NAV_LONG".into());
+    if globals.origin.is_some()
+        && globals.grid().is_none()
+        && let Some(lat) = m.globals.iter().find(|p| p.is("LatOrigin"))
+    {
+        warnings.push(Diagnostic::line_warning(
+            DiagnosticKind::BadGlobal,
+            &lat.span,
+            "LatOrigin/LongOrigin: not a valid origin; no NAV_LAT/NAV_LONG",
+        ));
     }
     let mut plan = Plan {
         apps: Vec::new(),
@@ -510,10 +528,10 @@ pub fn plan(
                 None => plan.apps.push(app),
             },
             Built::Db => plan.has_db = true,
-            Built::NoLogTarget => warnings.push(format!(
-                "{}:{}: {name}: no log target given; not logging",
-                run.span.file_name(),
-                run.span.line
+            Built::NoLogTarget => warnings.push(Diagnostic::line_warning(
+                DiagnosticKind::AppNotRun,
+                &run.span,
+                format!("{name}: no log target given; not logging"),
             )),
             Built::Unknown => plan.external.push(run),
         }
@@ -630,7 +648,9 @@ mod tests {
             ]
         );
         assert!(
-            p.warnings.iter().any(|w| w.contains("not logging")),
+            p.warnings
+                .iter()
+                .any(|w| w.kind == DiagnosticKind::AppNotRun && w.message.contains("not logging")),
             "{:?}",
             p.warnings
         );
@@ -660,8 +680,10 @@ mod tests {
         let b = build("pMarinePIDV22", "pid2", &m, &g, &mut log, &mut w).unwrap();
         assert!(matches!(b, Built::App(_)));
         assert!(
-            w.iter().any(|x| x.starts_with("(no ProcessConfig = pid2):0: ")
-                && x.contains("yaw_pid_kp")),
+            w.iter().any(
+                |x| x.to_string().starts_with("(no ProcessConfig = pid2):0: ")
+                    && x.message.contains("yaw_pid_kp")
+            ),
             "{w:?}"
         );
         assert!(matches!(

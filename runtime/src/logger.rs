@@ -18,6 +18,7 @@ use std::sync::{Arc, Mutex};
 
 use alog::{AlogWriter, Header};
 use chrono::NaiveDateTime;
+use mission::diagnostic::{Diagnostic, DiagnosticKind};
 use mission::moos::ProcessConfig;
 use moosdb_client::db::wildcard_match;
 
@@ -331,7 +332,7 @@ impl LoggerConfig {
     /// Config warnings for a pLogger block: each key coug's pLogger does not support (named,
     /// with file:line) and each key pLogger does not know (pLogger ignores those silently).
     /// The generic MOOS app keys (AppTick, CommsTick, ...) pass.
-    pub fn warnings(block: &ProcessConfig) -> Vec<String> {
+    pub fn warnings(block: &ProcessConfig) -> Vec<Diagnostic> {
         const SUPPORTED: &[&str] = &[
             "file",
             "path",
@@ -373,13 +374,10 @@ impl LoggerConfig {
             } else {
                 "not a pLogger parameter; ignored (as pLogger does)"
             };
-            out.push(format!(
-                "{}:{}: {}: {} = {}: {why}",
-                p.span.file_name(),
-                p.span.line,
-                block.name,
-                p.key,
-                p.value
+            out.push(Diagnostic::line_warning(
+                DiagnosticKind::AppSetting,
+                &p.span,
+                format!("{}: {} = {}: {why}", block.name, p.key, p.value),
             ));
         }
         out
@@ -824,7 +822,10 @@ mod tests {
             "ProcessConfig = pLogger\n{\n  AppTick = 4\n  SyncLog = false\n  CompressAlogs = true\n  \
              LoggingDirectorySummaryFile = x\n  Filetime = 1\n  File = LOG\n}\n",
         );
-        let w = LoggerConfig::warnings(&b);
+        let w: Vec<String> = LoggerConfig::warnings(&b)
+            .iter()
+            .map(ToString::to_string)
+            .collect();
         assert_eq!(w.len(), 3, "{w:?}");
         assert!(
             w[0].contains("CompressAlogs = true: not supported"),

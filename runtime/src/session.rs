@@ -198,8 +198,8 @@ impl LoadedMission {
 /// reports: one path for both.
 #[derive(Debug, Default)]
 pub struct Validation {
-    /// Findings that do not stop the run (file:line first where known).
-    pub warnings: Vec<String>,
+    /// Findings that do not stop the run, each at its line.
+    pub warnings: Vec<Diagnostic>,
     /// Each helm that would run in MALCONFIG (never driving), with why.
     pub malconfig: Vec<(String, Vec<String>)>,
     /// Apps that would end at start-up (the run goes on without them), with why.
@@ -213,7 +213,7 @@ pub struct Validation {
 /// ProcessConfig block, and AppTick/CommsTick values MOOS cannot read.
 pub fn validate(loaded: &LoadedMission) -> Validation {
     let mut v = Validation {
-        warnings: loaded.warnings.iter().map(ToString::to_string).collect(),
+        warnings: loaded.warnings.clone(),
         ..Validation::default()
     };
     let m = &loaded.mission;
@@ -225,13 +225,13 @@ pub fn validate(loaded: &LoadedMission) -> Validation {
                 .find(|p| p.key.eq_ignore_ascii_case(key))
                 && p.value.trim().parse::<f64>().is_err()
             {
-                v.warnings.push(format!(
-                    "{}:{}: {}: {} = {}: not a number; MOOS cannot read it and keeps its default",
-                    p.span.file_name(),
-                    p.span.line,
-                    block.name,
-                    p.key,
-                    p.value
+                v.warnings.push(Diagnostic::line_warning(
+                    DiagnosticKind::AppSetting,
+                    &p.span,
+                    format!(
+                        "{}: {} = {}: not a number; MOOS cannot read it and keeps its default",
+                        block.name, p.key, p.value
+                    ),
                 ));
             }
         }
@@ -241,11 +241,13 @@ pub fn validate(loaded: &LoadedMission) -> Validation {
         if crate::antler::built_in(&run.app).is_some_and(|b| b.reads_block)
             && m.process(name).is_none()
         {
-            v.warnings.push(format!(
-                "{}:{}: {} runs with no `ProcessConfig = {name}` block: every setting at its default",
-                run.span.file_name(),
-                run.span.line,
-                run.app
+            v.warnings.push(Diagnostic::line_warning(
+                DiagnosticKind::NoConfigBlock,
+                &run.span,
+                format!(
+                    "{} runs with no `ProcessConfig = {name}` block: every setting at its default",
+                    run.app
+                ),
             ));
         }
     }

@@ -16,6 +16,7 @@
 use std::collections::HashMap;
 
 use mission::condition::{self, Condition, parse_condition};
+use mission::diagnostic::{Diagnostic, DiagnosticKind};
 use mission::moos::ProcessConfig;
 use thiserror::Error;
 
@@ -208,7 +209,9 @@ pub struct TimerScript {
     shuffle: bool,
     time_zero_db: bool,
     needs_nav: bool,
-    warnings: Vec<String>,
+    warnings: Vec<Diagnostic>,
+    /// Messages of the line being read that it ignores (located into `warnings`).
+    ignored: Vec<String>,
     // state
     paused: bool,
     conditions_ok: bool,
@@ -270,6 +273,7 @@ impl TimerScript {
             time_zero_db: false,
             needs_nav: false,
             warnings: Vec::new(),
+            ignored: Vec::new(),
             paused: false,
             conditions_ok: true,
             info: HashMap::new(),
@@ -297,10 +301,14 @@ impl TimerScript {
         };
         for p in &block.entries {
             let v: String = p.value.chars().filter(|c| !c.is_whitespace()).collect();
-            let before = ts.warnings.len();
+            let before = ts.ignored.len();
             let r = ts.configure(&p.key.to_ascii_lowercase(), &v);
-            for w in &mut ts.warnings[before..] {
-                *w = format!("{}:{}: {w}", p.span.file_name(), p.line());
+            for w in ts.ignored.drain(before..) {
+                ts.warnings.push(Diagnostic::line_warning(
+                    DiagnosticKind::AppSetting,
+                    &p.span,
+                    w,
+                ));
             }
             r.map_err(|message| TimerScriptError {
                 file: p.span.file_name().to_string(),
@@ -331,7 +339,7 @@ impl TimerScript {
                     n => match n.parse::<u32>() {
                         Ok(n) => self.reset_max = Some(n),
                         // MOOS ignores the line with a config warning.
-                        Err(_) => self.warnings.push(format!(
+                        Err(_) => self.ignored.push(format!(
                             "reset_max {v:?} ignored: expected a count or any/unlimited/nolimit"
                         )),
                     },
@@ -357,7 +365,7 @@ impl TimerScript {
                     "restart" => UponAwake::Restart,
                     "n/a" | "none" | "" => UponAwake::None,
                     _ => {
-                        self.warnings.push(format!(
+                        self.ignored.push(format!(
                             "upon_awake {v:?} ignored: expected reset or restart"
                         ));
                         self.upon_awake
@@ -524,8 +532,8 @@ impl TimerScript {
         Ok(())
     }
 
-    /// Config lines ignored as MOOS ignores them (with a warning), as `line: text`.
-    pub fn warnings(&self) -> &[String] {
+    /// Config lines ignored as MOOS ignores them (with a warning), each at its line.
+    pub fn warnings(&self) -> &[Diagnostic] {
         &self.warnings
     }
 
@@ -1344,7 +1352,9 @@ mod tests {
         assert_eq!(w.reset_max, None);
         assert_eq!(w.warnings().len(), 2);
         assert!(
-            w.warnings()[0].starts_with("t.moos:3: upon_awake"),
+            w.warnings()[0]
+                .located()
+                .starts_with("t.moos:3: upon_awake"),
             "{:?}",
             w.warnings()
         );

@@ -1,7 +1,9 @@
 //! The vehicle crate's simulator (uSimMarineV22), marine PID (pMarinePIDV22) and node
 //! reporter (pNodeReporter) as [`App`]s, each configured from its `ProcessConfig` block.
 
+use mission::diagnostic::{Diagnostic, DiagnosticKind};
 use mission::moos::ProcessConfig;
+use mission::source::Span;
 use thiserror::Error;
 use vehicle::geodesy::LocalGrid;
 use vehicle::node_report::{NodeReportConfig, NodeReporter};
@@ -24,8 +26,9 @@ pub struct VehicleAppError {
     pub error: ConfigError,
 }
 
-fn located(block: &ProcessConfig, error: ConfigError) -> VehicleAppError {
-    let key = match &error {
+/// Where a configuration error points: the parameter's line, else the block's.
+fn span_of<'a>(block: &'a ProcessConfig, error: &ConfigError) -> &'a Span {
+    let key = match error {
         ConfigError::UnknownKey { key, .. } | ConfigError::BadValue { key, .. } => {
             Some(key.as_str())
         }
@@ -37,7 +40,11 @@ fn located(block: &ProcessConfig, error: ConfigError) -> VehicleAppError {
             .iter()
             .find(|p| p.key.trim().eq_ignore_ascii_case(k.trim()))
     });
-    let span = param.map_or(&block.span, |p| &p.span);
+    param.map_or(&block.span, |p| &p.span)
+}
+
+fn located(block: &ProcessConfig, error: ConfigError) -> VehicleAppError {
+    let span = span_of(block, &error);
     VehicleAppError {
         file: span.file_name().to_string(),
         line: span.line,
@@ -52,10 +59,16 @@ fn params(block: &ProcessConfig) -> impl Iterator<Item = (&str, &str)> {
         .map(|p| (p.key.as_str(), p.value.as_str()))
 }
 
-fn warnings(block: &ProcessConfig, unknown: Vec<ConfigError>) -> Vec<String> {
+fn warnings(block: &ProcessConfig, unknown: Vec<ConfigError>) -> Vec<Diagnostic> {
     unknown
         .into_iter()
-        .map(|e| located(block, e).to_string())
+        .map(|e| {
+            Diagnostic::line_warning(
+                DiagnosticKind::AppSetting,
+                span_of(block, &e),
+                e.to_string(),
+            )
+        })
         .collect()
 }
 
@@ -72,7 +85,7 @@ pub struct VehicleApp {
     inner: Inner,
     subs: Vec<Subscription>,
     postings: Vec<Posting>,
-    warnings: Vec<String>,
+    warnings: Vec<Diagnostic>,
     startup_failure: Option<String>,
     /// AppCastingMOOSApp around the app.
     appcast: AppcastLayer,
@@ -84,11 +97,11 @@ impl VehicleApp {
         block: ProcessConfig,
         inner: Inner,
         subs: Vec<&str>,
-        warnings: Vec<String>,
+        warnings: Vec<Diagnostic>,
     ) -> Self {
         let mut appcast = AppcastLayer::with_globals(name, Some(&block), None, 1.0);
         for w in &warnings {
-            appcast.config_warning(w);
+            appcast.config_warning(&w.located());
         }
         VehicleApp {
             name: name.to_string(),
@@ -110,7 +123,7 @@ impl VehicleApp {
     pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
         let mut layer = AppcastLayer::with_globals(&self.name, Some(&self.block), community, warp);
         for w in &self.warnings {
-            layer.config_warning(w);
+            layer.config_warning(&w.located());
         }
         self.appcast = layer;
         if let Inner::Reporter(r) = &mut self.inner {
@@ -206,9 +219,9 @@ impl VehicleApp {
         ))
     }
 
-    /// Unknown parameters of the block (`file:line: app: unknown parameter ...`), which
-    /// the C++ apps also only warn about.
-    pub fn warnings(&self) -> &[String] {
+    /// Unknown or unusable parameters of the block (`file:line: warning: app: unknown
+    /// parameter ...`), which the C++ apps also only warn about.
+    pub fn warnings(&self) -> &[Diagnostic] {
         &self.warnings
     }
 

@@ -221,7 +221,7 @@ fn vehicle_apps_run_on_with_config_warnings() {
         0,
     )
     .expect("the reporter runs");
-    let w = rep.warnings();
+    let w: Vec<String> = rep.warnings().iter().map(|d| d.located()).collect();
     assert_eq!(w.len(), 2, "{w:?}");
     assert!(
         w[0].starts_with("w.moos:5: ") && w[0].contains("nohelm_threshold"),
@@ -233,7 +233,7 @@ fn vehicle_apps_run_on_with_config_warnings() {
     );
     let pid = VehicleApp::marine_pid("pMarinePIDV22", block(&m, "pMarinePIDV22"), false)
         .expect("the PID runs");
-    let w = pid.warnings();
+    let w: Vec<String> = pid.warnings().iter().map(|d| d.located()).collect();
     assert!(
         w.iter()
             .any(|x| x.starts_with("w.moos:10: ") && x.contains("yaw_pid_kp")),
@@ -269,7 +269,7 @@ fn simulator_runs_on_with_config_warnings_and_takes_drift_from_a_source() {
         false,
     )
     .expect("the simulator runs");
-    let w = sim.warnings();
+    let w: Vec<String> = sim.warnings().iter().map(|d| d.located()).collect();
     assert_eq!(w.len(), 2, "{w:?}");
     assert!(
         w[0].starts_with("s.moos:5: ") && w[0].contains("current_x"),

@@ -162,12 +162,12 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
         }
     };
     for w in &loaded.warnings {
-        errln!("{moos_name}: warning: {w}");
+        errln!("{moos_name}: {w}");
     }
     let m = &loaded.mission;
     let (globals, warnings) = MissionGlobals::from_mission(m);
     for w in warnings {
-        errln!("{moos_name}: warning: {w}");
+        errln!("{moos_name}: {w}");
     }
     let warp = globals.time_warp;
     let start = moosdb_client::time::unix_now() * warp;
@@ -194,7 +194,7 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
         match build(program, &moos_name, m, &globals, &mut launch, &mut warnings) {
             Ok(Built::App(a)) => {
                 for w in warnings {
-                    errln!("{moos_name}: warning: {w}");
+                    errln!("{moos_name}: {w}");
                 }
                 // A bad configuration never ends the helm: it joins the community in MALCONFIG,
                 // says why, and never drives (as pHelmIvP).

@@ -116,7 +116,7 @@ pub fn run(args: &CheckArgs) -> i32 {
         let v = runtime::session::validate(&loaded);
         // The reader's own warnings were listed above.
         for w in &v.warnings[loaded.warnings.len()..] {
-            outln!("{}", finding("warning", w));
+            outln!("{w}");
         }
         for (helm, reasons) in &v.malconfig {
             for r in reasons {

@@ -271,7 +271,7 @@ fn run_inner(args: &RunArgs) -> Result<i32, Vec<String>> {
         return Err(checked.errors);
     }
     for w in &checked.warnings {
-        errln!("coug run: warning: {w}");
+        errln!("coug run: {w}");
     }
     for (name, reasons) in &checked.malconfig {
         report_malconfig(name, reasons);
