@@ -819,43 +819,39 @@ fn lockstep(
     let until_values = s.until_values();
     s.stop().map_err(|e| app_failed(e, &alog))?;
     drop(s);
-    close_log(&sink, &alog)?;
-    Ok(report(
-        loaded,
-        opts,
-        ended,
-        start,
-        wall_s,
-        until_values,
-        alog,
-    ))
+    let end = Ending(ended, start, wall_s, until_values);
+    close_and_report(loaded, opts, &sink, alog, end)
 }
 
-/// The report of a finished run, with the totals of its alog read back.
-fn report(
+/// How a run ended, before its log is closed and read back: the end, the MOOS start time,
+/// the wall seconds taken, and the `until` values.
+struct Ending(Ended, f64, f64, Vec<(String, Option<Value>)>);
+
+/// Closes the log (a write error fails the run) and reports the run, with the totals of its
+/// alog read back.
+fn close_and_report(
     loaded: &LoadedMission,
     opts: &RunOptions,
-    ended: Ended,
-    start: f64,
-    wall_s: f64,
-    until_values: Vec<(String, Option<Value>)>,
+    sink: &LateSink,
     alog: String,
-) -> RunReport {
+    end: Ending,
+) -> Result<RunReport, SessionError> {
+    close_log(sink, &alog)?;
     let totals = std::fs::read_to_string(&alog)
         .ok()
         .and_then(|t| alog::parse(&t).ok())
         .map(|log| LogTotals::from_alog(&log));
-    RunReport {
+    Ok(RunReport {
         mission: loaded.path.clone(),
-        ended,
+        ended: end.0,
         until: opts.until.clone(),
         max_time: opts.max_time,
-        start,
-        wall_s,
-        until_values,
+        start: end.1,
+        wall_s: end.2,
+        until_values: end.3,
         alog,
         totals,
-    }
+    })
 }
 
 /// The mission as the external apps must read it, or `None` when the original file
@@ -1062,15 +1058,7 @@ fn realtime(
                 (Ended::Outcome(end.outcome), end.values)
             }
         };
-        close_log(&sink, &alog)?;
-        Ok(report(
-            loaded,
-            opts,
-            ended,
-            start,
-            wall_s,
-            until_values,
-            alog,
-        ))
+        let end = Ending(ended, start, wall_s, until_values);
+        close_and_report(loaded, opts, &sink, alog, end)
     })
 }
