@@ -1002,6 +1002,8 @@ impl Helm {
     /// Runs one helm iteration at time `now` (seconds) with the mail queued since the last
     /// one, and returns the postings in pHelmIvP's order.
     pub fn iterate(&mut self, now: f64) -> &[Posting] {
+        // Cheap when not enabled (`RUST_LOG=helm=trace` shows each iteration's events).
+        let _span = tracing::trace_span!("helm_iterate", iter = self.iteration + 1, now).entered();
         self.out.clear();
         self.delayed = false;
         self.info.set_now(now);
