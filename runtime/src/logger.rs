@@ -19,7 +19,7 @@ use std::sync::{Arc, Mutex};
 use alog::{AlogWriter, Header};
 use chrono::NaiveDateTime;
 use mission::moos::ProcessConfig;
-use moosdb_client::db::wildcard_match;
+use moosdb::db::wildcard_match;
 
 use crate::app::{App, Mail, Post, Subscription, Value};
 

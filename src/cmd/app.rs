@@ -180,7 +180,7 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
         errln!("{moos_name}: warning: {w}");
     }
     let warp = globals.time_warp;
-    let start = moosdb_client::time::unix_now() * warp;
+    let start = moosdb::time::unix_now() * warp;
     let mut log_sink: Option<LateSink> = None;
     let app: Box<dyn App> = if program == "pHelmIvP" {
         let dir = Path::new(path)

@@ -29,8 +29,8 @@ use mission::diagnostic::DiagnosticKind;
 use mission::moos::{AntlerRun, MissionFile, parse_moos};
 use mission::nsplug::{Options, preprocess};
 use mission::source::FsSource;
-use moosdb_client::time::Warp;
-use moosdb_client::{Server, ServerConfig};
+use moosdb::time::Warp;
+use moosdb::{Server, ServerConfig};
 use runtime::antler::{LogTarget, MissionGlobals, Plan, logger_config, plan};
 use runtime::chrono::{self, NaiveDateTime};
 use runtime::helm::{HelmApp, load_behaviors};
@@ -669,7 +669,7 @@ fn run_inner(args: &RunArgs) -> Result<i32, Vec<String>> {
     let start = if args.lockstep {
         LOCKSTEP_START
     } else {
-        moosdb_client::time::unix_now() * args.warp.unwrap_or(1.0)
+        moosdb::time::unix_now() * args.warp.unwrap_or(1.0)
     };
     let pokes = pokes(args, &loaded.mission, &helm, start).map_err(|e| vec![e])?;
     if let Some(c) = &until {
@@ -860,7 +860,7 @@ fn mission_for_externals(
         overrides.push(("ServerPort", port.to_string()));
     }
     if warp != globals.time_warp {
-        overrides.push(("MOOSTimeWarp", moosdb_client::db::fmt_g6(warp)));
+        overrides.push(("MOOSTimeWarp", moosdb::db::fmt_g6(warp)));
     }
     if !loaded.expanded && overrides.is_empty() {
         return Ok(args.mission.clone());
@@ -980,7 +980,7 @@ fn realtime(
             globals.community,
             server.local_addr()
         );
-        let start = moosdb_client::time::unix_now() * warp_f;
+        let start = moosdb::time::unix_now() * warp_f;
         let opened = wall_now();
         let (target, sink) = log_target(loaded, log_dir, opened);
         let p = make_plan(loaded, start, args.seed, Some(target)).map_err(|e| vec![e])?;
@@ -1012,12 +1012,12 @@ fn realtime(
                 tokio::time::interval(Duration::from_millis(if terminal { 200 } else { 50 }));
             loop {
                 tick.tick().await;
-                let now = moosdb_client::time::unix_now() * warp_f;
+                let now = moosdb::time::unix_now() * warp_f;
                 let get = |k: &str| -> Option<Value> {
                     db.with_db(|d| d.current(k))
                         .and_then(|m| match m.data_type {
-                            moosdb_client::DataType::Double => Some(Value::Double(m.dval)),
-                            moosdb_client::DataType::String => {
+                            moosdb::DataType::Double => Some(Value::Double(m.dval)),
+                            moosdb::DataType::String => {
                                 Some(Value::String(m.sval_str().into_owned()))
                             }
                             _ => None,
