@@ -3,12 +3,12 @@
 //!
 //! - [`db`]: the MOOSDB as a pure core ([`db::Database`]): time is an argument, no I/O, no
 //!   async runtime; always available.
-//! - [`server`] (feature `net`, on by default): the tokio TCP edge around the core.
-//! - [`client`] (feature `net`): the asynchronous client (connect, retry, register, notify,
+//! - `server` (feature `net`, on by default): the tokio TCP edge around the core.
+//! - `client` (feature `net`): the asynchronous client (connect, retry, register, notify,
 //!   mail, reconnect).
 //!
 //! Both network halves frame their sockets with `tokio_util::codec` and
-//! [`moos_wire::MoosCodec`]. The wire modules are re-exported here ([`message`], [`packet`],
+//! `moos_wire::MoosCodec`. The wire modules are re-exported here ([`message`], [`packet`],
 //! [`codec`], [`error`], [`time`]) so `moosdb::Message` and `moos_wire::Message` are one type.
 //!
 //! ```
