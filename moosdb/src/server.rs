@@ -248,6 +248,9 @@ async fn serve(sock: TcpStream, peer: SocketAddr, shared: Arc<Shared>) {
     // The preamble is raw bytes; everything after it is packets.
     let mut reader = FramedRead::new(rd, MoosCodec::new(shared.max_packet_len));
     let mut wr = FramedWrite::new(wr, MoosCodec::default());
+    // Each wake writes everything the core queued in one go (the outbox limits bound it), as
+    // one buffer, instead of flushing every 8 KiB while queueing.
+    wr.set_backpressure_boundary(usize::MAX);
     let first = match tokio::time::timeout(HANDSHAKE_TIMEOUT, reader.next()).await {
         Ok(Some(Ok(msgs))) => msgs.into_iter().next(),
         Ok(None) => {
