@@ -10,7 +10,7 @@ use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use common::*;
-use moosdb_client::{Client, ClientConfig};
+use moosdb::{Client, ClientConfig};
 
 const NAMES: [&str; 11] = [
     "MOOSDB",

@@ -9,7 +9,7 @@ use std::process::{Command, Stdio};
 use std::time::Duration;
 
 use common::*;
-use moosdb_client::{Client, ClientConfig};
+use moosdb::{Client, ClientConfig};
 
 fn mission_with_port(port: u16) -> String {
     let text = std::fs::read_to_string(corpus("s1_alpha/alpha.moos")).unwrap();

@@ -11,7 +11,7 @@ use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
 use common::*;
-use moosdb_client::{Client, ClientConfig, Server, ServerConfig};
+use moosdb::{Client, ClientConfig, Server, ServerConfig};
 
 /// Kills a child left running when the test ends, pass or fail.
 struct Proc(Child);

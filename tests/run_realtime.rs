@@ -10,7 +10,7 @@ use std::sync::mpsc;
 use std::time::Duration;
 
 use common::*;
-use moosdb_client::{Client, ClientConfig};
+use moosdb::{Client, ClientConfig};
 
 /// `X=..` and `Y=..` of a node report.
 fn xy(report: &str) -> Option<(f64, f64)> {
@@ -78,7 +78,7 @@ fn warp_10_run_serves_node_reports_to_an_outside_client() {
         .unwrap();
     let positions = rt.block_on(async {
         let mut cc = ClientConfig::new("test_observer", "127.0.0.1", port);
-        cc.warp = moosdb_client::time::Warp::new(10.0).unwrap();
+        cc.warp = moosdb::time::Warp::new(10.0).unwrap();
         let (client, mut inbox) = Client::start(cc);
         tokio::time::timeout(Duration::from_secs(30), client.wait_connected())
             .await

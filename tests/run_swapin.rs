@@ -13,7 +13,7 @@ use std::sync::mpsc;
 use std::time::Duration;
 
 use common::*;
-use moosdb_client::{Client, ClientConfig, Value};
+use moosdb::{Client, ClientConfig, Value};
 
 /// Kills the processes this test started when it ends, pass or fail.
 struct Procs(Vec<Child>);
@@ -118,7 +118,7 @@ fn alias_links_run_alpha_as_separate_processes() {
         .unwrap();
     let (track, complete, report) = rt.block_on(async {
         let mut cc = ClientConfig::new("test_observer", "127.0.0.1", port);
-        cc.warp = moosdb_client::time::Warp::new(WARP).unwrap();
+        cc.warp = moosdb::time::Warp::new(WARP).unwrap();
         let (client, mut inbox) = Client::start(cc);
         tokio::time::timeout(Duration::from_secs(30), client.wait_connected())
             .await

@@ -7,7 +7,7 @@ mod common;
 use std::time::Duration;
 
 use common::*;
-use moosdb_client::{Client, ClientConfig, Value};
+use moosdb::{Client, ClientConfig, Value};
 
 fn scope(dir: &std::path::Path, port: u16, args: &[&str]) -> (String, String) {
     let p = port.to_string();

@@ -3,7 +3,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use moosdb_client::packet::{StreamDecoder, decode_packet, encode_packet};
+use moos_wire::packet::{StreamDecoder, decode_packet, encode_packet};
 
 fuzz_target!(|data: &[u8]| {
     if let Ok(msgs) = decode_packet(bytes::Bytes::copy_from_slice(data)) {

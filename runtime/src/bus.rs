@@ -1,11 +1,11 @@
 //! The bus: an in-process MOOSDB. In-process apps are ordinary clients of a
-//! [`moosdb_client::Database`] core, so they get MOOSDB semantics (current value on
+//! [`moosdb::Database`] core, so they get MOOSDB semantics (current value on
 //! register, intervals, wildcard registrations, `DB_*` variables) and the same database
 //! can also serve TCP clients in real-time mode.
 
 use bytes::Bytes;
-use moosdb_client::db::{ClientId, Database, DbConfig, DbTime, Effects};
-use moosdb_client::{DataType, Message, MsgType};
+use moosdb::db::{ClientId, Database, DbConfig, DbTime, Effects};
+use moosdb::{DataType, Message, MsgType};
 use thiserror::Error;
 
 use crate::app::{Mail, Post, Subscription, Value};

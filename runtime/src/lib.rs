@@ -2,7 +2,7 @@
 //! running them.
 //!
 //! Running:
-//! - [`scheduler`]: lockstep — every app on one in-process [`bus`] (the `moosdb-client`
+//! - [`scheduler`]: lockstep — every app on one in-process [`bus`] (the `moosdb`
 //!   DB core), each at its own AppTick on a virtual [`clock`], with pokes and an `until`
 //!   condition; deterministic, as fast as the CPU allows;
 //! - [`realtime`]: real time times a warp — each app a client of a TCP MOOSDB, so real

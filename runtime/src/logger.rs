@@ -20,7 +20,7 @@ use alog::{AlogWriter, Header};
 use chrono::NaiveDateTime;
 use mission::diagnostic::{Diagnostic, DiagnosticKind};
 use mission::moos::ProcessConfig;
-use moosdb_client::db::wildcard_match;
+use moosdb::db::wildcard_match;
 
 use crate::app::{App, Mail, Post, Subscription, Value};
 

@@ -3,15 +3,15 @@
 //! `until` condition handled by a `uPokeDB` client of the run.
 //!
 //! This mirrors a pAntler launch (one process per app) inside one process: the semantics
-//! are MOOS's own, over the network code of `moosdb-client`. Lockstep runs use the
+//! are MOOS's own, over the network code of `moosdb`. Lockstep runs use the
 //! [`crate::Scheduler`] instead.
 
 use std::collections::HashMap;
 use std::time::Duration;
 
 use mission::condition::{self, Condition};
-use moosdb_client::time::Warp;
-use moosdb_client::{Client, ClientConfig, DataType};
+use moosdb::time::Warp;
+use moosdb::{Client, ClientConfig, DataType};
 use tokio::sync::watch;
 
 use crate::app::{App, Value};
@@ -39,7 +39,7 @@ pub struct RunEnd {
     pub values: Vec<(String, Option<Value>)>,
 }
 
-fn to_value(m: &moosdb_client::Message) -> Option<Value> {
+fn to_value(m: &moosdb::Message) -> Option<Value> {
     match m.data_type {
         DataType::Double => Some(Value::Double(m.dval)),
         DataType::String => Some(Value::String(m.sval_str().into_owned())),
@@ -61,7 +61,7 @@ fn holds(cond: &Condition, vals: &HashMap<String, Value>) -> bool {
 async fn joined(t: tokio::task::JoinHandle<Result<(), RemoteError>>) -> Result<(), RemoteError> {
     match t.await {
         Ok(r) => r,
-        Err(_) => Err(RemoteError::Client(moosdb_client::ClientError::Closed)),
+        Err(_) => Err(RemoteError::Client(moosdb::ClientError::Closed)),
     }
 }
 

@@ -11,8 +11,8 @@ use std::future::Future;
 use std::time::Duration;
 
 use bytes::Bytes;
-use moosdb_client::time::Warp;
-use moosdb_client::{Client, ClientConfig, ClientError, DataType, Message, MsgType};
+use moosdb::time::Warp;
+use moosdb::{Client, ClientConfig, ClientError, DataType, Message, MsgType};
 use thiserror::Error;
 
 use crate::app::{App, Mail, Post, STATUS_PERIOD, Value, status_text};

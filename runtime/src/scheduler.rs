@@ -9,7 +9,7 @@
 use std::collections::BTreeSet;
 
 use mission::condition::{self, Condition};
-use moosdb_client::db::ClientId;
+use moosdb::db::ClientId;
 use thiserror::Error;
 
 use crate::app::{App, AppError, Mail, Post, STATUS_PERIOD, Value};

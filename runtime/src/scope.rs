@@ -10,8 +10,8 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-use moosdb_client::db::wildcard_match;
-use moosdb_client::{DataType, Message};
+use moosdb::db::wildcard_match;
+use moosdb::{DataType, Message};
 
 /// The columns shown besides the name and value (uXMS `--show=source,time,community`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -106,7 +106,7 @@ impl Scope {
             return;
         }
         let value = match m.data_type {
-            DataType::Double => moosdb_client::db::fmt_g6(m.dval),
+            DataType::Double => moosdb::db::fmt_g6(m.dval),
             DataType::String => format!("\"{}\"", m.sval_str()),
             DataType::Binary => format!("<binary {} bytes>", m.sval.len()),
             DataType::NotSet => "n/a".into(),
@@ -189,7 +189,7 @@ impl Scope {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use moosdb_client::Value;
+    use moosdb::Value;
 
     fn msg(key: &str, v: Value, time: f64, src: &str) -> Message {
         let mut m = Message::notify(key, v, time);

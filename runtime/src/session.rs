@@ -29,8 +29,8 @@ use mission::diagnostic::{Diagnostic, DiagnosticKind};
 use mission::moos::{AntlerRun, MissionFile, override_globals, parse_moos};
 use mission::nsplug::{Options, preprocess};
 use mission::source::FsSource;
-use moosdb_client::time::Warp;
-use moosdb_client::{Server, ServerConfig};
+use moosdb::time::Warp;
+use moosdb::{Server, ServerConfig};
 use thiserror::Error;
 
 use crate::antler::{HelmFiles, LaunchError, LogTarget, MissionGlobals, Plan, logger_config, plan};
@@ -716,7 +716,7 @@ pub fn run(
     // A button's `$[UTC]`: the run's start (lockstep's virtual one, or now).
     let start = match opts.mode {
         Mode::Lockstep => LOCKSTEP_START,
-        Mode::RealTime { warp, .. } => moosdb_client::time::unix_now() * warp.unwrap_or(1.0),
+        Mode::RealTime { warp, .. } => moosdb::time::unix_now() * warp.unwrap_or(1.0),
     };
     let pokes = pokes(opts, &loaded.mission, &helm, start)?;
     if let Some(c) = &until {
@@ -991,7 +991,7 @@ fn realtime(
             globals.community,
             server.local_addr()
         ));
-        let start = moosdb_client::time::unix_now() * warp_f;
+        let start = moosdb::time::unix_now() * warp_f;
         let opened = wall_now();
         let (target, sink) = log_target(loaded, log_dir, opened);
         let p = loaded
@@ -1021,14 +1021,14 @@ fn realtime(
             loop {
                 tick.tick().await;
                 if observer.stop_requested() {
-                    return moosdb_client::time::unix_now() * warp_f;
+                    return moosdb::time::unix_now() * warp_f;
                 }
-                let now = moosdb_client::time::unix_now() * warp_f;
+                let now = moosdb::time::unix_now() * warp_f;
                 let current = |k: &str| -> Option<Value> {
                     db.with_db(|d| d.current(k))
                         .and_then(|m| match m.data_type {
-                            moosdb_client::DataType::Double => Some(Value::Double(m.dval)),
-                            moosdb_client::DataType::String => {
+                            moosdb::DataType::Double => Some(Value::Double(m.dval)),
+                            moosdb::DataType::String => {
                                 Some(Value::String(m.sval_str().into_owned()))
                             }
                             _ => None,

@@ -5,8 +5,8 @@
 use std::time::Duration;
 
 use mission::source::SourceMap;
-use moosdb_client::time::Warp;
-use moosdb_client::{Server, ServerConfig};
+use moosdb::time::Warp;
+use moosdb::{Server, ServerConfig};
 use runtime::antler::{Launch, plan};
 use runtime::helm::HelmApp;
 use runtime::realtime::{RunSpec, run_apps};
@@ -36,7 +36,7 @@ async fn alpha_completes_in_real_time_at_warp_40() {
         port: server.local_addr().port(),
         warp,
     };
-    let start = moosdb_client::time::unix_now() * warp;
+    let start = moosdb::time::unix_now() * warp;
     // No log target: pLogger is skipped (with a warning) here.
     let p = plan(&m, Launch::new(start, 1), &mut |run, block| {
         (run.app == "pHelmIvP").then(|| {

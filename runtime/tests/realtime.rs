@@ -4,8 +4,8 @@
 use std::time::Duration;
 
 use mission::condition::parse_condition;
-use moosdb_client::time::Warp;
-use moosdb_client::{Client, ClientConfig, Server, ServerConfig};
+use moosdb::time::Warp;
+use moosdb::{Client, ClientConfig, Server, ServerConfig};
 use runtime::realtime::{RunSpec, run_apps};
 use runtime::remote::{RemoteConfig, RemoteError};
 use runtime::{App, Mail, Outcome, Poke, Post, Subscription, Value};

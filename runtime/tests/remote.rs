@@ -4,7 +4,7 @@
 
 use std::time::Duration;
 
-use moosdb_client::{Client, ClientConfig, Server, ServerConfig};
+use moosdb::{Client, ClientConfig, Server, ServerConfig};
 use runtime::remote::{RemoteConfig, RemoteError, run};
 use runtime::{App, Mail, Post, Subscription};
 use tokio::sync::watch;
@@ -200,7 +200,7 @@ async fn vehicle_apps_swap_in_as_separate_moos_clients_with_warp() {
     let block = |n: &str| m.process(n).unwrap().clone();
     let warp = 10.0;
     let mut sc = ServerConfig::with_addr(([127, 0, 0, 1], 0).into());
-    sc.warp = moosdb_client::time::Warp::new(warp).unwrap();
+    sc.warp = moosdb::time::Warp::new(warp).unwrap();
     let server = Server::bind(sc).await.unwrap();
     let port = server.local_addr().port();
     let cfg = RemoteConfig {
@@ -209,7 +209,7 @@ async fn vehicle_apps_swap_in_as_separate_moos_clients_with_warp() {
         warp,
     };
     let mut occ = ClientConfig::new("observer", "127.0.0.1", port);
-    occ.warp = moosdb_client::time::Warp::new(warp).unwrap();
+    occ.warp = moosdb::time::Warp::new(warp).unwrap();
     let (observer, mut inbox) = Client::start(occ);
     observer.wait_connected().await.unwrap();
     observer.register("NODE_REPORT_LOCAL", 0.0);
@@ -234,8 +234,7 @@ async fn vehicle_apps_swap_in_as_separate_moos_clients_with_warp() {
         let moved = tokio::time::timeout(Duration::from_secs(60), async {
             loop {
                 // The PID acts only once the override is lifted (as `--deploy` does).
-                let _ =
-                    observer.notify("MOOS_MANUAL_OVERRIDE", moosdb_client::Value::from("false"));
+                let _ = observer.notify("MOOS_MANUAL_OVERRIDE", moosdb::Value::from("false"));
                 let Ok(Some(m)) =
                     tokio::time::timeout(Duration::from_millis(500), inbox.recv()).await
                 else {

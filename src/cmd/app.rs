@@ -170,7 +170,7 @@ pub fn run_app(program: &str, args: &[String]) -> i32 {
         errln!("{moos_name}: {w}");
     }
     let warp = globals.time_warp;
-    let start = moosdb_client::time::unix_now() * warp;
+    let start = moosdb::time::unix_now() * warp;
     let mut log_sink: Option<LateSink> = None;
     let mut launch = Launch::new(start, 1).with_helm_files(HelmFiles {
         dir: loaded.dir.clone(),

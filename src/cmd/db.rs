@@ -10,8 +10,8 @@ use anyhow::{Context, bail};
 use clap::Args;
 use std::time::Duration;
 
-use moosdb_client::time::Warp;
-use moosdb_client::{Client, ClientConfig, MailStream, Server, ServerConfig};
+use moosdb::time::Warp;
+use moosdb::{Client, ClientConfig, MailStream, Server, ServerConfig};
 
 /// Arguments of `coug db`.
 #[derive(Debug, Args)]
@@ -161,10 +161,7 @@ pub async fn connect(
         .clone()
         .or(m.host.clone())
         .unwrap_or_else(|| "localhost".into());
-    let port = args
-        .port
-        .or(m.port)
-        .unwrap_or(moosdb_client::server::DEFAULT_PORT);
+    let port = args.port.or(m.port).unwrap_or(moosdb::server::DEFAULT_PORT);
     let mut cfg = ClientConfig::new(name, &host, port);
     cfg.warp = warp_of(&m)?;
     let (client, mail) = Client::start(cfg);
@@ -183,10 +180,7 @@ pub fn run(args: &DbArgs) -> anyhow::Result<()> {
         Some(p) => read_mission_comms(p)?,
         None => MissionComms::default(),
     };
-    let port = args
-        .port
-        .or(m.port)
-        .unwrap_or(moosdb_client::server::DEFAULT_PORT);
+    let port = args.port.or(m.port).unwrap_or(moosdb::server::DEFAULT_PORT);
     let host = args
         .host
         .clone()

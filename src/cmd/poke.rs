@@ -6,7 +6,7 @@
 
 use anyhow::bail;
 use clap::Args;
-use moosdb_client::Value;
+use moosdb::Value;
 
 use super::db::{ConnectArgs, connect, split_mission};
 
@@ -102,7 +102,7 @@ mod tests {
 
     #[test]
     fn pokes_reach_an_embedded_db_with_the_right_types() {
-        use moosdb_client::{DataType, Server, ServerConfig};
+        use moosdb::{DataType, Server, ServerConfig};
         let rt = tokio::runtime::Runtime::new().unwrap();
         let server = rt
             .block_on(Server::bind(ServerConfig::with_addr(

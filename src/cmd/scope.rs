@@ -8,7 +8,7 @@ use std::time::Duration;
 
 use anyhow::bail;
 use clap::Args;
-use moosdb_client::Value;
+use moosdb::Value;
 use runtime::scope::{Columns, Scope, is_pattern};
 
 use super::db::{ConnectArgs, connect, split_mission};

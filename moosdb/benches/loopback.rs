@@ -1,14 +1,14 @@
 //! Loopback benchmark against the embedded MOOSDB: sustained messages/s and median/p99
 //! latency, 1 publisher -> 1 subscriber and 1 publisher -> 10 subscribers, 100-byte strings.
 //!
-//! `cargo bench -p moosdb-client --bench loopback` (prints a table; no criterion).
+//! `cargo bench -p moosdb --bench loopback` (prints a table; no criterion).
 
 use std::net::SocketAddr;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
-use moosdb_client::{Client, ClientConfig, Server, ServerConfig, Value};
+use moosdb::{Client, ClientConfig, Server, ServerConfig, Value};
 
 const PAYLOAD: usize = 100;
 
@@ -19,7 +19,7 @@ struct Figures {
     p99_us: f64,
 }
 
-async fn connect(port: u16, name: &str) -> (Client, moosdb_client::MailStream) {
+async fn connect(port: u16, name: &str) -> (Client, moosdb::MailStream) {
     let (c, m) = Client::start(ClientConfig::new(name, "127.0.0.1", port));
     c.wait_connected().await.expect("connected");
     (c, m)
@@ -121,7 +121,7 @@ fn main() {
         } else {
             (200_000, 5_000)
         };
-        println!("moosdb-client loopback benchmark ({PAYLOAD}-byte strings, 2 worker threads)");
+        println!("moosdb loopback benchmark ({PAYLOAD}-byte strings, 2 worker threads)");
         println!(
             "{:<34} {:>12} {:>14} {:>10} {:>10}",
             "case", "msgs/s", "deliveries/s", "median us", "p99 us"

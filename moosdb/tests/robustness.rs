@@ -7,9 +7,10 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
 
 use bytes::Bytes;
-use moosdb_client::codec::{PREAMBLE, PacketReader};
-use moosdb_client::packet::{StreamDecoder, decode_packet, encode_packet};
-use moosdb_client::{
+use futures_util::StreamExt;
+use moosdb::codec::{MoosCodec, PREAMBLE};
+use moosdb::packet::{StreamDecoder, decode_packet, encode_packet};
+use moosdb::{
     Client, ClientConfig, DataType, MailStream, Message, MsgType, Server, ServerConfig, Value,
 };
 use proptest::prelude::*;
@@ -17,6 +18,7 @@ use tokio::io::AsyncWriteExt;
 use tokio::net::TcpStream;
 use tokio::runtime::Runtime;
 use tokio::time::timeout;
+use tokio_util::codec::FramedRead;
 
 fn arb_msg() -> impl Strategy<Value = Message> {
     (
@@ -196,12 +198,12 @@ async fn attack(addr: SocketAddr, garbage: &[u8], after_handshake: bool) {
         }
     };
     if after_handshake && rejected {
-        let mut r = PacketReader::new(s, 1 << 24);
+        let mut r = FramedRead::new(s, MoosCodec::new(1 << 24));
         let closed = timeout(Duration::from_secs(10), async {
             loop {
-                match r.read_packet().await {
-                    Ok(Some(_)) => continue,
-                    Ok(None) | Err(_) => return,
+                match r.next().await {
+                    Some(Ok(_)) => continue,
+                    None | Some(Err(_)) => return,
                 }
             }
         })
@@ -242,6 +244,6 @@ proptest! {
             attack(l.addr, &garbage, after_handshake).await;
             still_serving(l, n).await;
         });
-        assert!(matches!(l.sub.state(), moosdb_client::ConnectionState::Connected { .. }));
+        assert!(matches!(l.sub.state(), moosdb::ConnectionState::Connected { .. }));
     }
 }

@@ -30,8 +30,8 @@ impl Warp {
     /// A warp factor; MOOS accepts `0 < w <= 400`.
     ///
     /// ```
-    /// assert!(moosdb_client::time::Warp::new(10.0).is_ok());
-    /// assert!(moosdb_client::time::Warp::new(0.0).is_err());
+    /// assert!(moos_wire::time::Warp::new(10.0).is_ok());
+    /// assert!(moos_wire::time::Warp::new(0.0).is_err());
     /// ```
     pub fn new(w: f64) -> Result<Warp, BadWarp> {
         if w > 0.0 && w <= MAX_TIME_WARP {
@@ -72,7 +72,7 @@ pub fn unix_now() -> f64 {
 /// 0 and is otherwise blended `0.9·old + 0.1·measured`.
 ///
 /// ```
-/// use moosdb_client::time::update_skew;
+/// use moos_wire::time::update_skew;
 /// assert_eq!(update_skew(0.0, 10.0, 15.0, 10.0), 5.0);
 /// ```
 pub fn update_skew(old: f64, rq: f64, tx: f64, rx: f64) -> f64 {

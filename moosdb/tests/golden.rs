@@ -5,9 +5,9 @@
 mod common;
 
 use bytes::Bytes;
-use moosdb_client::codec::{PREAMBLE, preamble_ok};
-use moosdb_client::packet::{StreamDecoder, decode_packet, encode_packet};
-use moosdb_client::{DataType, Message, MsgType, Value};
+use moosdb::codec::{PREAMBLE, preamble_ok};
+use moosdb::packet::{StreamDecoder, decode_packet, encode_packet};
+use moosdb::{DataType, Message, MsgType, Value};
 
 fn unhex(s: &str) -> Vec<u8> {
     let s: String = s.split_whitespace().collect();

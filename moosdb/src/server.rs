@@ -13,15 +13,17 @@ use std::net::SocketAddr;
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
-use tokio::io::AsyncWriteExt;
+use futures_util::{SinkExt, StreamExt};
+use tokio::io::AsyncReadExt;
 use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::{Notify, watch};
 use tokio::task::JoinHandle;
+use tokio_util::codec::{FramedRead, FramedWrite};
 use tracing::{debug, info, warn};
 
-use crate::codec::{PREAMBLE_LEN, PacketReader, preamble_ok, write_packet};
+use crate::codec::{MoosCodec, PREAMBLE_LEN, preamble_ok};
 use crate::db::{ClientId, Database, DbConfig, DbTime, Handshake};
-use crate::packet::{DEFAULT_MAX_PACKET_LEN, encode_packet};
+use crate::packet::DEFAULT_MAX_PACKET_LEN;
 use crate::time::{Warp, unix_now};
 
 /// Default MOOSDB port.
@@ -61,7 +63,7 @@ impl ServerConfig {
     /// Defaults, listening on `addr` (use port 0 for an OS-chosen port).
     ///
     /// ```
-    /// let cfg = moosdb_client::ServerConfig::with_addr(([127, 0, 0, 1], 0).into());
+    /// let cfg = moosdb::ServerConfig::with_addr(([127, 0, 0, 1], 0).into());
     /// assert_eq!(cfg.addr.port(), 0);
     /// ```
     pub fn with_addr(addr: SocketAddr) -> ServerConfig {
@@ -226,11 +228,10 @@ async fn reap_loop(shared: Arc<Shared>, mut stop: watch::Receiver<bool>) {
 }
 
 async fn serve(sock: TcpStream, peer: SocketAddr, shared: Arc<Shared>) {
-    let (rd, mut wr) = sock.into_split();
-    let mut reader = PacketReader::new(rd, shared.max_packet_len);
+    let (mut rd, wr) = sock.into_split();
     let mut pre = [0u8; PREAMBLE_LEN];
-    match tokio::time::timeout(HANDSHAKE_TIMEOUT, reader.read_raw(&mut pre)).await {
-        Ok(Ok(())) => {}
+    match tokio::time::timeout(HANDSHAKE_TIMEOUT, rd.read_exact(&mut pre)).await {
+        Ok(Ok(_)) => {}
         Ok(Err(e)) => {
             debug!(%peer, "connection closed before the protocol string: {e}");
             return;
@@ -244,13 +245,19 @@ async fn serve(sock: TcpStream, peer: SocketAddr, shared: Arc<Shared>) {
         warn!(%peer, "wrong protocol string; closing");
         return;
     }
-    let first = match tokio::time::timeout(HANDSHAKE_TIMEOUT, reader.read_packet()).await {
-        Ok(Ok(Some(msgs))) => msgs.into_iter().next(),
-        Ok(Ok(None)) => {
+    // The preamble is raw bytes; everything after it is packets.
+    let mut reader = FramedRead::new(rd, MoosCodec::new(shared.max_packet_len));
+    let mut wr = FramedWrite::new(wr, MoosCodec::default());
+    // Each wake writes everything the core queued in one go (the outbox limits bound it), as
+    // one buffer, instead of flushing every 8 KiB while queueing.
+    wr.set_backpressure_boundary(usize::MAX);
+    let first = match tokio::time::timeout(HANDSHAKE_TIMEOUT, reader.next()).await {
+        Ok(Some(Ok(msgs))) => msgs.into_iter().next(),
+        Ok(None) => {
             debug!(%peer, "closed before sending its name");
             return;
         }
-        Ok(Err(e)) => {
+        Ok(Some(Err(e))) => {
             warn!(%peer, "bad handshake packet: {e}");
             None
         }
@@ -273,7 +280,7 @@ async fn serve(sock: TcpStream, peer: SocketAddr, shared: Arc<Shared>) {
     };
     let id = match handshake {
         Handshake::Welcome { id, reply } => {
-            if let Err(e) = write_packet(&mut wr, &[reply]).await {
+            if let Err(e) = wr.send(&[reply][..]).await {
                 debug!(%peer, "could not send Welcome: {e}");
                 drop_client(&shared, id);
                 return;
@@ -282,8 +289,8 @@ async fn serve(sock: TcpStream, peer: SocketAddr, shared: Arc<Shared>) {
         }
         Handshake::Poison { reply } => {
             warn!(%peer, reason = %reply.sval_str(), "handshake refused");
-            let _ = write_packet(&mut wr, &[reply]).await;
-            let _ = wr.shutdown().await;
+            let _ = wr.send(&[reply][..]).await;
+            let _ = wr.close().await;
             return;
         }
     };
@@ -291,8 +298,8 @@ async fn serve(sock: TcpStream, peer: SocketAddr, shared: Arc<Shared>) {
 
     let read_side = async {
         loop {
-            match reader.read_packet().await {
-                Ok(Some(msgs)) => {
+            match reader.next().await {
+                Some(Ok(msgs)) => {
                     let now = shared.now();
                     let mut st = shared.lock();
                     match st.db.handle(id, msgs, now) {
@@ -306,11 +313,11 @@ async fn serve(sock: TcpStream, peer: SocketAddr, shared: Arc<Shared>) {
                         Err(_) => return,
                     }
                 }
-                Ok(None) => {
+                None => {
                     debug!(client = %name, "closed by the client");
                     return;
                 }
-                Err(e) => {
+                Some(Err(e)) => {
                     warn!(client = %name, %peer, "closing connection: {e}");
                     return;
                 }
@@ -319,18 +326,22 @@ async fn serve(sock: TcpStream, peer: SocketAddr, shared: Arc<Shared>) {
     };
     let write_side = async {
         let mut packets = Vec::new();
-        let mut buf = Vec::new();
         loop {
             conn.wake.notified().await;
             let alive = shared.lock().db.drain_outbox(id, &mut packets);
             if !alive {
                 return;
             }
-            buf.clear();
-            for p in packets.drain(..) {
-                encode_packet(&p, &mut buf);
+            if packets.is_empty() {
+                continue;
             }
-            if !buf.is_empty() && wr.write_all(&buf).await.is_err() {
+            // Queue every packet, then write them together.
+            for p in packets.drain(..) {
+                if wr.feed(&p[..]).await.is_err() {
+                    return;
+                }
+            }
+            if wr.flush().await.is_err() {
                 return;
             }
         }

@@ -8,21 +8,21 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use bytes::Bytes;
-use moosdb_client::codec::{PREAMBLE, PacketReader};
-use moosdb_client::packet::encode_packet;
-use moosdb_client::{
-    Client, ClientConfig, DataType, Message, MsgType, Server, ServerConfig, Value,
-};
+use futures_util::StreamExt;
+use moosdb::codec::{MoosCodec, PREAMBLE};
+use moosdb::packet::encode_packet;
+use moosdb::{Client, ClientConfig, DataType, Message, MsgType, Server, ServerConfig, Value};
 use tokio::io::AsyncWriteExt;
 use tokio::net::TcpStream;
 use tokio::time::timeout;
+use tokio_util::codec::FramedRead;
 
 const ROUNDS: usize = 1000;
 
 fn hello(name: &str) -> Vec<u8> {
     let mut m = Message::new(MsgType::Data, DataType::String, "asynchronous");
     m.sval = Bytes::from(name.to_string());
-    m.time = moosdb_client::time::unix_now();
+    m.time = moosdb::time::unix_now();
     let mut buf = PREAMBLE.to_vec();
     encode_packet(&[m], &mut buf);
     buf
@@ -44,12 +44,12 @@ async fn one_round(addr: SocketAddr, round: usize) -> Result<(), String> {
     s.write_all(&hello(&format!("churn_{round}")))
         .await
         .map_err(|e| e.to_string())?;
-    let mut r = PacketReader::new(s, 1 << 20);
-    let reply = timeout(Duration::from_secs(10), r.read_packet())
+    let mut r = FramedRead::new(s, MoosCodec::new(1 << 20));
+    let reply = timeout(Duration::from_secs(10), r.next())
         .await
         .map_err(|_| format!("round {round}: no Welcome within 10 s"))?
-        .map_err(|e| format!("round {round}: {e}"))?
-        .ok_or_else(|| format!("round {round}: closed without Welcome"))?;
+        .ok_or_else(|| format!("round {round}: closed without Welcome"))?
+        .map_err(|e| format!("round {round}: {e}"))?;
     match reply.first() {
         Some(m) if m.msg_type == MsgType::Welcome => Ok(()),
         other => Err(format!("round {round}: expected Welcome, got {other:?}")),
@@ -125,6 +125,6 @@ async fn churn_never_blocks_handshakes_or_mail() {
     eprintln!("churn: {ROUNDS} rounds in {churn_time:?}, {sent} ticks at 50 Hz all received");
     assert!(matches!(
         sub.state(),
-        moosdb_client::ConnectionState::Connected { .. }
+        moosdb::ConnectionState::Connected { .. }
     ));
 }

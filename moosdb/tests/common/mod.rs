@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use bytes::Bytes;
-use moosdb_client::{DataType, Message, MsgType};
+use moosdb::{DataType, Message, MsgType};
 use serde_json::Value as Json;
 
 /// The captures folder; panics loudly when it is missing.

@@ -225,7 +225,7 @@ impl Message {
     /// A notify of `value` to `key` at `time` (src, id left for the sender to fill).
     ///
     /// ```
-    /// use moosdb_client::{Message, Value};
+    /// use moos_wire::{Message, Value};
     /// let m = Message::notify("DESIRED_SPEED", Value::Double(1.5), 10.0);
     /// assert_eq!(m.dval, 1.5);
     /// ```

@@ -9,8 +9,8 @@ mod common;
 use std::collections::HashMap;
 
 use bytes::Bytes;
-use moosdb_client::db::{ClientId, Database, DbConfig, DbTime};
-use moosdb_client::{Message, MsgType};
+use moosdb::db::{ClientId, Database, DbConfig, DbTime};
+use moosdb::{Message, MsgType};
 
 #[derive(Debug)]
 enum Ev {

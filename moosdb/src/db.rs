@@ -5,8 +5,8 @@
 //! caller (for example a lock-step simulation) can drive it directly:
 //!
 //! ```
-//! use moosdb_client::db::{Database, DbConfig, DbTime};
-//! use moosdb_client::{Message, MsgType, DataType, Value};
+//! use moosdb::db::{Database, DbConfig, DbTime};
+//! use moosdb::{Message, MsgType, DataType, Value};
 //! use bytes::Bytes;
 //!
 //! let t = DbTime { moos: 100.0, mono: 0.0 };
@@ -1021,7 +1021,7 @@ impl Database {
 /// string, trimmed.
 ///
 /// ```
-/// use moosdb_client::db::val_from_string;
+/// use moosdb::db::val_from_string;
 /// let s = b"AppPattern=*,VarPattern=NAV_*,Interval=0";
 /// assert_eq!(val_from_string(s, b"varpattern").as_deref(), Some(&b"NAV_*"[..]));
 /// ```
@@ -1057,7 +1057,7 @@ pub fn time_of_day(t: f64) -> String {
 /// A double as C++ `ostream <<` prints it by default (`%g`, 6 significant digits).
 ///
 /// ```
-/// use moosdb_client::db::fmt_g6;
+/// use moosdb::db::fmt_g6;
 /// assert_eq!(fmt_g6(0.406981234), "0.406981");
 /// assert_eq!(fmt_g6(0.0), "0");
 /// assert_eq!(fmt_g6(1795217436.0), "1.79522e+09");

@@ -7,11 +7,13 @@ mod common;
 use std::net::SocketAddr;
 use std::time::Duration;
 
-use moosdb_client::codec::PacketReader;
-use moosdb_client::{Message, MsgType, Server, ServerConfig};
+use futures_util::StreamExt;
+use moosdb::codec::MoosCodec;
+use moosdb::{Message, MsgType, Server, ServerConfig};
 use tokio::io::AsyncWriteExt;
 use tokio::net::TcpStream;
 use tokio::time::timeout;
+use tokio_util::codec::FramedRead;
 
 async fn server_for(scenario: &str) -> Server {
     let idx = common::index(scenario);
@@ -46,9 +48,9 @@ async fn replay_conn(addr: SocketAddr, scenario: &str, conn: usize) -> Vec<Messa
     let s = TcpStream::connect(addr).await.unwrap();
     let (rd, mut wr) = s.into_split();
     let reader = tokio::spawn(async move {
-        let mut r = PacketReader::new(rd, 1 << 24);
+        let mut r = FramedRead::new(rd, MoosCodec::new(1 << 24));
         let mut got = Vec::new();
-        while let Ok(Ok(Some(p))) = timeout(Duration::from_secs(10), r.read_packet()).await {
+        while let Ok(Some(Ok(p))) = timeout(Duration::from_secs(10), r.next()).await {
             got.extend(p);
         }
         got

@@ -4,7 +4,7 @@
 //! i32 total length (header included) | i32 message count | u8 compression flag (0) | messages
 //! ```
 //! Pure code: [`encode_packet`], [`decode_packet`] and the incremental [`StreamDecoder`] that
-//! cuts a byte stream into packets.
+//! cuts a byte stream into packets ([`split_frame`], shared with the tokio_util codec).
 
 use bytes::{Buf, Bytes, BytesMut};
 
@@ -21,7 +21,7 @@ pub const DEFAULT_MAX_PACKET_LEN: usize = 64 * 1024 * 1024;
 /// Appends one packet holding `msgs` to `out`.
 ///
 /// ```
-/// use moosdb_client::{packet, Message, Value};
+/// use moos_wire::{packet, Message, Value};
 /// let mut out = Vec::new();
 /// packet::encode_packet(&[Message::notify("X", Value::Double(1.0), 0.0)], &mut out);
 /// assert_eq!(out.len(), 9 + 55);
@@ -152,16 +152,24 @@ impl StreamDecoder {
 
     /// The next complete packet's raw bytes (header included), `Ok(None)` if incomplete.
     pub fn next_frame(&mut self) -> Result<Option<Bytes>, DecodeError> {
-        let Some(len) = announced_len(&self.buf, self.max_len)? else {
-            return Ok(None);
-        };
-        if self.buf.len() < len {
-            // Grow towards the announced size, never beyond it.
-            self.buf.reserve(len - self.buf.len());
-            return Ok(None);
-        }
-        Ok(Some(self.buf.split_to(len).freeze()))
+        split_frame(&mut self.buf, self.max_len)
     }
+}
+
+/// Takes the first complete packet's raw bytes (header included) off the front of `buf`;
+/// `Ok(None)` if `buf` does not hold a whole packet yet, in which case `buf` is grown towards
+/// the announced size (never beyond it). A packet announcing more than `max_len` bytes is an
+/// error before anything is allocated for it.
+pub fn split_frame(buf: &mut BytesMut, max_len: usize) -> Result<Option<Bytes>, DecodeError> {
+    let Some(len) = announced_len(buf, max_len)? else {
+        return Ok(None);
+    };
+    if buf.len() < len {
+        // Grow towards the announced size, never beyond it.
+        buf.reserve(len - buf.len());
+        return Ok(None);
+    }
+    Ok(Some(buf.split_to(len).freeze()))
 }
 
 #[cfg(test)]

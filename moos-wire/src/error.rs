@@ -1,4 +1,4 @@
-//! Typed errors of the codec, the client and the server.
+//! Typed errors of the wire format and of reading packets from a byte stream.
 
 use thiserror::Error;
 
@@ -64,7 +64,7 @@ pub enum DecodeError {
     TrailingBytes(usize),
 }
 
-/// Errors reading packets from a socket.
+/// Errors reading packets from a byte stream (a socket).
 #[derive(Debug, Error)]
 pub enum ReadError {
     /// Socket error.

@@ -9,8 +9,8 @@
 //! is final.
 //!
 //! ```no_run
-//! # async fn demo() -> Result<(), moosdb_client::ClientError> {
-//! use moosdb_client::{Client, ClientConfig, Value};
+//! # async fn demo() -> Result<(), moosdb::ClientError> {
+//! use moosdb::{Client, ClientConfig, Value};
 //! let (client, mut mail) = Client::start(ClientConfig::new("pExample", "127.0.0.1", 9000));
 //! client.wait_connected().await?;
 //! client.register("NAV_X", 0.0);
@@ -27,20 +27,21 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use bytes::Bytes;
+use futures_util::{SinkExt, StreamExt};
 use thiserror::Error;
-use tokio::io::AsyncWriteExt;
 use tokio::net::TcpStream;
-use tokio::net::tcp::OwnedWriteHalf;
+use tokio::net::tcp::{OwnedReadHalf, OwnedWriteHalf};
 use tokio::sync::{mpsc, watch};
 use tokio::task::JoinHandle;
+use tokio_util::codec::{FramedRead, FramedWrite};
 use tracing::{error, info, warn};
 
-use crate::codec::{PREAMBLE, PacketReader};
+use crate::codec::{MoosCodec, PREAMBLE};
 use crate::db::fmt_g6;
 use crate::message::{
     ASYNC_TIMING_KEY, ASYNCHRONOUS, DataType, Message, MsgType, NO_ID, SERVER_REQUEST_ID, Value,
 };
-use crate::packet::{DEFAULT_MAX_PACKET_LEN, encode_packet};
+use crate::packet::DEFAULT_MAX_PACKET_LEN;
 use crate::time::{Warp, unix_now, update_skew};
 
 /// Unwarped period of the timing message (`TIMING_MESSAGE_PERIOD`).
@@ -445,17 +446,18 @@ async fn run(
             }
         };
         let _ = stream.set_nodelay(true);
-        let (rd, mut wr) = stream.into_split();
-        let mut reader = PacketReader::new(rd, config.max_packet_len);
+        let (rd, wr) = stream.into_split();
+        let mut reader = FramedRead::new(rd, MoosCodec::new(config.max_packet_len));
+        let mut wr = FramedWrite::new(wr, MoosCodec::default());
         inner.set_skew(0.0);
         let mut hello = Message::new(MsgType::Data, DataType::String, ASYNCHRONOUS);
         hello.time = inner.local_time();
         hello.sval = inner.name.clone();
-        let mut buf = PREAMBLE.to_vec();
-        encode_packet(&[hello], &mut buf);
+        // The raw preamble goes ahead of the name packet, in the same write.
+        wr.write_buffer_mut().extend_from_slice(&PREAMBLE);
         let reply = async {
-            wr.write_all(&buf).await.ok()?;
-            reader.read_packet().await.ok().flatten()
+            wr.send(&[hello][..]).await.ok()?;
+            reader.next().await?.ok()
         };
         let reply = tokio::time::timeout(config.handshake_timeout, reply)
             .await
@@ -500,7 +502,7 @@ async fn run(
         };
         match end {
             SessionEnd::Closed => {
-                let _ = wr.shutdown().await;
+                let _ = wr.close().await;
                 let _ = state.send(ConnectionState::Closed);
                 return;
             }
@@ -527,15 +529,15 @@ async fn idle_wait(cmd_rx: &mut mpsc::Receiver<Cmd>, pause: Duration) -> bool {
 
 async fn read_loop(
     inner: &Inner,
-    reader: &mut PacketReader<tokio::net::tcp::OwnedReadHalf>,
+    reader: &mut FramedRead<OwnedReadHalf, MoosCodec>,
     mail: &mpsc::Sender<Message>,
 ) {
     let mut packets: u64 = 0;
     loop {
-        let msgs = match reader.read_packet().await {
-            Ok(Some(m)) => m,
-            Ok(None) => return,
-            Err(e) => {
+        let msgs = match reader.next().await {
+            Some(Ok(m)) => m,
+            None => return,
+            Some(Err(e)) => {
                 warn!("bad data from the MOOSDB: {e}");
                 return;
             }
@@ -561,11 +563,10 @@ async fn read_loop(
 
 async fn write_loop(
     inner: &Inner,
-    wr: &mut OwnedWriteHalf,
+    wr: &mut FramedWrite<OwnedWriteHalf, MoosCodec>,
     cmd_rx: &mut mpsc::Receiver<Cmd>,
 ) -> SessionEnd {
     let mut batch: Vec<Message> = Vec::new();
-    let mut buf: Vec<u8> = Vec::new();
     let mut last_timing: Option<Instant> = None;
     {
         let subs = lock(&inner.subs);
@@ -587,10 +588,9 @@ async fn write_loop(
             last_timing = Some(Instant::now());
         }
         if !batch.is_empty() {
-            buf.clear();
-            encode_packet(&batch, &mut buf);
+            let sent = wr.send(&batch[..]).await;
             batch.clear();
-            if wr.write_all(&buf).await.is_err() {
+            if sent.is_err() {
                 return SessionEnd::Lost;
             }
         }

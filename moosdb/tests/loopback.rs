@@ -5,15 +5,17 @@ use std::net::SocketAddr;
 use std::time::Duration;
 
 use bytes::Bytes;
-use moosdb_client::codec::{PREAMBLE, PacketReader};
-use moosdb_client::packet::encode_packet;
-use moosdb_client::{
+use futures_util::{SinkExt, StreamExt};
+use moosdb::codec::{MoosCodec, PREAMBLE};
+use moosdb::packet::encode_packet;
+use moosdb::{
     Client, ClientConfig, ClientError, ConnectionState, DataType, MailStream, Message, MsgType,
     Server, ServerConfig, Value,
 };
 use tokio::io::AsyncWriteExt;
 use tokio::net::TcpStream;
 use tokio::time::timeout;
+use tokio_util::codec::Framed;
 
 const WAIT: Duration = Duration::from_secs(15);
 
@@ -168,21 +170,21 @@ async fn name_clash_gets_poison_and_does_not_retry() {
 }
 
 /// Handshakes by hand: returns the stream and the DB's reply.
-async fn raw_handshake(addr: SocketAddr, name: &str) -> (PacketReader<TcpStream>, Message) {
+async fn raw_handshake(addr: SocketAddr, name: &str) -> (Framed<TcpStream, MoosCodec>, Message) {
     let mut s = TcpStream::connect(addr).await.expect("connect");
     s.set_nodelay(true).unwrap();
     let mut hello = Message::new(MsgType::Data, DataType::String, "asynchronous");
     hello.sval = Bytes::from(name.to_string());
-    hello.time = moosdb_client::time::unix_now();
+    hello.time = moosdb::time::unix_now();
     let mut buf = PREAMBLE.to_vec();
     encode_packet(&[hello], &mut buf);
     s.write_all(&buf).await.unwrap();
-    let mut r = PacketReader::new(s, 1 << 20);
-    let reply = timeout(WAIT, r.read_packet())
+    let mut r = Framed::new(s, MoosCodec::new(1 << 20));
+    let reply = timeout(WAIT, r.next())
         .await
         .expect("reply in time")
-        .expect("readable")
-        .expect("a packet");
+        .expect("a packet")
+        .expect("readable");
     (r, reply.into_iter().next().expect("one message"))
 }
 
@@ -391,18 +393,18 @@ async fn client_retries_until_the_db_appears() {
 #[tokio::test]
 async fn warped_client_and_db_agree_on_moos_time() {
     let mut cfg = ServerConfig::with_addr(SocketAddr::from(([127, 0, 0, 1], 0)));
-    cfg.warp = moosdb_client::time::Warp::new(10.0).unwrap();
+    cfg.warp = moosdb::time::Warp::new(10.0).unwrap();
     let srv = Server::bind(cfg).await.unwrap();
     let port = srv.local_addr().port();
     let mut ccfg = ClientConfig::new("warped", "127.0.0.1", port);
-    ccfg.warp = moosdb_client::time::Warp::new(10.0).unwrap();
+    ccfg.warp = moosdb::time::Warp::new(10.0).unwrap();
     let (c, mut mail) = Client::start(ccfg);
     timeout(WAIT, c.wait_connected()).await.unwrap().unwrap();
     c.register("W", 0.0);
     subscribed(&srv, "warped", "W", true).await;
     c.notify("W", Value::Double(1.0)).unwrap();
     let m = next_for(&mut mail, "W").await;
-    let warped_now = 10.0 * moosdb_client::time::unix_now();
+    let warped_now = 10.0 * moosdb::time::unix_now();
     // MOOS time is the absolute Unix time times the warp (about 1.8e10 here, not 1.8e9);
     // on one host the skew is only the (warped) handshake delay. Bounds allow 10 s of
     // real delay on a loaded machine.
@@ -416,15 +418,13 @@ async fn warped_client_and_db_agree_on_moos_time() {
 }
 
 /// Sends one message as a packet and reads the reply packet (bounded wait).
-async fn exchange(r: &mut PacketReader<TcpStream>, m: Message) -> Vec<Message> {
-    let mut pkt = Vec::new();
-    encode_packet(&[m], &mut pkt);
-    r.get_mut().write_all(&pkt).await.unwrap();
-    timeout(WAIT, r.read_packet())
+async fn exchange(r: &mut Framed<TcpStream, MoosCodec>, m: Message) -> Vec<Message> {
+    r.send(&[m][..]).await.unwrap();
+    timeout(WAIT, r.next())
         .await
         .expect("reply in time")
-        .expect("readable")
         .expect("a packet")
+        .expect("readable")
 }
 
 #[tokio::test]
@@ -437,8 +437,8 @@ async fn old_synchronous_client_is_served() {
     let mut buf = PREAMBLE.to_vec();
     encode_packet(&[hello], &mut buf);
     s.write_all(&buf).await.unwrap();
-    let mut r = PacketReader::new(s, 1 << 20);
-    let w = r.read_packet().await.unwrap().unwrap();
+    let mut r = Framed::new(s, MoosCodec::new(1 << 20));
+    let w = r.next().await.unwrap().unwrap();
     assert_eq!(w[0].msg_type, MsgType::Welcome);
     let mut reg = Message::new(MsgType::Register, DataType::Double, "OLD");
     reg.src = Bytes::from_static(b"oldie");
@@ -452,11 +452,7 @@ async fn old_synchronous_client_is_served() {
     let (publ, _pm) = client(&srv, "newbie").await;
     publ.notify("OLD", Value::Double(3.0)).unwrap();
     // No push to a polling client: its mail waits for its next call.
-    assert!(
-        timeout(Duration::from_millis(700), r.read_packet())
-            .await
-            .is_err()
-    );
+    assert!(timeout(Duration::from_millis(700), r.next()).await.is_err());
     let mut null = Message::new(MsgType::Null, DataType::Double, "");
     null.src = Bytes::from_static(b"oldie");
     let reply = exchange(&mut r, null).await;

@@ -6,23 +6,26 @@
 use std::time::{Duration, Instant};
 
 use bytes::Bytes;
-use moosdb_client::codec::{PREAMBLE, PacketReader, write_packet};
-use moosdb_client::{Client, ClientConfig, ConnectionState, DataType, Message, MsgType, Value};
+use futures_util::{SinkExt, StreamExt};
+use moosdb::codec::{MoosCodec, PREAMBLE};
+use moosdb::{Client, ClientConfig, ConnectionState, DataType, Message, MsgType, Value};
+use tokio::io::AsyncReadExt;
 use tokio::net::{TcpListener, TcpStream};
 use tokio::time::timeout;
+use tokio_util::codec::Framed;
 
 const WAIT: Duration = Duration::from_secs(15);
 
-async fn accept_handshake(l: &TcpListener) -> (PacketReader<TcpStream>, Message) {
-    let (s, _) = timeout(WAIT, l.accept())
+async fn accept_handshake(l: &TcpListener) -> (Framed<TcpStream, MoosCodec>, Message) {
+    let (mut s, _) = timeout(WAIT, l.accept())
         .await
         .expect("client connects")
         .unwrap();
-    let mut r = PacketReader::new(s, 1 << 20);
     let mut pre = [0u8; 32];
-    r.read_raw(&mut pre).await.unwrap();
+    s.read_exact(&mut pre).await.unwrap();
     assert_eq!(pre, PREAMBLE);
-    let hello = r.read_packet().await.unwrap().unwrap();
+    let mut r = Framed::new(s, MoosCodec::new(1 << 20));
+    let hello = r.next().await.unwrap().unwrap();
     assert_eq!(hello.len(), 1);
     (r, hello.into_iter().next().unwrap())
 }
@@ -37,13 +40,16 @@ fn welcome(skew: f64) -> Message {
 }
 
 /// Reads packets for `dur`, with the arrival instant of each.
-async fn collect(r: &mut PacketReader<TcpStream>, dur: Duration) -> Vec<(Instant, Vec<Message>)> {
+async fn collect(
+    r: &mut Framed<TcpStream, MoosCodec>,
+    dur: Duration,
+) -> Vec<(Instant, Vec<Message>)> {
     let mut out = Vec::new();
     let end = tokio::time::Instant::now() + dur;
-    while let Ok(p) = tokio::time::timeout_at(end, r.read_packet()).await {
+    while let Ok(p) = tokio::time::timeout_at(end, r.next()).await {
         out.push((
             Instant::now(),
-            p.unwrap().expect("client keeps the connection"),
+            p.expect("client keeps the connection").unwrap(),
         ));
     }
     out
@@ -66,7 +72,7 @@ async fn handshake_timing_ids_and_reconnect() {
     assert_eq!((hello.dval, hello.dval2), (-1.0, -1.0));
     assert!(hello.src.is_empty() && hello.community.is_empty());
 
-    write_packet(r.get_mut(), &[welcome(100.0)]).await.unwrap();
+    r.send(&[welcome(100.0)][..]).await.unwrap();
     timeout(WAIT, c.wait_connected()).await.unwrap().unwrap();
     assert_eq!(
         c.state(),
@@ -139,7 +145,7 @@ async fn handshake_timing_ids_and_reconnect() {
     drop(r);
     let (mut r2, hello2) = accept_handshake(&l).await;
     assert_eq!(hello2.sval_str(), "pWire");
-    write_packet(r2.get_mut(), &[welcome(0.0)]).await.unwrap();
+    r2.send(&[welcome(0.0)][..]).await.unwrap();
     let again = collect(&mut r2, Duration::from_millis(1200)).await;
     let regs: Vec<(i32, String)> = again
         .iter()
@@ -159,16 +165,14 @@ async fn poison_is_final() {
     let (mut r, _) = accept_handshake(&l).await;
     let mut k = Message::new(MsgType::Poison, DataType::String, "");
     k.sval = Bytes::from_static(b"A client of this name (\"dup\") already exists");
-    write_packet(r.get_mut(), &[k]).await.unwrap();
+    r.send(&[k][..]).await.unwrap();
     let err = timeout(WAIT, c.wait_connected())
         .await
         .unwrap()
         .unwrap_err();
     assert_eq!(
         err,
-        moosdb_client::ClientError::Poisoned(
-            "A client of this name (\"dup\") already exists".into()
-        )
+        moosdb::ClientError::Poisoned("A client of this name (\"dup\") already exists".into())
     );
     // No second attempt within 2.5 s (a retry would come after 1 s).
     assert!(
@@ -178,6 +182,6 @@ async fn poison_is_final() {
     );
     assert_eq!(
         c.notify("X", Value::Double(1.0)),
-        Err(moosdb_client::ClientError::NotConnected)
+        Err(moosdb::ClientError::NotConnected)
     );
 }
