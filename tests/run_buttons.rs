@@ -8,7 +8,7 @@ use common::*;
 
 /// Runs golf in lockstep with `press` until it is home again; returns the log.
 fn golf(name: &str, press: &[&str]) -> alog::Alog {
-    let mission = corpus("s7_golf/golf.moos");
+    let mission = test_support::mission_file("s7_golf/golf.moos");
     let mut args = press.to_vec();
     args.extend(["--until", "RETURNING = false", "--max-time", "1500"]);
     let (bytes, stdout) = run_lockstep(name, &mission, &args);
@@ -43,7 +43,7 @@ fn button_by_label_and_unknown_buttons_are_named() {
     let log = golf("golf-button", &["--button", "deploy"]);
     assert_surveyed_and_home(&log);
     let dir = fresh_dir("golf-no-button");
-    let m = corpus("s7_golf/golf.moos");
+    let m = test_support::mission_file("s7_golf/golf.moos");
     let out = coug(
         &dir,
         &[

@@ -39,7 +39,7 @@ fn app_tick(block: &[(String, String)]) -> f64 {
 
 /// The `speed = ...` values of delta.bhv's behaviours (comments stripped), ascending.
 fn bhv_speeds() -> Vec<f64> {
-    let text = common::mission_file("s4_delta/delta.bhv");
+    let text = test_support::mission_text("s4_delta/delta.bhv");
     let mut v: Vec<f64> = text
         .lines()
         .map(|l| l.split("//").next().unwrap_or(""))
@@ -69,7 +69,7 @@ impl Delta {
     /// delta's simulator (legacy `uSimMarine`, as its Antler block launches) and marine PID,
     /// with the manual override lifted at t = 0.
     fn new() -> Self {
-        let text = common::mission_file("s4_delta/delta.moos");
+        let text = test_support::mission_text("s4_delta/delta.moos");
         let run = common::process_config(&text, "ANTLER");
         let order: Vec<&str> = run
             .iter()

@@ -10,7 +10,7 @@ use vehicle::sim::{self, SimConfig, SimInputs, SimState};
 
 /// The pMarinePID block of the golf mission (a UUV with depth control, speed_factor 20).
 fn golf_pid() -> PidConfig {
-    let text = common::mission_file("s7_golf/golf.moos");
+    let text = test_support::mission_text("s7_golf/golf.moos");
     let block = common::process_config(&text, "pMarinePID");
     PidConfig::from_params(common::pairs(&block)).expect("golf pMarinePID block is valid")
 }
@@ -412,7 +412,7 @@ fn v22_negative_speed_factor_stops_and_a_negative_config_factor_is_ignored() {
     assert_eq!(num(&out, "DESIRED_THRUST"), Some(0.0));
     // In the block, a negative factor is not taken (setNonNegDoubleOnString): a warning,
     // and the speed loop is used (factor 0).
-    let text = common::mission_file("s7_golf/golf.moos");
+    let text = test_support::mission_text("s7_golf/golf.moos");
     let block = common::process_config(&text, "pMarinePID");
     let mut pairs: Vec<(&str, &str)> = common::pairs(&block).collect();
     pairs.retain(|(k, _)| !k.eq_ignore_ascii_case("speed_factor"));

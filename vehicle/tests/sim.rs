@@ -454,7 +454,7 @@ fn config_errors_are_typed() {
 
 #[test]
 fn reads_a_real_mission_block() {
-    let text = common::mission_file("s7_golf/golf.moos");
+    let text = test_support::mission_text("s7_golf/golf.moos");
     let block = common::process_config(&text, "uSimMarine");
     let (cfg, unknown) = SimConfig::from_params_lenient(common::pairs(&block)).unwrap();
     assert_eq!(cfg.prefix, "NAV");
