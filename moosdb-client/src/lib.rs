@@ -8,6 +8,7 @@
 //! - [`db`]: the MOOSDB as a pure core ([`db::Database`]): time is an argument, no I/O.
 //! - [`server`]: the tokio TCP edge around the core.
 //! - [`client`]: the asynchronous client (connect, retry, register, notify, mail, reconnect).
+//! - [`fuzz`]: the body of the packet fuzz target (cargo-fuzz and the stable bounded run).
 //!
 //! ```
 //! use moosdb_client::{packet, Message, Value};
@@ -22,6 +23,7 @@ pub mod client;
 pub mod codec;
 pub mod db;
 pub mod error;
+pub mod fuzz;
 pub mod message;
 pub mod packet;
 pub mod server;
