@@ -26,8 +26,8 @@ fn fuzz_moos_packet_on_the_captures_and_their_mutants() {
                     seeds.push(bytes[p.off..p.off + p.len].to_vec());
                 }
                 // Up to four consecutive packets: the stream decoder's several frames.
-                if let (Some(first), Some(last)) = (packets.first(), packets.iter().take(4).last())
-                {
+                let run = &packets[..packets.len().min(4)];
+                if let (Some(first), Some(last)) = (run.first(), run.last()) {
                     seeds.push(bytes[first.off..last.off + last.len].to_vec());
                     runs += 1;
                 }
