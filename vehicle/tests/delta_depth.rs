@@ -88,7 +88,7 @@ impl Delta {
             legacy: true,
             ..SimConfig::from_params(common::pairs(&sb)).expect("delta's uSimMarine block")
         };
-        assert_eq!(sim_cfg.max_depth_rate, 5.0, "delta's block as expected");
+        assert_eq!(sim_cfg.max_depth_rate_mps, 5.0, "delta's block as expected");
         let pid_cfg = PidConfig::from_params(common::pairs(&pb)).expect("delta's pMarinePID block");
         let mut pid = MarinePid::new(pid_cfg);
         pid.on_mail("MOOS_MANUAL_OVERRIDE", ValueRef::String("false"), 0.0);
