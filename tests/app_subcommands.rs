@@ -12,7 +12,7 @@ use common::*;
 use moosdb::{Client, ClientConfig};
 
 fn mission_with_port(port: u16) -> String {
-    let text = std::fs::read_to_string(corpus("s1_alpha/alpha.moos")).unwrap();
+    let text = std::fs::read_to_string(test_support::mission_file("s1_alpha/alpha.moos")).unwrap();
     text.lines()
         .map(|l| {
             if l.trim_start().starts_with("ServerPort") {
@@ -28,7 +28,11 @@ fn mission_with_port(port: u16) -> String {
 #[test]
 fn subcommands_join_the_db_under_their_moos_names() {
     let dir = fresh_dir("app-subcommands");
-    std::fs::copy(corpus("s1_alpha/alpha.bhv"), dir.join("alpha.bhv")).unwrap();
+    std::fs::copy(
+        test_support::mission_file("s1_alpha/alpha.bhv"),
+        dir.join("alpha.bhv"),
+    )
+    .unwrap();
     std::fs::write(dir.join("alpha.moos"), mission_with_port(9000)).unwrap();
     let (db, port) = spawn_db(&dir, "alpha.moos");
     let mut procs = vec![db];

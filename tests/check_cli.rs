@@ -1,27 +1,8 @@
 //! End-to-end tests of `coug check` and `coug nsplug` (the real binary, real files).
 
-use std::path::{Path, PathBuf};
 use std::process::Command;
 
-const SHARED: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared");
-
-fn corpus(rel: &str) -> PathBuf {
-    let p = Path::new(SHARED).join("corpus/moos-ivp-missions").join(rel);
-    assert!(
-        p.is_file(),
-        "corpus file {} is missing: these tests need ../shared/corpus",
-        p.display()
-    );
-    p
-}
-
-/// A fresh scratch directory for one test.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("coug-check-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("create scratch dir");
-    dir
-}
+use test_support::{mission_file, scratch_dir};
 
 fn coug(args: &[&str]) -> (i32, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_coug"))
@@ -37,7 +18,7 @@ fn coug(args: &[&str]) -> (i32, String, String) {
 
 #[test]
 fn check_accepts_the_alpha_mission_and_its_behaviour_file() {
-    let moos = corpus("s1_alpha/alpha.moos");
+    let moos = mission_file("s1_alpha/alpha.moos");
     let (code, stdout, _) = coug(&["check", moos.to_str().unwrap()]);
     assert_eq!(code, 0, "{stdout}");
     assert!(!stdout.contains("error"), "{stdout}");
@@ -45,7 +26,7 @@ fn check_accepts_the_alpha_mission_and_its_behaviour_file() {
 
 #[test]
 fn check_reports_errors_one_per_line_and_exits_1() {
-    let dir = scratch("errors");
+    let dir = scratch_dir("check-cli-errors");
     std::fs::write(
         dir.join("m.moos"),
         "ServerPort = 9000\nProcessConfig = pHelmIvP\n{\n  behaviors = m.bhv\n  bogus_param = 1\n}\n",
@@ -90,7 +71,7 @@ fn check_reports_errors_one_per_line_and_exits_1() {
 
 #[test]
 fn check_warnings_alone_exit_0() {
-    let dir = scratch("warnings");
+    let dir = scratch_dir("check-cli-warnings");
     std::fs::write(
         dir.join("w.bhv"),
         "Behavior = BHV_ConstantSpeed\n{\n  speed = 1\n  condition = GHOST = 1\n}\n",
@@ -115,7 +96,7 @@ fn check_warnings_alone_exit_0() {
 
 #[test]
 fn nsplug_expands_templates_like_the_launch_scripts_do() {
-    let dir = scratch("nsplug");
+    let dir = scratch_dir("check-cli-nsplug");
     std::fs::create_dir_all(dir.join("plugs")).unwrap();
     std::fs::write(
         dir.join("meta.moos"),
@@ -172,7 +153,7 @@ fn nsplug_expands_templates_like_the_launch_scripts_do() {
 
 #[test]
 fn check_prints_at_most_max_findings_per_file_and_says_how_many_were_left_out() {
-    let dir = scratch("cap");
+    let dir = scratch_dir("check-cli-cap");
     // Thousands of lines MOOS would skip (warnings), and one real error at the end.
     let mut text = String::from("ServerPort = 9000\n");
     for i in 0..5000 {
@@ -214,7 +195,7 @@ fn check_prints_at_most_max_findings_per_file_and_says_how_many_were_left_out() 
 
 #[test]
 fn check_accepts_a_goby_app_block_and_the_lines_moos_skips() {
-    let dir = scratch("goby");
+    let dir = scratch_dir("check-cli-goby");
     std::fs::write(
         dir.join("goby.moos"),
         "ServerHost = localhost\nServerPort = 9000\nMIT Sailing Pavilion (use this one)\n\
@@ -247,7 +228,7 @@ fn check_accepts_a_goby_app_block_and_the_lines_moos_skips() {
 
 #[test]
 fn check_does_not_warn_about_the_apps_own_runtime_macros() {
-    let dir = scratch("runtime-macros");
+    let dir = scratch_dir("check-cli-runtime-macros");
     std::fs::write(
         dir.join("m.moos"),
         "Community = $(VNAME)\n\

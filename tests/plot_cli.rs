@@ -1,16 +1,9 @@
 //! End-to-end tests of `coug plot` (the real binary on an alog written by the alog crate).
 
-use std::path::PathBuf;
 use std::process::Command;
 
 use alog::{AlogWriter, Header, LogValue};
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("coug-plot-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("create scratch dir");
-    dir
-}
+use test_support::scratch_dir;
 
 fn coug(args: &[&std::ffi::OsStr]) -> (i32, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_coug"))
@@ -63,7 +56,7 @@ fn write_log(path: &std::path::Path) {
 
 #[test]
 fn plot_writes_svg_and_png() {
-    let dir = scratch("ok");
+    let dir = scratch_dir("plot-cli-ok");
     let log = dir.join("dive.alog");
     write_log(&log);
     let svg = dir.join("dive.svg");
@@ -131,7 +124,7 @@ fn plot_writes_svg_and_png() {
 
 #[test]
 fn plot_reports_bad_input() {
-    let dir = scratch("bad");
+    let dir = scratch_dir("plot-cli-bad");
     let log = dir.join("x.alog");
     write_log(&log);
     let (code, err) = coug(&[

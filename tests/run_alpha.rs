@@ -9,7 +9,7 @@ use common::*;
 
 #[test]
 fn alpha_completes_in_order_and_logs_are_byte_identical() {
-    let mission = corpus("s1_alpha/alpha.moos");
+    let mission = test_support::mission_file("s1_alpha/alpha.moos");
     let opts = deploy_until("MISSION = complete", 1500.0);
     let (a, stdout) = run_lockstep("run-alpha-1", &mission, &[], opts.clone());
     let (b, _) = run_lockstep("run-alpha-1", &mission, &[], opts);
@@ -38,7 +38,7 @@ fn alpha_completes_in_order_and_logs_are_byte_identical() {
 
 #[test]
 fn max_time_first_exits_2_with_what_is_pending() {
-    let mission = corpus("s1_alpha/alpha.moos");
+    let mission = test_support::mission_file("s1_alpha/alpha.moos");
     let dir = fresh_dir("run-alpha-maxtime");
     let m = mission.to_str().unwrap();
     let out = coug(
@@ -134,7 +134,7 @@ fn a_bad_behaviour_file_runs_the_helm_in_malconfig_and_bad_arguments_exit_1() {
         &["run", "missing.moos", "--lockstep", "--log-dir", "logs"],
     );
     assert_eq!(out.status.code(), Some(1));
-    let alpha = corpus("s1_alpha/alpha.moos");
+    let alpha = test_support::mission_file("s1_alpha/alpha.moos");
     let out = coug(
         &dir,
         &[

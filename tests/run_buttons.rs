@@ -8,7 +8,7 @@ use common::*;
 
 /// Runs golf in lockstep with `press` until it is home again; returns the log.
 fn golf(name: &str, press: RunOptions) -> alog::Alog {
-    let mission = corpus("s7_golf/golf.moos");
+    let mission = test_support::mission_file("s7_golf/golf.moos");
     let opts = RunOptions {
         until: Some("RETURNING = false".into()),
         max_time: 1500.0,
@@ -58,7 +58,7 @@ fn button_by_label_and_unknown_buttons_are_named() {
     );
     assert_surveyed_and_home(&log);
     let dir = fresh_dir("golf-no-button");
-    let m = corpus("s7_golf/golf.moos");
+    let m = test_support::mission_file("s7_golf/golf.moos");
     let out = coug(
         &dir,
         &[

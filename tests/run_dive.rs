@@ -92,7 +92,7 @@ fn dive_mission_dives_surveys_surfaces_for_gps_and_loiters() {
 /// 1200 s.
 #[test]
 fn delta_dives_loiters_with_periodic_surfacing_surveys_and_returns() {
-    let mission = corpus("s4_delta/delta.moos");
+    let mission = test_support::mission_file("s4_delta/delta.moos");
     let opts = RunOptions {
         pokes: vec!["SURVEY=true@300".into(), "RETURN=true@1200".into()],
         ..deploy_until("DEPLOY = false", 3000.0)

@@ -31,7 +31,7 @@ const WARP: f64 = 20.0;
 
 /// alpha.moos with a warp and a port of our choosing (other lines unchanged).
 fn write_mission(dir: &Path, port: u16) {
-    let text = std::fs::read_to_string(corpus("s1_alpha/alpha.moos")).unwrap();
+    let text = std::fs::read_to_string(test_support::mission_file("s1_alpha/alpha.moos")).unwrap();
     let mut out = String::new();
     for line in text.lines() {
         let t = line.trim_start();
@@ -50,7 +50,11 @@ fn write_mission(dir: &Path, port: u16) {
 #[test]
 fn alias_links_run_alpha_as_separate_processes() {
     let dir = fresh_dir("run-swapin");
-    std::fs::copy(corpus("s1_alpha/alpha.bhv"), dir.join("alpha.bhv")).unwrap();
+    std::fs::copy(
+        test_support::mission_file("s1_alpha/alpha.bhv"),
+        dir.join("alpha.bhv"),
+    )
+    .unwrap();
     let bin = dir.join("bin");
     let out = coug(&dir, &["install-aliases", bin.to_str().unwrap()]);
     assert!(

@@ -2,24 +2,7 @@
 //! mission `.bhv` files must parse (values still holding an nsplug `$(MACRO)` are skipped,
 //! since the mission's launch script would expand them first).
 
-use std::path::{Path, PathBuf};
-
 use geometry::spec::{parse_point, parse_polygon, parse_seglist, parse_waypoints};
-
-const SHARED: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared");
-
-fn bhv_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    let entries =
-        std::fs::read_dir(dir).unwrap_or_else(|e| panic!("cannot read {}: {e}", dir.display()));
-    for entry in entries {
-        let path = entry.expect("directory entry").path();
-        if path.is_dir() {
-            bhv_files(&path, out);
-        } else if path.extension().is_some_and(|e| e == "bhv") {
-            out.push(path);
-        }
-    }
-}
 
 #[derive(Default)]
 struct Tally {
@@ -33,15 +16,7 @@ struct Tally {
 
 #[test]
 fn every_corpus_geometry_value_parses() {
-    let root = Path::new(SHARED).join("corpus/moos-ivp-missions");
-    assert!(
-        root.is_dir(),
-        "corpus folder {} is missing: the geometry corpus test needs ../shared/corpus (see shared/README.md)",
-        root.display()
-    );
-    let mut files = Vec::new();
-    bhv_files(&root, &mut files);
-    files.sort();
+    let files = test_support::files_with_ext(&test_support::mission_file(""), &["bhv"]);
     assert!(
         files.len() >= 60,
         "expected the 69 corpus .bhv files, found {}",

@@ -3,19 +3,20 @@
 
 mod common;
 
-use common::{Rig, Vehicle, all, corpus_file, get, is_str};
+use common::{Rig, Vehicle, all, get, is_str};
 use helm::{Helm, HelmState, Mail, Value};
 use mission::source::SourceMap;
+use test_support::mission_text;
 
 fn alpha_helm() -> Helm {
     let moos = mission::moos::parse_moos(&SourceMap::from_text(
         "alpha.moos",
-        &corpus_file("moos-ivp-missions/s1_alpha/alpha.moos"),
+        &mission_text("s1_alpha/alpha.moos"),
     ));
     assert!(!moos.has_errors(), "alpha.moos: {:?}", moos.diagnostics);
     let bhv = mission::bhv::parse_bhv(&SourceMap::from_text(
         "alpha.bhv",
-        &corpus_file("moos-ivp-missions/s1_alpha/alpha.bhv"),
+        &mission_text("s1_alpha/alpha.bhv"),
     ));
     let helm = Helm::from_mission(&moos.value, &bhv);
     assert!(

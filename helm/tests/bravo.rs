@@ -3,19 +3,20 @@
 
 mod common;
 
-use common::{Rig, Vehicle, corpus_file, get, is_str};
+use common::{Rig, Vehicle, get, is_str};
 use helm::{Helm, Mail, Value};
 use mission::source::SourceMap;
+use test_support::mission_text;
 
 #[test]
 fn bravo_modes_survey_return_and_stop() {
     let moos = mission::moos::parse_moos(&SourceMap::from_text(
         "bravo.moos",
-        &corpus_file("moos-ivp-missions/s2_bravo/bravo.moos"),
+        &mission_text("s2_bravo/bravo.moos"),
     ));
     let bhv = mission::bhv::parse_bhv(&SourceMap::from_text(
         "bravo.bhv",
-        &corpus_file("moos-ivp-missions/s2_bravo/bravo.bhv"),
+        &mission_text("s2_bravo/bravo.bhv"),
     ));
     let helm = Helm::from_mission(&moos.value, &bhv);
     assert!(

@@ -3,9 +3,10 @@
 
 mod common;
 
-use common::{Rig, Vehicle, corpus_file, get, is_str};
+use common::{Rig, Vehicle, get, is_str};
 use helm::{Helm, Mail};
 use mission::source::SourceMap;
+use test_support::mission_text;
 
 use geometry::angle_180;
 
@@ -13,11 +14,11 @@ use geometry::angle_180;
 fn charlie_loiters_counter_clockwise_then_returns() {
     let moos = mission::moos::parse_moos(&SourceMap::from_text(
         "charlie.moos",
-        &corpus_file("moos-ivp-missions/s3_charlie/charlie.moos"),
+        &mission_text("s3_charlie/charlie.moos"),
     ));
     let bhv = mission::bhv::parse_bhv(&SourceMap::from_text(
         "charlie.bhv",
-        &corpus_file("moos-ivp-missions/s3_charlie/charlie.bhv"),
+        &mission_text("s3_charlie/charlie.bhv"),
     ));
     let helm = Helm::from_mission(&moos.value, &bhv);
     assert!(

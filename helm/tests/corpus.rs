@@ -1,29 +1,14 @@
 //! Every `.bhv` file of the mission corpus configures a helm without panicking; the ones that
 //! use only implemented behaviours and need no nsplug values run a few iterations.
 
-mod common;
-
-use common::shared;
 use helm::config::Globals;
 use helm::{Helm, Mail};
 use mission::source::SourceMap;
 
 #[test]
 fn every_corpus_behavior_file_configures() {
-    let root = shared().join("corpus/moos-ivp-missions");
-    let mut files = Vec::new();
-    let mut stack = vec![root.clone()];
-    while let Some(dir) = stack.pop() {
-        for e in std::fs::read_dir(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display())) {
-            let p = e.unwrap().path();
-            if p.is_dir() {
-                stack.push(p);
-            } else if p.extension().is_some_and(|x| x == "bhv") {
-                files.push(p);
-            }
-        }
-    }
-    files.sort();
+    let root = test_support::mission_file("");
+    let files = test_support::files_with_ext(&root, &["bhv"]);
     assert!(
         files.len() > 20,
         "expected the corpus .bhv files, found {}",

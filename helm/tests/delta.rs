@@ -5,10 +5,11 @@
 mod common;
 
 use behaviors::Info as _;
-use common::{all, corpus_file, get, is_str};
+use common::{all, get, is_str};
 use helm::config::Globals;
 use helm::{Helm, HelmState, Mail, Posting, Value};
 use mission::source::SourceMap;
+use test_support::mission_text;
 
 // ---------------------------------------------------------------------------------------------
 // A vehicle that also dives.
@@ -182,12 +183,12 @@ fn posted_str(posts: &[Posting], var: &str, val: &str) -> bool {
 fn delta_helm() -> Helm {
     let moos = mission::moos::parse_moos(&SourceMap::from_text(
         "delta.moos",
-        &corpus_file("moos-ivp-missions/s4_delta/delta.moos"),
+        &mission_text("s4_delta/delta.moos"),
     ));
     assert!(!moos.has_errors(), "delta.moos: {:?}", moos.diagnostics);
     let bhv = mission::bhv::parse_bhv(&SourceMap::from_text(
         "delta.bhv",
-        &corpus_file("moos-ivp-missions/s4_delta/delta.bhv"),
+        &mission_text("s4_delta/delta.bhv"),
     ));
     let helm = Helm::from_mission(&moos.value, &bhv);
     assert!(

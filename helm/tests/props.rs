@@ -3,13 +3,13 @@
 
 mod common;
 
-use common::corpus_file;
 use helm::{Helm, Mail, Value};
 use mission::source::SourceMap;
 use proptest::prelude::*;
+use test_support::mission_text;
 
 fn alpha(extra: &str) -> Helm {
-    let moos_text = corpus_file("moos-ivp-missions/s1_alpha/alpha.moos");
+    let moos_text = mission_text("s1_alpha/alpha.moos");
     let moos_text = moos_text.replace(
         "behaviors  = alpha.bhv",
         &format!("behaviors  = alpha.bhv\n{extra}"),
@@ -17,7 +17,7 @@ fn alpha(extra: &str) -> Helm {
     let moos = mission::moos::parse_moos(&SourceMap::from_text("alpha.moos", &moos_text));
     let bhv = mission::bhv::parse_bhv(&SourceMap::from_text(
         "alpha.bhv",
-        &corpus_file("moos-ivp-missions/s1_alpha/alpha.bhv"),
+        &mission_text("s1_alpha/alpha.bhv"),
     ));
     Helm::from_mission(&moos.value, &bhv)
 }

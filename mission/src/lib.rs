@@ -11,6 +11,7 @@
 //! - [`catalog`]: the behaviour types and parameters coug knows, for `coug check`;
 //! - [`check`]: the validations behind `coug check`;
 //! - [`diagnostic`]: errors and warnings with file, line, column and caret;
+//! - [`fuzz`]: the bodies of the fuzz targets (cargo-fuzz and the stable bounded runs);
 //! - [`load_moos`] / [`load_bhv`]: preprocess and parse in one call.
 //!
 //! Parsing is pure: files are read through [`source::FileSource`], and no input makes the
@@ -33,6 +34,7 @@ pub mod catalog;
 pub mod check;
 pub mod condition;
 pub mod diagnostic;
+pub mod fuzz;
 pub mod moos;
 pub mod nsplug;
 pub mod source;

@@ -2,7 +2,6 @@
 //! preprocessed and parsed; files without nsplug macros must parse with zero errors.
 
 use std::collections::HashSet;
-use std::path::{Path, PathBuf};
 
 use mission::bhv::parse_bhv;
 use mission::check::{check_files, is_bhv};
@@ -11,38 +10,9 @@ use mission::moos::parse_moos;
 use mission::nsplug::{Options, preprocess};
 use mission::source::FsSource;
 
-const SHARED: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared");
-
-fn corpus_dir() -> PathBuf {
-    let dir = Path::new(SHARED).join("corpus/moos-ivp-missions");
-    assert!(
-        dir.is_dir(),
-        "corpus folder {} is missing: the corpus tests need ../shared/corpus",
-        dir.display()
-    );
-    dir
-}
-
-fn mission_files(dir: &Path) -> Vec<PathBuf> {
-    let mut out = Vec::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).expect("read corpus dir") {
-            let p = e.expect("dir entry").path();
-            if p.is_dir() {
-                stack.push(p);
-            } else if p.extension().is_some_and(|x| x == "moos" || x == "bhv") {
-                out.push(p);
-            }
-        }
-    }
-    out.sort();
-    out
-}
-
 /// Relative paths (as in MACROS.txt) of the files that use no nsplug macro.
 fn macro_free() -> HashSet<String> {
-    let path = Path::new(SHARED).join("corpus/MACROS.txt");
+    let path = test_support::corpus("MACROS.txt");
     let text = std::fs::read_to_string(&path)
         .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
     text.lines()
@@ -58,8 +28,8 @@ fn macro_free() -> HashSet<String> {
 
 #[test]
 fn every_corpus_file_parses_and_macro_free_files_have_no_errors() {
-    let dir = corpus_dir();
-    let files = mission_files(&dir);
+    let dir = test_support::mission_file("");
+    let files = test_support::files_with_ext(&dir, &["moos", "bhv"]);
     let free = macro_free();
     assert_eq!(
         files.len(),
@@ -139,11 +109,11 @@ fn every_corpus_file_parses_and_macro_free_files_have_no_errors() {
 /// counts of each kind of finding over the whole corpus are printed.
 #[test]
 fn check_flags_no_error_in_macro_free_corpus_files() {
-    let dir = corpus_dir();
+    let dir = test_support::mission_file("");
     let free = macro_free();
     let mut counts: std::collections::BTreeMap<String, usize> = Default::default();
     let mut false_errors = Vec::new();
-    for f in mission_files(&dir) {
+    for f in test_support::files_with_ext(&dir, &["moos", "bhv"]) {
         let rel = f.strip_prefix(&dir).unwrap().to_string_lossy().to_string();
         let findings = check_files(&FsSource, std::slice::from_ref(&f), &Options::new());
         for d in &findings {
@@ -177,7 +147,7 @@ fn check_flags_no_error_in_macro_free_corpus_files() {
 
 /// Every macro name MACROS.txt lists for the files of each mission folder.
 fn folder_macros() -> std::collections::HashMap<String, Vec<String>> {
-    let path = Path::new(SHARED).join("corpus/MACROS.txt");
+    let path = test_support::corpus("MACROS.txt");
     let text = std::fs::read_to_string(&path)
         .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
     let mut out: std::collections::HashMap<String, Vec<String>> = Default::default();
@@ -202,11 +172,11 @@ fn folder_macros() -> std::collections::HashMap<String, Vec<String>> {
 /// unknown-parameter error (pHelmIvP's or a behaviour's) on any real mission.
 #[test]
 fn templates_expanded_with_their_macros_parse_and_check_clean() {
-    let dir = corpus_dir();
+    let dir = test_support::mission_file("");
     let macros = folder_macros();
     let (mut expanded, mut findings) = (0, std::collections::BTreeMap::<String, usize>::new());
     let mut problems = Vec::new();
-    for f in mission_files(&dir) {
+    for f in test_support::files_with_ext(&dir, &["moos", "bhv"]) {
         let rel = f.strip_prefix(&dir).unwrap().to_string_lossy().to_string();
         let folder = rel.rsplit_once('/').map_or("", |(d, _)| d);
         let mut opts = Options::new();
@@ -267,8 +237,8 @@ fn templates_expanded_with_their_macros_parse_and_check_clean() {
 /// about none of them.
 #[test]
 fn complete_stock_missions_get_no_warning_about_runtime_macros() {
-    let dir = corpus_dir();
-    let path = Path::new(SHARED).join("corpus/MACROS.txt");
+    let dir = test_support::mission_file("");
+    let path = test_support::corpus("MACROS.txt");
     let text = std::fs::read_to_string(&path)
         .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
     let mut checked = Vec::new();

@@ -1,36 +1,22 @@
 //! Structural snapshots of four complete corpus missions: s1_alpha and s4_delta.
 
-use std::path::{Path, PathBuf};
-
 use mission::bhv::{BehaviorFile, parse_bhv};
 use mission::condition::{Condition, Operand, RelOp};
 use mission::moos::{MissionFile, parse_moos};
 use mission::nsplug::{Options, preprocess};
 use mission::source::FsSource;
 
-fn corpus(rel: &str) -> PathBuf {
-    let p = Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../shared/corpus/moos-ivp-missions"
-    ))
-    .join(rel);
-    assert!(
-        p.is_file(),
-        "corpus file {} is missing: the snapshot tests need ../shared/corpus",
-        p.display()
-    );
-    p
-}
-
 fn load_moos(rel: &str) -> MissionFile {
-    let pre = preprocess(&FsSource, &corpus(rel), &Options::new()).expect("preprocess");
+    let pre = preprocess(&FsSource, &test_support::mission_file(rel), &Options::new())
+        .expect("preprocess");
     let parsed = parse_moos(&pre.source);
     assert!(parsed.diagnostics.is_empty(), "{:?}", parsed.diagnostics);
     parsed.value
 }
 
 fn load_bhv(rel: &str) -> BehaviorFile {
-    let pre = preprocess(&FsSource, &corpus(rel), &Options::new()).expect("preprocess");
+    let pre = preprocess(&FsSource, &test_support::mission_file(rel), &Options::new())
+        .expect("preprocess");
     let parsed = parse_bhv(&pre.source);
     assert!(parsed.diagnostics.is_empty(), "{:?}", parsed.diagnostics);
     parsed.value

@@ -7,6 +7,8 @@
 //! - [`codec`]: the 32-byte connection preamble, and with the `codec` feature
 //!   `codec::MoosCodec`, the packet framing as a `tokio_util::codec::{Decoder, Encoder}`.
 //! - [`time`]: MOOS time, warp and skew.
+//! - [`fuzz`]: the body of the packet fuzz target (cargo-fuzz and the stable bounded run in
+//!   `moosdb/tests/fuzz.rs`, beside the recorded captures it seeds from).
 //!
 //! The MOOSDB and the async client built on it are in the `moosdb` crate.
 //!
@@ -21,6 +23,7 @@
 
 pub mod codec;
 pub mod error;
+pub mod fuzz;
 pub mod message;
 pub mod packet;
 pub mod time;

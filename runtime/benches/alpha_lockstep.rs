@@ -17,16 +17,9 @@ use runtime::logger::SharedBuffer;
 use runtime::{App, Bus, Outcome, Poke, Scheduler, VirtualClock};
 
 const START: f64 = 1_786_000_000.0;
-const DIR: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/../../shared/corpus/moos-ivp-missions/s1_alpha"
-);
 
 fn load() -> (MissionFile, Parsed<BehaviorFile>) {
-    let read = |n: &str| {
-        std::fs::read_to_string(format!("{DIR}/{n}"))
-            .unwrap_or_else(|e| panic!("corpus file {DIR}/{n} is required: {e}"))
-    };
+    let read = |n: &str| test_support::mission_text(&format!("s1_alpha/{n}"));
     let m =
         mission::moos::parse_moos(&SourceMap::from_text("alpha.moos", &read("alpha.moos"))).value;
     let bhv = mission::bhv::parse_bhv(&SourceMap::from_text("alpha.bhv", &read("alpha.bhv")));

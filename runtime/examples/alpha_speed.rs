@@ -13,17 +13,13 @@ use runtime::logger::SharedBuffer;
 use runtime::{App, Bus, Poke, Scheduler, VirtualClock};
 
 const START: f64 = 1_786_000_000.0;
-const DIR: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/../../shared/corpus/moos-ivp-missions/s1_alpha"
-);
 
 fn main() {
     let runs: usize = std::env::args()
         .nth(1)
         .and_then(|s| s.parse().ok())
         .unwrap_or(5);
-    let read = |n: &str| std::fs::read_to_string(format!("{DIR}/{n}")).expect("shared corpus");
+    let read = |n: &str| test_support::mission_text(&format!("s1_alpha/{n}"));
     let m =
         mission::moos::parse_moos(&SourceMap::from_text("alpha.moos", &read("alpha.moos"))).value;
     let bhv = mission::bhv::parse_bhv(&SourceMap::from_text("alpha.bhv", &read("alpha.bhv")));

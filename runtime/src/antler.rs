@@ -559,12 +559,7 @@ mod tests {
     }
 
     fn corpus(rel: &str) -> MissionFile {
-        let path = format!(
-            "{}/../../shared/corpus/moos-ivp-missions/{rel}",
-            env!("CARGO_MANIFEST_DIR")
-        );
-        let text = std::fs::read_to_string(&path)
-            .unwrap_or_else(|e| panic!("corpus file {path} is required: {e}"));
+        let text = test_support::mission_text(rel);
         mission::moos::parse_moos(&SourceMap::from_text(rel, &text)).value
     }
 

@@ -1362,46 +1362,28 @@ mod tests {
 
     #[test]
     fn every_corpus_timer_script_block_is_read() {
-        let root = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../../shared/corpus/moos-ivp-missions"
-        );
-        assert!(
-            std::path::Path::new(root).is_dir(),
-            "corpus missing at {root}: the shared folder is required"
-        );
+        let root = test_support::mission_file("");
         let mut seen = 0;
-        let mut stack = vec![std::path::PathBuf::from(root)];
-        while let Some(dir) = stack.pop() {
-            for entry in std::fs::read_dir(&dir).unwrap() {
-                let path = entry.unwrap().path();
-                if path.is_dir() {
-                    stack.push(path);
+        for path in test_support::files_with_ext(&root, &["moos"]) {
+            let text = std::fs::read_to_string(&path).unwrap();
+            let src = SourceMap::from_text(&path.display().to_string(), &text);
+            for b in mission::moos::parse_moos(&src).value.processes {
+                if b.name != "uTimerScript" {
                     continue;
                 }
-                if path.extension().and_then(|e| e.to_str()) != Some("moos") {
-                    continue;
-                }
-                let text = std::fs::read_to_string(&path).unwrap();
-                let src = SourceMap::from_text(&path.display().to_string(), &text);
-                for b in mission::moos::parse_moos(&src).value.processes {
-                    if b.name != "uTimerScript" {
-                        continue;
+                // Blocks that use features coug refuses must say so by line; others load.
+                match TimerScript::new("uTimerScript", b.clone(), "c", 1) {
+                    Ok(ts) => {
+                        seen += 1;
+                        let _ = ts.event_count();
                     }
-                    // Blocks that use features coug refuses must say so by line; others load.
-                    match TimerScript::new("uTimerScript", b.clone(), "c", 1) {
-                        Ok(ts) => {
-                            seen += 1;
-                            let _ = ts.event_count();
-                        }
-                        Err(e) => assert!(
-                            e.message.contains("rand_pair")
-                                || e.message.contains("not supported")
-                                || e.message.contains("$("),
-                            "{}: {e}",
-                            path.display()
-                        ),
-                    }
+                    Err(e) => assert!(
+                        e.message.contains("rand_pair")
+                            || e.message.contains("not supported")
+                            || e.message.contains("$("),
+                        "{}: {e}",
+                        path.display()
+                    ),
                 }
             }
         }
@@ -1410,11 +1392,7 @@ mod tests {
 
     #[test]
     fn delta_block_parses() {
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../../shared/corpus/moos-ivp-missions/s4_delta/delta.moos"
-        );
-        let text = std::fs::read_to_string(path).expect("corpus s4_delta/delta.moos is required");
+        let text = test_support::mission_text("s4_delta/delta.moos");
         let src = SourceMap::from_text("delta.moos", &text);
         let block = mission::moos::parse_moos(&src)
             .value

@@ -13,17 +13,9 @@ use runtime::realtime::{RunSpec, run_apps};
 use runtime::remote::RemoteConfig;
 use runtime::{App, Outcome, Poke, Value};
 
-const DIR: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/../../shared/corpus/moos-ivp-missions/s1_alpha"
-);
-
 #[tokio::test(flavor = "current_thread")]
 async fn alpha_completes_in_real_time_at_warp_40() {
-    let read = |n: &str| {
-        std::fs::read_to_string(format!("{DIR}/{n}"))
-            .unwrap_or_else(|e| panic!("corpus file {DIR}/{n} is required: {e}"))
-    };
+    let read = |n: &str| test_support::mission_text(&format!("s1_alpha/{n}"));
     let m =
         mission::moos::parse_moos(&SourceMap::from_text("alpha.moos", &read("alpha.moos"))).value;
     let bhv = mission::bhv::parse_bhv(&SourceMap::from_text("alpha.bhv", &read("alpha.bhv")));

@@ -52,8 +52,7 @@ fn values<'a>(p: &'a [Post], key: &str) -> Vec<&'a Value> {
 
 #[test]
 fn restart_reads_the_behaviours_again_and_confirms_once_deciding() {
-    let dir = std::env::temp_dir().join(format!("coug-restart-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = test_support::scratch_dir("restart");
     std::fs::write(dir.join("r.bhv"), bhv(1.0)).unwrap();
     let src = mission::source::SourceMap::from_text("r.moos", MOOS);
     let m = mission::moos::parse_moos(&src).value;

@@ -12,12 +12,7 @@ use runtime::{App, Bus, Outcome, Poke, Post, Scheduler, VirtualClock};
 const START: f64 = 1_786_000_000.0;
 
 fn delta() -> MissionFile {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../shared/corpus/moos-ivp-missions/s4_delta/delta.moos"
-    );
-    let text = std::fs::read_to_string(path)
-        .unwrap_or_else(|e| panic!("corpus file {path} is required: {e}"));
+    let text = test_support::mission_text("s4_delta/delta.moos");
     mission::moos::parse_moos(&SourceMap::from_text("delta.moos", &text)).value
 }
 

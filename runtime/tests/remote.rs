@@ -190,12 +190,7 @@ impl App for ScriptedHelm {
 async fn vehicle_apps_swap_in_as_separate_moos_clients_with_warp() {
     use mission::source::SourceMap;
     use runtime::vehicle::VehicleApp;
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../shared/corpus/moos-ivp-missions/s1_alpha/alpha.moos"
-    );
-    let text = std::fs::read_to_string(path)
-        .unwrap_or_else(|e| panic!("corpus file {path} is required: {e}"));
+    let text = test_support::mission_text("s1_alpha/alpha.moos");
     let m = mission::moos::parse_moos(&SourceMap::from_text("alpha.moos", &text)).value;
     let block = |n: &str| m.process(n).unwrap().clone();
     let warp = 10.0;

@@ -12,12 +12,7 @@ use vehicle::geodesy::LocalGrid;
 const START: f64 = 1_786_000_000.0;
 
 fn alpha() -> MissionFile {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../shared/corpus/moos-ivp-missions/s1_alpha/alpha.moos"
-    );
-    let text = std::fs::read_to_string(path)
-        .unwrap_or_else(|e| panic!("corpus file {path} is required: {e}"));
+    let text = test_support::mission_text("s1_alpha/alpha.moos");
     let parsed = mission::moos::parse_moos(&SourceMap::from_text("alpha.moos", &text));
     assert!(!parsed.has_errors());
     parsed.value

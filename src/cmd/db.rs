@@ -244,15 +244,8 @@ mod tests {
 
     #[test]
     fn reads_the_corpus_alpha_mission() {
-        let p = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../shared/corpus/moos-ivp-missions/s1_alpha/alpha.moos"
-        );
-        assert!(
-            Path::new(p).is_file(),
-            "corpus missing: {p} (../shared must sit beside the repository)"
-        );
-        let m = read_mission_comms(Path::new(p)).unwrap();
+        let p = test_support::mission_file("s1_alpha/alpha.moos");
+        let m = read_mission_comms(&p).unwrap();
         assert_eq!(m.port, Some(9000));
         assert_eq!(m.community.as_deref(), Some("alpha"));
     }

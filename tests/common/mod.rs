@@ -9,21 +9,6 @@ use std::process::{Command, Output};
 pub use runtime::session::RunOptions;
 use runtime::session::{self, Mode};
 
-/// The shared corpus of real MOOS-IvP missions (the test fails loudly without it).
-pub fn corpus(rel: &str) -> PathBuf {
-    let p = PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../shared/corpus/moos-ivp-missions"
-    ))
-    .join(rel);
-    assert!(
-        p.is_file(),
-        "corpus file {} is required (../shared must sit beside the repository)",
-        p.display()
-    );
-    p
-}
-
 /// A file of the project's own `missions/` folder.
 pub fn project_mission(rel: &str) -> PathBuf {
     let p = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/missions")).join(rel);
@@ -33,10 +18,7 @@ pub fn project_mission(rel: &str) -> PathBuf {
 
 /// A fresh, empty folder for one run.
 pub fn fresh_dir(name: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).expect("temp dir");
-    d
+    test_support::fresh_dir(Path::new(env!("CARGO_TARGET_TMPDIR")).join(name))
 }
 
 /// Runs `coug` with `args` in `cwd`.

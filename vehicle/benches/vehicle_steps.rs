@@ -12,15 +12,15 @@ use vehicle::sim::{SimConfig, SimInputs, SimState};
 fn benches(c: &mut Criterion) {
     let cfg = SimConfig::default();
     let state = SimState {
-        speed: 2.0,
-        heading: 45.0,
+        speed_mps: 2.0,
+        heading_deg: 45.0,
         depth: 3.0,
         ..SimState::default()
     };
     let inputs = SimInputs {
         thrust: 40.0,
-        rudder: 10.0,
-        elevator: 5.0,
+        rudder_deg: 10.0,
+        elevator_deg: 5.0,
         ..SimInputs::from_config(&cfg)
     };
     c.bench_function("sim_step", |b| {

@@ -287,9 +287,9 @@ pub struct StartPose {
     /// y, metres north.
     pub y: f64,
     /// Compass heading, degrees.
-    pub heading: f64,
-    /// Speed, m/s.
-    pub speed: f64,
+    pub heading_deg: f64,
+    /// Speed through the water, m/s.
+    pub speed_mps: f64,
     /// Depth, metres (>= 0).
     pub depth: f64,
 }
@@ -320,8 +320,8 @@ impl StartPose {
             match key.as_str() {
                 "x" => self.x = v,
                 "y" => self.y = v,
-                "heading" | "deg" | "hdg" => self.heading = v,
-                "speed" | "spd" => self.speed = v,
+                "heading" | "deg" | "hdg" => self.heading_deg = v,
+                "speed" | "spd" => self.speed_mps = v,
                 "depth" | "dep" => self.depth = v,
                 _ => return Err("x, y, heading (deg, hdg), speed (spd) or depth (dep)"),
             }
@@ -340,41 +340,43 @@ pub struct SimConfig {
     pub prefix: String,
     /// Starting pose.
     pub start: StartPose,
-    /// Full-rudder turn rate at full speed, 0..100 (`turn_rate`, 70).
-    pub turn_rate: f64,
+    /// Heading rate at full rudder (100), 50% thrust and full speed, degrees/s, 0..100
+    /// (`turn_rate`, 70).
+    pub turn_rate_deg_s: f64,
     /// Thrust to speed (`thrust_map`, `thrust_factor` 20, `thrust_reflect`).
     pub thrust_map: ThrustMap,
     /// Speed lost at full rudder, fraction 0..1 (`turn_spd_loss`, 0.85).
     pub turn_spd_loss: f64,
     /// m/s², 0 = unlimited (`max_acceleration`, 0).
-    pub max_acceleration: f64,
+    pub max_acceleration_mps2: f64,
     /// m/s², 0 = unlimited (`max_deceleration`, 0.5).
-    pub max_deceleration: f64,
+    pub max_deceleration_mps2: f64,
     /// Rise rate at zero speed, m/s (`buoyancy_rate`, 0.025).
-    pub buoyancy_rate: f64,
+    pub buoyancy_rate_mps: f64,
     /// Depth rate at full elevator and speed, m/s (`max_depth_rate`, 0.5).
-    pub max_depth_rate: f64,
+    pub max_depth_rate_mps: f64,
     /// Speed at which `max_depth_rate` is reached, m/s (`max_depth_rate_speed`, 2).
-    pub max_depth_rate_speed: f64,
+    pub max_depth_rate_speed_mps: f64,
     /// Cap on the published speed, m/s (`max_speed`, 5).
-    pub max_speed: f64,
-    /// Drift east, m/s (`drift_x`, or from `drift_vector`).
-    pub drift_x: f64,
-    /// Drift north, m/s (`drift_y`).
-    pub drift_y: f64,
+    pub max_speed_mps: f64,
+    /// Drift east (world frame), m/s (`drift_x`, or from `drift_vector`).
+    pub drift_x_mps: f64,
+    /// Drift north (world frame), m/s (`drift_y`).
+    pub drift_y_mps: f64,
     /// External rotation, degrees/s (`rotate_speed`).
-    pub rotate_speed: f64,
+    pub rotate_speed_deg_s: f64,
     /// Water depth, m; 0 = unknown, no altitude (`default_water_depth`).
     pub water_depth: f64,
     /// Minimum turn radius, m; 0 = off (`turn_radius`).
     pub turn_radius: f64,
     /// Rudder slew-rate limit, degrees/s; 0 = off (`max_rudder_degs_per_sec`).
-    pub max_rudder_degs_per_sec: f64,
-    /// Turn-speed map: speed at and below which the turn rate is `tsm_null_rate`
+    pub max_rudder_rate_deg_s: f64,
+    /// Turn-speed map: speed at and below which the turn rate is `tsm_null_rate_deg_s`, m/s
     /// (`turn_spd_map_null_speed`, 0).
-    pub tsm_null_speed: f64,
-    /// Turn-speed map: rate at the null speed (`turn_spd_map_null_rate`, 0).
-    pub tsm_null_rate: f64,
+    pub tsm_null_speed_mps: f64,
+    /// Turn-speed map: the turn rate at the null speed, degrees/s at full rudder, 0..100
+    /// (`turn_spd_map_null_rate`, 0).
+    pub tsm_null_rate_deg_s: f64,
     /// Thrust and rudder reversed (`thrust_mode_reverse`).
     pub thrust_mode_reverse: bool,
     /// Differential thrust (`DESIRED_THRUST_L/R`) instead of thrust + rudder (`thrust_mode_diff`).
@@ -425,23 +427,23 @@ impl Default for SimConfig {
         SimConfig {
             prefix: "USM".to_string(),
             start: StartPose::default(),
-            turn_rate: 70.0,
+            turn_rate_deg_s: 70.0,
             thrust_map: ThrustMap::default(),
             turn_spd_loss: 0.85,
-            max_acceleration: 0.0,
-            max_deceleration: 0.5,
-            buoyancy_rate: 0.025,
-            max_depth_rate: 0.5,
-            max_depth_rate_speed: 2.0,
-            max_speed: 5.0,
-            drift_x: 0.0,
-            drift_y: 0.0,
-            rotate_speed: 0.0,
+            max_acceleration_mps2: 0.0,
+            max_deceleration_mps2: 0.5,
+            buoyancy_rate_mps: 0.025,
+            max_depth_rate_mps: 0.5,
+            max_depth_rate_speed_mps: 2.0,
+            max_speed_mps: 5.0,
+            drift_x_mps: 0.0,
+            drift_y_mps: 0.0,
+            rotate_speed_deg_s: 0.0,
             water_depth: 0.0,
             turn_radius: 0.0,
-            max_rudder_degs_per_sec: 0.0,
-            tsm_null_speed: 0.0,
-            tsm_null_rate: 0.0,
+            max_rudder_rate_deg_s: 0.0,
+            tsm_null_speed_mps: 0.0,
+            tsm_null_rate_deg_s: 0.0,
             thrust_mode_reverse: false,
             thrust_mode_differential: false,
             paused: false,
@@ -464,16 +466,17 @@ impl Default for SimConfig {
     }
 }
 
-/// Speed at which the turn-speed map reaches the full turn rate (hard-coded in the C++ engine).
-pub const TURN_MAP_FULL_SPEED: f64 = 5.0;
+/// Speed at which the turn-speed map reaches the full turn rate, m/s (hard-coded in the C++
+/// engine).
+pub const TURN_MAP_FULL_SPEED_MPS: f64 = 5.0;
 
 /// Turns a drift vector `angle,magnitude` (compass degrees, m/s) into `(x, y)` m/s.
 pub fn drift_from_vector(spec: &str) -> Option<(f64, f64)> {
     let (a, m) = spec.split_once(',')?;
-    let ang = angle360(parse_number(a)?);
-    let mag = parse_number(m)?;
-    let r = crate::angle::heading_to_radians(ang);
-    Some((r.cos() * mag, r.sin() * mag))
+    let ang_deg = angle360(parse_number(a)?);
+    let mag_mps = parse_number(m)?;
+    let math_rad = crate::angle::heading_to_radians(ang_deg);
+    Some((math_rad.cos() * mag_mps, math_rad.sin() * mag_mps))
 }
 
 impl SimConfig {
@@ -578,14 +581,14 @@ impl SimConfig {
             "prefix" => self.prefix = p.word()?,
             "start_x" => self.start.x = p.f64()?,
             "start_y" => self.start.y = p.f64()?,
-            "start_heading" => self.start.heading = p.f64()?,
-            "start_speed" => self.start.speed = p.f64()?,
+            "start_heading" => self.start.heading_deg = p.f64()?,
+            "start_speed" => self.start.speed_mps = p.f64()?,
             "start_depth" => self.start.depth = p.non_neg()?,
             "start_pos" => {
                 self.start_pos_count += 1;
                 self.start.apply_spec(p.value).map_err(|e| p.bad(e))?
             }
-            "turn_rate" => self.turn_rate = p.f64()?.clamp(0.0, 100.0),
+            "turn_rate" => self.turn_rate_deg_s = p.f64()?.clamp(0.0, 100.0),
             "thrust_map" => self
                 .thrust_map
                 .add_spec(p.value)
@@ -609,25 +612,25 @@ impl SimConfig {
                 v if (0.0..=1.0).contains(&v) => self.turn_spd_loss = v,
                 _ => return Err(p.bad("a number in 0..1")),
             },
-            "max_acceleration" => self.max_acceleration = p.non_neg()?,
-            "max_deceleration" => self.max_deceleration = p.non_neg()?,
-            "buoyancy_rate" => self.buoyancy_rate = p.f64()?,
-            "max_depth_rate" => self.max_depth_rate = p.f64()?,
-            "max_depth_rate_speed" => self.max_depth_rate_speed = p.f64()?,
-            "max_speed" => self.max_speed = p.pos()?,
-            "drift_x" => self.drift_x = p.f64()?,
-            "drift_y" => self.drift_y = p.f64()?,
+            "max_acceleration" => self.max_acceleration_mps2 = p.non_neg()?,
+            "max_deceleration" => self.max_deceleration_mps2 = p.non_neg()?,
+            "buoyancy_rate" => self.buoyancy_rate_mps = p.f64()?,
+            "max_depth_rate" => self.max_depth_rate_mps = p.f64()?,
+            "max_depth_rate_speed" => self.max_depth_rate_speed_mps = p.f64()?,
+            "max_speed" => self.max_speed_mps = p.pos()?,
+            "drift_x" => self.drift_x_mps = p.f64()?,
+            "drift_y" => self.drift_y_mps = p.f64()?,
             "drift_vector" => {
                 let (x, y) = drift_from_vector(p.value).ok_or_else(|| p.bad("angle,magnitude"))?;
-                self.drift_x = x;
-                self.drift_y = y;
+                self.drift_x_mps = x;
+                self.drift_y_mps = y;
             }
-            "rotate_speed" => self.rotate_speed = p.f64()?,
+            "rotate_speed" => self.rotate_speed_deg_s = p.f64()?,
             "default_water_depth" => self.water_depth = p.non_neg()?,
             "turn_radius" => self.turn_radius = p.non_neg()?,
-            "max_rudder_degs_per_sec" => self.max_rudder_degs_per_sec = p.non_neg()?,
-            "turn_spd_map_null_speed" => self.tsm_null_speed = p.pos()?,
-            "turn_spd_map_null_rate" => self.tsm_null_rate = p.range(0.0, 100.0, "0..100")?,
+            "max_rudder_degs_per_sec" => self.max_rudder_rate_deg_s = p.non_neg()?,
+            "turn_spd_map_null_speed" => self.tsm_null_speed_mps = p.pos()?,
+            "turn_spd_map_null_rate" => self.tsm_null_rate_deg_s = p.range(0.0, 100.0, "0..100")?,
             // The C++ engine overwrites the full speed (5 m/s) and full rate (turn_rate) of the
             // map on every step, so these two keys are checked but have no effect there either.
             "turn_spd_map_full_speed" => {
@@ -710,21 +713,21 @@ pub struct SimState {
     /// y, metres north of the origin.
     pub y: f64,
     /// Compass heading, degrees `[0, 360)`.
-    pub heading: f64,
+    pub heading_deg: f64,
     /// Speed through the water, m/s.
-    pub speed: f64,
+    pub speed_mps: f64,
     /// Depth, metres (>= 0).
     pub depth: f64,
     /// Pitch, radians (negative = nose down, as in the C++ model).
-    pub pitch: f64,
-    /// Yaw, radians: `-rad(angle180(heading))`.
-    pub yaw: f64,
-    /// Speed over ground, m/s.
-    pub speed_og: f64,
-    /// Heading over ground, degrees.
-    pub heading_og: f64,
-    /// Elapsed simulated time, seconds.
-    pub time: f64,
+    pub pitch_rad: f64,
+    /// Yaw, radians: `-rad(angle180(heading_deg))`.
+    pub yaw_rad: f64,
+    /// Speed over ground (water speed plus drift), m/s.
+    pub speed_og_mps: f64,
+    /// Heading over ground (the direction of the last step's displacement), degrees.
+    pub heading_og_deg: f64,
+    /// Elapsed simulated time, seconds (the sum of the steps' `dt_s`, not MOOS time).
+    pub elapsed_s: f64,
 }
 
 impl SimState {
@@ -733,10 +736,10 @@ impl SimState {
         SimState {
             x: start.x,
             y: start.y,
-            heading: angle360(start.heading),
-            speed: start.speed,
+            heading_deg: angle360(start.heading_deg),
+            speed_mps: start.speed_mps,
             depth: start.depth.max(0.0),
-            yaw: -angle180(start.heading).to_radians(),
+            yaw_rad: -angle180(start.heading_deg).to_radians(),
             ..SimState::default()
         }
     }
@@ -747,22 +750,23 @@ impl SimState {
 pub struct SimInputs {
     /// `DESIRED_THRUST`, percent.
     pub thrust: f64,
-    /// `DESIRED_RUDDER`, -100..100.
-    pub rudder: f64,
-    /// `DESIRED_ELEVATOR`, -100..100 (positive dives).
-    pub elevator: f64,
+    /// `DESIRED_RUDDER`, degrees, -100..100 (100 is full rudder in the model).
+    pub rudder_deg: f64,
+    /// `DESIRED_ELEVATOR`, degrees, -100..100 (positive dives; 100 is full elevator in the
+    /// model).
+    pub elevator_deg: f64,
     /// `DESIRED_THRUST_L` (differential mode).
     pub thrust_left: f64,
     /// `DESIRED_THRUST_R` (differential mode).
     pub thrust_right: f64,
-    /// Drift east, m/s.
-    pub drift_x: f64,
-    /// Drift north, m/s.
-    pub drift_y: f64,
+    /// Drift east (world frame), m/s.
+    pub drift_x_mps: f64,
+    /// Drift north (world frame), m/s.
+    pub drift_y_mps: f64,
     /// External rotation, degrees/s.
-    pub rotate_speed: f64,
+    pub rotate_speed_deg_s: f64,
     /// Rise rate, m/s.
-    pub buoyancy_rate: f64,
+    pub buoyancy_rate_mps: f64,
     /// The wind (start-up `wind_conditions`, then `WIND_CONDITIONS` mail).
     pub wind: Option<crate::polar::Wind>,
     /// The wind direction the polar plot uses (updated only by a fully read wind spec).
@@ -773,10 +777,10 @@ impl SimInputs {
     /// Inputs with the environment (drift, rotation, buoyancy) taken from the config.
     pub fn from_config(cfg: &SimConfig) -> Self {
         SimInputs {
-            drift_x: cfg.drift_x,
-            drift_y: cfg.drift_y,
-            rotate_speed: cfg.rotate_speed,
-            buoyancy_rate: cfg.buoyancy_rate,
+            drift_x_mps: cfg.drift_x_mps,
+            drift_y_mps: cfg.drift_y_mps,
+            rotate_speed_deg_s: cfg.rotate_speed_deg_s,
+            buoyancy_rate_mps: cfg.buoyancy_rate_mps,
             wind: cfg.wind,
             polar_wind_deg: cfg.polar_wind_deg,
             ..SimInputs::default()
@@ -795,88 +799,97 @@ pub struct NavOutputs {
     pub lat: Option<f64>,
     /// `<P>_LONG`.
     pub lon: Option<f64>,
-    /// `<P>_HEADING`.
-    pub heading: f64,
-    /// `<P>_SPEED`: snapped to 0.01 and capped at `max_speed`.
-    pub speed: f64,
+    /// `<P>_HEADING`, degrees.
+    pub heading_deg: f64,
+    /// `<P>_SPEED`, m/s: snapped to 0.01 and capped at `max_speed_mps`.
+    pub speed_mps: f64,
     /// `<P>_DEPTH`.
     pub depth: f64,
     /// `<P>_Z` = -depth.
     pub z: f64,
     /// `<P>_PITCH`, radians.
-    pub pitch: f64,
+    pub pitch_rad: f64,
     /// `<P>_YAW`, radians.
-    pub yaw: f64,
-    /// `<P>_HEADING_OVER_GROUND`.
-    pub heading_og: f64,
-    /// `<P>_SPEED_OVER_GROUND`.
-    pub speed_og: f64,
+    pub yaw_rad: f64,
+    /// `<P>_HEADING_OVER_GROUND`, degrees.
+    pub heading_og_deg: f64,
+    /// `<P>_SPEED_OVER_GROUND`, m/s.
+    pub speed_og_mps: f64,
     /// `<P>_ALTITUDE` (when the water depth is known).
     pub altitude: Option<f64>,
 }
 
-/// Turn rate (0..100) at a speed, from the turn-speed map (or the bare rate for `legacy`).
-pub fn turn_rate_at(cfg: &SimConfig, speed: f64) -> f64 {
+/// Turn rate at full rudder (degrees/s, 0..100) at a speed (m/s), from the turn-speed map
+/// (or the bare rate for `legacy`).
+pub fn turn_rate_at(cfg: &SimConfig, speed_mps: f64) -> f64 {
     if cfg.legacy {
-        return cfg.turn_rate;
+        return cfg.turn_rate_deg_s;
     }
     // Each step the C++ sets the map's full speed to 5 m/s and its full rate to turn_rate
     // (refused when turn_rate is 0, leaving the map's own 100); both setters pull the null
     // point down to the full one.
-    let fs = TURN_MAP_FULL_SPEED;
-    let fr = if cfg.turn_rate > 0.0 && cfg.turn_rate <= 100.0 {
-        cfg.turn_rate
+    let full_mps = TURN_MAP_FULL_SPEED_MPS;
+    let full_deg_s = if cfg.turn_rate_deg_s > 0.0 && cfg.turn_rate_deg_s <= 100.0 {
+        cfg.turn_rate_deg_s
     } else {
         100.0
     };
-    let ns = cfg.tsm_null_speed.min(fs);
-    let nr = cfg.tsm_null_rate.min(fr);
-    if speed <= ns {
-        nr
-    } else if speed >= fs {
-        fr
+    let null_mps = cfg.tsm_null_speed_mps.min(full_mps);
+    let null_deg_s = cfg.tsm_null_rate_deg_s.min(full_deg_s);
+    if speed_mps <= null_mps {
+        null_deg_s
+    } else if speed_mps >= full_mps {
+        full_deg_s
     } else {
-        nr + (fr - nr) * (speed - ns) / (fs - ns)
+        null_deg_s + (full_deg_s - null_deg_s) * (speed_mps - null_mps) / (full_mps - null_mps)
     }
 }
 
+/// The speed (m/s) after `dt_s` from `prev_mps`: the thrust map's, capped by sailing,
+/// reduced by the rudder's turn loss, then limited by the acceleration limits.
 fn step_speed(
     cfg: &SimConfig,
-    prev: f64,
-    dt: f64,
+    prev_mps: f64,
+    dt_s: f64,
     thrust: f64,
-    rudder: f64,
+    rudder_deg: f64,
     max_sail_mps: f64,
 ) -> f64 {
-    let mut next = cfg.thrust_map.speed(thrust);
-    if max_sail_mps > 0.0 && next > max_sail_mps {
-        next = max_sail_mps;
+    let mut next_mps = cfg.thrust_map.speed(thrust);
+    if max_sail_mps > 0.0 && next_mps > max_sail_mps {
+        next_mps = max_sail_mps;
     }
-    let loss = (rudder.clamp(-100.0, 100.0).abs() / 100.0) * cfg.turn_spd_loss;
-    next *= 1.0 - loss;
-    if next > prev && cfg.max_acceleration > 0.0 && (next - prev) / dt > cfg.max_acceleration {
-        next = prev + cfg.max_acceleration * dt;
+    let loss = (rudder_deg.clamp(-100.0, 100.0).abs() / 100.0) * cfg.turn_spd_loss;
+    next_mps *= 1.0 - loss;
+    if next_mps > prev_mps
+        && cfg.max_acceleration_mps2 > 0.0
+        && (next_mps - prev_mps) / dt_s > cfg.max_acceleration_mps2
+    {
+        next_mps = prev_mps + cfg.max_acceleration_mps2 * dt_s;
     }
-    if next < prev && cfg.max_deceleration > 0.0 && (prev - next) / dt > cfg.max_deceleration {
-        next = prev - cfg.max_deceleration * dt;
+    if next_mps < prev_mps
+        && cfg.max_deceleration_mps2 > 0.0
+        && (prev_mps - next_mps) / dt_s > cfg.max_deceleration_mps2
+    {
+        next_mps = prev_mps - cfg.max_deceleration_mps2 * dt_s;
     }
-    next
+    next_mps
 }
 
-/// Advances the vehicle by `dt` seconds. Pure: same inputs, same result.
+/// Advances the vehicle by `dt_s` seconds. Pure: same inputs, same result.
 ///
 /// `grid` (from the mission's `LatOrigin`/`LongOrigin`) adds latitude/longitude.
 pub fn step(
     cfg: &SimConfig,
     state: &SimState,
     inputs: &SimInputs,
-    dt: f64,
+    dt_s: f64,
     grid: Option<&LocalGrid>,
 ) -> (SimState, NavOutputs) {
     let mut s = *state;
-    if dt > 0.0 {
-        let prior_speed = s.speed;
-        let prior_heading = s.heading;
+    if dt_s > 0.0 {
+        let prior_speed_mps = s.speed_mps;
+        let prior_heading_deg = s.heading_deg;
         let sign = if cfg.thrust_mode_reverse { -1.0 } else { 1.0 };
 
         // 1 + 2: speed and heading.
@@ -890,50 +903,59 @@ pub fn step(
             } else {
                 (l, r)
             };
-            s.speed = step_speed(cfg, prior_speed, dt, (l + r) / 2.0, (l - r) / 2.0, -1.0);
-            36.0 * ((l - r) / 200.0) * dt + inputs.rotate_speed * dt
+            s.speed_mps = step_speed(
+                cfg,
+                prior_speed_mps,
+                dt_s,
+                (l + r) / 2.0,
+                (l - r) / 2.0,
+                -1.0,
+            );
+            36.0 * ((l - r) / 200.0) * dt_s + inputs.rotate_speed_deg_s * dt_s
         } else {
             let thrust = sign * inputs.thrust;
-            let mut rudder = sign * inputs.rudder;
+            let mut rudder_deg = sign * inputs.rudder_deg;
             // Sailing: wind and polar plot cap the speed on the prior heading.
-            let max_sail = match inputs.wind {
+            let max_sail_mps = match inputs.wind {
                 Some(w) if cfg.polar.is_set() => {
-                    cfg.polar.fraction(prior_heading, inputs.polar_wind_deg) * w.speed_mps
+                    cfg.polar.fraction(prior_heading_deg, inputs.polar_wind_deg) * w.speed_mps
                 }
                 _ => -1.0,
             };
-            s.speed = step_speed(cfg, prior_speed, dt, thrust, rudder, max_sail);
-            if s.speed == 0.0 {
-                rudder = 0.0;
+            s.speed_mps = step_speed(cfg, prior_speed_mps, dt_s, thrust, rudder_deg, max_sail_mps);
+            if s.speed_mps == 0.0 {
+                rudder_deg = 0.0;
             }
-            let rate = turn_rate_at(cfg, s.speed).clamp(0.0, 100.0);
-            let raw = rudder.clamp(-100.0, 100.0) * (rate / 100.0) * dt;
-            raw * (1.0 + (thrust - 50.0) / 50.0) + inputs.rotate_speed * dt
+            let rate_deg_s = turn_rate_at(cfg, s.speed_mps).clamp(0.0, 100.0);
+            let raw_deg = rudder_deg.clamp(-100.0, 100.0) * (rate_deg_s / 100.0) * dt_s;
+            raw_deg * (1.0 + (thrust - 50.0) / 50.0) + inputs.rotate_speed_deg_s * dt_s
         };
-        s.heading = angle360(prior_heading + delta_deg);
-        s.yaw = -angle180(s.heading).to_radians();
+        s.heading_deg = angle360(prior_heading_deg + delta_deg);
+        s.yaw_rad = -angle180(s.heading_deg).to_radians();
 
         // 3: depth and pitch.
-        let elevator = inputs.elevator.clamp(-100.0, 100.0);
-        if s.speed <= 0.0 {
-            s.depth -= inputs.buoyancy_rate * dt;
-            s.pitch = 0.0;
+        let elevator_deg = inputs.elevator_deg.clamp(-100.0, 100.0);
+        if s.speed_mps <= 0.0 {
+            s.depth -= inputs.buoyancy_rate_mps * dt_s;
+            s.pitch_rad = 0.0;
         } else {
             let mut pct = 1.0;
-            if cfg.max_depth_rate_speed > 0.0 {
-                pct = (s.speed / cfg.max_depth_rate_speed).min(1.0);
+            if cfg.max_depth_rate_speed_mps > 0.0 {
+                pct = (s.speed_mps / cfg.max_depth_rate_speed_mps).min(1.0);
             }
             let pct = if pct < 0.0 {
                 -(-pct).sqrt()
             } else {
                 pct.sqrt()
             };
-            let pitch_rate = -s.pitch.sin() * s.speed;
-            let actuator_rate = (elevator / 100.0) * pct * cfg.max_depth_rate;
-            s.depth += (-inputs.buoyancy_rate + pitch_rate + actuator_rate) * dt;
-            let r = pitch_rate + actuator_rate;
-            s.pitch = if r.abs() <= s.speed {
-                -(r / s.speed).asin()
+            // Depth rates (m/s), not angular rates: the prior pitch's and the elevator's.
+            let pitch_depth_rate_mps = -s.pitch_rad.sin() * s.speed_mps;
+            let elevator_depth_rate_mps = (elevator_deg / 100.0) * pct * cfg.max_depth_rate_mps;
+            s.depth +=
+                (-inputs.buoyancy_rate_mps + pitch_depth_rate_mps + elevator_depth_rate_mps) * dt_s;
+            let dive_mps = pitch_depth_rate_mps + elevator_depth_rate_mps;
+            s.pitch_rad = if dive_mps.abs() <= s.speed_mps {
+                -(dive_mps / s.speed_mps).asin()
             } else {
                 0.0
             };
@@ -942,33 +964,39 @@ pub fn step(
             s.depth = 0.0;
         }
         if cfg.thrust_mode_reverse {
-            s.heading = angle360(s.heading + 180.0);
-            s.yaw += std::f64::consts::PI;
-            if s.yaw > 2.0 * std::f64::consts::PI {
-                s.yaw -= 2.0 * std::f64::consts::PI;
+            s.heading_deg = angle360(s.heading_deg + 180.0);
+            s.yaw_rad += std::f64::consts::PI;
+            if s.yaw_rad > 2.0 * std::f64::consts::PI {
+                s.yaw_rad -= 2.0 * std::f64::consts::PI;
             }
         }
 
         // 4: position from the mean speed and the circular mean heading.
-        let model_speed = s.speed;
-        let speed = (s.speed + prior_speed) / 2.0;
-        let (h0, h1) = (prior_heading.to_radians(), s.heading.to_radians());
-        let hdg = (h0.sin() + h1.sin()).atan2(h0.cos() + h1.cos());
-        let (xdot, ydot) = (hdg.sin() * speed, hdg.cos() * speed);
-        let mut new_speed = xdot.hypot(ydot);
-        if speed < 0.0 {
-            new_speed = -new_speed;
+        let model_speed_mps = s.speed_mps;
+        let mean_speed_mps = (s.speed_mps + prior_speed_mps) / 2.0;
+        let (h0_rad, h1_rad) = (prior_heading_deg.to_radians(), s.heading_deg.to_radians());
+        // Compass convention: east = sin, north = cos of the heading.
+        let mean_heading_rad = (h0_rad.sin() + h1_rad.sin()).atan2(h0_rad.cos() + h1_rad.cos());
+        // Velocity through the water, east and north (world frame); the drift adds to it.
+        let (water_vx_mps, water_vy_mps) = (
+            mean_heading_rad.sin() * mean_speed_mps,
+            mean_heading_rad.cos() * mean_speed_mps,
+        );
+        let mut new_speed_mps = water_vx_mps.hypot(water_vy_mps);
+        if mean_speed_mps < 0.0 {
+            new_speed_mps = -new_speed_mps;
         }
         let (px, py) = (s.x, s.y);
-        s.x = px + xdot * dt + inputs.drift_x * dt;
-        s.y = py + ydot * dt + inputs.drift_y * dt;
-        s.speed = new_speed;
-        s.speed_og = (xdot + inputs.drift_x).hypot(ydot + inputs.drift_y);
-        s.heading_og = rel_ang(px, py, s.x, s.y);
+        s.x = px + water_vx_mps * dt_s + inputs.drift_x_mps * dt_s;
+        s.y = py + water_vy_mps * dt_s + inputs.drift_y_mps * dt_s;
+        s.speed_mps = new_speed_mps;
+        s.speed_og_mps =
+            (water_vx_mps + inputs.drift_x_mps).hypot(water_vy_mps + inputs.drift_y_mps);
+        s.heading_og_deg = rel_ang(px, py, s.x, s.y);
         if cfg.turn_radius > 0.0 {
-            enforce_turn_limit(cfg, state, prior_heading, model_speed, &mut s);
+            enforce_turn_limit(cfg, state, prior_heading_deg, model_speed_mps, &mut s);
         }
-        s.time += dt;
+        s.elapsed_s += dt_s;
     }
     let out = nav_outputs(cfg, &s, grid);
     (s, out)
@@ -976,25 +1004,25 @@ pub fn step(
 
 /// Limits the heading change of a step to what the minimum turn radius allows (the C++
 /// `enforceTurnLimit`): the radius is scaled by speed/max_speed, the speed being the mean of
-/// the thrust-map speed of this step (`model_speed`) and the new (mean) speed, as the C++
+/// the thrust-map speed of this step (`model_speed_mps`) and the new (mean) speed, as the C++
 /// record copies give it. As in the C++ only x, y and the heading change (not the yaw).
 /// Where the C++ would take `asin` of a ratio above 1 (a step longer than the turn circle)
 /// and produce NaN, the step is left unlimited.
 fn enforce_turn_limit(
     cfg: &SimConfig,
     prev: &SimState,
-    prior_heading: f64,
-    model_speed: f64,
+    prior_heading_deg: f64,
+    model_speed_mps: f64,
     s: &mut SimState,
 ) {
-    let (h1, h2) = (prior_heading, s.heading);
-    if h1 == h2 {
+    let (h1_deg, h2_deg) = (prior_heading_deg, s.heading_deg);
+    if h1_deg == h2_deg {
         return;
     }
-    let v = (model_speed + s.speed) / 2.0;
+    let v_mps = (model_speed_mps + s.speed_mps) / 2.0;
     let mut radius = cfg.turn_radius;
-    if cfg.max_speed > 0.0 && v < cfg.max_speed {
-        radius *= 1.0 - (cfg.max_speed - v) / cfg.max_speed;
+    if cfg.max_speed_mps > 0.0 && v_mps < cfg.max_speed_mps {
+        radius *= 1.0 - (cfg.max_speed_mps - v_mps) / cfg.max_speed_mps;
     }
     let dist = (prev.x - s.x).hypot(prev.y - s.y);
     if radius <= 0.0 {
@@ -1004,16 +1032,24 @@ fn enforce_turn_limit(
     if ratio > 1.0 {
         return;
     }
-    let phi = ratio.asin().to_degrees();
-    let adiff = angle180(rel_ang(prev.x, prev.y, s.x, s.y) - h1).abs();
-    if phi >= adiff {
+    let phi_deg = ratio.asin().to_degrees();
+    let adiff_deg = angle180(rel_ang(prev.x, prev.y, s.x, s.y) - h1_deg).abs();
+    if phi_deg >= adiff_deg {
         return;
     }
-    let port = angle180(h2 - h1) < 0.0;
-    let dir = if port { h1 - phi } else { h1 + phi };
-    s.x = prev.x + dir.to_radians().sin() * dist;
-    s.y = prev.y + dir.to_radians().cos() * dist;
-    s.heading = angle360(if port { h1 - 2.0 * phi } else { h1 + 2.0 * phi });
+    let port = angle180(h2_deg - h1_deg) < 0.0;
+    let dir_deg = if port {
+        h1_deg - phi_deg
+    } else {
+        h1_deg + phi_deg
+    };
+    s.x = prev.x + dir_deg.to_radians().sin() * dist;
+    s.y = prev.y + dir_deg.to_radians().cos() * dist;
+    s.heading_deg = angle360(if port {
+        h1_deg - 2.0 * phi_deg
+    } else {
+        h1_deg + 2.0 * phi_deg
+    });
 }
 
 /// The published view of a state.
@@ -1022,20 +1058,20 @@ pub fn nav_outputs(cfg: &SimConfig, s: &SimState, grid: Option<&LocalGrid>) -> N
         Some(Ok((lat, lon))) => (Some(lat), Some(lon)),
         _ => (None, None),
     };
-    let speed = ((s.speed / 0.01).round() * 0.01).min(cfg.max_speed);
+    let speed_mps = ((s.speed_mps / 0.01).round() * 0.01).min(cfg.max_speed_mps);
     NavOutputs {
         x: s.x,
         y: s.y,
         lat,
         lon,
-        heading: s.heading,
-        speed,
+        heading_deg: s.heading_deg,
+        speed_mps,
         depth: s.depth,
         z: -s.depth,
-        pitch: s.pitch,
-        yaw: s.yaw,
-        heading_og: angle360(s.heading_og),
-        speed_og: s.speed_og,
+        pitch_rad: s.pitch_rad,
+        yaw_rad: s.yaw_rad,
+        heading_og_deg: angle360(s.heading_og_deg),
+        speed_og_mps: s.speed_og_mps,
         altitude: (cfg.water_depth > 0.0).then(|| (cfg.water_depth - s.depth).max(0.0)),
     }
 }
@@ -1258,7 +1294,7 @@ impl Simulator {
         let dual = cfg.dual_state;
         let sailing = self.inputs.wind.is_some() && cfg.polar.is_set();
         line(out, "Enabled:  ", b(self.enabled));
-        line(out, "TurnRate: ", &x(cfg.turn_rate, 2));
+        line(out, "TurnRate: ", &x(cfg.turn_rate_deg_s, 2));
         line(out, "TurnRadius: ", &x(cfg.turn_radius, 2));
         let datum = match &self.grid {
             Some(g) => format!("{},{}", x(g.lat_origin(), 9), x(g.lon_origin(), 9)),
@@ -1296,11 +1332,16 @@ impl Simulator {
         let rows: [(&str, String, String, String); 7] = [
             (
                 "Headng:",
-                x(st.heading, 1),
-                x(nav.heading, 1),
-                x(nav.heading, 1),
+                x(st.heading_deg, 1),
+                x(nav.heading_deg, 1),
+                x(nav.heading_deg, 1),
             ),
-            ("Speed:", x(st.speed, 2), x(nav.speed, 2), x(gt.speed, 2)),
+            (
+                "Speed:",
+                x(st.speed_mps, 2),
+                x(nav.speed_mps, 2),
+                x(gt.speed_mps, 2),
+            ),
             ("Depth:", x(st.depth, 2), x(nav.depth, 1), x(gt.depth, 1)),
             (
                 "Alt:",
@@ -1337,12 +1378,12 @@ impl Simulator {
         line(
             out,
             "Present Buoyancy rate: ",
-            &x(self.inputs.buoyancy_rate, 8),
+            &x(self.inputs.buoyancy_rate_mps, 8),
         );
         line(
             out,
             "        Starting rate: ",
-            &x(self.start_inputs.buoyancy_rate, 8),
+            &x(self.start_inputs.buoyancy_rate_mps, 8),
         );
 
         // Part 3: drift.
@@ -1355,15 +1396,15 @@ impl Simulator {
             t.set_column_pad_str(ix, "  |  ");
         }
         let si = &self.start_inputs;
-        let (sx, sy) = (si.drift_x, si.drift_y);
+        let (sx, sy) = (si.drift_x_mps, si.drift_y_mps);
         t.push("Starting");
         t.push(&x(sx, 4));
         t.push(&x(sy, 4));
         t.push(&x(sx.hypot(sy), 4));
         t.push(&x(rel_ang(0.0, 0.0, sx, sy), 4));
-        t.push(&x(si.rotate_speed, 4));
+        t.push(&x(si.rotate_speed_deg_s, 4));
         t.push("init_config");
-        let (dx, dy) = (self.inputs.drift_x, self.inputs.drift_y);
+        let (dx, dy) = (self.inputs.drift_x_mps, self.inputs.drift_y_mps);
         let mag = x(dx.hypot(dy), 4);
         let ang = if mag == "0" {
             "0".to_string()
@@ -1381,7 +1422,7 @@ impl Simulator {
         t.push(&x(dy, 3));
         t.push(&mag);
         t.push(&ang);
-        t.push(&x(self.inputs.rotate_speed, 4));
+        t.push(&x(self.inputs.rotate_speed_deg_s, 4));
         t.push(&sources);
         t.write(out);
         out.push_str("\n\n");
@@ -1391,7 +1432,7 @@ impl Simulator {
         out.push_str("--------------------- \n");
         out.push_str("     DESIRED_THRUST=");
         out.push_str(&x(self.inputs.thrust, 1));
-        line(out, " ==> SPEED=", &x(nav.speed, 2));
+        line(out, " ==> SPEED=", &x(nav.speed_mps, 2));
         let map = &cfg.thrust_map;
         out.push_str("     Using Thrust_Factor: ");
         out.push_str(b(map.using_thrust_factor()));
@@ -1425,12 +1466,12 @@ impl Simulator {
         line(
             out,
             "        Max Accereration: ",
-            &x(cfg.max_acceleration, 6),
+            &x(cfg.max_acceleration_mps2, 6),
         );
         line(
             out,
             "        Max Decereration: ",
-            &x(cfg.max_deceleration, 6),
+            &x(cfg.max_deceleration_mps2, 6),
         );
         out.push('\n');
         let diff = cfg.thrust_mode_differential;
@@ -1461,12 +1502,12 @@ impl Simulator {
         line(
             out,
             "           Max Depth Rate: ",
-            &x(cfg.max_depth_rate, 6),
+            &x(cfg.max_depth_rate_mps, 6),
         );
         line(
             out,
             "     Max Depth Rate Speed: ",
-            &x(cfg.max_depth_rate_speed, 6),
+            &x(cfg.max_depth_rate_speed_mps, 6),
         );
         line(
             out,
@@ -1584,29 +1625,29 @@ impl Simulator {
 
     /// MOOS `setRudder(value, time)`: the change from the current rudder is capped at
     /// `max_rudder_degs_per_sec` × the time since the last command (100 without a limit).
-    fn set_rudder(&mut self, desired: f64, time: f64) {
+    fn set_rudder(&mut self, desired_deg: f64, time: f64) {
         if self.cfg.thrust_mode_differential {
             return;
         }
-        let prev = self.inputs.rudder;
-        let max_change = if self.cfg.max_rudder_degs_per_sec > 0.0 {
-            (time - self.rudder_time) * self.cfg.max_rudder_degs_per_sec
+        let prev_deg = self.inputs.rudder_deg;
+        let max_change_deg = if self.cfg.max_rudder_rate_deg_s > 0.0 {
+            (time - self.rudder_time) * self.cfg.max_rudder_rate_deg_s
         } else {
             100.0
         };
-        let mut change = desired - prev;
-        if change > 0.0 {
-            change = change.min(max_change);
-        } else if -change > max_change {
-            change = -max_change;
+        let mut change_deg = desired_deg - prev_deg;
+        if change_deg > 0.0 {
+            change_deg = change_deg.min(max_change_deg);
+        } else if -change_deg > max_change_deg {
+            change_deg = -max_change_deg;
         }
-        self.inputs.rudder = prev + change;
+        self.inputs.rudder_deg = prev_deg + change_deg;
         self.rudder_time = time;
     }
 
-    fn set_drift(&mut self, x: f64, y: f64, source: &str) {
-        self.inputs.drift_x = x;
-        self.inputs.drift_y = y;
+    fn set_drift(&mut self, x_mps: f64, y_mps: f64, source: &str) {
+        self.inputs.drift_x_mps = x_mps;
+        self.inputs.drift_y_mps = y_mps;
         // As `setDriftX/Y`: the summary is re-posted when a source drifts the vehicle for the
         // first time.
         if !source.is_empty() && self.drift_sources.insert(source.to_string()) {
@@ -1646,7 +1687,7 @@ impl Simulator {
             _ if num.is_none() && NUMERIC_MAIL.contains(&var) => {}
             "DESIRED_THRUST" if normal => self.inputs.thrust = d,
             "DESIRED_RUDDER" => self.set_rudder(d, time),
-            "DESIRED_ELEVATOR" => self.inputs.elevator = d,
+            "DESIRED_ELEVATOR" => self.inputs.elevator_deg = d,
             "DESIRED_THRUST_L" | "DESIRED_THRUST_R" if !normal => {
                 let v = d.clamp(-100.0, 100.0);
                 match (var == "DESIRED_THRUST_L", self.cfg.thrust_mode_reverse) {
@@ -1671,30 +1712,30 @@ impl Simulator {
                 "normal" | "false" => self.cfg.thrust_mode_differential = false,
                 _ => {}
             },
-            "BUOYANCY_RATE" => self.inputs.buoyancy_rate = d,
+            "BUOYANCY_RATE" => self.inputs.buoyancy_rate_mps = d,
             // Applied piece by piece; the polar's wind angle follows only a fully read spec.
             "WIND_CONDITIONS" if crate::polar::Wind::apply(s, &mut self.inputs.wind) => {
                 self.inputs.polar_wind_deg = self.inputs.wind.map_or(0.0, |w| w.dir_deg);
             }
-            "ROTATE_SPEED" => self.inputs.rotate_speed = d,
-            "CURRENT_X" | "DRIFT_X" => self.set_drift(d, self.inputs.drift_y, source),
-            "CURRENT_Y" | "DRIFT_Y" => self.set_drift(self.inputs.drift_x, d, source),
+            "ROTATE_SPEED" => self.inputs.rotate_speed_deg_s = d,
+            "CURRENT_X" | "DRIFT_X" => self.set_drift(d, self.inputs.drift_y_mps, source),
+            "CURRENT_Y" | "DRIFT_Y" => self.set_drift(self.inputs.drift_x_mps, d, source),
             "DRIFT_VECTOR" | "DRIFT_VECTOR_ADD" => {
                 if let Some((x, y)) = drift_from_vector(s) {
                     if var == "DRIFT_VECTOR" {
                         self.set_drift(x, y, source);
                     } else {
-                        let (dx, dy) = (self.inputs.drift_x + x, self.inputs.drift_y + y);
+                        let (dx, dy) = (self.inputs.drift_x_mps + x, self.inputs.drift_y_mps + y);
                         self.set_drift(dx, dy, source);
                     }
                 }
             }
             "DRIFT_VECTOR_MULT" => {
-                let (dx, dy) = (self.inputs.drift_x, self.inputs.drift_y);
-                let ang = rel_ang(0.0, 0.0, dx, dy);
-                let mag = dx.hypot(dy) * d;
-                let r = crate::angle::heading_to_radians(ang);
-                self.set_drift(r.cos() * mag, r.sin() * mag, source);
+                let (dx, dy) = (self.inputs.drift_x_mps, self.inputs.drift_y_mps);
+                let ang_deg = rel_ang(0.0, 0.0, dx, dy);
+                let mag_mps = dx.hypot(dy) * d;
+                let math_rad = crate::angle::heading_to_radians(ang_deg);
+                self.set_drift(math_rad.cos() * mag_mps, math_rad.sin() * mag_mps, source);
             }
             "WATER_DEPTH" if d >= 0.0 => self.cfg.water_depth = d,
             "USM_RESET" => {
@@ -1702,8 +1743,8 @@ impl Simulator {
                 let pose = |st: &SimState| StartPose {
                     x: st.x,
                     y: st.y,
-                    heading: st.heading,
-                    speed: st.speed,
+                    heading_deg: st.heading_deg,
+                    speed_mps: st.speed_mps,
                     depth: st.depth,
                 };
                 let mut p = pose(&self.state);
@@ -1713,8 +1754,8 @@ impl Simulator {
                 for (st, p) in [(&mut self.state, p), (&mut self.gt, g)] {
                     st.x = p.x;
                     st.y = p.y;
-                    st.heading = p.heading;
-                    st.speed = p.speed;
+                    st.heading_deg = p.heading_deg;
+                    st.speed_mps = p.speed_mps;
                     st.depth = p.depth;
                 }
                 return Some(Posting::double(
@@ -1722,7 +1763,7 @@ impl Simulator {
                     f64::from(self.reset_count),
                 ));
             }
-            "USM_TURN_RATE" => self.cfg.turn_rate = d.clamp(0.0, 100.0),
+            "USM_TURN_RATE" => self.cfg.turn_rate_deg_s = d.clamp(0.0, 100.0),
             "USM_TURN_RADIUS" if d >= 0.0 => self.cfg.turn_radius = d,
             "USM_ENABLED" => {
                 if let Some(e) = crate::config::parse_bool(s) {
@@ -1739,7 +1780,7 @@ impl Simulator {
             "NAV_Y" if !self.enabled => self.inform(None, Some(d), None),
             "NAV_HEADING" if !self.enabled => self.inform(None, None, Some(d)),
             "BUOYANCY_CONTROL" if s.eq_ignore_ascii_case("true") => {
-                self.inputs.buoyancy_rate = 0.0;
+                self.inputs.buoyancy_rate_mps = 0.0;
                 self.buoyancy_request = Some(time);
                 self.last_report = time;
                 return Some(Posting::text(
@@ -1761,7 +1802,7 @@ impl Simulator {
     }
 
     /// MOOS `informX/Y/Heading`: both records take the value and the rudder is centred.
-    fn inform(&mut self, x: Option<f64>, y: Option<f64>, heading: Option<f64>) {
+    fn inform(&mut self, x: Option<f64>, y: Option<f64>, heading_deg: Option<f64>) {
         for st in [&mut self.state, &mut self.gt] {
             if let Some(x) = x {
                 st.x = x;
@@ -1769,11 +1810,11 @@ impl Simulator {
             if let Some(y) = y {
                 st.y = y;
             }
-            if let Some(h) = heading {
-                st.heading = h;
+            if let Some(h) = heading_deg {
+                st.heading_deg = h;
             }
         }
-        self.inputs.rudder = 0.0;
+        self.inputs.rudder_deg = 0.0;
     }
 
     fn nav_due(&self) -> bool {
@@ -1791,7 +1832,7 @@ impl Simulator {
             // speed and the model's clock is not advanced.
             if self.nav_due() {
                 let st = SimState {
-                    speed: 0.0,
+                    speed_mps: 0.0,
                     ..self.state
                 };
                 let nav = nav_outputs(&self.cfg, &st, self.grid.as_ref());
@@ -1809,18 +1850,18 @@ impl Simulator {
         // `post_des_rudder` publish them.
         if let Some(mut pid) = self.pid.take() {
             let st = self.state;
-            pid.on_mail("NAV_HEADING", ValueRef::Double(st.heading), time);
-            pid.on_mail("NAV_SPEED", ValueRef::Double(st.speed), time);
+            pid.on_mail("NAV_HEADING", ValueRef::Double(st.heading_deg), time);
+            pid.on_mail("NAV_SPEED", ValueRef::Double(st.speed_mps), time);
             if pid.config().depth_control {
                 pid.on_mail("NAV_DEPTH", ValueRef::Double(st.depth), time);
-                pid.on_mail("NAV_PITCH", ValueRef::Double(st.pitch), time);
+                pid.on_mail("NAV_PITCH", ValueRef::Double(st.pitch_rad), time);
             }
             let o = pid.iterate_embedded(time, out);
             self.set_rudder(o.rudder, time);
             if !self.cfg.thrust_mode_differential {
                 self.inputs.thrust = o.thrust;
             }
-            self.inputs.elevator = o.elevator;
+            self.inputs.elevator_deg = o.elevator;
             if let Some(v) = &self.vars.post_thrust {
                 out.push(Posting::double(v, o.thrust));
             }
@@ -1838,8 +1879,8 @@ impl Simulator {
             if self.gt_vars.is_some() {
                 // The navigation state does not feel the drift; the ground truth does.
                 let still = SimInputs {
-                    drift_x: 0.0,
-                    drift_y: 0.0,
+                    drift_x_mps: 0.0,
+                    drift_y_mps: 0.0,
                     ..self.inputs
                 };
                 self.state = step(&self.cfg, &self.state, &still, dt, self.grid.as_ref()).0;
@@ -1858,7 +1899,7 @@ impl Simulator {
             }
         }
         if self.drift_fresh {
-            let (dx, dy) = (self.inputs.drift_x, self.inputs.drift_y);
+            let (dx, dy) = (self.inputs.drift_x_mps, self.inputs.drift_y_mps);
             let summary = format!(
                 "ang={}, mag={}, xmag={}, ymag={}",
                 moos_types::fmt::compact_string(rel_ang(0.0, 0.0, dx, dy), 2),
@@ -1916,21 +1957,21 @@ impl Simulator {
             }
         }
         if let Some(t0) = self.trim_request {
-            let pitch_deg = self.state.pitch.to_degrees();
-            let pitch = format!("{pitch_deg:.5}");
+            let pitch_deg = self.state.pitch_rad.to_degrees();
+            let pitch_text = format!("{pitch_deg:.5}");
             let elapsed = now - t0;
             if (pitch_deg.abs() <= self.cfg.trim_tolerance_deg && elapsed >= BUOYANCY_DELAY_S)
                 || elapsed >= self.cfg.max_trim_delay_s
             {
                 out.push(Posting::text(
                     "TRIM_REPORT",
-                    format!("status=2,error=0,completed,trim_pitch={pitch},trim_roll=0.0"),
+                    format!("status=2,error=0,completed,trim_pitch={pitch_text},trim_roll=0.0"),
                 ));
                 self.trim_request = None;
             } else if now - self.last_report >= REPORT_INTERVAL_S {
                 out.push(Posting::text(
                     "TRIM_REPORT",
-                    format!("status=1,error=0,progressing,trim_pitch={pitch},trim_roll=0.0"),
+                    format!("status=1,error=0,progressing,trim_pitch={pitch_text},trim_roll=0.0"),
                 ));
                 self.last_report = now;
             }
@@ -1963,19 +2004,19 @@ impl Simulator {
             }
             out.push(Posting::text(&*v.navpos_summary, s));
         }
-        out.push(Posting::double(&*v.heading, nav.heading));
-        out.push(Posting::double(&*v.speed, nav.speed));
+        out.push(Posting::double(&*v.heading, nav.heading_deg));
+        out.push(Posting::double(&*v.speed, nav.speed_mps));
         out.push(Posting::double(&*v.depth, nav.depth));
         if self.cfg.depth_control {
             out.push(Posting::text(&*v.sim_mode, "TRUE"));
             out.push(Posting::double(&*v.z, nav.z));
-            out.push(Posting::double(&*v.pitch, nav.pitch));
-            out.push(Posting::double(&*v.yaw, nav.yaw));
+            out.push(Posting::double(&*v.pitch, nav.pitch_rad));
+            out.push(Posting::double(&*v.yaw, nav.yaw_rad));
             out.push(Posting::double(&*v.true_x, nav.x));
             out.push(Posting::double(&*v.true_y, nav.y));
         }
-        out.push(Posting::double(&*v.hog, nav.heading_og));
-        out.push(Posting::double(&*v.sog, nav.speed_og));
+        out.push(Posting::double(&*v.hog, nav.heading_og_deg));
+        out.push(Posting::double(&*v.sog, nav.speed_og_mps));
         if let Some(a) = nav.altitude {
             out.push(Posting::double(&*v.altitude, a));
         }

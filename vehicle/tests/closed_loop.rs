@@ -137,11 +137,11 @@ fn marine_pid_drives_the_simulator_through_moos_names() {
     m.run(120.0, 180.0, 2.0, 5.0);
     let s = m.sim.state();
     assert!(
-        angle180(s.heading - 180.0).abs() < 2.0,
+        angle180(s.heading_deg - 180.0).abs() < 2.0,
         "heading {}",
-        s.heading
+        s.heading_deg
     );
-    assert!((s.speed - 2.0).abs() < 0.05, "speed {}", s.speed);
+    assert!((s.speed_mps - 2.0).abs() < 0.05, "speed {}", s.speed_mps);
     assert!((s.depth - 5.0).abs() < 0.3, "depth {}", s.depth);
     assert!(
         m.last_report.starts_with("NAME=coug1,X="),
@@ -156,7 +156,7 @@ fn marine_pid_drives_the_simulator_through_moos_names() {
             .expect("field");
         kv.parse().unwrap()
     };
-    assert!((field("HDG=") - s.heading).abs() < 0.01);
+    assert!((field("HDG=") - s.heading_deg).abs() < 0.01);
     assert!((field("DEP=") - s.depth).abs() < 0.01);
 }
 
@@ -169,11 +169,11 @@ fn cougars_controllers_drive_the_simulator_instead() {
     m.run(150.0, 180.0, 30.0, 3.0);
     let s = *m.sim.state();
     assert!(
-        angle180(s.heading - 180.0).abs() < 2.0,
+        angle180(s.heading_deg - 180.0).abs() < 2.0,
         "heading {}",
-        s.heading
+        s.heading_deg
     );
-    assert!((s.speed - 1.5).abs() < 0.05, "speed {}", s.speed);
+    assert!((s.speed_mps - 1.5).abs() < 0.05, "speed {}", s.speed_mps);
     assert!((s.depth - 3.0).abs() < 0.2, "depth {}", s.depth);
     // Still there 60 s later.
     m.run(60.0, 180.0, 30.0, 3.0);

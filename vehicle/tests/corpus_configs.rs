@@ -15,20 +15,8 @@ type Blocks = Vec<(String, Vec<(String, String)>)>;
 
 /// All `ProcessConfig = <app>` blocks (by exact app name) of the corpus's `.moos` files.
 fn blocks(apps: &[&str]) -> Blocks {
-    let root = common::corpus().join("moos-ivp-missions");
-    let mut files = Vec::new();
-    let mut stack = vec![root.clone()];
-    while let Some(dir) = stack.pop() {
-        for e in std::fs::read_dir(&dir).unwrap() {
-            let p = e.unwrap().path();
-            if p.is_dir() {
-                stack.push(p);
-            } else if p.extension().is_some_and(|x| x == "moos") {
-                files.push(p);
-            }
-        }
-    }
-    files.sort();
+    let root = test_support::mission_file("");
+    let files = test_support::files_with_ext(&root, &["moos"]);
     let mut out = Vec::new();
     for f in files {
         let text = std::fs::read_to_string(&f).unwrap();

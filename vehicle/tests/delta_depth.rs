@@ -39,7 +39,7 @@ fn app_tick(block: &[(String, String)]) -> f64 {
 
 /// The `speed = ...` values of delta.bhv's behaviours (comments stripped), ascending.
 fn bhv_speeds() -> Vec<f64> {
-    let text = common::mission_file("s4_delta/delta.bhv");
+    let text = test_support::mission_text("s4_delta/delta.bhv");
     let mut v: Vec<f64> = text
         .lines()
         .map(|l| l.split("//").next().unwrap_or(""))
@@ -69,7 +69,7 @@ impl Delta {
     /// delta's simulator (legacy `uSimMarine`, as its Antler block launches) and marine PID,
     /// with the manual override lifted at t = 0.
     fn new() -> Self {
-        let text = common::mission_file("s4_delta/delta.moos");
+        let text = test_support::mission_text("s4_delta/delta.moos");
         let run = common::process_config(&text, "ANTLER");
         let order: Vec<&str> = run
             .iter()
@@ -88,7 +88,7 @@ impl Delta {
             legacy: true,
             ..SimConfig::from_params(common::pairs(&sb)).expect("delta's uSimMarine block")
         };
-        assert_eq!(sim_cfg.max_depth_rate, 5.0, "delta's block as expected");
+        assert_eq!(sim_cfg.max_depth_rate_mps, 5.0, "delta's block as expected");
         let pid_cfg = PidConfig::from_params(common::pairs(&pb)).expect("delta's pMarinePID block");
         let mut pid = MarinePid::new(pid_cfg);
         pid.on_mail("MOOS_MANUAL_OVERRIDE", ValueRef::String("false"), 0.0);

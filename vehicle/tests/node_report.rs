@@ -183,7 +183,7 @@ fn blackout_variance_draws_each_next_blackout_from_minus_to_plus_the_variance() 
 
 #[test]
 fn reads_real_mission_blocks() {
-    let text = common::mission_file("s7_golf/golf.moos");
+    let text = test_support::mission_text("s7_golf/golf.moos");
     let block = common::process_config(&text, "pNodeReporter");
     let cfg = NodeReportConfig::from_params(common::pairs(&block)).unwrap();
     assert_eq!(cfg.platform_type, "UUV");

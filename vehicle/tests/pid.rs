@@ -10,7 +10,7 @@ use vehicle::sim::{self, SimConfig, SimInputs, SimState};
 
 /// The pMarinePID block of the golf mission (a UUV with depth control, speed_factor 20).
 fn golf_pid() -> PidConfig {
-    let text = common::mission_file("s7_golf/golf.moos");
+    let text = test_support::mission_text("s7_golf/golf.moos");
     let block = common::process_config(&text, "pMarinePID");
     PidConfig::from_params(common::pairs(&block)).expect("golf pMarinePID block is valid")
 }
@@ -81,16 +81,16 @@ impl Loop {
         i.desired_heading = Some((des_hdg, t));
         i.desired_speed = Some((des_spd, t));
         i.desired_depth = Some((des_dep, t));
-        i.heading = Some((self.sim.heading, t));
-        i.speed = Some((self.sim.speed, t));
+        i.heading = Some((self.sim.heading_deg, t));
+        i.speed = Some((self.sim.speed_mps, t));
         i.depth = Some((self.sim.depth, t));
-        i.pitch = Some((self.sim.pitch, t));
+        i.pitch = Some((self.sim.pitch_rad, t));
         let (p, out) = step(&self.pid_cfg, &self.pid, &self.inputs, t);
         self.pid = p;
         let sin = SimInputs {
             thrust: out.thrust,
-            rudder: out.rudder,
-            elevator: out.elevator,
+            rudder_deg: out.rudder,
+            elevator_deg: out.elevator,
             ..SimInputs::from_config(&self.sim_cfg)
         };
         self.sim = sim::step(&self.sim_cfg, &self.sim, &sin, 0.1, None).0;
@@ -116,15 +116,15 @@ fn heading_step_90_to_270_settles() {
     let mut l = Loop::new(
         cfg,
         SimState {
-            heading: 90.0,
-            speed: 2.0,
+            heading_deg: 90.0,
+            speed_mps: 2.0,
             ..SimState::default()
         },
     );
     let mut series = Vec::new();
     for _ in 0..1200 {
         l.tick(270.0, 2.0, 0.0);
-        series.push((l.t, angle180(l.sim.heading - 270.0)));
+        series.push((l.t, angle180(l.sim.heading_deg - 270.0)));
     }
     let t = settle_time(&series, 2.0).expect("heading never settled");
     eprintln!("heading settles within 2 deg after {t:.1} s");
@@ -147,8 +147,8 @@ fn heading_step_90_to_270_settles() {
     );
     // Proportional-only yaw loop: no overshoot beyond the tolerance band once settled,
     // and the speed recovers to 2 m/s (speed_factor 20 -> thrust 40).
-    assert!(angle180(l.sim.heading - 270.0).abs() < 0.5);
-    assert!((l.sim.speed - 2.0).abs() < 0.02);
+    assert!(angle180(l.sim.heading_deg - 270.0).abs() < 0.5);
+    assert!((l.sim.speed_mps - 2.0).abs() < 0.02);
 }
 
 #[test]
@@ -158,14 +158,14 @@ fn speed_pid_settles_without_speed_factor() {
     let mut l = Loop::new(
         cfg,
         SimState {
-            heading: 90.0,
+            heading_deg: 90.0,
             ..SimState::default()
         },
     );
     let mut series = Vec::new();
     for _ in 0..600 {
         l.tick(90.0, 2.0, 0.0);
-        series.push((l.t, l.sim.speed - 2.0));
+        series.push((l.t, l.sim.speed_mps - 2.0));
     }
     let t = settle_time(&series, 0.05).expect("speed never settled");
     eprintln!("speed settles within 0.05 m/s after {t:.1} s");
@@ -179,8 +179,8 @@ fn depth_step_settles() {
     let mut l = Loop::new(
         cfg,
         SimState {
-            heading: 90.0,
-            speed: 2.0,
+            heading_deg: 90.0,
+            speed_mps: 2.0,
             ..SimState::default()
         },
     );
@@ -198,15 +198,15 @@ fn depth_step_settles() {
     let mut l = Loop::new(
         golf_pid(),
         SimState {
-            heading: 90.0,
-            speed: 2.0,
+            heading_deg: 90.0,
+            speed_mps: 2.0,
             ..SimState::default()
         },
     );
     for _ in 0..50 {
         l.tick(90.0, 2.0, 10.0);
     }
-    assert!(l.sim.pitch < 0.0 && l.sim.depth > 0.0);
+    assert!(l.sim.pitch_rad < 0.0 && l.sim.depth > 0.0);
 }
 
 #[test]
@@ -412,7 +412,7 @@ fn v22_negative_speed_factor_stops_and_a_negative_config_factor_is_ignored() {
     assert_eq!(num(&out, "DESIRED_THRUST"), Some(0.0));
     // In the block, a negative factor is not taken (setNonNegDoubleOnString): a warning,
     // and the speed loop is used (factor 0).
-    let text = common::mission_file("s7_golf/golf.moos");
+    let text = test_support::mission_text("s7_golf/golf.moos");
     let block = common::process_config(&text, "pMarinePID");
     let mut pairs: Vec<(&str, &str)> = common::pairs(&block).collect();
     pairs.retain(|(k, _)| !k.eq_ignore_ascii_case("speed_factor"));

@@ -55,13 +55,13 @@ fn speed_from_thrust_map_with_mean_speed_update() {
         s = step(&cfg, &s, &inputs, 0.1, None).0;
         expected = (expected + 1.5) / 2.0;
         assert!(
-            close(s.speed, expected, 1e-12),
+            close(s.speed_mps, expected, 1e-12),
             "{} vs {}",
-            s.speed,
+            s.speed_mps,
             expected
         );
     }
-    assert!(close(s.speed, 1.5, 1e-3));
+    assert!(close(s.speed_mps, 1.5, 1e-3));
 }
 
 #[test]
@@ -69,104 +69,108 @@ fn turn_rate_follows_rudder_speed_and_thrust() {
     let cfg = SimConfig::from_params([("turn_spd_loss", "0"), ("max_deceleration", "0")]).unwrap();
     // Half of full speed (5 m/s): rate = 70 * 0.5 = 35; thrust 50 -> factor 1.
     let s0 = SimState {
-        speed: 2.5,
-        heading: 10.0,
+        speed_mps: 2.5,
+        heading_deg: 10.0,
         ..SimState::default()
     };
     let inp = SimInputs {
         thrust: 50.0,
-        rudder: 20.0,
+        rudder_deg: 20.0,
         ..SimInputs::default()
     };
     let s1 = step(&cfg, &s0, &inp, 0.1, None).0;
     assert!(
-        close(s1.heading, 10.0 + 20.0 * 0.35 * 0.1, 1e-9),
+        close(s1.heading_deg, 10.0 + 20.0 * 0.35 * 0.1, 1e-9),
         "{}",
-        s1.heading
+        s1.heading_deg
     );
     // Full speed and thrust 100 (factor 2): 20 * 0.70 * 0.1 * 2.
     let s0 = SimState {
-        speed: 5.0,
-        heading: 10.0,
+        speed_mps: 5.0,
+        heading_deg: 10.0,
         ..SimState::default()
     };
     let inp = SimInputs {
         thrust: 100.0,
-        rudder: -20.0,
+        rudder_deg: -20.0,
         ..SimInputs::default()
     };
     let s1 = step(&cfg, &s0, &inp, 0.1, None).0;
-    assert!(close(s1.heading, 10.0 - 2.8, 1e-9), "{}", s1.heading);
+    assert!(
+        close(s1.heading_deg, 10.0 - 2.8, 1e-9),
+        "{}",
+        s1.heading_deg
+    );
     // Legacy model: no speed scaling of the rate.
     let legacy = SimConfig {
         turn_spd_loss: 0.0,
-        max_deceleration: 0.0,
+        max_deceleration_mps2: 0.0,
         ..SimConfig::legacy()
     };
     let s0 = SimState {
-        speed: 2.5,
-        heading: 10.0,
+        speed_mps: 2.5,
+        heading_deg: 10.0,
         ..SimState::default()
     };
     let inp = SimInputs {
         thrust: 50.0,
-        rudder: 20.0,
+        rudder_deg: 20.0,
         ..SimInputs::default()
     };
     let s1 = step(&legacy, &s0, &inp, 0.1, None).0;
-    assert!(close(s1.heading, 10.0 + 20.0 * 0.70 * 0.1, 1e-9));
+    assert!(close(s1.heading_deg, 10.0 + 20.0 * 0.70 * 0.1, 1e-9));
     // No turning at zero speed.
     let s0 = SimState {
-        heading: 10.0,
+        heading_deg: 10.0,
         ..SimState::default()
     };
     let s1 = step(
         &cfg,
         &s0,
         &SimInputs {
-            rudder: 100.0,
+            rudder_deg: 100.0,
             ..SimInputs::default()
         },
         1.0,
         None,
     )
     .0;
-    assert_eq!(s1.heading, 10.0);
+    assert_eq!(s1.heading_deg, 10.0);
 }
 
 #[test]
 fn turn_speed_loss_slows_the_vehicle() {
     let cfg = SimConfig::from_params([("max_deceleration", "0")]).unwrap();
     let s0 = SimState {
-        speed: 2.0,
+        speed_mps: 2.0,
         ..SimState::default()
     };
     let inp = SimInputs {
         thrust: 40.0,
-        rudder: 50.0,
+        rudder_deg: 50.0,
         ..SimInputs::default()
     };
     let s1 = step(&cfg, &s0, &inp, 0.1, None).0;
     let target = 2.0 * (1.0 - 0.5 * 0.85);
-    assert!(close(s1.speed, (2.0 + target) / 2.0, 1e-9));
+    assert!(close(s1.speed_mps, (2.0 + target) / 2.0, 1e-9));
 }
 
 #[test]
 fn deceleration_is_limited() {
     let cfg = SimConfig::default(); // max_deceleration 0.5
     let mut s = SimState {
-        speed: 3.0,
+        speed_mps: 3.0,
         ..SimState::default()
     };
     let inp = SimInputs::default(); // thrust 0 -> target 0
     for i in 1..=8 {
-        let prev = s.speed;
+        let prev = s.speed_mps;
         s = step(&cfg, &s, &inp, 0.25, None).0;
         // Target limited to prev - 0.5*dt, stored speed is the mean with prev.
         let target = prev - 0.5 * 0.25;
-        assert!(close(s.speed, (prev + target) / 2.0, 1e-12), "step {i}");
+        assert!(close(s.speed_mps, (prev + target) / 2.0, 1e-12), "step {i}");
     }
-    assert!(close(s.speed, 3.0 - 8.0 * 0.0625, 1e-9));
+    assert!(close(s.speed_mps, 3.0 - 8.0 * 0.0625, 1e-9));
     // Acceleration limit likewise.
     let cfg = SimConfig::from_params([("max_acceleration", "0.2")]).unwrap();
     let s = step(
@@ -180,7 +184,7 @@ fn deceleration_is_limited() {
         None,
     )
     .0;
-    assert!(close(s.speed, 0.1, 1e-12));
+    assert!(close(s.speed_mps, 0.1, 1e-12));
 }
 
 #[test]
@@ -189,14 +193,14 @@ fn buoyancy_rises_at_zero_speed() {
         SimConfig::from_params([("start_pos", "x=0,y=0,heading=0,speed=0,depth=10")]).unwrap();
     let mut s = SimState::at(&cfg.start);
     let inp = SimInputs {
-        elevator: 100.0,
+        elevator_deg: 100.0,
         ..SimInputs::from_config(&cfg)
     };
     for _ in 0..100 {
         s = step(&cfg, &s, &inp, 0.1, None).0;
     }
     assert!(close(s.depth, 10.0 - 0.025 * 10.0, 1e-9), "{}", s.depth);
-    assert_eq!(s.pitch, 0.0);
+    assert_eq!(s.pitch_rad, 0.0);
     // Floored at the surface.
     let top = SimState {
         depth: 0.01,
@@ -212,11 +216,11 @@ fn dive_rate_follows_elevator_and_speed() {
         // Thrust that holds the speed (thrust_factor 20).
         let inp = SimInputs {
             thrust: speed * 20.0,
-            elevator,
+            elevator_deg: elevator,
             ..SimInputs::default()
         };
         let s0 = SimState {
-            speed,
+            speed_mps: speed,
             depth: 5.0,
             ..SimState::default()
         };
@@ -227,10 +231,10 @@ fn dive_rate_follows_elevator_and_speed() {
             close(s1.depth, 5.0 + act * 0.1, 1e-12),
             "v={speed} e={elevator}"
         );
-        assert!(close(s1.pitch, -(act / speed).asin(), 1e-12));
+        assert!(close(s1.pitch_rad, -(act / speed).asin(), 1e-12));
         // Next step adds the pitch-induced rate -sin(pitch)*v.
         let s2 = step(&cfg, &s1, &inp, 0.1, None).0;
-        let rate2 = -s1.pitch.sin() * speed + act;
+        let rate2 = -s1.pitch_rad.sin() * speed + act;
         assert!(close(s2.depth, s1.depth + rate2 * 0.1, 1e-12));
     }
 }
@@ -242,23 +246,32 @@ fn pitch_integrates_the_elevator_per_iteration_not_per_second() {
     let cfg = SimConfig::from_params([("max_depth_rate", "5"), ("max_deceleration", "0")]).unwrap();
     let inp = SimInputs {
         thrust: 40.0,
-        elevator: 13.0,
+        elevator_deg: 13.0,
         ..SimInputs::default()
     };
     let s0 = SimState {
-        speed: 2.0,
+        speed_mps: 2.0,
         ..SimState::default()
     };
     let act = 0.13 * 5.0;
     for dt in [0.01, 0.1, 1.0] {
         let s1 = step(&cfg, &s0, &inp, dt, None).0;
-        assert!(close(s1.pitch, -(act / 2.0f64).asin(), 1e-12), "dt {dt}");
+        assert!(
+            close(s1.pitch_rad, -(act / 2.0f64).asin(), 1e-12),
+            "dt {dt}"
+        );
         let s2 = step(&cfg, &s1, &inp, dt, None).0;
-        assert!(close(s2.pitch.sin(), -2.0 * act / 2.0, 1e-12), "dt {dt}");
+        assert!(
+            close(s2.pitch_rad.sin(), -2.0 * act / 2.0, 1e-12),
+            "dt {dt}"
+        );
         // Past |rate| > speed the pitch falls back to 0 (the C++ guard on asin).
         let s3 = step(&cfg, &s2, &inp, dt, None).0;
         let s4 = step(&cfg, &s3, &inp, dt, None).0;
-        assert!(s3.pitch < s2.pitch && s4.pitch == 0.0, "dt {dt}");
+        assert!(
+            s3.pitch_rad < s2.pitch_rad && s4.pitch_rad == 0.0,
+            "dt {dt}"
+        );
     }
 }
 
@@ -266,8 +279,8 @@ fn pitch_integrates_the_elevator_per_iteration_not_per_second() {
 fn heading_wraps_at_0_and_360() {
     let cfg = SimConfig::from_params([("turn_spd_loss", "0"), ("max_deceleration", "0")]).unwrap();
     let s0 = SimState {
-        speed: 5.0,
-        heading: 359.0,
+        speed_mps: 5.0,
+        heading_deg: 359.0,
         ..SimState::default()
     };
     let s1 = step(
@@ -275,7 +288,7 @@ fn heading_wraps_at_0_and_360() {
         &s0,
         &SimInputs {
             thrust: 100.0,
-            rudder: 50.0,
+            rudder_deg: 50.0,
             ..SimInputs::default()
         },
         0.1,
@@ -283,14 +296,14 @@ fn heading_wraps_at_0_and_360() {
     )
     .0;
     assert!(
-        close(s1.heading, 359.0 + 7.0 - 360.0, 1e-9),
+        close(s1.heading_deg, 359.0 + 7.0 - 360.0, 1e-9),
         "{}",
-        s1.heading
+        s1.heading_deg
     );
-    assert!(close(s1.yaw, -(6.0f64).to_radians(), 1e-12));
+    assert!(close(s1.yaw_rad, -(6.0f64).to_radians(), 1e-12));
     let s0 = SimState {
-        speed: 5.0,
-        heading: 1.0,
+        speed_mps: 5.0,
+        heading_deg: 1.0,
         ..SimState::default()
     };
     let s1 = step(
@@ -298,15 +311,15 @@ fn heading_wraps_at_0_and_360() {
         &s0,
         &SimInputs {
             thrust: 100.0,
-            rudder: -50.0,
+            rudder_deg: -50.0,
             ..SimInputs::default()
         },
         0.1,
         None,
     )
     .0;
-    assert!(close(s1.heading, 354.0, 1e-9));
-    assert!(close(s1.yaw, (6.0f64).to_radians(), 1e-12));
+    assert!(close(s1.heading_deg, 354.0, 1e-9));
+    assert!(close(s1.yaw_rad, (6.0f64).to_radians(), 1e-12));
     // Moving north across the wrap: position uses the circular mean heading (~0), not 180.
     assert!(s1.y > 0.0 && s1.x < 0.0);
 }
@@ -320,12 +333,16 @@ fn drift_moves_a_stopped_vehicle() {
         s = step(&cfg, &s, &inp, 0.5, None).0;
     }
     assert!(close(s.x, 5.0, 1e-9) && close(s.y, -2.0, 1e-9));
-    assert!(close(s.speed_og, 0.5f64.hypot(0.2), 1e-12));
-    assert!(close(s.heading_og, 0.5f64.atan2(-0.2).to_degrees(), 1e-9));
-    assert_eq!(s.speed, 0.0);
+    assert!(close(s.speed_og_mps, 0.5f64.hypot(0.2), 1e-12));
+    assert!(close(
+        s.heading_og_deg,
+        0.5f64.atan2(-0.2).to_degrees(),
+        1e-9
+    ));
+    assert_eq!(s.speed_mps, 0.0);
     // drift_vector = angle,magnitude (compass).
     let cfg = SimConfig::from_params([("drift_vector", "90,2")]).unwrap();
-    assert!(close(cfg.drift_x, 2.0, 1e-12) && close(cfg.drift_y, 0.0, 1e-12));
+    assert!(close(cfg.drift_x_mps, 2.0, 1e-12) && close(cfg.drift_y_mps, 0.0, 1e-12));
 }
 
 #[test]
@@ -400,7 +417,7 @@ fn adapter_posts_prefixed_nav_every_second_iteration() {
         .unwrap();
     assert_eq!(p.value.as_f64(), Some(1.0));
     assert_eq!(
-        (sim.state().x, sim.state().y, sim.state().heading),
+        (sim.state().x, sim.state().y, sim.state().heading_deg),
         (5.0, 6.0, 45.0)
     );
 }
@@ -447,18 +464,18 @@ fn config_errors_are_typed() {
     let mut p = StartPose::default();
     p.apply_spec("5,10,180,2.0,3").unwrap();
     assert_eq!(
-        (p.x, p.y, p.heading, p.speed, p.depth),
+        (p.x, p.y, p.heading_deg, p.speed_mps, p.depth),
         (5.0, 10.0, 180.0, 2.0, 3.0)
     );
 }
 
 #[test]
 fn reads_a_real_mission_block() {
-    let text = common::mission_file("s7_golf/golf.moos");
+    let text = test_support::mission_text("s7_golf/golf.moos");
     let block = common::process_config(&text, "uSimMarine");
     let (cfg, unknown) = SimConfig::from_params_lenient(common::pairs(&block)).unwrap();
     assert_eq!(cfg.prefix, "NAV");
-    assert_eq!(cfg.start.heading, 180.0);
+    assert_eq!(cfg.start.heading_deg, 180.0);
     // FLOAT_RATE is not a uSimMarineV22 parameter: reported, not fatal.
     assert_eq!(unknown.len(), 1);
     assert!(matches!(&unknown[0], ConfigError::UnknownKey { key, .. } if key == "FLOAT_RATE"));
@@ -472,28 +489,32 @@ fn turn_radius_limits_heading_change() {
         ..base.clone()
     };
     let s0 = SimState {
-        speed: 5.0,
-        heading: 0.0,
+        speed_mps: 5.0,
+        heading_deg: 0.0,
         ..SimState::default()
     };
     let inp = SimInputs {
         thrust: 100.0,
-        rudder: 100.0,
+        rudder_deg: 100.0,
         ..SimInputs::default()
     };
     let free = step(&base, &s0, &inp, 0.5, None).0;
     let lim = step(&limited, &s0, &inp, 0.5, None).0;
-    assert!(free.heading > 60.0, "unlimited turn {}", free.heading);
+    assert!(
+        free.heading_deg > 60.0,
+        "unlimited turn {}",
+        free.heading_deg
+    );
     // Chord of 2.5 m on a 10 m circle at full speed: heading change 2*asin(2.5/20).
     let dist = (lim.x - s0.x).hypot(lim.y - s0.y);
     let phi = (dist / 20.0).asin().to_degrees();
     assert!(
-        close(lim.heading, 2.0 * phi, 1e-9),
+        close(lim.heading_deg, 2.0 * phi, 1e-9),
         "{} vs {}",
-        lim.heading,
+        lim.heading_deg,
         2.0 * phi
     );
-    assert!(lim.heading < free.heading);
+    assert!(lim.heading_deg < free.heading_deg);
 }
 
 #[test]
@@ -509,7 +530,7 @@ fn reverse_and_differential_thrust() {
     assert_eq!(warnings.len(), 1, "{warnings:?}");
     assert!(warnings[0].to_string().contains("thrust_mode_reverse"));
     let s0 = SimState {
-        heading: 0.0,
+        heading_deg: 0.0,
         ..SimState::default()
     };
     let s1 = step(
@@ -524,16 +545,16 @@ fn reverse_and_differential_thrust() {
     )
     .0;
     // Negative thrust reversed is forward thrust of the reversed hull, which faces 180.
-    assert_eq!(s1.heading, 180.0);
-    assert!(s1.speed > 0.0);
+    assert_eq!(s1.heading_deg, 180.0);
+    assert!(s1.speed_mps > 0.0);
     let diff = SimConfig::from_params([
         ("thrust_mode_diff", "differential"),
         ("max_deceleration", "0"),
     ])
     .unwrap();
     let s0 = SimState {
-        heading: 90.0,
-        speed: 2.0,
+        heading_deg: 90.0,
+        speed_mps: 2.0,
         ..SimState::default()
     };
     let inp = SimInputs {
@@ -543,10 +564,10 @@ fn reverse_and_differential_thrust() {
     };
     let s1 = step(&diff, &s0, &inp, 0.5, None).0;
     // Turn: 36 deg/s at full differential, here (60-20)/200 of it.
-    assert!(close(s1.heading, 90.0 + 36.0 * 0.2 * 0.5, 1e-9));
+    assert!(close(s1.heading_deg, 90.0 + 36.0 * 0.2 * 0.5, 1e-9));
     // Speed from the mean thrust 40 with the pseudo-rudder (60-20)/2 = 20 speed loss.
     let target = 2.0 * (1.0 - 0.2 * 0.85);
-    assert!(close(s1.speed, (2.0 + target) / 2.0, 1e-9));
+    assert!(close(s1.speed_mps, (2.0 + target) / 2.0, 1e-9));
 }
 
 proptest::proptest! {
@@ -556,15 +577,15 @@ proptest::proptest! {
         heading in -720.0f64..720.0, speed in 0.0f64..5.0, depth in 0.0f64..50.0, dt in 0.01f64..2.0,
     ) {
         let cfg = SimConfig::default();
-        let mut s = SimState::at(&StartPose { heading, speed, depth, ..StartPose::default() });
-        let inp = SimInputs { thrust, rudder, elevator, ..SimInputs::from_config(&cfg) };
+        let mut s = SimState::at(&StartPose { heading_deg: heading, speed_mps: speed, depth, ..StartPose::default() });
+        let inp = SimInputs { thrust, rudder_deg: rudder, elevator_deg: elevator, ..SimInputs::from_config(&cfg) };
         for _ in 0..20 {
             let (n, out) = step(&cfg, &s, &inp, dt, None);
             s = n;
-            proptest::prop_assert!((0.0..360.0).contains(&s.heading));
+            proptest::prop_assert!((0.0..360.0).contains(&s.heading_deg));
             proptest::prop_assert!(s.depth >= 0.0 && s.depth.is_finite());
-            proptest::prop_assert!(s.x.is_finite() && s.y.is_finite() && s.pitch.is_finite());
-            proptest::prop_assert!(out.speed <= cfg.max_speed);
+            proptest::prop_assert!(s.x.is_finite() && s.y.is_finite() && s.pitch_rad.is_finite());
+            proptest::prop_assert!(out.speed_mps <= cfg.max_speed_mps);
         }
     }
 }
@@ -613,11 +634,15 @@ fn embedded_pid_drives_the_model_from_the_helm_outputs() {
         Some(40.0)
     );
     assert!(
-        close(sim.state().heading, 90.0, 2.0),
+        close(sim.state().heading_deg, 90.0, 2.0),
         "{}",
-        sim.state().heading
+        sim.state().heading_deg
     );
-    assert!(close(sim.state().speed, 2.0, 0.1), "{}", sim.state().speed);
+    assert!(
+        close(sim.state().speed_mps, 2.0, 0.1),
+        "{}",
+        sim.state().speed_mps
+    );
     // Without yaw gains the PID keys are taken but no PID is embedded.
     let (cfg, w) = SimConfig::from_params_lenient([("speed_factor", "20")]).unwrap();
     assert!(cfg.pid.is_none() && w.is_empty(), "{w:?}");
@@ -639,16 +664,16 @@ fn rudder_slew_limit_caps_the_rudder_change_per_second() {
     let cfg = SimConfig::from_params([("max_rudder_degs_per_sec", "10")]).unwrap();
     let mut sim = Simulator::new(cfg, None, 0.0);
     sim.on_mail("DESIRED_RUDDER", ValueRef::Double(40.0), 0.5);
-    assert_eq!(sim.inputs().rudder, 5.0, "10 deg/s for 0.5 s");
+    assert_eq!(sim.inputs().rudder_deg, 5.0, "10 deg/s for 0.5 s");
     sim.on_mail("DESIRED_RUDDER", ValueRef::Double(40.0), 1.5);
-    assert_eq!(sim.inputs().rudder, 15.0);
+    assert_eq!(sim.inputs().rudder_deg, 15.0);
     sim.on_mail("DESIRED_RUDDER", ValueRef::Double(-40.0), 2.0);
-    assert_eq!(sim.inputs().rudder, 10.0);
+    assert_eq!(sim.inputs().rudder_deg, 10.0);
     // No limit set: one change is still capped at 100 degrees (uSimMarineV22).
     let mut sim = Simulator::new(SimConfig::default(), None, 0.0);
     sim.on_mail("DESIRED_RUDDER", ValueRef::Double(-100.0), 1.0);
     sim.on_mail("DESIRED_RUDDER", ValueRef::Double(100.0), 1.1);
-    assert_eq!(sim.inputs().rudder, 0.0);
+    assert_eq!(sim.inputs().rudder_deg, 0.0);
 }
 
 #[test]
@@ -712,12 +737,20 @@ fn wind_and_polar_plot_cap_the_speed_and_wind_conditions_change_at_run_time() {
     // Beam reach (90 deg off a wind from the north): 100 % of 2 m/s, though the thrust map
     // alone would give 5 m/s.
     run(&mut sim, &mut t, 5.0);
-    assert!(close(sim.state().speed, 2.0, 1e-9), "{}", sim.state().speed);
+    assert!(
+        close(sim.state().speed_mps, 2.0, 1e-9),
+        "{}",
+        sim.state().speed_mps
+    );
     // The wind drops to 1 m/s from the east: on heading 90 we head straight into it, where
     // the polar gives 0 and (as the C++, which caps only above 0) the speed is not capped.
     sim.on_mail("WIND_CONDITIONS", ValueRef::String("spd=1,dir=90"), t);
     run(&mut sim, &mut t, 5.0);
-    assert!(close(sim.state().speed, 5.0, 1e-9), "{}", sim.state().speed);
+    assert!(
+        close(sim.state().speed_mps, 5.0, 1e-9),
+        "{}",
+        sim.state().speed_mps
+    );
 }
 
 /// Iterates `sim` at `t0 + 1`, `t0 + 2`, ... `t0 + n` seconds, collecting every posting.
@@ -752,11 +785,11 @@ fn usm_reset_counts_start_pos_lines_and_sets_only_the_given_fields() {
         .unwrap();
     assert_eq!((&*p.key, p.value.as_f64()), ("USM_RESET_COUNT", Some(2.0)));
     let st = sim.state();
-    assert_eq!((st.x, st.y, st.heading), (5.0, 6.0, 30.0));
+    assert_eq!((st.x, st.y, st.heading_deg), (5.0, 6.0, 30.0));
     // The older positional form x,y,heading,speed,depth.
     sim.on_mail("USM_RESET", ValueRef::String("7,8,90"), 0.0);
     assert_eq!(
-        (sim.state().x, sim.state().y, sim.state().heading),
+        (sim.state().x, sim.state().y, sim.state().heading_deg),
         (7.0, 8.0, 90.0)
     );
     // `hdg` and `dep` aliases; an unknown field stops there (the fields before it stay
@@ -770,7 +803,7 @@ fn usm_reset_counts_start_pos_lines_and_sets_only_the_given_fields() {
         .unwrap();
     assert_eq!(p.value.as_f64(), Some(4.0));
     assert_eq!(
-        (sim.state().x, sim.state().y, sim.state().heading),
+        (sim.state().x, sim.state().y, sim.state().heading_deg),
         (-3.0, 8.0, 180.0)
     );
     // Values are read with atof: a non-number is 0.
@@ -802,7 +835,7 @@ fn paused_sim_posts_its_record_and_excludes_the_paused_time() {
     // 1 s, not over the 5 s since start.
     let mut out = Vec::new();
     sim.iterate(5.0, &mut out);
-    assert_eq!(sim.state().speed, 1.0);
+    assert_eq!(sim.state().speed_mps, 1.0);
     assert_eq!(sim.state().y, 1.0);
 }
 
@@ -835,7 +868,7 @@ fn drift_summary_is_posted_at_start_and_on_each_new_drift_source() {
     );
     let out = run_secs(&mut sim, 2.0, 1);
     assert!(all_of(&out, "USM_DRIFT_SUMMARY").is_empty());
-    assert!(close(sim.inputs().drift_x, 2.0, 1e-12));
+    assert!(close(sim.inputs().drift_x_mps, 2.0, 1e-12));
     // A new source: a summary; DRIFT_VECTOR_MULT scales the vector.
     sim.on_mail_from("DRIFT_VECTOR_MULT", ValueRef::Double(1.5), 3.0, "pOther");
     let out = run_secs(&mut sim, 3.0, 1);
@@ -1010,7 +1043,7 @@ fn trim_and_buoyancy_handshakes_report_as_the_cpp() {
             Some("status=1,error=0,progressing,buoyancy=0.0")
         )
     );
-    assert_eq!(sim.inputs().buoyancy_rate, 0.0);
+    assert_eq!(sim.inputs().buoyancy_rate_mps, 0.0);
     let p = sim
         .on_mail("TRIM_CONTROL", ValueRef::String("TRUE"), 0.0)
         .unwrap();
@@ -1175,7 +1208,12 @@ fn start_keys_rotate_speed_depth_rate_speed_and_navpos_summary() {
     .unwrap();
     assert_eq!(w.len(), 1, "start_speed=fast: {w:?}");
     assert_eq!(
-        (cfg.start.x, cfg.start.y, cfg.start.heading, cfg.start.depth),
+        (
+            cfg.start.x,
+            cfg.start.y,
+            cfg.start.heading_deg,
+            cfg.start.depth
+        ),
         (3.0, 4.0, 90.0, 2.0)
     );
     assert_eq!(
@@ -1198,17 +1236,17 @@ fn start_keys_rotate_speed_depth_rate_speed_and_navpos_summary() {
     );
     // Depth rate at 1 m/s with max_depth_rate_speed 4: sqrt(1/4) x 0.5 m/s at full elevator.
     let s0 = SimState {
-        speed: 1.0,
+        speed_mps: 1.0,
         ..SimState::default()
     };
     let inp = SimInputs {
         thrust: 20.0,
-        elevator: 100.0,
+        elevator_deg: 100.0,
         ..SimInputs::default()
     };
     let s1 = step(
         &SimConfig {
-            rotate_speed: 0.0,
+            rotate_speed_deg_s: 0.0,
             ..cfg
         },
         &s0,

@@ -4,12 +4,6 @@
 use helm::{Helm, Mail, Value};
 use mission::source::SourceMap;
 
-/// A corpus file's text; panics with the path when `../shared` is missing.
-pub fn corpus(rel: &str) -> String {
-    let p = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/corpus/").to_string() + rel;
-    std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("corpus file {p} missing: {e}"))
-}
-
 /// The four navigation variables at time `t`.
 pub fn nav(x: f64, y: f64, h: f64, v: f64, t: f64) -> [Mail; 4] {
     [
@@ -24,11 +18,11 @@ pub fn nav(x: f64, y: f64, h: f64, v: f64, t: f64) -> [Mail; 4] {
 pub fn mid_survey() -> (Helm, f64, (f64, f64, f64, f64)) {
     let moos = mission::moos::parse_moos(&SourceMap::from_text(
         "alpha.moos",
-        &corpus("moos-ivp-missions/s1_alpha/alpha.moos"),
+        &test_support::mission_text("s1_alpha/alpha.moos"),
     ));
     let bhv = mission::bhv::parse_bhv(&SourceMap::from_text(
         "alpha.bhv",
-        &corpus("moos-ivp-missions/s1_alpha/alpha.bhv"),
+        &test_support::mission_text("s1_alpha/alpha.bhv"),
     ));
     let mut helm = Helm::from_mission(&moos.value, &bhv);
     assert!(helm.config_errors().is_empty());

@@ -3,24 +3,6 @@
 
 use helm::{Helm, Mail, Posting, Value};
 
-/// The shared corpus folder; panics loudly when missing.
-pub fn shared() -> std::path::PathBuf {
-    let p = std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared"));
-    assert!(
-        p.join("corpus").is_dir(),
-        "the shared corpus is missing at {} (tests need ../shared/corpus)",
-        p.display()
-    );
-    p
-}
-
-/// Reads a corpus file; panics loudly when missing.
-pub fn corpus_file(rel: &str) -> String {
-    let p = shared().join("corpus").join(rel);
-    std::fs::read_to_string(&p)
-        .unwrap_or_else(|e| panic!("cannot read corpus file {}: {e}", p.display()))
-}
-
 /// A point-mass vehicle: turns toward the desired heading at a fixed rate and approaches the
 /// desired speed with a fixed acceleration.
 #[derive(Debug, Clone)]

@@ -9,16 +9,10 @@ use serde_json::Value as Json;
 
 /// The captures folder; panics loudly when it is missing.
 pub fn captures_dir() -> PathBuf {
-    let dir = PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../shared/corpus/captures"
-    ));
-    assert!(
-        dir.join("README.md").is_file(),
-        "the recorded MOOS captures are missing: expected {} (the shared corpus must sit beside the repository)",
-        dir.display()
-    );
-    dir
+    test_support::corpus("captures/README.md")
+        .parent()
+        .expect("a folder")
+        .to_path_buf()
 }
 
 /// Every scenario folder (sorted).

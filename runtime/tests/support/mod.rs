@@ -23,11 +23,14 @@ pub fn run_corpus(
     until: &str,
     max_time: f64,
 ) -> (Outcome, Vec<u8>) {
-    let dir = format!(
-        "{}/../../shared/corpus/moos-ivp-missions/{folder}",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    run_dir(&dir, name, pokes, until, max_time)
+    let dir = test_support::mission_file(folder);
+    run_dir(
+        dir.to_str().expect("a UTF-8 path"),
+        name,
+        pokes,
+        until,
+        max_time,
+    )
 }
 
 /// As [`run_corpus`], for `<dir>/<name>.moos` and `<dir>/<name>.bhv` anywhere (e.g. a mission

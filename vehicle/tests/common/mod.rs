@@ -1,24 +1,5 @@
-//! Test helpers: reading real mission files from the shared corpus.
+//! Test helpers: reading the blocks of real mission files (from `test_support`).
 #![allow(dead_code)]
-
-use std::path::PathBuf;
-
-/// The shared corpus folder; panics loudly when it is missing.
-pub fn corpus() -> PathBuf {
-    let p = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/corpus"));
-    assert!(
-        p.is_dir(),
-        "shared corpus missing at {} (tests need ../shared/corpus)",
-        p.display()
-    );
-    p
-}
-
-/// Reads a mission file of the corpus; panics loudly when it is missing.
-pub fn mission_file(rel: &str) -> String {
-    let p = corpus().join("moos-ivp-missions").join(rel);
-    std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("cannot read {}: {e}", p.display()))
-}
 
 /// The `key = value` lines of `ProcessConfig = <app>` in a `.moos` text (a minimal reader
 /// for tests: comments `//` stripped, first `=` splits).
