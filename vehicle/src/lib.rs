@@ -20,6 +20,7 @@
 //! | [`node_report`] | `pNodeReporter` (`NODE_REPORT_LOCAL`) |
 //! | [`wormhole`] | uSimMarineV22's wormholes |
 //! | [`geodesy`] | MOOS-IvP's UTM-based local grid, without its cross-zone bug |
+//! | [`sensors`] | simulated DVL (Water Linked A50), AHRS (SeaTrac X150), pressure (MS5837) and GPS, driven by the simulator's truth |
 #![warn(missing_docs)]
 
 pub mod angle;
@@ -30,6 +31,7 @@ pub mod moos;
 pub mod node_report;
 pub mod pid;
 pub mod polar;
+pub mod sensors;
 pub mod sim;
 pub mod wormhole;
 
