@@ -2,9 +2,9 @@
 //! built-in apps (what pAntler does with processes, done with [`App`]s on one bus).
 //!
 //! The apps coug builds in are one registry, [`BUILT_INS`]: `MOOSDB` (the bus itself),
-//! `pHelmIvP`, `uSimMarine(V22)`, `pMarinePID(V22)`, `pNodeReporter`, `pLogger` and
-//! `uTimerScript`. A caller's `custom` factory is asked first for every `Run` line (tests
-//! with in-memory behaviours, user apps); what nobody builds is listed in
+//! `pHelmIvP`, `uSimMarine(V22)`, `pMarinePID(V22)`, `pNodeReporter`, `pLogger`,
+//! `uTimerScript` and `uSimSensors`. A caller's `custom` factory is asked first for every
+//! `Run` line (tests with in-memory behaviours, user apps); what nobody builds is listed in
 //! [`Plan::external`] for the caller to start from PATH (real time) or skip with a warning
 //! (lockstep). Each app reads the `ProcessConfig` block of its MOOS name (the alias after
 //! `~`, as MOOS apps do).
@@ -345,6 +345,12 @@ pub const BUILT_INS: &[BuiltIn] = &[
         reads_block: true,
         make: make_timer_script,
     },
+    BuiltIn {
+        program: "uSimSensors",
+        what: "simulated DVL, AHRS, pressure and GPS from the simulator's truth",
+        reads_block: true,
+        make: make_sensors,
+    },
 ];
 
 /// The built-in app run by `program` (a path or base name), if coug builds it in.
@@ -424,6 +430,15 @@ fn make_timer_script(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let ts = TimerScript::new(cx.moos_name, b, &cx.globals.community, seed)?;
     cx.warnings.extend(ts.warnings().iter().cloned());
     Ok(Built::App(Box::new(ts)))
+}
+
+fn make_sensors(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    let b = cx.block_or_empty();
+    let seed = cx.launch.seed ^ fnv(cx.moos_name);
+    let app = crate::sensors::SensorsApp::new(cx.moos_name, b, cx.globals.grid(), seed)
+        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
+    cx.warnings.extend(app.warnings().iter().cloned());
+    Ok(Built::App(Box::new(app)))
 }
 
 /// Builds the built-in app `program` (a path or base name such as `uSimMarineV22`) running

@@ -14,7 +14,8 @@
 //!
 //! Apps ([`app`] defines the [`App`] trait, [`Mail`], [`Post`], [`Value`]):
 //! [`helm`] (pHelmIvP), [`vehicle`] (uSimMarine(V22), pMarinePID(V22), pNodeReporter),
-//! [`timer_script`] (uTimerScript), [`logger`] (pLogger, through the `alog` crate);
+//! [`timer_script`] (uTimerScript), [`logger`] (pLogger, through the `alog` crate),
+//! [`sensors`] (uSimSensors: simulated DVL, AHRS, pressure and GPS);
 //! [`appcasting`] is libMOOS's AppCastingMOOSApp layer around the swap-in apps.
 //!
 //! After a run: [`summary`] (distance, depth, behaviour lists) and [`plot`] (SVG/PNG).
@@ -36,6 +37,7 @@ pub mod realtime;
 pub mod remote;
 pub mod scheduler;
 pub mod scope;
+pub mod sensors;
 pub mod session;
 pub mod summary;
 pub mod timer_script;
