@@ -102,9 +102,10 @@ impl Truth {
         [p, q, r]
     }
 
-    /// The truth moved on to `time` at constant velocity and rates (a record `dt` old is
-    /// extrapolated so a sensor sampling between the simulator's postings sees a smooth
-    /// track).
+    /// The truth moved on to `time`: position and depth at constant velocity, heading at
+    /// the yaw rate (a record `dt` old is extrapolated so a sensor sampling between the
+    /// simulator's postings sees a smooth track). Pitch and roll are held: uSimMarine's
+    /// pitch jumps between iterations, and its differences are no rate to extrapolate with.
     pub fn advanced_to(&self, time: f64) -> Truth {
         let dt = time - self.time;
         Truth {
@@ -113,8 +114,6 @@ impl Truth {
             y: self.y + self.vel_north_mps * dt,
             depth: (self.depth + self.vel_down_mps * dt).max(0.0),
             heading_deg: crate::angle::angle360(self.heading_deg + self.yaw_rate_deg_s * dt),
-            pitch_rad: self.pitch_rad + self.pitch_rate_rad_s * dt,
-            roll_rad: self.roll_rad + self.roll_rate_rad_s * dt,
             ..*self
         }
     }
