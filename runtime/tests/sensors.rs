@@ -115,8 +115,8 @@ impl Run {
     fn truth_at(&self, var: &str, t: f64) -> f64 {
         self.rec
             .iter()
-            .filter(|(k, tt, _)| k == var && *tt <= t)
-            .last()
+            .rev()
+            .find(|(k, tt, _)| k == var && *tt <= t)
             .unwrap_or_else(|| panic!("no {var} by {t}"))
             .2
     }

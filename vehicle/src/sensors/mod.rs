@@ -613,7 +613,7 @@ mod tests {
                 n += 1;
             }
         }
-        assert!((n as i32 - 1500).abs() <= 1, "{n}");
+        assert!((n - 1500_i32).abs() <= 1, "{n}");
         // 10 Hz on a 20 Hz tick: every other tick, despite rounding.
         let mut s = Schedule::default();
         let due: Vec<bool> = (0..40)
