@@ -615,8 +615,10 @@ impl Helm {
     /// `nostarve` and [`Behavior::info_vars`], e.g. `GPS_UPDATE_RECEIVED`). The list only
     /// grows: a run-time update that makes a behaviour read a new variable adds it (and the
     /// helm posts `IVPHELM_REGISTER = <var>` for it, as pHelmIvP registers new info vars).
-    pub fn subscriptions(&self) -> Vec<String> {
-        self.registered.clone()
+    /// New variables are appended, so a caller that remembers how many it has registered
+    /// finds the new ones past that length (an unchanged length: nothing new), without a copy.
+    pub fn subscriptions(&self) -> &[String] {
+        &self.registered
     }
 
     /// The variables the helm and its behaviours read now.
@@ -854,10 +856,7 @@ impl Helm {
                 }
             } else if m.key == "NODE_REPORT_LOCAL" {
                 self.node_report_local(&m.value, now);
-            } else if matches!(
-                m.key.as_str(),
-                "AIS_REPORT" | "NODE_REPORT" | "AIS_REPORT_LOCAL"
-            ) {
+            } else if matches!(&*m.key, "AIS_REPORT" | "NODE_REPORT" | "AIS_REPORT_LOCAL") {
                 self.node_report(&m.value, now);
                 self.info.set(&m.key, m.value.clone(), &m.source, m.time);
             } else if m.key == "HELM_MAP_CLEAR" {

@@ -86,7 +86,7 @@ struct DeltaRig {
 
 impl DeltaRig {
     fn new(helm: Helm, sub: Sub) -> Self {
-        let subs = helm.subscriptions();
+        let subs = helm.subscriptions().to_vec();
         DeltaRig {
             helm,
             sub,
@@ -136,7 +136,7 @@ impl DeltaRig {
             }
             if self.subs.contains(&p.key) {
                 let mut m = Mail::new(&p.key, p.value.clone(), t).from("pHelmIvP");
-                m.source_aux = p.aux.clone();
+                m.source_aux = p.aux.as_str().into();
                 self.feedback.push(m);
             }
             self.log.push((t, p.clone()));
@@ -623,7 +623,7 @@ fn bad_values_are_malconfig_at_start_and_rejected_updates_at_run_time() {
 #[test]
 fn delta_helm_subscribes_to_every_variable_its_behaviours_read() {
     let mut helm = delta_helm();
-    let subs = helm.subscriptions();
+    let subs = helm.subscriptions().to_vec();
     for var in [
         // BHV_PeriodicSurface's mark variable and nav needs.
         "GPS_UPDATE_RECEIVED",

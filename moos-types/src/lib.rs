@@ -2,9 +2,15 @@
 //! binary data, as a `CMOOSMsg` carries), a borrowed view of one ([`ValueRef`]), a message an
 //! app receives ([`Mail`]) and one it publishes ([`Post`]).
 //!
-//! This crate sits at the bottom of the workspace: it depends on nothing, and the wire
-//! codec, the DB, the helm, the behaviours, the vehicle apps and the logger all speak these
-//! types, so no layer translates between private copies of them.
+//! This crate sits at the bottom of the workspace: it depends only on `bytes` (the wire
+//! codec's buffer type) and `bytestring`, and the wire codec, the DB, the helm, the
+//! behaviours, the vehicle apps and the logger all speak these types, so no layer translates
+//! between private copies of them.
+//!
+//! A [`Mail`]'s names ([`Mail::key`], [`Mail::source`], ...) are [`ByteString`]s: UTF-8 text
+//! over a shared [`Bytes`] buffer. The DB hands the same message to every subscriber, and a
+//! mail made from it shares the message's buffers, so delivering it copies no text and
+//! allocates nothing; cloning a mail is a reference-count increment per field.
 //!
 //! ```
 //! use moos_types::{Mail, Post, Value};
@@ -18,6 +24,9 @@
 
 pub mod fmt;
 pub mod text;
+
+pub use bytes::Bytes;
+pub use bytestring::ByteString;
 
 use std::fmt as stdfmt;
 
@@ -133,48 +142,64 @@ impl<'a> ValueRef<'a> {
     }
 }
 
-/// A message delivered to an app.
+/// A message delivered to an app. Its names share their buffers with the message the DB
+/// delivered (see the crate documentation); they read as `&str` (`Deref`) and compare with
+/// `&str` and `String` (`mail.key == "DEPLOY"`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mail {
     /// Variable name.
-    pub key: String,
+    pub key: ByteString,
     /// Value.
     pub value: Value,
     /// MOOS time of the write, seconds.
     pub time: f64,
     /// The writer's MOOS name.
-    pub source: String,
+    pub source: ByteString,
     /// The writer's auxiliary source field (the helm's `<iter>:<behaviour>`,
     /// `HELM_VAR_INIT`, ...).
-    pub source_aux: String,
+    pub source_aux: ByteString,
     /// The writer's community.
-    pub community: String,
+    pub community: ByteString,
 }
 
 impl Mail {
     /// Mail with no source, aux or community.
     pub fn new(key: &str, value: impl Into<Value>, time: f64) -> Mail {
         Mail {
-            key: key.to_string(),
+            key: ByteString::from(key),
             value: value.into(),
             time,
-            source: String::new(),
-            source_aux: String::new(),
-            community: String::new(),
+            source: ByteString::new(),
+            source_aux: ByteString::new(),
+            community: ByteString::new(),
         }
     }
 
     /// Builder: sets the source.
     pub fn from(mut self, source: &str) -> Mail {
-        self.source = source.to_string();
+        self.source = ByteString::from(source);
         self
     }
 
     /// Builder: sets the auxiliary source field.
     pub fn with_aux(mut self, aux: &str) -> Mail {
-        self.source_aux = aux.to_string();
+        self.source_aux = ByteString::from(aux);
         self
     }
+}
+
+/// UTF-8 text over `bytes` without a copy (a reference-count increment when `bytes` is
+/// shared); text that is not UTF-8 is copied lossily (U+FFFD for bad sequences), as MOOS
+/// strings read from the wire need not be UTF-8.
+///
+/// ```
+/// use moos_types::{Bytes, text_of};
+/// assert_eq!(text_of(&Bytes::from_static(b"NAV_X")), "NAV_X");
+/// assert_eq!(text_of(&Bytes::from_static(b"a\xffb")), "a\u{fffd}b");
+/// ```
+pub fn text_of(bytes: &Bytes) -> ByteString {
+    ByteString::try_from(bytes.clone())
+        .unwrap_or_else(|_| ByteString::from(String::from_utf8_lossy(bytes).into_owned()))
 }
 
 /// A value an app publishes.

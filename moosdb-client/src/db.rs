@@ -558,7 +558,16 @@ impl Database {
         let byte_limit = self.config.outbox_byte_limit;
         let mut effects = Effects::default();
         if let Some(c) = self.clients.get_mut(&id) {
-            let mut reply = Vec::with_capacity(1 + c.held.len() + replies.len());
+            let take_held = had_any || !asynchronous;
+            let len = usize::from(echo.is_some() || !asynchronous)
+                + if take_held { c.held.len() } else { 0 }
+                + replies.len();
+            // Most packets of an asynchronous client get no reply: no buffer for them.
+            let mut reply = if len == 0 {
+                Vec::new()
+            } else {
+                Vec::with_capacity(len)
+            };
             if asynchronous {
                 reply.extend(echo);
             } else {
@@ -567,7 +576,7 @@ impl Database {
                 null.dval = now.moos;
                 reply.push(null);
             }
-            if had_any || !asynchronous {
+            if take_held {
                 reply.extend(c.held.drain(..));
             }
             reply.extend(replies);
@@ -833,7 +842,8 @@ impl Database {
     }
 
     fn internal_notify(&mut self, key: &'static str, value: Value, now: DbTime) {
-        let mut m = Message::notify(key, value, now.moos);
+        let mut m = Message::notify("", value, now.moos);
+        m.key = Bytes::from_static(key.as_bytes());
         m.src = self.db_name.clone();
         m.community = self.community.clone();
         self.on_notify(m, now);
@@ -947,15 +957,15 @@ impl Database {
         let mut s = String::new();
         for (k, v) in &self.vars {
             let who = if v.writer.is_empty() {
-                "(write pending)".to_string()
+                "(write pending)".into()
             } else {
-                String::from_utf8_lossy(&v.writer).into_owned()
+                String::from_utf8_lossy(&v.writer)
             };
             let _ = write!(
                 s,
                 "{:<20} {:<20} {:<20} {:<4.1}Hz {:<2} ",
                 String::from_utf8_lossy(k),
-                time_of_day(v.written_time),
+                TimeOfDay(v.written_time),
                 who,
                 v.freq,
                 v.data_type.code() as char
@@ -997,23 +1007,26 @@ impl Database {
             }
             out.push_str(&String::from_utf8_lossy(who));
             out.push('=');
-            let subs: Vec<String> = self
+            let subs = self
                 .vars
                 .iter()
-                .filter(|(_, v)| v.subscribers.contains_key(who))
-                .map(|(k, _)| String::from_utf8_lossy(k).into_owned())
-                .collect();
-            out.push_str(&subs.join(":"));
+                .filter(|(_, v)| v.subscribers.contains_key(who));
+            push_joined(&mut out, subs.map(|(k, _)| k), ':');
             out.push('&');
-            let pubs: Vec<String> = self
-                .vars
-                .iter()
-                .filter(|(_, v)| v.writers.contains(who))
-                .map(|(k, _)| String::from_utf8_lossy(k).into_owned())
-                .collect();
-            out.push_str(&pubs.join(":"));
+            let pubs = self.vars.iter().filter(|(_, v)| v.writers.contains(who));
+            push_joined(&mut out, pubs.map(|(k, _)| k), ':');
         }
         out
+    }
+}
+
+/// Appends the names read lossily as text, separated by `sep`.
+fn push_joined<'a>(out: &mut String, names: impl Iterator<Item = &'a Bytes>, sep: char) {
+    for (i, n) in names.enumerate() {
+        if i > 0 {
+            out.push(sep);
+        }
+        out.push_str(&String::from_utf8_lossy(n));
     }
 }
 
@@ -1042,16 +1055,42 @@ pub use moos_types::text::wildcard_match;
 
 /// `HH:MM:SS.mmm` of a Unix time, in UTC (the C++ DB prints local time).
 pub fn time_of_day(t: f64) -> String {
-    let secs = t.floor();
-    let ms = ((t - secs) * 1000.0).floor() as i64;
-    let day = (secs as i64).rem_euclid(86_400);
-    format!(
-        "{:02}:{:02}:{:02}.{:03}",
-        day / 3600,
-        (day / 60) % 60,
-        day % 60,
-        ms.clamp(0, 999)
-    )
+    TimeOfDay(t).to_string()
+}
+
+/// [`time_of_day`] as a `Display` (honours width and alignment, as `{:<20}` in
+/// `DB_VARSUMMARY`), without a temporary string.
+struct TimeOfDay(f64);
+
+impl std::fmt::Display for TimeOfDay {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let t = self.0;
+        let secs = t.floor();
+        let ms = ((t - secs) * 1000.0).floor() as i64;
+        let day = (secs as i64).rem_euclid(86_400);
+        let fields = [
+            (day / 3600, 2),
+            ((day / 60) % 60, 2),
+            (day % 60, 2),
+            (ms.clamp(0, 999), 3),
+        ];
+        // "HH:MM:SS.mmm": every field is in range, so the text is always 12 ASCII bytes.
+        let mut buf = [b'0'; 12];
+        let mut at = 0;
+        for (i, (n, width)) in fields.into_iter().enumerate() {
+            if i > 0 {
+                buf[at] = if i == 3 { b'.' } else { b':' };
+                at += 1;
+            }
+            let mut n = n;
+            for d in (0..width).rev() {
+                buf[at + d] = b'0' + (n % 10) as u8;
+                n /= 10;
+            }
+            at += width;
+        }
+        f.pad(std::str::from_utf8(&buf).unwrap_or_default())
+    }
 }
 
 /// A double as C++ `ostream <<` prints it by default (`%g`, 6 significant digits).

@@ -169,6 +169,7 @@ impl DataType {
 /// A value to publish: the workspace's one MOOS value type (a string's or binary value's
 /// buffer becomes the message's without a copy).
 pub use moos_types::Value;
+use moos_types::{Mail, text_of};
 
 /// One MOOS message with every wire field.
 ///
@@ -255,6 +256,30 @@ impl Message {
             DataType::Binary => Some(Value::Binary(self.sval.to_vec())),
             DataType::NotSet => None,
         }
+    }
+
+    /// The mail this notify delivers (`None` for data type `'~'`): its names share this
+    /// message's buffers (no copy, see [`moos_types::text_of`]); a string value is copied
+    /// (lossily when it is not UTF-8) and so is binary data.
+    ///
+    /// ```
+    /// use moosdb_client::{Message, Value};
+    /// let mut m = Message::notify("DEPLOY", Value::from("true"), 3.0);
+    /// m.src = bytes::Bytes::from_static(b"uPokeDB");
+    /// let mail = m.mail().unwrap();
+    /// assert_eq!((&*mail.key, &*mail.source, mail.time), ("DEPLOY", "uPokeDB", 3.0));
+    /// assert_eq!(mail.value.as_str(), Some("true"));
+    /// ```
+    pub fn mail(&self) -> Option<Mail> {
+        let value = self.value()?;
+        Some(Mail {
+            key: text_of(&self.key),
+            value,
+            time: self.time,
+            source: text_of(&self.src),
+            source_aux: text_of(&self.src_aux),
+            community: text_of(&self.community),
+        })
     }
 
     /// The key as text (lossy for non-UTF-8 bytes).

@@ -24,6 +24,9 @@ pub struct HelmApp {
     reload: Option<Reload>,
     /// Variables to register at the next `new_subscriptions` (after a restart).
     unregistered: Vec<String>,
+    /// How many of the helm's registrations (`Helm::subscriptions`, which only grows) have
+    /// been taken into `registered`.
+    helm_seen: usize,
     /// The process's CPU load, percent (single-app mode).
     cpu_percent: Option<f64>,
     /// Appcasting (AppCastingMOOSApp): requests, warnings, events, `APPCAST` postings.
@@ -60,7 +63,8 @@ impl HelmApp {
             }
             None => Helm::from_mission(&MissionFile::default(), bhv),
         };
-        let mut registered = helm.subscriptions();
+        let mut registered = helm.subscriptions().to_vec();
+        let helm_seen = registered.len();
         // pHelmIvP also registers the variables of the mode declarations' conditions
         // (e.g. DEPLOY in `set MODE = ACTIVE { DEPLOY = true }`).
         for m in &bhv.value.modes {
@@ -93,6 +97,7 @@ impl HelmApp {
             pid: None,
             reload: None,
             unregistered: Vec::new(),
+            helm_seen,
             cpu_percent: None,
             appcast,
         }
@@ -142,6 +147,7 @@ impl HelmApp {
         );
         let old = std::mem::replace(&mut self.helm, fresh.helm);
         self.helm.restart_from(old, keep_info);
+        self.helm_seen = 0;
         // The new set's registrations (mode-condition variables included) are made at the
         // next `new_subscriptions`.
         for v in fresh.registered {
@@ -293,12 +299,15 @@ impl App for HelmApp {
                 self.registered.push(v);
             }
         }
-        for v in self.helm.subscriptions() {
-            if !self.registered.contains(&v) {
+        // Only the helm's registrations added since the last call (usually none).
+        let subs = self.helm.subscriptions();
+        for v in subs.get(self.helm_seen..).unwrap_or_default() {
+            if !self.registered.contains(v) {
                 fresh.push(Subscription::var(v.clone()));
-                self.registered.push(v);
+                self.registered.push(v.clone());
             }
         }
+        self.helm_seen = subs.len();
         fresh
     }
 
@@ -446,7 +455,7 @@ mod appcast_tests {
             value,
             time,
             source: "uMAC".into(),
-            source_aux: String::new(),
+            source_aux: Default::default(),
             community: "alpha".into(),
         }
     }

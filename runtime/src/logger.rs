@@ -512,7 +512,7 @@ fn record<W: Write>(
         src = format!("{}:{}", m.source, m.source_aux);
         src.as_str()
     } else {
-        m.source.as_str()
+        &m.source
     };
     match &m.value {
         Value::Double(x) => w.record(m.time, &m.key, source, alog::LogValue::Double(*x)),

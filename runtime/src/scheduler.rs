@@ -10,6 +10,7 @@ use std::collections::BTreeSet;
 
 use mission::condition::{self, Condition};
 use moosdb_client::db::ClientId;
+use moosdb_client::{DataType, Message};
 use thiserror::Error;
 
 use crate::app::{App, AppError, Mail, Post, STATUS_PERIOD, Value};
@@ -141,6 +142,10 @@ pub struct Scheduler<C: Clock = VirtualClock, H: DbHost = LocalDb> {
     after: Vec<(String, Post)>,
     poke_client: Option<ClientId>,
     until: Option<Condition>,
+    /// The `until` condition's variables, each once.
+    until_vars: Vec<String>,
+    /// Their current values at the last check (reused, so a check allocates nothing).
+    until_msgs: Vec<Option<Message>>,
     armed: bool,
     status_posts: bool,
     started: bool,
@@ -163,6 +168,8 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
             after: Vec::new(),
             poke_client: None,
             until: None,
+            until_vars: Vec::new(),
+            until_msgs: Vec::new(),
             armed: true,
             status_posts: true,
             started: false,
@@ -264,6 +271,12 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
     /// every event, once every after-first-iterate poke has gone out (so `DEPLOY = false`
     /// is not met by the helm's initial value before `--deploy` is posted).
     pub fn set_until(&mut self, cond: Condition) {
+        self.until_vars.clear();
+        for v in cond.variables() {
+            if !self.until_vars.iter().any(|u| u == v) {
+                self.until_vars.push(v.to_string());
+            }
+        }
         self.until = Some(cond);
     }
 
@@ -306,25 +319,36 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
             .collect()
     }
 
-    /// True when the `until` condition is set, armed and holds now.
-    pub fn until_holds(&self) -> bool {
+    /// True when the `until` condition is set, armed and holds now. Reads the DB's values
+    /// in place: a check allocates nothing (a string that is not UTF-8 is compared as its
+    /// lossy copy).
+    pub fn until_holds(&mut self) -> bool {
         let Some(c) = &self.until else {
             return false;
         };
         if !self.armed {
             return false;
         }
-        let vals: Vec<(String, Option<Value>)> = c
-            .variables()
-            .into_iter()
-            .map(|v| (v.to_string(), self.current(v)))
-            .collect();
+        self.until_msgs.clear();
+        for v in &self.until_vars {
+            let mut m = self.bus.current_message(v);
+            if let Some(m) = m.as_mut().filter(|m| m.data_type == DataType::String)
+                && std::str::from_utf8(&m.sval).is_err()
+            {
+                m.sval = String::from_utf8_lossy(&m.sval).into_owned().into();
+            }
+            self.until_msgs.push(m);
+        }
+        let (vars, msgs) = (&self.until_vars, &self.until_msgs);
         let lookup = |name: &str| -> Option<condition::Value<'_>> {
-            let (_, v) = vals.iter().find(|(n, _)| n == name)?;
-            match v.as_ref()? {
-                Value::Double(x) => Some(condition::Value::Double(*x)),
-                Value::String(s) => Some(condition::Value::String(s)),
-                Value::Binary(_) => None,
+            let i = vars.iter().position(|v| v == name)?;
+            let m = msgs.get(i)?.as_ref()?;
+            match m.data_type {
+                DataType::Double => Some(condition::Value::Double(m.dval)),
+                DataType::String => std::str::from_utf8(&m.sval)
+                    .ok()
+                    .map(condition::Value::String),
+                DataType::Binary | DataType::NotSet => None,
             }
         };
         c.evaluate(&lookup)

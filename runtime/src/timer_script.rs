@@ -798,7 +798,7 @@ impl App for TimerScript {
 
     fn on_mail(&mut self, mail: &[Mail], now: f64, _out: &mut Vec<Post>) -> crate::app::AppResult {
         for m in mail {
-            let key = m.key.as_str();
+            let key = &*m.key;
             if key == self.pause_var {
                 if let Some(s) = m.value.as_str() {
                     match s.to_ascii_lowercase().as_str() {
@@ -809,7 +809,7 @@ impl App for TimerScript {
                     }
                     self.status_needed = true;
                 }
-                self.info.insert(m.key.clone(), m.value.clone());
+                self.info.insert(m.key.to_string(), m.value.clone());
             } else if key == self.reset_var {
                 if let Some(s) = m.value.as_str()
                     && (s.eq_ignore_ascii_case("reset") || s.eq_ignore_ascii_case("true"))
@@ -862,7 +862,7 @@ impl App for TimerScript {
                 } else if key == "NAV_Y" {
                     self.nav_y = m.value.as_f64();
                 }
-                self.info.insert(m.key.clone(), m.value.clone());
+                self.info.insert(m.key.to_string(), m.value.clone());
             }
         }
         Ok(())
@@ -982,11 +982,11 @@ mod tests {
                 .iter()
                 .take_while(|(t, _, _)| *t <= now + 1e-9)
                 .map(|(t, key, v)| Mail {
-                    key: key.to_string(),
+                    key: (*key).into(),
                     value: v.clone(),
                     time: *t,
                     source: "test".into(),
-                    source_aux: String::new(),
+                    source_aux: Default::default(),
                     community: "alpha".into(),
                 })
                 .collect();
@@ -1288,8 +1288,8 @@ mod tests {
                 value: Value::text("uTimerScript"),
                 time: 1.0,
                 source: "uTimerScript".into(),
-                source_aux: String::new(),
-                community: String::new(),
+                source_aux: Default::default(),
+                community: Default::default(),
             }],
             1.2,
             &mut posts,

@@ -324,7 +324,7 @@ mod tests {
             value,
             time,
             source: "uMAC".into(),
-            source_aux: String::new(),
+            source_aux: Default::default(),
             community: "abe".into(),
         }
     }

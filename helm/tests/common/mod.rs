@@ -88,7 +88,7 @@ pub struct Rig {
 
 impl Rig {
     pub fn new(helm: Helm, vehicle: Vehicle) -> Self {
-        let subs = helm.subscriptions();
+        let subs = helm.subscriptions().to_vec();
         Rig {
             helm,
             vehicle,
@@ -121,7 +121,7 @@ impl Rig {
             }
             if self.subs.contains(&p.key) {
                 let mut m = Mail::new(&p.key, p.value.clone(), t).from("pHelmIvP");
-                m.source_aux = p.aux.clone();
+                m.source_aux = p.aux.as_str().into();
                 self.feedback.push(m);
             }
             self.log.push((t, p.clone()));
