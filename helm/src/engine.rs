@@ -27,7 +27,7 @@ use mission::bhv::{BehaviorFile, param_name};
 
 use crate::allstop::{AllStop, AllStopAction};
 use crate::config::{ConfigError, Globals, HelmConfig};
-use crate::fxhash::FxHashMap;
+use crate::fxhash::{FxHashMap, FxHashSet};
 use crate::info_buffer::InfoBuffer;
 use crate::macro_expand::expand;
 use crate::mode::ModeSet;
@@ -42,6 +42,7 @@ pub const APP_NAME: &str = "pHelmIvP";
 /// One incoming MOOS message: the workspace's one mail type.
 pub use moos_types::Mail;
 
+use moos_types::ByteString;
 /// One posting of the helm (the workspace's one posting type; its `aux` is `HELM_VAR_INIT`,
 /// `HELM_MODE`, `<iter>:<behaviour>`, or empty).
 pub use moos_types::Post as Posting;
@@ -130,11 +131,43 @@ struct Message {
 }
 
 /// The postings of one iteration. The `Posting`s of earlier iterations are kept and
-/// overwritten in place, so a steady-state iteration reuses their strings.
+/// overwritten in place, so a steady-state iteration reuses their value strings; variable
+/// names and aux fields are shared [`ByteString`]s ([`Names`]), so the app that publishes the
+/// postings copies only their string values.
 #[derive(Default)]
 struct Outbox {
     posts: Vec<Posting>,
     len: usize,
+    names: Names,
+}
+
+/// Most names [`Names`] keeps before it starts afresh.
+const NAMES_LIMIT: usize = 4096;
+
+/// One shared copy of each name the helm posts under (variables, aux fields such as a
+/// behaviour's name): posting a name is a reference count, not a copy.
+#[derive(Default)]
+struct Names {
+    set: FxHashSet<ByteString>,
+}
+
+impl Names {
+    fn get(&mut self, s: &str) -> ByteString {
+        if s.is_empty() {
+            return ByteString::new();
+        }
+        if let Some(n) = self.set.get(s) {
+            return n.clone();
+        }
+        if self.set.len() >= NAMES_LIMIT {
+            self.set.clear();
+        }
+        let n = ByteString::from(s);
+        // The first clone makes the buffer a shared one; later clones only count references.
+        let shared = n.clone();
+        self.set.insert(n);
+        shared
+    }
 }
 
 impl Outbox {
@@ -146,20 +179,26 @@ impl Outbox {
     }
     /// The next posting, with `var` and an empty `aux` (the caller sets value and aux).
     fn next(&mut self, var: &str) -> &mut Posting {
+        let key = self.names.get(var);
         if self.len == self.posts.len() {
-            self.posts.push(Posting::double(String::new(), 0.0));
+            self.posts.push(Posting::double(ByteString::new(), 0.0));
         }
         let p = &mut self.posts[self.len];
         self.len += 1;
-        p.key.clear();
-        p.key.push_str(var);
-        p.aux.clear();
+        p.key = key;
+        p.aux = ByteString::new();
+        p
+    }
+    /// The next posting, with `var` and the shared `aux`.
+    fn next_with_aux(&mut self, var: &str, aux: &str) -> &mut Posting {
+        let aux = self.names.get(aux);
+        let p = self.next(var);
+        p.aux = aux;
         p
     }
     fn push(&mut self, var: &str, value: Value, aux: &str) {
-        let p = self.next(var);
+        let p = self.next_with_aux(var, aux);
         p.value = value;
-        p.aux.push_str(aux);
     }
     /// Posts a string value that `write` writes into a cleared buffer (the string of an
     /// earlier posting when there is one).
@@ -1395,9 +1434,8 @@ impl Helm {
                     let mut parts = std::mem::take(&mut self.ipf_parts);
                     ivp::encode::mux(text, &id, 2000, &mut parts);
                     for part in parts.drain(..) {
-                        let p = self.out.next(&m.var);
+                        let p = self.out.next_with_aux(&m.var, name);
                         p.value = Value::String(part);
-                        p.aux.push_str(name);
                     }
                     self.ipf_parts = parts;
                 }
@@ -1463,11 +1501,14 @@ impl Helm {
                 {
                     self.notes.push(AppcastNote::Event(e.clone()));
                 }
+                // `<iteration>:<behaviour>` differs every iteration: its own buffer.
+                let mut aux = String::with_capacity(name.len() + 8);
+                uint(&mut aux, iter);
+                aux.push(':');
+                aux.push_str(name);
                 let p = self.out.next(&m.var);
                 p.value = m.value;
-                uint(&mut p.aux, iter);
-                p.aux.push(':');
-                p.aux.push_str(name);
+                p.aux = aux.into();
             }
         }
         self.messages = messages;
@@ -2439,7 +2480,7 @@ mod ledger_tests {
     fn start_up_posts_zero_counts_between_the_mode_set_and_the_alias() {
         let mut h = helm(&[("helm_alias", "hx")]);
         let p = h.iterate(0.0).to_vec();
-        let vars: Vec<&str> = p.iter().map(|p| p.key.as_str()).collect();
+        let vars: Vec<&str> = p.iter().map(|p| &*p.key).collect();
         let at = vars.iter().position(|v| *v == "IVPHELM_MODESET").unwrap();
         assert_eq!(
             vars[at + 1..at + 6],

@@ -2,7 +2,7 @@
 //! duplicate filter). The keys are MOOS variable names and filter keys chosen by the mission,
 //! not by an adversary, so SipHash's flooding resistance buys nothing here.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::hash::{BuildHasherDefault, Hasher};
 
 /// Multiply-rotate word hasher (the scheme of the Firefox/rustc "Fx" hash).
@@ -57,6 +57,9 @@ impl Hasher for FxHasher {
 
 /// A `HashMap` with [`FxHasher`].
 pub(crate) type FxHashMap<K, V> = HashMap<K, V, BuildHasherDefault<FxHasher>>;
+
+/// A `HashSet` with [`FxHasher`].
+pub(crate) type FxHashSet<K> = HashSet<K, BuildHasherDefault<FxHasher>>;
 
 #[cfg(test)]
 mod tests {

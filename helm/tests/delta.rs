@@ -120,7 +120,7 @@ impl DeltaRig {
         self.helm.on_mail(&mail);
         let posts = self.helm.iterate(t).to_vec();
         for p in &posts {
-            match (p.key.as_str(), &p.value) {
+            match (&*p.key, &p.value) {
                 ("DESIRED_HEADING", Value::Double(v)) => self.des.0 = *v,
                 ("DESIRED_SPEED", Value::Double(v)) => self.des.1 = *v,
                 ("DESIRED_DEPTH", Value::Double(v)) => self.des.2 = *v,
@@ -134,9 +134,9 @@ impl DeltaRig {
                 }
                 _ => {}
             }
-            if self.subs.contains(&p.key) {
+            if self.subs.iter().any(|s| *s == *p.key) {
                 let mut m = Mail::new(&p.key, p.value.clone(), t).from("pHelmIvP");
-                m.source_aux = p.aux.as_str().into();
+                m.source_aux = p.aux.clone();
                 self.feedback.push(m);
             }
             self.log.push((t, p.clone()));
@@ -840,7 +840,7 @@ fn opregion_posts_its_polygon_at_configuration_on_the_first_iteration() {
         }
         t += 0.5;
     }
-    let vars: Vec<&str> = first.iter().map(|p| p.key.as_str()).collect();
+    let vars: Vec<&str> = first.iter().map(|p| &*p.key).collect();
     let poly = vars.iter().position(|v| *v == "OPREG_POLY");
     let conf = vars.iter().position(|v| *v == "OPREG_CONFIGURED");
     let status = first

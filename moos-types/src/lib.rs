@@ -202,44 +202,93 @@ pub fn text_of(bytes: &Bytes) -> ByteString {
         .unwrap_or_else(|_| ByteString::from(String::from_utf8_lossy(bytes).into_owned()))
 }
 
-/// A value an app publishes.
+/// A value an app publishes. Its names are [`ByteString`]s, so an app that keeps its
+/// variable names as `ByteString`s posts them without a copy, and the bus hands their
+/// buffers on to the DB.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Post {
     /// Variable name.
-    pub key: String,
+    pub key: ByteString,
     /// Value.
     pub value: Value,
     /// The source to publish under, if not the app's own name (empty: the app's).
-    pub source: String,
+    pub source: ByteString,
     /// Auxiliary source field.
-    pub aux: String,
+    pub aux: ByteString,
 }
 
 impl Post {
-    /// A posting of `value` to `key`.
-    pub fn new(key: impl Into<String>, value: Value) -> Post {
+    /// A posting of `value` to `key` (see [`IntoText`]: a `ByteString` key is shared, not
+    /// copied).
+    pub fn new(key: impl IntoText, value: Value) -> Post {
         Post {
-            key: key.into(),
+            key: key.into_text(),
             value,
-            source: String::new(),
-            aux: String::new(),
+            source: ByteString::new(),
+            aux: ByteString::new(),
         }
     }
 
     /// Builder: sets the auxiliary source field.
-    pub fn with_aux(mut self, aux: impl Into<String>) -> Post {
-        self.aux = aux.into();
+    pub fn with_aux(mut self, aux: impl IntoText) -> Post {
+        self.aux = aux.into_text();
         self
     }
 
-    /// A double posting (the key is anything that reads as text: `&str`, `&Arc<str>`, ...).
-    pub fn double(key: impl AsRef<str>, x: f64) -> Post {
-        Post::new(key.as_ref(), Value::Double(x))
+    /// A double posting.
+    pub fn double(key: impl IntoText, x: f64) -> Post {
+        Post::new(key, Value::Double(x))
     }
 
     /// A string posting.
-    pub fn text(key: impl AsRef<str>, s: impl Into<String>) -> Post {
-        Post::new(key.as_ref(), Value::String(s.into()))
+    pub fn text(key: impl IntoText, s: impl Into<String>) -> Post {
+        Post::new(key, Value::String(s.into()))
+    }
+}
+
+/// Text that becomes a [`ByteString`] name: `&str`, `&String` (copied) and `String` (its
+/// buffer kept), or a `ByteString` / `&ByteString` (shared: a reference count, no copy).
+///
+/// ```
+/// use moos_types::{ByteString, IntoText, Post};
+/// let key = ByteString::from_static("NAV_X");
+/// let p = Post::double(&key, 1.0);
+/// assert_eq!(p.key, "NAV_X");
+/// assert_eq!(p.key.as_bytes().as_ptr(), key.as_bytes().as_ptr(), "shared, not copied");
+/// assert_eq!("X".into_text(), String::from("X").into_text());
+/// ```
+pub trait IntoText {
+    /// The text as a `ByteString`.
+    fn into_text(self) -> ByteString;
+}
+
+impl IntoText for &str {
+    fn into_text(self) -> ByteString {
+        ByteString::from(self)
+    }
+}
+
+impl IntoText for String {
+    fn into_text(self) -> ByteString {
+        ByteString::from(self)
+    }
+}
+
+impl IntoText for &String {
+    fn into_text(self) -> ByteString {
+        ByteString::from(self.as_str())
+    }
+}
+
+impl IntoText for ByteString {
+    fn into_text(self) -> ByteString {
+        self
+    }
+}
+
+impl IntoText for &ByteString {
+    fn into_text(self) -> ByteString {
+        self.clone()
     }
 }
 

@@ -83,10 +83,10 @@ impl DbHost for LocalDb {
 
 /// An in-process MOOSDB with in-process clients. Every call takes the MOOS time.
 ///
-/// Mail is handed out without copies of its names (see [`moos_types::Mail`]), and the names
-/// of posts (variables, sources, aux fields) are kept as shared buffers
-/// ([`Bus::publish`]), so a post of a double reaches the DB and its subscribers without
-/// copying text.
+/// Mail is handed out without copies of its names (see [`moos_types::Mail`]); the bus keeps
+/// one shared buffer per variable and source name it publishes, and hands on a post's aux
+/// field as the app made it, so a post of a double reaches the DB and its subscribers
+/// without copying text.
 #[derive(Debug)]
 pub struct Bus<H: DbHost = LocalDb> {
     host: H,
@@ -98,9 +98,9 @@ pub struct Bus<H: DbHost = LocalDb> {
 /// again after that is copied once more).
 const NAMES_LIMIT: usize = 4096;
 
-/// Shared buffers of the names posts carry, so that publishing hands the DB
-/// reference-counted buffers instead of fresh copies (the DB keeps them as variable names,
-/// writers and aux fields, and clones them into every subscriber's mail).
+/// Shared buffers of the variable and source names posts carry, so that publishing hands
+/// the DB reference-counted buffers instead of fresh copies (the DB keeps them as variable
+/// names and writers, and clones them into every subscriber's mail).
 #[derive(Debug, Default)]
 struct Names {
     set: FxHashSet<Bytes>,
@@ -217,7 +217,9 @@ impl<H: DbHost> Bus<H> {
                         m.sval = Bytes::copy_from_slice(b);
                     }
                 }
-                m.src_aux = names.get(&p.aux);
+                // Aux fields vary (the helm's `<iteration>:<behaviour>`): the post's own
+                // buffer, shared as the app made it.
+                m.src_aux = p.aux.as_bytes().clone();
                 m.src = if p.source.is_empty() {
                     default_src.clone()
                 } else {

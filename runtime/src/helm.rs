@@ -339,8 +339,9 @@ impl App for HelmApp {
         if let Some(cpu) = self.cpu_percent {
             out.push(Post::double("IVPHELM_CPU", cpu));
         }
+        // The helm's names are shared: copying a posting copies only a string value.
         for p in self.helm.iterate(now) {
-            out.push(Post::new(p.key.clone(), p.value.clone()).with_aux(p.aux.clone()));
+            out.push(Post::new(&p.key, p.value.clone()).with_aux(&p.aux));
         }
         for note in self.helm.take_appcast_notes() {
             self.appcast.note(note, now);

@@ -97,8 +97,8 @@ fn send(client: &Client, posts: &mut Vec<Post>, published: &mut BTreeSet<String>
     for p in posts.drain(..) {
         let value = p.value;
         // A post while reconnecting is lost, as CMOOSApp's Notify fails while offline.
-        if client.notify_with(&p.key, value, None, &p.aux).is_ok() && !published.contains(&p.key) {
-            published.insert(p.key);
+        if client.notify_with(&p.key, value, None, &p.aux).is_ok() && !published.contains(&*p.key) {
+            published.insert(p.key.to_string());
         }
     }
 }

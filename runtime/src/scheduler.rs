@@ -16,6 +16,7 @@ use thiserror::Error;
 use crate::app::{App, AppError, Mail, Post, STATUS_PERIOD, Value};
 use crate::bus::{Bus, BusError, DbHost, LocalDb};
 use crate::clock::{Clock, VirtualClock};
+use moos_types::ByteString;
 
 /// When a poke is posted.
 #[derive(Debug, Clone, PartialEq)]
@@ -197,7 +198,12 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
         if tapped.is_empty() {
             return;
         }
-        taps.extend(posts.iter().filter(|p| tapped.contains(&p.key)).cloned());
+        taps.extend(
+            posts
+                .iter()
+                .filter(|p| tapped.iter().any(|k| **k == *p.key))
+                .cloned(),
+        );
     }
 
     /// Turns the CMOOSApp `<APP>_STATUS` posts (every 2 s per app) on or off (default on).
@@ -221,7 +227,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
         if self.started {
             self.posts.clear();
             app.on_startup(now, &mut self.posts)?;
-            published.extend(self.posts.iter().map(|p| p.key.clone()));
+            published.extend(self.posts.iter().map(|p| p.key.to_string()));
             self.bus.publish(id, &self.posts, &name, now)?;
         }
         self.slots.push(Slot {
@@ -248,10 +254,10 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
             self.poke_client = Some(self.bus.connect("uPokeDB", self.start)?);
         }
         let post = Post {
-            key: poke.key,
+            key: poke.key.into(),
             value: poke.value,
-            source: "uPokeDB".to_string(),
-            aux: String::new(),
+            source: ByteString::from_static("uPokeDB"),
+            aux: ByteString::new(),
         };
         match poke.at {
             PokeAt::Time(t) => {
@@ -394,8 +400,8 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
         now: f64,
     ) -> Result<(), BusError> {
         for p in posts {
-            if !slot.published.contains(&p.key) {
-                slot.published.insert(p.key.clone());
+            if !slot.published.contains(&*p.key) {
+                slot.published.insert(p.key.to_string());
             }
         }
         bus.publish(slot.id, posts, &slot.name, now)

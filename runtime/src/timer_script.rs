@@ -1025,10 +1025,8 @@ mod tests {
             )
         );
         let posts = without_status(out.clone());
-        let got: Vec<(f64, &str, &Value)> = posts
-            .iter()
-            .map(|(t, p)| (*t, p.key.as_str(), &p.value))
-            .collect();
+        let got: Vec<(f64, &str, &Value)> =
+            posts.iter().map(|(t, p)| (*t, &*p.key, &p.value)).collect();
         assert_eq!(
             got,
             vec![
@@ -1076,7 +1074,7 @@ mod tests {
             "event = var=A, val=x, time=1\nevent = var=B, val=y, time=5\nreset_time = 3\nreset_max = 1",
         );
         let out = without_status(run(&mut ts, 0.0, 0.5, 20, &[]));
-        let got: Vec<(f64, &str)> = out.iter().map(|(t, p)| (*t, p.key.as_str())).collect();
+        let got: Vec<(f64, &str)> = out.iter().map(|(t, p)| (*t, &*p.key)).collect();
         // Pass 1: A at 1, reset at elapsed 3; pass 2 starts at 3.5: A at 4.5; B never.
         assert_eq!(got, vec![(1.0, "A"), (4.5, "A")]);
     }
@@ -1131,7 +1129,7 @@ mod tests {
         let mut ts = script("event = var=A, val=1, time=2\nevent = var=B, val=1, time=10");
         let mail = [(4.0, "UTS_RESET", Value::text("reset"))];
         let out = without_status(run(&mut ts, 0.0, 1.0, 9, &mail));
-        let got: Vec<(f64, &str)> = out.iter().map(|(t, p)| (*t, p.key.as_str())).collect();
+        let got: Vec<(f64, &str)> = out.iter().map(|(t, p)| (*t, &*p.key)).collect();
         // A at 2; reset by mail at 4, so the same iterate restarts; A again at 6.
         assert_eq!(got, vec![(2.0, "A"), (6.0, "A")]);
     }
@@ -1232,7 +1230,7 @@ mod tests {
             (5.0, "UTS_FORWARD", Value::Double(50.0)),
         ];
         let out = without_status(run(&mut ts, 0.0, 1.0, 160, &mail));
-        let got: Vec<(f64, &str)> = out.iter().map(|(t, p)| (*t, p.key.as_str())).collect();
+        let got: Vec<(f64, &str)> = out.iter().map(|(t, p)| (*t, &*p.key)).collect();
         // At 2 skip 99 (to the next event from the last elapsed time, 1): A posts at 2;
         // at 5 skip 50 more: elapsed = t + 149, B (200) at t 51.
         assert_eq!(got, vec![(2.0, "A"), (51.0, "B")]);

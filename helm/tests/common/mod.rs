@@ -114,14 +114,14 @@ impl Rig {
         self.helm.on_mail(&mail);
         let posts = self.helm.iterate(t).to_vec();
         for p in &posts {
-            match (p.key.as_str(), &p.value) {
+            match (&*p.key, &p.value) {
                 ("DESIRED_HEADING", Value::Double(v)) => self.des_heading = *v,
                 ("DESIRED_SPEED", Value::Double(v)) => self.des_speed = *v,
                 _ => {}
             }
-            if self.subs.contains(&p.key) {
+            if self.subs.iter().any(|s| *s == *p.key) {
                 let mut m = Mail::new(&p.key, p.value.clone(), t).from("pHelmIvP");
-                m.source_aux = p.aux.as_str().into();
+                m.source_aux = p.aux.clone();
                 self.feedback.push(m);
             }
             self.log.push((t, p.clone()));
