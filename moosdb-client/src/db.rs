@@ -521,10 +521,13 @@ impl Database {
     /// if non-empty (held mail only if something besides the T came); for a synchronous
     /// client always `[NULL(dval = DB time)] + held mail + replies`. If the packet carried a
     /// notify, every asynchronous client's held mail is then pushed as its own packet.
+    ///
+    /// The packet is any sequence of messages (a decoded `Vec`, or an in-process caller's
+    /// iterator, which needs no buffer of its own).
     pub fn handle(
         &mut self,
         id: ClientId,
-        mut msgs: Vec<Message>,
+        msgs: impl IntoIterator<Item = Message>,
         now: DbTime,
     ) -> Result<Effects, DbError> {
         let c = self
@@ -535,8 +538,8 @@ impl Database {
         let name = c.name.clone();
         let asynchronous = c.asynchronous;
         let mut echo = None;
-        if msgs.first().is_some_and(|m| m.msg_type == MsgType::Timing) {
-            let mut t = msgs.remove(0);
+        let mut msgs = msgs.into_iter().peekable();
+        if let Some(mut t) = msgs.next_if(|m| m.msg_type == MsgType::Timing) {
             c.timing
                 .get_or_insert_with(Timing::default)
                 .add((now.moos - t.time) * 1000.0);
@@ -544,10 +547,12 @@ impl Database {
             t.dval2 = 0.0;
             echo = Some(t);
         }
-        let had_notify = msgs.iter().any(|m| m.msg_type == MsgType::Notify);
-        let had_any = !msgs.is_empty();
+        let mut had_notify = false;
+        let mut had_any = false;
         let mut replies = VecDeque::new();
         for m in msgs {
+            had_any = true;
+            had_notify |= m.msg_type == MsgType::Notify;
             self.process(&name, m, now, &mut replies);
         }
         if now.moos - self.summary_time > SUMMARY_PERIOD {

@@ -183,7 +183,7 @@ impl<H: DbHost> Bus<H> {
             m.time = now;
             m
         };
-        self.send(id, vec![msg], now)
+        Self::send(&mut self.host, id, [msg], now)
     }
 
     /// Publishes posts made at `now` by the client `id`; a post with an empty source gets
@@ -200,44 +200,45 @@ impl<H: DbHost> Bus<H> {
         }
         let default_src = self.names.get(default_source);
         let names = &mut self.names;
-        let msgs = posts
-            .iter()
-            .map(|p| {
-                let mut m = Message::new(MsgType::Notify, DataType::Double, "");
-                m.key = names.get(&p.key);
-                m.time = now;
-                match &p.value {
-                    Value::Double(x) => m.dval = *x,
-                    Value::String(s) => {
-                        m.data_type = DataType::String;
-                        m.sval = Bytes::copy_from_slice(s.as_bytes());
-                    }
-                    Value::Binary(b) => {
-                        m.data_type = DataType::Binary;
-                        m.sval = Bytes::copy_from_slice(b);
-                    }
+        let msgs = posts.iter().map(|p| {
+            let mut m = Message::new(MsgType::Notify, DataType::Double, "");
+            m.key = names.get(&p.key);
+            m.time = now;
+            match &p.value {
+                Value::Double(x) => m.dval = *x,
+                Value::String(s) => {
+                    m.data_type = DataType::String;
+                    m.sval = Bytes::copy_from_slice(s.as_bytes());
                 }
-                // Aux fields vary (the helm's `<iteration>:<behaviour>`): the post's own
-                // buffer, shared as the app made it.
-                m.src_aux = p.aux.as_bytes().clone();
-                m.src = if p.source.is_empty() {
-                    default_src.clone()
-                } else {
-                    names.get(&p.source)
-                };
-                m
-            })
-            .collect();
-        self.send(id, msgs, now)
+                Value::Binary(b) => {
+                    m.data_type = DataType::Binary;
+                    m.sval = Bytes::copy_from_slice(b);
+                }
+            }
+            // Aux fields vary (the helm's `<iteration>:<behaviour>`): the post's own
+            // buffer, shared as the app made it.
+            m.src_aux = p.aux.as_bytes().clone();
+            m.src = if p.source.is_empty() {
+                default_src.clone()
+            } else {
+                names.get(&p.source)
+            };
+            m
+        });
+        Self::send(&mut self.host, id, msgs, now)
     }
 
-    fn send(&mut self, id: ClientId, msgs: Vec<Message>, now: f64) -> Result<(), BusError> {
-        let effects = self
-            .host
+    fn send(
+        host: &mut H,
+        id: ClientId,
+        msgs: impl IntoIterator<Item = Message>,
+        now: f64,
+    ) -> Result<(), BusError> {
+        let effects = host
             .with_mut(now, |db, t| db.handle(id, msgs, t))
             .map_err(|_| BusError::NotConnected(id))?;
         if !effects.ready.is_empty() {
-            self.host.wake(&effects);
+            host.wake(&effects);
         }
         Ok(())
     }
@@ -246,7 +247,7 @@ impl<H: DbHost> Bus<H> {
     /// `out`. Like a sync client's poll, this also collects held mail.
     pub fn fetch(&mut self, id: ClientId, now: f64, out: &mut Vec<Mail>) -> Result<(), BusError> {
         let poll = Message::new(MsgType::Null, DataType::Double, "");
-        self.send(id, vec![poll], now)?;
+        Self::send(&mut self.host, id, [poll], now)?;
         self.packets.clear();
         let packets = &mut self.packets;
         if !self

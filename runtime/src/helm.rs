@@ -17,6 +17,8 @@ use crate::appcasting::AppcastLayer;
 pub struct HelmApp {
     name: String,
     block: Option<ProcessConfig>,
+    /// The block's AppTick, read once.
+    tick: f64,
     helm: Helm,
     registered: Vec<String>,
     pid: Option<u32>,
@@ -91,6 +93,7 @@ impl HelmApp {
         }
         HelmApp {
             name: name.to_string(),
+            tick: crate::app::app_tick_of(block.as_ref()),
             block,
             helm,
             registered,
@@ -265,6 +268,10 @@ impl App for HelmApp {
 
     fn process_config(&self) -> Option<&ProcessConfig> {
         self.block.as_ref()
+    }
+
+    fn app_tick(&self) -> f64 {
+        self.tick
     }
 
     fn subscriptions(&self) -> Vec<Subscription> {

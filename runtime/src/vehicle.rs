@@ -69,6 +69,8 @@ enum Inner {
 pub struct VehicleApp {
     name: String,
     block: ProcessConfig,
+    /// The block's AppTick, read once.
+    tick: f64,
     inner: Inner,
     subs: Vec<Subscription>,
     postings: Vec<Posting>,
@@ -92,6 +94,7 @@ impl VehicleApp {
         }
         VehicleApp {
             name: name.to_string(),
+            tick: crate::app::app_tick_of(Some(&block)),
             block,
             inner,
             subs: AppcastLayer::subscriptions()
@@ -234,6 +237,10 @@ impl App for VehicleApp {
 
     fn process_config(&self) -> Option<&ProcessConfig> {
         Some(&self.block)
+    }
+
+    fn app_tick(&self) -> f64 {
+        self.tick
     }
 
     fn on_startup(&mut self, now: f64, out: &mut Vec<Post>) -> crate::app::AppResult {
