@@ -27,12 +27,12 @@ use mission::bhv::{BehaviorFile, param_name};
 
 use crate::allstop::{AllStop, AllStopAction};
 use crate::config::{ConfigError, Globals, HelmConfig};
-use crate::fxhash::{FxHashMap, FxHashSet};
 use crate::info_buffer::InfoBuffer;
 use crate::macro_expand::expand;
 use crate::mode::ModeSet;
 use crate::report::{BhvLine, HelmReport, Rendered};
 use crate::runstate::{DurationClock, RunState};
+use rustc_hash::{FxHashMap, FxHashSet};
 
 pub use behaviors::Value;
 

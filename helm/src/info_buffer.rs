@@ -3,7 +3,7 @@
 
 use behaviors::{Info, Value};
 
-use crate::fxhash::FxHashMap;
+use rustc_hash::FxHashMap;
 
 /// One variable's latest state.
 #[derive(Debug, Clone, PartialEq)]

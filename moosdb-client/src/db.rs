@@ -1063,7 +1063,7 @@ pub fn time_of_day(t: f64) -> String {
     TimeOfDay(t).to_string()
 }
 
-/// [`time_of_day`] as a `Display` (honours width and alignment, as `{:<20}` in
+/// [`time_of_day`] as a `Display` (a width pads on the right, as `{:<20}` in
 /// `DB_VARSUMMARY`), without a temporary string.
 struct TimeOfDay(f64);
 
@@ -1073,28 +1073,20 @@ impl std::fmt::Display for TimeOfDay {
         let secs = t.floor();
         let ms = ((t - secs) * 1000.0).floor() as i64;
         let day = (secs as i64).rem_euclid(86_400);
-        let fields = [
-            (day / 3600, 2),
-            ((day / 60) % 60, 2),
-            (day % 60, 2),
-            (ms.clamp(0, 999), 3),
-        ];
-        // "HH:MM:SS.mmm": every field is in range, so the text is always 12 ASCII bytes.
-        let mut buf = [b'0'; 12];
-        let mut at = 0;
-        for (i, (n, width)) in fields.into_iter().enumerate() {
-            if i > 0 {
-                buf[at] = if i == 3 { b'.' } else { b':' };
-                at += 1;
-            }
-            let mut n = n;
-            for d in (0..width).rev() {
-                buf[at + d] = b'0' + (n % 10) as u8;
-                n /= 10;
-            }
-            at += width;
+        write!(
+            f,
+            "{:02}:{:02}:{:02}.{:03}",
+            day / 3600,
+            (day / 60) % 60,
+            day % 60,
+            ms.clamp(0, 999)
+        )?;
+        // Every field is in range, so the text is always 12 characters; a width pads it on
+        // the right (the left alignment `DB_VARSUMMARY` asks for).
+        for _ in 12..f.width().unwrap_or(0) {
+            f.write_char(f.fill())?;
         }
-        f.pad(std::str::from_utf8(&buf).unwrap_or_default())
+        Ok(())
     }
 }
 
@@ -1436,6 +1428,7 @@ mod tests {
         assert!(wildcard_match(b"*_ITER_GAP", b"PHELM_ITER_GAP"));
         assert_eq!(time_of_day(-1.0), "23:59:59.000");
         assert_eq!(time_of_day(1795217434.275), "23:30:34.275");
+        assert_eq!(format!("{:<14}|", TimeOfDay(-1.0)), "23:59:59.000  |");
         assert_eq!(fmt_g6(0.481129), "0.481129");
         assert_eq!(fmt_g6(12.5), "12.5");
         assert_eq!(fmt_g6(0.0000123), "1.23e-05");
