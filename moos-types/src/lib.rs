@@ -7,10 +7,11 @@
 //! behaviours, the vehicle apps and the logger all speak these types, so no layer translates
 //! between private copies of them.
 //!
-//! A [`Mail`]'s names ([`Mail::key`], [`Mail::source`], ...) are [`ByteString`]s: UTF-8 text
-//! over a shared [`Bytes`] buffer. The DB hands the same message to every subscriber, and a
-//! mail made from it shares the message's buffers, so delivering it copies no text and
-//! allocates nothing; cloning a mail is a reference-count increment per field.
+//! A [`Mail`]'s names ([`Mail::key`], [`Mail::source`], ...), a [`Post`]'s names and a
+//! string [`Value`] are [`ByteString`]s: UTF-8 text over a shared [`Bytes`] buffer (the wire
+//! codec's buffer type). The DB hands the same message to every subscriber, and a mail made
+//! from it shares the message's buffers, so delivering it copies no text and allocates
+//! nothing; cloning a mail, a post or a value is a reference-count increment per string.
 //!
 //! ```
 //! use moos_types::{Mail, Post, Value};
@@ -35,8 +36,9 @@ use std::fmt as stdfmt;
 pub enum Value {
     /// A double (`'D'`).
     Double(f64),
-    /// A string (`'S'`).
-    String(String),
+    /// A string (`'S'`): shared text, so copies of a value (a message delivered to many
+    /// apps, a posting kept by the helm) share one buffer.
+    String(ByteString),
     /// Binary data (`'B'`).
     Binary(Vec<u8>),
 }
@@ -58,9 +60,9 @@ impl Value {
         }
     }
 
-    /// A string value.
-    pub fn text(s: impl Into<String>) -> Value {
-        Value::String(s.into())
+    /// A string value (see [`IntoText`]).
+    pub fn text(s: impl IntoText) -> Value {
+        Value::String(s.into_text())
     }
 
     /// The borrowed view.
@@ -81,12 +83,18 @@ impl From<f64> for Value {
 
 impl From<&str> for Value {
     fn from(v: &str) -> Self {
-        Value::String(v.to_string())
+        Value::String(v.into())
     }
 }
 
 impl From<String> for Value {
     fn from(v: String) -> Self {
+        Value::String(v.into())
+    }
+}
+
+impl From<ByteString> for Value {
+    fn from(v: ByteString) -> Self {
         Value::String(v)
     }
 }
@@ -136,7 +144,7 @@ impl<'a> ValueRef<'a> {
     pub fn to_owned(&self) -> Value {
         match *self {
             ValueRef::Double(x) => Value::Double(x),
-            ValueRef::String(s) => Value::String(s.to_string()),
+            ValueRef::String(s) => Value::String(s.into()),
             ValueRef::Binary(b) => Value::Binary(b.to_vec()),
         }
     }
@@ -241,8 +249,8 @@ impl Post {
     }
 
     /// A string posting.
-    pub fn text(key: impl IntoText, s: impl Into<String>) -> Post {
-        Post::new(key, Value::String(s.into()))
+    pub fn text(key: impl IntoText, s: impl IntoText) -> Post {
+        Post::new(key, Value::text(s))
     }
 }
 

@@ -452,7 +452,7 @@ impl Database {
         w.community = self.community.clone();
         info!(client = %String::from_utf8_lossy(&name), asynchronous, "client connected");
         let event = format!("connected={}", String::from_utf8_lossy(&name));
-        self.internal_notify("DB_EVENT", Value::String(event), now);
+        self.internal_notify("DB_EVENT", Value::String(event.into()), now);
         Handshake::Welcome { id, reply: w }
     }
 
@@ -489,7 +489,7 @@ impl Database {
         }
         info!(client = %name, "client disconnected");
         let event = format!("disconnected={name}");
-        self.internal_notify("DB_EVENT", Value::String(event), now);
+        self.internal_notify("DB_EVENT", Value::String(event.into()), now);
         Some(name)
     }
 
@@ -934,9 +934,9 @@ impl Database {
         // Client names are UTF-8 in practice; others are read lossily.
         let list = String::from_utf8(list)
             .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned());
-        self.internal_notify("DB_CLIENTS", Value::String(list), now);
+        self.internal_notify("DB_CLIENTS", Value::String(list.into()), now);
         let summary = self.var_summary();
-        self.internal_notify("DB_VARSUMMARY", Value::String(summary), now);
+        self.internal_notify("DB_VARSUMMARY", Value::String(summary.into()), now);
         let mut qos = String::new();
         let mut by_name: Vec<&ClientState> = self.clients.values().collect();
         by_name.sort_by(|a, b| a.name.cmp(&b.name));
@@ -953,9 +953,9 @@ impl Database {
                 );
             }
         }
-        self.internal_notify("DB_QOS", Value::String(qos), now);
+        self.internal_notify("DB_QOS", Value::String(qos.into()), now);
         let rw = self.rw_summary(&clients);
-        self.internal_notify("DB_RWSUMMARY", Value::String(rw), now);
+        self.internal_notify("DB_RWSUMMARY", Value::String(rw.into()), now);
     }
 
     fn var_summary(&self) -> String {

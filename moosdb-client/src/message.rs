@@ -237,7 +237,7 @@ impl Message {
             Value::Double(v) => m.dval = v,
             Value::String(s) => {
                 m.data_type = DataType::String;
-                m.sval = Bytes::from(s);
+                m.sval = s.into_bytes();
             }
             Value::Binary(b) => {
                 m.data_type = DataType::Binary;
@@ -247,20 +247,21 @@ impl Message {
         m
     }
 
-    /// The value carried by this message, by its data type (`None` for `'~'`); a string
-    /// that is not UTF-8 is read lossily.
+    /// The value carried by this message, by its data type (`None` for `'~'`): a string
+    /// shares the message's buffer (one that is not UTF-8 is copied lossily), binary data is
+    /// copied.
     pub fn value(&self) -> Option<Value> {
         match self.data_type {
             DataType::Double => Some(Value::Double(self.dval)),
-            DataType::String => Some(Value::String(self.sval_str().into_owned())),
+            DataType::String => Some(Value::String(text_of(&self.sval))),
             DataType::Binary => Some(Value::Binary(self.sval.to_vec())),
             DataType::NotSet => None,
         }
     }
 
-    /// The mail this notify delivers (`None` for data type `'~'`): its names share this
-    /// message's buffers (no copy, see [`moos_types::text_of`]); a string value is copied
-    /// (lossily when it is not UTF-8) and so is binary data.
+    /// The mail this notify delivers (`None` for data type `'~'`): its names and a string
+    /// value share this message's buffers (no copy, see [`moos_types::text_of`]); binary
+    /// data is copied.
     ///
     /// ```
     /// use moosdb_client::{Message, Value};

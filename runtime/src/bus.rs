@@ -208,7 +208,7 @@ impl<H: DbHost> Bus<H> {
                 Value::Double(x) => m.dval = *x,
                 Value::String(s) => {
                     m.data_type = DataType::String;
-                    m.sval = Bytes::copy_from_slice(s.as_bytes());
+                    m.sval = s.as_bytes().clone();
                 }
                 Value::Binary(b) => {
                     m.data_type = DataType::Binary;

@@ -696,7 +696,7 @@ impl TimerScript {
                     let s = self.expand(text, now);
                     match s.parse::<f64>() {
                         Ok(x) if !quoted && condition::is_numeric(&s) => Value::Double(x),
-                        _ => Value::String(s),
+                        _ => Value::String(s.into()),
                     }
                 }
             }

@@ -382,6 +382,6 @@ fn node_reporter_startup_subscriptions_and_mail_time() {
         .collect();
     assert_eq!(
         plat[0].value,
-        Value::String("platform=abe,utc_time=1786000003.00000,BATT_V=12".to_string())
+        Value::text("platform=abe,utc_time=1786000003.00000,BATT_V=12")
     );
 }

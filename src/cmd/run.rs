@@ -1018,7 +1018,7 @@ fn realtime(
                         .and_then(|m| match m.data_type {
                             moosdb_client::DataType::Double => Some(Value::Double(m.dval)),
                             moosdb_client::DataType::String => {
-                                Some(Value::String(m.sval_str().into_owned()))
+                                Some(Value::String(m.sval_str().into_owned().into()))
                             }
                             _ => None,
                         })
