@@ -89,8 +89,8 @@ pub fn parse(text: &str) -> Result<Alog, AlogError> {
                     value: Value::String(s),
                     ..
                 }) => {
-                    s.push('\n');
-                    s.push_str(line.trim_end());
+                    // A value continued on the next line (rare): joined into a new text.
+                    *s = format!("{s}\n{}", line.trim_end()).into();
                 }
                 _ => {
                     return Err(AlogError::NotARecord {
@@ -148,16 +148,16 @@ fn parse_line_marked(line: &str, marked: bool) -> Option<Entry> {
             d.trim()
                 .parse::<f64>()
                 .map(Value::Double)
-                .unwrap_or_else(|_| Value::String(d.to_string()))
+                .unwrap_or_else(|_| Value::text(d))
         } else {
-            Value::String(raw.strip_prefix("S:").unwrap_or(raw).to_string())
+            Value::text(raw.strip_prefix("S:").unwrap_or(raw))
         }
     } else if is_number(raw) {
         raw.parse::<f64>()
             .map(Value::Double)
-            .unwrap_or_else(|_| Value::String(raw.to_string()))
+            .unwrap_or_else(|_| Value::text(raw))
     } else {
-        Value::String(raw.to_string())
+        Value::text(raw)
     };
     Some(Entry {
         time,

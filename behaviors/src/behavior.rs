@@ -143,7 +143,7 @@ impl MapInfo {
     }
     /// Builder: sets a string (written at the current time).
     pub fn text(mut self, var: &str, v: &str) -> Self {
-        self.set(var, Value::String(v.to_string()));
+        self.set(var, Value::text(v));
         self
     }
     /// Sets a variable, written at the current time (its age is 0 until the time moves on).

@@ -149,9 +149,9 @@ impl Flag {
         let value = if is_number(val) {
             FlagValue::Double(val.parse().ok()?)
         } else if val.len() >= 2 && val.starts_with('"') && val.ends_with('"') {
-            FlagValue::String(val[1..val.len() - 1].to_string())
+            FlagValue::text(&val[1..val.len() - 1])
         } else {
-            FlagValue::String(val.to_string())
+            FlagValue::text(val)
         };
         Some(Flag {
             var: var.to_string(),

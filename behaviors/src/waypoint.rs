@@ -666,7 +666,7 @@ impl Waypoint {
                     if s.contains(&pat) {
                         let mut v = String::new();
                         self.macro_value(m, &mut v);
-                        *s = s.replace(&pat, &v);
+                        *s = s.replace(&pat, &v).into();
                     }
                 }
             }

@@ -27,12 +27,12 @@ use mission::bhv::{BehaviorFile, param_name};
 
 use crate::allstop::{AllStop, AllStopAction};
 use crate::config::{ConfigError, Globals, HelmConfig};
-use crate::fxhash::FxHashMap;
 use crate::info_buffer::InfoBuffer;
 use crate::macro_expand::expand;
 use crate::mode::ModeSet;
 use crate::report::{BhvLine, HelmReport, Rendered};
 use crate::runstate::{DurationClock, RunState};
+use rustc_hash::{FxHashMap, FxHashSet};
 
 pub use behaviors::Value;
 
@@ -42,6 +42,7 @@ pub const APP_NAME: &str = "pHelmIvP";
 /// One incoming MOOS message: the workspace's one mail type.
 pub use moos_types::Mail;
 
+use moos_types::ByteString;
 /// One posting of the helm (the workspace's one posting type; its `aux` is `HELM_VAR_INIT`,
 /// `HELM_MODE`, `<iter>:<behaviour>`, or empty).
 pub use moos_types::Post as Posting;
@@ -130,11 +131,45 @@ struct Message {
 }
 
 /// The postings of one iteration. The `Posting`s of earlier iterations are kept and
-/// overwritten in place, so a steady-state iteration reuses their strings.
+/// overwritten in place, so a steady-state iteration reuses their value strings; variable
+/// names and aux fields are shared [`ByteString`]s ([`Names`]), so the app that publishes the
+/// postings copies only their string values.
 #[derive(Default)]
 struct Outbox {
     posts: Vec<Posting>,
     len: usize,
+    names: Names,
+    /// Where [`Outbox::text`] writes.
+    scratch: String,
+}
+
+/// Most names [`Names`] keeps before it starts afresh.
+const NAMES_LIMIT: usize = 4096;
+
+/// One shared copy of each name the helm posts under (variables, aux fields such as a
+/// behaviour's name): posting a name is a reference count, not a copy.
+#[derive(Default)]
+struct Names {
+    set: FxHashSet<ByteString>,
+}
+
+impl Names {
+    fn get(&mut self, s: &str) -> ByteString {
+        if s.is_empty() {
+            return ByteString::new();
+        }
+        if let Some(n) = self.set.get(s) {
+            return n.clone();
+        }
+        if self.set.len() >= NAMES_LIMIT {
+            self.set.clear();
+        }
+        let n = ByteString::from(s);
+        // The first clone makes the buffer a shared one; later clones only count references.
+        let shared = n.clone();
+        self.set.insert(n);
+        shared
+    }
 }
 
 impl Outbox {
@@ -146,32 +181,39 @@ impl Outbox {
     }
     /// The next posting, with `var` and an empty `aux` (the caller sets value and aux).
     fn next(&mut self, var: &str) -> &mut Posting {
+        let key = self.names.get(var);
         if self.len == self.posts.len() {
-            self.posts.push(Posting::double(String::new(), 0.0));
+            self.posts.push(Posting::double(ByteString::new(), 0.0));
         }
         let p = &mut self.posts[self.len];
         self.len += 1;
-        p.key.clear();
-        p.key.push_str(var);
-        p.aux.clear();
+        p.key = key;
+        p.aux = ByteString::new();
+        p
+    }
+    /// The next posting, with `var` and the shared `aux`.
+    fn next_with_aux(&mut self, var: &str, aux: &str) -> &mut Posting {
+        let aux = self.names.get(aux);
+        let p = self.next(var);
+        p.aux = aux;
         p
     }
     fn push(&mut self, var: &str, value: Value, aux: &str) {
-        let p = self.next(var);
+        let p = self.next_with_aux(var, aux);
         p.value = value;
-        p.aux.push_str(aux);
     }
-    /// Posts a string value that `write` writes into a cleared buffer (the string of an
-    /// earlier posting when there is one).
+    /// Posts a string value that `write` writes into a cleared, reused buffer; the text is
+    /// copied into a shared string unless the posting in this place last iteration had the
+    /// same text, which is then shared again (a steady `IVPHELM_STATE = DRIVE` costs nothing).
     fn text(&mut self, var: &str, write: impl FnOnce(&mut String)) {
+        let mut buf = std::mem::take(&mut self.scratch);
+        buf.clear();
+        write(&mut buf);
         let p = self.next(var);
-        let mut s = match std::mem::replace(&mut p.value, Value::Double(0.0)) {
-            Value::String(s) => s,
-            _ => String::new(),
-        };
-        s.clear();
-        write(&mut s);
-        p.value = Value::String(s);
+        if !matches!(&p.value, Value::String(old) if *old == *buf) {
+            p.value = Value::String(ByteString::from(buf.as_str()));
+        }
+        self.scratch = buf;
     }
     /// Posts a copy of `text`.
     fn text_copy(&mut self, var: &str, text: &str) {
@@ -182,7 +224,7 @@ impl Outbox {
 /// pHelmIvP's duplicate-post filter: the last value posted under each key.
 #[derive(Default)]
 struct DupFilter {
-    text: FxHashMap<String, String>,
+    text: FxHashMap<String, ByteString>,
     num: FxHashMap<String, f64>,
 }
 
@@ -191,7 +233,7 @@ impl DupFilter {
     fn changed(&mut self, key: &str, value: &Value) -> bool {
         match value {
             Value::String(s) => match self.text.get_mut(key) {
-                Some(old) if old == s => false,
+                Some(old) if *old == *s => false,
                 Some(old) => {
                     old.clone_from(s);
                     true
@@ -335,9 +377,9 @@ fn auto_value(v: &str) -> Value {
         return Value::Double(x);
     }
     if t.len() >= 2 && t.starts_with('"') && t.ends_with('"') {
-        return Value::String(t[1..t.len() - 1].to_string());
+        return Value::text(&t[1..t.len() - 1]);
     }
-    Value::String(t.to_string())
+    Value::text(t)
 }
 
 impl Helm {
@@ -615,8 +657,10 @@ impl Helm {
     /// `nostarve` and [`Behavior::info_vars`], e.g. `GPS_UPDATE_RECEIVED`). The list only
     /// grows: a run-time update that makes a behaviour read a new variable adds it (and the
     /// helm posts `IVPHELM_REGISTER = <var>` for it, as pHelmIvP registers new info vars).
-    pub fn subscriptions(&self) -> Vec<String> {
-        self.registered.clone()
+    /// New variables are appended, so a caller that remembers how many it has registered
+    /// finds the new ones past that length (an unchanged length: nothing new), without a copy.
+    pub fn subscriptions(&self) -> &[String] {
+        &self.registered
     }
 
     /// The variables the helm and its behaviours read now.
@@ -695,7 +739,7 @@ impl Helm {
         for var in self.wanted_subscriptions() {
             if !self.registered.contains(&var) {
                 self.registered.push(var.clone());
-                self.notify("IVPHELM_REGISTER", Value::String(var), "");
+                self.notify("IVPHELM_REGISTER", Value::String(var.into()), "");
             }
         }
     }
@@ -748,7 +792,7 @@ impl Helm {
         self.start_time = now;
         if self.state == HelmState::Malconfig {
             for e in self.errors.clone() {
-                self.notify("IVPHELM_CONFIG_WARNING", Value::String(e.to_string()), "");
+                self.notify("IVPHELM_CONFIG_WARNING", Value::text(e.to_string()), "");
             }
             return;
         }
@@ -759,7 +803,7 @@ impl Helm {
             }
         }
         for var in self.registered.clone() {
-            self.notify("IVPHELM_REGISTER", Value::String(var), "");
+            self.notify("IVPHELM_REGISTER", Value::String(var.into()), "");
         }
         // pHelmIvP keeps the files in a set: one request per file, in name order.
         let mut files = self.config.behavior_files.clone();
@@ -767,15 +811,15 @@ impl Helm {
         for f in files {
             self.notify(
                 "PLOGGER_CMD",
-                Value::String(format!("COPY_FILE_REQUEST = {f}")),
+                Value::String(format!("COPY_FILE_REQUEST = {f}").into()),
                 "",
             );
         }
         let dom = self.config.domain.to_string();
         self.domain_str.clone_from(&dom);
-        self.notify("IVPHELM_DOMAIN", Value::String(dom), "");
+        self.notify("IVPHELM_DOMAIN", Value::String(dom.into()), "");
         let ms = self.modes.definition();
-        self.notify("IVPHELM_MODESET", Value::String(ms), "");
+        self.notify("IVPHELM_MODESET", Value::String(ms.into()), "");
         for var in [
             "IVPHELM_BHV_ACTIVE_CNT",
             "IVPHELM_BHV_IDLE_CNT",
@@ -786,7 +830,7 @@ impl Helm {
         }
         if !self.config.helm_alias.is_empty() {
             let a = self.config.helm_alias.clone();
-            self.notify("IVPHELM_ALIAS", Value::String(a), "");
+            self.notify("IVPHELM_ALIAS", Value::String(a.into()), "");
         }
     }
 
@@ -815,7 +859,7 @@ impl Helm {
                     self.notes.push(AppcastNote::Warning(msg.clone()));
                     msg.push_str(" curr_time: ");
                     fixed(&mut msg, now, 3);
-                    self.notify("IVPHELM_SKEW", Value::String(msg), "");
+                    self.notify("IVPHELM_SKEW", Value::String(msg.into()), "");
                     continue;
                 }
             }
@@ -854,10 +898,7 @@ impl Helm {
                 }
             } else if m.key == "NODE_REPORT_LOCAL" {
                 self.node_report_local(&m.value, now);
-            } else if matches!(
-                m.key.as_str(),
-                "AIS_REPORT" | "NODE_REPORT" | "AIS_REPORT_LOCAL"
-            ) {
+            } else if matches!(&*m.key, "AIS_REPORT" | "NODE_REPORT" | "AIS_REPORT_LOCAL") {
                 self.node_report(&m.value, now);
                 self.info.set(&m.key, m.value.clone(), &m.source, m.time);
             } else if m.key == "HELM_MAP_CLEAR" {
@@ -875,7 +916,7 @@ impl Helm {
     /// (for a rejected report the C++ sets `_NAV_GROUP` and `_NAV_TYPE`, empty, too).
     fn node_report(&mut self, value: &Value, now: f64) {
         let text = match value {
-            Value::String(s) => s.as_str(),
+            Value::String(s) => &s[..],
             _ => "",
         };
         let report = crate::ledger::NodeReport::parse(text);
@@ -896,13 +937,13 @@ impl Helm {
         let upper = name.to_ascii_uppercase();
         self.info.set(
             &format!("{upper}_NAV_GROUP"),
-            Value::String(group),
+            Value::String(group.into()),
             APP_NAME,
             now,
         );
         self.info.set(
             &format!("{upper}_NAV_TYPE"),
-            Value::String(vtype),
+            Value::String(vtype.into()),
             APP_NAME,
             now,
         );
@@ -913,7 +954,7 @@ impl Helm {
     /// not.
     fn node_report_local(&mut self, value: &Value, now: f64) {
         let text = match value {
-            Value::String(s) => s.as_str(),
+            Value::String(s) => &s[..],
             _ => "",
         };
         let r = crate::ledger::NodeReport::parse(text);
@@ -927,7 +968,7 @@ impl Helm {
             if !v.is_empty() {
                 self.info.set(
                     &format!("{upper}_NAV_{suffix}"),
-                    Value::String(v),
+                    Value::String(v.into()),
                     APP_NAME,
                     now,
                 );
@@ -974,9 +1015,11 @@ impl Helm {
         }
         match self.allstop.update(msg) {
             AllStopAction::None => {}
-            AllStopAction::Announce(m) => self.notify("IVPHELM_ALLSTOP", Value::String(m), ""),
+            AllStopAction::Announce(m) => {
+                self.notify("IVPHELM_ALLSTOP", Value::String(m.into()), "")
+            }
             AllStopAction::AnnounceAndZero(m) => {
-                self.notify("IVPHELM_ALLSTOP", Value::String(m), "");
+                self.notify("IVPHELM_ALLSTOP", Value::String(m.into()), "");
                 for i in 0..self.config.domain.len() {
                     let name = self.config.domain.vars()[i].name().to_ascii_uppercase();
                     let var = if name == "COURSE" {
@@ -1123,7 +1166,7 @@ impl Helm {
                         i,
                         Message {
                             var: "BHV_ERROR".into(),
-                            value: Value::String(msg),
+                            value: Value::String(msg.into()),
                             key: PostKey::Repeatable,
                         },
                     ));
@@ -1160,7 +1203,7 @@ impl Helm {
 
         // Step 9: postings.
         for r in std::mem::take(&mut self.update_results) {
-            self.notify("IVPHELM_UPDATE_RESULT", Value::String(r), "");
+            self.notify("IVPHELM_UPDATE_RESULT", Value::String(r.into()), "");
         }
         if self.refresh_pending && now - self.refresh_time > 2.0 {
             self.filter.clear();
@@ -1168,7 +1211,7 @@ impl Helm {
             self.refresh_pending = false;
         }
         for (var, val) in modes {
-            let v = Value::String(val);
+            let v = Value::String(val.into());
             if self.filter.changed("mode_set", &v) {
                 self.notify(&var, v, "HELM_MODE");
             }
@@ -1236,7 +1279,7 @@ impl Helm {
                 .collect();
             if !missing.is_empty() {
                 let msg = format!("MissingDecVars:{}", missing.join(","));
-                self.notify("BHV_ERROR", Value::String(msg.clone()), "");
+                self.notify("BHV_ERROR", Value::String(msg.clone().into()), "");
                 allstop = msg.into();
             }
         }
@@ -1398,9 +1441,8 @@ impl Helm {
                     let mut parts = std::mem::take(&mut self.ipf_parts);
                     ivp::encode::mux(text, &id, 2000, &mut parts);
                     for part in parts.drain(..) {
-                        let p = self.out.next(&m.var);
-                        p.value = Value::String(part);
-                        p.aux.push_str(name);
+                        let p = self.out.next_with_aux(&m.var, name);
+                        p.value = Value::String(part.into());
                     }
                     self.ipf_parts = parts;
                 }
@@ -1413,7 +1455,7 @@ impl Helm {
                 // `retract` withdraws the same text.
                 let text = match &m.value {
                     Value::String(t) => t.clone(),
-                    v => v.to_string(),
+                    v => v.to_string().into(),
                 };
                 let w = format!("{}: {text}", m.var);
                 let retract = m.var == "BHV_WARNING"
@@ -1464,13 +1506,16 @@ impl Helm {
                 if m.var == "BHV_EVENT"
                     && let Value::String(e) = &m.value
                 {
-                    self.notes.push(AppcastNote::Event(e.clone()));
+                    self.notes.push(AppcastNote::Event(e.to_string()));
                 }
+                // `<iteration>:<behaviour>` differs every iteration: its own buffer.
+                let mut aux = String::with_capacity(name.len() + 8);
+                uint(&mut aux, iter);
+                aux.push(':');
+                aux.push_str(name);
                 let p = self.out.next(&m.var);
                 p.value = m.value;
-                uint(&mut p.aux, iter);
-                p.aux.push(':');
-                p.aux.push_str(name);
+                p.aux = aux.into();
             }
         }
         self.messages = messages;
@@ -1479,7 +1524,7 @@ impl Helm {
             self.state_vars_dirty = false;
             let vars = self.state_space_vars();
             if vars != self.state_vars {
-                self.notify("IVPHELM_STATEVARS", Value::String(vars.clone()), "");
+                self.notify("IVPHELM_STATEVARS", Value::String(vars.clone().into()), "");
                 self.state_vars = vars;
             }
         }
@@ -1501,7 +1546,7 @@ impl Helm {
                     ", iter={iter}, bname={}, btype={}, event=death, seed=",
                     s.common.name, s.common.kind
                 ));
-                self.notify("IVPHELM_LIFE_EVENT", Value::String(ev), "");
+                self.notify("IVPHELM_LIFE_EVENT", Value::String(ev.into()), "");
                 removed += 1;
                 self.state_vars_dirty = true;
             } else {
@@ -1598,7 +1643,7 @@ impl Helm {
                 {
                     Value::Double(x)
                 } else {
-                    Value::String(out.clone())
+                    Value::String(out.clone().into())
                 };
                 self.scratch = out;
                 v
@@ -1627,7 +1672,7 @@ impl Helm {
                 PostKey::Repeatable => PostKey::Repeatable,
                 _ => PostKey::Tag(""),
             };
-            self.queue(i, "NODE_MESSAGE_LOCAL", Value::String(spec), &key);
+            self.queue(i, "NODE_MESSAGE_LOCAL", Value::String(spec.into()), &key);
         }
     }
 
@@ -1729,7 +1774,7 @@ impl Helm {
             self.queue(
                 i,
                 "BHV_ERROR",
-                Value::String(format!("{name}: {msg}")),
+                Value::String(format!("{name}: {msg}").into()),
                 &PostKey::Repeatable,
             );
             self.slots[i].ok = false;
@@ -1797,8 +1842,18 @@ impl Helm {
                             "Faulty update for behavior: {name}. Bad parameter(s): {}",
                             bad.join(",")
                         );
-                        self.queue(i, "BHV_WARNING", Value::String(w.clone()), &PostKey::Var);
-                        self.queue(i, "BHV_CONFIG_WARNING", Value::String(w), &PostKey::Var);
+                        self.queue(
+                            i,
+                            "BHV_WARNING",
+                            Value::String(w.clone().into()),
+                            &PostKey::Var,
+                        );
+                        self.queue(
+                            i,
+                            "BHV_CONFIG_WARNING",
+                            Value::String(w.into()),
+                            &PostKey::Var,
+                        );
                         result.push_str(",result=param_error");
                     }
                 }
@@ -1910,7 +1965,12 @@ impl Helm {
                 "{}: Null IvPDomain given to Behavior",
                 self.slots[i].common.name
             );
-            self.queue(i, "BHV_ERROR", Value::String(msg), &PostKey::Repeatable);
+            self.queue(
+                i,
+                "BHV_ERROR",
+                Value::String(msg.into()),
+                &PostKey::Repeatable,
+            );
             self.slots[i].ok = false;
             return (RunState::Idle, Some(Failed::Other("null-domain".into())));
         }
@@ -2036,7 +2096,12 @@ impl Helm {
                     f = None;
                     let name = self.slots[i].common.name.clone();
                     let msg = format!("{name}: NaN detected in IvP Function");
-                    self.queue(i, "BHV_ERROR", Value::String(msg), &PostKey::Repeatable);
+                    self.queue(
+                        i,
+                        "BHV_ERROR",
+                        Value::String(msg.into()),
+                        &PostKey::Repeatable,
+                    );
                     self.slots[i].ok = false;
                 }
                 let pwt = self.slots[i].common.pwt;
@@ -2051,7 +2116,12 @@ impl Helm {
                     context.push(':');
                     context.push_str(&self.slots[i].common.name);
                     ivp::encode::encode(&f, &context, &mut text);
-                    self.queue(i, "BHV_IPF", Value::String(text), &PostKey::Repeatable);
+                    self.queue(
+                        i,
+                        "BHV_IPF",
+                        Value::String(text.into()),
+                        &PostKey::Repeatable,
+                    );
                     if old != RunState::Active {
                         self.post_flags(i, FlagKind::Active);
                     }
@@ -2101,7 +2171,12 @@ impl Helm {
         status.push_str(state.as_str());
         status.push_str(",updates=");
         slot.write_update_summary(&mut status);
-        self.queue(i, "BHV_STATUS", Value::String(status), &PostKey::Tag(""));
+        self.queue(
+            i,
+            "BHV_STATUS",
+            Value::String(status.into()),
+            &PostKey::Tag(""),
+        );
         if !self.slots[i].first_done {
             self.slots[i].first_done = true;
             self.post_flags(i, FlagKind::Spawnx);
@@ -2442,7 +2517,7 @@ mod ledger_tests {
     fn start_up_posts_zero_counts_between_the_mode_set_and_the_alias() {
         let mut h = helm(&[("helm_alias", "hx")]);
         let p = h.iterate(0.0).to_vec();
-        let vars: Vec<&str> = p.iter().map(|p| p.key.as_str()).collect();
+        let vars: Vec<&str> = p.iter().map(|p| &*p.key).collect();
         let at = vars.iter().position(|v| *v == "IVPHELM_MODESET").unwrap();
         assert_eq!(
             vars[at + 1..at + 6],

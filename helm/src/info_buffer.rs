@@ -3,7 +3,7 @@
 
 use behaviors::{Info, Value};
 
-use crate::fxhash::FxHashMap;
+use rustc_hash::FxHashMap;
 
 /// One variable's latest state.
 #[derive(Debug, Clone, PartialEq)]
@@ -91,8 +91,7 @@ impl InfoBuffer {
         }
     }
 
-    /// [`InfoBuffer::set`] from a borrowed value: an existing entry's string is overwritten
-    /// in place (no allocation once the buffer has seen the variable).
+    /// [`InfoBuffer::set`] from a borrowed value (a string value is shared, not copied).
     pub fn set_ref(&mut self, var: &str, value: &Value, source: &str, msg_time: f64) {
         match self.vars.get_mut(var) {
             Some(v) => {
@@ -100,8 +99,7 @@ impl InfoBuffer {
                     (Value::String(old), Value::String(new)) => {
                         v.deltas.push(new);
                         if old != new {
-                            old.clear();
-                            old.push_str(new);
+                            old.clone_from(new);
                         }
                     }
                     (slot, new) => {

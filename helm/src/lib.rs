@@ -17,7 +17,6 @@ pub use ivp;
 pub mod allstop;
 pub mod config;
 pub mod engine;
-mod fxhash;
 pub mod info_buffer;
 pub mod ledger;
 pub mod macro_expand;

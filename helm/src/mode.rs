@@ -109,7 +109,12 @@ impl ModeSet {
         local.sort_by(|a, b| a.0.cmp(&b.0));
         let now = info.now_time();
         for (k, v) in &local {
-            info.set(k, behaviors::Value::String(v.clone()), "HELM_MODE", now);
+            info.set(
+                k,
+                behaviors::Value::String(v.clone().into()),
+                "HELM_MODE",
+                now,
+            );
         }
         self.results = local;
         &self.results

@@ -37,7 +37,7 @@ fn alpha_mission_posts_the_phelmivp_sequence() {
     let posts = rig.step(&[]);
     let deploy = posts.iter().find(|p| p.key == "DEPLOY").unwrap();
     assert_eq!(
-        (deploy.value.as_str(), deploy.aux.as_str()),
+        (deploy.value.as_str(), &*deploy.aux),
         (Some("false"), "HELM_VAR_INIT")
     );
     assert!(is_str(get(&posts, "RETURN"), "false"));

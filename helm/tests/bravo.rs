@@ -42,7 +42,7 @@ fn bravo_modes_survey_return_and_stop() {
     let posts = rig.step(&[Mail::new("MOOS_MANUAL_OVERRIDE", "false", t)]);
     let mode = posts.iter().find(|p| p.key == "MODE").unwrap();
     assert_eq!(
-        (mode.value.as_str(), mode.aux.as_str()),
+        (mode.value.as_str(), &*mode.aux),
         (Some("INACTIVE"), "HELM_MODE")
     );
     assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "NothingToDo"));

@@ -87,7 +87,7 @@ struct DeltaRig {
 
 impl DeltaRig {
     fn new(helm: Helm, sub: Sub) -> Self {
-        let subs = helm.subscriptions();
+        let subs = helm.subscriptions().to_vec();
         DeltaRig {
             helm,
             sub,
@@ -121,7 +121,7 @@ impl DeltaRig {
         self.helm.on_mail(&mail);
         let posts = self.helm.iterate(t).to_vec();
         for p in &posts {
-            match (p.key.as_str(), &p.value) {
+            match (&*p.key, &p.value) {
                 ("DESIRED_HEADING", Value::Double(v)) => self.des.0 = *v,
                 ("DESIRED_SPEED", Value::Double(v)) => self.des.1 = *v,
                 ("DESIRED_DEPTH", Value::Double(v)) => self.des.2 = *v,
@@ -135,7 +135,7 @@ impl DeltaRig {
                 }
                 _ => {}
             }
-            if self.subs.contains(&p.key) {
+            if self.subs.iter().any(|s| *s == *p.key) {
                 let mut m = Mail::new(&p.key, p.value.clone(), t).from("pHelmIvP");
                 m.source_aux = p.aux.clone();
                 self.feedback.push(m);
@@ -624,7 +624,7 @@ fn bad_values_are_malconfig_at_start_and_rejected_updates_at_run_time() {
 #[test]
 fn delta_helm_subscribes_to_every_variable_its_behaviours_read() {
     let mut helm = delta_helm();
-    let subs = helm.subscriptions();
+    let subs = helm.subscriptions().to_vec();
     for var in [
         // BHV_PeriodicSurface's mark variable and nav needs.
         "GPS_UPDATE_RECEIVED",
@@ -841,7 +841,7 @@ fn opregion_posts_its_polygon_at_configuration_on_the_first_iteration() {
         }
         t += 0.5;
     }
-    let vars: Vec<&str> = first.iter().map(|p| p.key.as_str()).collect();
+    let vars: Vec<&str> = first.iter().map(|p| &*p.key).collect();
     let poly = vars.iter().position(|v| *v == "OPREG_POLY");
     let conf = vars.iter().position(|v| *v == "OPREG_CONFIGURED");
     let status = first

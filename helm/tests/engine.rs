@@ -357,7 +357,7 @@ Behavior = BHV_ConstantHeading
     let posts = s.step(1.0, 0.0, 0.0, 0.0, &[]);
     let mode = posts.iter().find(|p| p.key == "MODE").unwrap();
     assert_eq!(
-        (mode.value.as_str(), mode.aux.as_str()),
+        (mode.value.as_str(), &*mode.aux),
         (Some("INACTIVE"), "HELM_MODE")
     );
     let posts = s.step(2.0, 0.0, 0.0, 0.0, &[("DEPLOY", "true")]);
@@ -581,7 +581,7 @@ fn skewed_mail_is_ignored_and_deferred_initialize_waits() {
     assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "NothingToDo"));
     let late = posts.iter().find(|p| p.key == "LATE").unwrap();
     assert_eq!(
-        (&late.value, late.aux.as_str()),
+        (&late.value, &*late.aux),
         (&Value::Double(7.0), "HELM_VAR_INIT")
     );
     assert!(

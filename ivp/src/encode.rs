@@ -253,14 +253,11 @@ fn push_weight(out: &mut String, w: f64) {
         }
         return;
     }
-    let mut digits = [b'0'; 4];
-    let mut f = frac;
-    for d in digits.iter_mut().rev() {
-        *d = b'0' + (f % 10) as u8;
-        f /= 10;
-    }
-    let end = 4 - digits.iter().rev().take_while(|&&c| c == b'0').count();
-    out.push_str(std::str::from_utf8(&digits[..end]).unwrap_or(""));
+    // Four digits, the trailing zeros dropped (`frac` is not 0, so one digit stays).
+    let start = out.len();
+    moos_types::fmt::uint_padded(out, frac, 4);
+    let keep = out[start..].trim_end_matches('0').len();
+    out.truncate(start + keep);
 }
 
 #[cfg(test)]

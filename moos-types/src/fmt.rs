@@ -1,7 +1,7 @@
 //! Number formatting as MOOS-IvP writes numbers: `doubleToString` ([`fixed`]),
 //! `doubleToStringX` ([`compact`]), `dstringCompact(doubleToString(..))`
-//! ([`dstring_compact`]), C++ stream `%g` ([`g`]) and unsigned integers ([`uint`]). Every
-//! crate formats MOOS numbers through these.
+//! ([`dstring_compact`]), C++ stream `%g` ([`g`]) and unsigned integers ([`uint`],
+//! [`uint_padded`], through `itoa`). Every crate formats MOOS numbers through these.
 
 use std::fmt::Write as _;
 
@@ -166,17 +166,13 @@ fn fixed_fast(out: &mut String, v: f64, prec: usize) -> bool {
 
 /// Appends `n` in decimal, zero-padded to at least `min` digits, without the `core::fmt`
 /// machinery (this runs for most numbers the helm posts).
-fn digits(out: &mut String, mut n: u64, min: usize) {
-    let mut buf = [b'0'; 20];
-    let mut i = buf.len();
-    while n > 0 {
-        i -= 1;
-        buf[i] = b'0' + (n % 10) as u8;
-        n /= 10;
+fn digits(out: &mut String, n: u64, min: usize) {
+    let mut buf = itoa::Buffer::new();
+    let s = buf.format(n);
+    for _ in s.len()..min {
+        out.push('0');
     }
-    let start = i.min(buf.len().saturating_sub(min.max(1)));
-    // Only ASCII digits were written.
-    out.push_str(std::str::from_utf8(&buf[start..]).unwrap_or("0"));
+    out.push_str(s);
 }
 
 /// Appends an unsigned integer in decimal (`n.to_string()` without the allocation).
@@ -189,6 +185,19 @@ fn digits(out: &mut String, mut n: u64, min: usize) {
 /// ```
 pub fn uint(out: &mut String, n: u64) {
     digits(out, n, 1);
+}
+
+/// Appends an unsigned integer in decimal, zero-padded to at least `width` digits (`%0*u`).
+///
+/// ```
+/// let mut s = String::new();
+/// moos_types::fmt::uint_padded(&mut s, 25, 4);
+/// s.push(',');
+/// moos_types::fmt::uint_padded(&mut s, 12345, 4);
+/// assert_eq!(s, "0025,12345");
+/// ```
+pub fn uint_padded(out: &mut String, n: u64, width: usize) {
+    digits(out, n, width);
 }
 
 #[cfg(test)]

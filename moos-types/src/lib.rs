@@ -2,9 +2,16 @@
 //! binary data, as a `CMOOSMsg` carries), a borrowed view of one ([`ValueRef`]), a message an
 //! app receives ([`Mail`]) and one it publishes ([`Post`]).
 //!
-//! This crate sits at the bottom of the workspace: it depends on nothing, and the wire
-//! codec, the DB, the helm, the behaviours, the vehicle apps and the logger all speak these
-//! types, so no layer translates between private copies of them.
+//! This crate sits at the bottom of the workspace: it depends only on `bytes` (the wire
+//! codec's buffer type) and `bytestring`, and the wire codec, the DB, the helm, the
+//! behaviours, the vehicle apps and the logger all speak these types, so no layer translates
+//! between private copies of them.
+//!
+//! A [`Mail`]'s names ([`Mail::key`], [`Mail::source`], ...), a [`Post`]'s names and a
+//! string [`Value`] are [`ByteString`]s: UTF-8 text over a shared [`Bytes`] buffer (the wire
+//! codec's buffer type). The DB hands the same message to every subscriber, and a mail made
+//! from it shares the message's buffers, so delivering it copies no text and allocates
+//! nothing; cloning a mail, a post or a value is a reference-count increment per string.
 //!
 //! ```
 //! use moos_types::{Mail, Post, Value};
@@ -19,6 +26,9 @@
 pub mod fmt;
 pub mod text;
 
+pub use bytes::Bytes;
+pub use bytestring::ByteString;
+
 use std::fmt as stdfmt;
 
 /// A MOOS variable's value.
@@ -26,8 +36,9 @@ use std::fmt as stdfmt;
 pub enum Value {
     /// A double (`'D'`).
     Double(f64),
-    /// A string (`'S'`).
-    String(String),
+    /// A string (`'S'`): shared text, so copies of a value (a message delivered to many
+    /// apps, a posting kept by the helm) share one buffer.
+    String(ByteString),
     /// Binary data (`'B'`).
     Binary(Vec<u8>),
 }
@@ -49,9 +60,9 @@ impl Value {
         }
     }
 
-    /// A string value.
-    pub fn text(s: impl Into<String>) -> Value {
-        Value::String(s.into())
+    /// A string value (see [`IntoText`]).
+    pub fn text(s: impl IntoText) -> Value {
+        Value::String(s.into_text())
     }
 
     /// The borrowed view.
@@ -72,12 +83,18 @@ impl From<f64> for Value {
 
 impl From<&str> for Value {
     fn from(v: &str) -> Self {
-        Value::String(v.to_string())
+        Value::String(v.into())
     }
 }
 
 impl From<String> for Value {
     fn from(v: String) -> Self {
+        Value::String(v.into())
+    }
+}
+
+impl From<ByteString> for Value {
+    fn from(v: ByteString) -> Self {
         Value::String(v)
     }
 }
@@ -127,94 +144,159 @@ impl<'a> ValueRef<'a> {
     pub fn to_owned(&self) -> Value {
         match *self {
             ValueRef::Double(x) => Value::Double(x),
-            ValueRef::String(s) => Value::String(s.to_string()),
+            ValueRef::String(s) => Value::String(s.into()),
             ValueRef::Binary(b) => Value::Binary(b.to_vec()),
         }
     }
 }
 
-/// A message delivered to an app.
+/// A message delivered to an app. Its names share their buffers with the message the DB
+/// delivered (see the crate documentation); they read as `&str` (`Deref`) and compare with
+/// `&str` and `String` (`mail.key == "DEPLOY"`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mail {
     /// Variable name.
-    pub key: String,
+    pub key: ByteString,
     /// Value.
     pub value: Value,
     /// MOOS time of the write, seconds.
     pub time: f64,
     /// The writer's MOOS name.
-    pub source: String,
+    pub source: ByteString,
     /// The writer's auxiliary source field (the helm's `<iter>:<behaviour>`,
     /// `HELM_VAR_INIT`, ...).
-    pub source_aux: String,
+    pub source_aux: ByteString,
     /// The writer's community.
-    pub community: String,
+    pub community: ByteString,
 }
 
 impl Mail {
     /// Mail with no source, aux or community.
     pub fn new(key: &str, value: impl Into<Value>, time: f64) -> Mail {
         Mail {
-            key: key.to_string(),
+            key: ByteString::from(key),
             value: value.into(),
             time,
-            source: String::new(),
-            source_aux: String::new(),
-            community: String::new(),
+            source: ByteString::new(),
+            source_aux: ByteString::new(),
+            community: ByteString::new(),
         }
     }
 
     /// Builder: sets the source.
     pub fn from(mut self, source: &str) -> Mail {
-        self.source = source.to_string();
+        self.source = ByteString::from(source);
         self
     }
 
     /// Builder: sets the auxiliary source field.
     pub fn with_aux(mut self, aux: &str) -> Mail {
-        self.source_aux = aux.to_string();
+        self.source_aux = ByteString::from(aux);
         self
     }
 }
 
-/// A value an app publishes.
+/// UTF-8 text over `bytes` without a copy (a reference-count increment when `bytes` is
+/// shared); text that is not UTF-8 is copied lossily (U+FFFD for bad sequences), as MOOS
+/// strings read from the wire need not be UTF-8.
+///
+/// ```
+/// use moos_types::{Bytes, text_of};
+/// assert_eq!(text_of(&Bytes::from_static(b"NAV_X")), "NAV_X");
+/// assert_eq!(text_of(&Bytes::from_static(b"a\xffb")), "a\u{fffd}b");
+/// ```
+pub fn text_of(bytes: &Bytes) -> ByteString {
+    ByteString::try_from(bytes.clone())
+        .unwrap_or_else(|_| ByteString::from(String::from_utf8_lossy(bytes).into_owned()))
+}
+
+/// A value an app publishes. Its names are [`ByteString`]s, so an app that keeps its
+/// variable names as `ByteString`s posts them without a copy, and the bus hands their
+/// buffers on to the DB.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Post {
     /// Variable name.
-    pub key: String,
+    pub key: ByteString,
     /// Value.
     pub value: Value,
     /// The source to publish under, if not the app's own name (empty: the app's).
-    pub source: String,
+    pub source: ByteString,
     /// Auxiliary source field.
-    pub aux: String,
+    pub aux: ByteString,
 }
 
 impl Post {
-    /// A posting of `value` to `key`.
-    pub fn new(key: impl Into<String>, value: Value) -> Post {
+    /// A posting of `value` to `key` (see [`IntoText`]: a `ByteString` key is shared, not
+    /// copied).
+    pub fn new(key: impl IntoText, value: Value) -> Post {
         Post {
-            key: key.into(),
+            key: key.into_text(),
             value,
-            source: String::new(),
-            aux: String::new(),
+            source: ByteString::new(),
+            aux: ByteString::new(),
         }
     }
 
     /// Builder: sets the auxiliary source field.
-    pub fn with_aux(mut self, aux: impl Into<String>) -> Post {
-        self.aux = aux.into();
+    pub fn with_aux(mut self, aux: impl IntoText) -> Post {
+        self.aux = aux.into_text();
         self
     }
 
-    /// A double posting (the key is anything that reads as text: `&str`, `&Arc<str>`, ...).
-    pub fn double(key: impl AsRef<str>, x: f64) -> Post {
-        Post::new(key.as_ref(), Value::Double(x))
+    /// A double posting.
+    pub fn double(key: impl IntoText, x: f64) -> Post {
+        Post::new(key, Value::Double(x))
     }
 
     /// A string posting.
-    pub fn text(key: impl AsRef<str>, s: impl Into<String>) -> Post {
-        Post::new(key.as_ref(), Value::String(s.into()))
+    pub fn text(key: impl IntoText, s: impl IntoText) -> Post {
+        Post::new(key, Value::text(s))
+    }
+}
+
+/// Text that becomes a [`ByteString`] name: `&str`, `&String` (copied) and `String` (its
+/// buffer kept), or a `ByteString` / `&ByteString` (shared: a reference count, no copy).
+///
+/// ```
+/// use moos_types::{ByteString, IntoText, Post};
+/// let key = ByteString::from_static("NAV_X");
+/// let p = Post::double(&key, 1.0);
+/// assert_eq!(p.key, "NAV_X");
+/// assert_eq!(p.key.as_bytes().as_ptr(), key.as_bytes().as_ptr(), "shared, not copied");
+/// assert_eq!("X".into_text(), String::from("X").into_text());
+/// ```
+pub trait IntoText {
+    /// The text as a `ByteString`.
+    fn into_text(self) -> ByteString;
+}
+
+impl IntoText for &str {
+    fn into_text(self) -> ByteString {
+        ByteString::from(self)
+    }
+}
+
+impl IntoText for String {
+    fn into_text(self) -> ByteString {
+        ByteString::from(self)
+    }
+}
+
+impl IntoText for &String {
+    fn into_text(self) -> ByteString {
+        ByteString::from(self.as_str())
+    }
+}
+
+impl IntoText for ByteString {
+    fn into_text(self) -> ByteString {
+        self
+    }
+}
+
+impl IntoText for &ByteString {
+    fn into_text(self) -> ByteString {
+        self.clone()
     }
 }
 

@@ -169,6 +169,7 @@ impl DataType {
 /// A value to publish: the workspace's one MOOS value type (a string's or binary value's
 /// buffer becomes the message's without a copy).
 pub use moos_types::Value;
+use moos_types::{Mail, text_of};
 
 /// One MOOS message with every wire field.
 ///
@@ -236,7 +237,7 @@ impl Message {
             Value::Double(v) => m.dval = v,
             Value::String(s) => {
                 m.data_type = DataType::String;
-                m.sval = Bytes::from(s);
+                m.sval = s.into_bytes();
             }
             Value::Binary(b) => {
                 m.data_type = DataType::Binary;
@@ -246,15 +247,40 @@ impl Message {
         m
     }
 
-    /// The value carried by this message, by its data type (`None` for `'~'`); a string
-    /// that is not UTF-8 is read lossily.
+    /// The value carried by this message, by its data type (`None` for `'~'`): a string
+    /// shares the message's buffer (one that is not UTF-8 is copied lossily), binary data is
+    /// copied.
     pub fn value(&self) -> Option<Value> {
         match self.data_type {
             DataType::Double => Some(Value::Double(self.dval)),
-            DataType::String => Some(Value::String(self.sval_str().into_owned())),
+            DataType::String => Some(Value::String(text_of(&self.sval))),
             DataType::Binary => Some(Value::Binary(self.sval.to_vec())),
             DataType::NotSet => None,
         }
+    }
+
+    /// The mail this notify delivers (`None` for data type `'~'`): its names and a string
+    /// value share this message's buffers (no copy, see [`moos_types::text_of`]); binary
+    /// data is copied.
+    ///
+    /// ```
+    /// use moos_wire::{Message, Value};
+    /// let mut m = Message::notify("DEPLOY", Value::from("true"), 3.0);
+    /// m.src = bytes::Bytes::from_static(b"uPokeDB");
+    /// let mail = m.mail().unwrap();
+    /// assert_eq!((&*mail.key, &*mail.source, mail.time), ("DEPLOY", "uPokeDB", 3.0));
+    /// assert_eq!(mail.value.as_str(), Some("true"));
+    /// ```
+    pub fn mail(&self) -> Option<Mail> {
+        let value = self.value()?;
+        Some(Mail {
+            key: text_of(&self.key),
+            value,
+            time: self.time,
+            source: text_of(&self.src),
+            source_aux: text_of(&self.src_aux),
+            community: text_of(&self.community),
+        })
     }
 
     /// The key as text (lossy for non-UTF-8 bytes).

@@ -82,7 +82,7 @@ async fn run(
             }
         }
         let t = epoch.elapsed().as_secs_f64();
-        publ.notify_with(&var, Value::String(payload.clone()), Some(t), "")
+        publ.notify_with(&var, Value::String(payload.clone().into()), Some(t), "")
             .unwrap();
     }
     let mut all = Vec::new();

@@ -452,7 +452,7 @@ impl Database {
         w.community = self.community.clone();
         info!(client = %String::from_utf8_lossy(&name), asynchronous, "client connected");
         let event = format!("connected={}", String::from_utf8_lossy(&name));
-        self.internal_notify("DB_EVENT", Value::String(event), now);
+        self.internal_notify("DB_EVENT", Value::String(event.into()), now);
         Handshake::Welcome { id, reply: w }
     }
 
@@ -489,7 +489,7 @@ impl Database {
         }
         info!(client = %name, "client disconnected");
         let event = format!("disconnected={name}");
-        self.internal_notify("DB_EVENT", Value::String(event), now);
+        self.internal_notify("DB_EVENT", Value::String(event.into()), now);
         Some(name)
     }
 
@@ -521,10 +521,13 @@ impl Database {
     /// if non-empty (held mail only if something besides the T came); for a synchronous
     /// client always `[NULL(dval = DB time)] + held mail + replies`. If the packet carried a
     /// notify, every asynchronous client's held mail is then pushed as its own packet.
+    ///
+    /// The packet is any sequence of messages (a decoded `Vec`, or an in-process caller's
+    /// iterator, which needs no buffer of its own).
     pub fn handle(
         &mut self,
         id: ClientId,
-        mut msgs: Vec<Message>,
+        msgs: impl IntoIterator<Item = Message>,
         now: DbTime,
     ) -> Result<Effects, DbError> {
         let c = self
@@ -535,8 +538,8 @@ impl Database {
         let name = c.name.clone();
         let asynchronous = c.asynchronous;
         let mut echo = None;
-        if msgs.first().is_some_and(|m| m.msg_type == MsgType::Timing) {
-            let mut t = msgs.remove(0);
+        let mut msgs = msgs.into_iter().peekable();
+        if let Some(mut t) = msgs.next_if(|m| m.msg_type == MsgType::Timing) {
             c.timing
                 .get_or_insert_with(Timing::default)
                 .add((now.moos - t.time) * 1000.0);
@@ -544,10 +547,12 @@ impl Database {
             t.dval2 = 0.0;
             echo = Some(t);
         }
-        let had_notify = msgs.iter().any(|m| m.msg_type == MsgType::Notify);
-        let had_any = !msgs.is_empty();
+        let mut had_notify = false;
+        let mut had_any = false;
         let mut replies = VecDeque::new();
         for m in msgs {
+            had_any = true;
+            had_notify |= m.msg_type == MsgType::Notify;
             self.process(&name, m, now, &mut replies);
         }
         if now.moos - self.summary_time > SUMMARY_PERIOD {
@@ -558,7 +563,16 @@ impl Database {
         let byte_limit = self.config.outbox_byte_limit;
         let mut effects = Effects::default();
         if let Some(c) = self.clients.get_mut(&id) {
-            let mut reply = Vec::with_capacity(1 + c.held.len() + replies.len());
+            let take_held = had_any || !asynchronous;
+            let len = usize::from(echo.is_some() || !asynchronous)
+                + if take_held { c.held.len() } else { 0 }
+                + replies.len();
+            // Most packets of an asynchronous client get no reply: no buffer for them.
+            let mut reply = if len == 0 {
+                Vec::new()
+            } else {
+                Vec::with_capacity(len)
+            };
             if asynchronous {
                 reply.extend(echo);
             } else {
@@ -567,7 +581,7 @@ impl Database {
                 null.dval = now.moos;
                 reply.push(null);
             }
-            if had_any || !asynchronous {
+            if take_held {
                 reply.extend(c.held.drain(..));
             }
             reply.extend(replies);
@@ -833,7 +847,8 @@ impl Database {
     }
 
     fn internal_notify(&mut self, key: &'static str, value: Value, now: DbTime) {
-        let mut m = Message::notify(key, value, now.moos);
+        let mut m = Message::notify("", value, now.moos);
+        m.key = Bytes::from_static(key.as_bytes());
         m.src = self.db_name.clone();
         m.community = self.community.clone();
         self.on_notify(m, now);
@@ -919,9 +934,9 @@ impl Database {
         // Client names are UTF-8 in practice; others are read lossily.
         let list = String::from_utf8(list)
             .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned());
-        self.internal_notify("DB_CLIENTS", Value::String(list), now);
+        self.internal_notify("DB_CLIENTS", Value::String(list.into()), now);
         let summary = self.var_summary();
-        self.internal_notify("DB_VARSUMMARY", Value::String(summary), now);
+        self.internal_notify("DB_VARSUMMARY", Value::String(summary.into()), now);
         let mut qos = String::new();
         let mut by_name: Vec<&ClientState> = self.clients.values().collect();
         by_name.sort_by(|a, b| a.name.cmp(&b.name));
@@ -938,24 +953,24 @@ impl Database {
                 );
             }
         }
-        self.internal_notify("DB_QOS", Value::String(qos), now);
+        self.internal_notify("DB_QOS", Value::String(qos.into()), now);
         let rw = self.rw_summary(&clients);
-        self.internal_notify("DB_RWSUMMARY", Value::String(rw), now);
+        self.internal_notify("DB_RWSUMMARY", Value::String(rw.into()), now);
     }
 
     fn var_summary(&self) -> String {
         let mut s = String::new();
         for (k, v) in &self.vars {
             let who = if v.writer.is_empty() {
-                "(write pending)".to_string()
+                "(write pending)".into()
             } else {
-                String::from_utf8_lossy(&v.writer).into_owned()
+                String::from_utf8_lossy(&v.writer)
             };
             let _ = write!(
                 s,
                 "{:<20} {:<20} {:<20} {:<4.1}Hz {:<2} ",
                 String::from_utf8_lossy(k),
-                time_of_day(v.written_time),
+                TimeOfDay(v.written_time),
                 who,
                 v.freq,
                 v.data_type.code() as char
@@ -997,23 +1012,26 @@ impl Database {
             }
             out.push_str(&String::from_utf8_lossy(who));
             out.push('=');
-            let subs: Vec<String> = self
+            let subs = self
                 .vars
                 .iter()
-                .filter(|(_, v)| v.subscribers.contains_key(who))
-                .map(|(k, _)| String::from_utf8_lossy(k).into_owned())
-                .collect();
-            out.push_str(&subs.join(":"));
+                .filter(|(_, v)| v.subscribers.contains_key(who));
+            push_joined(&mut out, subs.map(|(k, _)| k), ':');
             out.push('&');
-            let pubs: Vec<String> = self
-                .vars
-                .iter()
-                .filter(|(_, v)| v.writers.contains(who))
-                .map(|(k, _)| String::from_utf8_lossy(k).into_owned())
-                .collect();
-            out.push_str(&pubs.join(":"));
+            let pubs = self.vars.iter().filter(|(_, v)| v.writers.contains(who));
+            push_joined(&mut out, pubs.map(|(k, _)| k), ':');
         }
         out
+    }
+}
+
+/// Appends the names read lossily as text, separated by `sep`.
+fn push_joined<'a>(out: &mut String, names: impl Iterator<Item = &'a Bytes>, sep: char) {
+    for (i, n) in names.enumerate() {
+        if i > 0 {
+            out.push(sep);
+        }
+        out.push_str(&String::from_utf8_lossy(n));
     }
 }
 
@@ -1042,16 +1060,34 @@ pub use moos_types::text::wildcard_match;
 
 /// `HH:MM:SS.mmm` of a Unix time, in UTC (the C++ DB prints local time).
 pub fn time_of_day(t: f64) -> String {
-    let secs = t.floor();
-    let ms = ((t - secs) * 1000.0).floor() as i64;
-    let day = (secs as i64).rem_euclid(86_400);
-    format!(
-        "{:02}:{:02}:{:02}.{:03}",
-        day / 3600,
-        (day / 60) % 60,
-        day % 60,
-        ms.clamp(0, 999)
-    )
+    TimeOfDay(t).to_string()
+}
+
+/// [`time_of_day`] as a `Display` (a width pads on the right, as `{:<20}` in
+/// `DB_VARSUMMARY`), without a temporary string.
+struct TimeOfDay(f64);
+
+impl std::fmt::Display for TimeOfDay {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let t = self.0;
+        let secs = t.floor();
+        let ms = ((t - secs) * 1000.0).floor() as i64;
+        let day = (secs as i64).rem_euclid(86_400);
+        write!(
+            f,
+            "{:02}:{:02}:{:02}.{:03}",
+            day / 3600,
+            (day / 60) % 60,
+            day % 60,
+            ms.clamp(0, 999)
+        )?;
+        // Every field is in range, so the text is always 12 characters; a width pads it on
+        // the right (the left alignment `DB_VARSUMMARY` asks for).
+        for _ in 12..f.width().unwrap_or(0) {
+            f.write_char(f.fill())?;
+        }
+        Ok(())
+    }
 }
 
 /// A double as C++ `ostream <<` prints it by default (`%g`, 6 significant digits).
@@ -1392,6 +1428,7 @@ mod tests {
         assert!(wildcard_match(b"*_ITER_GAP", b"PHELM_ITER_GAP"));
         assert_eq!(time_of_day(-1.0), "23:59:59.000");
         assert_eq!(time_of_day(1795217434.275), "23:30:34.275");
+        assert_eq!(format!("{:<14}|", TimeOfDay(-1.0)), "23:59:59.000  |");
         assert_eq!(fmt_g6(0.481129), "0.481129");
         assert_eq!(fmt_g6(12.5), "12.5");
         assert_eq!(fmt_g6(0.0000123), "1.23e-05");

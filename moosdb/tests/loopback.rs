@@ -337,7 +337,7 @@ async fn stuck_client_does_not_stall_a_fast_subscriber() {
             while i - received.load(std::sync::atomic::Ordering::Relaxed) >= WINDOW {
                 tokio::time::sleep(Duration::from_millis(1)).await;
             }
-            publ.notify("SEQ", Value::String(format!("{i:08}{payload}")))
+            publ.notify("SEQ", Value::String(format!("{i:08}{payload}").into()))
                 .unwrap();
         }
     };

@@ -173,10 +173,12 @@ pub enum LaunchError {
 pub type CustomFactory<'a> =
     dyn FnMut(&AntlerRun, Option<&ProcessConfig>) -> Option<Result<Box<dyn App>, String>> + 'a;
 
+/// FNV-1a (64-bit) of the name's bytes: a per-app seed that does not change between runs.
 fn fnv(s: &str) -> u64 {
-    s.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
-        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
-    })
+    use std::hash::Hasher as _;
+    let mut h = fnv::FnvHasher::default();
+    h.write(s.as_bytes());
+    h.finish()
 }
 
 /// What [`build`] made of one `Run` line.

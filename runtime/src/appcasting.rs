@@ -97,7 +97,7 @@ impl AppcastLayer {
 
     /// Takes the layer's own mail; returns whether `m` is the app's.
     pub fn take_mail(&mut self, m: &Mail) -> bool {
-        match (m.key.as_str(), &m.value) {
+        match (&*m.key, &m.value) {
             ("APPCAST_REQ", Value::String(v)) => {
                 self.cast.on_request(v, m.time);
             }

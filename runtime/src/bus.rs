@@ -6,6 +6,7 @@
 use bytes::Bytes;
 use moosdb::db::{ClientId, Database, DbConfig, DbTime, Effects};
 use moosdb::{DataType, Message, MsgType};
+use rustc_hash::FxHashSet;
 use thiserror::Error;
 
 use crate::app::{Mail, Post, Subscription, Value};
@@ -81,10 +82,49 @@ impl DbHost for LocalDb {
 }
 
 /// An in-process MOOSDB with in-process clients. Every call takes the MOOS time.
+///
+/// Mail is handed out without copies of its names (see [`moos_types::Mail`]); the bus keeps
+/// one shared buffer per variable and source name it publishes, and hands on a post's aux
+/// field as the app made it, so a post of a double reaches the DB and its subscribers
+/// without copying text.
 #[derive(Debug)]
 pub struct Bus<H: DbHost = LocalDb> {
     host: H,
     packets: Vec<Vec<Message>>,
+    names: Names,
+}
+
+/// Most names [`Names`] keeps before it starts afresh (it only saves copies: a name seen
+/// again after that is copied once more).
+const NAMES_LIMIT: usize = 4096;
+
+/// Shared buffers of the variable and source names posts carry, so that publishing hands
+/// the DB reference-counted buffers instead of fresh copies (the DB keeps them as variable
+/// names and writers, and clones them into every subscriber's mail).
+#[derive(Debug, Default)]
+struct Names {
+    set: FxHashSet<Bytes>,
+}
+
+impl Names {
+    /// The shared buffer holding `s` (empty text needs none).
+    fn get(&mut self, s: &str) -> Bytes {
+        if s.is_empty() {
+            return Bytes::new();
+        }
+        if let Some(b) = self.set.get(s.as_bytes()) {
+            return b.clone();
+        }
+        if self.set.len() >= NAMES_LIMIT {
+            self.set.clear();
+        }
+        let b = Bytes::copy_from_slice(s.as_bytes());
+        // The first clone turns the buffer into a shared one (one allocation); every later
+        // clone of either handle only counts a reference.
+        let shared = b.clone();
+        self.set.insert(b);
+        shared
+    }
 }
 
 impl Bus<LocalDb> {
@@ -100,6 +140,7 @@ impl<H: DbHost> Bus<H> {
         Bus {
             host,
             packets: Vec::new(),
+            names: Names::default(),
         }
     }
 
@@ -110,7 +151,7 @@ impl<H: DbHost> Bus<H> {
 
     /// Connects a client called `name` (an asynchronous client, as every V10 app is).
     pub fn connect(&mut self, name: &str, now: f64) -> Result<ClientId, BusError> {
-        let key = Bytes::copy_from_slice(name.as_bytes());
+        let key = self.names.get(name);
         self.host
             .with_mut(now, |db, t| db.connect(key, true, now, t).id())
             .ok_or_else(|| BusError::NameTaken(name.to_string()))
@@ -142,7 +183,7 @@ impl<H: DbHost> Bus<H> {
             m.time = now;
             m
         };
-        self.send(id, vec![msg], now)
+        Self::send(&mut self.host, id, [msg], now)
     }
 
     /// Publishes posts made at `now` by the client `id`; a post with an empty source gets
@@ -157,45 +198,47 @@ impl<H: DbHost> Bus<H> {
         if posts.is_empty() {
             return Ok(());
         }
-        let default_src = Bytes::copy_from_slice(default_source.as_bytes());
-        let msgs = posts
-            .iter()
-            .map(|p| {
-                let mut m = Message::new(MsgType::Notify, DataType::Double, "");
-                m.key = Bytes::copy_from_slice(p.key.as_bytes());
-                m.time = now;
-                match &p.value {
-                    Value::Double(x) => m.dval = *x,
-                    Value::String(s) => {
-                        m.data_type = DataType::String;
-                        m.sval = Bytes::copy_from_slice(s.as_bytes());
-                    }
-                    Value::Binary(b) => {
-                        m.data_type = DataType::Binary;
-                        m.sval = Bytes::copy_from_slice(b);
-                    }
+        let default_src = self.names.get(default_source);
+        let names = &mut self.names;
+        let msgs = posts.iter().map(|p| {
+            let mut m = Message::new(MsgType::Notify, DataType::Double, "");
+            m.key = names.get(&p.key);
+            m.time = now;
+            match &p.value {
+                Value::Double(x) => m.dval = *x,
+                Value::String(s) => {
+                    m.data_type = DataType::String;
+                    m.sval = s.as_bytes().clone();
                 }
-                if !p.aux.is_empty() {
-                    m.src_aux = Bytes::copy_from_slice(p.aux.as_bytes());
+                Value::Binary(b) => {
+                    m.data_type = DataType::Binary;
+                    m.sval = Bytes::copy_from_slice(b);
                 }
-                m.src = if p.source.is_empty() {
-                    default_src.clone()
-                } else {
-                    Bytes::copy_from_slice(p.source.as_bytes())
-                };
-                m
-            })
-            .collect();
-        self.send(id, msgs, now)
+            }
+            // Aux fields vary (the helm's `<iteration>:<behaviour>`): the post's own
+            // buffer, shared as the app made it.
+            m.src_aux = p.aux.as_bytes().clone();
+            m.src = if p.source.is_empty() {
+                default_src.clone()
+            } else {
+                names.get(&p.source)
+            };
+            m
+        });
+        Self::send(&mut self.host, id, msgs, now)
     }
 
-    fn send(&mut self, id: ClientId, msgs: Vec<Message>, now: f64) -> Result<(), BusError> {
-        let effects = self
-            .host
+    fn send(
+        host: &mut H,
+        id: ClientId,
+        msgs: impl IntoIterator<Item = Message>,
+        now: f64,
+    ) -> Result<(), BusError> {
+        let effects = host
             .with_mut(now, |db, t| db.handle(id, msgs, t))
             .map_err(|_| BusError::NotConnected(id))?;
         if !effects.ready.is_empty() {
-            self.host.wake(&effects);
+            host.wake(&effects);
         }
         Ok(())
     }
@@ -204,7 +247,7 @@ impl<H: DbHost> Bus<H> {
     /// `out`. Like a sync client's poll, this also collects held mail.
     pub fn fetch(&mut self, id: ClientId, now: f64, out: &mut Vec<Mail>) -> Result<(), BusError> {
         let poll = Message::new(MsgType::Null, DataType::Double, "");
-        self.send(id, vec![poll], now)?;
+        Self::send(&mut self.host, id, [poll], now)?;
         self.packets.clear();
         let packets = &mut self.packets;
         if !self
@@ -218,7 +261,7 @@ impl<H: DbHost> Bus<H> {
             if m.msg_type != MsgType::Notify {
                 continue;
             }
-            if let Some(mail) = to_mail(&m) {
+            if let Some(mail) = m.mail() {
                 out.push(mail);
             }
         }
@@ -226,34 +269,19 @@ impl<H: DbHost> Bus<H> {
         Ok(())
     }
 
+    /// The current value of a variable as the DB would replay it, if it was ever written
+    /// (its buffers are the DB's: nothing is copied).
+    pub fn current_message(&self, key: &str) -> Option<Message> {
+        self.host.with_ref(|db| db.current(key))
+    }
+
     /// The current value of a variable, if it was ever written.
     pub fn current(&self, key: &str) -> Option<Mail> {
         self.host
             .with_ref(|db| db.current(key))
             .as_ref()
-            .and_then(to_mail)
+            .and_then(Message::mail)
     }
-}
-
-fn text(b: &Bytes) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
-
-fn to_mail(m: &Message) -> Option<Mail> {
-    let value = match m.data_type {
-        DataType::Double => Value::Double(m.dval),
-        DataType::String => Value::String(text(&m.sval)),
-        DataType::Binary => Value::Binary(m.sval.to_vec()),
-        DataType::NotSet => return None,
-    };
-    Some(Mail {
-        key: text(&m.key),
-        value,
-        time: m.time,
-        source: text(&m.src),
-        source_aux: text(&m.src_aux),
-        community: text(&m.community),
-    })
 }
 
 #[cfg(test)]
@@ -292,7 +320,7 @@ mod tests {
         bus.fetch(b, 102.0, &mut mail).unwrap();
         let got: Vec<(String, Value, f64)> = mail
             .iter()
-            .map(|m| (m.key.clone(), m.value.clone(), m.time))
+            .map(|m| (m.key.to_string(), m.value.clone(), m.time))
             .collect();
         assert_eq!(
             got,

@@ -17,6 +17,8 @@ use crate::appcasting::AppcastLayer;
 pub struct HelmApp {
     name: String,
     block: Option<ProcessConfig>,
+    /// The block's AppTick, read once.
+    tick: f64,
     helm: Helm,
     registered: Vec<String>,
     pid: Option<u32>,
@@ -24,6 +26,9 @@ pub struct HelmApp {
     reload: Option<Reload>,
     /// Variables to register at the next `new_subscriptions` (after a restart).
     unregistered: Vec<String>,
+    /// How many of the helm's registrations (`Helm::subscriptions`, which only grows) have
+    /// been taken into `registered`.
+    helm_seen: usize,
     /// The process's CPU load, percent (single-app mode).
     cpu_percent: Option<f64>,
     /// Appcasting (AppCastingMOOSApp): requests, warnings, events, `APPCAST` postings.
@@ -60,7 +65,8 @@ impl HelmApp {
             }
             None => Helm::from_mission(&MissionFile::default(), bhv),
         };
-        let mut registered = helm.subscriptions();
+        let mut registered = helm.subscriptions().to_vec();
+        let helm_seen = registered.len();
         // pHelmIvP also registers the variables of the mode declarations' conditions
         // (e.g. DEPLOY in `set MODE = ACTIVE { DEPLOY = true }`).
         for m in &bhv.value.modes {
@@ -87,12 +93,14 @@ impl HelmApp {
         }
         HelmApp {
             name: name.to_string(),
+            tick: crate::app::app_tick_of(block.as_ref()),
             block,
             helm,
             registered,
             pid: None,
             reload: None,
             unregistered: Vec::new(),
+            helm_seen,
             cpu_percent: None,
             appcast,
         }
@@ -142,6 +150,7 @@ impl HelmApp {
         );
         let old = std::mem::replace(&mut self.helm, fresh.helm);
         self.helm.restart_from(old, keep_info);
+        self.helm_seen = 0;
         // The new set's registrations (mode-condition variables included) are made at the
         // next `new_subscriptions`.
         for v in fresh.registered {
@@ -265,6 +274,10 @@ impl App for HelmApp {
         self.block.as_ref()
     }
 
+    fn app_tick(&self) -> f64 {
+        self.tick
+    }
+
     fn subscriptions(&self) -> Vec<Subscription> {
         AppcastLayer::subscriptions()
             .chain(self.registered.iter().cloned().map(Subscription::var))
@@ -297,12 +310,15 @@ impl App for HelmApp {
                 self.registered.push(v);
             }
         }
-        for v in self.helm.subscriptions() {
-            if !self.registered.contains(&v) {
+        // Only the helm's registrations added since the last call (usually none).
+        let subs = self.helm.subscriptions();
+        for v in subs.get(self.helm_seen..).unwrap_or_default() {
+            if !self.registered.contains(v) {
                 fresh.push(Subscription::var(v.clone()));
-                self.registered.push(v);
+                self.registered.push(v.clone());
             }
         }
+        self.helm_seen = subs.len();
         fresh
     }
 
@@ -334,8 +350,9 @@ impl App for HelmApp {
         if let Some(cpu) = self.cpu_percent {
             out.push(Post::double("IVPHELM_CPU", cpu));
         }
+        // The helm's names are shared: copying a posting copies only a string value.
         for p in self.helm.iterate(now) {
-            out.push(Post::new(p.key.clone(), p.value.clone()).with_aux(p.aux.clone()));
+            out.push(Post::new(&p.key, p.value.clone()).with_aux(&p.aux));
         }
         for note in self.helm.take_appcast_notes() {
             self.appcast.note(note, now);
@@ -450,7 +467,7 @@ mod appcast_tests {
             value,
             time,
             source: "uMAC".into(),
-            source_aux: String::new(),
+            source_aux: Default::default(),
             community: "alpha".into(),
         }
     }

@@ -487,6 +487,8 @@ pub struct Logger<W: Write> {
     opened_on: String,
     last_dir_post: f64,
     blog_offset: u64,
+    /// Reused to assemble `src:aux` sources.
+    scratch: String,
     blog_name: String,
     root: String,
     side: Option<SideFiles>,
@@ -496,21 +498,25 @@ pub struct Logger<W: Write> {
     failed: bool,
 }
 
-/// Writes one mail as a log record: the source as `src:aux` with `LogAuxSrc`, binary data as
-/// its reference into the `.blog` at `blog_offset` (which advances).
+/// Writes one mail as a log record: the source as `src:aux` with `LogAuxSrc` (assembled in
+/// `scratch`, reused), binary data as its reference into the `.blog` at `blog_offset` (which
+/// advances).
 fn record<W: Write>(
     w: &mut AlogWriter<W>,
     m: &Mail,
     log_aux_src: bool,
-    blog_name: &str,
-    blog_offset: &mut u64,
+    blog: (&str, &mut u64),
+    scratch: &mut String,
 ) -> io::Result<()> {
-    let src;
+    let (blog_name, blog_offset) = blog;
     let source = if log_aux_src && !m.source_aux.is_empty() {
-        src = format!("{}:{}", m.source, m.source_aux);
-        src.as_str()
+        scratch.clear();
+        scratch.push_str(&m.source);
+        scratch.push(':');
+        scratch.push_str(&m.source_aux);
+        scratch.as_str()
     } else {
-        m.source.as_str()
+        &m.source
     };
     match &m.value {
         Value::Double(x) => w.record(m.time, &m.key, source, alog::LogValue::Double(*x)),
@@ -575,6 +581,7 @@ impl<W: Write> Logger<W> {
             opened_on: opened_on.to_string(),
             last_dir_post: f64::NEG_INFINITY,
             blog_offset: 0,
+            scratch: String::new(),
             error: None,
             failed: false,
         }
@@ -674,8 +681,8 @@ impl<W: Write> Logger<W> {
                     x,
                     m,
                     self.config.log_aux_src,
-                    &self.blog_name,
-                    &mut self.blog_offset,
+                    (&self.blog_name, &mut self.blog_offset),
+                    &mut self.scratch,
                 );
                 self.note(r);
             }
@@ -696,8 +703,8 @@ impl<W: Write> Logger<W> {
             w,
             m,
             self.config.log_aux_src,
-            &self.blog_name,
-            &mut self.blog_offset,
+            (&self.blog_name, &mut self.blog_offset),
+            &mut self.scratch,
         );
         self.note(r);
     }

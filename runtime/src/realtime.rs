@@ -42,7 +42,7 @@ pub struct RunEnd {
 fn to_value(m: &moosdb::Message) -> Option<Value> {
     match m.data_type {
         DataType::Double => Some(Value::Double(m.dval)),
-        DataType::String => Some(Value::String(m.sval_str().into_owned())),
+        DataType::String => Some(Value::String(m.sval_str().into_owned().into())),
         _ => None,
     }
 }

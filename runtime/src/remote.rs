@@ -10,12 +10,11 @@ use std::collections::BTreeSet;
 use std::future::Future;
 use std::time::Duration;
 
-use bytes::Bytes;
 use moosdb::time::Warp;
-use moosdb::{Client, ClientConfig, ClientError, DataType, Message, MsgType};
+use moosdb::{Client, ClientConfig, ClientError, Message, MsgType};
 use thiserror::Error;
 
-use crate::app::{App, Mail, Post, STATUS_PERIOD, Value, status_text};
+use crate::app::{App, Mail, Post, STATUS_PERIOD, status_text};
 
 /// Why a remote app stopped with an error.
 #[derive(Debug, Error)]
@@ -94,30 +93,12 @@ impl AppArgs {
     }
 }
 
-fn to_mail(m: &Message) -> Option<Mail> {
-    let text = |b: &Bytes| String::from_utf8_lossy(b).into_owned();
-    let value = match m.data_type {
-        DataType::Double => Value::Double(m.dval),
-        DataType::String => Value::String(text(&m.sval)),
-        DataType::Binary => Value::Binary(m.sval.to_vec()),
-        DataType::NotSet => return None,
-    };
-    Some(Mail {
-        key: text(&m.key),
-        value,
-        time: m.time,
-        source: text(&m.src),
-        source_aux: text(&m.src_aux),
-        community: text(&m.community),
-    })
-}
-
 fn send(client: &Client, posts: &mut Vec<Post>, published: &mut BTreeSet<String>) {
     for p in posts.drain(..) {
         let value = p.value;
         // A post while reconnecting is lost, as CMOOSApp's Notify fails while offline.
-        if client.notify_with(&p.key, value, None, &p.aux).is_ok() && !published.contains(&p.key) {
-            published.insert(p.key);
+        if client.notify_with(&p.key, value, None, &p.aux).is_ok() && !published.contains(&*p.key) {
+            published.insert(p.key.to_string());
         }
     }
 }
@@ -174,7 +155,7 @@ pub async fn run<A: App + ?Sized>(
         mail.clear();
         while let Some(m) = inbox.try_recv() {
             if m.msg_type == MsgType::Notify
-                && let Some(x) = to_mail(&m)
+                && let Some(x) = Message::mail(&m)
             {
                 mail.push(x);
             }

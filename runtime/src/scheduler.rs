@@ -10,11 +10,13 @@ use std::collections::BTreeSet;
 
 use mission::condition::{self, Condition};
 use moosdb::db::ClientId;
+use moosdb::{DataType, Message};
 use thiserror::Error;
 
 use crate::app::{App, AppError, Mail, Post, STATUS_PERIOD, Value};
 use crate::bus::{Bus, BusError, DbHost, LocalDb};
 use crate::clock::{Clock, VirtualClock};
+use moos_types::ByteString;
 
 /// When a poke is posted.
 #[derive(Debug, Clone, PartialEq)]
@@ -141,6 +143,10 @@ pub struct Scheduler<C: Clock = VirtualClock, H: DbHost = LocalDb> {
     after: Vec<(String, Post)>,
     poke_client: Option<ClientId>,
     until: Option<Condition>,
+    /// The `until` condition's variables, each once.
+    until_vars: Vec<String>,
+    /// Their current values at the last check (reused, so a check allocates nothing).
+    until_msgs: Vec<Option<Message>>,
     armed: bool,
     status_posts: bool,
     started: bool,
@@ -163,6 +169,8 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
             after: Vec::new(),
             poke_client: None,
             until: None,
+            until_vars: Vec::new(),
+            until_msgs: Vec::new(),
             armed: true,
             status_posts: true,
             started: false,
@@ -190,7 +198,12 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
         if tapped.is_empty() {
             return;
         }
-        taps.extend(posts.iter().filter(|p| tapped.contains(&p.key)).cloned());
+        taps.extend(
+            posts
+                .iter()
+                .filter(|p| tapped.iter().any(|k| **k == *p.key))
+                .cloned(),
+        );
     }
 
     /// Turns the CMOOSApp `<APP>_STATUS` posts (every 2 s per app) on or off (default on).
@@ -214,7 +227,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
         if self.started {
             self.posts.clear();
             app.on_startup(now, &mut self.posts)?;
-            published.extend(self.posts.iter().map(|p| p.key.clone()));
+            published.extend(self.posts.iter().map(|p| p.key.to_string()));
             self.bus.publish(id, &self.posts, &name, now)?;
         }
         self.slots.push(Slot {
@@ -241,10 +254,10 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
             self.poke_client = Some(self.bus.connect("uPokeDB", self.start)?);
         }
         let post = Post {
-            key: poke.key,
+            key: poke.key.into(),
             value: poke.value,
-            source: "uPokeDB".to_string(),
-            aux: String::new(),
+            source: ByteString::from_static("uPokeDB"),
+            aux: ByteString::new(),
         };
         match poke.at {
             PokeAt::Time(t) => {
@@ -264,6 +277,12 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
     /// every event, once every after-first-iterate poke has gone out (so `DEPLOY = false`
     /// is not met by the helm's initial value before `--deploy` is posted).
     pub fn set_until(&mut self, cond: Condition) {
+        self.until_vars.clear();
+        for v in cond.variables() {
+            if !self.until_vars.iter().any(|u| u == v) {
+                self.until_vars.push(v.to_string());
+            }
+        }
         self.until = Some(cond);
     }
 
@@ -306,25 +325,36 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
             .collect()
     }
 
-    /// True when the `until` condition is set, armed and holds now.
-    pub fn until_holds(&self) -> bool {
+    /// True when the `until` condition is set, armed and holds now. Reads the DB's values
+    /// in place: a check allocates nothing (a string that is not UTF-8 is compared as its
+    /// lossy copy).
+    pub fn until_holds(&mut self) -> bool {
         let Some(c) = &self.until else {
             return false;
         };
         if !self.armed {
             return false;
         }
-        let vals: Vec<(String, Option<Value>)> = c
-            .variables()
-            .into_iter()
-            .map(|v| (v.to_string(), self.current(v)))
-            .collect();
+        self.until_msgs.clear();
+        for v in &self.until_vars {
+            let mut m = self.bus.current_message(v);
+            if let Some(m) = m.as_mut().filter(|m| m.data_type == DataType::String)
+                && std::str::from_utf8(&m.sval).is_err()
+            {
+                m.sval = String::from_utf8_lossy(&m.sval).into_owned().into();
+            }
+            self.until_msgs.push(m);
+        }
+        let (vars, msgs) = (&self.until_vars, &self.until_msgs);
         let lookup = |name: &str| -> Option<condition::Value<'_>> {
-            let (_, v) = vals.iter().find(|(n, _)| n == name)?;
-            match v.as_ref()? {
-                Value::Double(x) => Some(condition::Value::Double(*x)),
-                Value::String(s) => Some(condition::Value::String(s)),
-                Value::Binary(_) => None,
+            let i = vars.iter().position(|v| v == name)?;
+            let m = msgs.get(i)?.as_ref()?;
+            match m.data_type {
+                DataType::Double => Some(condition::Value::Double(m.dval)),
+                DataType::String => std::str::from_utf8(&m.sval)
+                    .ok()
+                    .map(condition::Value::String),
+                DataType::Binary | DataType::NotSet => None,
             }
         };
         c.evaluate(&lookup)
@@ -370,8 +400,8 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
         now: f64,
     ) -> Result<(), BusError> {
         for p in posts {
-            if !slot.published.contains(&p.key) {
-                slot.published.insert(p.key.clone());
+            if !slot.published.contains(&*p.key) {
+                slot.published.insert(p.key.to_string());
             }
         }
         bus.publish(slot.id, posts, &slot.name, now)

@@ -365,7 +365,7 @@ impl App for SensorsApp {
             let Value::Double(v) = m.value else {
                 continue;
             };
-            if let Some((_, f)) = self.truth_vars.iter().find(|(name, _)| *name == m.key) {
+            if let Some((_, f)) = self.truth_vars.iter().find(|(name, _)| **name == *m.key) {
                 // The simulator's posting time is the truth's time.
                 self.tracker.update(*f, v, m.time);
             }
@@ -407,7 +407,7 @@ mod tests {
             value: Value::Double(v),
             time,
             source: "uSimMarineV22".into(),
-            source_aux: String::new(),
+            source_aux: Default::default(),
             community: "abe".into(),
         }
     }
@@ -460,7 +460,7 @@ mod tests {
         app.iterate(0.1, &mut out).unwrap();
         let keys: Vec<&str> = out
             .iter()
-            .map(|p| p.key.as_str())
+            .map(|p| &*p.key)
             .filter(|k| !k.starts_with("APP"))
             .collect();
         // At the surface over 30 m of water: the DVL is in range, the GPS is acquiring.

@@ -1029,7 +1029,7 @@ fn realtime(
                         .and_then(|m| match m.data_type {
                             moosdb::DataType::Double => Some(Value::Double(m.dval)),
                             moosdb::DataType::String => {
-                                Some(Value::String(m.sval_str().into_owned()))
+                                Some(Value::String(m.sval_str().into_owned().into()))
                             }
                             _ => None,
                         })

@@ -71,7 +71,7 @@ impl RunSummary {
                     continue;
                 }
                 ("IVPHELM_STATE", Value::String(v)) => {
-                    s.helm_state = Some(v.clone());
+                    s.helm_state = Some(v.to_string());
                     continue;
                 }
                 ("IVPHELM_SUMMARY", Value::String(v)) => {

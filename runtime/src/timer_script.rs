@@ -704,7 +704,7 @@ impl TimerScript {
                     let s = self.expand(text, now);
                     match s.parse::<f64>() {
                         Ok(x) if !quoted && condition::is_numeric(&s) => Value::Double(x),
-                        _ => Value::String(s),
+                        _ => Value::String(s.into()),
                     }
                 }
             }
@@ -806,7 +806,7 @@ impl App for TimerScript {
 
     fn on_mail(&mut self, mail: &[Mail], now: f64, _out: &mut Vec<Post>) -> crate::app::AppResult {
         for m in mail {
-            let key = m.key.as_str();
+            let key = &*m.key;
             if key == self.pause_var {
                 if let Some(s) = m.value.as_str() {
                     match s.to_ascii_lowercase().as_str() {
@@ -817,7 +817,7 @@ impl App for TimerScript {
                     }
                     self.status_needed = true;
                 }
-                self.info.insert(m.key.clone(), m.value.clone());
+                self.info.insert(m.key.to_string(), m.value.clone());
             } else if key == self.reset_var {
                 if let Some(s) = m.value.as_str()
                     && (s.eq_ignore_ascii_case("reset") || s.eq_ignore_ascii_case("true"))
@@ -870,7 +870,7 @@ impl App for TimerScript {
                 } else if key == "NAV_Y" {
                     self.nav_y = m.value.as_f64();
                 }
-                self.info.insert(m.key.clone(), m.value.clone());
+                self.info.insert(m.key.to_string(), m.value.clone());
             }
         }
         Ok(())
@@ -990,11 +990,11 @@ mod tests {
                 .iter()
                 .take_while(|(t, _, _)| *t <= now + 1e-9)
                 .map(|(t, key, v)| Mail {
-                    key: key.to_string(),
+                    key: (*key).into(),
                     value: v.clone(),
                     time: *t,
                     source: "test".into(),
-                    source_aux: String::new(),
+                    source_aux: Default::default(),
                     community: "alpha".into(),
                 })
                 .collect();
@@ -1033,10 +1033,8 @@ mod tests {
             )
         );
         let posts = without_status(out.clone());
-        let got: Vec<(f64, &str, &Value)> = posts
-            .iter()
-            .map(|(t, p)| (*t, p.key.as_str(), &p.value))
-            .collect();
+        let got: Vec<(f64, &str, &Value)> =
+            posts.iter().map(|(t, p)| (*t, &*p.key, &p.value)).collect();
         assert_eq!(
             got,
             vec![
@@ -1084,7 +1082,7 @@ mod tests {
             "event = var=A, val=x, time=1\nevent = var=B, val=y, time=5\nreset_time = 3\nreset_max = 1",
         );
         let out = without_status(run(&mut ts, 0.0, 0.5, 20, &[]));
-        let got: Vec<(f64, &str)> = out.iter().map(|(t, p)| (*t, p.key.as_str())).collect();
+        let got: Vec<(f64, &str)> = out.iter().map(|(t, p)| (*t, &*p.key)).collect();
         // Pass 1: A at 1, reset at elapsed 3; pass 2 starts at 3.5: A at 4.5; B never.
         assert_eq!(got, vec![(1.0, "A"), (4.5, "A")]);
     }
@@ -1139,7 +1137,7 @@ mod tests {
         let mut ts = script("event = var=A, val=1, time=2\nevent = var=B, val=1, time=10");
         let mail = [(4.0, "UTS_RESET", Value::text("reset"))];
         let out = without_status(run(&mut ts, 0.0, 1.0, 9, &mail));
-        let got: Vec<(f64, &str)> = out.iter().map(|(t, p)| (*t, p.key.as_str())).collect();
+        let got: Vec<(f64, &str)> = out.iter().map(|(t, p)| (*t, &*p.key)).collect();
         // A at 2; reset by mail at 4, so the same iterate restarts; A again at 6.
         assert_eq!(got, vec![(2.0, "A"), (6.0, "A")]);
     }
@@ -1240,7 +1238,7 @@ mod tests {
             (5.0, "UTS_FORWARD", Value::Double(50.0)),
         ];
         let out = without_status(run(&mut ts, 0.0, 1.0, 160, &mail));
-        let got: Vec<(f64, &str)> = out.iter().map(|(t, p)| (*t, p.key.as_str())).collect();
+        let got: Vec<(f64, &str)> = out.iter().map(|(t, p)| (*t, &*p.key)).collect();
         // At 2 skip 99 (to the next event from the last elapsed time, 1): A posts at 2;
         // at 5 skip 50 more: elapsed = t + 149, B (200) at t 51.
         assert_eq!(got, vec![(2.0, "A"), (51.0, "B")]);
@@ -1296,8 +1294,8 @@ mod tests {
                 value: Value::text("uTimerScript"),
                 time: 1.0,
                 source: "uTimerScript".into(),
-                source_aux: String::new(),
-                community: String::new(),
+                source_aux: Default::default(),
+                community: Default::default(),
             }],
             1.2,
             &mut posts,

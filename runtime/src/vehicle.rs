@@ -82,6 +82,8 @@ enum Inner {
 pub struct VehicleApp {
     name: String,
     block: ProcessConfig,
+    /// The block's AppTick, read once.
+    tick: f64,
     inner: Inner,
     subs: Vec<Subscription>,
     postings: Vec<Posting>,
@@ -105,6 +107,7 @@ impl VehicleApp {
         }
         VehicleApp {
             name: name.to_string(),
+            tick: crate::app::app_tick_of(Some(&block)),
             block,
             inner,
             subs: AppcastLayer::subscriptions()
@@ -249,6 +252,10 @@ impl App for VehicleApp {
         Some(&self.block)
     }
 
+    fn app_tick(&self) -> f64 {
+        self.tick
+    }
+
     fn on_startup(&mut self, now: f64, out: &mut Vec<Post>) -> crate::app::AppResult {
         self.appcast.on_startup(now);
         if let Inner::Pid(p) = &mut self.inner {
@@ -337,7 +344,7 @@ mod tests {
             value,
             time,
             source: "uMAC".into(),
-            source_aux: String::new(),
+            source_aux: Default::default(),
             community: "abe".into(),
         }
     }

@@ -25,7 +25,7 @@ fn mail(key: &str, value: Value, t: f64) -> Mail {
         value,
         time: t,
         source: "test".into(),
-        source_aux: String::new(),
+        source_aux: Default::default(),
         community: "abe".into(),
     }
 }

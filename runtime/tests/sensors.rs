@@ -88,7 +88,7 @@ impl App for Recorder {
         let mut r = self.0.borrow_mut();
         for m in mail {
             if let Value::Double(v) = m.value {
-                r.push((m.key.clone(), m.time - START, v));
+                r.push((m.key.to_string(), m.time - START, v));
             }
         }
         Ok(())

@@ -338,12 +338,12 @@ fn node_reporter_startup_subscriptions_and_mail_time() {
     // Mail written 100 s before the reporter reads it: the alt-nav record counts as fresh
     // from the reading (within 5 s at START + 3), so its report follows the node report.
     let mail = |key: &str, x: f64| Mail {
-        key: key.to_string(),
+        key: key.into(),
         value: Value::Double(x),
         time: START - 100.0,
-        source: "uSimMarine".to_string(),
-        source_aux: String::new(),
-        community: "abe".to_string(),
+        source: "uSimMarine".into(),
+        source_aux: Default::default(),
+        community: "abe".into(),
     };
     let batch: Vec<Mail> = [
         ("NAV_X", 1.0),
@@ -377,6 +377,6 @@ fn node_reporter_startup_subscriptions_and_mail_time() {
         .collect();
     assert_eq!(
         plat[0].value,
-        Value::String("platform=abe,utc_time=1786000003.00000,BATT_V=12".to_string())
+        Value::text("platform=abe,utc_time=1786000003.00000,BATT_V=12")
     );
 }

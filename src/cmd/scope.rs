@@ -120,7 +120,7 @@ pub fn run(args: &ScopeArgs) -> anyhow::Result<()> {
                     // Like every MOOS app: keeps the DB's pushes flowing to idle clients.
                     let uptime = client.moos_time() - start;
                     let s = format!("AppErrorFlag=false,Uptime={uptime:.2},MOOSName={name}");
-                    let _ = client.notify(&status_var, Value::String(s));
+                    let _ = client.notify(&status_var, Value::String(s.into()));
                 }
                 _ = &mut deadline, if args.once && !waited => {
                     waited = true;

@@ -26,7 +26,7 @@
 //!   vehicle; that stays the default (`fixed_surge = 0.6`) because the field gains were tuned
 //!   with it, and `fixed_surge = none` uses the measured speed instead.
 
-use std::sync::Arc;
+use moos_types::ByteString;
 
 use crate::angle::angle180;
 use crate::config::{ConfigError, Param, apply_params, parse_number, strict};
@@ -801,7 +801,7 @@ pub struct CougarsControl {
     surface: bool,
     boot_time: f64,
     last: Option<(UCommand, f64)>,
-    vars: [Arc<str>; 10],
+    vars: [ByteString; 10],
 }
 
 impl CougarsControl {
@@ -832,7 +832,7 @@ impl CougarsControl {
             surface: false,
             boot_time,
             last: None,
-            vars: names.map(Arc::from),
+            vars: names.map(ByteString::from),
         }
     }
 
@@ -893,16 +893,16 @@ impl CougarsControl {
             .actuators
             .outputs(Some((&mixed, since_boot)), since_boot);
         let v = &self.vars;
-        out.push(Posting::double(&*v[0], cmd.fin[0]));
+        out.push(Posting::double(&v[0], cmd.fin[0]));
         // The simulator's elevator dives when positive; a negative pitch fin (port fin,
         // `fin[2]`) pitches the nose down, hence the sign.
-        out.push(Posting::double(&*v[1], -cmd.fin[2]));
-        out.push(Posting::double(&*v[2], mixed.thruster));
+        out.push(Posting::double(&v[1], -cmd.fin[2]));
+        out.push(Posting::double(&v[2], mixed.thruster));
         for i in 0..3 {
-            out.push(Posting::double(&*v[3 + i], mixed.fin[i]));
-            out.push(Posting::double(&*v[6 + i], f64::from(pwm.servo_us[i])));
+            out.push(Posting::double(&v[3 + i], mixed.fin[i]));
+            out.push(Posting::double(&v[6 + i], f64::from(pwm.servo_us[i])));
         }
-        out.push(Posting::double(&*v[9], f64::from(pwm.thruster_us)));
+        out.push(Posting::double(&v[9], f64::from(pwm.thruster_us)));
     }
 
     /// PWM outputs at `time` with the failsafe applied to the last command.

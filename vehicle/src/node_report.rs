@@ -74,8 +74,8 @@
 //! message yet" as one at time −1 and "no alt-nav variable yet" as one at time 0, and does
 //! not count a report posted at time 0 as a last report; coug takes them as never.
 
+use moos_types::ByteString;
 use std::fmt::Write as _;
-use std::sync::Arc;
 
 use crate::angle::{angle360, heading_to_radians};
 use crate::config::{ConfigError, Param, apply_params, strict};
@@ -1012,11 +1012,11 @@ pub struct NodeReporter {
     /// `NAV_TRAJECTORY`: the report's `TRAJECTORY={...}` field.
     trajectory: Option<String>,
     buf: String,
-    var_report: Arc<str>,
-    var_first: Arc<str>,
-    var_gap: Arc<str>,
-    var_mhash: Arc<str>,
-    var_plat: Arc<str>,
+    var_report: ByteString,
+    var_first: ByteString,
+    var_gap: ByteString,
+    var_mhash: ByteString,
+    var_plat: ByteString,
     /// Alternative-nav reports posted (the appcast's `alt_nav_postings`).
     reports_posted_alt_nav: u64,
     /// The INDEX of the record last reported (set when a report is formed).
@@ -1406,27 +1406,27 @@ impl NodeReporter {
         let first = self.reports_posted == 0;
         if json.is_empty() {
             if first {
-                out.push(Posting::text(&*self.var_first, self.buf.as_str()));
+                out.push(Posting::text(&self.var_first, self.buf.as_str()));
             }
-            out.push(Posting::text(&*self.var_report, self.buf.as_str()));
+            out.push(Posting::text(&self.var_report, self.buf.as_str()));
         } else if json.eq_ignore_ascii_case("true") {
             let j = csp_to_json(&self.buf);
             if first {
-                out.push(Posting::text(&*self.var_first, j.as_str()));
+                out.push(Posting::text(&self.var_first, j.as_str()));
             }
-            out.push(Posting::text(&*self.var_report, j));
+            out.push(Posting::text(&self.var_report, j));
         } else {
             let j = csp_to_json(&self.buf);
             if first {
-                let var: Arc<str> = format!("{json}_FIRST").into();
-                out.push(Posting::text(&*var, j.as_str()));
-                out.push(Posting::text(&*self.var_first, self.buf.as_str()));
+                let var: ByteString = format!("{json}_FIRST").into();
+                out.push(Posting::text(&var, j.as_str()));
+                out.push(Posting::text(&self.var_first, self.buf.as_str()));
             }
-            let var: Arc<str> = json.as_str().into();
-            out.push(Posting::text(&*var, j));
-            out.push(Posting::text(&*self.var_report, self.buf.as_str()));
+            let var: ByteString = json.as_str().into();
+            out.push(Posting::text(&var, j));
+            out.push(Posting::text(&self.var_report, self.buf.as_str()));
         }
-        out.push(Posting::double(&*self.var_gap, gap));
+        out.push(Posting::double(&self.var_gap, gap));
         self.reports_posted += 1;
     }
 
@@ -1773,7 +1773,7 @@ impl NodeReporter {
                     report.push_str(&riders);
                 }
                 if !self.paused {
-                    out.push(Posting::text(&*self.var_report, report));
+                    out.push(Posting::text(&self.var_report, report));
                     self.reports_posted_alt_nav += 1;
                 }
             }
@@ -1800,7 +1800,7 @@ impl NodeReporter {
         self.last_xy = xy;
         let plat = self.platform_report(now);
         if !plat.is_empty() && !self.paused {
-            out.push(Posting::text(&*self.var_plat, plat));
+            out.push(Posting::text(&self.var_plat, plat));
         }
         // MISSION_HASH odometer: the largest distance from where the mission started,
         // posted when it has grown by 2 % and at least 1 m (MOOS `updateMHashOdo`).
@@ -1811,7 +1811,7 @@ impl NodeReporter {
         {
             let mut msg = format!("mhash={},ext=", self.mhash);
             moos_types::fmt::compact(&mut msg, ext, 1);
-            out.push(Posting::text(&*self.var_mhash, msg));
+            out.push(Posting::text(&self.var_mhash, msg));
         }
     }
 }

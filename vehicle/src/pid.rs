@@ -70,7 +70,7 @@
 //! DESIRED_DEPTH, PID_VERBOSE, SPEED_FACTOR, MOOS_MANUAL_OVERIDE, MOOS_MANUAL_OVERRIDE,
 //! PID_THRUST_CAP (with the cap), NAV_YAW (unless ignored). done.
 
-use std::sync::Arc;
+use moos_types::ByteString;
 
 use crate::angle::{angle180, angle360};
 use crate::config::{ConfigError, Param, apply_params, strict};
@@ -755,14 +755,14 @@ pub struct MarinePid {
     thrust_cap: f64,
     allstop_posted: bool,
     pending: Vec<Posting>,
-    rudder_var: Arc<str>,
-    thrust_var: Arc<str>,
-    elevator_var: Arc<str>,
-    has_control_var: Arc<str>,
-    stale_var: Arc<str>,
-    debug_vars: [Arc<str>; 3],
+    rudder_var: ByteString,
+    thrust_var: ByteString,
+    elevator_var: ByteString,
+    has_control_var: ByteString,
+    stale_var: ByteString,
+    debug_vars: [ByteString; 3],
     /// PID_MAX_SAT_HDG_DEBUG, PID_MAX_SAT_SPD_DEBUG, PID_MAX_SAT_DEP_DEBUG.
-    max_sat_vars: [Arc<str>; 3],
+    max_sat_vars: [ByteString; 3],
     last: PidOutputs,
     /// The engine's clock: the time of the last iteration (0 before the first). As in
     /// `PIDEngine`, mail is stamped with it, and a stamp of 0 means "never received".
@@ -957,7 +957,7 @@ impl MarinePid {
             "true" => {
                 if !self.inputs.manual_override {
                     self.pending
-                        .push(Posting::text(&*self.has_control_var, "false"));
+                        .push(Posting::text(&self.has_control_var, "false"));
                 }
                 self.inputs.manual_override = true;
             }
@@ -972,7 +972,7 @@ impl MarinePid {
                 }
                 self.inputs.manual_override = false;
                 self.pending
-                    .push(Posting::text(&*self.has_control_var, "true"));
+                    .push(Posting::text(&self.has_control_var, "true"));
             }
             _ => {}
         }
@@ -1062,15 +1062,15 @@ impl MarinePid {
         self.last = o;
         if !o.has_control {
             if !self.allstop_posted {
-                out.push(Posting::double(&*self.rudder_var, 0.0));
-                out.push(Posting::double(&*self.thrust_var, 0.0));
+                out.push(Posting::double(&self.rudder_var, 0.0));
+                out.push(Posting::double(&self.thrust_var, 0.0));
                 if self.cfg.depth_control {
-                    out.push(Posting::double(&*self.elevator_var, 0.0));
+                    out.push(Posting::double(&self.elevator_var, 0.0));
                 }
                 self.allstop_posted = true;
             }
         } else {
-            out.push(Posting::double(&*self.rudder_var, o.rudder));
+            out.push(Posting::double(&self.rudder_var, o.rudder));
             // As the C++ at a2a9b716: PID_THRUST_CAP is read and clipped to [20, 100] but the
             // posted thrust is the uncapped one (the capped value is computed and unused).
             let thrust = if self.cfg.legacy && self.cfg.enable_thrust_cap {
@@ -1078,9 +1078,9 @@ impl MarinePid {
             } else {
                 o.thrust
             };
-            out.push(Posting::double(&*self.thrust_var, thrust));
+            out.push(Posting::double(&self.thrust_var, thrust));
             if self.cfg.depth_control {
-                out.push(Posting::double(&*self.elevator_var, o.elevator));
+                out.push(Posting::double(&self.elevator_var, o.elevator));
             }
             self.allstop_posted = false;
             if self.cfg.legacy {
@@ -1109,7 +1109,7 @@ impl MarinePid {
         let f = |v: f64| format!("{v:.5}");
         let sat = &o.saturated;
         if self.cfg.speed_debug && o.ran_speed && sat.speed {
-            out.push(Posting::text(&*self.max_sat_vars[1], ""));
+            out.push(Posting::text(&self.max_sat_vars[1], ""));
         }
         if self.cfg.speed_debug && o.ran_speed {
             let (want, curr) = (val(self.inputs.desired_speed), val(self.inputs.speed));
@@ -1125,10 +1125,10 @@ impl MarinePid {
                 f(want - curr),
                 f(o.thrust)
             );
-            out.push(Posting::text(&*self.debug_vars[1], s));
+            out.push(Posting::text(&self.debug_vars[1], s));
         }
         if self.cfg.heading_debug && o.ran_heading && sat.heading {
-            out.push(Posting::text(&*self.max_sat_vars[0], ""));
+            out.push(Posting::text(&self.max_sat_vars[0], ""));
         }
         if self.cfg.heading_debug && o.ran_heading {
             let (des180, err) = o.heading_terms;
@@ -1139,12 +1139,12 @@ impl MarinePid {
                 f(err),
                 f(o.rudder)
             );
-            out.push(Posting::text(&*self.debug_vars[0], s));
+            out.push(Posting::text(&self.debug_vars[0], s));
         }
         if self.cfg.depth_debug && o.ran_depth {
             for (hit, tag) in [(sat.depth_to_pitch, "Z:"), (sat.pitch, "P:")] {
                 if hit {
-                    out.push(Posting::text(&*self.max_sat_vars[2], tag));
+                    out.push(Posting::text(&self.max_sat_vars[2], tag));
                 }
             }
             let (want, curr) = (val(self.inputs.desired_depth), val(self.inputs.depth));
@@ -1155,7 +1155,7 @@ impl MarinePid {
                 f(curr - want),
                 f(o.elevator)
             );
-            out.push(Posting::text(&*self.debug_vars[2], s));
+            out.push(Posting::text(&self.debug_vars[2], s));
         }
     }
 
@@ -1168,7 +1168,7 @@ impl MarinePid {
                 val(self.inputs.heading),
                 o.rudder
             );
-            out.push(Posting::text(&*self.debug_vars[0], s));
+            out.push(Posting::text(&self.debug_vars[0], s));
         }
         if self.cfg.speed_debug {
             let s = format!(
@@ -1177,7 +1177,7 @@ impl MarinePid {
                 val(self.inputs.speed),
                 o.thrust
             );
-            out.push(Posting::text(&*self.debug_vars[1], s));
+            out.push(Posting::text(&self.debug_vars[1], s));
         }
         if self.cfg.depth_debug && self.cfg.depth_control {
             let s = format!(
@@ -1186,7 +1186,7 @@ impl MarinePid {
                 val(self.inputs.depth),
                 o.elevator
             );
-            out.push(Posting::text(&*self.debug_vars[2], s));
+            out.push(Posting::text(&self.debug_vars[2], s));
         }
     }
 }

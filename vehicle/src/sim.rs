@@ -98,7 +98,7 @@
 //! above 1 (NaN position) the step is left unlimited; the wind arrow's angle follows the wind
 //! direction even when only a speed was ever given (the C++ arrow then stays at 0).
 
-use std::sync::Arc;
+use moos_types::ByteString;
 
 use crate::angle::{angle180, angle360, rel_ang};
 use crate::config::{ConfigError, Param, apply_params, parse_number, strict};
@@ -1077,32 +1077,32 @@ pub fn nav_outputs(cfg: &SimConfig, s: &SimState, grid: Option<&LocalGrid>) -> N
 }
 
 struct SimVars {
-    x: Arc<str>,
-    y: Arc<str>,
-    lat: Arc<str>,
-    lon: Arc<str>,
-    heading: Arc<str>,
-    speed: Arc<str>,
-    depth: Arc<str>,
-    z: Arc<str>,
-    pitch: Arc<str>,
-    yaw: Arc<str>,
-    hog: Arc<str>,
-    sog: Arc<str>,
-    altitude: Arc<str>,
-    sim_mode: Arc<str>,
-    true_x: Arc<str>,
-    true_y: Arc<str>,
-    drift_summary: Arc<str>,
-    reset_count: Arc<str>,
-    navpos_summary: Arc<str>,
-    post_thrust: Option<Arc<str>>,
-    post_rudder: Option<Arc<str>>,
+    x: ByteString,
+    y: ByteString,
+    lat: ByteString,
+    lon: ByteString,
+    heading: ByteString,
+    speed: ByteString,
+    depth: ByteString,
+    z: ByteString,
+    pitch: ByteString,
+    yaw: ByteString,
+    hog: ByteString,
+    sog: ByteString,
+    altitude: ByteString,
+    sim_mode: ByteString,
+    true_x: ByteString,
+    true_y: ByteString,
+    drift_summary: ByteString,
+    reset_count: ByteString,
+    navpos_summary: ByteString,
+    post_thrust: Option<ByteString>,
+    post_rudder: Option<ByteString>,
 }
 
 impl SimVars {
     fn new(cfg: &SimConfig) -> Self {
-        let p = |s: &str| -> Arc<str> { format!("{}_{s}", cfg.prefix).into() };
+        let p = |s: &str| -> ByteString { format!("{}_{s}", cfg.prefix).into() };
         SimVars {
             x: p("X"),
             y: p("Y"),
@@ -1164,7 +1164,7 @@ pub struct Simulator {
     buoyancy_request: Option<f64>,
     trim_request: Option<f64>,
     last_report: f64,
-    transp_var: Arc<str>,
+    transp_var: ByteString,
     /// The environment at start-up (the C++ `cacheStartingInfo`), for the appcast.
     start_inputs: SimInputs,
     /// The water depth at start-up.
@@ -1907,7 +1907,7 @@ impl Simulator {
                 moos_types::fmt::compact_string(dx, 3),
                 moos_types::fmt::compact_string(dy, 3)
             );
-            out.push(Posting::text(&*self.vars.drift_summary, summary));
+            out.push(Posting::text(&self.vars.drift_summary, summary));
             self.drift_fresh = false;
         }
         if let Some(w) = self.inputs.wind
@@ -1925,10 +1925,10 @@ impl Simulator {
                 self.cfg.wormholes.transparency(),
             ));
             if self.iteration.is_multiple_of(10) {
-                let view: Arc<str> = "VIEW_POLYGON".into();
+                let view: ByteString = "VIEW_POLYGON".into();
                 for hole in self.cfg.wormholes.holes() {
                     for poly in hole.polygons() {
-                        out.push(Posting::text(&*view, poly.to_spec()));
+                        out.push(Posting::text(&view, poly.to_spec()));
                     }
                 }
             }
@@ -1980,11 +1980,11 @@ impl Simulator {
 
     /// Posts a navigation record under the variable names `v` (`<P>_*` or `<P>_GT_*`).
     fn post_nav_as(&self, v: &SimVars, nav: &NavOutputs, out: &mut Vec<Posting>) {
-        out.push(Posting::double(&*v.x, nav.x));
-        out.push(Posting::double(&*v.y, nav.y));
+        out.push(Posting::double(&v.x, nav.x));
+        out.push(Posting::double(&v.y, nav.y));
         if let (Some(lat), Some(lon)) = (nav.lat, nav.lon) {
-            out.push(Posting::double(&*v.lat, lat));
-            out.push(Posting::double(&*v.lon, lon));
+            out.push(Posting::double(&v.lat, lat));
+            out.push(Posting::double(&v.lon, lon));
         }
         if self.cfg.post_navpos_summary {
             let mut s = format!(
@@ -2002,23 +2002,23 @@ impl Simulator {
                     moos_types::fmt::compact_string(lon, 7)
                 ));
             }
-            out.push(Posting::text(&*v.navpos_summary, s));
+            out.push(Posting::text(&v.navpos_summary, s));
         }
-        out.push(Posting::double(&*v.heading, nav.heading_deg));
-        out.push(Posting::double(&*v.speed, nav.speed_mps));
-        out.push(Posting::double(&*v.depth, nav.depth));
+        out.push(Posting::double(&v.heading, nav.heading_deg));
+        out.push(Posting::double(&v.speed, nav.speed_mps));
+        out.push(Posting::double(&v.depth, nav.depth));
         if self.cfg.depth_control {
-            out.push(Posting::text(&*v.sim_mode, "TRUE"));
-            out.push(Posting::double(&*v.z, nav.z));
-            out.push(Posting::double(&*v.pitch, nav.pitch_rad));
-            out.push(Posting::double(&*v.yaw, nav.yaw_rad));
-            out.push(Posting::double(&*v.true_x, nav.x));
-            out.push(Posting::double(&*v.true_y, nav.y));
+            out.push(Posting::text(&v.sim_mode, "TRUE"));
+            out.push(Posting::double(&v.z, nav.z));
+            out.push(Posting::double(&v.pitch, nav.pitch_rad));
+            out.push(Posting::double(&v.yaw, nav.yaw_rad));
+            out.push(Posting::double(&v.true_x, nav.x));
+            out.push(Posting::double(&v.true_y, nav.y));
         }
-        out.push(Posting::double(&*v.hog, nav.heading_og_deg));
-        out.push(Posting::double(&*v.sog, nav.speed_og_mps));
+        out.push(Posting::double(&v.hog, nav.heading_og_deg));
+        out.push(Posting::double(&v.sog, nav.speed_og_mps));
         if let Some(a) = nav.altitude {
-            out.push(Posting::double(&*v.altitude, a));
+            out.push(Posting::double(&v.altitude, a));
         }
     }
 }

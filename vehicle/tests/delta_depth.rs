@@ -14,7 +14,7 @@
 
 mod common;
 
-use std::sync::Arc;
+use moos_types::ByteString;
 
 use vehicle::pid::{MarinePid, PidConfig};
 use vehicle::sim::{SimConfig, Simulator};
@@ -60,7 +60,7 @@ struct Delta {
     ticks: [u64; 3],
     to_sim: Vec<(Posting, f64)>,
     to_pid: Vec<(Posting, f64)>,
-    helm_vars: [Arc<str>; 3],
+    helm_vars: [ByteString; 3],
     /// (time, depth) after every simulator iteration.
     trace: Vec<(f64, f64)>,
 }
@@ -99,7 +99,7 @@ impl Delta {
             ticks: [0; 3],
             to_sim: Vec::new(),
             to_pid: Vec::new(),
-            helm_vars: ["DESIRED_HEADING", "DESIRED_SPEED", "DESIRED_DEPTH"].map(Arc::from),
+            helm_vars: ["DESIRED_HEADING", "DESIRED_SPEED", "DESIRED_DEPTH"].map(ByteString::from),
             trace: Vec::new(),
         }
     }

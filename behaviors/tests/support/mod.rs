@@ -74,7 +74,7 @@ impl Bhv {
 
     /// Sets a string in the info buffer.
     pub fn text(&mut self, var: &str, v: &str) -> &mut Self {
-        self.info.set(var, Value::String(v.to_string()));
+        self.info.set(var, Value::text(v));
         self
     }
 

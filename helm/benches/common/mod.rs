@@ -45,7 +45,7 @@ pub fn mid_survey() -> (Helm, f64, (f64, f64, f64, f64)) {
             helm.on_mail(&[Mail::new("DEPLOY", "true", t)]);
         }
         for p in helm.iterate(t) {
-            match (p.key.as_str(), &p.value) {
+            match (&*p.key, &p.value) {
                 ("DESIRED_HEADING", Value::Double(d)) => dh = *d,
                 ("DESIRED_SPEED", Value::Double(d)) => dv = *d,
                 _ => {}

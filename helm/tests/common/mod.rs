@@ -70,7 +70,7 @@ pub struct Rig {
 
 impl Rig {
     pub fn new(helm: Helm, vehicle: Vehicle) -> Self {
-        let subs = helm.subscriptions();
+        let subs = helm.subscriptions().to_vec();
         Rig {
             helm,
             vehicle,
@@ -96,12 +96,12 @@ impl Rig {
         self.helm.on_mail(&mail);
         let posts = self.helm.iterate(t).to_vec();
         for p in &posts {
-            match (p.key.as_str(), &p.value) {
+            match (&*p.key, &p.value) {
                 ("DESIRED_HEADING", Value::Double(v)) => self.des_heading = *v,
                 ("DESIRED_SPEED", Value::Double(v)) => self.des_speed = *v,
                 _ => {}
             }
-            if self.subs.contains(&p.key) {
+            if self.subs.iter().any(|s| *s == *p.key) {
                 let mut m = Mail::new(&p.key, p.value.clone(), t).from("pHelmIvP");
                 m.source_aux = p.aux.clone();
                 self.feedback.push(m);
