@@ -2,5 +2,7 @@
 #![warn(missing_docs)]
 
 pub mod factors;
+pub mod marginal;
 pub mod measurements;
+pub mod solver;
 pub mod state;
