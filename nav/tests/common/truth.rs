@@ -25,6 +25,7 @@ pub struct Scenario {
     pub gyro_sigma_radps: f64,
     pub depth_sigma_m: f64,
     pub gps_sigma_m: f64,
+    pub tilt_sigma_rad: f64,
 }
 
 impl Default for Scenario {
@@ -45,6 +46,7 @@ impl Default for Scenario {
             gyro_sigma_radps: 0.002,
             depth_sigma_m: 0.02,
             gps_sigma_m: 1.5,
+            tilt_sigma_rad: 0.003,
         }
     }
 }
@@ -218,8 +220,8 @@ impl Sim {
                     return Event::Att(Attitude {
                         t_s: t,
                         yaw_rad: yaw,
-                        pitch_rad: 0.003 * g(self),
-                        roll_rad: 0.003 * g(self),
+                        pitch_rad: self.sc.tilt_sigma_rad * g(self),
+                        roll_rad: self.sc.tilt_sigma_rad * g(self),
                     });
                 }
                 2 => {
