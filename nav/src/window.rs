@@ -278,7 +278,8 @@ impl Navigator {
             self.time_offset += clock + 0.1 - t;
             self.jump_candidate = None;
             self.clock_jump_t = clock;
-            let t = clock + 0.1;
+            // The same mapping later calls will use (bit for bit, so a duplicate stays one).
+            let t = raw + self.time_offset;
             self.clock = Some(t);
             return self.order(s, t);
         }
