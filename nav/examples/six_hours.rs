@@ -51,7 +51,9 @@ fn main() {
     let mut all: Vec<f64> = Vec::with_capacity((hours * 3600.0 * 5.0) as usize + 10);
     let mut hour = 1.0;
     let mut worst_err: f64 = 0.0;
-    println!("hour  updates  mean_us  p99_us  max_us  heap_bytes  allocs_this_hour  err_m  sigma_m");
+    println!(
+        "hour  updates  mean_us  p99_us  max_us  heap_bytes  allocs_this_hour  err_m  sigma_m"
+    );
     let mut allocs0 = ALLOCS.load(Ordering::Relaxed);
     loop {
         let e = sim.next_event();

@@ -88,12 +88,7 @@ impl DiveTracker {
 
     /// Feeds an accepted GPS fix and the estimate at its time (before the fix is used); returns
     /// the report when it is the first fix after a dive.
-    pub fn gps_fix(
-        &mut self,
-        t_s: f64,
-        fix: [f64; 2],
-        estimate: [f64; 2],
-    ) -> Option<DiveReport> {
+    pub fn gps_fix(&mut self, t_s: f64, fix: [f64; 2], estimate: [f64; 2]) -> Option<DiveReport> {
         if !self.awaiting_fix {
             return None;
         }

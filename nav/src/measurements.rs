@@ -266,7 +266,11 @@ impl GyroRates {
     pub fn check(&self) -> Result<(), Rejection> {
         finite(&[self.t_s])?;
         finite(&self.rates_body_radps)?;
-        if self.rates_body_radps.iter().any(|r| r.abs() > MAX_RATE_RADPS) {
+        if self
+            .rates_body_radps
+            .iter()
+            .any(|r| r.abs() > MAX_RATE_RADPS)
+        {
             return Err(Rejection::OutOfRange);
         }
         Ok(())

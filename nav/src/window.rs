@@ -32,9 +32,7 @@
 
 use crate::config::NavConfig;
 use crate::dive::{DiveReport, DiveTracker};
-use crate::factors::{
-    DepthObs, Factor, GpsPosition, Heading, Odometry, RandomWalk, YawIncrement,
-};
+use crate::factors::{DepthObs, Factor, GpsPosition, Heading, Odometry, RandomWalk, YawIncrement};
 use crate::marginal::marginalize_first;
 use crate::measurements::{
     Attitude, Depth, DvlVelocity, GpsFix, GyroRates, Rejection, RejectionCounters, Sensor,
@@ -327,11 +325,14 @@ impl Navigator {
         }
         let t = self.admit_time(Sensor::Gyro, m.t_s)?;
         self.accept_time(Sensor::Gyro, t);
-        let (p, r) = self.last_att.map_or((0.0, 0.0), |a| (a.pitch_rad, a.roll_rad));
+        let (p, r) = self
+            .last_att
+            .map_or((0.0, 0.0), |a| (a.pitch_rad, a.roll_rad));
         if self.gyro.len() == GYRO_CAP {
             self.gyro.pop_front();
         }
-        self.gyro.push_back((t, yaw_rate(&m.rates_body_radps, p, r)));
+        self.gyro
+            .push_back((t, yaw_rate(&m.rates_body_radps, p, r)));
         self.tick(t);
         Ok(())
     }
@@ -367,7 +368,9 @@ impl Navigator {
         }
         let t = self.admit_time(Sensor::Dvl, m.t_s)?;
         self.accept_time(Sensor::Dvl, t);
-        let (p, r) = self.last_att.map_or((0.0, 0.0), |a| (a.pitch_rad, a.roll_rad));
+        let (p, r) = self
+            .last_att
+            .map_or((0.0, 0.0), |a| (a.pitch_rad, a.roll_rad));
         let held = HeldDvl {
             t_s: t,
             u: body_to_level(&m.vel_body_mps, p, r),
@@ -417,9 +420,7 @@ impl Navigator {
             self.cov[(Y, Y)] + sigma * sigma,
         );
         let d = nalgebra::Vector2::new(dx, dy);
-        let m2 = s
-            .try_inverse()
-            .map_or(f64::INFINITY, |si| d.dot(&(si * d)));
+        let m2 = s.try_inverse().map_or(f64::INFINITY, |si| d.dot(&(si * d)));
         if (m2.is_nan() || m2 > self.cfg.gps_gate_chi2) && self.gate_run < self.cfg.gps_gate_reset {
             self.gate_run += 1;
             return self.reject(Sensor::Gps, Rejection::Jump);
@@ -498,10 +499,10 @@ impl Navigator {
         if !t.is_finite() {
             return;
         }
-        if let Some(c) = self.clock {
-            if (t - c).abs() > self.cfg.max_time_jump_s {
-                return;
-            }
+        if let Some(c) = self.clock
+            && (t - c).abs() > self.cfg.max_time_jump_s
+        {
+            return;
         }
         self.tick(t);
     }
@@ -658,9 +659,9 @@ impl Navigator {
             sigma_m: [sp, sp, sp],
         };
         let dpsi = self.gyro_increment(prev.t_s, t);
-        let (pitch, roll) = self
-            .last_att
-            .map_or((prev.pitch_rad, prev.roll_rad), |a| (a.pitch_rad, a.roll_rad));
+        let (pitch, roll) = self.last_att.map_or((prev.pitch_rad, prev.roll_rad), |a| {
+            (a.pitch_rad, a.roll_rad)
+        });
         // Initial guess: heading from the gyro, else the latest AHRS yaw minus bias.
         let mut x = prev.x;
         x[PSI] = match (dpsi, self.last_att) {
@@ -831,13 +832,16 @@ impl Navigator {
         if now - self.clock_jump_t < 30.0 {
             return Status::Degraded("clock jump");
         }
-        if self.last_att.is_none_or(|a| now - a.t_s > self.cfg.attitude_timeout_s) {
+        if self
+            .last_att
+            .is_none_or(|a| now - a.t_s > self.cfg.attitude_timeout_s)
+        {
             return Status::Degraded("attitude lost");
         }
-        if let Some(e) = self.estimate() {
-            if e.pos_sigma_m > self.cfg.degraded_sigma_m {
-                return Status::Degraded("position uncertainty");
-            }
+        if let Some(e) = self.estimate()
+            && e.pos_sigma_m > self.cfg.degraded_sigma_m
+        {
+            return Status::Degraded("position uncertainty");
         }
         if now - self.last_valid_dvl_t >= self.cfg.dvl_timeout_s {
             return Status::DeadReckoning("DVL lost or invalid");

@@ -72,7 +72,17 @@ fn plans() -> impl Strategy<Value = Plan> {
         prop_oneof![Just(0.0), Just(1000.0), Just(-400.0)],
     )
         .prop_map(
-            |(seed, poison_mod, dup_mod, stale_mod, gps_jump_t, dvl_out_t, silent, silent_t, clock_jump)| Plan {
+            |(
+                seed,
+                poison_mod,
+                dup_mod,
+                stale_mod,
+                gps_jump_t,
+                dvl_out_t,
+                silent,
+                silent_t,
+                clock_jump,
+            )| Plan {
                 seed,
                 poison_mod,
                 dup_mod,
@@ -116,18 +126,19 @@ fn run(p: &Plan) {
             continue;
         }
         let in_outage = t0 >= p.dvl_out_t && t0 < p.dvl_out_t + 60.0;
-        if let Event::Dvl(m) = &mut e {
-            if in_outage {
-                m.valid = false;
-            }
+        if let Event::Dvl(m) = &mut e
+            && in_outage
+        {
+            m.valid = false;
         }
         let mut expect: Option<Rejection> = None;
-        if let Event::Gps(m) = &mut e {
-            if !gps_jumped && t0 >= p.gps_jump_t {
-                gps_jumped = true;
-                m.x_m += 100.0;
-                expect = Some(Rejection::Jump);
-            }
+        if let Event::Gps(m) = &mut e
+            && !gps_jumped
+            && t0 >= p.gps_jump_t
+        {
+            gps_jumped = true;
+            m.x_m += 100.0;
+            expect = Some(Rejection::Jump);
         }
         if t0 > CLOCK_JUMP_AT {
             if keyframes_at_clock_jump.is_none() {
@@ -135,8 +146,15 @@ fn run(p: &Plan) {
             }
             shift(&mut e, p.clock_jump);
         }
-        if i % p.poison_mod == 0 {
-            poison(&mut e, if i % 2 == 0 { f64::NAN } else { f64::INFINITY });
+        if i.is_multiple_of(p.poison_mod) {
+            poison(
+                &mut e,
+                if i.is_multiple_of(2) {
+                    f64::NAN
+                } else {
+                    f64::INFINITY
+                },
+            );
             poisoned += 1;
             expect = Some(Rejection::NonFinite);
         }
@@ -154,27 +172,32 @@ fn run(p: &Plan) {
             prev_ok[k] = last_ok[k];
             last_ok[k] = Some(e);
             // The same measurement again is a duplicate.
-            if i % p.dup_mod == 0 {
+            if i.is_multiple_of(p.dup_mod) {
                 assert_eq!(feed(&mut nav, &e), Err(Rejection::Duplicate), "{e:?} {p:?}");
                 errs += 1;
             }
         }
         // An older measurement of the same sensor is refused (out of order, or a clock jump
         // when the stale copy is from before an accepted jump).
-        if i % p.stale_mod == 0 {
-            if let Some(old) = prev_ok[kind(&e)] {
-                if old.t_s() < e.t_s() {
-                    let r = feed(&mut nav, &old);
-                    assert!(
-                        matches!(r, Err(Rejection::OutOfOrder | Rejection::ClockJump)),
-                        "{r:?}"
-                    );
-                    errs += 1;
-                }
-            }
+        if i.is_multiple_of(p.stale_mod)
+            && let Some(old) = prev_ok[kind(&e)]
+            && old.t_s() < e.t_s()
+        {
+            let r = feed(&mut nav, &old);
+            assert!(
+                matches!(r, Err(Rejection::OutOfOrder | Rejection::ClockJump)),
+                "{r:?}"
+            );
+            errs += 1;
         }
         if let Some(est) = nav.estimate() {
-            for v in [est.x_m, est.y_m, est.depth_m, est.heading_rad, est.pos_sigma_m] {
+            for v in [
+                est.x_m,
+                est.y_m,
+                est.depth_m,
+                est.heading_rad,
+                est.pos_sigma_m,
+            ] {
                 assert!(v.is_finite(), "{est:?}");
             }
         }
@@ -189,7 +212,11 @@ fn run(p: &Plan) {
                 outage_checked = true;
                 let s0 = sigma_at_outage.unwrap();
                 let est = nav.estimate().unwrap();
-                assert!(est.pos_sigma_m > s0 + 0.5, "sigma {s0} -> {}", est.pos_sigma_m);
+                assert!(
+                    est.pos_sigma_m > s0 + 0.5,
+                    "sigma {s0} -> {}",
+                    est.pos_sigma_m
+                );
                 assert!(nav.keyframes() - keyframes_at_outage >= 100);
                 assert!(
                     matches!(nav.status(), Status::DeadReckoning(_) | Status::Degraded(_)),

@@ -66,10 +66,9 @@ fn run(sc: Scenario, end_s: f64) -> Outcome {
             out.worst_bias_deg = out
                 .worst_bias_deg
                 .max((est.heading_bias_rad - bias).to_degrees().abs());
-            out.worst_current_mps = out.worst_current_mps.max(
-                (est.current_east_mps - current[0])
-                    .hypot(est.current_north_mps - current[1]),
-            );
+            out.worst_current_mps = out
+                .worst_current_mps
+                .max((est.current_east_mps - current[0]).hypot(est.current_north_mps - current[1]));
             out.worst_after_m = out.worst_after_m.max(err);
         }
         if tr.depth_m < 0.2 && t - surfaced_at >= 5.0 {
@@ -91,13 +90,33 @@ fn water_track_bias_and_current_are_estimated_and_beat_dead_reckoning() {
     assert_eq!(o.dives.len(), 5);
     assert_eq!(o.reports, 5);
     for (k, (est, dr)) in o.dives.iter().enumerate() {
-        assert!(est < dr, "dive {}: estimate {est} m, dead reckoning {dr} m", k + 1);
+        assert!(
+            est < dr,
+            "dive {}: estimate {est} m, dead reckoning {dr} m",
+            k + 1
+        );
     }
-    assert!(o.worst_bias_deg < 0.5, "bias error {} deg", o.worst_bias_deg);
-    assert!(o.worst_current_mps < 0.03, "current error {}", o.worst_current_mps);
+    assert!(
+        o.worst_bias_deg < 0.5,
+        "bias error {} deg",
+        o.worst_bias_deg
+    );
+    assert!(
+        o.worst_current_mps < 0.03,
+        "current error {}",
+        o.worst_current_mps
+    );
     // Within two sigma of the GPS noise (1.5 m) once the fixes are in.
-    assert!(o.worst_surface_m < 3.0, "surface error {}", o.worst_surface_m);
-    assert!(o.worst_after_m < 3.0, "error after the first surfacing {}", o.worst_after_m);
+    assert!(
+        o.worst_surface_m < 3.0,
+        "surface error {}",
+        o.worst_surface_m
+    );
+    assert!(
+        o.worst_after_m < 3.0,
+        "error after the first surfacing {}",
+        o.worst_after_m
+    );
 }
 
 #[test]
@@ -109,8 +128,15 @@ fn bottom_lock_bias_is_estimated() {
         ..Scenario::default()
     };
     let o = run(sc, 1130.0);
-    println!("bottom lock: dives {:?}; bias {:.3} deg", o.dives, o.worst_bias_deg);
-    assert!(o.worst_bias_deg < 0.5, "bias error {} deg", o.worst_bias_deg);
+    println!(
+        "bottom lock: dives {:?}; bias {:.3} deg",
+        o.dives, o.worst_bias_deg
+    );
+    assert!(
+        o.worst_bias_deg < 0.5,
+        "bias error {} deg",
+        o.worst_bias_deg
+    );
     for (est, dr) in &o.dives {
         assert!(est < dr);
     }

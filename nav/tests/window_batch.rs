@@ -97,7 +97,12 @@ fn marginalisation_is_exact_on_a_linear_problem() {
         let (tf, xf) = wf[offset + k];
         assert_eq!(*t, tf);
         for c in 0..7 {
-            assert!((x[c] - xf[c]).abs() < 1e-6, "keyframe {k} state {c}: {} vs {}", x[c], xf[c]);
+            assert!(
+                (x[c] - xf[c]).abs() < 1e-6,
+                "keyframe {k} state {c}: {} vs {}",
+                x[c],
+                xf[c]
+            );
         }
     }
     let (a, b) = (small.estimate().unwrap(), full.estimate().unwrap());
