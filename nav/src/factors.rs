@@ -1,0 +1,519 @@
+//! The factors: residuals with analytic Jacobians, whitened by their noise.
+//!
+//! Every factor sits between keyframe `i` and the next keyframe `j = i + 1` (the window is a
+//! chain): odometry and random walks join the two; a measurement at time `t` with
+//! `t_i <= t <= t_j` is attached by linear interpolation of the two states with
+//! `alpha = (t - t_i) / (t_j - t_i)`, so measurements of any rate, delay or phase are used at
+//! their own time. With `alpha = 0` a factor touches `i` only (its `j` Jacobian is zero).
+//!
+//! Residuals are `prediction - measurement` divided by the standard deviation; angles are wrapped
+//! to (-pi, pi]. The GPS factor's robust (Huber) kernel is applied when it is linearised into the
+//! normal equations (iteratively reweighted), not in [`GpsPosition::residual`], so the Jacobian
+//! tests see the plain whitened residual.
+
+use crate::state::{
+    BIAS, CX, CY, DIM, PSI, V7, X, Y, Z, level_to_grid, level_to_grid_dpsi, wrap_pi,
+};
+use nalgebra::{SMatrix, SVector};
+
+/// Receives linearised factors: the whitened residual and its Jacobians on `i` and `i + 1`.
+pub trait Sink {
+    /// Adds one factor of `R` rows on keyframes `i` (and `i + 1` when `touches_j`).
+    fn add<const R: usize>(
+        &mut self,
+        i: usize,
+        r: &SVector<f64, R>,
+        ji: &SMatrix<f64, R, DIM>,
+        jj: &SMatrix<f64, R, DIM>,
+        touches_j: bool,
+    );
+}
+
+/// DVL (or dead-reckoned) odometry between keyframes `i` and `j`: the displacement is the
+/// trapezoid of the two keyframes' level-frame velocities rotated by their estimated headings,
+/// plus the current (of keyframe `i`) for each velocity measured through the water.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Odometry {
+    /// `t_j - t_i`, seconds.
+    pub dt_s: f64,
+    /// Level-frame velocity at `i`, m/s `[forward, starboard, down]`.
+    pub u_i: [f64; 3],
+    /// Level-frame velocity at `j`.
+    pub u_j: [f64; 3],
+    /// Whether `u_i` is through the water (the current is added).
+    pub water_i: bool,
+    /// Whether `u_j` is through the water.
+    pub water_j: bool,
+    /// Standard deviation of the displacement, metres, per axis (east, north, down).
+    pub sigma_m: [f64; 3],
+}
+
+impl Odometry {
+    fn current_weight(&self) -> f64 {
+        0.5 * self.dt_s * (f64::from(u8::from(self.water_i)) + f64::from(u8::from(self.water_j)))
+    }
+
+    /// The whitened residual.
+    pub fn residual(&self, xi: &V7, xj: &V7) -> SVector<f64, 3> {
+        let a = level_to_grid(xi[PSI], &self.u_i);
+        let b = level_to_grid(xj[PSI], &self.u_j);
+        let w = self.current_weight();
+        let h = 0.5 * self.dt_s;
+        let cur = [xi[CX], xi[CY], 0.0];
+        let mut r = SVector::<f64, 3>::zeros();
+        for k in 0..3 {
+            let pred = h * (a[k] + b[k]) + w * cur[k];
+            r[k] = (xj[X + k] - xi[X + k] - pred) / self.sigma_m[k];
+        }
+        r
+    }
+
+    /// The Jacobians of [`Odometry::residual`] on `i` and `j`.
+    pub fn jacobians(&self, xi: &V7, xj: &V7) -> (SMatrix<f64, 3, DIM>, SMatrix<f64, 3, DIM>) {
+        let da = level_to_grid_dpsi(xi[PSI], &self.u_i);
+        let db = level_to_grid_dpsi(xj[PSI], &self.u_j);
+        let h = 0.5 * self.dt_s;
+        let w = self.current_weight();
+        let mut ji = SMatrix::<f64, 3, DIM>::zeros();
+        let mut jj = SMatrix::<f64, 3, DIM>::zeros();
+        for k in 0..3 {
+            let s = 1.0 / self.sigma_m[k];
+            ji[(k, X + k)] = -s;
+            jj[(k, X + k)] = s;
+            ji[(k, PSI)] = -h * da[k] * s;
+            jj[(k, PSI)] = -h * db[k] * s;
+        }
+        ji[(0, CX)] = -w / self.sigma_m[0];
+        ji[(1, CY)] = -w / self.sigma_m[1];
+        (ji, jj)
+    }
+}
+
+/// The gyro's heading increment between keyframes `i` and `j`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct YawIncrement {
+    /// Integrated heading rate over the interval, radians.
+    pub dpsi_rad: f64,
+    /// Standard deviation, radians.
+    pub sigma_rad: f64,
+}
+
+impl YawIncrement {
+    /// The whitened residual.
+    pub fn residual(&self, xi: &V7, xj: &V7) -> SVector<f64, 1> {
+        SVector::<f64, 1>::new(wrap_pi(xj[PSI] - xi[PSI] - self.dpsi_rad) / self.sigma_rad)
+    }
+
+    /// The Jacobians on `i` and `j`.
+    pub fn jacobians(&self) -> (SMatrix<f64, 1, DIM>, SMatrix<f64, 1, DIM>) {
+        let mut ji = SMatrix::<f64, 1, DIM>::zeros();
+        let mut jj = SMatrix::<f64, 1, DIM>::zeros();
+        ji[(0, PSI)] = -1.0 / self.sigma_rad;
+        jj[(0, PSI)] = 1.0 / self.sigma_rad;
+        (ji, jj)
+    }
+}
+
+/// Random walk of the slow states (heading bias, current) between keyframes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RandomWalk {
+    /// `t_j - t_i`, seconds.
+    pub dt_s: f64,
+    /// Bias random walk, rad per square-root second.
+    pub bias_rad_per_sqrt_s: f64,
+    /// Current random walk, m/s per square-root second.
+    pub current_mps_per_sqrt_s: f64,
+}
+
+impl RandomWalk {
+    fn sigmas(&self) -> [f64; 3] {
+        let s = self.dt_s.max(1e-6).sqrt();
+        let c = self.current_mps_per_sqrt_s * s;
+        [self.bias_rad_per_sqrt_s * s, c, c]
+    }
+
+    /// The whitened residual.
+    pub fn residual(&self, xi: &V7, xj: &V7) -> SVector<f64, 3> {
+        let s = self.sigmas();
+        SVector::<f64, 3>::new(
+            (xj[BIAS] - xi[BIAS]) / s[0],
+            (xj[CX] - xi[CX]) / s[1],
+            (xj[CY] - xi[CY]) / s[2],
+        )
+    }
+
+    /// The Jacobians on `i` and `j`.
+    pub fn jacobians(&self) -> (SMatrix<f64, 3, DIM>, SMatrix<f64, 3, DIM>) {
+        let s = self.sigmas();
+        let mut ji = SMatrix::<f64, 3, DIM>::zeros();
+        let mut jj = SMatrix::<f64, 3, DIM>::zeros();
+        for (k, col) in [BIAS, CX, CY].into_iter().enumerate() {
+            ji[(k, col)] = -1.0 / s[k];
+            jj[(k, col)] = 1.0 / s[k];
+        }
+        (ji, jj)
+    }
+}
+
+/// An AHRS yaw: measured yaw = heading + heading bias (both interpolated at the measurement's
+/// time).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Heading {
+    /// Interpolation weight of keyframe `j`, in [0, 1].
+    pub alpha: f64,
+    /// Measured yaw, radians (compass, NED).
+    pub yaw_rad: f64,
+    /// Standard deviation of the white part, radians.
+    pub sigma_rad: f64,
+}
+
+impl Heading {
+    /// The whitened residual.
+    pub fn residual(&self, xi: &V7, xj: &V7) -> SVector<f64, 1> {
+        let a = self.alpha;
+        let psi = (1.0 - a) * xi[PSI] + a * xj[PSI];
+        let b = (1.0 - a) * xi[BIAS] + a * xj[BIAS];
+        SVector::<f64, 1>::new(wrap_pi(psi + b - self.yaw_rad) / self.sigma_rad)
+    }
+
+    /// The Jacobians on `i` and `j`.
+    pub fn jacobians(&self) -> (SMatrix<f64, 1, DIM>, SMatrix<f64, 1, DIM>) {
+        let s = 1.0 / self.sigma_rad;
+        let mut ji = SMatrix::<f64, 1, DIM>::zeros();
+        let mut jj = SMatrix::<f64, 1, DIM>::zeros();
+        ji[(0, PSI)] = (1.0 - self.alpha) * s;
+        ji[(0, BIAS)] = (1.0 - self.alpha) * s;
+        jj[(0, PSI)] = self.alpha * s;
+        jj[(0, BIAS)] = self.alpha * s;
+        (ji, jj)
+    }
+}
+
+/// A depth measurement.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DepthObs {
+    /// Interpolation weight of keyframe `j`, in [0, 1].
+    pub alpha: f64,
+    /// Measured depth, metres (down).
+    pub depth_m: f64,
+    /// Standard deviation, metres.
+    pub sigma_m: f64,
+}
+
+impl DepthObs {
+    /// The whitened residual.
+    pub fn residual(&self, xi: &V7, xj: &V7) -> SVector<f64, 1> {
+        let z = (1.0 - self.alpha) * xi[Z] + self.alpha * xj[Z];
+        SVector::<f64, 1>::new((z - self.depth_m) / self.sigma_m)
+    }
+
+    /// The Jacobians on `i` and `j`.
+    pub fn jacobians(&self) -> (SMatrix<f64, 1, DIM>, SMatrix<f64, 1, DIM>) {
+        let mut ji = SMatrix::<f64, 1, DIM>::zeros();
+        let mut jj = SMatrix::<f64, 1, DIM>::zeros();
+        ji[(0, Z)] = (1.0 - self.alpha) / self.sigma_m;
+        jj[(0, Z)] = self.alpha / self.sigma_m;
+        (ji, jj)
+    }
+}
+
+/// A GPS horizontal position, with a Huber kernel on the whitened residual's norm.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GpsPosition {
+    /// Interpolation weight of keyframe `j`, in [0, 1].
+    pub alpha: f64,
+    /// Measured east, metres.
+    pub x_m: f64,
+    /// Measured north, metres.
+    pub y_m: f64,
+    /// Standard deviation per axis, metres.
+    pub sigma_m: f64,
+    /// Huber threshold on the whitened residual norm (1.345 as in the Gen-2 graph).
+    pub huber_k: f64,
+}
+
+impl GpsPosition {
+    /// The whitened residual (before the robust kernel).
+    pub fn residual(&self, xi: &V7, xj: &V7) -> SVector<f64, 2> {
+        let a = self.alpha;
+        SVector::<f64, 2>::new(
+            ((1.0 - a) * xi[X] + a * xj[X] - self.x_m) / self.sigma_m,
+            ((1.0 - a) * xi[Y] + a * xj[Y] - self.y_m) / self.sigma_m,
+        )
+    }
+
+    /// The Jacobians on `i` and `j` (before the robust kernel).
+    pub fn jacobians(&self) -> (SMatrix<f64, 2, DIM>, SMatrix<f64, 2, DIM>) {
+        let mut ji = SMatrix::<f64, 2, DIM>::zeros();
+        let mut jj = SMatrix::<f64, 2, DIM>::zeros();
+        let s = 1.0 / self.sigma_m;
+        ji[(0, X)] = (1.0 - self.alpha) * s;
+        ji[(1, Y)] = (1.0 - self.alpha) * s;
+        jj[(0, X)] = self.alpha * s;
+        jj[(1, Y)] = self.alpha * s;
+        (ji, jj)
+    }
+
+    /// The Huber weight for a whitened residual norm: 1 inside `huber_k`, `k / norm` outside.
+    pub fn huber_weight(&self, norm: f64) -> f64 {
+        if norm <= self.huber_k {
+            1.0
+        } else {
+            self.huber_k / norm
+        }
+    }
+}
+
+/// Any factor of the window.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Factor {
+    /// DVL or dead-reckoned odometry.
+    Odometry(Odometry),
+    /// Gyro heading increment.
+    YawIncrement(YawIncrement),
+    /// Slow-state random walk.
+    RandomWalk(RandomWalk),
+    /// AHRS yaw.
+    Heading(Heading),
+    /// Depth.
+    Depth(DepthObs),
+    /// GPS position.
+    Gps(GpsPosition),
+}
+
+impl Factor {
+    /// Whether the factor involves keyframe `j` (all between factors; interpolated
+    /// measurements with `alpha > 0`).
+    pub fn touches_j(&self) -> bool {
+        match self {
+            Factor::Odometry(_) | Factor::YawIncrement(_) | Factor::RandomWalk(_) => true,
+            Factor::Heading(f) => f.alpha > 0.0,
+            Factor::Depth(f) => f.alpha > 0.0,
+            Factor::Gps(f) => f.alpha > 0.0,
+        }
+    }
+
+    /// Linearises the factor at `xi`, `xj` into `sink` (keyframe index `i`). `xj` is ignored
+    /// when the factor does not touch `j`.
+    pub fn linearize<S: Sink>(&self, i: usize, xi: &V7, xj: &V7, sink: &mut S) {
+        let tj = self.touches_j();
+        match self {
+            Factor::Odometry(f) => {
+                let (ji, jj) = f.jacobians(xi, xj);
+                sink.add(i, &f.residual(xi, xj), &ji, &jj, true);
+            }
+            Factor::YawIncrement(f) => {
+                let (ji, jj) = f.jacobians();
+                sink.add(i, &f.residual(xi, xj), &ji, &jj, true);
+            }
+            Factor::RandomWalk(f) => {
+                let (ji, jj) = f.jacobians();
+                sink.add(i, &f.residual(xi, xj), &ji, &jj, true);
+            }
+            Factor::Heading(f) => {
+                let (ji, jj) = f.jacobians();
+                sink.add(i, &f.residual(xi, xj), &ji, &jj, tj);
+            }
+            Factor::Depth(f) => {
+                let (ji, jj) = f.jacobians();
+                sink.add(i, &f.residual(xi, xj), &ji, &jj, tj);
+            }
+            Factor::Gps(f) => {
+                let r = f.residual(xi, xj);
+                let (ji, jj) = f.jacobians();
+                let w = f.huber_weight(r.norm()).sqrt();
+                sink.add(i, &(r * w), &(ji * w), &(jj * w), tj);
+            }
+        }
+    }
+
+    /// The robust cost of the factor (half the squared whitened residual, Huber for GPS).
+    pub fn cost(&self, xi: &V7, xj: &V7) -> f64 {
+        match self {
+            Factor::Odometry(f) => 0.5 * f.residual(xi, xj).norm_squared(),
+            Factor::YawIncrement(f) => 0.5 * f.residual(xi, xj).norm_squared(),
+            Factor::RandomWalk(f) => 0.5 * f.residual(xi, xj).norm_squared(),
+            Factor::Heading(f) => 0.5 * f.residual(xi, xj).norm_squared(),
+            Factor::Depth(f) => 0.5 * f.residual(xi, xj).norm_squared(),
+            Factor::Gps(f) => {
+                let n = f.residual(xi, xj).norm();
+                if n <= f.huber_k {
+                    0.5 * n * n
+                } else {
+                    f.huber_k * (n - 0.5 * f.huber_k)
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn state(seed: u64) -> V7 {
+        let mut rng = fastrand::Rng::with_seed(seed);
+        let mut v = V7::zeros();
+        for k in 0..DIM {
+            v[k] = rng.f64() * 4.0 - 2.0;
+        }
+        v[PSI] = rng.f64() * 2.0 - 1.0;
+        v[BIAS] = rng.f64() * 0.2 - 0.1;
+        v
+    }
+
+    /// Central differences of `f` over the 14 variables of (xi, xj) against the analytic pair.
+    fn check<const R: usize>(
+        f: impl Fn(&V7, &V7) -> SVector<f64, R>,
+        ji: SMatrix<f64, R, DIM>,
+        jj: SMatrix<f64, R, DIM>,
+        xi: &V7,
+        xj: &V7,
+    ) {
+        let h = 1e-6;
+        for c in 0..DIM {
+            let mut p = *xi;
+            let mut m = *xi;
+            p[c] += h;
+            m[c] -= h;
+            let num = (f(&p, xj) - f(&m, xj)) / (2.0 * h);
+            for r in 0..R {
+                assert!(
+                    (num[r] - ji[(r, c)]).abs() < 1e-6 * (1.0 + num[r].abs()),
+                    "d r{r} / d xi{c}: numeric {} analytic {}",
+                    num[r],
+                    ji[(r, c)]
+                );
+            }
+            let mut p = *xj;
+            let mut m = *xj;
+            p[c] += h;
+            m[c] -= h;
+            let num = (f(xi, &p) - f(xi, &m)) / (2.0 * h);
+            for r in 0..R {
+                assert!(
+                    (num[r] - jj[(r, c)]).abs() < 1e-6 * (1.0 + num[r].abs()),
+                    "d r{r} / d xj{c}: numeric {} analytic {}",
+                    num[r],
+                    jj[(r, c)]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn odometry_residual_and_jacobian() {
+        for seed in 0..20 {
+            let (xi, xj) = (state(seed), state(seed + 100));
+            for (wi, wj) in [(false, false), (true, false), (true, true)] {
+                let f = Odometry {
+                    dt_s: 0.2 + seed as f64 * 0.01,
+                    u_i: [1.4, 0.1, -0.05],
+                    u_j: [1.5, -0.2, 0.02],
+                    water_i: wi,
+                    water_j: wj,
+                    sigma_m: [0.01, 0.02, 0.03],
+                };
+                let (ji, jj) = f.jacobians(&xi, &xj);
+                check(|a, b| f.residual(a, b), ji, jj, &xi, &xj);
+            }
+        }
+        // A closed-form value: heading east, 1 m/s forward for 2 s, no current.
+        let f = Odometry {
+            dt_s: 2.0,
+            u_i: [1.0, 0.0, 0.0],
+            u_j: [1.0, 0.0, 0.0],
+            water_i: true,
+            water_j: false,
+            sigma_m: [1.0, 1.0, 1.0],
+        };
+        let mut xi = V7::zeros();
+        xi[PSI] = std::f64::consts::FRAC_PI_2;
+        xi[CX] = 0.5;
+        let mut xj = xi;
+        xj[X] = 2.5; // 2 m of motion plus 0.5 m of current (half the interval through water).
+        assert!(f.residual(&xi, &xj).norm() < 1e-12);
+    }
+
+    #[test]
+    fn unary_and_between_residuals_and_jacobians() {
+        for seed in 0..20 {
+            let (xi, xj) = (state(seed), state(seed + 50));
+            let alpha = (seed as f64) / 19.0;
+            let y = YawIncrement {
+                dpsi_rad: 0.05,
+                sigma_rad: 0.01,
+            };
+            let (a, b) = y.jacobians();
+            check(|p, q| y.residual(p, q), a, b, &xi, &xj);
+            let w = RandomWalk {
+                dt_s: 0.25,
+                bias_rad_per_sqrt_s: 1e-4,
+                current_mps_per_sqrt_s: 1e-3,
+            };
+            let (a, b) = w.jacobians();
+            check(|p, q| w.residual(p, q), a, b, &xi, &xj);
+            let h = Heading {
+                alpha,
+                yaw_rad: 0.3,
+                sigma_rad: 0.02,
+            };
+            let (a, b) = h.jacobians();
+            check(|p, q| h.residual(p, q), a, b, &xi, &xj);
+            let d = DepthObs {
+                alpha,
+                depth_m: 3.0,
+                sigma_m: 0.05,
+            };
+            let (a, b) = d.jacobians();
+            check(|p, q| d.residual(p, q), a, b, &xi, &xj);
+            let g = GpsPosition {
+                alpha,
+                x_m: 1.0,
+                y_m: -1.0,
+                sigma_m: 1.5,
+                huber_k: 1.345,
+            };
+            let (a, b) = g.jacobians();
+            check(|p, q| g.residual(p, q), a, b, &xi, &xj);
+        }
+    }
+
+    #[test]
+    fn closed_form_values_and_kernel() {
+        let mut xi = V7::zeros();
+        xi[PSI] = 0.1;
+        xi[BIAS] = 0.05;
+        let h = Heading {
+            alpha: 0.0,
+            yaw_rad: 0.15,
+            sigma_rad: 0.01,
+        };
+        assert!(h.residual(&xi, &xi).norm() < 1e-12);
+        // Yaw across the +-pi seam.
+        let mut a = V7::zeros();
+        a[PSI] = std::f64::consts::PI - 0.01;
+        let h = Heading {
+            alpha: 0.0,
+            yaw_rad: -std::f64::consts::PI + 0.01,
+            sigma_rad: 1.0,
+        };
+        assert!((h.residual(&a, &a)[0] + 0.02).abs() < 1e-12);
+        let g = GpsPosition {
+            alpha: 0.5,
+            x_m: 1.0,
+            y_m: 0.0,
+            sigma_m: 1.0,
+            huber_k: 1.345,
+        };
+        let mut b = V7::zeros();
+        b[X] = 2.0;
+        assert!(g.residual(&V7::zeros(), &b).norm() < 1e-12);
+        assert_eq!(g.huber_weight(1.0), 1.0);
+        assert!((g.huber_weight(100.0) - 0.01345).abs() < 1e-15);
+        // Huber cost grows linearly far out: a 100 m jump costs ~ k * 100, not 5000.
+        let far = GpsPosition { x_m: 101.0, ..g };
+        let c = Factor::Gps(far).cost(&V7::zeros(), &b);
+        assert!((c - 1.345 * (100.0 - 0.6725)).abs() < 1e-9);
+    }
+}

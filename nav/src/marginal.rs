@@ -1,0 +1,71 @@
+//! Marginalisation of the oldest keyframe by Schur complement.
+//!
+//! The oldest keyframe `0` is joined only to keyframe `1` (by its own factors) and carries the
+//! window's prior. Linearising the prior and those factors at the current estimate gives a
+//! 14-variable Gaussian; eliminating keyframe `0` leaves a Gaussian on keyframe `1`:
+//! `H' = H11 - H10 H00^-1 H01`, `g' = g1 - H10 H00^-1 g0`, linearised at `x1`. The prior keeps
+//! that linearisation point for ever (its Jacobian is the identity), while the factors that
+//! remain on keyframe `1` are relinearised at each iteration: with heading observed by the AHRS
+//! and position by GPS there is no unobservable direction the mix could make look observable,
+//! and the only nonlinearity left (the heading in the odometry) is mild over a window.
+
+use crate::factors::{Factor, Sink};
+use crate::solver::Prior;
+use crate::state::{DIM, M7, V7};
+use nalgebra::{Cholesky, SMatrix, SVector};
+
+/// A two-keyframe system (keyframes 0 and 1) for marginalising keyframe 0.
+#[derive(Debug, Default, Clone)]
+struct PairSystem {
+    h00: M7,
+    h01: M7,
+    h11: M7,
+    g0: V7,
+    g1: V7,
+}
+
+impl Sink for PairSystem {
+    fn add<const R: usize>(
+        &mut self,
+        i: usize,
+        r: &SVector<f64, R>,
+        ji: &SMatrix<f64, R, DIM>,
+        jj: &SMatrix<f64, R, DIM>,
+        touches_j: bool,
+    ) {
+        debug_assert_eq!(i, 0);
+        self.h00 += ji.tr_mul(ji);
+        self.g0 += ji.tr_mul(r);
+        if touches_j {
+            self.h11 += jj.tr_mul(jj);
+            self.g1 += jj.tr_mul(r);
+            self.h01 += ji.tr_mul(jj);
+        }
+    }
+}
+
+/// Marginalises keyframe 0 (state `x0`, carrying `prior` and `factors`) onto keyframe 1
+/// (state `x1`). Returns `None` when keyframe 0's information is not positive definite.
+pub fn marginalize_first<'a>(
+    prior: &Prior,
+    x0: &V7,
+    x1: &V7,
+    factors: impl IntoIterator<Item = &'a Factor>,
+) -> Option<Prior> {
+    let mut s = PairSystem::default();
+    prior.add_to(x0, &mut s.h00, &mut s.g0);
+    for f in factors {
+        f.linearize(0, x0, x1, &mut s);
+    }
+    let c = Cholesky::new(s.h00)?;
+    let w = c.solve(&s.h01);
+    let y = c.solve(&s.g0);
+    let mut h = s.h11 - s.h01.tr_mul(&w);
+    // Keep it exactly symmetric.
+    h = (h + h.transpose()) * 0.5;
+    let g = s.g1 - s.h01.tr_mul(&y);
+    if !h.iter().chain(g.iter()).all(|v| v.is_finite()) {
+        return None;
+    }
+    Some(Prior { h, g, xbar: *x1 })
+}
