@@ -361,6 +361,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
     }
 
     fn startup(&mut self) -> Result<(), RunError> {
+        let _span = tracing::debug_span!("startup", apps = self.slots.len()).entered();
         self.started = true;
         let now = self.start;
         for i in 0..self.slots.len() {
@@ -410,6 +411,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
     /// Processes every event due at or before MOOS time `t_end`. Returns the outcome if
     /// the run ended (condition met, or every app finished), `None` otherwise.
     pub fn advance(&mut self, t_end: f64) -> Result<Option<Outcome>, RunError> {
+        let _span = tracing::trace_span!("advance", t_end).entered();
         if !self.started {
             self.startup()?;
             if self.until_holds() {
@@ -484,6 +486,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
     /// Ends the run: every app's stop hook (flush, close, report), in order. All run; the
     /// first error is returned.
     pub fn stop(&mut self) -> Result<(), AppError> {
+        let _span = tracing::debug_span!("stop", now = self.now).entered();
         let now = self.now;
         let mut first = None;
         for slot in &mut self.slots {
@@ -500,6 +503,8 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
         self.mail.clear();
         self.posts.clear();
         let slot = &mut self.slots[i];
+        // One span per app iteration: `RUST_LOG=runtime=trace` shows which app and when.
+        let _span = tracing::trace_span!("app", name = %slot.name, now).entered();
         self.bus.fetch(slot.id, now, &mut self.mail)?;
         if !self.mail.is_empty() {
             slot.app.on_mail(&self.mail, now, &mut self.posts)?;
