@@ -16,6 +16,11 @@ use crate::packet::{StreamDecoder, decode_packet, encode_packet};
 /// re-encode to the same bytes (apart from the compression flag, which is ignored); and the
 /// stream decoder, fed the bytes in 13-byte chunks, must stop at an error or at the end.
 pub fn moos_packet(data: &[u8]) {
+    moos_packet_in_chunks(data, 13);
+}
+
+/// [`moos_packet`] with the stream decoder fed `chunk`-byte pieces (at least 1).
+pub fn moos_packet_in_chunks(data: &[u8], chunk: usize) {
     if let Ok(msgs) = decode_packet(bytes::Bytes::copy_from_slice(data)) {
         let mut again = Vec::new();
         encode_packet(&msgs, &mut again);
@@ -24,8 +29,8 @@ pub fn moos_packet(data: &[u8]) {
         assert_eq!(again, expect);
     }
     let mut d = StreamDecoder::new(1 << 20);
-    for chunk in data.chunks(13) {
-        d.extend(chunk);
+    for piece in data.chunks(chunk.max(1)) {
+        d.extend(piece);
         loop {
             match d.next_packet() {
                 Ok(Some(_)) => continue,
