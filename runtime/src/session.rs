@@ -36,6 +36,7 @@ use thiserror::Error;
 use crate::antler::{HelmFiles, LaunchError, LogTarget, MissionGlobals, Plan, logger_config, plan};
 use crate::app::{AppError, Value};
 use crate::bus::Bus;
+use crate::bus::BusError;
 use crate::clock::VirtualClock;
 use crate::helm::load_behaviors;
 use crate::logger::{LateSink, SideFiles};
@@ -561,7 +562,14 @@ pub enum SessionError {
         /// The write error.
         source: std::io::Error,
     },
-    /// The bus or the network failed (a name taken, a port in use, a lost connection).
+    /// The in-process bus refused a client or a registration (lockstep).
+    #[error(transparent)]
+    Bus(#[from] BusError),
+    /// A client of the TCP MOOSDB failed (real time).
+    #[error(transparent)]
+    Remote(RemoteError),
+    /// The MOOSDB could not listen, its host could not be resolved, or the async runtime
+    /// could not start (real time).
     #[error("{0}")]
     Net(String),
 }
@@ -773,22 +781,21 @@ fn lockstep(
             ext.app
         ));
     }
-    let bus_err = |e: &dyn fmt::Display| SessionError::Net(e.to_string());
+    let run_err = |e: RunError| match e {
+        RunError::App(e) => app_failed(e, &alog),
+        RunError::Bus(e) => SessionError::Bus(e),
+    };
     let mut s = Scheduler::new(Bus::new(&p.globals.community, start), VirtualClock, start);
     for app in p.apps {
-        s.add_app(app).map_err(|e| bus_err(&e))?;
+        s.add_app(app).map_err(run_err)?;
     }
     for poke in pokes {
-        s.add_poke(poke).map_err(|e| bus_err(&e))?;
+        s.add_poke(poke)?;
     }
     if let Some(c) = until {
         s.set_until(c);
     }
     s.tap("IVPHELM_SUMMARY");
-    let run_err = |e: RunError| match e {
-        RunError::App(e) => app_failed(e, &alog),
-        e => SessionError::Net(e.to_string()),
-    };
     let wall = Instant::now();
     let end = start + opts.max_time;
     // One-second steps: the observer samples the DB at each.
@@ -1053,7 +1060,7 @@ fn realtime(
             Ok(r) => {
                 let end = r.map_err(|e| match e {
                     RemoteError::App(e) => app_failed(e, &alog),
-                    e => SessionError::Net(e.to_string()),
+                    e => SessionError::Remote(e),
                 })?;
                 (Ended::Outcome(end.outcome), end.values)
             }
