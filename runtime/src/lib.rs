@@ -31,6 +31,7 @@ pub mod bus;
 pub mod clock;
 pub mod helm;
 pub mod logger;
+pub mod navigator;
 pub mod plot;
 pub mod procinfo;
 pub mod realtime;
