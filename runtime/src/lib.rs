@@ -32,6 +32,7 @@ pub mod clock;
 pub mod helm;
 pub mod logger;
 pub mod navigator;
+pub mod navreplay;
 pub mod plot;
 pub mod procinfo;
 pub mod realtime;
