@@ -8,7 +8,7 @@
 //!
 //! | variables | closed by | becomes |
 //! |---|---|---|
-//! | `DVL_VEL_X/Y/Z` (m/s, body FRD), `DVL_FOM` (m/s), `DVL_ALTITUDE` | `DVL_VALID` ✱ (1/0) | [`DvlVelocity`] (bottom lock: [`VelocityReference::Ground`]) |
+//! | `DVL_VEL_X/Y/Z` (m/s, body FRD), `DVL_FOM` (m/s), `DVL_ALTITUDE`, `DVL_WATER_TRACK` (1: through the water) | `DVL_VALID` ✱ (1/0) | [`DvlVelocity`] ([`VelocityReference::Water`] when `DVL_WATER_TRACK` = 1 came with it, else bottom lock: [`VelocityReference::Ground`]) |
 //! | `AHRS_PITCH`, `AHRS_ROLL` (deg), `AHRS_ROLL/PITCH/YAW_RATE` (deg/s) | `AHRS_HEADING` ✱ (compass deg) | [`Attitude`] (radians, the compass heading is the NED yaw) and [`GyroRates`] |
 //! | — | `PRESSURE` ✱ (Pa, absolute) | [`Depth`]: `(P - P_atm) / (rho g)`, `rho = 997 + 0.8 salinity` |
 //! | `GPS_X`, `GPS_Y` (local grid m), `GPS_SATELLITES`, `GPS_HDOP` | `GPS_FIX` ✱ (1/0) | [`GpsFix`] when the fix is 1 and x, y came with it |
@@ -35,12 +35,13 @@ pub fn water_density(salinity_ppt: f64) -> f64 {
 }
 
 /// The variables a [`Feed`] reads, in the table's order.
-pub const INPUTS: [&str; 18] = [
+pub const INPUTS: [&str; 19] = [
     "DVL_VEL_X",
     "DVL_VEL_Y",
     "DVL_VEL_Z",
     "DVL_ALTITUDE",
     "DVL_FOM",
+    "DVL_WATER_TRACK",
     "DVL_VALID",
     "AHRS_PITCH",
     "AHRS_ROLL",
@@ -129,6 +130,7 @@ impl Snapshot {
 struct Dvl {
     vel: [Option<f64>; 3],
     fom: Option<f64>,
+    water: bool,
 }
 
 #[derive(Debug, Clone, Copy, Default)]
@@ -217,6 +219,7 @@ impl Feed {
             "DVL_VEL_Z" => self.dvl.vel[2] = Some(value),
             "DVL_FOM" => self.dvl.fom = Some(value),
             "DVL_ALTITUDE" => {}
+            "DVL_WATER_TRACK" => self.dvl.water = value == 1.0,
             "DVL_VALID" => self.close_dvl(value, t_s),
             "AHRS_PITCH" => self.ahrs.pitch_deg = Some(value),
             "AHRS_ROLL" => self.ahrs.roll_deg = Some(value),
@@ -257,7 +260,11 @@ impl Feed {
             vel_body_mps: vel,
             valid,
             fom_mps: d.fom.unwrap_or(0.0),
-            reference: VelocityReference::Ground,
+            reference: if d.water {
+                VelocityReference::Water
+            } else {
+                VelocityReference::Ground
+            },
         };
         let _ = self.nav.dvl(&m);
         self.dr.dvl(&m);

@@ -188,12 +188,17 @@ pub struct DiveFigures {
     pub dead_reckoning_error_m: Option<f64>,
 }
 
+/// Seconds after the first dive's fix from which [`Figures::estimate_after_first_fix`]
+/// counts: the fix enters at the next keyframe, and the estimate at its own time is still the
+/// dive's.
+pub const SETTLE_S: f64 = 5.0;
+
 /// The figures of a navigation against the truth.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Figures {
     /// The estimate's errors over the whole track.
     pub estimate: Errors,
-    /// The estimate's errors after the first dive's fix.
+    /// The estimate's errors from [`SETTLE_S`] after the first dive's fix.
     pub estimate_after_first_fix: Errors,
     /// Dead reckoning's errors over the whole track.
     pub dead_reckoning: Errors,
@@ -204,7 +209,7 @@ pub struct Figures {
 impl Figures {
     /// The figures of `nav` against `truth`.
     pub fn of(nav: &Navigation, truth: &[Point]) -> Figures {
-        let first_fix = nav.dives.first().map_or(f64::INFINITY, |d| d.0);
+        let first_fix = nav.dives.first().map_or(f64::INFINITY, |d| d.0 + SETTLE_S);
         Figures {
             estimate: errors(&nav.estimate, truth, f64::NEG_INFINITY),
             estimate_after_first_fix: errors(&nav.estimate, truth, first_fix),
