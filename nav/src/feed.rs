@@ -463,4 +463,45 @@ mod tests {
             "dive=2,dist=412.35,correction=2.50,ratio_pct=0.61,start=10.00,surface=300.50,fix=303.25"
         );
     }
+
+    /// Stopped at the surface, drifting east at 0.1 m/s: with water-track reports the
+    /// fixes show the current; with bottom lock the DVL already sees the drift (no current).
+    fn drift(water: bool) -> (f64, f64) {
+        let mut f = Feed::new(FeedConfig::default());
+        let mut current = (0.0, 0.0);
+        for i in 0..=600 {
+            let t = f64::from(i) * 0.1;
+            ahrs(&mut f, t, 0.0);
+            let over_ground_east = if water { 0.0 } else { 0.1 };
+            for (k, v) in [
+                ("DVL_VEL_X", 0.0),
+                // Heading north: starboard is east.
+                ("DVL_VEL_Y", over_ground_east),
+                ("DVL_VEL_Z", 0.0),
+                ("DVL_FOM", 0.01),
+            ] {
+                f.take(k, v, t);
+            }
+            if water {
+                assert!(f.take("DVL_WATER_TRACK", 1.0, t));
+            }
+            f.take("DVL_VALID", 1.0, t);
+            if i % 2 == 0 {
+                gps(&mut f, t, 0.1 * t, 0.0);
+            }
+            f.advance(t);
+            if let Some(s) = f.poll() {
+                current = (s.estimate.current_east_mps, s.estimate.current_north_mps);
+            }
+        }
+        current
+    }
+
+    #[test]
+    fn water_track_reports_make_the_current_observable() {
+        let (cx, cy) = drift(true);
+        assert!((cx - 0.1).abs() < 0.01 && cy.abs() < 0.01, "{cx} {cy}");
+        let (cx, cy) = drift(false);
+        assert!(cx.abs() < 0.01 && cy.abs() < 0.01, "{cx} {cy}");
+    }
 }
