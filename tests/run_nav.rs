@@ -193,4 +193,6 @@ fn couguv_survey_estimates_the_compass_bias_and_beats_dead_reckoning() {
         f.estimate_after_first_fix
     );
     check_figures("cougUV_survey replay", &rf, 5, 1.5, false);
+    check_plots(&bytes, "run-nav-cougUV", true);
+    check_committed_png("cougUV_survey");
 }
