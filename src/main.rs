@@ -14,6 +14,7 @@ mod cmd {
     pub mod app;
     pub mod check;
     pub mod db;
+    pub mod nav;
     pub mod nsplug;
     pub mod plot;
     pub mod poke;
@@ -41,6 +42,8 @@ enum Command {
     Nsplug(cmd::nsplug::NsplugArgs),
     /// Plot an alog: LOG.alog -o OUT.svg|OUT.png (track, waypoints, polygons, depth).
     Plot(cmd::plot::PlotArgs),
+    /// Replay a log's navigation sensors through the navigator: LOG.alog [-o OUT.csv] (errors against SIM_* truth).
+    Nav(cmd::nav::NavArgs),
     /// Run a standalone MOOSDB: [MISSION.moos] [--port N] [--host ADDR].
     Db(cmd::db::DbArgs),
     /// Post values like uPokeDB: [MISSION.moos] VAR=VALUE... (VAR:=VALUE forces a string).
@@ -99,6 +102,7 @@ fn main() {
         Command::Check(args) => cmd::check::run(&args),
         Command::Nsplug(args) => cmd::nsplug::run(&args),
         Command::Plot(args) => report("plot", cmd::plot::run(&args)),
+        Command::Nav(args) => report("nav", cmd::nav::run(&args)),
         Command::Db(args) => report("db", cmd::db::run(&args)),
         Command::Poke(args) => report("poke", cmd::poke::run(&args)),
         Command::Scope(args) => report("scope", cmd::scope::run(&args)),
@@ -141,6 +145,7 @@ fn info() {
     outln!("  check     preprocess, parse and validate .moos/.bhv files");
     outln!("  nsplug    expand an nsplug template");
     outln!("  plot      draw an alog's track, waypoints, polygons and depth");
+    outln!("  nav       replay an alog's sensors through the navigator; errors against the truth");
     outln!("Talk to a MOOSDB:");
     outln!("  db        a MOOSDB C++ MOOS apps can join (alias MOOSDB)");
     outln!("  poke      post values (alias uPokeDB)");

@@ -13,13 +13,16 @@
 //! - [`marginal`]: Schur-complement marginalisation into a prior;
 //! - [`window`]: the [`Navigator`] (keyframes, time association, status, outputs);
 //! - [`dive`]: dive reports; [`dead_reckoning`]: the DVL + AHRS baseline;
-//! - [`config`]: settings and where their defaults come from.
+//! - [`config`]: settings and where their defaults come from;
+//! - [`feed`]: the sensor variables (DVL_*, AHRS_*, PRESSURE, GPS_*) into the navigator and the
+//!   baseline, shared by the pNavGraph app and the log replay.
 #![warn(missing_docs)]
 
 pub mod config;
 pub mod dead_reckoning;
 pub mod dive;
 pub mod factors;
+pub mod feed;
 pub mod marginal;
 pub mod measurements;
 pub mod solver;
@@ -29,6 +32,7 @@ pub mod window;
 pub use config::NavConfig;
 pub use dead_reckoning::DeadReckoner;
 pub use dive::{DiveReport, DiveTracker};
+pub use feed::{Feed, FeedConfig, Snapshot};
 pub use measurements::{
     Attitude, Depth, DvlVelocity, GpsFix, GyroRates, Rejection, RejectionCounters, Sensor,
     VelocityReference,

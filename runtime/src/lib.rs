@@ -31,6 +31,8 @@ pub mod bus;
 pub mod clock;
 pub mod helm;
 pub mod logger;
+pub mod navigator;
+pub mod navreplay;
 pub mod plot;
 pub mod procinfo;
 pub mod realtime;

@@ -25,7 +25,8 @@
 //! | `DVL_VEL_Z` | double | m/s | body down | as `DVL_VEL_X` |
 //! | `DVL_ALTITUDE` | double | m | above the bottom; -1 without bottom lock | each DVL report |
 //! | `DVL_FOM` | double | m/s | A50 figure of merit (velocity error estimate); 10 without lock | each DVL report |
-//! | `DVL_VALID` ✱ | double | 1/0 | A50 `velocity_valid` (bottom lock) | each DVL report, 2 Hz while searching |
+//! | `DVL_WATER_TRACK` | double | 1 | the velocity is through the water, not over ground (only with `dvl_water_track`, only in such reports) | each water-track report, the mid-range rate (8.5 Hz) |
+//! | `DVL_VALID` ✱ | double | 1/0 | A50 `velocity_valid` (bottom lock, or water track) | each DVL report, 2 Hz while searching |
 //! | `AHRS_PITCH` | double | deg | nose up positive | 10 Hz |
 //! | `AHRS_ROLL` | double | deg | starboard down positive | 10 Hz |
 //! | `AHRS_ROLL_RATE` | double | deg/s | gyro about body forward | 10 Hz |
@@ -57,6 +58,7 @@
 //! | `dvl_min_altitude`, `dvl_max_altitude` | 0.05, 50 | m, the bottom-lock range |
 //! | `dvl_min_rate`, `dvl_max_rate` | 2, 15 | Hz, at the far and near ends of the range |
 //! | `dvl_altitude_noise` | 0.05 | m |
+//! | `dvl_water_track` | false | velocity through the water out of bottom-lock range (a water-track DVL; the A50 has none) |
 //! | `ahrs_rate`, `heading_bias`, `heading_noise`, `attitude_noise`, `gyro_noise` | 10, 0, 1, 0.2, 0.05 | Hz, deg, deg, deg, deg/s |
 //! | `pressure_rate`, `salinity`, `atmospheric_pressure`, `pressure_noise`, `pressure_quantum` | 20, 0, 101325, 20, 10 | Hz, ppt, Pa, Pa, Pa |
 //! | `gps_rate`, `gps_noise`, `gps_max_depth`, `gps_acquire_time`, `gps_loss_prob` | 5, 1.5, 0.2, 2, 0.01 | Hz, m at HDOP 1, m, s, per epoch |
@@ -210,6 +212,9 @@ impl SensorsApp {
                 out.push(Post::double("DVL_VEL_X", d.velocity_mps[0]));
                 out.push(Post::double("DVL_VEL_Y", d.velocity_mps[1]));
                 out.push(Post::double("DVL_VEL_Z", d.velocity_mps[2]));
+            }
+            if d.water_track {
+                out.push(Post::double("DVL_WATER_TRACK", 1.0));
             }
             out.push(Post::double("DVL_ALTITUDE", d.altitude_m));
             out.push(Post::double("DVL_FOM", d.fom));

@@ -3,7 +3,9 @@
 //! (`VIEW_SEGLIST`, `VIEW_POINT`, `VIEW_POLYGON`), equal-aspect axes in metres, a legend
 //! with an entry for each kind of thing drawn (track, start, end, waypoints, marked points,
 //! polygons) placed where it hides nothing, the mission's name as title ([`mission_title`]),
-//! and a depth-versus-time panel over the run's whole time span when the vehicle dived
+//! the simulator's truth (`SIM_X/Y`) and dead reckoning (`DR_X/Y`) beside the track when the
+//! log has them (the vehicle navigated on pNavGraph's estimate: the track is then labelled
+//! `estimate`), and a depth-versus-time panel over the run's whole time span when the vehicle dived
 //! (deeper than [`DIVE_THRESHOLD`]). Drawn with `plotters` as SVG text or PNG bytes, with
 //! the DejaVu Sans font built in (the `dejavu` crate: no font files, no system font
 //! libraries).
@@ -62,6 +64,34 @@ pub struct PlotData {
     pub seglists: Vec<Shape>,
     /// VIEW_POLYGONs: the last active version of each label.
     pub polygons: Vec<Shape>,
+    /// The simulator's truth `(time, x, y)` (SIM_X, SIM_Y) when the log has it: the
+    /// vehicle navigated on an estimate, drawn beside it.
+    pub truth: Vec<(f64, f64, f64)>,
+    /// Plain dead reckoning `(time, x, y)` (DR_X, DR_Y) when the log has it.
+    pub dead_reckoning: Vec<(f64, f64, f64)>,
+}
+
+/// Adds a point to an `(x, y)` pair series: `var` is one of the pair; a point is made (or
+/// the instant's point updated) once both are known.
+fn pair_point(
+    out: &mut Vec<(f64, f64, f64)>,
+    xy: &mut (Option<f64>, Option<f64>),
+    is_x: bool,
+    v: f64,
+    t: f64,
+) {
+    if is_x {
+        xy.0 = Some(v);
+    } else {
+        xy.1 = Some(v);
+    }
+    if let (Some(x), Some(y)) = *xy {
+        match out.last_mut() {
+            Some(last) if last.0 == t => (last.1, last.2) = (x, y),
+            Some(&mut (_, lx, ly)) if lx == x && ly == y => {}
+            _ => out.push((t, x, y)),
+        }
+    }
 }
 
 fn keep(map: &mut BTreeMap<String, Shape>, active: bool, label: &str, pts: Vec<(f64, f64)>) {
@@ -86,8 +116,15 @@ impl PlotData {
         let mut points = BTreeMap::new();
         let mut segls = BTreeMap::new();
         let mut polys = BTreeMap::new();
+        let (mut truth, mut dr) = ((None, None), (None, None));
         for e in &log.entries {
             match (e.var.as_str(), &e.value) {
+                ("SIM_X" | "SIM_Y", Value::Double(v)) => {
+                    pair_point(&mut d.truth, &mut truth, e.var == "SIM_X", *v, e.time);
+                }
+                ("DR_X" | "DR_Y", Value::Double(v)) => {
+                    pair_point(&mut d.dead_reckoning, &mut dr, e.var == "DR_X", *v, e.time);
+                }
                 ("NAV_X", Value::Double(v)) | ("NAV_Y", Value::Double(v)) => {
                     if e.var == "NAV_X" {
                         x = Some(*v);
@@ -272,6 +309,29 @@ mod tests {
         assert_eq!(d.points[0].points, vec![(5.0, 6.0)]);
         assert_eq!(d.polygons[0].label, "region");
         assert_eq!(d.polygons[0].points.len(), 3);
+    }
+
+    #[test]
+    fn truth_and_dead_reckoning_beside_the_estimate() {
+        let text = "%% LOGSTART 0\n\
+            0.1 SIM_X uSimMarineV22 0\n0.1 SIM_Y uSimMarineV22 1\n\
+            0.2 NAV_X pNavGraph 0.5\n0.2 NAV_Y pNavGraph 1.5\n\
+            0.2 DR_X pNavGraph 0.7\n0.2 DR_Y pNavGraph 1.7\n\
+            0.3 SIM_Y uSimMarineV22 2\n0.3 SIM_X uSimMarineV22 1\n";
+        let d = PlotData::from_alog(&alog::parse(text).unwrap());
+        assert_eq!(d.track, vec![(0.2, 0.5, 1.5)]);
+        assert_eq!(d.truth, vec![(0.1, 0.0, 1.0), (0.3, 1.0, 2.0)]);
+        assert_eq!(d.dead_reckoning, vec![(0.2, 0.7, 1.7)]);
+        let svg = to_svg(&d, &PlotOptions::default()).unwrap();
+        assert!(svg.contains("truth (SIM_*)") && svg.contains("dead reckoning (DR_*)"));
+        assert!(svg.contains("estimate (NAV_*)"));
+        let plain = PlotData {
+            truth: Vec::new(),
+            dead_reckoning: Vec::new(),
+            ..d
+        };
+        let svg = to_svg(&plain, &PlotOptions::default()).unwrap();
+        assert!(!svg.contains("truth") && !svg.contains("estimate"));
     }
 
     fn track_of(text: &str) -> Vec<(f64, f64, f64)> {

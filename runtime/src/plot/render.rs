@@ -14,6 +14,8 @@ const POLYGON: RGBColor = RGBColor(44, 160, 44);
 const POINT: RGBColor = RGBColor(214, 39, 40);
 const DEPTH: RGBColor = RGBColor(148, 103, 189);
 const START: RGBColor = RGBColor(0, 150, 0);
+const TRUTH: RGBColor = RGBColor(0, 0, 0);
+const DEAD_RECKONING: RGBColor = RGBColor(150, 150, 150);
 /// The most points a line is drawn with (a long log is thinned evenly, ends kept).
 const MAX_POINTS: usize = 4000;
 /// The one font: DejaVu Sans, built into the binary.
@@ -196,6 +198,15 @@ fn densify(pts: &[(f64, f64)], step: f64, out: &mut Vec<(f64, f64)>) {
     }
 }
 
+/// The track's legend: `track`, or `estimate (NAV_*)` when the truth is drawn beside it.
+fn track_label(data: &PlotData) -> &'static str {
+    if data.truth.is_empty() {
+        "track"
+    } else {
+        "estimate (NAV_*)"
+    }
+}
+
 fn draw<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     data: &PlotData,
@@ -214,8 +225,15 @@ fn draw<DB: DrawingBackend>(
         .iter()
         .map(|p| (p.1, p.2))
         .collect();
+    let xy = |v: &[(f64, f64, f64)]| -> Vec<(f64, f64)> {
+        thin(v, MAX_POINTS).iter().map(|p| (p.1, p.2)).collect()
+    };
+    let truth = xy(&data.truth);
+    let dr = xy(&data.dead_reckoning);
     let all: Vec<(f64, f64)> = track
         .iter()
+        .chain(&truth)
+        .chain(&dr)
         .chain(
             data.points
                 .iter()
@@ -258,7 +276,9 @@ fn draw<DB: DrawingBackend>(
     // The legend, in reading order, with an entry only for what is drawn; it goes in the
     // emptiest corner, and when no corner is empty the panel grows a band at the top for it.
     let entries: Vec<&str> = [
-        (true, "track"),
+        (true, track_label(data)),
+        (!truth.is_empty(), "truth (SIM_*)"),
+        (!dr.is_empty(), "dead reckoning (DR_*)"),
         (true, "start"),
         (true, "end"),
         (!data.seglists.is_empty(), "waypoints"),
@@ -295,6 +315,8 @@ fn draw<DB: DrawingBackend>(
     let mut occupied = Vec::new();
     let step = side / 200.0;
     densify(&track, step, &mut occupied);
+    densify(&truth, step, &mut occupied);
+    densify(&dr, step, &mut occupied);
     for s in data.seglists.iter().chain(&data.points) {
         densify(&s.points, step, &mut occupied);
     }
@@ -356,6 +378,16 @@ fn draw<DB: DrawingBackend>(
             .draw_series(p.points.iter().map(|&q| Circle::new(q, 4, POINT.filled())))
             .map_err(err)?;
     }
+    if !dr.is_empty() {
+        chart
+            .draw_series(LineSeries::new(dr.clone(), DEAD_RECKONING.stroke_width(1)))
+            .map_err(err)?;
+    }
+    if !truth.is_empty() {
+        chart
+            .draw_series(LineSeries::new(truth.clone(), TRUTH.stroke_width(1)))
+            .map_err(err)?;
+    }
     chart
         .draw_series(LineSeries::new(track.clone(), TRACK.stroke_width(2)))
         .map_err(err)?;
@@ -377,8 +409,24 @@ fn draw<DB: DrawingBackend>(
     chart
         .draw_series(none())
         .map_err(err)?
-        .label("track")
+        .label(track_label(data))
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], TRACK.stroke_width(2)));
+    if !truth.is_empty() {
+        chart
+            .draw_series(none())
+            .map_err(err)?
+            .label("truth (SIM_*)")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], TRUTH.stroke_width(1)));
+    }
+    if !dr.is_empty() {
+        chart
+            .draw_series(none())
+            .map_err(err)?
+            .label("dead reckoning (DR_*)")
+            .legend(|(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], DEAD_RECKONING.stroke_width(1))
+            });
+    }
     chart
         .draw_series(none())
         .map_err(err)?

@@ -16,6 +16,13 @@
 //!   0.5 % by default, inside the A50's ±1.01 % long-term accuracy). The figure of merit is
 //!   the A50's estimate of its velocity error, m/s: here the noise σ. The altitude gets
 //!   white noise `dvl_altitude_noise` (0.05 m).
+//! - **Water track** (`dvl_water_track`, off by default). The A50 itself only bottom-tracks;
+//!   larger DVLs measure the velocity through the water when the bottom is out of range. With
+//!   the option on, a report out of bottom-lock range is valid and carries the velocity
+//!   through the water (the truth's speed through the water along its heading, plus its
+//!   vertical velocity, in the body frame) with the same scale error and noise, altitude -1,
+//!   and `water_track` set; it pings at the rate of mid-range altitude. A navigator must then
+//!   add the water current to get the velocity over ground.
 
 use super::{Noise, Schedule, Truth};
 
@@ -41,6 +48,8 @@ pub struct DvlConfig {
     pub max_rate_hz: f64,
     /// `dvl_altitude_noise`, m (0.05).
     pub altitude_noise_m: f64,
+    /// `dvl_water_track`: velocity through the water when the bottom is out of range (false).
+    pub water_track: bool,
 }
 
 impl Default for DvlConfig {
@@ -54,6 +63,7 @@ impl Default for DvlConfig {
             min_rate_hz: 2.0,
             max_rate_hz: 15.0,
             altitude_noise_m: 0.05,
+            water_track: false,
         }
     }
 }
@@ -85,9 +95,12 @@ impl DvlConfig {
 pub struct DvlReport {
     /// MOOS time of validity, s.
     pub time: f64,
-    /// `velocity_valid`: bottom lock.
+    /// `velocity_valid`: bottom lock, or water track.
     pub valid: bool,
-    /// Velocity over ground, forward, starboard, down (FRD), m/s; zeros when invalid.
+    /// True when the velocity is through the water (water track), not over ground.
+    pub water_track: bool,
+    /// Velocity over ground (through the water in water track), forward, starboard, down
+    /// (FRD), m/s; zeros when invalid.
     pub velocity_mps: [f64; 3],
     /// Figure of merit, m/s ([`INVALID_FOM`] when invalid).
     pub fom: f64,
@@ -126,28 +139,51 @@ impl Dvl {
             return None;
         }
         let h = self.water_depth - truth.depth;
-        self.schedule.done(truth.time, 1.0 / self.cfg.rate_at(h));
-        if !self.cfg.in_range(h) {
+        let water = !self.cfg.in_range(h) && self.cfg.water_track;
+        let rate = if water {
+            self.cfg
+                .rate_at(0.5 * (self.cfg.min_altitude_m + self.cfg.max_altitude_m))
+        } else {
+            self.cfg.rate_at(h)
+        };
+        self.schedule.done(truth.time, 1.0 / rate);
+        if !self.cfg.in_range(h) && !water {
             return Some(DvlReport {
                 time: truth.time,
                 valid: false,
+                water_track: false,
                 velocity_mps: [0.0; 3],
                 fom: INVALID_FOM,
                 altitude_m: -1.0,
             });
         }
         let k = 1.0 + self.cfg.scale_error;
-        let v = truth.body_velocity();
+        let v = if water {
+            let (s, c) = truth.heading_deg.to_radians().sin_cos();
+            Truth {
+                vel_east_mps: truth.speed_mps * s,
+                vel_north_mps: truth.speed_mps * c,
+                ..*truth
+            }
+            .body_velocity()
+        } else {
+            truth.body_velocity()
+        };
         let sigma = self.cfg.noise_mps;
         let velocity_mps = [
             k * v[0] + self.noise.gauss(sigma),
             k * v[1] + self.noise.gauss(sigma),
             k * v[2] + self.noise.gauss(sigma),
         ];
-        let altitude_m = (h + self.noise.gauss(self.cfg.altitude_noise_m)).max(0.0);
+        let altitude_m = if water {
+            -1.0
+        } else {
+            (h + self.noise.gauss(self.cfg.altitude_noise_m)).max(0.0)
+        };
         Some(DvlReport {
             time: truth.time,
             valid: true,
+            water_track: water,
             velocity_mps,
             fom: sigma,
             altitude_m,
@@ -263,5 +299,37 @@ mod tests {
         );
         assert_eq!(ra, rb);
         assert_ne!(ra, rc);
+    }
+
+    #[test]
+    fn water_track_out_of_range_measures_the_velocity_through_the_water() {
+        let cfg = DvlConfig {
+            water_track: true,
+            noise_mps: 0.0,
+            scale_error: 0.0,
+            ..DvlConfig::default()
+        };
+        // Heading north at 1.5 m/s through the water, pushed east at 0.1 m/s.
+        let truth = Truth {
+            time: 1.0,
+            depth: 5.0,
+            heading_deg: 0.0,
+            speed_mps: 1.5,
+            vel_east_mps: 0.1,
+            vel_north_mps: 1.5,
+            ..Truth::default()
+        };
+        let mut deep = Dvl::new(cfg.clone(), 100.0, 1);
+        let r = deep.sample(&truth).unwrap();
+        assert!(r.valid && r.water_track && r.altitude_m == -1.0);
+        assert!((r.velocity_mps[0] - 1.5).abs() < 1e-12 && r.velocity_mps[1].abs() < 1e-12);
+        // Within range it bottom-tracks: over ground, the current is seen.
+        let mut shallow = Dvl::new(cfg, 20.0, 1);
+        let r = shallow.sample(&truth).unwrap();
+        assert!(r.valid && !r.water_track);
+        assert!((r.velocity_mps[1] - 0.1).abs() < 1e-12);
+        // Without the option, out of range is invalid.
+        let mut a50 = Dvl::new(DvlConfig::default(), 100.0, 1);
+        assert!(!a50.sample(&truth).unwrap().valid);
     }
 }

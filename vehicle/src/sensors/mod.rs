@@ -425,6 +425,7 @@ impl SensorConfig {
             "dvl_min_rate" => self.dvl.min_rate_hz = p.pos()?,
             "dvl_max_rate" => self.dvl.max_rate_hz = p.pos()?,
             "dvl_altitude_noise" => self.dvl.altitude_noise_m = p.non_neg()?,
+            "dvl_water_track" => self.dvl.water_track = p.bool()?,
             // AHRS
             "ahrs_rate" => self.ahrs.rate_hz = p.pos()?,
             "heading_bias" => self.ahrs.heading_bias_deg = p.f64()?,

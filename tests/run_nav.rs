@@ -1,0 +1,198 @@
+//! The navigation loop closed, in lockstep: the dive and cougUV_survey missions run with the
+//! helm and the PID on pNavGraph's estimate (the simulator's truth under `SIM_*`), complete,
+//! and navigate better than dead reckoning. The figures are printed (`--nocapture`) for the
+//! closing notes; `coug nav` replays the survey's log to the same figures.
+
+mod common;
+
+use common::*;
+use runtime::navreplay::{Figures, live, truth};
+
+/// Every `var` value of the log, with its time.
+fn series(log: &alog::Alog, var: &str) -> Vec<(f64, f64)> {
+    log.entries
+        .iter()
+        .filter(|e| e.var == var)
+        .filter_map(|e| Some((e.time, e.value.as_f64()?)))
+        .collect()
+}
+
+/// Runs `mission`, checks the helm ran on the navigator and returns the log, the figures of
+/// the live navigation, printed.
+fn run_on_estimate(name: &str, mission: &str, max_time: f64) -> (Vec<u8>, alog::Alog, Figures) {
+    let mission = project_mission(mission);
+    let (bytes, stdout) = run_lockstep(
+        name,
+        &mission,
+        &[],
+        deploy_until("MISSION = complete", max_time),
+    );
+    assert!(stdout.contains("MISSION = \"complete\""), "{stdout}");
+    let log = parse(&bytes);
+    // NAV_* is the navigator's alone; the truth is the simulator's.
+    for e in log.entries.iter().filter(|e| e.var == "NAV_X") {
+        assert_eq!(e.source, "pNavGraph", "NAV_X at {}", e.time);
+    }
+    assert!(
+        log.entries
+            .iter()
+            .any(|e| e.var == "SIM_X" && e.source == "uSimMarineV22")
+    );
+    let first_nav = log
+        .entries
+        .iter()
+        .find(|e| e.var.starts_with("NAV_") && e.var != "NAV_STATUS");
+    let first_fix = log
+        .entries
+        .iter()
+        .find(|e| e.var == "GPS_FIX" && e.value.as_f64() == Some(1.0))
+        .expect("a GPS fix");
+    assert!(
+        first_nav.expect("the navigator posts").time >= first_fix.time,
+        "NAV_* before the first fix"
+    );
+    let truth = truth(&log);
+    let figures = Figures::of(&live(&log, "DR"), &truth);
+    eprintln!("{name} (live, helm on the estimate):\n{}", figures.report());
+    (bytes, log, figures)
+}
+
+/// The navigator beats dead reckoning at every resurfacing; after the first dive's fix its
+/// RMSE is within two sigma of the GPS noise, and so is its largest error (`max_after`
+/// false: only its error at the resurfacings from the third dive on, see the survey's test).
+fn check_figures(name: &str, f: &Figures, min_dives: usize, gps_noise: f64, max_after: bool) {
+    assert!(
+        f.dives.len() >= min_dives,
+        "{name}: {} dives",
+        f.dives.len()
+    );
+    for d in &f.dives {
+        let (e, r) = (
+            d.estimate_error_m.unwrap(),
+            d.dead_reckoning_error_m.unwrap(),
+        );
+        assert!(
+            e < r,
+            "{name}: dive {}: estimate {e} m, dead reckoning {r} m",
+            d.report.dive
+        );
+    }
+    assert!(f.estimate.rmse_m < f.dead_reckoning.rmse_m, "{name}");
+    let after = &f.estimate_after_first_fix;
+    assert!(after.n > 100, "{name}: {after:?}");
+    assert!(
+        after.rmse_m < 2.0 * gps_noise,
+        "{name}: after the first fix, RMSE {} m (GPS noise {gps_noise} m)",
+        after.rmse_m
+    );
+    if max_after {
+        assert!(
+            after.max_m < 2.0 * gps_noise,
+            "{name}: after the first fix, max error {} m (GPS noise {gps_noise} m)",
+            after.max_m
+        );
+    } else {
+        for d in f.dives.iter().skip(2) {
+            let e = d.estimate_error_m.unwrap();
+            assert!(e < 2.0 * gps_noise, "{name}: dive {}: {e} m", d.report.dive);
+        }
+    }
+}
+
+#[test]
+fn dive_navigates_on_the_estimate() {
+    let (_, _, f) = run_on_estimate("run-nav-dive", "dive/dive.moos", 1200.0);
+    check_figures("dive", &f, 2, 1.5, true);
+}
+
+#[test]
+fn couguv_survey_estimates_the_compass_bias_and_beats_dead_reckoning() {
+    let (bytes, log, f) =
+        run_on_estimate("run-nav-cougUV", "cougUV_survey/cougUV_survey.moos", 2400.0);
+    // With bottom lock (dive) the error stays within two sigma of the GPS all along; here
+    // the DVL tracks the water, and the bias left after one dive (about 0.45 degree) makes
+    // the second dive drift by a few metres: the bound holds from the third dive on.
+    check_figures("cougUV_survey", &f, 5, 1.5, false);
+    let end = log.entries.last().unwrap().time;
+    assert!((1500.0..2400.0).contains(&end), "about 30 minutes: {end} s");
+    let d = series(&log, "SIM_DEPTH");
+    let deep: Vec<f64> = d.iter().filter(|p| p.1 > 2.0).map(|p| p.1).collect();
+    let mean = deep.iter().sum::<f64>() / deep.len() as f64;
+    assert!((3.0..=5.0).contains(&mean), "mean survey depth {mean} m");
+
+    // The 3 degree compass bias and the 0.1 m/s current east, after the first surfacing
+    // (from the next dive on: the estimates move while the surfacing's fixes come in).
+    let first_fix = f.dives[0].fix_t_s;
+    let next_dive = d
+        .iter()
+        .find(|p| p.0 > first_fix && p.1 > 1.0)
+        .expect("dives again")
+        .0;
+    let after = |var: &str| -> Vec<f64> {
+        series(&log, var)
+            .iter()
+            .filter(|p| p.0 >= next_dive)
+            .map(|p| p.1)
+            .collect()
+    };
+    let worst = |v: &[f64], truth: f64| v.iter().map(|b| (b - truth).abs()).fold(0.0, f64::max);
+    let (bias, cx, cy) = (
+        after("NAV_HEADING_BIAS"),
+        after("NAV_CURRENT_X"),
+        after("NAV_CURRENT_Y"),
+    );
+    let (wb, wx, wy) = (worst(&bias, 3.0), worst(&cx, 0.1), worst(&cy, 0.0));
+    eprintln!(
+        "cougUV_survey from {next_dive:.1} s (the dive after the first surfacing): heading bias \
+         worst error {wb:.3} deg (final {:.3}), current worst error ({wx:.4}, {wy:.4}) m/s \
+         (final {:.4}, {:.4}; truth 0.1 east)",
+        bias.last().unwrap(),
+        cx.last().unwrap(),
+        cy.last().unwrap()
+    );
+    assert!(bias.len() > 1000, "{}", bias.len());
+    assert!(wb < 0.5, "heading bias off by {wb} deg");
+    assert!(wx < 0.03 && wy < 0.03, "current off by ({wx}, {wy}) m/s");
+
+    // `coug nav` replays the sensors through the same feed: the same navigation.
+    let dir = fresh_dir("run-nav-cougUV-replay");
+    std::fs::write(dir.join("run.alog"), &bytes).unwrap();
+    let o = coug(&dir, &["nav", "run.alog", "-o", "nav.csv"]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success(),
+        "{text}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    eprintln!("coug nav (replay):\n{text}");
+    let csv = std::fs::read_to_string(dir.join("nav.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next(),
+        Some(
+            "time,x,y,depth,heading,sigma,status,heading_bias,current_x,current_y,dr_x,dr_y,dr_depth"
+        )
+    );
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert!(rows.len() > 1000 && rows.iter().all(|r| r.len() == 13));
+    assert!(
+        text.contains(&format!("keyframes: {}", rows.len())),
+        "{text}"
+    );
+    let replay = runtime::navreplay::replay(&log, nav::FeedConfig::default());
+    let rf = Figures::of(&replay, &truth(&log));
+    assert_eq!(
+        rf.report(),
+        text.split_once('\n').unwrap().1.split_once('\n').unwrap().1
+    );
+    assert_eq!(rf.dives.len(), f.dives.len());
+    assert!(
+        (rf.estimate_after_first_fix.rmse_m - f.estimate_after_first_fix.rmse_m).abs() < 0.1,
+        "replay {:?} vs live {:?}",
+        rf.estimate_after_first_fix,
+        f.estimate_after_first_fix
+    );
+    check_figures("cougUV_survey replay", &rf, 5, 1.5, false);
+    check_plots(&bytes, "run-nav-cougUV", true);
+    check_committed_png("cougUV_survey");
+}
