@@ -193,6 +193,9 @@ impl Sentence {
     }
 }
 
+/// The longest sentence accepted (NMEA allows 82 characters; some receivers write more).
+pub const MAX_LINE: usize = 120;
+
 /// Knots to metres per second.
 pub const MPS_PER_KNOT: f64 = 1852.0 / 3600.0;
 
@@ -680,6 +683,9 @@ pub mod gpsd {
         /// Satellites in view.
         pub satellites: Vec<Satellite>,
     }
+
+    /// The longest gpsd line accepted (a SKY report with many satellites runs to kilobytes).
+    pub const MAX_LINE: usize = 16384;
 
     /// One gpsd report.
     #[derive(Debug, Clone, PartialEq)]
