@@ -76,7 +76,9 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             let mut s = LineSplitter::new(seatrac::MAX_FRAME).with_starts(b"#$");
             let mut ok = 0;
-            s.push(&modem, |l| ok += usize::from(seatrac::Response::decode(l).is_ok()));
+            s.push(&modem, |l| {
+                ok += usize::from(seatrac::Response::decode(l).is_ok())
+            });
             assert_eq!(ok, LINES);
         })
     });
@@ -90,7 +92,9 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             let mut s = LineSplitter::new(teensy::MAX_LINE).with_starts(b"$");
             let mut ok = 0;
-            s.push(&mcu, |l| ok += usize::from(teensy::Telemetry::parse(l).is_ok()));
+            s.push(&mcu, |l| {
+                ok += usize::from(teensy::Telemetry::parse(l).is_ok())
+            });
             assert_eq!(ok, LINES);
         })
     });

@@ -546,7 +546,10 @@ mod tests {
         let Message::Response(r) = parse(GYRO_OK).unwrap() else {
             panic!()
         };
-        assert_eq!((r.response_to.as_str(), r.success, r.result), ("calibrate_gyro", true, None));
+        assert_eq!(
+            (r.response_to.as_str(), r.success, r.result),
+            ("calibrate_gyro", true, None)
+        );
         let Message::Response(r) = parse(CONFIG).unwrap() else {
             panic!()
         };
@@ -559,10 +562,14 @@ mod tests {
     #[test]
     fn the_cougars_driver_dispatch_rule_applies_without_a_type() {
         // Older firmware (json_v2) has no `type`: the driver dispatches on the members.
-        let dr = br#"{"ts":1.0,"x":1,"y":2,"z":3,"std":0.1,"roll":0,"pitch":0,"yaw":90,"status":0}"#;
+        let dr =
+            br#"{"ts":1.0,"x":1,"y":2,"z":3,"std":0.1,"roll":0,"pitch":0,"yaw":90,"status":0}"#;
         assert!(matches!(parse(dr), Ok(Message::DeadReckoning(d)) if d.yaw_deg == 90.0));
         assert_eq!(parse(br#"{"foo":1}"#), Err(A50Error::Unknown));
-        assert_eq!(parse(br#"[1]"#), Err(A50Error::Json("not an object".into())));
+        assert_eq!(
+            parse(br#"[1]"#),
+            Err(A50Error::Json("not an object".into()))
+        );
         assert_eq!(
             parse(br#"{"type":"velocity","time":1}"#),
             Err(A50Error::Missing("vx"))
@@ -579,7 +586,10 @@ mod tests {
             off.encode(),
             "{\"command\":\"set_config\",\"parameters\":{\"acoustic_enabled\":false}}\n"
         );
-        assert_eq!(Command::CalibrateGyro.encode(), "{\"command\":\"calibrate_gyro\"}\n");
+        assert_eq!(
+            Command::CalibrateGyro.encode(),
+            "{\"command\":\"calibrate_gyro\"}\n"
+        );
         for c in [
             off,
             Command::GetConfig,
@@ -588,7 +598,10 @@ mod tests {
         ] {
             assert_eq!(parse_command(c.encode().trim_end().as_bytes()), Ok(c));
         }
-        assert_eq!(parse_command(br#"{"command":"reboot"}"#), Err(A50Error::Unknown));
+        assert_eq!(
+            parse_command(br#"{"command":"reboot"}"#),
+            Err(A50Error::Unknown)
+        );
     }
 
     fn finite() -> impl Strategy<Value = f64> {

@@ -162,7 +162,10 @@ mod tests {
     #[test]
     fn oversize_lines_are_dropped_to_their_newline_and_counted() {
         let mut s = LineSplitter::new(4);
-        assert_eq!(lines(&mut s, b"abcd\r\nabcdefgh\nabcde\nxy\n"), vec!["abcd", "xy"]);
+        assert_eq!(
+            lines(&mut s, b"abcd\r\nabcdefgh\nabcde\nxy\n"),
+            vec!["abcd", "xy"]
+        );
         assert_eq!(s.stats().oversize, 2);
     }
 

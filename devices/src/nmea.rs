@@ -247,7 +247,11 @@ fn hex_val(b: u8) -> Option<u8> {
 pub fn parse(line: &[u8]) -> Result<Sentence, NmeaError> {
     let f = split_checked(line)?;
     let addr = f[0].as_bytes();
-    if addr.len() != 5 || !addr.iter().all(|b| b.is_ascii_uppercase() || b.is_ascii_digit()) {
+    if addr.len() != 5
+        || !addr
+            .iter()
+            .all(|b| b.is_ascii_uppercase() || b.is_ascii_digit())
+    {
         return Err(NmeaError::BadAddress);
     }
     let talker = [addr[0], addr[1]];
@@ -319,8 +323,7 @@ impl<'a> Fields<'a> {
         }
         let two = |k: usize| (b[k] - b'0') * 10 + (b[k + 1] - b'0');
         let (hour, minute) = (two(0), two(2));
-        let frac_ok = b[6..].is_empty()
-            || (b[6] == b'.' && b[7..].iter().all(u8::is_ascii_digit));
+        let frac_ok = b[6..].is_empty() || (b[6] == b'.' && b[7..].iter().all(u8::is_ascii_digit));
         let second: f64 = match s[4..].parse() {
             Ok(v) if frac_ok => v,
             _ => return Err(self.bad(i, "hhmmss.ss")),
@@ -716,7 +719,9 @@ pub mod gpsd {
     /// Parses one gpsd JSON line.
     pub fn parse(line: &[u8]) -> Result<Report, GpsdError> {
         let v: Value = serde_json::from_slice(line).map_err(|e| GpsdError::Json(e.to_string()))?;
-        let o = v.as_object().ok_or(GpsdError::Json("not an object".into()))?;
+        let o = v
+            .as_object()
+            .ok_or(GpsdError::Json("not an object".into()))?;
         let class = match o.get("class") {
             Some(Value::String(c)) => c.as_str(),
             _ => return Err(GpsdError::NoClass),
@@ -865,7 +870,10 @@ mod tests {
             panic!()
         };
         assert_eq!(g.talker, *b"GP");
-        assert_eq!(g.time.unwrap().seconds_of_day(), 12.0 * 3600.0 + 35.0 * 60.0 + 19.0);
+        assert_eq!(
+            g.time.unwrap().seconds_of_day(),
+            12.0 * 3600.0 + 35.0 * 60.0 + 19.0
+        );
         assert!(close(g.lat_deg, 48.0 + 7.038 / 60.0));
         assert!(close(g.lon_deg, 11.0 + 31.0 / 60.0));
         assert_eq!((g.quality, g.satellites), (1, Some(8)));
@@ -1024,7 +1032,10 @@ mod tests {
         };
         assert_eq!(t.mode, 3);
         assert_eq!(t.lat_deg, Some(46.498293369));
-        assert_eq!((t.alt_m, t.speed_mps, t.ept_s), (Some(1343.127), Some(0.091), Some(0.005)));
+        assert_eq!(
+            (t.alt_m, t.speed_mps, t.ept_s),
+            (Some(1343.127), Some(0.091), Some(0.005))
+        );
         assert_eq!(gpsd::parse(t.encode().as_bytes()), Ok(gpsd::Report::Tpv(t)));
         let sky = br#"{"class":"SKY","device":"/dev/pts/1","time":"2005-07-08T11:28:07.114Z","xdop":1.55,"hdop":1.24,"pdop":1.99,"satellites":[{"PRN":23,"el":6,"az":84,"ss":0,"used":false},{"PRN":28,"el":7,"az":160,"ss":0,"used":false},{"PRN":8,"el":66,"az":189,"ss":44,"used":true}]}"#;
         let gpsd::Report::Sky(s) = gpsd::parse(sky).unwrap() else {

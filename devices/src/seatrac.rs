@@ -1203,7 +1203,10 @@ mod tests {
                 computed: 0xD055
             })
         );
-        assert_eq!(Response::decode(b"#40300F55D0"), Err(SeatracError::WrongDirection));
+        assert_eq!(
+            Response::decode(b"#40300F55D0"),
+            Err(SeatracError::WrongDirection)
+        );
         assert_eq!(Response::decode(b"$40300F55D"), Err(SeatracError::BadHex));
         assert_eq!(Response::decode(b"$4030"), Err(SeatracError::TooShort));
         assert_eq!(Cst::from_u8(0x34), Cst::XcvrRespTimeout);
@@ -1219,10 +1222,16 @@ mod tests {
         };
         assert_eq!(s.timestamp_ms, 123_456);
         let e = s.environment.unwrap();
-        assert_eq!((e.supply_v(), e.temp_degc(), e.pressure_mbar), (12.15, 21.5, 1153));
+        assert_eq!(
+            (e.supply_v(), e.temp_degc(), e.pressure_mbar),
+            (12.15, 21.5, 1153)
+        );
         assert_eq!((e.depth_m(), e.vos_dmps), (1.5, 14820));
         let a = s.attitude.unwrap();
-        assert_eq!((a.yaw_deg(), a.pitch_deg(), a.roll_deg()), (90.0, -2.5, 1.2));
+        assert_eq!(
+            (a.yaw_deg(), a.pitch_deg(), a.roll_deg()),
+            (90.0, -2.5, 1.2)
+        );
         assert_eq!(s.ahrs_comp, None);
         assert_eq!(Response::Status(s).encode().trim_end().as_bytes(), line);
     }
@@ -1234,7 +1243,10 @@ mod tests {
         let Response::DatReceive { fix, ack, data } = Response::decode(line).unwrap() else {
             panic!()
         };
-        assert_eq!((fix.src_id, fix.msg_type, ack, data.as_slice()), (3, 5, false, &b"abc"[..]));
+        assert_eq!(
+            (fix.src_id, fix.msg_type, ack, data.as_slice()),
+            (3, 5, false, &b"abc"[..])
+        );
         assert_eq!(fix.range_m(), Some(46.3));
         let u = fix.usbl.clone().unwrap();
         assert_eq!(u.rssi_cb, vec![-700, -710, -705, -702]);
@@ -1256,7 +1268,10 @@ mod tests {
         s.set_status_output(
             status_bits::ATTITUDE | status_bits::AHRS_COMP_DATA | status_bits::ENVIRONMENT,
         );
-        assert_eq!((s.raw[96], s.raw[33], s.raw[34], s.raw[0], s.raw[1]), (7, 94, 1, 4, 0x23));
+        assert_eq!(
+            (s.raw[96], s.raw[33], s.raw[34], s.raw[0], s.raw[1]),
+            (7, 94, 1, 4, 0x23)
+        );
         let cmd = Command::SettingsSet(s.clone());
         assert_eq!(Command::decode(cmd.encode().unwrap().as_bytes()), Ok(cmd));
         let r = Response::SettingsGet(s);
@@ -1265,26 +1280,55 @@ mod tests {
 
     fn fix() -> impl Strategy<Value = AcoFix> {
         (
-            (any::<u8>(), any::<u8>(), 0u8..8, any::<[i16; 3]>(), any::<u16>(), any::<i16>()),
+            (
+                any::<u8>(),
+                any::<u8>(),
+                0u8..8,
+                any::<[i16; 3]>(),
+                any::<u16>(),
+                any::<i16>(),
+            ),
             proptest::option::of((any::<u32>(), any::<i32>(), any::<u16>())),
-            proptest::option::of((proptest::collection::vec(any::<i16>(), 0..5), any::<[i16; 3]>())),
+            proptest::option::of((
+                proptest::collection::vec(any::<i16>(), 0..5),
+                any::<[i16; 3]>(),
+            )),
             proptest::option::of(any::<[i16; 3]>()),
             any::<(bool, bool)>(),
         )
-            .prop_map(|((d, s, t, att, depth, rssi), range, usbl, pos, (e, fe))| AcoFix {
-                dest_id: d,
-                src_id: s,
-                msg_type: t,
-                attitude: Attitude { yaw_ddeg: att[0], pitch_ddeg: att[1], roll_ddeg: att[2] },
-                depth_local_dm: depth,
-                vos_dmps: 15000,
-                rssi_cb: rssi,
-                range: range.map(|(count, time_100ns, dist_dm)| Range { count, time_100ns, dist_dm }),
-                usbl: usbl.map(|(rssi_cb, a)| Usbl { rssi_cb, azimuth_ddeg: a[0], elevation_ddeg: a[1], fit_error_centi: a[2] }),
-                position: pos.map(|p| Position { easting_dm: p[0], northing_dm: p[1], depth_dm: p[2] }),
-                position_enhanced: e,
-                position_flt_error: fe,
-            })
+            .prop_map(
+                |((d, s, t, att, depth, rssi), range, usbl, pos, (e, fe))| AcoFix {
+                    dest_id: d,
+                    src_id: s,
+                    msg_type: t,
+                    attitude: Attitude {
+                        yaw_ddeg: att[0],
+                        pitch_ddeg: att[1],
+                        roll_ddeg: att[2],
+                    },
+                    depth_local_dm: depth,
+                    vos_dmps: 15000,
+                    rssi_cb: rssi,
+                    range: range.map(|(count, time_100ns, dist_dm)| Range {
+                        count,
+                        time_100ns,
+                        dist_dm,
+                    }),
+                    usbl: usbl.map(|(rssi_cb, a)| Usbl {
+                        rssi_cb,
+                        azimuth_ddeg: a[0],
+                        elevation_ddeg: a[1],
+                        fit_error_centi: a[2],
+                    }),
+                    position: pos.map(|p| Position {
+                        easting_dm: p[0],
+                        northing_dm: p[1],
+                        depth_dm: p[2],
+                    }),
+                    position_enhanced: e,
+                    position_flt_error: fe,
+                },
+            )
     }
 
     proptest! {

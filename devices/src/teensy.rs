@@ -83,10 +83,14 @@ impl Contr {
         s.push_str("$CONTR");
         for f in self.fins_deg {
             s.push(',');
-            let f = if f.is_finite() { f.clamp(-90.0, 90.0) } else { 0.0 };
+            let f = if f.is_finite() {
+                f.clamp(-90.0, 90.0)
+            } else {
+                0.0
+            };
             moos_types::fmt::g(&mut s, f, 6);
         }
-        let _ = write!(s, ",{}\n", self.thrust_pct.clamp(-100, 100));
+        let _ = writeln!(s, ",{}", self.thrust_pct.clamp(-100, 100));
         s
     }
 
@@ -170,8 +174,13 @@ impl FinMixing {
         let lim = self.fin_limit_deg.abs();
         let mut out = [0.0; 3];
         for i in 0..3 {
-            let v = self.dir[i] * fins_deg[i] + self.offset_deg[i] + self.trim_ratio_deg_per_pct * t;
-            out[i] = if v.is_finite() { v.clamp(-lim, lim) } else { 0.0 };
+            let v =
+                self.dir[i] * fins_deg[i] + self.offset_deg[i] + self.trim_ratio_deg_per_pct * t;
+            out[i] = if v.is_finite() {
+                v.clamp(-lim, lim)
+            } else {
+                0.0
+            };
         }
         Contr {
             fins_deg: out,
@@ -231,8 +240,7 @@ fn fields<'a>(
 fn num(kind: &'static str, f: &[&str], k: usize) -> Result<f64, TeensyError> {
     let s = f[k].trim();
     let plain = !s.is_empty()
-        && s
-            .bytes()
+        && s.bytes()
             .all(|b| b.is_ascii_digit() || matches!(b, b'.' | b'-' | b'+' | b'e' | b'E'));
     match s.parse::<f64>() {
         Ok(v) if plain && v.is_finite() => Ok(v),
@@ -377,7 +385,12 @@ mod tests {
             thrust_pct: 250,
         };
         assert_eq!(wild.encode(), "$CONTR,90,0,-90,100\n");
-        assert_eq!(Contr::parse(b"$CONTR,12.5,-3,0.333333,30\n").unwrap().thrust_pct, 30);
+        assert_eq!(
+            Contr::parse(b"$CONTR,12.5,-3,0.333333,30\n")
+                .unwrap()
+                .thrust_pct,
+            30
+        );
         assert!(matches!(
             Contr::parse(b"$CONTR,1,2,3"),
             Err(TeensyError::FieldCount { found: 3, .. })
@@ -442,8 +455,20 @@ mod tests {
         );
         let text: String = got.iter().map(Telemetry::encode).collect();
         assert_eq!(text.as_bytes(), lines);
-        assert_eq!(Telemetry::parse(b"$LEAK,2"), Err(TeensyError::BadField { kind: "LEAK", index: 1 }));
-        assert_eq!(Telemetry::parse(b"$DEPTH,nan,1"), Err(TeensyError::BadField { kind: "DEPTH", index: 1 }));
+        assert_eq!(
+            Telemetry::parse(b"$LEAK,2"),
+            Err(TeensyError::BadField {
+                kind: "LEAK",
+                index: 1
+            })
+        );
+        assert_eq!(
+            Telemetry::parse(b"$DEPTH,nan,1"),
+            Err(TeensyError::BadField {
+                kind: "DEPTH",
+                index: 1
+            })
+        );
         assert_eq!(Telemetry::parse(b"$FOO,1"), Err(TeensyError::Unknown));
     }
 
@@ -491,7 +516,7 @@ mod tests {
             let back = Contr::parse(line.as_bytes()).unwrap();
             prop_assert_eq!(back.encode(), line);
             prop_assert_eq!(back.thrust_pct, thrust);
-            for k in 0..3 { prop_assert!((back.fins_deg[k] - fins[k]).abs() <= 1e-4 * fins[k].abs().max(1.0)); }
+            for (b, f) in back.fins_deg.iter().zip(fins) { prop_assert!((b - f).abs() <= 1e-4 * f.abs().max(1.0)); }
         }
     }
 }

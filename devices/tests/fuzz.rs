@@ -25,7 +25,17 @@ fn fuzz_nmea_and_gpsd() {
 "#,
     ]);
     let r = Campaign::new("nmea", s)
-        .tokens(&["$GPGGA,", "$GNRMC,", "$GPVTG,", "*", ",N,", ",W,", "\r\n", "{\"class\":\"TPV\"", "\"mode\":"])
+        .tokens(&[
+            "$GPGGA,",
+            "$GNRMC,",
+            "$GPVTG,",
+            "*",
+            ",N,",
+            ",W,",
+            "\r\n",
+            "{\"class\":\"TPV\"",
+            "\"mode\":",
+        ])
         .iterations(ITERATIONS)
         .run(devices::fuzz::nmea);
     assert_eq!((r.seeds, r.mutants), (6, ITERATIONS));
@@ -45,7 +55,20 @@ fn fuzz_a50() {
         b"{\"command\":\"calibrate_gyro\"}\n",
     ]);
     let r = Campaign::new("a50", s)
-        .tokens(&["\"type\":", "\"velocity\"", "\"altitude\":", "\"pitch\":", "\"response_to\":", "null", "true", "1e308", "[", "]", "{", "}"])
+        .tokens(&[
+            "\"type\":",
+            "\"velocity\"",
+            "\"altitude\":",
+            "\"pitch\":",
+            "\"response_to\":",
+            "null",
+            "true",
+            "1e308",
+            "[",
+            "]",
+            "{",
+            "}",
+        ])
         .iterations(ITERATIONS)
         .run(devices::fuzz::a50);
     assert_eq!((r.seeds, r.mutants), (6, ITERATIONS));
@@ -76,7 +99,9 @@ fn fuzz_teensy() {
         b"$CONTR,12.5,-3,0.333333,30\n",
     ]);
     let r = Campaign::new("teensy", s)
-        .tokens(&["$DEPTH,", "$BATTE,", "$LEAK,", "$CONTR,", ",", "-", "e", "\r\n"])
+        .tokens(&[
+            "$DEPTH,", "$BATTE,", "$LEAK,", "$CONTR,", ",", "-", "e", "\r\n",
+        ])
         .iterations(ITERATIONS)
         .run(devices::fuzz::teensy);
     assert_eq!((r.seeds, r.mutants), (5, ITERATIONS));
