@@ -1,5 +1,5 @@
 //! The Water Linked DVL A50's TCP protocol: newline-delimited JSON (Water Linked, "DVL
-//! protocol", JSON over TCP, `https://waterlinked.github.io/dvl/dvl-protocol/`, protocol
+//! protocol", JSON over TCP, `https://docs.waterlinked.com/dvl/dvl-protocol`, protocol
 //! `json_v3.1`; `cougars-vehicle.md` §3.2).
 //!
 //! The DVL sends velocity reports (`"type":"velocity"`), dead-reckoning reports
