@@ -345,3 +345,48 @@ async fn cross_origin_websocket_is_refused() {
         .expect("same origin accepted");
     assert_eq!(next_json(&mut ws).await["type"], "snapshot");
 }
+
+/// Presses go nowhere (the slow-client test needs no DB).
+struct NoOutbox;
+
+impl viewer::server::Outbox for NoOutbox {
+    fn post(&self, _var: &str, _value: Value) -> Result<(), String> {
+        Err("no DB".into())
+    }
+    fn moos_time(&self) -> f64 {
+        0.0
+    }
+}
+
+/// The feed never waits for a client: 5000 reports go in while a client reads nothing (on
+/// this single-threaded runtime its task cannot run meanwhile), and the client then gets
+/// one delta with the newest state and the trail bounded, not 5000 frames.
+#[tokio::test]
+async fn a_slow_client_gets_only_the_newest_state() {
+    let viewer = Viewer::new(&ViewerConfig::default(), Arc::new(NoOutbox)).unwrap();
+    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    tokio::spawn(serve(viewer.clone(), listener));
+    let mut ws = connect(addr, "").await;
+    assert_eq!(next_json(&mut ws).await["type"], "snapshot");
+    let n = 5000;
+    for i in 1..=n {
+        viewer.apply(
+            "NODE_REPORT",
+            &format!("NAME=abe,X={i},Y=0,HDG=90"),
+            i as f64,
+        );
+    }
+    let m = next_json(&mut ws).await;
+    assert_eq!(m["type"], "delta");
+    assert_eq!(m["vehicles"][0]["x"], json!(n as f64));
+    let trail = m["vehicles"][0]["trail_add"].as_array().unwrap();
+    assert_eq!(trail.len(), viewer::scene::SceneConfig::default().trail_max);
+    assert_eq!(trail.last().unwrap(), &json!([n as f64, 0.0]));
+    // No buttons configured: every press is refused.
+    ws.send(Message::text(r#"{"press":"DEPLOY"}"#))
+        .await
+        .unwrap();
+    let r = until(&mut ws, "refusal", |m| m["type"] == "refused").await;
+    assert!(r["error"].as_str().unwrap().contains("no button"));
+}
