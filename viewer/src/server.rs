@@ -226,7 +226,7 @@ impl Viewer {
     ) -> Result<Vec<(String, Value)>, PressError> {
         let button = mission::buttons::find(&self.buttons, name)
             .ok_or_else(|| PressError::UnknownButton(name.to_string()))?;
-        let bix = self.presses.fetch_add(1, Ordering::Relaxed);
+        let bix = self.presses.load(Ordering::Relaxed);
         let mut posts = Vec::with_capacity(button.postings.len());
         for (var, value) in &button.postings {
             let var = if var.contains("$[VNAME]") {
@@ -245,6 +245,8 @@ impl Viewer {
             };
             posts.push((var, value));
         }
+        // Only a press that posts counts for `$[BIX]`.
+        self.presses.fetch_add(1, Ordering::Relaxed);
         for (var, value) in &posts {
             self.outbox
                 .post(var, value.clone())

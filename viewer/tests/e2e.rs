@@ -390,3 +390,57 @@ async fn a_slow_client_gets_only_the_newest_state() {
     let r = until(&mut ws, "refusal", |m| m["type"] == "refused").await;
     assert!(r["error"].as_str().unwrap().contains("no button"));
 }
+
+/// Records what a press posts.
+#[derive(Default)]
+struct Recorder(std::sync::Mutex<Vec<(String, Value)>>);
+
+impl viewer::server::Outbox for Recorder {
+    fn post(&self, var: &str, value: Value) -> Result<(), String> {
+        self.0.lock().unwrap().push((var.to_string(), value));
+        Ok(())
+    }
+    fn moos_time(&self) -> f64 {
+        1234.5
+    }
+}
+
+#[test]
+fn press_types_values_as_pmarineviewer() {
+    let src = mission::source::SourceMap::from_text(
+        "m.moos",
+        "ProcessConfig = pMarineViewer\n{\n  button_one = GO # DEPLOY_$[VNAME]=true # SPEED=1.5 # NOTE=\"42\" # T=$[UTC] # N=$[BIX]\n}\n",
+    );
+    let config = ViewerConfig {
+        buttons: mission::buttons::buttons(&mission::moos::parse_moos(&src).value),
+        ..ViewerConfig::default()
+    };
+    let rec = Arc::new(Recorder::default());
+    let viewer = Viewer::new(&config, rec.clone()).unwrap();
+    assert!(matches!(
+        viewer.press("GO", None),
+        Err(viewer::server::PressError::NoVehicle(_))
+    ));
+    assert!(
+        rec.0.lock().unwrap().is_empty(),
+        "a refused press posts nothing"
+    );
+    viewer.press("go", Some("abe")).unwrap();
+    viewer.press("button_1", Some("ben")).unwrap();
+    let posted = rec.0.lock().unwrap().clone();
+    assert_eq!(
+        posted,
+        vec![
+            ("DEPLOY_ABE".into(), Value::text("true")),
+            ("SPEED".into(), Value::Double(1.5)),
+            ("NOTE".into(), Value::text("42")),
+            ("T".into(), Value::Double(1234.5)),
+            ("N".into(), Value::Double(0.0)),
+            ("DEPLOY_BEN".into(), Value::text("true")),
+            ("SPEED".into(), Value::Double(1.5)),
+            ("NOTE".into(), Value::text("42")),
+            ("T".into(), Value::Double(1234.5)),
+            ("N".into(), Value::Double(1.0)),
+        ]
+    );
+}
