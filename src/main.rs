@@ -21,6 +21,7 @@ mod cmd {
     pub mod run;
     pub mod scope;
     pub mod signal;
+    pub mod view;
 }
 
 /// Command line of the `coug` binary.
@@ -60,6 +61,8 @@ enum Command {
     Pid(cmd::app::AppCommandArgs),
     /// pNodeReporter as its own MOOS process: MISSION.moos [ALIAS].
     Nodereporter(cmd::app::AppCommandArgs),
+    /// Web viewer like pMarineViewer: [MISSION.moos] [--host H] [--port N] [--http-port P] [--bind ADDR] [--token T].
+    View(cmd::view::ViewArgs),
     /// Create links named MOOSDB, pHelmIvP, uSimMarine(V22), pMarinePID(V22), pNodeReporter,
     /// pLogger, uTimerScript, uPokeDB and uXMS in DIR so pAntler starts coug in place of the
     /// C++ apps.
@@ -107,6 +110,7 @@ fn main() {
         Command::Poke(args) => report("poke", cmd::poke::run(&args)),
         Command::Scope(args) => report("scope", cmd::scope::run(&args)),
         Command::Run(args) => cmd::run::run(&args),
+        Command::View(args) => report("view", cmd::view::run(&args)),
         Command::Helm(args) => cmd::app::run_subcommand("helm", &args),
         Command::Sim(args) => cmd::app::run_subcommand("sim", &args),
         Command::Pid(args) => cmd::app::run_subcommand("pid", &args),

@@ -72,6 +72,10 @@ pub struct NodeReport {
     pub depth_m: Option<f64>,
     /// `LENGTH` / `LEN`.
     pub length_m: Option<f64>,
+    /// `MODE` (the helm's mode, `NOHELM-EVER`, ...), empty when absent.
+    pub mode: String,
+    /// `ALLSTOP` (the helm's all-stop reason, `clear` when driving), empty when absent.
+    pub allstop: String,
 }
 
 impl NodeReport {
@@ -105,6 +109,8 @@ impl NodeReport {
             "TYPE" => self.vtype = value.to_string(),
             "GROUP" => self.group = value.to_string(),
             "COLOR" => self.color = value.to_string(),
+            "MODE" => self.mode = value.to_string(),
+            "ALLSTOP" => self.allstop = value.to_string(),
             _ if geometry::is_number(value) => {
                 let v = Some(geometry::atof(value));
                 match key.as_str() {

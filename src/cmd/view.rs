@@ -1,0 +1,77 @@
+//! `coug view [MISSION.moos] [--host H] [--port DB_PORT] [--http-port P] [--bind ADDR]
+//! [--token T]`: the web viewer (issue #17). Joins the MOOSDB as the client `coug_view`
+//! (registering NODE_REPORT*, VIEW_* and APPCAST, posting APPCAST_REQ every 2 s) and serves
+//! the page at `http://ADDR:P/`; everything is in `viewer::server`, this only reads the
+//! arguments and the mission's pMarineViewer buttons.
+
+use std::net::{IpAddr, Ipv4Addr, SocketAddr};
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use anyhow::Context;
+use clap::Args;
+use viewer::server::{JoinConfig, Viewer, ViewerConfig, feed, serve};
+
+use super::db::{ConnectArgs, connect};
+
+/// Arguments of `coug view`.
+#[derive(Debug, Args)]
+pub struct ViewArgs {
+    /// The mission (its ServerHost/ServerPort and pMarineViewer buttons).
+    #[arg(value_name = "MISSION.moos")]
+    pub mission: Option<PathBuf>,
+    /// Where the DB is.
+    #[command(flatten)]
+    pub connect: ConnectArgs,
+    /// Port of the web page.
+    #[arg(long, default_value_t = 9080)]
+    pub http_port: u16,
+    /// Address the web server binds; anything but loopback needs --token.
+    #[arg(long, default_value_t = IpAddr::V4(Ipv4Addr::LOCALHOST))]
+    pub bind: IpAddr,
+    /// A token the page must present (`?token=T`); required for a non-loopback --bind.
+    #[arg(long)]
+    pub token: Option<String>,
+}
+
+/// Reads the buttons, joins the DB, serves the page until SIGINT/SIGTERM.
+pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
+    let buttons = match &args.mission {
+        Some(p) => {
+            let text = std::fs::read_to_string(p)
+                .with_context(|| format!("cannot read mission file {}", p.display()))?;
+            let src = mission::source::SourceMap::from_text(&p.display().to_string(), &text);
+            mission::buttons::buttons(&mission::moos::parse_moos(&src).value)
+        }
+        None => Vec::new(),
+    };
+    let config = ViewerConfig {
+        bind: SocketAddr::new(args.bind, args.http_port),
+        token: args.token.clone(),
+        buttons,
+        ..ViewerConfig::default()
+    };
+    config.check()?;
+    let rt = tokio::runtime::Runtime::new()?;
+    rt.block_on(async {
+        let listener = tokio::net::TcpListener::bind(config.bind)
+            .await
+            .with_context(|| format!("cannot bind {}", config.bind))?;
+        let (client, mail) = connect("coug_view", args.mission.as_deref(), &args.connect).await?;
+        let client = Arc::new(client);
+        let viewer = Viewer::new(&config, client.clone())?;
+        let addr = listener.local_addr()?;
+        match &config.token {
+            Some(t) => outln!("coug view: http://{addr}/?token={t}"),
+            None => outln!("coug view: http://{addr}/"),
+        }
+        let server = tokio::spawn(serve(viewer.clone(), listener));
+        let moos = tokio::spawn(feed(viewer, client, mail, JoinConfig::default()));
+        tokio::select! {
+            _ = super::signal::shutdown() => {}
+            r = server => r.context("web server task")?.context("web server")?,
+            _ = moos => anyhow::bail!("the MOOS client ended"),
+        }
+        Ok(())
+    })
+}

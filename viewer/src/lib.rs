@@ -1,0 +1,12 @@
+//! The web viewer behind `coug view` (issue #17): what a browser page draws of a MOOS
+//! community, kept from MOOS mail, and the server that hands it to the page.
+//!
+//! - [`scene`] (pure, time as an argument): vehicles, `VIEW_*` objects, appcasts and the
+//!   mission's buttons, and the JSON snapshot/delta messages of the websocket.
+//! - [`server`]: the axum router (the embedded page, `/ws`, button presses), the access rules
+//!   (loopback by default, a token otherwise), and the MOOS side (`join`: a client that feeds
+//!   the scene and posts button presses).
+#![warn(missing_docs)]
+
+pub mod scene;
+pub mod server;

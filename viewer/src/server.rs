@@ -1,0 +1,480 @@
+//! The viewer's edge: the axum router (the embedded page, the `/ws` websocket, button
+//! presses), who may use it, and the MOOS client that feeds the scene.
+//!
+//! Access: the server binds 127.0.0.1 unless told otherwise; [`ViewerConfig::check`] refuses
+//! a non-loopback bind without a token. With a token, every request (the page, its script,
+//! the websocket) must carry `?token=<token>` or is answered 401. A websocket upgrade whose
+//! `Origin` names another host than the request's `Host` is refused (403), so a web page from
+//! elsewhere cannot drive a viewer on the user's machine.
+//!
+//! The websocket: the server sends a snapshot on connect, then deltas ([`crate::scene`]). The
+//! feed ([`Viewer::apply`]) only updates the scene and bumps a `watch` version, never waiting
+//! for a client; each client's task sends, when it is free again, what changed since the
+//! version it last sent, so a slow client gets the newest state and skips intermediate
+//! frames, and frames to one client are at least [`ViewerConfig::min_frame_interval`] apart.
+//! The page sends `{"press":"DEPLOY"}` (optionally `"vname":"abe"` for a `_$[VNAME]`
+//! variable): only a button of the mission's pMarineViewer block is pressed, and its
+//! configured postings are all it posts; the answer is `{"type":"pressed",...}` or
+//! `{"type":"refused","error":...}`.
+
+use std::collections::HashMap;
+use std::net::{IpAddr, Ipv4Addr, SocketAddr};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::time::Duration;
+
+use axum::Router;
+use axum::extract::ws::{Message as WsMessage, WebSocket, WebSocketUpgrade};
+use axum::extract::{Query, State};
+use axum::http::{HeaderMap, StatusCode, header};
+use axum::response::{IntoResponse, Response};
+use axum::routing::get;
+use futures_util::{SinkExt, StreamExt};
+use mission::buttons::{Button, ButtonValue};
+use moos_types::Value;
+use serde_json::json;
+use tokio::sync::watch;
+
+use crate::scene::{Scene, SceneConfig, viewed_variables};
+
+const INDEX_HTML: &str = include_str!("../assets/index.html");
+const VIEWER_JS: &str = include_str!("../assets/viewer.js");
+
+/// How a viewer serves.
+#[derive(Debug, Clone)]
+pub struct ViewerConfig {
+    /// Address of the HTTP server (default 127.0.0.1:9080).
+    pub bind: SocketAddr,
+    /// The token the page must present (`?token=`); required for a non-loopback bind.
+    pub token: Option<String>,
+    /// The scene's limits.
+    pub scene: SceneConfig,
+    /// The mission's pMarineViewer buttons: all the page can press.
+    pub buttons: Vec<Button>,
+    /// Least time between two frames to one client.
+    pub min_frame_interval: Duration,
+}
+
+impl Default for ViewerConfig {
+    fn default() -> Self {
+        ViewerConfig {
+            bind: SocketAddr::new(IpAddr::V4(Ipv4Addr::LOCALHOST), 9080),
+            token: None,
+            scene: SceneConfig::default(),
+            buttons: Vec::new(),
+            min_frame_interval: Duration::from_millis(50),
+        }
+    }
+}
+
+/// A configuration the viewer refuses.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ConfigError {
+    /// Binding an address other machines can reach needs a token.
+    NonLoopbackWithoutToken(SocketAddr),
+    /// An empty token protects nothing.
+    EmptyToken,
+}
+
+impl std::fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ConfigError::NonLoopbackWithoutToken(a) => write!(
+                f,
+                "binding {a} (not loopback) needs a token (--token) the page must present"
+            ),
+            ConfigError::EmptyToken => write!(f, "the token is empty"),
+        }
+    }
+}
+
+impl std::error::Error for ConfigError {}
+
+impl ViewerConfig {
+    /// Refuses a non-loopback bind without a token, and an empty token.
+    pub fn check(&self) -> Result<(), ConfigError> {
+        match &self.token {
+            Some(t) if t.is_empty() => Err(ConfigError::EmptyToken),
+            None if !self.bind.ip().is_loopback() => {
+                Err(ConfigError::NonLoopbackWithoutToken(self.bind))
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
+/// Where button presses are posted: the MOOS client in `coug view`.
+pub trait Outbox: Send + Sync + 'static {
+    /// Posts `var = value`.
+    fn post(&self, var: &str, value: Value) -> Result<(), String>;
+    /// MOOS time now (for `$[UTC]`).
+    fn moos_time(&self) -> f64;
+}
+
+impl Outbox for moosdb::Client {
+    fn post(&self, var: &str, value: Value) -> Result<(), String> {
+        self.notify(var, value).map_err(|e| e.to_string())
+    }
+    fn moos_time(&self) -> f64 {
+        moosdb::Client::moos_time(self)
+    }
+}
+
+/// Why a press was refused.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum PressError {
+    /// No configured button has this label or key.
+    UnknownButton(String),
+    /// A `_$[VNAME]` variable and no vehicle named in the press.
+    NoVehicle(String),
+    /// The post failed (the MOOS client is gone or its outbox full).
+    Post(String),
+}
+
+impl std::fmt::Display for PressError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            PressError::UnknownButton(b) => write!(f, "no button {b:?} in the mission"),
+            PressError::NoVehicle(v) => write!(f, "{v} needs a vehicle (\"vname\")"),
+            PressError::Post(e) => write!(f, "post failed: {e}"),
+        }
+    }
+}
+
+/// The viewer's shared state: the scene, its version, the buttons and where presses go.
+pub struct Viewer {
+    scene: Mutex<Scene>,
+    version: watch::Sender<u64>,
+    buttons: Vec<Button>,
+    token: Option<String>,
+    outbox: Arc<dyn Outbox>,
+    presses: AtomicU64,
+    min_frame_interval: Duration,
+}
+
+impl std::fmt::Debug for Viewer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Viewer")
+            .field("buttons", &self.buttons.len())
+            .field("token", &self.token.is_some())
+            .finish()
+    }
+}
+
+fn lock(m: &Mutex<Scene>) -> MutexGuard<'_, Scene> {
+    m.lock().unwrap_or_else(|p| p.into_inner())
+}
+
+impl Viewer {
+    /// A viewer posting presses to `outbox`; fails on a configuration [`ViewerConfig::check`]
+    /// refuses.
+    pub fn new(config: &ViewerConfig, outbox: Arc<dyn Outbox>) -> Result<Arc<Viewer>, ConfigError> {
+        config.check()?;
+        Ok(Arc::new(Viewer {
+            scene: Mutex::new(Scene::new(config.scene.clone(), config.buttons.clone())),
+            version: watch::Sender::new(0),
+            buttons: config.buttons.clone(),
+            token: config.token.clone(),
+            outbox,
+            presses: AtomicU64::new(0),
+            min_frame_interval: config.min_frame_interval,
+        }))
+    }
+
+    /// Runs `f` on the scene (read it; changes made here are not announced to clients).
+    pub fn with_scene<R>(&self, f: impl FnOnce(&Scene) -> R) -> R {
+        f(&lock(&self.scene))
+    }
+
+    /// Takes one piece of mail into the scene and wakes the clients; never waits for them.
+    /// Mail the scene does not take is dropped (logged at debug level).
+    pub fn apply(&self, var: &str, value: &str, now: f64) {
+        let version = {
+            let mut s = lock(&self.scene);
+            if let Err(e) = s.apply(var, value, now) {
+                tracing::debug!(var, ?e, "mail not shown");
+            }
+            s.version()
+        };
+        self.announce(version);
+    }
+
+    /// Advances the scene's time (stale vehicles, expired objects) and wakes the clients.
+    pub fn tick(&self, now: f64) {
+        let version = {
+            let mut s = lock(&self.scene);
+            s.tick(now);
+            s.version()
+        };
+        self.announce(version);
+    }
+
+    fn announce(&self, version: u64) {
+        self.version.send_if_modified(|v| {
+            let changed = *v != version;
+            *v = version;
+            changed
+        });
+    }
+
+    /// Presses the configured button `name` (label or key): posts its postings, in order,
+    /// and returns them. Nothing is posted for a name that is not a configured button.
+    pub fn press(
+        &self,
+        name: &str,
+        vname: Option<&str>,
+    ) -> Result<Vec<(String, Value)>, PressError> {
+        let button = mission::buttons::find(&self.buttons, name)
+            .ok_or_else(|| PressError::UnknownButton(name.to_string()))?;
+        let bix = self.presses.load(Ordering::Relaxed);
+        let mut posts = Vec::with_capacity(button.postings.len());
+        for (var, value) in &button.postings {
+            let var = if var.contains("$[VNAME]") {
+                let v = vname
+                    .filter(|v| !v.is_empty())
+                    .ok_or_else(|| PressError::NoVehicle(var.clone()))?;
+                var.replace("$[VNAME]", &v.to_ascii_uppercase())
+            } else {
+                var.clone()
+            };
+            let value = match value {
+                ButtonValue::Double(d) => Value::Double(*d),
+                ButtonValue::Text(t) => Value::text(t.as_str()),
+                ButtonValue::Utc => Value::Double(self.outbox.moos_time()),
+                ButtonValue::PressCount => Value::Double(bix as f64),
+            };
+            posts.push((var, value));
+        }
+        // Only a press that posts counts for `$[BIX]`.
+        self.presses.fetch_add(1, Ordering::Relaxed);
+        for (var, value) in &posts {
+            self.outbox
+                .post(var, value.clone())
+                .map_err(PressError::Post)?;
+        }
+        Ok(posts)
+    }
+
+    /// Checks the token (when one is set) and, for a websocket, the origin.
+    fn authorize(
+        &self,
+        query: &HashMap<String, String>,
+        headers: &HeaderMap,
+        ws: bool,
+    ) -> Result<(), (StatusCode, &'static str)> {
+        if let Some(token) = &self.token {
+            let given = query.get("token").map(String::as_str).unwrap_or("");
+            if !same(given.as_bytes(), token.as_bytes()) {
+                return Err((StatusCode::UNAUTHORIZED, "token required\n"));
+            }
+        }
+        if ws && let Some(origin) = headers.get(header::ORIGIN) {
+            let host = headers.get(header::HOST).and_then(|h| h.to_str().ok());
+            let origin_host = origin
+                .to_str()
+                .ok()
+                .and_then(|o| o.split_once("://"))
+                .map(|(_, rest)| rest.trim_end_matches('/'));
+            if origin_host.is_none() || origin_host != host {
+                return Err((StatusCode::FORBIDDEN, "cross-origin websocket refused\n"));
+            }
+        }
+        Ok(())
+    }
+
+    /// The router: `/` (the page), `/viewer.js`, `/ws`.
+    pub fn router(self: &Arc<Self>) -> Router {
+        Router::new()
+            .route("/", get(page))
+            .route("/index.html", get(page))
+            .route("/viewer.js", get(script))
+            .route("/ws", get(ws_upgrade))
+            .with_state(self.clone())
+    }
+
+    fn handle_text(&self, text: &str) -> serde_json::Value {
+        let Ok(msg) = serde_json::from_str::<serde_json::Value>(text) else {
+            return json!({"type": "refused", "error": "not JSON"});
+        };
+        let Some(name) = msg.get("press").and_then(|p| p.as_str()) else {
+            return json!({"type": "refused", "error": "unknown request"});
+        };
+        let vname = msg.get("vname").and_then(|v| v.as_str());
+        match self.press(name, vname) {
+            Ok(posts) => json!({
+                "type": "pressed",
+                "button": name,
+                "posted": posts.iter().map(|(k, v)| json!([k, v.to_string()])).collect::<Vec<_>>(),
+            }),
+            Err(e) => {
+                tracing::warn!(button = name, "press refused: {e}");
+                json!({"type": "refused", "button": name, "error": e.to_string()})
+            }
+        }
+    }
+}
+
+/// Compares without stopping at the first difference.
+fn same(a: &[u8], b: &[u8]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).fold(0u8, |acc, (x, y)| acc | (x ^ y)) == 0
+}
+
+async fn page(
+    State(v): State<Arc<Viewer>>,
+    Query(q): Query<HashMap<String, String>>,
+    headers: HeaderMap,
+) -> Response {
+    match v.authorize(&q, &headers, false) {
+        Ok(()) => (
+            [(header::CONTENT_TYPE, "text/html; charset=utf-8")],
+            INDEX_HTML,
+        )
+            .into_response(),
+        Err(r) => r.into_response(),
+    }
+}
+
+async fn script(
+    State(v): State<Arc<Viewer>>,
+    Query(q): Query<HashMap<String, String>>,
+    headers: HeaderMap,
+) -> Response {
+    match v.authorize(&q, &headers, false) {
+        Ok(()) => (
+            [(header::CONTENT_TYPE, "text/javascript; charset=utf-8")],
+            VIEWER_JS,
+        )
+            .into_response(),
+        Err(r) => r.into_response(),
+    }
+}
+
+async fn ws_upgrade(
+    State(v): State<Arc<Viewer>>,
+    Query(q): Query<HashMap<String, String>>,
+    headers: HeaderMap,
+    ws: WebSocketUpgrade,
+) -> Response {
+    match v.authorize(&q, &headers, true) {
+        Ok(()) => ws.on_upgrade(move |socket| client(v, socket)),
+        Err(r) => r.into_response(),
+    }
+}
+
+/// One page: a snapshot, then deltas whenever the scene changed and the client is free.
+async fn client(v: Arc<Viewer>, socket: WebSocket) {
+    let (mut tx, mut rx) = socket.split();
+    let mut wake = v.version.subscribe();
+    let (snapshot, mut seen) = {
+        let s = lock(&v.scene);
+        (s.snapshot().to_string(), s.version())
+    };
+    wake.mark_unchanged();
+    if tx.send(WsMessage::Text(snapshot.into())).await.is_err() {
+        return;
+    }
+    loop {
+        tokio::select! {
+            changed = wake.changed() => {
+                if changed.is_err() {
+                    break;
+                }
+                let frame = {
+                    let s = lock(&v.scene);
+                    s.delta_since(seen).map(|d| (d.to_string(), s.version()))
+                };
+                if let Some((text, version)) = frame {
+                    seen = version;
+                    if tx.send(WsMessage::Text(text.into())).await.is_err() {
+                        break;
+                    }
+                    if !v.min_frame_interval.is_zero() {
+                        tokio::time::sleep(v.min_frame_interval).await;
+                    }
+                }
+            }
+            incoming = rx.next() => match incoming {
+                Some(Ok(WsMessage::Text(t))) => {
+                    let reply = v.handle_text(t.as_str()).to_string();
+                    if tx.send(WsMessage::Text(reply.into())).await.is_err() {
+                        break;
+                    }
+                }
+                Some(Ok(WsMessage::Close(_))) | None | Some(Err(_)) => break,
+                Some(Ok(_)) => {}
+            },
+        }
+    }
+}
+
+/// Serves the viewer on `listener` until the task is dropped.
+pub async fn serve(viewer: Arc<Viewer>, listener: tokio::net::TcpListener) -> std::io::Result<()> {
+    axum::serve(listener, viewer.router()).await
+}
+
+/// How the viewer's MOOS client behaves.
+#[derive(Debug, Clone)]
+pub struct JoinConfig {
+    /// Seconds between `APPCAST_REQ` posts (pMarineViewer: 2 s).
+    pub appcast_interval: Duration,
+    /// Seconds between scene ticks (staleness, expiry).
+    pub tick_interval: Duration,
+    /// The `key=` of the appcast requests.
+    pub appcast_key: String,
+}
+
+impl Default for JoinConfig {
+    fn default() -> Self {
+        JoinConfig {
+            appcast_interval: Duration::from_secs(2),
+            tick_interval: Duration::from_secs(1),
+            appcast_key: "coug_view".to_string(),
+        }
+    }
+}
+
+/// The appcast request a viewer posts (`APPCAST_REQ`, and `APPCAST_REQ_<NODE>` per node
+/// seen): every app of every node, for 3 s, any threshold.
+pub fn appcast_request(key: &str) -> String {
+    format!("node=all,app=all,duration=3.0,key={key},thresh=any")
+}
+
+/// Feeds the viewer from a MOOS client until its mail ends: registers the variables the scene
+/// reads, hands every mail to [`Viewer::apply`] (at the client's MOOS time), posts appcast
+/// requests and ticks the scene periodically.
+pub async fn feed(
+    viewer: Arc<Viewer>,
+    client: Arc<moosdb::Client>,
+    mut mail: moosdb::MailStream,
+    config: JoinConfig,
+) {
+    for var in viewed_variables() {
+        client.register(var, 0.0);
+    }
+    let mut appcast = tokio::time::interval(config.appcast_interval);
+    let mut tick = tokio::time::interval(config.tick_interval);
+    let request = appcast_request(&config.appcast_key);
+    loop {
+        tokio::select! {
+            m = mail.recv() => {
+                let Some(m) = m else { break };
+                if m.is_double() {
+                    continue;
+                }
+                viewer.apply(&m.key_str(), &m.sval_str(), client.moos_time());
+            }
+            _ = appcast.tick() => {
+                if matches!(client.state(), moosdb::ConnectionState::Connected { .. }) {
+                    let _ = client.notify(appcast::casting::APPCAST_REQ_VAR, Value::text(request.as_str()));
+                    for node in viewer.with_scene(|s| s.nodes()) {
+                        let _ = client.notify(
+                            &appcast::casting::node_request_var(&node),
+                            Value::text(request.as_str()),
+                        );
+                    }
+                }
+            }
+            _ = tick.tick() => viewer.tick(client.moos_time()),
+        }
+    }
+}
