@@ -562,7 +562,11 @@ impl Rmc {
         b.push(',');
         match self.mag_var_deg.filter(|v| v.is_finite()) {
             Some(v) => {
-                let _ = write!(b, "{:.1},{}", v.abs(), if v < 0.0 { 'W' } else { 'E' });
+                // The direction of what is written: a value that rounds to 0.0 is east, so
+                // it reads back as it was written.
+                let tenths = (v.abs() * 10.0).round();
+                let dir = if v < 0.0 && tenths > 0.0 { 'W' } else { 'E' };
+                let _ = write!(b, "{:.1},{dir}", tenths / 10.0);
             }
             None => b.push(','),
         }
@@ -1021,6 +1025,32 @@ mod tests {
             let line = v.encode();
             prop_assert_eq!(parse(line.trim_end().as_bytes()).unwrap().encode(), line);
         }
+    }
+
+    /// Found by the proptest above: a westerly variation under 0.05 degrees was written
+    /// `0.0,W` and read back as east; it is written `0.0,E` now.
+    #[test]
+    fn a_variation_that_rounds_to_zero_is_written_east() {
+        let r = Rmc {
+            talker: *b"GP",
+            time: None,
+            valid: false,
+            lat_deg: None,
+            lon_deg: None,
+            speed_kn: None,
+            course_deg: None,
+            date: None,
+            mag_var_deg: Some(-0.0054),
+            mode: None,
+        };
+        let line = r.encode();
+        assert!(line.contains(",0.0,E"), "{line}");
+        assert_eq!(parse(line.trim_end().as_bytes()).unwrap().encode(), line);
+        let west = Rmc {
+            mag_var_deg: Some(-3.26),
+            ..r
+        };
+        assert!(west.encode().contains(",3.3,W"), "{}", west.encode());
     }
 
     #[test]
