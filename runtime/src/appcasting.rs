@@ -42,6 +42,22 @@ impl AppcastLayer {
         Self::with_globals(name, block, mission.global("Community"), warp)
     }
 
+    /// [`AppcastLayer::with_globals`] with the app's configuration warnings already posted
+    /// (each as `file:line: message`), as every app that reads a block starts.
+    pub fn with_config_warnings(
+        name: &str,
+        block: &ProcessConfig,
+        community: Option<&str>,
+        warp: f64,
+        warnings: &[mission::diagnostic::Diagnostic],
+    ) -> Self {
+        let mut layer = Self::with_globals(name, Some(block), community, warp);
+        for w in warnings {
+            layer.config_warning(&w.located());
+        }
+        layer
+    }
+
     /// [`AppcastLayer::new`] from the values themselves.
     pub fn with_globals(
         name: &str,

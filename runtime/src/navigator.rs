@@ -142,9 +142,9 @@ impl NavApp {
     /// Configuration problems are [`NavApp::warnings`].
     pub fn new(name: &str, block: ProcessConfig, grid: Option<LocalGrid>) -> Self {
         let (cfg, dr, warnings) = configure(&block);
-        let mut app = NavApp {
+        NavApp {
             name: name.to_string(),
-            appcast: AppcastLayer::with_globals(name, Some(&block), None, 1.0),
+            appcast: AppcastLayer::with_config_warnings(name, &block, None, 1.0, &warnings),
             block,
             feed: Feed::new(cfg),
             grid,
@@ -157,21 +157,18 @@ impl NavApp {
             posted_status: None,
             last: None,
             dives: Vec::new(),
-        };
-        app.warn_appcast();
-        app
-    }
-
-    fn warn_appcast(&mut self) {
-        for w in &self.warnings {
-            self.appcast.config_warning(&w.located());
         }
     }
 
     /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
     pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
-        self.appcast = AppcastLayer::with_globals(&self.name, Some(&self.block), community, warp);
-        self.warn_appcast();
+        self.appcast = AppcastLayer::with_config_warnings(
+            &self.name,
+            &self.block,
+            community,
+            warp,
+            &self.warnings,
+        );
         self
     }
 

@@ -165,9 +165,9 @@ impl SensorsApp {
             .collect();
         let mut suite = SensorSuite::new(cfg, seed);
         suite.gps = suite.gps.clone().with_grid(grid);
-        let mut app = SensorsApp {
+        SensorsApp {
             name: name.to_string(),
-            appcast: AppcastLayer::with_globals(name, Some(&block), None, 1.0),
+            appcast: AppcastLayer::with_config_warnings(name, &block, None, 1.0, &warnings),
             block,
             suite,
             tracker: TruthTracker::new(),
@@ -175,21 +175,18 @@ impl SensorsApp {
             warnings,
             counts: Counts::default(),
             last: Reports::default(),
-        };
-        app.warn_appcast();
-        app
-    }
-
-    fn warn_appcast(&mut self) {
-        for w in &self.warnings {
-            self.appcast.config_warning(&w.located());
         }
     }
 
     /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
     pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
-        self.appcast = AppcastLayer::with_globals(&self.name, Some(&self.block), community, warp);
-        self.warn_appcast();
+        self.appcast = AppcastLayer::with_config_warnings(
+            &self.name,
+            &self.block,
+            community,
+            warp,
+            &self.warnings,
+        );
         self
     }
 

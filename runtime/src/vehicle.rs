@@ -101,10 +101,7 @@ impl VehicleApp {
         subs: Vec<&str>,
         warnings: Vec<Diagnostic>,
     ) -> Self {
-        let mut appcast = AppcastLayer::with_globals(name, Some(&block), None, 1.0);
-        for w in &warnings {
-            appcast.config_warning(&w.located());
-        }
+        let appcast = AppcastLayer::with_config_warnings(name, &block, None, 1.0, &warnings);
         VehicleApp {
             name: name.to_string(),
             tick: crate::app::app_tick_of(Some(&block)),
@@ -124,11 +121,13 @@ impl VehicleApp {
     /// name, the real-time rate limit); the block's appcasting keys are read again with
     /// them.
     pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
-        let mut layer = AppcastLayer::with_globals(&self.name, Some(&self.block), community, warp);
-        for w in &self.warnings {
-            layer.config_warning(&w.located());
-        }
-        self.appcast = layer;
+        self.appcast = AppcastLayer::with_config_warnings(
+            &self.name,
+            &self.block,
+            community,
+            warp,
+            &self.warnings,
+        );
         if let Inner::Reporter(r) = &mut self.inner {
             r.set_term_report_interval(self.appcast.term_report_interval());
         }
