@@ -42,6 +42,8 @@ pub mod scope;
 pub mod sensors;
 pub mod session;
 pub mod summary;
+#[cfg(test)]
+mod testing;
 pub mod timer_script;
 pub mod vehicle;
 

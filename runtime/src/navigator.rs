@@ -323,22 +323,13 @@ impl App for NavApp {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use mission::source::SourceMap;
 
     fn block(text: &str) -> ProcessConfig {
-        let src = SourceMap::from_text("n.moos", text);
-        mission::moos::parse_moos(&src).value.processes[0].clone()
+        crate::testing::block("n.moos", text)
     }
 
     fn mail(key: &str, v: f64, time: f64) -> Mail {
-        Mail {
-            key: key.into(),
-            value: Value::Double(v),
-            time,
-            source: "uSimSensors".into(),
-            source_aux: Default::default(),
-            community: "abe".into(),
-        }
+        crate::testing::mail(key, Value::Double(v), time, "uSimSensors")
     }
 
     #[test]

@@ -396,22 +396,13 @@ impl App for SensorsApp {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use mission::source::SourceMap;
 
     fn block(text: &str) -> ProcessConfig {
-        let src = SourceMap::from_text("s.moos", text);
-        mission::moos::parse_moos(&src).value.processes[0].clone()
+        crate::testing::block("s.moos", text)
     }
 
     fn mail(key: &str, v: f64, time: f64) -> Mail {
-        Mail {
-            key: key.into(),
-            value: Value::Double(v),
-            time,
-            source: "uSimMarineV22".into(),
-            source_aux: Default::default(),
-            community: "abe".into(),
-        }
+        crate::testing::mail(key, Value::Double(v), time, "uSimMarineV22")
     }
 
     #[test]

@@ -330,22 +330,13 @@ impl App for VehicleApp {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use mission::source::SourceMap;
 
     fn block(text: &str) -> ProcessConfig {
-        let src = SourceMap::from_text("v.moos", text);
-        mission::moos::parse_moos(&src).value.processes[0].clone()
+        crate::testing::block("v.moos", text)
     }
 
     fn mail(key: &str, value: Value, time: f64) -> Mail {
-        Mail {
-            key: key.into(),
-            value,
-            time,
-            source: "uMAC".into(),
-            source_aux: Default::default(),
-            community: "abe".into(),
-        }
+        crate::testing::mail(key, value, time, "uMAC")
     }
 
     fn appcast_of(out: &[Post]) -> Option<appcast::AppCast> {
