@@ -51,6 +51,20 @@ fn run_on_estimate(name: &str, mission: &str, max_time: f64) -> (Vec<u8>, alog::
         first_nav.expect("the navigator posts").time >= first_fix.time,
         "NAV_* before the first fix"
     );
+    // The status is in the log (the missions omit only the apps' own P*/U*_STATUS): it
+    // says why before the first estimate, then `ok`.
+    let status: Vec<(f64, String)> = log
+        .entries
+        .iter()
+        .filter(|e| e.var == "NAV_STATUS")
+        .map(|e| (e.time, e.value.to_string()))
+        .collect();
+    assert!(
+        status.first().is_some_and(|s| s.1.starts_with("initialising: ")),
+        "{status:?}"
+    );
+    let first_ok = status.iter().find(|s| s.1 == "ok").expect("NAV_STATUS = ok");
+    assert!(first_ok.0 <= first_nav.unwrap().time + 1.0, "{status:?}");
     check_pitch_loop(name, &log);
     let truth = truth(&log);
     let figures = Figures::of(&live(&log, "DR"), &truth);
