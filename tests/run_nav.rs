@@ -60,10 +60,15 @@ fn run_on_estimate(name: &str, mission: &str, max_time: f64) -> (Vec<u8>, alog::
         .map(|e| (e.time, e.value.to_string()))
         .collect();
     assert!(
-        status.first().is_some_and(|s| s.1.starts_with("initialising: ")),
+        status
+            .first()
+            .is_some_and(|s| s.1.starts_with("initialising: ")),
         "{status:?}"
     );
-    let first_ok = status.iter().find(|s| s.1 == "ok").expect("NAV_STATUS = ok");
+    let first_ok = status
+        .iter()
+        .find(|s| s.1 == "ok")
+        .expect("NAV_STATUS = ok");
     assert!(first_ok.0 <= first_nav.unwrap().time + 1.0, "{status:?}");
     check_pitch_loop(name, &log);
     let truth = truth(&log);

@@ -345,7 +345,7 @@ mod tests {
     use super::*;
 
     fn write(name: &str, text: &str) -> PathBuf {
-        let dir = std::env::temp_dir().join(format!("coug-run-load-{}", std::process::id()));
+        let dir = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/target/tmp/run-load"));
         std::fs::create_dir_all(&dir).expect("temp dir");
         let path = dir.join(name);
         std::fs::write(&path, text).expect("write mission");

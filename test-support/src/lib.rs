@@ -117,9 +117,11 @@ pub fn fresh_dir(dir: impl Into<PathBuf>) -> PathBuf {
     dir
 }
 
-/// A fresh, empty scratch folder `coug-<name>-<pid>` in the system's temporary folder.
+/// A fresh, empty scratch folder `target/tmp/scratch/<name>` in the workspace (emptied by the
+/// next run of the same test, removed by `cargo clean`; nothing is left in the system's
+/// temporary folder).
 pub fn scratch_dir(name: &str) -> PathBuf {
-    fresh_dir(std::env::temp_dir().join(format!("coug-{name}-{}", std::process::id())))
+    fresh_dir(workspace_root().join("target/tmp/scratch").join(name))
 }
 
 #[cfg(test)]
