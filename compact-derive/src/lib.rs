@@ -366,7 +366,7 @@ fn field_code(
             quote! {
                 let code: u64 = match #access {
                     ::core::option::Option::None => 0,
-                    ::core::option::Option::Some(v) => #code_of + 1,
+                    ::core::option::Option::Some(v) => (#code_of) + 1,
                 };
                 w.write(code, #nbits)?;
             },

@@ -207,7 +207,7 @@ impl<'a> BitWriter<'a> {
         self.pos
     }
 
-    /// Writes the low `bits` bits of `value` (at most 64), most significant first.
+    /// Writes the low `bits` bits of `value`, most significant first (bits past 64 are zeros).
     pub fn write(&mut self, value: u64, bits: u32) -> Result<(), EncodeError> {
         let need = bytes_for(self.pos + bits as usize);
         if need > self.buf.len() {
@@ -220,7 +220,7 @@ impl<'a> BitWriter<'a> {
         while left > 0 {
             let free = 8 - (self.pos % 8) as u32;
             let n = free.min(left);
-            let chunk = ((value >> (left - n)) & ((1u64 << n) - 1)) as u8;
+            let chunk = (value.checked_shr(left - n).unwrap_or(0) & ((1u64 << n) - 1)) as u8;
             self.buf[self.pos / 8] |= chunk << (free - n);
             self.pos += n as usize;
             left -= n;
@@ -270,7 +270,7 @@ impl<'a> BitReader<'a> {
             let n = (8 - used).min(left);
             let byte = u64::from(self.buf[self.pos / 8]);
             let chunk = (byte >> (8 - used - n)) & ((1u64 << n) - 1);
-            v = if n == 64 { chunk } else { (v << n) | chunk };
+            v = (v << n) | chunk;
             self.pos += n as usize;
             left -= n;
         }
