@@ -127,7 +127,13 @@ impl LossCurve {
     /// The success probability of a packet of `bytes` bytes at `range_m` metres, in [0, 1].
     pub fn success(&self, range_m: f64, bytes: usize) -> f64 {
         let n = bytes as f64;
-        let gauss = |x: f64, s: f64| if s > 0.0 { (-x * x / (2.0 * s * s)).exp() } else { 0.0 };
+        let gauss = |x: f64, s: f64| {
+            if s > 0.0 {
+                (-x * x / (2.0 * s * s)).exp()
+            } else {
+                0.0
+            }
+        };
         let p = match self {
             LossCurve::Gaussian {
                 range_sigma_m,
@@ -451,7 +457,7 @@ impl Channel {
             }
             let there = self.nodes[to].position;
             let d = here.distance(&there);
-            if !(d <= self.config.max_range_m) {
+            if d.is_nan() || d > self.config.max_range_m {
                 self.stats.out_of_range += 1;
                 continue;
             }
@@ -485,7 +491,15 @@ impl Channel {
     }
 
     /// The noisy fix of a sender at `there` seen from `here`.
-    fn fix(&self, here: &Position, there: &Position, d: f64, n_az: f64, n_el: f64, n_r: f64) -> Usbl {
+    fn fix(
+        &self,
+        here: &Position,
+        there: &Position,
+        d: f64,
+        n_az: f64,
+        n_el: f64,
+        n_r: f64,
+    ) -> Usbl {
         let (dx, dy) = (there.x_m - here.x_m, there.y_m - here.y_m);
         let up = here.depth_m - there.depth_m;
         let horizontal = dx.hypot(dy);
@@ -541,11 +555,7 @@ impl Channel {
         }
         // A busy interval matters while an unresolved arrival could overlap it: drop those
         // that end before every pending arrival starts (and before now).
-        let horizon = self
-            .pending
-            .iter()
-            .map(|a| a.start)
-            .fold(now, f64::min);
+        let horizon = self.pending.iter().map(|a| a.start).fold(now, f64::min);
         for n in &mut self.nodes {
             n.busy.retain(|b| b.end >= horizon);
         }

@@ -54,10 +54,20 @@ fn delay_is_range_over_sound_speed_plus_airtime_within_a_tick() {
     for (node, r) in rx.iter().zip(ranges) {
         let (tick, rec) = got.iter().find(|(_, rec)| rec.to == *node).unwrap();
         let expected = 0.35 + r / 1500.0 + 1.6;
-        assert!((rec.arrival_s - expected).abs() < 1e-9, "{r}: {}", rec.arrival_s);
+        assert!(
+            (rec.arrival_s - expected).abs() < 1e-9,
+            "{r}: {}",
+            rec.arrival_s
+        );
         assert!((rec.true_range_m - r).abs() < 1e-9);
-        assert!(*tick >= expected && *tick < expected + TICK, "{r}: tick {tick}");
-        assert_eq!((rec.from, rec.sent_s, &rec.payload[..]), (a, 0.35, &payload[..]));
+        assert!(
+            *tick >= expected && *tick < expected + TICK,
+            "{r}: tick {tick}"
+        );
+        assert_eq!(
+            (rec.from, rec.sent_s, &rec.payload[..]),
+            (a, 0.35, &payload[..])
+        );
     }
     assert_eq!(ch.in_flight(), 0);
 }
@@ -72,13 +82,19 @@ fn a_node_cannot_hear_while_it_transmits() {
     assert!(ch.step(1.2).is_empty());
     ch.transmit(b, &[2; 10], 1.2).unwrap();
     // b is busy: a second transmission before 2.0 is refused.
-    assert_eq!(ch.transmit(b, &[3], 1.5), Err(TxError::Busy { until_s: 2.0 }));
+    assert_eq!(
+        ch.transmit(b, &[3], 1.5),
+        Err(TxError::Busy { until_s: 2.0 })
+    );
     let got = run_ticks(&mut ch, 1.3, 4.0);
     // b's packet reaches a at 2.2..3.0, when a is quiet.
     assert_eq!(got.len(), 1);
     assert_eq!((got[0].1.to, got[0].1.from), (a, b));
     let s = ch.stats();
-    assert_eq!((s.half_duplex, s.delivered, s.collisions, s.arrivals), (1, 1, 0, 2));
+    assert_eq!(
+        (s.half_duplex, s.delivered, s.collisions, s.arrivals),
+        (1, 1, 0, 2)
+    );
 }
 
 #[test]
@@ -108,7 +124,10 @@ fn overlapping_arrivals_at_a_receiver_are_both_lost() {
     ch.transmit(c, &[0xCC; 10], 0.0).unwrap();
     let got = run_ticks(&mut ch, 0.0, 5.0);
     let heard = |n: NodeId| -> Vec<NodeId> {
-        got.iter().filter(|(_, r)| r.to == n).map(|(_, r)| r.from).collect()
+        got.iter()
+            .filter(|(_, r)| r.to == n)
+            .map(|(_, r)| r.from)
+            .collect()
     };
     assert_eq!(heard(b), vec![]);
     assert_eq!(heard(d), vec![c, a]);
@@ -125,7 +144,11 @@ fn overlapping_arrivals_at_a_receiver_are_both_lost() {
     ch.step(0.8);
     ch.transmit(c, &[0xCC; 10], 0.8).unwrap(); // at b from 1.467, a's ended at 1.467
     let got = run_ticks(&mut ch, 0.9, 5.0);
-    let at_b: Vec<NodeId> = got.iter().filter(|(_, r)| r.to == b).map(|(_, r)| r.from).collect();
+    let at_b: Vec<NodeId> = got
+        .iter()
+        .filter(|(_, r)| r.to == b)
+        .map(|(_, r)| r.from)
+        .collect();
     assert_eq!(at_b, vec![a, c]);
     assert_eq!(ch.stats().collisions, 0);
 }
@@ -159,7 +182,10 @@ fn nothing_is_heard_past_the_maximum_range() {
     let got = run_ticks(&mut ch, 0.0, 5.0);
     let pairs: Vec<(NodeId, NodeId)> = got.iter().map(|(_, r)| (r.from, r.to)).collect();
     assert!(!pairs.contains(&(a, far)));
-    assert!(!pairs.contains(&(near, far)), "2000.5 m is out of range too");
+    assert!(
+        !pairs.contains(&(near, far)),
+        "2000.5 m is out of range too"
+    );
     let s = ch.stats();
     // a->far, near->far, far is not transmitting; a<->near hear each other? Both were
     // transmitting at 0..0.4 and the packets arrive at 0.667..1.067: yes.
@@ -261,7 +287,10 @@ fn loss_statistics_match_a_table_curve_and_fall_with_size() {
         let got = delivered_fractions(config, &ranges, bytes);
         for (r, f) in ranges.iter().zip(&got) {
             let p = curve.success(*r, bytes);
-            assert!((f - p).abs() <= band(p, 1e4), "{r} m, {bytes} B: {f} against {p}");
+            assert!(
+                (f - p).abs() <= band(p, 1e4),
+                "{r} m, {bytes} B: {f} against {p}"
+            );
         }
     }
     assert!(curve.success(600.0, 31) < curve.success(600.0, 2));
@@ -329,8 +358,11 @@ fn azimuth_wraps_into_0_360() {
     assert!(low > 50 && low < 150, "{low}");
 }
 
-/// A random schedule of transmissions among `n` nodes.
-fn schedule() -> impl Strategy<Value = (Vec<(f64, f64)>, Vec<(usize, f64, usize)>)> {
+/// Node positions (x, y) and transmissions (node, time, bytes).
+type Schedule = (Vec<(f64, f64)>, Vec<(usize, f64, usize)>);
+
+/// A random schedule of transmissions among 2 to 7 nodes.
+fn schedule() -> impl Strategy<Value = Schedule> {
     (2usize..8).prop_flat_map(|n| {
         (
             proptest::collection::vec((-2000.0f64..2000.0, -2000.0f64..2000.0), n),
@@ -365,7 +397,10 @@ fn play(seed: u64, nodes: &[(f64, f64)], txs: &[(usize, f64, usize)], dt: f64) -
     let s = ch.stats();
     let senders = s.transmitted * (nodes.len() as u64 - 1);
     assert_eq!(s.out_of_range + s.arrivals, senders);
-    assert_eq!(s.arrivals, s.delivered + s.half_duplex + s.collisions + s.lost);
+    assert_eq!(
+        s.arrivals,
+        s.delivered + s.half_duplex + s.collisions + s.lost
+    );
     assert_eq!(s.delivered, out.len() as u64);
     assert_eq!(ch.in_flight(), 0);
     out

@@ -474,10 +474,11 @@ impl Receiver {
         if from == 0 || from == self.me {
             return Err(Reject::BadSender(from));
         }
-        if let Some(to) = packet.to() {
-            if to != self.me && to != BROADCAST {
-                return Err(Reject::NotForMe { to });
-            }
+        if let Some(to) = packet.to()
+            && to != self.me
+            && to != BROADCAST
+        {
+            return Err(Reject::NotForMe { to });
         }
         if let Some(a) = packet.auth() {
             let w = &mut self.windows[usize::from(a.from)];

@@ -14,7 +14,9 @@ fn fuzz_receiver() {
     let n = seeds.len();
     seeds.push(seeds.concat());
     let r = Campaign::new("acomms", seeds)
-        .tokens(&["\u{71}", "\u{75}", "\u{78}", "\u{7C}", "\u{7E}", "\u{11}", "\u{31}"])
+        .tokens(&[
+            "\u{71}", "\u{75}", "\u{78}", "\u{7C}", "\u{7E}", "\u{11}", "\u{31}",
+        ])
         .iterations(ITERATIONS)
         .max_len(64)
         .run(acomms::fuzz::receive);

@@ -3,8 +3,8 @@
 
 use acomms::{
     Abort, Auth, CommandKind, Confirm, EncodeError, FleetKey, GoTo, Kill, Localisation,
-    LocalisationRequest, Loiter, Packet, Receiver, Reject, Return, SetDepth, Status,
-    StatusRequest, Surface, VehicleMode,
+    LocalisationRequest, Loiter, Packet, Receiver, Reject, Return, SetDepth, Status, StatusRequest,
+    Surface, VehicleMode,
 };
 use proptest::prelude::*;
 
@@ -62,7 +62,11 @@ fn status() -> impl Strategy<Value = Status> {
     (
         (node(), mode(), XY, XY, DEPTH),
         (0.0f64..360.0, 0.0f64..=3.15, 10.0f64..=22.75),
-        (any::<u8>(), any::<u16>(), proptest::option::of(0.0f64..=51.0)),
+        (
+            any::<u8>(),
+            any::<u16>(),
+            proptest::option::of(0.0f64..=51.0),
+        ),
     )
         .prop_map(
             |((from, mode, x_m, y_m, depth_m), (heading_deg, speed_mps, battery_v), (w, h, s))| {
@@ -93,8 +97,8 @@ fn localisation() -> impl Strategy<Value = Localisation> {
         -90.0f64..=90.0,
         0.0f64..=359.5,
     )
-        .prop_map(|(from, x_m, y_m, depth_m, roll_deg, pitch_deg, heading_deg)| {
-            Localisation {
+        .prop_map(
+            |(from, x_m, y_m, depth_m, roll_deg, pitch_deg, heading_deg)| Localisation {
                 from,
                 x_m,
                 y_m,
@@ -102,8 +106,8 @@ fn localisation() -> impl Strategy<Value = Localisation> {
                 roll_deg,
                 pitch_deg,
                 heading_deg,
-            }
-        })
+            },
+        )
 }
 
 fn any_packet() -> impl Strategy<Value = Packet> {
@@ -115,14 +119,20 @@ fn any_packet() -> impl Strategy<Value = Packet> {
             Packet::LocalisationRequest(LocalisationRequest { from, to })
         }),
         localisation().prop_map(Packet::Localisation),
-        (auth(), command(), 0u32..=acomms::auth::MAX_SEQ, any::<bool>()).prop_map(
-            |(auth, command, command_seq, success)| Packet::Confirm(Confirm {
-                auth,
-                command,
-                command_seq,
-                success
-            })
-        ),
+        (
+            auth(),
+            command(),
+            0u32..=acomms::auth::MAX_SEQ,
+            any::<bool>()
+        )
+            .prop_map(
+                |(auth, command, command_seq, success)| Packet::Confirm(Confirm {
+                    auth,
+                    command,
+                    command_seq,
+                    success
+                })
+            ),
         auth().prop_map(|auth| Packet::Kill(Kill { auth })),
         auth().prop_map(|auth| Packet::Surface(Surface { auth })),
         auth().prop_map(|auth| Packet::Abort(Abort { auth })),
@@ -136,19 +146,28 @@ fn any_packet() -> impl Strategy<Value = Packet> {
                 speed_mps: s,
             })
         }),
-        (auth(), XY, XY, 1.0f64..=256.0, sigma, 0.0f64..=3.15, any::<bool>()).prop_map(
-            |(auth, x_m, y_m, radius_m, depth_m, speed_mps, clockwise)| {
-                Packet::Loiter(Loiter {
-                    auth,
-                    x_m,
-                    y_m,
-                    radius_m,
-                    depth_m,
-                    speed_mps,
-                    clockwise,
-                })
-            }
-        ),
+        (
+            auth(),
+            XY,
+            XY,
+            1.0f64..=256.0,
+            sigma,
+            0.0f64..=3.15,
+            any::<bool>()
+        )
+            .prop_map(
+                |(auth, x_m, y_m, radius_m, depth_m, speed_mps, clockwise)| {
+                    Packet::Loiter(Loiter {
+                        auth,
+                        x_m,
+                        y_m,
+                        radius_m,
+                        depth_m,
+                        speed_mps,
+                        clockwise,
+                    })
+                }
+            ),
         (auth(), DEPTH).prop_map(|(auth, depth_m)| Packet::SetDepth(SetDepth { auth, depth_m })),
     ]
 }
@@ -304,7 +323,9 @@ fn kill(from: u8, to: u8, seq: u32) -> Packet {
 
 #[test]
 fn wrong_key_is_refused() {
-    let frame = kill(15, ME, 1).encode(&FleetKey::new(b"not the fleet")).unwrap();
+    let frame = kill(15, ME, 1)
+        .encode(&FleetKey::new(b"not the fleet"))
+        .unwrap();
     let mut rx = Receiver::new(ME, key());
     assert_eq!(rx.receive(&frame), Err(Reject::BadTag));
     // A refused packet does not move the replay window: the genuine one still goes through.
@@ -317,19 +338,34 @@ fn replays_and_old_sequences_are_refused() {
     let mut rx = Receiver::new(ME, key());
     let f = |seq| kill(15, ME, seq).encode(&key()).unwrap();
     assert!(rx.receive(&f(100)).is_ok());
-    assert_eq!(rx.receive(&f(100)), Err(Reject::Replayed { from: 15, seq: 100 }));
+    assert_eq!(
+        rx.receive(&f(100)),
+        Err(Reject::Replayed { from: 15, seq: 100 })
+    );
     // Out of order within the window: accepted once.
     assert!(rx.receive(&f(90)).is_ok());
-    assert_eq!(rx.receive(&f(90)), Err(Reject::Replayed { from: 15, seq: 90 }));
+    assert_eq!(
+        rx.receive(&f(90)),
+        Err(Reject::Replayed { from: 15, seq: 90 })
+    );
     assert!(rx.receive(&f(37)).is_ok()); // 100 - 63
-    assert_eq!(rx.receive(&f(36)), Err(Reject::TooOld { from: 15, seq: 36 }));
+    assert_eq!(
+        rx.receive(&f(36)),
+        Err(Reject::TooOld { from: 15, seq: 36 })
+    );
     assert_eq!(rx.receive(&f(0)), Err(Reject::TooOld { from: 15, seq: 0 }));
     // A jump forward moves the window.
     assert!(rx.receive(&f(1000)).is_ok());
-    assert_eq!(rx.receive(&f(936)), Err(Reject::TooOld { from: 15, seq: 936 }));
+    assert_eq!(
+        rx.receive(&f(936)),
+        Err(Reject::TooOld { from: 15, seq: 936 })
+    );
     assert!(rx.receive(&f(937)).is_ok());
     // Windows are per sender: another commander starts its own.
-    assert!(rx.receive(&kill(14, ME, 100).encode(&key()).unwrap()).is_ok());
+    assert!(
+        rx.receive(&kill(14, ME, 100).encode(&key()).unwrap())
+            .is_ok()
+    );
     let c = rx.counters();
     assert_eq!((c.accepted, c.replayed, c.too_old), (6, 2, 3));
     assert_eq!(c.received, c.accepted + c.rejected());
@@ -341,12 +377,21 @@ fn commands_for_another_vehicle_and_bad_senders_are_refused() {
     let other = kill(15, 5, 1).encode(&key()).unwrap();
     assert_eq!(rx.receive(&other), Err(Reject::NotForMe { to: 5 }));
     let req = Packet::StatusRequest(StatusRequest { from: 15, to: 5 });
-    assert_eq!(rx.receive(&req.encode(&key()).unwrap()), Err(Reject::NotForMe { to: 5 }));
+    assert_eq!(
+        rx.receive(&req.encode(&key()).unwrap()),
+        Err(Reject::NotForMe { to: 5 })
+    );
     // Broadcast reaches everyone.
     assert!(rx.receive(&kill(15, 0, 2).encode(&key()).unwrap()).is_ok());
     // Sender 0 and the receiver's own id.
-    assert_eq!(rx.receive(&kill(0, ME, 3).encode(&key()).unwrap()), Err(Reject::BadSender(0)));
-    assert_eq!(rx.receive(&kill(ME, ME, 3).encode(&key()).unwrap()), Err(Reject::BadSender(ME)));
+    assert_eq!(
+        rx.receive(&kill(0, ME, 3).encode(&key()).unwrap()),
+        Err(Reject::BadSender(0))
+    );
+    assert_eq!(
+        rx.receive(&kill(ME, ME, 3).encode(&key()).unwrap()),
+        Err(Reject::BadSender(ME))
+    );
     let c = rx.counters();
     assert_eq!((c.not_for_me, c.bad_sender, c.accepted), (2, 2, 1));
 }
@@ -359,24 +404,39 @@ fn truncated_long_unknown_and_foreign_payloads_are_refused() {
     for n in 1..good.len() {
         assert_eq!(
             rx.receive(&good[..n]),
-            Err(Reject::Truncated { expected: 9, got: n })
+            Err(Reject::Truncated {
+                expected: 9,
+                got: n
+            })
         );
     }
     let mut long = good.to_vec();
     long.push(0);
-    assert_eq!(rx.receive(&long), Err(Reject::TooLong { expected: 9, got: 10 }));
+    assert_eq!(
+        rx.receive(&long),
+        Err(Reject::TooLong {
+            expected: 9,
+            got: 10
+        })
+    );
     // Gen-1 REQUEST_STATUS (0x11, id), Gen-1 EMERGENCY_KILL (0x40, id), a Gen-2 status
     // (0x31 then 28 bytes), a Gen-2 1-byte SRV_EMERGENCY_STOP: all unknown ids here.
     for foreign in [&[0x11u8, 2][..], &[0x40, 2], &[0x31; 29], &[0x14]] {
         assert_eq!(rx.receive(foreign), Err(Reject::UnknownId(foreign[0])));
     }
     // A status with a padding bit set (its 109 bits leave 3 in the last byte).
-    let mut s = Packet::Status(sample_status()).encode(&key()).unwrap().to_vec();
+    let mut s = Packet::Status(sample_status())
+        .encode(&key())
+        .unwrap()
+        .to_vec();
     *s.last_mut().unwrap() |= 1;
     assert!(matches!(rx.receive(&s), Err(Reject::Malformed(_))));
     let c = rx.counters();
     assert_eq!(c.truncated as usize, good.len());
-    assert_eq!((c.too_long, c.unknown_id, c.malformed, c.accepted), (1, 4, 1, 0));
+    assert_eq!(
+        (c.too_long, c.unknown_id, c.malformed, c.accepted),
+        (1, 4, 1, 0)
+    );
 }
 
 #[test]
@@ -399,7 +459,9 @@ fn a_signed_but_invalid_body_is_malformed() {
     let mut rx = Receiver::new(ME, key);
     assert_eq!(
         rx.receive(&body),
-        Err(Reject::Malformed(acomms::DecodeError::BadValue { field: "CommandKind" }))
+        Err(Reject::Malformed(acomms::DecodeError::BadValue {
+            field: "CommandKind"
+        }))
     );
 }
 
@@ -411,7 +473,10 @@ fn sequencer_stops_at_24_bits() {
     assert_eq!(s.take(), None);
     // The header refuses a number past 24 bits rather than wrapping it.
     let p = kill(15, ME, acomms::auth::MAX_SEQ + 1);
-    assert!(matches!(p.encode(&key()), Err(EncodeError::OutOfRange { field: "seq", .. })));
+    assert!(matches!(
+        p.encode(&key()),
+        Err(EncodeError::OutOfRange { field: "seq", .. })
+    ));
 }
 
 #[test]

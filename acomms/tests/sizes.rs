@@ -32,7 +32,10 @@ fn size_table() {
 fn every_message_fits_one_seatrac_packet_and_the_status_is_far_below_the_papers() {
     for r in SIZE_TABLE {
         assert!(r.wire_bytes <= devices::seatrac::MAX_DAT_PAYLOAD, "{r:?}");
-        assert_eq!(r.wire_bytes, 1 + r.body_bits.div_ceil(8) + if r.authenticated { 4 } else { 0 });
+        assert_eq!(
+            r.wire_bytes,
+            1 + r.body_bits.div_ceil(8) + if r.authenticated { 4 } else { 0 }
+        );
     }
     let status = SIZE_TABLE.iter().find(|r| r.name == "Status").unwrap();
     // Gen-1 VEHICLE_STATUS: 1 + 26 bytes; Gen-2 RESP_STATUS: 29 bytes.

@@ -230,15 +230,13 @@ fn field_code(
     // code: shared by numbers and booleans, optional or not.
     let (code_of, value_of, steps): (TokenStream, TokenStream, u64) = match tname.as_str() {
         "f32" | "f64" => {
-            let (Some(min), Some(max), Some(res)) = (attrs.min, attrs.max, attrs.resolution)
-            else {
+            let (Some(min), Some(max), Some(res)) = (attrs.min, attrs.max, attrs.resolution) else {
                 return Err(err(&format!(
                     "{label}: a float field needs #[compact(min = .., max = .., resolution = ..)]"
                 )));
             };
             let (min, max, res) = (min.as_f64(), max.as_f64(), res.as_f64());
-            if !(min.is_finite() && max.is_finite() && res.is_finite() && max > min && res > 0.0)
-            {
+            if !(min.is_finite() && max.is_finite() && res.is_finite() && max > min && res > 0.0) {
                 return Err(err(&format!(
                     "{label}: needs finite bounds with min < max and resolution > 0"
                 )));
@@ -270,14 +268,16 @@ fn field_code(
         t if int_bounds(t).is_some() => {
             let (tmin, tmax) = int_bounds(t).unwrap_or_default();
             if attrs.resolution.is_some() {
-                return Err(err(&format!("{label}: an integer field takes no resolution")));
+                return Err(err(&format!(
+                    "{label}: an integer field takes no resolution"
+                )));
             }
             let get = |n: Option<Num>, d: i128| match n {
                 None => Ok(d),
                 Some(Num::Int(i)) => Ok(i),
-                Some(Num::Float(_)) => Err(err(&format!(
-                    "{label}: integer bounds must be integers"
-                ))),
+                Some(Num::Float(_)) => {
+                    Err(err(&format!("{label}: integer bounds must be integers")))
+                }
             };
             let (min, max) = (get(attrs.min, tmin)?, get(attrs.max, tmax)?);
             if min >= max || min < tmin || max > tmax {

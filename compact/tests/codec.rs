@@ -12,7 +12,10 @@ enum Three {
 }
 
 #[derive(Compact, Debug, Clone, Copy, PartialEq)]
-struct Inner(#[compact(min = -1.0, max = 1.0, resolution = 0.25)] f32, bool);
+struct Inner(
+    #[compact(min = -1.0, max = 1.0, resolution = 0.25)] f32,
+    bool,
+);
 
 #[derive(Compact, Debug, Clone, Copy, PartialEq)]
 struct Unit;
@@ -174,14 +177,29 @@ proptest! {
 
 #[test]
 fn infinities_and_nan() {
-    let v = All { x: f64::INFINITY, ..sample() };
+    let v = All {
+        x: f64::INFINITY,
+        ..sample()
+    };
     assert_eq!(All::decode(&v.to_vec().unwrap()).unwrap().x, 5000.0);
-    let v = All { x: f64::NAN, ..sample() };
+    let v = All {
+        x: f64::NAN,
+        ..sample()
+    };
     assert_eq!(v.to_vec(), Err(EncodeError::NotANumber { field: "x" }));
-    let v = All { r: f64::NEG_INFINITY, ..sample() };
-    assert!(matches!(v.to_vec(), Err(EncodeError::OutOfRange { field: "r", .. })));
+    let v = All {
+        r: f64::NEG_INFINITY,
+        ..sample()
+    };
+    assert!(matches!(
+        v.to_vec(),
+        Err(EncodeError::OutOfRange { field: "r", .. })
+    ));
     // Half a resolution past a bound still rounds onto it.
-    let v = All { r: 100.2, ..sample() };
+    let v = All {
+        r: 100.2,
+        ..sample()
+    };
     assert_eq!(All::decode(&v.to_vec().unwrap()).unwrap().r, 100.0);
 }
 
@@ -191,11 +209,17 @@ fn strict_decoding() {
     assert_eq!(All::decode(&good).unwrap().word, 0xBEEF);
     assert_eq!(
         All::decode(&good[..good.len() - 1]),
-        Err(DecodeError::WrongLength { expected: All::SIZE_BYTES, got: good.len() - 1 })
+        Err(DecodeError::WrongLength {
+            expected: All::SIZE_BYTES,
+            got: good.len() - 1
+        })
     );
     let mut long = good.clone();
     long.push(0);
-    assert!(matches!(All::decode(&long), Err(DecodeError::WrongLength { .. })));
+    assert!(matches!(
+        All::decode(&long),
+        Err(DecodeError::WrongLength { .. })
+    ));
 
     // The last byte holds 1 padding bit (ALL_BITS = 71): setting it is refused.
     assert_eq!(ALL_BITS, 71);
@@ -206,7 +230,10 @@ fn strict_decoding() {
     // The enum index 3 does not exist (bits 50..52: x 17, r 8, i 4, j 4, word 16, flag 1).
     let mut e = good.clone();
     e[6] |= 0b0011_0000;
-    assert_eq!(All::decode(&e), Err(DecodeError::BadValue { field: "Three" }));
+    assert_eq!(
+        All::decode(&e),
+        Err(DecodeError::BadValue { field: "Three" })
+    );
 
     // x's code past 100000 (all ones in its 17 bits).
     let mut x = good.clone();
@@ -219,7 +246,12 @@ fn strict_decoding() {
     let mut absent = good;
     let n = absent.len();
     absent[n - 1] |= 0b0000_1000;
-    assert_eq!(All::decode(&absent), Err(DecodeError::BadValue { field: "maybe_inner" }));
+    assert_eq!(
+        All::decode(&absent),
+        Err(DecodeError::BadValue {
+            field: "maybe_inner"
+        })
+    );
 }
 
 #[test]
@@ -227,11 +259,17 @@ fn buffer_too_small() {
     let mut buf = [0u8; 3];
     assert_eq!(
         sample().encode_into(&mut buf),
-        Err(EncodeError::BufferTooSmall { need: All::SIZE_BYTES, have: 3 })
+        Err(EncodeError::BufferTooSmall {
+            need: All::SIZE_BYTES,
+            have: 3
+        })
     );
     let mut big = [0xAAu8; 32];
     assert_eq!(sample().encode_into(&mut big), Ok(All::SIZE_BYTES));
-    assert_eq!(All::decode(&big[..All::SIZE_BYTES]), Ok(All::decode(&sample().to_vec().unwrap()).unwrap()));
+    assert_eq!(
+        All::decode(&big[..All::SIZE_BYTES]),
+        Ok(All::decode(&sample().to_vec().unwrap()).unwrap())
+    );
 }
 
 proptest! {
@@ -250,6 +288,6 @@ proptest! {
             prop_assert_eq!(r.read(n).unwrap(), v & mask);
         }
         prop_assert!(r.finish().is_ok());
-        prop_assert_eq!(r.read(1), if total % 8 == 0 { Err(DecodeError::Truncated) } else { Ok(0) });
+        prop_assert_eq!(r.read(1), if total.is_multiple_of(8) { Err(DecodeError::Truncated) } else { Ok(0) });
     }
 }
