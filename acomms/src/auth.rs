@@ -18,6 +18,14 @@
 //!   before its reboot. Change the fleet key per mission (or keep the windows across
 //!   reboots) so that old recordings are worthless.
 //!
+//! What this does not cover:
+//! - A delayed command: a recording of a command the vehicle never heard (jammed, or out of
+//!   range) is accepted if played to it later, as long as it has accepted nothing newer from
+//!   that sender. A time field (DCCL-style, seconds modulo an hour: 12 bits) in the header
+//!   would bound that delay.
+//! - One key for the whole fleet: any node holding it can command the others. Per-node keys
+//!   would cost nothing on the wire (the sender id picks the key) but a key table on board.
+//!
 //! Status, status and localisation requests and localisation answers are not authenticated:
 //! they command nothing, and a forged one can only mislead the picture the base draws.
 

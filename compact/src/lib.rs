@@ -58,6 +58,58 @@
 //! let deep = Fix { depth_m: 250.0, ..f };
 //! assert!(matches!(deep.to_vec(), Err(compact::EncodeError::OutOfRange { field: "depth_m", .. })));
 //! ```
+//!
+//! # Declaration errors
+//!
+//! Bad bounds are compile errors, not runtime surprises. This declaration compiles:
+//!
+//! ```
+//! #[derive(compact::Compact)]
+//! struct S { #[compact(min = 0.0, max = 10.0, resolution = 0.5)] x: f64, y: u8 }
+//! assert_eq!(<S as compact::Compact>::SIZE_BITS, 5 + 8);
+//! ```
+//!
+//! and each of these does not. A float needs all three bounds:
+//!
+//! ```compile_fail
+//! #[derive(compact::Compact)]
+//! struct S { #[compact(min = 0.0, max = 10.0)] x: f64 }
+//! ```
+//!
+//! `max - min` must be a whole number of resolutions (here 10 / 0.3 is not):
+//!
+//! ```compile_fail
+//! #[derive(compact::Compact)]
+//! struct S { #[compact(min = 0.0, max = 10.0, resolution = 0.3)] x: f64 }
+//! ```
+//!
+//! Integer bounds must lie within the type (a `u8` cannot reach 300):
+//!
+//! ```compile_fail
+//! #[derive(compact::Compact)]
+//! struct S { #[compact(min = 0, max = 300)] x: u8 }
+//! ```
+//!
+//! A nested type carries its own bounds, and enums must be fieldless:
+//!
+//! ```compile_fail
+//! #[derive(compact::Compact)]
+//! enum E { A(u8), B }
+//! ```
+//!
+//! ```compile_fail
+//! #[derive(compact::Compact)]
+//! struct Inner { ok: bool }
+//! #[derive(compact::Compact)]
+//! struct S { #[compact(min = 0, max = 1)] inner: Inner }
+//! ```
+//!
+//! A field type that is neither a number, a bool nor a `Compact` type does not compile:
+//!
+//! ```compile_fail
+//! #[derive(compact::Compact)]
+//! struct S { name: String }
+//! ```
 
 #![warn(missing_docs)]
 
