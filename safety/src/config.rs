@@ -178,12 +178,22 @@ impl SafetyConfig {
                 "elevator_var" => word.map(|w| c.elevator_var = w).is_some(),
                 "rudder_var" => word.map(|w| c.rudder_var = w).is_some(),
                 "helm_app" => word.map(|w| c.helm_app = w).is_some(),
-                "surface_depth" => num.filter(|x| *x > 0.0).map(|x| c.surface_depth = x).is_some(),
-                "surface_hold" => num.filter(|x| *x >= 0.0).map(|x| c.surface_hold = x).is_some(),
-                "surface_timeout" => {
-                    num.filter(|x| *x > 0.0).map(|x| c.surface_timeout = x).is_some()
-                }
-                "helm_timeout" => num.filter(|x| *x > 0.0).map(|x| c.helm_timeout = x).is_some(),
+                "surface_depth" => num
+                    .filter(|x| *x > 0.0)
+                    .map(|x| c.surface_depth = x)
+                    .is_some(),
+                "surface_hold" => num
+                    .filter(|x| *x >= 0.0)
+                    .map(|x| c.surface_hold = x)
+                    .is_some(),
+                "surface_timeout" => num
+                    .filter(|x| *x > 0.0)
+                    .map(|x| c.surface_timeout = x)
+                    .is_some(),
+                "helm_timeout" => num
+                    .filter(|x| *x > 0.0)
+                    .map(|x| c.helm_timeout = x)
+                    .is_some(),
                 "helm_grace" => num.filter(|x| *x > 0.0).map(|x| c.helm_grace = x).is_some(),
                 "surface_thrust" => num
                     .filter(|x| (0.0..=100.0).contains(x))

@@ -274,7 +274,9 @@ pub enum RuleError {
     #[error("the condition is empty")]
     EmptyCondition,
     /// A term that is none of the forms.
-    #[error("cannot read the term `{0}`: expected `VAR OP VALUE`, `stale(VAR) > SECONDS` or `silent(APP) > SECONDS`")]
+    #[error(
+        "cannot read the term `{0}`: expected `VAR OP VALUE`, `stale(VAR) > SECONDS` or `silent(APP) > SECONDS`"
+    )]
     BadTerm(String),
     /// `=` where `==` is meant, or an operator that is not one of `== != < <= > >=`.
     #[error("bad operator in `{0}`: use one of == != < <= > >=")]
@@ -322,9 +324,8 @@ fn is_name(s: &str) -> bool {
 
 fn is_var(s: &str) -> bool {
     !s.is_empty()
-        && s.chars().all(|c| {
-            !c.is_whitespace() && !matches!(c, '(' | ')' | '=' | '<' | '>' | '!' | ',')
-        })
+        && s.chars()
+            .all(|c| !c.is_whitespace() && !matches!(c, '(' | ')' | '=' | '<' | '>' | '!' | ','))
 }
 
 /// Splits `s` on the word `and` (any case, between white space).
@@ -534,8 +535,6 @@ pub fn parse_rule(text: &str) -> Result<Rule, RuleError> {
         action,
         priority: priority.unwrap_or_else(|| action.default_priority()),
         release: release.unwrap_or(Release::Latch),
-        kind: kind
-            .or_else(|| Kind::parse(name))
-            .unwrap_or(Kind::Other),
+        kind: kind.or_else(|| Kind::parse(name)).unwrap_or(Kind::Other),
     })
 }

@@ -146,7 +146,10 @@ impl Supervisor {
     pub fn new(cfg: SafetyConfig, errors: Vec<String>) -> Self {
         let mut status_vars = HashMap::new();
         let mut watch = |app: &str| {
-            status_vars.insert(format!("{}_STATUS", app.to_ascii_uppercase()), app.to_string());
+            status_vars.insert(
+                format!("{}_STATUS", app.to_ascii_uppercase()),
+                app.to_string(),
+            );
         };
         for r in &cfg.rules {
             for t in &r.terms {
@@ -292,7 +295,9 @@ impl Supervisor {
     }
 
     fn depth(&self) -> Option<f64> {
-        self.values.get(&self.cfg.depth_var).and_then(|(v, _)| v.as_f64())
+        self.values
+            .get(&self.cfg.depth_var)
+            .and_then(|(v, _)| v.as_f64())
     }
 
     /// Whether `t` holds at `now`, and what was seen.
@@ -313,9 +318,9 @@ impl Supervisor {
                     Operand::Bool(b) => {
                         as_bool(v).is_some_and(|a| (a == *b) == (*op == crate::rule::Op::Eq))
                     }
-                    Operand::Word(w) => v
-                        .as_str()
-                        .is_some_and(|s| s.trim().eq_ignore_ascii_case(w) == (*op == crate::rule::Op::Eq)),
+                    Operand::Word(w) => v.as_str().is_some_and(|s| {
+                        s.trim().eq_ignore_ascii_case(w) == (*op == crate::rule::Op::Eq)
+                    }),
                 };
                 (holds, format!("{var}={}", show(v)))
             }
@@ -446,7 +451,11 @@ impl Supervisor {
         let start = self.start.unwrap_or(now);
         let heard = self.heard.get(&self.cfg.helm_app).copied().unwrap_or(start);
         if now - heard > self.cfg.helm_timeout {
-            return Some(format!("{} silent for {:.1} s", self.cfg.helm_app, now - heard));
+            return Some(format!(
+                "{} silent for {:.1} s",
+                self.cfg.helm_app,
+                now - heard
+            ));
         }
         if self
             .helm_state
@@ -672,8 +681,14 @@ impl Supervisor {
             let _ = writeln!(out, "MALCONFIG: {e}");
         }
         let _ = writeln!(out);
-        let _ = writeln!(out, "Rule            Action          Pri  State    Trig  Condition");
-        let _ = writeln!(out, "--------------  --------------  ---  -------  ----  ---------");
+        let _ = writeln!(
+            out,
+            "Rule            Action          Pri  State    Trig  Condition"
+        );
+        let _ = writeln!(
+            out,
+            "--------------  --------------  ---  -------  ----  ---------"
+        );
         for (r, st) in self.rules() {
             let state = match (st.active, r.release) {
                 (true, Release::Latch) => "LATCHED",
