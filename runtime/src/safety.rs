@@ -87,7 +87,12 @@ impl App for SafetyApp {
 
     fn subscriptions(&self) -> Vec<Subscription> {
         AppcastLayer::subscriptions()
-            .chain(self.supervisor.subscriptions().into_iter().map(Subscription::var))
+            .chain(
+                self.supervisor
+                    .subscriptions()
+                    .into_iter()
+                    .map(Subscription::var),
+            )
             .collect()
     }
 
@@ -139,7 +144,13 @@ mod tests {
         let mut app = SafetyApp::new("pSafety", b);
         assert!(app.errors().is_empty() && app.malconfig().is_empty());
         let subs: Vec<String> = app.subscriptions().into_iter().map(|s| s.pattern).collect();
-        for v in ["APPCAST_REQ", "LEAK", "NAV_DEPTH", "MOOS_MANUAL_OVERRIDE", "SAFETY_RESET"] {
+        for v in [
+            "APPCAST_REQ",
+            "LEAK",
+            "NAV_DEPTH",
+            "MOOS_MANUAL_OVERRIDE",
+            "SAFETY_RESET",
+        ] {
             assert!(subs.contains(&v.to_string()), "{v}: {subs:?}");
         }
         let mut out = Vec::new();
@@ -148,10 +159,17 @@ mod tests {
         app.on_mail(&[m], 1.0, &mut out).unwrap();
         out.clear();
         app.iterate(1.0, &mut out).unwrap();
-        let get = |k: &str| out.iter().rev().find(|p| p.key == k).map(|p| p.value.clone());
+        let get = |k: &str| {
+            out.iter()
+                .rev()
+                .find(|p| p.key == k)
+                .map(|p| p.value.clone())
+        };
         assert_eq!(get("MOOS_MANUAL_OVERRIDE"), Some(Value::text("true")));
         assert_eq!(get("SAFETY_MODE"), Some(Value::text("SURFACE")));
-        let cast = get("APPCAST").and_then(|v| v.as_str().map(String::from)).unwrap();
+        let cast = get("APPCAST")
+            .and_then(|v| v.as_str().map(String::from))
+            .unwrap();
         assert!(cast.contains("trigger=leak"), "{cast}");
         assert!(cast.contains("LATCHED"), "{cast}");
     }

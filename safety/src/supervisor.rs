@@ -590,29 +590,26 @@ impl Supervisor {
                 notes,
             );
         }
-        if s.direct {
-            self.actuators(self.cfg.surface_thrust, self.cfg.surface_elevator, out);
-        }
-        match self.depth() {
-            Some(d) if d < self.cfg.surface_depth => {
-                let up = *s.up_since.get_or_insert(now);
-                self.surfacing = Some(s);
-                if now - up >= self.cfg.surface_hold {
-                    self.enter(Phase::Disarmed, now, out, notes);
-                    self.actuators(0.0, 0.0, out);
-                }
-                return;
-            }
-            _ => s.up_since = None,
+        let up = match self.depth() {
+            Some(d) if d < self.cfg.surface_depth => Some(*s.up_since.get_or_insert(now)),
+            _ => None,
+        };
+        if up.is_none() {
+            s.up_since = None;
         }
         self.surfacing = Some(s);
-        if now - s.since >= self.cfg.surface_timeout {
-            notes.push(Notice::Warning(format!(
-                "not confirmed at the surface after {:.0} s: disarmed anyway",
-                now - s.since
-            )));
+        let timed_out = now - s.since >= self.cfg.surface_timeout;
+        if up.is_some_and(|u| now - u >= self.cfg.surface_hold) || timed_out {
+            if up.is_none() {
+                notes.push(Notice::Warning(format!(
+                    "not confirmed at the surface after {:.0} s: disarmed anyway",
+                    now - s.since
+                )));
+            }
             self.enter(Phase::Disarmed, now, out, notes);
             self.actuators(0.0, 0.0, out);
+        } else if s.direct {
+            self.actuators(self.cfg.surface_thrust, self.cfg.surface_elevator, out);
         }
     }
 
