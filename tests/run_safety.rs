@@ -414,3 +414,185 @@ fn a_bad_rule_keeps_the_vehicle_from_deploying() {
         Some("ManualOverride")
     );
 }
+
+/// An app that dies at `at`: from then on it neither reads nor posts (not even its
+/// `<APP>_STATUS`: the scheduler drops a finished app from the community).
+struct KilledAt {
+    inner: Box<dyn runtime::App>,
+    at: f64,
+    dead: bool,
+}
+
+impl runtime::App for KilledAt {
+    fn name(&self) -> &str {
+        self.inner.name()
+    }
+    fn process_config(&self) -> Option<&mission::moos::ProcessConfig> {
+        self.inner.process_config()
+    }
+    fn app_tick(&self) -> f64 {
+        self.inner.app_tick()
+    }
+    fn subscriptions(&self) -> Vec<runtime::Subscription> {
+        self.inner.subscriptions()
+    }
+    fn new_subscriptions(&mut self) -> Vec<runtime::Subscription> {
+        self.inner.new_subscriptions()
+    }
+    fn on_startup(&mut self, now: f64, out: &mut Vec<runtime::Post>) -> runtime::AppResult {
+        self.inner.on_startup(now, out)
+    }
+    fn on_mail(
+        &mut self,
+        mail: &[runtime::Mail],
+        now: f64,
+        out: &mut Vec<runtime::Post>,
+    ) -> runtime::AppResult {
+        if self.dead {
+            return Ok(());
+        }
+        self.inner.on_mail(mail, now, out)
+    }
+    fn iterate(&mut self, now: f64, out: &mut Vec<runtime::Post>) -> runtime::AppResult {
+        if now >= self.at {
+            self.dead = true;
+            return Ok(());
+        }
+        self.inner.iterate(now, out)
+    }
+    fn finished(&self) -> bool {
+        self.dead
+    }
+}
+
+/// One sample of the DB every 0.25 s.
+struct Sample {
+    t: f64,
+    depth: f64,
+    thrust: f64,
+    mode: String,
+}
+
+/// Runs the test mission in lockstep with the helm killed at `helm_dies` s and pSafety
+/// killed at `safety_dies` s (0: never runs); returns the samples and every SAFETY_EVENT.
+fn run_with_kills(macros: &[&str], helm_dies: f64, safety_dies: f64) -> (Vec<Sample>, Vec<String>) {
+    use runtime::antler::{Built, Launch, MissionGlobals};
+    const START: f64 = 1_786_000_000.0;
+    let macros: Vec<String> = macros.iter().map(|m| m.to_string()).collect();
+    let loaded = runtime::session::load(&mission(), &macros, &[]).expect("loads");
+    let m = loaded.mission.clone();
+    let (globals, _) = MissionGlobals::from_mission(&m);
+    let files = loaded.helm_files();
+    let plan = runtime::antler::plan(
+        &m,
+        Launch::new(START, 1).with_helm_files(files.clone()),
+        &mut |run, _| {
+            let dies = match run.app.as_str() {
+                "pHelmIvP" => helm_dies,
+                "pSafety" => safety_dies,
+                _ => return None,
+            };
+            let mut launch = Launch::new(START, 1).with_helm_files(files.clone());
+            let built = runtime::antler::build(
+                &run.app,
+                run.moos_name(),
+                &m,
+                &globals,
+                &mut launch,
+                &mut Vec::new(),
+            );
+            Some(match built {
+                Ok(Built::App(inner)) => Ok(Box::new(KilledAt {
+                    inner,
+                    at: START + dies,
+                    dead: false,
+                }) as Box<dyn runtime::App>),
+                _ => Err("not built".to_string()),
+            })
+        },
+    )
+    .expect("plans");
+    let mut s = runtime::Scheduler::new(
+        runtime::Bus::new(&plan.globals.community, START),
+        runtime::VirtualClock,
+        START,
+    );
+    for app in plan.apps {
+        s.add_app(app).unwrap();
+    }
+    for p in ["DEPLOY=true", "MOOS_MANUAL_OVERRIDE=false"] {
+        s.add_poke(runtime::Poke::parse(p, "pHelmIvP").unwrap())
+            .unwrap();
+    }
+    s.tap("SAFETY_EVENT");
+    let num = |s: &runtime::Scheduler, k: &str| s.current(k).and_then(|v| v.as_f64());
+    let mut samples = Vec::new();
+    let mut events = Vec::new();
+    for i in 1..=(140 * 4) {
+        let t = f64::from(i) * 0.25;
+        assert!(s.advance(START + t).unwrap().is_none());
+        events.extend(
+            s.take_taps()
+                .into_iter()
+                .filter_map(|p| p.value.as_str().map(String::from)),
+        );
+        samples.push(Sample {
+            t,
+            depth: num(&s, "NAV_DEPTH").unwrap_or(0.0),
+            thrust: num(&s, "DESIRED_THRUST").unwrap_or(0.0),
+            mode: s
+                .current("SAFETY_MODE")
+                .and_then(|v| v.as_str().map(String::from))
+                .unwrap_or_default(),
+        });
+    }
+    (samples, events)
+}
+
+#[test]
+fn a_helm_killed_mid_dive_is_surfaced_on_the_actuators() {
+    // Surfacing is configured through the helm; the helm is the failure, so pSafety takes
+    // the actuators at once.
+    let (samples, events) = run_with_kills(&["SURFACE_VIA=helm"], 60.0, 1e9);
+    let at = |t: f64| samples.iter().find(|s| s.t >= t).unwrap();
+    assert!(at(60.0).depth > 3.0, "mid-dive: {}", at(60.0).depth);
+    // Silent for more than 5 s: the last status at 58-60 s, the trigger by 66 s.
+    let trig = events
+        .iter()
+        .position(|e| e.starts_with("trigger=helm,action=surface_disarm"))
+        .unwrap_or_else(|| panic!("{events:?}"));
+    assert!(
+        events[trig].contains("pHelmIvP silent for"),
+        "{}",
+        events[trig]
+    );
+    assert!(
+        events[trig + 1].starts_with("mode=SURFACE,via=actuators,helm_failed=pHelmIvP silent for"),
+        "{events:?}"
+    );
+    let surfacing = samples.iter().find(|s| s.mode == "SURFACE").unwrap().t;
+    assert!((65.0..=66.5).contains(&surfacing), "{surfacing}");
+    let up = samples
+        .iter()
+        .find(|s| s.t > 60.0 && s.depth < 0.3)
+        .unwrap()
+        .t;
+    assert!(up - surfacing <= 15.0, "up at {up}");
+    let disarmed = samples.iter().find(|s| s.mode == "DISARMED").unwrap().t;
+    assert!(disarmed - up <= 6.0, "disarmed at {disarmed}");
+    assert!(
+        samples
+            .iter()
+            .filter(|s| s.t >= disarmed)
+            .all(|s| s.thrust == 0.0 && s.depth < 0.3)
+    );
+
+    // The same failure without pSafety: the PID sees a tardy helm and stops; the vehicle
+    // drifts up on its buoyancy alone and is still deep at the end.
+    let (alone, events) = run_with_kills(&[], 60.0, 0.0);
+    assert!(events.is_empty(), "{events:?}");
+    let at = |t: f64| alone.iter().find(|s| s.t >= t).unwrap();
+    assert!(at(60.0).depth > 3.0);
+    assert!(at(100.0).depth > 2.0, "{}", at(100.0).depth);
+    assert!(at(140.0).depth > 1.0, "{}", at(140.0).depth);
+}

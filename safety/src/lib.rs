@@ -84,7 +84,7 @@
 //! |---|---|---|
 //! | `SAFETY_MODE` | at start and on change | `OK`, `WARN`, `RETURN`, `ALLSTOP`, `SURFACE`, `DISARMED`, `MALCONFIG` |
 //! | `SAFETY_HEALTH` | at start and on change | the health word, a double (bits below) |
-//! | `SAFETY_EVENT` | each trigger, release and phase change | `trigger=NAME,action=A,priority=P,reason=COND (seen)`, `clear=NAME,by=cleared\|reset`, `mode=SURFACE,via=actuators\|helm`, `mode=DISARMED,depth=D,after=S`, `helm_failed=WHY,mode=SURFACE,via=actuators`, `mode=M` |
+//! | `SAFETY_EVENT` | each trigger, release and phase change | `trigger=NAME,action=A,priority=P,reason=COND (seen)`, `clear=NAME,by=cleared\|reset`, `mode=SURFACE,via=actuators\|helm` (`,helm_failed=WHY` when the helm had already failed), `mode=DISARMED,depth=D,after=S`, `helm_failed=WHY,mode=SURFACE,via=actuators`, `mode=M` |
 //! | `override_var`, `thrust_var`, `elevator_var`, `rudder_var`, flags | as the actions say | |
 //!
 //! # Health word (`SAFETY_HEALTH`)

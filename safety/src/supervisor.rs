@@ -502,19 +502,30 @@ impl Supervisor {
                 self.event("mode=ALLSTOP".into(), out, notes);
             }
             Phase::Surfacing => {
-                let direct = self.cfg.surface_via == SurfaceVia::Direct || self.taken_over;
-                self.surfacing = Some(Surfacing {
+                let mut s = Surfacing {
                     since: now,
                     start_depth: self.depth(),
-                    direct,
+                    direct: self.cfg.surface_via == SurfaceVia::Direct || self.taken_over,
                     up_since: None,
-                });
-                if direct {
+                };
+                // A helm that has already failed is not asked.
+                let failed = if s.direct {
+                    None
+                } else {
+                    self.helm_failure(&s, now)
+                };
+                s.direct |= failed.is_some();
+                self.surfacing = Some(s);
+                if s.direct {
                     self.take_over(out);
                 }
                 Self::post_flags(&self.cfg.surface_flags, out);
-                let via = if direct { "actuators" } else { "helm" };
-                self.event(format!("mode=SURFACE,via={via}"), out, notes);
+                let text = match (s.direct, failed) {
+                    (_, Some(why)) => format!("mode=SURFACE,via=actuators,helm_failed={why}"),
+                    (true, None) => "mode=SURFACE,via=actuators".to_string(),
+                    (false, None) => "mode=SURFACE,via=helm".to_string(),
+                };
+                self.event(text, out, notes);
             }
             Phase::Disarmed => {
                 self.take_over(out);
