@@ -69,9 +69,10 @@ pub struct SafetyConfig {
     pub helm_timeout: f64,
     /// `helm_grace`: s the helm has to raise the vehicle by 0.5 m (60).
     pub helm_grace: f64,
-    /// `override_var`: MOOS_MANUAL_OVERRIDE.
+    /// `override_var`: MOOS_MANUAL_OVERRIDE (empty: `none`, never posted).
     pub override_var: String,
-    /// `thrust_var`, `elevator_var`, `rudder_var`: the actuators (DESIRED_THRUST, ...).
+    /// `thrust_var`, `elevator_var`, `rudder_var`: the actuators (DESIRED_THRUST, ...;
+    /// empty: `none`, never posted).
     pub thrust_var: String,
     /// See `thrust_var`.
     pub elevator_var: String,
@@ -89,6 +90,8 @@ pub struct SafetyConfig {
     pub return_flags: Vec<Flag>,
     /// `clear_flag`: posted when every rule has let go (e.g. `RETURN=false`).
     pub clear_flags: Vec<Flag>,
+    /// `allstop_flag`: posted when an all-stop starts (e.g. `COUG_ARM=false`).
+    pub allstop_flags: Vec<Flag>,
 }
 
 impl Default for SafetyConfig {
@@ -113,6 +116,7 @@ impl Default for SafetyConfig {
             disarm_flags: Vec::new(),
             return_flags: Vec::new(),
             clear_flags: Vec::new(),
+            allstop_flags: Vec::new(),
         }
     }
 }
@@ -173,10 +177,23 @@ impl SafetyConfig {
                     }
                 },
                 "depth_var" => word.map(|w| c.depth_var = w).is_some(),
-                "override_var" => word.map(|w| c.override_var = w).is_some(),
-                "thrust_var" => word.map(|w| c.thrust_var = w).is_some(),
-                "elevator_var" => word.map(|w| c.elevator_var = w).is_some(),
-                "rudder_var" => word.map(|w| c.rudder_var = w).is_some(),
+                "override_var" | "thrust_var" | "elevator_var" | "rudder_var" => {
+                    // `none`: not posted (e.g. pCougControls stops on the override).
+                    let w = word.map(|w| {
+                        if w.eq_ignore_ascii_case("none") {
+                            String::new()
+                        } else {
+                            w
+                        }
+                    });
+                    let slot = match key.as_str() {
+                        "override_var" => &mut c.override_var,
+                        "thrust_var" => &mut c.thrust_var,
+                        "elevator_var" => &mut c.elevator_var,
+                        _ => &mut c.rudder_var,
+                    };
+                    w.map(|w| *slot = w).is_some()
+                }
                 "helm_app" => word.map(|w| c.helm_app = w).is_some(),
                 "surface_depth" => num
                     .filter(|x| *x > 0.0)
@@ -214,13 +231,14 @@ impl SafetyConfig {
                     }
                     _ => false,
                 },
-                "surface_flag" | "disarm_flag" | "return_flag" | "clear_flag" => {
+                "surface_flag" | "disarm_flag" | "return_flag" | "clear_flag" | "allstop_flag" => {
                     match Flag::parse(value) {
                         Some(f) => {
                             match key.as_str() {
                                 "surface_flag" => c.surface_flags.push(f),
                                 "disarm_flag" => c.disarm_flags.push(f),
                                 "return_flag" => c.return_flags.push(f),
+                                "allstop_flag" => c.allstop_flags.push(f),
                                 _ => c.clear_flags.push(f),
                             }
                             true

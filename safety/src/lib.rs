@@ -61,7 +61,8 @@
 //!   `depth_var` has stayed under `surface_depth` for `surface_hold` seconds (CoUGARs: 0.1 m,
 //!   checked every 5 s), or after `surface_timeout`, the thruster is disarmed: thrust,
 //!   elevator and rudder 0 every iteration and the `disarm_flag`s (e.g. `COUG_ARM=false`).
-//! - `allstop`: the manual override and the actuators held at 0 every iteration.
+//! - `allstop`: the manual override, the `allstop_flag`s once, and the actuators held at 0
+//!   every iteration.
 //! - `return`: the `return_flag`s once (the `.bhv` takes the vehicle home).
 //! - `warn`: a SAFETY_EVENT and an appcast run warning.
 //!
@@ -69,6 +70,24 @@
 //! actuators; it never lifts the override nor re-arms by itself (the operator resumes). While
 //! pSafety holds the override, a `MOOS_MANUAL_OVERRIDE = false` from anyone is answered by
 //! `true` again.
+//!
+//! Any of `override_var`, `thrust_var`, `elevator_var`, `rudder_var` may be `none` (never
+//! posted). A CougUV under pCougControls (`vehicle::cougars::CougarsControl`: it stops on
+//! `MOOS_MANUAL_OVERRIDE = true`, forces the fins-up command on `COUG_SURFACE = true` while
+//! keeping the controller's thrust, and disarms on `COUG_ARM = false`) surfaces as the CoUGARs
+//! emergency node did, swimming up with its fins up, with the helm dead or alive:
+//!
+//! ```text
+//! override_var = none
+//! thrust_var   = none
+//! elevator_var = none
+//! rudder_var   = none
+//! surface_flag = COUG_SURFACE=true
+//! disarm_flag  = COUG_ARM=false
+//! allstop_flag = COUG_ARM=false
+//! ```
+//!
+//! (the thruster then stays disarmed: the vehicle comes up on its positive buoyancy).
 //!
 //! # Configuration errors
 //!

@@ -252,7 +252,9 @@ impl Supervisor {
             RESET_VAR,
             HELM_STATE_VAR,
         ] {
-            add(s);
+            if !s.is_empty() {
+                add(s);
+            }
         }
         v
     }
@@ -275,7 +277,10 @@ impl Supervisor {
         if key == HELM_STATE_VAR && source == self.cfg.helm_app {
             self.helm_state = value.as_str().map(str::to_string);
         }
-        if key == self.cfg.override_var && as_bool(value) == Some(false) {
+        if !self.cfg.override_var.is_empty()
+            && key == self.cfg.override_var
+            && as_bool(value) == Some(false)
+        {
             self.override_released = true;
         }
         self.values.insert(key.to_string(), (value.clone(), time));
@@ -286,7 +291,7 @@ impl Supervisor {
     pub fn start(&mut self, now: f64, out: &mut Vec<Post>, notes: &mut Vec<Notice>) {
         self.start = Some(now);
         if self.malconfig() {
-            out.push(Post::text(self.cfg.override_var.as_str(), "true"));
+            self.post_override(out);
             for e in &self.errors {
                 notes.push(Notice::Warning(format!("MALCONFIG: {e}")));
             }
@@ -433,17 +438,29 @@ impl Supervisor {
         }
     }
 
+    fn post_override(&self, out: &mut Vec<Post>) {
+        if !self.cfg.override_var.is_empty() {
+            out.push(Post::text(self.cfg.override_var.as_str(), "true"));
+        }
+    }
+
     fn take_over(&mut self, out: &mut Vec<Post>) {
         if !self.taken_over {
-            out.push(Post::text(self.cfg.override_var.as_str(), "true"));
+            self.post_override(out);
             self.taken_over = true;
         }
     }
 
     fn actuators(&self, thrust: f64, elevator: f64, out: &mut Vec<Post>) {
-        out.push(Post::double(self.cfg.thrust_var.as_str(), thrust));
-        out.push(Post::double(self.cfg.elevator_var.as_str(), elevator));
-        out.push(Post::double(self.cfg.rudder_var.as_str(), 0.0));
+        for (var, x) in [
+            (&self.cfg.thrust_var, thrust),
+            (&self.cfg.elevator_var, elevator),
+            (&self.cfg.rudder_var, 0.0),
+        ] {
+            if !var.is_empty() {
+                out.push(Post::double(var.as_str(), x));
+            }
+        }
     }
 
     /// Why the helm cannot be trusted to bring the vehicle up, if it cannot.
@@ -498,6 +515,7 @@ impl Supervisor {
             }
             Phase::AllStop => {
                 self.take_over(out);
+                Self::post_flags(&self.cfg.allstop_flags, out);
                 self.surfacing = None;
                 self.event("mode=ALLSTOP".into(), out, notes);
             }
@@ -574,7 +592,7 @@ impl Supervisor {
             _ => {}
         }
         if self.override_released && (self.taken_over || self.malconfig()) {
-            out.push(Post::text(self.cfg.override_var.as_str(), "true"));
+            self.post_override(out);
             let why = if self.malconfig() {
                 "MALCONFIG: deployment refused"
             } else {

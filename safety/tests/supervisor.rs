@@ -442,3 +442,61 @@ proptest! {
         prop_assert!(body.starts_with("Mode: "));
     }
 }
+
+#[test]
+fn a_couguv_surfaces_through_pcougcontrols_flags_only() {
+    let b = {
+        let src = mission::source::SourceMap::from_text(
+            "c.moos",
+            "ProcessConfig = pSafety\n{\n  rule = leak: LEAK == true -> surface_disarm\n  \
+             rule = ahrs: stale(AHRS_HEADING) > 2 -> allstop\n  override_var = none\n  \
+             thrust_var = none\n  elevator_var = NONE\n  rudder_var = none\n  \
+             surface_flag = COUG_SURFACE=true\n  disarm_flag = COUG_ARM=false\n  \
+             allstop_flag = COUG_ARM=false\n}\n",
+        );
+        mission::moos::parse_moos(&src).value.processes[0].clone()
+    };
+    let (cfg, errors) = SafetyConfig::from_block(&b);
+    assert!(errors.is_empty(), "{errors:?}");
+    let mut s = Supervisor::new(cfg.clone(), Vec::new());
+    assert!(
+        !s.subscriptions()
+            .iter()
+            .any(|v| v.is_empty() || v == "MOOS_MANUAL_OVERRIDE")
+    );
+    started(&mut s, 0.0);
+    s.on_mail("AHRS_HEADING", &Value::Double(90.0), "iSeaTrac", 1.0);
+    s.on_mail("NAV_DEPTH", &Value::Double(3.0), "pNavGraph", 1.0);
+    s.on_mail("LEAK", &Value::text("true"), "iTeensy", 1.0);
+    let out = step(&mut s, 1.0);
+    let keys: Vec<&str> = out.iter().map(|p| &*p.key).collect();
+    assert_eq!(
+        keys,
+        [
+            "SAFETY_EVENT",
+            "COUG_SURFACE",
+            "SAFETY_EVENT",
+            "SAFETY_MODE",
+            "SAFETY_HEALTH"
+        ]
+    );
+    s.on_mail("AHRS_HEADING", &Value::Double(90.0), "iSeaTrac", 2.0);
+    s.on_mail("NAV_DEPTH", &Value::Double(0.1), "pNavGraph", 2.0);
+    step(&mut s, 2.0);
+    s.on_mail("AHRS_HEADING", &Value::Double(90.0), "iSeaTrac", 7.0);
+    let out = step(&mut s, 7.0);
+    assert_eq!(s.phase(), Phase::Disarmed);
+    assert_eq!(find(&out, "COUG_ARM"), Some(&Value::text("false")));
+    assert!(
+        out.iter()
+            .all(|p| !p.key.starts_with("DESIRED_") && p.key != "MOOS_MANUAL_OVERRIDE")
+    );
+
+    // An all-stop disarms through its flag.
+    let mut s = Supervisor::new(cfg, Vec::new());
+    started(&mut s, 0.0);
+    let out = step(&mut s, 2.5);
+    assert_eq!(s.phase(), Phase::AllStop);
+    assert_eq!(find(&out, "COUG_ARM"), Some(&Value::text("false")));
+    assert!(out.iter().all(|p| !p.key.starts_with("DESIRED_")));
+}
