@@ -596,3 +596,29 @@ fn a_helm_killed_mid_dive_is_surfaced_on_the_actuators() {
     assert!(at(100.0).depth > 2.0, "{}", at(100.0).depth);
     assert!(at(140.0).depth > 1.0, "{}", at(140.0).depth);
 }
+
+#[test]
+fn check_and_run_report_a_bad_rule_at_its_line() {
+    let loaded = runtime::session::load(
+        &mission(),
+        &["RULE=bad: LEAK = true -> surface_disarm".to_string()],
+        &[],
+    )
+    .expect("loads");
+    let v = runtime::session::validate(&loaded);
+    assert!(v.errors.is_empty(), "{:?}", v.errors);
+    let (app, why) = v
+        .malconfig
+        .iter()
+        .find(|(a, _)| a == "pSafety")
+        .expect("pSafety is MALCONFIG");
+    assert_eq!(app, "pSafety");
+    assert_eq!(why.len(), 1, "{why:?}");
+    assert!(
+        why[0].ends_with("safety.moos:148: pSafety: rule `bad: LEAK = true -> surface_disarm`: bad operator in `LEAK = true`: use one of == != < <= > >="),
+        "{why:?}"
+    );
+    // The good mission has none.
+    let loaded = runtime::session::load(&mission(), &[], &[]).unwrap();
+    assert!(runtime::session::validate(&loaded).malconfig.is_empty());
+}
