@@ -390,7 +390,7 @@ fn value() -> impl Strategy<Value = Value> {
             "x y",
         ])
         .prop_map(Value::text),
-        prop::collection::vec(any::<u8>(), 0..8).prop_map(|b| Value::Binary(b.into())),
+        prop::collection::vec(any::<u8>(), 0..8).prop_map(Value::Binary),
     ]
 }
 
@@ -428,7 +428,7 @@ proptest! {
                 for p in &out {
                     if p.key == "SAFETY_HEALTH" {
                         let h = p.value.as_f64().unwrap();
-                        prop_assert!(h >= 0.0 && h < 65536.0 && h.fract() == 0.0);
+                        prop_assert!((0.0..65536.0).contains(&h) && h.fract() == 0.0);
                     }
                 }
                 let h = s.health();
