@@ -424,8 +424,14 @@ fn bhv_posts(b: &BehaviorFile, known: &mut HashSet<String>) {
 }
 
 /// Variables a `.moos` file's processes post, as far as their configuration tells:
-/// `NAME=value` pairs (upper-case names) and `var=NAME` / `alias=NAME` pairs.
+/// `NAME=value` pairs (upper-case names) and `var=NAME` / `alias=NAME` pairs; a pSafety
+/// block adds the supervisor's words (`SAFETY_MODE`, `SAFETY_HEALTH`, `SAFETY_EVENT`).
 fn moos_posts(m: &MissionFile, known: &mut HashSet<String>) {
+    for block in &m.processes {
+        if block.name.starts_with("pSafety") {
+            known.extend(["SAFETY_MODE", "SAFETY_HEALTH", "SAFETY_EVENT"].map(String::from));
+        }
+    }
     for p in m.processes.iter().flat_map(|p| p.entries.iter()) {
         scan_assignments(&p.value, known);
     }

@@ -3,7 +3,7 @@
 //!
 //! The apps coug builds in are one registry, [`BUILT_INS`]: `MOOSDB` (the bus itself),
 //! `pHelmIvP`, `uSimMarine(V22)`, `pMarinePID(V22)`, `pNodeReporter`, `pLogger`,
-//! `uTimerScript`, `uSimSensors` and `pNavGraph`. A caller's `custom` factory is asked first for every
+//! `uTimerScript`, `uSimSensors`, `pNavGraph` and `pSafety`. A caller's `custom` factory is asked first for every
 //! `Run` line (tests with in-memory behaviours, user apps); what nobody builds is listed in
 //! [`Plan::external`] for the caller to start from PATH (real time) or skip with a warning
 //! (lockstep). Each app reads the `ProcessConfig` block of its MOOS name (the alias after
@@ -359,6 +359,12 @@ pub const BUILT_INS: &[BuiltIn] = &[
         reads_block: true,
         make: make_navigator,
     },
+    BuiltIn {
+        program: "pSafety",
+        what: "the safety supervisor (rules: leak, battery, depth, stale sensors, navigation, comms, silent apps)",
+        reads_block: true,
+        make: make_safety,
+    },
 ];
 
 /// The built-in app run by `program` (a path or base name), if coug builds it in.
@@ -454,6 +460,13 @@ fn make_navigator(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let app = crate::navigator::NavApp::new(cx.moos_name, b, cx.globals.grid())
         .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
     cx.warnings.extend(app.warnings().iter().cloned());
+    Ok(Built::App(Box::new(app)))
+}
+
+fn make_safety(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    let b = cx.block_or_empty();
+    let app = crate::safety::SafetyApp::new(cx.moos_name, b)
+        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
     Ok(Built::App(Box::new(app)))
 }
 
