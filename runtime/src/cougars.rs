@@ -303,3 +303,127 @@ impl App for CougUvSimApp {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn block(text: &str) -> ProcessConfig {
+        crate::testing::block("c.moos", text)
+    }
+
+    fn mail(key: &str, value: Value, time: f64) -> Mail {
+        crate::testing::mail(key, value, time, "pHelmIvP")
+    }
+
+    #[test]
+    fn the_loop_rate_comes_from_the_apptick_or_the_timer_period() {
+        let app = CougControlsApp::new(
+            "pCougControls",
+            block("ProcessConfig = pCougControls\n{\n  vehicle = coug1\n}\n"),
+        );
+        assert_eq!(app.app_tick(), 12.5, "80 ms, the vehicle's period");
+        assert!(app.warnings().is_empty());
+        let app = CougControlsApp::new(
+            "pCougControls",
+            block("ProcessConfig = pCougControls\n{\n  timer_period = 50\n}\n"),
+        );
+        assert_eq!(app.app_tick(), 20.0);
+        let app = CougControlsApp::new(
+            "pCougControls",
+            block(
+                "ProcessConfig = pCougControls\n{\n  AppTick = 10\n  timer_period = 80\n  \
+                 colour = red\n  pitch_kp = fast\n}\n",
+            ),
+        );
+        assert_eq!(app.app_tick(), 10.0);
+        assert_eq!(app.controls().config().cougars.timer_period_ms, 100.0);
+        let w: Vec<String> = app.warnings().iter().map(Diagnostic::located).collect();
+        assert_eq!(w.len(), 3, "{w:?}");
+        assert!(w[0].contains("c.moos:5") && w[0].contains("colour"), "{w:?}");
+        assert!(w[1].contains("c.moos:6") && w[1].contains("pitch_kp"), "{w:?}");
+        assert!(
+            w[2].contains("c.moos:4") && w[2].contains("disagrees with AppTick 10"),
+            "{w:?}"
+        );
+    }
+
+    #[test]
+    fn controls_and_simulator_close_the_loop_through_the_bus_names() {
+        let mut ctl = CougControlsApp::new(
+            "pCougControls",
+            block(
+                "ProcessConfig = pCougControls\n{\n  AppTick = 12.5\n  vehicle = coug1\n  \
+                 speed_factor = 50\n}\n",
+            ),
+        )
+        .with_appcast_globals(Some("abe"), 1.0);
+        let mut sim = CougUvSimApp::new(
+            "uSimCougUV",
+            block("ProcessConfig = uSimCougUV\n{\n  prefix = NAV\n  start_pos = heading=0\n}\n"),
+            None,
+        )
+        .with_appcast_globals(Some("abe"), 1.0);
+        let subs: Vec<String> = ctl.subscriptions().into_iter().map(|s| s.pattern).collect();
+        for v in ["DESIRED_HEADING", "NAV_PITCH", "DEPLOY", "MOOS_MANUAL_OVERRIDE"] {
+            assert!(subs.contains(&v.to_string()), "{v}: {subs:?}");
+        }
+        let mut out = Vec::new();
+        ctl.on_startup(0.0, &mut out).unwrap();
+        sim.on_startup(0.0, &mut out).unwrap();
+        let arm = [
+            mail("DEPLOY", Value::text("true"), 0.0),
+            mail("MOOS_MANUAL_OVERRIDE", Value::text("false"), 0.0),
+        ];
+        ctl.on_mail(&arm, 0.0, &mut out).unwrap();
+        // The helm wants east at 1 m/s on the surface; the simulator's NAV_* feed back.
+        let mut nav: Vec<Post> = Vec::new();
+        for k in 1..=1250 {
+            let t = f64::from(k) * 0.08;
+            let mut m: Vec<Mail> = [
+                ("DESIRED_HEADING", 90.0),
+                ("DESIRED_SPEED", 1.0),
+                ("DESIRED_DEPTH", 0.0),
+            ]
+            .iter()
+            .map(|(k, v)| mail(k, Value::Double(*v), t))
+            .collect();
+            m.extend(nav.drain(..).map(|p| mail(&p.key, p.value, t)));
+            ctl.on_mail(&m, t, &mut out).unwrap();
+            let mut cmds = Vec::new();
+            ctl.iterate(t, &mut cmds).unwrap();
+            let cm: Vec<Mail> = cmds
+                .into_iter()
+                .map(|p| crate::testing::mail(&p.key, p.value, t, "pCougControls"))
+                .collect();
+            sim.on_mail(&cm, t, &mut out).unwrap();
+            sim.iterate(t, &mut nav).unwrap();
+            nav.retain(|p| p.key.starts_with("NAV_"));
+        }
+        let truth = sim.sim().truth();
+        assert!(
+            (truth.body.heading - 90.0).abs() < 2.0,
+            "{}",
+            truth.body.heading
+        );
+        assert!((truth.body.surge - 1.0).abs() < 0.01, "{}", truth.body.surge);
+        assert!(truth.x > 50.0, "{}", truth.x);
+        assert_eq!(ctl.controls().mode(), &vehicle::cougars::ControlsMode::Active);
+        // Appcasts on request, with the controller's and the simulator's bodies.
+        let req = "node=abe,app=all,duration=3,key=k,thresh=any";
+        let mut out = Vec::new();
+        for app in [&mut ctl as &mut dyn App, &mut sim] {
+            app.on_mail(&[mail("APPCAST_REQ", Value::text(req), 100.1)], 100.1, &mut out)
+                .unwrap();
+            app.iterate(100.16, &mut out).unwrap();
+        }
+        let casts: Vec<appcast::AppCast> = out
+            .iter()
+            .filter(|p| p.key == "APPCAST")
+            .map(|p| appcast::AppCast::parse(p.value.as_str().unwrap()))
+            .collect();
+        assert_eq!(casts.len(), 2);
+        assert!(casts[0].messages().contains("Mode: active"), "{}", casts[0].messages());
+        assert!(casts[1].messages().contains("NAV: x="), "{}", casts[1].messages());
+    }
+}
