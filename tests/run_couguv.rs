@@ -141,7 +141,10 @@ fn couguv_sim_completes_its_survey_with_the_cascade_in_the_loop() {
     let heading_rms = rms(&heading_err);
     let control_rms = rms(&control_err);
     assert!(heading_rms < 2.0, "heading RMS {heading_rms}");
-    assert!(control_rms < 1.0, "heading RMS against NAV_HEADING {control_rms}");
+    assert!(
+        control_rms < 1.0,
+        "heading RMS against NAV_HEADING {control_rms}"
+    );
 
     // Up for GPS between the legs: at the surface, with fixes; none at depth.
     let up_depth = depth
@@ -149,10 +152,12 @@ fn couguv_sim_completes_its_survey_with_the_cascade_in_the_loop() {
         .filter(|p| p.0 > up.0 && p.0 < up.1)
         .fold(f64::MAX, |m, p| m.min(p.1));
     assert!(up_depth < 0.1, "surfaced only to {up_depth} m");
-    assert!(fix.iter().any(|p| p.0 > up.0 && p.0 < up.1), "no GPS fix up");
     assert!(
-        !fix
-            .iter()
+        fix.iter().any(|p| p.0 > up.0 && p.0 < up.1),
+        "no GPS fix up"
+    );
+    assert!(
+        !fix.iter()
             .any(|p| p.0 > legs[1].0 + 60.0 && p.0 < legs[1].1),
         "a fix at depth"
     );

@@ -273,7 +273,11 @@ impl App for CougUvSimApp {
 
     fn subscriptions(&self) -> Vec<Subscription> {
         AppcastLayer::subscriptions()
-            .chain(CougUvSim::subscriptions().into_iter().map(Subscription::var))
+            .chain(
+                CougUvSim::subscriptions()
+                    .into_iter()
+                    .map(Subscription::var),
+            )
             .collect()
     }
 
@@ -340,8 +344,14 @@ mod tests {
         assert_eq!(app.controls().config().cougars.timer_period_ms, 100.0);
         let w: Vec<String> = app.warnings().iter().map(Diagnostic::located).collect();
         assert_eq!(w.len(), 3, "{w:?}");
-        assert!(w[0].contains("c.moos:5") && w[0].contains("colour"), "{w:?}");
-        assert!(w[1].contains("c.moos:6") && w[1].contains("pitch_kp"), "{w:?}");
+        assert!(
+            w[0].contains("c.moos:5") && w[0].contains("colour"),
+            "{w:?}"
+        );
+        assert!(
+            w[1].contains("c.moos:6") && w[1].contains("pitch_kp"),
+            "{w:?}"
+        );
         assert!(
             w[2].contains("c.moos:4") && w[2].contains("disagrees with AppTick 10"),
             "{w:?}"
@@ -365,7 +375,12 @@ mod tests {
         )
         .with_appcast_globals(Some("abe"), 1.0);
         let subs: Vec<String> = ctl.subscriptions().into_iter().map(|s| s.pattern).collect();
-        for v in ["DESIRED_HEADING", "NAV_PITCH", "DEPLOY", "MOOS_MANUAL_OVERRIDE"] {
+        for v in [
+            "DESIRED_HEADING",
+            "NAV_PITCH",
+            "DEPLOY",
+            "MOOS_MANUAL_OVERRIDE",
+        ] {
             assert!(subs.contains(&v.to_string()), "{v}: {subs:?}");
         }
         let mut out = Vec::new();
@@ -406,15 +421,26 @@ mod tests {
             "{}",
             truth.body.heading
         );
-        assert!((truth.body.surge - 1.0).abs() < 0.01, "{}", truth.body.surge);
+        assert!(
+            (truth.body.surge - 1.0).abs() < 0.01,
+            "{}",
+            truth.body.surge
+        );
         assert!(truth.x > 50.0, "{}", truth.x);
-        assert_eq!(ctl.controls().mode(), &vehicle::cougars::ControlsMode::Active);
+        assert_eq!(
+            ctl.controls().mode(),
+            &vehicle::cougars::ControlsMode::Active
+        );
         // Appcasts on request, with the controller's and the simulator's bodies.
         let req = "node=abe,app=all,duration=3,key=k,thresh=any";
         let mut out = Vec::new();
         for app in [&mut ctl as &mut dyn App, &mut sim] {
-            app.on_mail(&[mail("APPCAST_REQ", Value::text(req), 100.1)], 100.1, &mut out)
-                .unwrap();
+            app.on_mail(
+                &[mail("APPCAST_REQ", Value::text(req), 100.1)],
+                100.1,
+                &mut out,
+            )
+            .unwrap();
             app.iterate(100.16, &mut out).unwrap();
         }
         let casts: Vec<appcast::AppCast> = out
@@ -423,7 +449,15 @@ mod tests {
             .map(|p| appcast::AppCast::parse(p.value.as_str().unwrap()))
             .collect();
         assert_eq!(casts.len(), 2);
-        assert!(casts[0].messages().contains("Mode: active"), "{}", casts[0].messages());
-        assert!(casts[1].messages().contains("NAV: x="), "{}", casts[1].messages());
+        assert!(
+            casts[0].messages().contains("Mode: active"),
+            "{}",
+            casts[0].messages()
+        );
+        assert!(
+            casts[1].messages().contains("NAV: x="),
+            "{}",
+            casts[1].messages()
+        );
     }
 }

@@ -1,6 +1,9 @@
 //! CoUGARs (BYU FRoSt Lab, Gen-1) controllers: heading PID to the top fin, the nested
 //! depth -> pitch -> elevator-fin cascade, fin mixing ("kinematics"), the Teensy actuator
-//! mapping to PWM microseconds, and a simple CougUV pitch/depth model to close the loop.
+//! mapping to PWM microseconds, and a simple CougUV pitch/depth/heading model to close the loop
+//! ([`crate::couguv`] flies it as a simulator). [`CougarsControl`] is the MOOS adapter of the
+//! `pCougControls` app; [`vars`] lists the variables it posts for the Teensy driver and the
+//! simulator.
 //!
 //! Conventions (as on the vehicle): depth metres positive down; heading degrees ENU
 //! (0 = east, counter-clockwise positive, -180..180); pitch degrees, positive nose down;

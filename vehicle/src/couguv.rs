@@ -298,7 +298,9 @@ impl CougUvSim {
     /// than the timeout (or before any).
     fn effective(&self, now: f64) -> UCommand {
         match self.last_cmd {
-            Some(t) if self.cfg.command_timeout_s <= 0.0 || now - t <= self.cfg.command_timeout_s => {
+            Some(t)
+                if self.cfg.command_timeout_s <= 0.0 || now - t <= self.cfg.command_timeout_s =>
+            {
                 self.cmd
             }
             _ => UCommand::default(),

@@ -409,7 +409,10 @@ fn a_heading_error_to_starboard_gives_a_starboard_turning_top_fin() {
         let out = tick(&mut c, 1.0, (des, 1.0, 0.0), (nav, 0.0, 0.0, 1.0));
         assert_eq!(c.mode(), &ControlsMode::Active);
         let top = num(&out, vars::FIN_DEFLECT_TOP_DEG);
-        assert_eq!(top, 30.0, "{des} from {nav}: kp 3 x 10 degrees to starboard");
+        assert_eq!(
+            top, 30.0,
+            "{des} from {nav}: kp 3 x 10 degrees to starboard"
+        );
         // coug1's top fin: direction +1, offset -10 in the servo frame.
         assert_eq!(num(&out, vars::FIN_TOP_DEG), 20.0);
         // To port: the other way.
@@ -436,7 +439,11 @@ fn closed_loop_the_starboard_fin_turns_the_model_clockwise() {
         s = m.step(&s, &cmd, 0.1);
     }
     // 2.5 °/s at 1 m/s (k 0.25 x 10° x 1 m/s) behind the 1 s Nomoto lag: about 2.6° in 2 s.
-    assert!(s.heading > 92.0 && s.heading < 93.0, "heading {}", s.heading);
+    assert!(
+        s.heading > 92.0 && s.heading < 93.0,
+        "heading {}",
+        s.heading
+    );
 }
 
 #[test]
@@ -457,7 +464,12 @@ fn deeper_than_desired_gives_nose_up_fins() {
     let mut c = armed(coug1());
     let mut out = Vec::new();
     for k in 1..=25 {
-        out = tick(&mut c, f64::from(k) * 0.08, (90.0, 1.0, 3.0), (90.0, 4.0, 0.0, 1.0));
+        out = tick(
+            &mut c,
+            f64::from(k) * 0.08,
+            (90.0, 1.0, 3.0),
+            (90.0, 4.0, 0.0, 1.0),
+        );
     }
     assert!(num(&out, vars::COUG_PITCH_REF_DEG) > 0.0, "{out:?}");
     let (stbd, port) = (
@@ -468,7 +480,12 @@ fn deeper_than_desired_gives_nose_up_fins() {
     // Shallower than desired: nose down.
     let mut c = armed(coug1());
     for k in 1..=25 {
-        out = tick(&mut c, f64::from(k) * 0.08, (90.0, 1.0, 3.0), (90.0, 2.0, 0.0, 1.0));
+        out = tick(
+            &mut c,
+            f64::from(k) * 0.08,
+            (90.0, 1.0, 3.0),
+            (90.0, 2.0, 0.0, 1.0),
+        );
     }
     assert!(num(&out, vars::FIN_DEFLECT_PORT_DEG) < 0.0);
     // And the model pitches nose up (MOOS pitch positive) under the first command.
@@ -484,7 +501,11 @@ fn deeper_than_desired_gives_nose_up_fins() {
     for _ in 0..30 {
         s = m.step(&s, &cmd, 0.1);
     }
-    assert!(s.pitch < -0.02, "model pitch {} (nose down positive)", s.pitch);
+    assert!(
+        s.pitch < -0.02,
+        "model pitch {} (nose down positive)",
+        s.pitch
+    );
 }
 
 #[test]
@@ -512,11 +533,19 @@ fn outputs_stay_within_the_loop_limits() {
         let top = num(&out, vars::FIN_DEFLECT_TOP_DEG);
         let port = num(&out, vars::FIN_DEFLECT_PORT_DEG);
         assert!(top.abs() <= 45.0 && port.abs() <= 30.0, "{top} {port}");
-        assert_eq!(num(&out, vars::THRUST_PCT), 100.0, "5 m/s x 50 capped at 100");
+        assert_eq!(
+            num(&out, vars::THRUST_PCT),
+            100.0,
+            "5 m/s x 50 capped at 100"
+        );
     }
     let mut c = armed(coug1());
     let out = tick(&mut c, 1.0, (200.0, 1.0, 0.0), (0.0, 0.0, 0.0, 1.0));
-    assert_eq!(num(&out, vars::FIN_DEFLECT_TOP_DEG), -45.0, "160° to port saturates");
+    assert_eq!(
+        num(&out, vars::FIN_DEFLECT_TOP_DEG),
+        -45.0,
+        "160° to port saturates"
+    );
     // max_thrust and the whole-percent truncation.
     let cfg = ControlsConfig::from_params([
         ("vehicle", "coug1"),
@@ -632,7 +661,10 @@ fn surface_command_puts_the_fins_up_and_keeps_the_thrust() {
 fn a_negative_nav_depth_is_reported_once() {
     let mut c = armed(coug1());
     tick(&mut c, 1.0, (90.0, 1.0, 3.0), (90.0, -0.2, 0.0, 1.0));
-    assert!(c.take_warnings().is_empty(), "surface noise is not an ENU z");
+    assert!(
+        c.take_warnings().is_empty(),
+        "surface noise is not an ENU z"
+    );
     tick(&mut c, 1.1, (90.0, 1.0, 3.0), (90.0, -2.5, 0.0, 1.0));
     let w = c.take_warnings();
     assert_eq!(w.len(), 1);
@@ -649,11 +681,15 @@ fn controls_config_presets_overrides_and_problems() {
     assert_eq!(c.cougars.pitch, CougarsConfig::coug2().pitch);
     assert_eq!(c.cougars.kinematics, CougarsConfig::coug2().kinematics);
     let d = ControlsConfig::from_params([("AppTick", "10")]).unwrap();
-    assert_eq!(d.cougars, CougarsConfig::default(), "no preset: declared defaults");
+    assert_eq!(
+        d.cougars,
+        CougarsConfig::default(),
+        "no preset: declared defaults"
+    );
     assert_eq!((d.speed_factor, d.max_thrust), (0.0, 100.0));
     // The gains tuned against the millisecond PID.
-    let m = ControlsConfig::from_params([("vehicle", "coug1"), ("ms_tuned_gains", "true")])
-        .unwrap();
+    let m =
+        ControlsConfig::from_params([("vehicle", "coug1"), ("ms_tuned_gains", "true")]).unwrap();
     assert!((m.cougars.pitch.ki - 0.2).abs() < 1e-12);
     assert!((m.cougars.depth.kd - 1e-6).abs() < 1e-15);
     let (c, problems) = ControlsConfig::from_params_lenient([

@@ -55,8 +55,24 @@ fn a_top_fin_turns_at_the_nomoto_rate() {
     let turned = angle180(later.body.heading - settled.body.heading);
     assert!((turned - 25.0).abs() < 0.1, "{turned}");
     // A negative fin turns to port; the fins are limited at delta_max (25°).
-    let port = run(&m, cruise, UCommand { fin: [-40.0, 0.0, 0.0], ..cmd }, 10.0);
-    let more = run(&m, port, UCommand { fin: [-40.0, 0.0, 0.0], ..cmd }, 10.0);
+    let port = run(
+        &m,
+        cruise,
+        UCommand {
+            fin: [-40.0, 0.0, 0.0],
+            ..cmd
+        },
+        10.0,
+    );
+    let more = run(
+        &m,
+        port,
+        UCommand {
+            fin: [-40.0, 0.0, 0.0],
+            ..cmd
+        },
+        10.0,
+    );
     let turned = angle180(more.body.heading - port.body.heading);
     assert!((turned + 62.5).abs() < 0.3, "{turned}");
     // A full circle (turning radius u/r = 22.9 m) comes back to where it started.
@@ -97,9 +113,7 @@ fn the_elevator_pitches_the_nose_against_the_restoring_moment() {
     );
     // Nose up at speed: rising (plus the buoyancy), slower over the ground.
     assert!(t.body.depth < 10.0 - 3.0, "depth {}", t.body.depth);
-    assert!(
-        (t.body.depth_rate - (u * t.body.pitch.sin() - m.buoyancy_rate)).abs() < 1e-9
-    );
+    assert!((t.body.depth_rate - (u * t.body.pitch.sin() - m.buoyancy_rate)).abs() < 1e-9);
     // The opposite elevator dives.
     let down = UCommand {
         fin: [0.0, 10.0, -10.0],
@@ -113,7 +127,10 @@ fn the_elevator_pitches_the_nose_against_the_restoring_moment() {
 }
 
 fn sim(params: &[(&str, &str)]) -> CougUvSim {
-    CougUvSim::new(CougUvSimConfig::from_params(params.iter().copied()).unwrap(), None)
+    CougUvSim::new(
+        CougUvSimConfig::from_params(params.iter().copied()).unwrap(),
+        None,
+    )
 }
 
 #[test]
@@ -132,7 +149,11 @@ fn the_app_flies_the_posted_fins_and_posts_the_truth_under_its_prefix() {
             .and_then(|x| x.as_f64())
             .unwrap_or_else(|| panic!("{v}"))
     };
-    assert_eq!(get(&out, "TRU_X"), 5.0, "the first iteration posts the start");
+    assert_eq!(
+        get(&out, "TRU_X"),
+        5.0,
+        "the first iteration posts the start"
+    );
     assert_eq!((get(&out, "TRU_DEPTH"), get(&out, "TRU_Z")), (2.0, -2.0));
     assert_eq!(get(&out, "TRU_ALTITUDE"), 28.0);
     assert_eq!(get(&out, "TRU_HEADING"), 90.0);
