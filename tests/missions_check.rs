@@ -11,6 +11,7 @@ fn project_missions_check_clean_and_document_their_command() {
         ("surface_survey", "survey.moos", "survey.bhv"),
         ("dive", "dive.moos", "dive.bhv"),
         ("cougUV_survey", "cougUV_survey.moos", "cougUV_survey.bhv"),
+        ("cougUV", "cougUV.moos", "cougUV.bhv"),
     ] {
         let m = project_mission(&format!("{dir}/{moos}"));
         let b = project_mission(&format!("{dir}/{bhv}"));

@@ -365,6 +365,18 @@ pub const BUILT_INS: &[BuiltIn] = &[
         reads_block: true,
         make: make_safety,
     },
+    BuiltIn {
+        program: "pCougControls",
+        what: "the CoUGARs heading and depth-pitch cascade with fin mixing (fins and thrust for the Teensy)",
+        reads_block: true,
+        make: make_coug_controls,
+    },
+    BuiltIn {
+        program: "uSimCougUV",
+        what: "the CougUV simulator (three fins and a thruster; truth as uSimMarine posts it)",
+        reads_block: true,
+        make: make_couguv_sim,
+    },
 ];
 
 /// The built-in app run by `program` (a path or base name), if coug builds it in.
@@ -467,6 +479,22 @@ fn make_safety(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
     let app = crate::safety::SafetyApp::new(cx.moos_name, b)
         .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
+    Ok(Built::App(Box::new(app)))
+}
+
+fn make_coug_controls(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    let b = cx.block_or_empty();
+    let app = crate::cougars::CougControlsApp::new(cx.moos_name, b)
+        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
+    cx.warnings.extend(app.warnings().iter().cloned());
+    Ok(Built::App(Box::new(app)))
+}
+
+fn make_couguv_sim(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    let b = cx.block_or_empty();
+    let app = crate::cougars::CougUvSimApp::new(cx.moos_name, b, cx.globals.grid())
+        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
+    cx.warnings.extend(app.warnings().iter().cloned());
     Ok(Built::App(Box::new(app)))
 }
 

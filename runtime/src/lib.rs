@@ -16,7 +16,8 @@
 //! [`helm`] (pHelmIvP), [`vehicle`] (uSimMarine(V22), pMarinePID(V22), pNodeReporter),
 //! [`timer_script`] (uTimerScript), [`logger`] (pLogger, through the `alog` crate),
 //! [`sensors`] (uSimSensors: simulated DVL, AHRS, pressure and GPS), [`safety`] (pSafety, the
-//! safety supervisor);
+//! safety supervisor), [`cougars`] (pCougControls, the CoUGARs controllers; uSimCougUV, the
+//! CougUV simulator);
 //! [`appcasting`] is libMOOS's AppCastingMOOSApp layer around the swap-in apps.
 //!
 //! After a run: [`summary`] (distance, depth, behaviour lists) and [`plot`] (SVG/PNG).
@@ -30,6 +31,7 @@ pub mod app;
 pub mod appcasting;
 pub mod bus;
 pub mod clock;
+pub mod cougars;
 pub mod helm;
 pub mod logger;
 pub mod navigator;

@@ -1,6 +1,9 @@
 //! CoUGARs (BYU FRoSt Lab, Gen-1) controllers: heading PID to the top fin, the nested
 //! depth -> pitch -> elevator-fin cascade, fin mixing ("kinematics"), the Teensy actuator
-//! mapping to PWM microseconds, and a simple CougUV pitch/depth model to close the loop.
+//! mapping to PWM microseconds, and a simple CougUV pitch/depth/heading model to close the loop
+//! ([`crate::couguv`] flies it as a simulator). [`CougarsControl`] is the MOOS adapter of the
+//! `pCougControls` app; [`vars`] lists the variables it posts for the Teensy driver and the
+//! simulator.
 //!
 //! Conventions (as on the vehicle): depth metres positive down; heading degrees ENU
 //! (0 = east, counter-clockwise positive, -180..180); pitch degrees, positive nose down;
@@ -781,59 +784,331 @@ impl CougUvModel {
     }
 }
 
-/// The controllers as a MOOS app: `DESIRED_HEADING` (compass) / `DESIRED_SPEED` (thrust %) /
-/// `DESIRED_DEPTH` and `NAV_*` in; `DESIRED_RUDDER`, `DESIRED_ELEVATOR` (positive dives, as
-/// the marine simulator expects), `DESIRED_THRUST`, the mixed fins `COUG_FIN_0..2`, and the
-/// PWM pulses `COUG_SERVO_US_0..2` / `COUG_THRUSTER_US` out.
+/// The MOOS variables of `pCougControls` (the controllers as an app, [`CougarsControl`]) and
+/// of the CougUV simulator (`uSimCougUV`, [`crate::couguv`]), shared with the Teensy driver.
 ///
-/// The loop runs at `timer_period`; call [`CougarsControl::iterate`] at that rate. Nothing is
-/// published until `MOOS_MANUAL_OVERRIDE=false` (the vehicle's start signal); going back to
-/// `true` publishes one zero command. The thruster starts armed (`COUG_ARM=false` disarms,
-/// as the `arm_thruster` service did); `COUG_SURFACE=true` forces the fins-up command;
-/// `DESIRED_DEPTH_DFB=true` switches to depth-from-bottom (`NAV_ALTITUDE`).
+/// | variable | unit | meaning | read by |
+/// |---|---|---|---|
+/// | `FIN_TOP_DEG` | deg | `$CONTR` field 1: top fin servo angle from the servo centre, after the vehicle's fin direction, offset and trim (kinematics) | `iTeensy` |
+/// | `FIN_STBD_DEG` | deg | `$CONTR` field 2: starboard fin, as `FIN_TOP_DEG` | `iTeensy` |
+/// | `FIN_PORT_DEG` | deg | `$CONTR` field 3: port fin, as `FIN_TOP_DEG` | `iTeensy` |
+/// | `THRUST_PCT` | % | `$CONTR` field 4: thruster, a whole number in −100..100; 0 when not armed | `iTeensy`, `uSimCougUV` |
+/// | `FIN_DEFLECT_TOP_DEG` | deg | the physical top fin (rudder) deflection commanded, before the kinematics: positive turns the vehicle to starboard (clockwise seen from above) | `uSimCougUV` |
+/// | `FIN_DEFLECT_STBD_DEG` | deg | the physical starboard fin deflection: positive pitches the nose down | `uSimCougUV` |
+/// | `FIN_DEFLECT_PORT_DEG` | deg | the physical port fin deflection: positive pitches the nose up (the elevator mix is `stbd = −p`, `port = +p`) | `uSimCougUV` |
+/// | `COUG_PITCH_REF_DEG` | deg | the depth loop's pitch reference, positive nose **up** (MOOS's sign) | logs |
+/// | `COUG_DEPTH_REF` | m | the filtered depth reference, positive down | logs |
+/// | `COUG_CONTROLS_STATE` | | on change: `disarmed`, `active`, `stale: <vars>`, `allstop: zero speed` | logs, `pSafety` |
+///
+/// The fins and the thrust are posted together, every iteration while armed, in the order
+/// of the table: a reader can take a command when `THRUST_PCT` arrives.
+pub mod vars {
+    /// `$CONTR` top fin, servo frame, degrees.
+    pub const FIN_TOP_DEG: &str = "FIN_TOP_DEG";
+    /// `$CONTR` starboard fin, servo frame, degrees.
+    pub const FIN_STBD_DEG: &str = "FIN_STBD_DEG";
+    /// `$CONTR` port fin, servo frame, degrees.
+    pub const FIN_PORT_DEG: &str = "FIN_PORT_DEG";
+    /// `$CONTR` thruster, percent (whole number).
+    pub const THRUST_PCT: &str = "THRUST_PCT";
+    /// Physical top fin deflection, degrees (positive turns to starboard).
+    pub const FIN_DEFLECT_TOP_DEG: &str = "FIN_DEFLECT_TOP_DEG";
+    /// Physical starboard fin deflection, degrees (positive pitches nose down).
+    pub const FIN_DEFLECT_STBD_DEG: &str = "FIN_DEFLECT_STBD_DEG";
+    /// Physical port fin deflection, degrees (positive pitches nose up).
+    pub const FIN_DEFLECT_PORT_DEG: &str = "FIN_DEFLECT_PORT_DEG";
+    /// The pitch reference of the depth loop, degrees, nose up positive.
+    pub const COUG_PITCH_REF_DEG: &str = "COUG_PITCH_REF_DEG";
+    /// The filtered depth reference, metres, positive down.
+    pub const COUG_DEPTH_REF: &str = "COUG_DEPTH_REF";
+    /// The controller's state, posted on change.
+    pub const COUG_CONTROLS_STATE: &str = "COUG_CONTROLS_STATE";
+    /// `true` forces the fins-up surface command (the `surface` service of the kinematics).
+    pub const COUG_SURFACE: &str = "COUG_SURFACE";
+}
+
+impl Kinematics {
+    /// The physical deflections and thrust of a command: what [`Kinematics::mix`] gives with
+    /// directions 1, no offsets and no trim (the fins-up command when `surface`, the thrust
+    /// only when `armed`, demo mode kept). This is what the fins do once the servos are
+    /// mounted as the kinematics describe, and what the simulator integrates.
+    pub fn physical(&self, cmd: &UCommand, armed: bool, surface: bool) -> UCommand {
+        Kinematics {
+            direction: [1.0; 3],
+            offset: [0.0; 3],
+            trim_ratio: 0.0,
+            demo_mode: self.demo_mode,
+        }
+        .mix(cmd, armed, surface)
+    }
+}
+
+/// The `pCougControls` configuration: the controllers' ([`CougarsConfig`]) and the app's
+/// own settings.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ControlsConfig {
+    /// Gains, limits, filters, kinematics and PWM mapping.
+    pub cougars: CougarsConfig,
+    /// Thrust percent per m/s of `DESIRED_SPEED` (`speed_factor`, as pMarinePID's); 0 (the
+    /// default) takes `DESIRED_SPEED` as thrust percent, as the Gen-1 MOOS bridge did.
+    pub speed_factor: f64,
+    /// Largest |thrust|, percent (`max_thrust`, 100).
+    pub max_thrust: f64,
+    /// `DESIRED_*` older than this, seconds, stops the vehicle (`tardy_helm_threshold`, 2;
+    /// 0 = never stale once received).
+    pub tardy_helm_s: f64,
+    /// `NAV_*` older than this, seconds, stops the vehicle (`tardy_nav_threshold`, 2;
+    /// 0 = never stale once received).
+    pub tardy_nav_s: f64,
+    /// The gains were tuned against the original millisecond-interval PID
+    /// (`ms_tuned_gains`, false): every loop's gains go through [`Gains::from_ms_tuned`]
+    /// once the block is read, which gives the field gains the integral (×1000) and
+    /// derivative (÷1000) action they had on the vehicle.
+    pub ms_tuned_gains: bool,
+}
+
+impl Default for ControlsConfig {
+    fn default() -> Self {
+        ControlsConfig {
+            cougars: CougarsConfig::default(),
+            speed_factor: 0.0,
+            max_thrust: 100.0,
+            tardy_helm_s: 2.0,
+            tardy_nav_s: 2.0,
+            ms_tuned_gains: false,
+        }
+    }
+}
+
+const CONTROLS_APP: &str = "pCougControls";
+
+impl ControlsConfig {
+    /// Strict construction from `(key, value)` pairs (see
+    /// [`ControlsConfig::from_params_lenient`]).
+    pub fn from_params<'a>(
+        params: impl IntoIterator<Item = (&'a str, &'a str)>,
+    ) -> Result<Self, ConfigError> {
+        strict(Self::from_params_lenient(params))
+    }
+
+    /// Reads a `pCougControls` block: `vehicle = coug1 | coug2` first selects a field
+    /// preset (wherever the line is; the declared defaults, all gains 0, without one), then
+    /// every [`CougarsConfig::from_params`] key overrides it, and the app's own keys
+    /// `speed_factor`, `max_thrust`, `tardy_helm_threshold`, `tardy_nav_threshold`,
+    /// `ms_tuned_gains`. Unknown
+    /// keys and bad values come back as non-fatal errors (the setting keeps its value).
+    pub fn from_params_lenient<'a>(
+        params: impl IntoIterator<Item = (&'a str, &'a str)>,
+    ) -> Result<(Self, Vec<ConfigError>), ConfigError> {
+        let params: Vec<(&str, &str)> = params.into_iter().collect();
+        let mut cfg = ControlsConfig::default();
+        let mut problems = Vec::new();
+        for (k, v) in &params {
+            if k.trim().eq_ignore_ascii_case("vehicle") {
+                match v.trim().to_ascii_lowercase().as_str() {
+                    "coug1" => cfg.cougars = CougarsConfig::coug1(),
+                    "coug2" => cfg.cougars = CougarsConfig::coug2(),
+                    "none" | "default" => cfg.cougars = CougarsConfig::default(),
+                    _ => problems.push(ConfigError::BadValue {
+                        app: CONTROLS_APP,
+                        key: k.trim().to_string(),
+                        value: v.trim().to_string(),
+                        expected: "coug1, coug2 or none",
+                    }),
+                }
+            }
+        }
+        let unknown = apply_params(CONTROLS_APP, &mut cfg, params, |c, key, p| {
+            match key {
+                "vehicle" => {}
+                "speed_factor" => c.speed_factor = p.non_neg()?,
+                "max_thrust" => c.max_thrust = p.range(0.0, 100.0, "a number in 0..100")?,
+                "tardy_helm_threshold" => c.tardy_helm_s = p.non_neg()?,
+                "tardy_nav_threshold" => c.tardy_nav_s = p.non_neg()?,
+                "ms_tuned_gains" => c.ms_tuned_gains = p.bool()?,
+                _ => return c.cougars.apply_one(key, p),
+            }
+            Ok(true)
+        })?;
+        problems.extend(unknown);
+        if cfg.ms_tuned_gains {
+            let c = &mut cfg.cougars;
+            c.depth = c.depth.from_ms_tuned();
+            c.pitch = c.pitch.from_ms_tuned();
+            c.heading = c.heading.from_ms_tuned();
+        }
+        Ok((cfg, problems))
+    }
+}
+
+/// A quantity's rate from its successive distinct samples (time, value), per second.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct Rate {
+    prev: Option<(f64, f64)>,
+    rate: f64,
+}
+
+impl Rate {
+    fn update(&mut self, time: f64, value: f64) {
+        match self.prev {
+            Some((t0, v0)) if time > t0 => {
+                self.rate = (value - v0) / (time - t0);
+                self.prev = Some((time, value));
+            }
+            Some(_) => {}
+            None => self.prev = Some((time, value)),
+        }
+    }
+}
+
+/// What the controller did in its last iteration.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ControlsMode {
+    /// Not deployed, or under manual override: nothing is posted (one all-stop on entry).
+    Disarmed,
+    /// The cascade runs.
+    Active,
+    /// Armed, but inputs missing or older than their threshold: all-stop every iteration.
+    Stale(Vec<&'static str>),
+    /// Armed with a zero (or negative) desired speed, as the helm's all-stop posts:
+    /// thruster off and fins centred every iteration.
+    AllStop,
+}
+
+impl ControlsMode {
+    /// The `COUG_CONTROLS_STATE` text.
+    pub fn text(&self) -> String {
+        match self {
+            ControlsMode::Disarmed => "disarmed".to_string(),
+            ControlsMode::Active => "active".to_string(),
+            ControlsMode::Stale(v) => format!("stale: {}", v.join(",")),
+            ControlsMode::AllStop => "allstop: zero speed".to_string(),
+        }
+    }
+}
+
+/// Input variables whose age is watched: helm set-points, then navigation.
+const HELM_INPUTS: [&str; 3] = ["DESIRED_HEADING", "DESIRED_SPEED", "DESIRED_DEPTH"];
+const NAV_INPUTS: [&str; 4] = ["NAV_HEADING", "NAV_DEPTH", "NAV_PITCH", "NAV_SPEED"];
+
+/// A `NAV_DEPTH` below this, metres, is taken for an ENU z (negative underwater) posted as a
+/// depth, and reported.
+pub const NEGATIVE_DEPTH_WARNING_M: f64 = -0.5;
+
+/// The CoUGARs controllers as a MOOS app (`pCougControls`; `runtime` wraps it): the heading
+/// loop, the depth → pitch → elevator cascade ([`step`]) and the fin mixing
+/// ([`Kinematics`]) from the helm's `DESIRED_HEADING` / `DESIRED_SPEED` / `DESIRED_DEPTH`
+/// and the navigator's `NAV_HEADING` / `NAV_DEPTH` / `NAV_PITCH` / `NAV_SPEED`, to the fin
+/// angles and thrust of [`vars`].
+///
+/// # Conventions at the boundary (the traps of the Gen-1 stack, fixed here)
+///
+/// * **Heading**: `DESIRED_HEADING` and `NAV_HEADING` are compass degrees (clockwise from
+///   true north), as the helm and the navigator post them; both go through
+///   [`compass_to_enu`] before the ENU heading loop, so a desired heading to starboard of
+///   the current one gives a positive (starboard-turning) top fin, across 0/360 too.
+/// * **Declination** is applied once, by whoever turns the magnetic AHRS yaw into a true
+///   heading (the SeaTrac driver, or uSimSensors, posting `AHRS_HEADING`); the navigator's
+///   `NAV_HEADING` is true and this app adds nothing (the Gen-1 controller added it a
+///   second time to a yaw its MOOS bridge did not correct).
+/// * **Depth**: `NAV_DEPTH` and `DESIRED_DEPTH` are metres, positive down. A `NAV_DEPTH`
+///   below [`NEGATIVE_DEPTH_WARNING_M`] (an ENU z, as the Gen-1 bridge posted) is used as
+///   given and reported as a run warning.
+/// * **Pitch**: `NAV_PITCH` is MOOS's, radians, nose up positive; the cascade works in
+///   degrees nose down positive. Its rate is differentiated from successive `NAV_PITCH`
+///   mail (the depth rate likewise from `NAV_DEPTH`).
+/// * **Speed**: `DESIRED_SPEED` times `speed_factor` is the thrust percent (with
+///   `speed_factor = 0`, `DESIRED_SPEED` is the percent, as on the Gen-1 vehicle); clamped
+///   to `±max_thrust` and truncated to a whole percent (the `$CONTR` field is an integer).
+///   `NAV_SPEED` (m/s) feeds the pitch loop's gain schedule only with `fixed_surge = none`.
+///
+/// # Arming and all-stop (as pMarinePID)
+///
+/// The controller is armed only while `DEPLOY` is true and `MOOS_MANUAL_OVERRIDE` (or the
+/// legacy `MOOS_MANUAL_OVERIDE`) is false (initially: not deployed, overridden). Unarmed it
+/// posts nothing; on disarming it posts one all-stop (fins at zero deflection, thrust 0).
+/// Armed, it posts the all-stop every iteration while a helm set-point or navigation
+/// variable has never arrived or is older than its threshold (`stale: ...`), or the desired
+/// speed is not positive (`allstop`); otherwise the cascade's command. Arming restarts the
+/// loops from zero. `COUG_SURFACE = true` replaces the fins with the fins-up command (thrust
+/// kept while armed).
 pub struct CougarsControl {
-    cfg: CougarsConfig,
+    cfg: ControlsConfig,
     state: CougarsState,
     inputs: ControllerInputs,
-    running: bool,
-    stop_pending: bool,
-    armed: bool,
+    deployed: bool,
+    overridden: bool,
     surface: bool,
-    boot_time: f64,
-    last: Option<(UCommand, f64)>,
-    vars: [ByteString; 10],
+    was_armed: bool,
+    helm_time: [Option<f64>; 3],
+    nav_time: [Option<f64>; 4],
+    pitch_rate: Rate,
+    depth_rate: Rate,
+    mode: ControlsMode,
+    posted_mode: Option<String>,
+    last_servo: UCommand,
+    last_physical: UCommand,
+    warnings: Vec<String>,
+    warned_negative_depth: bool,
+    names: [ByteString; 10],
 }
 
 impl CougarsControl {
-    /// A controller; `boot_time` starts the ESC arming delay.
-    pub fn new(cfg: CougarsConfig, boot_time: f64) -> Self {
+    /// A controller, not armed.
+    pub fn new(cfg: ControlsConfig) -> Self {
         let names = [
-            "DESIRED_RUDDER",
-            "DESIRED_ELEVATOR",
-            "DESIRED_THRUST",
-            "COUG_FIN_0",
-            "COUG_FIN_1",
-            "COUG_FIN_2",
-            "COUG_SERVO_US_0",
-            "COUG_SERVO_US_1",
-            "COUG_SERVO_US_2",
-            "COUG_THRUSTER_US",
+            vars::FIN_TOP_DEG,
+            vars::FIN_STBD_DEG,
+            vars::FIN_PORT_DEG,
+            vars::THRUST_PCT,
+            vars::FIN_DEFLECT_TOP_DEG,
+            vars::FIN_DEFLECT_STBD_DEG,
+            vars::FIN_DEFLECT_PORT_DEG,
+            vars::COUG_PITCH_REF_DEG,
+            vars::COUG_DEPTH_REF,
+            vars::COUG_CONTROLS_STATE,
         ];
         CougarsControl {
-            state: CougarsState::new(&cfg),
-            cfg,
+            state: CougarsState::new(&cfg.cougars),
             inputs: ControllerInputs {
-                surge: 0.6,
+                surge: cfg.cougars.fixed_surge.unwrap_or(0.0),
                 ..ControllerInputs::default()
             },
-            running: false,
-            stop_pending: false,
-            armed: true,
+            cfg,
+            deployed: false,
+            overridden: true,
             surface: false,
-            boot_time,
-            last: None,
-            vars: names.map(ByteString::from),
+            was_armed: false,
+            helm_time: [None; 3],
+            nav_time: [None; 4],
+            pitch_rate: Rate::default(),
+            depth_rate: Rate::default(),
+            mode: ControlsMode::Disarmed,
+            posted_mode: None,
+            last_servo: UCommand::default(),
+            last_physical: UCommand::default(),
+            warnings: Vec::new(),
+            warned_negative_depth: false,
+            names: names.map(ByteString::from),
         }
+    }
+
+    /// The variables the app registers for.
+    pub fn subscriptions() -> Vec<&'static str> {
+        let mut v: Vec<&'static str> = HELM_INPUTS.to_vec();
+        v.extend(NAV_INPUTS);
+        v.extend([
+            "DEPLOY",
+            "MOOS_MANUAL_OVERRIDE",
+            "MOOS_MANUAL_OVERIDE",
+            vars::COUG_SURFACE,
+        ]);
+        v
+    }
+
+    /// The configuration in force.
+    pub fn config(&self) -> &ControlsConfig {
+        &self.cfg
     }
 
     /// Controller memory.
@@ -841,76 +1116,226 @@ impl CougarsControl {
         &self.state
     }
 
-    /// Latest inputs.
+    /// Latest inputs, in the controller's conventions (ENU heading, pitch nose down).
     pub fn inputs(&self) -> &ControllerInputs {
         &self.inputs
     }
 
-    /// Takes one piece of mail. `NAV_PITCH` is MOOS's (radians, negative nose down);
-    /// `COUG_ARM` / `COUG_SURFACE` are the arm and surface services.
-    pub fn on_mail(&mut self, var: &str, value: ValueRef<'_>, _time: f64) {
+    /// What the last iteration did.
+    pub fn mode(&self) -> &ControlsMode {
+        &self.mode
+    }
+
+    /// True while deployed and not overridden.
+    pub fn armed(&self) -> bool {
+        self.deployed && !self.overridden
+    }
+
+    /// The last command posted: servo frame (the `$CONTR` fields) and physical deflections.
+    pub fn last_command(&self) -> (UCommand, UCommand) {
+        (self.last_servo, self.last_physical)
+    }
+
+    /// Run warnings raised since the last call (a negative `NAV_DEPTH`).
+    pub fn take_warnings(&mut self) -> Vec<String> {
+        std::mem::take(&mut self.warnings)
+    }
+
+    /// Takes one piece of mail posted at `time`.
+    pub fn on_mail(&mut self, var: &str, value: ValueRef<'_>, time: f64) {
         let d = value.as_f64();
         let b = value.as_str().and_then(crate::config::parse_bool);
-        match (var, d, b) {
-            ("DESIRED_HEADING", Some(v), _) => self.inputs.desired_heading = compass_to_enu(v),
-            ("DESIRED_SPEED", Some(v), _) => self.inputs.desired_speed = v,
-            ("DESIRED_DEPTH", Some(v), _) => self.inputs.desired_depth = v,
-            ("NAV_HEADING", Some(v), _) => self.inputs.heading = compass_to_enu(v),
-            ("NAV_DEPTH", Some(v), _) => self.inputs.depth = v,
-            ("NAV_ALTITUDE", Some(v), _) => self.inputs.altitude = v,
-            ("NAV_PITCH", Some(v), _) => self.inputs.pitch = -v.to_degrees(),
-            ("NAV_SPEED", Some(v), _) => self.inputs.surge = v,
-            ("MOOS_MANUAL_OVERRIDE" | "MOOS_MANUAL_OVERIDE", _, Some(o)) => {
-                if o && self.running {
-                    self.stop_pending = true;
-                }
-                self.running = !o;
+        if let (Some(i), Some(v)) = (HELM_INPUTS.iter().position(|n| *n == var), d) {
+            self.helm_time[i] = Some(time);
+            match i {
+                0 => self.inputs.desired_heading = compass_to_enu(v),
+                1 => self.inputs.desired_speed = v,
+                _ => self.inputs.desired_depth = v,
             }
-            ("COUG_ARM", _, Some(a)) => self.armed = a,
-            ("COUG_SURFACE", _, Some(s)) => self.surface = s,
-            ("DESIRED_DEPTH_DFB", _, Some(f)) => self.inputs.dfb = f,
+            return;
+        }
+        if let (Some(i), Some(v)) = (NAV_INPUTS.iter().position(|n| *n == var), d) {
+            self.nav_time[i] = Some(time);
+            match i {
+                0 => self.inputs.heading = compass_to_enu(v),
+                1 => {
+                    if v < NEGATIVE_DEPTH_WARNING_M && !self.warned_negative_depth {
+                        self.warned_negative_depth = true;
+                        self.warnings.push(format!(
+                            "NAV_DEPTH = {v:.2}: negative; NAV_DEPTH is positive down \
+                             (an ENU z posted as a depth?)"
+                        ));
+                    }
+                    self.inputs.depth = v;
+                    self.depth_rate.update(time, v);
+                    self.inputs.depth_rate = self.depth_rate.rate;
+                }
+                2 => {
+                    // MOOS: radians, nose up positive; the cascade: degrees, nose down.
+                    let deg = -v.to_degrees();
+                    self.inputs.pitch = deg;
+                    self.pitch_rate.update(time, deg);
+                    self.inputs.pitch_rate = self.pitch_rate.rate;
+                }
+                _ => self.inputs.surge = v,
+            }
+            return;
+        }
+        match (var, b) {
+            ("DEPLOY", Some(v)) => self.deployed = v,
+            ("MOOS_MANUAL_OVERRIDE" | "MOOS_MANUAL_OVERIDE", Some(v)) => self.overridden = v,
+            (vars::COUG_SURFACE, Some(v)) => self.surface = v,
             _ => {}
         }
     }
 
-    /// One controller tick at `time`; appends postings to `out`.
-    pub fn iterate(&mut self, time: f64, out: &mut Vec<Posting>) {
-        let cmd = if self.running {
-            let (s, cmd) = step(&self.cfg, &self.state, &self.inputs);
-            self.state = s;
-            cmd
-        } else if self.stop_pending {
-            self.stop_pending = false;
-            UCommand::default()
-        } else {
-            return;
+    /// The inputs missing or too old at `now`.
+    fn stale(&self, now: f64) -> Vec<&'static str> {
+        let mut out = Vec::new();
+        let old = |t: Option<f64>, limit: f64| match t {
+            None => true,
+            Some(t) => limit > 0.0 && now - t > limit,
         };
-        let mixed = self.cfg.kinematics.mix(&cmd, self.armed, self.surface);
-        self.last = Some((mixed, time));
-        let since_boot = time - self.boot_time;
-        let pwm = self
-            .cfg
-            .actuators
-            .outputs(Some((&mixed, since_boot)), since_boot);
-        let v = &self.vars;
-        out.push(Posting::double(&v[0], cmd.fin[0]));
-        // The simulator's elevator dives when positive; a negative pitch fin (port fin,
-        // `fin[2]`) pitches the nose down, hence the sign.
-        out.push(Posting::double(&v[1], -cmd.fin[2]));
-        out.push(Posting::double(&v[2], mixed.thruster));
-        for i in 0..3 {
-            out.push(Posting::double(&v[3 + i], mixed.fin[i]));
-            out.push(Posting::double(&v[6 + i], f64::from(pwm.servo_us[i])));
+        for (i, name) in HELM_INPUTS.iter().enumerate() {
+            if old(self.helm_time[i], self.cfg.tardy_helm_s) {
+                out.push(*name);
+            }
         }
-        out.push(Posting::double(&v[9], f64::from(pwm.thruster_us)));
+        // NAV_SPEED matters only when the gain schedule uses it.
+        let navs = if self.cfg.cougars.fixed_surge.is_some() {
+            3
+        } else {
+            4
+        };
+        for (i, name) in NAV_INPUTS.iter().enumerate().take(navs) {
+            if old(self.nav_time[i], self.cfg.tardy_nav_s) {
+                out.push(*name);
+            }
+        }
+        out
     }
 
-    /// PWM outputs at `time` with the failsafe applied to the last command.
-    pub fn pwm(&self, time: f64) -> Pwm {
-        let since_boot = time - self.boot_time;
-        let last = self.last.map(|(c, t)| (c, t - self.boot_time));
-        self.cfg
-            .actuators
-            .outputs(last.as_ref().map(|(c, t)| (c, *t)), since_boot)
+    /// One controller tick at `now`; appends the postings to `out`. Call it every
+    /// `timer_period` (the cascade's filters and integrators assume that period).
+    pub fn iterate(&mut self, now: f64, out: &mut Vec<Posting>) {
+        let armed = self.armed();
+        if !armed {
+            if self.was_armed {
+                self.emit(&UCommand::default(), false, out);
+            }
+            self.was_armed = false;
+            self.set_mode(ControlsMode::Disarmed, out);
+            return;
+        }
+        if !self.was_armed {
+            self.state = CougarsState::new(&self.cfg.cougars);
+            self.was_armed = true;
+        }
+        let stale = self.stale(now);
+        if !stale.is_empty() {
+            self.set_mode(ControlsMode::Stale(stale), out);
+            self.emit(&UCommand::default(), true, out);
+            return;
+        }
+        let factor = if self.cfg.speed_factor > 0.0 {
+            self.cfg.speed_factor
+        } else {
+            1.0
+        };
+        let thrust = (self.inputs.desired_speed * factor)
+            .clamp(-self.cfg.max_thrust, self.cfg.max_thrust)
+            .trunc();
+        if thrust <= 0.0 {
+            self.set_mode(ControlsMode::AllStop, out);
+            self.emit(&UCommand::default(), true, out);
+            return;
+        }
+        self.set_mode(ControlsMode::Active, out);
+        let inputs = ControllerInputs {
+            desired_speed: thrust,
+            ..self.inputs
+        };
+        let (s, cmd) = step(&self.cfg.cougars, &self.state, &inputs);
+        self.state = s;
+        self.emit(&cmd, true, out);
+        out.push(Posting::double(&self.names[7], -self.state.theta_ref));
+        out.push(Posting::double(&self.names[8], self.state.z_ref));
+    }
+
+    fn set_mode(&mut self, mode: ControlsMode, out: &mut Vec<Posting>) {
+        let text = mode.text();
+        if self.posted_mode.as_deref() != Some(text.as_str()) {
+            out.push(Posting::text(&self.names[9], text.clone()));
+            self.posted_mode = Some(text);
+        }
+        self.mode = mode;
+    }
+
+    fn emit(&mut self, cmd: &UCommand, armed: bool, out: &mut Vec<Posting>) {
+        let k = &self.cfg.cougars.kinematics;
+        let servo = k.mix(cmd, armed, self.surface);
+        let physical = k.physical(cmd, armed, self.surface);
+        for i in 0..3 {
+            out.push(Posting::double(&self.names[i], servo.fin[i]));
+        }
+        out.push(Posting::double(&self.names[3], servo.thruster.trunc()));
+        for i in 0..3 {
+            out.push(Posting::double(&self.names[4 + i], physical.fin[i]));
+        }
+        self.last_servo = servo;
+        self.last_physical = physical;
+    }
+
+    /// The appcast body: arming, mode, set-points and measurements in MOOS conventions, the
+    /// references and the last command.
+    pub fn appcast_body(&self, out: &mut String) {
+        use std::fmt::Write as _;
+        let i = &self.inputs;
+        let _ = writeln!(
+            out,
+            "Armed: {}  (DEPLOY={}, MANUAL_OVERRIDE={})   Mode: {}",
+            self.armed(),
+            self.deployed,
+            self.overridden,
+            self.mode.text()
+        );
+        let _ = writeln!(out);
+        let _ = writeln!(out, "Loop      Desired  Actual   Reference");
+        let _ = writeln!(out, "--------  -------  -------  ---------");
+        let compass = |enu: f64| crate::angle::angle360(90.0 - enu);
+        let _ = writeln!(
+            out,
+            "heading   {:<7.1}  {:<7.1}  (deg, compass)",
+            compass(i.desired_heading),
+            compass(i.heading)
+        );
+        let _ = writeln!(
+            out,
+            "depth     {:<7.2}  {:<7.2}  {:.2} m",
+            i.desired_depth, i.depth, self.state.z_ref
+        );
+        let _ = writeln!(
+            out,
+            "pitch     {:<7.1}  {:<7.1}  (deg, nose up){}",
+            -self.state.theta_ref,
+            -i.pitch,
+            if self.state.saturated_mode {
+                " saturated"
+            } else {
+                ""
+            }
+        );
+        let _ = writeln!(out);
+        let (s, p) = (self.last_servo, self.last_physical);
+        let _ = writeln!(
+            out,
+            "Fins (servo, deg): top={} stbd={} port={}  thrust={} %",
+            s.fin[0], s.fin[1], s.fin[2], s.thruster
+        );
+        let _ = writeln!(
+            out,
+            "Fins (deflection, deg): top={} stbd={} port={}",
+            p.fin[0], p.fin[1], p.fin[2]
+        );
     }
 }

@@ -16,7 +16,8 @@
 //! |---|---|
 //! | [`sim`] | `uSimMarineV22` (and the older `uSimMarine`) |
 //! | [`pid`] | `pMarinePIDV22` |
-//! | [`cougars`] | the CoUGARs Gen-1 depth/pitch/heading controllers, fin mixing and actuators |
+//! | [`cougars`] | the CoUGARs Gen-1 depth/pitch/heading controllers, fin mixing and actuators, and their app `pCougControls` ([`cougars::CougarsControl`]) |
+//! | [`couguv`] | `uSimCougUV`: the CougUV torpedo model (three fins, a thruster) as a simulator posting uSimMarine's truth |
 //! | [`node_report`] | `pNodeReporter` (`NODE_REPORT_LOCAL`) |
 //! | [`wormhole`] | uSimMarineV22's wormholes |
 //! | [`geodesy`] | MOOS-IvP's UTM-based local grid, without its cross-zone bug |
@@ -26,6 +27,7 @@
 pub mod angle;
 pub mod config;
 pub mod cougars;
+pub mod couguv;
 pub mod geodesy;
 pub mod moos;
 pub mod node_report;

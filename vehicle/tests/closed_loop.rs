@@ -1,8 +1,10 @@
-//! The apps wired together through their MOOS adapters, as `coug run` will do: helm set-points
-//! in, either the marine PID or the CoUGARs controllers, the simulator, and node reports.
+//! The apps wired together through their MOOS adapters, as `coug run` does: helm set-points
+//! in, either the marine PID and uSimMarine, or the CoUGARs controllers and the CougUV
+//! simulator, and node reports.
 
 use vehicle::angle::angle180;
-use vehicle::cougars::{CougarsConfig, CougarsControl};
+use vehicle::cougars::{ControlsConfig, CougarsControl};
+use vehicle::couguv::{CougUvSim, CougUvSimConfig};
 use vehicle::moos::last_posting;
 use vehicle::node_report::{NodeReportConfig, NodeReporter};
 use vehicle::pid::{MarinePid, PidConfig};
@@ -10,21 +12,35 @@ use vehicle::sim::{SimConfig, Simulator};
 use vehicle::{Posting, ValueRef};
 
 enum Controller {
-    Marine(Box<MarinePid>),
-    Cougars(Box<CougarsControl>),
+    Marine(Box<MarinePid>, Box<Simulator>),
+    Cougars(Box<CougarsControl>, Box<CougUvSim>),
 }
 
 impl Controller {
     fn on_mail(&mut self, var: &str, v: ValueRef<'_>, t: f64) {
         match self {
-            Controller::Marine(c) => c.on_mail(var, v, t),
-            Controller::Cougars(c) => c.on_mail(var, v, t),
+            Controller::Marine(c, _) => c.on_mail(var, v, t),
+            Controller::Cougars(c, _) => c.on_mail(var, v, t),
         }
     }
     fn iterate(&mut self, t: f64, out: &mut Vec<Posting>) {
         match self {
-            Controller::Marine(c) => c.iterate(t, out),
-            Controller::Cougars(c) => c.iterate(t, out),
+            Controller::Marine(c, _) => c.iterate(t, out),
+            Controller::Cougars(c, _) => c.iterate(t, out),
+        }
+    }
+    fn sim_mail(&mut self, var: &str, v: ValueRef<'_>, t: f64) {
+        match self {
+            Controller::Marine(_, s) => {
+                s.on_mail(var, v, t);
+            }
+            Controller::Cougars(_, s) => s.on_mail(var, v, t),
+        }
+    }
+    fn sim_iterate(&mut self, t: f64, out: &mut Vec<Posting>) {
+        match self {
+            Controller::Marine(_, s) => s.iterate(t, out),
+            Controller::Cougars(_, s) => s.iterate(t, out),
         }
     }
 }
@@ -36,7 +52,6 @@ fn deliver(postings: &[Posting], t: f64, mut to: impl FnMut(&str, ValueRef<'_>, 
 }
 
 struct Mission {
-    sim: Simulator,
     ctl: Controller,
     reporter: NodeReporter,
     dt: f64,
@@ -47,18 +62,12 @@ struct Mission {
 
 impl Mission {
     fn new(ctl: Controller, dt: f64) -> Self {
-        let cfg = SimConfig::from_params([
-            ("prefix", "NAV"),
-            ("start_pos", "x=0,y=0,heading=90,speed=0"),
-        ])
-        .unwrap();
         let reporter = NodeReporter::new(
             NodeReportConfig::from_params([("platform_type", "uuv")]).unwrap(),
             "coug1",
             0.0,
         );
         Mission {
-            sim: Simulator::new(cfg, None, 0.0),
             ctl,
             reporter,
             dt,
@@ -84,11 +93,9 @@ impl Mission {
             deliver(&self.nav, t, |v, x, t| self.ctl.on_mail(v, x, t));
             let mut cmds = Vec::new();
             self.ctl.iterate(t, &mut cmds);
-            deliver(&cmds, t, |v, x, t| {
-                self.sim.on_mail(v, x, t);
-            });
+            deliver(&cmds, t, |v, x, t| self.ctl.sim_mail(v, x, t));
             let mut nav = Vec::new();
-            self.sim.iterate(t, &mut nav);
+            self.ctl.sim_iterate(t, &mut nav);
             if !nav.is_empty() {
                 self.nav = nav;
             }
@@ -133,9 +140,18 @@ fn surface_pid() -> PidConfig {
 fn marine_pid_drives_the_simulator_through_moos_names() {
     let mut pid = MarinePid::new(surface_pid());
     pid.on_mail("MOOS_MANUAL_OVERRIDE", ValueRef::String("false"), 0.0);
-    let mut m = Mission::new(Controller::Marine(Box::new(pid)), 0.1);
+    let cfg = SimConfig::from_params([
+        ("prefix", "NAV"),
+        ("start_pos", "x=0,y=0,heading=90,speed=0"),
+    ])
+    .unwrap();
+    let sim = Simulator::new(cfg, None, 0.0);
+    let mut m = Mission::new(Controller::Marine(Box::new(pid), Box::new(sim)), 0.1);
     m.run(120.0, 180.0, 2.0, 5.0);
-    let s = m.sim.state();
+    let Controller::Marine(_, sim) = &m.ctl else {
+        unreachable!()
+    };
+    let s = *sim.state();
     assert!(
         angle180(s.heading_deg - 180.0).abs() < 2.0,
         "heading {}",
@@ -161,22 +177,38 @@ fn marine_pid_drives_the_simulator_through_moos_names() {
 }
 
 #[test]
-fn cougars_controllers_drive_the_simulator_instead() {
-    let mut c = CougarsControl::new(CougarsConfig::coug1(), 0.0);
+fn cougars_controllers_drive_the_couguv_simulator() {
+    let cfg = ControlsConfig::from_params([
+        ("vehicle", "coug1"),
+        ("speed_factor", "50"),
+        ("pitch_ki", "0.2"),
+        ("fixed_surge", "none"),
+    ])
+    .unwrap();
+    let mut c = CougarsControl::new(cfg);
+    c.on_mail("DEPLOY", ValueRef::String("true"), 0.0);
     c.on_mail("MOOS_MANUAL_OVERIDE", ValueRef::String("false"), 0.0);
-    let mut m = Mission::new(Controller::Cougars(Box::new(c)), 0.08);
-    // DESIRED_SPEED is thrust percent for the CoUGARs stack: 30 % -> 1.5 m/s in the simulator.
-    m.run(150.0, 180.0, 30.0, 3.0);
-    let s = *m.sim.state();
-    assert!(
-        angle180(s.heading_deg - 180.0).abs() < 2.0,
-        "heading {}",
-        s.heading_deg
+    let sim = CougUvSim::new(
+        CougUvSimConfig::from_params([("prefix", "NAV"), ("start_pos", "heading=90")]).unwrap(),
+        None,
     );
-    assert!((s.speed_mps - 1.5).abs() < 0.05, "speed {}", s.speed_mps);
-    assert!((s.depth - 3.0).abs() < 0.2, "depth {}", s.depth);
+    let mut m = Mission::new(Controller::Cougars(Box::new(c), Box::new(sim)), 0.08);
+    // 1 m/s at 50 %/(m/s): 50 % thrust, 1 m/s in the model after its 20 s surge lag.
+    m.run(200.0, 180.0, 1.0, 3.0);
+    let truth = |m: &Mission| match &m.ctl {
+        Controller::Cougars(_, s) => *s.truth(),
+        Controller::Marine(..) => unreachable!(),
+    };
+    let s = truth(&m);
+    assert!(
+        angle180(s.body.heading - 180.0).abs() < 2.0,
+        "heading {}",
+        s.body.heading
+    );
+    assert!((s.body.surge - 1.0).abs() < 0.01, "speed {}", s.body.surge);
+    assert!((s.body.depth - 3.0).abs() < 0.2, "depth {}", s.body.depth);
     // Still there 60 s later.
-    m.run(60.0, 180.0, 30.0, 3.0);
-    assert!((m.sim.state().depth - 3.0).abs() < 0.2);
+    m.run(60.0, 180.0, 1.0, 3.0);
+    assert!((truth(&m).body.depth - 3.0).abs() < 0.2);
     assert!(m.last_report.contains(",TYPE=uuv,"));
 }

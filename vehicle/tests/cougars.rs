@@ -2,10 +2,12 @@
 
 use vehicle::ValueRef;
 use vehicle::cougars::{
-    Actuators, ControllerInputs, CougPid, CougUvModel, CougUvState, CougarsConfig, CougarsControl,
-    CougarsState, Gains, Kinematics, UCommand, compass_to_enu, pitch_schedule_constant, step,
+    Actuators, ControllerInputs, ControlsConfig, ControlsMode, CougPid, CougUvModel, CougUvState,
+    CougarsConfig, CougarsControl, CougarsState, Gains, Kinematics, UCommand, compass_to_enu,
+    pitch_schedule_constant, step, vars,
 };
 use vehicle::moos::last_posting;
+use vehicle::{ConfigError, Posting};
 
 struct Dive {
     cfg: CougarsConfig,
@@ -351,71 +353,355 @@ fn actuator_pwm_mapping_and_failsafe() {
     assert_eq!(fs.thruster_us, 1500);
 }
 
-#[test]
-fn moos_adapter_starts_on_override_false_and_maps_units() {
-    let mut c = CougarsControl::new(CougarsConfig::coug1(), 0.0);
+// ---------------------------------------------------------------------------------------
+// pCougControls: the controllers as a MOOS app.
+
+/// An armed coug1 controller with fresh inputs at `t`: level at `depth`, heading `nav_hdg`
+/// (compass), asked for `des_hdg` (compass), `des_depth`, 1 m/s at 50 %/(m/s).
+fn armed(cfg: ControlsConfig) -> CougarsControl {
+    let mut c = CougarsControl::new(cfg);
+    c.on_mail("DEPLOY", ValueRef::String("true"), 0.0);
+    c.on_mail("MOOS_MANUAL_OVERRIDE", ValueRef::String("false"), 0.0);
+    c
+}
+
+fn coug1() -> ControlsConfig {
+    ControlsConfig::from_params([("vehicle", "coug1"), ("speed_factor", "50")]).unwrap()
+}
+
+fn feed(c: &mut CougarsControl, t: f64, des: (f64, f64, f64), nav: (f64, f64, f64, f64)) {
+    let (hdg, spd, dep) = des;
+    c.on_mail("DESIRED_HEADING", ValueRef::Double(hdg), t);
+    c.on_mail("DESIRED_SPEED", ValueRef::Double(spd), t);
+    c.on_mail("DESIRED_DEPTH", ValueRef::Double(dep), t);
+    let (nh, nd, np, ns) = nav;
+    c.on_mail("NAV_HEADING", ValueRef::Double(nh), t);
+    c.on_mail("NAV_DEPTH", ValueRef::Double(nd), t);
+    c.on_mail("NAV_PITCH", ValueRef::Double(np), t);
+    c.on_mail("NAV_SPEED", ValueRef::Double(ns), t);
+}
+
+fn num(out: &[Posting], var: &str) -> f64 {
+    last_posting(out, var)
+        .and_then(|v| v.as_f64())
+        .unwrap_or_else(|| panic!("{var} not posted: {out:?}"))
+}
+
+/// One tick at `t` with the given desired and navigation values; the postings.
+fn tick(
+    c: &mut CougarsControl,
+    t: f64,
+    des: (f64, f64, f64),
+    nav: (f64, f64, f64, f64),
+) -> Vec<Posting> {
+    feed(c, t, des, nav);
     let mut out = Vec::new();
-    c.on_mail("DESIRED_HEADING", ValueRef::Double(100.0), 0.0);
-    c.on_mail("NAV_HEADING", ValueRef::Double(90.0), 0.0);
-    c.on_mail("DESIRED_SPEED", ValueRef::Double(30.0), 0.0);
-    c.on_mail("NAV_PITCH", ValueRef::Double(-0.1), 0.0);
-    assert!(
-        (c.inputs().pitch - 0.1f64.to_degrees()).abs() < 1e-12,
-        "MOOS nose-down pitch is negative"
-    );
-    c.iterate(0.08, &mut out);
-    assert!(out.is_empty(), "nothing before the start signal");
-    c.on_mail("MOOS_MANUAL_OVERRIDE", ValueRef::String("false"), 0.1);
-    c.iterate(10.0, &mut out);
-    assert_eq!(
-        last_posting(&out, "DESIRED_RUDDER").unwrap().as_f64(),
-        Some(30.0)
-    );
-    assert_eq!(
-        last_posting(&out, "DESIRED_THRUST").unwrap().as_f64(),
-        Some(30.0)
-    );
-    assert_eq!(
-        last_posting(&out, "COUG_FIN_0").unwrap().as_f64(),
-        Some(20.0),
-        "offset -10"
-    );
-    // 30 % -> 1100 + (30 + 100) * 800 / 200 us, the arming delay (7 s) being over at t = 10.
-    assert_eq!(
-        last_posting(&out, "COUG_THRUSTER_US").unwrap().as_f64(),
-        Some(1620.0)
-    );
-    out.clear();
-    c.on_mail("MOOS_MANUAL_OVERRIDE", ValueRef::String("true"), 10.1);
-    c.iterate(10.2, &mut out);
-    assert_eq!(
-        last_posting(&out, "DESIRED_THRUST").unwrap().as_f64(),
-        Some(0.0),
-        "one stop command"
-    );
-    out.clear();
-    c.iterate(10.3, &mut out);
-    assert!(out.is_empty());
+    c.iterate(t, &mut out);
+    out
 }
 
 #[test]
-fn config_from_params() {
-    let cfg = CougarsConfig::from_params([
-        ("depth_kp", "25"),
-        ("depth_ki", "0.005"),
-        ("depth_kd", "0.001"),
-        ("depth_min_output", "-15"),
-        ("depth_max_output", "15"),
-        ("fin_1_direction", "-1"),
-        ("top_fin_offset", "-10"),
-        ("fixed_surge", "none"),
-        ("timer_period", "100"),
+fn a_heading_error_to_starboard_gives_a_starboard_turning_top_fin() {
+    // (desired compass, actual compass): each wants a clockwise (starboard) turn of 10°,
+    // including across north (0/360) and across ENU ±180 (compass 270).
+    for (des, nav) in [(100.0, 90.0), (5.0, 355.0), (275.0, 265.0), (185.0, 175.0)] {
+        let mut c = armed(coug1());
+        let out = tick(&mut c, 1.0, (des, 1.0, 0.0), (nav, 0.0, 0.0, 1.0));
+        assert_eq!(c.mode(), &ControlsMode::Active);
+        let top = num(&out, vars::FIN_DEFLECT_TOP_DEG);
+        assert_eq!(
+            top, 30.0,
+            "{des} from {nav}: kp 3 x 10 degrees to starboard"
+        );
+        // coug1's top fin: direction +1, offset -10 in the servo frame.
+        assert_eq!(num(&out, vars::FIN_TOP_DEG), 20.0);
+        // To port: the other way.
+        let mut c = armed(coug1());
+        let out = tick(&mut c, 1.0, (nav, 1.0, 0.0), (des, 0.0, 0.0, 1.0));
+        assert_eq!(num(&out, vars::FIN_DEFLECT_TOP_DEG), -30.0);
+    }
+}
+
+#[test]
+fn closed_loop_the_starboard_fin_turns_the_model_clockwise() {
+    // The model's sign: a positive top fin deflection increases the compass heading.
+    let m = CougUvModel::default();
+    let mut s = CougUvState {
+        surge: 1.0,
+        heading: 90.0,
+        ..CougUvState::default()
+    };
+    let cmd = UCommand {
+        fin: [10.0, 0.0, 0.0],
+        thruster: 50.0,
+    };
+    for _ in 0..20 {
+        s = m.step(&s, &cmd, 0.1);
+    }
+    // 2.5 °/s at 1 m/s (k 0.25 x 10° x 1 m/s) behind the 1 s Nomoto lag: about 2.6° in 2 s.
+    assert!(
+        s.heading > 92.0 && s.heading < 93.0,
+        "heading {}",
+        s.heading
+    );
+}
+
+#[test]
+fn no_declination_is_added_to_the_true_heading() {
+    // NAV_HEADING is true (the AHRS driver or uSimSensors applied the declination once):
+    // on the desired heading the top fin is centred, whatever the heading.
+    for h in [0.0, 10.7, 90.0, 200.0, 349.3] {
+        let mut c = armed(coug1());
+        let out = tick(&mut c, 1.0, (h, 1.0, 0.0), (h, 0.0, 0.0, 1.0));
+        assert_eq!(num(&out, vars::FIN_DEFLECT_TOP_DEG), 0.0, "at {h}");
+    }
+}
+
+#[test]
+fn deeper_than_desired_gives_nose_up_fins() {
+    // NAV_DEPTH positive down: at 4 m asked for 3 m, level, the elevator pitches nose up
+    // (port positive, starboard negative), and the pitch reference is nose up.
+    let mut c = armed(coug1());
+    let mut out = Vec::new();
+    for k in 1..=25 {
+        out = tick(
+            &mut c,
+            f64::from(k) * 0.08,
+            (90.0, 1.0, 3.0),
+            (90.0, 4.0, 0.0, 1.0),
+        );
+    }
+    assert!(num(&out, vars::COUG_PITCH_REF_DEG) > 0.0, "{out:?}");
+    let (stbd, port) = (
+        num(&out, vars::FIN_DEFLECT_STBD_DEG),
+        num(&out, vars::FIN_DEFLECT_PORT_DEG),
+    );
+    assert!(port > 0.0 && stbd == -port, "stbd {stbd} port {port}");
+    // Shallower than desired: nose down.
+    let mut c = armed(coug1());
+    for k in 1..=25 {
+        out = tick(
+            &mut c,
+            f64::from(k) * 0.08,
+            (90.0, 1.0, 3.0),
+            (90.0, 2.0, 0.0, 1.0),
+        );
+    }
+    assert!(num(&out, vars::FIN_DEFLECT_PORT_DEG) < 0.0);
+    // And the model pitches nose up (MOOS pitch positive) under the first command.
+    let m = CougUvModel::default();
+    let mut s = CougUvState {
+        surge: 1.0,
+        ..CougUvState::default()
+    };
+    let cmd = UCommand {
+        fin: [0.0, -10.0, 10.0],
+        thruster: 50.0,
+    };
+    for _ in 0..30 {
+        s = m.step(&s, &cmd, 0.1);
+    }
+    assert!(
+        s.pitch < -0.02,
+        "model pitch {} (nose down positive)",
+        s.pitch
+    );
+}
+
+#[test]
+fn moos_pitch_is_nose_up_in_radians() {
+    // NAV_PITCH +0.1 rad (nose up) is -5.73° in the cascade's nose-down convention.
+    let mut c = armed(coug1());
+    tick(&mut c, 1.0, (90.0, 1.0, 0.0), (90.0, 0.0, 0.1, 1.0));
+    assert!((c.inputs().pitch + 0.1f64.to_degrees()).abs() < 1e-12);
+    // Its rate from successive mail: +0.1 rad/s nose up is -5.73 °/s.
+    c.on_mail("NAV_PITCH", ValueRef::Double(0.2), 2.0);
+    assert!((c.inputs().pitch_rate + 0.1f64.to_degrees()).abs() < 1e-9);
+    assert!(
+        (c.inputs().heading - 0.0).abs() < 1e-12,
+        "compass 90 is ENU 0"
+    );
+}
+
+#[test]
+fn outputs_stay_within_the_loop_limits() {
+    // Full errors every way: rudder within ±45 (coug1), elevator within ±30, thrust ≤ 100.
+    let mut c = armed(coug1());
+    for k in 1..200 {
+        let t = f64::from(k) * 0.08;
+        let out = tick(&mut c, t, (270.0, 5.0, 10.0), (0.0, 0.0, 0.3, 0.2));
+        let top = num(&out, vars::FIN_DEFLECT_TOP_DEG);
+        let port = num(&out, vars::FIN_DEFLECT_PORT_DEG);
+        assert!(top.abs() <= 45.0 && port.abs() <= 30.0, "{top} {port}");
+        assert_eq!(
+            num(&out, vars::THRUST_PCT),
+            100.0,
+            "5 m/s x 50 capped at 100"
+        );
+    }
+    let mut c = armed(coug1());
+    let out = tick(&mut c, 1.0, (200.0, 1.0, 0.0), (0.0, 0.0, 0.0, 1.0));
+    assert_eq!(
+        num(&out, vars::FIN_DEFLECT_TOP_DEG),
+        -45.0,
+        "160° to port saturates"
+    );
+    // max_thrust and the whole-percent truncation.
+    let cfg = ControlsConfig::from_params([
+        ("vehicle", "coug1"),
+        ("speed_factor", "33.3"),
+        ("max_thrust", "60"),
     ])
     .unwrap();
-    assert_eq!(cfg.depth, Gains::new(25.0, 0.005, 0.001, 15.0));
-    assert_eq!(cfg.kinematics.direction, [1.0, -1.0, 1.0]);
-    assert_eq!(cfg.fixed_surge, None);
-    assert_eq!(cfg.ts(), 0.1);
-    assert!(CougarsConfig::from_params([("fin_0_direction", "2")]).is_err());
-    assert!(CougarsConfig::from_params([("depth_gain", "2")]).is_err());
+    let mut c = armed(cfg);
+    let out = tick(&mut c, 1.0, (90.0, 1.0, 0.0), (90.0, 0.0, 0.0, 1.0));
+    assert_eq!(num(&out, vars::THRUST_PCT), 33.0);
+    let out = tick(&mut c, 1.08, (90.0, 3.0, 0.0), (90.0, 0.0, 0.0, 1.0));
+    assert_eq!(num(&out, vars::THRUST_PCT), 60.0);
+}
+
+#[test]
+fn not_armed_before_deploy_nor_under_manual_override() {
+    let mut c = CougarsControl::new(coug1());
+    let out = tick(&mut c, 1.0, (90.0, 1.0, 2.0), (80.0, 0.0, 0.0, 1.0));
+    assert!(!out.iter().any(|p| p.key == vars::THRUST_PCT), "{out:?}");
+    assert_eq!(
+        last_posting(&out, vars::COUG_CONTROLS_STATE).and_then(|v| v.as_str()),
+        Some("disarmed")
+    );
+    // Override false without DEPLOY: still disarmed (and the state is not posted again).
+    c.on_mail("MOOS_MANUAL_OVERRIDE", ValueRef::String("false"), 1.0);
+    let out = tick(&mut c, 1.5, (90.0, 1.0, 2.0), (80.0, 0.0, 0.0, 1.0));
+    assert!(out.is_empty(), "{out:?}");
+    // DEPLOY: armed, the cascade runs.
+    c.on_mail("DEPLOY", ValueRef::String("true"), 2.0);
+    let out = tick(&mut c, 2.0, (90.0, 1.0, 2.0), (80.0, 0.0, 0.0, 1.0));
+    assert_eq!(num(&out, vars::THRUST_PCT), 50.0);
+    assert_eq!(
+        last_posting(&out, vars::COUG_CONTROLS_STATE).and_then(|v| v.as_str()),
+        Some("active")
+    );
+    // The legacy single-R override disarms: one all-stop (zero deflections, the servo
+    // frame at the offsets), then silence.
+    c.on_mail("MOOS_MANUAL_OVERIDE", ValueRef::String("true"), 2.1);
+    let out = tick(&mut c, 2.16, (90.0, 1.0, 2.0), (80.0, 0.0, 0.0, 1.0));
+    assert_eq!(num(&out, vars::THRUST_PCT), 0.0);
+    assert_eq!(num(&out, vars::FIN_DEFLECT_TOP_DEG), 0.0);
+    assert_eq!(num(&out, vars::FIN_DEFLECT_PORT_DEG), 0.0);
+    assert_eq!(num(&out, vars::FIN_TOP_DEG), -10.0, "coug1's top offset");
+    let out = tick(&mut c, 2.24, (90.0, 1.0, 2.0), (80.0, 0.0, 0.0, 1.0));
+    assert!(out.is_empty(), "{out:?}");
+}
+
+#[test]
+fn all_stop_on_zero_speed_and_on_stale_inputs() {
+    let mut c = armed(coug1());
+    // The helm's all-stop: DESIRED_SPEED 0 (or below): thrust 0 and fins centred, every
+    // iteration, whatever the heading and depth errors.
+    for k in 0..3 {
+        let out = tick(
+            &mut c,
+            1.0 + f64::from(k),
+            (180.0, 0.0, 3.0),
+            (90.0, 0.0, 0.0, 1.0),
+        );
+        assert_eq!(c.mode(), &ControlsMode::AllStop);
+        assert_eq!(num(&out, vars::THRUST_PCT), 0.0);
+        assert_eq!(num(&out, vars::FIN_DEFLECT_TOP_DEG), 0.0);
+        assert_eq!(num(&out, vars::FIN_DEFLECT_STBD_DEG), 0.0);
+    }
+    // Navigation silent for more than 2 s: all-stop, naming what is stale.
+    feed(&mut c, 10.0, (90.0, 1.0, 0.0), (90.0, 0.0, 0.0, 1.0));
+    let mut out = Vec::new();
+    c.iterate(10.5, &mut out);
+    assert_eq!(c.mode(), &ControlsMode::Active);
+    for v in ["DESIRED_HEADING", "DESIRED_SPEED", "DESIRED_DEPTH"] {
+        c.on_mail(v, ValueRef::Double(1.0), 12.5);
+    }
+    out.clear();
+    c.iterate(12.5, &mut out);
+    assert_eq!(
+        c.mode(),
+        &ControlsMode::Stale(vec!["NAV_HEADING", "NAV_DEPTH", "NAV_PITCH"])
+    );
+    assert_eq!(num(&out, vars::THRUST_PCT), 0.0);
+    assert_eq!(
+        last_posting(&out, vars::COUG_CONTROLS_STATE).and_then(|v| v.as_str()),
+        Some("stale: NAV_HEADING,NAV_DEPTH,NAV_PITCH")
+    );
+    // Never received at all: stale too (a fresh controller, armed, without any input).
+    let mut c = armed(coug1());
+    let mut out = Vec::new();
+    c.iterate(0.1, &mut out);
+    assert!(matches!(c.mode(), ControlsMode::Stale(v) if v.len() == 6));
+    assert_eq!(num(&out, vars::THRUST_PCT), 0.0);
+    // NAV_SPEED is watched only when the gain schedule uses it.
+    let cfg = ControlsConfig::from_params([("vehicle", "coug1"), ("fixed_surge", "none")]);
+    let mut c = armed(cfg.unwrap());
+    c.iterate(0.1, &mut out);
+    assert!(matches!(c.mode(), ControlsMode::Stale(v) if v.len() == 7));
+}
+
+#[test]
+fn surface_command_puts_the_fins_up_and_keeps_the_thrust() {
+    let mut c = armed(coug1());
+    c.on_mail(vars::COUG_SURFACE, ValueRef::String("true"), 0.5);
+    let out = tick(&mut c, 1.0, (90.0, 1.0, 3.0), (45.0, 1.0, 0.0, 1.0));
+    assert_eq!(num(&out, vars::FIN_DEFLECT_TOP_DEG), 0.0);
+    assert_eq!(num(&out, vars::FIN_DEFLECT_STBD_DEG), -30.0);
+    assert_eq!(num(&out, vars::FIN_DEFLECT_PORT_DEG), 30.0, "nose up");
+    assert_eq!(num(&out, vars::THRUST_PCT), 50.0);
+    // coug1's servo frame: directions (1, -1, -1), top offset -10.
+    assert_eq!(num(&out, vars::FIN_TOP_DEG), -10.0);
+    assert_eq!(num(&out, vars::FIN_STBD_DEG), 30.0);
+    assert_eq!(num(&out, vars::FIN_PORT_DEG), -30.0);
+}
+
+#[test]
+fn a_negative_nav_depth_is_reported_once() {
+    let mut c = armed(coug1());
+    tick(&mut c, 1.0, (90.0, 1.0, 3.0), (90.0, -0.2, 0.0, 1.0));
+    assert!(
+        c.take_warnings().is_empty(),
+        "surface noise is not an ENU z"
+    );
+    tick(&mut c, 1.1, (90.0, 1.0, 3.0), (90.0, -2.5, 0.0, 1.0));
+    let w = c.take_warnings();
+    assert_eq!(w.len(), 1);
+    assert!(w[0].contains("positive down"), "{w:?}");
+    tick(&mut c, 1.2, (90.0, 1.0, 3.0), (90.0, -2.6, 0.0, 1.0));
+    assert!(c.take_warnings().is_empty());
+}
+
+#[test]
+fn controls_config_presets_overrides_and_problems() {
+    // The preset applies first wherever its line is; later keys override it.
+    let c = ControlsConfig::from_params([("heading_kp", "2"), ("vehicle", "coug2")]).unwrap();
+    assert_eq!(c.cougars.heading.kp, 2.0);
+    assert_eq!(c.cougars.pitch, CougarsConfig::coug2().pitch);
+    assert_eq!(c.cougars.kinematics, CougarsConfig::coug2().kinematics);
+    let d = ControlsConfig::from_params([("AppTick", "10")]).unwrap();
+    assert_eq!(
+        d.cougars,
+        CougarsConfig::default(),
+        "no preset: declared defaults"
+    );
+    assert_eq!((d.speed_factor, d.max_thrust), (0.0, 100.0));
+    // The gains tuned against the millisecond PID.
+    let m =
+        ControlsConfig::from_params([("vehicle", "coug1"), ("ms_tuned_gains", "true")]).unwrap();
+    assert!((m.cougars.pitch.ki - 0.2).abs() < 1e-12);
+    assert!((m.cougars.depth.kd - 1e-6).abs() < 1e-15);
+    let (c, problems) = ControlsConfig::from_params_lenient([
+        ("vehicle", "coug9"),
+        ("speed_factor", "-1"),
+        ("colour", "red"),
+        ("pitch_kp", "0.5"),
+    ])
+    .unwrap();
+    assert_eq!(problems.len(), 3, "{problems:?}");
+    assert!(matches!(&problems[0], ConfigError::BadValue { key, .. } if key == "vehicle"));
+    assert!(matches!(&problems[1], ConfigError::BadValue { key, .. } if key == "speed_factor"));
+    assert!(matches!(&problems[2], ConfigError::UnknownKey { key, .. } if key == "colour"));
+    assert_eq!((c.speed_factor, c.cougars.pitch.kp), (0.0, 0.5));
 }
