@@ -105,7 +105,10 @@ impl Registry {
         B: Behavior + 'static,
         F: Fn() -> B + Send + Sync + 'static,
     {
-        self.insert(kind, Arc::new(move || Box::new(make()) as Box<dyn Behavior>));
+        self.insert(
+            kind,
+            Arc::new(move || Box::new(make()) as Box<dyn Behavior>),
+        );
         self
     }
 

@@ -24,9 +24,38 @@ pub(super) struct Slot {
     pub(super) now_start: Option<f64>,
     /// What the behaviour posted while being configured: sent on its first iteration.
     pub(super) config_out: Out,
+    /// For a spawned behaviour, its template's name prefix (an update's `name=` then names
+    /// it without the prefix, MOOS `getSpawnBaseName`).
+    pub(super) spawn_base: Option<String>,
 }
 
 impl Slot {
+    /// A new behaviour of the set with its type's defaults (name: the type's
+    /// [`Behavior::default_name`]).
+    pub(super) fn new(bhv: Box<dyn Behavior>) -> Slot {
+        let mut common = Common::new(bhv.kind());
+        common.name = bhv.default_name().to_string();
+        Slot {
+            common,
+            bhv,
+            state: RunState::New,
+            entered: 0.0,
+            clock: DurationClock::default(),
+            first_done: false,
+            config_posted: false,
+            completed: false,
+            ok: true,
+            good_updates: 0,
+            bad_updates: 0,
+            prev_update: String::new(),
+            pcs: 0,
+            ctr: [0; 6],
+            now_start: None,
+            config_out: Out::default(),
+            spawn_base: None,
+        }
+    }
+
     pub(super) fn duration(&self) -> f64 {
         self.common
             .duration
@@ -139,7 +168,13 @@ impl Helm {
                         (param_name(k.trim()), v.trim().to_string())
                     })
                     .collect();
-                if pairs.iter().any(|(k, v)| k == "name" && *v != name) {
+                // A spawned behaviour is named by its template's prefix and the update's name.
+                let base = self.slots[i].spawn_base.as_deref();
+                let mismatch = |v: &str| match base {
+                    Some(b) => name.strip_prefix(b) != Some(v),
+                    None => v != name,
+                };
+                if pairs.iter().any(|(k, v)| k == "name" && mismatch(v)) {
                     result.push_str(",result=name_mismatch");
                 } else {
                     let mut bad = Vec::new();

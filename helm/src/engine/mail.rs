@@ -80,6 +80,10 @@ impl Helm {
         for var in &bhv_vars {
             push(&mut v, var);
         }
+        // The templates' `updates` variables (spawning requests).
+        for t in &self.templates {
+            push(&mut v, &t.update_var);
+        }
         for var in self.initializes.iter().filter(|i| i.2).map(|i| i.0.clone()) {
             push(&mut v, &var);
         }

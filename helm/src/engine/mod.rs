@@ -38,13 +38,17 @@ mod behavior_set;
 mod mail;
 mod outbox;
 mod postings;
+mod spawn;
 
 use behavior_set::{Slot, apply_param};
 use outbox::{DupFilter, Outbox};
 use postings::{Message, Outgoing};
 
 use behaviors::fmt::{compact, fixed, uint};
-use behaviors::{Behavior, Common, Ctx, Emit, FlagKind, FlagValue, Info, Out, ParamError, PostKey};
+use behaviors::{
+    Behavior, Common, Ctx, Emit, FlagKind, FlagValue, Info, Out, ParamError, PostKey, Registry,
+    Templating,
+};
 use ivp::{Problem, Solver};
 use mission::bhv::{BehaviorFile, param_name};
 
@@ -118,6 +122,18 @@ impl HelmState {
 /// ```
 pub struct Helm {
     app_name: String,
+    /// The behaviour types spawning builds from.
+    registry: Registry,
+    /// The `templating = spawn`/`clone` entries.
+    templates: Vec<spawn::Template>,
+    /// This iteration's behaviour-set warnings (`IVPHELM_BHVSET_WARNING`).
+    bhvset_warnings: Vec<String>,
+    /// This iteration's spawn and abort events (`IVPHELM_LIFE_EVENT`).
+    life_events: Vec<String>,
+    /// Behaviours ever in the set (`IVPHELM_BHV_CNT_EVER`).
+    bhv_total_ever: usize,
+    /// The behaviours' start messages (`on_helm_start`), posted once the hold-on apps are up.
+    start_msgs: Vec<(String, Value)>,
     config: HelmConfig,
     errors: Vec<ConfigError>,
     ownship: String,
@@ -236,13 +252,24 @@ impl Helm {
     }
 
     /// A helm from its ProcessConfig parameters, the globals and a parsed `.bhv` file whose
-    /// diagnostics (bad lines) count as configuration errors.
+    /// diagnostics (bad lines) count as configuration errors; its behaviour types from the
+    /// process's registry ([`Registry::global`]).
     pub fn from_parsed<K: AsRef<str>, V: AsRef<str>>(
         params: &[(K, V)],
         globals: &Globals,
         bhv: &mission::Parsed<BehaviorFile>,
     ) -> Helm {
-        let mut h = Helm::from_config(params, globals, &bhv.value);
+        Helm::from_parsed_in(Registry::global(), params, globals, bhv)
+    }
+
+    /// [`Helm::from_parsed`] with the behaviour types of `registry`.
+    pub fn from_parsed_in<K: AsRef<str>, V: AsRef<str>>(
+        registry: &Registry,
+        params: &[(K, V)],
+        globals: &Globals,
+        bhv: &mission::Parsed<BehaviorFile>,
+    ) -> Helm {
+        let mut h = Helm::from_config_in(registry, params, globals, &bhv.value);
         for d in bhv.errors() {
             h.errors.push(ConfigError::Behavior(format!(
                 "{}: Line {}: {}",
@@ -258,10 +285,24 @@ impl Helm {
         h
     }
 
-    /// A helm from its ProcessConfig parameters (file order), the globals and a `.bhv` file.
-    /// Never fails: any problem puts the helm in MALCONFIG, and [`Helm::config_errors`] says
-    /// why (they are also posted as `IVPHELM_CONFIG_WARNING` on the first iteration).
+    /// A helm from its ProcessConfig parameters (file order), the globals and a `.bhv` file,
+    /// its behaviour types from the process's registry ([`Registry::global`]). Never fails:
+    /// any problem puts the helm in MALCONFIG, and [`Helm::config_errors`] says why (they are
+    /// also posted as `IVPHELM_CONFIG_WARNING` on the first iteration).
     pub fn from_config<K: AsRef<str>, V: AsRef<str>>(
+        params: &[(K, V)],
+        globals: &Globals,
+        bhv: &BehaviorFile,
+    ) -> Helm {
+        Helm::from_config_in(Registry::global(), params, globals, bhv)
+    }
+
+    /// [`Helm::from_config`] with the behaviour types of `registry`. Every entry is built and
+    /// configured (a type the registry lacks or a bad line is a configuration error); a
+    /// `templating = spawn` entry is kept as a template only (see the `spawn` module), a
+    /// `clone` entry both ways.
+    pub fn from_config_in<K: AsRef<str>, V: AsRef<str>>(
+        registry: &Registry,
         params: &[(K, V)],
         globals: &Globals,
         bhv: &BehaviorFile,
@@ -270,8 +311,10 @@ impl Helm {
         let ownship = globals.community.clone().unwrap_or_default();
         let info = InfoBuffer::new();
         let mut slots: Vec<Slot> = Vec::new();
+        let mut templates = Vec::new();
+        let mut start_out = Out::default();
         for spec in &bhv.behaviors {
-            let Some(b) = behaviors::create(&spec.kind) else {
+            let Some(b) = registry.create(&spec.kind) else {
                 errors.push(ConfigError::Behavior(format!(
                     "{}: Line {}: unknown behavior type {}",
                     spec.span.file_name(),
@@ -280,30 +323,13 @@ impl Helm {
                 )));
                 continue;
             };
-            let mut common = Common::new(b.kind());
-            common.name = b.default_name().to_string();
-            let mut slot = Slot {
-                common,
-                bhv: b,
-                state: RunState::New,
-                entered: 0.0,
-                clock: DurationClock::default(),
-                first_done: false,
-                config_posted: false,
-                completed: false,
-                ok: true,
-                good_updates: 0,
-                bad_updates: 0,
-                prev_update: String::new(),
-                pcs: 0,
-                ctr: [0; 6],
-                now_start: None,
-                config_out: Out::default(),
-            };
+            let mut slot = Slot::new(b);
+            let mut ok = true;
             for p in &spec.params {
                 let key = param_name(&p.key);
                 let res = apply_param(&mut slot, &key, &p.value, &info, &config, &ownship);
                 if let Err(e) = res {
+                    ok = false;
                     errors.push(ConfigError::Behavior(format!(
                         "{}: Line {}: {} = {} ({e})",
                         p.span.file_name(),
@@ -315,6 +341,24 @@ impl Helm {
             }
             // The C++ helm gives every loaded behaviour its own name as `us`.
             slot.common.us = None;
+            if ok {
+                // pHelmIvP's start messages (`onHelmStart`), templates' included.
+                let ctx = Ctx {
+                    info: &info,
+                    domain: &config.domain,
+                    ownship: &ownship,
+                    name: &slot.common.name,
+                    perpetual: slot.common.perpetual,
+                };
+                slot.bhv.on_helm_start(&ctx, &mut start_out);
+            }
+            let templating = slot.common.templating;
+            if templating.spawns() {
+                templates.push(spawn::Template::new(spec, &slot.common));
+                if templating == Templating::Spawn {
+                    continue;
+                }
+            }
             if slots.iter().any(|s| s.common.name == slot.common.name) {
                 errors.push(ConfigError::Behavior(format!(
                     "{}: Line {}: duplicate behavior name {}",
@@ -336,6 +380,14 @@ impl Helm {
             }
             slots.push(slot);
         }
+        let start_msgs = start_out
+            .emits
+            .into_iter()
+            .filter_map(|e| match e {
+                Emit::Post { var, value, .. } => Some((var, value)),
+                _ => None,
+            })
+            .collect();
         let initializes = bhv
             .initializes
             .iter()
@@ -353,8 +405,15 @@ impl Helm {
             .iter()
             .map(|a| (a.clone(), false))
             .collect();
+        let bhv_total_ever = slots.len();
         let mut helm = Helm {
             app_name: APP_NAME.to_string(),
+            registry: registry.clone(),
+            templates,
+            bhvset_warnings: Vec::new(),
+            life_events: Vec::new(),
+            bhv_total_ever,
+            start_msgs,
             modes: ModeSet::new(&bhv.modes),
             held_apps,
             config,
@@ -578,6 +637,18 @@ impl Helm {
         }
         self.handle_mail(now);
         self.cap_appcast_notes();
+        // The behaviours' start messages (MOOS `handleHelmStartMessages`), once every
+        // hold-on app is up.
+        if !self.start_msgs.is_empty() && !self.holding() && self.state != HelmState::Malconfig {
+            for (var, value) in std::mem::take(&mut self.start_msgs) {
+                let var = var.trim();
+                if var.contains(char::is_whitespace) {
+                    continue;
+                }
+                self.info.set(var, value.clone(), APP_NAME, now);
+                self.notify(var, value, "HELM_STARTUP_MSG");
+            }
+        }
 
         // §4.3 step 1: status, IVPHELM_STATE.
         self.status_update();
@@ -646,6 +717,7 @@ impl Helm {
         for s in &mut self.slots {
             s.ok = true;
         }
+        self.handle_spawnings(now);
         let modes: Vec<(String, String)> = self.modes.evaluate(&mut self.info).to_vec();
 
         let mut report = HelmReport {
@@ -653,6 +725,11 @@ impl Helm {
             time: now,
             domain: None,
             modes: self.modes.summary(),
+            spawnable: self
+                .templates
+                .iter()
+                .map(spawn::Template::summary)
+                .collect(),
             ..HelmReport::default()
         };
         let mut halted = false;

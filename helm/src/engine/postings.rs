@@ -61,13 +61,24 @@ impl Helm {
     }
 
     pub(super) fn post_behavior_messages(&mut self, iter: u64, now: f64) {
+        // The behaviour set's warnings of this iteration (spawning), numbered from 0.
+        for (k, w) in std::mem::take(&mut self.bhvset_warnings)
+            .into_iter()
+            .enumerate()
+        {
+            self.notes.push(AppcastNote::Warning(w.clone()));
+            let mut v = String::new();
+            uint(&mut v, k as u64);
+            v.push(':');
+            v.push_str(&w);
+            self.notify("IVPHELM_BHVSET_WARNING", Value::String(v.into()), "");
+        }
         let n = self.slots.len();
         if self.bhv_count != Some(n) {
             self.bhv_count = Some(n);
             self.notify("IVPHELM_BHV_CNT", Value::Double(n as f64), "");
         }
-        // No spawning: every behaviour ever is one of the file's.
-        let ever = self.slots.len().max(self.bhv_count_ever.unwrap_or(0));
+        let ever = self.bhv_total_ever;
         if self.bhv_count_ever != Some(ever) {
             self.bhv_count_ever = Some(ever);
             self.notify("IVPHELM_BHV_CNT_EVER", Value::Double(ever as f64), "");
@@ -180,19 +191,20 @@ impl Helm {
             let v = if pending { "true" } else { "false" };
             self.notify("IVPHELM_COMPLETED_PENDING", Value::String(v.into()), "");
         }
-        // Completed behaviours leave the set (reference §4.4).
+        // This iteration's spawns, then the deaths: completed behaviours leave the set
+        // (reference §4.4).
+        for ev in std::mem::take(&mut self.life_events) {
+            self.notify("IVPHELM_LIFE_EVENT", Value::String(ev.into()), "");
+        }
         let mut removed = 0;
         let mut k = 0;
         while k < self.slots.len() {
             if self.slots[k].state == RunState::Completed {
                 let s = self.slots.remove(k);
-                let mut ev = String::from("time=");
-                fixed(&mut ev, now - self.start_time, 2);
-                ev.push_str(&format!(
-                    ", iter={iter}, bname={}, btype={}, event=death, seed=",
-                    s.common.name, s.common.kind
-                ));
-                self.notify("IVPHELM_LIFE_EVENT", Value::String(ev.into()), "");
+                self.life_event(&s.common.name, &s.common.kind, "death", "", now);
+                for ev in std::mem::take(&mut self.life_events) {
+                    self.notify("IVPHELM_LIFE_EVENT", Value::String(ev.into()), "");
+                }
                 removed += 1;
                 self.state_vars_dirty = true;
             } else {
@@ -409,5 +421,18 @@ impl Helm {
             }
             true
         });
+    }
+
+    /// Records an `IVPHELM_LIFE_EVENT` (`event` spawn, abort or death; `seed`: the spawning
+    /// request), posted with this iteration's behaviour messages.
+    pub(super) fn life_event(&mut self, name: &str, kind: &str, event: &str, seed: &str, now: f64) {
+        let mut ev = String::from("time=");
+        fixed(&mut ev, now - self.start_time, 2);
+        ev.push_str(", iter=");
+        uint(&mut ev, self.iteration);
+        ev.push_str(&format!(
+            ", bname={name}, btype={kind}, event={event}, seed={seed}"
+        ));
+        self.life_events.push(ev);
     }
 }
