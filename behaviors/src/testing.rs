@@ -51,7 +51,7 @@ impl Profile {
     /// peak with `level` = the peak value, or the width at half height.
     pub fn width_above(&self, level: f64) -> f64 {
         let (px, pv) = self.peak();
-        if !(pv >= level) {
+        if pv.is_nan() || pv < level {
             return 0.0;
         }
         let at = self.xs.iter().position(|x| *x == px).unwrap_or(0);

@@ -37,7 +37,7 @@ fn step(h: &mut Helm, t: f64, mail: &[(&str, &str)]) -> Vec<Posting> {
         h.on_mail(&[Mail::new(var, 0.0, t)]);
     }
     for (var, v) in mail {
-        h.on_mail(&[Mail::new(*var, *v, t)]);
+        h.on_mail(&[Mail::new(var, *v, t)]);
     }
     h.iterate(t).to_vec()
 }

@@ -1,7 +1,9 @@
 //! `my-coug`: the coug binary with one more behaviour type, BHV_Orbit.
 //!
-//!     cargo run -p my-behaviour -- run examples/my-behaviour/mission/orbit.moos \
-//!         --lockstep --deploy --until "MISSION = complete"
+//! ```text
+//! cargo run -p my-behaviour -- run examples/my-behaviour/mission/orbit.moos \
+//!     --lockstep --deploy --until "MISSION = complete"
+//! ```
 
 use behaviors::Registry;
 use my_behaviour::Orbit;
