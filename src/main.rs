@@ -8,7 +8,7 @@
 use clap::{Parser, Subcommand};
 
 #[macro_use]
-mod out;
+pub(crate) mod out;
 
 mod cmd {
     pub mod app;
@@ -81,7 +81,18 @@ fn init_tracing(level: &str) {
         .init();
 }
 
+// Also compiled as `coug`'s library (src/lib.rs), where the binary's entry point is unused.
+#[allow(dead_code)]
 fn main() {
+    main_with(behaviors::Registry::with_stock())
+}
+
+/// The `coug` command line with the behaviour types of `registry` (installed as the process's
+/// registry, [`behaviors::Registry::install`], for every helm this process builds): what
+/// `coug`'s `main` does with the stock registry, and what a binary with behaviours of its own
+/// calls (see `coug::main_with`). Never returns: exits with the command's status.
+pub fn main_with(registry: behaviors::Registry) -> ! {
+    registry.install();
     let argv: Vec<String> = std::env::args().collect();
     // Invoked under a MOOS app's name (a link from `coug install-aliases`): be that app.
     let mut cli_args = argv.clone();

@@ -319,14 +319,27 @@ pub trait Behavior: Send {
     /// Sets one behaviour-specific parameter (`param` lower case, `value` trimmed).
     /// Returns [`ParamError::Unknown`] for a parameter it does not have. `common` is given so
     /// a parameter may also change a common setting (e.g. waypoint `repeat` makes it
-    /// perpetual).
+    /// perpetual). The common parameters never reach it. The default (a behaviour with no
+    /// parameters of its own) refuses every name.
     fn set_param(
         &mut self,
         param: &str,
-        value: &str,
-        common: &mut Common,
-        ctx: &Ctx<'_>,
-    ) -> Result<(), ParamError>;
+        _value: &str,
+        _common: &mut Common,
+        _ctx: &Ctx<'_>,
+    ) -> Result<(), ParamError> {
+        Err(ParamError::unknown(param))
+    }
+
+    /// Once, when the helm starts, for every behaviour of the file, `templating = spawn`
+    /// templates included (MOOS `onHelmStart`): what it posts goes out once the helm's
+    /// `hold_on_apps` are up, with source aux `HELM_STARTUP_MSG`, and into the info buffer
+    /// (e.g. a contact behaviour's alert request to the contact manager).
+    fn on_helm_start(&mut self, _ctx: &Ctx<'_>, _out: &mut Out) {}
+
+    /// When the helm spawns this behaviour from a template (MOOS `onSpawn`), after its
+    /// parameters and [`Behavior::on_set_param_complete`], before its `spawnflag`s.
+    fn on_spawn(&mut self, _ctx: &Ctx<'_>, _out: &mut Out) {}
 
     /// Called after configuration and after each successful update. Postings made here at
     /// configuration go out on the helm's first iteration, before the behaviour's own

@@ -22,9 +22,9 @@
 //! | build_info | | text | none | `clear`, else prepended (`a # b`) | yes | done |
 //! | precision | | text | none | as `build_info = precision=<v>` | yes | done |
 //! | runflag, runxflag, activeflag, inactiveflag, idleflag, endflag, configflag | run_flag, runx_flag, active_flag, inactive_flag, idle_flag, end_flag, config_flag | flag | none | `VAR = value [[if] condition]`, `clearall` | yes | done |
-//! | spawnflag, spawnxflag | spawn_flag, spawnx_flag | flag | none | as above | yes | done (spawnx on the first iteration; no spawning) |
-//! | templating | | enum | disallow | | no | refused: `spawn`/`clone` (behaviour spawning is not supported) |
-//! | max_spawnings | | number | | number | no | done (accepted; no spawning) |
+//! | spawnflag, spawnxflag | spawn_flag, spawnx_flag | flag | none | as above | yes | done (spawnflags when spawned, spawnx on the first iteration) |
+//! | templating | | enum | disallow | `spawn`, `clone`, `disallow` (exact); other values ignored (the spec's `setTemplatingType` result is unused) | no | done (helm spawning, see `helm::spawn`) |
+//! | max_spawnings | | number | 0 (no limit) | a number >= 0, else ignored (`setUIntOnString`) | no | done |
 //! | us | | name | community | any; overwritten by the helm's community after loading, an update changes `$[OWNSHIP]`, node messages' `src_node` and `<US>_NAV_GROUP` | yes | done |
 
 use mission::condition::{Condition, parse_condition};
@@ -215,6 +215,30 @@ pub struct Common {
     /// behaviours are loaded (so a `.bhv` line has no lasting effect, as in the C++); a later
     /// update may change it. `None`: the helm's community.
     pub us: Option<String>,
+    /// `templating`: whether this `.bhv` entry is a template the helm spawns instances of.
+    pub templating: Templating,
+    /// `max_spawnings`: the most instances a template spawns (0 = no limit).
+    pub max_spawnings: u32,
+}
+
+/// A behaviour entry's `templating` (MOOS `BehaviorSpec::setTemplatingType`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Templating {
+    /// `disallow` (the default): an ordinary behaviour.
+    #[default]
+    Disallow,
+    /// `spawn`: a template only; every `updates` posting with a new `name=` spawns an
+    /// instance named `<name prefix><name>`.
+    Spawn,
+    /// `clone`: as `spawn`, and the entry is also an ordinary behaviour from the start.
+    Clone,
+}
+
+impl Templating {
+    /// Whether the entry spawns instances (`spawn` or `clone`).
+    pub fn spawns(self) -> bool {
+        self != Templating::Disallow
+    }
 }
 
 impl Common {
@@ -237,6 +261,8 @@ impl Common {
             comms_policy: "open".to_string(),
             build_info: String::new(),
             us: None,
+            templating: Templating::Disallow,
+            max_spawnings: 0,
         }
     }
 
@@ -364,14 +390,20 @@ impl Common {
                 return self.set_param("build_info", &info);
             }
             "updates" => self.update_var = v.to_string(),
-            // Spawning is not supported: only the non-spawning settings are accepted.
-            "templating" => {
-                if !v.eq_ignore_ascii_case("disallow") {
-                    return bad("disallow (spawning is not supported by coug yet)");
-                }
-            }
+            // pHelmIvP's behaviour spec takes these two lines for itself and ignores values it
+            // cannot read (exact spellings only): never a configuration error.
+            "templating" => match v {
+                "spawn" => self.templating = Templating::Spawn,
+                "clone" => self.templating = Templating::Clone,
+                "disallow" => self.templating = Templating::Disallow,
+                _ => {}
+            },
             "max_spawnings" => {
-                number(param, v)?;
+                if let Ok(n) = number(param, v)
+                    && n >= 0.0
+                {
+                    self.max_spawnings = n as u32;
+                }
             }
             _ => {
                 let Some(kind) = FlagKind::from_param(param) else {
@@ -460,13 +492,24 @@ mod tests {
         assert_eq!(c.build_info, "precision=low # a=1");
         c.set_param("build_info", "clear").unwrap();
         assert!(c.build_info.is_empty());
-        // Spawn flags parse like the others; templating other than disallow is refused.
+        // Spawn flags parse like the others; templating and max_spawnings read as the C++
+        // spec reads them: unreadable values are ignored, never refused.
         c.set_param("spawn_flag", "S = 1").unwrap();
         c.set_param("spawnxflag", "SX = 1").unwrap();
         assert_eq!(c.flags(FlagKind::Spawn).len(), 1);
         assert_eq!(c.flags(FlagKind::Spawnx).len(), 1);
-        assert!(c.set_param("templating", "spawn").is_err());
+        c.set_param("templating", "spawn").unwrap();
+        assert_eq!(c.templating, Templating::Spawn);
+        c.set_param("templating", "Clone").unwrap();
+        assert_eq!(c.templating, Templating::Spawn, "exact spelling only");
+        c.set_param("templating", "clone").unwrap();
+        assert!(c.templating.spawns());
+        c.set_param("templating", "disallow").unwrap();
+        assert!(!c.templating.spawns());
         c.set_param("max_spawnings", "5").unwrap();
+        c.set_param("max_spawnings", "many").unwrap();
+        c.set_param("max_spawnings", "-2").unwrap();
+        assert_eq!(c.max_spawnings, 5);
         assert!(c.set_param("comms_policy", "noisy").is_err());
         c.set_param("comms_policy", "LEAN").unwrap();
     }

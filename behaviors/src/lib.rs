@@ -30,11 +30,18 @@
 //! ```
 //!
 //! # Adding a behaviour
-//! 1. Write `src/<name>.rs` with a struct implementing [`Behavior`] (`kind`, `set_param`
-//!    returning [`ParamError::Unknown`] for names it does not know, `on_run`, and the optional
-//!    hooks). Use [`param`] helpers for typed parsing.
-//! 2. Add `mod <name>;` plus a `pub use`, and one line in [`create`]'s match.
-//! 3. Keep the accepted parameters in step with `mission::catalog`.
+//! A behaviour implements [`Behavior`]: `kind` and `on_run` are required; `set_param`
+//! (returning [`ParamError::Unknown`] for names it does not know, typed parsing with the
+//! [`param`] helpers) and the other hooks have defaults. The common parameters (conditions,
+//! flags, `duration`, `updates`, `templating = spawn`, ...) are the helm's business.
+//!
+//! - A stock behaviour: `src/<name>.rs`, `mod <name>;` plus a `pub use`, one line in
+//!   [`STOCK`], and its parameters in `mission::catalog`.
+//! - A user's behaviour, in the user's own crate: register it,
+//!   `Registry::with_stock().register("BHV_Mine", Mine::new)`, and hand the registry to
+//!   `coug::main_with` (see `examples/my-behaviour` in the workspace). [`testing`] has the
+//!   helpers to check its objective function (argmax, values, peaks and widths, text and PNG
+//!   renderings).
 
 #![warn(missing_docs)]
 
@@ -54,14 +61,16 @@ mod op_region;
 mod op_region_v24;
 pub mod param;
 mod periodic_surface;
+pub mod registry;
 mod station_keep;
+pub mod testing;
 mod timer;
 mod waypoint;
 
 pub use behavior::{
     Behavior, Ctx, Emit, Info, MapInfo, Out, ParamError, PostKey, Value, nav, post_config_status,
 };
-pub use common::{Common, Flag, FlagKind, FlagValue};
+pub use common::{Common, Flag, FlagKind, FlagValue, Templating};
 pub use constant_depth::ConstantDepth;
 pub use constant_heading::ConstantHeading;
 pub use constant_speed::ConstantSpeed;
@@ -71,48 +80,28 @@ pub use max_depth::MaxDepth;
 pub use op_region::{Breach, OpRegion};
 pub use op_region_v24::OpRegionV24;
 pub use periodic_surface::{AscentGrade, PeriodicSurface, Phase};
+pub use registry::{Registry, STOCK};
 pub use station_keep::{KeepMode, StationKeep};
 pub use timer::Timer;
 pub use waypoint::Waypoint;
 
 /// Creates a behaviour of type `kind` (as written after `Behavior =`, case-insensitive),
-/// with its defaults; `None` for a type coug does not implement.
+/// with its defaults, from the process's registry ([`Registry::global`]: the stock types
+/// unless a binary installed its own); `None` for a type it does not have.
 ///
 /// ```
 /// assert_eq!(behaviors::create("bhv_waypoint").unwrap().kind(), "BHV_Waypoint");
 /// assert!(behaviors::create("BHV_Nonsense").is_none());
 /// ```
 pub fn create(kind: &str) -> Option<Box<dyn Behavior>> {
-    let k = kind.trim().to_ascii_lowercase();
-    Some(match k.as_str() {
-        "bhv_waypoint" => Box::new(Waypoint::new()),
-        "bhv_loiter" => Box::new(Loiter::new()),
-        "bhv_constantspeed" => Box::new(ConstantSpeed::new()),
-        "bhv_constantheading" => Box::new(ConstantHeading::new()),
-        "bhv_timer" => Box::new(Timer::new()),
-        "bhv_constantdepth" => Box::new(ConstantDepth::new()),
-        "bhv_maxdepth" => Box::new(MaxDepth::new()),
-        "bhv_opregion" => Box::new(OpRegion::new()),
-        "bhv_opregionv24" => Box::new(OpRegionV24::new()),
-        "bhv_periodicsurface" => Box::new(PeriodicSurface::new()),
-        "bhv_gotodepth" => Box::new(GoToDepth::new()),
-        "bhv_stationkeep" => Box::new(StationKeep::new()),
-        _ => return None,
-    })
+    Registry::global().create(kind)
 }
 
-/// The behaviour types [`create`] knows.
-pub const KINDS: &[&str] = &[
-    "BHV_Waypoint",
-    "BHV_Loiter",
-    "BHV_ConstantSpeed",
-    "BHV_ConstantHeading",
-    "BHV_Timer",
-    "BHV_ConstantDepth",
-    "BHV_MaxDepth",
-    "BHV_OpRegion",
-    "BHV_OpRegionV24",
-    "BHV_PeriodicSurface",
-    "BHV_GoToDepth",
-    "BHV_StationKeep",
-];
+/// The stock behaviour types ([`STOCK`]'s names), in order.
+///
+/// ```
+/// assert!(behaviors::kinds().any(|k| k == "BHV_Loiter"));
+/// ```
+pub fn kinds() -> impl Iterator<Item = &'static str> {
+    STOCK.iter().map(|(k, _)| *k)
+}

@@ -53,6 +53,8 @@ pub struct HelmReport {
     pub idle: Vec<BhvLine>,
     /// Completed behaviours.
     pub completed: Vec<BhvLine>,
+    /// The templates (`templating = spawn`), each `KIND::prefix (Spawned:made/tried)`.
+    pub spawnable: Vec<String>,
 }
 
 fn names(v: &[BhvLine]) -> String {
@@ -320,7 +322,14 @@ impl HelmReport {
                 out.push('\n');
             }
         }
-        out.push_str("Behaviors Spawnable: --------- (0)\n");
+        out.push_str("Behaviors Spawnable: --------- (");
+        uint(out, self.spawnable.len() as u64);
+        out.push_str(")\n");
+        for t in &self.spawnable {
+            out.push_str("  ");
+            out.push_str(t);
+            out.push('\n');
+        }
         out.push_str("Behaviors Active: ---------- (");
         uint(out, self.active.len() as u64);
         out.push_str(")\n");
