@@ -1,0 +1,27 @@
+//! Device emulators of the CougUV (issue #15, part 2): the GPS (NMEA 0183 on a serial line,
+//! gpsd's JSON on TCP), the Water Linked DVL A50 (JSON on TCP), the SeaTrac X150 (ASCII-hex
+//! frames on a serial line) and the Teensy (ASCII lines on a serial line), each serving the
+//! exact wire protocol of `cougars-vehicle.md` §3 through the codecs of the `devices` crate,
+//! so the drivers cannot tell them from the hardware.
+//!
+//! Each emulator has a pure part and an I/O edge:
+//! - [`device::Device`]: time, truth and faults in, bytes out; bytes in, state changes and
+//!   answers out. One per device: [`gps::NmeaGps`], [`gps::Gpsd`], [`dvl::A50`],
+//!   [`seatrac::X150`], [`teensy::Teensy`].
+//! - [`device::Emulator`]: a device with its [`truth::TruthSource`] (the simulator's feed,
+//!   [`truth::SharedTruth`], or the built-in [`truth::BoxScenario`]) and its
+//!   [`fault::FaultPlan`] (noise bursts, dropouts, disconnections, garbage bytes, a leak, a
+//!   falling battery), every draw from one seed.
+//! - [`transport`]: the edge, on a tokio runtime: a TCP listener on 127.0.0.1 or a
+//!   pseudo-terminal ([`pty`]) whose slave a serial driver opens like a device (optionally
+//!   through a symbolic link), ticking the emulator on tokio's clock (paused in tests);
+//!   [`transport::spawn`] runs one in process and returns its endpoint and a handle to stop
+//!   it and feed it truth; `coug emulate` runs one until Ctrl-C.
+//! - [`build`]: one emulator by device name with its options, shared by the CLI and tests.
+
+#![warn(missing_docs)]
+
+pub mod device;
+pub mod fault;
+pub mod gps;
+pub mod truth;
