@@ -22,6 +22,7 @@
 #![warn(missing_docs)]
 
 pub mod device;
+pub mod dvl;
 pub mod fault;
 pub mod gps;
 pub mod truth;
