@@ -25,4 +25,5 @@ pub mod device;
 pub mod dvl;
 pub mod fault;
 pub mod gps;
+pub mod teensy;
 pub mod truth;
