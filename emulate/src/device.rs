@@ -282,7 +282,11 @@ mod tests {
         let a = run();
         assert_eq!(a, run());
         let clean = |k: usize| format!("t={} leak=0\n", k as f64 * 0.5).len();
-        let extra: Vec<usize> = a.iter().enumerate().map(|(k, b)| b.len() - clean(k)).collect();
+        let extra: Vec<usize> = a
+            .iter()
+            .enumerate()
+            .map(|(k, b)| b.len() - clean(k))
+            .collect();
         // 40 bytes a second over half-second ticks from 1 s to 3 s (the tick at 1 s garbles
         // the half second before it: the rate is taken at the tick's time).
         assert_eq!(extra, vec![0, 0, 20, 20, 20, 20, 0, 0]);

@@ -24,7 +24,9 @@
 //! attitude) from the last reset, in a frame whose x is the heading at the reset; `yaw` is
 //! the heading relative to it; `std` grows by 1.01 % of the distance travelled.
 
-use devices::a50::{self, Command, Config, DeadReckoningReport, Response, Transducer, VelocityReport};
+use devices::a50::{
+    self, Command, Config, DeadReckoningReport, Response, Transducer, VelocityReport,
+};
 use devices::line::LineSplitter;
 use vehicle::angle::angle180;
 use vehicle::sensors::dvl::{Dvl, DvlConfig};
@@ -189,7 +191,11 @@ impl A50 {
                 // The command's name, when the line is JSON with one.
                 let name = serde_json::from_slice::<serde_json::Value>(line)
                     .ok()
-                    .and_then(|v| v.get("command").and_then(|c| c.as_str()).map(str::to_string))
+                    .and_then(|v| {
+                        v.get("command")
+                            .and_then(|c| c.as_str())
+                            .map(str::to_string)
+                    })
                     .unwrap_or_default();
                 let why = match e {
                     a50::A50Error::Unknown => format!("unknown command {name:?}"),
@@ -216,8 +222,16 @@ impl A50 {
                 Transducer {
                     id: i64::from(k),
                     velocity_mps: if r.valid { v } else { 0.0 },
-                    distance_m: if r.valid { r.altitude_m.max(0.0) / cb } else { 0.0 },
-                    rssi_dbm: if r.valid { -30.0 - 0.8 * r.altitude_m.max(0.0) } else { -95.0 },
+                    distance_m: if r.valid {
+                        r.altitude_m.max(0.0) / cb
+                    } else {
+                        0.0
+                    },
+                    rssi_dbm: if r.valid {
+                        -30.0 - 0.8 * r.altitude_m.max(0.0)
+                    } else {
+                        -95.0
+                    },
                     nsd_dbm: -90.0,
                     beam_valid: r.valid,
                 }
@@ -366,9 +380,15 @@ mod tests {
         let mut d = A50::new(quiet(), 1);
         let m = messages(&d.tick(&at(0.0, 10.0)));
         assert_eq!(m.len(), 2, "a velocity and a dead-reckoning report");
-        let a50::Message::Velocity(v) = &m[0] else { panic!("{m:?}") };
+        let a50::Message::Velocity(v) = &m[0] else {
+            panic!("{m:?}")
+        };
         assert!(v.velocity_valid);
-        assert!((v.vel_body_mps[0] - 1.0).abs() < 1e-12, "{:?}", v.vel_body_mps);
+        assert!(
+            (v.vel_body_mps[0] - 1.0).abs() < 1e-12,
+            "{:?}",
+            v.vel_body_mps
+        );
         assert!(v.vel_body_mps[1].abs() < 1e-12 && v.vel_body_mps[2].abs() < 1e-12);
         assert_eq!(v.altitude_m, 20.0);
         assert_eq!(v.time_of_validity_us, Some(1_795_000_000_000_000));
@@ -390,7 +410,10 @@ mod tests {
                 }
             }
         }
-        assert!((f64::from(n) - 10.0 * rate).abs() <= 1.0, "{n} in 10 s at {rate} Hz");
+        assert!(
+            (f64::from(n) - 10.0 * rate).abs() <= 1.0,
+            "{n} in 10 s at {rate} Hz"
+        );
         assert!((last_ms - 1000.0 / rate).abs() <= 20.0, "{last_ms}");
     }
 
@@ -400,7 +423,9 @@ mod tests {
         s.water_depth_m = 100.0;
         let mut d = A50::new(s, 1);
         let m = messages(&d.tick(&at(0.0, 1.0)));
-        let a50::Message::Velocity(v) = &m[0] else { panic!() };
+        let a50::Message::Velocity(v) = &m[0] else {
+            panic!()
+        };
         assert!(!v.velocity_valid && v.altitude_m == -1.0);
         assert!(v.transducers.iter().all(|t| !t.beam_valid));
     }
@@ -414,41 +439,75 @@ mod tests {
         })
         .encode();
         let m = messages(&d.receive(&at(0.0, 5.0), off.as_bytes()));
-        let a50::Message::Response(r) = &m[0] else { panic!() };
-        assert_eq!((r.response_to.as_str(), r.success, &r.result), ("set_config", true, &None));
+        let a50::Message::Response(r) = &m[0] else {
+            panic!()
+        };
+        assert_eq!(
+            (r.response_to.as_str(), r.success, &r.result),
+            ("set_config", true, &None)
+        );
         assert!(!d.acoustic_enabled());
-        assert!(d.tick(&at(0.1, 5.0)).is_empty(), "acoustics off: no reports");
+        assert!(
+            d.tick(&at(0.1, 5.0)).is_empty(),
+            "acoustics off: no reports"
+        );
         // get_config, split across two reads.
         let get = Command::GetConfig.encode();
         let (a, b) = get.as_bytes().split_at(7);
         assert!(d.receive(&at(0.2, 5.0), a).is_empty());
         let m = messages(&d.receive(&at(0.2, 5.0), b));
-        let a50::Message::Response(r) = &m[0] else { panic!() };
+        let a50::Message::Response(r) = &m[0] else {
+            panic!()
+        };
         let c = r.result.clone().unwrap();
-        assert_eq!((c.acoustic_enabled, c.speed_of_sound_mps), (Some(false), Some(1475.0)));
+        assert_eq!(
+            (c.acoustic_enabled, c.speed_of_sound_mps),
+            (Some(false), Some(1475.0))
+        );
         // A bad speed of sound is refused and changes nothing.
         let bad = br#"{"command":"set_config","parameters":{"speed_of_sound":99}}"#;
         let m = messages(&d.receive(&at(0.3, 5.0), &[&bad[..], b"\n"].concat()));
-        let a50::Message::Response(r) = &m[0] else { panic!() };
+        let a50::Message::Response(r) = &m[0] else {
+            panic!()
+        };
         assert!(!r.success && r.error_message.contains("speed_of_sound"));
         // Unknown commands and non-JSON lines get an error answer.
-        let m = messages(&d.receive(&at(0.3, 5.0), b"{\"command\":\"self_destruct\"}\nnot json\n"));
+        let m = messages(&d.receive(
+            &at(0.3, 5.0),
+            b"{\"command\":\"self_destruct\"}\nnot json\n",
+        ));
         assert_eq!(m.len(), 2);
-        let a50::Message::Response(r) = &m[0] else { panic!() };
-        assert_eq!((r.response_to.as_str(), r.success), ("self_destruct", false));
+        let a50::Message::Response(r) = &m[0] else {
+            panic!()
+        };
+        assert_eq!(
+            (r.response_to.as_str(), r.success),
+            ("self_destruct", false)
+        );
         // calibrate_gyro answers after its calibration time.
-        assert!(d.receive(&at(1.0, 5.0), Command::CalibrateGyro.encode().as_bytes()).is_empty());
+        assert!(
+            d.receive(&at(1.0, 5.0), Command::CalibrateGyro.encode().as_bytes())
+                .is_empty()
+        );
         assert!(d.tick(&at(1.5, 5.0)).is_empty());
         let m = messages(&d.tick(&at(2.0, 5.0)));
-        let a50::Message::Response(r) = &m[0] else { panic!() };
-        assert_eq!((r.response_to.as_str(), r.success), ("calibrate_gyro", true));
+        let a50::Message::Response(r) = &m[0] else {
+            panic!()
+        };
+        assert_eq!(
+            (r.response_to.as_str(), r.success),
+            ("calibrate_gyro", true)
+        );
         assert_eq!(d.commands(), 6);
     }
 
     #[test]
     fn dead_reckoning_integrates_from_its_reset_in_the_reset_frame() {
         let mut d = A50::new(quiet(), 1);
-        d.receive(&at(0.0, 5.0), Command::ResetDeadReckoning.encode().as_bytes());
+        d.receive(
+            &at(0.0, 5.0),
+            Command::ResetDeadReckoning.encode().as_bytes(),
+        );
         let mut last = None;
         for k in 0..=500 {
             for m in messages(&d.tick(&at(f64::from(k) * 0.02, 5.0))) {
@@ -462,11 +521,18 @@ mod tests {
         assert!((r.x_m - 10.0).abs() < 0.1 && r.y_m.abs() < 1e-9, "{r:?}");
         assert!((r.std_m - 0.0101 * r.x_m).abs() < 1e-9 && r.yaw_deg == 0.0);
         assert_eq!(r.ts_s, 10.0);
-        let m = messages(&d.receive(&at(10.0, 5.0), Command::ResetDeadReckoning.encode().as_bytes()));
-        let a50::Message::Response(r) = &m[0] else { panic!() };
+        let m = messages(&d.receive(
+            &at(10.0, 5.0),
+            Command::ResetDeadReckoning.encode().as_bytes(),
+        ));
+        let a50::Message::Response(r) = &m[0] else {
+            panic!()
+        };
         assert!(r.success);
         let m = messages(&d.tick(&at(10.2, 5.0)));
-        let Some(a50::Message::DeadReckoning(r)) = m.last() else { panic!("{m:?}") };
+        let Some(a50::Message::DeadReckoning(r)) = m.last() else {
+            panic!("{m:?}")
+        };
         assert!(r.x_m.abs() < 1e-9);
     }
 }

@@ -62,7 +62,9 @@ impl Fault {
 
 /// Why a `--fault` specification was refused.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("bad fault {spec:?}: {why} (e.g. noise@30+10:3, dropout@20+5, disconnect@40+2, garbage@10+5:100, leak@60, battery@0:0.01)")]
+#[error(
+    "bad fault {spec:?}: {why} (e.g. noise@30+10:3, dropout@20+5, disconnect@40+2, garbage@10+5:100, leak@60, battery@0:0.01)"
+)]
 pub struct FaultParseError {
     /// The specification.
     pub spec: String,

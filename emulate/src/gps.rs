@@ -13,8 +13,8 @@
 use devices::nmea::{self, Date, Gga, Rmc, UtcTime, Vtg, gpsd};
 use serde_json::json;
 use vehicle::geodesy::LocalGrid;
-use vehicle::sensors::gps::{Gps, GpsConfig, GpsReport};
 use vehicle::sensors::Noise;
+use vehicle::sensors::gps::{Gps, GpsConfig, GpsReport};
 
 use crate::device::{Device, Situation};
 
@@ -260,10 +260,15 @@ impl Device for NmeaGps {
         let Some(e) = self.rx.epoch(s) else {
             return Vec::new();
         };
-        nmea_epoch(e.utc, &e.report, e.vel_en_mps, self.rx.settings.altitude_msl_m)
-            .iter()
-            .flat_map(|m| m.encode().into_bytes())
-            .collect()
+        nmea_epoch(
+            e.utc,
+            &e.report,
+            e.vel_en_mps,
+            self.rx.settings.altitude_msl_m,
+        )
+        .iter()
+        .flat_map(|m| m.encode().into_bytes())
+        .collect()
     }
 
     fn receive(&mut self, _: &Situation, _: &[u8]) -> Vec<u8> {
@@ -407,7 +412,10 @@ impl Gpsd {
             }
             "?POLL" => {
                 let (tpv, sky) = match &self.last {
-                    Some((t, s)) => (vec![report_value(&t.encode())], vec![report_value(&s.encode())]),
+                    Some((t, s)) => (
+                        vec![report_value(&t.encode())],
+                        vec![report_value(&s.encode())],
+                    ),
                     None => (Vec::new(), Vec::new()),
                 };
                 let time = self.last.as_ref().and_then(|(t, _)| t.time.clone());
@@ -511,8 +519,18 @@ mod tests {
         assert_eq!(u.iso(), "2000-02-29T23:59:59.990Z");
         let t = u.time();
         assert_eq!((t.hour, t.minute, t.second), (23, 59, 59.99));
-        assert_eq!(u.date(), Date { day: 29, month: 2, year_2d: 0 });
-        assert_eq!(Utc::from_unix(1_795_000_000.0).iso(), "2026-11-18T11:06:40.000Z");
+        assert_eq!(
+            u.date(),
+            Date {
+                day: 29,
+                month: 2,
+                year_2d: 0
+            }
+        );
+        assert_eq!(
+            Utc::from_unix(1_795_000_000.0).iso(),
+            "2026-11-18T11:06:40.000Z"
+        );
     }
 
     #[test]
@@ -523,11 +541,18 @@ mod tests {
         let mut gps = NmeaGps::new(settings, 1);
         // Under water: GGA quality 0, RMC void, no position.
         let out = gps.tick(&at(0.0, 3.0));
-        let lines: Vec<_> = out.split(|&b| b == b'\n').filter(|l| !l.is_empty()).collect();
+        let lines: Vec<_> = out
+            .split(|&b| b == b'\n')
+            .filter(|l| !l.is_empty())
+            .collect();
         assert_eq!(lines.len(), 3);
-        let nmea::Sentence::Gga(g) = nmea::parse(lines[0]).unwrap() else { panic!() };
+        let nmea::Sentence::Gga(g) = nmea::parse(lines[0]).unwrap() else {
+            panic!()
+        };
         assert_eq!((g.quality, g.lat_deg), (0, None));
-        let nmea::Sentence::Rmc(r) = nmea::parse(lines[1]).unwrap() else { panic!() };
+        let nmea::Sentence::Rmc(r) = nmea::parse(lines[1]).unwrap() else {
+            panic!()
+        };
         assert!(!r.valid && r.course_deg.is_none());
         // At the surface, after the 2 s acquisition: a fix at the truth's position.
         let mut fixes = Vec::new();
@@ -549,9 +574,14 @@ mod tests {
         let g = ggas[19];
         assert_eq!(g.quality, 1);
         let grid = LocalGrid::new(40.3394, -111.90721).unwrap();
-        let (x, y) = grid.to_local(g.lat_deg.unwrap(), g.lon_deg.unwrap()).unwrap();
+        let (x, y) = grid
+            .to_local(g.lat_deg.unwrap(), g.lon_deg.unwrap())
+            .unwrap();
         // Minutes to 1e-5 are about 2 cm.
-        assert!((x - 10.0).abs() < 0.03 && (y - 20.0).abs() < 0.03, "{x} {y}");
+        assert!(
+            (x - 10.0).abs() < 0.03 && (y - 20.0).abs() < 0.03,
+            "{x} {y}"
+        );
         assert_eq!(g.time.unwrap().seconds_of_day(), 40000.0 + 4.0);
         let rmc = fixes
             .iter()
@@ -564,7 +594,14 @@ mod tests {
         assert!(rmc.valid);
         assert!((rmc.speed_mps().unwrap() - 1.0).abs() < 0.2);
         assert!((rmc.course_deg.unwrap() - 90.0).abs() < 15.0);
-        assert_eq!(rmc.date, Some(Date { day: 18, month: 11, year_2d: 26 }));
+        assert_eq!(
+            rmc.date,
+            Some(Date {
+                day: 18,
+                month: 11,
+                year_2d: 26
+            })
+        );
     }
 
     #[test]
@@ -574,7 +611,9 @@ mod tests {
         settings.model.acquire_time_s = 0.0;
         let mut d = Gpsd::new(settings, 3);
         let banner = d.connected(&at(0.0, 0.0));
-        assert!(matches!(gpsd::parse(&banner[..banner.len() - 1]), Ok(gpsd::Report::Other(c)) if c == "VERSION"));
+        assert!(
+            matches!(gpsd::parse(&banner[..banner.len() - 1]), Ok(gpsd::Report::Other(c)) if c == "VERSION")
+        );
         assert!(d.tick(&at(0.0, 0.0)).is_empty(), "nobody watches yet");
         let answer = d.receive(&at(0.1, 0.0), b"?WATCH={\"enable\":true,\"json\":true};");
         let classes: Vec<String> = answer
@@ -592,11 +631,17 @@ mod tests {
             .filter(|l| !l.is_empty())
             .map(|l| gpsd::parse(l).unwrap())
             .collect();
-        let gpsd::Report::Tpv(tpv) = &reports[0] else { panic!() };
+        let gpsd::Report::Tpv(tpv) = &reports[0] else {
+            panic!()
+        };
         assert_eq!(tpv.mode, 3);
         assert_eq!(tpv.time.as_deref(), Some("2026-11-18T11:06:40.200Z"));
         assert!((tpv.speed_mps.unwrap() - 1.0).abs() < 0.2);
-        assert_eq!(reports.len(), 1, "SKY once a second: not on the second epoch");
+        assert_eq!(
+            reports.len(),
+            1,
+            "SKY once a second: not on the second epoch"
+        );
         let poll = d.receive(&at(0.3, 0.0), b"?POLL;\n");
         assert!(String::from_utf8_lossy(&poll).contains("\"class\":\"POLL\""));
         let err = d.receive(&at(0.3, 0.0), b"?FOO;");
@@ -607,7 +652,9 @@ mod tests {
         d.receive(&at(0.4, 0.0), b"?WATCH={\"enable\":true}");
         d.receive(&at(0.4, 0.0), b";");
         let out = d.tick(&at(0.6, 2.0));
-        let gpsd::Report::Tpv(tpv) = gpsd::parse(out.split(|&b| b == b'\n').next().unwrap()).unwrap() else {
+        let gpsd::Report::Tpv(tpv) =
+            gpsd::parse(out.split(|&b| b == b'\n').next().unwrap()).unwrap()
+        else {
             panic!()
         };
         assert_eq!((tpv.mode, tpv.lat_deg), (1, None));

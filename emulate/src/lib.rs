@@ -25,5 +25,6 @@ pub mod device;
 pub mod dvl;
 pub mod fault;
 pub mod gps;
+pub mod seatrac;
 pub mod teensy;
 pub mod truth;

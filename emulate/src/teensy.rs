@@ -170,7 +170,8 @@ impl Device for Teensy {
             );
         }
         if self.battery.due(s.t) {
-            self.battery.done(s.t, 1.0 / self.settings.battery_hz.max(0.01));
+            self.battery
+                .done(s.t, 1.0 / self.settings.battery_hz.max(0.01));
             let thrust = self
                 .port
                 .get()
@@ -288,7 +289,10 @@ mod tests {
     fn contr_lines_are_recorded_and_drive_the_actuators_with_arming_and_failsafe() {
         let mut t = Teensy::new(TeensySettings::default(), 2);
         let port = t.port();
-        t.receive(&at(1.0, 0.0, false, 0.0), b"$CONTR,10.7,-5,0,50\n$CONTR,1,2\n");
+        t.receive(
+            &at(1.0, 0.0, false, 0.0),
+            b"$CONTR,10.7,-5,0,50\n$CONTR,1,2\n",
+        );
         let p = port.get();
         assert_eq!((p.accepted, p.refused), (1, 1));
         assert_eq!(p.last.unwrap().1.fins_deg, [10.7, -5.0, 0.0]);
@@ -297,7 +301,10 @@ mod tests {
         // Partial lines join; an over-long line is refused.
         t.receive(&at(8.0, 0.0, false, 0.0), b"$CONTR,0,0,0,");
         t.receive(&at(8.0, 0.0, false, 0.0), b"-100\r\n");
-        t.receive(&at(8.0, 0.0, false, 0.0), format!("$CONTR,{}\n", "1".repeat(60)).as_bytes());
+        t.receive(
+            &at(8.0, 0.0, false, 0.0),
+            format!("$CONTR,{}\n", "1".repeat(60)).as_bytes(),
+        );
         let p = port.get();
         assert_eq!((p.accepted, p.refused), (2, 2));
         assert_eq!((p.thruster_us, p.failsafe), (1100, false));
