@@ -28,3 +28,6 @@ pub mod gps;
 pub mod seatrac;
 pub mod teensy;
 pub mod truth;
+pub mod pty;
+pub mod transport;
+pub mod build;
