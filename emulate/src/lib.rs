@@ -21,13 +21,13 @@
 
 #![warn(missing_docs)]
 
+pub mod build;
 pub mod device;
 pub mod dvl;
 pub mod fault;
 pub mod gps;
+pub mod pty;
 pub mod seatrac;
 pub mod teensy;
-pub mod truth;
-pub mod pty;
 pub mod transport;
-pub mod build;
+pub mod truth;

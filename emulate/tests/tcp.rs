@@ -118,7 +118,10 @@ async fn dvl_answers_commands_and_comes_back_after_a_disconnection() {
     let closed_at = start.elapsed().as_secs_f64();
     assert!((2.9..3.1).contains(&closed_at), "{closed_at}");
     let rate = 15.0 - 13.0 * (20.0 - 0.05) / 49.95;
-    assert!((f64::from(velocities) - 3.0 * rate).abs() <= 2.0, "{velocities}");
+    assert!(
+        (f64::from(velocities) - 3.0 * rate).abs() <= 2.0,
+        "{velocities}"
+    );
     assert!(last_dr.unwrap().x_m > 2.0, "dead reckoning moved north");
     // While the device is off a connection is closed at once.
     let mut refused = connect(addr).await;
