@@ -46,7 +46,13 @@ fn dvl_serves_reports_and_stops_on_sigint() {
         "{report}"
     );
     let pid = child.id().to_string();
-    assert!(Command::new("kill").args(["-INT", &pid]).status().unwrap().success());
+    assert!(
+        Command::new("kill")
+            .args(["-INT", &pid])
+            .status()
+            .unwrap()
+            .success()
+    );
     let status = child.wait().unwrap();
     assert_eq!(status.code(), Some(0));
     let summary = rx

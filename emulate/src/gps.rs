@@ -457,7 +457,7 @@ impl Device for Gpsd {
         };
         let (tpv, sky) = self.reports(&e);
         let per_second = (1.0 / self.rx.period()).round().max(1.0) as u64;
-        let send_sky = self.epochs % per_second == 0;
+        let send_sky = self.epochs.is_multiple_of(per_second);
         self.epochs += 1;
         let mut out = String::new();
         if self.watching {

@@ -226,10 +226,8 @@ async fn run_tcp(
             _ = &mut stop => break,
             _ = tick.tick() => {
                 let out = emu.tick(now());
-                if out.disconnect {
-                    if conn.take().is_some() {
-                        stats.disconnects += 1;
-                    }
+                if out.disconnect && conn.take().is_some() {
+                    stats.disconnects += 1;
                 }
                 send(&mut conn, &out.bytes, &mut stats).await;
             }
