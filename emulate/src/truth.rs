@@ -124,7 +124,11 @@ impl BoxScenario {
     fn step(&mut self, dt: f64) {
         let s = &mut self.state;
         let target_heading = f64::from(self.leg % 4) * 90.0;
-        let target_depth = if self.leg.is_multiple_of(4) { 0.0 } else { self.depth_m };
+        let target_depth = if self.leg.is_multiple_of(4) {
+            0.0
+        } else {
+            self.depth_m
+        };
         // Heading: toward the side's heading at the turn rate (the short way round).
         let err = vehicle::angle::angle180(target_heading - s.heading_deg);
         let max_turn = self.turn_rate_deg_s * dt;

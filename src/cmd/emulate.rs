@@ -49,6 +49,18 @@ pub struct EmulateArgs {
     /// Depth of the (flat) bottom the DVL sees, m.
     #[arg(long, default_value_t = 30.0)]
     pub water_depth: f64,
+    /// The GPS's local origin, degrees: LAT,LON.
+    #[arg(long, value_name = "LAT,LON", default_value = "40.3394,-111.90721")]
+    pub origin: String,
+    /// SeaTrac: chance that a send is refused with XCVR_BUSY although the channel is free.
+    #[arg(long, default_value_t = 0.0)]
+    pub busy_prob: f64,
+    /// SeaTrac: magnetic declination, degrees east (the yaw written is true less it).
+    #[arg(long, default_value_t = 0.0)]
+    pub declination: f64,
+    /// SeaTrac: the frame of its accelerometer, magnetometer and gyro: cougars or body.
+    #[arg(long, default_value = "cougars")]
+    pub mount: String,
 }
 
 /// Runs the emulator until SIGINT/SIGTERM.
@@ -67,6 +79,23 @@ pub fn run(args: &EmulateArgs) -> anyhow::Result<()> {
     };
     let mut settings = Settings::default();
     settings.dvl.water_depth_m = args.water_depth;
+    let origin = args
+        .origin
+        .split_once(',')
+        .and_then(|(a, o)| Some((a.trim().parse::<f64>().ok()?, o.trim().parse::<f64>().ok()?)))
+        .filter(|(a, o)| vehicle::geodesy::LocalGrid::new(*a, *o).is_ok())
+        .with_context(|| format!("bad --origin {:?} (LAT,LON in degrees)", args.origin))?;
+    settings.gps.origin_lat_lon = origin;
+    if !(0.0..=1.0).contains(&args.busy_prob) {
+        bail!("--busy-prob must be a probability in [0, 1]");
+    }
+    settings.seatrac.busy_prob = args.busy_prob;
+    settings.seatrac.declination_deg = args.declination;
+    settings.seatrac.mount = match args.mount.as_str() {
+        "cougars" => emulate::seatrac::Mount::Cougars,
+        "body" => emulate::seatrac::Mount::Body,
+        other => bail!("bad --mount {other:?} (cougars or body)"),
+    };
     let epoch_unix_s = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map(|d| d.as_secs_f64())
