@@ -18,6 +18,27 @@
 //!   [`transport::spawn`] runs one in process and returns its endpoint and a handle to stop
 //!   it and feed it truth; `coug emulate` runs one until Ctrl-C.
 //! - [`build`]: one emulator by device name with its options, shared by the CLI and tests.
+//!
+//! In process, beside the simulator (or in a driver's test):
+//!
+//! ```
+//! use emulate::build::{self, Kind, Options, Settings};
+//! use emulate::transport::Transport;
+//! use emulate::truth::Truth;
+//! use tokio::io::AsyncBufReadExt;
+//!
+//! # tokio::runtime::Runtime::new().unwrap().block_on(async {
+//! let dvl = build::spawn(Kind::Dvl, Settings::default(), Transport::loopback(0), Options::default())
+//!     .await
+//!     .unwrap();
+//! dvl.truth.feed(Truth { depth: 5.0, vel_north_mps: 1.0, ..Truth::default() });
+//! let addr = dvl.handle.endpoint().tcp().unwrap();
+//! let stream = tokio::net::TcpStream::connect(addr).await.unwrap();
+//! let line = tokio::io::BufReader::new(stream).lines().next_line().await.unwrap().unwrap();
+//! assert!(devices::a50::parse(line.as_bytes()).is_ok());
+//! dvl.handle.stop().await.unwrap();
+//! # });
+//! ```
 
 #![warn(missing_docs)]
 
