@@ -14,6 +14,7 @@ mod cmd {
     pub mod app;
     pub mod check;
     pub mod db;
+    pub mod emulate;
     pub mod nav;
     pub mod nsplug;
     pub mod plot;
@@ -67,6 +68,8 @@ enum Command {
     /// pLogger, uTimerScript, uPokeDB and uXMS in DIR so pAntler starts coug in place of the
     /// C++ apps.
     InstallAliases(cmd::app::InstallAliasesArgs),
+    /// Emulate a device on a pty or TCP: gps|dvl|seatrac|teensy [--tcp PORT | --pty [--link PATH]] [--seed N] [--fault SPEC]...
+    Emulate(cmd::emulate::EmulateArgs),
 }
 
 fn init_tracing(level: &str) {
@@ -129,6 +132,7 @@ pub fn main_with(registry: behaviors::Registry) -> ! {
         Command::InstallAliases(args) => {
             report("install-aliases", cmd::app::install_aliases(&args))
         }
+        Command::Emulate(args) => report("emulate", cmd::emulate::run(&args)),
         Command::Info => {
             info();
             0
@@ -165,6 +169,8 @@ fn info() {
     outln!("  db        a MOOSDB C++ MOOS apps can join (alias MOOSDB)");
     outln!("  poke      post values (alias uPokeDB)");
     outln!("  scope     watch variables (alias uXMS)");
+    outln!("Hardware in the loop:");
+    outln!("  emulate   a GPS, DVL, SeaTrac or Teensy on a pty or TCP port, with faults");
     outln!("One app as its own MOOS process (for pAntler):");
     outln!("  helm      pHelmIvP");
     outln!("  sim       uSimMarineV22 / uSimMarine");
