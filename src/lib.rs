@@ -12,7 +12,7 @@
 //! # impl Orbit { fn new() -> Self { Orbit } }
 //! # impl Behavior for Orbit {
 //! #     fn kind(&self) -> &'static str { "BHV_Orbit" }
-//! #     fn on_run(&mut self, _: &Ctx<'_>, _: &mut Out) -> Option<ivp::IvpFunction> { None }
+//! #     fn on_run(&mut self, _: &Ctx<'_>, _: &mut Out) -> Option<helm::ivp::IvpFunction> { None }
 //! # }
 //! fn main() {
 //!     coug::main_with(behaviors::Registry::with_stock().register("BHV_Orbit", Orbit::new))
