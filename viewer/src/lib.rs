@@ -8,5 +8,6 @@
 //!   the scene and posts button presses).
 #![warn(missing_docs)]
 
+pub mod live;
 pub mod scene;
 pub mod server;
