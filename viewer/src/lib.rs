@@ -9,5 +9,6 @@
 #![warn(missing_docs)]
 
 pub mod live;
+pub mod replay;
 pub mod scene;
 pub mod server;
