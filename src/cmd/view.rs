@@ -108,19 +108,26 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
     {
         return replay(args, p);
     }
-    let buttons = match &args.mission {
+    let mission = match &args.mission {
         Some(p) => {
             let text = std::fs::read_to_string(p)
                 .with_context(|| format!("cannot read mission file {}", p.display()))?;
             let src = mission::source::SourceMap::from_text(&p.display().to_string(), &text);
-            mission::buttons::buttons(&mission::moos::parse_moos(&src).value)
+            Some(mission::moos::parse_moos(&src).value)
         }
-        None => Vec::new(),
+        None => None,
     };
     let config = ViewerConfig {
         bind: SocketAddr::new(args.bind, args.http_port),
         token: args.token.clone(),
-        buttons,
+        buttons: mission
+            .as_ref()
+            .map(mission::buttons::buttons)
+            .unwrap_or_default(),
+        contexts: mission
+            .as_ref()
+            .map(viewer::context::context_pokes)
+            .unwrap_or_default(),
         ..ViewerConfig::default()
     };
     config.check()?;

@@ -8,6 +8,7 @@
 //!   the scene and posts button presses).
 #![warn(missing_docs)]
 
+pub mod context;
 pub mod live;
 pub mod replay;
 pub mod scene;

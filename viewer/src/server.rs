@@ -51,6 +51,8 @@ pub struct ViewerConfig {
     pub scene: SceneConfig,
     /// The mission's pMarineViewer buttons: all the page can press.
     pub buttons: Vec<Button>,
+    /// The mission's pMarineViewer mouse context pokes: all a click can post.
+    pub contexts: Vec<crate::context::ContextPoke>,
     /// Least time between two frames to one client.
     pub min_frame_interval: Duration,
 }
@@ -62,6 +64,7 @@ impl Default for ViewerConfig {
             token: None,
             scene: SceneConfig::default(),
             buttons: Vec::new(),
+            contexts: Vec::new(),
             min_frame_interval: Duration::from_millis(50),
         }
     }
@@ -154,6 +157,9 @@ pub struct Viewer {
     replay: std::sync::OnceLock<tokio::sync::mpsc::UnboundedSender<ReplayControl>>,
     version: watch::Sender<u64>,
     buttons: Vec<Button>,
+    contexts: Vec<crate::context::ContextPoke>,
+    /// Clicks per side (`$(IX)`), left then right.
+    clicks: [AtomicU64; 2],
     token: Option<String>,
     outbox: Arc<dyn Outbox>,
     presses: AtomicU64,
@@ -186,6 +192,8 @@ impl Viewer {
             replay: std::sync::OnceLock::new(),
             version: watch::Sender::new(0),
             buttons: config.buttons.clone(),
+            contexts: config.contexts.clone(),
+            clicks: [AtomicU64::new(0), AtomicU64::new(0)],
             token: config.token.clone(),
             outbox,
             presses: AtomicU64::new(0),
@@ -309,6 +317,61 @@ impl Viewer {
         Ok(posts)
     }
 
+    /// A click's context pokes: posts every configured poke of `side` with menu key `key`
+    /// (and the side's `any_*` pokes), macros expanded for the click at (`x`, `y`) with
+    /// `vname` the active vehicle. Nothing is posted when no configured poke has that key.
+    pub fn click(
+        &self,
+        side: crate::context::Side,
+        key: &str,
+        x: f64,
+        y: f64,
+        vname: &str,
+    ) -> Result<Vec<(String, Value)>, PressError> {
+        if !self.contexts.iter().any(|c| c.side == side && c.key == key) {
+            return Err(PressError::UnknownButton(format!(
+                "{}_context[{key}]",
+                side.as_str()
+            )));
+        }
+        let vpos = self.with_scene(|s| {
+            s.vehicles()
+                .get(vname)
+                .and_then(|v| Some((v.report.x_m?, v.report.y_m?)))
+        });
+        let i = match side {
+            crate::context::Side::Left => 0,
+            crate::context::Side::Right => 1,
+        };
+        // pMarineViewer snaps a click to 0.1 m.
+        let click = crate::context::Click {
+            x: (x * 10.0).round() / 10.0,
+            y: (y * 10.0).round() / 10.0,
+            vname: vname.to_string(),
+            vpos,
+            ix: self.clicks[i].fetch_add(1, Ordering::Relaxed),
+            bix: self.presses.fetch_add(1, Ordering::Relaxed),
+            utc: self.outbox.moos_time(),
+        };
+        let posts: Vec<(String, Value)> = self
+            .contexts
+            .iter()
+            .filter(|c| c.matches(side, key))
+            .map(|c| c.expand(&click))
+            .collect();
+        for (var, value) in &posts {
+            self.outbox
+                .post(var, value.clone())
+                .map_err(PressError::Post)?;
+        }
+        Ok(posts)
+    }
+
+    /// The context pokes as the page shows them.
+    fn contexts_json(&self) -> serde_json::Value {
+        serde_json::Value::Array(self.contexts.iter().map(|c| c.to_json()).collect())
+    }
+
     /// Checks the token (when one is set) and, for a websocket, the origin.
     fn authorize(
         &self,
@@ -368,6 +431,32 @@ impl Viewer {
             };
             let _ = tx.send(control);
             return json!({"type": "replay_ok", "replay": cmd});
+        }
+        if let Some(key) = msg.get("context").and_then(|p| p.as_str()) {
+            let side = match msg.get("side").and_then(|p| p.as_str()) {
+                Some("left") => crate::context::Side::Left,
+                _ => crate::context::Side::Right,
+            };
+            let num = |k: &str| {
+                msg.get(k)
+                    .and_then(|x| x.as_f64())
+                    .filter(|x| x.is_finite())
+            };
+            let (Some(x), Some(y)) = (num("x"), num("y")) else {
+                return json!({"type": "refused", "context": key, "error": "no x, y"});
+            };
+            let vname = msg.get("vname").and_then(|v| v.as_str()).unwrap_or("");
+            return match self.click(side, key, x, y, vname) {
+                Ok(posts) => json!({
+                    "type": "pressed",
+                    "context": key,
+                    "posted": posts.iter().map(|(k, v)| json!([k, v.to_string()])).collect::<Vec<_>>(),
+                }),
+                Err(e) => {
+                    tracing::warn!(context = key, "click refused: {e}");
+                    json!({"type": "refused", "context": key, "error": e.to_string()})
+                }
+            };
         }
         let Some(name) = msg.get("press").and_then(|p| p.as_str()) else {
             return json!({"type": "refused", "error": "unknown request"});
@@ -473,7 +562,9 @@ async fn client(v: Arc<Viewer>, socket: WebSocket) {
             let now_epoch = v.epoch.load(Ordering::SeqCst);
             if now_epoch != epoch {
                 epoch = now_epoch;
-                Some((s.snapshot(), s.version()))
+                let mut snap = s.snapshot();
+                snap["contexts"] = v.contexts_json();
+                Some((snap, s.version()))
             } else {
                 s.delta_since(seen).map(|d| (d, s.version()))
             }
