@@ -351,10 +351,16 @@ fn run_inner(args: &RunArgs) -> Result<i32, Vec<String>> {
     let report = match &live {
         Some(live) => {
             let interrupted = cli.interrupted.clone();
-            let mut view =
-                viewer::live::ViewObserver::new(&mut cli, live, session::LOCKSTEP_START, args.pace);
-            let r = session::run(&loaded, &opts, &mut view);
-            drop(view);
+            let r = session::run(
+                &loaded,
+                &opts,
+                &mut viewer::live::ViewObserver::new(
+                    &mut cli,
+                    live,
+                    session::LOCKSTEP_START,
+                    args.pace,
+                ),
+            );
             cli.progress.finish();
             if r.is_ok() {
                 errln!("coug run: the run ended; the viewer stays up until Ctrl-C");

@@ -243,7 +243,6 @@ fn alpha_mid_survey_draws_the_vehicle_on_its_reported_spot_and_its_waypoints() {
     let mut quiet = Quiet;
     let mut view = ViewObserver::new(&mut quiet, &live, session::LOCKSTEP_START, None);
     session::run(&loaded, &opts, &mut view).expect("alpha runs");
-    drop(view);
     let snapshot = live.viewer().with_scene(|s| s.snapshot());
     let v = &snapshot["vehicles"][0];
     assert_eq!(v["name"], "alpha");

@@ -75,7 +75,6 @@ fn a_stalled_page_changes_nothing_in_a_lockstep_run() {
     let mut quiet = Quiet;
     let mut view = ViewObserver::new(&mut quiet, &live, session::LOCKSTEP_START, None);
     let viewed = session::run(&loaded, &options(&viewed_dir), &mut view).expect("viewed run");
-    drop(view);
 
     assert_eq!(plain.sim_s(), viewed.sim_s());
     let (a, b) = (records(&plain.alog), records(&viewed.alog));
