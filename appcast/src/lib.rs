@@ -60,6 +60,7 @@
 
 pub mod appcast;
 pub mod casting;
+pub mod monitor;
 pub mod table;
 
 pub use appcast::AppCast;

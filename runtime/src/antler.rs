@@ -446,14 +446,16 @@ fn make_logger(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
             &t.opened,
             &t.opened_on,
         )
-        .with_side_files(t.side),
+        .with_side_files(t.side)
+        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp),
     )))
 }
 
 fn make_timer_script(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
     let seed = cx.launch.seed ^ fnv(cx.moos_name);
-    let ts = TimerScript::new(cx.moos_name, b, &cx.globals.community, seed)?;
+    let ts = TimerScript::new(cx.moos_name, b, &cx.globals.community, seed)?
+        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
     cx.warnings.extend(ts.warnings().iter().cloned());
     Ok(Built::App(Box::new(ts)))
 }
@@ -561,7 +563,8 @@ pub fn plan(
     if !has_logger && let Some(t) = launch.log.take() {
         plan.apps.push(Box::new(
             Logger::new("pLogger", None, t.config, t.writer, &t.opened, &t.opened_on)
-                .with_side_files(t.side),
+                .with_side_files(t.side)
+                .with_appcast_globals(m.global("Community"), plan.globals.time_warp),
         ));
     }
     for run in runs {

@@ -175,15 +175,29 @@ impl AppcastLayer {
         out: &mut Vec<Post>,
         body: impl FnOnce(&mut String),
     ) {
+        if !self.end_due(now, tick_hz, out) {
+            return;
+        }
+        let mut text = std::mem::take(&mut self.body);
+        text.clear();
+        body(&mut text);
+        self.post_cast(now, out, &text);
+        self.body = text;
+    }
+
+    /// [`AppcastLayer::end`] in two steps, for an app whose body reads the struct that
+    /// holds the layer: posts `<APP>_ITER_LEN` when asked and says whether an `APPCAST` is
+    /// due; if so the app writes its body and hands it to [`AppcastLayer::post_cast`].
+    pub fn end_due(&mut self, now: f64, tick_hz: f64, out: &mut Vec<Post>) -> bool {
         if let Some(len) = self.cast.iteration_length(0.0, tick_hz) {
             out.push(Post::double(format!("{}_ITER_LEN", self.upper), len));
         }
-        if !self.cast.due(now, self.iter) {
-            return;
-        }
-        self.body.clear();
-        body(&mut self.body);
-        let value = self.cast.build(self.iter, &self.body, now);
+        self.cast.due(now, self.iter)
+    }
+
+    /// Posts the `APPCAST` with `body` (after [`AppcastLayer::end_due`] said one is due).
+    pub fn post_cast(&mut self, now: f64, out: &mut Vec<Post>, body: &str) {
+        let value = self.cast.build(self.iter, body, now);
         out.push(Post::text(appcast::casting::APPCAST_VAR, value));
     }
 }

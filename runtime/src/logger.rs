@@ -23,6 +23,7 @@ use mission::moos::ProcessConfig;
 use moosdb::db::wildcard_match;
 
 use crate::app::{App, Mail, Post, Subscription, Value};
+use crate::appcasting::AppcastLayer;
 
 /// Seconds between `LOGGER_DIRECTORY` posts.
 pub const DIRECTORY_PERIOD: f64 = 10.0;
@@ -496,6 +497,15 @@ pub struct Logger<W: Write> {
     error: Option<io::Error>,
     /// The write error was reported as the app's failure (later ones are not).
     failed: bool,
+    /// Appcasting (not in C++ pLogger, a plain CMOOSApp; issue #17 asks every coug app to
+    /// appcast): its files and counts.
+    appcast: AppcastLayer,
+    /// Records written to the alog and to the exclusion log.
+    logged: u64,
+    excluded: u64,
+    /// Distinct variables seen.
+    variables: std::collections::HashSet<moos_types::ByteString>,
+    copies: u32,
 }
 
 /// Writes one mail as a log record: the source as `src:aux` with `LogAuxSrc` (assembled in
@@ -584,7 +594,48 @@ impl<W: Write> Logger<W> {
             scratch: String::new(),
             error: None,
             failed: false,
+            appcast: AppcastLayer::with_globals(name, None, None, 1.0),
+            logged: 0,
+            excluded: 0,
+            variables: std::collections::HashSet::new(),
+            copies: 0,
         }
+    }
+
+    /// Sets the mission's `Community` and `MOOSTimeWarp` for the logger's appcasts; the
+    /// block's appcasting keys are read with them.
+    pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
+        self.appcast = AppcastLayer::with_globals(&self.name, self.block.as_ref(), community, warp);
+        self
+    }
+
+    /// The appcast report: the files, the counts, the first write error.
+    fn appcast_body(&self, out: &mut String) {
+        use std::fmt::Write as _;
+        let _ = writeln!(out, "        Log File: {}", self.file_path);
+        let _ = writeln!(out, "       Directory: {}", self.directory);
+        let _ = writeln!(
+            out,
+            "   Wildcard Logs: {}",
+            if self.config.wildcard {
+                "true"
+            } else {
+                "false"
+            }
+        );
+        let _ = writeln!(out, "  Logged Records: {}", self.logged);
+        let _ = writeln!(out, "Excluded Records: {}", self.excluded);
+        let _ = writeln!(out, "Variables Logged: {}", self.variables.len());
+        let _ = writeln!(out, "    Binary Bytes: {}", self.blog_offset);
+        let _ = writeln!(out, "    Files Copied: {}", self.copies);
+        let state = if self.failed || self.error.is_some() {
+            "write failed"
+        } else if self.writer.is_some() {
+            "writing"
+        } else {
+            "not open"
+        };
+        let _ = writeln!(out, "           State: {state}");
     }
 
     /// Also writes the mission copy and requested copies beside the alog.
@@ -611,7 +662,12 @@ impl<W: Write> Logger<W> {
             Ok(bytes) => match side.folder.side_file(&format!("{stem}._{ext}"), &bytes) {
                 // Asked again (a restarted helm): the copy is there already.
                 Err(e) if e.kind() == io::ErrorKind::AlreadyExists => {}
-                r => self.note(r),
+                r => {
+                    if r.is_ok() {
+                        self.copies += 1;
+                    }
+                    self.note(r)
+                }
             },
             Err(e) => tracing::warn!("{}: cannot copy {path}: {e}", self.name),
         }
@@ -684,15 +740,17 @@ impl<W: Write> Logger<W> {
                     (&self.blog_name, &mut self.blog_offset),
                     &mut self.scratch,
                 );
+                self.excluded += 1;
                 self.note(r);
             }
             return;
         }
         // Subscribed as pLogger's command variable only: logged like any other variable
         // only when wildcard logging or a `Log =` line asks for it.
-        if m.key == "PLOGGER_CMD"
+        // So are the appcasting layer's variables.
+        if (m.key == "PLOGGER_CMD" || appcast::casting::REGISTERED_VARIABLES.contains(&&*m.key))
             && !self.config.wildcard
-            && !self.config.logs.iter().any(|(v, _)| v == "PLOGGER_CMD")
+            && !self.config.logs.iter().any(|(v, _)| *v == *m.key)
         {
             return;
         }
@@ -706,6 +764,10 @@ impl<W: Write> Logger<W> {
             (&self.blog_name, &mut self.blog_offset),
             &mut self.scratch,
         );
+        self.logged += 1;
+        if !self.variables.contains(&m.key) {
+            self.variables.insert(m.key.clone());
+        }
         self.note(r);
     }
 }
@@ -720,11 +782,13 @@ impl<W: Write + 'static> App for Logger<W> {
     }
 
     fn subscriptions(&self) -> Vec<Subscription> {
-        let mut subs: Vec<Subscription> = self
-            .config
-            .logs
-            .iter()
-            .map(|(v, p)| Subscription::every(v.clone(), *p))
+        let mut subs: Vec<Subscription> = AppcastLayer::subscriptions()
+            .chain(
+                self.config
+                    .logs
+                    .iter()
+                    .map(|(v, p)| Subscription::every(v.clone(), *p)),
+            )
             .collect();
         if self.config.wildcard {
             subs.push(Subscription::var("*"));
@@ -736,6 +800,7 @@ impl<W: Write + 'static> App for Logger<W> {
     }
 
     fn on_startup(&mut self, now: f64, out: &mut Vec<Post>) -> crate::app::AppResult {
+        self.appcast.on_startup(now);
         if self.config.async_log
             && let Some(sink) = self.sink.take()
         {
@@ -776,6 +841,9 @@ impl<W: Write + 'static> App for Logger<W> {
     fn on_mail(&mut self, mail: &[Mail], _now: f64, _out: &mut Vec<Post>) -> crate::app::AppResult {
         for m in mail {
             self.log(m);
+            if !self.appcast.take_mail(m) {
+                continue;
+            }
             if m.key == "PLOGGER_CMD"
                 && let Value::String(cmd) = &m.value
                 && let Some((task, path)) = cmd.split_once('=')
@@ -788,6 +856,8 @@ impl<W: Write + 'static> App for Logger<W> {
     }
 
     fn iterate(&mut self, now: f64, out: &mut Vec<Post>) -> crate::app::AppResult {
+        let tick = self.app_tick();
+        self.appcast.begin(now, tick, out);
         if now - self.last_dir_post >= DIRECTORY_PERIOD {
             self.last_dir_post = now;
             out.push(Post::text("LOGGER_DIRECTORY", self.directory.clone()));
@@ -795,6 +865,11 @@ impl<W: Write + 'static> App for Logger<W> {
         if let Some(w) = self.writer.as_mut() {
             let r = w.flush();
             self.note(r);
+        }
+        if self.appcast.end_due(now, tick, out) {
+            let mut body = String::new();
+            self.appcast_body(&mut body);
+            self.appcast.post_cast(now, out, &body);
         }
         self.failure()
     }
@@ -907,6 +982,67 @@ mod tests {
         ok.write_all(b"abc").unwrap();
         ok.close().unwrap();
         assert_eq!(buf.contents(), b"abc");
+    }
+
+    #[test]
+    fn the_logger_appcasts_its_file_and_counts_and_keeps_requests_out_of_a_listed_log() {
+        let b = block(
+            "ProcessConfig = pLogger\n{\n  AppTick = 4\n  Log = NAV_X @ 0\n  WildCardLogging = false\n}\n",
+        );
+        let config = LoggerConfig::from_config(Some(&b), None);
+        let buf = SharedBuffer::default();
+        let opened = chrono::NaiveDate::from_ymd_opt(2026, 11, 26)
+            .unwrap()
+            .and_hms_opt(12, 0, 0)
+            .unwrap();
+        let mut lg = Logger::new("pLogger", Some(b), config, buf.clone(), &opened, "x")
+            .with_appcast_globals(Some("abe"), 1.0);
+        assert!(
+            lg.subscriptions()
+                .iter()
+                .any(|s| s.pattern == "APPCAST_REQ"),
+            "registers APPCAST_REQ"
+        );
+        let mail = |key: &str, value: Value, t: f64| crate::testing::mail(key, value, t, "uMAC");
+        let mut out = Vec::new();
+        lg.on_startup(0.0, &mut out).unwrap();
+        for k in 1..=4 {
+            lg.iterate(f64::from(k) * 0.25, &mut out).unwrap();
+        }
+        out.clear();
+        lg.on_mail(
+            &[
+                mail("NAV_X", Value::Double(1.5), 1.1),
+                mail("NAV_X", Value::Double(1.75), 1.2),
+                mail(
+                    "APPCAST_REQ",
+                    Value::text("node=abe,app=pLogger,duration=3.0,key=k,thresh=any"),
+                    1.2,
+                ),
+            ],
+            1.2,
+            &mut out,
+        )
+        .unwrap();
+        lg.iterate(1.25, &mut out).unwrap();
+        let cast = out
+            .iter()
+            .find(|p| p.key == "APPCAST")
+            .map(|p| appcast::AppCast::parse(p.value.as_str().unwrap()))
+            .expect("an appcast on request");
+        assert_eq!(cast.proc_name(), "pLogger");
+        assert_eq!(cast.node_name(), "abe");
+        let m = cast.messages();
+        assert!(m.contains("Logged Records: 2"), "{m}");
+        assert!(m.contains("Variables Logged: 1"), "{m}");
+        assert!(m.contains("State: writing"), "{m}");
+        lg.stop(1.5).unwrap();
+        let text = String::from_utf8(buf.contents()).unwrap();
+        assert!(text.contains("NAV_X"), "{text}");
+        assert!(
+            !text.contains("APPCAST_REQ"),
+            "a request is logged only when asked for: {text}"
+        );
     }
 
     #[test]

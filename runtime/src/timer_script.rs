@@ -21,6 +21,7 @@ use mission::moos::ProcessConfig;
 use thiserror::Error;
 
 use crate::app::{App, Mail, Post, Subscription, Value};
+use crate::appcasting::AppcastLayer;
 use moos_types::text::set_boolean_on_string;
 
 /// A config line uTimerScript cannot use.
@@ -237,7 +238,14 @@ pub struct TimerScript {
     nav_y: Option<f64>,
     quit_sent: bool,
     finished: bool,
+    /// AppCastingMOOSApp around the script (`None` only while its report is written).
+    appcast: Option<AppcastLayer>,
+    /// The latest postings, for the appcast (newest last).
+    event_log: std::collections::VecDeque<String>,
 }
+
+/// Postings the appcast lists.
+const EVENT_LOG_LEN: usize = 20;
 
 impl TimerScript {
     /// Reads a uTimerScript block. `name` is the MOOS name (alias), `community` the
@@ -298,6 +306,8 @@ impl TimerScript {
             nav_y: None,
             quit_sent: false,
             finished: false,
+            appcast: None,
+            event_log: std::collections::VecDeque::new(),
         };
         for p in &block.entries {
             let v: String = p.value.chars().filter(|c| !c.is_whitespace()).collect();
@@ -317,6 +327,13 @@ impl TimerScript {
             })?;
         }
         ts.conditions_ok = ts.conditions.is_empty();
+        ts.appcast = Some(AppcastLayer::with_config_warnings(
+            name,
+            &block,
+            None,
+            1.0,
+            &ts.warnings,
+        ));
         ts.block = Some(block);
         Ok(ts)
     }
@@ -537,6 +554,91 @@ impl TimerScript {
         &self.warnings
     }
 
+    /// Sets the mission's `Community` and `MOOSTimeWarp` for the script's appcasts (the node
+    /// name, the real-time rate limit); the block's appcasting keys are read again with them.
+    pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
+        if let Some(block) = &self.block {
+            self.appcast = Some(AppcastLayer::with_config_warnings(
+                &self.name,
+                block,
+                community,
+                warp,
+                &self.warnings,
+            ));
+        }
+        self
+    }
+
+    /// The appcast report: the script's state, what holds it, its random variables and its
+    /// latest postings (the content uTimerScript's report shows).
+    fn appcast_body(&self, out: &mut String) {
+        use std::fmt::Write as _;
+        let resets = match self.reset_max {
+            None => "any".to_string(),
+            Some(m) => m.to_string(),
+        };
+        let _ = writeln!(out, "Script: {}", self.script_name);
+        let _ = writeln!(
+            out,
+            "     Elements: {}({})",
+            self.events.len(),
+            self.posted_local
+        );
+        let _ = writeln!(out, "      Reinits: {}", self.reset_count);
+        let _ = writeln!(out, "    Time Warp: {}", fmt_x(self.warp_value, 2));
+        let _ = writeln!(out, "  Delay Start: {}", fmt_x(self.delay_start_value, 2));
+        let _ = writeln!(out, "  Delay Reset: {}", fmt_x(self.delay_reset_value, 2));
+        let _ = writeln!(out, "    Reset Max: {resets}");
+        let _ = writeln!(out, "      Elapsed: {:.2}\n", self.elapsed);
+        let blocking = if self.block_on.is_empty() {
+            "(ok) no blocking apps".to_string()
+        } else {
+            self.block_on.join(",")
+        };
+        let _ = writeln!(out, "Run criteria:");
+        let _ = writeln!(out, "   Block Apps: {blocking}");
+        let _ = writeln!(
+            out,
+            "       Paused: {}",
+            if self.paused {
+                "true"
+            } else {
+                "(ok) Not paused"
+            }
+        );
+        let _ = writeln!(
+            out,
+            " ConditionsOK: {}\n",
+            if self.conditions_ok {
+                "(ok) No un-met conditions"
+            } else {
+                "false - there are un-met conditions"
+            }
+        );
+        let mut t = appcast::Table::new(4);
+        t.push("RandomVar | Min | Max | Value");
+        t.add_header_lines();
+        if self.rand_vars.is_empty() {
+            t.push("None");
+            t.push("");
+            t.push("");
+            t.push("");
+        }
+        for rv in &self.rand_vars {
+            t.push(&rv.name);
+            t.push(&fmt_x(rv.min, 6));
+            t.push(&fmt_x(rv.max, 6));
+            t.push(&fmt_x(rv.value, 6));
+        }
+        t.write(out);
+        out.push_str("\n\nP/Tot  P/Loc  T/Total   T/Local  Variable/Var\n");
+        out.push_str("-----  -----  --------  -------  ------------\n");
+        for line in &self.event_log {
+            out.push_str(line);
+            out.push('\n');
+        }
+    }
+
     /// The number of events (after `amt` cloning).
     pub fn event_count(&self) -> usize {
         self.events.len()
@@ -712,10 +814,22 @@ impl TimerScript {
         if e.quit {
             self.quit_sent = true;
         }
-        out.push(Post::new(e.var, value));
         self.posted[i] = true;
         self.posted_local += 1;
         self.posted_total += 1;
+        if self.event_log.len() == EVENT_LOG_LEN {
+            self.event_log.pop_front();
+        }
+        self.event_log.push_back(format!(
+            "{:<5}  {:<5}  {:<8.2}  {:<7.2}  {} = {}",
+            self.posted_total,
+            self.posted_local,
+            now - self.started_at,
+            self.elapsed,
+            e.var,
+            value
+        ));
+        out.push(Post::new(e.var, value));
         self.status_needed = true;
     }
 }
@@ -790,13 +904,19 @@ impl App for TimerScript {
             v.push("NAV_Y".into());
         }
         let mut seen = std::collections::BTreeSet::new();
-        v.into_iter()
-            .filter(|s| !s.is_empty() && seen.insert(s.clone()))
-            .map(Subscription::var)
+        AppcastLayer::subscriptions()
+            .chain(
+                v.into_iter()
+                    .filter(|s| !s.is_empty() && seen.insert(s.clone()))
+                    .map(Subscription::var),
+            )
             .collect()
     }
 
     fn on_startup(&mut self, now: f64, _out: &mut Vec<Post>) -> crate::app::AppResult {
+        if let Some(a) = self.appcast.as_mut() {
+            a.on_startup(now);
+        }
         self.started_at = now;
         for rv in &mut self.rand_vars {
             rv.draw(&mut self.rng);
@@ -806,6 +926,11 @@ impl App for TimerScript {
 
     fn on_mail(&mut self, mail: &[Mail], now: f64, _out: &mut Vec<Post>) -> crate::app::AppResult {
         for m in mail {
+            if let Some(a) = self.appcast.as_mut()
+                && !a.take_mail(m)
+            {
+                continue;
+            }
             let key = &*m.key;
             if key == self.pause_var {
                 if let Some(s) = m.value.as_str() {
@@ -877,6 +1002,27 @@ impl App for TimerScript {
     }
 
     fn iterate(&mut self, now: f64, out: &mut Vec<Post>) -> crate::app::AppResult {
+        let tick = self.app_tick();
+        if let Some(a) = self.appcast.as_mut() {
+            a.begin(now, tick, out);
+        }
+        self.iterate_script(now, out);
+        // The layer is taken out while the body reads the script.
+        if let Some(mut appcast) = self.appcast.take() {
+            appcast.end(now, tick, out, |b| self.appcast_body(b));
+            self.appcast = Some(appcast);
+        }
+        Ok(())
+    }
+
+    fn finished(&self) -> bool {
+        self.finished
+    }
+}
+
+impl TimerScript {
+    /// One pass of the script (uTimerScript's Iterate without the appcasting around it).
+    fn iterate_script(&mut self, now: f64, out: &mut Vec<Post>) {
         // 1. Conditions (not re-checked mid-pass in atomic mode).
         let mid_pass = self.posted_local > 0 && self.posted_local < self.events.len();
         if !(self.atomic && mid_pass) {
@@ -947,11 +1093,6 @@ impl App for TimerScript {
             }
             self.last_status = Some(now);
         }
-        Ok(())
-    }
-
-    fn finished(&self) -> bool {
-        self.finished
     }
 }
 
@@ -1008,10 +1149,73 @@ mod tests {
         out
     }
 
+    /// The script's own postings: no status, no appcast (tested apart).
     fn without_status(v: Vec<(f64, Post)>) -> Vec<(f64, Post)> {
         v.into_iter()
-            .filter(|(_, p)| p.key != "UTS_STATUS")
+            .filter(|(_, p)| p.key != "UTS_STATUS" && p.key != "APPCAST")
             .collect()
+    }
+
+    #[test]
+    fn the_script_appcasts_its_state_and_postings_on_request() {
+        let mut ts = script(
+            "AppTick = 4\nevent = var=TICK_D, val=$(COUNT), time=0.5\n\
+             event = var=TICK_S, val=\"tick\", time=1.0\nreset_max = 0\n",
+        )
+        .with_appcast_globals(Some("alpha"), 1.0);
+        assert!(
+            ts.subscriptions()
+                .iter()
+                .any(|s| s.pattern == "APPCAST_REQ"),
+            "AppCastingMOOSApp registers APPCAST_REQ"
+        );
+        let casts = |posts: &[(f64, Post)]| -> Vec<(f64, appcast::AppCast)> {
+            posts
+                .iter()
+                .filter(|(_, p)| p.key == "APPCAST")
+                .map(|(t, p)| (*t, appcast::AppCast::parse(p.value.as_str().unwrap())))
+                .collect()
+        };
+        // Nobody asks: only the start-up casts of the first iterations.
+        let quiet = run(&mut ts, 10.0, 0.25, 12, &[]);
+        assert!(casts(&quiet).iter().all(|(t, _)| *t < 10.5), "{quiet:?}");
+        // A request for this node and app (at 13.1, for 3 s): the next iteration answers.
+        let req = "node=alpha,app=uTimerScript,duration=3.0,key=uMAC_1,thresh=any";
+        let mut ts2 = script(
+            "AppTick = 4\nevent = var=TICK_D, val=$(COUNT), time=0.5\n\
+             event = var=TICK_S, val=\"tick\", time=1.0\nreset_max = 0\n",
+        )
+        .with_appcast_globals(Some("alpha"), 1.0);
+        let posts = run(
+            &mut ts2,
+            10.0,
+            0.25,
+            16,
+            &[(13.1, "APPCAST_REQ", Value::text(req))],
+        );
+        let answered = casts(&posts);
+        let (t, cast) = answered.last().expect("an appcast");
+        assert!(*t >= 13.25, "answered at {t}");
+        assert_eq!(cast.proc_name(), "uTimerScript");
+        assert_eq!(cast.node_name(), "alpha");
+        let m = cast.messages();
+        assert!(m.contains("Elements: 2(2)"), "{m}");
+        assert!(m.contains("TICK_D = 0"), "{m}");
+        assert!(m.contains("TICK_S = tick"), "{m}");
+        // A request for another node is not answered.
+        let mut ts3 = script("AppTick = 4\nevent = var=A, val=1, time=0.5\n")
+            .with_appcast_globals(Some("alpha"), 1.0);
+        let other = "node=bravo,app=all,duration=3.0,key=uMAC_1,thresh=any";
+        let posts = run(
+            &mut ts3,
+            10.0,
+            0.25,
+            16,
+            &[(13.1, "APPCAST_REQ", Value::text(other))],
+        );
+        assert!(casts(&posts).iter().all(|(t, _)| *t < 10.5));
+        // The request never reaches the script as information.
+        assert!(!ts2.info.contains_key("APPCAST_REQ"));
     }
 
     #[test]

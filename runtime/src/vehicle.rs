@@ -388,6 +388,29 @@ mod tests {
     }
 
     #[test]
+    fn the_simulator_appcasts_on_request() {
+        let b =
+            block("ProcessConfig = uSimMarineV22\n{\n  AppTick = 4\n  start_pos = x=10,y=-5\n}\n");
+        let mut app = VehicleApp::simulator("uSimMarineV22", b, None, 0.0, false)
+            .unwrap()
+            .with_appcast_globals(Some("abe"), 1.0);
+        let mut out = Vec::new();
+        app.on_startup(0.0, &mut out).unwrap();
+        for k in 1..=3 {
+            app.iterate(f64::from(k) * 0.25, &mut out).unwrap();
+        }
+        out.clear();
+        let req = "node=all,app=uSimMarineV22,duration=3,key=uMAC_7,thresh=any";
+        app.on_mail(&[mail("APPCAST_REQ", Value::text(req), 0.8)], 0.8, &mut out)
+            .unwrap();
+        app.iterate(1.0, &mut out).unwrap();
+        let cast = appcast_of(&out).expect("an appcast on request");
+        assert_eq!(cast.proc_name(), "uSimMarineV22");
+        assert_eq!(cast.node_name(), "abe");
+        assert!(!cast.messages().is_empty());
+    }
+
+    #[test]
     fn a_node_reporter_without_navigation_warns_in_its_appcast() {
         let b = block(
             "ProcessConfig = pNodeReporter\n{\n  AppTick = 4\n  platform_type = kayak\n  nav_grace_period = 5\n}\n",

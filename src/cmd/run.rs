@@ -75,6 +75,28 @@ pub struct RunArgs {
     /// Extra directory searched for nsplug `#include` files (repeatable).
     #[arg(short = 'p', long = "path", value_name = "DIR")]
     pub include_paths: Vec<PathBuf>,
+    /// Serve the web viewer on the run (as `coug view`); it stays up after the run until
+    /// Ctrl-C.
+    #[arg(long)]
+    pub view: bool,
+    /// Port of the viewer's page (with --view; 0 picks a free one).
+    #[arg(long, value_name = "P", default_value_t = 9080, requires = "view")]
+    pub http_port: u16,
+    /// Address the viewer binds (with --view); anything but loopback needs --token.
+    #[arg(
+        long,
+        value_name = "ADDR",
+        default_value = "127.0.0.1",
+        requires = "view"
+    )]
+    pub bind: std::net::IpAddr,
+    /// A token the page must present (`?token=T`); required for a non-loopback --bind.
+    #[arg(long, requires = "view")]
+    pub token: Option<String>,
+    /// Lockstep with --view: hold the run to this many times real time so a person can
+    /// watch (default: as fast as it goes, the viewer dropping frames).
+    #[arg(long, value_name = "X", requires = "view", requires = "lockstep")]
+    pub pace: Option<f64>,
 }
 
 /// Says on stderr why a helm is in MALCONFIG (it runs anyway, as pHelmIvP does: it posts
@@ -304,8 +326,56 @@ fn run_inner(args: &RunArgs) -> Result<i32, Vec<String>> {
         every: args.progress_every,
         interrupted: interrupt_flag(),
     };
-    let report = session::run(&loaded, &opts, &mut cli);
-    cli.progress.finish();
+    let live = if args.view {
+        let config = viewer::server::ViewerConfig {
+            bind: std::net::SocketAddr::new(args.bind, args.http_port),
+            token: args.token.clone(),
+            buttons: mission::buttons::buttons(&loaded.mission),
+            contexts: viewer::context::context_pokes(&loaded.mission),
+            ..viewer::server::ViewerConfig::default()
+        };
+        let live = viewer::live::LiveView::start(&config).map_err(|e| vec![e.to_string()])?;
+        match &args.token {
+            Some(t) => errln!("coug run: viewer at http://{}/?token={t}", live.addr()),
+            None => errln!("coug run: viewer at http://{}/", live.addr()),
+        }
+        Some(live)
+    } else {
+        None
+    };
+    if let Some(p) = args.pace
+        && !(p.is_finite() && p > 0.0)
+    {
+        return Err(vec![format!("--pace {p}: expected a positive speed-up")]);
+    }
+    let report = match &live {
+        Some(live) => {
+            let interrupted = cli.interrupted.clone();
+            let r = session::run(
+                &loaded,
+                &opts,
+                &mut viewer::live::ViewObserver::new(
+                    &mut cli,
+                    live,
+                    session::LOCKSTEP_START,
+                    args.pace,
+                ),
+            );
+            cli.progress.finish();
+            if r.is_ok() {
+                errln!("coug run: the run ended; the viewer stays up until Ctrl-C");
+            }
+            while r.is_ok() && !interrupted.load(Ordering::Relaxed) {
+                std::thread::sleep(Duration::from_millis(100));
+            }
+            r
+        }
+        None => {
+            let r = session::run(&loaded, &opts, &mut cli);
+            cli.progress.finish();
+            r
+        }
+    };
     let report = report.map_err(error_lines)?;
     if let Ended::Interrupted { .. } = report.ended {
         if args.lockstep {

@@ -1,5 +1,6 @@
-//! `coug view [MISSION.moos] [--host H] [--port DB_PORT] [--http-port P] [--bind ADDR]
-//! [--token T]`: the web viewer (issue #17). Joins the MOOSDB as the client `coug_view`
+//! `coug view [MISSION.moos | LOG.alog] [--host H] [--port DB_PORT] [--http-port P] [--bind ADDR]
+//! [--token T] [--speed X]`: the web viewer (issue #17). Given an alog it replays it
+//! (`viewer::replay`: time slider, play/pause, speed) and joins no DB. Joins the MOOSDB as the client `coug_view`
 //! (registering NODE_REPORT*, VIEW_* and APPCAST, posting APPCAST_REQ every 2 s) and serves
 //! the page at `http://ADDR:P/`; everything is in `viewer::server`, this only reads the
 //! arguments and the mission's pMarineViewer buttons.
@@ -17,8 +18,8 @@ use super::db::{ConnectArgs, connect};
 /// Arguments of `coug view`.
 #[derive(Debug, Args)]
 pub struct ViewArgs {
-    /// The mission (its ServerHost/ServerPort and pMarineViewer buttons).
-    #[arg(value_name = "MISSION.moos")]
+    /// The mission (its ServerHost/ServerPort and pMarineViewer buttons), or a log to replay.
+    #[arg(value_name = "MISSION.moos|LOG.alog")]
     pub mission: Option<PathBuf>,
     /// Where the DB is.
     #[command(flatten)]
@@ -32,23 +33,101 @@ pub struct ViewArgs {
     /// A token the page must present (`?token=T`); required for a non-loopback --bind.
     #[arg(long)]
     pub token: Option<String>,
+    /// Replaying a log: playback speed (times real time).
+    #[arg(long, value_name = "X", default_value_t = 1.0)]
+    pub speed: f64,
+}
+
+/// A replay posts nothing: every press is refused.
+struct NoPosts;
+
+impl viewer::server::Outbox for NoPosts {
+    fn post(&self, _var: &str, _value: moos_types::Value) -> Result<(), String> {
+        Err("a replayed log cannot be poked".into())
+    }
+    fn moos_time(&self) -> f64 {
+        0.0
+    }
+}
+
+/// `coug view LOG.alog`: the page replaying the log until SIGINT/SIGTERM.
+fn replay(args: &ViewArgs, log: &std::path::Path) -> anyhow::Result<()> {
+    if !(args.speed.is_finite() && args.speed > 0.0) {
+        anyhow::bail!("--speed {}: expected a positive speed-up", args.speed);
+    }
+    let text =
+        std::fs::read_to_string(log).with_context(|| format!("cannot read {}", log.display()))?;
+    let parsed = alog::parse(&text).with_context(|| format!("{} is not an alog", log.display()))?;
+    let data = Arc::new(viewer::replay::Replay::from_alog(&parsed));
+    let config = ViewerConfig {
+        bind: SocketAddr::new(args.bind, args.http_port),
+        token: args.token.clone(),
+        ..ViewerConfig::default()
+    };
+    config.check()?;
+    let rt = tokio::runtime::Runtime::new()?;
+    rt.block_on(async {
+        let listener = tokio::net::TcpListener::bind(config.bind)
+            .await
+            .with_context(|| format!("cannot bind {}", config.bind))?;
+        let viewer = Viewer::new(&config, Arc::new(NoPosts))?;
+        let addr = listener.local_addr()?;
+        outln!(
+            "coug view: replaying {} ({} records, {:.1} s) at http://{addr}/{}",
+            log.display(),
+            data.len(),
+            data.duration(),
+            config
+                .token
+                .as_ref()
+                .map(|t| format!("?token={t}"))
+                .unwrap_or_default()
+        );
+        let server = tokio::spawn(serve(viewer.clone(), listener));
+        let driver = tokio::spawn(viewer::replay::drive(
+            viewer,
+            data,
+            false,
+            args.speed,
+            std::time::Duration::from_millis(100),
+        ));
+        tokio::select! {
+            _ = super::signal::shutdown() => {}
+            r = server => r.context("web server task")?.context("web server")?,
+            _ = driver => anyhow::bail!("the replay ended"),
+        }
+        Ok(())
+    })
 }
 
 /// Reads the buttons, joins the DB, serves the page until SIGINT/SIGTERM.
 pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
-    let buttons = match &args.mission {
+    if let Some(p) = &args.mission
+        && p.extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("alog"))
+    {
+        return replay(args, p);
+    }
+    let mission = match &args.mission {
         Some(p) => {
             let text = std::fs::read_to_string(p)
                 .with_context(|| format!("cannot read mission file {}", p.display()))?;
             let src = mission::source::SourceMap::from_text(&p.display().to_string(), &text);
-            mission::buttons::buttons(&mission::moos::parse_moos(&src).value)
+            Some(mission::moos::parse_moos(&src).value)
         }
-        None => Vec::new(),
+        None => None,
     };
     let config = ViewerConfig {
         bind: SocketAddr::new(args.bind, args.http_port),
         token: args.token.clone(),
-        buttons,
+        buttons: mission
+            .as_ref()
+            .map(mission::buttons::buttons)
+            .unwrap_or_default(),
+        contexts: mission
+            .as_ref()
+            .map(viewer::context::context_pokes)
+            .unwrap_or_default(),
         ..ViewerConfig::default()
     };
     config.check()?;

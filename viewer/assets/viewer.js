@@ -1,12 +1,21 @@
 // coug view: draws the scene the server sends over /ws on a canvas in local metres
-// (x east, y north), with pan (drag) and zoom (wheel). Nothing is fetched but /ws.
+// (x east, y north). Nothing is fetched but /ws.
+//
+// The map fits the scene until the user pans or zooms: the box around every vehicle's
+// position and every shape's points (at least 20 m a side) is centred, scaled to leave
+// 40 px on each side of the map canvas (window width minus the 320 px side panel, full
+// height), so a given window size and scene give the same pixels (the browser tests compute
+// positions with the same rule). window.cougView exposes the transform.
 "use strict";
 const token = new URLSearchParams(location.search).get("token");
-const scene = { vehicles: {}, shapes: {}, appcasts: {}, buttons: [], trailMax: 300, now: 0 };
-const view = { cx: 0, cy: 0, scale: 2 }; // pixels per metre
+const scene = { vehicles: {}, shapes: {}, appcasts: {}, buttons: [], contexts: [], trailMax: 300, now: 0 };
+const view = { cx: 0, cy: 0, scale: 2, auto: true, follow: null };
+const history = {}; // vehicle name -> [[t, depth, speed]]
+const PALETTE = ["#ffd700", "#ff4fa0", "#4fe34f", "#4fc3ff", "#ff8c1a", "#c77dff", "#ffffff", "#ff3030"];
 const canvas = document.getElementById("map");
 const ctx = canvas.getContext("2d");
 let ws = null;
+let replay = null;
 
 function connect() {
   const proto = location.protocol === "https:" ? "wss:" : "ws:";
@@ -18,31 +27,51 @@ function connect() {
   ws.onmessage = (ev) => handle(JSON.parse(ev.data));
 }
 
+function send(obj) { if (ws && ws.readyState === 1) ws.send(JSON.stringify(obj)); }
 function status(t) { document.getElementById("status").textContent = t; }
-
 function shapeKey(s) { return s.kind + "/" + s.key; }
+
+// A vehicle's colour: its report's COLOR, else the palette by its place in the sorted names.
+function colorOf(v) {
+  if (v.color) return v.color;
+  const names = Object.keys(scene.vehicles).sort();
+  return PALETTE[Math.max(0, names.indexOf(v.name)) % PALETTE.length];
+}
+
+function remember(v) {
+  if (v.depth === null && v.speed === null) return;
+  const h = history[v.name] || (history[v.name] = []);
+  h.push([v.received, v.depth || 0, v.speed || 0]);
+  while (h.length && h[0][0] < v.received - 300) h.shift();
+}
 
 function handle(m) {
   if (m.type === "snapshot") {
     scene.vehicles = {}; scene.shapes = {}; scene.appcasts = {};
-    scene.trailMax = m.trail_max; scene.buttons = m.buttons; drawButtons();
-    for (const v of m.vehicles) scene.vehicles[v.name] = v;
+    for (const k of Object.keys(history)) delete history[k];
+    scene.trailMax = m.trail_max; scene.buttons = m.buttons; scene.contexts = m.contexts || [];
+    drawButtons();
+    for (const v of m.vehicles) { scene.vehicles[v.name] = v; remember(v); }
   } else if (m.type === "delta") {
     for (const v of m.vehicles) {
       const old = scene.vehicles[v.name];
       const trail = (old ? old.trail : []).concat(v.trail_add);
       v.trail = trail.slice(Math.max(0, trail.length - scene.trailMax));
       scene.vehicles[v.name] = v;
+      remember(v);
     }
     for (const n of m.removed_vehicles) delete scene.vehicles[n];
     for (const [k, key] of m.removed_shapes) delete scene.shapes[k + "/" + key];
+  } else if (m.type === "status") {
+    showReplay(m.replay); return;
   } else if (m.type === "pressed" || m.type === "refused") {
-    status(m.type + " " + (m.button || "") + (m.error ? ": " + m.error : ""));
+    status(m.type + " " + (m.button || m.context || "") + (m.error ? ": " + m.error : ""));
     return;
   } else return;
   scene.now = m.now;
   for (const s of m.shapes) scene.shapes[shapeKey(s)] = s;
   for (const a of m.appcasts) scene.appcasts[a.node + "/" + a.app] = a;
+  if (m.replay) showReplay(m.replay);
   drawSide();
 }
 
@@ -54,7 +83,8 @@ function drawButtons() {
     el.textContent = b.label;
     el.title = b.postings.map(p => p[0] + "=" + p[1]).join("\n");
     el.onclick = () => {
-      if (confirm("Press " + b.label + "?\n" + el.title)) ws.send(JSON.stringify({ press: b.label }));
+      // Any posting can move a vehicle: every press is confirmed.
+      if (confirm("Press " + b.label + "?\n" + el.title)) send({ press: b.label, vname: view.follow || undefined });
     };
     div.appendChild(el);
   }
@@ -63,12 +93,19 @@ function drawButtons() {
 function drawSide() {
   const vd = document.getElementById("vehicles");
   vd.innerHTML = "";
-  for (const v of Object.values(scene.vehicles)) {
+  for (const name of Object.keys(scene.vehicles).sort()) {
+    const v = scene.vehicles[name];
     const d = document.createElement("div");
-    if (v.stale) d.className = "stale";
+    d.className = (v.stale ? "stale" : "") + (view.follow === name ? " followed" : "");
+    const sw = document.createElement("span");
+    sw.className = "swatch"; sw.style.background = v.stale ? "#777" : colorOf(v);
+    d.appendChild(sw);
     const f = (x, n) => (x === null || x === undefined) ? "-" : x.toFixed(n);
-    d.textContent = v.name + "  hdg " + f(v.heading, 0) + "  spd " + f(v.speed, 1) + "  dep " +
-      f(v.depth, 1) + "  " + v.helm + " " + v.mode + (v.stale ? " (stale)" : "");
+    d.appendChild(document.createTextNode(v.name + "  hdg " + f(v.heading, 0) + "  spd " + f(v.speed, 1) +
+      "  dep " + f(v.depth, 1) + "  " + v.helm + " " + v.mode + (v.stale ? " (stale)" : "") +
+      (view.follow === name ? "  [following]" : "")));
+    d.title = "click: follow / stop following";
+    d.onclick = () => { view.follow = view.follow === name ? null : name; drawSide(); };
     vd.appendChild(d);
   }
   const sel = document.getElementById("cast");
@@ -81,11 +118,64 @@ function drawSide() {
   }
   const a = scene.appcasts[sel.value];
   document.getElementById("report").textContent = a ? a.report : "";
+  drawChart();
 }
 document.getElementById("cast").onchange = drawSide;
 
+// Depth (blue, down) and speed (green) of the followed vehicle, else the first, over 300 s.
+function drawChart() {
+  const c = document.getElementById("chart"), g = c.getContext("2d");
+  g.fillStyle = "#0b1d2a"; g.fillRect(0, 0, c.width, c.height);
+  const name = view.follow || Object.keys(scene.vehicles).sort()[0];
+  const h = name && history[name];
+  if (!h || !h.length) return;
+  const t1 = h[h.length - 1][0], t0 = t1 - 300;
+  const dmax = Math.max(1, ...h.map(p => p[1])), smax = Math.max(0.5, ...h.map(p => p[2]));
+  const line = (idx, max, color, down) => {
+    g.strokeStyle = color; g.beginPath();
+    h.forEach((p, i) => {
+      const x = (p[0] - t0) / 300 * c.width;
+      const y = down ? 10 + p[idx] / max * (c.height - 20) : c.height - 10 - p[idx] / max * (c.height - 20);
+      i ? g.lineTo(x, y) : g.moveTo(x, y);
+    });
+    g.stroke();
+  };
+  line(1, dmax, "#4fc3ff", true);
+  line(2, smax, "#4fe34f", false);
+  g.fillStyle = "#ccc";
+  g.fillText(name + "  depth " + h[h.length - 1][1].toFixed(1) + " m (max " + dmax.toFixed(1) + ")", 4, 10);
+  g.fillText("speed " + h[h.length - 1][2].toFixed(2) + " m/s (max " + smax.toFixed(2) + ")", 4, c.height - 2);
+}
+
+// The box every vehicle position and shape point lies in.
+function sceneBox() {
+  let b = null;
+  const add = (x, y) => {
+    if (typeof x !== "number" || typeof y !== "number") return;
+    if (!b) b = [x, y, x, y];
+    else { b[0] = Math.min(b[0], x); b[1] = Math.min(b[1], y); b[2] = Math.max(b[2], x); b[3] = Math.max(b[3], y); }
+  };
+  for (const v of Object.values(scene.vehicles)) add(v.x, v.y);
+  for (const s of Object.values(scene.shapes)) {
+    if (s.pts) for (const [x, y] of s.pts) add(x, y);
+    else add(s.x, s.y);
+  }
+  return b;
+}
+
+function fit() {
+  const b = sceneBox();
+  if (!b) { view.cx = 0; view.cy = 0; view.scale = 2; return; }
+  const dx = Math.max(b[2] - b[0], 20), dy = Math.max(b[3] - b[1], 20);
+  view.scale = Math.min((canvas.width - 80) / dx, (canvas.height - 80) / dy);
+  view.cx = (b[0] + b[2]) / 2; view.cy = (b[1] + b[3]) / 2;
+}
+
 function toScreen(x, y) {
   return [canvas.width / 2 + (x - view.cx) * view.scale, canvas.height / 2 - (y - view.cy) * view.scale];
+}
+function toWorld(px, py) {
+  return [view.cx + (px - canvas.width / 2) / view.scale, view.cy - (py - canvas.height / 2) / view.scale];
 }
 
 function grid() {
@@ -96,7 +186,10 @@ function grid() {
   for (let x = Math.floor(x0 / step) * step; x <= x1; x += step) { const [sx] = toScreen(x, 0); ctx.moveTo(sx, 0); ctx.lineTo(sx, canvas.height); }
   for (let y = Math.floor(y0 / step) * step; y <= y1; y += step) { const [, sy] = toScreen(0, y); ctx.moveTo(0, sy); ctx.lineTo(canvas.width, sy); }
   ctx.stroke();
-  ctx.fillStyle = "#aaa"; ctx.fillText("grid " + step + " m", 8, canvas.height - 8);
+  // Scale bar: one grid step.
+  ctx.strokeStyle = "#aaa"; ctx.beginPath();
+  ctx.moveTo(8, canvas.height - 20); ctx.lineTo(8 + step * view.scale, canvas.height - 20); ctx.stroke();
+  ctx.fillStyle = "#aaa"; ctx.fillText(step + " m", 8, canvas.height - 8);
 }
 
 function poly(pts, close) {
@@ -108,7 +201,13 @@ function poly(pts, close) {
 function label(s, x, y) {
   if (!s.label || s.label.startsWith("#")) return;
   const [sx, sy] = toScreen(x, y);
-  ctx.fillStyle = s.label_color || "#ccc"; ctx.fillText(s.label, sx + 4, sy - 4);
+  ctx.fillStyle = s.label_color || "#ccc"; ctx.fillText(s.label, sx + 6, sy - 6);
+}
+
+function vertices(s) {
+  const r = s.vertex_size || 5;
+  ctx.fillStyle = s.vertex_color || s.edge_color || "#ccc";
+  for (const [x, y] of s.pts) { const [sx, sy] = toScreen(x, y); ctx.fillRect(Math.round(sx - r / 2), Math.round(sy - r / 2), r, r); }
 }
 
 function drawShape(s) {
@@ -120,6 +219,7 @@ function drawShape(s) {
       if (!s.pts.length) return;
       poly(s.pts, s.kind === "polygon"); ctx.stroke();
       if (s.fill_color && s.fill_transparency) { ctx.globalAlpha = s.fill_transparency; ctx.fillStyle = s.fill_color; ctx.fill(); ctx.globalAlpha = 1; }
+      vertices(s);
       label(s, s.pts[0][0], s.pts[0][1]); break;
     case "point": {
       const [sx, sy] = toScreen(s.x, s.y); const r = s.vertex_size || 3;
@@ -144,19 +244,23 @@ function drawShape(s) {
 
 function drawVehicle(v) {
   if (v.x === null || v.y === null) return;
-  ctx.strokeStyle = v.stale ? "#666" : "#6cf"; ctx.lineWidth = 1;
+  const color = v.stale ? "#777" : colorOf(v);
+  ctx.strokeStyle = color; ctx.globalAlpha = 0.6; ctx.lineWidth = 1;
   if (v.trail.length > 1) { poly(v.trail, false); ctx.stroke(); }
+  ctx.globalAlpha = 1;
   const [sx, sy] = toScreen(v.x, v.y);
   ctx.save(); ctx.translate(sx, sy); ctx.rotate((v.heading || 0) * Math.PI / 180);
-  ctx.fillStyle = v.stale ? "#777" : (v.color || "yellow");
-  ctx.beginPath(); ctx.moveTo(0, -10); ctx.lineTo(6, 8); ctx.lineTo(-6, 8); ctx.closePath(); ctx.fill();
+  ctx.fillStyle = color;
+  ctx.beginPath(); ctx.moveTo(0, -12); ctx.lineTo(7, 9); ctx.lineTo(-7, 9); ctx.closePath(); ctx.fill();
   ctx.restore();
   ctx.fillStyle = v.stale ? "#888" : "#fff";
-  ctx.fillText(v.name + (v.stale ? " (stale)" : ""), sx + 10, sy + 4);
+  ctx.fillText(v.name + (v.stale ? " (stale)" : ""), sx + 12, sy + 4);
 }
 
 function frame() {
   canvas.width = canvas.clientWidth; canvas.height = canvas.clientHeight;
+  if (view.auto) fit();
+  if (view.follow && scene.vehicles[view.follow]) { const v = scene.vehicles[view.follow]; view.cx = v.x; view.cy = v.y; }
   ctx.fillStyle = "#0b1d2a"; ctx.fillRect(0, 0, canvas.width, canvas.height);
   grid();
   for (const s of Object.values(scene.shapes)) drawShape(s);
@@ -164,15 +268,58 @@ function frame() {
   requestAnimationFrame(frame);
 }
 
+function showReplay(r) {
+  if (!r) return;
+  replay = r;
+  document.getElementById("replay").style.display = "block";
+  const sl = document.getElementById("slider");
+  sl.max = r.end;
+  if (document.activeElement !== sl) sl.value = r.t;
+  document.getElementById("clock").textContent = r.t.toFixed(1) + " / " + r.end.toFixed(1) + " s";
+  document.getElementById("play").textContent = r.playing ? "pause" : "play";
+}
+document.getElementById("play").onclick = () => send({ replay: replay && replay.playing ? "pause" : "play" });
+document.getElementById("slider").onchange = (e) => send({ replay: "seek", t: parseFloat(e.target.value) });
+document.getElementById("speed").onchange = (e) => send({ replay: "speed", speed: parseFloat(e.target.value) });
+
+// Right-click: the mission's context pokes at that spot, each confirmed before it is posted.
+const menu = document.getElementById("menu");
+canvas.oncontextmenu = (e) => {
+  e.preventDefault();
+  const keys = [];
+  for (const c of scene.contexts) if (!c.key.startsWith("any_") && !keys.some(k => k[0] === c.side && k[1] === c.key)) keys.push([c.side, c.key]);
+  if (!keys.length) return;
+  const r = canvas.getBoundingClientRect();
+  const [x, y] = toWorld(e.clientX - r.left, e.clientY - r.top);
+  menu.innerHTML = "";
+  for (const [side, key] of keys) {
+    const d = document.createElement("div");
+    d.textContent = key + " (" + side + ")";
+    d.onclick = () => {
+      menu.style.display = "none";
+      const posts = scene.contexts.filter(c => c.side === side && (c.key === key || c.key === "any_" + side));
+      const text = posts.map(c => c.var + " = " + c.value).join("\n");
+      if (confirm("Post at x=" + x.toFixed(1) + ", y=" + y.toFixed(1) + "?\n" + text))
+        send({ context: key, side: side, x: x, y: y, vname: view.follow || "" });
+    };
+    menu.appendChild(d);
+  }
+  menu.style.left = e.clientX + "px"; menu.style.top = e.clientY + "px"; menu.style.display = "block";
+};
+window.onclick = (e) => { if (!menu.contains(e.target)) menu.style.display = "none"; };
+
 let drag = null;
-canvas.onmousedown = (e) => { drag = [e.clientX, e.clientY]; };
+canvas.onmousedown = (e) => { if (e.button === 0) drag = [e.clientX, e.clientY]; };
 window.onmouseup = () => { drag = null; };
 window.onmousemove = (e) => {
   if (!drag) return;
+  view.auto = false; view.follow = null;
   view.cx -= (e.clientX - drag[0]) / view.scale; view.cy += (e.clientY - drag[1]) / view.scale;
   drag = [e.clientX, e.clientY];
 };
-canvas.onwheel = (e) => { e.preventDefault(); view.scale *= e.deltaY < 0 ? 1.2 : 1 / 1.2; };
+canvas.onwheel = (e) => { e.preventDefault(); view.auto = false; view.scale *= e.deltaY < 0 ? 1.2 : 1 / 1.2; };
+canvas.ondblclick = () => { view.auto = true; view.follow = null; };
 
+window.cougView = { view, toScreen, toWorld, scene };
 connect();
 requestAnimationFrame(frame);

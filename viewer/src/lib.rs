@@ -8,5 +8,8 @@
 //!   the scene and posts button presses).
 #![warn(missing_docs)]
 
+pub mod context;
+pub mod live;
+pub mod replay;
 pub mod scene;
 pub mod server;

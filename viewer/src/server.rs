@@ -51,6 +51,8 @@ pub struct ViewerConfig {
     pub scene: SceneConfig,
     /// The mission's pMarineViewer buttons: all the page can press.
     pub buttons: Vec<Button>,
+    /// The mission's pMarineViewer mouse context pokes: all a click can post.
+    pub contexts: Vec<crate::context::ContextPoke>,
     /// Least time between two frames to one client.
     pub min_frame_interval: Duration,
 }
@@ -62,6 +64,7 @@ impl Default for ViewerConfig {
             token: None,
             scene: SceneConfig::default(),
             buttons: Vec::new(),
+            contexts: Vec::new(),
             min_frame_interval: Duration::from_millis(50),
         }
     }
@@ -144,8 +147,19 @@ impl std::fmt::Display for PressError {
 /// The viewer's shared state: the scene, its version, the buttons and where presses go.
 pub struct Viewer {
     scene: Mutex<Scene>,
+    scene_config: SceneConfig,
+    /// Bumped when the scene is rebuilt (a replay's seek): pages then get a new snapshot.
+    epoch: AtomicU64,
+    /// A replay's state (`{"t":..,"start":..,"end":..,"playing":..,"speed":..}`), sent with
+    /// every frame.
+    status: Mutex<Option<serde_json::Value>>,
+    /// Where a replay's controls go (`coug view LOG.alog`).
+    replay: std::sync::OnceLock<tokio::sync::mpsc::UnboundedSender<ReplayControl>>,
     version: watch::Sender<u64>,
     buttons: Vec<Button>,
+    contexts: Vec<crate::context::ContextPoke>,
+    /// Clicks per side (`$(IX)`), left then right.
+    clicks: [AtomicU64; 2],
     token: Option<String>,
     outbox: Arc<dyn Outbox>,
     presses: AtomicU64,
@@ -172,8 +186,14 @@ impl Viewer {
         config.check()?;
         Ok(Arc::new(Viewer {
             scene: Mutex::new(Scene::new(config.scene.clone(), config.buttons.clone())),
+            scene_config: config.scene.clone(),
+            epoch: AtomicU64::new(0),
+            status: Mutex::new(None),
+            replay: std::sync::OnceLock::new(),
             version: watch::Sender::new(0),
             buttons: config.buttons.clone(),
+            contexts: config.contexts.clone(),
+            clicks: [AtomicU64::new(0), AtomicU64::new(0)],
             token: config.token.clone(),
             outbox,
             presses: AtomicU64::new(0),
@@ -207,6 +227,48 @@ impl Viewer {
             s.version()
         };
         self.announce(version);
+    }
+
+    /// Changes the scene with `f` and wakes the pages (a replay's playhead moving).
+    pub fn update(&self, f: impl FnOnce(&mut Scene)) {
+        let version = {
+            let mut s = lock(&self.scene);
+            f(&mut s);
+            s.version()
+        };
+        self.announce(version);
+    }
+
+    /// Replaces the scene by an empty one that `fill` builds up (a replay's seek), and
+    /// sends every page a new snapshot.
+    pub fn rebuild(&self, fill: impl FnOnce(&mut Scene)) {
+        {
+            let mut s = lock(&self.scene);
+            let mut fresh = Scene::new(self.scene_config.clone(), self.buttons.clone());
+            fill(&mut fresh);
+            *s = fresh;
+            self.epoch.fetch_add(1, Ordering::SeqCst);
+        }
+        self.version.send_modify(|v| *v = v.wrapping_add(1));
+    }
+
+    /// Sets the replay state sent with every frame, and wakes the pages.
+    pub fn set_status(&self, status: serde_json::Value) {
+        *self.status.lock().unwrap_or_else(|p| p.into_inner()) = Some(status);
+        self.version.send_modify(|v| *v = v.wrapping_add(1));
+    }
+
+    /// The replay state, if this viewer replays a log.
+    pub fn status(&self) -> Option<serde_json::Value> {
+        self.status
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .clone()
+    }
+
+    /// Sends the page's replay controls to `tx` (set once, by the replay driver).
+    pub fn set_replay_control(&self, tx: tokio::sync::mpsc::UnboundedSender<ReplayControl>) {
+        let _ = self.replay.set(tx);
     }
 
     fn announce(&self, version: u64) {
@@ -255,6 +317,61 @@ impl Viewer {
         Ok(posts)
     }
 
+    /// A click's context pokes: posts every configured poke of `side` with menu key `key`
+    /// (and the side's `any_*` pokes), macros expanded for the click at (`x`, `y`) with
+    /// `vname` the active vehicle. Nothing is posted when no configured poke has that key.
+    pub fn click(
+        &self,
+        side: crate::context::Side,
+        key: &str,
+        x: f64,
+        y: f64,
+        vname: &str,
+    ) -> Result<Vec<(String, Value)>, PressError> {
+        if !self.contexts.iter().any(|c| c.side == side && c.key == key) {
+            return Err(PressError::UnknownButton(format!(
+                "{}_context[{key}]",
+                side.as_str()
+            )));
+        }
+        let vpos = self.with_scene(|s| {
+            s.vehicles()
+                .get(vname)
+                .and_then(|v| Some((v.report.x_m?, v.report.y_m?)))
+        });
+        let i = match side {
+            crate::context::Side::Left => 0,
+            crate::context::Side::Right => 1,
+        };
+        // pMarineViewer snaps a click to 0.1 m.
+        let click = crate::context::Click {
+            x: (x * 10.0).round() / 10.0,
+            y: (y * 10.0).round() / 10.0,
+            vname: vname.to_string(),
+            vpos,
+            ix: self.clicks[i].fetch_add(1, Ordering::Relaxed),
+            bix: self.presses.fetch_add(1, Ordering::Relaxed),
+            utc: self.outbox.moos_time(),
+        };
+        let posts: Vec<(String, Value)> = self
+            .contexts
+            .iter()
+            .filter(|c| c.matches(side, key))
+            .map(|c| c.expand(&click))
+            .collect();
+        for (var, value) in &posts {
+            self.outbox
+                .post(var, value.clone())
+                .map_err(PressError::Post)?;
+        }
+        Ok(posts)
+    }
+
+    /// The context pokes as the page shows them.
+    fn contexts_json(&self) -> serde_json::Value {
+        serde_json::Value::Array(self.contexts.iter().map(|c| c.to_json()).collect())
+    }
+
     /// Checks the token (when one is set) and, for a websocket, the origin.
     fn authorize(
         &self,
@@ -296,6 +413,51 @@ impl Viewer {
         let Ok(msg) = serde_json::from_str::<serde_json::Value>(text) else {
             return json!({"type": "refused", "error": "not JSON"});
         };
+        if let Some(cmd) = msg.get("replay").and_then(|p| p.as_str()) {
+            let Some(tx) = self.replay.get() else {
+                return json!({"type": "refused", "error": "not a replay"});
+            };
+            let num = |k: &str| {
+                msg.get(k)
+                    .and_then(|x| x.as_f64())
+                    .filter(|x| x.is_finite())
+            };
+            let control = match (cmd, num("t"), num("speed")) {
+                ("play", _, _) => ReplayControl::Play,
+                ("pause", _, _) => ReplayControl::Pause,
+                ("seek", Some(t), _) => ReplayControl::Seek(t),
+                ("speed", _, Some(x)) if x > 0.0 => ReplayControl::Speed(x),
+                _ => return json!({"type": "refused", "error": "bad replay control"}),
+            };
+            let _ = tx.send(control);
+            return json!({"type": "replay_ok", "replay": cmd});
+        }
+        if let Some(key) = msg.get("context").and_then(|p| p.as_str()) {
+            let side = match msg.get("side").and_then(|p| p.as_str()) {
+                Some("left") => crate::context::Side::Left,
+                _ => crate::context::Side::Right,
+            };
+            let num = |k: &str| {
+                msg.get(k)
+                    .and_then(|x| x.as_f64())
+                    .filter(|x| x.is_finite())
+            };
+            let (Some(x), Some(y)) = (num("x"), num("y")) else {
+                return json!({"type": "refused", "context": key, "error": "no x, y"});
+            };
+            let vname = msg.get("vname").and_then(|v| v.as_str()).unwrap_or("");
+            return match self.click(side, key, x, y, vname) {
+                Ok(posts) => json!({
+                    "type": "pressed",
+                    "context": key,
+                    "posted": posts.iter().map(|(k, v)| json!([k, v.to_string()])).collect::<Vec<_>>(),
+                }),
+                Err(e) => {
+                    tracing::warn!(context = key, "click refused: {e}");
+                    json!({"type": "refused", "context": key, "error": e.to_string()})
+                }
+            };
+        }
         let Some(name) = msg.get("press").and_then(|p| p.as_str()) else {
             return json!({"type": "refused", "error": "unknown request"});
         };
@@ -361,50 +523,93 @@ async fn ws_upgrade(
     }
 }
 
-/// One page: a snapshot, then deltas whenever the scene changed and the client is free.
+/// One page: a snapshot, then deltas whenever the scene changed and the client is free (a
+/// new snapshot after the scene was rebuilt); a replay's state rides on every frame.
 async fn client(v: Arc<Viewer>, socket: WebSocket) {
     let (mut tx, mut rx) = socket.split();
     let mut wake = v.version.subscribe();
-    let (snapshot, mut seen) = {
-        let s = lock(&v.scene);
-        (s.snapshot().to_string(), s.version())
-    };
-    wake.mark_unchanged();
-    if tx.send(WsMessage::Text(snapshot.into())).await.is_err() {
-        return;
-    }
+    let (mut epoch, mut seen) = (u64::MAX, 0);
+    let mut last_status = None;
+    let mut first = true;
     loop {
-        tokio::select! {
-            changed = wake.changed() => {
-                if changed.is_err() {
-                    break;
-                }
-                let frame = {
-                    let s = lock(&v.scene);
-                    s.delta_since(seen).map(|d| (d.to_string(), s.version()))
-                };
-                if let Some((text, version)) = frame {
-                    seen = version;
-                    if tx.send(WsMessage::Text(text.into())).await.is_err() {
+        if !first {
+            tokio::select! {
+                changed = wake.changed() => {
+                    if changed.is_err() {
                         break;
                     }
-                    if !v.min_frame_interval.is_zero() {
-                        tokio::time::sleep(v.min_frame_interval).await;
+                }
+                incoming = rx.next() => {
+                    match incoming {
+                        Some(Ok(WsMessage::Text(t))) => {
+                            let reply = v.handle_text(t.as_str()).to_string();
+                            if tx.send(WsMessage::Text(reply.into())).await.is_err() {
+                                break;
+                            }
+                        }
+                        Some(Ok(WsMessage::Close(_))) | None | Some(Err(_)) => break,
+                        Some(Ok(_)) => {}
                     }
+                    continue;
                 }
             }
-            incoming = rx.next() => match incoming {
-                Some(Ok(WsMessage::Text(t))) => {
-                    let reply = v.handle_text(t.as_str()).to_string();
-                    if tx.send(WsMessage::Text(reply.into())).await.is_err() {
-                        break;
-                    }
+        }
+        first = false;
+        wake.mark_unchanged();
+        let status = v.status();
+        let frame = {
+            let s = lock(&v.scene);
+            let now_epoch = v.epoch.load(Ordering::SeqCst);
+            if now_epoch != epoch {
+                epoch = now_epoch;
+                let mut snap = s.snapshot();
+                snap["contexts"] = v.contexts_json();
+                Some((snap, s.version()))
+            } else {
+                s.delta_since(seen).map(|d| (d, s.version()))
+            }
+        };
+        let frame = match frame {
+            Some((mut j, version)) => {
+                seen = version;
+                if let Some(st) = &status {
+                    j["replay"] = st.clone();
                 }
-                Some(Ok(WsMessage::Close(_))) | None | Some(Err(_)) => break,
-                Some(Ok(_)) => {}
-            },
+                Some(j)
+            }
+            None if status.is_some() && status != last_status => {
+                Some(json!({"type": "status", "replay": status.clone()}))
+            }
+            None => None,
+        };
+        last_status = status;
+        if let Some(j) = frame {
+            if tx
+                .send(WsMessage::Text(j.to_string().into()))
+                .await
+                .is_err()
+            {
+                break;
+            }
+            if !v.min_frame_interval.is_zero() {
+                tokio::time::sleep(v.min_frame_interval).await;
+            }
         }
     }
+}
+
+/// A replay control from the page (`{"replay":"play"}`, `"pause"`, `{"replay":"seek","t":T}`
+/// with `T` seconds from the log's start, `{"replay":"speed","speed":X}`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ReplayControl {
+    /// Play from the playhead.
+    Play,
+    /// Stop at the playhead.
+    Pause,
+    /// Move the playhead (seconds since the log's start); the scene is rebuilt there.
+    Seek(f64),
+    /// Playback speed (times real time).
+    Speed(f64),
 }
 
 /// Serves the viewer on `listener` until the task is dropped.

@@ -77,6 +77,34 @@ pub trait Observer {
     fn stop_requested(&self) -> bool {
         false
     }
+
+    /// Variables whose every posting the observer wants ([`Observer::posting`]), asked
+    /// once as a lockstep run starts (a viewer: NODE_REPORT, VIEW_*, APPCAST). Watching
+    /// reads the bus and never changes what the apps see or log.
+    fn watched(&self) -> Vec<String> {
+        Vec::new()
+    }
+
+    /// One posting of a watched variable, at the MOOS time `time` of the step it was made
+    /// in (lockstep; in real time an observer joins the DB as a client, see
+    /// [`Observer::db_listening`]).
+    fn posting(&mut self, _key: &str, _value: &Value, _time: f64) {}
+
+    /// Postings the observer makes (a viewer's button presses), taken at each lockstep
+    /// step and posted at that step's time as `--poke`s are.
+    fn take_posts(&mut self) -> Vec<(String, Value)> {
+        Vec::new()
+    }
+
+    /// Simulated seconds between two lockstep steps (each step calls [`Observer::step`];
+    /// smaller steps give a viewer more frames). The apps' instants, and so the log, do
+    /// not depend on it.
+    fn step_seconds(&self) -> f64 {
+        1.0
+    }
+
+    /// The real-time run's MOOSDB listens at `addr`, with time warp `warp`.
+    fn db_listening(&mut self, _addr: std::net::SocketAddr, _warp: f64) {}
 }
 
 /// An observer that ignores everything (tests, batch runs).

@@ -150,6 +150,7 @@ pub(super) fn realtime(
             .await
             .map_err(|e| SessionError::Net(format!("cannot listen on {addr}: {e}")))?;
         let port = server.local_addr().port();
+        observer.db_listening(server.local_addr(), warp_f);
         observer.notice(&format!(
             "MOOSDB_{} listening on {} (warp {warp_f})",
             globals.community,

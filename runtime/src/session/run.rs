@@ -283,10 +283,19 @@ pub(super) fn lockstep(
         s.set_until(c);
     }
     s.tap("IVPHELM_SUMMARY");
+    let watched = observer.watched();
+    for v in &watched {
+        s.tap(v);
+    }
     let wall = Instant::now();
     let end = start + opts.max_time;
-    // One-second steps: the observer samples the DB at each.
-    let step = 1.0;
+    // Steps of one second unless the observer asks for finer: it samples the DB at each.
+    let step = observer.step_seconds();
+    let step = if step.is_finite() && step > 0.0 {
+        step
+    } else {
+        1.0
+    };
     let mut t = start;
     let ended = loop {
         if observer.stop_requested() {
@@ -299,9 +308,21 @@ pub(super) fn lockstep(
             None => {}
         }
         for p in s.take_taps() {
-            if let Some(v) = p.value.as_str() {
+            if watched.iter().any(|w| *w == *p.key) {
+                observer.posting(&p.key, &p.value, t);
+            }
+            if &*p.key == "IVPHELM_SUMMARY"
+                && let Some(v) = p.value.as_str()
+            {
                 observer.helm_summary(v);
             }
+        }
+        for (key, value) in observer.take_posts() {
+            s.add_poke(Poke {
+                key,
+                value,
+                at: PokeAt::Time(t - start),
+            })?;
         }
         let current = |k: &str| s.current(k);
         observer.step(t - start, &current);

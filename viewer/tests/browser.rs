@@ -1,0 +1,283 @@
+//! The page in headless Chromium: screenshots of known scenes, and assertions on their pixels
+//! (the vehicle glyph's colour where the page's fit-to-scene transform puts a known
+//! NODE_REPORT, polygon vertices where they should be). The transform is the page's
+//! (`assets/viewer.js`): the box around every vehicle position and shape point, at least
+//! 20 m a side, centred and scaled to leave 40 px each side of the map canvas (the window
+//! minus the 320 px side panel).
+//!
+//! Chromium is Debian's `chromium` (installed by `.ci/run`). Without it the tests fail
+//! under `CI=true`; elsewhere they say loudly that they did not run. With
+//! `COUG_VIEWER_SCREENSHOTS=DIR` the screenshots are also copied to `DIR` (how
+//! `docs/viewer/` was made).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::Arc;
+
+use moos_types::Value;
+use serde_json::Value as Json;
+use viewer::server::{Outbox, Viewer, ViewerConfig, serve};
+
+const W: u32 = 1200;
+const H: u32 = 800;
+const BACKGROUND: [u8; 3] = [0x0b, 0x1d, 0x2a];
+
+struct NoPosts;
+
+impl Outbox for NoPosts {
+    fn post(&self, _: &str, _: Value) -> Result<(), String> {
+        Err("test".into())
+    }
+    fn moos_time(&self) -> f64 {
+        0.0
+    }
+}
+
+/// Chromium's path, or `None` (a loud note; a failure under CI=true).
+fn chromium() -> Option<PathBuf> {
+    for name in ["chromium", "chromium-browser", "google-chrome"] {
+        if let Ok(out) = Command::new("which").arg(name).output()
+            && out.status.success()
+        {
+            let p = String::from_utf8_lossy(&out.stdout).trim().to_string();
+            if !p.is_empty() {
+                return Some(PathBuf::from(p));
+            }
+        }
+    }
+    if std::env::var("CI").is_ok_and(|v| v == "true") {
+        panic!(
+            "chromium is not on PATH: the viewer's browser tests need it (apt-get install chromium)"
+        );
+    }
+    eprintln!(
+        "*** viewer browser test NOT RUN: chromium is not on PATH (CI=true makes this a failure)"
+    );
+    None
+}
+
+/// Serves `viewer` on a loopback port from a runtime on its own thread; returns the port.
+fn serve_on_thread(viewer: Arc<Viewer>) -> (u16, tokio::runtime::Runtime) {
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(1)
+        .enable_all()
+        .build()
+        .unwrap();
+    let listener = rt
+        .block_on(tokio::net::TcpListener::bind("127.0.0.1:0"))
+        .unwrap();
+    let port = listener.local_addr().unwrap().port();
+    rt.spawn(serve(viewer, listener));
+    (port, rt)
+}
+
+/// A screenshot of the page at `port`, as RGB rows.
+fn screenshot(chromium: &Path, port: u16, name: &str) -> (Vec<u8>, PathBuf) {
+    let dir = test_support::scratch_dir(&format!("viewer-browser-{name}"));
+    let png = dir.join(format!("{name}.png"));
+    let profile = dir.join("profile");
+    let out = Command::new(chromium)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--hide-scrollbars",
+            "--force-device-scale-factor=1",
+            "--no-first-run",
+            "--virtual-time-budget=4000",
+            &format!("--user-data-dir={}", profile.display()),
+            &format!("--window-size={W},{H}"),
+            &format!("--screenshot={}", png.display()),
+            &format!("http://127.0.0.1:{port}/"),
+        ])
+        .output()
+        .expect("chromium runs");
+    assert!(
+        png.is_file(),
+        "no screenshot from chromium: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&png).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!((info.width, info.height), (W, H), "screenshot size");
+    let channels = info.color_type.samples();
+    let rgb: Vec<u8> = buf[..info.buffer_size()]
+        .chunks(channels)
+        .flat_map(|p| [p[0], p[1], p[2]])
+        .collect();
+    if let Ok(dest) = std::env::var("COUG_VIEWER_SCREENSHOTS") {
+        std::fs::create_dir_all(&dest).unwrap();
+        std::fs::copy(&png, Path::new(&dest).join(format!("{name}.png"))).unwrap();
+    }
+    (rgb, png)
+}
+
+fn pixel(rgb: &[u8], x: f64, y: f64) -> [u8; 3] {
+    let (x, y) = (x.round() as usize, y.round() as usize);
+    let i = (y * W as usize + x) * 3;
+    [rgb[i], rgb[i + 1], rgb[i + 2]]
+}
+
+/// The page's fit-to-scene transform for the scene's snapshot: world (x, y) to pixels.
+fn transform(snapshot: &Json) -> impl Fn(f64, f64) -> (f64, f64) {
+    let mut b: Option<[f64; 4]> = None;
+    let mut add = |x: Option<f64>, y: Option<f64>| {
+        if let (Some(x), Some(y)) = (x, y) {
+            b = Some(match b {
+                None => [x, y, x, y],
+                Some(b) => [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)],
+            });
+        }
+    };
+    for v in snapshot["vehicles"].as_array().unwrap() {
+        add(v["x"].as_f64(), v["y"].as_f64());
+    }
+    for s in snapshot["shapes"].as_array().unwrap() {
+        match s["pts"].as_array() {
+            Some(pts) => {
+                for p in pts {
+                    add(p[0].as_f64(), p[1].as_f64());
+                }
+            }
+            None => add(s["x"].as_f64(), s["y"].as_f64()),
+        }
+    }
+    let b = b.expect("a scene with something in it");
+    let (cw, ch) = (f64::from(W - 320), f64::from(H));
+    let dx = (b[2] - b[0]).max(20.0);
+    let dy = (b[3] - b[1]).max(20.0);
+    let scale = ((cw - 80.0) / dx).min((ch - 80.0) / dy);
+    let (cx, cy) = ((b[0] + b[2]) / 2.0, (b[1] + b[3]) / 2.0);
+    move |x, y| (cw / 2.0 + (x - cx) * scale, ch / 2.0 - (y - cy) * scale)
+}
+
+fn near(a: [u8; 3], b: [u8; 3]) -> bool {
+    a.iter().zip(b).all(|(x, y)| x.abs_diff(y) <= 8)
+}
+
+#[test]
+fn three_vehicles_and_a_polygon_are_drawn_where_their_reports_put_them() {
+    let Some(chromium) = chromium() else { return };
+    let config = ViewerConfig {
+        bind: "127.0.0.1:0".parse().unwrap(),
+        ..ViewerConfig::default()
+    };
+    let viewer = Viewer::new(&config, Arc::new(NoPosts)).unwrap();
+    let t = 100.0;
+    viewer.apply(
+        "NODE_REPORT",
+        "NAME=abe,TYPE=kayak,X=0,Y=0,HDG=0,SPD=1.2,DEP=0,TIME=100",
+        t,
+    );
+    viewer.apply(
+        "NODE_REPORT",
+        "NAME=ben,TYPE=auv,X=150,Y=60,HDG=90,SPD=1.5,DEP=4,TIME=100",
+        t,
+    );
+    viewer.apply(
+        "NODE_REPORT",
+        "NAME=cal,TYPE=uuv,X=-80,Y=110,HDG=200,SPD=1,DEP=2,COLOR=cyan,TIME=100",
+        t,
+    );
+    viewer.apply(
+        "VIEW_POLYGON",
+        "pts={-60,-40:120,-40:120,90:-60,90},label=ops,edge_color=white,vertex_color=magenta",
+        t,
+    );
+    let snapshot = viewer.with_scene(|s| s.snapshot());
+    let to_px = transform(&snapshot);
+    let (port, _rt) = serve_on_thread(viewer);
+    let (rgb, png) = screenshot(&chromium, port, "three_vehicles");
+    // Each glyph, filled with the vehicle's colour: the palette by name order, or COLOR.
+    for (name, x, y, color) in [
+        ("abe", 0.0, 0.0, [0xff, 0xd7, 0x00]),
+        ("ben", 150.0, 60.0, [0xff, 0x4f, 0xa0]),
+        ("cal", -80.0, 110.0, [0x00, 0xff, 0xff]),
+    ] {
+        let (px, py) = to_px(x, y);
+        let got = pixel(&rgb, px, py);
+        assert!(
+            near(got, color),
+            "{name} at ({px:.0}, {py:.0}) is {got:?}, expected {color:?} ({})",
+            png.display()
+        );
+    }
+    // The polygon's vertices (magenta squares) where the transform puts them, and the map
+    // around them background.
+    for (x, y) in [(-60.0, -40.0), (120.0, -40.0), (120.0, 90.0), (-60.0, 90.0)] {
+        let (px, py) = to_px(x, y);
+        let got = pixel(&rgb, px, py);
+        assert!(
+            near(got, [0xff, 0x00, 0xff]),
+            "vertex ({x}, {y}) at ({px:.0}, {py:.0}) is {got:?}"
+        );
+        assert!(near(pixel(&rgb, px - 25.0, py + 17.0), BACKGROUND) || x > 0.0 || y > 0.0);
+    }
+    // The side panel lists the three vehicles: not the map's background there.
+    assert!(!near(pixel(&rgb, f64::from(W) - 100.0, 5.0), BACKGROUND));
+}
+
+#[test]
+fn alpha_mid_survey_draws_the_vehicle_on_its_reported_spot_and_its_waypoints() {
+    use runtime::session::{self, Mode, Quiet, RunOptions};
+    use viewer::live::{LiveView, ViewObserver};
+    let Some(chromium) = chromium() else { return };
+    let alpha = test_support::mission_file("s1_alpha/alpha.moos");
+    let loaded = session::load(&alpha, &[], &[]).expect("alpha loads");
+    let dir = test_support::scratch_dir("viewer-browser-alpha-logs");
+    let live = LiveView::start(&ViewerConfig {
+        bind: "127.0.0.1:0".parse().unwrap(),
+        buttons: mission::buttons::buttons(&loaded.mission),
+        ..ViewerConfig::default()
+    })
+    .unwrap();
+    let opts = RunOptions {
+        mode: Mode::Lockstep,
+        deploy: true,
+        max_time: 150.0,
+        log_dir: Some(dir),
+        ..RunOptions::default()
+    };
+    let mut quiet = Quiet;
+    let mut view = ViewObserver::new(&mut quiet, &live, session::LOCKSTEP_START, None);
+    session::run(&loaded, &opts, &mut view).expect("alpha runs");
+    let snapshot = live.viewer().with_scene(|s| s.snapshot());
+    let v = &snapshot["vehicles"][0];
+    assert_eq!(v["name"], "alpha");
+    let (x, y) = (v["x"].as_f64().unwrap(), v["y"].as_f64().unwrap());
+    let to_px = transform(&snapshot);
+    let (rgb, png) = screenshot(&chromium, live.addr().port(), "alpha_mid_survey");
+    let (px, py) = to_px(x, y);
+    let expected = match v["color"].as_str() {
+        Some("") | None => [0xff, 0xd7, 0x00],
+        // alpha's pNodeReporter reports COLOR=yellow (CSS yellow).
+        Some("yellow") => [0xff, 0xff, 0x00],
+        Some(c) => panic!("alpha reports COLOR={c}; the test knows none and yellow"),
+    };
+    let got = pixel(&rgb, px, py);
+    assert!(
+        near(got, expected),
+        "alpha at ({x:.1}, {y:.1}) -> ({px:.0}, {py:.0}) is {got:?} ({})",
+        png.display()
+    );
+    // Every waypoint of the survey's seglist is drawn (a vertex square, not background).
+    let seglist = snapshot["shapes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["kind"] == "seglist")
+        .expect("the waypoint behaviour's VIEW_SEGLIST");
+    let pts = seglist["pts"].as_array().unwrap();
+    assert!(pts.len() >= 3, "{seglist}");
+    for p in pts {
+        let (vx, vy) = to_px(p[0].as_f64().unwrap(), p[1].as_f64().unwrap());
+        let got = pixel(&rgb, vx, vy);
+        assert!(
+            !near(got, BACKGROUND),
+            "waypoint {p} at ({vx:.0}, {vy:.0}) not drawn ({})",
+            png.display()
+        );
+    }
+}
