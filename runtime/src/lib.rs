@@ -15,7 +15,8 @@
 //! Apps ([`app`] defines the [`App`] trait, [`Mail`], [`Post`], [`Value`]):
 //! [`helm`] (pHelmIvP), [`vehicle`] (uSimMarine(V22), pMarinePID(V22), pNodeReporter),
 //! [`timer_script`] (uTimerScript), [`logger`] (pLogger, through the `alog` crate),
-//! [`sensors`] (uSimSensors: simulated DVL, AHRS, pressure and GPS);
+//! [`sensors`] (uSimSensors: simulated DVL, AHRS, pressure and GPS), [`pshare`] (pShare: the
+//! UDP bridge between communities);
 //! [`appcasting`] is libMOOS's AppCastingMOOSApp layer around the swap-in apps.
 //!
 //! After a run: [`summary`] (distance, depth, behaviour lists) and [`plot`] (SVG/PNG).
@@ -35,6 +36,7 @@ pub mod navigator;
 pub mod navreplay;
 pub mod plot;
 pub mod procinfo;
+pub mod pshare;
 pub mod realtime;
 pub mod remote;
 pub mod scheduler;
