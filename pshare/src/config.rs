@@ -444,6 +444,9 @@ mod tests {
         // A token inside another field's name does not count.
         assert_eq!(field("xsrc_name=X", "src_name"), None);
         assert_eq!(field("SRC_NAME=X", "src_name"), None);
-        assert_eq!(field("route=a:1&b:2,white_list=A&B", "route"), Some("a:1&b:2"));
+        assert_eq!(
+            field("route=a:1&b:2,white_list=A&B", "route"),
+            Some("a:1&b:2")
+        );
     }
 }

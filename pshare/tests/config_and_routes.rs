@@ -12,7 +12,8 @@ fn udp(host: &str, port: u16) -> Endpoint {
 }
 
 fn table(lines: &[&str], now: f64) -> RouteTable {
-    let (c, bad) = Config::from_params(lines.iter().enumerate().map(|(i, l)| (i + 1, "output", *l)));
+    let (c, bad) =
+        Config::from_params(lines.iter().enumerate().map(|(i, l)| (i + 1, "output", *l)));
     assert!(bad.is_empty(), "{bad:?}");
     let mut t = RouteTable::default();
     for s in &c.outputs {
@@ -31,15 +32,24 @@ fn sends(t: &mut RouteTable, key: &str, src: &str, now: f64) -> Vec<String> {
 #[test]
 fn short_forms() {
     let s = parse_output("X->192.168.0.4:10000").unwrap();
-    assert_eq!((s[0].src_name.as_str(), s[0].dest_name.as_str()), ("X", "X"));
+    assert_eq!(
+        (s[0].src_name.as_str(), s[0].dest_name.as_str()),
+        ("X", "X")
+    );
     assert_eq!(s[0].endpoint, udp("192.168.0.4", 10000));
     let s = parse_output("X->Y:192.168.0.4:10000").unwrap();
     assert_eq!(s[0].dest_name, "Y");
     let s = parse_output("X->192.168.0.4:10000 & Y:192.168.0.4:20000").unwrap();
     assert_eq!(s.len(), 2);
-    assert_eq!((s[1].dest_name.as_str(), &s[1].endpoint), ("Y", &udp("192.168.0.4", 20000)));
+    assert_eq!(
+        (s[1].dest_name.as_str(), &s[1].endpoint),
+        ("Y", &udp("192.168.0.4", 20000))
+    );
     let s = parse_output("X->Y:multicast_7 & Z:multicast_3 & multicast_1").unwrap();
-    let got: Vec<_> = s.iter().map(|o| (o.dest_name.as_str(), o.endpoint.clone())).collect();
+    let got: Vec<_> = s
+        .iter()
+        .map(|o| (o.dest_name.as_str(), o.endpoint.clone()))
+        .collect();
     assert_eq!(
         got,
         vec![
@@ -64,8 +74,9 @@ fn long_forms() {
     assert_eq!((s[0].duration, s[0].max_shares), (Some(60.0), None));
     let s = parse_output("src_name=Y, route=localhost:9832, frequency=4").unwrap();
     assert_eq!((s[0].dest_name.as_str(), s[0].frequency), ("Y", 4.0));
-    let s = parse_output("src_name =X,dest_name=Z,route=161.4.5.6:9000&multicast_21&localhost:9832")
-        .unwrap();
+    let s =
+        parse_output("src_name =X,dest_name=Z,route=161.4.5.6:9000&multicast_21&localhost:9832")
+            .unwrap();
     assert_eq!(s.len(), 3);
     assert_eq!(s[2].endpoint, udp("localhost", 9832));
     // -1 means "no limit", as in the C++ defaults.
@@ -75,13 +86,20 @@ fn long_forms() {
     let i = parse_input("route=multicast_21&localhost:9833&multicast_3").unwrap();
     assert_eq!(
         i.endpoints,
-        vec![Endpoint::Multicast(21), udp("localhost", 9833), Endpoint::Multicast(3)]
+        vec![
+            Endpoint::Multicast(21),
+            udp("localhost", 9833),
+            Endpoint::Multicast(3)
+        ]
     );
     assert!(i.white_list.is_empty());
     let i = parse_input("route = localhost:9200, white_list = foo* & ?bar").unwrap();
     assert_eq!(i.white_list, vec!["foo*", "?bar"]);
     // Port 0 on an input: the system picks one.
-    assert_eq!(parse_input("route=127.0.0.1:0").unwrap().endpoints, vec![udp("127.0.0.1", 0)]);
+    assert_eq!(
+        parse_input("route=127.0.0.1:0").unwrap().endpoints,
+        vec![udp("127.0.0.1", 0)]
+    );
 }
 
 #[test]
@@ -103,7 +121,10 @@ fn block_settings_and_bad_lines_with_their_line() {
         (23, "verbose", "true"),
     ]);
     assert_eq!(c.outputs.len(), 1);
-    assert_eq!((c.multicast_base_port, c.multicast_address.as_str()), (30000, "239.1.1.1"));
+    assert_eq!(
+        (c.multicast_base_port, c.multicast_address.as_str()),
+        (30000, "239.1.1.1")
+    );
     assert!(c.verbose);
     let got: Vec<(usize, ConfigError)> = bad.into_iter().map(|b| (b.line, b.error)).collect();
     assert_eq!(
@@ -115,7 +136,13 @@ fn block_settings_and_bad_lines_with_their_line() {
             (14, ConfigError::BadPort("99999".into())),
             (15, ConfigError::MissingField("src_name")),
             (16, ConfigError::BadChannel("300".into())),
-            (17, ConfigError::BadNumber { field: "duration", value: "soon".into() }),
+            (
+                17,
+                ConfigError::BadNumber {
+                    field: "duration",
+                    value: "soon".into()
+                }
+            ),
             (20, ConfigError::BadPort("-4".into())),
             (22, ConfigError::BadPort("0".into())),
         ]
@@ -142,8 +169,14 @@ fn commands() {
 
 #[test]
 fn named_routes_rename() {
-    let mut t = table(&["NAV_X->REMOTE_NAV_X:127.0.0.1:9201 & 127.0.0.1:9202"], 0.0);
-    assert_eq!(sends(&mut t, "NAV_X", "sim", 1.0), ["REMOTE_NAV_X@127.0.0.1:9201", "NAV_X@127.0.0.1:9202"]);
+    let mut t = table(
+        &["NAV_X->REMOTE_NAV_X:127.0.0.1:9201 & 127.0.0.1:9202"],
+        0.0,
+    );
+    assert_eq!(
+        sends(&mut t, "NAV_X", "sim", 1.0),
+        ["REMOTE_NAV_X@127.0.0.1:9201", "NAV_X@127.0.0.1:9202"]
+    );
     assert!(sends(&mut t, "NAV_Y", "sim", 1.0).is_empty());
     assert!(t.registered_for("NAV_X"));
     assert!(!t.registered_for("REMOTE_NAV_X"));
@@ -176,10 +209,16 @@ fn wildcard_routes_prefix_caret_and_app_patterns() {
             "NAV_X@127.0.0.1:9201"
         ]
     );
-    assert_eq!(sends(&mut t, "A_X", "sim", 1.0), ["TA_X@127.0.0.1:9202", "A@127.0.0.1:9204"]);
+    assert_eq!(
+        sends(&mut t, "A_X", "sim", 1.0),
+        ["TA_X@127.0.0.1:9202", "A@127.0.0.1:9204"]
+    );
     // The app pattern is checked against the writer.
     assert_eq!(sends(&mut t, "QZ", "procB", 1.0), ["TQZ@127.0.0.1:9202"]);
-    assert_eq!(sends(&mut t, "QY", "procA", 1.0), ["TQY@127.0.0.1:9202", "QY@127.0.0.1:9203"]);
+    assert_eq!(
+        sends(&mut t, "QY", "procA", 1.0),
+        ["TQY@127.0.0.1:9202", "QY@127.0.0.1:9203"]
+    );
     // Once copied into the named routes, the variable goes out on them.
     assert!(t.registered_for("NAV_X"));
     assert_eq!(sends(&mut t, "NAV_X", "other", 2.0).len(), 3);
@@ -201,7 +240,12 @@ fn frequency_limits_shares() {
             sent.push(now);
         }
     }
-    assert_eq!(sent, vec![100.0, 101.0, 102.0, 103.0, 104.0, 105.0, 106.0, 107.0, 108.0, 109.0]);
+    assert_eq!(
+        sent,
+        vec![
+            100.0, 101.0, 102.0, 103.0, 104.0, 105.0, 106.0, 107.0, 108.0, 109.0
+        ]
+    );
 }
 
 #[test]
@@ -214,7 +258,10 @@ fn duration_and_max_shares() {
         50.0,
     );
     assert_eq!(t.route("A", "x", 60.0).len(), 1);
-    assert!(t.route("A", "x", 60.5).is_empty(), "10 s after its creation");
+    assert!(
+        t.route("A", "x", 60.5).is_empty(),
+        "10 s after its creation"
+    );
     assert_eq!(t.route("B", "x", 51.0).len(), 1);
     assert_eq!(t.route("B", "x", 52.0).len(), 1);
     assert!(t.route("B", "x", 53.0).is_empty());

@@ -55,9 +55,22 @@ fn mail(key: &str, value: Value) -> Message {
 #[test]
 fn a_double_is_renamed_and_laid_out_as_pshare_sends_it() {
     let mut out = Vec::new();
-    datagram::encode(&mail("NAV_X", Value::Double(-12.25)), "REMOTE_NAV_X", &mut out).unwrap();
+    datagram::encode(
+        &mail("NAV_X", Value::Double(-12.25)),
+        "REMOTE_NAV_X",
+        &mut out,
+    )
+    .unwrap();
     let want = frame(
-        17, b'D', "uSimMarine", "aux1", "alpha", "REMOTE_NAV_X", 1234.5, -12.25, b"",
+        17,
+        b'D',
+        "uSimMarine",
+        "aux1",
+        "alpha",
+        "REMOTE_NAV_X",
+        1234.5,
+        -12.25,
+        b"",
     );
     assert_eq!(out, want);
     // 54 fixed bytes and the strings.
@@ -75,7 +88,17 @@ fn a_string_and_a_binary_string() {
     datagram::encode(&mail("DEPLOY", Value::text("true")), "DEPLOY_ALL", &mut out).unwrap();
     assert_eq!(
         out,
-        frame(17, b'S', "uSimMarine", "aux1", "alpha", "DEPLOY_ALL", 1234.5, -1.0, b"true")
+        frame(
+            17,
+            b'S',
+            "uSimMarine",
+            "aux1",
+            "alpha",
+            "DEPLOY_ALL",
+            1234.5,
+            -1.0,
+            b"true"
+        )
     );
     let s = datagram::decode(Bytes::from(out.clone())).unwrap();
     assert_eq!(s.data_type, DataType::String);
@@ -85,7 +108,17 @@ fn a_string_and_a_binary_string() {
     datagram::encode(&mail("BLOB", Value::Binary(bin.clone())), "BLOB", &mut out).unwrap();
     assert_eq!(
         out,
-        frame(17, b'B', "uSimMarine", "aux1", "alpha", "BLOB", 1234.5, -1.0, &bin)
+        frame(
+            17,
+            b'B',
+            "uSimMarine",
+            "aux1",
+            "alpha",
+            "BLOB",
+            1234.5,
+            -1.0,
+            &bin
+        )
     );
     let b = datagram::decode(Bytes::from(out)).unwrap();
     assert_eq!(b.value(), Some(Value::Binary(bin)));
@@ -93,7 +126,17 @@ fn a_string_and_a_binary_string() {
 
 #[test]
 fn a_hand_built_frame_decodes() {
-    let f = frame(3, b'D', "pHelmIvP", "", "shore", "RETURN_ALL", 10.0, 1.0, b"");
+    let f = frame(
+        3,
+        b'D',
+        "pHelmIvP",
+        "",
+        "shore",
+        "RETURN_ALL",
+        10.0,
+        1.0,
+        b"",
+    );
     let m = datagram::decode(Bytes::from(f)).unwrap();
     assert_eq!(m.msg_type, MsgType::Notify);
     assert_eq!((m.id, &m.key[..], m.dval), (3, &b"RETURN_ALL"[..], 1.0));

@@ -370,7 +370,11 @@ impl PShareApp {
             let mut out = std::mem::take(&mut self.out_buf);
             if datagram::encode(&msg, &s.dest_name, &mut out).is_err() {
                 self.tx.too_large += 1;
-                let w = format!("{} is over {} bytes: not shared", m.key, pshare::MAX_UDP_SIZE);
+                let w = format!(
+                    "{} is over {} bytes: not shared",
+                    m.key,
+                    pshare::MAX_UDP_SIZE
+                );
                 self.appcast.note(Note::Warning(w), now);
             } else {
                 let to = self.resolve(&s.endpoint);
@@ -510,7 +514,9 @@ fn appcast_body(table: &RouteTable, listeners: &[Listener], tx: TxCounts, out: &
         let _ = writeln!(out, "  none");
     }
     for l in listeners {
-        let port = l.port.map_or_else(|| "closed".to_string(), |p| p.to_string());
+        let port = l
+            .port
+            .map_or_else(|| "closed".to_string(), |p| p.to_string());
         let c = l.counts;
         let _ = writeln!(
             out,
@@ -575,5 +581,41 @@ impl App for PShareApp {
         self.appcast
             .end(now, tick, out, |b| appcast_body(table, listeners, tx, b));
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::block;
+
+    #[test]
+    fn bad_lines_and_multicast_routes_are_warnings_at_their_line() {
+        let app = PShareApp::new(
+            "pShare",
+            block(
+                "s.moos",
+                "ProcessConfig = pShare\n{\n  output = X>10.0.0.1:9000\n  \
+                 input = route = multicast_9\n  listen_address = here\n  \
+                 output = src_name = Y, route = 127.0.0.1:9300\n}\n",
+            ),
+        );
+        let w: Vec<String> = app.warnings().iter().map(Diagnostic::located).collect();
+        assert_eq!(
+            w,
+            vec![
+                "s.moos:3: pShare: output = X>10.0.0.1:9000: short form \"X>10.0.0.1:9000\" \
+                 has no \"->\" between the variable and its routes",
+                "s.moos:1: pShare: multicast routes are read but coug opens no multicast \
+                 socket: they send and receive nothing",
+                "s.moos:5: pShare: listen_address = here: not an IPv4 address",
+            ]
+        );
+        assert_eq!(app.config().outputs.len(), 1);
+        // Nothing is opened before start-up (a checked mission binds no port).
+        assert_eq!(app.listening(), vec![(Endpoint::Multicast(9), None)]);
+        let subs: Vec<String> = app.subscriptions().into_iter().map(|s| s.pattern).collect();
+        assert!(subs.contains(&"PSHARE_CMD".to_string()));
+        assert!(subs.contains(&"Y".to_string()));
     }
 }

@@ -197,7 +197,10 @@ fn nav_x_crosses_to_the_other_community_as_remote_nav_x() {
     // with the port the system picked.
     let cast = bravo.current("APPCAST").expect("an appcast");
     let cast = cast.as_str().unwrap();
-    assert!(cast.contains(&format!("127.0.0.1:0 (port {port})")), "{cast}");
+    assert!(
+        cast.contains(&format!("127.0.0.1:0 (port {port})")),
+        "{cast}"
+    );
 }
 
 #[test]
