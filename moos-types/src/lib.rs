@@ -223,6 +223,19 @@ pub struct Post {
     pub source: ByteString,
     /// Auxiliary source field.
     pub aux: ByteString,
+    /// For a message relayed from another community (pShare): the time and community it
+    /// was written with, kept instead of the poster's (`None` for the apps' own posts).
+    pub relayed: Option<Box<Relayed>>,
+}
+
+/// The fields a relayed [`Post`] keeps from the message it relays (as a C++ pShare posts
+/// with the source kept and the DB keeps a non-empty originating community).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Relayed {
+    /// MOOS time of the original write.
+    pub time: f64,
+    /// The community it was written in.
+    pub community: ByteString,
 }
 
 impl Post {
@@ -234,6 +247,7 @@ impl Post {
             value,
             source: ByteString::new(),
             aux: ByteString::new(),
+            relayed: None,
         }
     }
 

@@ -382,6 +382,21 @@ impl Client {
         self.post(m)
     }
 
+    /// Publishes a notify relayed from another community (pShare's posting with the source
+    /// kept): its source, aux, community and time are sent as they are; an empty source
+    /// becomes this client's name. The id is this client's.
+    pub fn relay(&self, mut m: Message) -> Result<(), ClientError> {
+        if !self.is_connected() {
+            return Err(ClientError::NotConnected);
+        }
+        m.msg_type = MsgType::Notify;
+        m.id = self.inner.next_id();
+        if m.src.is_empty() {
+            m.src = self.inner.name.clone();
+        }
+        self.post(m)
+    }
+
     /// Sends a server request (`ALL`, `VAR_SUMMARY`, `PROC_SUMMARY`, `DB_CLEAR`); replies
     /// arrive as mail with id -2.
     pub fn server_request(&self, what: &str) -> Result<(), ClientError> {

@@ -3,9 +3,9 @@
 //!
 //! The apps coug builds in are one registry, [`BUILT_INS`]: `MOOSDB` (the bus itself),
 //! `pHelmIvP`, `uSimMarine(V22)`, `pMarinePID(V22)`, `pNodeReporter`, `pLogger`,
-//! `uTimerScript`, `uSimSensors`, `pNavGraph` and `pSafety`. A caller's `custom` factory is asked first for every
-//! `Run` line (tests with in-memory behaviours, user apps); what nobody builds is listed in
-//! [`Plan::external`] for the caller to start from PATH (real time) or skip with a warning
+//! `uTimerScript`, `uSimSensors`, `pNavGraph`, `pSafety`, `pCougControls`, `uSimCougUV` and
+//! `pShare`. A caller's `custom` factory is asked first for every `Run` line (tests with
+//! in-memory behaviours, user apps); what nobody builds is listed in [`Plan::external`] for the caller to start from PATH (real time) or skip with a warning
 //! (lockstep). Each app reads the `ProcessConfig` block of its MOOS name (the alias after
 //! `~`, as MOOS apps do).
 
@@ -377,6 +377,12 @@ pub const BUILT_INS: &[BuiltIn] = &[
         reads_block: true,
         make: make_couguv_sim,
     },
+    BuiltIn {
+        program: "pShare",
+        what: "the UDP bridge between MOOS communities (wire-compatible with MOOS's pShare)",
+        reads_block: true,
+        make: make_pshare,
+    },
 ];
 
 /// The built-in app run by `program` (a path or base name), if coug builds it in.
@@ -495,6 +501,14 @@ fn make_coug_controls(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
 fn make_couguv_sim(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
     let app = crate::cougars::CougUvSimApp::new(cx.moos_name, b, cx.globals.grid())
+        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
+    cx.warnings.extend(app.warnings().iter().cloned());
+    Ok(Built::App(Box::new(app)))
+}
+
+fn make_pshare(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    let b = cx.block_or_empty();
+    let app = crate::pshare::PShareApp::new(cx.moos_name, b)
         .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
     cx.warnings.extend(app.warnings().iter().cloned());
     Ok(Built::App(Box::new(app)))

@@ -223,6 +223,11 @@ impl<H: DbHost> Bus<H> {
             } else {
                 names.get(&p.source)
             };
+            // A relayed message keeps its time and community (the DB keeps a non-empty one).
+            if let Some(r) = &p.relayed {
+                m.time = r.time;
+                m.community = r.community.as_bytes().clone();
+            }
             m
         });
         Self::send(&mut self.host, id, msgs, now)

@@ -17,7 +17,8 @@
 //! [`timer_script`] (uTimerScript), [`logger`] (pLogger, through the `alog` crate),
 //! [`sensors`] (uSimSensors: simulated DVL, AHRS, pressure and GPS), [`safety`] (pSafety, the
 //! safety supervisor), [`cougars`] (pCougControls, the CoUGARs controllers; uSimCougUV, the
-//! CougUV simulator);
+//! CougUV simulator), [`pshare`] (pShare: the UDP bridge between
+//! communities);
 //! [`appcasting`] is libMOOS's AppCastingMOOSApp layer around the swap-in apps.
 //!
 //! After a run: [`summary`] (distance, depth, behaviour lists) and [`plot`] (SVG/PNG).
@@ -38,6 +39,7 @@ pub mod navigator;
 pub mod navreplay;
 pub mod plot;
 pub mod procinfo;
+pub mod pshare;
 pub mod realtime;
 pub mod remote;
 pub mod safety;

@@ -97,7 +97,17 @@ fn send(client: &Client, posts: &mut Vec<Post>, published: &mut BTreeSet<String>
     for p in posts.drain(..) {
         let value = p.value;
         // A post while reconnecting is lost, as CMOOSApp's Notify fails while offline.
-        if client.notify_with(&p.key, value, None, &p.aux).is_ok() && !published.contains(&*p.key) {
+        let sent = match p.relayed {
+            Some(r) => {
+                let mut m = Message::notify(&p.key, value, r.time);
+                m.src = p.source.as_bytes().clone();
+                m.src_aux = p.aux.as_bytes().clone();
+                m.community = r.community.as_bytes().clone();
+                client.relay(m)
+            }
+            None => client.notify_with(&p.key, value, None, &p.aux),
+        };
+        if sent.is_ok() && !published.contains(&*p.key) {
             published.insert(p.key.to_string());
         }
     }

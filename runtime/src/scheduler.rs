@@ -258,6 +258,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
             value: poke.value,
             source: ByteString::from_static("uPokeDB"),
             aux: ByteString::new(),
+            relayed: None,
         };
         match poke.at {
             PokeAt::Time(t) => {

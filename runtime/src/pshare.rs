@@ -1,0 +1,621 @@
+//! pShare: the UDP bridge between MOOS communities (issue #16, point 5), wire-compatible with
+//! MOOS's C++ `pShare`: each shared message goes out as one datagram holding one serialised
+//! `CMOOSMsg`, renamed to its route's destination name ([`pshare::datagram`]); what arrives
+//! on an input route is posted into this community with its source, source aux, community
+//! and time kept, as the C++ app posts it (`Post(msg, true)`, and the DB keeps a non-empty
+//! originating community).
+//!
+//! The configuration, routing and datagram rules are the pure `pshare` crate; this module is
+//! the app and its I/O edge: std UDP sockets in non-blocking mode, opened at start-up (never
+//! while a mission is only checked), read until empty at each iteration (receiving never
+//! blocks the iteration), written from the mail handler.
+//!
+//! # Conformance with MOOS's pShare
+//!
+//! | parameter / posting | coug |
+//! |---|---|
+//! | `output` long form (`src_name`, `dest_name`, `route` with `&`, `frequency`, `duration`, `max_shares`) | done |
+//! | `output` short form (`X->[Y:]host:port[@Hz] & [Z:]multicast_N`) | done |
+//! | `input = route = A & B`, `white_list = P & Q` | done (unicast) |
+//! | wildcard shares `var_pattern[:app_pattern]`, prefix renaming, caret `^` | done |
+//! | `multicast_N` routes, `multicast_address`, `multicast_base_port` | read and listed; open: coug opens no multicast socket (a warning says so) |
+//! | `PSHARE_CMD` (`<NAME>_CMD`): `cmd=output,...` / `cmd=input,...`, older than start-up ignored | done |
+//! | `duration = 0` restated: the latest value once (re-registration) | done |
+//! | `PSHARE_OUTPUT_SUMMARY`, `PSHARE_INPUT_SUMMARY` once a second | done |
+//! | loop guard: a received name pShare registers for is not posted | done |
+//! | 48 KiB limit on sent messages | done |
+//! | `listen_address` (coug only; default `0.0.0.0`, every interface, as pShare binds) | the address listeners and the sender bind to; tests use `127.0.0.1` |
+//! | an input port of 0 (coug only) | the system picks the port; [`PShareApp::listening`] reads it back |
+//! | command line `-o`/`-i` | open: the single-app mode reads the mission block only |
+//!
+//! Bad lines are warnings (`mission::Diagnostic`, kind `AppSetting`, at their line) and the
+//! rest of the block is kept; the C++ app prints an error and skips the block's later lines.
+//! Datagrams that are not one notify message are counted per input and dropped.
+
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use std::io::ErrorKind;
+use std::net::{Ipv4Addr, SocketAddr, SocketAddrV4, ToSocketAddrs, UdpSocket};
+
+use bytes::Bytes;
+use mission::diagnostic::{Diagnostic, DiagnosticKind};
+use mission::moos::ProcessConfig;
+use moos_types::{ByteString, Relayed};
+use moosdb::Message;
+use pshare::config::{Command, Endpoint, InputSpec, OutputSpec, parse_command};
+use pshare::datagram::{self, RECEIVE_BUFFER, RxCounts};
+use pshare::{Added, Config, RouteTable};
+
+use crate::app::{App, AppResult, Mail, Post, Subscription};
+use crate::appcasting::{AppcastLayer, Note};
+
+/// The MOOS name of the app.
+pub const PROGRAM: &str = "pShare";
+
+/// Most datagrams read from one input per iteration (the rest wait for the next one).
+const MAX_READS_PER_ITERATION: usize = 4096;
+
+/// Seconds between the summary postings.
+const SUMMARY_PERIOD: f64 = 1.0;
+
+/// One input route and what came in on it.
+#[derive(Debug)]
+struct Listener {
+    endpoint: Endpoint,
+    white_list: Vec<String>,
+    socket: Option<UdpSocket>,
+    port: Option<u16>,
+    counts: RxCounts,
+}
+
+/// What was sent, in all.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct TxCounts {
+    /// Datagrams sent.
+    pub sent: u64,
+    /// Messages over the 48 KiB limit, not sent.
+    pub too_large: u64,
+    /// Shares not sent: a multicast route, an address that did not resolve, a send error.
+    pub failed: u64,
+}
+
+/// The `pShare` app.
+pub struct PShareApp {
+    name: String,
+    block: ProcessConfig,
+    config: Config,
+    warnings: Vec<Diagnostic>,
+    appcast: AppcastLayer,
+    listen_address: Ipv4Addr,
+    cmd_key: String,
+    table: RouteTable,
+    listeners: Vec<Listener>,
+    sender: Option<UdpSocket>,
+    resolved: HashMap<Endpoint, Option<SocketAddr>>,
+    opened: bool,
+    new_subs: Vec<Subscription>,
+    start: f64,
+    last_summary: Option<f64>,
+    tx: TxCounts,
+    buf: Vec<u8>,
+    out_buf: Vec<u8>,
+}
+
+impl PShareApp {
+    /// The app `name` from its `block`; bad lines are [`PShareApp::warnings`].
+    pub fn new(name: &str, block: ProcessConfig) -> Self {
+        let (config, bad) = Config::from_params(
+            block
+                .entries
+                .iter()
+                .map(|p| (p.span.line as usize, p.key.as_str(), p.value.as_str())),
+        );
+        let span_of = |line: usize| {
+            block
+                .entries
+                .iter()
+                .find(|p| p.span.line as usize == line)
+                .map_or(&block.span, |p| &p.span)
+        };
+        let mut warnings: Vec<Diagnostic> = bad
+            .iter()
+            .map(|b| {
+                Diagnostic::line_warning(
+                    DiagnosticKind::AppSetting,
+                    span_of(b.line),
+                    format!("{PROGRAM}: {} = {}: {}", b.key, b.value, b.error),
+                )
+            })
+            .collect();
+        let multicast = config
+            .outputs
+            .iter()
+            .map(|o| &o.endpoint)
+            .chain(config.inputs.iter().flat_map(|i| &i.endpoints))
+            .any(Endpoint::is_multicast);
+        if multicast {
+            warnings.push(Diagnostic::line_warning(
+                DiagnosticKind::AppSetting,
+                &block.span,
+                format!(
+                    "{PROGRAM}: multicast routes are read but coug opens no multicast socket: \
+                     they send and receive nothing"
+                ),
+            ));
+        }
+        let mut listen_address = Ipv4Addr::UNSPECIFIED;
+        if let Some(p) = block
+            .entries
+            .iter()
+            .find(|p| p.key.trim().eq_ignore_ascii_case("listen_address"))
+        {
+            match p.value.trim().parse() {
+                Ok(a) => listen_address = a,
+                Err(_) => warnings.push(Diagnostic::line_warning(
+                    DiagnosticKind::AppSetting,
+                    &p.span,
+                    format!(
+                        "{PROGRAM}: listen_address = {}: not an IPv4 address",
+                        p.value.trim()
+                    ),
+                )),
+            }
+        }
+        let mut table = RouteTable::default();
+        for o in &config.outputs {
+            table.add(o, 0.0);
+        }
+        let listeners = config.inputs.iter().flat_map(listeners_of).collect();
+        PShareApp {
+            cmd_key: format!("{}_CMD", name.to_ascii_uppercase()),
+            appcast: AppcastLayer::with_config_warnings(name, &block, None, 1.0, &warnings),
+            name: name.to_string(),
+            block,
+            config,
+            warnings,
+            listen_address,
+            table,
+            listeners,
+            sender: None,
+            resolved: HashMap::new(),
+            opened: false,
+            new_subs: Vec::new(),
+            start: 0.0,
+            last_summary: None,
+            tx: TxCounts::default(),
+            buf: vec![0; RECEIVE_BUFFER],
+            out_buf: Vec::new(),
+        }
+    }
+
+    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
+    pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
+        self.appcast = AppcastLayer::with_config_warnings(
+            &self.name,
+            &self.block,
+            community,
+            warp,
+            &self.warnings,
+        );
+        self
+    }
+
+    /// Bad lines of the block and the multicast routes that will not be opened.
+    pub fn warnings(&self) -> &[Diagnostic] {
+        &self.warnings
+    }
+
+    /// The configuration read.
+    pub fn config(&self) -> &Config {
+        &self.config
+    }
+
+    /// Opens the sockets (the listeners and the sender); done at start-up, or earlier by a
+    /// caller that needs the ports the system picked. Failures are run warnings.
+    pub fn open(&mut self) {
+        if self.opened {
+            return;
+        }
+        self.opened = true;
+        for i in 0..self.listeners.len() {
+            self.open_listener(i);
+        }
+        match UdpSocket::bind(SocketAddrV4::new(self.listen_address, 0))
+            .and_then(|s| s.set_nonblocking(true).map(|()| s))
+        {
+            Ok(s) => self.sender = Some(s),
+            Err(e) => self
+                .appcast
+                .note(Note::Warning(format!("no socket to send from: {e}")), 0.0),
+        }
+        let endpoints: Vec<Endpoint> = self
+            .table
+            .named()
+            .flat_map(|(_, r)| r.iter().map(|r| r.endpoint.clone()))
+            .chain(
+                self.table
+                    .wildcards()
+                    .flat_map(|(_, _, r)| r.iter().map(|r| r.endpoint.clone())),
+            )
+            .collect();
+        for e in endpoints {
+            self.resolve(&e);
+        }
+    }
+
+    fn open_listener(&mut self, i: usize) {
+        let l = &mut self.listeners[i];
+        let Endpoint::Udp { port, .. } = l.endpoint else {
+            return;
+        };
+        let bound = UdpSocket::bind(SocketAddrV4::new(self.listen_address, port))
+            .and_then(|s| s.set_nonblocking(true).map(|()| s))
+            .and_then(|s| s.local_addr().map(|a| (s, a.port())));
+        match bound {
+            Ok((s, p)) => {
+                l.socket = Some(s);
+                l.port = Some(p);
+            }
+            Err(e) => {
+                let w = format!("cannot listen on {}: {e}", l.endpoint);
+                self.appcast.note(Note::Warning(w), 0.0);
+            }
+        }
+    }
+
+    fn resolve(&mut self, e: &Endpoint) -> Option<SocketAddr> {
+        if let Some(a) = self.resolved.get(e) {
+            return *a;
+        }
+        let addr = match e {
+            Endpoint::Udp { host, port } => (host.as_str(), *port)
+                .to_socket_addrs()
+                .ok()
+                .and_then(|mut a| a.find(SocketAddr::is_ipv4)),
+            Endpoint::Multicast(_) => None,
+        };
+        if addr.is_none() && !e.is_multicast() {
+            self.appcast
+                .note(Note::Warning(format!("cannot resolve {e}")), self.start);
+        }
+        self.resolved.insert(e.clone(), addr);
+        addr
+    }
+
+    /// Every input route with the port it listens on (`None`: not open: a multicast
+    /// channel, a failed bind, or before [`PShareApp::open`]).
+    pub fn listening(&self) -> Vec<(Endpoint, Option<u16>)> {
+        self.listeners
+            .iter()
+            .map(|l| (l.endpoint.clone(), l.port))
+            .collect()
+    }
+
+    /// What came in on each input route.
+    pub fn received(&self) -> Vec<(Endpoint, RxCounts)> {
+        self.listeners
+            .iter()
+            .map(|l| (l.endpoint.clone(), l.counts))
+            .collect()
+    }
+
+    /// What was sent.
+    pub fn sent(&self) -> TxCounts {
+        self.tx
+    }
+
+    /// The routing table in force.
+    pub fn routes(&self) -> &RouteTable {
+        &self.table
+    }
+
+    fn add_output(&mut self, spec: &OutputSpec, now: f64) {
+        match self.table.add(spec, now) {
+            Added::Named(v) | Added::Wildcard(v) | Added::ResendLatest(v) => {
+                self.new_subs.push(Subscription::var(v));
+            }
+            Added::Refreshed => {}
+        }
+        if self.opened {
+            self.resolve(&spec.endpoint);
+        }
+    }
+
+    fn add_input(&mut self, spec: &InputSpec) {
+        for l in listeners_of(spec) {
+            if self.listeners.iter().any(|o| o.endpoint == l.endpoint) {
+                let w = format!("already listening on {}", l.endpoint);
+                self.appcast.note(Note::Warning(w), self.start);
+                continue;
+            }
+            self.listeners.push(l);
+            if self.opened {
+                self.open_listener(self.listeners.len() - 1);
+            }
+        }
+    }
+
+    fn on_command(&mut self, m: &Mail, now: f64) {
+        // Commands written before this pShare started are stale (`IsYoungerThan`).
+        if m.time < self.start {
+            return;
+        }
+        let Some(text) = m.value.as_str() else {
+            return;
+        };
+        match parse_command(text) {
+            Ok(Command::Output(specs)) => {
+                for s in &specs {
+                    self.add_output(s, now);
+                }
+            }
+            Ok(Command::Input(spec)) => self.add_input(&spec),
+            Err(e) => self.appcast.note(
+                Note::Warning(format!("{} = {text}: {e}", self.cmd_key)),
+                now,
+            ),
+        }
+    }
+
+    fn share(&mut self, m: &Mail, now: f64) {
+        let sends = self.table.route(&m.key, &m.source, now);
+        if sends.is_empty() {
+            return;
+        }
+        let mut msg = Message::notify(&m.key, m.value.clone(), m.time);
+        msg.src = m.source.as_bytes().clone();
+        msg.src_aux = m.source_aux.as_bytes().clone();
+        msg.community = m.community.as_bytes().clone();
+        for s in sends {
+            let mut out = std::mem::take(&mut self.out_buf);
+            if datagram::encode(&msg, &s.dest_name, &mut out).is_err() {
+                self.tx.too_large += 1;
+                let w = format!(
+                    "{} is over {} bytes: not shared",
+                    m.key,
+                    pshare::MAX_UDP_SIZE
+                );
+                self.appcast.note(Note::Warning(w), now);
+            } else {
+                let to = self.resolve(&s.endpoint);
+                match (to, &self.sender) {
+                    (Some(to), Some(sock)) if sock.send_to(&out, to).is_ok() => self.tx.sent += 1,
+                    _ => self.tx.failed += 1,
+                }
+            }
+            self.out_buf = out;
+        }
+    }
+
+    fn receive(&mut self, out: &mut Vec<Post>) {
+        for l in &mut self.listeners {
+            let Some(sock) = &l.socket else {
+                continue;
+            };
+            for _ in 0..MAX_READS_PER_ITERATION {
+                let n = match sock.recv_from(&mut self.buf) {
+                    Ok((n, _)) => n,
+                    Err(e) if e.kind() == ErrorKind::WouldBlock => break,
+                    // An ICMP error of an earlier send, an interrupted call: read on.
+                    Err(_) => continue,
+                };
+                let msg = match datagram::decode(Bytes::copy_from_slice(&self.buf[..n])) {
+                    Ok(msg) => msg,
+                    Err(_) => {
+                        l.counts.garbage += 1;
+                        continue;
+                    }
+                };
+                if !datagram::wanted(&l.white_list, &msg.key) {
+                    l.counts.filtered += 1;
+                    continue;
+                }
+                let Some(mail) = msg.mail() else {
+                    l.counts.garbage += 1;
+                    continue;
+                };
+                if self.table.registered_for(&mail.key) || *mail.key == *self.cmd_key {
+                    l.counts.looped += 1;
+                    continue;
+                }
+                l.counts.posted += 1;
+                out.push(Post {
+                    key: mail.key,
+                    value: mail.value,
+                    source: mail.source,
+                    aux: mail.source_aux,
+                    relayed: Some(Box::new(Relayed {
+                        time: mail.time,
+                        community: mail.community,
+                    })),
+                });
+            }
+        }
+    }
+
+    fn summaries(&mut self, now: f64, out: &mut Vec<Post>) {
+        let last = *self.last_summary.get_or_insert(now);
+        if now - last < SUMMARY_PERIOD {
+            return;
+        }
+        self.last_summary = Some(now);
+        let group = &self.config.multicast_address;
+        let base = self.config.multicast_base_port;
+        out.push(Post::text(
+            "PSHARE_OUTPUT_SUMMARY",
+            self.table.output_summary(group, base),
+        ));
+        let inputs: Vec<String> = self
+            .listeners
+            .iter()
+            .map(|l| match &l.endpoint {
+                Endpoint::Udp { host, port } => format!("{host}:{}", l.port.unwrap_or(*port)),
+                e @ Endpoint::Multicast(n) => format!(
+                    "{}:multicast_{n}",
+                    pshare::route::endpoint_address(e, group, base)
+                ),
+            })
+            .collect();
+        out.push(Post::text(
+            "PSHARE_INPUT_SUMMARY",
+            ByteString::from(inputs.join(",")),
+        ));
+    }
+}
+
+fn listeners_of(spec: &InputSpec) -> Vec<Listener> {
+    spec.endpoints
+        .iter()
+        .map(|e| Listener {
+            endpoint: e.clone(),
+            white_list: spec.white_list.clone(),
+            socket: None,
+            port: None,
+            counts: RxCounts::default(),
+        })
+        .collect()
+}
+
+/// The appcast body: the output routes with their share counts, the inputs with what came in.
+fn appcast_body(table: &RouteTable, listeners: &[Listener], tx: TxCounts, out: &mut String) {
+    let _ = writeln!(out, "Output routes:");
+    let mut any = false;
+    for (var, routes) in table.named() {
+        for r in routes {
+            any = true;
+            let _ = writeln!(
+                out,
+                "  {var} -> {} @ {}  shares={}",
+                r.dest_name, r.endpoint, r.shares
+            );
+        }
+    }
+    for (var, who, routes) in table.wildcards() {
+        for r in routes {
+            any = true;
+            let _ = writeln!(
+                out,
+                "  {var} (from {who}) -> {}<name> @ {}",
+                r.dest_name, r.endpoint
+            );
+        }
+    }
+    if !any {
+        let _ = writeln!(out, "  none");
+    }
+    let t = tx;
+    let _ = writeln!(
+        out,
+        "  sent={} too_large={} failed={}",
+        t.sent, t.too_large, t.failed
+    );
+    let _ = writeln!(out, "\nInput routes:");
+    if listeners.is_empty() {
+        let _ = writeln!(out, "  none");
+    }
+    for l in listeners {
+        let port = l
+            .port
+            .map_or_else(|| "closed".to_string(), |p| p.to_string());
+        let c = l.counts;
+        let _ = writeln!(
+            out,
+            "  {} (port {port})  posted={} filtered={} looped={} garbage={}",
+            l.endpoint, c.posted, c.filtered, c.looped, c.garbage
+        );
+    }
+}
+
+impl App for PShareApp {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn process_config(&self) -> Option<&ProcessConfig> {
+        Some(&self.block)
+    }
+
+    fn subscriptions(&self) -> Vec<Subscription> {
+        AppcastLayer::subscriptions()
+            .chain(std::iter::once(Subscription::var(&self.cmd_key)))
+            .chain(self.table.registrations().map(Subscription::var))
+            .collect()
+    }
+
+    fn new_subscriptions(&mut self) -> Vec<Subscription> {
+        std::mem::take(&mut self.new_subs)
+    }
+
+    fn on_startup(&mut self, now: f64, _out: &mut Vec<Post>) -> AppResult {
+        self.appcast.on_startup(now);
+        self.start = now;
+        // The configured shares start (their `duration` counts) when the app does.
+        self.table = RouteTable::default();
+        for o in &self.config.outputs {
+            self.table.add(o, now);
+        }
+        self.open();
+        Ok(())
+    }
+
+    fn on_mail(&mut self, mail: &[Mail], now: f64, _out: &mut Vec<Post>) -> AppResult {
+        for m in mail {
+            if !self.appcast.take_mail(m) {
+                continue;
+            }
+            if *m.key == *self.cmd_key {
+                self.on_command(m, now);
+                continue;
+            }
+            self.share(m, now);
+        }
+        Ok(())
+    }
+
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) -> AppResult {
+        let tick = self.app_tick();
+        self.appcast.begin(now, tick, out);
+        self.receive(out);
+        self.summaries(now, out);
+        let (table, listeners, tx) = (&self.table, &self.listeners, self.tx);
+        self.appcast
+            .end(now, tick, out, |b| appcast_body(table, listeners, tx, b));
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::block;
+
+    #[test]
+    fn bad_lines_and_multicast_routes_are_warnings_at_their_line() {
+        let app = PShareApp::new(
+            "pShare",
+            block(
+                "s.moos",
+                "ProcessConfig = pShare\n{\n  output = X>10.0.0.1:9000\n  \
+                 input = route = multicast_9\n  listen_address = here\n  \
+                 output = src_name = Y, route = 127.0.0.1:9300\n}\n",
+            ),
+        );
+        let w: Vec<String> = app.warnings().iter().map(Diagnostic::located).collect();
+        assert_eq!(
+            w,
+            vec![
+                "s.moos:3: pShare: output = X>10.0.0.1:9000: short form \"X>10.0.0.1:9000\" \
+                 has no \"->\" between the variable and its routes",
+                "s.moos:1: pShare: multicast routes are read but coug opens no multicast \
+                 socket: they send and receive nothing",
+                "s.moos:5: pShare: listen_address = here: not an IPv4 address",
+            ]
+        );
+        assert_eq!(app.config().outputs.len(), 1);
+        // Nothing is opened before start-up (a checked mission binds no port).
+        assert_eq!(app.listening(), vec![(Endpoint::Multicast(9), None)]);
+        let subs: Vec<String> = app.subscriptions().into_iter().map(|s| s.pattern).collect();
+        assert!(subs.contains(&"PSHARE_CMD".to_string()));
+        assert!(subs.contains(&"Y".to_string()));
+    }
+}
