@@ -13,7 +13,7 @@
 //!   through bounded channels, so a stalled device or a full channel drops and counts and never
 //!   blocks the MOOS side.
 //!
-//! [`Driver`] joins the two: the runtime's app (`runtime::drivers`, registered in
+//! [`Driver`] joins the two: the runtime's app (`runtime::driver_apps`, registered in
 //! `runtime::antler::BUILT_INS`) calls [`Driver::step`] once per iteration.
 //!
 //! The drivers post the variables of the sensor models (`runtime::sensors`, uSimSensors),
@@ -160,6 +160,12 @@ impl<P: Protocol> Driver<P> {
             self.link = Some(Link::open(self.link_cfg.clone())?);
         }
         Ok(())
+    }
+
+    /// Closes the link (joins its thread); the app's end.
+    pub fn stop(&mut self) {
+        self.link = None;
+        self.connected = false;
     }
 
     /// The link's settings.

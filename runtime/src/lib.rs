@@ -29,6 +29,7 @@ pub mod app;
 pub mod appcasting;
 pub mod bus;
 pub mod clock;
+pub mod driver_apps;
 pub mod helm;
 pub mod logger;
 pub mod navigator;
