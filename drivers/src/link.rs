@@ -68,7 +68,8 @@ pub struct LinkConfig {
     pub rx_capacity: usize,
     /// Commands the channel from the app holds.
     pub tx_capacity: usize,
-    /// How long one read waits before the thread looks at its send channel and stop flag.
+    /// How long one wait for bytes lasts before the thread looks at its stop flag and stall
+    /// timer (bytes queued by the app wake it at once).
     pub poll_interval: Duration,
     /// How long a write may take before the command is dropped (a stalled peer).
     pub write_timeout: Duration,
@@ -78,7 +79,7 @@ pub struct LinkConfig {
 
 impl LinkConfig {
     /// The defaults for `endpoint`: backoff 0.2 s doubling to 5 s, 256 received chunks, 64
-    /// commands, 20 ms reads, 0.5 s writes, no stall timeout.
+    /// commands, 100 ms waits, 0.5 s writes, no stall timeout.
     pub fn new(endpoint: Endpoint) -> Self {
         LinkConfig {
             endpoint,
@@ -86,7 +87,7 @@ impl LinkConfig {
             backoff_max: Duration::from_secs(5),
             rx_capacity: 256,
             tx_capacity: 64,
-            poll_interval: Duration::from_millis(20),
+            poll_interval: Duration::from_millis(100),
             write_timeout: Duration::from_millis(500),
             stall_timeout: None,
         }
@@ -108,6 +109,38 @@ struct Shared {
     stalls: AtomicU64,
     stop: AtomicBool,
     last_error: Mutex<String>,
+    /// An eventfd the app writes to when it queues bytes, so the thread wakes at once.
+    wake: Option<OwnedFd>,
+}
+
+impl Shared {
+    fn wake(&self) {
+        if let Some(w) = &self.wake {
+            let one: u64 = 1;
+            // SAFETY: writing 8 bytes from a local to an eventfd we own.
+            unsafe {
+                libc::write(w.as_raw_fd(), (&raw const one).cast(), 8);
+            }
+        }
+    }
+
+    fn drain_wake(&self) {
+        if let Some(w) = &self.wake {
+            let mut v: u64 = 0;
+            // SAFETY: reading 8 bytes into a local from a non-blocking eventfd we own.
+            unsafe {
+                libc::read(w.as_raw_fd(), (&raw mut v).cast(), 8);
+            }
+        }
+    }
+}
+
+/// A non-blocking eventfd, or none (the thread then notices sends at its poll interval).
+fn eventfd() -> Option<OwnedFd> {
+    // SAFETY: plain flags; a negative result is handled.
+    let fd = unsafe { libc::eventfd(0, libc::EFD_NONBLOCK | libc::EFD_CLOEXEC) };
+    // SAFETY: a fresh fd we own.
+    (fd >= 0).then(|| unsafe { OwnedFd::from_raw_fd(fd) })
 }
 
 /// A snapshot of a link's counters.
@@ -161,7 +194,10 @@ impl Link {
     pub fn open(cfg: LinkConfig) -> io::Result<Link> {
         let (rx_tx, rx) = sync_channel(cfg.rx_capacity.max(1));
         let (tx, tx_rx) = sync_channel(cfg.tx_capacity.max(1));
-        let shared = Arc::new(Shared::default());
+        let shared = Arc::new(Shared {
+            wake: eventfd(),
+            ..Shared::default()
+        });
         let endpoint = cfg.endpoint.clone();
         let s = Arc::clone(&shared);
         let thread = std::thread::Builder::new()
@@ -193,7 +229,10 @@ impl Link {
     /// full or the link thread is gone.
     pub fn send(&self, bytes: Vec<u8>) -> bool {
         match self.tx.try_send(bytes) {
-            Ok(()) => true,
+            Ok(()) => {
+                self.shared.wake();
+                true
+            }
             Err(TrySendError::Full(_) | TrySendError::Disconnected(_)) => {
                 self.shared.tx_dropped.fetch_add(1, Ordering::Relaxed);
                 false
@@ -239,6 +278,7 @@ impl Link {
 impl Drop for Link {
     fn drop(&mut self) {
         self.shared.stop.store(true, Ordering::Release);
+        self.shared.wake();
         if let Some(t) = self.thread.take() {
             let _ = t.join();
         }
@@ -335,7 +375,7 @@ fn serve(
                 Err(e) => return Some(format!("write: {e}")),
             }
         }
-        match read(&mut conn, &mut buf, cfg.poll_interval) {
+        match read(&mut conn, &mut buf, cfg.poll_interval, s) {
             Ok(0) => return Some("closed by the peer".into()),
             Ok(n) => {
                 last_rx = Instant::now();
@@ -370,8 +410,7 @@ fn open(cfg: &LinkConfig) -> io::Result<Conn> {
                 match TcpStream::connect_timeout(&addr, Duration::from_secs(2)) {
                     Ok(t) => {
                         t.set_nodelay(true)?;
-                        t.set_read_timeout(Some(cfg.poll_interval.max(Duration::from_millis(1))))?;
-                        t.set_write_timeout(Some(cfg.write_timeout.max(Duration::from_millis(1))))?;
+                        t.set_nonblocking(true)?;
                         return Ok(Conn::Tcp(t));
                     }
                     Err(e) => last = e,
@@ -450,8 +489,8 @@ fn open_serial(path: &std::path::Path, baud: u32) -> io::Result<std::fs::File> {
     Ok(std::fs::File::from(owned))
 }
 
-/// Waits up to `timeout` for `events` on `fd`: true when ready (or hung up: the next read or
-/// write reports it).
+/// Waits up to `timeout` for `events` on `fd`: true when ready (or hung up: the next write
+/// reports it).
 fn wait_fd(fd: libc::c_int, events: libc::c_short, timeout: Duration) -> io::Result<bool> {
     let mut p = libc::pollfd {
         fd,
@@ -472,48 +511,69 @@ fn wait_fd(fd: libc::c_int, events: libc::c_short, timeout: Duration) -> io::Res
     Ok(r > 0)
 }
 
-fn read(conn: &mut Conn, buf: &mut [u8], timeout: Duration) -> io::Result<usize> {
-    match conn {
-        Conn::Tcp(t) => t.read(buf),
-        Conn::Serial(f) => {
-            if !wait_fd(f.as_raw_fd(), libc::POLLIN, timeout)? {
-                return Err(io::ErrorKind::WouldBlock.into());
-            }
-            match f.read(buf) {
-                // A pty whose other side closed reads EIO: the device is gone.
-                Err(e) if e.raw_os_error() == Some(libc::EIO) => Ok(0),
-                r => r,
-            }
+impl Conn {
+    fn fd(&self) -> libc::c_int {
+        match self {
+            Conn::Tcp(t) => t.as_raw_fd(),
+            Conn::Serial(f) => f.as_raw_fd(),
         }
+    }
+}
+
+/// Waits up to `timeout` for bytes on the connection or a wake-up from the app; reads what
+/// is there (`WouldBlock` when nothing is).
+fn read(conn: &mut Conn, buf: &mut [u8], timeout: Duration, s: &Shared) -> io::Result<usize> {
+    let mut fds = [
+        libc::pollfd {
+            fd: conn.fd(),
+            events: libc::POLLIN,
+            revents: 0,
+        },
+        libc::pollfd {
+            fd: s.wake.as_ref().map_or(-1, AsRawFd::as_raw_fd),
+            events: libc::POLLIN,
+            revents: 0,
+        },
+    ];
+    let ms = timeout.as_millis().min(i32::MAX as u128) as libc::c_int;
+    // SAFETY: two valid pollfds (a negative fd is ignored by poll).
+    let r = unsafe { libc::poll(fds.as_mut_ptr(), 2, ms) };
+    if r < 0 {
+        return Err(io::Error::last_os_error());
+    }
+    if fds[1].revents != 0 {
+        s.drain_wake();
+    }
+    if fds[0].revents == 0 {
+        return Err(io::ErrorKind::WouldBlock.into());
+    }
+    let r = match conn {
+        Conn::Tcp(t) => t.read(buf),
+        Conn::Serial(f) => f.read(buf),
+    };
+    match r {
+        // A pty whose other side closed reads EIO: the device is gone.
+        Err(e) if e.raw_os_error() == Some(libc::EIO) => Ok(0),
+        r => r,
     }
 }
 
 fn write_all(conn: &mut Conn, mut data: &[u8], timeout: Duration) -> io::Result<()> {
     let end = Instant::now() + timeout;
     while !data.is_empty() {
+        let left = end.saturating_duration_since(Instant::now());
+        if !wait_fd(conn.fd(), libc::POLLOUT, left)? {
+            return Err(io::ErrorKind::TimedOut.into());
+        }
         let r = match conn {
             Conn::Tcp(t) => t.write(data),
-            Conn::Serial(f) => {
-                let left = end.saturating_duration_since(Instant::now());
-                if !wait_fd(f.as_raw_fd(), libc::POLLOUT, left)? {
-                    return Err(io::ErrorKind::TimedOut.into());
-                }
-                f.write(data)
-            }
+            Conn::Serial(f) => f.write(data),
         };
         match r {
             Ok(0) => return Err(io::ErrorKind::WriteZero.into()),
             Ok(n) => data = &data[n..],
-            Err(e) if e.kind() == io::ErrorKind::WouldBlock => {
-                if Instant::now() >= end {
-                    return Err(io::ErrorKind::TimedOut.into());
-                }
-            }
-            Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+            Err(e) if matches!(e.kind(), io::ErrorKind::WouldBlock | io::ErrorKind::Interrupted) => {}
             Err(e) => return Err(e),
-        }
-        if Instant::now() >= end && !data.is_empty() {
-            return Err(io::ErrorKind::TimedOut.into());
         }
     }
     Ok(())
