@@ -106,6 +106,7 @@ struct Shared {
     tx_bytes: AtomicU64,
     rx_dropped_bytes: AtomicU64,
     tx_dropped: AtomicU64,
+    write_timeouts: AtomicU64,
     stalls: AtomicU64,
     stop: AtomicBool,
     last_error: Mutex<String>,
@@ -164,6 +165,9 @@ pub struct LinkCounters {
     pub rx_dropped_bytes: u64,
     /// Commands dropped: the send channel full, the link down, or a write timed out.
     pub tx_dropped: u64,
+    /// Writes that did not complete within the write timeout (a peer not reading; also
+    /// counted in `tx_dropped`).
+    pub write_timeouts: u64,
     /// Connections closed because nothing arrived for the stall timeout.
     pub stalls: u64,
     /// The last error seen (open, read or write), empty if none.
@@ -269,6 +273,7 @@ impl Link {
             tx_bytes: l(&s.tx_bytes),
             rx_dropped_bytes: l(&s.rx_dropped_bytes),
             tx_dropped: l(&s.tx_dropped),
+            write_timeouts: l(&s.write_timeouts),
             stalls: l(&s.stalls),
             last_error: s.last_error.lock().map(|e| e.clone()).unwrap_or_default(),
         }
@@ -370,6 +375,7 @@ fn serve(
                 }
                 Err(e) if e.kind() == io::ErrorKind::TimedOut => {
                     s.tx_dropped.fetch_add(1, Ordering::Relaxed);
+                    s.write_timeouts.fetch_add(1, Ordering::Relaxed);
                     set_error(s, "write timed out (the peer is not reading)");
                 }
                 Err(e) => return Some(format!("write: {e}")),
