@@ -275,10 +275,13 @@ impl Dvl {
             io.text("DVL_COMMAND_ACK", f.cmd.name());
             io.events.push(format!("{}: ok", f.cmd.name()));
             let acoustics = match (&f.cmd, &r.result) {
-                (_, Some(Config {
-                    acoustic_enabled: Some(a),
-                    ..
-                })) => Some(*a),
+                (
+                    _,
+                    Some(Config {
+                        acoustic_enabled: Some(a),
+                        ..
+                    }),
+                ) => Some(*a),
                 (Command::SetConfig(c), _) => c.acoustic_enabled,
                 _ => None,
             };
@@ -670,11 +673,25 @@ mod tests {
         assert!(p.wants_acoustics(), "inside the hysteresis");
         p.on_mail("NAV_DEPTH", &Value::Double(0.1), 2.0, &mut io);
         assert!(!p.wants_acoustics(), "at the surface");
-        p.on_mail("DVL_ACOUSTIC_ENABLE", &Value::String("true".into()), 3.0, &mut io);
+        p.on_mail(
+            "DVL_ACOUSTIC_ENABLE",
+            &Value::String("true".into()),
+            3.0,
+            &mut io,
+        );
         assert!(p.wants_acoustics(), "forced");
-        p.on_mail("DVL_ACOUSTIC_ENABLE", &Value::String("auto".into()), 3.0, &mut io);
+        p.on_mail(
+            "DVL_ACOUSTIC_ENABLE",
+            &Value::String("auto".into()),
+            3.0,
+            &mut io,
+        );
         assert!(!p.wants_acoustics());
-        assert_eq!(p.queued(), 1, "one set_config queued, the moot ones dropped");
+        assert_eq!(
+            p.queued(),
+            1,
+            "one set_config queued, the moot ones dropped"
+        );
     }
 
     #[test]
@@ -708,7 +725,10 @@ mod tests {
         }
         .encode();
         p.on_bytes(refusal.as_bytes(), 46.5, &mut io);
-        assert_eq!(texts(&io, "DVL_COMMAND_ERROR")[1], "reset_dead_reckoning: busy");
+        assert_eq!(
+            texts(&io, "DVL_COMMAND_ERROR")[1],
+            "reset_dead_reckoning: busy"
+        );
         assert_eq!(p.counts().errors, 2);
         assert_eq!(p.counts().timeouts, 3);
     }

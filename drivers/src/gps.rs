@@ -358,7 +358,10 @@ mod tests {
         assert_eq!(doubles(&io, "GPS_Y"), [y]);
         let (blat, blon) = grid.to_latlon(x, y).unwrap();
         assert!((blat - lat).abs() < 1e-9 && (blon - lon).abs() < 1e-9);
-        assert!(x > 38_000.0 && y > 13_000.0, "east and north of the origin: {x} {y}");
+        assert!(
+            x > 38_000.0 && y > 13_000.0,
+            "east and north of the origin: {x} {y}"
+        );
         assert_eq!(doubles(&io, "GPS_SATELLITES"), [8.0]);
         assert_eq!(doubles(&io, "GPS_HDOP"), [0.9]);
         assert_eq!(doubles(&io, "GPS_FIX"), [1.0]);
@@ -427,9 +430,15 @@ mod tests {
     #[test]
     fn config_picks_the_source() {
         let (s, _, l, pr) = config_from_params([("device", "/dev/tnt1")]);
-        assert_eq!((s, l.endpoint.to_string(), pr.len()), (Source::Nmea, "/dev/tnt1@9600".into(), 0));
+        assert_eq!(
+            (s, l.endpoint.to_string(), pr.len()),
+            (Source::Nmea, "/dev/tnt1@9600".into(), 0)
+        );
         let (s, _, l, _) = config_from_params([("port", "3000")]);
-        assert_eq!((s, l.endpoint.to_string()), (Source::Gpsd, "tcp://127.0.0.1:3000".into()));
+        assert_eq!(
+            (s, l.endpoint.to_string()),
+            (Source::Gpsd, "tcp://127.0.0.1:3000".into())
+        );
         let (_, _, _, pr) = config_from_params([("device", "/dev/x"), ("host", "h")]);
         assert_eq!(pr.len(), 1);
     }

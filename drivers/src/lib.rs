@@ -188,38 +188,26 @@ impl<P: Protocol> Driver<P> {
     /// of a new or lost connection, ticks it, sends its bytes and posts the status when due.
     pub fn step(&mut self, now: f64, io: &mut Io) {
         let mut changed = false;
-        if let Some(link) = &self.link {
+        if let Some(link) = self.link.take() {
+            // The thread bumps the generation before it says connected, and sends a
+            // connection's last bytes before it says disconnected: the flag is read first, and
+            // the state is synced before and after taking the bytes.
+            let up = link.connected();
+            changed |= self.sync(link.generation(), up, now, io);
             for _ in 0..self.max_chunks {
                 let Some(c) = link.poll() else { break };
                 if c.generation < self.generation {
                     continue;
                 }
-                if c.generation != self.generation {
-                    if self.connected {
-                        self.protocol.on_disconnect(now, io);
-                    }
-                    self.generation = c.generation;
-                    self.connected = true;
-                    changed = true;
-                    self.protocol.on_connect(now, io);
+                if c.generation > self.generation {
+                    changed |= self.sync(c.generation, true, now, io);
                 }
+                // Late bytes of a connection already seen closed are still read.
                 self.protocol.on_bytes(&c.bytes, now, io);
             }
-            let generation = link.generation();
             let up = link.connected();
-            if generation != self.generation && up {
-                if self.connected {
-                    self.protocol.on_disconnect(now, io);
-                }
-                self.generation = generation;
-                self.connected = true;
-                changed = true;
-                self.protocol.on_connect(now, io);
-            } else if self.connected && !up && generation == self.generation {
-                self.connected = false;
-                changed = true;
-                self.protocol.on_disconnect(now, io);
-            }
+            changed |= self.sync(link.generation(), up, now, io);
+            self.link = Some(link);
         }
         self.protocol.tick(now, io);
         self.flush(io);
@@ -230,6 +218,31 @@ impl<P: Protocol> Driver<P> {
             self.last_status = Some(now);
             let s = self.status();
             io.posts.push(Post::text(self.protocol.status_var(), s));
+        }
+    }
+
+    /// Brings the protocol's view of the link to (`generation`, `up`); true on a change.
+    fn sync(&mut self, generation: u64, up: bool, now: f64, io: &mut Io) -> bool {
+        if generation != self.generation {
+            if self.connected {
+                self.protocol.on_disconnect(now, io);
+            }
+            self.generation = generation;
+            self.connected = up;
+            if up {
+                self.protocol.on_connect(now, io);
+            }
+            true
+        } else if up != self.connected {
+            self.connected = up;
+            if up {
+                self.protocol.on_connect(now, io);
+            } else {
+                self.protocol.on_disconnect(now, io);
+            }
+            true
+        } else {
+            false
         }
     }
 

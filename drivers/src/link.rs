@@ -394,7 +394,12 @@ fn serve(
                     s.rx_dropped_bytes.fetch_add(n as u64, Ordering::Relaxed);
                 }
             }
-            Err(e) if matches!(e.kind(), io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut) => {
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut
+                ) =>
+            {
                 if let Some(t) = cfg.stall_timeout
                     && last_rx.elapsed() >= t
                 {
@@ -578,7 +583,11 @@ fn write_all(conn: &mut Conn, mut data: &[u8], timeout: Duration) -> io::Result<
         match r {
             Ok(0) => return Err(io::ErrorKind::WriteZero.into()),
             Ok(n) => data = &data[n..],
-            Err(e) if matches!(e.kind(), io::ErrorKind::WouldBlock | io::ErrorKind::Interrupted) => {}
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    io::ErrorKind::WouldBlock | io::ErrorKind::Interrupted
+                ) => {}
             Err(e) => return Err(e),
         }
     }

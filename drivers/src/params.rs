@@ -168,16 +168,14 @@ pub fn read<'a>(
         };
         let r = match lower.as_str() {
             "device" => p.text().map(|v| c.device = Some(PathBuf::from(v))),
-            "baud" | "baudrate" => p
-                .int(1, i64::from(u32::MAX), "a baud rate")
-                .and_then(|v| {
-                    if baud_supported(v as u32) {
-                        c.baud = Some(v as u32);
-                        Ok(())
-                    } else {
-                        Err(p.bad("a standard baud rate (9600, 19200, 38400, 57600, 115200, ...)"))
-                    }
-                }),
+            "baud" | "baudrate" => p.int(1, i64::from(u32::MAX), "a baud rate").and_then(|v| {
+                if baud_supported(v as u32) {
+                    c.baud = Some(v as u32);
+                    Ok(())
+                } else {
+                    Err(p.bad("a standard baud rate (9600, 19200, 38400, 57600, 115200, ...)"))
+                }
+            }),
             "host" => p.text().map(|v| c.host = Some(v)),
             "port" => p
                 .int(1, 65535, "a TCP port (1-65535)")

@@ -523,14 +523,16 @@ fn type_name(t: u8) -> &'static str {
 }
 
 fn type_of(name: &str) -> Option<u8> {
-    Some(match name.trim().to_ascii_uppercase().trim_start_matches("MSG_") {
-        "OWAY" => msg_type::OWAY,
-        "OWAYU" => msg_type::OWAYU,
-        "REQ" => msg_type::REQ,
-        "REQU" => msg_type::REQU,
-        "REQX" => msg_type::REQX,
-        _ => return None,
-    })
+    Some(
+        match name.trim().to_ascii_uppercase().trim_start_matches("MSG_") {
+            "OWAY" => msg_type::OWAY,
+            "OWAYU" => msg_type::OWAYU,
+            "REQ" => msg_type::REQ,
+            "REQU" => msg_type::REQU,
+            "REQX" => msg_type::REQX,
+            _ => return None,
+        },
+    )
 }
 
 /// Bytes as uppercase hex.
@@ -817,20 +819,33 @@ mod tests {
     }
 
     fn sent(io: &Io) -> Vec<Command> {
-        io.tx
-            .iter()
-            .map(|b| Command::decode(b).unwrap())
-            .collect()
+        io.tx.iter().map(|b| Command::decode(b).unwrap()).collect()
     }
 
     fn started(cfg: SeaTracConfig) -> (SeaTrac, Io) {
         let mut p = SeaTrac::new(cfg);
         let mut io = Io::default();
         p.on_connect(0.0, &mut io);
-        p.on_bytes(Response::SysAlive { seconds: 5 }.encode().as_bytes(), 0.1, &mut io);
-        p.on_bytes(Response::SettingsGet(blank_settings()).encode().as_bytes(), 0.2, &mut io);
-        p.on_bytes(Response::SettingsSet(Cst::Ok).encode().as_bytes(), 0.3, &mut io);
-        p.on_bytes(Response::SettingsSave(Cst::Ok).encode().as_bytes(), 0.4, &mut io);
+        p.on_bytes(
+            Response::SysAlive { seconds: 5 }.encode().as_bytes(),
+            0.1,
+            &mut io,
+        );
+        p.on_bytes(
+            Response::SettingsGet(blank_settings()).encode().as_bytes(),
+            0.2,
+            &mut io,
+        );
+        p.on_bytes(
+            Response::SettingsSet(Cst::Ok).encode().as_bytes(),
+            0.3,
+            &mut io,
+        );
+        p.on_bytes(
+            Response::SettingsSave(Cst::Ok).encode().as_bytes(),
+            0.4,
+            &mut io,
+        );
         (p, io)
     }
 
@@ -967,7 +982,12 @@ mod tests {
     fn dat_is_sent_retried_on_busy_and_received_with_its_fix() {
         let (mut p, _) = started(SeaTracConfig::default());
         let mut io = Io::default();
-        p.on_mail("ACOMMS_TX", &Value::String("dest=2,hex=0a0B".into()), 1.0, &mut io);
+        p.on_mail(
+            "ACOMMS_TX",
+            &Value::String("dest=2,hex=0a0B".into()),
+            1.0,
+            &mut io,
+        );
         p.tick(1.0, &mut io);
         let dat = Command::DatSend {
             dest_id: 2,
@@ -1006,7 +1026,9 @@ mod tests {
         assert_eq!(doubles(&io, "USBL_Z"), [5.0]);
         assert_eq!(
             texts(&io, "USBL_FIX"),
-            ["src=2,dest=1,type=RESPU,rssi=-65.2,range=123.4,azimuth=45.5,elevation=-12,x=87.2,y=87.3,z=5"]
+            [
+                "src=2,dest=1,type=RESPU,rssi=-65.2,range=123.4,azimuth=45.5,elevation=-12,x=87.2,y=87.3,z=5"
+            ]
         );
         assert_eq!(texts(&io, "ACOMMS_RX"), ["src=2,dest=1,ack=0,hex=DEAD"]);
     }
@@ -1016,7 +1038,12 @@ mod tests {
         let (mut p, _) = started(SeaTracConfig::default());
         let mut io = Io::default();
         p.on_mail("SEATRAC_PING", &Value::Double(2.0), 1.0, &mut io);
-        p.on_mail("ACOMMS_TX", &Value::String("dest=2,hex=0".into()), 1.0, &mut io);
+        p.on_mail(
+            "ACOMMS_TX",
+            &Value::String("dest=2,hex=0".into()),
+            1.0,
+            &mut io,
+        );
         p.on_mail(
             "ACOMMS_TX",
             &Value::String(format!("dest=2,hex={}", "00".repeat(32)).into()),
@@ -1037,15 +1064,26 @@ mod tests {
             beacon_id: 2,
         };
         p.on_bytes(refused.encode().as_bytes(), 1.1, &mut io);
-        assert_eq!(texts(&io, "ACOMMS_ERROR"), ["PING_SEND to 2: CmdParamInvalid"]);
+        assert_eq!(
+            texts(&io, "ACOMMS_ERROR"),
+            ["PING_SEND to 2: CmdParamInvalid"]
+        );
         assert_eq!(p.queued(), 0);
         // Never answered: three tries, then an error.
-        p.on_mail("SEATRAC_PING", &Value::String("dest=4,type=REQX".into()), 2.0, &mut io);
+        p.on_mail(
+            "SEATRAC_PING",
+            &Value::String("dest=4,type=REQX".into()),
+            2.0,
+            &mut io,
+        );
         for t in [2.0, 2.5, 3.0, 3.5] {
             p.tick(t, &mut io);
         }
         assert_eq!(io.tx.len(), 4);
-        assert_eq!(texts(&io, "ACOMMS_ERROR")[1], "PING_SEND: no answer after 3 tries");
+        assert_eq!(
+            texts(&io, "ACOMMS_ERROR")[1],
+            "PING_SEND: no answer after 3 tries"
+        );
     }
 
     #[test]

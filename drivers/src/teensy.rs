@@ -489,7 +489,10 @@ mod tests {
         assert_eq!(doubles(&io, "BATTERY_VOLTAGE"), [15.9]);
         assert_eq!(doubles(&io, "BATTERY_CURRENT"), [2.1]);
         assert_eq!(doubles(&io, "LEAK"), [0.0]);
-        assert!(doubles(&io, "DEPTH").is_empty(), "no depth while calibrating");
+        assert!(
+            doubles(&io, "DEPTH").is_empty(),
+            "no depth while calibrating"
+        );
         p.on_bytes(b"$DEPTH,100002.0,21.5\r\n", 0.2, &mut io);
         assert_eq!(doubles(&io, "TEENSY_ATM_PRESSURE"), [100001.0]);
         assert_eq!(p.state(), "running");
@@ -538,7 +541,11 @@ mod tests {
         p.tick(15.0, &mut io);
         assert!(!p.calibrating());
         assert_eq!(p.converter().atmospheric_pa, 87250.0);
-        assert!(io.warnings[0].contains("2 of 3 samples"), "{:?}", io.warnings);
+        assert!(
+            io.warnings[0].contains("2 of 3 samples"),
+            "{:?}",
+            io.warnings
+        );
     }
 
     #[test]

@@ -10,11 +10,11 @@ use std::time::Duration;
 use common::{Pty, Stepper, point, scratch};
 use devices::seatrac::{self, Command, Cst, Response};
 use devices::teensy::Telemetry;
-use drivers::{Driver, Protocol};
 use drivers::gps::{Gps, Source};
 use drivers::link::{Endpoint, LinkConfig};
 use drivers::seatrac::{SeaTrac, SeaTracConfig, blank_settings};
 use drivers::teensy::{Teensy, TeensyConfig};
+use drivers::{Driver, Protocol};
 use moos_types::Value;
 
 fn serial(path: &std::path::Path) -> LinkConfig {
@@ -91,7 +91,10 @@ fn iteensy_over_a_pty_garbage_then_values_then_a_replug() {
     // The sample that completes the calibration is the first with a depth.
     s.until(&mut d, "telemetry", |s, _| s.count("DEPTH") == 2);
     let pressures = s.doubles("PRESSURE");
-    assert_eq!(&pressures[pressures.len() - 4..], [84_000.0, 84_010.0, 84_020.0, (p2 * 10.0).round() / 10.0]);
+    assert_eq!(
+        &pressures[pressures.len() - 4..],
+        [84_000.0, 84_010.0, 84_020.0, (p2 * 10.0).round() / 10.0]
+    );
     assert_eq!(s.doubles("TEENSY_ATM_PRESSURE"), [84_010.0]);
     let depth = s.doubles("DEPTH");
     assert!((depth[0] - 10.0 / (997.0 * 9.81)).abs() < 1e-9, "{depth:?}");
@@ -112,11 +115,15 @@ fn iteensy_over_a_pty_garbage_then_values_then_a_replug() {
 
     // Unplugged: the driver notices, keeps trying; plugged in again on a new pty.
     drop(dev);
-    s.until(&mut d, "disconnect", |_, d| d.status().starts_with("link=down"));
+    s.until(&mut d, "disconnect", |_, d| {
+        d.status().starts_with("link=down")
+    });
     let mut dev = Pty::new();
     point(&link, &dev.slave);
     s.until(&mut d, "reconnect", |_, d| d.counters().connects == 2);
-    s.until(&mut d, "reconnect seen", |_, d| d.status().starts_with("link=up"));
+    s.until(&mut d, "reconnect seen", |_, d| {
+        d.status().starts_with("link=up")
+    });
     // The last command is said again to the returned device.
     s.step(&mut d);
     let out = dev.read_until(|b| b.ends_with(b"\n"));
@@ -133,7 +140,12 @@ fn iteensy_over_a_pty_garbage_then_values_then_a_replug() {
     });
     let status = s.texts("TEENSY_DRIVER_STATUS");
     assert!(status.iter().any(|t| t.starts_with("link=down")));
-    assert!(status.last().unwrap().starts_with("link=up,state=running,connects=2,"));
+    assert!(
+        status
+            .last()
+            .unwrap()
+            .starts_with("link=up,state=running,connects=2,")
+    );
     let _ = std::fs::remove_dir_all(dir);
 }
 
@@ -267,7 +279,11 @@ fn iseatrac_over_a_pty_start_up_status_and_dat() {
     assert_eq!(s.doubles("SEATRAC_SUPPLY_VOLTAGE")[0], 15.0);
     assert_eq!(s.doubles("SEATRAC_BEACON_ID"), [1.0]);
 
-    s.mail(&mut d, "ACOMMS_TX", Value::String("dest=2,hex=010203".into()));
+    s.mail(
+        &mut d,
+        "ACOMMS_TX",
+        Value::String("dest=2,hex=010203".into()),
+    );
     s.until(&mut d, "dat", |s, _| !s.texts("ACOMMS_RX").is_empty());
     assert_eq!(s.texts("ACOMMS_TX_ACK"), ["dest=2,cid=DAT_SEND"]);
     assert_eq!(s.texts("ACOMMS_RX"), ["src=2,dest=1,ack=0,hex=030201"]);
@@ -293,7 +309,11 @@ fn igps_nmea_over_a_pty() {
     let mut dev = Pty::new();
     point(&link, &dev.slave);
     let grid = vehicle::geodesy::LocalGrid::new(40.0717976, -111.6002054).unwrap();
-    let mut d = Driver::new(Gps::new(Source::Nmea, Some(grid.clone())), serial(&link), 1.0);
+    let mut d = Driver::new(
+        Gps::new(Source::Nmea, Some(grid.clone())),
+        serial(&link),
+        1.0,
+    );
     d.start().unwrap();
     let mut s = Stepper::new(0.0);
     s.until(&mut d, "connect", |_, d| d.status().starts_with("link=up"));
@@ -326,6 +346,17 @@ fn igps_nmea_over_a_pty() {
         .map(|(_, p)| &*p.key)
         .filter(|k| k.starts_with("GPS_") && *k != "GPS_DRIVER_STATUS")
         .collect();
-    assert_eq!(keys[..7], ["GPS_X", "GPS_Y", "GPS_LAT", "GPS_LONG", "GPS_SATELLITES", "GPS_HDOP", "GPS_FIX"]);
+    assert_eq!(
+        keys[..7],
+        [
+            "GPS_X",
+            "GPS_Y",
+            "GPS_LAT",
+            "GPS_LONG",
+            "GPS_SATELLITES",
+            "GPS_HDOP",
+            "GPS_FIX"
+        ]
+    );
     let _ = std::fs::remove_dir_all(dir);
 }

@@ -93,11 +93,18 @@ fn igps_through_gpsd_with_a_hang_up_and_a_reconnection() {
     assert_eq!(watches, [WATCH, WATCH]);
     assert_eq!(s.doubles("GPS_LAT"), [40.07, 40.08]);
     assert_eq!(s.doubles("GPS_FIX"), [1.0, 1.0]);
-    assert_eq!(s.doubles("GPS_SATELLITES"), [5.0, 5.0], "the last SKY's used satellites");
+    assert_eq!(
+        s.doubles("GPS_SATELLITES"),
+        [5.0, 5.0],
+        "the last SKY's used satellites"
+    );
     assert_eq!(s.doubles("GPS_HDOP"), [0.8, 0.8]);
     let x = s.doubles("GPS_X");
     let y = s.doubles("GPS_Y");
-    assert!(x[0].abs() < 1e-6 && y[0].abs() < 1e-6, "at the origin: {x:?} {y:?}");
+    assert!(
+        x[0].abs() < 1e-6 && y[0].abs() < 1e-6,
+        "at the origin: {x:?} {y:?}"
+    );
     assert!((y[1] - 1110.0).abs() < 10.0, "0.01° north: {y:?}");
     assert_eq!(s.doubles("GPS_SPEED"), [0.4, 0.4]);
     let c = d.counters();
@@ -152,11 +159,13 @@ fn idvl_garbage_then_reports_and_a_checked_command() {
         )
         .unwrap();
         // Garbage for a while: noise, broken JSON, an oversize line.
-        s.write_all(b"\x00\x01\x02 not json at all\n{\"vx\": 1,\n").unwrap();
+        s.write_all(b"\x00\x01\x02 not json at all\n{\"vx\": 1,\n")
+            .unwrap();
         s.write_all(&vec![b'x'; a50::MAX_LINE + 10]).unwrap();
         s.write_all(b"\n").unwrap();
         for k in 0..3 {
-            s.write_all(report(0.5 + 0.1 * f64::from(k)).as_bytes()).unwrap();
+            s.write_all(report(0.5 + 0.1 * f64::from(k)).as_bytes())
+                .unwrap();
         }
         // A command from MOOS: answered with a failure.
         let second = read_line(&s);
@@ -180,7 +189,9 @@ fn idvl_garbage_then_reports_and_a_checked_command() {
     let mut s = Stepper::new(0.0);
     s.until(&mut d, "reports", |s, _| s.count("DVL_VALID") == 3);
     s.mail(&mut d, "DVL_RESET_DR", Value::Double(1.0));
-    s.until(&mut d, "refusal", |s, _| !s.texts("DVL_COMMAND_ERROR").is_empty());
+    s.until(&mut d, "refusal", |s, _| {
+        !s.texts("DVL_COMMAND_ERROR").is_empty()
+    });
     done_tx.send(()).unwrap();
     let (first, second) = server.join().unwrap();
     assert_eq!(

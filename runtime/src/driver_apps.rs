@@ -121,7 +121,11 @@ impl<P: Protocol> DriverApp<P> {
 }
 
 /// `iGPS` from its block; `grid` (the mission's origin) gives GPS_X/GPS_Y.
-pub fn gps(name: &str, block: ProcessConfig, grid: Option<LocalGrid>) -> DriverApp<drivers::gps::Gps> {
+pub fn gps(
+    name: &str,
+    block: ProcessConfig,
+    grid: Option<LocalGrid>,
+) -> DriverApp<drivers::gps::Gps> {
     let (source, common, link, problems) = drivers::gps::config_from_params(params(&block));
     let no_grid = grid.is_none();
     let mut app = DriverApp::new(
@@ -211,8 +215,10 @@ impl<P: Protocol> App for DriverApp<P> {
     fn on_startup(&mut self, now: f64, _out: &mut Vec<Post>) -> AppResult {
         self.appcast.on_startup(now);
         if let Err(e) = self.driver.start() {
-            self.appcast
-                .note(Note::Warning(format!("cannot start the link thread: {e}")), now);
+            self.appcast.note(
+                Note::Warning(format!("cannot start the link thread: {e}")),
+                now,
+            );
         }
         Ok(())
     }
@@ -258,13 +264,18 @@ mod tests {
 
     #[test]
     fn bad_keys_are_warnings_at_their_lines_and_igps_wants_an_origin() {
-        let b = block("ProcessConfig = iDVL\n{\n  AppTick = 10\n  port = seventy\n  colour = red\n}\n");
+        let b =
+            block("ProcessConfig = iDVL\n{\n  AppTick = 10\n  port = seventy\n  colour = red\n}\n");
         let app = dvl("iDVL", b);
         let w: Vec<String> = app.warnings().iter().map(Diagnostic::located).collect();
         assert_eq!(w.len(), 2, "{w:?}");
         assert!(w[0].contains("d.moos:4") && w[0].contains("port = seventy"));
         assert!(w[1].contains("d.moos:5") && w[1].contains("unknown parameter `colour`"));
-        let g = gps("iGPS", block("ProcessConfig = iGPS\n{\n  port = 2947\n}\n"), None);
+        let g = gps(
+            "iGPS",
+            block("ProcessConfig = iGPS\n{\n  port = 2947\n}\n"),
+            None,
+        );
         assert_eq!(g.warnings().len(), 1);
         assert!(g.warnings()[0].located().contains("LatOrigin"));
         let subs: Vec<String> = dvl("iDVL", block("ProcessConfig = iDVL\n{\n}\n"))
@@ -323,7 +334,9 @@ mod tests {
             .unwrap();
         // The fake may have hung up by now: the link's state is not asserted.
         assert!(
-            status.contains(",connects=1,") && status.contains(",velocity=1,") && status.contains(",acks=1,"),
+            status.contains(",connects=1,")
+                && status.contains(",velocity=1,")
+                && status.contains(",acks=1,"),
             "{status}"
         );
         app.stop(t).unwrap();
