@@ -547,7 +547,7 @@ pub fn hex(data: &[u8]) -> String {
 /// Hex (either case, even length) as bytes.
 pub fn unhex(s: &str) -> Option<Vec<u8>> {
     let s = s.trim().as_bytes();
-    if s.len() % 2 != 0 {
+    if !s.len().is_multiple_of(2) {
         return None;
     }
     s.chunks(2)
@@ -994,7 +994,7 @@ mod tests {
             msg_type: msg_type::OWAYU,
             data: vec![0x0A, 0x0B],
         };
-        assert_eq!(sent(&io), [dat.clone()]);
+        assert_eq!(sent(&io), std::slice::from_ref(&dat));
         let busy = Response::DatSend {
             status: Cst::XcvrBusy,
             beacon_id: 2,

@@ -61,7 +61,7 @@ fn iteensy_over_a_pty_garbage_then_values_then_a_replug() {
     d.start().unwrap();
     let mut s = Stepper::new(100.0);
     s.until(&mut d, "connect", |_, d| d.status().starts_with("link=up"));
-    assert_eq!(d.protocol.calibrating(), true);
+    assert!(d.protocol.calibrating());
 
     // A device babbling for a while, then a clean end of line.
     dev.write(&junk(3000, 7));
