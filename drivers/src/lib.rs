@@ -188,25 +188,28 @@ impl<P: Protocol> Driver<P> {
     /// of a new or lost connection, ticks it, sends its bytes and posts the status when due.
     pub fn step(&mut self, now: f64, io: &mut Io) {
         let mut changed = false;
-        if let Some(link) = self.link.take() {
-            // The thread bumps the generation before it says connected, and sends a
-            // connection's last bytes before it says disconnected: the flag is read first, and
-            // the state is synced before and after taking the bytes.
-            let up = link.connected();
-            changed |= self.sync(link.generation(), up, now, io);
+        if let Some(mut link) = self.link.take() {
+            // Bytes come in the order the thread read them: a newer connection's first bytes
+            // say it is up; a closed connection's last bytes are still read before its close.
             for _ in 0..self.max_chunks {
                 let Some(c) = link.poll() else { break };
                 if c.generation < self.generation {
                     continue;
                 }
                 if c.generation > self.generation {
-                    changed |= self.sync(c.generation, true, now, io);
+                    changed |= self.connect(c.generation, now, io);
                 }
-                // Late bytes of a connection already seen closed are still read.
                 self.protocol.on_bytes(&c.bytes, now, io);
             }
             let up = link.connected();
-            changed |= self.sync(link.generation(), up, now, io);
+            let generation = link.generation();
+            if up && generation > self.generation {
+                changed |= self.connect(generation, now, io);
+            } else if !up && self.connected && link.poll_is_empty() {
+                self.connected = false;
+                self.protocol.on_disconnect(now, io);
+                changed = true;
+            }
             self.link = Some(link);
         }
         self.protocol.tick(now, io);
@@ -221,29 +224,16 @@ impl<P: Protocol> Driver<P> {
         }
     }
 
-    /// Brings the protocol's view of the link to (`generation`, `up`); true on a change.
-    fn sync(&mut self, generation: u64, up: bool, now: f64, io: &mut Io) -> bool {
-        if generation != self.generation {
-            if self.connected {
-                self.protocol.on_disconnect(now, io);
-            }
-            self.generation = generation;
-            self.connected = up;
-            if up {
-                self.protocol.on_connect(now, io);
-            }
-            true
-        } else if up != self.connected {
-            self.connected = up;
-            if up {
-                self.protocol.on_connect(now, io);
-            } else {
-                self.protocol.on_disconnect(now, io);
-            }
-            true
-        } else {
-            false
+    /// The connection `generation` is up: the previous one (if the protocol still had it) is
+    /// closed first. Returns true (a change).
+    fn connect(&mut self, generation: u64, now: f64, io: &mut Io) -> bool {
+        if self.connected {
+            self.protocol.on_disconnect(now, io);
         }
+        self.generation = generation;
+        self.connected = true;
+        self.protocol.on_connect(now, io);
+        true
     }
 
     fn flush(&mut self, io: &mut Io) {

@@ -187,6 +187,7 @@ pub struct Chunk {
 /// (within one poll interval or one connection attempt).
 pub struct Link {
     rx: Receiver<Chunk>,
+    pending: Option<Chunk>,
     tx: SyncSender<Vec<u8>>,
     shared: Arc<Shared>,
     thread: Option<JoinHandle<()>>,
@@ -209,6 +210,7 @@ impl Link {
             .spawn(move || run(&cfg, &s, &rx_tx, &tx_rx))?;
         Ok(Link {
             rx,
+            pending: None,
             tx,
             shared,
             thread: Some(thread),
@@ -222,8 +224,17 @@ impl Link {
     }
 
     /// The next chunk received, if one is waiting (never blocks).
-    pub fn poll(&self) -> Option<Chunk> {
-        self.rx.try_recv().ok()
+    pub fn poll(&mut self) -> Option<Chunk> {
+        self.pending.take().or_else(|| self.rx.try_recv().ok())
+    }
+
+    /// True when no received chunk is waiting (the last bytes of a closed connection are
+    /// taken before its close is acted on).
+    pub fn poll_is_empty(&mut self) -> bool {
+        if self.pending.is_none() {
+            self.pending = self.rx.try_recv().ok();
+        }
+        self.pending.is_none()
     }
 
     /// Queues `bytes` for the device (never blocks): false, and counted, when the queue is

@@ -339,6 +339,20 @@ mod tests {
                 && status.contains(",acks=1,"),
             "{status}"
         );
+        // The first iteration's appcast shows the link and the protocol's counters.
+        let cast = out
+            .iter()
+            .find(|p| &*p.key == "APPCAST")
+            .and_then(|p| p.value.as_str().map(str::to_string))
+            .expect("an appcast at the first iteration");
+        assert!(
+            cast.contains(&format!("Link: tcp://127.0.0.1:{port}")),
+            "{cast}"
+        );
+        assert!(
+            cast.contains("Lines  Garbage  Oversize  BadChecksum  ParseErrors"),
+            "{cast}"
+        );
         app.stop(t).unwrap();
     }
 }
