@@ -3,9 +3,11 @@
 //!
 //! The apps coug builds in are one registry, [`BUILT_INS`]: `MOOSDB` (the bus itself),
 //! `pHelmIvP`, `uSimMarine(V22)`, `pMarinePID(V22)`, `pNodeReporter`, `pLogger`,
-//! `uTimerScript`, `uSimSensors`, `pNavGraph`, `pSafety`, `pCougControls`, `uSimCougUV` and
-//! `pShare`. A caller's `custom` factory is asked first for every `Run` line (tests with
-//! in-memory behaviours, user apps); what nobody builds is listed in [`Plan::external`] for the caller to start from PATH (real time) or skip with a warning
+//! `uTimerScript`, `uSimSensors`, `pNavGraph`, `pSafety`, `pCougControls`, `uSimCougUV`,
+//! `pShare`, and the device drivers `iGPS`, `iDVL`, `iSeaTrac`, `iTeensy`. A caller's `custom`
+//! factory is asked first for every `Run` line (tests with in-memory behaviours, user apps);
+//! what nobody builds is listed in [`Plan::external`] for the caller to start from PATH (real
+//! time) or skip with a warning
 //! (lockstep). Each app reads the `ProcessConfig` block of its MOOS name (the alias after
 //! `~`, as MOOS apps do).
 
@@ -383,6 +385,30 @@ pub const BUILT_INS: &[BuiltIn] = &[
         reads_block: true,
         make: make_pshare,
     },
+    BuiltIn {
+        program: "iGPS",
+        what: "the GPS driver (NMEA 0183 on a serial port, or gpsd over TCP)",
+        reads_block: true,
+        make: make_gps,
+    },
+    BuiltIn {
+        program: "iDVL",
+        what: "the Water Linked DVL A50 driver (JSON over TCP)",
+        reads_block: true,
+        make: make_dvl,
+    },
+    BuiltIn {
+        program: "iSeaTrac",
+        what: "the SeaTrac X150 USBL modem and AHRS driver (serial)",
+        reads_block: true,
+        make: make_seatrac,
+    },
+    BuiltIn {
+        program: "iTeensy",
+        what: "the Teensy driver: fins and thruster out, pressure, battery and leak in (serial)",
+        reads_block: true,
+        make: make_teensy,
+    },
 ];
 
 /// The built-in app run by `program` (a path or base name), if coug builds it in.
@@ -509,6 +535,38 @@ fn make_couguv_sim(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
 fn make_pshare(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
     let app = crate::pshare::PShareApp::new(cx.moos_name, b)
+        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
+    cx.warnings.extend(app.warnings().iter().cloned());
+    Ok(Built::App(Box::new(app)))
+}
+
+fn make_gps(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    let b = cx.block_or_empty();
+    let app = crate::driver_apps::gps(cx.moos_name, b, cx.globals.grid())
+        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
+    cx.warnings.extend(app.warnings().iter().cloned());
+    Ok(Built::App(Box::new(app)))
+}
+
+fn make_dvl(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    let b = cx.block_or_empty();
+    let app = crate::driver_apps::dvl(cx.moos_name, b)
+        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
+    cx.warnings.extend(app.warnings().iter().cloned());
+    Ok(Built::App(Box::new(app)))
+}
+
+fn make_seatrac(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    let b = cx.block_or_empty();
+    let app = crate::driver_apps::seatrac(cx.moos_name, b)
+        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
+    cx.warnings.extend(app.warnings().iter().cloned());
+    Ok(Built::App(Box::new(app)))
+}
+
+fn make_teensy(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    let b = cx.block_or_empty();
+    let app = crate::driver_apps::teensy(cx.moos_name, b)
         .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
     cx.warnings.extend(app.warnings().iter().cloned());
     Ok(Built::App(Box::new(app)))

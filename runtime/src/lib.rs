@@ -33,6 +33,7 @@ pub mod appcasting;
 pub mod bus;
 pub mod clock;
 pub mod cougars;
+pub mod driver_apps;
 pub mod helm;
 pub mod logger;
 pub mod navigator;
