@@ -3,12 +3,12 @@
 //!
 //! # Variables
 //!
-//! Read (the names the CoUGARs controls post, `vehicle::cougars::CougarsControl`):
+//! Read (the names pCougControls posts, `vehicle::cougars::vars`):
 //!
 //! | variable | unit | meaning |
 //! |---|---|---|
-//! | `COUG_FIN_0`, `COUG_FIN_1`, `COUG_FIN_2` | deg | the mixed fin angles (top, starboard, port), sent as they are |
-//! | `DESIRED_THRUST` | % | thruster, −100..100, rounded to an integer |
+//! | `FIN_TOP_DEG`, `FIN_STBD_DEG`, `FIN_PORT_DEG` | deg | the mixed fin angles in the servo frame (top, starboard, port), sent as they are |
+//! | `THRUST_PCT` | % | thruster, −100..100, rounded to an integer |
 //! | `DEPLOY` | bool | the mission is under way: the atmospheric calibration stops (the vehicle may leave the surface) |
 //! | `TEENSY_CALIBRATE` | any | run the atmospheric calibration again (refused while deployed) |
 //!
@@ -54,6 +54,7 @@ use devices::line::{LineSplitter, LinkStats};
 use devices::teensy::{Contr, DepthConverter, MAX_LINE, Telemetry, water_density_kgm3};
 use moos_types::Value;
 use vehicle::ConfigError;
+use vehicle::cougars::vars;
 
 use crate::link::LinkConfig;
 use crate::params::{self, Common};
@@ -302,10 +303,10 @@ impl Protocol for Teensy {
 
     fn subscriptions(&self) -> Vec<String> {
         [
-            "COUG_FIN_0",
-            "COUG_FIN_1",
-            "COUG_FIN_2",
-            "DESIRED_THRUST",
+            vars::FIN_TOP_DEG,
+            vars::FIN_STBD_DEG,
+            vars::FIN_PORT_DEG,
+            vars::THRUST_PCT,
             "DEPLOY",
             "TEENSY_CALIBRATE",
         ]
@@ -340,15 +341,19 @@ impl Protocol for Teensy {
     fn on_mail(&mut self, key: &str, value: &Value, now: f64, io: &mut Io) {
         let num = value.as_f64();
         match key {
-            "COUG_FIN_0" | "COUG_FIN_1" | "COUG_FIN_2" => {
+            vars::FIN_TOP_DEG | vars::FIN_STBD_DEG | vars::FIN_PORT_DEG => {
                 if let Some(v) = num.filter(|v| v.is_finite()) {
-                    let i = usize::from(key.as_bytes()[9] - b'0');
+                    let i = match key {
+                        vars::FIN_TOP_DEG => 0,
+                        vars::FIN_STBD_DEG => 1,
+                        _ => 2,
+                    };
                     self.fins[i] = v;
                     self.have_command = true;
                     self.dirty = true;
                 }
             }
-            "DESIRED_THRUST" => {
+            vars::THRUST_PCT => {
                 if let Some(v) = num.filter(|v| v.is_finite()) {
                     self.thrust = v.round().clamp(-100.0, 100.0) as i32;
                     self.have_command = true;
@@ -555,8 +560,8 @@ mod tests {
         p.on_connect(0.0, &mut io);
         p.tick(0.1, &mut io);
         assert!(io.tx.is_empty(), "nothing before the first command");
-        p.on_mail("COUG_FIN_1", &Value::Double(-3.5), 0.2, &mut io);
-        p.on_mail("DESIRED_THRUST", &Value::Double(29.6), 0.2, &mut io);
+        p.on_mail(vars::FIN_STBD_DEG, &Value::Double(-3.5), 0.2, &mut io);
+        p.on_mail(vars::THRUST_PCT, &Value::Double(29.6), 0.2, &mut io);
         p.tick(0.2, &mut io);
         assert_eq!(io.tx, vec![b"$CONTR,0,-3.5,0,30\n".to_vec()]);
         p.tick(0.3, &mut io);

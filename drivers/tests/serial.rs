@@ -107,8 +107,8 @@ fn iteensy_over_a_pty_garbage_then_values_then_a_replug() {
     assert!(st.garbage_bytes + st.parse_errors + st.oversize > 0);
 
     // Commands out.
-    s.mail(&mut d, "COUG_FIN_0", Value::Double(5.0));
-    s.mail(&mut d, "DESIRED_THRUST", Value::Double(20.0));
+    s.mail(&mut d, "FIN_TOP_DEG", Value::Double(5.0));
+    s.mail(&mut d, "THRUST_PCT", Value::Double(20.0));
     s.step(&mut d);
     let out = dev.read_until(|b| b.ends_with(b"\n"));
     assert_contr(&out);
