@@ -69,11 +69,8 @@ pub struct AppCommandArgs {
     pub args: Vec<String>,
 }
 
-/// The app name coug should act as, from the program name it was invoked under.
-///
-/// ```ignore
-/// assert_eq!(app_from_argv0("/usr/local/bin/pHelmIvP"), Some("pHelmIvP"));
-/// ```
+/// The app name coug should act as, from the program name it was invoked under:
+/// `/usr/local/bin/pHelmIvP` acts as `pHelmIvP`, `/usr/bin/coug` as none (unit tests below).
 pub fn app_from_argv0(argv0: &str) -> Option<&'static str> {
     let file = Path::new(argv0).file_name()?.to_str()?;
     let stem = file.strip_suffix(".exe").unwrap_or(file);
