@@ -8,6 +8,7 @@ mod common;
 use std::time::Duration;
 
 use common::{Stepper, scratch};
+use drivers::gps::{Gps, Source};
 use drivers::link::{Endpoint, LinkConfig};
 use drivers::teensy::{Teensy, TeensyConfig};
 use drivers::{Driver, Protocol};
@@ -97,5 +98,65 @@ fn iteensy_against_the_teensy_emulator_depth_battery_and_fin_commands() {
     assert_eq!(port.get().refused, 0);
     let st = d.protocol.stats();
     assert_eq!(st.bad_checksum + st.oversize + st.parse_errors, 0, "{st:?}");
+    rt.block_on(emu.handle.stop()).unwrap();
+}
+
+#[test]
+fn igps_against_the_nmea_gps_emulator_fixes_at_the_surface_none_under_water() {
+    let dir = scratch("against-gps");
+    let link = dir.join("gps");
+    let rt = tokio::runtime::Runtime::new().unwrap();
+    let settings = Settings::default();
+    let (lat0, lon0) = settings.gps.origin_lat_lon;
+    let emu = rt
+        .block_on(spawn(
+            Kind::Gps,
+            settings,
+            Transport::Pty {
+                link: Some(link.clone()),
+            },
+            Options {
+                seed: 3,
+                ..Options::default()
+            },
+        ))
+        .unwrap();
+    // 30 m east and 40 m north of the origin, at the surface.
+    emu.truth.feed(Truth {
+        x: 30.0,
+        y: 40.0,
+        ..Truth::default()
+    });
+    let grid = vehicle::geodesy::LocalGrid::new(lat0, lon0).unwrap();
+    let mut d = Driver::new(Gps::new(Source::Nmea, Some(grid)), serial(&link), 1.0);
+    d.start().unwrap();
+    let mut s = Stepper::new(0.0);
+    s.until(&mut d, "five fixes", |s, _| {
+        s.doubles("GPS_FIX").iter().filter(|f| **f == 1.0).count() >= 5
+    });
+    // Within a few sigma of the emulated receiver's noise (1.5 m x HDOP per axis).
+    let (xs, ys) = (s.doubles("GPS_X"), s.doubles("GPS_Y"));
+    assert!(xs.len() >= 5 && xs.len() == ys.len());
+    for (x, y) in xs.iter().zip(&ys) {
+        assert!(
+            (x - 30.0).abs() < 10.0 && (y - 40.0).abs() < 10.0,
+            "({x}, {y})"
+        );
+    }
+    // Satellites in view once fixed (zero while the receiver was acquiring).
+    let sats = s.doubles("GPS_SATELLITES");
+    assert!(sats.last().is_some_and(|n| *n >= 4.0), "{sats:?}");
+
+    // Under water the antenna hears nothing: no more fixes, the driver says so.
+    emu.truth.feed(Truth {
+        x: 30.0,
+        y: 40.0,
+        depth: 3.0,
+        ..Truth::default()
+    });
+    s.until(&mut d, "the fix lost", |s, _| {
+        s.doubles("GPS_FIX").last() == Some(&0.0)
+    });
+    assert_eq!(d.protocol.stats().bad_checksum, 0);
     rt.block_on(emu.handle.stop()).unwrap();
 }

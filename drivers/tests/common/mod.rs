@@ -97,9 +97,10 @@ pub fn point(link: &Path, target: &Path) {
     std::os::unix::fs::symlink(target, link).unwrap();
 }
 
-/// A scratch folder under the system's temporary folder, unique to this process and `name`.
+/// A fresh scratch folder `name` under cargo's temporary folder for integration tests
+/// (`target/tmp`), emptied by the next run.
 pub fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("coug-drivers-{}-{name}", std::process::id()));
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("drivers-{name}"));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d
