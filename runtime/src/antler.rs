@@ -219,6 +219,9 @@ pub struct Launch {
     pub log: Option<LogTarget>,
     /// Where the helms read their behaviour files.
     pub helm_files: HelmFiles,
+    /// Objects shared with the other communities of the run (a fleet run gives every
+    /// community's launch the same set; a single mission its own).
+    pub shared: crate::shared::Shared,
 }
 
 impl Launch {
@@ -230,12 +233,19 @@ impl Launch {
             seed,
             log: None,
             helm_files: HelmFiles::default(),
+            shared: crate::shared::Shared::new(),
         }
     }
 
     /// The same launch writing its log to `log`.
     pub fn with_log(mut self, log: LogTarget) -> Launch {
         self.log = Some(log);
+        self
+    }
+
+    /// The same launch sharing `shared` with other communities of the run.
+    pub fn with_shared(mut self, shared: crate::shared::Shared) -> Launch {
+        self.shared = shared;
         self
     }
 

@@ -21,6 +21,8 @@
 //! communities);
 //! [`appcasting`] is libMOOS's AppCastingMOOSApp layer around the swap-in apps.
 //!
+//! [`shared`] holds the objects communities of one run share (a fleet's acoustic channel).
+//!
 //! After a run: [`summary`] (distance, depth, behaviour lists) and [`plot`] (SVG/PNG).
 //!
 //! Apps take the MOOS time as an argument; only [`clock::WarpedWallClock`] and the
@@ -48,6 +50,7 @@ pub mod scheduler;
 pub mod scope;
 pub mod sensors;
 pub mod session;
+pub mod shared;
 pub mod summary;
 #[cfg(test)]
 mod testing;
