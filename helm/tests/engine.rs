@@ -400,10 +400,18 @@ fn constant_heading_default_duration_zero_completes_at_once() {
     let posts = s.step(1.0, 0.0, 0.0, 0.0, &[]);
     assert!(is_str(get(&posts, "DONE"), "yes"));
     assert!(is_str(get(&posts, "IVPHELM_ALLSTOP"), "NothingToDo"));
-    let ev = get(&posts, "IVPHELM_LIFE_EVENT").unwrap().as_str().unwrap();
+    // pHelmIvP's text: the file's behaviour is born with the first decision and dies in it.
+    let events: Vec<&str> = posts
+        .iter()
+        .filter(|p| p.key == "IVPHELM_LIFE_EVENT")
+        .map(|p| p.value.as_str().unwrap())
+        .collect();
     assert_eq!(
-        ev,
-        "time=1.00, iter=1, bname=h, btype=BHV_ConstantHeading, event=death, seed="
+        events,
+        [
+            "iter=0,time=1.00, bname=h, btype=BHV_ConstantHeading, event=spawn, seed=helm_startup,iter=1",
+            "iter=0,time=1.00, bname=h, btype=BHV_ConstantHeading, event=death,iter=1",
+        ]
     );
     let summary = get(&posts, "IVPHELM_SUMMARY").unwrap().as_str().unwrap();
     assert!(summary.contains("completed_bhvs=h$1.00$n/a"), "{summary}");

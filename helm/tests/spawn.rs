@@ -77,7 +77,7 @@ fn a_template_is_no_behaviour_until_a_request_with_a_name_spawns_one() {
     assert_eq!(
         texts(&p, "IVPHELM_LIFE_EVENT"),
         [
-            "time=1.50, iter=3, bname=hdg_a, btype=BHV_ConstantHeading, event=spawn, seed=name=a # heading=45"
+            "iter=0,time=1.50, bname=hdg_a, btype=BHV_ConstantHeading, event=spawn, seed=name=a # heading=45,iter=3"
         ]
     );
     assert_eq!(texts(&p, "SPAWNED"), ["hdg_a"]);
@@ -152,7 +152,7 @@ fn an_instance_that_completes_leaves_the_set_and_its_name_is_free_again() {
         }
     };
     assert!(
-        death[0].ends_with("bname=hdg_a, btype=BHV_ConstantHeading, event=death, seed="),
+        death[0].ends_with(", bname=hdg_a, btype=BHV_ConstantHeading, event=death,iter=9"),
         "{death:?}"
     );
     assert!((3.0..=3.5).contains(&t), "completed at {t}");
@@ -171,7 +171,7 @@ fn a_request_with_a_bad_parameter_aborts_with_warnings() {
     assert_eq!(
         texts(&p, "IVPHELM_LIFE_EVENT"),
         [
-            "time=1.00, iter=1, bname=hdg_c, btype=BHV_ConstantHeading, event=abort, seed=name=c # heading=abc"
+            "iter=0,time=1.00, bname=hdg_c, btype=BHV_ConstantHeading, event=abort, seed=name=c # heading=abc,iter=1"
         ]
     );
     // As the C++ words them: the pair as split from the request (blanks kept), then the

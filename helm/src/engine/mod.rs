@@ -130,6 +130,9 @@ pub struct Helm {
     bhvset_warnings: Vec<String>,
     /// This iteration's spawn and abort events (`IVPHELM_LIFE_EVENT`).
     life_events: Vec<String>,
+    /// The file's behaviours' `seed=helm_startup` spawn events are still to be posted (with
+    /// the first decision, as pHelmIvP posts them on its first deciding iteration).
+    startup_events_pending: bool,
     /// Behaviours ever in the set (`IVPHELM_BHV_CNT_EVER`).
     bhv_total_ever: usize,
     /// The behaviours' start messages (`on_helm_start`), posted once the hold-on apps are up.
@@ -412,6 +415,7 @@ impl Helm {
             templates,
             bhvset_warnings: Vec::new(),
             life_events: Vec::new(),
+            startup_events_pending: true,
             bhv_total_ever,
             start_msgs,
             modes: ModeSet::new(&bhv.modes),
@@ -709,6 +713,15 @@ impl Helm {
     fn decide(&mut self, now: f64) {
         self.iteration += 1;
         let iter = self.iteration;
+        if std::mem::take(&mut self.startup_events_pending) {
+            for i in 0..self.slots.len() {
+                let (name, kind) = (
+                    self.slots[i].common.name.clone(),
+                    self.slots[i].common.kind.clone(),
+                );
+                self.life_event(&name, &kind, "spawn", "helm_startup", "", now);
+            }
+        }
         self.update_results.clear();
         self.messages.clear();
         self.problem.clear();

@@ -201,7 +201,7 @@ impl Helm {
         while k < self.slots.len() {
             if self.slots[k].state == RunState::Completed {
                 let s = self.slots.remove(k);
-                self.life_event(&s.common.name, &s.common.kind, "death", "", now);
+                self.life_event(&s.common.name, &s.common.kind, "death", "", "", now);
                 for ev in std::mem::take(&mut self.life_events) {
                     self.notify("IVPHELM_LIFE_EVENT", Value::String(ev.into()), "");
                 }
@@ -424,15 +424,44 @@ impl Helm {
     }
 
     /// Records an `IVPHELM_LIFE_EVENT` (`event` spawn, abort or death; `seed`: the spawning
-    /// request), posted with this iteration's behaviour messages.
-    pub(super) fn life_event(&mut self, name: &str, kind: &str, event: &str, seed: &str, now: f64) {
-        let mut ev = String::from("time=");
-        fixed(&mut ev, now - self.start_time, 2);
-        ev.push_str(", iter=");
+    /// request, `helm_startup` for the behaviours of the file; `post_mortem`: why a behaviour
+    /// died, if it says), posted with this iteration's behaviour messages.
+    ///
+    /// The text is pHelmIvP's: the event's own iteration (never set by the helm, so always
+    /// 0), the time since the helm started when positive, the names, the seed and post
+    /// mortem when not empty, then the helm's iteration:
+    /// `iter=0,time=191.25, bname=survey, btype=BHV_Waypoint, event=death,iter=762`.
+    pub(super) fn life_event(
+        &mut self,
+        name: &str,
+        kind: &str,
+        event: &str,
+        seed: &str,
+        post_mortem: &str,
+        now: f64,
+    ) {
+        let mut ev = String::from("iter=0");
+        let since_start = now - self.start_time;
+        if since_start > 0.0 {
+            ev.push_str(",time=");
+            fixed(&mut ev, since_start, 2);
+        }
+        for (key, value) in [("bname", name), ("btype", kind), ("event", event)] {
+            ev.push_str(", ");
+            ev.push_str(key);
+            ev.push('=');
+            ev.push_str(value);
+        }
+        for (key, value) in [("seed", seed), ("post_mortem", post_mortem)] {
+            if !value.is_empty() {
+                ev.push_str(", ");
+                ev.push_str(key);
+                ev.push('=');
+                ev.push_str(value);
+            }
+        }
+        ev.push_str(",iter=");
         uint(&mut ev, self.iteration);
-        ev.push_str(&format!(
-            ", bname={name}, btype={kind}, event={event}, seed={seed}"
-        ));
         self.life_events.push(ev);
     }
 }

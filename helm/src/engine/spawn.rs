@@ -201,7 +201,7 @@ impl Helm {
         }
         let event = if ok { "spawn" } else { "abort" };
         let (name, kind) = (slot.common.name.clone(), slot.common.kind.clone());
-        self.life_event(&name, &kind, event, request, now);
+        self.life_event(&name, &kind, event, request, "", now);
         if !ok {
             return;
         }
