@@ -489,6 +489,7 @@ fn make_logger(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
             &t.opened_on,
         )
         .with_side_files(t.side)
+        .with_community(&cx.globals.community)
         .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp),
     )))
 }

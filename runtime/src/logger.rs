@@ -5,12 +5,12 @@
 //! to once the mission has started, or a [`SharedBuffer`] in tests).
 //! Supported: `Log = VAR @ period`, `WildcardLogging` (in-process: every variable),
 //! `WildCardOmitPattern`, `WildcardExclusionLog` (`.xlog`), `AsyncLog`, `File`, `PATH` /
-//! global `GlobalLogPath`, `FileTimeStamp`, `DoublePrecision`, `LogAuxSrc`, `MarkDataType`
-//! (the first line of a key counts, as MOOS reads it), the `LOGGER_DIRECTORY` post (at start
+//! global `GlobalLogPath`, `FileTimeStamp`, `DoublePrecision`, `LogAuxSrc`, `MarkDataType`,
+//! `MarkExternalCommunityMessages` (the first line of a key counts, as MOOS reads it), the `LOGGER_DIRECTORY` post (at start
 //! and every 10 s), the mission copy `<root>._moos` and `PLOGGER_CMD = COPY_FILE_REQUEST=<path>`
 //! copies (`<name>._<ext>`). Not written, each named in a config warning when asked for:
 //! `.slog` (`SyncLog`), `WildCardPattern`, `UTCLogDirectories`, `LoggingDirectorySummaryFile`,
-//! `MarkExternalCommunityMessages`, `CompressAlogs`, `DynamicSyncLogColumns`; `.ylog` and the
+//! `CompressAlogs`, `DynamicSyncLogColumns`; `.ylog` and the
 //! `.blog` bytes (a binary value is logged as its `<MOOS_BINARY>` reference only).
 
 use std::io::{self, Write};
@@ -234,6 +234,9 @@ pub struct LoggerConfig {
     pub log_aux_src: bool,
     /// `MarkDataType` (default false).
     pub mark_data_type: bool,
+    /// `MarkExternalCommunityMessages` (default false): the source of a message from another
+    /// community (bridged by pShare) is written `src@community`.
+    pub mark_external_community: bool,
     /// `WildcardExclusionLog` (default false): variables the omit patterns keep out of the
     /// alog go to `<root>.xlog` (same line format, no banner) instead of nowhere.
     pub exclusion_log: bool,
@@ -252,6 +255,7 @@ impl Default for LoggerConfig {
             double_precision: 5,
             log_aux_src: false,
             mark_data_type: false,
+            mark_external_community: false,
             exclusion_log: false,
         }
     }
@@ -307,6 +311,9 @@ impl LoggerConfig {
                     }
                     "logauxsrc" => c.log_aux_src = moos_types::text::config_bool(&v),
                     "markdatatype" => c.mark_data_type = moos_types::text::config_bool(&v),
+                    "markexternalcommunitymessages" => {
+                        c.mark_external_community = moos_types::text::config_bool(&v)
+                    }
                     "wildcardexclusionlog" => c.exclusion_log = moos_types::text::config_bool(&v),
                     "log" => {
                         let (var, period) = match v.split_once('@') {
@@ -344,6 +351,7 @@ impl LoggerConfig {
             "doubleprecision",
             "logauxsrc",
             "markdatatype",
+            "markexternalcommunitymessages",
             "wildcardexclusionlog",
             "log",
         ];
@@ -352,7 +360,6 @@ impl LoggerConfig {
             "wildcardpattern",
             "utclogdirectories",
             "loggingdirectorysummaryfile",
-            "markexternalcommunitymessages",
             "compressalogs",
             "dynamicsynclogcolumns",
         ];
@@ -363,7 +370,7 @@ impl LoggerConfig {
             // A switch set off asks for nothing: no warning (`SyncLog = false`).
             let switch = matches!(
                 k.as_str(),
-                "synclog" | "utclogdirectories" | "markexternalcommunitymessages" | "compressalogs"
+                "synclog" | "utclogdirectories" | "compressalogs"
             );
             let on = moos_types::text::config_bool(p.value.split('@').next().unwrap_or("").trim());
             let why = if UNSUPPORTED.contains(&k.as_str()) && switch && !on {
@@ -490,6 +497,8 @@ pub struct Logger<W: Write> {
     blog_offset: u64,
     /// Reused to assemble `src:aux` sources.
     scratch: String,
+    /// The community this logger's DB serves (for `MarkExternalCommunityMessages`).
+    community: String,
     blog_name: String,
     root: String,
     side: Option<SideFiles>,
@@ -508,22 +517,42 @@ pub struct Logger<W: Write> {
     copies: u32,
 }
 
-/// Writes one mail as a log record: the source as `src:aux` with `LogAuxSrc` (assembled in
+/// How a record's source column is written.
+#[derive(Debug, Clone, Copy)]
+struct SourceStyle<'a> {
+    /// `LogAuxSrc`: `src:aux` when the aux is set.
+    aux: bool,
+    /// `MarkExternalCommunityMessages`: this community's name; a message from any other is
+    /// written `src@community` (after the aux), as pLogger does.
+    own_community: Option<&'a str>,
+}
+
+/// Writes one mail as a log record: the source as [`SourceStyle`] says (assembled in
 /// `scratch`, reused), binary data as its reference into the `.blog` at `blog_offset` (which
 /// advances).
 fn record<W: Write>(
     w: &mut AlogWriter<W>,
     m: &Mail,
-    log_aux_src: bool,
+    style: SourceStyle<'_>,
     blog: (&str, &mut u64),
     scratch: &mut String,
 ) -> io::Result<()> {
     let (blog_name, blog_offset) = blog;
-    let source = if log_aux_src && !m.source_aux.is_empty() {
+    let with_aux = style.aux && !m.source_aux.is_empty();
+    let external = style
+        .own_community
+        .is_some_and(|own| !m.community.is_empty() && *m.community != *own);
+    let source = if with_aux || external {
         scratch.clear();
         scratch.push_str(&m.source);
-        scratch.push(':');
-        scratch.push_str(&m.source_aux);
+        if with_aux {
+            scratch.push(':');
+            scratch.push_str(&m.source_aux);
+        }
+        if external {
+            scratch.push('@');
+            scratch.push_str(&m.community);
+        }
         scratch.as_str()
     } else {
         &m.source
@@ -599,7 +628,15 @@ impl<W: Write> Logger<W> {
             excluded: 0,
             variables: std::collections::HashSet::new(),
             copies: 0,
+            community: String::new(),
         }
+    }
+
+    /// Sets the community this logger's DB serves: with `MarkExternalCommunityMessages`,
+    /// messages from any other are marked `src@community`.
+    pub fn with_community(mut self, community: &str) -> Self {
+        self.community = community.to_string();
+        self
     }
 
     /// Sets the mission's `Community` and `MOOSTimeWarp` for the logger's appcasts; the
@@ -736,7 +773,13 @@ impl<W: Write> Logger<W> {
                 let r = record(
                     x,
                     m,
-                    self.config.log_aux_src,
+                    SourceStyle {
+                        aux: self.config.log_aux_src,
+                        own_community: self
+                            .config
+                            .mark_external_community
+                            .then_some(self.community.as_str()),
+                    },
                     (&self.blog_name, &mut self.blog_offset),
                     &mut self.scratch,
                 );
@@ -760,7 +803,13 @@ impl<W: Write> Logger<W> {
         let r = record(
             w,
             m,
-            self.config.log_aux_src,
+            SourceStyle {
+                aux: self.config.log_aux_src,
+                own_community: self
+                    .config
+                    .mark_external_community
+                    .then_some(self.community.as_str()),
+            },
             (&self.blog_name, &mut self.blog_offset),
             &mut self.scratch,
         );
@@ -1043,6 +1092,49 @@ mod tests {
             !text.contains("APPCAST_REQ"),
             "a request is logged only when asked for: {text}"
         );
+    }
+
+    /// Logs one mail from community `from` with `extra` lines in the block; returns its
+    /// record's source column.
+    fn logged_source(extra: &str, from: &str) -> String {
+        let b = block(&format!(
+            "ProcessConfig = pLogger\n{{\n  AsyncLog = true\n  WildCardLogging = true\n  LogAuxSrc = true\n{extra}}}\n"
+        ));
+        let config = LoggerConfig::from_config(Some(&b), None);
+        let buf = SharedBuffer::default();
+        let opened = chrono::NaiveDate::from_ymd_opt(2026, 11, 26)
+            .unwrap()
+            .and_hms_opt(12, 0, 0)
+            .unwrap();
+        let mut lg = Logger::new("pLogger", Some(b), config, buf.clone(), &opened, "x")
+            .with_community("shore");
+        let mut out = Vec::new();
+        lg.on_startup(0.0, &mut out).unwrap();
+        let mut m = crate::testing::mail("HENRY_COUNT", Value::Double(3.0), 1.0, "uTimerScript");
+        m.source_aux = "k".into();
+        m.community = from.into();
+        lg.on_mail(&[m], 1.0, &mut out).unwrap();
+        lg.iterate(1.0, &mut out).unwrap();
+        lg.stop(1.5).unwrap();
+        let text = String::from_utf8(buf.contents()).unwrap();
+        let line = text
+            .lines()
+            .find(|l| l.contains("HENRY_COUNT"))
+            .expect("the mail is logged")
+            .to_string();
+        line.split_whitespace().nth(2).unwrap().to_string()
+    }
+
+    #[test]
+    fn mark_external_community_messages_writes_src_at_community_for_other_communities_only() {
+        // Off by default, as in pLogger: the source alone.
+        assert_eq!(logged_source("", "henry"), "uTimerScript:k");
+        let on = "  MarkExternalCommunityMessages = true\n";
+        assert_eq!(logged_source(on, "henry"), "uTimerScript:k@henry");
+        assert_eq!(logged_source(on, "shore"), "uTimerScript:k");
+        // Asking for it is no longer an unsupported-key warning.
+        let b = block(&format!("ProcessConfig = pLogger\n{{\n{on}}}\n"));
+        assert!(LoggerConfig::warnings(&b).is_empty());
     }
 
     #[test]
