@@ -330,9 +330,7 @@ fn run_inner(args: &RunArgs) -> Result<i32, Vec<String>> {
         let config = viewer::server::ViewerConfig {
             bind: std::net::SocketAddr::new(args.bind, args.http_port),
             token: args.token.clone(),
-            buttons: mission::buttons::buttons(&loaded.mission),
-            contexts: viewer::context::context_pokes(&loaded.mission),
-            ..viewer::server::ViewerConfig::default()
+            ..viewer::server::ViewerConfig::for_mission(&loaded.mission)
         };
         let live = viewer::live::LiveView::start(&config).map_err(|e| vec![e.to_string()])?;
         match &args.token {

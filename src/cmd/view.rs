@@ -120,15 +120,10 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
     let config = ViewerConfig {
         bind: SocketAddr::new(args.bind, args.http_port),
         token: args.token.clone(),
-        buttons: mission
+        ..mission
             .as_ref()
-            .map(mission::buttons::buttons)
-            .unwrap_or_default(),
-        contexts: mission
-            .as_ref()
-            .map(viewer::context::context_pokes)
-            .unwrap_or_default(),
-        ..ViewerConfig::default()
+            .map(ViewerConfig::for_mission)
+            .unwrap_or_default()
     };
     config.check()?;
     let rt = tokio::runtime::Runtime::new()?;

@@ -55,6 +55,9 @@ pub struct ViewerConfig {
     pub contexts: Vec<crate::context::ContextPoke>,
     /// Least time between two frames to one client.
     pub min_frame_interval: Duration,
+    /// The mission's `LatOrigin`/`LongOrigin` (degrees): the local grid of `$(LAT)`/`$(LON)`
+    /// and of the background image.
+    pub origin: Option<(f64, f64)>,
 }
 
 impl Default for ViewerConfig {
@@ -66,8 +69,19 @@ impl Default for ViewerConfig {
             buttons: Vec::new(),
             contexts: Vec::new(),
             min_frame_interval: Duration::from_millis(50),
+            origin: None,
         }
     }
+}
+
+/// The mission's `LatOrigin`/`LongOrigin` when both are numbers.
+pub fn mission_origin(m: &mission::moos::MissionFile) -> Option<(f64, f64)> {
+    let num = |k: &str| {
+        m.global(k)
+            .and_then(|v| v.trim().parse::<f64>().ok())
+            .filter(|v| v.is_finite())
+    };
+    Some((num("LatOrigin")?, num("LongOrigin")?))
 }
 
 /// A configuration the viewer refuses.
@@ -94,6 +108,17 @@ impl std::fmt::Display for ConfigError {
 impl std::error::Error for ConfigError {}
 
 impl ViewerConfig {
+    /// The default configuration with what the mission gives: its pMarineViewer buttons and
+    /// context pokes, and its origin.
+    pub fn for_mission(m: &mission::moos::MissionFile) -> ViewerConfig {
+        ViewerConfig {
+            buttons: mission::buttons::buttons(m),
+            contexts: crate::context::context_pokes(m),
+            origin: mission_origin(m),
+            ..ViewerConfig::default()
+        }
+    }
+
     /// Refuses a non-loopback bind without a token, and an empty token.
     pub fn check(&self) -> Result<(), ConfigError> {
         match &self.token {
@@ -132,6 +157,8 @@ pub enum PressError {
     NoVehicle(String),
     /// The post failed (the MOOS client is gone or its outbox full).
     Post(String),
+    /// A context poke uses `$(LAT)`/`$(LON)` and the mission has no (valid) origin.
+    NoOrigin,
 }
 
 impl std::fmt::Display for PressError {
@@ -140,6 +167,10 @@ impl std::fmt::Display for PressError {
             PressError::UnknownButton(b) => write!(f, "no button {b:?} in the mission"),
             PressError::NoVehicle(v) => write!(f, "{v} needs a vehicle (\"vname\")"),
             PressError::Post(e) => write!(f, "post failed: {e}"),
+            PressError::NoOrigin => write!(
+                f,
+                "$(LAT)/$(LON) need the mission's LatOrigin/LongOrigin"
+            ),
         }
     }
 }
@@ -164,6 +195,8 @@ pub struct Viewer {
     outbox: Arc<dyn Outbox>,
     presses: AtomicU64,
     min_frame_interval: Duration,
+    /// The mission's local grid, when it has an origin.
+    grid: Option<vehicle::geodesy::LocalGrid>,
 }
 
 impl std::fmt::Debug for Viewer {
@@ -198,6 +231,9 @@ impl Viewer {
             outbox,
             presses: AtomicU64::new(0),
             min_frame_interval: config.min_frame_interval,
+            grid: config
+                .origin
+                .and_then(|(lat, lon)| vehicle::geodesy::LocalGrid::new(lat, lon).ok()),
         }))
     }
 
@@ -334,24 +370,48 @@ impl Viewer {
                 side.as_str()
             )));
         }
-        let vpos = self.with_scene(|s| {
-            s.vehicles()
+        let (x, y) = ((x * 10.0).round() / 10.0, (y * 10.0).round() / 10.0);
+        let (vpos, closest) = self.with_scene(|s| {
+            let vpos = s
+                .vehicles()
                 .get(vname)
-                .and_then(|v| Some((v.report.x_m?, v.report.y_m?)))
+                .and_then(|v| Some((v.report.x_m?, v.report.y_m?)));
+            let closest = s
+                .vehicles()
+                .iter()
+                .filter_map(|(n, v)| {
+                    let d = (v.report.x_m? - x).hypot(v.report.y_m? - y);
+                    Some((d, n))
+                })
+                .min_by(|a, b| a.0.total_cmp(&b.0))
+                .map(|(_, n)| n.clone())
+                .unwrap_or_default();
+            (vpos, closest)
         });
+        let lat_lon = self.grid.as_ref().and_then(|g| g.to_latlon(x, y).ok());
+        if lat_lon.is_none()
+            && self
+                .contexts
+                .iter()
+                .any(|c| c.matches(side, key) && c.needs_lat_lon())
+        {
+            return Err(PressError::NoOrigin);
+        }
         let i = match side {
             crate::context::Side::Left => 0,
             crate::context::Side::Right => 1,
         };
-        // pMarineViewer snaps a click to 0.1 m.
+        // pMarineViewer snaps a click to 0.1 m (above).
         let click = crate::context::Click {
-            x: (x * 10.0).round() / 10.0,
-            y: (y * 10.0).round() / 10.0,
+            x,
+            y,
             vname: vname.to_string(),
             vpos,
             ix: self.clicks[i].fetch_add(1, Ordering::Relaxed),
             bix: self.presses.fetch_add(1, Ordering::Relaxed),
             utc: self.outbox.moos_time(),
+            lat_lon,
+            closest,
         };
         let posts: Vec<(String, Value)> = self
             .contexts
