@@ -58,6 +58,9 @@ pub struct ViewerConfig {
     /// The mission's `LatOrigin`/`LongOrigin` (degrees): the local grid of `$(LAT)`/`$(LON)`
     /// and of the background image.
     pub origin: Option<(f64, f64)>,
+    /// The map's background image (pMarineViewer's `tiff_file`), served as
+    /// `/background.png`.
+    pub background: Option<Arc<crate::background::Background>>,
 }
 
 impl Default for ViewerConfig {
@@ -70,6 +73,7 @@ impl Default for ViewerConfig {
             contexts: Vec::new(),
             min_frame_interval: Duration::from_millis(50),
             origin: None,
+            background: None,
         }
     }
 }
@@ -197,6 +201,7 @@ pub struct Viewer {
     min_frame_interval: Duration,
     /// The mission's local grid, when it has an origin.
     grid: Option<vehicle::geodesy::LocalGrid>,
+    background: Option<Arc<crate::background::Background>>,
 }
 
 impl std::fmt::Debug for Viewer {
@@ -234,6 +239,7 @@ impl Viewer {
             grid: config
                 .origin
                 .and_then(|(lat, lon)| vehicle::geodesy::LocalGrid::new(lat, lon).ok()),
+            background: config.background.clone(),
         }))
     }
 
@@ -459,12 +465,20 @@ impl Viewer {
         Ok(())
     }
 
-    /// The router: `/` (the page), `/viewer.js`, `/ws`.
+    /// The background's placement as the page gets it in every snapshot, `null` if none.
+    fn background_json(&self) -> serde_json::Value {
+        self.background
+            .as_ref()
+            .map_or(serde_json::Value::Null, |b| b.to_json())
+    }
+
+    /// The router: `/` (the page), `/viewer.js`, `/background.png`, `/ws`.
     pub fn router(self: &Arc<Self>) -> Router {
         Router::new()
             .route("/", get(page))
             .route("/index.html", get(page))
             .route("/viewer.js", get(script))
+            .route("/background.png", get(background))
             .route("/ws", get(ws_upgrade))
             .with_state(self.clone())
     }
@@ -571,6 +585,20 @@ async fn script(
     }
 }
 
+async fn background(
+    State(v): State<Arc<Viewer>>,
+    Query(q): Query<HashMap<String, String>>,
+    headers: HeaderMap,
+) -> Response {
+    if let Err(r) = v.authorize(&q, &headers, false) {
+        return r.into_response();
+    }
+    match &v.background {
+        Some(b) => ([(header::CONTENT_TYPE, "image/png")], b.png.clone()).into_response(),
+        None => (StatusCode::NOT_FOUND, "no background image\n").into_response(),
+    }
+}
+
 async fn ws_upgrade(
     State(v): State<Arc<Viewer>>,
     Query(q): Query<HashMap<String, String>>,
@@ -624,6 +652,7 @@ async fn client(v: Arc<Viewer>, socket: WebSocket) {
                 epoch = now_epoch;
                 let mut snap = s.snapshot();
                 snap["contexts"] = v.contexts_json();
+                snap["background"] = v.background_json();
                 Some((snap, s.version()))
             } else {
                 s.delta_since(seen).map(|d| (d, s.version()))
