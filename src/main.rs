@@ -13,6 +13,7 @@ pub(crate) mod out;
 mod cmd {
     pub mod app;
     pub mod appcast;
+    pub mod base;
     pub mod check;
     pub mod db;
     pub mod emulate;
@@ -24,7 +25,6 @@ mod cmd {
     pub mod scope;
     pub mod signal;
     pub mod view;
-    pub mod base;
 }
 
 /// Command line of the `coug` binary.

@@ -45,7 +45,15 @@ fn base_help_names_the_options_and_a_missing_db_is_an_error() {
     // Nothing listens on port 1: the base says so and exits 1 before touching the terminal.
     let out = coug(
         &dir,
-        &["base", "--host", "127.0.0.1", "--port", "1", "--timeout", "0"],
+        &[
+            "base",
+            "--host",
+            "127.0.0.1",
+            "--port",
+            "1",
+            "--timeout",
+            "0",
+        ],
     );
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
@@ -128,4 +136,26 @@ fn run_view_serves_after_the_run_until_sigint() {
     let status = child.wait().unwrap();
     assert_eq!(status.code(), Some(0), "stdout: {out}");
     assert!(out.contains(".alog"), "the run's report: {out}");
+}
+
+#[test]
+fn view_warns_of_a_background_it_cannot_find() {
+    let dir = fresh_dir("view-background");
+    std::fs::write(
+        dir.join("m.moos"),
+        "ServerHost = 127.0.0.1\nServerPort = 1\nLatOrigin = 43.8253\nLongOrigin = -70.3304\n\
+         ProcessConfig = pMarineViewer\n{\n  tiff_file = nowhere.tif\n}\n",
+    )
+    .unwrap();
+    // No DB on port 1: the view ends with an error, after the warning.
+    let out = coug(
+        &dir,
+        &["view", "m.moos", "--http-port", "0", "--timeout", "0"],
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("coug view: warning: m.moos: background image not found: nowhere.tif"),
+        "{err}"
+    );
+    assert_eq!(out.status.code(), Some(1), "{err}");
 }

@@ -201,7 +201,10 @@ fn value(
 /// Reads and checks a typed command against the fleet.
 pub fn parse(line: &str, fleet: &Fleet) -> Result<Request, CommandError> {
     let mut words = line.split_whitespace();
-    let cmd = words.next().ok_or(CommandError::Empty)?.to_ascii_lowercase();
+    let cmd = words
+        .next()
+        .ok_or(CommandError::Empty)?
+        .to_ascii_lowercase();
     if !matches!(
         cmd.as_str(),
         "kill" | "abort" | "surface" | "return" | "goto" | "loiter" | "depth"
@@ -258,8 +261,11 @@ mod tests {
 
     fn fleet() -> Fleet {
         let mut f = Fleet::new();
-        f.apply("ACOMMS_VEHICLE", "id=2,name=coug2,polls=0,answers=0,timeouts=0")
-            .unwrap();
+        f.apply(
+            "ACOMMS_VEHICLE",
+            "id=2,name=coug2,polls=0,answers=0,timeouts=0",
+        )
+        .unwrap();
         f.apply("NODE_REPORT", "NAME=radio_only,X=1,Y=2,TIME=3")
             .unwrap();
         f
@@ -291,7 +297,10 @@ mod tests {
         assert_eq!(err("jump 2"), CommandError::UnknownCommand("jump".into()));
         assert_eq!(err("abort"), CommandError::NoVehicle);
         assert_eq!(err("abort 9"), CommandError::UnknownVehicle("9".into()));
-        assert_eq!(err("abort ghost"), CommandError::UnknownVehicle("ghost".into()));
+        assert_eq!(
+            err("abort ghost"),
+            CommandError::UnknownVehicle("ghost".into())
+        );
         assert_eq!(
             err("abort radio_only"),
             CommandError::NoModemId("radio_only".into())
@@ -301,7 +310,10 @@ mod tests {
         assert_eq!(err("goto 2 nan 1"), CommandError::Bad("x", "nan".into()));
         assert_eq!(err("goto 2 1e6 1"), CommandError::Bad("x", "1e6".into()));
         assert_eq!(err("depth 2 -1"), CommandError::Bad("depth", "-1".into()));
-        assert_eq!(err("loiter 2 1 1 0"), CommandError::Bad("radius", "0".into()));
+        assert_eq!(
+            err("loiter 2 1 1 0"),
+            CommandError::Bad("radius", "0".into())
+        );
         assert_eq!(err("abort 2 now"), CommandError::Extra("now".into()));
     }
 

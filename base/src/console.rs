@@ -150,7 +150,10 @@ impl Console {
 
     /// Types `text` then Enter (tests, scripts).
     pub fn type_line(&mut self, text: &str) -> Vec<Posting> {
-        let mut out: Vec<Posting> = text.chars().filter_map(|c| self.key(Key::Char(c))).collect();
+        let mut out: Vec<Posting> = text
+            .chars()
+            .filter_map(|c| self.key(Key::Char(c)))
+            .collect();
         out.extend(self.key(Key::Enter));
         out
     }
@@ -204,9 +207,10 @@ impl Console {
             .collect();
         let widths = WIDTHS.map(Constraint::Length);
         let table = Table::new(rows, widths).header(header).block(
-            Block::default()
-                .borders(Borders::ALL)
-                .title(format!(" coug base: {} vehicles ", self.fleet.vehicles().len())),
+            Block::default().borders(Borders::ALL).title(format!(
+                " coug base: {} vehicles ",
+                self.fleet.vehicles().len()
+            )),
         );
         frame.render_widget(table, table_area);
         let shown = notes_area.height.saturating_sub(2) as usize;
@@ -262,7 +266,18 @@ impl Console {
 }
 
 const COLUMNS: [&str; 12] = [
-    "ID", "NAME", "AGE", "LINK", "X", "Y", "DEPTH", "HDG", "SPD", "BATT", "HEALTH", "LAST COMMAND",
+    "ID",
+    "NAME",
+    "AGE",
+    "LINK",
+    "X",
+    "Y",
+    "DEPTH",
+    "HDG",
+    "SPD",
+    "BATT",
+    "HEALTH",
+    "LAST COMMAND",
 ];
 const WIDTHS: [u16; 12] = [4, 12, 8, 14, 9, 9, 7, 5, 5, 6, 8, 24];
 
@@ -308,9 +323,10 @@ fn row(v: &Vehicle, now: f64) -> Row<'static> {
         None => "",
     };
     let acoustic = v.acoustic.as_ref();
-    let last = v.ack.as_ref().map_or_else(String::new, |a| {
-        format!("{} #{} {}", a.cmd, a.seq, a.state)
-    });
+    let last = v
+        .ack
+        .as_ref()
+        .map_or_else(String::new, |a| format!("{} #{} {}", a.cmd, a.seq, a.state));
     Row::new(vec![
         Cell::from(v.id.map_or_else(|| "-".to_string(), |i| i.to_string())),
         Cell::from(v.name.clone()),

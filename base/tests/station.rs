@@ -145,9 +145,6 @@ async fn the_table_shows_pacomms_mail_and_typed_commands_reach_the_db() {
         .into_iter()
         .collect();
     base::terminal::post(&mut console, &station, confirmed);
-    assert_eq!(
-        next_command(&mut heard).await,
-        "to=2,cmd=goto,x=50,y=-60.5"
-    );
+    assert_eq!(next_command(&mut heard).await, "to=2,cmd=goto,x=50,y=-60.5");
     assert_eq!(console.sent(), 2);
 }

@@ -125,7 +125,9 @@ pub fn parse_info(text: &str) -> Result<Info, BackgroundError> {
         if n <= s || e <= w {
             return Err(BackgroundError::Info(
                 0,
-                format!("lat_north {n} must be above lat_south {s}, lon_east {e} east of lon_west {w}"),
+                format!(
+                    "lat_north {n} must be above lat_south {s}, lon_east {e} east of lon_west {w}"
+                ),
             ));
         }
         return Ok(Info::Bounds {
@@ -138,7 +140,10 @@ pub fn parse_info(text: &str) -> Result<Info, BackgroundError> {
     }
     if let [Some(centx), Some(centy), Some(meters), ..] = v {
         if meters <= 0.0 {
-            return Err(BackgroundError::Info(0, "img_meters must be positive".into()));
+            return Err(BackgroundError::Info(
+                0,
+                "img_meters must be positive".into(),
+            ));
         }
         return Ok(Info::Centre {
             centx,
@@ -178,13 +183,13 @@ impl Info {
                 lon_east,
                 datum,
             } => {
-                let (lat0, lon0) = origin.or(datum).unwrap_or((
-                    (lat_north + lat_south) / 2.0,
-                    (lon_west + lon_east) / 2.0,
-                ));
+                let (lat0, lon0) = origin
+                    .or(datum)
+                    .unwrap_or(((lat_north + lat_south) / 2.0, (lon_west + lon_east) / 2.0));
                 let grid = vehicle::geodesy::LocalGrid::new(lat0, lon0)
                     .map_err(|e| BackgroundError::Geodesy(e.to_string()))?;
-                let geo = |e: vehicle::geodesy::GeodesyError| BackgroundError::Geodesy(e.to_string());
+                let geo =
+                    |e: vehicle::geodesy::GeodesyError| BackgroundError::Geodesy(e.to_string());
                 let (left, top) = grid.to_local(lat_north, lon_west).map_err(geo)?;
                 let (right, bottom) = grid.to_local(lat_south, lon_east).map_err(geo)?;
                 Ok(Placement {
@@ -281,8 +286,7 @@ pub fn encode_png(img: &Rgba) -> Vec<u8> {
         enc.set_depth(png::BitDepth::Eight);
         // Writing to a Vec cannot fail, and the data's size is the header's.
         let mut w = enc.write_header().expect("PNG header into memory");
-        w.write_image_data(&img.data)
-            .expect("PNG data into memory");
+        w.write_image_data(&img.data).expect("PNG data into memory");
     }
     out
 }
@@ -309,7 +313,10 @@ pub fn info_path(tif: &Path) -> Option<PathBuf> {
 }
 
 /// Finds `name` and its `.info` (see the module docs for where).
-pub fn locate(name: &str, mission_dir: Option<&Path>) -> Result<(PathBuf, PathBuf), BackgroundError> {
+pub fn locate(
+    name: &str,
+    mission_dir: Option<&Path>,
+) -> Result<(PathBuf, PathBuf), BackgroundError> {
     let given = Path::new(name.trim());
     info_path(given).ok_or_else(|| BackgroundError::NotTiff(name.to_string()))?;
     let mut candidates = Vec::new();
@@ -383,7 +390,10 @@ impl Background {
             return None;
         }
         let origin = crate::server::mission_origin(m);
-        Some(locate(&name, mission_dir).and_then(|(tif, info)| Background::load(&tif, &info, origin)))
+        Some(
+            locate(&name, mission_dir)
+                .and_then(|(tif, info)| Background::load(&tif, &info, origin)),
+        )
     }
 
     /// The page's view: `{"url","width","height","left","right","bottom","top"}`.
@@ -435,7 +445,10 @@ mod tests {
             ("lat_north = 1 = 2\n", 1),
             ("\nzoom = 2\n", 2),
             ("lat_north = north\n", 1),
-            ("lat_north = 1\nlat_south = 2\nlon_west = 0\nlon_east = 1\n", 0),
+            (
+                "lat_north = 1\nlat_south = 2\nlon_west = 0\nlon_east = 1\n",
+                0,
+            ),
             ("lat_north = 1\n", 0),
         ] {
             match parse_info(text) {

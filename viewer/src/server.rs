@@ -123,6 +123,26 @@ impl ViewerConfig {
         }
     }
 
+    /// [`ViewerConfig::for_mission`] plus the background image its pMarineViewer block
+    /// names (`tiff_file`), looked for beside the mission file `path` first; a background
+    /// that cannot be shown is left out and its reason returned, for a warning.
+    pub fn for_mission_file(
+        m: &mission::moos::MissionFile,
+        path: &std::path::Path,
+    ) -> (ViewerConfig, Option<String>) {
+        let mut config = ViewerConfig::for_mission(m);
+        let dir = path.parent().filter(|d| !d.as_os_str().is_empty());
+        let warning = match crate::background::Background::for_mission(m, dir) {
+            Some(Ok(b)) => {
+                config.background = Some(Arc::new(b));
+                None
+            }
+            Some(Err(e)) => Some(format!("{}: {e}; no background image", path.display())),
+            None => None,
+        };
+        (config, warning)
+    }
+
     /// Refuses a non-loopback bind without a token, and an empty token.
     pub fn check(&self) -> Result<(), ConfigError> {
         match &self.token {
@@ -171,10 +191,9 @@ impl std::fmt::Display for PressError {
             PressError::UnknownButton(b) => write!(f, "no button {b:?} in the mission"),
             PressError::NoVehicle(v) => write!(f, "{v} needs a vehicle (\"vname\")"),
             PressError::Post(e) => write!(f, "post failed: {e}"),
-            PressError::NoOrigin => write!(
-                f,
-                "$(LAT)/$(LON) need the mission's LatOrigin/LongOrigin"
-            ),
+            PressError::NoOrigin => {
+                write!(f, "$(LAT)/$(LON) need the mission's LatOrigin/LongOrigin")
+            }
         }
     }
 }

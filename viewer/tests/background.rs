@@ -106,8 +106,16 @@ async fn the_image_corners_land_on_the_mission_grid_and_the_png_is_the_tiff() {
     .unwrap();
     let b = &snapshot["background"];
     assert_eq!(b["url"], "/background.png");
-    assert_eq!((b["width"].as_u64(), b["height"].as_u64()), (Some(40), Some(20)));
-    for (key, want) in [("left", BOX[0]), ("right", BOX[1]), ("bottom", BOX[2]), ("top", BOX[3])] {
+    assert_eq!(
+        (b["width"].as_u64(), b["height"].as_u64()),
+        (Some(40), Some(20))
+    );
+    for (key, want) in [
+        ("left", BOX[0]),
+        ("right", BOX[1]),
+        ("bottom", BOX[2]),
+        ("top", BOX[3]),
+    ] {
         let got = b[key].as_f64().unwrap();
         assert!((got - want).abs() < 0.01, "{key}: {got} (expected {want})");
     }
@@ -122,7 +130,10 @@ async fn the_image_corners_land_on_the_mission_grid_and_the_png_is_the_tiff() {
     .await
     .unwrap();
     let mut resp = Vec::new();
-    timeout(WAIT, s.read_to_end(&mut resp)).await.unwrap().unwrap();
+    timeout(WAIT, s.read_to_end(&mut resp))
+        .await
+        .unwrap()
+        .unwrap();
     let split = resp.windows(4).position(|w| w == b"\r\n\r\n").unwrap();
     let head = String::from_utf8_lossy(&resp[..split]).to_ascii_lowercase();
     assert!(head.starts_with("http/1.1 200"), "{head}");
@@ -149,7 +160,9 @@ fn a_missing_info_file_is_reported_with_where_it_was_looked_for() {
     let dir = test_support::scratch_dir("viewer-background-missing");
     let m = mission(&write_map(&dir));
     std::fs::remove_file(dir.join("map.info")).unwrap();
-    let err = Background::for_mission(&m, Some(&dir)).unwrap().unwrap_err();
+    let err = Background::for_mission(&m, Some(&dir))
+        .unwrap()
+        .unwrap_err();
     let text = err.to_string();
     assert!(text.contains("map.tif with its .info"), "{text}");
     assert!(

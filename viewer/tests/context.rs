@@ -89,10 +89,17 @@ fn lat_lon_are_the_click_on_the_missions_grid() {
     // Eight decimals, and back on the grid at the click snapped to 0.1 m (1e-8 degrees is
     // about a millimetre).
     let decimals = |k: &str| text.split(k).nth(1).unwrap().split([',']).next().unwrap();
-    assert_eq!(decimals("lat=").split('.').nth(1).unwrap().len(), 8, "{text}");
+    assert_eq!(
+        decimals("lat=").split('.').nth(1).unwrap().len(),
+        8,
+        "{text}"
+    );
     let grid = vehicle::geodesy::LocalGrid::new(43.8253, -70.3304).unwrap();
     let (x, y) = grid.to_local(lat, lon).unwrap();
-    assert!((x - 150.0).abs() < 0.01 && (y + 80.0).abs() < 0.01, "{x} {y}");
+    assert!(
+        (x - 150.0).abs() < 0.01 && (y + 80.0).abs() < 0.01,
+        "{x} {y}"
+    );
     assert!(text.ends_with(",near=ben"), "{text}");
     assert_eq!(rec.0.lock().unwrap().len(), 1);
 }

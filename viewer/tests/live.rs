@@ -133,7 +133,11 @@ fn a_stalled_page_changes_nothing_in_a_lockstep_run() {
     // the simulator's too.
     live.viewer().with_scene(|s| {
         let helm = s.appcast("alpha", "pHelmIvP").expect("the helm's appcast");
-        assert!(helm.iteration() > 500, "helm iteration {}", helm.iteration());
+        assert!(
+            helm.iteration() > 500,
+            "helm iteration {}",
+            helm.iteration()
+        );
         for app in ["pMarinePIDV22", "uSimMarineV22", "pNodeReporter"] {
             let cast = s
                 .appcast("alpha", app)
