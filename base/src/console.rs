@@ -279,7 +279,7 @@ const COLUMNS: [&str; 12] = [
     "HEALTH",
     "LAST COMMAND",
 ];
-const WIDTHS: [u16; 12] = [4, 12, 8, 14, 9, 9, 7, 5, 5, 6, 8, 24];
+const WIDTHS: [u16; 12] = [4, 10, 7, 15, 8, 8, 6, 4, 4, 5, 7, 24];
 
 /// `12s`, `3m04s`, `2h05m`.
 pub fn age_text(s: f64) -> String {

@@ -50,16 +50,21 @@ fn key(ev: &event::KeyEvent) -> Option<Key> {
     }
 }
 
-/// Runs the console in the terminal (alternate screen, raw mode) until the operator quits:
-/// redraws at least every 250 ms (ages move), takes keys and mail as they come. The client
-/// must be connected and live on a runtime other threads drive. Returns the number of
-/// commands posted.
-pub fn run(client: &moosdb::Client, mail: &mut moosdb::MailStream) -> std::io::Result<u64> {
+/// Runs the console in the terminal (alternate screen, raw mode) until the operator quits
+/// or `stop` is set (a signal): redraws at least every 250 ms (ages move), takes keys and
+/// mail as they come, and gives the terminal back as it found it. The client must be
+/// connected and live on a runtime other threads drive. Returns the number of commands
+/// posted.
+pub fn run(
+    client: &moosdb::Client,
+    mail: &mut moosdb::MailStream,
+    stop: &std::sync::atomic::AtomicBool,
+) -> std::io::Result<u64> {
     subscribe(client);
     let mut console = Console::new();
     let mut terminal = ratatui::init();
     let result = (|| -> std::io::Result<()> {
-        while !console.quit() {
+        while !console.quit() && !stop.load(std::sync::atomic::Ordering::Relaxed) {
             drain(&mut console, mail);
             let now = client.moos_time();
             terminal.draw(|f| console.render(f, now))?;

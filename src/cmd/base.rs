@@ -24,7 +24,14 @@ pub fn run(args: &BaseArgs) -> anyhow::Result<()> {
     let rt = tokio::runtime::Runtime::new()?;
     let (client, mut mail) =
         rt.block_on(connect("coug_base", args.mission.as_deref(), &args.connect))?;
-    let sent = base::terminal::run(&client, &mut mail)?;
+    // SIGINT or SIGTERM ends the console as `q` does, so the terminal is given back.
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let flag = stop.clone();
+    rt.spawn(async move {
+        super::signal::shutdown().await;
+        flag.store(true, std::sync::atomic::Ordering::Relaxed);
+    });
+    let sent = base::terminal::run(&client, &mut mail, &stop)?;
     outln!("coug base: {sent} commands sent");
     rt.block_on(client.close());
     Ok(())
