@@ -61,10 +61,16 @@ impl Console {
         Console::default()
     }
 
-    /// Takes one mail into the fleet; mail it cannot read is noted.
+    /// Takes one mail into the fleet; mail it cannot read is noted, and so is every
+    /// command acknowledgement (the operator sees a command queued, sent, confirmed or
+    /// timed out).
     pub fn mail(&mut self, var: &str, value: &str) {
-        if let Err(e) = self.fleet.apply(var, value) {
-            self.note(format!("{var}: {e}"));
+        match self.fleet.apply(var, value) {
+            Err(e) => self.note(format!("{var}: {e}")),
+            Ok(()) if var == crate::fleet::ACK_VAR => {
+                self.note(format!("{var} = {value}"));
+            }
+            Ok(()) => {}
         }
     }
 

@@ -21,8 +21,14 @@ fn fleet() -> Console {
             "id=3,name=coug3,time=1010,x=12,y=4,depth=0,heading=10,speed=0,\
              battery_v=14.1,health=0x0,polls=40,answers=12,timeouts=28",
         ),
-        ("ACOMMS_COMMAND_ACK", "to=3,cmd=surface,seq=12,state=confirmed"),
-        ("NODE_REPORT", "NAME=base,X=0,Y=0,SPD=0,HDG=0,DEP=0,TIME=1203,TYPE=ship"),
+        (
+            "ACOMMS_COMMAND_ACK",
+            "to=3,cmd=surface,seq=12,state=confirmed",
+        ),
+        (
+            "NODE_REPORT",
+            "NAME=base,X=0,Y=0,SPD=0,HDG=0,DEP=0,TIME=1203,TYPE=ship",
+        ),
     ] {
         c.mail(var, value);
     }
