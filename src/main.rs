@@ -13,6 +13,7 @@ pub(crate) mod out;
 mod cmd {
     pub mod app;
     pub mod appcast;
+    pub mod base;
     pub mod check;
     pub mod db;
     pub mod emulate;
@@ -65,6 +66,8 @@ enum Command {
     Nodereporter(cmd::app::AppCommandArgs),
     /// Web viewer like pMarineViewer: [MISSION.moos] [--host H] [--port N] [--http-port P] [--bind ADDR] [--token T].
     View(cmd::view::ViewArgs),
+    /// The fleet's base station in the terminal over pAcomms: [MISSION.moos] [--host H] [--port N].
+    Base(cmd::base::BaseArgs),
     /// Watch the appcasts of a MOOS community like uMAC: [MISSION.moos] [--node N [--app A]] [--once].
     Appcast(cmd::appcast::AppcastArgs),
     /// Create links named MOOSDB, pHelmIvP, uSimMarine(V22), pMarinePID(V22), pNodeReporter,
@@ -128,6 +131,7 @@ pub fn main_with(registry: behaviors::Registry) -> ! {
         Command::Scope(args) => report("scope", cmd::scope::run(&args)),
         Command::Run(args) => cmd::run::run(&args),
         Command::View(args) => report("view", cmd::view::run(&args)),
+        Command::Base(args) => report("base", cmd::base::run(&args)),
         Command::Appcast(args) => report("appcast", cmd::appcast::run(&args)),
         Command::Helm(args) => cmd::app::run_subcommand("helm", &args),
         Command::Sim(args) => cmd::app::run_subcommand("sim", &args),

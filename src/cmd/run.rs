@@ -327,12 +327,15 @@ fn run_inner(args: &RunArgs) -> Result<i32, Vec<String>> {
         interrupted: interrupt_flag(),
     };
     let live = if args.view {
+        let (from_mission, warning) =
+            viewer::server::ViewerConfig::for_mission_file(&loaded.mission, &loaded.path);
+        if let Some(w) = warning {
+            errln!("coug run: warning: {w}");
+        }
         let config = viewer::server::ViewerConfig {
             bind: std::net::SocketAddr::new(args.bind, args.http_port),
             token: args.token.clone(),
-            buttons: mission::buttons::buttons(&loaded.mission),
-            contexts: viewer::context::context_pokes(&loaded.mission),
-            ..viewer::server::ViewerConfig::default()
+            ..from_mission
         };
         let live = viewer::live::LiveView::start(&config).map_err(|e| vec![e.to_string()])?;
         match &args.token {

@@ -3,7 +3,8 @@
 //! (`viewer::replay`: time slider, play/pause, speed) and joins no DB. Joins the MOOSDB as the client `coug_view`
 //! (registering NODE_REPORT*, VIEW_* and APPCAST, posting APPCAST_REQ every 2 s) and serves
 //! the page at `http://ADDR:P/`; everything is in `viewer::server`, this only reads the
-//! arguments and the mission's pMarineViewer buttons.
+//! arguments and the mission's pMarineViewer block (buttons, context pokes, `tiff_file`
+//! background) and origin.
 
 use std::net::{IpAddr, Ipv4Addr, SocketAddr};
 use std::path::PathBuf;
@@ -108,27 +109,24 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
     {
         return replay(args, p);
     }
-    let mission = match &args.mission {
+    let from_mission = match &args.mission {
         Some(p) => {
             let text = std::fs::read_to_string(p)
                 .with_context(|| format!("cannot read mission file {}", p.display()))?;
             let src = mission::source::SourceMap::from_text(&p.display().to_string(), &text);
-            Some(mission::moos::parse_moos(&src).value)
+            let (config, warning) =
+                ViewerConfig::for_mission_file(&mission::moos::parse_moos(&src).value, p);
+            if let Some(w) = warning {
+                errln!("coug view: warning: {w}");
+            }
+            config
         }
-        None => None,
+        None => ViewerConfig::default(),
     };
     let config = ViewerConfig {
         bind: SocketAddr::new(args.bind, args.http_port),
         token: args.token.clone(),
-        buttons: mission
-            .as_ref()
-            .map(mission::buttons::buttons)
-            .unwrap_or_default(),
-        contexts: mission
-            .as_ref()
-            .map(viewer::context::context_pokes)
-            .unwrap_or_default(),
-        ..ViewerConfig::default()
+        ..from_mission
     };
     config.check()?;
     let rt = tokio::runtime::Runtime::new()?;

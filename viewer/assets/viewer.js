@@ -2,13 +2,24 @@
 // (x east, y north). Nothing is fetched but /ws.
 //
 // The map fits the scene until the user pans or zooms: the box around every vehicle's
-// position and every shape's points (at least 20 m a side) is centred, scaled to leave
+// position, every shape's points and the background image's corners (at least 20 m a
+// side) is centred, scaled to leave
 // 40 px on each side of the map canvas (window width minus the 320 px side panel, full
 // height), so a given window size and scene give the same pixels (the browser tests compute
 // positions with the same rule). window.cougView exposes the transform.
 "use strict";
 const token = new URLSearchParams(location.search).get("token");
-const scene = { vehicles: {}, shapes: {}, appcasts: {}, buttons: [], contexts: [], trailMax: 300, now: 0 };
+const scene = { vehicles: {}, shapes: {}, appcasts: {}, buttons: [], contexts: [], trailMax: 300, now: 0, background: null };
+// The background image (pMarineViewer's tiff_file, served as /background.png) once loaded.
+let backImg = null;
+function loadBackground(b) {
+  scene.background = b || null;
+  backImg = null;
+  if (!b) return;
+  const img = new Image();
+  img.onload = () => { backImg = img; };
+  img.src = b.url + (token ? "?token=" + encodeURIComponent(token) : "");
+}
 const view = { cx: 0, cy: 0, scale: 2, auto: true, follow: null };
 const history = {}; // vehicle name -> [[t, depth, speed]]
 const PALETTE = ["#ffd700", "#ff4fa0", "#4fe34f", "#4fc3ff", "#ff8c1a", "#c77dff", "#ffffff", "#ff3030"];
@@ -50,6 +61,7 @@ function handle(m) {
     scene.vehicles = {}; scene.shapes = {}; scene.appcasts = {};
     for (const k of Object.keys(history)) delete history[k];
     scene.trailMax = m.trail_max; scene.buttons = m.buttons; scene.contexts = m.contexts || [];
+    if (JSON.stringify(m.background || null) !== JSON.stringify(scene.background)) loadBackground(m.background);
     drawButtons();
     for (const v of m.vehicles) { scene.vehicles[v.name] = v; remember(v); }
   } else if (m.type === "delta") {
@@ -156,6 +168,8 @@ function sceneBox() {
     else { b[0] = Math.min(b[0], x); b[1] = Math.min(b[1], y); b[2] = Math.max(b[2], x); b[3] = Math.max(b[3], y); }
   };
   for (const v of Object.values(scene.vehicles)) add(v.x, v.y);
+  const bg = scene.background;
+  if (bg) { add(bg.left, bg.bottom); add(bg.right, bg.top); }
   for (const s of Object.values(scene.shapes)) {
     if (s.pts) for (const [x, y] of s.pts) add(x, y);
     else add(s.x, s.y);
@@ -262,6 +276,11 @@ function frame() {
   if (view.auto) fit();
   if (view.follow && scene.vehicles[view.follow]) { const v = scene.vehicles[view.follow]; view.cx = v.x; view.cy = v.y; }
   ctx.fillStyle = "#0b1d2a"; ctx.fillRect(0, 0, canvas.width, canvas.height);
+  if (backImg && scene.background) {
+    const b = scene.background;
+    const [x0, y0] = toScreen(b.left, b.top), [x1, y1] = toScreen(b.right, b.bottom);
+    ctx.drawImage(backImg, x0, y0, x1 - x0, y1 - y0);
+  }
   grid();
   for (const s of Object.values(scene.shapes)) drawShape(s);
   for (const v of Object.values(scene.vehicles)) drawVehicle(v);

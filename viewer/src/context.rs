@@ -4,10 +4,12 @@
 //! `getContextKey`, PMV_Viewer.cpp `handleMouseClick`): in the value `$(XPOS)`/`$(YPOS)`
 //! (the click, one decimal, trailing zeros trimmed), `$(X)`/`$(Y)` (no decimals), `$(IX)`
 //! (a per-side click counter), `$(BIX)` (a counter over both sides), `$(UTC)`, `$(HDG)` (from
-//! the active vehicle to the click, degrees), `$(VNAME)`/`$(UP_VNAME)` (the active
-//! vehicle), also in the variable's name. A value that is a number is posted as a double.
-//! Not expanded: `$(LAT)`, `$(LON)` and the `_CLOSEST` names (coug's page has no geodesy or
-//! closest-vehicle pick yet).
+//! the active vehicle to the click, degrees), `$(LAT)`/`$(LON)` (the click on the mission's
+//! LatOrigin/LongOrigin grid, eight decimals), `$(VNAME)`/`$(UP_VNAME)` (the active
+//! vehicle) and `$(VNAME_CLOSEST)`/`$(UP_VNAME_CLOSEST)` (the vehicle nearest the click),
+//! also in the variable's name. A value that is a number is posted as a double. Without an
+//! origin, a click whose pokes use `$(LAT)`/`$(LON)` is refused (pMarineViewer posts nothing
+//! when the click cannot be converted).
 
 use mission::moos::MissionFile;
 use moos_types::Value;
@@ -62,6 +64,11 @@ pub struct Click {
     pub bix: u64,
     /// MOOS time (`$(UTC)`).
     pub utc: f64,
+    /// The click's latitude and longitude, degrees (`$(LAT)`, `$(LON)`), when the mission
+    /// has an origin.
+    pub lat_lon: Option<(f64, f64)>,
+    /// The vehicle nearest the click (`$(VNAME_CLOSEST)`), empty when none is known.
+    pub closest: String,
 }
 
 /// The key of a `left_context[...]`/`right_context[...]` parameter, or `None` when the
@@ -128,7 +135,14 @@ impl ContextPoke {
     /// The posting for a click: the variable and value with their macros expanded.
     pub fn expand(&self, c: &Click) -> (String, Value) {
         let up = c.vname.to_ascii_uppercase();
-        let names = |s: &str| expand(&expand(s, "UP_VNAME", &up), "VNAME", &c.vname);
+        let up_closest = c.closest.to_ascii_uppercase();
+        // The `_CLOSEST` names first: `$(VNAME)` is not a part of `$(VNAME_CLOSEST)`, but
+        // keep the order pMarineViewer uses.
+        let names = |s: &str| {
+            let s = expand(s, "VNAME_CLOSEST", &c.closest);
+            let s = expand(&s, "UP_VNAME_CLOSEST", &up_closest);
+            expand(&expand(&s, "VNAME", &c.vname), "UP_VNAME", &up)
+        };
         let var = names(&self.var);
         let hdg = c.vpos.map_or(0.0, |(vx, vy)| {
             let a = (c.x - vx).atan2(c.y - vy).to_degrees();
@@ -147,12 +161,21 @@ impl ContextPoke {
         ] {
             v = expand(&v, name, &with);
         }
+        if let Some((lat, lon)) = c.lat_lon {
+            v = expand(&v, "LAT", &format!("{lat:.8}"));
+            v = expand(&v, "LON", &format!("{lon:.8}"));
+        }
         let v = names(&v);
         let value = match v.trim().parse::<f64>() {
             Ok(d) if moos_types::text::is_number(v.trim()) => Value::Double(d),
             _ => Value::text(v.trim_matches('"').to_string()),
         };
         (var, value)
+    }
+
+    /// True when the value uses `$(LAT)` or `$(LON)` (it needs the mission's origin).
+    pub fn needs_lat_lon(&self) -> bool {
+        self.value.contains("$(LAT)") || self.value.contains("$(LON)")
     }
 
     /// Whether a click on `side` with menu key `key` posts this (the key itself, or the
@@ -205,6 +228,8 @@ mod tests {
             ix: 3,
             bix: 5,
             utc: 100.0,
+            lat_lon: None,
+            closest: String::new(),
         };
         assert_eq!(
             c[0].expand(&click),
@@ -223,5 +248,33 @@ mod tests {
         assert!(c[2].matches(Side::Right, "return"));
         assert!(!c[2].matches(Side::Left, "return"));
         assert!(!c[0].matches(Side::Left, "return"));
+    }
+
+    #[test]
+    fn lat_lon_and_closest_vehicle_are_expanded() {
+        let m = mission(
+            "ProcessConfig = pMarineViewer\n{\n  \
+             left_context[mark] = MARK_$(UP_VNAME_CLOSEST) = lat=$(LAT),lon=$(LON),near=$(VNAME_CLOSEST),by=$(VNAME)\n}\n",
+        );
+        let c = context_pokes(&m);
+        assert!(c[0].needs_lat_lon());
+        let click = Click {
+            x: 1.0,
+            y: 2.0,
+            vname: "abe".into(),
+            vpos: None,
+            ix: 0,
+            bix: 0,
+            utc: 0.0,
+            lat_lon: Some((43.825300001, -70.3304)),
+            closest: "ben".into(),
+        };
+        assert_eq!(
+            c[0].expand(&click),
+            (
+                "MARK_BEN".to_string(),
+                Value::text("lat=43.82530000,lon=-70.33040000,near=ben,by=abe")
+            )
+        );
     }
 }

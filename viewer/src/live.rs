@@ -5,10 +5,16 @@
 //! - Lockstep: the session taps the viewed variables ([`Observer::watched`]) and hands each
 //!   posting to [`Viewer::apply`]; applying only updates the scene under its mutex, and each
 //!   page is sent the newest state when it is free, so a slow or stalled page drops frames
-//!   and never slows the run (the log is the same with or without the viewer). The viewer
-//!   posts nothing on its own (no `APPCAST_REQ`: the page shows the appcasts the apps post
-//!   unasked, at start-up); a button press is queued and posted at the next step, as a
-//!   `--poke` is. With a pace (`--pace X`) the observer holds the run to X times real time.
+//!   and never slows the run (the log is the same with a page or without, whether it reads
+//!   or not). As pMarineViewer and `coug view` do, the viewer asks for appcasts: every
+//!   [`APPCAST_REQ_INTERVAL_S`] simulated seconds (from the first step on) it posts
+//!   `APPCAST_REQ` (every node and app, 3 s, any threshold, key `coug_view`) as a poke at the
+//!   next step, so the apps appcast all along the run and the appcast pane follows them as
+//!   in real time. These requests, and the appcasts they bring, are in the run's alog:
+//!   a lockstep log with `--view` differs from one without (it stays the same run to run,
+//!   with or without pages, for one `--pace`). A button press is queued and posted at the
+//!   next step, as a `--poke` is. With a pace (`--pace X`) the observer holds the run to X
+//!   times real time.
 //! - Real time: the viewer joins the run's MOOSDB as the client `coug_view`, as `coug view`
 //!   does (appcast requests, presses posted as that client).
 
@@ -19,7 +25,13 @@ use std::time::{Duration, Instant};
 use moos_types::Value;
 use runtime::session::Observer;
 
-use crate::server::{ConfigError, JoinConfig, Outbox, Viewer, ViewerConfig, feed, serve};
+use crate::server::{
+    ConfigError, JoinConfig, Outbox, Viewer, ViewerConfig, appcast_request, feed, serve,
+};
+
+/// Simulated seconds between two `APPCAST_REQ` of the viewer in a lockstep run
+/// (pMarineViewer asks every 2 s).
+pub const APPCAST_REQ_INTERVAL_S: f64 = 2.0;
 
 /// Where presses go during a run: queued for the lockstep session, or posted by the MOOS
 /// client once a real-time run's DB is joined.
@@ -173,6 +185,8 @@ pub struct ViewObserver<'a> {
     wall: Option<Instant>,
     /// A real-time run: the viewer's own MOOS client feeds and ticks the scene.
     joined: bool,
+    /// Simulated seconds of the next lockstep appcast request.
+    next_appcast_req: f64,
 }
 
 impl<'a> ViewObserver<'a> {
@@ -191,6 +205,7 @@ impl<'a> ViewObserver<'a> {
             start,
             wall: None,
             joined: false,
+            next_appcast_req: 0.0,
         }
     }
 }
@@ -218,6 +233,21 @@ impl Observer for ViewObserver<'_> {
                 .lock()
                 .unwrap_or_else(|p| p.into_inner()) = now;
             self.live.viewer.tick(now);
+            if sim_s >= self.next_appcast_req {
+                // Queued now, posted at the next step (as a press).
+                self.live
+                    .outbox
+                    .queue
+                    .lock()
+                    .unwrap_or_else(|p| p.into_inner())
+                    .push((
+                        appcast::casting::APPCAST_REQ_VAR.to_string(),
+                        Value::text(appcast_request(&JoinConfig::default().appcast_key)),
+                    ));
+                while self.next_appcast_req <= sim_s {
+                    self.next_appcast_req += APPCAST_REQ_INTERVAL_S;
+                }
+            }
         }
         if let Some(pace) = self.pace {
             let wall = *self.wall.get_or_insert_with(Instant::now);

@@ -55,6 +55,12 @@ pub struct ViewerConfig {
     pub contexts: Vec<crate::context::ContextPoke>,
     /// Least time between two frames to one client.
     pub min_frame_interval: Duration,
+    /// The mission's `LatOrigin`/`LongOrigin` (degrees): the local grid of `$(LAT)`/`$(LON)`
+    /// and of the background image.
+    pub origin: Option<(f64, f64)>,
+    /// The map's background image (pMarineViewer's `tiff_file`), served as
+    /// `/background.png`.
+    pub background: Option<Arc<crate::background::Background>>,
 }
 
 impl Default for ViewerConfig {
@@ -66,8 +72,20 @@ impl Default for ViewerConfig {
             buttons: Vec::new(),
             contexts: Vec::new(),
             min_frame_interval: Duration::from_millis(50),
+            origin: None,
+            background: None,
         }
     }
+}
+
+/// The mission's `LatOrigin`/`LongOrigin` when both are numbers.
+pub fn mission_origin(m: &mission::moos::MissionFile) -> Option<(f64, f64)> {
+    let num = |k: &str| {
+        m.global(k)
+            .and_then(|v| v.trim().parse::<f64>().ok())
+            .filter(|v| v.is_finite())
+    };
+    Some((num("LatOrigin")?, num("LongOrigin")?))
 }
 
 /// A configuration the viewer refuses.
@@ -94,6 +112,37 @@ impl std::fmt::Display for ConfigError {
 impl std::error::Error for ConfigError {}
 
 impl ViewerConfig {
+    /// The default configuration with what the mission gives: its pMarineViewer buttons and
+    /// context pokes, and its origin.
+    pub fn for_mission(m: &mission::moos::MissionFile) -> ViewerConfig {
+        ViewerConfig {
+            buttons: mission::buttons::buttons(m),
+            contexts: crate::context::context_pokes(m),
+            origin: mission_origin(m),
+            ..ViewerConfig::default()
+        }
+    }
+
+    /// [`ViewerConfig::for_mission`] plus the background image its pMarineViewer block
+    /// names (`tiff_file`), looked for beside the mission file `path` first; a background
+    /// that cannot be shown is left out and its reason returned, for a warning.
+    pub fn for_mission_file(
+        m: &mission::moos::MissionFile,
+        path: &std::path::Path,
+    ) -> (ViewerConfig, Option<String>) {
+        let mut config = ViewerConfig::for_mission(m);
+        let dir = path.parent().filter(|d| !d.as_os_str().is_empty());
+        let warning = match crate::background::Background::for_mission(m, dir) {
+            Some(Ok(b)) => {
+                config.background = Some(Arc::new(b));
+                None
+            }
+            Some(Err(e)) => Some(format!("{}: {e}; no background image", path.display())),
+            None => None,
+        };
+        (config, warning)
+    }
+
     /// Refuses a non-loopback bind without a token, and an empty token.
     pub fn check(&self) -> Result<(), ConfigError> {
         match &self.token {
@@ -132,6 +181,8 @@ pub enum PressError {
     NoVehicle(String),
     /// The post failed (the MOOS client is gone or its outbox full).
     Post(String),
+    /// A context poke uses `$(LAT)`/`$(LON)` and the mission has no (valid) origin.
+    NoOrigin,
 }
 
 impl std::fmt::Display for PressError {
@@ -140,6 +191,9 @@ impl std::fmt::Display for PressError {
             PressError::UnknownButton(b) => write!(f, "no button {b:?} in the mission"),
             PressError::NoVehicle(v) => write!(f, "{v} needs a vehicle (\"vname\")"),
             PressError::Post(e) => write!(f, "post failed: {e}"),
+            PressError::NoOrigin => {
+                write!(f, "$(LAT)/$(LON) need the mission's LatOrigin/LongOrigin")
+            }
         }
     }
 }
@@ -164,6 +218,9 @@ pub struct Viewer {
     outbox: Arc<dyn Outbox>,
     presses: AtomicU64,
     min_frame_interval: Duration,
+    /// The mission's local grid, when it has an origin.
+    grid: Option<vehicle::geodesy::LocalGrid>,
+    background: Option<Arc<crate::background::Background>>,
 }
 
 impl std::fmt::Debug for Viewer {
@@ -198,6 +255,10 @@ impl Viewer {
             outbox,
             presses: AtomicU64::new(0),
             min_frame_interval: config.min_frame_interval,
+            grid: config
+                .origin
+                .and_then(|(lat, lon)| vehicle::geodesy::LocalGrid::new(lat, lon).ok()),
+            background: config.background.clone(),
         }))
     }
 
@@ -334,24 +395,48 @@ impl Viewer {
                 side.as_str()
             )));
         }
-        let vpos = self.with_scene(|s| {
-            s.vehicles()
+        let (x, y) = ((x * 10.0).round() / 10.0, (y * 10.0).round() / 10.0);
+        let (vpos, closest) = self.with_scene(|s| {
+            let vpos = s
+                .vehicles()
                 .get(vname)
-                .and_then(|v| Some((v.report.x_m?, v.report.y_m?)))
+                .and_then(|v| Some((v.report.x_m?, v.report.y_m?)));
+            let closest = s
+                .vehicles()
+                .iter()
+                .filter_map(|(n, v)| {
+                    let d = (v.report.x_m? - x).hypot(v.report.y_m? - y);
+                    Some((d, n))
+                })
+                .min_by(|a, b| a.0.total_cmp(&b.0))
+                .map(|(_, n)| n.clone())
+                .unwrap_or_default();
+            (vpos, closest)
         });
+        let lat_lon = self.grid.as_ref().and_then(|g| g.to_latlon(x, y).ok());
+        if lat_lon.is_none()
+            && self
+                .contexts
+                .iter()
+                .any(|c| c.matches(side, key) && c.needs_lat_lon())
+        {
+            return Err(PressError::NoOrigin);
+        }
         let i = match side {
             crate::context::Side::Left => 0,
             crate::context::Side::Right => 1,
         };
-        // pMarineViewer snaps a click to 0.1 m.
+        // pMarineViewer snaps a click to 0.1 m (above).
         let click = crate::context::Click {
-            x: (x * 10.0).round() / 10.0,
-            y: (y * 10.0).round() / 10.0,
+            x,
+            y,
             vname: vname.to_string(),
             vpos,
             ix: self.clicks[i].fetch_add(1, Ordering::Relaxed),
             bix: self.presses.fetch_add(1, Ordering::Relaxed),
             utc: self.outbox.moos_time(),
+            lat_lon,
+            closest,
         };
         let posts: Vec<(String, Value)> = self
             .contexts
@@ -399,12 +484,20 @@ impl Viewer {
         Ok(())
     }
 
-    /// The router: `/` (the page), `/viewer.js`, `/ws`.
+    /// The background's placement as the page gets it in every snapshot, `null` if none.
+    fn background_json(&self) -> serde_json::Value {
+        self.background
+            .as_ref()
+            .map_or(serde_json::Value::Null, |b| b.to_json())
+    }
+
+    /// The router: `/` (the page), `/viewer.js`, `/background.png`, `/ws`.
     pub fn router(self: &Arc<Self>) -> Router {
         Router::new()
             .route("/", get(page))
             .route("/index.html", get(page))
             .route("/viewer.js", get(script))
+            .route("/background.png", get(background))
             .route("/ws", get(ws_upgrade))
             .with_state(self.clone())
     }
@@ -511,6 +604,20 @@ async fn script(
     }
 }
 
+async fn background(
+    State(v): State<Arc<Viewer>>,
+    Query(q): Query<HashMap<String, String>>,
+    headers: HeaderMap,
+) -> Response {
+    if let Err(r) = v.authorize(&q, &headers, false) {
+        return r.into_response();
+    }
+    match &v.background {
+        Some(b) => ([(header::CONTENT_TYPE, "image/png")], b.png.clone()).into_response(),
+        None => (StatusCode::NOT_FOUND, "no background image\n").into_response(),
+    }
+}
+
 async fn ws_upgrade(
     State(v): State<Arc<Viewer>>,
     Query(q): Query<HashMap<String, String>>,
@@ -564,6 +671,7 @@ async fn client(v: Arc<Viewer>, socket: WebSocket) {
                 epoch = now_epoch;
                 let mut snap = s.snapshot();
                 snap["contexts"] = v.contexts_json();
+                snap["background"] = v.background_json();
                 Some((snap, s.version()))
             } else {
                 s.delta_since(seen).map(|d| (d, s.version()))

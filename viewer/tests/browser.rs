@@ -1,7 +1,8 @@
 //! The page in headless Chromium: screenshots of known scenes, and assertions on their pixels
 //! (the vehicle glyph's colour where the page's fit-to-scene transform puts a known
 //! NODE_REPORT, polygon vertices where they should be). The transform is the page's
-//! (`assets/viewer.js`): the box around every vehicle position and shape point, at least
+//! (`assets/viewer.js`): the box around every vehicle position, shape point and background
+//! image corner, at least
 //! 20 m a side, centred and scaled to leave 40 px each side of the map canvas (the window
 //! minus the 320 px side panel).
 //!
@@ -134,6 +135,9 @@ fn transform(snapshot: &Json) -> impl Fn(f64, f64) -> (f64, f64) {
     for v in snapshot["vehicles"].as_array().unwrap() {
         add(v["x"].as_f64(), v["y"].as_f64());
     }
+    let bg = &snapshot["background"];
+    add(bg["left"].as_f64(), bg["bottom"].as_f64());
+    add(bg["right"].as_f64(), bg["top"].as_f64());
     for s in snapshot["shapes"].as_array().unwrap() {
         match s["pts"].as_array() {
             Some(pts) => {
@@ -280,4 +284,72 @@ fn alpha_mid_survey_draws_the_vehicle_on_its_reported_spot_and_its_waypoints() {
             png.display()
         );
     }
+}
+
+#[test]
+fn the_background_image_is_drawn_where_its_info_puts_it() {
+    use viewer::background::{Background, Placement};
+    let Some(chromium) = chromium() else { return };
+    // A 40 x 20 px image in four colours, on the box x -100..300, y -200..100.
+    let (w, h) = (40u32, 20u32);
+    let quadrants: [[u8; 3]; 4] = [[255, 0, 0], [0, 255, 0], [0, 0, 255], [255, 255, 255]];
+    let mut rgba = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            let q = usize::from(y >= h / 2) * 2 + usize::from(x >= w / 2);
+            rgba.extend_from_slice(&quadrants[q]);
+            rgba.push(255);
+        }
+    }
+    let img = viewer::background::Rgba {
+        width: w,
+        height: h,
+        data: rgba,
+    };
+    let bg = Background {
+        file: "map.tif".into(),
+        png: viewer::background::encode_png(&img),
+        width: w,
+        height: h,
+        placement: Placement {
+            left: -100.0,
+            right: 300.0,
+            bottom: -200.0,
+            top: 100.0,
+        },
+    };
+    let config = ViewerConfig {
+        bind: "127.0.0.1:0".parse().unwrap(),
+        background: Some(Arc::new(bg)),
+        ..ViewerConfig::default()
+    };
+    let viewer = Viewer::new(&config, Arc::new(NoPosts)).unwrap();
+    let mut snapshot = viewer.with_scene(|s| s.snapshot());
+    snapshot["background"] = serde_json::json!({
+        "left": -100.0, "right": 300.0, "bottom": -200.0, "top": 100.0
+    });
+    let to_px = transform(&snapshot);
+    let (port, _rt) = serve_on_thread(viewer);
+    let (rgb, png) = screenshot(&chromium, port, "background");
+    // The middle of each quadrant, away from the 100 m grid lines.
+    for ((x, y), color) in [
+        (-37.0, 37.0),
+        (163.0, 37.0),
+        (-37.0, -137.0),
+        (163.0, -137.0),
+    ]
+    .into_iter()
+    .zip(quadrants)
+    {
+        let (px, py) = to_px(x, y);
+        let got = pixel(&rgb, px, py);
+        assert!(
+            near(got, color),
+            "({x}, {y}) at ({px:.0}, {py:.0}) is {got:?}, expected {color:?} ({})",
+            png.display()
+        );
+    }
+    // Outside the image: the map's own background.
+    let (px, py) = to_px(-100.0, 100.0);
+    assert!(near(pixel(&rgb, px - 10.0, py - 10.0), BACKGROUND));
 }

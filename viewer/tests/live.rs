@@ -43,6 +43,25 @@ fn loopback_any_port() -> ViewerConfig {
     }
 }
 
+/// The alog's records without the appcast traffic (`APPCAST_REQ*`, `APPCAST`).
+fn without_appcasts(records: &str) -> String {
+    records
+        .lines()
+        .filter(|l| {
+            let var = l.split_whitespace().nth(1).unwrap_or("");
+            !var.starts_with("APPCAST")
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+fn first_difference(a: &str, b: &str) -> Option<String> {
+    a.lines()
+        .zip(b.lines())
+        .find(|(x, y)| x != y)
+        .map(|(x, y)| format!("without: {x}\n   with: {y}"))
+}
+
 #[test]
 fn a_stalled_page_changes_nothing_in_a_lockstep_run() {
     let alpha = test_support::mission_file("s1_alpha/alpha.moos");
@@ -50,10 +69,17 @@ fn a_stalled_page_changes_nothing_in_a_lockstep_run() {
     let dir = test_support::scratch_dir("viewer-live");
     // One folder: the paths the logger posts are then the same (the session folders
     // themselves are named from the wall clock, never shared).
-    let plain_dir = test_support::fresh_dir(dir.join("logs"));
-    let viewed_dir = plain_dir.clone();
+    let log_dir = test_support::fresh_dir(dir.join("logs"));
 
-    let plain = session::run(&loaded, &options(&plain_dir), &mut Quiet).expect("plain run");
+    let plain = session::run(&loaded, &options(&log_dir), &mut Quiet).expect("plain run");
+
+    // The viewer with no page at all.
+    let unviewed = {
+        let live = LiveView::start(&loopback_any_port()).expect("viewer starts");
+        let mut quiet = Quiet;
+        let mut view = ViewObserver::new(&mut quiet, &live, session::LOCKSTEP_START, None);
+        session::run(&loaded, &options(&log_dir), &mut view).expect("run without a page")
+    };
 
     let live = LiveView::start(&loopback_any_port()).expect("viewer starts");
     let addr = live.addr();
@@ -74,19 +100,51 @@ fn a_stalled_page_changes_nothing_in_a_lockstep_run() {
         .expect("websocket accepted");
     let mut quiet = Quiet;
     let mut view = ViewObserver::new(&mut quiet, &live, session::LOCKSTEP_START, None);
-    let viewed = session::run(&loaded, &options(&viewed_dir), &mut view).expect("viewed run");
+    let viewed = session::run(&loaded, &options(&log_dir), &mut view).expect("viewed run");
 
     assert_eq!(plain.sim_s(), viewed.sim_s());
-    let (a, b) = (records(&plain.alog), records(&viewed.alog));
+    let (a, b) = (records(&unviewed.alog), records(&viewed.alog));
     assert!(a.len() > 100_000, "{} bytes of records", a.len());
     if a != b {
-        let first = a
-            .lines()
-            .zip(b.lines())
-            .find(|(x, y)| x != y)
-            .map(|(x, y)| format!("without: {x}\n   with: {y}"));
-        panic!("the viewer changed the log; first difference:\n{first:?}");
+        panic!(
+            "a stalled page changed the log; first difference:\n{:?}",
+            first_difference(&a, &b)
+        );
     }
+    // The viewer's appcast requests are all it adds: the rest of the log is the plain run's.
+    let plain_records = records(&plain.alog);
+    assert!(!plain_records.contains("APPCAST_REQ"));
+    assert_eq!(
+        b.lines()
+            .filter(|l| l.split_whitespace().nth(1) == Some("APPCAST_REQ"))
+            .count(),
+        120,
+        "one request every 2 simulated s of the 240"
+    );
+    let (p, v) = (without_appcasts(&plain_records), without_appcasts(&b));
+    if p != v {
+        panic!(
+            "the viewer changed more than the appcasts; first difference:\n{:?}",
+            first_difference(&p, &v)
+        );
+    }
+    // Asked all along the run, the apps kept appcasting: the pane shows the helm's cast of
+    // its last iterations (at start-up, unasked, it casts iteration 0 or 1), the PID's and
+    // the simulator's too.
+    live.viewer().with_scene(|s| {
+        let helm = s.appcast("alpha", "pHelmIvP").expect("the helm's appcast");
+        assert!(
+            helm.iteration() > 500,
+            "helm iteration {}",
+            helm.iteration()
+        );
+        for app in ["pMarinePIDV22", "uSimMarineV22", "pNodeReporter"] {
+            let cast = s
+                .appcast("alpha", app)
+                .unwrap_or_else(|| panic!("{app}'s appcast"));
+            assert!(cast.iteration() > 100, "{app}: {}", cast.iteration());
+        }
+    });
 
     // The scene holds what the run posted.
     let (x, y) = live.viewer().with_scene(|s| {
