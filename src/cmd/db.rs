@@ -203,11 +203,12 @@ pub fn run(args: &DbArgs) -> anyhow::Result<()> {
         let server = Server::bind(cfg)
             .await
             .with_context(|| format!("cannot listen on {host}:{port}"))?;
+        let stop = super::signal::shutdown();
         outln!(
             "coug db: MOOSDB_{community} listening on {} (Ctrl-C to stop)",
             server.local_addr()
         );
-        super::signal::shutdown().await;
+        stop.await;
         server.shutdown();
         Ok(())
     })

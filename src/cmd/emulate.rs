@@ -111,6 +111,8 @@ pub fn run(args: &EmulateArgs) -> anyhow::Result<()> {
         let run = build::spawn_with(kind, settings, transport, options, Box::new(scenario))
             .await
             .with_context(|| format!("cannot start the {} emulator", kind.name()))?;
+        // Listening for SIGINT/SIGTERM before the endpoint is announced.
+        let stop = super::signal::shutdown();
         outln!("coug emulate {}: {}", kind.name(), run.handle.endpoint());
         let mut endpoints = run.handle.endpoints();
         let announce = async {
@@ -120,7 +122,7 @@ pub fn run(args: &EmulateArgs) -> anyhow::Result<()> {
             }
         };
         tokio::select! {
-            _ = super::signal::shutdown() => {}
+            _ = stop => {}
             _ = announce => {}
         }
         let stats = run.handle.stop().await?;

@@ -73,6 +73,8 @@ fn replay(args: &ViewArgs, log: &std::path::Path) -> anyhow::Result<()> {
             .with_context(|| format!("cannot bind {}", config.bind))?;
         let viewer = Viewer::new(&config, Arc::new(NoPosts))?;
         let addr = listener.local_addr()?;
+        // Listening for SIGINT/SIGTERM before the address is announced.
+        let stop = super::signal::shutdown();
         outln!(
             "coug view: replaying {} ({} records, {:.1} s) at http://{addr}/{}",
             log.display(),
@@ -93,7 +95,7 @@ fn replay(args: &ViewArgs, log: &std::path::Path) -> anyhow::Result<()> {
             std::time::Duration::from_millis(100),
         ));
         tokio::select! {
-            _ = super::signal::shutdown() => {}
+            _ = stop => {}
             r = server => r.context("web server task")?.context("web server")?,
             _ = driver => anyhow::bail!("the replay ended"),
         }
@@ -138,6 +140,8 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
         let client = Arc::new(client);
         let viewer = Viewer::new(&config, client.clone())?;
         let addr = listener.local_addr()?;
+        // Listening for SIGINT/SIGTERM before the address is announced.
+        let stop = super::signal::shutdown();
         match &config.token {
             Some(t) => outln!("coug view: http://{addr}/?token={t}"),
             None => outln!("coug view: http://{addr}/"),
@@ -145,7 +149,7 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
         let server = tokio::spawn(serve(viewer.clone(), listener));
         let moos = tokio::spawn(feed(viewer, client, mail, JoinConfig::default()));
         tokio::select! {
-            _ = super::signal::shutdown() => {}
+            _ = stop => {}
             r = server => r.context("web server task")?.context("web server")?,
             _ = moos => anyhow::bail!("the MOOS client ended"),
         }
