@@ -13,6 +13,9 @@
 //!   through bounded channels, so a stalled device or a full channel drops and counts and never
 //!   blocks the MOOS side.
 //!
+//! The commands' retry rule (an answer awaited for a time, so many tries, a busy answer
+//! holding a command back) is one helper, [`retry::Tries`], for iDVL and iSeaTrac.
+//!
 //! [`Driver`] joins the two: the runtime's app (`runtime::driver_apps`, registered in
 //! `runtime::antler::BUILT_INS`) calls [`Driver::step`] once per iteration.
 //!
@@ -43,6 +46,7 @@ pub mod dvl;
 pub mod gps;
 pub mod link;
 pub mod params;
+pub mod retry;
 pub mod seatrac;
 pub mod teensy;
 

@@ -110,6 +110,7 @@ use vehicle::ConfigError;
 
 use crate::link::LinkConfig;
 use crate::params::{self, Common};
+use crate::retry::{Next, Tries};
 use crate::{Io, Protocol, g};
 
 /// The program name.
@@ -250,17 +251,6 @@ impl Startup {
     }
 }
 
-/// A queued send and its tries.
-#[derive(Debug, Clone, PartialEq)]
-struct Queued {
-    cmd: Command,
-    /// When it was last sent and whether an answer is awaited.
-    sent: Option<f64>,
-    tries: u32,
-    /// A busy answer: send again at this time.
-    retry_at: Option<f64>,
-}
-
 /// Counts of what came in and went out.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct SeaTracCounts {
@@ -288,7 +278,7 @@ pub struct SeaTrac {
     lines: LineSplitter,
     startup: Startup,
     step_sent: f64,
-    queue: VecDeque<Queued>,
+    queue: VecDeque<Tries<Command>>,
     counts: SeaTracCounts,
     last_status: Option<Status>,
     queue_warned: bool,
@@ -339,12 +329,7 @@ impl SeaTrac {
             io.warnings
                 .push("acoustic send queue full: the oldest send dropped".into());
         }
-        self.queue.push_back(Queued {
-            cmd,
-            sent: None,
-            tries: 0,
-            retry_at: None,
-        });
+        self.queue.push_back(Tries::new(cmd));
         if self.queue.len() >= QUEUE_WARN && !self.queue_warned {
             self.queue_warned = true;
             io.warnings
@@ -422,14 +407,13 @@ impl SeaTrac {
         let Some(head) = self.queue.front_mut() else {
             return;
         };
-        if head.sent.is_none() {
+        if !head.awaiting() {
             return;
         }
         match status {
             Cst::XcvrBusy => {
                 self.counts.busy += 1;
-                head.sent = None;
-                head.retry_at = Some(now + self.cfg.send_wait_s);
+                head.busy(now, self.cfg.send_wait_s);
             }
             Cst::Ok => {
                 self.counts.sent_ok += 1;
@@ -663,7 +647,7 @@ impl Protocol for SeaTrac {
         self.lines.reset();
         // A send awaiting its answer on the old connection goes again.
         for q in &mut self.queue {
-            q.sent = None;
+            q.unsent();
         }
         self.step(Startup::Alive, &Command::SysAlive, now, io);
     }
@@ -720,35 +704,29 @@ impl Protocol for SeaTrac {
         if self.startup != Startup::Running {
             return;
         }
-        let wait = self.cfg.send_wait_s;
-        let tries = self.cfg.send_tries;
         let Some(head) = self.queue.front_mut() else {
             return;
         };
-        match (head.sent, head.retry_at) {
-            (Some(t), _) if now - t >= wait - 1e-9 => {
-                if head.tries >= tries {
-                    let q = self.queue.pop_front().expect("a head");
-                    self.counts.send_errors += 1;
-                    let why = format!("{}: no answer after {} tries", cmd_name(&q.cmd), q.tries);
-                    io.text("ACOMMS_ERROR", why.clone());
-                    io.warnings.push(why);
-                    return;
+        match head.next(now, self.cfg.send_wait_s, self.cfg.send_tries) {
+            Next::Wait => {}
+            Next::Send => {
+                if let Ok(f) = head.cmd.encode() {
+                    io.send(f);
                 }
+                head.sent(now);
             }
-            (Some(_), _) => return,
-            (None, Some(t)) if now < t - 1e-9 => return,
-            (None, _) => {}
+            Next::GiveUp => {
+                let q = self.queue.pop_front().expect("a head");
+                self.counts.send_errors += 1;
+                let why = format!(
+                    "{}: no answer after {} tries",
+                    cmd_name(&q.cmd),
+                    q.tries()
+                );
+                io.text("ACOMMS_ERROR", why.clone());
+                io.warnings.push(why);
+            }
         }
-        let Some(head) = self.queue.front_mut() else {
-            return;
-        };
-        if let Ok(f) = head.cmd.encode() {
-            io.send(f);
-        }
-        head.tries += 1;
-        head.sent = Some(now);
-        head.retry_at = None;
     }
 
     fn stats(&self) -> LinkStats {

@@ -1,8 +1,8 @@
 //! A driver against its device's emulator (crate `emulate`), over a pseudo-terminal or a
-//! loopback TCP port (the A50): the
-//! real driver path with no hardware. The emulator measures the truth it is fed; the driver
-//! must post what the sensor models would, and its commands must reach the device. Every wait
-//! is bounded; nothing about timing is asserted.
+//! loopback TCP port (the A50): the real driver path with no hardware. The emulator measures
+//! the truth it is fed; the driver must post what the sensor models would, and its commands
+//! must reach the device. Faults (a disconnection, garbage) come from the emulator's plan, at
+//! its times. Every wait is bounded; nothing about timing is asserted.
 
 mod common;
 
@@ -442,11 +442,15 @@ fn x150(
 }
 
 /// iSeaTrac configured as on Utah Lake: beacon 3, salt water, the declination 10.7 deg E.
+/// The test's MOOS time runs faster than the emulator's clock (0.05 s a step, a few
+/// milliseconds apart): a send waits 5 s of it (100 steps) for its answer, so a loaded
+/// machine's slow answer is not taken for a lost one.
 fn iseatrac(link: &std::path::Path) -> Driver<SeaTrac> {
     let cfg = SeaTracConfig {
         beacon_id: 3,
         salinity_ppt: 35.0,
         declination_deg: 10.7,
+        send_wait_s: 5.0,
         ..SeaTracConfig::default()
     };
     Driver::new(SeaTrac::new(cfg), serial(link), 1.0)
