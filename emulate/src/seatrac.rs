@@ -890,6 +890,53 @@ mod tests {
         assert!((4..=16).contains(&n), "{n}");
     }
 
+    /// The conventions of `drivers::seatrac` (body-frame azimuth clockwise from the bow,
+    /// elevation positive up): a base 20 m due east and 20 m deeper is at azimuth 90° and
+    /// elevation −45° from a level vehicle heading north, 0° and −45° heading east.
+    #[test]
+    fn a_base_due_east_and_45_degrees_down() {
+        for (heading, want_az) in [(0.0, 90.0), (90.0, 0.0), (300.0, 150.0)] {
+            let mut m = X150::new(
+                X150Settings {
+                    remote: Box::new(EchoBeacon {
+                        id: 15,
+                        position: (20.0, 0.0, 30.0),
+                        received: Vec::new(),
+                    }),
+                    ..quiet()
+                },
+                4,
+            );
+            let s = |t: f64| Situation {
+                truth: Truth {
+                    time: t,
+                    depth: 10.0,
+                    heading_deg: heading,
+                    ..Truth::default()
+                },
+                ..at(t)
+            };
+            let ping = Command::PingSend {
+                dest_id: 15,
+                msg_type: msg_type::REQU,
+            };
+            m.receive(&s(1.0), ping.encode().unwrap().as_bytes());
+            let r = responses(&m.tick(&s(1.5)));
+            let Some(Response::PingResp(fix)) = r.first() else {
+                panic!("{r:?}")
+            };
+            let u = fix.usbl.clone().unwrap();
+            let az = f64::from(u.azimuth_ddeg) / 10.0;
+            let off = (az - want_az + 540.0).rem_euclid(360.0) - 180.0;
+            assert!(off.abs() < 4.0, "heading {heading}: azimuth {az}");
+            let el = f64::from(u.elevation_ddeg) / 10.0;
+            assert!((el + 45.0).abs() < 4.0, "elevation {el}");
+            assert!((fix.range_m().unwrap() - 20f64.hypot(20.0)).abs() < 0.5);
+            let p = fix.position.unwrap();
+            assert_eq!((p.easting_dm, p.northing_dm, p.depth_dm), (200, 0, 300));
+        }
+    }
+
     #[test]
     fn the_first_sends_can_be_refused_as_busy() {
         let mut m = X150::new(
