@@ -206,13 +206,5 @@ fn main() {
         let mut b = [0u8; 256];
         while rd.read(&mut b).is_ok_and(|n| n > 0) {}
     });
-    measure(
-        "iDVL",
-        dd,
-        Box::new(s),
-        reports,
-        15.0,
-        15.0,
-        secs,
-    );
+    measure("iDVL", dd, Box::new(s), reports, 15.0, 15.0, secs);
 }

@@ -35,8 +35,9 @@
 //!   360)` (Gen-2 negates it for FLU; the HoloOcean bridge turns its FLU angle into this one);
 //!   the elevation is positive when the remote beacon is above the local one (shallower),
 //!   `[−90, 90]`. The position block is the remote beacon's easting and northing from the
-//!   local beacon (the beacon resolves them with its own attitude and compass) and its depth
-//!   below the surface, decimetres.
+//!   local beacon (the beacon resolves them with its own attitude and compass, so its north
+//!   is magnetic unless the beacon is told the declination; the driver posts them as given)
+//!   and its depth below the surface, decimetres.
 //!
 //! So a remote beacon 20 m east of the vehicle and 20 m deeper, the vehicle heading north
 //! and level, is at azimuth 90°, elevation −45°, range 28.3 m: `USBL_AZIMUTH = 90`,
@@ -718,11 +719,7 @@ impl Protocol for SeaTrac {
             Next::GiveUp => {
                 let q = self.queue.pop_front().expect("a head");
                 self.counts.send_errors += 1;
-                let why = format!(
-                    "{}: no answer after {} tries",
-                    cmd_name(&q.cmd),
-                    q.tries()
-                );
+                let why = format!("{}: no answer after {} tries", cmd_name(&q.cmd), q.tries());
                 io.text("ACOMMS_ERROR", why.clone());
                 io.warnings.push(why);
             }

@@ -297,7 +297,9 @@ fn idvl_against_the_a50_emulator_reports_acoustics_and_commands() {
         acks[acks.len() - 2..],
         ["calibrate_gyro", "reset_dead_reckoning"]
     );
-    let reset = s.find_text("DVL_COMMAND_ACK", "reset_dead_reckoning").unwrap();
+    let reset = s
+        .find_text("DVL_COMMAND_ACK", "reset_dead_reckoning")
+        .unwrap();
     s.until(&mut d, "dead reckoning after the reset", |s, _| {
         s.doubles_since(reset, "DVL_DR_X").len() >= 3
     });
@@ -368,7 +370,9 @@ fn idvl_against_the_a50_emulator_survives_a_disconnect_and_garbage() {
 
     // The emulator hangs up at 1 s and is away for half a second: the link comes back, the
     // driver says the acoustics again and the reports resume.
-    s.until(&mut d, "a second connection", |_, d| d.counters().connects >= 2);
+    s.until(&mut d, "a second connection", |_, d| {
+        d.counters().connects >= 2
+    });
     let back = s.mark();
     s.until(&mut d, "reports after the reconnection", |s, _| {
         s.doubles_since(back, "DVL_VALID").len() >= 3
@@ -403,7 +407,10 @@ fn idvl_against_the_a50_emulator_survives_a_disconnect_and_garbage() {
     let vx = s.doubles_since(clean, "DVL_VEL_X");
     assert!(vx.iter().all(|v| (v - 1.0).abs() < 0.1), "{vx:?}");
     let status = s.status("DVL_DRIVER_STATUS");
-    assert!(field(&status, "parse_errors").is_some_and(|n| n > 0), "{status}");
+    assert!(
+        field(&status, "parse_errors").is_some_and(|n| n > 0),
+        "{status}"
+    );
     assert!(status.starts_with("link=up,"), "{status}");
     d.stop();
     rt.block_on(emu.handle.stop()).unwrap();
@@ -483,7 +490,9 @@ fn iseatrac_against_the_x150_emulator_startup_status_ping_dat_and_busy() {
 
     // The start-up sequence runs to its end: the beacon takes id 3 and sends its STATUS at
     // 10 Hz with attitude, AHRS and environment (the settings it was given).
-    s.until(&mut d, "running", |_, d| d.protocol.startup() == Startup::Running);
+    s.until(&mut d, "running", |_, d| {
+        d.protocol.startup() == Startup::Running
+    });
     assert_eq!(s.doubles("SEATRAC_BEACON_ID"), [3.0]);
     let up = s.mark();
     s.until(&mut d, "ten STATUS", |s, _| {
@@ -491,27 +500,52 @@ fn iseatrac_against_the_x150_emulator_startup_status_ping_dat_and_busy() {
     });
     // The AHRS (σ 1 deg heading, 0.2 deg attitude) writes the magnetic yaw; the driver adds
     // the declination once.
-    near(&s.doubles_since(up, "AHRS_HEADING"), 30.0, 4.0, "AHRS_HEADING");
+    near(
+        &s.doubles_since(up, "AHRS_HEADING"),
+        30.0,
+        4.0,
+        "AHRS_HEADING",
+    );
     near(&s.doubles_since(up, "AHRS_PITCH"), 0.0, 1.0, "AHRS_PITCH");
     near(&s.doubles_since(up, "AHRS_ROLL"), 0.0, 1.0, "AHRS_ROLL");
-    near(&s.doubles_since(up, "AHRS_YAW_RATE"), 0.0, 0.3, "AHRS_YAW_RATE");
+    near(
+        &s.doubles_since(up, "AHRS_YAW_RATE"),
+        0.0,
+        0.3,
+        "AHRS_YAW_RATE",
+    );
     // The environment block: the modem's depth sensor (σ 0.1 m), the supply, the absolute
     // pressure (101325 Pa + 997 kg/m³ · 9.81 · 10 m, in whole mbar), the speed of sound.
-    near(&s.doubles_since(up, "SEATRAC_DEPTH"), 10.0, 0.5, "SEATRAC_DEPTH");
+    near(
+        &s.doubles_since(up, "SEATRAC_DEPTH"),
+        10.0,
+        0.5,
+        "SEATRAC_DEPTH",
+    );
     near(
         &s.doubles_since(up, "SEATRAC_SUPPLY_VOLTAGE"),
         16.4,
         1e-9,
         "SEATRAC_SUPPLY_VOLTAGE",
     );
-    near(&s.doubles_since(up, "SEATRAC_TEMP"), 15.0, 1e-9, "SEATRAC_TEMP");
+    near(
+        &s.doubles_since(up, "SEATRAC_TEMP"),
+        15.0,
+        1e-9,
+        "SEATRAC_TEMP",
+    );
     near(
         &s.doubles_since(up, "SEATRAC_PRESSURE"),
         199_100.0,
         1e-6,
         "SEATRAC_PRESSURE",
     );
-    near(&s.doubles_since(up, "SEATRAC_VOS"), 1475.0, 1e-9, "SEATRAC_VOS");
+    near(
+        &s.doubles_since(up, "SEATRAC_VOS"),
+        1475.0,
+        1e-9,
+        "SEATRAC_VOS",
+    );
 
     // A ping to the base: the transceiver says busy twice (the emulator's first two sends),
     // the driver sends it again each time, then the fix comes back with range and angles.
@@ -549,8 +583,18 @@ fn iseatrac_against_the_x150_emulator_startup_status_ping_dat_and_busy() {
         s.texts_since(sent, "ACOMMS_TX_ACK"),
         ["dest=15,cid=DAT_SEND"]
     );
-    near(&s.doubles_since(sent, "USBL_RANGE"), range, 0.5, "USBL_RANGE");
-    near(&s.doubles_since(sent, "USBL_AZIMUTH"), 60.0, 4.0, "USBL_AZIMUTH");
+    near(
+        &s.doubles_since(sent, "USBL_RANGE"),
+        range,
+        0.5,
+        "USBL_RANGE",
+    );
+    near(
+        &s.doubles_since(sent, "USBL_AZIMUTH"),
+        60.0,
+        4.0,
+        "USBL_AZIMUTH",
+    );
     let c = d.protocol.counts();
     assert_eq!((c.sent_ok, c.dat_rx, c.send_errors), (2, 1, 0), "{c:?}");
     assert_eq!(d.protocol.queued(), 0);
@@ -608,11 +652,15 @@ fn iseatrac_against_the_x150_emulator_survives_a_disconnect_and_garbage() {
     let mut d = iseatrac(&link);
     d.start().unwrap();
     let mut s = Stepper::new(0.0);
-    s.until(&mut d, "running", |_, d| d.protocol.startup() == Startup::Running);
+    s.until(&mut d, "running", |_, d| {
+        d.protocol.startup() == Startup::Running
+    });
 
     // At 1 s the terminal goes away; 0.3 s later the device is back on a new one (the link
     // moved): the driver reopens it, runs the start-up again, and the STATUS resumes.
-    s.until(&mut d, "a second connection", |_, d| d.counters().connects >= 2);
+    s.until(&mut d, "a second connection", |_, d| {
+        d.counters().connects >= 2
+    });
     s.until(&mut d, "running again", |_, d| {
         d.protocol.startup() == Startup::Running
     });
@@ -622,7 +670,10 @@ fn iseatrac_against_the_x150_emulator_survives_a_disconnect_and_garbage() {
         s.doubles_since(back, "AHRS_HEADING").len() >= 3
     });
     let status = s.status("SEATRAC_DRIVER_STATUS");
-    assert!(field(&status, "disconnects").is_some_and(|n| n >= 1), "{status}");
+    assert!(
+        field(&status, "disconnects").is_some_and(|n| n >= 1),
+        "{status}"
+    );
 
     // Then random bytes among the frames: torn frames and bad CRCs are counted.
     let junk = |d: &Driver<SeaTrac>| {

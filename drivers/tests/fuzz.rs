@@ -25,8 +25,17 @@ fn fuzz_the_protocol_state_machines() {
     seeds.push(seeds.concat());
     let r = Campaign::new("drivers", seeds)
         .tokens(&[
-            "$GPGGA,", "$DEPTH,", "$LEAK,", "\r\n", "\n", "{\"type\":", "\"velocity\"", "$10", "$42",
-            "*", ",",
+            "$GPGGA,",
+            "$DEPTH,",
+            "$LEAK,",
+            "\r\n",
+            "\n",
+            "{\"type\":",
+            "\"velocity\"",
+            "$10",
+            "$42",
+            "*",
+            ",",
         ])
         .iterations(ITERATIONS)
         .run(drivers::fuzz::protocols);
