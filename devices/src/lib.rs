@@ -12,6 +12,7 @@
 //! - [`teensy`]: the Teensy's ASCII serial link (`$CONTR` out, `$DEPTH`, `$BATTE`, `$LEAK` in)
 //!   and pressure to depth.
 //! - [`fuzz`]: one fuzz body per protocol, run on stable by `tests/fuzz.rs`.
+//! - [`samples`]: a typical message of each device on the wire, for benches and examples.
 //!
 //! No function here panics on any input: every parser returns a typed error.
 //!
@@ -32,5 +33,6 @@ pub mod a50;
 pub mod fuzz;
 pub mod line;
 pub mod nmea;
+pub mod samples;
 pub mod seatrac;
 pub mod teensy;

@@ -1,7 +1,8 @@
 //! CPU per driver at the devices' real rates: a fake device (a thread of this process) writes
 //! each protocol's lines at its rate over a pseudo-terminal or a loopback TCP socket for
 //! `SECONDS` of wall time, while the driver is stepped at its AppTick as the app would be.
-//! The driver's CPU is the process's CPU time less the fake device thread's own.
+//! The driver's CPU is the process's CPU time less the fake device thread's own. The lines
+//! are `devices::samples`' (the GPS's are GGA and RMC on the mission's origin).
 //!
 //! `cargo run --release -p drivers --example real_rates [SECONDS]` (default 10). A measuring
 //! tool, not a test: it reads the clock.
@@ -14,8 +15,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use devices::seatrac::{self, Response};
-use devices::teensy::Telemetry;
+use devices::samples;
 use drivers::dvl::{Dvl, DvlConfig};
 use drivers::gps::{Gps, Source};
 use drivers::link::{Endpoint, LinkConfig};
@@ -145,20 +145,7 @@ fn main() {
 
     // iTeensy: $DEPTH, $BATTE, $LEAK at 20 Hz; AppTick 20.
     let (m, p) = pty();
-    let mut lines = Vec::new();
-    for t in [
-        Telemetry::Depth {
-            pressure_pa: 101_325.0,
-            temp_degc: 21.3,
-        },
-        Telemetry::Battery {
-            voltage_v: 15.9,
-            current_a: 2.1,
-        },
-        Telemetry::Leak { leak: false },
-    ] {
-        lines.extend(t.encode().into_bytes());
-    }
+    let lines = samples::teensy().concat();
     let d = Driver::new(Teensy::new(TeensyConfig::default()), serial(p), 1.0);
     // The master's reads are drained so the driver's $CONTR never fills the pty.
     let mut rd = m.try_clone().unwrap();
@@ -171,31 +158,7 @@ fn main() {
     // iSeaTrac: STATUS (environment, attitude, AHRS_COMP) at 10 Hz; AppTick 10. Start-up
     // is not answered: the driver stays in its alive step and still reads every STATUS.
     let (m, p) = pty();
-    let status = Response::Status(seatrac::Status {
-        timestamp_ms: 123_456,
-        environment: Some(seatrac::Environment {
-            supply_mv: 15_600,
-            temp_ddegc: 215,
-            pressure_mbar: 1100,
-            depth_dm: 12,
-            vos_dmps: 14_820,
-        }),
-        attitude: Some(seatrac::Attitude {
-            yaw_ddeg: 3550,
-            pitch_ddeg: -25,
-            roll_ddeg: 10,
-        }),
-        mag_cal: None,
-        acc_cal: None,
-        ahrs_raw: None,
-        ahrs_comp: Some(seatrac::AhrsComp {
-            acc: [0.01, -0.02, 0.99],
-            mag: [20.0, -3.0, 40.0],
-            gyro: [0.1, -0.2, 1.5],
-        }),
-    })
-    .encode()
-    .into_bytes();
+    let status = samples::seatrac_status();
     let mut rd = m.try_clone().unwrap();
     std::thread::spawn(move || {
         let mut b = [0u8; 256];
@@ -225,42 +188,7 @@ fn main() {
     // rate, near the bottom); AppTick 15.
     let l = TcpListener::bind("127.0.0.1:0").unwrap();
     let port = l.local_addr().unwrap().port();
-    let vel = devices::a50::VelocityReport {
-        time_ms: 66.0,
-        time_of_validity_us: Some(1_638_191_471_563_017),
-        time_of_transmission_us: Some(1_638_191_471_752_336),
-        vel_body_mps: [0.512, -0.0213, 0.0041],
-        fom_mps: 0.0016,
-        covariance: Some([[2.4e-8, -3.3e-9, -1.6e-10]; 3]),
-        altitude_m: 4.95,
-        transducers: (0..4)
-            .map(|id| devices::a50::Transducer {
-                id,
-                velocity_mps: 0.25,
-                distance_m: 5.5,
-                rssi_dbm: -30.4,
-                nsd_dbm: -88.7,
-                beam_valid: true,
-            })
-            .collect(),
-        velocity_valid: true,
-        status: 0,
-        format: Some("json_v3.1".into()),
-    }
-    .encode();
-    let dr = devices::a50::DeadReckoningReport {
-        ts_s: 49056.809,
-        x_m: 12.0,
-        y_m: -3.5,
-        z_m: 1.25,
-        std_m: 0.3,
-        roll_deg: 1.0,
-        pitch_deg: -2.0,
-        yaw_deg: 271.5,
-        status: 0,
-        format: Some("json_v3.1".into()),
-    }
-    .encode();
+    let reports = [samples::a50_velocity(), samples::a50_dead_reckoning()].concat();
     let d = Driver::new(
         Dvl::new(DvlConfig::default()),
         LinkConfig::new(Endpoint::Tcp {
@@ -278,13 +206,5 @@ fn main() {
         let mut b = [0u8; 256];
         while rd.read(&mut b).is_ok_and(|n| n > 0) {}
     });
-    measure(
-        "iDVL",
-        dd,
-        Box::new(s),
-        (vel + &dr).into_bytes(),
-        15.0,
-        15.0,
-        secs,
-    );
+    measure("iDVL", dd, Box::new(s), reports, 15.0, 15.0, secs);
 }

@@ -56,6 +56,7 @@ use vehicle::ConfigError;
 
 use crate::link::LinkConfig;
 use crate::params::{self, Common};
+use crate::retry::{Next, Tries};
 use crate::{Io, Protocol, g};
 
 /// The program name.
@@ -127,14 +128,6 @@ pub enum AcousticMode {
     Forced(bool),
 }
 
-/// A command in flight.
-#[derive(Debug, Clone, PartialEq)]
-struct InFlight {
-    cmd: Command,
-    sent_at: f64,
-    tries: u32,
-}
-
 /// Counts of what came in and went out.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct DvlCounts {
@@ -163,7 +156,7 @@ pub struct Dvl {
     depth: Option<f64>,
     want: bool,
     queue: VecDeque<Command>,
-    in_flight: Option<InFlight>,
+    in_flight: Option<Tries<Command>>,
     connected: bool,
     confirmed: Option<bool>,
     counts: DvlCounts,
@@ -245,14 +238,11 @@ impl Dvl {
         }
     }
 
-    fn send(&mut self, cmd: Command, tries: u32, now: f64, io: &mut Io) {
-        io.send(cmd.encode());
+    fn send(&mut self, mut cmd: Tries<Command>, now: f64, io: &mut Io) {
+        io.send(cmd.cmd.encode());
         self.counts.sent += 1;
-        self.in_flight = Some(InFlight {
-            cmd,
-            sent_at: now,
-            tries,
-        });
+        cmd.sent(now);
+        self.in_flight = Some(cmd);
     }
 
     fn response(&mut self, r: Response, io: &mut Io) {
@@ -435,22 +425,23 @@ impl Protocol for Dvl {
             return;
         }
         if let Some(f) = &self.in_flight {
-            if now - f.sent_at < self.timeout_of(&f.cmd) {
+            let next = f.next(now, self.timeout_of(&f.cmd), self.cfg.command_retries);
+            if next == Next::Wait {
                 return;
             }
             let f = self.in_flight.take().expect("checked above");
             self.counts.timeouts += 1;
-            if f.tries < self.cfg.command_retries {
-                self.send(f.cmd, f.tries + 1, now, io);
+            if next == Next::Send {
+                self.send(f, now, io);
                 return;
             }
             self.counts.errors += 1;
-            let why = format!("{}: no response after {} tries", f.cmd.name(), f.tries);
+            let why = format!("{}: no response after {} tries", f.cmd.name(), f.tries());
             io.text("DVL_COMMAND_ERROR", why.clone());
             io.warnings.push(why);
         }
         if let Some(c) = self.queue.pop_front() {
-            self.send(c, 1, now, io);
+            self.send(Tries::new(c), now, io);
         }
     }
 

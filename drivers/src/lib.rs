@@ -13,6 +13,12 @@
 //!   through bounded channels, so a stalled device or a full channel drops and counts and never
 //!   blocks the MOOS side.
 //!
+//! [`fuzz`] is the state machines' fuzz body (any bytes at any times: no panic, the counters
+//! add up), for `tests/fuzz.rs` on stable and the cargo-fuzz target `drivers`.
+//!
+//! The commands' retry rule (an answer awaited for a time, so many tries, a busy answer
+//! holding a command back) is one helper, [`retry::Tries`], for iDVL and iSeaTrac.
+//!
 //! [`Driver`] joins the two: the runtime's app (`runtime::driver_apps`, registered in
 //! `runtime::antler::BUILT_INS`) calls [`Driver::step`] once per iteration.
 //!
@@ -40,9 +46,11 @@
 #![warn(missing_docs)]
 
 pub mod dvl;
+pub mod fuzz;
 pub mod gps;
 pub mod link;
 pub mod params;
+pub mod retry;
 pub mod seatrac;
 pub mod teensy;
 

@@ -11,6 +11,39 @@
 //! `startup_timeout` (1 s) is sent again; a step answered with a status other than OK is a run
 //! warning and is sent again after the timeout. The send queue waits for `running`.
 //!
+//! # Conventions
+//!
+//! The angles on the wire are signed 16-bit deci-degrees (`i16`, divide by 10), little-endian,
+//! as the UM-140 field tables give them; the driver posts degrees. Three frames meet here
+//! (`cougars-vehicle.md` §2.1, §3.5 and the HoloOcean modem bridge of §7):
+//!
+//! - **The modem's frame** is the vehicle's body frame, FRD (forward, starboard, down): the
+//!   CoUGARs' converter hands the ATTITUDE block straight to the `ned → modem` transform (roll,
+//!   pitch, yaw), and its `modem → robot` transform is the identity. So ATTITUDE is the
+//!   vehicle's attitude: yaw clockwise from *magnetic* north (the AHRS's compass), pitch nose
+//!   up, roll starboard down. `AHRS_HEADING` = yaw + `declination` (the true heading, the
+//!   declination applied here once), wrapped to `[0, 360)`.
+//! - **The AHRS chip** inside the modem is turned 45° (§2.1, "determined experimentally"):
+//!   the AHRS_COMP vectors are in the chip's axes, and the converter's own mapping gives the
+//!   body rates, `ω = [√½(gy − gx), √½(gx + gy), −gz]` about forward, starboard and down, in
+//!   the frame of the attitude above (FRD): turning right is a positive `AHRS_YAW_RATE`, as
+//!   uSimSensors posts it. (Its accelerometer mapping is the negative of that rotation:
+//!   the converter turns the chip's specific force into ROS's "+g up"; the driver posts no
+//!   acceleration.) With `ahrs_mount = aligned` the chip's axes are taken as the body's.
+//! - **The USBL angles** of an acoustic fix are in the modem's frame, FRD: the azimuth is the
+//!   bearing of the remote beacon from the vehicle's bow, clockwise seen from above, `[0,
+//!   360)` (Gen-2 negates it for FLU; the HoloOcean bridge turns its FLU angle into this one);
+//!   the elevation is positive when the remote beacon is above the local one (shallower),
+//!   `[−90, 90]`. The position block is the remote beacon's easting and northing from the
+//!   local beacon (the beacon resolves them with its own attitude and compass, so its north
+//!   is magnetic unless the beacon is told the declination; the driver posts them as given)
+//!   and its depth below the surface, decimetres.
+//!
+//! So a remote beacon 20 m east of the vehicle and 20 m deeper, the vehicle heading north
+//! and level, is at azimuth 90°, elevation −45°, range 28.3 m: `USBL_AZIMUTH = 90`,
+//! `USBL_ELEVATION = -45`, `USBL_RANGE = 28.3`, `USBL_X = 20`, `USBL_Y = 0`, `USBL_Z` the
+//! remote's depth (the tests build that frame from the field tables).
+//!
 //! # Variables
 //!
 //! Posted from STATUS, as uSimSensors posts the AHRS (closed by `AHRS_HEADING` ✱):
@@ -18,7 +51,7 @@
 //! | variable | type | unit | meaning |
 //! |---|---|---|---|
 //! | `AHRS_PITCH`, `AHRS_ROLL` | double | deg | the beacon's attitude (nose up, starboard down positive) |
-//! | `AHRS_ROLL_RATE`, `AHRS_PITCH_RATE`, `AHRS_YAW_RATE` | double | deg/s | body FRD gyro rates from AHRS_COMP; with `ahrs_mount = x45` (the CoUGARs' 45° mount, §2.1) `[√½(gy−gx), −√½(gx+gy), gz]`, with `aligned` `[gx, gy, gz]`; only when the block is present |
+//! | `AHRS_ROLL_RATE`, `AHRS_PITCH_RATE`, `AHRS_YAW_RATE` | double | deg/s | body FRD gyro rates (about forward, starboard, down: yaw rate positive turning right) from AHRS_COMP; with `ahrs_mount = x45` (the CoUGARs' 45° mount, §2.1) `[√½(gy−gx), √½(gx+gy), −gz]`, with `aligned` `[gx, gy, gz]`; only when the block is present |
 //! | `AHRS_HEADING` ✱ | double | deg | yaw + `declination`, `[0, 360)` (the Gen-1 converter applies the declination here, once) |
 //! | `SEATRAC_DEPTH` | double | m | ENVIRONMENT depth |
 //! | `SEATRAC_SUPPLY_VOLTAGE` | double | V | ENVIRONMENT supply |
@@ -33,8 +66,8 @@
 //! |---|---|---|---|
 //! | `USBL_SRC` | double | id | the remote beacon |
 //! | `USBL_RANGE` | double | m | range (dm / 10) |
-//! | `USBL_AZIMUTH`, `USBL_ELEVATION` | double | deg | USBL angles, the beacon's frame |
-//! | `USBL_X`, `USBL_Y`, `USBL_Z` | double | m | the remote's position: easting, northing, depth from the local beacon |
+//! | `USBL_AZIMUTH`, `USBL_ELEVATION` | double | deg | USBL angles in the modem's (body FRD) frame: azimuth clockwise from the bow `[0, 360)`, elevation positive above (see Conventions) |
+//! | `USBL_X`, `USBL_Y`, `USBL_Z` | double | m | the remote's position: easting and northing from the local beacon, depth below the surface |
 //! | `USBL_FIX` ✱ | string | | `src=2,dest=1,type=..,rssi=..` and `range=`, `azimuth=`, `elevation=`, `x=`, `y=`, `z=` for the fields present |
 //! | `ACOMMS_RX` | string | | a DAT received: `src=<id>,dest=<id>,ack=<0\|1>,hex=<payload as uppercase hex>` |
 //! | `ACOMMS_TX_ACK` | string | | `dest=<id>,cid=<DAT_SEND\|PING_SEND>`: the beacon sent it |
@@ -78,6 +111,7 @@ use vehicle::ConfigError;
 
 use crate::link::LinkConfig;
 use crate::params::{self, Common};
+use crate::retry::{Next, Tries};
 use crate::{Io, Protocol, g};
 
 /// The program name.
@@ -218,17 +252,6 @@ impl Startup {
     }
 }
 
-/// A queued send and its tries.
-#[derive(Debug, Clone, PartialEq)]
-struct Queued {
-    cmd: Command,
-    /// When it was last sent and whether an answer is awaited.
-    sent: Option<f64>,
-    tries: u32,
-    /// A busy answer: send again at this time.
-    retry_at: Option<f64>,
-}
-
 /// Counts of what came in and went out.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct SeaTracCounts {
@@ -256,7 +279,7 @@ pub struct SeaTrac {
     lines: LineSplitter,
     startup: Startup,
     step_sent: f64,
-    queue: VecDeque<Queued>,
+    queue: VecDeque<Tries<Command>>,
     counts: SeaTracCounts,
     last_status: Option<Status>,
     queue_warned: bool,
@@ -307,12 +330,7 @@ impl SeaTrac {
             io.warnings
                 .push("acoustic send queue full: the oldest send dropped".into());
         }
-        self.queue.push_back(Queued {
-            cmd,
-            sent: None,
-            tries: 0,
-            retry_at: None,
-        });
+        self.queue.push_back(Tries::new(cmd));
         if self.queue.len() >= QUEUE_WARN && !self.queue_warned {
             self.queue_warned = true;
             io.warnings
@@ -329,7 +347,7 @@ impl SeaTrac {
                 let [gx, gy, gz] = c.gyro.map(f64::from);
                 let r = std::f64::consts::FRAC_1_SQRT_2;
                 let frd = match self.cfg.mount {
-                    Mount::X45 => [r * (gy - gx), -r * (gx + gy), gz],
+                    Mount::X45 => [r * (gy - gx), r * (gx + gy), -gz],
                     Mount::Aligned => [gx, gy, gz],
                 };
                 io.double("AHRS_ROLL_RATE", frd[0]);
@@ -390,14 +408,13 @@ impl SeaTrac {
         let Some(head) = self.queue.front_mut() else {
             return;
         };
-        if head.sent.is_none() {
+        if !head.awaiting() {
             return;
         }
         match status {
             Cst::XcvrBusy => {
                 self.counts.busy += 1;
-                head.sent = None;
-                head.retry_at = Some(now + self.cfg.send_wait_s);
+                head.busy(now, self.cfg.send_wait_s);
             }
             Cst::Ok => {
                 self.counts.sent_ok += 1;
@@ -631,7 +648,7 @@ impl Protocol for SeaTrac {
         self.lines.reset();
         // A send awaiting its answer on the old connection goes again.
         for q in &mut self.queue {
-            q.sent = None;
+            q.unsent();
         }
         self.step(Startup::Alive, &Command::SysAlive, now, io);
     }
@@ -688,35 +705,25 @@ impl Protocol for SeaTrac {
         if self.startup != Startup::Running {
             return;
         }
-        let wait = self.cfg.send_wait_s;
-        let tries = self.cfg.send_tries;
         let Some(head) = self.queue.front_mut() else {
             return;
         };
-        match (head.sent, head.retry_at) {
-            (Some(t), _) if now - t >= wait - 1e-9 => {
-                if head.tries >= tries {
-                    let q = self.queue.pop_front().expect("a head");
-                    self.counts.send_errors += 1;
-                    let why = format!("{}: no answer after {} tries", cmd_name(&q.cmd), q.tries);
-                    io.text("ACOMMS_ERROR", why.clone());
-                    io.warnings.push(why);
-                    return;
+        match head.next(now, self.cfg.send_wait_s, self.cfg.send_tries) {
+            Next::Wait => {}
+            Next::Send => {
+                if let Ok(f) = head.cmd.encode() {
+                    io.send(f);
                 }
+                head.sent(now);
             }
-            (Some(_), _) => return,
-            (None, Some(t)) if now < t - 1e-9 => return,
-            (None, _) => {}
+            Next::GiveUp => {
+                let q = self.queue.pop_front().expect("a head");
+                self.counts.send_errors += 1;
+                let why = format!("{}: no answer after {} tries", cmd_name(&q.cmd), q.tries());
+                io.text("ACOMMS_ERROR", why.clone());
+                io.warnings.push(why);
+            }
         }
-        let Some(head) = self.queue.front_mut() else {
-            return;
-        };
-        if let Ok(f) = head.cmd.encode() {
-            io.send(f);
-        }
-        head.tries += 1;
-        head.sent = Some(now);
-        head.retry_at = None;
     }
 
     fn stats(&self) -> LinkStats {
@@ -800,7 +807,7 @@ pub fn blank_settings() -> Settings {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use devices::seatrac::{AhrsComp, Attitude, Environment, Position, Range, Usbl};
+    use devices::seatrac::{AhrsComp, Attitude, Environment, Position, Range, Usbl, cid};
 
     fn doubles(io: &Io, key: &str) -> Vec<f64> {
         io.posts
@@ -971,8 +978,8 @@ mod tests {
         assert!((h - 5.7).abs() < 1e-9, "355 + 10.7 wraps to 5.7: {h}");
         let r = std::f64::consts::FRAC_1_SQRT_2;
         assert!((doubles(&io, "AHRS_ROLL_RATE")[0] - r * 2.0).abs() < 1e-12);
-        assert!((doubles(&io, "AHRS_PITCH_RATE")[0] + r * 4.0).abs() < 1e-12);
-        assert_eq!(doubles(&io, "AHRS_YAW_RATE"), [-2.0]);
+        assert!((doubles(&io, "AHRS_PITCH_RATE")[0] - r * 4.0).abs() < 1e-12);
+        assert_eq!(doubles(&io, "AHRS_YAW_RATE"), [2.0]);
         assert_eq!(doubles(&io, "SEATRAC_DEPTH"), [1.2]);
         assert_eq!(doubles(&io, "SEATRAC_SUPPLY_VOLTAGE"), [15.6]);
         assert_eq!(doubles(&io, "SEATRAC_PRESSURE"), [110_000.0]);
@@ -1084,6 +1091,93 @@ mod tests {
             texts(&io, "ACOMMS_ERROR")[1],
             "PING_SEND: no answer after 3 tries"
         );
+    }
+
+    /// A PING_RESP built byte by byte from the UM-140 field tables (ACOFIX with the range,
+    /// USBL and position blocks): the local beacon 1 at 10 m heading north, level; the
+    /// remote beacon 15 due east 20 m away and 20 m deeper (at 30 m), i.e. 45° down.
+    #[test]
+    fn a_fix_built_from_the_field_tables_is_read_with_its_conventions() {
+        let le16 = |v: i16| v.to_le_bytes();
+        let mut m = vec![cid::PING_RESP];
+        m.extend([1, 15, 0x07, msg_type::RESPU]); // dest, src, flags: range|usbl|position
+        for a in [0i16, 0, 0] {
+            m.extend(le16(a)); // yaw, pitch, roll (deci-degrees)
+        }
+        m.extend(100u16.to_le_bytes()); // depth_local: 10 m, dm
+        m.extend(14_750u16.to_le_bytes()); // vos: 1475 m/s, dm/s
+        m.extend(le16(-600)); // rssi: -60 dB, cB
+        let slant = 20f64.hypot(20.0);
+        m.extend(((2.0 * slant / 1475.0 * 16_000.0).round() as u32).to_le_bytes()); // count
+        m.extend(((slant / 1475.0 * 1e7).round() as i32).to_le_bytes()); // time, 100 ns
+        m.extend(((slant * 10.0).round() as u16).to_le_bytes()); // dist: 28.3 m, dm
+        m.push(4); // channels
+        for r in [-600i16, -605, -598, -602] {
+            m.extend(le16(r));
+        }
+        m.extend(le16(900)); // azimuth: 90.0 deg, to starboard of the bow (north): east
+        m.extend(le16(-450)); // elevation: 45.0 deg below
+        m.extend(le16(12)); // fit error 0.12
+        m.extend(le16(200)); // easting 20 m
+        m.extend(le16(0)); // northing 0
+        m.extend(le16(300)); // the remote's depth, 30 m
+        let frame = seatrac::encode_frame(seatrac::Direction::Response, &m);
+        let (mut p, _) = started(SeaTracConfig::default());
+        let mut io = Io::default();
+        p.on_bytes(frame.as_bytes(), 5.0, &mut io);
+        assert_eq!(p.stats().parse_errors + p.stats().bad_checksum, 0);
+        assert_eq!(doubles(&io, "USBL_SRC"), [15.0]);
+        assert_eq!(doubles(&io, "USBL_RANGE"), [28.3]);
+        assert_eq!(doubles(&io, "USBL_AZIMUTH"), [90.0]);
+        assert_eq!(doubles(&io, "USBL_ELEVATION"), [-45.0]);
+        assert_eq!(doubles(&io, "USBL_X"), [20.0]);
+        assert_eq!(doubles(&io, "USBL_Y"), [0.0]);
+        assert_eq!(doubles(&io, "USBL_Z"), [30.0]);
+        assert_eq!(
+            texts(&io, "USBL_FIX"),
+            ["src=15,dest=1,type=RESPU,rssi=-60,range=28.3,azimuth=90,elevation=-45,x=20,y=0,z=30"]
+        );
+        // The range, angles and local depth agree with the position block: horizontal
+        // distance r·cos(el) along the azimuth, the remote r·sin(-el) deeper.
+        let (az, el) = (90f64.to_radians(), (-45f64).to_radians());
+        let h = 28.3 * el.cos();
+        assert!((h * az.sin() - 20.0).abs() < 0.05 && (h * az.cos()).abs() < 1e-9);
+        assert!((10.0 - 28.3 * el.sin() - 30.0).abs() < 0.05);
+    }
+
+    /// The chip's gyro for known body rates through the 45° mount: turning right (positive
+    /// yaw rate, FRD) with the nose coming up and rolling to starboard.
+    #[test]
+    fn the_45_degree_mount_gives_body_rates() {
+        let (mut p, _) = started(SeaTracConfig::default());
+        let r = std::f64::consts::FRAC_1_SQRT_2;
+        // Body rates p, q, r = 1, 2, 10 deg/s; the chip's axes are the body's turned by the
+        // inverse of the converter's mapping: gx = √½(q − p), gy = √½(p + q), gz = −r.
+        let (bp, bq, br) = (1.0f64, 2.0f64, 10.0f64);
+        let gyro = [r * (bq - bp), r * (bp + bq), -br].map(|v| v as f32);
+        let st = Status {
+            timestamp_ms: 1,
+            environment: None,
+            attitude: Some(Attitude::default()),
+            mag_cal: None,
+            acc_cal: None,
+            ahrs_raw: None,
+            ahrs_comp: Some(AhrsComp {
+                acc: [0.0; 3],
+                mag: [0.0; 3],
+                gyro,
+            }),
+        };
+        let mut io = Io::default();
+        p.on_bytes(Response::Status(st).encode().as_bytes(), 1.0, &mut io);
+        for (k, want) in [
+            ("AHRS_ROLL_RATE", bp),
+            ("AHRS_PITCH_RATE", bq),
+            ("AHRS_YAW_RATE", br),
+        ] {
+            let got = doubles(&io, k)[0];
+            assert!((got - want).abs() < 1e-5, "{k}: {got} != {want}");
+        }
     }
 
     #[test]

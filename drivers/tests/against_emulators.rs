@@ -1,18 +1,23 @@
-//! A driver against its device's emulator (crate `emulate`), over a pseudo-terminal: the
-//! real driver path with no hardware. The emulator measures the truth it is fed; the driver
-//! must post what the sensor models would, and its commands must reach the device. Every wait
-//! is bounded; nothing about timing is asserted.
+//! A driver against its device's emulator (crate `emulate`), over a pseudo-terminal or a
+//! loopback TCP port (the A50): the real driver path with no hardware. The emulator measures
+//! the truth it is fed; the driver must post what the sensor models would, and its commands
+//! must reach the device. Faults (a disconnection, garbage) come from the emulator's plan, at
+//! its times. Every wait is bounded; nothing about timing is asserted.
 
 mod common;
 
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use common::{Stepper, scratch};
+use drivers::dvl::{Dvl, DvlConfig};
 use drivers::gps::{Gps, Source};
 use drivers::link::{Endpoint, LinkConfig};
+use drivers::seatrac::{SeaTrac, SeaTracConfig, Startup};
 use drivers::teensy::{Teensy, TeensyConfig};
 use drivers::{Driver, Protocol};
 use emulate::build::{Kind, Options, Settings, spawn};
+use emulate::fault::FaultPlan;
+use emulate::seatrac::EchoBeacon;
 use emulate::transport::Transport;
 use emulate::truth::Truth;
 use moos_types::Value;
@@ -158,5 +163,548 @@ fn igps_against_the_nmea_gps_emulator_fixes_at_the_surface_none_under_water() {
         s.doubles("GPS_FIX").last() == Some(&0.0)
     });
     assert_eq!(d.protocol.stats().bad_checksum, 0);
+    rt.block_on(emu.handle.stop()).unwrap();
+}
+
+fn tcp(addr: std::net::SocketAddr) -> LinkConfig {
+    let mut l = LinkConfig::new(Endpoint::Tcp {
+        host: addr.ip().to_string(),
+        port: addr.port(),
+    });
+    l.backoff_min = Duration::from_millis(20);
+    l.backoff_max = Duration::from_millis(100);
+    l
+}
+
+/// The number after `key=` in a status line (`DVL_DRIVER_STATUS` and the like).
+fn field(status: &str, key: &str) -> Option<u64> {
+    status
+        .split(',')
+        .find_map(|kv| kv.strip_prefix(key)?.strip_prefix('='))
+        .and_then(|v| v.parse().ok())
+}
+
+/// 10 m down, heading east at 1 m/s, level, over the A50 emulator's flat bottom at 30 m.
+fn cruising_east() -> Truth {
+    Truth {
+        depth: 10.0,
+        heading_deg: 90.0,
+        vel_east_mps: 1.0,
+        speed_mps: 1.0,
+        ..Truth::default()
+    }
+}
+
+#[test]
+fn idvl_against_the_a50_emulator_reports_acoustics_and_commands() {
+    let rt = tokio::runtime::Runtime::new().unwrap();
+    let mut settings = Settings::default();
+    settings.dvl.gyro_calibration_s = 0.3;
+    let emu = rt
+        .block_on(spawn(
+            Kind::Dvl,
+            settings,
+            Transport::loopback(0),
+            Options {
+                seed: 11,
+                ..Options::default()
+            },
+        ))
+        .unwrap();
+    emu.truth.feed(cruising_east());
+    let addr = emu.handle.endpoint().tcp().expect("a TCP endpoint");
+    // The test's MOOS time runs faster than the emulator's clock: the commands wait for
+    // their answers as long as it takes (their retries are the unit tests').
+    let cfg = DvlConfig {
+        command_timeout_s: 1e6,
+        gyro_timeout_s: 1e6,
+        ..DvlConfig::default()
+    };
+    let mut d = Driver::new(Dvl::new(cfg), tcp(addr), 1.0);
+    d.start().unwrap();
+    let mut s = Stepper::new(0.0);
+
+    // On connection the driver turns the acoustics off (the A50 powers up with them on and
+    // must not overheat in air); the emulator confirms.
+    s.until(&mut d, "acoustics off at the connection", |s, _| {
+        s.doubles("DVL_ACOUSTIC_ENABLED") == [0.0]
+    });
+    assert_eq!(s.texts("DVL_COMMAND_ACK"), ["set_config"]);
+
+    // Deployed and 10 m down: the automatic mode turns them on and the reports flow.
+    s.mail(&mut d, "DEPLOY", Value::String("true".into()));
+    s.mail(&mut d, "NAV_DEPTH", Value::Double(10.0));
+    s.until(&mut d, "acoustics on", |s, _| {
+        s.doubles("DVL_ACOUSTIC_ENABLED").last() == Some(&1.0)
+    });
+    let on = s.mark();
+    s.until(&mut d, "ten velocity reports", |s, _| {
+        s.doubles_since(on, "DVL_VALID").len() >= 10
+    });
+    // The body velocity (forward, starboard, down) of 1 m/s east heading east, and the
+    // altitude over the bottom (30 m - 10 m), within the model's noise (0.02 m/s, 0.5 %
+    // scale, 0.05 m).
+    assert!(s.doubles_since(on, "DVL_VALID").iter().all(|v| *v == 1.0));
+    for (key, want, tol) in [
+        ("DVL_VEL_X", 1.0, 0.1),
+        ("DVL_VEL_Y", 0.0, 0.1),
+        ("DVL_VEL_Z", 0.0, 0.1),
+        ("DVL_ALTITUDE", 20.0, 0.3),
+    ] {
+        let got = s.doubles_since(on, key);
+        assert!(got.len() >= 10, "{key}: {got:?}");
+        assert!(
+            got.iter().all(|v| (v - want).abs() < tol),
+            "{key} not {want}: {got:?}"
+        );
+    }
+    let fom = s.doubles_since(on, "DVL_FOM");
+    assert!(fom.iter().all(|f| *f > 0.0 && *f < 0.1), "{fom:?}");
+    // Each report is posted at the step its line arrived in, closed by DVL_VALID: the
+    // velocity, altitude and validity of one report share one time, and times only grow.
+    let times: Vec<f64> = s.posts[on..].iter().map(|(t, _)| *t).collect();
+    assert!(times.windows(2).all(|w| w[0] <= w[1]));
+    let report: Vec<(f64, &str)> = s.posts[on..]
+        .iter()
+        .filter(|(_, p)| p.key.starts_with("DVL_VEL_") || &*p.key == "DVL_VALID")
+        .map(|(t, p)| (*t, &*p.key))
+        .collect();
+    for w in report.windows(4) {
+        if w[0].1 == "DVL_VEL_X" {
+            assert_eq!(w[3].1, "DVL_VALID", "{w:?}");
+            assert!(w.iter().all(|(t, _)| *t == w[0].0), "{w:?}");
+        }
+    }
+
+    // Dead reckoning (5 Hz): from the A50's power-up frame (x north), the vehicle has gone
+    // east (y) heading 90 deg relative to it.
+    s.until(&mut d, "a metre of dead reckoning", |s, _| {
+        s.doubles("DVL_DR_Y").last().is_some_and(|y| *y > 1.0)
+    });
+    assert!(s.doubles("DVL_DR_X").last().unwrap().abs() < 0.5);
+    assert!((s.doubles("DVL_DR_YAW").last().unwrap() - 90.0).abs() < 1e-6);
+
+    // Hold still, calibrate the gyro, reset the dead reckoning: both reach the DVL and are
+    // answered, one after the other.
+    s.mail(&mut d, "DVL_CALIBRATE_GYRO", Value::Double(1.0));
+    s.mail(&mut d, "DVL_RESET_DR", Value::Double(1.0));
+    s.until(&mut d, "both commands answered", |s, _| {
+        s.find_text("DVL_COMMAND_ACK", "reset_dead_reckoning")
+            .is_some()
+    });
+    let acks = s.texts("DVL_COMMAND_ACK");
+    assert_eq!(
+        acks[acks.len() - 2..],
+        ["calibrate_gyro", "reset_dead_reckoning"]
+    );
+    let reset = s
+        .find_text("DVL_COMMAND_ACK", "reset_dead_reckoning")
+        .unwrap();
+    s.until(&mut d, "dead reckoning after the reset", |s, _| {
+        s.doubles_since(reset, "DVL_DR_X").len() >= 3
+    });
+    // The new frame's x is the heading at the reset (east): the track restarts at 0 along x.
+    let xs = s.doubles_since(reset, "DVL_DR_X");
+    assert!(xs[0] < 0.5 && xs.windows(2).all(|w| w[1] >= w[0]), "{xs:?}");
+    let ys = s.doubles_since(reset, "DVL_DR_Y");
+    assert!(ys.iter().all(|y| y.abs() < 0.2), "{ys:?}");
+    assert!(
+        s.doubles_since(reset, "DVL_DR_YAW")
+            .iter()
+            .all(|y| y.abs() < 1e-6)
+    );
+
+    // The configuration read back says the acoustics are on.
+    let before = s.doubles("DVL_ACOUSTIC_ENABLED").len();
+    s.mail(&mut d, "DVL_GET_CONFIG", Value::Double(1.0));
+    s.until(&mut d, "get_config answered", |s, _| {
+        s.texts("DVL_COMMAND_ACK").last().map(String::as_str) == Some("get_config")
+    });
+    assert_eq!(s.doubles("DVL_ACOUSTIC_ENABLED")[before..], [1.0]);
+
+    // At the surface the acoustics go off; once the DVL has answered, no report follows
+    // (the answer and the reports share one ordered stream).
+    s.mail(&mut d, "NAV_DEPTH", Value::Double(0.1));
+    s.until(&mut d, "acoustics off at the surface", |s, _| {
+        s.doubles("DVL_ACOUSTIC_ENABLED").last() == Some(&0.0)
+    });
+    let off = s.mark();
+    s.steps(&mut d, 100);
+    assert_eq!(s.doubles_since(off, "DVL_VALID"), Vec::<f64>::new());
+    let status = s.status("DVL_DRIVER_STATUS");
+    assert_eq!(field(&status, "commands"), Some(6), "{status}");
+    assert_eq!(field(&status, "acks"), Some(6), "{status}");
+    assert_eq!(field(&status, "command_errors"), Some(0), "{status}");
+    assert_eq!(field(&status, "parse_errors"), Some(0), "{status}");
+    assert!(status.contains(",acoustics=off,"), "{status}");
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    d.stop();
+    rt.block_on(emu.handle.stop()).unwrap();
+}
+
+#[test]
+fn idvl_against_the_a50_emulator_survives_a_disconnect_and_garbage() {
+    let rt = tokio::runtime::Runtime::new().unwrap();
+    let faults = FaultPlan::parse(&["disconnect@1+0.5", "garbage@2.5+1.5:400"]).unwrap();
+    let started = Instant::now();
+    let emu = rt
+        .block_on(spawn(
+            Kind::Dvl,
+            Settings::default(),
+            Transport::loopback(0),
+            Options {
+                seed: 12,
+                faults,
+                ..Options::default()
+            },
+        ))
+        .unwrap();
+    emu.truth.feed(cruising_east());
+    let addr = emu.handle.endpoint().tcp().expect("a TCP endpoint");
+    let mut d = Driver::new(Dvl::new(DvlConfig::default()), tcp(addr), 1.0);
+    let mut s = Stepper::new(0.0);
+    s.mail(&mut d, "DEPLOY", Value::String("true".into()));
+    s.mail(&mut d, "NAV_DEPTH", Value::Double(10.0));
+    d.start().unwrap();
+    s.until(&mut d, "reports", |s, _| s.count("DVL_VALID") >= 3);
+
+    // The emulator hangs up at 1 s and is away for half a second: the link comes back, the
+    // driver says the acoustics again and the reports resume.
+    s.until(&mut d, "a second connection", |_, d| {
+        d.counters().connects >= 2
+    });
+    let back = s.mark();
+    s.until(&mut d, "reports after the reconnection", |s, _| {
+        s.doubles_since(back, "DVL_VALID").len() >= 3
+    });
+    // While it is away it hangs up on every connection: each is counted, and the link is
+    // up once more than it was down.
+    let status = s.status("DVL_DRIVER_STATUS");
+    let downs = field(&status, "disconnects").unwrap_or(0);
+    assert!(downs >= 1, "{status}");
+    assert_eq!(field(&status, "connects"), Some(downs + 1), "{status}");
+    assert!(
+        s.texts_since(back, "DVL_COMMAND_ACK")
+            .contains(&"set_config".to_string())
+    );
+
+    // Then random bytes in its output for 1.5 s: broken lines are counted, none panics.
+    s.until(&mut d, "garbage counted", |_, d| {
+        d.protocol.stats().parse_errors > 0
+    });
+    // Past the garbage (emulator time 4 s, with a margin for bytes in flight), the lines are
+    // whole again: no new error, the reports carry the truth.
+    while started.elapsed() < Duration::from_millis(5500) {
+        s.step(&mut d);
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let errors = d.protocol.stats().parse_errors;
+    let clean = s.mark();
+    s.until(&mut d, "reports after the garbage", |s, _| {
+        s.doubles_since(clean, "DVL_VALID").len() >= 10
+    });
+    assert_eq!(d.protocol.stats().parse_errors, errors);
+    let vx = s.doubles_since(clean, "DVL_VEL_X");
+    assert!(vx.iter().all(|v| (v - 1.0).abs() < 0.1), "{vx:?}");
+    let status = s.status("DVL_DRIVER_STATUS");
+    assert!(
+        field(&status, "parse_errors").is_some_and(|n| n > 0),
+        "{status}"
+    );
+    assert!(status.starts_with("link=up,"), "{status}");
+    d.stop();
+    rt.block_on(emu.handle.stop()).unwrap();
+}
+
+/// The X150 emulator on a pseudo-terminal behind `link`, its remote beacon (15) at `remote`
+/// (x east, y north, depth).
+fn x150(
+    rt: &tokio::runtime::Runtime,
+    link: &std::path::Path,
+    remote: (f64, f64, f64),
+    busy_first: u32,
+    faults: FaultPlan,
+) -> emulate::build::Running {
+    let mut settings = Settings::default();
+    settings.seatrac.declination_deg = 10.7;
+    settings.seatrac.busy_first = busy_first;
+    settings.seatrac.remote = Box::new(EchoBeacon {
+        id: 15,
+        position: remote,
+        received: Vec::new(),
+    });
+    rt.block_on(spawn(
+        Kind::Seatrac,
+        settings,
+        Transport::Pty {
+            link: Some(link.to_path_buf()),
+        },
+        Options {
+            seed: 21,
+            faults,
+            ..Options::default()
+        },
+    ))
+    .unwrap()
+}
+
+/// iSeaTrac configured as on Utah Lake: beacon 3, salt water, the declination 10.7 deg E.
+/// The test's MOOS time runs faster than the emulator's clock (0.05 s a step, a few
+/// milliseconds apart): a send waits 5 s of it (100 steps) for its answer, so a loaded
+/// machine's slow answer is not taken for a lost one.
+fn iseatrac(link: &std::path::Path) -> Driver<SeaTrac> {
+    let cfg = SeaTracConfig {
+        beacon_id: 3,
+        salinity_ppt: 35.0,
+        declination_deg: 10.7,
+        send_wait_s: 5.0,
+        ..SeaTracConfig::default()
+    };
+    Driver::new(SeaTrac::new(cfg), serial(link), 1.0)
+}
+
+fn near(got: &[f64], want: f64, tol: f64, what: &str) {
+    assert!(!got.is_empty(), "{what}: nothing posted");
+    assert!(
+        got.iter().all(|v| (v - want).abs() < tol),
+        "{what}: not within {tol} of {want}: {got:?}"
+    );
+}
+
+#[test]
+fn iseatrac_against_the_x150_emulator_startup_status_ping_dat_and_busy() {
+    let dir = scratch("against-seatrac");
+    let link = dir.join("seatrac");
+    let rt = tokio::runtime::Runtime::new().unwrap();
+    // The base beacon (15) 20 m east and 20 m deeper: from a vehicle heading 030 deg, it is
+    // 60 deg to starboard and 45 deg down, 28.28 m away.
+    let emu = x150(&rt, &link, (20.0, 0.0, 30.0), 2, FaultPlan::default());
+    emu.truth.feed(Truth {
+        depth: 10.0,
+        heading_deg: 30.0,
+        ..Truth::default()
+    });
+    let mut d = iseatrac(&link);
+    d.start().unwrap();
+    let mut s = Stepper::new(0.0);
+
+    // The start-up sequence runs to its end: the beacon takes id 3 and sends its STATUS at
+    // 10 Hz with attitude, AHRS and environment (the settings it was given).
+    s.until(&mut d, "running", |_, d| {
+        d.protocol.startup() == Startup::Running
+    });
+    assert_eq!(s.doubles("SEATRAC_BEACON_ID"), [3.0]);
+    let up = s.mark();
+    s.until(&mut d, "ten STATUS", |s, _| {
+        s.doubles_since(up, "AHRS_HEADING").len() >= 10
+    });
+    // The AHRS (σ 1 deg heading, 0.2 deg attitude) writes the magnetic yaw; the driver adds
+    // the declination once.
+    near(
+        &s.doubles_since(up, "AHRS_HEADING"),
+        30.0,
+        4.0,
+        "AHRS_HEADING",
+    );
+    near(&s.doubles_since(up, "AHRS_PITCH"), 0.0, 1.0, "AHRS_PITCH");
+    near(&s.doubles_since(up, "AHRS_ROLL"), 0.0, 1.0, "AHRS_ROLL");
+    near(
+        &s.doubles_since(up, "AHRS_YAW_RATE"),
+        0.0,
+        0.3,
+        "AHRS_YAW_RATE",
+    );
+    // The environment block: the modem's depth sensor (σ 0.1 m), the supply, the absolute
+    // pressure (101325 Pa + 997 kg/m³ · 9.81 · 10 m, in whole mbar), the speed of sound.
+    near(
+        &s.doubles_since(up, "SEATRAC_DEPTH"),
+        10.0,
+        0.5,
+        "SEATRAC_DEPTH",
+    );
+    near(
+        &s.doubles_since(up, "SEATRAC_SUPPLY_VOLTAGE"),
+        16.4,
+        1e-9,
+        "SEATRAC_SUPPLY_VOLTAGE",
+    );
+    near(
+        &s.doubles_since(up, "SEATRAC_TEMP"),
+        15.0,
+        1e-9,
+        "SEATRAC_TEMP",
+    );
+    near(
+        &s.doubles_since(up, "SEATRAC_PRESSURE"),
+        199_100.0,
+        1e-6,
+        "SEATRAC_PRESSURE",
+    );
+    near(
+        &s.doubles_since(up, "SEATRAC_VOS"),
+        1475.0,
+        1e-9,
+        "SEATRAC_VOS",
+    );
+
+    // A ping to the base: the transceiver says busy twice (the emulator's first two sends),
+    // the driver sends it again each time, then the fix comes back with range and angles.
+    s.mail(&mut d, "SEATRAC_PING", Value::String("15".into()));
+    s.until(&mut d, "the ping's fix", |s, _| s.count("USBL_FIX") >= 1);
+    assert_eq!(s.texts("ACOMMS_TX_ACK"), ["dest=15,cid=PING_SEND"]);
+    assert_eq!(d.protocol.counts().busy, 2);
+    let range = (20f64).hypot(20.0);
+    near(&s.doubles("USBL_RANGE"), range, 0.5, "USBL_RANGE");
+    near(&s.doubles("USBL_AZIMUTH"), 60.0, 4.0, "USBL_AZIMUTH");
+    near(&s.doubles("USBL_ELEVATION"), -45.0, 4.0, "USBL_ELEVATION");
+    // The position: east and north of the vehicle, and the base's depth below the surface.
+    near(&s.doubles("USBL_X"), 20.0, 1e-9, "USBL_X");
+    near(&s.doubles("USBL_Y"), 0.0, 1e-9, "USBL_Y");
+    near(&s.doubles("USBL_Z"), 30.0, 1e-9, "USBL_Z");
+    assert_eq!(s.doubles("USBL_SRC"), [15.0]);
+    let fix = s.texts("USBL_FIX").pop().unwrap();
+    assert!(fix.starts_with("src=15,dest=3,type=RESPU,"), "{fix}");
+
+    // A data request: the base echoes the payload back with a fix.
+    let sent = s.mark();
+    s.mail(
+        &mut d,
+        "ACOMMS_TX",
+        Value::String("dest=15,hex=C0FFEE01,type=REQU".into()),
+    );
+    s.until(&mut d, "the echo", |s, _| {
+        !s.texts_since(sent, "ACOMMS_RX").is_empty()
+    });
+    assert_eq!(
+        s.texts_since(sent, "ACOMMS_RX"),
+        ["src=15,dest=3,ack=1,hex=C0FFEE01"]
+    );
+    assert_eq!(
+        s.texts_since(sent, "ACOMMS_TX_ACK"),
+        ["dest=15,cid=DAT_SEND"]
+    );
+    near(
+        &s.doubles_since(sent, "USBL_RANGE"),
+        range,
+        0.5,
+        "USBL_RANGE",
+    );
+    near(
+        &s.doubles_since(sent, "USBL_AZIMUTH"),
+        60.0,
+        4.0,
+        "USBL_AZIMUTH",
+    );
+    let c = d.protocol.counts();
+    assert_eq!((c.sent_ok, c.dat_rx, c.send_errors), (2, 1, 0), "{c:?}");
+    assert_eq!(d.protocol.queued(), 0);
+
+    // Turning right at 10 deg/s, pitching up at 0.1 rad/s and rolling at 0.05 rad/s (level
+    // for now): the gyro, written in the modem's 45 deg frame, comes back as the body's
+    // rates, as uSimSensors posts them (about forward, starboard and down).
+    emu.truth.feed(Truth {
+        depth: 10.0,
+        heading_deg: 30.0,
+        yaw_rate_deg_s: 10.0,
+        pitch_rate_rad_s: 0.1,
+        roll_rate_rad_s: 0.05,
+        ..Truth::default()
+    });
+    // The first STATUS after the feed may still be the old truth's.
+    s.steps(&mut d, 5);
+    let turning = s.mark();
+    s.until(&mut d, "five STATUS while turning", |s, _| {
+        s.doubles_since(turning, "AHRS_YAW_RATE").len() >= 6
+    });
+    let skip = |k: &str| s.doubles_since(turning, k)[1..].to_vec();
+    near(&skip("AHRS_YAW_RATE"), 10.0, 0.3, "AHRS_YAW_RATE");
+    near(
+        &skip("AHRS_PITCH_RATE"),
+        0.1f64.to_degrees(),
+        0.3,
+        "AHRS_PITCH_RATE",
+    );
+    near(
+        &skip("AHRS_ROLL_RATE"),
+        0.05f64.to_degrees(),
+        0.3,
+        "AHRS_ROLL_RATE",
+    );
+    let st = d.protocol.stats();
+    assert_eq!(st.bad_checksum + st.parse_errors + st.oversize, 0, "{st:?}");
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    d.stop();
+    rt.block_on(emu.handle.stop()).unwrap();
+}
+
+#[test]
+fn iseatrac_against_the_x150_emulator_survives_a_disconnect_and_garbage() {
+    let dir = scratch("against-seatrac-faults");
+    let link = dir.join("seatrac");
+    let rt = tokio::runtime::Runtime::new().unwrap();
+    let started = Instant::now();
+    let faults = FaultPlan::parse(&["disconnect@1+0.3", "garbage@2.5+1.5:300"]).unwrap();
+    let emu = x150(&rt, &link, (0.0, 50.0, 5.0), 0, faults);
+    emu.truth.feed(Truth {
+        depth: 2.0,
+        ..Truth::default()
+    });
+    let mut d = iseatrac(&link);
+    d.start().unwrap();
+    let mut s = Stepper::new(0.0);
+    s.until(&mut d, "running", |_, d| {
+        d.protocol.startup() == Startup::Running
+    });
+
+    // At 1 s the terminal goes away; 0.3 s later the device is back on a new one (the link
+    // moved): the driver reopens it, runs the start-up again, and the STATUS resumes.
+    s.until(&mut d, "a second connection", |_, d| {
+        d.counters().connects >= 2
+    });
+    s.until(&mut d, "running again", |_, d| {
+        d.protocol.startup() == Startup::Running
+    });
+    assert_eq!(s.doubles("SEATRAC_BEACON_ID"), [3.0, 3.0]);
+    let back = s.mark();
+    s.until(&mut d, "STATUS after the reconnection", |s, _| {
+        s.doubles_since(back, "AHRS_HEADING").len() >= 3
+    });
+    let status = s.status("SEATRAC_DRIVER_STATUS");
+    assert!(
+        field(&status, "disconnects").is_some_and(|n| n >= 1),
+        "{status}"
+    );
+
+    // Then random bytes among the frames: torn frames and bad CRCs are counted.
+    let junk = |d: &Driver<SeaTrac>| {
+        let st = d.protocol.stats();
+        st.garbage_bytes + st.bad_checksum + st.parse_errors + st.oversize
+    };
+    s.until(&mut d, "garbage counted", |_, d| junk(d) > 0);
+    while started.elapsed() < Duration::from_millis(5500) {
+        s.step(&mut d);
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    // Past it, the frames are whole again and the values are the truth's.
+    let before = junk(&d);
+    let clean = s.mark();
+    s.until(&mut d, "STATUS after the garbage", |s, _| {
+        s.doubles_since(clean, "SEATRAC_DEPTH").len() >= 10
+    });
+    assert_eq!(junk(&d), before);
+    near(
+        &s.doubles_since(clean, "SEATRAC_DEPTH"),
+        2.0,
+        0.5,
+        "SEATRAC_DEPTH",
+    );
+    let status = s.status("SEATRAC_DRIVER_STATUS");
+    assert!(status.starts_with("link=up,state=running,"), "{status}");
+    let counted: u64 = ["garbage_bytes", "bad_checksum", "parse_errors", "oversize"]
+        .iter()
+        .filter_map(|k| field(&status, k))
+        .sum();
+    assert_eq!(counted, before, "{status}");
+    d.stop();
     rt.block_on(emu.handle.stop()).unwrap();
 }

@@ -69,6 +69,9 @@ proptest! {
             let st = p.stats();
             let total: usize = pieces.iter().map(Vec::len).sum();
             prop_assert_eq!(st.bytes, total as u64);
+            // Every failed line is a line; garbage is a part of the bytes.
+            prop_assert!(st.bad_checksum + st.parse_errors <= st.lines, "{:?}", st);
+            prop_assert!(st.garbage_bytes <= st.bytes, "{:?}", st);
             let mut r = String::new();
             p.report(&mut r);
             p.status_extra(&mut r);

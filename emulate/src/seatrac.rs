@@ -17,7 +17,8 @@
 //! then the payload, then whatever padding the driver's fixed 31-byte array adds (ignored).
 //!
 //! The transceiver is busy (XCVR_BUSY) while a request waits for its answer and for 0.4 s
-//! after any transmission, and, with [`X150Settings::busy_prob`], at random.
+//! after any transmission, and, with [`X150Settings::busy_prob`], at random; the first
+//! [`X150Settings::busy_first`] sends are refused as busy whatever the channel.
 //!
 //! STATUS goes out at the settings' rate (0 manual, then 1, 2.5, 5, 10, 25 Hz) with the
 //! settings' blocks:
@@ -146,6 +147,9 @@ pub struct X150Settings {
     pub mount: Mount,
     /// Chance that a send is refused with XCVR_BUSY although the channel is free (0).
     pub busy_prob: f64,
+    /// The first this many sends (PING_SEND, DAT_SEND) are refused with XCVR_BUSY whatever
+    /// the channel (0): a deterministic busy transceiver for the drivers' retry tests.
+    pub busy_first: u32,
     /// Supply voltage with no fault, V (16.4, the vehicle battery).
     pub supply_v: f64,
     /// Atmospheric pressure, Pa (101325), and water density, kg/m³ (997), for the pressure.
@@ -168,6 +172,7 @@ impl Default for X150Settings {
             declination_deg: 0.0,
             mount: Mount::Cougars,
             busy_prob: 0.0,
+            busy_first: 0,
             supply_v: 16.4,
             atmospheric_pa: 101_325.0,
             density_kgm3: 997.0,
@@ -232,6 +237,8 @@ pub struct X150 {
     /// The exchange in flight and when it completes.
     pending: Option<(f64, Pending)>,
     busy_until: f64,
+    /// Sends still to refuse from [`X150Settings::busy_first`].
+    forced_busy: u32,
     counts: X150Counts,
 }
 
@@ -249,6 +256,7 @@ impl X150 {
             lines: LineSplitter::new(seatrac::MAX_FRAME).with_starts(b"#$"),
             pending: None,
             busy_until: f64::NEG_INFINITY,
+            forced_busy: cfg.busy_first,
             counts: X150Counts::default(),
             cfg,
         }
@@ -416,7 +424,10 @@ impl X150 {
 
     /// XCVR_BUSY now?
     fn busy(&mut self, t: f64) -> bool {
-        let b = self.pending.is_some()
+        let forced = self.forced_busy > 0;
+        self.forced_busy = self.forced_busy.saturating_sub(1);
+        let b = forced
+            || self.pending.is_some()
             || t < self.busy_until
             || (self.cfg.busy_prob > 0.0 && self.noise.uniform() < self.cfg.busy_prob);
         if b {
@@ -877,6 +888,80 @@ mod tests {
         assert_eq!(a, run());
         let n = a.iter().filter(|b| **b).count();
         assert!((4..=16).contains(&n), "{n}");
+    }
+
+    /// The conventions of `drivers::seatrac` (body-frame azimuth clockwise from the bow,
+    /// elevation positive up): a base 20 m due east and 20 m deeper is at azimuth 90° and
+    /// elevation −45° from a level vehicle heading north, 0° and −45° heading east.
+    #[test]
+    fn a_base_due_east_and_45_degrees_down() {
+        for (heading, want_az) in [(0.0, 90.0), (90.0, 0.0), (300.0, 150.0)] {
+            let mut m = X150::new(
+                X150Settings {
+                    remote: Box::new(EchoBeacon {
+                        id: 15,
+                        position: (20.0, 0.0, 30.0),
+                        received: Vec::new(),
+                    }),
+                    ..quiet()
+                },
+                4,
+            );
+            let s = |t: f64| Situation {
+                truth: Truth {
+                    time: t,
+                    depth: 10.0,
+                    heading_deg: heading,
+                    ..Truth::default()
+                },
+                ..at(t)
+            };
+            let ping = Command::PingSend {
+                dest_id: 15,
+                msg_type: msg_type::REQU,
+            };
+            m.receive(&s(1.0), ping.encode().unwrap().as_bytes());
+            let r = responses(&m.tick(&s(1.5)));
+            let Some(Response::PingResp(fix)) = r.first() else {
+                panic!("{r:?}")
+            };
+            let u = fix.usbl.clone().unwrap();
+            let az = f64::from(u.azimuth_ddeg) / 10.0;
+            let off = (az - want_az + 540.0).rem_euclid(360.0) - 180.0;
+            assert!(off.abs() < 4.0, "heading {heading}: azimuth {az}");
+            let el = f64::from(u.elevation_ddeg) / 10.0;
+            assert!((el + 45.0).abs() < 4.0, "elevation {el}");
+            assert!((fix.range_m().unwrap() - 20f64.hypot(20.0)).abs() < 0.5);
+            let p = fix.position.unwrap();
+            assert_eq!((p.easting_dm, p.northing_dm, p.depth_dm), (200, 0, 300));
+        }
+    }
+
+    #[test]
+    fn the_first_sends_can_be_refused_as_busy() {
+        let mut m = X150::new(
+            X150Settings {
+                busy_first: 2,
+                ..quiet()
+            },
+            1,
+        );
+        let d = Command::DatSend {
+            dest_id: 15,
+            msg_type: msg_type::OWAY,
+            data: vec![7],
+        };
+        let answers: Vec<Cst> = (0..3)
+            .map(|k| {
+                let t = 1.0 + f64::from(k);
+                match responses(&m.receive(&at(t), d.encode().unwrap().as_bytes()))[..] {
+                    [Response::DatSend { status, .. }] => status,
+                    ref r => panic!("{r:?}"),
+                }
+            })
+            .collect();
+        assert_eq!(answers, [Cst::XcvrBusy, Cst::XcvrBusy, Cst::Ok]);
+        assert_eq!(m.counts().busy, 2);
     }
 
     #[test]

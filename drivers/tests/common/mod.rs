@@ -186,6 +186,49 @@ impl Stepper {
             .collect()
     }
 
+    /// The number of posts so far: a mark for the `*_since` lookups.
+    pub fn mark(&self) -> usize {
+        self.posts.len()
+    }
+
+    /// The double values posted to `key` from the post numbered `mark` on.
+    pub fn doubles_since(&self, mark: usize, key: &str) -> Vec<f64> {
+        self.posts[mark.min(self.posts.len())..]
+            .iter()
+            .filter(|(_, p)| &*p.key == key)
+            .filter_map(|(_, p)| p.value.as_f64())
+            .collect()
+    }
+
+    /// The string values posted to `key` from the post numbered `mark` on.
+    pub fn texts_since(&self, mark: usize, key: &str) -> Vec<String> {
+        self.posts[mark.min(self.posts.len())..]
+            .iter()
+            .filter(|(_, p)| &*p.key == key)
+            .filter_map(|(_, p)| p.value.as_str().map(str::to_string))
+            .collect()
+    }
+
+    /// Where the first post of `key` with the string value `value` is (its number).
+    pub fn find_text(&self, key: &str, value: &str) -> Option<usize> {
+        self.posts
+            .iter()
+            .position(|(_, p)| &*p.key == key && p.value.as_str() == Some(value))
+    }
+
+    /// Steps `n` times.
+    pub fn steps<P: Protocol>(&mut self, d: &mut Driver<P>, n: usize) {
+        for _ in 0..n {
+            self.step(d);
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    }
+
+    /// The latest status text of the driver (`<DEV>_DRIVER_STATUS`), empty if none yet.
+    pub fn status(&self, var: &str) -> String {
+        self.texts(var).pop().unwrap_or_default()
+    }
+
     /// How many posts of `key`.
     pub fn count(&self, key: &str) -> usize {
         self.posts.iter().filter(|(_, p)| &*p.key == key).count()
