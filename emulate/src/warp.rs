@@ -11,10 +11,12 @@
 //! devices' schedules already allow); [`WarpedTruth`] does the same for a truth source, so
 //! the simulator's latest truth is moved on by warped seconds.
 //!
-//! Fault times ([`crate::fault::FaultPlan`]) stay in wall seconds from the edge's start: the
-//! [`crate::device::Emulator`] reads them before the device sees the time.
+//! Fault plans ([`crate::fault::FaultPlan`]) are read by the [`crate::device::Emulator`] on
+//! the edge's clock, before the device sees the time: [`faults_to_wall`] turns a plan written
+//! in warped seconds (times, durations, rates) into the edge's.
 
 use crate::device::{Device, Situation};
+use crate::fault::{FaultKind, FaultPlan};
 use crate::truth::{Truth, TruthSource};
 
 /// The shortest tick period a warped device asks of the edge, wall seconds.
@@ -27,6 +29,33 @@ fn usable(warp: f64) -> f64 {
     } else {
         1.0
     }
+}
+
+/// `plan`, written in seconds of a clock `warp` times faster than the wall's, in wall
+/// seconds: start times and durations divided by the warp, the garbage's bytes and the
+/// battery's volts per second multiplied by it (a warp that is not finite and positive is 1).
+pub fn faults_to_wall(plan: &FaultPlan, warp: f64) -> FaultPlan {
+    let k = usable(warp);
+    FaultPlan::new(
+        plan.faults
+            .iter()
+            .map(|f| {
+                let mut w = *f;
+                w.start /= k;
+                w.duration /= k;
+                w.kind = match f.kind {
+                    FaultKind::Garbage { bytes_per_s } => FaultKind::Garbage {
+                        bytes_per_s: bytes_per_s * k,
+                    },
+                    FaultKind::Battery { volts_per_s } => FaultKind::Battery {
+                        volts_per_s: volts_per_s * k,
+                    },
+                    other => other,
+                };
+                w
+            })
+            .collect(),
+    )
 }
 
 /// A device whose time runs `warp` times faster than the edge's.
@@ -166,6 +195,20 @@ mod tests {
         let mut same = Warped::new(Box::new(Clock(0.5)), f64::NAN, 1000.0);
         assert_eq!((same.warp(), same.period()), (1.0, 0.5));
         assert_eq!(same.tick(&at(3.0)), b"t=3 unix=1003");
+    }
+
+    #[test]
+    fn fault_plans_in_warped_seconds_become_wall_seconds() {
+        let plan =
+            FaultPlan::parse(&["leak@80", "dropout@40+8", "garbage@16+4:100", "battery@8:0.5"])
+                .unwrap();
+        let wall = faults_to_wall(&plan, 8.0);
+        assert!(!wall.leak(9.9) && wall.leak(10.0));
+        assert!(!wall.silent(4.9) && wall.silent(5.0) && wall.silent(5.9) && !wall.silent(6.0));
+        assert_eq!((wall.garbage_rate(2.2), wall.garbage_rate(2.5)), (800.0, 0.0));
+        // 0.5 V per warped second for 1 wall second: 8 warped seconds, 4 V.
+        assert!((wall.battery_drop_v(2.0) - 4.0).abs() < 1e-9);
+        assert_eq!(faults_to_wall(&plan, 1.0), plan);
     }
 
     #[test]

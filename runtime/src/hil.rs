@@ -34,7 +34,7 @@
 //! | `declination` | 0 | deg east: the X150 writes the magnetic yaw (true heading less it); iSeaTrac's `declination` must match |
 //! | `atmospheric_pressure` | 101325 | Pa: the air pressure the Teensy's and the X150's pressure sensors see at the surface |
 //! | `gps_max_depth` | the GPS model's | m: the antenna is above water (fixes) while the hull is shallower |
-//! | `gps_fault`, `dvl_fault`, `seatrac_fault`, `teensy_fault` | none | repeatable: a fault of that emulator, [`emulate::fault`]'s syntax (`leak@120`, `dropout@60+10`), in wall seconds from the bench's start |
+//! | `gps_fault`, `dvl_fault`, `seatrac_fault`, `teensy_fault` | none | repeatable: a fault of that emulator, [`emulate::fault`]'s syntax (`leak@120`, `dropout@60+10`), in the community's (warped) seconds from the bench's start (which comes a few seconds before the mission's) |
 //!
 //! The DVL's bottom is the model's `default_water_depth` (30 m unless set).
 
