@@ -48,7 +48,11 @@ fn thread_cpu() -> Vec<(u32, String, u64)> {
         let comm = stat[open + 1..close].to_string();
         let f: Vec<&str> = stat[close + 2..].split(' ').collect();
         // After the comm: state is field 3, utime 14 and stime 15 (1-based in proc(5)).
-        let ticks = |i: usize| f.get(i - 3).and_then(|v| v.parse::<u64>().ok()).unwrap_or(0);
+        let ticks = |i: usize| {
+            f.get(i - 3)
+                .and_then(|v| v.parse::<u64>().ok())
+                .unwrap_or(0)
+        };
         out.push((tid, comm, ticks(14) + ticks(15)));
     }
     out
@@ -98,8 +102,17 @@ fn couguv_hardware_form_completes_its_survey_against_the_emulators() {
     let prepared = runtime::hil::prepare(&mission, &["HW=true".into()], &[], Some(WARP), 1)
         .unwrap_or_else(|e| panic!("the bench does not start: {e}"));
     let macros = &prepared.macros;
-    for want in ["EMULATE=true", "GPS_PORT=", "DVL_PORT=", "SEATRAC_DEVICE=/dev/", "TEENSY_DEVICE=/dev/"] {
-        assert!(macros.iter().any(|m| m.starts_with(want)), "{want}: {macros:?}");
+    for want in [
+        "EMULATE=true",
+        "GPS_PORT=",
+        "DVL_PORT=",
+        "SEATRAC_DEVICE=/dev/",
+        "TEENSY_DEVICE=/dev/",
+    ] {
+        assert!(
+            macros.iter().any(|m| m.starts_with(want)),
+            "{want}: {macros:?}"
+        );
     }
     let loaded = session::load(&mission, macros, &[]).expect("the hardware form loads");
     let checked = session::validate(&loaded);
@@ -128,7 +141,10 @@ fn couguv_hardware_form_completes_its_survey_against_the_emulators() {
     let teensy = prepared.bench.teensy();
     let edges = prepared.bench.stop();
     let summary = report.to_string();
-    assert!(!report.until_pending(), "the survey did not complete within 640 s:\n{summary}");
+    assert!(
+        !report.until_pending(),
+        "the survey did not complete within 640 s:\n{summary}"
+    );
     assert!(
         summary.contains("completed:   gps_wait, leg1, up1, leg2, home"),
         "{summary}"

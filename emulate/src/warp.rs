@@ -188,9 +188,15 @@ mod tests {
         assert_eq!(d.tick(&at(2.0)), b"t=16 unix=1016");
         assert_eq!(d.receive(&at(0.5), b"x"), b"heard at 4");
         // A device ticking every 20 ms at warp 10 asks for 4 ms, not 2.
-        assert_eq!(Warped::new(Box::new(Clock(0.02)), 10.0, 0.0).period(), 0.004);
+        assert_eq!(
+            Warped::new(Box::new(Clock(0.02)), 10.0, 0.0).period(),
+            0.004
+        );
         // A device already faster than the floor keeps its own period.
-        assert_eq!(Warped::new(Box::new(Clock(0.001)), 4.0, 0.0).period(), 0.001);
+        assert_eq!(
+            Warped::new(Box::new(Clock(0.001)), 4.0, 0.0).period(),
+            0.001
+        );
         // A bad warp is no warp.
         let mut same = Warped::new(Box::new(Clock(0.5)), f64::NAN, 1000.0);
         assert_eq!((same.warp(), same.period()), (1.0, 0.5));
@@ -199,13 +205,20 @@ mod tests {
 
     #[test]
     fn fault_plans_in_warped_seconds_become_wall_seconds() {
-        let plan =
-            FaultPlan::parse(&["leak@80", "dropout@40+8", "garbage@16+4:100", "battery@8:0.5"])
-                .unwrap();
+        let plan = FaultPlan::parse(&[
+            "leak@80",
+            "dropout@40+8",
+            "garbage@16+4:100",
+            "battery@8:0.5",
+        ])
+        .unwrap();
         let wall = faults_to_wall(&plan, 8.0);
         assert!(!wall.leak(9.9) && wall.leak(10.0));
         assert!(!wall.silent(4.9) && wall.silent(5.0) && wall.silent(5.9) && !wall.silent(6.0));
-        assert_eq!((wall.garbage_rate(2.2), wall.garbage_rate(2.5)), (800.0, 0.0));
+        assert_eq!(
+            (wall.garbage_rate(2.2), wall.garbage_rate(2.5)),
+            (800.0, 0.0)
+        );
         // 0.5 V per warped second for 1 wall second: 8 warped seconds, 4 V.
         assert!((wall.battery_drop_v(2.0) - 4.0).abs() < 1e-9);
         assert_eq!(faults_to_wall(&plan, 1.0), plan);

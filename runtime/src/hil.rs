@@ -161,15 +161,20 @@ impl BenchConfig {
         };
         for p in &block.entries {
             let num = || {
-                p.value.trim().parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| {
-                    format!(
-                        "{}:{}: {PROGRAM}: {} = {}: not a number",
-                        p.span.file_name(),
-                        p.span.line,
-                        p.key.trim(),
-                        p.value.trim()
-                    )
-                })
+                p.value
+                    .trim()
+                    .parse::<f64>()
+                    .ok()
+                    .filter(|v| v.is_finite())
+                    .ok_or_else(|| {
+                        format!(
+                            "{}:{}: {PROGRAM}: {} = {}: not a number",
+                            p.span.file_name(),
+                            p.span.line,
+                            p.key.trim(),
+                            p.value.trim()
+                        )
+                    })
             };
             let k = p.key.trim().to_ascii_lowercase();
             match k.as_str() {
@@ -333,7 +338,10 @@ impl Bench {
     /// `EMULATE_BENCH`, `GPS_HOST`, `GPS_PORT`, `DVL_HOST`, `DVL_PORT`, `SEATRAC_DEVICE`,
     /// `TEENSY_DEVICE`.
     pub fn macros(&self) -> Vec<String> {
-        let mut m = vec!["EMULATE=true".to_string(), format!("EMULATE_BENCH={}", self.name)];
+        let mut m = vec![
+            "EMULATE=true".to_string(),
+            format!("EMULATE_BENCH={}", self.name),
+        ];
         for (kind, var) in [(Kind::Gps, "GPS"), (Kind::Dvl, "DVL")] {
             if let Some(a) = self.endpoint(kind).tcp() {
                 m.push(format!("{var}_HOST={}", a.ip()));
@@ -470,7 +478,9 @@ impl SimDevicesApp {
                     warn(
                         &mut warnings,
                         p,
-                        format!("{PROGRAM}: bench = {v}: no bench named (run with `coug run --emulate`)"),
+                        format!(
+                            "{PROGRAM}: bench = {v}: no bench named (run with `coug run --emulate`)"
+                        ),
                     );
                 } else {
                     bench = Some(v.to_string());
@@ -672,8 +682,9 @@ impl App for SimDevicesApp {
         out.append(&mut self.postings);
         let bench = (self.bench.as_deref(), self.feeds.is_some(), self.fed);
         let (t, sim) = (&self.last_inputs, &self.sim);
-        self.appcast
-            .end(now, tick, out, |body| appcast_body(bench, t, sim, now, body));
+        self.appcast.end(now, tick, out, |body| {
+            appcast_body(bench, t, sim, now, body)
+        });
         Ok(())
     }
 }
@@ -738,8 +749,14 @@ mod tests {
         );
         let w: Vec<String> = app.warnings().iter().map(Diagnostic::located).collect();
         assert_eq!(w.len(), 2, "{w:?}");
-        assert!(w[0].contains("h.moos:3") && w[0].contains("no bench named"), "{w:?}");
-        assert!(w[1].contains("h.moos:10") && w[1].contains("unknown parameter `colour`"), "{w:?}");
+        assert!(
+            w[0].contains("h.moos:3") && w[0].contains("no bench named"),
+            "{w:?}"
+        );
+        assert!(
+            w[1].contains("h.moos:10") && w[1].contains("unknown parameter `colour`"),
+            "{w:?}"
+        );
         assert_eq!(app.kin, CougarsConfig::coug2().kinematics);
         let c = BenchConfig::from_block(Some(&app.block), Some((40.0, -111.0)), 4.0, 9).unwrap();
         assert_eq!(
@@ -749,6 +766,9 @@ mod tests {
         assert_eq!(c.faults[3], vec!["leak@30".to_string()]);
         let bad = block("ProcessConfig = uSimDevices\n{\n  dvl_fault = sometimes\n}\n");
         let e = BenchConfig::from_block(Some(&bad), None, 1.0, 0).unwrap_err();
-        assert!(e.starts_with("h.moos:3: uSimDevices: dvl_fault = sometimes"), "{e}");
+        assert!(
+            e.starts_with("h.moos:3: uSimDevices: dvl_fault = sometimes"),
+            "{e}"
+        );
     }
 }
