@@ -17,6 +17,7 @@
 mod common;
 
 use std::collections::HashMap;
+use std::sync::Mutex;
 use std::time::Instant;
 
 use common::*;
@@ -95,11 +96,32 @@ fn counter(status: &str, name: &str) -> Option<f64> {
     })
 }
 
-#[test]
-fn couguv_hardware_form_completes_its_survey_against_the_emulators() {
+/// The two runs share two cores with the rest of the machine: one at a time.
+static SERIAL: Mutex<()> = Mutex::new(());
+
+/// What a run against the bench gives back.
+struct Hil {
+    report: session::RunReport,
+    watch: Watch,
+    wall_s: f64,
+    before: Vec<(u32, String, u64)>,
+    teensy: emulate::teensy::TeensyInputs,
+    edges: Vec<(
+        emulate::build::Kind,
+        std::io::Result<emulate::transport::EdgeStats>,
+    )>,
+}
+
+/// The hardware form with `macros` against a new bench at [`WARP`], deployed, until `until`
+/// or `max_time` simulated seconds, logging in a fresh folder `name`; the validation must be
+/// clean.
+fn run_hil(name: &str, macros: &[&str], until: &str, max_time: f64) -> Hil {
+    let _one = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     let mission = project_mission("cougUV/cougUV.moos");
-    let dir = fresh_dir("run-couguv-hil");
-    let prepared = runtime::hil::prepare(&mission, &["HW=true".into()], &[], Some(WARP), 1)
+    let dir = fresh_dir(name);
+    let mut given = vec!["HW=true".to_string()];
+    given.extend(macros.iter().map(|m| m.to_string()));
+    let prepared = runtime::hil::prepare(&mission, &given, &[], Some(WARP), 1)
         .unwrap_or_else(|e| panic!("the bench does not start: {e}"));
     let macros = &prepared.macros;
     for want in [
@@ -128,8 +150,8 @@ fn couguv_hardware_form_completes_its_survey_against_the_emulators() {
             port: Some(0),
         },
         deploy: true,
-        until: Some("MISSION = complete".into()),
-        max_time: 640.0,
+        until: Some(until.into()),
+        max_time,
         log_dir: Some(dir.join("logs")),
         ..RunOptions::default()
     };
@@ -140,6 +162,26 @@ fn couguv_hardware_form_completes_its_survey_against_the_emulators() {
     let wall_s = wall.elapsed().as_secs_f64();
     let teensy = prepared.bench.teensy();
     let edges = prepared.bench.stop();
+    Hil {
+        report,
+        watch,
+        wall_s,
+        before,
+        teensy,
+        edges,
+    }
+}
+
+#[test]
+fn couguv_hardware_form_completes_its_survey_against_the_emulators() {
+    let Hil {
+        report,
+        watch,
+        wall_s,
+        before,
+        teensy,
+        edges,
+    } = run_hil("run-couguv-hil", &[], "MISSION = complete", 640.0);
     let summary = report.to_string();
     assert!(
         !report.until_pending(),
@@ -270,4 +312,119 @@ fn couguv_hardware_form_completes_its_survey_against_the_emulators() {
             100.0 * s / wall_s
         );
     }
+}
+
+/// The last value of `var` at or before `t` in the log.
+fn value_at(log: &alog::Alog, var: &str, t: f64) -> Option<f64> {
+    log.entries
+        .iter()
+        .filter(|e| e.var == var && e.time <= t)
+        .filter_map(|e| e.value.as_f64())
+        .next_back()
+}
+
+/// A leak mid-dive, through the whole hardware path: the emulated Teensy's leak sensor reads
+/// wet (`TEENSY_FAULT=leak@120`: 120 simulated seconds after the emulators start, a few
+/// seconds before the mission, so during the first leg at depth), iTeensy posts `LEAK`,
+/// pSafety triggers surface-then-disarm: pCougControls swims up fins-up, and once the vehicle
+/// has stayed at the surface pSafety's `DEPLOY=false` disarms it, so iTeensy sends a zero
+/// thrust and the Teensy drives its thruster neutral. Bound: the truth at the surface
+/// (within 0.3 m) within 60 simulated seconds of the trigger; from the survey's 3 m that is
+/// a climb of 5 cm/s, what the slightly buoyant hull does on its own with the thruster off,
+/// so fins-up under thrust must do better.
+#[test]
+fn a_leak_mid_dive_surfaces_and_disarms_the_couguv_through_the_emulated_teensy() {
+    let Hil { report, teensy, .. } = run_hil(
+        "run-couguv-hil-leak",
+        &["TEENSY_FAULT=leak@120"],
+        "SAFETY_MODE = DISARMED",
+        400.0,
+    );
+    let summary = report.to_string();
+    assert!(!report.until_pending(), "never disarmed:\n{summary}");
+    let log = parse(&std::fs::read(&report.alog).expect("the alog"));
+    let leak = log
+        .entries
+        .iter()
+        .find(|e| e.var == "LEAK" && e.value.as_f64() == Some(1.0))
+        .expect("iTeensy posts the leak");
+    assert_eq!(leak.source, "iTeensy");
+    let trigger = log
+        .entries
+        .iter()
+        .find(|e| {
+            e.var == "SAFETY_EVENT"
+                && e.value
+                    .as_str()
+                    .is_some_and(|v| v.starts_with("trigger=leak,action=surface_disarm"))
+        })
+        .expect("pSafety triggers on the leak");
+    let t0 = trigger.time;
+    assert!(
+        t0 >= leak.time && t0 - leak.time < 1.0,
+        "{} {}",
+        leak.time,
+        t0
+    );
+    let depth0 = value_at(&log, "SIM_DEPTH", t0).expect("a depth");
+    assert!(depth0 > 1.5, "the leak came at {depth0} m, not mid-dive");
+    // Nothing but the leak acted.
+    let triggers: Vec<&str> = log
+        .entries
+        .iter()
+        .filter(|e| e.var == "SAFETY_EVENT")
+        .filter_map(|e| e.value.as_str())
+        .filter(|v| v.starts_with("trigger="))
+        .collect();
+    assert_eq!(triggers.len(), 1, "{triggers:?}");
+    let modes: Vec<&str> = log
+        .entries
+        .iter()
+        .filter(|e| e.var == "SAFETY_MODE")
+        .filter_map(|e| e.value.as_str())
+        .collect();
+    assert_eq!(modes, ["OK", "SURFACE", "DISARMED"], "{modes:?}");
+    // Fins up while surfacing, and at the surface within the bound.
+    assert!(
+        log.entries
+            .iter()
+            .any(|e| e.var == "COUG_SURFACE" && e.time >= t0 && e.source == "pSafety"),
+        "no fins-up command"
+    );
+    let surfaced = log
+        .entries
+        .iter()
+        .find(|e| e.var == "SIM_DEPTH" && e.time > t0 && e.value.as_f64().is_some_and(|d| d < 0.3))
+        .map(|e| e.time)
+        .expect("the vehicle surfaces");
+    assert!(
+        surfaced - t0 < 60.0,
+        "{:.1} s from {depth0:.2} m to the surface",
+        surfaced - t0
+    );
+    // Disarmed at the surface: pCougControls' all-stop, sent as $CONTR, drives the thruster
+    // neutral.
+    let disarmed = log
+        .entries
+        .iter()
+        .find(|e| e.var == "SAFETY_MODE" && e.value.as_str() == Some("DISARMED"))
+        .map(|e| e.time)
+        .unwrap();
+    assert!(value_at(&log, "SIM_DEPTH", disarmed).unwrap() < 0.3);
+    assert!(
+        log.entries.iter().any(|e| e.var == "COUG_CONTROLS_STATE"
+            && e.time >= disarmed
+            && e.value.as_str() == Some("disarmed")),
+        "pCougControls never disarmed"
+    );
+    assert_eq!(value_at(&log, "THRUST_PCT", f64::INFINITY), Some(0.0));
+    let last = teensy.last.expect("the Teensy heard commands").1;
+    assert_eq!(last.thrust_pct, 0, "{teensy:?}");
+    assert_eq!(teensy.thruster_us, 1500, "{teensy:?}");
+    println!(
+        "leak at {:.1} s ({depth0:.2} m): surfaced {:.1} s later, disarmed {:.1} s after the trigger",
+        t0 - log.entries[0].time,
+        surfaced - t0,
+        disarmed - t0
+    );
 }
