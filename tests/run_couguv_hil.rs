@@ -428,3 +428,70 @@ fn a_leak_mid_dive_surfaces_and_disarms_the_couguv_through_the_emulated_teensy()
         disarmed - t0
     );
 }
+
+/// `coug run --emulate` itself: the endpoints it announces are OS-picked ports and new
+/// pseudo-terminals, the drivers connect to them (each emulator sent bytes and heard the
+/// start-up commands it answers), and lockstep is refused (the emulators need real time).
+/// Bounded by `--max-time 24` simulated seconds (3 s of wall time at warp 8).
+#[test]
+fn coug_run_emulate_announces_the_emulators_and_the_drivers_reach_them() {
+    let _one = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let mission = project_mission("cougUV/cougUV.moos");
+    let dir = fresh_dir("run-couguv-hil-cli");
+    let m = mission.to_str().unwrap();
+    let out = coug(
+        &dir,
+        &[
+            "run",
+            m,
+            "HW=true",
+            "--emulate",
+            "--warp",
+            "8",
+            "--port",
+            "0",
+            "--max-time",
+            "24",
+            "--log-dir",
+            "logs",
+        ],
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    for (dev, kind) in [
+        ("gps", "tcp 127.0.0.1:"),
+        ("dvl", "tcp 127.0.0.1:"),
+        ("seatrac", "pty /dev/"),
+        ("teensy", "pty /dev/"),
+    ] {
+        let announced = format!("coug run: emulated {dev}: {kind}");
+        assert!(err.contains(&announced), "{announced}: {err}");
+        let stats = err
+            .lines()
+            .filter_map(|l| l.strip_prefix(&format!("coug run: emulated {dev}: ")))
+            .find(|l| l.contains("bytes out"))
+            .unwrap_or_else(|| panic!("{dev}: no byte counts: {err}"));
+        let n = |what: &str| -> u64 {
+            stats
+                .split(", ")
+                .find_map(|f| f.strip_suffix(what))
+                .and_then(|v| v.split_whitespace().next_back()?.parse().ok())
+                .unwrap_or_else(|| panic!("{dev}: {what}: {stats}"))
+        };
+        assert!(
+            n(" bytes out") > 0 && n(" connection(s)") == 1,
+            "{dev}: {stats}"
+        );
+        // Every driver talks to its device at start (gpsd's WATCH, the A50's set_config,
+        // the X150's start-up sequence) except iTeensy, which sends $CONTR once armed.
+        if dev != "teensy" {
+            assert!(n(" in") > 0, "{dev}: {stats}");
+        }
+    }
+    let refused = coug(&dir, &["run", m, "HW=true", "--emulate", "--lockstep"]);
+    assert_eq!(
+        refused.status.code(),
+        Some(2),
+        "clap refuses --emulate with --lockstep"
+    );
+}

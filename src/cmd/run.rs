@@ -1,6 +1,8 @@
 //! `coug run MISSION.moos [NAME=VALUE]... [--lockstep | --warp N] [--poke VAR=VALUE[@T]]...
-//! [--deploy] [--until CONDITION] [--max-time SECONDS] [--log-dir DIR] [--port N]`:
-//! one command runs a whole MOOS-IvP mission.
+//! [--deploy] [--until CONDITION] [--max-time SECONDS] [--log-dir DIR] [--port N] [--emulate]`:
+//! one command runs a whole MOOS-IvP mission. With `--emulate` (real time) the CougUV's four
+//! device emulators are started first and the mission's drivers pointed at them
+//! (`runtime::hil`: hardware in the loop without hardware).
 //!
 //! The mission (and each helm's `behaviors =` file) is nsplug-expanded with the given
 //! macros, the ANTLER block is resolved into coug's built-in apps, and the apps run either
