@@ -12,6 +12,7 @@ use crate::seatrac::{X150, X150Settings};
 use crate::teensy::{Teensy, TeensyPort, TeensySettings};
 use crate::transport::{self, Handle, Transport};
 use crate::truth::{SharedTruth, TruthSource};
+use crate::warp::{Warped, WarpedTruth, faults_to_wall};
 
 /// The four devices.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -155,6 +156,35 @@ pub async fn spawn_with(
     Ok(Running {
         handle,
         truth: SharedTruth::new(),
+        teensy,
+    })
+}
+
+/// Starts a `kind` emulator as [`spawn`] does, on a clock `warp` times faster than the wall
+/// clock ([`crate::warp`]): beside a community at `MOOSTimeWarp = warp`, its rates, delays
+/// and the truth fed through [`Running::truth`] are in the community's seconds, and so are
+/// the fault plan's times ([`crate::warp::faults_to_wall`]). A warp of 1 is [`spawn`].
+pub async fn spawn_warped(
+    kind: Kind,
+    settings: Settings,
+    transport: Transport,
+    options: Options,
+    warp: f64,
+) -> io::Result<Running> {
+    let truth = SharedTruth::new();
+    let (dev, teensy) = device(kind, settings, &transport, options.seed);
+    let dev = Box::new(Warped::new(dev, warp, options.epoch_unix_s));
+    let emu = Emulator::new(
+        dev,
+        Box::new(WarpedTruth::new(truth.clone(), warp)),
+        faults_to_wall(&options.faults, warp),
+        options.seed,
+        options.epoch_unix_s,
+    );
+    let handle = transport::spawn(emu, transport).await?;
+    Ok(Running {
+        handle,
+        truth,
         teensy,
     })
 }

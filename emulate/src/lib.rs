@@ -17,7 +17,8 @@
 //!   through a symbolic link), ticking the emulator on tokio's clock (paused in tests);
 //!   [`transport::spawn`] runs one in process and returns its endpoint and a handle to stop
 //!   it and feed it truth; `coug emulate` runs one until Ctrl-C.
-//! - [`build`]: one emulator by device name with its options, shared by the CLI and tests.
+//! - [`build`]: one emulator by device name with its options, shared by the CLI and tests;
+//!   [`build::spawn_warped`] runs it on a clock warped as the community's ([`warp`]).
 //!
 //! In process, beside the simulator (or in a driver's test):
 //!
@@ -52,3 +53,4 @@ pub mod seatrac;
 pub mod teensy;
 pub mod transport;
 pub mod truth;
+pub mod warp;

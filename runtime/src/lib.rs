@@ -18,7 +18,8 @@
 //! [`sensors`] (uSimSensors: simulated DVL, AHRS, pressure and GPS), [`safety`] (pSafety, the
 //! safety supervisor), [`cougars`] (pCougControls, the CoUGARs controllers; uSimCougUV, the
 //! CougUV simulator), [`pshare`] (pShare: the UDP bridge between
-//! communities);
+//! communities), [`hil`] (uSimDevices: the CougUV model behind the device emulators, and the
+//! emulators' bench for hardware in the loop without hardware);
 //! [`appcasting`] is libMOOS's AppCastingMOOSApp layer around the swap-in apps.
 //!
 //! [`shared`] holds the objects communities of one run share (a fleet's acoustic channel).
@@ -37,6 +38,7 @@ pub mod clock;
 pub mod cougars;
 pub mod driver_apps;
 pub mod helm;
+pub mod hil;
 pub mod logger;
 pub mod navigator;
 pub mod navreplay;

@@ -1,6 +1,8 @@
 //! `coug run MISSION.moos [NAME=VALUE]... [--lockstep | --warp N] [--poke VAR=VALUE[@T]]...
-//! [--deploy] [--until CONDITION] [--max-time SECONDS] [--log-dir DIR] [--port N]`:
-//! one command runs a whole MOOS-IvP mission.
+//! [--deploy] [--until CONDITION] [--max-time SECONDS] [--log-dir DIR] [--port N] [--emulate]`:
+//! one command runs a whole MOOS-IvP mission. With `--emulate` (real time) the CougUV's four
+//! device emulators are started first and the mission's drivers pointed at them
+//! (`runtime::hil`: hardware in the loop without hardware).
 //!
 //! The mission (and each helm's `behaviors =` file) is nsplug-expanded with the given
 //! macros, the ANTLER block is resolved into coug's built-in apps, and the apps run either
@@ -97,6 +99,12 @@ pub struct RunArgs {
     /// watch (default: as fast as it goes, the viewer dropping frames).
     #[arg(long, value_name = "X", requires = "view", requires = "lockstep")]
     pub pace: Option<f64>,
+    /// Hardware in the loop without hardware (real time only): start the CougUV's four
+    /// device emulators, point the mission's drivers at them (macros `EMULATE=true`,
+    /// `EMULATE_BENCH`, `GPS_HOST`, `GPS_PORT`, `DVL_HOST`, `DVL_PORT`, `SEATRAC_DEVICE`,
+    /// `TEENSY_DEVICE`) and let its `uSimDevices` feed them the simulator's truth.
+    #[arg(long, conflicts_with = "lockstep")]
+    pub emulate: bool,
 }
 
 /// Says on stderr why a helm is in MALCONFIG (it runs anyway, as pHelmIvP does: it posts
@@ -286,8 +294,26 @@ fn run_inner(args: &RunArgs) -> Result<i32, Vec<String>> {
             args.max_time
         )]);
     }
-    let loaded = session::load(&args.mission, &args.macros, &args.include_paths)
-        .map_err(|e| e.messages())?;
+    // The emulators first: their ports and terminals are the drivers' macros.
+    let bench = if args.emulate {
+        let p = runtime::hil::prepare(
+            &args.mission,
+            &args.macros,
+            &args.include_paths,
+            args.warp,
+            args.seed,
+        )
+        .map_err(|e| vec![e])?;
+        for (kind, at) in p.bench.endpoints() {
+            errln!("coug run: emulated {}: {at}", kind.name());
+        }
+        Some(p)
+    } else {
+        None
+    };
+    let macros = bench.as_ref().map_or(&args.macros, |p| &p.macros);
+    let loaded =
+        session::load(&args.mission, macros, &args.include_paths).map_err(|e| e.messages())?;
     let checked = session::validate(&loaded);
     if !checked.errors.is_empty() {
         return Err(checked.errors);
@@ -380,6 +406,20 @@ fn run_inner(args: &RunArgs) -> Result<i32, Vec<String>> {
         }
     };
     let report = report.map_err(error_lines)?;
+    if let Some(p) = bench {
+        for (kind, stats) in p.bench.stop() {
+            if let Ok(st) = stats {
+                errln!(
+                    "coug run: emulated {}: {} bytes out, {} in, {} connection(s), {} dropped",
+                    kind.name(),
+                    st.bytes_out,
+                    st.bytes_in,
+                    st.connections,
+                    st.dropped
+                );
+            }
+        }
+    }
     if let Ended::Interrupted { .. } = report.ended {
         if args.lockstep {
             errln!(
