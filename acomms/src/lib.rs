@@ -63,6 +63,7 @@
 pub mod auth;
 pub mod fuzz;
 pub mod messages;
+pub mod net;
 
 pub use auth::{FleetKey, ReplayWindow, Sequencer};
 pub use compact::{Compact, DecodeError, EncodeError};
