@@ -46,8 +46,8 @@ use std::collections::VecDeque;
 use crate::auth::Sequencer;
 use crate::{
     Abort, Auth, BROADCAST, CommandKind, Confirm, Counters, FleetKey, Frame, GoTo, Kill,
-    Localisation, LocalisationRequest, Loiter, MAX_NODE, Packet, Receiver, Reject, Return,
-    SetDepth, Status, StatusRequest, Surface, VehicleMode,
+    Localisation, Loiter, MAX_NODE, Packet, Receiver, Reject, Return, SetDepth, Status,
+    StatusRequest, Surface, VehicleMode,
 };
 
 /// A node's part in the network.
