@@ -35,6 +35,7 @@ pub mod appcasting;
 pub mod bus;
 pub mod clock;
 pub mod cougars;
+pub mod acomms_apps;
 pub mod driver_apps;
 pub mod helm;
 pub mod logger;
