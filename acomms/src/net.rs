@@ -31,7 +31,9 @@
 //! elevation (horizontal range `r cos(el)`, or `sqrt(r^2 - dd^2)` with the depth difference
 //! when the elevation is missing and both depths are known); the azimuth is clockwise from
 //! north, or from the listener's heading with `usbl_body_frame`. A fix with a range only
-//! gives a contact with no position. A [`Status`] or [`Localisation`] also gives a contact
+//! gives a contact with no position. The contact's depth is the one the packet reports when
+//! it carries one (the sender's pressure sensor beats a depth from the elevation), else the
+//! fix's. A [`Status`] or [`Localisation`] also gives a contact
 //! from the position the vehicle reports itself ([`ContactSource::Reported`]).
 //!
 //! # Rejections
@@ -1115,7 +1117,8 @@ impl Node {
             return;
         }
         let rel = relative(f, &self.own, remote_depth, self.cfg.usbl_body_frame);
-        let depth = f.depth_m.or(rel.and_then(|r| r.2)).or(remote_depth);
+        // The depth the sender reports (its pressure sensor) beats one from the elevation.
+        let depth = remote_depth.or(f.depth_m).or(rel.and_then(|r| r.2));
         let (x, y) = match (rel, self.own.x_m, self.own.y_m) {
             (Some((e, n, _)), Some(ox), Some(oy)) => (Some(ox + e), Some(oy + n)),
             _ => (None, None),

@@ -355,8 +355,7 @@ impl AcousticNet {
         }
         self.now = t;
         for r in self.channel.step(t) {
-            let (Some(&src), Some(&to)) = (self.modems.get(&r.from), self.modems.get(&r.to))
-            else {
+            let (Some(&src), Some(&to)) = (self.modems.get(&r.from), self.modems.get(&r.to)) else {
                 continue;
             };
             let found = self
@@ -521,8 +520,7 @@ fn channel_config(
             "max_range" => c.max_range_m = num(warnings, pos).unwrap_or(c.max_range_m),
             "overhead" => c.overhead_s = num(warnings, nonneg).unwrap_or(c.overhead_s),
             "usbl_azimuth_sigma" => {
-                c.usbl.azimuth_sigma_deg =
-                    num(warnings, nonneg).unwrap_or(c.usbl.azimuth_sigma_deg)
+                c.usbl.azimuth_sigma_deg = num(warnings, nonneg).unwrap_or(c.usbl.azimuth_sigma_deg)
             }
             "usbl_elevation_sigma" => {
                 c.usbl.elevation_sigma_deg =
@@ -633,8 +631,16 @@ impl SimModemApp {
                 )),
             };
             match k.as_str() {
-                "modem_id" | "seed" | "bit_rate" | "sound_speed" | "max_range" | "overhead"
-                | "loss" | "usbl_azimuth_sigma" | "usbl_elevation_sigma" | "usbl_range_sigma" => {}
+                "modem_id"
+                | "seed"
+                | "bit_rate"
+                | "sound_speed"
+                | "max_range"
+                | "overhead"
+                | "loss"
+                | "usbl_azimuth_sigma"
+                | "usbl_elevation_sigma"
+                | "usbl_range_sigma" => {}
                 "channel" if !v.is_empty() => channel_name = v.to_string(),
                 "position_prefix" if !v.is_empty() => prefix = v.to_string(),
                 "x" => number(&mut position.x_m),
@@ -767,7 +773,12 @@ impl SimModemApp {
         ));
         out.push(Post::text(
             "ACOMMS_RX",
-            format!("src={},dest={},ack=0,hex={}", d.src, d.dest, hex(&d.payload)),
+            format!(
+                "src={},dest={},ack=0,hex={}",
+                d.src,
+                d.dest,
+                hex(&d.payload)
+            ),
         ));
     }
 
@@ -1139,7 +1150,10 @@ impl AcommsApp {
                 _ => {
                     if let Some((_, kind)) = FLAG_KEYS.iter().find(|(f, _)| *f == k) {
                         if parse_poke(v).is_some() {
-                            flags.entry(kind_key(*kind)).or_default().push(v.to_string());
+                            flags
+                                .entry(kind_key(*kind))
+                                .or_default()
+                                .push(v.to_string());
                         } else {
                             bad("VAR=VALUE");
                         }
@@ -1190,7 +1204,10 @@ impl AcommsApp {
             warnings.push(warn(
                 &block,
                 None,
-                format!("{PACOMMS}: a {} with no `node` list nor `poll_order` polls nobody", "poller"),
+                format!(
+                    "{PACOMMS}: a {} with no `node` list nor `poll_order` polls nobody",
+                    "poller"
+                ),
             ));
         }
         cfg.role = role;
@@ -1338,7 +1355,10 @@ impl AcommsApp {
             out.push(Post::text("ACOMMS_DEPTH_UPDATE", format!("depth={}", g(d))));
         }
         self.appcast.note(
-            Note::Event(format!("applied {} from {from} (seq {seq})", command_word(kind))),
+            Note::Event(format!(
+                "applied {} from {from} (seq {seq})",
+                command_word(kind)
+            )),
             now,
         );
     }
@@ -1407,7 +1427,10 @@ impl AcommsApp {
                     }
                     if *state == AckState::Timeout {
                         self.appcast.note(
-                            Note::Warning(format!("{} to {to}: no confirmation", command_word(*kind))),
+                            Note::Warning(format!(
+                                "{} to {to}: no confirmation",
+                                command_word(*kind)
+                            )),
                             now,
                         );
                     }
@@ -1440,7 +1463,11 @@ impl AcommsApp {
             "role={},id={},polls={},answers={},timeouts={},losses={},commands={},confirmed={},\
              command_timeouts={},applied={},tx={},rx={},accepted={},rejected={},bad_tag={},\
              replayed={},foreign={},unknown_id={},unknown_sender={},malformed={},contacts={}",
-            if self.role == Role::Poller { "poller" } else { "vehicle" },
+            if self.role == Role::Poller {
+                "poller"
+            } else {
+                "vehicle"
+            },
             n.config().me,
             c.polls,
             c.answers,
@@ -1475,11 +1502,18 @@ impl AcommsApp {
             b,
             "Modem id: {}   role: {}   queued: {}",
             n.config().me,
-            if self.role == Role::Poller { "poller" } else { "vehicle" },
+            if self.role == Role::Poller {
+                "poller"
+            } else {
+                "vehicle"
+            },
             n.queued()
         );
         let _ = writeln!(b);
-        let _ = writeln!(b, "Polls  Answers  Timeouts  Late  Commands  Confirmed  CmdTimeouts  Applied  Tx  Contacts");
+        let _ = writeln!(
+            b,
+            "Polls  Answers  Timeouts  Late  Commands  Confirmed  CmdTimeouts  Applied  Tx  Contacts"
+        );
         let _ = writeln!(
             b,
             "{}  {}  {}  {}  {}  {}  {}  {}  {}  {}",
@@ -1495,7 +1529,10 @@ impl AcommsApp {
             c.contacts
         );
         let _ = writeln!(b);
-        let _ = writeln!(b, "Rx  Accepted  BadTag  Replayed  Foreign  UnknownId  UnknownSender  Malformed");
+        let _ = writeln!(
+            b,
+            "Rx  Accepted  BadTag  Replayed  Foreign  UnknownId  UnknownSender  Malformed"
+        );
         let _ = writeln!(
             b,
             "{}  {}  {}  {}  {}  {}  {}  {}",
@@ -1511,7 +1548,15 @@ impl AcommsApp {
         if self.role == Role::Poller {
             let _ = writeln!(b);
             let mut t = appcast::Table::new(7);
-            for h in ["Id", "Name", "Polls", "Answers", "Timeouts", "LastAnswer", "Position"] {
+            for h in [
+                "Id",
+                "Name",
+                "Polls",
+                "Answers",
+                "Timeouts",
+                "LastAnswer",
+                "Position",
+            ] {
                 t.push(h);
             }
             t.add_header_lines();

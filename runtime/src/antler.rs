@@ -605,13 +605,9 @@ fn make_acomms(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
 
 fn make_sim_modem(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
-    let app = crate::acomms_apps::SimModemApp::new(
-        cx.moos_name,
-        b,
-        &cx.launch.shared,
-        cx.launch.seed,
-    )
-    .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
+    let app =
+        crate::acomms_apps::SimModemApp::new(cx.moos_name, b, &cx.launch.shared, cx.launch.seed)
+            .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
     cx.warnings.extend(app.warnings().iter().cloned());
     Ok(Built::App(Box::new(app)))
 }

@@ -29,13 +29,13 @@
 //! real-time/remote runners read the wall clock.
 #![warn(missing_docs)]
 
+pub mod acomms_apps;
 pub mod antler;
 pub mod app;
 pub mod appcasting;
 pub mod bus;
 pub mod clock;
 pub mod cougars;
-pub mod acomms_apps;
 pub mod driver_apps;
 pub mod helm;
 pub mod logger;
