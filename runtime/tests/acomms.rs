@@ -444,3 +444,87 @@ fn a_bad_command_is_reported_and_never_sent() {
     assert_eq!(sent.len(), 1, "only the first poll: {sent:?}");
     assert!(sent[0].1.starts_with("dest=2,hex=72"), "{sent:?}");
 }
+
+/// The kill and the surface a vehicle's pAcomms applies reach pSafety (with the rules of the
+/// module's table), which overrides the helm and drives the vehicle up.
+#[test]
+fn kill_and_surface_reach_psafety_and_the_helm() {
+    use acomms::FleetKey;
+    use acomms::net::{Event, NetConfig, Node, Role};
+    use runtime::safety::SafetyApp;
+
+    let mut base = {
+        let mut c = NetConfig::new(15, Role::Poller);
+        c.poll_order = vec![3];
+        Node::new(c, FleetKey::new(b"a fleet secret for the tests"))
+    };
+    for (t, cmd, mode) in [(10.0, "kill", "ALLSTOP"), (20.0, "surface", "SURFACE")] {
+        let mut vehicle = AcommsApp::new(
+            "pAcomms",
+            block(
+                "v.moos",
+                &format!("ProcessConfig = pAcomms\n{{\n  modem_id = 3\n  {KEY}\n}}\n"),
+            ),
+        );
+        let mut safety = SafetyApp::new(
+            "pSafety",
+            block(
+                "v.moos",
+                "ProcessConfig = pSafety\n{\n  \
+                 rule = acomms_kill: ACOMMS_KILL == true -> allstop, kind=comms\n  \
+                 rule = acomms_surface: ACOMMS_SURFACE == true -> surface_disarm, kind=comms\n}\n",
+            ),
+        );
+        assert!(safety.malconfig().is_empty(), "{:?}", safety.malconfig());
+        let mut ev = Vec::new();
+        base.command(0.0, &format!("to=3,cmd={cmd}"), &mut ev)
+            .unwrap();
+        base.tick(t, &mut ev);
+        let frame = ev
+            .iter()
+            .find_map(|e| match e {
+                Event::Transmit { frame, .. } if frame[0] != 0x72 => Some(*frame),
+                _ => None,
+            })
+            .expect("the command's frame");
+        let hex: String = frame.iter().map(|b| format!("{b:02X}")).collect();
+        let mut out = Vec::new();
+        vehicle.on_startup(0.0, &mut out).unwrap();
+        safety.on_startup(0.0, &mut out).unwrap();
+        let rx = Mail::new(
+            "ACOMMS_RX",
+            format!("src=15,dest=3,ack=0,hex={hex}").as_str(),
+            1.0,
+        );
+        let mut posts = Vec::new();
+        vehicle.on_mail(&[rx], 1.0, &mut posts).unwrap();
+        vehicle.iterate(1.0, &mut posts).unwrap();
+        let keys: Vec<String> = posts.iter().map(|p| p.key.to_string()).collect();
+        let mail: Vec<Mail> = posts
+            .into_iter()
+            .filter(|p| &*p.key != "APPCAST")
+            .map(|p| Mail::new(&p.key, p.value, 1.0))
+            .collect();
+        let mut out = Vec::new();
+        safety.on_mail(&mail, 1.1, &mut out).unwrap();
+        safety.iterate(1.1, &mut out).unwrap();
+        let last = |k: &str| {
+            out.iter()
+                .rev()
+                .find(|p| &*p.key == k)
+                .map(|p| text(&p.value))
+        };
+        assert_eq!(
+            last("SAFETY_MODE").as_deref(),
+            Some(mode),
+            "{cmd}: {keys:?}"
+        );
+        assert_eq!(
+            last("MOOS_MANUAL_OVERRIDE").as_deref(),
+            Some("true"),
+            "{cmd}"
+        );
+        // The vehicle confirms to the base.
+        assert!(keys.contains(&"ACOMMS_TX".to_string()), "{cmd}: {keys:?}");
+    }
+}
