@@ -72,8 +72,9 @@
 //! the appcast, and is never sent) and posts:
 //!
 //! - `ACOMMS_VEHICLE = id=<id>,name=<name>,time=<time of its last answer>,x=..,y=..,depth=..,
-//!   heading=..,speed=..,battery_v=..,health=0x<4 hex digits>,polls=..,answers=..,timeouts=..`
-//!   after each answer or timeout (time and the status keys only once it has answered);
+//!   heading=..,speed=..,battery_v=..,health=0x<4 hex digits>,mode=<idle|mission|loiter|
+//!   returning|surfacing|surfaced|killed|fault>,polls=..,answers=..,timeouts=..` after each
+//!   answer or timeout (time and the status keys, `mode` included, only once it has answered);
 //! - `ACOMMS_COMMAND_ACK = to=<id>,cmd=<word>,seq=<n>,state=<queued|sent|confirmed|timeout>`
 //!   (`,success=false` when the vehicle could not carry it out; `seq=0` while queued).
 //!
@@ -179,7 +180,7 @@ fn hex(data: &[u8]) -> String {
 
 fn unhex(s: &str) -> Option<Vec<u8>> {
     let s = s.trim().as_bytes();
-    if s.len() % 2 != 0 {
+    if !s.len().is_multiple_of(2) {
         return None;
     }
     s.chunks(2)
@@ -1604,7 +1605,7 @@ pub fn vehicle_text(v: &VehicleView) -> String {
     if let (Some(t), Some(st)) = (v.last_answer, v.status) {
         let _ = write!(
             s,
-            ",time={},x={},y={},depth={},heading={},speed={},battery_v={},health=0x{:04X}",
+            ",time={},x={},y={},depth={},heading={},speed={},battery_v={},health=0x{:04X},mode={}",
             g(t),
             g(st.x_m),
             g(st.y_m),
@@ -1612,7 +1613,8 @@ pub fn vehicle_text(v: &VehicleView) -> String {
             g(st.heading_deg),
             g(st.speed_mps),
             g(st.battery_v),
-            st.health
+            st.health,
+            mode_word(st.mode)
         );
     }
     let _ = write!(
@@ -1621,6 +1623,20 @@ pub fn vehicle_text(v: &VehicleView) -> String {
         v.polls, v.answers, v.timeouts
     );
     s
+}
+
+/// A vehicle mode's word in `ACOMMS_VEHICLE`.
+pub fn mode_word(m: VehicleMode) -> &'static str {
+    match m {
+        VehicleMode::Idle => "idle",
+        VehicleMode::Mission => "mission",
+        VehicleMode::Loiter => "loiter",
+        VehicleMode::Returning => "returning",
+        VehicleMode::Surfacing => "surfacing",
+        VehicleMode::Surfaced => "surfaced",
+        VehicleMode::Killed => "killed",
+        VehicleMode::Fault => "fault",
+    }
 }
 
 /// Reads `USBL_FIX`: the source and the fix's parts.

@@ -238,11 +238,10 @@ fn a_base_polls_two_vehicles_and_kills_one_over_the_simulated_channel() {
     let last3 = base
         .posts("ACOMMS_VEHICLE")
         .into_iter()
-        .filter(|(_, s)| s.starts_with("id=3,"))
-        .next_back()
+        .rfind(|(_, s)| s.starts_with("id=3,") && s.contains(",time="))
         .unwrap()
         .1;
-    assert!(last3.contains(",time="), "{last3}");
+    assert!(last3.contains(",mode=killed,"), "{last3}");
 
     // Poll statistics.
     let status = base.posts("ACOMMS_STATUS").last().unwrap().1.clone();
