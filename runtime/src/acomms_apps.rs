@@ -1441,6 +1441,8 @@ impl AcommsApp {
                 Event::PollerHeard { .. } => {
                     out.push(Post::double("ACOMMS_LAST_BASE_CONTACT", now));
                 }
+                // Packets for another node are overheard all the time: counted, not noted.
+                Event::Rejected(acomms::Reject::NotForMe { .. }) => {}
                 Event::Rejected(r) => {
                     self.appcast.note(Note::Event(format!("refused: {r}")), now);
                 }
