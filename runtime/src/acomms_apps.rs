@@ -1201,7 +1201,10 @@ impl AcommsApp {
                 format!("{PACOMMS}: poll_order is for a base or lead; a vehicle never polls"),
             ));
         }
-        if role == Role::Poller && cfg.poll_order.is_empty() && cfg.fleet.len() < 2 {
+        if role == Role::Poller
+            && cfg.poll_order.is_empty()
+            && cfg.fleet.iter().all(|(i, _)| Some(*i) == modem)
+        {
             warnings.push(warn(
                 &block,
                 None,
