@@ -386,6 +386,28 @@ fn bad_settings_are_warnings_at_their_lines() {
         );
     }
     assert!(a.node().is_none(), "no valid modem id: idle");
+    // A base listing only the vehicles it polls is fine; one listing nobody is told so.
+    let ok = AcommsApp::new(
+        "pAcomms",
+        block(
+            "c.moos",
+            &format!(
+                "ProcessConfig = pAcomms\n{{\n  modem_id = 15\n  role = base\n  {KEY}\n  node = 2:coug2\n}}\n"
+            ),
+        ),
+    );
+    assert!(ok.warnings().is_empty(), "{:?}", ok.warnings());
+    assert_eq!(ok.node().unwrap().views().len(), 1);
+    let alone = AcommsApp::new(
+        "pAcomms",
+        block(
+            "c.moos",
+            &format!("ProcessConfig = pAcomms\n{{\n  modem_id = 15\n  role = lead\n  {KEY}\n}}\n"),
+        ),
+    );
+    let w: Vec<String> = alone.warnings().iter().map(|d| d.located()).collect();
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(w[0].contains("polls nobody"), "{w:?}");
     let m = SimModemApp::new(
         "uSimModem",
         block(
