@@ -207,7 +207,8 @@ pub struct Delivered {
     pub arrival_s: f64,
     /// The receiver's fix of the sender.
     pub usbl: Usbl,
-    /// The sender's depth when it sent (for the fix's depth).
+    /// The sender's true depth when it sent (not posted: a one-way fix has no remote depth
+    /// sensor reading; kept for tests and a REQX-style fix).
     pub sender_depth_m: f64,
 }
 
@@ -750,7 +751,6 @@ impl SimModemApp {
         let h = u.range_m * el.cos();
         let az = u.azimuth_deg.to_radians();
         let (x, y, z) = (h * az.sin(), h * az.cos(), own_depth - u.range_m * el.sin());
-        let _ = d.sender_depth_m;
         out.push(Post::double("USBL_SRC", f64::from(d.src)));
         out.push(Post::double("USBL_RANGE", u.range_m));
         out.push(Post::double("USBL_AZIMUTH", u.azimuth_deg));
