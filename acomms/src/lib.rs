@@ -9,6 +9,9 @@
 //! (0x10-0x15, 0x30, 0x31) id, so a packet of the older protocols is refused as an unknown id
 //! rather than misread.
 //!
+//! [`net`] is the polled network over these messages (issue #16, point 2): the pure core of
+//! the `pAcomms` app (`runtime::acomms_apps`).
+//!
 //! # Sizes
 //!
 //! On the wire, id and tag included (pinned by `tests/sizes.rs`, listed by [`SIZE_TABLE`]):
@@ -63,6 +66,7 @@
 pub mod auth;
 pub mod fuzz;
 pub mod messages;
+pub mod net;
 
 pub use auth::{FleetKey, ReplayWindow, Sequencer};
 pub use compact::{Compact, DecodeError, EncodeError};

@@ -4,7 +4,9 @@
 //! The apps coug builds in are one registry, [`BUILT_INS`]: `MOOSDB` (the bus itself),
 //! `pHelmIvP`, `uSimMarine(V22)`, `pMarinePID(V22)`, `pNodeReporter`, `pLogger`,
 //! `uTimerScript`, `uSimSensors`, `pNavGraph`, `pSafety`, `pCougControls`, `uSimCougUV`,
-//! `pShare`, the device drivers `iGPS`, `iDVL`, `iSeaTrac`, `iTeensy`, and `uSimDevices`. A caller's `custom`
+//! `pShare`, the device drivers `iGPS`, `iDVL`, `iSeaTrac`, `iTeensy`, `uSimDevices` (the
+//! CougUV behind the device emulators), and `pAcomms` and `uSimModem` (the acoustic network
+//! and its simulated modem). A caller's `custom`
 //! factory is asked first for every `Run` line (tests with in-memory behaviours, user apps);
 //! what nobody builds is listed in [`Plan::external`] for the caller to start from PATH (real
 //! time) or skip with a warning
@@ -425,6 +427,18 @@ pub const BUILT_INS: &[BuiltIn] = &[
         reads_block: true,
         make: make_sim_devices,
     },
+    BuiltIn {
+        program: "pAcomms",
+        what: "the polled acoustic network: polls, authenticated commands, contact reports from USBL fixes",
+        reads_block: true,
+        make: make_acomms,
+    },
+    BuiltIn {
+        program: "uSimModem",
+        what: "the simulated acoustic modem on a channel shared by the run's communities",
+        reads_block: true,
+        make: make_sim_modem,
+    },
 ];
 
 /// The built-in app run by `program` (a path or base name), if coug builds it in.
@@ -593,6 +607,23 @@ fn make_sim_devices(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
     let app = crate::hil::SimDevicesApp::new(cx.moos_name, b, cx.globals.grid())
         .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
+    cx.warnings.extend(app.warnings().iter().cloned());
+    Ok(Built::App(Box::new(app)))
+}
+
+fn make_acomms(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    let b = cx.block_or_empty();
+    let app = crate::acomms_apps::AcommsApp::new(cx.moos_name, b)
+        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
+    cx.warnings.extend(app.warnings().iter().cloned());
+    Ok(Built::App(Box::new(app)))
+}
+
+fn make_sim_modem(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    let b = cx.block_or_empty();
+    let app =
+        crate::acomms_apps::SimModemApp::new(cx.moos_name, b, &cx.launch.shared, cx.launch.seed)
+            .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
     cx.warnings.extend(app.warnings().iter().cloned());
     Ok(Built::App(Box::new(app)))
 }

@@ -30,6 +30,7 @@
 //! real-time/remote runners read the wall clock.
 #![warn(missing_docs)]
 
+pub mod acomms_apps;
 pub mod antler;
 pub mod app;
 pub mod appcasting;
