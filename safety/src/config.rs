@@ -84,13 +84,13 @@ pub struct SafetyConfig {
     pub surface_elevator: f64,
     /// `surface_flag`: posted when surfacing starts (e.g. `COUG_SURFACE=true`).
     pub surface_flags: Vec<Flag>,
-    /// `disarm_flag`: posted at the disarm (e.g. `COUG_ARM=false`).
+    /// `disarm_flag`: posted at the disarm (e.g. `DEPLOY=false`, which disarms pCougControls).
     pub disarm_flags: Vec<Flag>,
     /// `return_flag`: posted when a return is commanded (e.g. `RETURN=true`).
     pub return_flags: Vec<Flag>,
     /// `clear_flag`: posted when every rule has let go (e.g. `RETURN=false`).
     pub clear_flags: Vec<Flag>,
-    /// `allstop_flag`: posted when an all-stop starts (e.g. `COUG_ARM=false`).
+    /// `allstop_flag`: posted when an all-stop starts (e.g. `DEPLOY=false`, which disarms pCougControls).
     pub allstop_flags: Vec<Flag>,
 }
 

@@ -60,7 +60,7 @@
 //!   `IVPHELM_STATE = MALCONFIG`, or less than 0.5 m of ascent within `helm_grace`. Once
 //!   `depth_var` has stayed under `surface_depth` for `surface_hold` seconds (CoUGARs: 0.1 m,
 //!   checked every 5 s), or after `surface_timeout`, the thruster is disarmed: thrust,
-//!   elevator and rudder 0 every iteration and the `disarm_flag`s (e.g. `COUG_ARM=false`).
+//!   elevator and rudder 0 every iteration and the `disarm_flag`s (e.g. `DEPLOY=false`).
 //! - `allstop`: the manual override, the `allstop_flag`s once, and the actuators held at 0
 //!   every iteration.
 //! - `return`: the `return_flag`s once (the `.bhv` takes the vehicle home).
@@ -74,7 +74,7 @@
 //! Any of `override_var`, `thrust_var`, `elevator_var`, `rudder_var` may be `none` (never
 //! posted). A CougUV under pCougControls (`vehicle::cougars::CougarsControl`: it stops on
 //! `MOOS_MANUAL_OVERRIDE = true`, forces the fins-up command on `COUG_SURFACE = true` while
-//! keeping the controller's thrust, and disarms on `COUG_ARM = false`) surfaces as the CoUGARs
+//! keeping the controller's thrust, and disarms when `DEPLOY` is false) surfaces as the CoUGARs
 //! emergency node did, swimming up with its fins up, with the helm dead or alive:
 //!
 //! ```text
@@ -83,8 +83,8 @@
 //! elevator_var = none
 //! rudder_var   = none
 //! surface_flag = COUG_SURFACE=true
-//! disarm_flag  = COUG_ARM=false
-//! allstop_flag = COUG_ARM=false
+//! disarm_flag  = DEPLOY=false
+//! allstop_flag = DEPLOY=false
 //! ```
 //!
 //! (the thruster then stays disarmed: the vehicle comes up on its positive buoyancy).
