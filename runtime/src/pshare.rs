@@ -783,7 +783,105 @@ impl App for PShareApp {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::testing::block;
+    use crate::app::Value;
+    use crate::testing::{block, mail};
+
+    fn posted<'a>(out: &'a [Post], key: &str) -> Vec<&'a Post> {
+        out.iter().filter(|p| &*p.key == key).collect()
+    }
+
+    #[test]
+    fn communities_of_one_run_share_in_process_at_the_next_iteration() {
+        let shared = Shared::new();
+        let hub = shared.get_or_insert_with(HUB, PShareHub::new);
+        let mut rx = PShareApp::new(
+            "pShare",
+            block(
+                "b.moos",
+                "ProcessConfig = pShare\n{\n  input = route = localhost:9421, white_list = REMOTE_*\n}\n",
+            ),
+        )
+        .with_shared(&shared);
+        // Another pShare of the run cannot take the same port: it stays a UDP listener.
+        let other = PShareApp::new(
+            "pShare2",
+            block(
+                "c.moos",
+                "ProcessConfig = pShare2\n{\n  input = route = localhost:9421\n}\n",
+            ),
+        )
+        .with_shared(&shared);
+        assert!(other.listeners[0].inbox.is_none());
+        assert_eq!(hub.ports(), vec![9421]);
+        let mut tx = PShareApp::new(
+            "pShare",
+            block(
+                "a.moos",
+                "ProcessConfig = pShare\n{\n  output = NAV_X->REMOTE_NAV_X:127.0.0.1:9421\n  \
+                 output = SECRET->localhost:9421\n  output = NAV_Y->REMOTE_NAV_Y:127.0.0.1:9422\n}\n",
+            ),
+        )
+        .with_shared(&shared);
+        let mut out = Vec::new();
+        rx.on_startup(10.0, &mut out).unwrap();
+        tx.on_startup(10.0, &mut out).unwrap();
+        // The receiver's input is in process: open on its port with no socket.
+        assert_eq!(
+            rx.listening(),
+            vec![(
+                Endpoint::Udp {
+                    host: "localhost".into(),
+                    port: 9421
+                },
+                Some(9421)
+            )]
+        );
+        assert!(rx.listeners[0].socket.is_none());
+        let sent = [
+            mail("NAV_X", Value::Double(5.0), 11.0, "uSimMarine"),
+            mail("SECRET", Value::Double(7.0), 11.0, "uSimMarine"),
+            mail("NAV_Y", Value::Double(6.0), 11.0, "uSimMarine"),
+        ];
+        tx.on_mail(&sent, 11.0, &mut out).unwrap();
+        // Two datagrams in process; NAV_Y's port has no input of the run: UDP.
+        let t = tx.sent();
+        assert_eq!((t.sent, t.in_process, t.failed), (3, 2, 0));
+        assert_eq!(hub.delivered(), 2);
+        // Not at the instant it was sent, whatever the order the communities run in.
+        let mut got = Vec::new();
+        rx.iterate(11.0, &mut got).unwrap();
+        assert!(posted(&got, "REMOTE_NAV_X").is_empty());
+        got.clear();
+        rx.iterate(11.25, &mut got).unwrap();
+        let x = posted(&got, "REMOTE_NAV_X");
+        assert_eq!(x.len(), 1);
+        assert_eq!(x[0].value, Value::Double(5.0));
+        assert_eq!(&*x[0].source, "uSimMarine");
+        let relayed = x[0].relayed.as_deref().expect("a relayed post");
+        assert_eq!((relayed.time, &*relayed.community), (11.0, "abe"));
+        // SECRET kept its name and the white list refused it, as over UDP.
+        assert!(posted(&got, "SECRET").is_empty());
+        let c = rx.received()[0].1;
+        assert_eq!((c.posted, c.filtered, c.garbage), (1, 1, 0));
+        got.clear();
+        rx.iterate(11.5, &mut got).unwrap();
+        assert!(posted(&got, "REMOTE_NAV_X").is_empty(), "delivered once");
+    }
+
+    #[test]
+    fn without_a_hub_every_route_is_udp() {
+        let shared = Shared::new();
+        let app = PShareApp::new(
+            "pShare",
+            block(
+                "a.moos",
+                "ProcessConfig = pShare\n{\n  input = route = localhost:9431\n}\n",
+            ),
+        )
+        .with_shared(&shared);
+        assert!(app.hub.is_none() && app.listeners[0].inbox.is_none());
+        assert!(shared.is_empty());
+    }
 
     #[test]
     fn bad_lines_and_multicast_routes_are_warnings_at_their_line() {

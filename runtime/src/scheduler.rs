@@ -637,6 +637,31 @@ mod tests {
     }
 
     #[test]
+    fn next_event_time_and_a_watched_condition() {
+        let mut s = Scheduler::new(Bus::new("t", 10.0), VirtualClock, 10.0);
+        assert_eq!(s.next_event_time(), None);
+        s.add_app(Box::new(Counter { n: 0 })).unwrap();
+        s.add_poke(Poke::parse("X=1@0.2", "h").unwrap()).unwrap();
+        assert_eq!(s.next_event_time(), Some(10.0));
+        // Watched, not ending: advance runs through the instant the condition holds.
+        s.watch_until(mission::condition::parse_condition("COUNT >= 2").unwrap());
+        assert_eq!(s.advance(10.0).unwrap(), None);
+        assert!(!s.until_holds());
+        assert_eq!(s.next_event_time(), Some(10.2));
+        assert_eq!(s.advance(10.2).unwrap(), None);
+        assert_eq!(s.next_event_time(), Some(10.5));
+        assert_eq!(s.advance(11.0).unwrap(), None);
+        assert!(s.until_holds());
+        assert_eq!(s.current("COUNT"), Some(Value::Double(3.0)));
+        // set_until ends the run again.
+        s.set_until(mission::condition::parse_condition("COUNT >= 4").unwrap());
+        assert_eq!(
+            s.advance(20.0).unwrap(),
+            Some(Outcome::ConditionMet { time: 11.5 })
+        );
+    }
+
+    #[test]
     fn taps_copy_every_post_of_a_key_in_order() {
         let mut s = Scheduler::new(Bus::new("t", 0.0), VirtualClock, 0.0);
         s.add_app(Box::new(Counter { n: 0 })).unwrap();
