@@ -11,7 +11,10 @@
 //!
 //! With no argument it runs each N in a child process of its own (so the memory figures of
 //! one do not include the others') and prints one line per fleet: simulated seconds, wall
-//! seconds of the run, speed-up over real time, and memory per vehicle (the growth of the
+//! seconds of the run's loop, speed-up over real time, the CPU seconds of the whole call
+//! (loading, planning, running, reading the logs back) and the speed-up per CPU second of
+//! the loop (what one free core gives; on a loaded shared machine the wall figure is lower),
+//! and memory per vehicle (the growth of the
 //! resident set from before loading to its peak, over N; the alogs go to a temporary folder
 //! and are removed).
 
@@ -27,6 +30,34 @@ fn status_kib(field: &str) -> Option<u64> {
     let s = std::fs::read_to_string("/proc/self/status").ok()?;
     let line = s.lines().find(|l| l.starts_with(field))?;
     line.split_whitespace().nth(1)?.parse().ok()
+}
+
+/// CPU seconds (user + system) this process has used: the run's cost whatever the load of
+/// a shared machine (the wall time there also counts other processes' turns).
+fn cpu_s() -> f64 {
+    // SAFETY: getrusage writes one rusage into the zeroed struct we own.
+    let mut u: libc::rusage = unsafe { std::mem::zeroed() };
+    if unsafe { libc::getrusage(libc::RUSAGE_SELF, &mut u) } != 0 {
+        return f64::NAN;
+    }
+    let tv = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
+    tv(u.ru_utime) + tv(u.ru_stime)
+}
+
+/// Reads the CPU time at every simulated second of the run (the loop only: loading,
+/// planning and reading the logs back are outside the first and last steps).
+#[derive(Default)]
+struct CpuProbe {
+    first: Option<(f64, f64)>,
+    last: Option<(f64, f64)>,
+}
+
+impl session::Observer for CpuProbe {
+    fn step(&mut self, sim_s: f64, _current: &dyn Fn(&str) -> Option<runtime::Value>) {
+        let now = (sim_s, cpu_s());
+        self.first.get_or_insert(now);
+        self.last = Some(now);
+    }
 }
 
 /// Writes a fleet file of `n` vehicles from the fleet_survey template into `dir`.
@@ -69,7 +100,14 @@ fn one(n: usize, seconds: f64) {
         log_dir: Some(dir.join("logs")),
         ..FleetOptions::default()
     };
-    let report = session::run_fleet(&fleet, &opts, &mut session::Quiet).expect("the fleet runs");
+    let cpu0 = cpu_s();
+    let mut probe = CpuProbe::default();
+    let report = session::run_fleet(&fleet, &opts, &mut probe).expect("the fleet runs");
+    let cpu = cpu_s() - cpu0;
+    let loop_speed = match (probe.first, probe.last) {
+        (Some((s0, c0)), Some((s1, c1))) if c1 > c0 => (s1 - s0) / (c1 - c0),
+        _ => f64::NAN,
+    };
     let peak = status_kib("VmHWM:").unwrap_or(0);
     assert!(matches!(report.ended, Ended::Outcome(_)));
     let moving = report
@@ -85,7 +123,7 @@ fn one(n: usize, seconds: f64) {
         .sum();
     println!(
         "N={n:4}  simulated {:6.1} s  wall {:7.3} s (+{load_s:.2} s loading)  speed-up {:7.1}x  \
-         memory {:6.0} KiB/vehicle (RSS {} -> peak {} KiB)  in-process pShare {}  \
+         cpu {cpu:7.3} s (all of run_fleet)  speed-up per CPU second of the loop {loop_speed:7.1}x  memory {:6.0} KiB/vehicle (RSS {} -> peak {} KiB)  in-process pShare {}  \
          vehicles under way {moving}/{n}  logs {:.1} MB",
         report.sim_s(),
         report.wall_s,
