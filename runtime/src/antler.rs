@@ -566,7 +566,8 @@ fn make_couguv_sim(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
 fn make_pshare(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
     let app = crate::pshare::PShareApp::new(cx.moos_name, b)
-        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
+        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp)
+        .with_shared(&cx.launch.shared);
     cx.warnings.extend(app.warnings().iter().cloned());
     Ok(Built::App(Box::new(app)))
 }

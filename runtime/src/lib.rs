@@ -10,7 +10,8 @@
 //! - [`remote`]: one app as a MOOS process (the single-app swap-in mode);
 //! - [`antler`]: a mission's ANTLER block resolved into apps (the registry of built-ins);
 //! - [`session`]: a whole mission run as a library (load, validate, plan, run lockstep or
-//!   real time, report), which `coug run` and the end-to-end tests call.
+//!   real time, report), which `coug run` and the end-to-end tests call; also several
+//!   communities in one run ([`session::run_fleet`], the [`fleet`] file).
 //!
 //! Apps ([`app`] defines the [`App`] trait, [`Mail`], [`Post`], [`Value`]):
 //! [`helm`] (pHelmIvP), [`vehicle`] (uSimMarine(V22), pMarinePID(V22), pNodeReporter),
@@ -38,6 +39,7 @@ pub mod bus;
 pub mod clock;
 pub mod cougars;
 pub mod driver_apps;
+pub mod fleet;
 pub mod helm;
 pub mod hil;
 pub mod logger;

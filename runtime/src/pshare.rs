@@ -28,14 +28,29 @@
 //! | an input port of 0 (coug only) | the system picks the port; [`PShareApp::listening`] reads it back |
 //! | command line `-o`/`-i` | open: the single-app mode reads the mission block only |
 //!
+//! # The in-process route (a fleet run)
+//!
+//! When `coug run` runs several communities in one process in lockstep, their pShares meet
+//! through a [`PShareHub`] in the run's [`Shared`] (named [`HUB`]): every input route on a
+//! UDP port is registered there when the app is built (no socket is opened for it), and an
+//! output whose `host:port` is a registered input (the host a loopback name or address, or
+//! the input's own host) is handed to that input's [`Inbox`] instead of a socket. The bytes
+//! are the very datagram UDP would carry (same renaming, same 48 KiB limit), read back by the
+//! same code (white list, loop guard, relayed posting); a datagram sent at MOOS time `t` is
+//! read by the receiver's first iteration after `t`, so the delivery does not depend on the
+//! order the communities are stepped in. Outputs to any other address go over UDP as usual.
+//! A single mission has no hub, and every route is UDP.
+//!
 //! Bad lines are warnings (`mission::Diagnostic`, kind `AppSetting`, at their line) and the
 //! rest of the block is kept; the C++ app prints an error and skips the block's later lines.
 //! Datagrams that are not one notify message are counted per input and dropped.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, VecDeque};
 use std::fmt::Write as _;
 use std::io::ErrorKind;
 use std::net::{Ipv4Addr, SocketAddr, SocketAddrV4, ToSocketAddrs, UdpSocket};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex, PoisonError};
 
 use bytes::Bytes;
 use mission::diagnostic::{Diagnostic, DiagnosticKind};
@@ -48,6 +63,7 @@ use pshare::{Added, Config, RouteTable};
 
 use crate::app::{App, AppResult, Mail, Post, Subscription};
 use crate::appcasting::{AppcastLayer, Note};
+use crate::shared::Shared;
 
 /// The MOOS name of the app.
 pub const PROGRAM: &str = "pShare";
@@ -58,12 +74,95 @@ const MAX_READS_PER_ITERATION: usize = 4096;
 /// Seconds between the summary postings.
 const SUMMARY_PERIOD: f64 = 1.0;
 
+/// The name of the in-process hub in a run's [`Shared`] set (see the module docs).
+pub const HUB: &str = "pshare";
+
+/// The datagrams waiting for one in-process input route, each with the MOOS time it was
+/// sent at.
+#[derive(Debug, Default)]
+pub struct Inbox {
+    queue: Mutex<VecDeque<(f64, Bytes)>>,
+}
+
+impl Inbox {
+    fn push(&self, sent: f64, datagram: Bytes) {
+        self.queue
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .push_back((sent, datagram));
+    }
+
+    /// Moves the datagrams sent strictly before `now` into `out`, oldest first.
+    fn take_before(&self, now: f64, out: &mut Vec<Bytes>) {
+        let mut q = self.queue.lock().unwrap_or_else(PoisonError::into_inner);
+        while q.front().is_some_and(|(t, _)| *t < now) {
+            if let Some((_, d)) = q.pop_front() {
+                out.push(d);
+            }
+        }
+    }
+}
+
+/// The in-process radio between the pShares of one run: their input routes by UDP port.
+/// A fleet run puts one in its [`Shared`] set under [`HUB`] before building the apps.
+#[derive(Debug, Default)]
+pub struct PShareHub {
+    inputs: Mutex<HashMap<u16, (String, Arc<Inbox>)>>,
+    delivered: AtomicU64,
+}
+
+/// True for a host name that means this machine (`localhost`, `127.x.x.x`, `0.0.0.0`).
+fn is_local(host: &str) -> bool {
+    host.eq_ignore_ascii_case("localhost") || host.starts_with("127.") || host == "0.0.0.0"
+}
+
+impl PShareHub {
+    /// An empty hub.
+    pub fn new() -> PShareHub {
+        PShareHub::default()
+    }
+
+    /// Registers an input route on `host:port`; `None` when another input already has the
+    /// port (that one keeps it).
+    fn listen(&self, host: &str, port: u16) -> Option<Arc<Inbox>> {
+        let mut inputs = self.inputs.lock().unwrap_or_else(PoisonError::into_inner);
+        if inputs.contains_key(&port) {
+            return None;
+        }
+        let inbox = Arc::new(Inbox::default());
+        inputs.insert(port, (host.to_string(), inbox.clone()));
+        Some(inbox)
+    }
+
+    /// The inbox of the input an output to `host:port` reaches in process, if any.
+    fn route(&self, host: &str, port: u16) -> Option<Arc<Inbox>> {
+        let inputs = self.inputs.lock().unwrap_or_else(PoisonError::into_inner);
+        let (h, inbox) = inputs.get(&port)?;
+        (is_local(host) || h.eq_ignore_ascii_case(host)).then(|| inbox.clone())
+    }
+
+    /// The UDP ports registered as in-process inputs, in increasing order.
+    pub fn ports(&self) -> Vec<u16> {
+        let inputs = self.inputs.lock().unwrap_or_else(PoisonError::into_inner);
+        let mut p: Vec<u16> = inputs.keys().copied().collect();
+        p.sort_unstable();
+        p
+    }
+
+    /// Datagrams handed over in process so far.
+    pub fn delivered(&self) -> u64 {
+        self.delivered.load(Ordering::Relaxed)
+    }
+}
+
 /// One input route and what came in on it.
 #[derive(Debug)]
 struct Listener {
     endpoint: Endpoint,
     white_list: Vec<String>,
     socket: Option<UdpSocket>,
+    /// The in-process route (a fleet run): no socket then.
+    inbox: Option<Arc<Inbox>>,
     port: Option<u16>,
     counts: RxCounts,
 }
@@ -71,8 +170,10 @@ struct Listener {
 /// What was sent, in all.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct TxCounts {
-    /// Datagrams sent.
+    /// Datagrams sent (over UDP or in process).
     pub sent: u64,
+    /// Of them, datagrams handed to another community of the run in process.
+    pub in_process: u64,
     /// Messages over the 48 KiB limit, not sent.
     pub too_large: u64,
     /// Shares not sent: a multicast route, an address that did not resolve, a send error.
@@ -90,6 +191,8 @@ pub struct PShareApp {
     cmd_key: String,
     table: RouteTable,
     listeners: Vec<Listener>,
+    hub: Option<Arc<PShareHub>>,
+    ready: Vec<Bytes>,
     sender: Option<UdpSocket>,
     resolved: HashMap<Endpoint, Option<SocketAddr>>,
     opened: bool,
@@ -176,6 +279,8 @@ impl PShareApp {
             listen_address,
             table,
             listeners,
+            hub: None,
+            ready: Vec::new(),
             sender: None,
             resolved: HashMap::new(),
             opened: false,
@@ -198,6 +303,38 @@ impl PShareApp {
             &self.warnings,
         );
         self
+    }
+
+    /// Joins the run's in-process radio when `shared` holds a [`PShareHub`] (a fleet run):
+    /// the input routes register there and open no socket (see the module docs). Without a
+    /// hub nothing changes.
+    pub fn with_shared(mut self, shared: &Shared) -> Self {
+        self.hub = shared.get::<PShareHub>(HUB);
+        for i in 0..self.listeners.len() {
+            self.attach_inbox(i);
+        }
+        self
+    }
+
+    fn attach_inbox(&mut self, i: usize) {
+        let Some(hub) = &self.hub else {
+            return;
+        };
+        let l = &mut self.listeners[i];
+        let Endpoint::Udp { host, port } = &l.endpoint else {
+            return;
+        };
+        if *port == 0 {
+            return;
+        }
+        l.inbox = hub.listen(host, *port);
+        if l.inbox.is_none() {
+            let w = format!(
+                "another pShare of the run listens on port {port}: {} goes over UDP",
+                l.endpoint
+            );
+            self.appcast.note(Note::Warning(w), self.start);
+        }
     }
 
     /// Bad lines of the block and the multicast routes that will not be opened.
@@ -248,6 +385,10 @@ impl PShareApp {
         let Endpoint::Udp { port, .. } = l.endpoint else {
             return;
         };
+        if l.inbox.is_some() {
+            l.port = Some(port);
+            return;
+        }
         let bound = UdpSocket::bind(SocketAddrV4::new(self.listen_address, port))
             .and_then(|s| s.set_nonblocking(true).map(|()| s))
             .and_then(|s| s.local_addr().map(|a| (s, a.port())));
@@ -283,7 +424,8 @@ impl PShareApp {
     }
 
     /// Every input route with the port it listens on (`None`: not open: a multicast
-    /// channel, a failed bind, or before [`PShareApp::open`]).
+    /// channel, a failed bind, or before [`PShareApp::open`]; an in-process route is open
+    /// on its configured port).
     pub fn listening(&self) -> Vec<(Endpoint, Option<u16>)> {
         self.listeners
             .iter()
@@ -329,6 +471,7 @@ impl PShareApp {
                 continue;
             }
             self.listeners.push(l);
+            self.attach_inbox(self.listeners.len() - 1);
             if self.opened {
                 self.open_listener(self.listeners.len() - 1);
             }
@@ -376,6 +519,10 @@ impl PShareApp {
                     pshare::MAX_UDP_SIZE
                 );
                 self.appcast.note(Note::Warning(w), now);
+            } else if let Some(inbox) = self.in_process(&s.endpoint) {
+                inbox.push(now, Bytes::copy_from_slice(&out));
+                self.tx.sent += 1;
+                self.tx.in_process += 1;
             } else {
                 let to = self.resolve(&s.endpoint);
                 match (to, &self.sender) {
@@ -387,8 +534,34 @@ impl PShareApp {
         }
     }
 
-    fn receive(&mut self, out: &mut Vec<Post>) {
+    /// The in-process inbox an output to `e` reaches, if the run has one.
+    fn in_process(&self, e: &Endpoint) -> Option<Arc<Inbox>> {
+        let hub = self.hub.as_ref()?;
+        let Endpoint::Udp { host, port } = e else {
+            return None;
+        };
+        let inbox = hub.route(host, *port)?;
+        hub.delivered.fetch_add(1, Ordering::Relaxed);
+        Some(inbox)
+    }
+
+    fn receive(&mut self, now: f64, out: &mut Vec<Post>) {
         for l in &mut self.listeners {
+            if let Some(inbox) = &l.inbox {
+                self.ready.clear();
+                inbox.take_before(now, &mut self.ready);
+                for d in self.ready.drain(..) {
+                    accept(
+                        &mut l.counts,
+                        &l.white_list,
+                        &self.table,
+                        &self.cmd_key,
+                        d,
+                        out,
+                    );
+                }
+                continue;
+            }
             let Some(sock) = &l.socket else {
                 continue;
             };
@@ -399,36 +572,15 @@ impl PShareApp {
                     // An ICMP error of an earlier send, an interrupted call: read on.
                     Err(_) => continue,
                 };
-                let msg = match datagram::decode(Bytes::copy_from_slice(&self.buf[..n])) {
-                    Ok(msg) => msg,
-                    Err(_) => {
-                        l.counts.garbage += 1;
-                        continue;
-                    }
-                };
-                if !datagram::wanted(&l.white_list, &msg.key) {
-                    l.counts.filtered += 1;
-                    continue;
-                }
-                let Some(mail) = msg.mail() else {
-                    l.counts.garbage += 1;
-                    continue;
-                };
-                if self.table.registered_for(&mail.key) || *mail.key == *self.cmd_key {
-                    l.counts.looped += 1;
-                    continue;
-                }
-                l.counts.posted += 1;
-                out.push(Post {
-                    key: mail.key,
-                    value: mail.value,
-                    source: mail.source,
-                    aux: mail.source_aux,
-                    relayed: Some(Box::new(Relayed {
-                        time: mail.time,
-                        community: mail.community,
-                    })),
-                });
+                let d = Bytes::copy_from_slice(&self.buf[..n]);
+                accept(
+                    &mut l.counts,
+                    &l.white_list,
+                    &self.table,
+                    &self.cmd_key,
+                    d,
+                    out,
+                );
             }
         }
     }
@@ -463,6 +615,49 @@ impl PShareApp {
     }
 }
 
+/// One datagram that came in on an input with `white_list`, counted in `counts`: decoded,
+/// checked against the white list and the loop guard, and posted as a relayed post (UDP and
+/// the in-process route alike).
+fn accept(
+    counts: &mut RxCounts,
+    white_list: &[String],
+    table: &RouteTable,
+    cmd_key: &str,
+    d: Bytes,
+    out: &mut Vec<Post>,
+) {
+    let msg = match datagram::decode(d) {
+        Ok(msg) => msg,
+        Err(_) => {
+            counts.garbage += 1;
+            return;
+        }
+    };
+    if !datagram::wanted(white_list, &msg.key) {
+        counts.filtered += 1;
+        return;
+    }
+    let Some(mail) = msg.mail() else {
+        counts.garbage += 1;
+        return;
+    };
+    if table.registered_for(&mail.key) || *mail.key == *cmd_key {
+        counts.looped += 1;
+        return;
+    }
+    counts.posted += 1;
+    out.push(Post {
+        key: mail.key,
+        value: mail.value,
+        source: mail.source,
+        aux: mail.source_aux,
+        relayed: Some(Box::new(Relayed {
+            time: mail.time,
+            community: mail.community,
+        })),
+    });
+}
+
 fn listeners_of(spec: &InputSpec) -> Vec<Listener> {
     spec.endpoints
         .iter()
@@ -470,6 +665,7 @@ fn listeners_of(spec: &InputSpec) -> Vec<Listener> {
             endpoint: e.clone(),
             white_list: spec.white_list.clone(),
             socket: None,
+            inbox: None,
             port: None,
             counts: RxCounts::default(),
         })
@@ -575,7 +771,7 @@ impl App for PShareApp {
     fn iterate(&mut self, now: f64, out: &mut Vec<Post>) -> AppResult {
         let tick = self.app_tick();
         self.appcast.begin(now, tick, out);
-        self.receive(out);
+        self.receive(now, out);
         self.summaries(now, out);
         let (table, listeners, tx) = (&self.table, &self.listeners, self.tx);
         self.appcast
@@ -587,7 +783,105 @@ impl App for PShareApp {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::testing::block;
+    use crate::app::Value;
+    use crate::testing::{block, mail};
+
+    fn posted<'a>(out: &'a [Post], key: &str) -> Vec<&'a Post> {
+        out.iter().filter(|p| &*p.key == key).collect()
+    }
+
+    #[test]
+    fn communities_of_one_run_share_in_process_at_the_next_iteration() {
+        let shared = Shared::new();
+        let hub = shared.get_or_insert_with(HUB, PShareHub::new);
+        let mut rx = PShareApp::new(
+            "pShare",
+            block(
+                "b.moos",
+                "ProcessConfig = pShare\n{\n  input = route = localhost:9421, white_list = REMOTE_*\n}\n",
+            ),
+        )
+        .with_shared(&shared);
+        // Another pShare of the run cannot take the same port: it stays a UDP listener.
+        let other = PShareApp::new(
+            "pShare2",
+            block(
+                "c.moos",
+                "ProcessConfig = pShare2\n{\n  input = route = localhost:9421\n}\n",
+            ),
+        )
+        .with_shared(&shared);
+        assert!(other.listeners[0].inbox.is_none());
+        assert_eq!(hub.ports(), vec![9421]);
+        let mut tx = PShareApp::new(
+            "pShare",
+            block(
+                "a.moos",
+                "ProcessConfig = pShare\n{\n  output = NAV_X->REMOTE_NAV_X:127.0.0.1:9421\n  \
+                 output = SECRET->localhost:9421\n  output = NAV_Y->REMOTE_NAV_Y:127.0.0.1:9422\n}\n",
+            ),
+        )
+        .with_shared(&shared);
+        let mut out = Vec::new();
+        rx.on_startup(10.0, &mut out).unwrap();
+        tx.on_startup(10.0, &mut out).unwrap();
+        // The receiver's input is in process: open on its port with no socket.
+        assert_eq!(
+            rx.listening(),
+            vec![(
+                Endpoint::Udp {
+                    host: "localhost".into(),
+                    port: 9421
+                },
+                Some(9421)
+            )]
+        );
+        assert!(rx.listeners[0].socket.is_none());
+        let sent = [
+            mail("NAV_X", Value::Double(5.0), 11.0, "uSimMarine"),
+            mail("SECRET", Value::Double(7.0), 11.0, "uSimMarine"),
+            mail("NAV_Y", Value::Double(6.0), 11.0, "uSimMarine"),
+        ];
+        tx.on_mail(&sent, 11.0, &mut out).unwrap();
+        // Two datagrams in process; NAV_Y's port has no input of the run: UDP.
+        let t = tx.sent();
+        assert_eq!((t.sent, t.in_process, t.failed), (3, 2, 0));
+        assert_eq!(hub.delivered(), 2);
+        // Not at the instant it was sent, whatever the order the communities run in.
+        let mut got = Vec::new();
+        rx.iterate(11.0, &mut got).unwrap();
+        assert!(posted(&got, "REMOTE_NAV_X").is_empty());
+        got.clear();
+        rx.iterate(11.25, &mut got).unwrap();
+        let x = posted(&got, "REMOTE_NAV_X");
+        assert_eq!(x.len(), 1);
+        assert_eq!(x[0].value, Value::Double(5.0));
+        assert_eq!(&*x[0].source, "uSimMarine");
+        let relayed = x[0].relayed.as_deref().expect("a relayed post");
+        assert_eq!((relayed.time, &*relayed.community), (11.0, "abe"));
+        // SECRET kept its name and the white list refused it, as over UDP.
+        assert!(posted(&got, "SECRET").is_empty());
+        let c = rx.received()[0].1;
+        assert_eq!((c.posted, c.filtered, c.garbage), (1, 1, 0));
+        got.clear();
+        rx.iterate(11.5, &mut got).unwrap();
+        assert!(posted(&got, "REMOTE_NAV_X").is_empty(), "delivered once");
+    }
+
+    #[test]
+    fn without_a_hub_every_route_is_udp() {
+        let shared = Shared::new();
+        let app = PShareApp::new(
+            "pShare",
+            block(
+                "a.moos",
+                "ProcessConfig = pShare\n{\n  input = route = localhost:9431\n}\n",
+            ),
+        )
+        .with_shared(&shared);
+        assert!(app.hub.is_none() && app.listeners[0].inbox.is_none());
+        assert!(shared.is_empty());
+    }
 
     #[test]
     fn bad_lines_and_multicast_routes_are_warnings_at_their_line() {

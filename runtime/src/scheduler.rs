@@ -143,6 +143,9 @@ pub struct Scheduler<C: Clock = VirtualClock, H: DbHost = LocalDb> {
     after: Vec<(String, Post)>,
     poke_client: Option<ClientId>,
     until: Option<Condition>,
+    /// True when the `until` condition ends [`Scheduler::advance`] (false: it is only
+    /// watched, see [`Scheduler::watch_until`]).
+    until_ends_run: bool,
     /// The `until` condition's variables, each once.
     until_vars: Vec<String>,
     /// Their current values at the last check (reused, so a check allocates nothing).
@@ -169,6 +172,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
             after: Vec::new(),
             poke_client: None,
             until: None,
+            until_ends_run: true,
             until_vars: Vec::new(),
             until_msgs: Vec::new(),
             armed: true,
@@ -285,6 +289,32 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
             }
         }
         self.until = Some(cond);
+        self.until_ends_run = true;
+    }
+
+    /// Keeps `cond` as the `until` condition without ending the run on it: the caller asks
+    /// [`Scheduler::until_holds`] when it wants (a fleet run ends when every community's
+    /// condition holds at once, so no community may stop on its own).
+    pub fn watch_until(&mut self, cond: Condition) {
+        self.set_until(cond);
+        self.until_ends_run = false;
+    }
+
+    /// The MOOS time of the next event (an app's tick or a timed poke), `None` when no app
+    /// is left to run and no poke is waiting. Before the first [`Scheduler::advance`] it is
+    /// the start time.
+    pub fn next_event_time(&self) -> Option<f64> {
+        let app = self
+            .slots
+            .iter()
+            .filter(|s| !s.done)
+            .map(|s| s.next)
+            .min_by(f64::total_cmp);
+        let poke = self.timed.first().map(|(t, _)| *t);
+        match (app, poke) {
+            (Some(a), Some(p)) => Some(a.min(p)),
+            (a, p) => a.or(p),
+        }
     }
 
     /// The start time.
@@ -415,7 +445,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
         let _span = tracing::trace_span!("advance", t_end).entered();
         if !self.started {
             self.startup()?;
-            if self.until_holds() {
+            if self.until_ends_run && self.until_holds() {
                 return Ok(Some(Outcome::ConditionMet { time: self.now }));
             }
         }
@@ -445,7 +475,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
                 }
                 Some(i) => self.step(i, t)?,
             }
-            if self.until_holds() {
+            if self.until_ends_run && self.until_holds() {
                 return Ok(Some(Outcome::ConditionMet { time: t }));
             }
             if self.slots.iter().all(|s| s.done) && self.timed.is_empty() {
@@ -604,6 +634,31 @@ mod tests {
             out.push(Post::text("OTHER", "x"));
             Ok(())
         }
+    }
+
+    #[test]
+    fn next_event_time_and_a_watched_condition() {
+        let mut s = Scheduler::new(Bus::new("t", 10.0), VirtualClock, 10.0);
+        assert_eq!(s.next_event_time(), None);
+        s.add_app(Box::new(Counter { n: 0 })).unwrap();
+        s.add_poke(Poke::parse("X=1@0.2", "h").unwrap()).unwrap();
+        assert_eq!(s.next_event_time(), Some(10.0));
+        // Watched, not ending: advance runs through the instant the condition holds.
+        s.watch_until(mission::condition::parse_condition("COUNT >= 2").unwrap());
+        assert_eq!(s.advance(10.0).unwrap(), None);
+        assert!(!s.until_holds());
+        assert_eq!(s.next_event_time(), Some(10.2));
+        assert_eq!(s.advance(10.2).unwrap(), None);
+        assert_eq!(s.next_event_time(), Some(10.5));
+        assert_eq!(s.advance(11.0).unwrap(), None);
+        assert!(s.until_holds());
+        assert_eq!(s.current("COUNT"), Some(Value::Double(3.0)));
+        // set_until ends the run again.
+        s.set_until(mission::condition::parse_condition("COUNT >= 4").unwrap());
+        assert_eq!(
+            s.advance(20.0).unwrap(),
+            Some(Outcome::ConditionMet { time: 11.5 })
+        );
     }
 
     #[test]

@@ -13,6 +13,14 @@
 //! warnings, progress and the summary, turns Ctrl-C into a clean stop, and picks the exit
 //! code.
 //!
+//! Several communities in one run: `coug run FLEET.fleet ...` (a base and vehicles from a
+//! template with per-vehicle macros, see `runtime::fleet`) or `coug run a.moos b.moos ...`
+//! (each community named by its `Community`). `--poke`, `--button` and `--until` then take
+//! an optional `NAME:` prefix (`--poke henry:DEPLOY=true@0`, `--until "henry: MISSION =
+//! complete"`); without it a poke goes to every community, a button to every community that
+//! has it, a condition to every vehicle; `--deploy` deploys every community. Each community
+//! logs in its own folder (`LOG_DIR/NAME/`). That is `runtime::session::run_fleet`.
+//!
 //! Exit codes: 0 when the `--until` condition held (or the run reached `--max-time`
 //! without one), 2 when `--max-time` came first, 1 on errors in files or arguments.
 
@@ -30,10 +38,11 @@ use runtime::{Outcome, Value};
 /// Arguments of `coug run`.
 #[derive(Debug, Args)]
 pub struct RunArgs {
-    /// The mission file.
+    /// The mission file (or a `.fleet` file: several communities).
     #[arg(value_name = "MISSION.moos")]
     pub mission: PathBuf,
-    /// nsplug macro definitions for the mission and its behaviour files.
+    /// nsplug macro definitions for the mission and its behaviour files; an argument
+    /// without `=` is one more mission file (a fleet of them).
     #[arg(value_name = "NAME=VALUE")]
     pub macros: Vec<String>,
     /// Virtual clock: every app and the bus in one thread, deterministic, as fast as the
@@ -55,9 +64,10 @@ pub struct RunArgs {
     /// first iteration, as an operator would (repeatable, in order).
     #[arg(long = "button", value_name = "LABEL")]
     pub buttons: Vec<String>,
-    /// End the run when this condition (.bhv syntax) holds, e.g. "MISSION = complete".
+    /// End the run when this condition (.bhv syntax) holds, e.g. "MISSION = complete". In a
+    /// fleet: `[NAME:]CONDITION`, repeatable, the run ends when all hold.
     #[arg(long, value_name = "CONDITION")]
-    pub until: Option<String>,
+    pub until: Vec<String>,
     /// End the run after this many simulated seconds (exit 2 if `--until` is pending).
     #[arg(long, value_name = "SECONDS", default_value_t = 3600.0)]
     pub max_time: f64,
@@ -294,6 +304,23 @@ fn run_inner(args: &RunArgs) -> Result<i32, Vec<String>> {
             args.max_time
         )]);
     }
+    let extra: Vec<PathBuf> = args
+        .macros
+        .iter()
+        .filter(|m| !m.contains('='))
+        .map(PathBuf::from)
+        .collect();
+    if !extra.is_empty() || args.mission.extension().is_some_and(|e| e == "fleet") {
+        if args.emulate {
+            return Err(vec!["--emulate runs one vehicle's mission, not a fleet".into()]);
+        }
+        return run_fleet(args, extra);
+    }
+    if args.until.len() > 1 {
+        return Err(vec![
+            "one --until for a single mission (join conditions with `and`)".into(),
+        ]);
+    }
     // The emulators first: their ports and terminals are the drivers' macros.
     let bench = if args.emulate {
         let p = runtime::hil::prepare(
@@ -339,7 +366,7 @@ fn run_inner(args: &RunArgs) -> Result<i32, Vec<String>> {
         pokes: args.pokes.clone(),
         deploy: args.deploy,
         buttons: args.buttons.clone(),
-        until: args.until.clone(),
+        until: args.until.first().cloned(),
         max_time: args.max_time,
         log_dir: args.log_dir.clone(),
         seed: args.seed,
@@ -446,9 +473,100 @@ fn run_inner(args: &RunArgs) -> Result<i32, Vec<String>> {
         errln!(
             "coug run: still pending after {:.1} simulated s: {} (now {})",
             report.sim_s(),
-            args.until.as_deref().unwrap_or(""),
+            args.until.first().map_or("", String::as_str),
             report.until_text().join(", ")
         );
+    }
+    Ok(code)
+}
+
+/// `coug run` with several communities: a `.fleet` file, or several `.moos` files.
+fn run_fleet(args: &RunArgs, extra: Vec<PathBuf>) -> Result<i32, Vec<String>> {
+    use runtime::fleet::LoadedFleet;
+    if args.view {
+        return Err(vec!["--view runs on one mission, not on a fleet".into()]);
+    }
+    if args.port.is_some() {
+        return Err(vec![
+            "--port: in a fleet each community's MOOSDB is on its mission's ServerPort (0 or none: a free port)"
+                .into(),
+        ]);
+    }
+    let macros: Vec<String> = args
+        .macros
+        .iter()
+        .filter(|m| m.contains('='))
+        .cloned()
+        .collect();
+    let fleet = if extra.is_empty() {
+        LoadedFleet::from_file(&args.mission, &macros, &args.include_paths)
+    } else {
+        let mut paths = vec![args.mission.clone()];
+        paths.extend(extra);
+        LoadedFleet::from_missions(&paths, &macros, &args.include_paths)
+    }
+    .map_err(|e| e.messages())?;
+    let checked = session::validate_fleet(&fleet);
+    if !checked.errors.is_empty() {
+        return Err(checked.errors);
+    }
+    for w in &checked.warnings {
+        errln!("coug run: {w}");
+    }
+    for (name, reasons) in &checked.malconfig {
+        report_malconfig(name, reasons);
+    }
+    for f in &checked.failed {
+        errln!("coug run: error: {f}; the run goes on without it");
+    }
+    let opts = session::FleetOptions {
+        mode: if args.lockstep {
+            Mode::Lockstep
+        } else {
+            Mode::RealTime {
+                warp: args.warp,
+                port: None,
+            }
+        },
+        pokes: args.pokes.clone(),
+        deploy: args.deploy,
+        buttons: args.buttons.clone(),
+        until: args.until.clone(),
+        max_time: args.max_time,
+        log_dir: args.log_dir.clone(),
+        seed: args.seed,
+    };
+    let mut cli = Cli {
+        progress: Progress::default(),
+        wall: Instant::now(),
+        terminal: std::io::stderr().is_terminal(),
+        every: args.progress_every,
+        interrupted: interrupt_flag(),
+    };
+    let report = session::run_fleet(&fleet, &opts, &mut cli);
+    cli.progress.finish();
+    let report = report.map_err(error_lines)?;
+    if let Ended::Interrupted { .. } = report.ended {
+        errln!("coug run: interrupted at {:.1} simulated s", report.sim_s());
+        return Ok(130);
+    }
+    out!("{report}");
+    let code = match report.ended {
+        Ended::Outcome(Outcome::ConditionMet { .. }) => 0,
+        _ if report.until_pending() => 2,
+        _ => 0,
+    };
+    if code == 2 {
+        for (name, r) in &report.members {
+            if r.until.is_some() {
+                errln!(
+                    "coug run: {name}: still pending after {:.1} simulated s: {} (now {})",
+                    report.sim_s(),
+                    r.until.as_deref().unwrap_or(""),
+                    r.until_text().join(", ")
+                );
+            }
+        }
     }
     Ok(code)
 }

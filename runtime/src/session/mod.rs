@@ -29,11 +29,13 @@ use thiserror::Error;
 use crate::antler::{HelmFiles, LaunchError, LogTarget, Plan, logger_config, plan};
 use crate::helm::load_behaviors;
 
+mod fleet;
 mod options;
 mod realtime;
 mod report;
 mod run;
 
+pub use fleet::{FleetOptions, FleetReport, fleet_port, run_fleet, validate_fleet};
 pub use options::{Mode, Observer, Quiet, RunOptions};
 pub use realtime::mission_for_externals;
 pub use report::{Ended, LogTotals, RunReport};
@@ -183,7 +185,21 @@ impl LoadedMission {
 
     /// Plans the ANTLER apps starting at MOOS time `start` with `seed`, logging to `log`.
     pub fn plan(&self, start: f64, seed: u64, log: Option<LogTarget>) -> Result<Plan, LaunchError> {
-        let mut launch = crate::antler::Launch::new(start, seed).with_helm_files(self.helm_files());
+        self.plan_shared(start, seed, log, crate::shared::Shared::new())
+    }
+
+    /// As [`LoadedMission::plan`], the apps sharing `shared` with the other communities of
+    /// the run (a fleet).
+    pub fn plan_shared(
+        &self,
+        start: f64,
+        seed: u64,
+        log: Option<LogTarget>,
+        shared: crate::shared::Shared,
+    ) -> Result<Plan, LaunchError> {
+        let mut launch = crate::antler::Launch::new(start, seed)
+            .with_helm_files(self.helm_files())
+            .with_shared(shared);
         launch.log = log;
         plan(&self.mission, launch, &mut |_, _| None)
     }
