@@ -52,6 +52,7 @@ pub const STOCK: &[(&str, StockFactory)] = &[
     ("BHV_PeriodicSurface", || Box::new(PeriodicSurface::new())),
     ("BHV_GoToDepth", || Box::new(GoToDepth::new())),
     ("BHV_StationKeep", || Box::new(StationKeep::new())),
+    ("BHV_MaxSpeed", || Box::new(crate::MaxSpeed::new())),
 ];
 
 type Factory = Arc<dyn Fn() -> Box<dyn Behavior> + Send + Sync>;

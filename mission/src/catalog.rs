@@ -317,6 +317,11 @@ pub const BEHAVIORS: &[BehaviorType] = &[
         params: &["var_status_idle", "var_status_running", "status_suffix"],
         posts: &["TIMER_IDLE", "TIMER_RUNNING"],
     },
+    BehaviorType {
+        name: "BHV_MaxSpeed",
+        params: &["max_speed", "basewidth", "tolerance", "speed_slack_var"],
+        posts: &[],
+    },
 ];
 
 /// pHelmIvP's own ProcessConfig parameters (MOOS-IvP a2a9b716 `HelmIvP::OnStartUp`), plus
