@@ -64,6 +64,61 @@ fn max_speed_caps_the_speed_a_waypoint_asks_for() {
     // The slack variable: max_speed - NAV_SPEED, settling near 0.
     let slack = nums(&log, "SPEED_SLACK");
     assert!(slack.last().unwrap().1.abs() < 0.1, "{slack:?}");
-    // Without the cap the same waypoint runs at 3 m/s: pinned by the waypoint's own tests;
-    // here the cap is the only thing below 3 m/s.
+}
+
+/// The `pts={x1,y1:x2,y2}` of a two-point seglist spec.
+fn two_points(spec: &str) -> ((f64, f64), (f64, f64)) {
+    let inner = spec
+        .strip_prefix("pts={")
+        .and_then(|s| s.split('}').next())
+        .unwrap_or_else(|| panic!("no points in {spec}"));
+    let pts: Vec<(f64, f64)> = inner
+        .split(':')
+        .map(|p| {
+            let (x, y) = p.split_once(',').unwrap();
+            (x.parse().unwrap(), y.parse().unwrap())
+        })
+        .collect();
+    assert_eq!(pts.len(), 2, "{spec}");
+    (pts[0], pts[1])
+}
+
+#[test]
+fn hsline_and_bearing_line_draw_what_the_vehicle_does() {
+    let log = run("lines.bhv", "ARRIVED = true", 300.0);
+    let hsl: Vec<(f64, String)> = texts(&log, "VIEW_SEGLIST")
+        .into_iter()
+        .filter(|(_, s)| s.ends_with("label=abe_hsl"))
+        .collect();
+    let bng: Vec<(f64, String)> = texts(&log, "VIEW_SEGLIST")
+        .into_iter()
+        .filter(|(_, s)| s.ends_with("label=abe_bng"))
+        .collect();
+    assert!(hsl.len() > 20 && bng.len() > 20, "{} {}", hsl.len(), bng.len());
+    // Each HSLine segment starts at the vehicle and runs along the helm's previous
+    // DESIRED_HEADING: mid-run east (first leg) and north (second leg) both appear.
+    let mut east = 0;
+    let mut north = 0;
+    for (_, s) in &hsl {
+        assert!(s.contains(",active=true,"), "{s}");
+        let ((x1, y1), (x2, y2)) = two_points(s);
+        let (dx, dy) = (x2 - x1, y2 - y1);
+        if dx > 5.0 && dy.abs() < 0.3 * dx {
+            east += 1;
+        }
+        if dy > 5.0 && dx.abs() < 0.3 * dy {
+            north += 1;
+        }
+        // Never longer than 10 s at the highest desired speed, 2 m/s.
+        assert!(dx.hypot(dy) <= 20.0 + 0.15, "{s}");
+    }
+    assert!(east > 5 && north > 5, "east {east}, north {north}");
+    // Each BearingLine segment ends half way from the vehicle to 100,100 (1 decimal).
+    for (_, s) in &bng {
+        let ((x1, y1), (x2, y2)) = two_points(s);
+        assert!((x2 - (x1 + 100.0) / 2.0).abs() < 0.11, "{s}");
+        assert!((y2 - (y1 + 100.0) / 2.0).abs() < 0.11, "{s}");
+    }
+    let pts = texts(&log, "VIEW_POINT");
+    assert!(pts.iter().any(|(_, s)| s == "x=100,y=100,label=100,100"), "{pts:?}");
 }

@@ -45,6 +45,7 @@
 
 #![warn(missing_docs)]
 
+mod bearing_line;
 mod behavior;
 pub mod color;
 mod common;
@@ -55,6 +56,7 @@ mod constant_speed;
 pub use moos_types::fmt;
 mod go_to_depth;
 pub mod hints;
+mod hs_line;
 mod loiter;
 mod max_depth;
 mod max_speed;
@@ -68,6 +70,7 @@ pub mod testing;
 mod timer;
 mod waypoint;
 
+pub use bearing_line::BearingLine;
 pub use behavior::{
     Behavior, Ctx, Emit, Info, MapInfo, Out, ParamError, PostKey, Value, nav, post_config_status,
 };
@@ -76,6 +79,7 @@ pub use constant_depth::ConstantDepth;
 pub use constant_heading::ConstantHeading;
 pub use constant_speed::ConstantSpeed;
 pub use go_to_depth::GoToDepth;
+pub use hs_line::HsLine;
 pub use loiter::Loiter;
 pub use max_depth::MaxDepth;
 pub use max_speed::MaxSpeed;

@@ -53,6 +53,8 @@ pub const STOCK: &[(&str, StockFactory)] = &[
     ("BHV_GoToDepth", || Box::new(GoToDepth::new())),
     ("BHV_StationKeep", || Box::new(StationKeep::new())),
     ("BHV_MaxSpeed", || Box::new(crate::MaxSpeed::new())),
+    ("BHV_HSLine", || Box::new(crate::HsLine::new())),
+    ("BHV_BearingLine", || Box::new(crate::BearingLine::new())),
 ];
 
 type Factory = Arc<dyn Fn() -> Box<dyn Behavior> + Send + Sync>;

@@ -322,6 +322,16 @@ pub const BEHAVIORS: &[BehaviorType] = &[
         params: &["max_speed", "basewidth", "tolerance", "speed_slack_var"],
         posts: &[],
     },
+    BehaviorType {
+        name: "BHV_HSLine",
+        params: &["time_on_leg"],
+        posts: &["VIEW_SEGLIST"],
+    },
+    BehaviorType {
+        name: "BHV_BearingLine",
+        params: &["bearing_point", "line_pct", "show_pt"],
+        posts: &["VIEW_SEGLIST", "VIEW_POINT"],
+    },
 ];
 
 /// pHelmIvP's own ProcessConfig parameters (MOOS-IvP a2a9b716 `HelmIvP::OnStartUp`), plus
