@@ -122,3 +122,42 @@ fn hsline_and_bearing_line_draw_what_the_vehicle_does() {
     let pts = texts(&log, "VIEW_POINT");
     assert!(pts.iter().any(|(_, s)| s == "x=100,y=100,label=100,100"), "{pts:?}");
 }
+
+#[test]
+fn zigzag_alternates_its_heading_about_the_stem() {
+    let log = run("zigzag.bhv", "ZZ_DONE = true", 400.0);
+    // Legs end at 1, 2, ... 7 (more than max_zig_legs = 2 x 3 completes it).
+    let legs: Vec<f64> = nums(&log, "ZIG_LEGS").into_iter().map(|p| p.1).collect();
+    assert_eq!(legs, [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
+    // Sides: port first, then alternating; the seventh leg's side flag is not posted.
+    let sides: Vec<String> = texts(&log, "ZIG_SIDE").into_iter().map(|p| p.1).collect();
+    assert_eq!(
+        sides,
+        ["port", "star", "port", "star", "port", "star", "port"]
+    );
+    // The helm asks for 330 on port legs and 30 on starboard legs, nothing else.
+    let desired: Vec<f64> = nums(&log, "DESIRED_HEADING").into_iter().map(|p| p.1).collect();
+    assert!(desired.iter().all(|h| *h == 330.0 || *h == 30.0), "{desired:?}");
+    // The heading reaches within 3 degrees of each in turn, and never swings much past them.
+    let headings = nums(&log, "NAV_HEADING");
+    let mut reached = Vec::new();
+    for (_, h) in &headings {
+        let off = if *h > 180.0 { h - 360.0 } else { *h };
+        assert!(off.abs() < 45.0, "heading {h}");
+        let side = if off <= -27.0 {
+            "port"
+        } else if off >= 27.0 {
+            "star"
+        } else {
+            continue;
+        };
+        if reached.last() != Some(&side) {
+            reached.push(side);
+        }
+    }
+    assert_eq!(reached.len(), 7, "{reached:?}");
+    // Progress along the stem: north, within a few metres of x = 0.
+    let tr = track(&log);
+    let (_, x_end, y_end) = *tr.last().unwrap();
+    assert!(y_end > 30.0 && x_end.abs() < 15.0, "{x_end},{y_end}");
+}

@@ -69,6 +69,7 @@ mod station_keep;
 pub mod testing;
 mod timer;
 mod waypoint;
+mod zigzag;
 
 pub use bearing_line::BearingLine;
 pub use behavior::{
@@ -90,6 +91,7 @@ pub use registry::{Registry, STOCK};
 pub use station_keep::{KeepMode, StationKeep};
 pub use timer::Timer;
 pub use waypoint::Waypoint;
+pub use zigzag::{Leg, ZigZag};
 
 /// Creates a behaviour of type `kind` (as written after `Behavior =`, case-insensitive),
 /// with its defaults, from the process's registry ([`Registry::global`]: the stock types

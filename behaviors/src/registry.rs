@@ -55,6 +55,7 @@ pub const STOCK: &[(&str, StockFactory)] = &[
     ("BHV_MaxSpeed", || Box::new(crate::MaxSpeed::new())),
     ("BHV_HSLine", || Box::new(crate::HsLine::new())),
     ("BHV_BearingLine", || Box::new(crate::BearingLine::new())),
+    ("BHV_ZigZag", || Box::new(crate::ZigZag::new())),
 ];
 
 type Factory = Arc<dyn Fn() -> Box<dyn Behavior> + Send + Sync>;
