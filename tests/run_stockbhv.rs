@@ -161,3 +161,69 @@ fn zigzag_alternates_its_heading_about_the_stem() {
     let (_, x_end, y_end) = *tr.last().unwrap();
     assert!(y_end > 30.0 && x_end.abs() < 15.0, "{x_end},{y_end}");
 }
+
+/// Runs the mission with `bhv` until `CHECK_END = true`, poked at `end` s.
+fn run_to(bhv: &str, end: f64) -> Alog {
+    let macro_ = format!("BHV={bhv}");
+    let mut opts = deploy_until("CHECK_END = true", end + 30.0);
+    opts.pokes = vec![format!("CHECK_END=true@{end}")];
+    let (bytes, _) = run_lockstep(&format!("stockbhv-{bhv}"), &mission(), &[&macro_], opts);
+    parse(&bytes)
+}
+
+/// Times of the helm's postings of `var`.
+fn helm_times(log: &Alog, var: &str) -> Vec<f64> {
+    log.entries
+        .iter()
+        .filter(|e| e.var == var && e.source.starts_with("pHelmIvP"))
+        .map(|e| e.time)
+        .collect()
+}
+
+#[test]
+fn test_failure_crash_ends_the_helm_when_the_behaviour_completes() {
+    let log = run_to("test_crash.bhv", 60.0);
+    let iters = helm_times(&log, "IVPHELM_ITER");
+    let deployed = helm_times(&log, "DESIRED_SPEED")
+        .into_iter()
+        .find(|_| true)
+        .expect("the helm drives before the failure");
+    let last = *iters.last().unwrap();
+    // The behaviour runs 10 s from deployment, then the helm aborts: the iteration that
+    // completed it publishes nothing (no endflag), and nothing comes after it.
+    assert!(
+        last > deployed + 9.0 && last < deployed + 11.0,
+        "last helm iteration at {last}, deployed at {deployed}"
+    );
+    assert!(helm_times(&log, "FAILURE_DONE").is_empty());
+    assert!(
+        log.entries
+            .iter()
+            .all(|e| !e.source.starts_with("pHelmIvP") || e.time <= last),
+        "the helm posted after its crash"
+    );
+    // The rest of the community goes on: the simulator still posts at 50 s.
+    assert!(nums(&log, "NAV_Y").iter().any(|(t, _)| *t > 50.0));
+}
+
+#[test]
+fn test_failure_burn_hangs_the_helm_three_seconds() {
+    let log = run_to("test_burn.bhv", 40.0);
+    let iters = helm_times(&log, "IVPHELM_ITER");
+    let done = helm_times(&log, "FAILURE_DONE");
+    assert_eq!(done.len(), 1, "the endflag comes out once, late");
+    let done = done[0];
+    // The helm iterates at its AppTick (4 Hz) but once: the iteration that completed the
+    // behaviour hangs 3 s, and its postings (the endflag among them) come out when the hang
+    // is over. The completed behaviour is then removed, so it never hangs again.
+    let gaps: Vec<(f64, f64)> = iters
+        .windows(2)
+        .filter(|w| w[1] - w[0] > 0.3)
+        .map(|w| (w[0], w[1]))
+        .collect();
+    assert_eq!(gaps.len(), 1, "{gaps:?}");
+    let (hung_at, resumed) = gaps[0];
+    assert!((resumed - hung_at - 3.25).abs() < 1e-9, "{gaps:?}");
+    assert_eq!(done, resumed);
+    assert!(iters.last().unwrap() > &35.0);
+}

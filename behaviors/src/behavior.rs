@@ -57,6 +57,21 @@ pub struct Out {
     pub completed: bool,
     /// The behaviour hit an error (MOOS `postEMessage`): the helm posts `BHV_ERROR` and halts.
     pub error: Option<String>,
+    /// The behaviour makes the helm's process fail (BHV_TestFailure): the helm keeps the
+    /// first one until its app acts on it ([`Fault`]).
+    pub fault: Option<Fault>,
+}
+
+/// A failure a behaviour inflicts on the helm's process, as MOOS-IvP's BHV_TestFailure does
+/// to pHelmIvP.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Fault {
+    /// The process aborts (the C++ `assert(0)`): the postings of that iteration are never
+    /// published and the helm is gone from the community.
+    Crash,
+    /// The process hangs for this many seconds (the C++ busy loop), then goes on: the
+    /// iteration's postings come out late and no iteration runs meanwhile.
+    Burn(f64),
 }
 
 impl Out {
@@ -96,11 +111,16 @@ impl Out {
     pub fn warning(&mut self, name: &str, msg: &str) {
         self.post_key("BHV_WARNING", format!("{name}: {msg}"), PostKey::Repeatable);
     }
+    /// Makes the helm's process fail ([`Fault`]).
+    pub fn fault(&mut self, fault: Fault) {
+        self.fault = Some(fault);
+    }
     /// Empties the buffer for reuse.
     pub fn clear(&mut self) {
         self.emits.clear();
         self.completed = false;
         self.error = None;
+        self.fault = None;
     }
 }
 

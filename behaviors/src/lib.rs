@@ -66,6 +66,7 @@ pub mod param;
 mod periodic_surface;
 pub mod registry;
 mod station_keep;
+mod test_failure;
 pub mod testing;
 mod timer;
 mod waypoint;
@@ -75,6 +76,7 @@ pub use bearing_line::BearingLine;
 pub use behavior::{
     Behavior, Ctx, Emit, Info, MapInfo, Out, ParamError, PostKey, Value, nav, post_config_status,
 };
+pub use behavior::Fault;
 pub use common::{Common, Flag, FlagKind, FlagValue, Templating};
 pub use constant_depth::ConstantDepth;
 pub use constant_heading::ConstantHeading;
@@ -89,6 +91,7 @@ pub use op_region_v24::OpRegionV24;
 pub use periodic_surface::{AscentGrade, PeriodicSurface, Phase};
 pub use registry::{Registry, STOCK};
 pub use station_keep::{KeepMode, StationKeep};
+pub use test_failure::TestFailure;
 pub use timer::Timer;
 pub use waypoint::Waypoint;
 pub use zigzag::{Leg, ZigZag};

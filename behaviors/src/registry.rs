@@ -56,6 +56,7 @@ pub const STOCK: &[(&str, StockFactory)] = &[
     ("BHV_HSLine", || Box::new(crate::HsLine::new())),
     ("BHV_BearingLine", || Box::new(crate::BearingLine::new())),
     ("BHV_ZigZag", || Box::new(crate::ZigZag::new())),
+    ("BHV_TestFailure", || Box::new(crate::TestFailure::new())),
 ];
 
 type Factory = Arc<dyn Fn() -> Box<dyn Behavior> + Send + Sync>;

@@ -25,6 +25,8 @@ pub mod report;
 pub mod runstate;
 
 pub use engine::{Helm, HelmState, Mail, Posting, Value};
+/// What BHV_TestFailure does to the helm's process ([`Helm::take_fault`]).
+pub use behaviors::Fault;
 
 /// The conformance tables: every pHelmIvP parameter and posting, and coug's status for each.
 #[doc = include_str!("conformance.md")]

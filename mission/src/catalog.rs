@@ -360,6 +360,11 @@ pub const BEHAVIORS: &[BehaviorType] = &[
         ],
         posts: &["VIEW_SEGLIST"],
     },
+    BehaviorType {
+        name: "BHV_TestFailure",
+        params: &["failure_type"],
+        posts: &[],
+    },
 ];
 
 /// pHelmIvP's own ProcessConfig parameters (MOOS-IvP a2a9b716 `HelmIvP::OnStartUp`), plus

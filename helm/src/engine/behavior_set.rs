@@ -127,6 +127,9 @@ impl Helm {
             );
             self.slots[i].ok = false;
         }
+        if let Some(f) = emit.fault.take() {
+            self.fault.get_or_insert(f);
+        }
         emit.clear();
         self.emit = emit;
     }
