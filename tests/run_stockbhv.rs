@@ -227,3 +227,29 @@ fn test_failure_burn_hangs_the_helm_three_seconds() {
     assert_eq!(done, resumed);
     assert!(iters.last().unwrap() > &35.0);
 }
+
+#[test]
+fn memory_turn_limit_widens_a_u_turn() {
+    let log = run("memory_turn_limit.bhv", "ARRIVED = true", 400.0);
+    // Each iteration the helm's course is within the turn range (20 degrees, narrower
+    // below 1.5 m/s) of the average heading it posted in the same iteration.
+    let avg = nums(&log, "MEM_HDG_AVG");
+    let desired = nums(&log, "DESIRED_HEADING");
+    assert!(avg.len() > 40, "{}", avg.len());
+    let mut checked = 0;
+    for (t, a) in &avg {
+        if let Some((_, d)) = desired.iter().find(|(td, _)| td == t) {
+            let diff = (d - a + 540.0).rem_euclid(360.0) - 180.0;
+            // The average is posted rounded to an integer: half a degree of slack.
+            assert!(diff.abs() <= 20.5, "at {t}: desired {d}, average {a}");
+            checked += 1;
+        }
+    }
+    assert!(checked > 40, "{checked}");
+    // The U-turn is wide: the vehicle swings further east or west of its start line than
+    // the same waypoint turning freely.
+    let widest = |log: &Alog| track(log).iter().map(|p| p.1.abs()).fold(0.0, f64::max);
+    let limited = widest(&log);
+    let free = widest(&run("u_turn.bhv", "ARRIVED = true", 400.0));
+    assert!(limited > 2.0 * free, "limited {limited}, free {free}");
+}

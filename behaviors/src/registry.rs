@@ -57,6 +57,7 @@ pub const STOCK: &[(&str, StockFactory)] = &[
     ("BHV_BearingLine", || Box::new(crate::BearingLine::new())),
     ("BHV_ZigZag", || Box::new(crate::ZigZag::new())),
     ("BHV_TestFailure", || Box::new(crate::TestFailure::new())),
+    ("BHV_MemoryTurnLimit", || Box::new(crate::MemoryTurnLimit::new())),
 ];
 
 type Factory = Arc<dyn Fn() -> Box<dyn Behavior> + Send + Sync>;

@@ -365,6 +365,11 @@ pub const BEHAVIORS: &[BehaviorType] = &[
         params: &["failure_type"],
         posts: &[],
     },
+    BehaviorType {
+        name: "BHV_MemoryTurnLimit",
+        params: &["memory_time", "turn_range"],
+        posts: &["MEM_HDG_AVG"],
+    },
 ];
 
 /// pHelmIvP's own ProcessConfig parameters (MOOS-IvP a2a9b716 `HelmIvP::OnStartUp`), plus
