@@ -253,3 +253,26 @@ fn memory_turn_limit_widens_a_u_turn() {
     let free = widest(&run("u_turn.bhv", "ARRIVED = true", 400.0));
     assert!(limited > 2.0 * free, "limited {limited}, free {free}");
 }
+
+#[test]
+fn periodic_speed_bursts_every_lazy_period() {
+    let log = run_to("periodic_speed.bhv", 95.0);
+    let desired = nums(&log, "DESIRED_SPEED");
+    let deployed = desired[0].0;
+    // 20 s lazy (the waypoint's 1 m/s), 10 s busy (2.5 m/s), from deployment on.
+    for (t, v) in &desired {
+        let phase = (t - deployed).rem_euclid(30.0);
+        // Skip the iterations at the switches.
+        if (phase - 20.0).abs() < 0.3 || phase < 0.3 || phase > 29.7 {
+            continue;
+        }
+        let want = if phase < 20.0 { 1.0 } else { 2.5 };
+        assert!((v - want).abs() < 1e-9, "at {t} (phase {phase}): {v}");
+    }
+    // The busy count and the constructor's active/inactive flags (the inactive flag only
+    // when an active period ends).
+    let counts: Vec<f64> = nums(&log, "PS_BUSY_COUNT").into_iter().map(|p| p.1).collect();
+    assert_eq!(counts, [0.0, 1.0, 2.0, 3.0]);
+    let flags: Vec<f64> = nums(&log, "PERIODIC_SPEED").into_iter().map(|p| p.1).collect();
+    assert_eq!(flags, [1.0, 0.0, 1.0, 0.0, 1.0, 0.0]);
+}

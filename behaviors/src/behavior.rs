@@ -330,6 +330,19 @@ pub trait Behavior: Send {
         false
     }
 
+    /// Common parameters this type's MOOS constructor sets (`IvPBehavior::setParam` there),
+    /// applied by the helm before the file's lines: e.g. BHV_PeriodicSpeed's
+    /// `activeflag = PERIODIC_SPEED=1`. None by default.
+    ///
+    /// ```
+    /// let b = behaviors::create("BHV_PeriodicSpeed").unwrap();
+    /// assert_eq!(b.default_common_params()[0], ("activeflag", "PERIODIC_SPEED=1"));
+    /// assert!(behaviors::create("BHV_Waypoint").unwrap().default_common_params().is_empty());
+    /// ```
+    fn default_common_params(&self) -> &'static [(&'static str, &'static str)] {
+        &[]
+    }
+
     /// The default `duration` of this type (−1 = none). ConstantSpeed/Heading/Depth use 0
     /// (reference §5.5).
     fn default_duration(&self) -> f64 {

@@ -58,6 +58,7 @@ pub const STOCK: &[(&str, StockFactory)] = &[
     ("BHV_ZigZag", || Box::new(crate::ZigZag::new())),
     ("BHV_TestFailure", || Box::new(crate::TestFailure::new())),
     ("BHV_MemoryTurnLimit", || Box::new(crate::MemoryTurnLimit::new())),
+    ("BHV_PeriodicSpeed", || Box::new(crate::PeriodicSpeed::new())),
 ];
 
 type Factory = Arc<dyn Fn() -> Box<dyn Behavior> + Send + Sync>;

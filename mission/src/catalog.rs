@@ -370,6 +370,30 @@ pub const BEHAVIORS: &[BehaviorType] = &[
         params: &["memory_time", "turn_range"],
         posts: &["MEM_HDG_AVG"],
     },
+    BehaviorType {
+        name: "BHV_PeriodicSpeed",
+        params: &[
+            "period_busy",
+            "period_lazy",
+            "period_speed",
+            "basewidth",
+            "zaic_basewidth",
+            "period_basewidth",
+            "peakwidth",
+            "period_peakwidth",
+            "zaic_peakwidth",
+            "summit_delta",
+            "zaic_summit_delta",
+            "reset_upon_running",
+            "initially_busy",
+        ],
+        posts: &[
+            "PS_BUSY_COUNT",
+            "PS_PENDING_ACTIVE",
+            "PS_PENDING_INACTIVE",
+            "PERIODIC_SPEED",
+        ],
+    },
 ];
 
 /// pHelmIvP's own ProcessConfig parameters (MOOS-IvP a2a9b716 `HelmIvP::OnStartUp`), plus
