@@ -94,7 +94,12 @@ fn hsline_and_bearing_line_draw_what_the_vehicle_does() {
         .into_iter()
         .filter(|(_, s)| s.ends_with("label=abe_bng"))
         .collect();
-    assert!(hsl.len() > 20 && bng.len() > 20, "{} {}", hsl.len(), bng.len());
+    assert!(
+        hsl.len() > 20 && bng.len() > 20,
+        "{} {}",
+        hsl.len(),
+        bng.len()
+    );
     // Each HSLine segment starts at the vehicle and runs along the helm's previous
     // DESIRED_HEADING: mid-run east (first leg) and north (second leg) both appear.
     let mut east = 0;
@@ -120,7 +125,10 @@ fn hsline_and_bearing_line_draw_what_the_vehicle_does() {
         assert!((y2 - (y1 + 100.0) / 2.0).abs() < 0.11, "{s}");
     }
     let pts = texts(&log, "VIEW_POINT");
-    assert!(pts.iter().any(|(_, s)| s == "x=100,y=100,label=100,100"), "{pts:?}");
+    assert!(
+        pts.iter().any(|(_, s)| s == "x=100,y=100,label=100,100"),
+        "{pts:?}"
+    );
 }
 
 #[test]
@@ -136,8 +144,14 @@ fn zigzag_alternates_its_heading_about_the_stem() {
         ["port", "star", "port", "star", "port", "star", "port"]
     );
     // The helm asks for 330 on port legs and 30 on starboard legs, nothing else.
-    let desired: Vec<f64> = nums(&log, "DESIRED_HEADING").into_iter().map(|p| p.1).collect();
-    assert!(desired.iter().all(|h| *h == 330.0 || *h == 30.0), "{desired:?}");
+    let desired: Vec<f64> = nums(&log, "DESIRED_HEADING")
+        .into_iter()
+        .map(|p| p.1)
+        .collect();
+    assert!(
+        desired.iter().all(|h| *h == 330.0 || *h == 30.0),
+        "{desired:?}"
+    );
     // The heading reaches within 3 degrees of each in turn, and never swings much past them.
     let headings = nums(&log, "NAV_HEADING");
     let mut reached = Vec::new();
@@ -271,8 +285,14 @@ fn periodic_speed_bursts_every_lazy_period() {
     }
     // The busy count and the constructor's active/inactive flags (the inactive flag only
     // when an active period ends).
-    let counts: Vec<f64> = nums(&log, "PS_BUSY_COUNT").into_iter().map(|p| p.1).collect();
+    let counts: Vec<f64> = nums(&log, "PS_BUSY_COUNT")
+        .into_iter()
+        .map(|p| p.1)
+        .collect();
     assert_eq!(counts, [0.0, 1.0, 2.0, 3.0]);
-    let flags: Vec<f64> = nums(&log, "PERIODIC_SPEED").into_iter().map(|p| p.1).collect();
+    let flags: Vec<f64> = nums(&log, "PERIODIC_SPEED")
+        .into_iter()
+        .map(|p| p.1)
+        .collect();
     assert_eq!(flags, [1.0, 0.0, 1.0, 0.0, 1.0, 0.0]);
 }

@@ -57,7 +57,11 @@ impl HsLine {
     fn spec(&self, active: bool) -> String {
         let mut s = String::new();
         geometry::spec::write_points(&mut s, &self.line, 1);
-        s.push_str(if active { ",active=true" } else { ",active=false" });
+        s.push_str(if active {
+            ",active=true"
+        } else {
+            ",active=false"
+        });
         if !self.label.is_empty() {
             s.push_str(",label=");
             s.push_str(&self.label);

@@ -75,10 +75,10 @@ mod waypoint;
 mod zigzag;
 
 pub use bearing_line::BearingLine;
+pub use behavior::Fault;
 pub use behavior::{
     Behavior, Ctx, Emit, Info, MapInfo, Out, ParamError, PostKey, Value, nav, post_config_status,
 };
-pub use behavior::Fault;
 pub use common::{Common, Flag, FlagKind, FlagValue, Templating};
 pub use constant_depth::ConstantDepth;
 pub use constant_heading::ConstantHeading;

@@ -353,7 +353,7 @@ impl ZigZag {
         self.zig_cnt += 1;
         self.zig_cnt_ever += 1;
         self.post_flags(&self.flags.zig.clone(), out);
-        if self.zig_cnt % 2 == 0 {
+        if self.zig_cnt.is_multiple_of(2) {
             self.post_flags(&self.flags.zag.clone(), out);
         }
         if self.leg == Leg::Port {
@@ -366,7 +366,7 @@ impl ZigZag {
             self.set_hdg = geometry::angle_360(self.stem_hdg - self.zig_angle);
         }
         self.zig_odo.reset();
-        if self.zig_cnt % 2 == 0 {
+        if self.zig_cnt.is_multiple_of(2) {
             self.zag_odo.reset();
         }
         // As the C++: the heading, not the speed.
@@ -667,8 +667,7 @@ impl Behavior for ZigZag {
     }
 
     fn on_run(&mut self, ctx: &Ctx<'_>, out: &mut Out) -> Option<IvpFunction> {
-        if !self.update_pos(ctx, out) || !self.update_hdg(ctx, out) || !self.update_spd(ctx, out)
-        {
+        if !self.update_pos(ctx, out) || !self.update_hdg(ctx, out) || !self.update_spd(ctx, out) {
             return None;
         }
         self.update_odometry();
@@ -711,8 +710,16 @@ impl Behavior for ZigZag {
             "ZIG_MIN_SPD" => compact(out, self.zig_spd_min, 3),
             "ZIG_SPD_DELTA" => compact(out, self.zig_spd_delta, 3),
             "ZIGS_TOGO" | "ZAGS_TOGO" => int(out, togo),
-            "ZIG_PORT" => out.push_str(if self.leg == Leg::Port { "true" } else { "false" }),
-            "ZIG_STAR" => out.push_str(if self.leg == Leg::Star { "true" } else { "false" }),
+            "ZIG_PORT" => out.push_str(if self.leg == Leg::Port {
+                "true"
+            } else {
+                "false"
+            }),
+            "ZIG_STAR" => out.push_str(if self.leg == Leg::Star {
+                "true"
+            } else {
+                "false"
+            }),
             "ZIG_SIDE" => out.push_str(self.leg.name()),
             _ => return false,
         }

@@ -56,7 +56,10 @@ fn slack_is_posted_idle_and_running_and_missing_speed_warns() {
 
     let mut b = Bhv::new("BHV_MaxSpeed", "maxspd", uuv_domain()).config(&[]);
     let (f, out) = b.run(0.0);
-    assert!(f.is_some(), "the C++ still builds its function without NAV_SPEED");
+    assert!(
+        f.is_some(),
+        "the C++ still builds its function without NAV_SPEED"
+    );
     assert_eq!(
         posted(&out, "BHV_WARNING").and_then(Value::as_str),
         Some("maxspd: No ownship SPEED info in info_buffer.")

@@ -28,7 +28,10 @@ fn the_peak_follows_the_remembered_average_and_the_speed() {
     let (f, out) = b.run(2.0);
     let f = f.unwrap();
     // Average of 80 and 100: atan2(sin 80 + sin 100, cos 80 + cos 100) = 90, posted rounded.
-    assert_eq!(posted(&out, "MEM_HDG_AVG").and_then(Value::as_f64), Some(90.0));
+    assert_eq!(
+        posted(&out, "MEM_HDG_AVG").and_then(Value::as_f64),
+        Some(90.0)
+    );
     // Peak width 30 * 0.75 / 1.5 = 15, summit delta 0.2, base width 0: 100 at 90,
     // 100 - 0.2 * 10 / 15 = 99.8667 at 100, 99.8 at 105 and 75, 0 beyond.
     let at = |c: u32| f.eval(&[c]).unwrap();
@@ -44,7 +47,10 @@ fn the_peak_follows_the_remembered_average_and_the_speed() {
     b.num("NAV_HEADING", 120.0).num("NAV_SPEED", 2.0);
     let (f, out) = b.run(12.0);
     let f = f.unwrap();
-    assert_eq!(posted(&out, "MEM_HDG_AVG").and_then(Value::as_f64), Some(110.0));
+    assert_eq!(
+        posted(&out, "MEM_HDG_AVG").and_then(Value::as_f64),
+        Some(110.0)
+    );
     assert!((f.eval(&[140]).unwrap() - 99.8).abs() < 1e-6);
     assert!(f.eval(&[142]).unwrap().abs() < 1e-6);
 
