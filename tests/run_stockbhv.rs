@@ -296,3 +296,39 @@ fn periodic_speed_bursts_every_lazy_period() {
         .collect();
     assert_eq!(flags, [1.0, 0.0, 1.0, 0.0, 1.0, 0.0]);
 }
+
+#[test]
+fn fixed_turn_flies_a_full_circle_and_reports_its_radius() {
+    let log = run("fixed_turn.bhv", "TURNED > 0", 300.0);
+    let report = texts(&log, "FT_REPORT");
+    assert_eq!(report.len(), 1, "{report:?}");
+    let (t_done, report) = &report[0];
+    let field = |k: &str| -> f64 {
+        report
+            .split(',')
+            .find_map(|kv| kv.strip_prefix(k)?.strip_prefix('='))
+            .unwrap_or_else(|| panic!("{k} in {report}"))
+            .parse()
+            .unwrap()
+    };
+    assert_eq!(field("spd"), 1.5);
+    assert_eq!(field("mod_hdg"), 30.0);
+    let (avg, min, max) = (field("avg_rad"), field("min_rad"), field("max_rad"));
+    assert!(min <= avg && avg <= max && min > 1.0, "{report}");
+    // The endflag carries the turn's duration.
+    let turned = nums(&log, "TURNED");
+    assert_eq!(turned.len(), 1);
+    let diam = texts(&log, "VIEW_SEGLIST")
+        .into_iter()
+        .filter(|(_, s)| s.contains("label=abeft"))
+        .count();
+    assert!(diam > 10, "{diam} diameters drawn");
+    // The heading went all the way round, clockwise.
+    let hdg = nums(&log, "NAV_HEADING");
+    let mut turned_deg = 0.0;
+    for w in hdg.windows(2).filter(|w| w[1].0 <= *t_done) {
+        let d = (w[1].1 - w[0].1 + 540.0).rem_euclid(360.0) - 180.0;
+        turned_deg += d;
+    }
+    assert!(turned_deg >= 355.0, "turned {turned_deg}");
+}

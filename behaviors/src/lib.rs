@@ -54,6 +54,7 @@ mod constant_heading;
 mod constant_speed;
 /// MOOS number formatting (the workspace's one set of helpers).
 pub use moos_types::fmt;
+mod fixed_turn;
 mod go_to_depth;
 pub mod hints;
 mod hs_line;
@@ -83,6 +84,7 @@ pub use common::{Common, Flag, FlagKind, FlagValue, Templating};
 pub use constant_depth::ConstantDepth;
 pub use constant_heading::ConstantHeading;
 pub use constant_speed::ConstantSpeed;
+pub use fixed_turn::{FixedTurn, ScheduledTurn};
 pub use go_to_depth::GoToDepth;
 pub use hs_line::HsLine;
 pub use loiter::Loiter;

@@ -35,7 +35,9 @@ use crate::{
 };
 
 // The non-contact stock behaviours of issue #18.
-use crate::{BearingLine, HsLine, MaxSpeed, MemoryTurnLimit, PeriodicSpeed, TestFailure, ZigZag};
+use crate::{
+    BearingLine, FixedTurn, HsLine, MaxSpeed, MemoryTurnLimit, PeriodicSpeed, TestFailure, ZigZag,
+};
 
 /// Builds a stock behaviour with its defaults.
 pub type StockFactory = fn() -> Box<dyn Behavior>;
@@ -62,6 +64,7 @@ pub const STOCK: &[(&str, StockFactory)] = &[
     ("BHV_TestFailure", || Box::new(TestFailure::new())),
     ("BHV_MemoryTurnLimit", || Box::new(MemoryTurnLimit::new())),
     ("BHV_PeriodicSpeed", || Box::new(PeriodicSpeed::new())),
+    ("BHV_FixedTurn", || Box::new(FixedTurn::new())),
 ];
 
 type Factory = Arc<dyn Fn() -> Box<dyn Behavior> + Send + Sync>;

@@ -8,7 +8,7 @@ mod support;
 use behaviors::ParamError;
 use support::{Bhv, uuv_domain};
 
-const KINDS: [&str; 7] = [
+const KINDS: [&str; 8] = [
     "BHV_MaxSpeed",
     "BHV_HSLine",
     "BHV_BearingLine",
@@ -16,6 +16,7 @@ const KINDS: [&str; 7] = [
     "BHV_TestFailure",
     "BHV_MemoryTurnLimit",
     "BHV_PeriodicSpeed",
+    "BHV_FixedTurn",
 ];
 
 #[test]

@@ -394,6 +394,23 @@ pub const BEHAVIORS: &[BehaviorType] = &[
             "PERIODIC_SPEED",
         ],
     },
+    BehaviorType {
+        name: "BHV_FixedTurn",
+        params: &[
+            "fix_turn",
+            "mod_hdg",
+            "turn_dir",
+            "speed",
+            "timeout",
+            "turn_delay",
+            "turn_spec",
+            "schedule_repeat",
+            "stale_nav_thresh",
+            "radius_rep_var",
+            "visual_hints",
+        ],
+        posts: &["FT_REPORT", "VIEW_SEGLIST"],
+    },
 ];
 
 /// pHelmIvP's own ProcessConfig parameters (MOOS-IvP a2a9b716 `HelmIvP::OnStartUp`), plus
