@@ -319,12 +319,14 @@ pub trait Behavior: Send {
     /// `IvPBehavior::isConstraint`, a per-type property, false by default). With the helm's
     /// `goals_mandatory = true`, an iteration in which no active behaviour is a goal behaviour
     /// all-stops with `NoGoalBehavior`. In MOOS-IvP the collision/obstacle avoidance, max-speed
-    /// and tow-safety types are constraints; every type coug implements is a goal behaviour
-    /// (BHV_MaxDepth included, as in MOOS-IvP).
+    /// and tow-safety types are constraints; of coug's types BHV_MaxSpeed and
+    /// BHV_MemoryTurnLimit are, the others are goal behaviours (BHV_MaxDepth included, as in
+    /// MOOS-IvP).
     ///
     /// ```
     /// assert!(!behaviors::create("BHV_MaxDepth").unwrap().is_constraint());
     /// assert!(!behaviors::create("BHV_Waypoint").unwrap().is_constraint());
+    /// assert!(behaviors::create("BHV_MaxSpeed").unwrap().is_constraint());
     /// ```
     fn is_constraint(&self) -> bool {
         false
