@@ -277,7 +277,7 @@ fn periodic_speed_bursts_every_lazy_period() {
     for (t, v) in &desired {
         let phase = (t - deployed).rem_euclid(30.0);
         // Skip the iterations at the switches.
-        if (phase - 20.0).abs() < 0.3 || phase < 0.3 || phase > 29.7 {
+        if (phase - 20.0).abs() < 0.3 || !(0.3..=29.7).contains(&phase) {
             continue;
         }
         let want = if phase < 20.0 { 1.0 } else { 2.5 };
