@@ -57,6 +57,21 @@ pub struct Out {
     pub completed: bool,
     /// The behaviour hit an error (MOOS `postEMessage`): the helm posts `BHV_ERROR` and halts.
     pub error: Option<String>,
+    /// The behaviour makes the helm's process fail (BHV_TestFailure): the helm keeps the
+    /// first one until its app acts on it ([`Fault`]).
+    pub fault: Option<Fault>,
+}
+
+/// A failure a behaviour inflicts on the helm's process, as MOOS-IvP's BHV_TestFailure does
+/// to pHelmIvP.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Fault {
+    /// The process aborts (the C++ `assert(0)`): the postings of that iteration are never
+    /// published and the helm is gone from the community.
+    Crash,
+    /// The process hangs for this many seconds (the C++ busy loop), then goes on: the
+    /// iteration's postings come out late and no iteration runs meanwhile.
+    Burn(f64),
 }
 
 impl Out {
@@ -96,11 +111,16 @@ impl Out {
     pub fn warning(&mut self, name: &str, msg: &str) {
         self.post_key("BHV_WARNING", format!("{name}: {msg}"), PostKey::Repeatable);
     }
+    /// Makes the helm's process fail ([`Fault`]).
+    pub fn fault(&mut self, fault: Fault) {
+        self.fault = Some(fault);
+    }
     /// Empties the buffer for reuse.
     pub fn clear(&mut self) {
         self.emits.clear();
         self.completed = false;
         self.error = None;
+        self.fault = None;
     }
 }
 
@@ -299,15 +319,30 @@ pub trait Behavior: Send {
     /// `IvPBehavior::isConstraint`, a per-type property, false by default). With the helm's
     /// `goals_mandatory = true`, an iteration in which no active behaviour is a goal behaviour
     /// all-stops with `NoGoalBehavior`. In MOOS-IvP the collision/obstacle avoidance, max-speed
-    /// and tow-safety types are constraints; every type coug implements is a goal behaviour
-    /// (BHV_MaxDepth included, as in MOOS-IvP).
+    /// and tow-safety types are constraints; of coug's types BHV_MaxSpeed and
+    /// BHV_MemoryTurnLimit are, the others are goal behaviours (BHV_MaxDepth included, as in
+    /// MOOS-IvP).
     ///
     /// ```
     /// assert!(!behaviors::create("BHV_MaxDepth").unwrap().is_constraint());
     /// assert!(!behaviors::create("BHV_Waypoint").unwrap().is_constraint());
+    /// assert!(behaviors::create("BHV_MaxSpeed").unwrap().is_constraint());
     /// ```
     fn is_constraint(&self) -> bool {
         false
+    }
+
+    /// Common parameters this type's MOOS constructor sets (`IvPBehavior::setParam` there),
+    /// applied by the helm before the file's lines: e.g. BHV_PeriodicSpeed's
+    /// `activeflag = PERIODIC_SPEED=1`. None by default.
+    ///
+    /// ```
+    /// let b = behaviors::create("BHV_PeriodicSpeed").unwrap();
+    /// assert_eq!(b.default_common_params()[0], ("activeflag", "PERIODIC_SPEED=1"));
+    /// assert!(behaviors::create("BHV_Waypoint").unwrap().default_common_params().is_empty());
+    /// ```
+    fn default_common_params(&self) -> &'static [(&'static str, &'static str)] {
+        &[]
     }
 
     /// The default `duration` of this type (−1 = none). ConstantSpeed/Heading/Depth use 0

@@ -45,6 +45,7 @@
 
 #![warn(missing_docs)]
 
+mod bearing_line;
 mod behavior;
 pub mod color;
 mod common;
@@ -53,20 +54,29 @@ mod constant_heading;
 mod constant_speed;
 /// MOOS number formatting (the workspace's one set of helpers).
 pub use moos_types::fmt;
+mod fixed_turn;
 mod go_to_depth;
 pub mod hints;
+mod hs_line;
 mod loiter;
 mod max_depth;
+mod max_speed;
+mod memory_turn_limit;
 mod op_region;
 mod op_region_v24;
 pub mod param;
+mod periodic_speed;
 mod periodic_surface;
 pub mod registry;
 mod station_keep;
+mod test_failure;
 pub mod testing;
 mod timer;
 mod waypoint;
+mod zigzag;
 
+pub use bearing_line::BearingLine;
+pub use behavior::Fault;
 pub use behavior::{
     Behavior, Ctx, Emit, Info, MapInfo, Out, ParamError, PostKey, Value, nav, post_config_status,
 };
@@ -74,16 +84,23 @@ pub use common::{Common, Flag, FlagKind, FlagValue, Templating};
 pub use constant_depth::ConstantDepth;
 pub use constant_heading::ConstantHeading;
 pub use constant_speed::ConstantSpeed;
+pub use fixed_turn::{FixedTurn, ScheduledTurn};
 pub use go_to_depth::GoToDepth;
+pub use hs_line::HsLine;
 pub use loiter::Loiter;
 pub use max_depth::MaxDepth;
+pub use max_speed::MaxSpeed;
+pub use memory_turn_limit::MemoryTurnLimit;
 pub use op_region::{Breach, OpRegion};
 pub use op_region_v24::OpRegionV24;
+pub use periodic_speed::PeriodicSpeed;
 pub use periodic_surface::{AscentGrade, PeriodicSurface, Phase};
 pub use registry::{Registry, STOCK};
 pub use station_keep::{KeepMode, StationKeep};
+pub use test_failure::TestFailure;
 pub use timer::Timer;
 pub use waypoint::Waypoint;
+pub use zigzag::{Leg, ZigZag};
 
 /// Creates a behaviour of type `kind` (as written after `Behavior =`, case-insensitive),
 /// with its defaults, from the process's registry ([`Registry::global`]: the stock types

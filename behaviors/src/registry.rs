@@ -34,6 +34,11 @@ use crate::{
     OpRegionV24, PeriodicSurface, StationKeep, Timer, Waypoint,
 };
 
+// The non-contact stock behaviours of issue #18.
+use crate::{
+    BearingLine, FixedTurn, HsLine, MaxSpeed, MemoryTurnLimit, PeriodicSpeed, TestFailure, ZigZag,
+};
+
 /// Builds a stock behaviour with its defaults.
 pub type StockFactory = fn() -> Box<dyn Behavior>;
 
@@ -52,6 +57,14 @@ pub const STOCK: &[(&str, StockFactory)] = &[
     ("BHV_PeriodicSurface", || Box::new(PeriodicSurface::new())),
     ("BHV_GoToDepth", || Box::new(GoToDepth::new())),
     ("BHV_StationKeep", || Box::new(StationKeep::new())),
+    ("BHV_MaxSpeed", || Box::new(MaxSpeed::new())),
+    ("BHV_HSLine", || Box::new(HsLine::new())),
+    ("BHV_BearingLine", || Box::new(BearingLine::new())),
+    ("BHV_ZigZag", || Box::new(ZigZag::new())),
+    ("BHV_TestFailure", || Box::new(TestFailure::new())),
+    ("BHV_MemoryTurnLimit", || Box::new(MemoryTurnLimit::new())),
+    ("BHV_PeriodicSpeed", || Box::new(PeriodicSpeed::new())),
+    ("BHV_FixedTurn", || Box::new(FixedTurn::new())),
 ];
 
 type Factory = Arc<dyn Fn() -> Box<dyn Behavior> + Send + Sync>;

@@ -24,6 +24,8 @@ pub mod mode;
 pub mod report;
 pub mod runstate;
 
+/// What BHV_TestFailure does to the helm's process ([`Helm::take_fault`]).
+pub use behaviors::Fault;
 pub use engine::{Helm, HelmState, Mail, Posting, Value};
 
 /// The conformance tables: every pHelmIvP parameter and posting, and coug's status for each.

@@ -33,6 +33,17 @@ pub struct HelmApp {
     cpu_percent: Option<f64>,
     /// Appcasting (AppCastingMOOSApp): requests, warnings, events, `APPCAST` postings.
     appcast: AppcastLayer,
+    /// What a behaviour did to the process (BHV_TestFailure), if anything.
+    failed: Option<Failed>,
+}
+
+/// The helm's process after a BHV_TestFailure fault.
+#[derive(Debug)]
+enum Failed {
+    /// Aborted: no more postings, the app has finished.
+    Crashed,
+    /// Hung until `until`; `held` are the postings of the iteration that hung.
+    Burning { until: f64, held: Vec<Post> },
 }
 
 /// What a helm needs to read its configuration again (pHelmIvP `RESTART_HELM`).
@@ -103,6 +114,7 @@ impl HelmApp {
             helm_seen,
             cpu_percent: None,
             appcast,
+            failed: None,
         }
     }
 
@@ -341,7 +353,48 @@ impl App for HelmApp {
         Ok(())
     }
 
+    fn finished(&self) -> bool {
+        matches!(self.failed, Some(Failed::Crashed))
+    }
+
     fn iterate(&mut self, now: f64, out: &mut Vec<Post>) -> crate::app::AppResult {
+        // A process hung by BHV_TestFailure runs no iteration until the hang is over, then
+        // publishes what the hung iteration posted; a crashed one posts nothing more.
+        match &mut self.failed {
+            Some(Failed::Crashed) => return Ok(()),
+            Some(Failed::Burning { until, held }) => {
+                if now < *until {
+                    return Ok(());
+                }
+                out.append(held);
+                self.failed = None;
+                return Ok(());
+            }
+            None => {}
+        }
+        let start = out.len();
+        self.iterate_helm(now, out);
+        match self.helm.take_fault() {
+            Some(::helm::Fault::Crash) => {
+                out.truncate(start);
+                self.failed = Some(Failed::Crashed);
+            }
+            Some(::helm::Fault::Burn(secs)) => {
+                let held = out.split_off(start);
+                self.failed = Some(Failed::Burning {
+                    until: now + secs,
+                    held,
+                });
+            }
+            None => {}
+        }
+        Ok(())
+    }
+}
+
+impl HelmApp {
+    /// One pHelmIvP `Iterate`: the appcast layer, the helm's iteration, the appcast.
+    fn iterate_helm(&mut self, now: f64, out: &mut Vec<Post>) {
         // AppCastingMOOSApp::Iterate comes first (APP_LOG, the load cast's gap).
         let tick = self.app_tick();
         self.appcast.begin(now, tick, out);
@@ -359,13 +412,12 @@ impl App for HelmApp {
         }
         // pHelmIvP posts no report in the first second of deciding (it returns early).
         if self.helm.in_decision_delay() {
-            return Ok(());
+            return;
         }
         let helm = &self.helm;
         let policy = self.appcast.comms_policy();
         self.appcast
             .end(now, tick, out, |body| helm.appcast_body(now, policy, body));
-        Ok(())
     }
 }
 

@@ -35,6 +35,10 @@ impl Slot {
     pub(super) fn new(bhv: Box<dyn Behavior>) -> Slot {
         let mut common = Common::new(bhv.kind());
         common.name = bhv.default_name().to_string();
+        for (param, value) in bhv.default_common_params() {
+            // The type's own defaults: valid by construction.
+            let _ = common.set_param(param, value);
+        }
         Slot {
             common,
             bhv,
@@ -126,6 +130,9 @@ impl Helm {
                 &PostKey::Repeatable,
             );
             self.slots[i].ok = false;
+        }
+        if let Some(f) = emit.fault.take() {
+            self.fault.get_or_insert(f);
         }
         emit.clear();
         self.emit = emit;

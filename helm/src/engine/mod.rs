@@ -191,6 +191,8 @@ pub struct Helm {
     /// A `type1` restart keeps the info buffer and does not post the initializes again.
     skip_initialize: bool,
     emit: Out,
+    /// A behaviour made the process fail (BHV_TestFailure), until the app takes it.
+    fault: Option<behaviors::Fault>,
     scratch: String,
     registered: Vec<String>,
     subs_dirty: bool,
@@ -464,6 +466,7 @@ impl Helm {
             restart_post_pending: false,
             skip_initialize: false,
             emit: Out::default(),
+            fault: None,
             scratch: String::new(),
             registered: Vec::new(),
             subs_dirty: false,
@@ -626,6 +629,13 @@ impl Helm {
             .iter()
             .all(|v| self.info.is_known(v))
             && (self.config.domain.get("depth").is_none() || self.info.is_known("NAV_DEPTH"))
+    }
+
+    /// Takes the failure a behaviour inflicted on the helm's process during the last
+    /// iteration (BHV_TestFailure), for the app to act on: a crash ends the app before it
+    /// publishes that iteration's postings, a burn holds them back.
+    pub fn take_fault(&mut self) -> Option<behaviors::Fault> {
+        self.fault.take()
     }
 
     /// Runs one helm iteration at time `now` (seconds) with the mail queued since the last
