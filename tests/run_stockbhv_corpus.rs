@@ -1,6 +1,7 @@
 //! The corpus missions the non-contact stock behaviours let run (issue #18, point 4): s5_echo
 //! (BHV_BearingLine), s6_foxtrot (community alpha) and s8_hotel (BHV_HSLine, switched on by a poke of the
-//! variable their viewer button posts), in lockstep, one vehicle each.
+//! variable their viewer button posts), and s11_kilo (BHV_TestFailure and a standby helm), in
+//! lockstep, one vehicle each.
 
 mod common;
 
@@ -67,4 +68,81 @@ fn s6_foxtrot_and_s8_hotel_draw_their_heading_lines_when_switched_on() {
             "{rel}"
         );
     }
+}
+
+/// `(time, source, state)` of every `IVPHELM_STATE` post.
+fn helm_states(log: &Alog) -> Vec<(f64, String, String)> {
+    log.entries
+        .iter()
+        .filter(|e| e.var == "IVPHELM_STATE")
+        .filter_map(|e| Some((e.time, e.source.clone(), e.value.as_str()?.to_string())))
+        .collect()
+}
+
+#[test]
+fn s11_kilo_standby_helm_takes_over_when_the_primary_burns() {
+    // kilo.moos: a second pHelmIvP named pHelmIvP_Standby through pAntler's
+    // `ExtraProcessParams` (`--alias=`), `STANDBY = 2`; kilo.bhv's BHV_TestFailure burns the
+    // primary for 3 s at the end of its 120 s. pLogger's `AsyncLog = true @ 0` reads as false,
+    // but wildcard logging logs anyway (as pLogger).
+    let log = run("stockbhv-kilo", "s11_kilo/kilo.moos", &[], 180.0);
+    let states = helm_states(&log);
+    let of = |who: &str| -> Vec<(f64, String)> {
+        states
+            .iter()
+            .filter(|(_, s, _)| s.split(':').next() == Some(who))
+            .map(|(t, _, v)| (*t, v.clone()))
+            .collect()
+    };
+    let primary = of("pHelmIvP");
+    let standby = of("pHelmIvP_Standby");
+    // The primary drives until the burn; the standby waits.
+    let last_drive = primary
+        .iter()
+        .filter(|(_, v)| v == "DRIVE")
+        .map(|(t, _)| *t)
+        .fold(f64::NAN, f64::max);
+    assert!(standby.iter().any(|(_, v)| v == "STANDBY"));
+    // Silent for more than STANDBY = 2 s, the primary is taken over: `DRIVE+`.
+    let first_takeover = standby
+        .iter()
+        .find(|(_, v)| v == "DRIVE+")
+        .map(|(t, _)| *t)
+        .expect("the standby helm takes over");
+    let silent_from = primary
+        .iter()
+        .filter(|(t, _)| *t < first_takeover)
+        .map(|(t, _)| *t)
+        .fold(f64::NAN, f64::max);
+    let gap = first_takeover - silent_from;
+    assert!(
+        (2.0..=2.75).contains(&gap),
+        "took over {gap} s after the primary's last state"
+    );
+    // Before it, the standby only waited; after it, it drives to the end.
+    assert!(
+        standby
+            .iter()
+            .filter(|(t, _)| *t < first_takeover)
+            .all(|(_, v)| v == "STANDBY")
+    );
+    assert!(
+        standby
+            .iter()
+            .filter(|(t, _)| *t >= first_takeover)
+            .all(|(_, v)| v == "DRIVE+")
+    );
+    // The primary, back from its burn, hears a helm that is not on standby and yields once.
+    let disabled: Vec<f64> = primary
+        .iter()
+        .filter(|(_, v)| v == "DISABLED")
+        .map(|(t, _)| *t)
+        .collect();
+    assert_eq!(disabled.len(), 1, "{primary:?}");
+    assert!(disabled[0] > first_takeover && disabled[0] - first_takeover < 2.0);
+    assert!(last_drive < disabled[0]);
+    // The vehicle keeps going under the standby helm (its behaviours post desired values).
+    assert!(log.entries.iter().any(|e| e.var == "DESIRED_SPEED"
+        && e.time > disabled[0] + 10.0
+        && e.source.starts_with("pHelmIvP_Standby")));
 }

@@ -254,12 +254,7 @@ impl HelmConfig {
                     }
                 }
                 "standby" => match number(value) {
-                    Some(s) if s > 0.0 => {
-                        c.standby = Some(s);
-                        errs.push(bad(
-                            "no standby (standby helms are not supported by coug yet)",
-                        ));
-                    }
+                    Some(s) if s > 0.0 => c.standby = Some(s),
                     _ => errs.push(bad("positive seconds")),
                 },
                 // Any number (MOOS `setDoubleOnString`: negative values are taken too).
@@ -560,13 +555,12 @@ mod tests {
         assert!(!parse_one("seed_random", "false").0.seed_random);
         assert_eq!(parse_one("seed_random", "sometimes").1.len(), 1);
         assert_eq!(parse_one("bhv_dir_not_found_ok", "sometimes").1.len(), 1);
-        // standby: positive seconds, refused by coug (standby helms are not supported).
+        // standby: positive seconds (MOOS `setPosDoubleOnString`).
         let (c, e) = parse_one("standby", "5");
         assert_eq!(c.standby, Some(5.0));
-        assert!(
-            matches!(&e[..], [ConfigError::BadValue { expected, .. }] if expected.contains("not supported"))
-        );
+        assert!(e.is_empty(), "{e:?}");
         assert_eq!(parse_one("standby", "0").1.len(), 1);
+        assert_eq!(parse_one("standby", "soon").1.len(), 1);
         // Behaviour libraries are accepted (coug links its behaviours statically).
         for key in [
             "ivp_behavior_dir",

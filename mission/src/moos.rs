@@ -86,8 +86,14 @@ pub struct AntlerRun {
     pub app: String,
     /// `key = value` options between `@` and `~` (e.g. `NewConsole = false`), in order.
     pub options: Vec<(String, String)>,
-    /// The MOOS name after `~`, if given (default: the program's base name).
+    /// The MOOS name after `~`, if given (default: the program's base name); an
+    /// `--alias=NAME` among the [`extra_args`](Self::extra_args) replaces it, as a MOOS app
+    /// reads its command line.
     pub alias: Option<String>,
+    /// pAntler's `ExtraProcessParams = NAME`: the ANTLER block's parameter `NAME`, split at
+    /// commas, given to the program after its mission file and MOOS name (filled in by
+    /// [`MissionFile::antler_runs`]; empty from [`AntlerRun::parse`] alone).
+    pub extra_args: Vec<String>,
     /// Where the `Run` line is.
     pub span: Span,
 }
@@ -128,6 +134,7 @@ impl AntlerRun {
             app: app.trim().to_string(),
             options,
             alias,
+            extra_args: Vec::new(),
             span,
         }
     }
@@ -173,15 +180,50 @@ impl MissionFile {
             .unwrap_or_else(|| block.name.clone())
     }
 
-    /// The `Run` lines of the ANTLER block, in file order (empty without an ANTLER block).
+    /// The `Run` lines of the ANTLER block, in file order (empty without an ANTLER block),
+    /// with their `ExtraProcessParams` resolved as pAntler does: the named parameter of the
+    /// ANTLER block, split at commas, and an `--alias=NAME` among them naming the process.
+    ///
+    /// ```
+    /// use mission::source::SourceMap;
+    /// let text = "ProcessConfig = ANTLER\n{\n  Run = pHelmIvP @ NewConsole = true, \
+    ///             ExtraProcessParams=HParams\n  HParams=--alias=pHelmIvP_Standby\n}\n";
+    /// let m = mission::moos::parse_moos(&SourceMap::from_text("a.moos", text)).value;
+    /// let runs = m.antler_runs();
+    /// assert_eq!(runs[0].moos_name(), "pHelmIvP_Standby");
+    /// assert_eq!(runs[0].extra_args, ["--alias=pHelmIvP_Standby"]);
+    /// ```
     pub fn antler_runs(&self) -> Vec<AntlerRun> {
-        self.process("ANTLER")
-            .map(|p| {
-                p.params("Run")
-                    .map(|r| AntlerRun::parse(&r.value, r.span.clone()))
-                    .collect()
+        let Some(antler) = self.process("ANTLER") else {
+            return Vec::new();
+        };
+        antler
+            .params("Run")
+            .map(|r| {
+                let mut run = AntlerRun::parse(&r.value, r.span.clone());
+                let extra = run
+                    .option("ExtraProcessParams")
+                    .and_then(|name| antler.params(name).next())
+                    .map(|p| p.value.clone());
+                if let Some(extra) = extra {
+                    run.extra_args = extra
+                        .split(',')
+                        .map(str::trim)
+                        .filter(|a| !a.is_empty())
+                        .map(String::from)
+                        .collect();
+                    if let Some(alias) = run
+                        .extra_args
+                        .iter()
+                        .find_map(|a| a.strip_prefix("--alias="))
+                        .filter(|a| !a.is_empty())
+                    {
+                        run.alias = Some(alias.to_string());
+                    }
+                }
+                run
             })
-            .unwrap_or_default()
+            .collect()
     }
 
     /// Same content as `other`, ignoring source locations (for round-trip checks).

@@ -75,7 +75,10 @@ impl HelmApp {
                 Helm::from_parsed(&params, &Globals::from_mission(mission), bhv)
             }
             None => Helm::from_mission(&MissionFile::default(), bhv),
-        };
+        }
+        // Its own `IVPHELM_STATE` comes back under its MOOS name (an alias included): only
+        // another helm's can disable it or keep a standby helm waiting.
+        .with_app_name(name);
         let mut registered = helm.subscriptions().to_vec();
         let helm_seen = registered.len();
         // pHelmIvP also registers the variables of the mode declarations' conditions

@@ -328,6 +328,11 @@ impl LoggerConfig {
                 }
             }
         }
+        // pLogger turns the asynchronous log on whenever it logs by wildcard, whatever
+        // `AsyncLog` says (so `AsyncLog = true @ 0`, which MOOS reads as false, still logs).
+        if c.wildcard {
+            c.async_log = true;
+        }
         if let Some(g) = global_log_path.filter(|g| !g.trim().is_empty()) {
             c.path = g.trim().to_string();
         }
@@ -1135,6 +1140,20 @@ mod tests {
         // Asking for it is no longer an unsupported-key warning.
         let b = block(&format!("ProcessConfig = pLogger\n{{\n{on}}}\n"));
         assert!(LoggerConfig::warnings(&b).is_empty());
+    }
+
+    #[test]
+    fn wildcard_logging_turns_the_asynchronous_log_on_as_plogger_does() {
+        // MOOS reads `true @ 0` as false; pLogger logs anyway when it logs by wildcard.
+        let b = block(
+            "ProcessConfig = pLogger\n{\n  AsyncLog = true @ 0\n  WildCardLogging = true\n}\n",
+        );
+        assert!(LoggerConfig::from_config(Some(&b), None).async_log);
+        let b = block("ProcessConfig = pLogger\n{\n  AsyncLog = true @ 0\n  Log = NAV_X @ 0\n}\n");
+        assert!(!LoggerConfig::from_config(Some(&b), None).async_log);
+        let b =
+            block("ProcessConfig = pLogger\n{\n  AsyncLog = false\n  WildCardLogging = true\n}\n");
+        assert!(LoggerConfig::from_config(Some(&b), None).async_log);
     }
 
     #[test]

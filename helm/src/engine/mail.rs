@@ -179,11 +179,17 @@ impl Helm {
             } else if m.key == "IVPHELM_STATE" {
                 self.init_vars_ready = true;
                 let other = m.source != self.app_name;
-                if other
-                    && m.value.as_str() != Some("STANDBY")
-                    && self.state.enabled()
-                    && self.config.standby.is_none()
-                {
+                if other && self.config.standby.is_some() {
+                    if self.state == HelmState::Standby {
+                        // The primary is alive: the take-over clock starts again.
+                        self.standby_last_heartbeat = now;
+                    } else {
+                        // Taken over already: a tardy primary; everything is published
+                        // again.
+                        self.refresh_pending = true;
+                        self.rejournal = true;
+                    }
+                } else if other && m.value.as_str() != Some("STANDBY") && self.state.enabled() {
                     self.post_allstop("DisabledByStandbyHelm");
                     self.state = HelmState::Disabled;
                 }
@@ -205,6 +211,17 @@ impl Helm {
             } else if m.source_aux != "HELM_VAR_INIT" {
                 self.info.set(&m.key, m.value.clone(), &m.source, m.time);
             }
+        }
+        // A standby helm takes over once the primary has been silent for its threshold
+        // (checked when mail comes, as pHelmIvP checks at the end of its mail handler).
+        if !mail.is_empty()
+            && self.state == HelmState::Standby
+            && self.standby_last_heartbeat > 0.0
+            && let Some(threshold) = self.config.standby
+            && now - self.standby_last_heartbeat > threshold
+        {
+            self.state = HelmState::Park;
+            self.status_update();
         }
         self.pending = mail;
         self.pending.clear();

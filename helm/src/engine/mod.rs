@@ -15,8 +15,10 @@
 //! `goals_mandatory = true` all-stops with `NoGoalBehavior` when no active behaviour is a goal
 //! behaviour (one whose type is not a constraint, [`Behavior::is_constraint`]).
 //!
-//! Not modelled: standby helms are refused at configuration (MALCONFIG, never silently
-//! different); node reports (the contact ledger) only reach the info buffer. `RESTART_HELM`
+//! A standby helm (`STANDBY = secs`) starts in `STANDBY`, makes no decision, and takes over
+//! (PARK, or DRIVE with control; posted `PARK+`/`DRIVE+`) once no other helm's
+//! `IVPHELM_STATE` has come for that long; a primary helm that hears another helm in any
+//! state but `STANDBY` yields (`DISABLED`). Not modelled: node reports (the contact ledger) only reach the info buffer. `RESTART_HELM`
 //! is handled by the app around the engine, which reads the files again
 //! ([`Helm::restart_from`]).
 //!
@@ -85,6 +87,9 @@ pub enum HelmState {
     Malconfig,
     /// Yielded to another helm.
     Disabled,
+    /// A standby helm (`STANDBY = secs`) waiting: it takes over, as PARK or DRIVE, once the
+    /// primary helm's `IVPHELM_STATE` has been silent that long.
+    Standby,
 }
 
 impl HelmState {
@@ -95,6 +100,7 @@ impl HelmState {
             HelmState::Drive => "DRIVE",
             HelmState::Malconfig => "MALCONFIG",
             HelmState::Disabled => "DISABLED",
+            HelmState::Standby => "STANDBY",
         }
     }
     fn enabled(self) -> bool {
@@ -150,6 +156,9 @@ pub struct Helm {
     problem: Problem,
     state: HelmState,
     has_control: bool,
+    /// A standby helm's last sight of another helm's `IVPHELM_STATE` (0: none yet, so no
+    /// take-over before the primary has been heard once).
+    standby_last_heartbeat: f64,
     started: bool,
     start_time: f64,
     iteration: u64,
@@ -398,10 +407,12 @@ impl Helm {
             .iter()
             .map(|i| (i.var.trim().to_string(), auto_value(&i.value), i.deferred))
             .collect();
-        let state = if errors.is_empty() {
-            HelmState::Park
-        } else {
+        let state = if !errors.is_empty() {
             HelmState::Malconfig
+        } else if config.standby.is_some() {
+            HelmState::Standby
+        } else {
+            HelmState::Park
         };
         let has_control = config.start_engaged && errors.is_empty();
         let problem = Problem::new(config.domain.clone());
@@ -432,6 +443,7 @@ impl Helm {
             problem,
             state,
             has_control,
+            standby_last_heartbeat: 0.0,
             started: false,
             start_time: 0.0,
             iteration: 0,
@@ -673,7 +685,12 @@ impl Helm {
             }
         } else {
             let s = self.state.as_str();
-            self.out.text_copy("IVPHELM_STATE", s);
+            if self.config.standby.is_some() && self.state.enabled() {
+                // A standby helm that took over says so: `DRIVE+`, `PARK+`.
+                self.out.text_copy("IVPHELM_STATE", &format!("{s}+"));
+            } else {
+                self.out.text_copy("IVPHELM_STATE", s);
+            }
         }
         if !self.state.enabled() {
             self.info.clear_deltas();

@@ -74,9 +74,9 @@ pub(super) fn start_externals(
 ) -> Vec<Child> {
     let mut children = Vec::new();
     for ext in externals {
-        // pAntler's argv: `app mission_file moos_name`.
+        // pAntler's argv: `app mission_file moos_name [extra params]`.
         let mut cmd = Command::new(&ext.app);
-        cmd.arg(mission).arg(ext.moos_name());
+        cmd.arg(mission).arg(ext.moos_name()).args(&ext.extra_args);
         cmd.stdin(std::process::Stdio::null())
             .stdout(std::process::Stdio::null());
         match cmd.spawn() {
