@@ -45,12 +45,15 @@
 
 #![warn(missing_docs)]
 
+mod avoid_collision;
 mod behavior;
 pub mod color;
 mod common;
 mod constant_depth;
 mod constant_heading;
 mod constant_speed;
+pub mod contact;
+pub mod cpa;
 /// MOOS number formatting (the workspace's one set of helpers).
 pub use moos_types::fmt;
 mod go_to_depth;
@@ -67,6 +70,7 @@ pub mod testing;
 mod timer;
 mod waypoint;
 
+pub use avoid_collision::{AvoidCollision, PwtGrade};
 pub use behavior::{
     Behavior, Ctx, Emit, Info, MapInfo, Out, ParamError, PostKey, Value, nav, post_config_status,
 };

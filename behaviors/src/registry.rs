@@ -52,6 +52,9 @@ pub const STOCK: &[(&str, StockFactory)] = &[
     ("BHV_PeriodicSurface", || Box::new(PeriodicSurface::new())),
     ("BHV_GoToDepth", || Box::new(GoToDepth::new())),
     ("BHV_StationKeep", || Box::new(StationKeep::new())),
+    ("BHV_AvoidCollision", || {
+        Box::new(crate::AvoidCollision::new())
+    }),
 ];
 
 type Factory = Arc<dyn Fn() -> Box<dyn Behavior> + Send + Sync>;
