@@ -342,6 +342,7 @@ impl Helm {
             // The C++ helm gives every loaded behaviour its own name as `us`.
             slot.common.us = None;
             if ok {
+                slot.bhv.set_common(&slot.common);
                 // pHelmIvP's start messages (`onHelmStart`), templates' included.
                 let ctx = Ctx {
                     info: &info,
@@ -681,8 +682,19 @@ impl Helm {
             }
         }
         // Step 5: the contact ledger drops stale contacts (those a behaviour still reasons
-        // about get twice the time: none until contact behaviours exist) and is summarised.
-        self.ledger.clear_stale(now, &[], 2.0);
+        // about get twice the time), the behaviours' snapshot of it is refreshed, and it is
+        // summarised.
+        let keep: Vec<&str> = self
+            .slots
+            .iter()
+            .filter_map(|s| s.bhv.contact_name())
+            .collect();
+        self.ledger.clear_stale(now, &keep, 2.0);
+        self.info.set_contacts(&self.ledger);
+        if !keep.is_empty() {
+            let summary = keep.join(",");
+            self.out.text_copy("IVPHELM_CONTACT_SUMMARY", &summary);
+        }
         let ledger = &self.ledger;
         self.out
             .text("IVPHELM_LEDGER_SUMMARY", |s| ledger.summary(20, s));
