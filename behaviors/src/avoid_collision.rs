@@ -373,6 +373,10 @@ impl Behavior for AvoidCollision {
         );
     }
 
+    fn macro_value(&self, name: &str, out: &mut String) -> bool {
+        self.base.macro_value(name, out)
+    }
+
     fn pwt_factor(&self) -> f64 {
         self.base.relevance
     }

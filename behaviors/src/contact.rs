@@ -33,6 +33,7 @@
 //! |---|---|---|---|
 //! | BHV_WARNING | the contact is not in the ledger (`on_no_contact_ok`) | `<contact> x/y/heading/speed info not found` | done |
 //! | BHV_ERROR | the same without `on_no_contact_ok`; no contact named | `... info not found`, `contact IDX not set.` | done |
+//! | macros in flags | always | `$[CONTACT]`, `$[CN_NAME]`, `$[CNX]`, `$[CNY]`, `$[CNH]`, `$[CNV]`, `$[CN_VTYPE]`, `$[CN_GROUP]`, `$[CN_RANGE]`, `$[RANGE]` | done; open: the relative-geometry macros (`$[ROC]`, `$[OS_CN_REL_BNG]`, ...) |
 //! | VIEW_SEGLIST | `bearing_lines` given, each running iteration | ownship to contact, label `<us>_<name>`, edge colour by relevance or range, duration 100 | done |
 
 use std::collections::BTreeSet;
@@ -484,6 +485,26 @@ impl ContactBase {
         self.cn_group.clone_from(&c.group);
         self.cn_vtype.clone_from(&c.vtype);
         self.range = (x - c.x_m).hypot(y - c.y_m);
+        true
+    }
+
+    /// Appends the value of a contact macro and returns true (MOOS `expandMacros` of
+    /// IvPBehavior and IvPContactBehavior): `CONTACT`/`CN_NAME` (the name), `CNX`, `CNY`,
+    /// `CNH`, `CNV` (3 decimals, compacted), `CN_VTYPE`, `CN_GROUP`, `CN_RANGE` and `RANGE`
+    /// (1 decimal). False for any other name.
+    pub fn macro_value(&self, name: &str, out: &mut String) -> bool {
+        use moos_types::fmt::compact;
+        match name {
+            "CONTACT" | "CN_NAME" => out.push_str(&self.contact),
+            "CNX" => compact(out, self.cn.0, 3),
+            "CNY" => compact(out, self.cn.1, 3),
+            "CNH" => compact(out, self.cn.2, 3),
+            "CNV" => compact(out, self.cn.3, 3),
+            "CN_VTYPE" => out.push_str(&self.cn_vtype),
+            "CN_GROUP" => out.push_str(&self.cn_group),
+            "CN_RANGE" | "RANGE" => compact(out, self.range, 1),
+            _ => return false,
+        }
         true
     }
 

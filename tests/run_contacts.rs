@@ -1,0 +1,254 @@
+//! Contact encounters in lockstep (issue #18, points 3 and 4): one simulated vehicle, a
+//! contact whose NODE_REPORTs come from a generated uTimerScript (heading straight at it),
+//! pBasicContactMgr alerting the helm, and the helm spawning BHV_AvoidCollision for the
+//! contact. With the behaviour the closest approach stays above `min_util_cpa_dist`; without
+//! it the same encounter is a collision.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use common::*;
+
+/// The contact's start (north of the vehicle), heading (south) and speed.
+const CN_Y0: f64 = 240.0;
+const CN_SPD: f64 = 2.0;
+/// The behaviour's minimum CPA distance.
+const MIN_UTIL_CPA: f64 = 10.0;
+
+fn mission_text(contact_script: &str) -> String {
+    format!(
+        r#"ServerHost   = localhost
+ServerPort   = 9000
+Community    = abe
+MOOSTimeWarp = 1
+LatOrigin  = 43.825300
+LongOrigin = -70.330400
+
+ProcessConfig = ANTLER
+{{
+  MSBetweenLaunches = 200
+  Run = MOOSDB           @ NewConsole = false
+  Run = pLogger          @ NewConsole = false
+  Run = uSimMarineV22    @ NewConsole = false
+  Run = pMarinePIDV22    @ NewConsole = false
+  Run = pHelmIvP         @ NewConsole = false
+  Run = pNodeReporter    @ NewConsole = false
+  Run = pBasicContactMgr @ NewConsole = false
+  Run = uTimerScript     @ NewConsole = false
+}}
+
+ProcessConfig = pLogger
+{{
+  AppTick   = 4
+  CommsTick = 4
+  File          = ENCOUNTER
+  PATH          = ./logs/
+  LogAuxSrc     = true
+  WildCardLogging     = true
+  WildCardOmitPattern = *_STATUS
+}}
+
+ProcessConfig = uSimMarineV22
+{{
+  AppTick   = 4
+  CommsTick = 4
+  start_pos     = x=0, y=0, heading=0, speed=0
+  prefix        = NAV
+  turn_rate     = 70
+  thrust_map    = 0:0, 20:1, 40:2, 60:3, 80:4, 100:5
+}}
+
+ProcessConfig = pHelmIvP
+{{
+  AppTick   = 4
+  CommsTick = 4
+  behaviors = encounter.bhv
+  domain    = course:0:359:360
+  domain    = speed:0:4:41
+}}
+
+ProcessConfig = pMarinePIDV22
+{{
+  AppTick   = 10
+  CommsTick = 10
+  depth_control = false
+  yaw_pid_kp             = 0.9
+  yaw_pid_kd             = 0.3
+  yaw_pid_ki             = 0.3
+  yaw_pid_integral_limit = 0.07
+  speed_pid_kp             = 1.0
+  speed_pid_kd             = 0.0
+  speed_pid_ki             = 0.0
+  speed_pid_integral_limit = 0.07
+  maxrudder = 100
+  maxthrust = 100
+  speed_factor = 20
+}}
+
+ProcessConfig = pNodeReporter
+{{
+  AppTick   = 2
+  CommsTick = 2
+  platform_type   = kayak
+}}
+
+ProcessConfig = pBasicContactMgr
+{{
+  AppTick   = 2
+  CommsTick = 2
+  alert_verbose = true
+  decay = 30,60
+}}
+
+ProcessConfig = uTimerScript
+{{
+  AppTick   = 4
+  CommsTick = 4
+{contact_script}}}
+"#
+    )
+}
+
+fn bhv_text(avoid: bool) -> String {
+    let mut s = String::from(
+        "initialize DEPLOY  = false
+initialize MISSION = pending
+
+set MODE = ACTIVE {
+  DEPLOY = true
+} INACTIVE
+
+Behavior = BHV_Waypoint
+{
+  name      = transit
+  pwt       = 100
+  condition = MODE == ACTIVE
+  endflag   = MISSION = complete
+  speed          = 2
+  capture_radius = 5
+  points         = 0,300
+}
+",
+    );
+    if avoid {
+        s.push_str(&format!(
+            "
+Behavior = BHV_AvoidCollision
+{{
+  name       = avd_
+  pwt        = 300
+  condition  = MODE == ACTIVE
+  updates    = CONTACT_INFO
+  endflag    = CONTACT_RESOLVED = $[CONTACT]
+  templating = spawn
+
+             contact = to-be-set
+    on_no_contact_ok = true
+         extrapolate = true
+               decay = 30,60
+      pwt_outer_dist = 100
+      pwt_inner_dist = 40
+      completed_dist = 150
+   min_util_cpa_dist = {MIN_UTIL_CPA}
+   max_util_cpa_dist = 30
+           pwt_grade = linear
+}}
+"
+        ));
+    }
+    s
+}
+
+/// One NODE_REPORT a second for 150 s: the contact at x = 0 heading south from `CN_Y0`.
+fn contact_script() -> String {
+    let mut s = String::new();
+    for k in 0..150 {
+        let y = CN_Y0 - CN_SPD * f64::from(k);
+        s.push_str(&format!(
+            "  event = var=NODE_REPORT, val=\"NAME=bob,TYPE=kayak,X=0,Y={y},SPD={CN_SPD},HDG=180,DEP=0,TIME=$(UTCTIME)\", time={k}\n"
+        ));
+    }
+    s
+}
+
+fn write_mission(dir: &Path, avoid: bool) -> PathBuf {
+    std::fs::create_dir_all(dir).unwrap();
+    std::fs::write(dir.join("encounter.bhv"), bhv_text(avoid)).unwrap();
+    let m = dir.join("encounter.moos");
+    std::fs::write(&m, mission_text(&contact_script())).unwrap();
+    m
+}
+
+/// The closest approach over the run: the vehicle's track against the contact's reported
+/// straight line (its first report's log time is its time 0).
+fn closest_approach(log: &alog::Alog) -> (f64, f64) {
+    let t0 = log
+        .entries
+        .iter()
+        .find(|e| e.var == "NODE_REPORT")
+        .map(|e| e.time)
+        .expect("the contact's reports are logged");
+    track(log)
+        .iter()
+        .filter(|(t, _, _)| *t >= t0 && *t <= t0 + 149.0)
+        .map(|&(t, x, y)| {
+            let cy = CN_Y0 - CN_SPD * (t - t0);
+            ((x * x + (y - cy) * (y - cy)).sqrt(), t)
+        })
+        .fold((f64::INFINITY, 0.0), |a, b| if b.0 < a.0 { b } else { a })
+}
+
+fn run(name: &str, avoid: bool) -> alog::Alog {
+    let dir = fresh_dir(&format!("{name}-mission"));
+    let mission = write_mission(&dir, avoid);
+    let (bytes, _) = run_lockstep(
+        name,
+        &mission,
+        &[],
+        deploy_until("MISSION = complete", 400.0),
+    );
+    parse(&bytes)
+}
+
+#[test]
+fn avoid_collision_keeps_the_closest_approach_above_its_minimum() {
+    let log = run("contacts-avoid", true);
+    let (cpa, at) = closest_approach(&log);
+    eprintln!("with BHV_AvoidCollision: closest approach {cpa:.2} m at t={at:.1}");
+    assert!(
+        cpa > MIN_UTIL_CPA,
+        "closest approach {cpa:.2} m at t={at:.1} is within min_util_cpa_dist"
+    );
+    // The contact manager alerted the helm, which spawned a behaviour for the contact.
+    let has = |var: &str, needle: &str| {
+        log.entries
+            .iter()
+            .any(|e| e.var == var && e.value.as_str().is_some_and(|s| s.contains(needle)))
+    };
+    assert!(has(
+        "BCM_ALERT_REQUEST",
+        "id=avd_, on_flag=CONTACT_INFO=name=$[VNAME] # contact=$[VNAME]"
+    ));
+    assert!(has("CONTACT_INFO", "name=bob # contact=bob"));
+    assert!(has(
+        "IVPHELM_LIFE_EVENT",
+        "bname=avd_bob, btype=BHV_AvoidCollision, event=spawn"
+    ));
+    assert!(has("CONTACTS_ALERTED", "(bob,avd_)"));
+    assert!(has("IVPHELM_CONTACT_SUMMARY", "bob"));
+    assert!(has("BHV_IPF", "avd_bob"));
+    // Once past, the behaviour completes and resolves the alert.
+    assert!(has("CONTACT_RESOLVED", "bob"));
+}
+
+#[test]
+fn without_avoid_collision_the_same_encounter_collides() {
+    let log = run("contacts-none", false);
+    let (cpa, at) = closest_approach(&log);
+    eprintln!("without: closest approach {cpa:.2} m at t={at:.1}");
+    assert!(
+        cpa < 3.0,
+        "without the behaviour the vehicles should meet, closest {cpa:.2} m at t={at:.1}"
+    );
+}
