@@ -54,6 +54,7 @@ mod constant_heading;
 mod constant_speed;
 pub mod contact;
 pub mod cpa;
+mod cut_range;
 /// MOOS number formatting (the workspace's one set of helpers).
 pub use moos_types::fmt;
 mod go_to_depth;
@@ -78,6 +79,7 @@ pub use common::{Common, Flag, FlagKind, FlagValue, Templating};
 pub use constant_depth::ConstantDepth;
 pub use constant_heading::ConstantHeading;
 pub use constant_speed::ConstantSpeed;
+pub use cut_range::CutRange;
 pub use go_to_depth::GoToDepth;
 pub use loiter::Loiter;
 pub use max_depth::MaxDepth;
