@@ -16,7 +16,7 @@ const CN_SPD: f64 = 2.0;
 /// The behaviour's minimum CPA distance.
 const MIN_UTIL_CPA: f64 = 10.0;
 
-fn mission_text(contact_script: &str) -> String {
+fn mission_text(contact_script: &str, cm_extra: &str) -> String {
     format!(
         r#"ServerHost   = localhost
 ServerPort   = 9000
@@ -99,7 +99,7 @@ ProcessConfig = pBasicContactMgr
   CommsTick = 2
   alert_verbose = true
   decay = 30,60
-}}
+{cm_extra}}}
 
 ProcessConfig = uTimerScript
 {{
@@ -160,24 +160,37 @@ Behavior = BHV_AvoidCollision
     s
 }
 
-/// One NODE_REPORT a second for 150 s: the contact at x = 0 heading south from `CN_Y0`.
-fn contact_script() -> String {
+/// `(x, y)` moved `d` metres along compass heading `h`.
+fn project(x: f64, y: f64, h: f64, d: f64) -> (f64, f64) {
+    let r = h.to_radians();
+    (x + r.sin() * d, y + r.cos() * d)
+}
+
+/// One NODE_REPORT a second for `secs` s: the contact from `(x0, y0)` heading `hdg` at
+/// `spd`.
+fn contact_script(x0: f64, y0: f64, hdg: f64, spd: f64, secs: u32) -> String {
     let mut s = String::new();
-    for k in 0..150 {
-        let y = CN_Y0 - CN_SPD * f64::from(k);
+    for k in 0..secs {
+        let (x, y) = project(x0, y0, hdg, spd * f64::from(k));
+        let (x, y) = ((x * 100.0).round() / 100.0, (y * 100.0).round() / 100.0);
         s.push_str(&format!(
-            "  event = var=NODE_REPORT, val=\"NAME=bob,TYPE=kayak,X=0,Y={y},SPD={CN_SPD},HDG=180,DEP=0,TIME=$(UTCTIME)\", time={k}\n"
+            "  event = var=NODE_REPORT, val=\"NAME=bob,TYPE=kayak,X={x},Y={y},SPD={spd},HDG={hdg},DEP=0,TIME=$(UTCTIME)\", time={k}\n"
         ));
     }
     s
 }
 
-fn write_mission(dir: &Path, avoid: bool) -> PathBuf {
+fn write_files(dir: &Path, bhv: &str, moos: &str) -> PathBuf {
     std::fs::create_dir_all(dir).unwrap();
-    std::fs::write(dir.join("encounter.bhv"), bhv_text(avoid)).unwrap();
+    std::fs::write(dir.join("encounter.bhv"), bhv).unwrap();
     let m = dir.join("encounter.moos");
-    std::fs::write(&m, mission_text(&contact_script())).unwrap();
+    std::fs::write(&m, moos).unwrap();
     m
+}
+
+fn write_mission(dir: &Path, avoid: bool) -> PathBuf {
+    let script = contact_script(0.0, CN_Y0, 180.0, CN_SPD, 150);
+    write_files(dir, &bhv_text(avoid), &mission_text(&script, ""))
 }
 
 /// The closest approach over the run: the vehicle's track against the contact's reported
@@ -251,4 +264,127 @@ fn without_avoid_collision_the_same_encounter_collides() {
         cpa < 3.0,
         "without the behaviour the vehicles should meet, closest {cpa:.2} m at t={at:.1}"
     );
+}
+
+/// A behaviour file with one spawning contact-behaviour template and nothing else, the run
+/// ending when the timer script posts `MISSION = complete`.
+fn template_bhv(body: &str) -> String {
+    format!(
+        "initialize DEPLOY  = false
+initialize MISSION = pending
+
+set MODE = ACTIVE {{
+  DEPLOY = true
+}} INACTIVE
+
+{body}"
+    )
+}
+
+/// `(time, range)` from the vehicle's track to the contact's reported straight line.
+fn ranges(log: &alog::Alog, x0: f64, y0: f64, hdg: f64, spd: f64) -> Vec<(f64, f64)> {
+    let t0 = log
+        .entries
+        .iter()
+        .find(|e| e.var == "NODE_REPORT")
+        .map(|e| e.time)
+        .expect("the contact's reports are logged");
+    track(log)
+        .iter()
+        .filter(|(t, _, _)| *t >= t0)
+        .map(|&(t, x, y)| {
+            let (px, py) = project(x0, y0, hdg, spd * (t - t0));
+            (t, (x - px).hypot(y - py))
+        })
+        .collect()
+}
+
+#[test]
+fn cut_range_closes_on_a_crossing_contact() {
+    let bhv = template_bhv(
+        "Behavior = BHV_CutRange
+{
+  name       = cut_
+  pwt        = 100
+  condition  = MODE == ACTIVE
+  updates    = CONTACT_INFO
+  templating = spawn
+         contact = to-be-set
+  pwt_outer_dist = 200
+  pwt_inner_dist = 0
+    giveup_range = 500
+      pursueflag = PURSUING = $[CONTACT]
+}
+",
+    );
+    let script = contact_script(0.0, 100.0, 90.0, 1.0, 100)
+        + "  event = var=MISSION, val=complete, time=90\n";
+    let dir = fresh_dir("contacts-cut-mission");
+    let mission = write_files(&dir, &bhv, &mission_text(&script, ""));
+    let (bytes, _) = run_lockstep(
+        "contacts-cut",
+        &mission,
+        &[],
+        deploy_until("MISSION = complete", 200.0),
+    );
+    let log = parse(&bytes);
+    let r = ranges(&log, 0.0, 100.0, 90.0, 1.0);
+    let first = r.first().unwrap().1;
+    let closest = r.iter().map(|x| x.1).fold(f64::INFINITY, f64::min);
+    eprintln!("BHV_CutRange: range {first:.1} m at the first report, closest {closest:.2} m");
+    assert!(first > 95.0, "{first}");
+    assert!(
+        closest < 10.0,
+        "never closed on the contact: closest {closest:.2} m"
+    );
+    assert!(
+        log.entries
+            .iter()
+            .any(|e| e.var == "PURSUING" && e.value.as_str() == Some("bob"))
+    );
+}
+
+#[test]
+fn shadow_takes_the_contact_s_heading_and_speed() {
+    let bhv = template_bhv(
+        "Behavior = BHV_Shadow
+{
+  name       = shd_
+  pwt        = 100
+  condition  = MODE == ACTIVE
+  updates    = CONTACT_INFO
+  templating = spawn
+  contact    = to-be-set
+}
+",
+    );
+    let script = contact_script(20.0, 20.0, 90.0, 1.5, 100)
+        + "  event = var=MISSION, val=complete, time=90\n";
+    let cm = "  alert = id=shd, var=CONTACT_INFO, val=\"name=$[VNAME] # contact=$[VNAME]\", alert_range=100\n";
+    let dir = fresh_dir("contacts-shadow-mission");
+    let mission = write_files(&dir, &bhv, &mission_text(&script, cm));
+    let (bytes, _) = run_lockstep(
+        "contacts-shadow",
+        &mission,
+        &[],
+        deploy_until("MISSION = complete", 200.0),
+    );
+    let log = parse(&bytes);
+    let last = |var: &str| -> Vec<f64> {
+        log.entries
+            .iter()
+            .filter(|e| e.var == var && e.time > 60.0)
+            .filter_map(|e| e.value.as_f64())
+            .collect()
+    };
+    let (hdgs, spds) = (last("NAV_HEADING"), last("NAV_SPEED"));
+    assert!(!hdgs.is_empty() && !spds.is_empty());
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    eprintln!(
+        "BHV_Shadow: heading {:.1}, speed {:.2} after 60 s",
+        mean(&hdgs),
+        mean(&spds)
+    );
+    assert!(hdgs.iter().all(|h| (h - 90.0).abs() < 5.0), "{hdgs:?}");
+    assert!(spds.iter().all(|v| (v - 1.5).abs() < 0.2), "{spds:?}");
 }

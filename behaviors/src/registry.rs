@@ -55,6 +55,8 @@ pub const STOCK: &[(&str, StockFactory)] = &[
     ("BHV_AvoidCollision", || {
         Box::new(crate::AvoidCollision::new())
     }),
+    ("BHV_CutRange", || Box::new(crate::CutRange::new())),
+    ("BHV_Shadow", || Box::new(crate::Shadow::new())),
 ];
 
 type Factory = Arc<dyn Fn() -> Box<dyn Behavior> + Send + Sync>;
