@@ -388,3 +388,47 @@ fn shadow_takes_the_contact_s_heading_and_speed() {
     assert!(hdgs.iter().all(|h| (h - 90.0).abs() < 5.0), "{hdgs:?}");
     assert!(spds.iter().all(|v| (v - 1.5).abs() < 0.2), "{spds:?}");
 }
+
+#[test]
+fn trail_keeps_station_behind_the_contact() {
+    let bhv = template_bhv(
+        "Behavior = BHV_Trail
+{
+  name       = trl_
+  pwt        = 100
+  condition  = MODE == ACTIVE
+  updates    = CONTACT_INFO
+  templating = spawn
+           contact = to-be-set
+  no_alert_request = false
+    pwt_outer_dist = 300
+       trail_range = 30
+       trail_angle = 180
+}
+",
+    );
+    let script = contact_script(0.0, 60.0, 90.0, 1.5, 150)
+        + "  event = var=MISSION, val=complete, time=140\n";
+    let dir = fresh_dir("contacts-trail-mission");
+    let mission = write_files(&dir, &bhv, &mission_text(&script, ""));
+    let (bytes, _) = run_lockstep(
+        "contacts-trail",
+        &mission,
+        &[],
+        deploy_until("MISSION = complete", 300.0),
+    );
+    let log = parse(&bytes);
+    // The trail point: 30 m behind the contact (west of it).
+    let r = ranges(&log, -30.0, 60.0, 90.0, 1.5);
+    let late: Vec<f64> = r.iter().filter(|(t, _)| *t > 100.0).map(|x| x.1).collect();
+    assert!(!late.is_empty());
+    let worst = late.iter().cloned().fold(0.0, f64::max);
+    eprintln!(
+        "BHV_Trail: {:.1} m from the trail point at the first report, at most {worst:.2} m after 100 s",
+        r[0].1
+    );
+    assert!(
+        worst < 10.0,
+        "not trailing: {worst:.2} m from the trail point"
+    );
+}

@@ -70,6 +70,7 @@ mod shadow;
 mod station_keep;
 pub mod testing;
 mod timer;
+mod trail;
 mod waypoint;
 
 pub use avoid_collision::{AvoidCollision, PwtGrade};
@@ -91,6 +92,7 @@ pub use registry::{Registry, STOCK};
 pub use shadow::Shadow;
 pub use station_keep::{KeepMode, StationKeep};
 pub use timer::Timer;
+pub use trail::Trail;
 pub use waypoint::Waypoint;
 
 /// Creates a behaviour of type `kind` (as written after `Behavior =`, case-insensitive),
