@@ -432,3 +432,46 @@ fn trail_keeps_station_behind_the_contact() {
         "not trailing: {worst:.2} m from the trail point"
     );
 }
+
+#[test]
+fn convoy_follows_the_contact_along_its_track() {
+    let bhv = template_bhv(
+        "Behavior = BHV_Convoy
+{
+  name       = cnv_
+  pwt        = 100
+  condition  = MODE == ACTIVE
+  updates    = CONTACT_INFO
+  templating = spawn
+  contact    = to-be-set
+}
+",
+    );
+    // Straight ahead of the vehicle, heading away from it.
+    let script = contact_script(0.0, 40.0, 0.0, 1.2, 200)
+        + "  event = var=MISSION, val=complete, time=190\n";
+    let cm = "  alert = id=cnv, var=CONTACT_INFO, val=\"name=$[VNAME] # contact=$[VNAME]\", alert_range=100\n";
+    let dir = fresh_dir("contacts-convoy-mission");
+    let mission = write_files(&dir, &bhv, &mission_text(&script, cm));
+    let (bytes, _) = run_lockstep(
+        "contacts-convoy",
+        &mission,
+        &[],
+        deploy_until("MISSION = complete", 300.0),
+    );
+    let log = parse(&bytes);
+    let r = ranges(&log, 0.0, 40.0, 0.0, 1.2);
+    let tr = track(&log);
+    let late: Vec<(f64, f64, f64)> = tr.iter().filter(|(t, ..)| *t > 120.0).cloned().collect();
+    assert!(!late.is_empty());
+    let off_track = late.iter().map(|(_, x, _)| x.abs()).fold(0.0, f64::max);
+    let late_r: Vec<f64> = r.iter().filter(|(t, _)| *t > 120.0).map(|x| x.1).collect();
+    let (lo, hi) = late_r
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(a, b), &x| (a.min(x), b.max(x)));
+    eprintln!(
+        "BHV_Convoy: after 120 s at most {off_track:.2} m off the contact's track, {lo:.1}..{hi:.1} m behind it"
+    );
+    assert!(off_track < 5.0, "{off_track}");
+    assert!(lo > 10.0 && hi < 80.0, "{lo}..{hi}");
+}

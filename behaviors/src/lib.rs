@@ -53,6 +53,7 @@ mod constant_depth;
 mod constant_heading;
 mod constant_speed;
 pub mod contact;
+mod convoy;
 pub mod cpa;
 mod cut_range;
 /// MOOS number formatting (the workspace's one set of helpers).
@@ -81,6 +82,7 @@ pub use common::{Common, Flag, FlagKind, FlagValue, Templating};
 pub use constant_depth::ConstantDepth;
 pub use constant_heading::ConstantHeading;
 pub use constant_speed::ConstantSpeed;
+pub use convoy::Convoy;
 pub use cut_range::CutRange;
 pub use go_to_depth::GoToDepth;
 pub use loiter::Loiter;

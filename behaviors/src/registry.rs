@@ -58,6 +58,7 @@ pub const STOCK: &[(&str, StockFactory)] = &[
     ("BHV_CutRange", || Box::new(crate::CutRange::new())),
     ("BHV_Shadow", || Box::new(crate::Shadow::new())),
     ("BHV_Trail", || Box::new(crate::Trail::new())),
+    ("BHV_Convoy", || Box::new(crate::Convoy::new())),
 ];
 
 type Factory = Arc<dyn Fn() -> Box<dyn Behavior> + Send + Sync>;
