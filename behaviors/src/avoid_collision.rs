@@ -401,6 +401,7 @@ impl Behavior for AvoidCollision {
             self.post_range(out);
             return None;
         }
+        self.base.post_contact_flags(out);
         self.post_range(out);
         if self.done() {
             out.complete();

@@ -26,7 +26,7 @@
 //! | exit_on_filter_vtype, exit_on_filter_group, exit_on_filter_region | false | boolean | done |
 //! | bearing_line_show, bearing_line_label_show | false | boolean | done |
 //! | bearing_lines, bearing_line_config | none | `color:threshold, ..., info:range|relevance`; never refused | done |
-//! | cnflag | none | `<N`, `>N`, `@<N`, `@>N`, `@cpa`, `@os_passed_cn*`, `@cn_passed_os*`, `@*crossed*` prefixes | read and checked; open: not posted |
+//! | cnflag | none | `<N`, `>N`, `@<N`, `@>N`, `@cpa`, `@os_passed_cn*`, `@cn_passed_os*`, `@*crossed*` prefixes | range flags done (posted in running iterations, repeatable); open: the event flags (`@cpa`, passing, crossing) are read but not posted |
 //! | use_plat_model | false | boolean | `false` done; refused: `true` (no platform-model CPA engine) |
 //!
 //! | variable | when | format | coug |
@@ -296,8 +296,10 @@ pub struct ContactBase {
     pub bearing_line_info: String,
     /// Bearing line colours and their upper thresholds, in order.
     pub bearing_lines: Vec<(String, f64)>,
-    /// The `cnflag`s as given.
-    pub cnflags: Vec<String>,
+    /// The `cnflag`s: their tag (`<20`, `@cpa`, ...) and flag.
+    pub cnflags: Vec<(String, crate::common::Flag)>,
+    /// The range at the previous update (the C++ contact-state history), m.
+    pub prev_range: Option<f64>,
     /// Ownship x, y, heading, speed at the last update.
     pub os: (f64, f64, f64, f64),
     /// The contact's x, y, heading, speed at the last update.
@@ -331,6 +333,7 @@ impl ContactBase {
             bearing_line_info: "relevance".into(),
             bearing_lines: Vec::new(),
             cnflags: Vec::new(),
+            prev_range: None,
             os: (0.0, 0.0, 0.0, 0.0),
             cn: (0.0, 0.0, 0.0, 0.0),
             cn_group: String::new(),
@@ -403,11 +406,14 @@ impl ContactBase {
                 Ok(())
             }
             "cnflag" => {
-                if cnflag_ok(value) {
-                    self.cnflags.push(value.trim().to_string());
-                    Ok(())
-                } else {
-                    bad("<N, >N, @<N, @>N, @cpa, ... then VAR=VALUE")
+                let v = value.trim();
+                let (tag, rest) = v.split_once(char::is_whitespace).unwrap_or((v, ""));
+                match crate::common::Flag::parse(rest) {
+                    Some(f) if cnflag_ok(v) => {
+                        self.cnflags.push((tag.to_string(), f));
+                        Ok(())
+                    }
+                    _ => bad("<N, >N, @<N, @>N, @cpa, ... then VAR=VALUE"),
                 }
             }
             "use_plat_model" => match value.to_ascii_lowercase().as_str() {
@@ -484,8 +490,34 @@ impl ContactBase {
         self.cn = (c.x_m, c.y_m, c.heading_deg, c.speed_mps);
         self.cn_group.clone_from(&c.group);
         self.cn_vtype.clone_from(&c.vtype);
+        self.prev_range = Some(self.range);
         self.range = (x - c.x_m).hypot(y - c.y_m);
         true
+    }
+
+    /// Posts the range `cnflag`s that hold (MOOS `handleContactFlags`, called in running
+    /// iterations after [`ContactBase::update`]): `<N` while the range is at most `N`, `>N`
+    /// while at least `N`, `@<N` when it comes within `N`, `@>N` when it leaves; repeatable.
+    /// The event tags (`@cpa`, `@os_passed_cn`, ...) are read but not posted yet.
+    pub fn post_contact_flags(&self, out: &mut Out) {
+        let prev = self.prev_range.unwrap_or(0.0);
+        for (tag, flag) in &self.cnflags {
+            let thresh = |t: &str| (is_number(t)).then(|| geometry::atof(t));
+            let holds = if let Some(t) = tag.strip_prefix("@<").and_then(thresh) {
+                self.range <= t && prev > t
+            } else if let Some(t) = tag.strip_prefix("@>").and_then(thresh) {
+                self.range >= t && prev < t
+            } else if let Some(t) = tag.strip_prefix('<').and_then(thresh) {
+                self.range <= t
+            } else if let Some(t) = tag.strip_prefix('>').and_then(thresh) {
+                self.range >= t
+            } else {
+                false
+            };
+            if holds {
+                out.flag(flag, true);
+            }
+        }
     }
 
     /// Appends the value of a contact macro and returns true (MOOS `expandMacros` of

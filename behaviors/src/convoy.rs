@@ -366,6 +366,7 @@ impl Behavior for Convoy {
         if !self.base.update(ctx, out) {
             return None;
         }
+        self.base.post_contact_flags(out);
         let (cnx, cny, _, cnv) = self.base.cn;
         out.post("TLEN", self.total_length);
         out.post("QLEN", self.marks.len() as f64);

@@ -315,6 +315,7 @@ impl Behavior for CutRange {
         if !self.base.update(ctx, out) {
             return None;
         }
+        self.base.post_contact_flags(out);
         self.check_pursuit(out);
         let relevance = self.relevance_at(self.base.range);
         if relevance <= 0.0 {

@@ -170,6 +170,7 @@ impl Behavior for Shadow {
         if !self.base.update(ctx, out) {
             return None;
         }
+        self.base.post_contact_flags(out);
         let relevance = self.relevance_at(self.base.range);
         let (cnx, cny, cnh, cnv) = self.base.cn;
         out.post_int("SHADOW_CONTACT_X", cnx);

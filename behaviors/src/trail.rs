@@ -265,6 +265,7 @@ impl Behavior for Trail {
         if !self.base.update(ctx, out) {
             return None;
         }
+        self.base.post_contact_flags(out);
         let (cnx, cny, cnh, cnv) = self.base.cn;
         let cnh = geometry::angle_360(cnh);
         self.trail_pt = self.trail_point(cnx, cny, cnh);
