@@ -1617,4 +1617,80 @@ mod tests {
             )
         );
     }
+
+    #[test]
+    fn report_requests_list_the_contacts_in_range_until_they_time_out() {
+        let (mut cm, _) = ContactMgr::new("abe", &[]);
+        let mut out = Vec::new();
+        cm.on_mail(
+            "NODE_REPORT",
+            &report("bob", 30.0, 0.0, 0.0, 0.0, 1.0),
+            1.0,
+            &mut out,
+        );
+        cm.on_mail(
+            "NODE_REPORT",
+            &report("cal", 80.0, 0.0, 0.0, 0.0, 1.0),
+            1.0,
+            &mut out,
+        );
+        cm.on_mail(
+            "BCM_REPORT_REQUEST",
+            &Value::text("var=NEAR, range=50"),
+            1.0,
+            &mut out,
+        );
+        cm.on_mail(
+            "BCM_REPORT_REQUEST",
+            &Value::text("var=X Y, range=50"),
+            1.0,
+            &mut out,
+        );
+        assert!(cm.take_notes().contains(&Note::Warning(
+            "Failed REPORT_REQUEST: var=X Y, range=50".into()
+        )));
+        cm.iterate(1.0, &mut out);
+        assert_eq!(posts(&out, "NEAR"), [&Value::text("bob")]);
+        out.clear();
+        cm.iterate(2.0, &mut out);
+        assert!(posts(&out, "NEAR").is_empty(), "posted on change only");
+        // Not renewed within range_report_timeout (10 s): forgotten.
+        cm.on_mail(
+            "NODE_REPORT",
+            &report("cal", 20.0, 0.0, 0.0, 0.0, 12.0),
+            12.0,
+            &mut out,
+        );
+        out.clear();
+        cm.iterate(12.0, &mut out);
+        assert!(posts(&out, "NEAR").is_empty());
+    }
+
+    #[test]
+    fn a_bad_resolution_is_a_warning_posted_and_the_app_reports_bad_lines_at_their_line() {
+        let (mut cm, _) = ContactMgr::new("abe", &["alert = id=avd, alert_range=10"]);
+        let mut out = Vec::new();
+        cm.on_mail("CONTACT_RESOLVED", &Value::text("zed,avd"), 1.0, &mut out);
+        assert_eq!(
+            posts(&out, "CONTACT_MGR_WARNING"),
+            [&Value::text(
+                "Resolution failed. Nothing known about vehicle: zed"
+            )]
+        );
+        let block = crate::testing::block(
+            "m.moos",
+            "ProcessConfig = pBasicContactMgr\n{\n  AppTick = 2\n  contact_max_age = -3\n  bogus = 1\n}\n",
+        );
+        let app = ContactMgrApp::new("pBasicContactMgr", block, "abe");
+        let w: Vec<String> = app.warnings().iter().map(Diagnostic::located).collect();
+        assert_eq!(w.len(), 2, "{w:?}");
+        assert!(
+            w[0].contains("m.moos:4") && w[0].contains("contact_max_age must be > zero: -3"),
+            "{w:?}"
+        );
+        assert!(
+            w[1].contains("m.moos:5") && w[1].contains("Unhandled config line: bogus=1"),
+            "{w:?}"
+        );
+    }
 }
