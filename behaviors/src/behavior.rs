@@ -139,6 +139,11 @@ pub trait Info {
     fn is_fresh(&self, var: &str) -> bool {
         self.age(var) == Some(0.0)
     }
+    /// The contact `name` (as reported, case-sensitive) in the helm's contact ledger this
+    /// iteration (pHelmIvP's ledger snapshot), or `None`. The default knows no contact.
+    fn contact(&self, _name: &str) -> Option<&crate::contact::ContactInfo> {
+        None
+    }
 }
 
 /// A small [`Info`] over a map, for tests and examples.
@@ -146,6 +151,7 @@ pub trait Info {
 pub struct MapInfo {
     now: f64,
     vars: HashMap<String, (Value, f64)>,
+    contacts: HashMap<String, crate::contact::ContactInfo>,
 }
 
 impl MapInfo {
@@ -154,7 +160,13 @@ impl MapInfo {
         MapInfo {
             now,
             vars: HashMap::new(),
+            contacts: HashMap::new(),
         }
+    }
+    /// Builder: puts contact `name` in the ledger [`Info::contact`] reads.
+    pub fn with_contact(mut self, name: &str, c: crate::contact::ContactInfo) -> Self {
+        self.contacts.insert(name.to_string(), c);
+        self
     }
     /// Builder: sets a number (written at the current time).
     pub fn num(mut self, var: &str, v: f64) -> Self {
@@ -198,6 +210,9 @@ impl Info for MapInfo {
     }
     fn age(&self, var: &str) -> Option<f64> {
         self.vars.get(var).map(|(_, t)| self.now - t)
+    }
+    fn contact(&self, name: &str) -> Option<&crate::contact::ContactInfo> {
+        self.contacts.get(name)
     }
 }
 
@@ -371,6 +386,25 @@ pub trait Behavior: Send {
     /// `hold_on_apps` are up, with source aux `HELM_STARTUP_MSG`, and into the info buffer
     /// (e.g. a contact behaviour's alert request to the contact manager).
     fn on_helm_start(&mut self, _ctx: &Ctx<'_>, _out: &mut Out) {}
+
+    /// Once configuration is complete, before [`Behavior::on_helm_start`]: the behaviour's
+    /// common settings (its `updates` variable, `templating`), for behaviours whose start
+    /// messages depend on them (a contact behaviour's alert request).
+    fn set_common(&mut self, _common: &Common) {}
+
+    /// The contact this behaviour reasons about, if any (MOOS `getContactName`): the helm
+    /// keeps such contacts in its ledger twice as long and lists them in
+    /// `IVPHELM_CONTACT_SUMMARY`.
+    fn contact_name(&self) -> Option<&str> {
+        None
+    }
+
+    /// The factor the helm multiplies the priority weight (`pwt`) by for the function this
+    /// iteration's [`Behavior::on_run`] returned: a contact behaviour's relevance (MOOS
+    /// behaviours set `m_priority_wt · relevance` on their function). 1 by default.
+    fn pwt_factor(&self) -> f64 {
+        1.0
+    }
 
     /// When the helm spawns this behaviour from a template (MOOS `onSpawn`), after its
     /// parameters and [`Behavior::on_set_param_complete`], before its `spawnflag`s.

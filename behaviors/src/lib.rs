@@ -45,6 +45,7 @@
 
 #![warn(missing_docs)]
 
+mod avoid_collision;
 mod bearing_line;
 mod behavior;
 pub mod color;
@@ -52,6 +53,10 @@ mod common;
 mod constant_depth;
 mod constant_heading;
 mod constant_speed;
+pub mod contact;
+mod convoy;
+pub mod cpa;
+mod cut_range;
 /// MOOS number formatting (the workspace's one set of helpers).
 pub use moos_types::fmt;
 mod fixed_turn;
@@ -68,13 +73,16 @@ pub mod param;
 mod periodic_speed;
 mod periodic_surface;
 pub mod registry;
+mod shadow;
 mod station_keep;
 mod test_failure;
 pub mod testing;
 mod timer;
+mod trail;
 mod waypoint;
 mod zigzag;
 
+pub use avoid_collision::{AvoidCollision, PwtGrade};
 pub use bearing_line::BearingLine;
 pub use behavior::Fault;
 pub use behavior::{
@@ -84,6 +92,8 @@ pub use common::{Common, Flag, FlagKind, FlagValue, Templating};
 pub use constant_depth::ConstantDepth;
 pub use constant_heading::ConstantHeading;
 pub use constant_speed::ConstantSpeed;
+pub use convoy::Convoy;
+pub use cut_range::CutRange;
 pub use fixed_turn::{FixedTurn, ScheduledTurn};
 pub use go_to_depth::GoToDepth;
 pub use hs_line::HsLine;
@@ -96,9 +106,11 @@ pub use op_region_v24::OpRegionV24;
 pub use periodic_speed::PeriodicSpeed;
 pub use periodic_surface::{AscentGrade, PeriodicSurface, Phase};
 pub use registry::{Registry, STOCK};
+pub use shadow::Shadow;
 pub use station_keep::{KeepMode, StationKeep};
 pub use test_failure::TestFailure;
 pub use timer::Timer;
+pub use trail::Trail;
 pub use waypoint::Waypoint;
 pub use zigzag::{Leg, ZigZag};
 

@@ -65,6 +65,13 @@ pub const STOCK: &[(&str, StockFactory)] = &[
     ("BHV_MemoryTurnLimit", || Box::new(MemoryTurnLimit::new())),
     ("BHV_PeriodicSpeed", || Box::new(PeriodicSpeed::new())),
     ("BHV_FixedTurn", || Box::new(FixedTurn::new())),
+    ("BHV_AvoidCollision", || {
+        Box::new(crate::AvoidCollision::new())
+    }),
+    ("BHV_CutRange", || Box::new(crate::CutRange::new())),
+    ("BHV_Shadow", || Box::new(crate::Shadow::new())),
+    ("BHV_Trail", || Box::new(crate::Trail::new())),
+    ("BHV_Convoy", || Box::new(crate::Convoy::new())),
 ];
 
 type Factory = Arc<dyn Fn() -> Box<dyn Behavior> + Send + Sync>;

@@ -1,6 +1,7 @@
 //! The helm's info buffer: the latest value, source and times of every variable it has seen,
 //! plus the string values received during the current iteration (MOOS `InfoBuffer`).
 
+use behaviors::contact::ContactInfo;
 use behaviors::{Info, Value};
 
 use rustc_hash::FxHashMap;
@@ -35,6 +36,8 @@ pub struct Entry {
 pub struct InfoBuffer {
     vars: FxHashMap<String, Var>,
     now: f64,
+    /// The contact ledger's snapshot for the behaviours (pHelmIvP's `LedgerSnap`).
+    contacts: FxHashMap<String, ContactInfo>,
 }
 
 /// A variable's entry and its string values of this iteration (one map lookup per write).
@@ -161,6 +164,35 @@ impl InfoBuffer {
             v.deltas.len = 0;
         }
     }
+    /// Replaces the contacts behaviours read ([`Info::contact`]) with the ledger's, as
+    /// reported (pHelmIvP's `updateLedgerSnap`; the ledger does not extrapolate). A contact
+    /// known only by latitude and longitude is at x = y = 0, as the C++ ledger without a
+    /// geodesy gives it.
+    pub fn set_contacts(&mut self, ledger: &crate::ledger::ContactLedger) {
+        if self.contacts.is_empty() && ledger.is_empty() {
+            return;
+        }
+        self.contacts.retain(|name, _| ledger.get(name).is_some());
+        for (name, c) in ledger.iter() {
+            let info = ContactInfo {
+                x_m: c.x_m.unwrap_or(0.0),
+                y_m: c.y_m.unwrap_or(0.0),
+                heading_deg: c.heading_deg,
+                speed_mps: c.speed_mps,
+                depth_m: c.depth_m.unwrap_or(0.0),
+                utc: c.time,
+                group: c.group.clone(),
+                vtype: c.vtype.clone(),
+            };
+            match self.contacts.get_mut(name) {
+                Some(slot) => *slot = info,
+                None => {
+                    self.contacts.insert(name.to_string(), info);
+                }
+            }
+        }
+    }
+
     /// The value as a condition operand.
     pub fn condition_value(&self, var: &str) -> Option<mission::condition::Value<'_>> {
         Some(self.get(var)?.value.as_ref())
@@ -183,6 +215,9 @@ impl Info for InfoBuffer {
     }
     fn age(&self, var: &str) -> Option<f64> {
         InfoBuffer::age(self, var)
+    }
+    fn contact(&self, name: &str) -> Option<&ContactInfo> {
+        self.contacts.get(name)
     }
 }
 

@@ -2,9 +2,11 @@
 //! report the helm receives (`NODE_REPORT`, `AIS_REPORT`, `AIS_REPORT_LOCAL`), kept by vehicle
 //! name until it goes stale, summarised each iteration as `IVPHELM_LEDGER_SUMMARY`.
 //!
-//! Contact behaviours (issue 18) will read their contacts from here; until then the ledger's
-//! visible effects are the summary, the `<VNAME>_NAV_GROUP` / `<VNAME>_NAV_TYPE` info-buffer
-//! entries the helm sets from each report, and the warnings for reports it rejects.
+//! Contact behaviours read their contacts from here (each iteration the helm copies the
+//! ledger into the info buffer's contact snapshot, `behaviors::Info::contact`); the ledger's
+//! other visible effects are the summary, the `<VNAME>_NAV_GROUP` / `<VNAME>_NAV_TYPE`
+//! info-buffer entries the helm sets from each report, and the warnings for reports it
+//! rejects.
 //!
 //! Rules, from `ContactLedger::processNodeReport` / `processNodeRecord` at a2a9b716:
 //! - a report needs a name (`Missing vname.`), a `TIME`/`UTC_TIME` (`Missing timestamp.`),
@@ -246,6 +248,11 @@ impl ContactLedger {
     /// The contact called `name`.
     pub fn get(&self, name: &str) -> Option<&Contact> {
         self.contacts.get(name)
+    }
+
+    /// Every contact, by name (in name order).
+    pub fn iter(&self) -> impl Iterator<Item = (&str, &Contact)> + '_ {
+        self.contacts.iter().map(|(k, v)| (k.as_str(), v))
     }
 
     /// Drops every contact whose report is older than the stale threshold at `now`; those

@@ -210,7 +210,11 @@ fn templates_expanded_with_their_macros_parse_and_check_clean() {
             *findings
                 .entry(format!("{:?} {:?}", d.severity, d.kind))
                 .or_default() += 1;
-            if d.kind == DiagnosticKind::UnknownParameter {
+            // m3_casar's `active_grade` (in a BHV_AvoidCollision) is a parameter no behaviour
+            // of MOOS-IvP a2a9b716 has: pHelmIvP refuses it as well.
+            if d.kind == DiagnosticKind::UnknownParameter
+                && !(rel == "m3_casar/meta_henry.bhv" && d.message.contains("`active_grade`"))
+            {
                 problems.push(format!("{rel}: {d}"));
             }
         }

@@ -439,6 +439,12 @@ pub const BUILT_INS: &[BuiltIn] = &[
         reads_block: true,
         make: make_sim_modem,
     },
+    BuiltIn {
+        program: "pBasicContactMgr",
+        what: "the contact manager: contacts from NODE_REPORTs, alerts that spawn the helm's contact behaviours",
+        reads_block: true,
+        make: make_contact_mgr,
+    },
 ];
 
 /// The built-in app run by `program` (a path or base name), if coug builds it in.
@@ -558,6 +564,14 @@ fn make_coug_controls(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
 fn make_couguv_sim(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
     let app = crate::cougars::CougUvSimApp::new(cx.moos_name, b, cx.globals.grid())
+        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
+    cx.warnings.extend(app.warnings().iter().cloned());
+    Ok(Built::App(Box::new(app)))
+}
+
+fn make_contact_mgr(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    let b = cx.block_or_empty();
+    let app = crate::contact_mgr::ContactMgrApp::new(cx.moos_name, b, &cx.globals.community)
         .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
     cx.warnings.extend(app.warnings().iter().cloned());
     Ok(Built::App(Box::new(app)))

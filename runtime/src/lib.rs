@@ -37,6 +37,7 @@ pub mod app;
 pub mod appcasting;
 pub mod bus;
 pub mod clock;
+pub mod contact_mgr;
 pub mod cougars;
 pub mod driver_apps;
 pub mod fleet;

@@ -465,7 +465,7 @@ impl Helm {
                     );
                     self.slots[i].ok = false;
                 }
-                let pwt = self.slots[i].common.pwt;
+                let pwt = self.slots[i].common.pwt * self.slots[i].bhv.pwt_factor();
                 let f = f.filter(|_| pwt > 0.0).map(|f| f.with_pwt(pwt));
                 if let Some(f) = f {
                     // BehaviorSet reports every function it receives (`m_report_ipf` is on

@@ -356,6 +356,7 @@ impl Helm {
             // The C++ helm gives every loaded behaviour its own name as `us`.
             slot.common.us = None;
             if ok {
+                slot.bhv.set_common(&slot.common);
                 // pHelmIvP's start messages (`onHelmStart`), templates' included.
                 let ctx = Ctx {
                     info: &info,
@@ -712,8 +713,19 @@ impl Helm {
             }
         }
         // Step 5: the contact ledger drops stale contacts (those a behaviour still reasons
-        // about get twice the time: none until contact behaviours exist) and is summarised.
-        self.ledger.clear_stale(now, &[], 2.0);
+        // about get twice the time), the behaviours' snapshot of it is refreshed, and it is
+        // summarised.
+        let keep: Vec<&str> = self
+            .slots
+            .iter()
+            .filter_map(|s| s.bhv.contact_name())
+            .collect();
+        self.ledger.clear_stale(now, &keep, 2.0);
+        self.info.set_contacts(&self.ledger);
+        if !keep.is_empty() {
+            let summary = keep.join(",");
+            self.out.text_copy("IVPHELM_CONTACT_SUMMARY", &summary);
+        }
         let ledger = &self.ledger;
         self.out
             .text("IVPHELM_LEDGER_SUMMARY", |s| ledger.summary(20, s));
@@ -1420,6 +1432,78 @@ mod ledger_tests {
         assert_eq!(summaries(h.iterate(2.0)), ["now:1, reps:1, who:ben"]);
         nav(&mut h, 20.6);
         assert_eq!(summaries(h.iterate(20.6)), ["now:0, reps:1, who:"]);
+    }
+
+    #[test]
+    fn contact_behaviours_read_the_ledger_and_keep_their_contact_twice_as_long() {
+        let bhv = mission::bhv::parse_bhv(&SourceMap::from_text(
+            "c.bhv",
+            "Behavior = BHV_ConstantSpeed\n{\n name = spd\n speed = 1\n duration = no-time-limit\n}\n\
+             Behavior = BHV_AvoidCollision\n{\n name = avd_ben\n pwt = 200\n contact = ben\n}\n",
+        ));
+        let g = Globals {
+            lat_origin: Some("0".into()),
+            long_origin: Some("0".into()),
+            community: Some("abe".into()),
+        };
+        let params = [
+            ("domain", "course:0:359:360"),
+            ("domain", "speed:0:4:41"),
+            ("contact_max_age", "20"),
+            ("start_engaged", "true"),
+        ];
+        let mut h = Helm::from_parsed(&params, &g, &bhv);
+        assert!(h.config_errors().is_empty(), "{:?}", h.config_errors());
+        nav(&mut h, 0.0);
+        h.on_mail(&[Mail::new(
+            "NODE_REPORT",
+            "NAME=ben,X=0,Y=100,SPD=2,HDG=180,TIME=0.5,TYPE=kayak,GROUP=red",
+            0.0,
+        )]);
+        h.iterate(0.0);
+        let c = h
+            .info()
+            .contact("ben")
+            .expect("the snapshot has the contact");
+        assert_eq!(
+            (c.x_m, c.y_m, c.heading_deg, c.speed_mps),
+            (0.0, 100.0, 180.0, 2.0)
+        );
+        assert_eq!((c.group.as_str(), c.vtype.as_str()), ("red", "kayak"));
+        nav(&mut h, 2.0);
+        let p = h.iterate(2.0).to_vec();
+        let summary = p
+            .iter()
+            .find(|p| p.key == "IVPHELM_CONTACT_SUMMARY")
+            .unwrap();
+        assert_eq!(summary.value, Value::String("ben".into()));
+        // The behaviour's function weighs pwt x relevance: ((200-100)/150)^1.5.
+        assert!(
+            p.iter()
+                .any(|p| p.key == "BHV_IPF"
+                    && p.value.as_str().is_some_and(|s| s.contains("avd_ben")))
+        );
+        let relevance = (100.0f64 / 150.0).powf(1.5);
+        let w = h
+            .problem
+            .functions()
+            .find(|(n, _)| *n == "avd_ben")
+            .map(|(_, f)| f.pwt())
+            .expect("in the problem");
+        assert!((w - 200.0 * relevance).abs() < 1e-9, "{w}");
+        // 30 s old (past contact_max_age 20, within twice it): kept for the behaviour.
+        nav(&mut h, 30.0);
+        h.iterate(30.0);
+        assert!(h.info().contact("ben").is_some());
+        assert_eq!(h.ledger().len(), 1);
+        nav(&mut h, 41.0);
+        h.iterate(41.0);
+        assert_eq!(
+            h.ledger().len(),
+            0,
+            "gone from the ledger after twice the age"
+        );
+        assert!(h.info().contact("ben").is_none(), "and from the snapshot");
     }
 
     #[test]
