@@ -312,7 +312,9 @@ fn run_inner(args: &RunArgs) -> Result<i32, Vec<String>> {
         .collect();
     if !extra.is_empty() || args.mission.extension().is_some_and(|e| e == "fleet") {
         if args.emulate {
-            return Err(vec!["--emulate runs one vehicle's mission, not a fleet".into()]);
+            return Err(vec![
+                "--emulate runs one vehicle's mission, not a fleet".into(),
+            ]);
         }
         return run_fleet(args, extra);
     }
