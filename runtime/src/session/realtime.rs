@@ -107,6 +107,7 @@ impl Drop for Children {
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 pub(super) fn realtime(
     loaded: &LoadedMission,
     opts: &RunOptions,
