@@ -18,7 +18,8 @@
 //!   USBL fix.
 //! - **Vehicle** (answerer): it never speaks first. A status request for it is answered with
 //!   its [`Status`] (from [`Node::set_vehicle_state`]), a localisation request with its
-//!   [`Localisation`], a command is handed to the app to apply ([`Event::Apply`]) and
+//!   [`Localisation`] (neither while [`VehicleState::position_known`] is false: no made-up
+//!   position), a command is handed to the app to apply ([`Event::Apply`]) and
 //!   confirmed to its sender. Confirmations go before answers in its queue.
 //!
 //! # Contact reports
@@ -648,6 +649,10 @@ pub struct VehicleState {
     pub roll_deg: f64,
     /// Pitch, degrees.
     pub pitch_deg: f64,
+    /// False while the vehicle does not know where it is (no navigation yet): it then
+    /// leaves status and localisation requests unanswered rather than report a position it
+    /// does not have (the poller counts a timeout). True by default.
+    pub position_known: bool,
 }
 
 impl Default for VehicleState {
@@ -665,6 +670,7 @@ impl Default for VehicleState {
             nav_sigma_m: None,
             roll_deg: 0.0,
             pitch_deg: 0.0,
+            position_known: true,
         }
     }
 }
@@ -1216,6 +1222,12 @@ impl Node {
         let me = self.cfg.me;
         let from = p.from();
         match p {
+            Packet::StatusRequest(_) | Packet::LocalisationRequest(_)
+                if p.to() == Some(me) && !self.state.position_known =>
+            {
+                out.push(Event::PollerHeard { from });
+                self.counters.ignored += 1;
+            }
             Packet::StatusRequest(r) if r.to == me => {
                 out.push(Event::PollerHeard { from });
                 let s = self.status();
@@ -1441,6 +1453,34 @@ mod tests {
         b.tick(8.0, &mut ev);
         assert_eq!(frames(&ev)[0].0, 3);
         assert_eq!(b.counters().polls, 3);
+    }
+
+    #[test]
+    fn a_vehicle_that_does_not_know_where_it_is_does_not_answer() {
+        let mut b = poller();
+        let mut v3 = vehicle(3);
+        v3.set_vehicle_state(VehicleState {
+            position_known: false,
+            ..VehicleState::default()
+        });
+        let mut ev = Vec::new();
+        b.tick(0.0, &mut ev);
+        let poll = frames(&ev)[0].1;
+        let mut vev = Vec::new();
+        v3.receive(0.5, &poll, None, &mut vev);
+        v3.tick(0.6, &mut vev);
+        assert!(frames(&vev).is_empty(), "no made-up 0,0: {vev:?}");
+        assert!(vev.contains(&Event::PollerHeard { from: 15 }));
+        assert_eq!(v3.counters().ignored, 1);
+        // Once its navigation has a position it answers.
+        v3.set_vehicle_state(VehicleState {
+            x_m: 5.0,
+            ..VehicleState::default()
+        });
+        vev.clear();
+        v3.receive(1.0, &poll, None, &mut vev);
+        v3.tick(1.1, &mut vev);
+        assert_eq!(frames(&vev).len(), 1);
     }
 
     #[test]

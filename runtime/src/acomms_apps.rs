@@ -53,6 +53,10 @@
 //! | loiter | `ACOMMS_LOITER_UPDATE=center_assign=$(X),$(Y) # radius=$(RADIUS) # speed=$(SPEED) # clockwise=$(CLOCKWISE)`, `ACOMMS_MODE=LOITER` | a loiter behaviour with `updates = ACOMMS_LOITER_UPDATE` |
 //! | depth | `ACOMMS_DEPTH_UPDATE=depth=$(DEPTH)` | a constant-depth behaviour with `updates = ACOMMS_DEPTH_UPDATE` (goto and loiter post it too when they carry a depth) |
 //!
+//! A vehicle answers polls only once it knows where it is (`NAV_X` and `NAV_Y`, or its `x`
+//! and `y`): before its navigation's first position it leaves them unanswered (the poller
+//! counts a timeout) rather than report 0,0.
+//!
 //! Every applied command is also posted as `ACOMMS_CMD_RECEIVED = from=<id>,cmd=<word>,seq=<n>`,
 //! and every packet accepted from a poller as `ACOMMS_LAST_BASE_CONTACT = <time>` (pSafety's
 //! `stale(ACOMMS_LAST_BASE_CONTACT)` comms rule).
@@ -94,7 +98,13 @@
 //! | `position_prefix` | `NAV_` | where the node's position is read |
 //! | `x`, `y`, `depth` | 0, 0, 0 | the position until one is read (a moored beacon) |
 //! | `overhear` | true | post packets addressed to other modems too (SeaTrac beacons hear every packet) |
-//! | `seed`, `bit_rate`, `sound_speed`, `max_range`, `overhead`, `loss` (`dune`, `none` or `R:P,R:P,..`), `usbl_azimuth_sigma`, `usbl_elevation_sigma`, `usbl_range_sigma` | the run's seed, [`achannel::Config`]'s defaults | the channel's settings: the first uSimModem to reach the channel makes it; a later one with other settings gets a warning |
+//! | `seed`, `bit_rate`, `sound_speed`, `max_range`, `overhead`, `loss` (`dune`, `none` or `R:P,R:P,..`), `usbl_azimuth_sigma`, `usbl_elevation_sigma`, `usbl_range_sigma` | the run's seed, [`achannel::Config`]'s defaults | the channel's settings: the first uSimModem to reach the channel makes it; a later one with other settings gets a warning (one without `seed` takes the channel's: a fleet's communities each have their own run seed) |
+//!
+//! It also posts `ACOMMS_CHANNEL = modem=<id>,sent=..,failed=..,received=..,transmitted=..,
+//! arrivals=..,delivered=..,lost=..,collisions=..,half_duplex=..,out_of_range=..` when a
+//! count changes: its own transmissions and receptions, then the channel's statistics (the
+//! whole run's water, as the channel has been stepped to that instant), so a log shows the
+//! channel's losses and collisions.
 //!
 //! The fix posted is the channel's: range, azimuth from north, elevation (positive: the sender
 //! is shallower), the offsets east and north and the sender's depth computed from them. A
@@ -479,6 +489,7 @@ pub struct SimModemApp {
     registered: bool,
     posted_rx: u64,
     last_error: String,
+    last_counts: String,
 }
 
 fn channel_config(
@@ -669,7 +680,14 @@ impl SimModemApp {
         let net = shared_net(shared, &channel_name, config.clone());
         {
             let mut n = net.lock().unwrap_or_else(PoisonError::into_inner);
-            if *n.channel().config() != config {
+            // Without its own `seed` a modem takes the channel's: in a fleet run every
+            // community's seed differs (the run's mixed with its name), which is no
+            // disagreement about the water.
+            let mut wanted = config.clone();
+            if block.get("seed").is_none() {
+                wanted.seed = n.channel().config().seed;
+            }
+            if *n.channel().config() != wanted {
                 warnings.push(warn(
                     &block,
                     None,
@@ -708,6 +726,7 @@ impl SimModemApp {
             registered: false,
             posted_rx: 0,
             last_error: String::new(),
+            last_counts: String::new(),
         }
     }
 
@@ -918,6 +937,7 @@ impl App for SimModemApp {
             n.sync(now);
             let inbox = n.take_inbox(me);
             let notices = n.take_notices(me);
+            let counts = counts_text(me, n.counts(me), n.channel().stats());
             n.set_position(now, me, self.position);
             if now >= self.tx_until
                 && let Some((dest, data)) = self.queue.pop_front()
@@ -944,12 +964,34 @@ impl App for SimModemApp {
                     }
                 }
             }
+            if counts != self.last_counts {
+                out.push(Post::text("ACOMMS_CHANNEL", counts.clone()));
+                self.last_counts = counts;
+            }
         }
         let mut body = String::new();
         self.report(&mut body);
         self.appcast.end(now, tick, out, |b| b.push_str(&body));
         Ok(())
     }
+}
+
+/// `ACOMMS_CHANNEL`'s value: the modem's counters and the channel's (run-wide) statistics.
+fn counts_text(me: u8, c: ModemCounts, s: &achannel::Stats) -> String {
+    format!(
+        "modem={me},sent={},failed={},received={},transmitted={},arrivals={},delivered={},\
+         lost={},collisions={},half_duplex={},out_of_range={}",
+        c.sent,
+        c.failed,
+        c.received,
+        s.transmitted,
+        s.arrivals,
+        s.delivered,
+        s.lost,
+        s.collisions,
+        s.half_duplex,
+        s.out_of_range
+    )
 }
 
 /// Reads `ACOMMS_TX` as iSeaTrac does: `dest=..,hex=..[,type=..]`.
@@ -1821,6 +1863,8 @@ impl App for AcommsApp {
         st.y_m = own.y_m.unwrap_or(0.0);
         st.depth_m = own.depth_m.unwrap_or(0.0);
         st.heading_deg = own.heading_deg.unwrap_or(0.0);
+        // No NAV_X/NAV_Y (nor a fixed x, y) yet: no answer rather than a made-up 0,0.
+        st.position_known = own.x_m.is_some() && own.y_m.is_some();
         if let Some(n) = &mut self.node {
             n.set_own(own);
             n.set_vehicle_state(st);

@@ -549,3 +549,48 @@ fn kill_and_surface_reach_psafety_and_the_helm() {
         assert!(keys.contains(&"ACOMMS_TX".to_string()), "{cmd}: {keys:?}");
     }
 }
+
+/// In a fleet run every community has its own seed (the run's mixed with its name): a modem
+/// without `seed` joins the channel the first one made without a warning, and takes its seed;
+/// one with other settings is still told.
+#[test]
+fn a_modem_without_seed_takes_the_channels() {
+    let shared = Shared::new();
+    let a = SimModemApp::new(
+        "uSimModem",
+        block(
+            "a.moos",
+            "ProcessConfig = uSimModem\n{\n  modem_id = 1\n}\n",
+        ),
+        &shared,
+        11,
+    );
+    let b = SimModemApp::new(
+        "uSimModem",
+        block(
+            "b.moos",
+            "ProcessConfig = uSimModem\n{\n  modem_id = 2\n}\n",
+        ),
+        &shared,
+        12,
+    );
+    assert!(a.warnings().is_empty() && b.warnings().is_empty());
+    let seed = a.net().lock().unwrap().channel().config().seed;
+    assert_eq!(b.net().lock().unwrap().channel().config().seed, seed);
+    let c = SimModemApp::new(
+        "uSimModem",
+        block(
+            "c.moos",
+            "ProcessConfig = uSimModem\n{\n  modem_id = 3\n  seed = 5\n}\n",
+        ),
+        &shared,
+        11,
+    );
+    assert!(
+        c.warnings()
+            .iter()
+            .any(|d| d.message.contains("other settings")),
+        "{:?}",
+        c.warnings()
+    );
+}

@@ -11,7 +11,9 @@
 //!
 //! Real time: each community has its own TCP MOOSDB (on its mission's `ServerPort` when the
 //! file sets one other than 0, else on a port the system picks) and runs as a single
-//! real-time mission does, on its own thread; pShare goes over UDP.
+//! real-time mission does, on its own thread; pShare goes over UDP, and the communities'
+//! uSimModems share one acoustic channel (the run's [`Shared`]), each reaching it at its own
+//! clock's time (a call behind the channel's latest time is stamped at it and counted late).
 //!
 //! Targets: a `--poke`, `--button` or `--until` text may start with `NAME:` to address the
 //! community `NAME`. Without one, a poke goes to every community, a button is pressed in
@@ -544,6 +546,9 @@ fn fleet_realtime(
     let wall = Instant::now();
     let start = moosdb::time::unix_now() * warp.unwrap_or(1.0);
     let conditioned: Vec<bool> = plans.iter().map(|p| p.until.is_some()).collect();
+    // The communities' media (uSimModem's channel) are shared as in lockstep; no pShare hub:
+    // pShare goes over UDP.
+    let shared = Shared::new();
     let results: Vec<Result<RunReport, SessionError>> = std::thread::scope(|scope| {
         let mut handles = Vec::new();
         for (member, plan) in fleet.members.iter().zip(plans) {
@@ -552,6 +557,7 @@ fn fleet_realtime(
                 tx: tx.clone(),
                 stop: stop.clone(),
             };
+            let shared = shared.clone();
             handles.push(scope.spawn(move || {
                 let loaded = &member.loaded;
                 let port = fleet_port(loaded);
@@ -565,6 +571,7 @@ fn fleet_realtime(
                     pokes,
                     plan.until,
                     &plan.log_dir,
+                    shared,
                     &mut relay,
                 )
             }));

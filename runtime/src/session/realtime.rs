@@ -107,6 +107,7 @@ impl Drop for Children {
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 pub(super) fn realtime(
     loaded: &LoadedMission,
     opts: &RunOptions,
@@ -114,6 +115,7 @@ pub(super) fn realtime(
     pokes: Vec<Poke>,
     until: Option<Condition>,
     log_dir: &Path,
+    shared: crate::shared::Shared,
     observer: &mut dyn Observer,
 ) -> Result<RunReport, SessionError> {
     let (globals, _) = MissionGlobals::from_mission(&loaded.mission);
@@ -160,7 +162,7 @@ pub(super) fn realtime(
         let opened = wall_now();
         let (target, sink) = log_target(loaded, log_dir, opened);
         let p = loaded
-            .plan(start, opts.seed, Some(target))
+            .plan_shared(start, opts.seed, Some(target), shared)
             .map_err(|e| SessionError::Invalid(e.to_string()))?;
         let alog = open_log(loaded, log_dir, opened, &sink)?;
         let mut children = Children(Vec::new());

@@ -235,9 +235,16 @@ pub fn run(
         .unwrap_or_else(|| PathBuf::from(logger_config(&loaded.mission).path));
     match opts.mode {
         Mode::Lockstep => lockstep(loaded, opts, pokes, until, &log_dir, observer),
-        Mode::RealTime { warp, port } => {
-            realtime(loaded, opts, (warp, port), pokes, until, &log_dir, observer)
-        }
+        Mode::RealTime { warp, port } => realtime(
+            loaded,
+            opts,
+            (warp, port),
+            pokes,
+            until,
+            &log_dir,
+            crate::shared::Shared::new(),
+            observer,
+        ),
     }
 }
 
