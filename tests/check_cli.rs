@@ -281,3 +281,54 @@ fn check_does_not_warn_about_the_apps_own_runtime_macros() {
     );
     assert!(!stdout.contains("OSX"), "{stdout}");
 }
+
+#[test]
+fn check_reads_fleet_files_as_coug_run_starts_them() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("missions");
+    for fleet in [
+        "fleet_survey/fleet_survey.fleet",
+        "fleet_acomms/fleet_acomms.fleet",
+    ] {
+        let path = root.join(fleet);
+        let (code, stdout, stderr) = coug(&["check", path.to_str().unwrap()]);
+        assert_eq!(code, 0, "{fleet}: {stdout}{stderr}");
+        assert!(stdout.is_empty(), "{fleet}: {stdout}");
+    }
+    // Errors in the fleet file itself, each at its line.
+    let dir = scratch_dir("check-cli-fleet");
+    let bad = dir.join("bad.fleet");
+    std::fs::write(&bad, "vehicle = x\nbogus line\n").unwrap();
+    let (code, stdout, _) = coug(&["check", bad.to_str().unwrap()]);
+    assert_eq!(code, 1, "{stdout}");
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert_eq!(lines.len(), 2, "{stdout}");
+    assert!(
+        lines[0].starts_with(&format!("{}:1: error:", bad.display())),
+        "{stdout}"
+    );
+    assert!(
+        lines[1].starts_with(&format!("{}:2: error:", bad.display())),
+        "{stdout}"
+    );
+    // A community whose helm would be in MALCONFIG is an error named after the community.
+    std::fs::write(
+        dir.join("v.moos"),
+        "ServerPort = 0\nCommunity = v1\n\nProcessConfig = ANTLER\n{\n  Run = MOOSDB @ NewConsole = false\n  \
+         Run = pHelmIvP @ NewConsole = false\n}\n\nProcessConfig = pHelmIvP\n{\n  behaviors = v.bhv\n  \
+         Domain = course:0:359:360\n  Domain = speed:0:4:21\n  bogus_param = 1\n}\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("v.bhv"),
+        "Behavior = BHV_ConstantSpeed\n{\n  speed = 1\n}\n",
+    )
+    .unwrap();
+    let fleet = dir.join("one.fleet");
+    std::fs::write(&fleet, "vehicle = henry v.moos\n").unwrap();
+    let (code, stdout, _) = coug(&["check", fleet.to_str().unwrap()]);
+    assert_eq!(code, 1, "{stdout}");
+    assert!(
+        stdout.contains("henry: pHelmIvP would run in MALCONFIG (never driving)"),
+        "{stdout}"
+    );
+}

@@ -67,6 +67,29 @@ pub fn run(args: &CheckArgs) -> i32 {
         errln!("coug check: error: no file given (arguments with `=` are macro definitions)");
         return 2;
     }
+    // A fleet file is checked as `coug run` would start it: every community's mission read
+    // with its macros and validated.
+    let (fleets, files): (Vec<PathBuf>, Vec<PathBuf>) = files
+        .into_iter()
+        .partition(|p| p.extension().is_some_and(|e| e == "fleet"));
+    let mut fleet_errors = false;
+    for path in &fleets {
+        match runtime::fleet::LoadedFleet::from_file(path, &macros, &args.include_paths) {
+            Ok(fleet) => {
+                let v = runtime::session::validate_fleet(&fleet);
+                fleet_errors |= report_validation(&path.display().to_string(), &v, 0);
+            }
+            Err(e) => {
+                for m in e.messages() {
+                    outln!("{}", finding("error", &m));
+                }
+                fleet_errors = true;
+            }
+        }
+    }
+    if files.is_empty() {
+        return i32::from(fleet_errors);
+    }
     let mut findings = check_files(&FsSource, &files, &opts);
     // A binary built with behaviours of its own (`coug::main_with`) knows more types than
     // the stock catalog.
@@ -118,33 +141,7 @@ pub fn run(args: &CheckArgs) -> i32 {
         };
         let v = runtime::session::validate(&loaded);
         // The reader's own warnings were listed above.
-        for w in &v.warnings[loaded.warnings.len()..] {
-            outln!("{w}");
-        }
-        for (helm, reasons) in &v.malconfig {
-            for r in reasons {
-                // A template checked without its macros cannot say how it will run.
-                let (severity, note) = if r.contains("$(") {
-                    (
-                        "warning",
-                        " (an nsplug macro is not expanded: give NAME=VALUE to check it as it will run)",
-                    )
-                } else {
-                    run_errors = true;
-                    ("error", "")
-                };
-                let text = format!("{helm} would run in MALCONFIG (never driving): {r}{note}");
-                outln!("{}", finding(severity, &text));
-            }
-        }
-        for f in &v.failed {
-            outln!("{}", finding("error", f));
-            run_errors = true;
-        }
-        for e in &v.errors {
-            outln!("{}", finding("error", &format!("{name}: {e}")));
-            run_errors = true;
-        }
+        run_errors |= report_validation(&name, &v, loaded.warnings.len());
     }
     for (file, l) in &left {
         let n = l.errors + l.warnings;
@@ -158,7 +155,41 @@ pub fn run(args: &CheckArgs) -> i32 {
             plural(l.warnings)
         );
     }
-    i32::from(run_errors || findings.iter().any(|f| f.is_error()))
+    i32::from(fleet_errors || run_errors || findings.iter().any(|f| f.is_error()))
+}
+
+/// Prints what a run would find starting mission (or fleet) `name`, past its first
+/// `listed` warnings (the reader's, already shown); true when any of it is an error.
+fn report_validation(name: &str, v: &runtime::session::Validation, listed: usize) -> bool {
+    let mut errors = false;
+    for w in v.warnings.iter().skip(listed) {
+        outln!("{w}");
+    }
+    for (helm, reasons) in &v.malconfig {
+        for r in reasons {
+            // A template checked without its macros cannot say how it will run.
+            let (severity, note) = if r.contains("$(") {
+                (
+                    "warning",
+                    " (an nsplug macro is not expanded: give NAME=VALUE to check it as it will run)",
+                )
+            } else {
+                errors = true;
+                ("error", "")
+            };
+            let text = format!("{helm} would run in MALCONFIG (never driving): {r}{note}");
+            outln!("{}", finding(severity, &text));
+        }
+    }
+    for f in &v.failed {
+        outln!("{}", finding("error", f));
+        errors = true;
+    }
+    for e in &v.errors {
+        outln!("{}", finding("error", &format!("{name}: {e}")));
+        errors = true;
+    }
+    errors
 }
 
 /// `file:line: SEVERITY: rest` for a finding that starts with `file:line: `, else
