@@ -313,11 +313,7 @@ mod tests {
     use super::*;
 
     fn doubles(io: &Io, key: &str) -> Vec<f64> {
-        io.posts
-            .iter()
-            .filter(|p| &*p.key == key)
-            .filter_map(|p| p.value.as_f64())
-            .collect()
+        io.doubles(key)
     }
 
     fn keys(io: &Io) -> Vec<&str> {

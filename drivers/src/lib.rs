@@ -90,6 +90,24 @@ impl Io {
     pub fn send(&mut self, bytes: impl Into<Vec<u8>>) {
         self.tx.push(bytes.into());
     }
+
+    /// The numbers posted to `key`, in order.
+    pub fn doubles(&self, key: &str) -> Vec<f64> {
+        self.posts
+            .iter()
+            .filter(|p| &*p.key == key)
+            .filter_map(|p| p.value.as_f64())
+            .collect()
+    }
+
+    /// The strings posted to `key`, in order.
+    pub fn texts(&self, key: &str) -> Vec<String> {
+        self.posts
+            .iter()
+            .filter(|p| &*p.key == key)
+            .filter_map(|p| p.value.as_str().map(str::to_string))
+            .collect()
+    }
 }
 
 /// A device protocol as a pure state machine: it reads no clock and does no I/O.

@@ -810,19 +810,11 @@ mod tests {
     use devices::seatrac::{AhrsComp, Attitude, Environment, Position, Range, Usbl, cid};
 
     fn doubles(io: &Io, key: &str) -> Vec<f64> {
-        io.posts
-            .iter()
-            .filter(|p| &*p.key == key)
-            .filter_map(|p| p.value.as_f64())
-            .collect()
+        io.doubles(key)
     }
 
     fn texts(io: &Io, key: &str) -> Vec<String> {
-        io.posts
-            .iter()
-            .filter(|p| &*p.key == key)
-            .filter_map(|p| p.value.as_str().map(str::to_string))
-            .collect()
+        io.texts(key)
     }
 
     fn sent(io: &Io) -> Vec<Command> {
