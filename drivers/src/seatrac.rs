@@ -35,14 +35,32 @@
 //!   360)` (Gen-2 negates it for FLU; the HoloOcean bridge turns its FLU angle into this one);
 //!   the elevation is positive when the remote beacon is above the local one (shallower),
 //!   `[−90, 90]`. The position block is the remote beacon's easting and northing from the
-//!   local beacon (the beacon resolves them with its own attitude and compass, so its north
-//!   is magnetic unless the beacon is told the declination; the driver posts them as given)
-//!   and its depth below the surface, decimetres.
+//!   local beacon and its depth below the surface, decimetres. The beacon resolves the
+//!   easting and northing with its own attitude and *magnetic* heading, so they are on
+//!   magnetic north: the driver turns them onto true north with `declination` (applied
+//!   here once, as to the yaw), so `USBL_X`/`USBL_Y` are on the mission's grid.
+//!
+//! What the vendor's document says (Blueprint Subsea, *SeaTrac X100 Series Serial Command
+//! Interface Reference*, UM-140-D00221-02, firmware 1.2, §6.4.2 `ACOFIX_T`, pp. 46–49): the
+//! azimuth is "the incoming signal azimuth angle from 0° to 360°" and the elevation "the
+//! incoming signal elevation angle from −90° to +90°", both in deci-degrees, with no sign
+//! convention stated for the elevation (nor in §7.6.8 `CID_XCVR_USBL`, p. 102); the
+//! position's easting and northing are "the relative position of the remote beacon to the
+//! local beacon computed from the range, incoming signal angle, local beacon depth, attitude
+//! and magnetic heading" (hence magnetic north, confirmed), and its depth "the vertical
+//! depth distance component of the remote beacon from the surface" (an absolute depth,
+//! confirmed; with `REQX` the remote's own depth sensor, `POSITION_ENHANCED`). The
+//! elevation's sign stays unconfirmed by the vendor: positive-up is the HoloOcean modem
+//! bridge's and the emulator's convention. Nothing downstream depends on it while the
+//! position block is present (pAcomms prefers the offsets, then the depths, to the
+//! elevation).
 //!
 //! So a remote beacon 20 m east of the vehicle and 20 m deeper, the vehicle heading north
 //! and level, is at azimuth 90°, elevation −45°, range 28.3 m: `USBL_AZIMUTH = 90`,
 //! `USBL_ELEVATION = -45`, `USBL_RANGE = 28.3`, `USBL_X = 20`, `USBL_Y = 0`, `USBL_Z` the
-//! remote's depth (the tests build that frame from the field tables).
+//! remote's depth (the tests build that frame from the field tables); with a declination
+//! of 10° E the beacon writes that position as easting 19.7, northing 3.5 (magnetic), and the
+//! driver posts 20, 0 again.
 //!
 //! # Variables
 //!
@@ -67,7 +85,7 @@
 //! | `USBL_SRC` | double | id | the remote beacon |
 //! | `USBL_RANGE` | double | m | range (dm / 10) |
 //! | `USBL_AZIMUTH`, `USBL_ELEVATION` | double | deg | USBL angles in the modem's (body FRD) frame: azimuth clockwise from the bow `[0, 360)`, elevation positive above (see Conventions) |
-//! | `USBL_X`, `USBL_Y`, `USBL_Z` | double | m | the remote's position: easting and northing from the local beacon, depth below the surface |
+//! | `USBL_X`, `USBL_Y`, `USBL_Z` | double | m | the remote's position: easting and northing from the local beacon (true north: the beacon's magnetic ones turned by `declination`), depth below the surface |
 //! | `USBL_FIX` ✱ | string | | `src=2,dest=1,type=..,rssi=..` and `range=`, `azimuth=`, `elevation=`, `x=`, `y=`, `z=` for the fields present |
 //! | `ACOMMS_RX` | string | | a DAT received: `src=<id>,dest=<id>,ack=<0\|1>,hex=<payload as uppercase hex>` |
 //! | `ACOMMS_TX_ACK` | string | | `dest=<id>,cid=<DAT_SEND\|PING_SEND>`: the beacon sent it |
@@ -94,7 +112,7 @@
 //! | `device`, `baud` | `/dev/frost/rs232_connector_seatrac`, 115200 | the serial link |
 //! | `beacon_id` | 1 | 1–15 |
 //! | `salinity` | 0 | ppt |
-//! | `declination` | 0 | deg east, added to the yaw (Utah Lake: 10.7) |
+//! | `declination` | 0 | deg east, added to the yaw and to the bearing of the acoustic fixes' easting/northing (Utah Lake: 10.7) |
 //! | `ahrs_mount` | `x45` | `x45` or `aligned` |
 //! | `save_settings` | true | SETTINGS_SAVE after SETTINGS_SET |
 //! | `startup_timeout`, `send_wait`, `send_tries`, `max_queue` | 1, 0.5, 3, 32 | |
@@ -390,9 +408,16 @@ impl SeaTrac {
             let _ = write!(s, ",azimuth={},elevation={}", g(az), g(el));
         }
         if let Some(p) = &f.position {
-            let (x, y, z) = (
+            // Magnetic easting and northing onto true north: bearings grow by the
+            // declination.
+            let (em, nm) = (
                 f64::from(p.easting_dm) / 10.0,
                 f64::from(p.northing_dm) / 10.0,
+            );
+            let (sin, cos) = self.cfg.declination_deg.to_radians().sin_cos();
+            let (x, y, z) = (
+                em * cos + nm * sin,
+                nm * cos - em * sin,
                 f64::from(p.depth_dm) / 10.0,
             );
             io.double("USBL_X", x);
@@ -1135,6 +1160,43 @@ mod tests {
         let h = 28.3 * el.cos();
         assert!((h * az.sin() - 20.0).abs() < 0.05 && (h * az.cos()).abs() < 1e-9);
         assert!((10.0 - 28.3 * el.sin() - 30.0).abs() < 0.05);
+    }
+
+    /// The position block is on magnetic north (UM-140 §6.4.2: resolved with the magnetic
+    /// heading): with the declination configured, the driver posts it on true north. The
+    /// beacon 20 m true east, at 10° E of declination, writes easting 19.7 m and northing
+    /// 3.5 m.
+    #[test]
+    fn the_fix_position_is_turned_from_magnetic_to_true_north() {
+        let le16 = |v: i16| v.to_le_bytes();
+        let mut m = vec![cid::PING_RESP];
+        m.extend([1, 15, 0x04, msg_type::RESPU]); // flags: position only
+        for a in [0i16, 0, 0] {
+            m.extend(le16(a));
+        }
+        m.extend(100u16.to_le_bytes());
+        m.extend(14_750u16.to_le_bytes());
+        m.extend(le16(-600));
+        m.extend(le16(197)); // easting 19.7 m, magnetic
+        m.extend(le16(35)); // northing 3.5 m, magnetic
+        m.extend(le16(300));
+        let frame = seatrac::encode_frame(seatrac::Direction::Response, &m);
+        let cfg = SeaTracConfig {
+            declination_deg: 10.0,
+            ..SeaTracConfig::default()
+        };
+        let (mut p, _) = started(cfg);
+        let mut io = Io::default();
+        p.on_bytes(frame.as_bytes(), 5.0, &mut io);
+        let (x, y) = (doubles(&io, "USBL_X")[0], doubles(&io, "USBL_Y")[0]);
+        assert!((x - 20.0).abs() < 0.05 && y.abs() < 0.05, "({x}, {y})");
+        assert_eq!(doubles(&io, "USBL_Z"), [30.0]);
+        // Without a declination the block is posted as written.
+        let (mut p, _) = started(SeaTracConfig::default());
+        let mut io = Io::default();
+        p.on_bytes(frame.as_bytes(), 5.0, &mut io);
+        assert_eq!(doubles(&io, "USBL_X"), [19.7]);
+        assert_eq!(doubles(&io, "USBL_Y"), [3.5]);
     }
 
     /// The chip's gyro for known body rates through the 45° mount: turning right (positive

@@ -6,7 +6,7 @@ use std::str::FromStr;
 
 use crate::device::{Device, Emulator};
 use crate::dvl::{A50, A50Settings};
-use crate::fault::FaultPlan;
+use crate::fault::{FaultClock, FaultPlan};
 use crate::gps::{GpsSettings, Gpsd, NmeaGps};
 use crate::seatrac::{X150, X150Settings};
 use crate::teensy::{Teensy, TeensyPort, TeensySettings};
@@ -171,6 +171,20 @@ pub async fn spawn_warped(
     options: Options,
     warp: f64,
 ) -> io::Result<Running> {
+    spawn_warped_with_clock(kind, settings, transport, options, warp, FaultClock::default()).await
+}
+
+/// [`spawn_warped`] with the fault plan counted from `clock`'s origin (in the edge's wall
+/// seconds, see [`crate::fault::FaultClock`]) instead of the emulator's start: a caller that
+/// learns later when the plan's time 0 is (the mission's start) sets it then.
+pub async fn spawn_warped_with_clock(
+    kind: Kind,
+    settings: Settings,
+    transport: Transport,
+    options: Options,
+    warp: f64,
+    clock: FaultClock,
+) -> io::Result<Running> {
     let truth = SharedTruth::new();
     let (dev, teensy) = device(kind, settings, &transport, options.seed);
     let dev = Box::new(Warped::new(dev, warp, options.epoch_unix_s));
@@ -180,7 +194,8 @@ pub async fn spawn_warped(
         faults_to_wall(&options.faults, warp),
         options.seed,
         options.epoch_unix_s,
-    );
+    )
+    .with_fault_clock(clock);
     let handle = transport::spawn(emu, transport).await?;
     Ok(Running {
         handle,

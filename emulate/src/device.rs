@@ -2,7 +2,7 @@
 //! in, state changes and answers out) and [`Emulator`], a device with its truth source and
 //! its faults, which the I/O edge ([`crate::transport`]) drives.
 
-use crate::fault::FaultPlan;
+use crate::fault::{FaultClock, FaultPlan};
 use crate::truth::{Truth, TruthSource};
 
 /// What a device knows at one instant besides the truth.
@@ -56,6 +56,7 @@ pub struct Emulator {
     device: Box<dyn Device>,
     truth: Box<dyn TruthSource>,
     faults: FaultPlan,
+    clock: FaultClock,
     rng: fastrand::Rng,
     epoch_unix_s: f64,
     last_t: f64,
@@ -98,15 +99,28 @@ impl Emulator {
             device,
             truth,
             faults,
+            clock: FaultClock::default(),
             rng: fastrand::Rng::with_seed(seed ^ 0x5eed_e3a1_a7e5),
             epoch_unix_s,
             last_t: f64::NEG_INFINITY,
         }
     }
 
+    /// The same emulator with its fault plan counted from `clock`'s origin (by default the
+    /// emulator's time 0).
+    pub fn with_fault_clock(mut self, clock: FaultClock) -> Self {
+        self.clock = clock;
+        self
+    }
+
     /// The device's name.
     pub fn name(&self) -> &'static str {
         self.device.name()
+    }
+
+    /// The fault plan's time at emulator time `t`.
+    fn ft(&self, t: f64) -> f64 {
+        self.clock.plan_time(t)
     }
 
     /// The edge's tick period, s.
@@ -121,12 +135,12 @@ impl Emulator {
 
     /// True while a disconnection keeps the device off (the edge accepts no connection).
     pub fn offline(&self, t: f64) -> bool {
-        self.faults.offline(t)
+        self.faults.offline(self.ft(t))
     }
 
     fn situation(&mut self, t: f64) -> Situation {
         let mut truth = self.truth.truth(t);
-        let k = self.faults.noise_scale(t);
+        let k = self.faults.noise_scale(self.ft(t));
         if k > 0.0 {
             let r = &mut self.rng;
             truth.x += gauss(r, k * NOISE_POS_M);
@@ -144,14 +158,14 @@ impl Emulator {
             t,
             unix_s: self.epoch_unix_s + t,
             truth,
-            leak: self.faults.leak(t),
-            battery_drop_v: self.faults.battery_drop_v(t),
+            leak: self.faults.leak(self.ft(t)),
+            battery_drop_v: self.faults.battery_drop_v(self.ft(t)),
         }
     }
 
     /// Mixes the garbage due over `dt` seconds into `bytes` at random places.
     fn garble(&mut self, t: f64, dt: f64, bytes: &mut Vec<u8>) {
-        let rate = self.faults.garbage_rate(t);
+        let rate = self.faults.garbage_rate(self.ft(t));
         if rate <= 0.0 {
             return;
         }
@@ -168,7 +182,7 @@ impl Emulator {
     pub fn connect(&mut self, t: f64) -> Vec<u8> {
         let s = self.situation(t);
         let out = self.device.connected(&s);
-        if self.faults.silent(t) {
+        if self.faults.silent(self.ft(t)) {
             Vec::new()
         } else {
             out
@@ -182,11 +196,14 @@ impl Emulator {
         } else {
             0.0
         };
-        let disconnect = self.faults.disconnects_between(self.last_t, t) > 0;
+        let disconnect = self
+            .faults
+            .disconnects_between(self.ft(self.last_t), self.ft(t))
+            > 0;
         self.last_t = t;
         let s = self.situation(t);
         let mut bytes = self.device.tick(&s);
-        if self.faults.silent(t) || self.faults.offline(t) {
+        if self.faults.silent(self.ft(t)) || self.faults.offline(self.ft(t)) {
             bytes.clear();
         } else {
             self.garble(t, dt, &mut bytes);
@@ -197,7 +214,7 @@ impl Emulator {
     /// Bytes from the host at `t`: the device's answers, faults applied (a silent or
     /// disconnected device hears nothing).
     pub fn receive(&mut self, t: f64, data: &[u8]) -> Vec<u8> {
-        if self.faults.silent(t) || self.faults.offline(t) {
+        if self.faults.silent(self.ft(t)) || self.faults.offline(self.ft(t)) {
             return Vec::new();
         }
         let s = self.situation(t);

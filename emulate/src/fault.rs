@@ -13,8 +13,16 @@
 //!
 //! Every random draw comes from the emulator's seeded generator, and only while a fault is
 //! active, so the same seed and plan give the same bytes.
+//!
+//! A plan's times count from its [`FaultClock`]'s origin on the emulator's clock: the
+//! emulator's start by default (`coug emulate --fault`), or a moment set later, once it is
+//! known: beside a community (`coug run --emulate`) uSimDevices sets it to the mission's
+//! start, so `leak@120` means 120 s of the community's MOOS time after the mission started,
+//! as the user reads it in the mission and its log, however long the emulators ran before.
 
 use std::fmt;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// One kind of fault.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -150,6 +158,53 @@ impl fmt::Display for Fault {
     }
 }
 
+/// Where a fault plan's time 0 is on the emulator's clock (seconds of the edge's clock),
+/// shared between the emulator that reads it and whoever sets it later. While it is pending
+/// (no origin yet) no fault is in effect.
+#[derive(Debug, Clone)]
+pub struct FaultClock(Arc<AtomicU64>);
+
+impl Default for FaultClock {
+    /// Origin 0: the plan counts from the emulator's start.
+    fn default() -> Self {
+        FaultClock::at(0.0)
+    }
+}
+
+impl FaultClock {
+    /// A clock whose origin is `origin` emulator seconds.
+    pub fn at(origin: f64) -> Self {
+        FaultClock(Arc::new(AtomicU64::new(origin.to_bits())))
+    }
+
+    /// A clock without an origin yet: every fault waits for [`FaultClock::start_at`].
+    pub fn pending() -> Self {
+        FaultClock::at(f64::INFINITY)
+    }
+
+    /// Sets the origin: plan time 0 is emulator time `origin` (a value that is not finite
+    /// leaves the clock pending).
+    pub fn start_at(&self, origin: f64) {
+        let o = if origin.is_finite() {
+            origin
+        } else {
+            f64::INFINITY
+        };
+        self.0.store(o.to_bits(), Ordering::Relaxed);
+    }
+
+    /// The origin, emulator seconds (infinite while pending).
+    pub fn origin(&self) -> f64 {
+        f64::from_bits(self.0.load(Ordering::Relaxed))
+    }
+
+    /// The plan's time at emulator time `t` (−∞ while pending: before every fault).
+    pub fn plan_time(&self, t: f64) -> f64 {
+        let o = self.origin();
+        if o.is_finite() { t - o } else { f64::NEG_INFINITY }
+    }
+}
+
 /// The faults of one emulator.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct FaultPlan {
@@ -229,6 +284,28 @@ impl FaultPlan {
                 _ => 0.0,
             })
             .sum()
+    }
+}
+
+#[cfg(test)]
+mod clock_tests {
+    use super::*;
+
+    #[test]
+    fn a_pending_clock_holds_every_fault_until_its_origin_is_set() {
+        let plan = FaultPlan::parse(&["leak@10", "dropout@5+1"]).unwrap();
+        let c = FaultClock::pending();
+        let shared = c.clone();
+        assert!(!plan.leak(c.plan_time(1e9)) && !plan.silent(c.plan_time(5.5)));
+        assert_eq!(plan.disconnects_between(c.plan_time(0.0), c.plan_time(1e9)), 0);
+        // The mission starts 3.5 s into the emulator's run: its 10 s is the emulator's 13.5.
+        shared.start_at(3.5);
+        assert_eq!(c.origin(), 3.5);
+        assert!(!plan.leak(c.plan_time(13.4)) && plan.leak(c.plan_time(13.5)));
+        assert!(plan.silent(c.plan_time(9.0)) && !plan.silent(c.plan_time(8.4)));
+        assert_eq!(FaultClock::default().plan_time(2.0), 2.0);
+        c.start_at(f64::NAN);
+        assert_eq!(c.plan_time(100.0), f64::NEG_INFINITY);
     }
 }
 

@@ -36,8 +36,11 @@
 //! Acoustic fixes follow the HoloOcean modem bridge: range on responses, USBL angles (σ 1°)
 //! on OWAYU, REQU, RESPU, REQX and RESPX, position on RESPU and RESPX (enhanced on RESPX).
 //! The azimuth is the bearing of the remote beacon relative to the local heading, 0–360°;
-//! the elevation is positive when the remote beacon is above (shallower); the position is
-//! the remote beacon's easting, northing (true, relative to the local beacon) and depth.
+//! the elevation is positive when the remote beacon is above (shallower; the vendor's
+//! document gives only the range −90..90, see `drivers::seatrac`); the position is the
+//! remote beacon's easting and northing relative to the local beacon on *magnetic* north
+//! (the real beacon resolves them with its magnetic heading, UM-140 §6.4.2: the true
+//! offsets turned by [`X150Settings::declination_deg`]) and its depth below the surface.
 
 use devices::line::LineSplitter;
 use devices::seatrac::{
@@ -392,9 +395,12 @@ impl X150 {
                 fit_error_centi: 12,
             }
         });
+        // The beacon resolves the position with its magnetic heading: true bearings less
+        // the declination.
+        let (sin, cos) = self.cfg.declination_deg.to_radians().sin_cos();
         let position = position.then(|| Position {
-            easting_dm: dm_i16(dx),
-            northing_dm: dm_i16(dy),
+            easting_dm: dm_i16(dx * cos - dy * sin),
+            northing_dm: dm_i16(dy * cos + dx * sin),
             depth_dm: dm_i16(rd),
         });
         AcoFix {

@@ -22,7 +22,11 @@ use crate::truth::{Truth, TruthSource};
 /// The shortest tick period a warped device asks of the edge, wall seconds.
 pub const MIN_WALL_PERIOD_S: f64 = 0.004;
 
-/// A usable warp: finite and positive, else 1.
+/// A usable warp: finite and positive, else 1 (what every warped emulator runs at).
+pub fn usable_warp(warp: f64) -> f64 {
+    usable(warp)
+}
+
 fn usable(warp: f64) -> f64 {
     if warp.is_finite() && warp > 0.0 {
         warp

@@ -620,7 +620,20 @@ fn make_teensy(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
 
 fn make_sim_devices(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
-    let app = crate::hil::SimDevicesApp::new(cx.moos_name, b, cx.globals.grid())
+    // The fin kinematics are pCougControls': its block, found by its ANTLER run.
+    let controls = cx
+        .mission
+        .antler_runs()
+        .into_iter()
+        .find(|r| base(&r.app) == "pCougControls")
+        .and_then(|r| cx.mission.process(r.moos_name()));
+    let app = crate::hil::SimDevicesApp::new(
+        cx.moos_name,
+        b,
+        cx.globals.grid(),
+        controls,
+        cx.launch.start,
+    )
         .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
     cx.warnings.extend(app.warnings().iter().cloned());
     Ok(Built::App(Box::new(app)))

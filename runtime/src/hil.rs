@@ -29,12 +29,12 @@
 //! | parameter | default | meaning |
 //! |---|---|---|
 //! | `bench` | none | the bench's name (`$(EMULATE_BENCH)`); without a running bench of that name the model runs and nothing is measured (an appcast warning) |
-//! | `vehicle` | `coug1` | `coug1`, `coug2` or `none`: the fin kinematics (directions and offsets) the servo angles are undone with; must be pCougControls' |
+//! | `vehicle`, `fin_0_direction` .. `fin_2_direction`, `top_fin_offset`, `right_fin_offset`, `left_fin_offset`, `trim_ratio`, `demo_mode` | the mission's pCougControls block's | the fin kinematics the servo angles are undone with ([`vehicle::cougars::KINEMATICS_KEYS`], read by pCougControls' own parser): by default those of the mission's pCougControls (its ANTLER run's block), so one block rules both; set here only for a mission without pCougControls (then any of these lines replaces its kinematics) |
 //! | uSimCougUV's (`prefix`, `start_pos`, `buoyancy_rate`, `default_water_depth`, ...) | uSimCougUV's | the model and the truth's prefix, see [`vehicle::couguv`] |
 //! | `declination` | 0 | deg east: the X150 writes the magnetic yaw (true heading less it); iSeaTrac's `declination` must match |
 //! | `atmospheric_pressure` | 101325 | Pa: the air pressure the Teensy's and the X150's pressure sensors see at the surface |
 //! | `gps_max_depth` | the GPS model's | m: the antenna is above water (fixes) while the hull is shallower |
-//! | `gps_fault`, `dvl_fault`, `seatrac_fault`, `teensy_fault` | none | repeatable: a fault of that emulator, [`emulate::fault`]'s syntax (`leak@120`, `dropout@60+10`), in the community's (warped) seconds from the bench's start (which comes a few seconds before the mission's) |
+//! | `gps_fault`, `dvl_fault`, `seatrac_fault`, `teensy_fault` | none | repeatable: a fault of that emulator, [`emulate::fault`]'s syntax (`leak@120`, `dropout@60+10`), in mission time: the community's MOOS seconds since the mission's start (the DB's, the `Launch` start; the log's times count from pLogger's start, a fraction of a second later), as the user reads them in the mission and its log. The bench starts the emulators earlier, with their fault plans pending ([`emulate::fault::FaultClock`]); uSimDevices sets the plans' origin at its start-up from the mission's start, the bench's Unix epoch and its warp, so no fault fires in a bench without uSimDevices |
 //!
 //! The DVL's bottom is the model's `default_water_depth` (30 m unless set).
 
@@ -45,14 +45,14 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Mutex, OnceLock, PoisonError};
 
 use emulate::build::{self, Kind, Options, Running, Settings};
-use emulate::fault::FaultPlan;
+use emulate::fault::{FaultClock, FaultPlan};
 use emulate::teensy::{TeensyInputs, TeensyPort};
 use emulate::transport::{EdgeStats, Endpoint, Transport};
 use emulate::truth::SharedTruth;
 use mission::diagnostic::{Diagnostic, DiagnosticKind};
 use mission::moos::{MissionFile, ProcessConfig};
 use vehicle::ConfigError;
-use vehicle::cougars::{CougarsConfig, Kinematics, vars};
+use vehicle::cougars::{ControlsConfig, KINEMATICS_KEYS, Kinematics, vars};
 use vehicle::couguv::{CougUvSim, CougUvSimConfig};
 use vehicle::geodesy::LocalGrid;
 use vehicle::sensors::{TruthField, TruthTracker};
@@ -71,6 +71,22 @@ pub const KINDS: [Kind; 4] = [Kind::Gps, Kind::Dvl, Kind::Seatrac, Kind::Teensy]
 struct Feeds {
     truths: Vec<SharedTruth>,
     teensy: TeensyPort,
+    /// The four emulators' fault plans count from this clock's origin (pending until the
+    /// mission's uSimDevices starts it at the mission's start).
+    faults: FaultClock,
+    /// The Unix time of the emulators' time 0 (wall seconds).
+    epoch_unix_s: f64,
+    /// The emulators' warp.
+    warp: f64,
+}
+
+impl Feeds {
+    /// Starts the fault plans at the mission's start, `start` in the community's MOOS
+    /// seconds (Unix time times the warp): plan time 0 is then the emulators' wall time
+    /// `start / warp − epoch`.
+    fn start_faults(&self, start: f64) {
+        self.faults.start_at(start / self.warp - self.epoch_unix_s);
+    }
 }
 
 fn registry() -> &'static Mutex<HashMap<String, Feeds>> {
@@ -134,8 +150,8 @@ const BENCH_KEYS: [&str; 8] = [
     "default_water_depth",
 ];
 
-/// The app's own keys.
-const APP_KEYS: [&str; 2] = ["bench", "vehicle"];
+/// The app's own keys (besides the fin kinematics' [`KINEMATICS_KEYS`]).
+const APP_KEYS: [&str; 1] = ["bench"];
 
 fn key_is(p: &str, k: &str) -> bool {
     p.trim().eq_ignore_ascii_case(k)
@@ -274,6 +290,7 @@ impl Bench {
             .enable_all()
             .build()?;
         let epoch = moosdb::time::unix_now();
+        let clock = FaultClock::pending();
         let mut running = Vec::new();
         for (i, kind) in KINDS.into_iter().enumerate() {
             let faults = FaultPlan::parse(&config.faults[i])
@@ -287,12 +304,13 @@ impl Bench {
                 Kind::Gps | Kind::Dvl => Transport::loopback(0),
                 Kind::Seatrac | Kind::Teensy => Transport::Pty { link: None },
             };
-            let r = rt.block_on(build::spawn_warped(
+            let r = rt.block_on(build::spawn_warped_with_clock(
                 kind,
                 config.settings(),
                 transport,
                 options,
                 config.warp,
+                clock.clone(),
             ))?;
             running.push((kind, r));
         }
@@ -302,6 +320,9 @@ impl Bench {
                 .iter()
                 .find_map(|(_, r)| r.teensy.clone())
                 .unwrap_or_default(),
+            faults: clock,
+            epoch_unix_s: epoch,
+            warp: emulate::warp::usable_warp(config.warp),
         };
         registry()
             .lock()
@@ -419,25 +440,69 @@ pub fn prepare(
 }
 
 /// Servo angle (0-180°, 90 centred) and thruster pulse back to what the model flies: the
-/// physical fin deflections (top, starboard, port) through the inverse of `kin`, and the
-/// thrust in percent (the firmware's map of -100..100 % onto 1100..1900 µs, inverted).
+/// physical fin deflections (top, starboard, port) through the inverse of `kin`
+/// ([`Kinematics::deflections`]), and the thrust in percent (the firmware's map of -100..100 %
+/// onto 1100..1900 µs, inverted).
 pub fn actuators_to_command(t: &TeensyInputs, kin: &Kinematics) -> ([f64; 3], f64) {
-    let mut fins = [0.0; 3];
-    for (i, f) in fins.iter_mut().enumerate() {
-        let servo_frame = f64::from(t.servo_deg[i]) - 90.0;
-        let dir = if kin.direction[i] == 0.0 {
-            1.0
-        } else {
-            kin.direction[i]
-        };
-        *f = (servo_frame - kin.offset[i]) / dir;
-    }
     let thrust = if t.thruster_us == 0 {
         0.0
     } else {
         (f64::from(t.thruster_us) - 1500.0) / 4.0
     };
-    (fins, thrust)
+    let servo = t.servo_deg.map(|a| f64::from(a) - 90.0);
+    (kin.deflections(servo, thrust), thrust)
+}
+
+/// The fin kinematics uSimDevices undoes the servo angles with, and the warnings of its own
+/// lines: its own block's [`KINEMATICS_KEYS`] when it has any, else the mission's
+/// pCougControls block's (`controls`), read by pCougControls' own parser
+/// ([`ControlsConfig::from_params_lenient`]: the `vehicle` preset, then the keys overriding
+/// it), else pCougControls' defaults (no preset: directions 1, no offsets).
+fn kinematics_of(
+    block: &ProcessConfig,
+    controls: Option<&ProcessConfig>,
+) -> (Kinematics, Vec<Diagnostic>) {
+    let is_kin = |p: &&mission::Param| KINEMATICS_KEYS.iter().any(|k| key_is(&p.key, k));
+    let own: Vec<&mission::Param> = block.entries.iter().filter(is_kin).collect();
+    let (source, mine) = if own.is_empty() {
+        let theirs: Vec<&mission::Param> = controls
+            .map(|c| c.entries.iter().filter(is_kin).collect())
+            .unwrap_or_default();
+        (theirs, false)
+    } else {
+        (own, true)
+    };
+    let pairs = source.iter().map(|p| (p.key.as_str(), p.value.as_str()));
+    let (cfg, problems) = ControlsConfig::from_params_lenient(pairs)
+        .unwrap_or_else(|e| (ControlsConfig::default(), vec![e]));
+    // pCougControls reports its own block's problems; only ours are warnings here.
+    let warnings = if mine {
+        problems
+            .iter()
+            .map(|e| {
+                let key = match e {
+                    ConfigError::UnknownKey { key, .. } | ConfigError::BadValue { key, .. } => {
+                        Some(key)
+                    }
+                    ConfigError::Missing { .. } => None,
+                };
+                let span = key
+                    .and_then(|k| source.iter().find(|p| key_is(&p.key, k)))
+                    .map_or(&block.span, |p| &p.span);
+                // The parser names pCougControls: these are uSimDevices' lines.
+                let text = e.to_string();
+                let what = text.split_once(": ").map_or(text.as_str(), |(_, w)| w);
+                Diagnostic::line_warning(
+                    DiagnosticKind::AppSetting,
+                    span,
+                    format!("{PROGRAM}: {what}"),
+                )
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    (cfg.cougars.kinematics, warnings)
 }
 
 /// The `uSimDevices` app (see the module docs).
@@ -455,12 +520,21 @@ pub struct SimDevicesApp {
     postings: Vec<Post>,
     fed: u64,
     last_inputs: TeensyInputs,
+    start: f64,
 }
 
 impl SimDevicesApp {
-    /// The app `name` from its `block`; `grid` (the mission's origin) adds the truth's
-    /// latitude and longitude.
-    pub fn new(name: &str, block: ProcessConfig, grid: Option<LocalGrid>) -> Self {
+    /// The app `name` from its `block` in a mission whose pCougControls block is
+    /// `controls` (the fin kinematics, unless the app's own block sets them) and which starts
+    /// at MOOS time `start` (the emulators' faults count from it); `grid` (the mission's
+    /// origin) adds the truth's latitude and longitude.
+    pub fn new(
+        name: &str,
+        block: ProcessConfig,
+        grid: Option<LocalGrid>,
+        controls: Option<&ProcessConfig>,
+        start: f64,
+    ) -> Self {
         let mut warnings = Vec::new();
         let warn = |warnings: &mut Vec<Diagnostic>, p: &mission::Param, text: String| {
             warnings.push(Diagnostic::line_warning(
@@ -470,7 +544,8 @@ impl SimDevicesApp {
             ));
         };
         let mut bench = None;
-        let mut kin = CougarsConfig::coug1().kinematics;
+        let (kin, kin_warnings) = kinematics_of(&block, controls);
+        warnings.extend(kin_warnings);
         for p in &block.entries {
             if key_is(&p.key, "bench") {
                 let v = p.value.trim();
@@ -484,17 +559,6 @@ impl SimDevicesApp {
                     );
                 } else {
                     bench = Some(v.to_string());
-                }
-            } else if key_is(&p.key, "vehicle") {
-                match p.value.trim().to_ascii_lowercase().as_str() {
-                    "coug1" => kin = CougarsConfig::coug1().kinematics,
-                    "coug2" => kin = CougarsConfig::coug2().kinematics,
-                    "none" | "default" => kin = Kinematics::default(),
-                    v => warn(
-                        &mut warnings,
-                        p,
-                        format!("{PROGRAM}: vehicle = {v}: expected coug1, coug2 or none"),
-                    ),
                 }
             }
         }
@@ -512,6 +576,7 @@ impl SimDevicesApp {
             .filter(|p| {
                 let k = p.key.trim();
                 !APP_KEYS.iter().any(|a| k.eq_ignore_ascii_case(a))
+                    && !KINEMATICS_KEYS.iter().any(|a| k.eq_ignore_ascii_case(a))
                     && (k.eq_ignore_ascii_case("default_water_depth")
                         || !BENCH_KEYS.iter().any(|b| k.eq_ignore_ascii_case(b)))
             })
@@ -553,7 +618,13 @@ impl SimDevicesApp {
             postings: Vec::with_capacity(16),
             fed: 0,
             last_inputs: TeensyInputs::default(),
+            start,
         }
+    }
+
+    /// The fin kinematics in force (see [`SimDevicesApp::new`]).
+    pub fn kinematics(&self) -> &Kinematics {
+        &self.kin
     }
 
     /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
@@ -629,7 +700,10 @@ impl App for SimDevicesApp {
         self.appcast.on_startup(now);
         if let Some(b) = &self.bench {
             self.feeds = lookup(b);
-            if self.feeds.is_none() {
+            if let Some(f) = &self.feeds {
+                // From now on `leak@120` means 120 s after the mission's start.
+                f.start_faults(self.start);
+            } else {
                 self.appcast.note(
                     Note::Warning(format!(
                         "no bench {b} in this process: the devices measure nothing"
@@ -692,6 +766,7 @@ impl App for SimDevicesApp {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use vehicle::cougars::CougarsConfig;
 
     fn block(text: &str) -> ProcessConfig {
         crate::testing::block("h.moos", text)
@@ -736,6 +811,108 @@ mod tests {
         assert_eq!((fins, thrust), (cmd.fin, 30.0));
     }
 
+    /// A third fin configuration (neither coug1 nor coug2: every direction and offset its
+    /// own) in the mission's pCougControls block: uSimDevices reads it there, with
+    /// pCougControls' parser, and undoes pCougControls' servo angles back to the physical
+    /// deflections it commanded, to the servo's whole degree.
+    #[test]
+    fn the_fin_kinematics_are_pcougcontrols_own_even_a_third_vehicles() {
+        let controls = block(
+            "ProcessConfig = pCougControls\n{\n  vehicle = none\n  fin_0_direction = -1\n  \
+             fin_1_direction = 1\n  fin_2_direction = -1\n  top_fin_offset = 6\n  \
+             right_fin_offset = -12\n  left_fin_offset = 17\n  trim_ratio = 0.1\n  \
+             pitch_kp = 0.3\n}\n",
+        );
+        let third = vehicle::cougars::ControlsConfig::from_params(
+            controls
+                .entries
+                .iter()
+                .map(|p| (p.key.as_str(), p.value.as_str())),
+        )
+        .unwrap()
+        .cougars
+        .kinematics;
+        assert_ne!(third, CougarsConfig::coug1().kinematics);
+        assert_ne!(third, CougarsConfig::coug2().kinematics);
+        let app = SimDevicesApp::new(
+            PROGRAM,
+            block("ProcessConfig = uSimDevices\n{\n  prefix = SIM\n}\n"),
+            None,
+            Some(&controls),
+            0.0,
+        );
+        assert!(app.warnings().is_empty(), "{:?}", app.warnings());
+        assert_eq!(app.kinematics(), &third);
+        // pCougControls' command through the Teensy's servos and back.
+        for (fin, thrust) in [([4.0, -7.0, 7.0], 30.0), ([-20.0, 15.0, -15.0], 60.0)] {
+            let cmd = vehicle::cougars::UCommand {
+                fin,
+                thruster: thrust,
+            };
+            let mixed = third.mix(&cmd, true, false);
+            let c = devices::teensy::Contr {
+                fins_deg: mixed.fin,
+                thrust_pct: mixed.thruster as i32,
+            };
+            let t = TeensyInputs {
+                servo_deg: c.servo_angles_deg(),
+                thruster_us: c.thruster_pulse_us(),
+                ..TeensyInputs::default()
+            };
+            let (back, th) = actuators_to_command(&t, app.kinematics());
+            assert_eq!(th, thrust);
+            for i in 0..3 {
+                // The servo takes whole degrees: within one of the command.
+                assert!((back[i] - fin[i]).abs() < 1.0, "{back:?} vs {fin:?}");
+            }
+        }
+        // The old coug1 undoing would have read another command from the same servos.
+        let mixed = third.mix(
+            &vehicle::cougars::UCommand {
+                fin: [4.0, -7.0, 7.0],
+                thruster: 30.0,
+            },
+            true,
+            false,
+        );
+        let t = TeensyInputs {
+            servo_deg: devices::teensy::Contr {
+                fins_deg: mixed.fin,
+                thrust_pct: 30,
+            }
+            .servo_angles_deg(),
+            thruster_us: 1620,
+            ..TeensyInputs::default()
+        };
+        let (wrong, _) = actuators_to_command(&t, &CougarsConfig::coug1().kinematics);
+        assert!((wrong[0] - 4.0).abs() > 5.0, "{wrong:?}");
+        // The app's own lines win over pCougControls' (a mission without pCougControls), and
+        // a bad one is the app's warning at its line.
+        let own = SimDevicesApp::new(
+            PROGRAM,
+            block("ProcessConfig = uSimDevices\n{\n  vehicle = coug2\n  fin_0_direction = 2\n}\n"),
+            None,
+            Some(&controls),
+            0.0,
+        );
+        assert_eq!(own.kinematics(), &CougarsConfig::coug2().kinematics);
+        let w: Vec<String> = own.warnings().iter().map(Diagnostic::located).collect();
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(
+            w[0].contains("h.moos:4") && w[0].contains("uSimDevices: parameter `fin_0_direction = 2`"),
+            "{w:?}"
+        );
+        // Neither: pCougControls' defaults, as pCougControls itself would run.
+        let none = SimDevicesApp::new(
+            PROGRAM,
+            block("ProcessConfig = uSimDevices\n{\n}\n"),
+            None,
+            None,
+            0.0,
+        );
+        assert_eq!(none.kinematics(), &Kinematics::default());
+    }
+
     #[test]
     fn the_block_mixes_model_bench_and_app_keys_and_flags_the_rest() {
         let app = SimDevicesApp::new(
@@ -746,6 +923,8 @@ mod tests {
                  atmospheric_pressure = 84246\n  teensy_fault = leak@30\n  colour = red\n}\n",
             ),
             None,
+            None,
+            0.0,
         );
         let w: Vec<String> = app.warnings().iter().map(Diagnostic::located).collect();
         assert_eq!(w.len(), 2, "{w:?}");

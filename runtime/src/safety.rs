@@ -33,11 +33,13 @@ impl SafetyApp {
     pub fn new(name: &str, block: ProcessConfig) -> Self {
         let (cfg, errors) = SafetyConfig::from_block(&block);
         let located = errors.iter().map(Diagnostic::located).collect();
+        let mut supervisor = Supervisor::new(cfg, located);
+        supervisor.set_period(1.0 / crate::app::app_tick_of(Some(&block)));
         SafetyApp {
             name: name.to_string(),
             appcast: AppcastLayer::with_config_warnings(name, &block, None, 1.0, &errors),
             block,
-            supervisor: Supervisor::new(cfg, located),
+            supervisor,
             errors,
             notes: Vec::new(),
         }

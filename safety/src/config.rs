@@ -92,6 +92,10 @@ pub struct SafetyConfig {
     pub clear_flags: Vec<Flag>,
     /// `allstop_flag`: posted when an all-stop starts (e.g. `DEPLOY=false`, which disarms pCougControls).
     pub allstop_flags: Vec<Flag>,
+    /// `max_gap`: s of MOOS time; a gap between two of the supervisor's own evaluations
+    /// longer than this (or than two of its periods, if longer) is time it did not watch,
+    /// and `stale`/`silent` ages leave the excess out (1).
+    pub max_gap: f64,
 }
 
 impl Default for SafetyConfig {
@@ -117,6 +121,7 @@ impl Default for SafetyConfig {
             return_flags: Vec::new(),
             clear_flags: Vec::new(),
             allstop_flags: Vec::new(),
+            max_gap: 1.0,
         }
     }
 }
@@ -212,6 +217,7 @@ impl SafetyConfig {
                     .map(|x| c.helm_timeout = x)
                     .is_some(),
                 "helm_grace" => num.filter(|x| *x > 0.0).map(|x| c.helm_grace = x).is_some(),
+                "max_gap" => num.filter(|x| *x > 0.0).map(|x| c.max_gap = x).is_some(),
                 "surface_thrust" => num
                     .filter(|x| (0.0..=100.0).contains(x))
                     .map(|x| c.surface_thrust = x)

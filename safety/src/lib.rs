@@ -23,6 +23,16 @@
 //!   string, ignoring case (only `==`, `!=`). A variable never received makes the term false:
 //!   pair it with a `stale(..)` rule so that a sensor that never reports is caught.
 //! - `stale` and `silent` count from pSafety's start while nothing has been received.
+//! - `stale` and `silent` ages are MOOS time the supervisor watched: a gap between two of
+//!   its own evaluations longer than `max_gap` (1 s, or twice its period if longer) is a
+//!   stalled machine (every app of the community, the drivers and pSafety itself stopped
+//!   together; at a time warp of 8 a 0.6 s stall of the wall clock is 5 s of MOOS time), and
+//!   the excess is left out of every age, since nobody could post during it. A sensor that
+//!   stops while the community runs is caught after its timeout as before (in lockstep every
+//!   gap is the period, so nothing is ever left out); a sensor that dies during a stall is
+//!   caught at most `max_gap` later than its timeout after the stall. `max_gap` sets the
+//!   tolerance (s of MOOS time, > 0); the pSafety app tells the supervisor its period
+//!   ([`Supervisor::set_period`]), without which every gap counts.
 //! - `priority`: 1 (highest) to 99; default by action: surface_disarm 1, allstop 2, return 3,
 //!   warn 4. The triggered rule of highest priority commands the vehicle (ties: the more
 //!   drastic action, then the earlier rule); warn rules never command.

@@ -102,6 +102,16 @@ pub struct Supervisor {
     posted_mode: Option<&'static str>,
     posted_health: Option<u32>,
     commander: Option<usize>,
+    /// The supervisor's own period, s (0 until told).
+    period: f64,
+    /// When it last evaluated.
+    last_eval: Option<f64>,
+    /// Time it did not watch so far, s (see [`Supervisor::unwatched`]).
+    unwatched: f64,
+    /// [`Supervisor::unwatched`] when each variable's latest mail arrived.
+    unwatched_at_mail: HashMap<String, f64>,
+    /// [`Supervisor::unwatched`] when each watched app was last heard.
+    unwatched_at_heard: HashMap<String, f64>,
 }
 
 /// Health-word bits besides the kinds' (see the crate documentation).
@@ -187,7 +197,41 @@ impl Supervisor {
             posted_mode: None,
             posted_health: None,
             commander: None,
+            period: 0.0,
+            last_eval: None,
+            unwatched: 0.0,
+            unwatched_at_mail: HashMap::new(),
+            unwatched_at_heard: HashMap::new(),
         }
+    }
+
+    /// Tells the supervisor its own evaluation period, s (the app's 1/AppTick): a gap up to
+    /// twice it is never unwatched time. Only a supervisor told its period counts unwatched
+    /// time (one evaluated at irregular times, as on events, counts every gap).
+    pub fn set_period(&mut self, seconds: f64) {
+        if seconds.is_finite() && seconds > 0.0 {
+            self.period = seconds;
+        }
+    }
+
+    /// The MOOS time the supervisor did not watch so far: the excess of each gap between two
+    /// of its evaluations over `max_gap` (or twice its period, if longer). A machine that
+    /// stalls the whole community (every app, the drivers and the supervisor) for a while
+    /// moves MOOS time on without anyone posting; that time is no evidence of a silent sensor,
+    /// and `stale`/`silent` ages leave it out. In lockstep the gaps are the period: always 0.
+    pub fn unwatched(&self) -> f64 {
+        self.unwatched
+    }
+
+    /// The age at `now` of something last heard at `last` (`None`: since the start), the
+    /// unwatched time since then left out.
+    fn age(&self, last: Option<f64>, unwatched_then: Option<f64>, now: f64) -> f64 {
+        let start = self.start.unwrap_or(now);
+        let since = match last {
+            Some(t) => self.unwatched - unwatched_then.unwrap_or(0.0),
+            None => self.unwatched,
+        };
+        (now - last.unwrap_or(start) - since).max(0.0)
     }
 
     /// The configuration.
@@ -261,14 +305,19 @@ impl Supervisor {
 
     /// Takes one piece of mail of `key` from `source` posted at `time`.
     pub fn on_mail(&mut self, key: &str, value: &Value, source: &str, time: f64) {
+        let unwatched = self.unwatched;
         if let Some(app) = self.status_vars.get(key) {
             self.heard.insert(app.clone(), time);
+            self.unwatched_at_heard.insert(app.clone(), unwatched);
         }
         if let Some(t) = self.heard.get_mut(source) {
             *t = t.max(time);
+            self.unwatched_at_heard.insert(source.to_string(), unwatched);
         } else if self.status_vars.values().any(|a| a == source) {
             self.heard.insert(source.to_string(), time);
+            self.unwatched_at_heard.insert(source.to_string(), unwatched);
         }
+        self.unwatched_at_mail.insert(key.to_string(), unwatched);
         if key == RESET_VAR
             && let Some(s) = value.as_str()
         {
@@ -331,7 +380,7 @@ impl Supervisor {
             }
             Term::Stale { var, seconds } => {
                 let last = self.values.get(var).map(|(_, t)| *t);
-                let age = now - last.unwrap_or(start);
+                let age = self.age(last, self.unwatched_at_mail.get(var).copied(), now);
                 let seen = match last {
                     Some(_) => format!("no {var} for {age:.1} s"),
                     None => format!("no {var} since start ({age:.1} s)"),
@@ -339,7 +388,11 @@ impl Supervisor {
                 (age > *seconds, seen)
             }
             Term::Silent { app, seconds } => {
-                let age = now - self.heard.get(app).copied().unwrap_or(start);
+                let age = self.age(
+                    self.heard.get(app).copied(),
+                    self.unwatched_at_heard.get(app).copied(),
+                    now,
+                );
                 (age > *seconds, format!("{app} silent for {age:.1} s"))
             }
         }
@@ -465,14 +518,13 @@ impl Supervisor {
 
     /// Why the helm cannot be trusted to bring the vehicle up, if it cannot.
     fn helm_failure(&self, s: &Surfacing, now: f64) -> Option<String> {
-        let start = self.start.unwrap_or(now);
-        let heard = self.heard.get(&self.cfg.helm_app).copied().unwrap_or(start);
-        if now - heard > self.cfg.helm_timeout {
-            return Some(format!(
-                "{} silent for {:.1} s",
-                self.cfg.helm_app,
-                now - heard
-            ));
+        let silent = self.age(
+            self.heard.get(&self.cfg.helm_app).copied(),
+            self.unwatched_at_heard.get(&self.cfg.helm_app).copied(),
+            now,
+        );
+        if silent > self.cfg.helm_timeout {
+            return Some(format!("{} silent for {silent:.1} s", self.cfg.helm_app));
         }
         if self
             .helm_state
@@ -567,6 +619,16 @@ impl Supervisor {
         if self.start.is_none() {
             self.start = Some(now);
         }
+        let allowed = self.cfg.max_gap.max(2.0 * self.period);
+        if self.period > 0.0
+            && let Some(prev) = self.last_eval
+        {
+            let gap = now - prev;
+            if gap > allowed {
+                self.unwatched += gap - allowed;
+            }
+        }
+        self.last_eval = Some(now);
         self.update_rules(now, out, notes);
         self.commander = self.pick();
         let command = self

@@ -129,6 +129,70 @@ fn a_reset_while_the_condition_holds_is_refused() {
     )));
 }
 
+/// A stalled machine: the whole community (the sensor's driver, the helm, pSafety) stops
+/// for 6 s of MOOS time (0.75 s of wall time at warp 8) and comes back; the time nobody
+/// could post is not taken for silence. A sensor that really stops is still caught after its
+/// 5 s, and one that dies during a stall at most `max_gap` after its 5 s of watched time.
+#[test]
+fn a_stalled_machine_is_no_stale_sensor_but_a_dead_one_still_is() {
+    let rules = [
+        "pressure: stale(PRESSURE) > 5 -> surface_disarm, kind=sensor",
+        "helm: silent(pHelmIvP) > 5 -> surface_disarm, kind=app",
+    ];
+    let mut s = sup(&rules, |_| {});
+    s.set_period(0.25);
+    started(&mut s, 0.0);
+    let mut t = 0.0;
+    let feed = |s: &mut Supervisor, t: f64| {
+        s.on_mail("PRESSURE", &Value::Double(130_000.0), "iTeensy", t);
+        s.on_mail("PHELMIVP_STATUS", &Value::text("x"), "pHelmIvP", t);
+    };
+    while t < 10.0 {
+        t += 0.25;
+        feed(&mut s, t);
+        step(&mut s, t);
+    }
+    assert_eq!(s.phase(), Phase::Ok);
+    // The stall: pSafety's next evaluation comes 6 s later, before anyone else has posted.
+    t += 6.0;
+    step(&mut s, t);
+    assert_eq!(s.phase(), Phase::Ok, "6 s of which 5 unwatched");
+    assert!((s.unwatched() - 5.0).abs() < 1e-9, "{}", s.unwatched());
+    for _ in 0..8 {
+        t += 0.25;
+        feed(&mut s, t);
+        step(&mut s, t);
+    }
+    assert_eq!(s.phase(), Phase::Ok);
+    // Then the pressure sensor dies (the helm lives on): caught once 5 watched seconds have
+    // passed, as without any stall.
+    let last = t;
+    let caught = loop {
+        t += 0.25;
+        s.on_mail("PHELMIVP_STATUS", &Value::text("x"), "pHelmIvP", t);
+        let out = step(&mut s, t);
+        if let Some(e) = out
+            .iter()
+            .filter(|p| p.key == "SAFETY_EVENT")
+            .filter_map(|p| p.value.as_str())
+            .find(|e| e.starts_with("trigger="))
+        {
+            assert!(e.starts_with("trigger=pressure,"), "{e}");
+            break t;
+        }
+        assert!(t < last + 20.0, "never caught");
+    };
+    assert_eq!(caught - last, 5.25, "the first evaluation past 5 s");
+    // Without the period (evaluations at irregular times), every gap counts, as before.
+    let mut plain = sup(&rules, |_| {});
+    started(&mut plain, 0.0);
+    plain.on_mail("PRESSURE", &Value::Double(130_000.0), "iTeensy", 0.0);
+    plain.on_mail("PHELMIVP_STATUS", &Value::text("x"), "pHelmIvP", 0.0);
+    step(&mut plain, 0.25);
+    step(&mut plain, 6.25);
+    assert_eq!((plain.phase(), plain.unwatched()), (Phase::Surfacing, 0.0));
+}
+
 #[test]
 fn stale_and_silent_count_from_start_and_clear_rules_let_go() {
     let mut s = sup(

@@ -246,6 +246,46 @@ impl Kinematics {
     }
 }
 
+impl Kinematics {
+    /// The inverse of [`Kinematics::mix`] outside the surface command: the physical fin
+    /// deflections (top, starboard, port) that give the servo-frame angles `servo_deg` at
+    /// `thrust_pct` (`(servo / 2 in demo mode − offset − trim_ratio · thrust) / direction`; a
+    /// zero direction reads as 1). What a simulator behind the servos flies.
+    pub fn deflections(&self, servo_deg: [f64; 3], thrust_pct: f64) -> [f64; 3] {
+        let mut fins = [0.0; 3];
+        for (i, f) in fins.iter_mut().enumerate() {
+            let v = if self.demo_mode {
+                servo_deg[i] / 2.0
+            } else {
+                servo_deg[i]
+            };
+            let dir = if self.direction[i] == 0.0 {
+                1.0
+            } else {
+                self.direction[i]
+            };
+            *f = (v - self.offset[i] - self.trim_ratio * thrust_pct) / dir;
+        }
+        fins
+    }
+}
+
+/// The keys of a `pCougControls` block that set the fin kinematics ([`Kinematics`]): the
+/// `vehicle` preset and the keys overriding it. Whoever else must know how the fins are
+/// mounted (uSimDevices, undoing the servo angles) reads these same keys with
+/// [`ControlsConfig::from_params_lenient`], so one configuration rules both.
+pub const KINEMATICS_KEYS: [&str; 9] = [
+    "vehicle",
+    "fin_0_direction",
+    "fin_1_direction",
+    "fin_2_direction",
+    "top_fin_offset",
+    "right_fin_offset",
+    "left_fin_offset",
+    "trim_ratio",
+    "demo_mode",
+];
+
 /// Teensy actuator mapping (serial firmware).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Actuators {
@@ -1026,12 +1066,23 @@ pub const NEGATIVE_DEPTH_WARNING_M: f64 = -0.5;
 ///
 /// The controller is armed only while `DEPLOY` is true and `MOOS_MANUAL_OVERRIDE` (or the
 /// legacy `MOOS_MANUAL_OVERIDE`) is false (initially: not deployed, overridden). Unarmed it
-/// posts nothing; on disarming it posts one all-stop (fins at zero deflection, thrust 0).
+/// posts nothing; on disarming it posts one all-stop, the disarmed output: thrust 0 and
+/// every fin at zero deflection (the servo frame's offsets: centred and aligned with the
+/// hull), even under `COUG_SURFACE` (iTeensy repeats it until the next command).
 /// Armed, it posts the all-stop every iteration while a helm set-point or navigation
 /// variable has never arrived or is older than its threshold (`stale: ...`), or the desired
 /// speed is not positive (`allstop`); otherwise the cascade's command. Arming restarts the
 /// loops from zero. `COUG_SURFACE = true` replaces the fins with the fins-up command (thrust
-/// kept while armed).
+/// kept while armed; thrust 0 with the fins still up in a stale or all-stop iteration, so a
+/// vehicle coasting up with a dead helm keeps its nose up).
+///
+/// Against CoUGARs (`cougars-vehicle.md` §1.5, §6; `coug_kinematics.cpp`): there the surface
+/// override outlives the disarm, and a 1 s timer republishes the fins-up command with the
+/// thrust zeroed, so a vehicle surfaced by `surface_then_disarm` sits at the surface with its
+/// elevators at ±30° for as long as the node runs. Disarmed, coug centres them instead: with
+/// no thrust the fins steer nothing, a disarmed vehicle then looks the same whether its
+/// software is alive or not (the Teensy's own command-loss failsafe centres the servos too),
+/// and nothing sticks out at ±30° while the vehicle is recovered by hand.
 pub struct CougarsControl {
     cfg: ControlsConfig,
     state: CougarsState,
@@ -1221,7 +1272,9 @@ impl CougarsControl {
         let armed = self.armed();
         if !armed {
             if self.was_armed {
-                self.emit(&UCommand::default(), false, out);
+                // The disarmed output: thrust 0 and the fins centred, whatever the surface
+                // flag (see "Arming and all-stop").
+                self.emit_with(&UCommand::default(), false, false, out);
             }
             self.was_armed = false;
             self.set_mode(ControlsMode::Disarmed, out);
@@ -1272,9 +1325,13 @@ impl CougarsControl {
     }
 
     fn emit(&mut self, cmd: &UCommand, armed: bool, out: &mut Vec<Posting>) {
+        self.emit_with(cmd, armed, self.surface, out);
+    }
+
+    fn emit_with(&mut self, cmd: &UCommand, armed: bool, surface: bool, out: &mut Vec<Posting>) {
         let k = &self.cfg.cougars.kinematics;
-        let servo = k.mix(cmd, armed, self.surface);
-        let physical = k.physical(cmd, armed, self.surface);
+        let servo = k.mix(cmd, armed, surface);
+        let physical = k.physical(cmd, armed, surface);
         for i in 0..3 {
             out.push(Posting::double(&self.names[i], servo.fin[i]));
         }

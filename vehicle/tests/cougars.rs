@@ -657,6 +657,42 @@ fn surface_command_puts_the_fins_up_and_keeps_the_thrust() {
     assert_eq!(num(&out, vars::FIN_PORT_DEG), -30.0);
 }
 
+/// Surfaced with the fins up, then disarmed (pSafety's surface-then-disarm): one all-stop
+/// with the thrust 0 and the fins centred (zero deflection, the servo frame's offsets), not
+/// the fins-up command CoUGARs' kinematics keeps republishing; then nothing, and re-arming
+/// later still finds the surface flag.
+#[test]
+fn disarming_under_the_surface_flag_centres_the_fins_and_stops_the_thrust() {
+    let mut c = armed(coug1());
+    c.on_mail(vars::COUG_SURFACE, ValueRef::String("true"), 0.5);
+    let out = tick(&mut c, 1.0, (90.0, 1.0, 3.0), (45.0, 1.0, 0.0, 1.0));
+    assert_eq!(num(&out, vars::FIN_DEFLECT_PORT_DEG), 30.0, "fins up while armed");
+    c.on_mail("DEPLOY", ValueRef::String("false"), 1.05);
+    let out = tick(&mut c, 1.1, (90.0, 1.0, 3.0), (45.0, 1.0, 0.0, 1.0));
+    for (var, want) in [
+        (vars::FIN_TOP_DEG, -10.0),
+        (vars::FIN_STBD_DEG, 0.0),
+        (vars::FIN_PORT_DEG, 0.0),
+        (vars::THRUST_PCT, 0.0),
+        (vars::FIN_DEFLECT_TOP_DEG, 0.0),
+        (vars::FIN_DEFLECT_STBD_DEG, 0.0),
+        (vars::FIN_DEFLECT_PORT_DEG, 0.0),
+    ] {
+        assert_eq!(num(&out, var), want, "{var}");
+    }
+    assert_eq!(c.mode(), &ControlsMode::Disarmed);
+    assert_eq!(c.last_command().1.fin, [0.0; 3]);
+    let out = tick(&mut c, 1.2, (90.0, 1.0, 3.0), (45.0, 1.0, 0.0, 1.0));
+    assert!(
+        out.iter().all(|p| !p.key.starts_with("FIN_") && p.key != vars::THRUST_PCT),
+        "nothing more while disarmed"
+    );
+    // Armed again under the flag: the fins go up again (the flag is the operator's to lift).
+    c.on_mail("DEPLOY", ValueRef::String("true"), 1.25);
+    let out = tick(&mut c, 1.3, (90.0, 1.0, 3.0), (45.0, 1.0, 0.0, 1.0));
+    assert_eq!(num(&out, vars::FIN_DEFLECT_PORT_DEG), 30.0);
+}
+
 #[test]
 fn a_negative_nav_depth_is_reported_once() {
     let mut c = armed(coug1());
