@@ -324,11 +324,13 @@ fn value_at(log: &alog::Alog, var: &str, t: f64) -> Option<f64> {
 }
 
 /// A leak mid-dive, through the whole hardware path: the emulated Teensy's leak sensor reads
-/// wet (`TEENSY_FAULT=leak@120`: 120 simulated seconds after the emulators start, a few
-/// seconds before the mission, so during the first leg at depth), iTeensy posts `LEAK`,
+/// wet (`TEENSY_FAULT=leak@120`: 120 s of mission time, the community's MOOS seconds since
+/// the mission started, however long before it the emulators started: during the first leg
+/// at depth), iTeensy posts `LEAK`,
 /// pSafety triggers surface-then-disarm: pCougControls swims up fins-up, and once the vehicle
 /// has stayed at the surface pSafety's `DEPLOY=false` disarms it, so iTeensy sends a zero
-/// thrust and the Teensy drives its thruster neutral. Bound: the truth at the surface
+/// thrust with the fins centred (coug1's servo frame: the top fin's -10° offset) and the
+/// Teensy drives its thruster neutral. Bound: the truth at the surface
 /// (within 0.3 m) within 60 simulated seconds of the trigger; from the survey's 3 m that is
 /// a climb of 5 cm/s, what the slightly buoyant hull does on its own with the thruster off,
 /// so fins-up under thrust must do better.
@@ -349,6 +351,13 @@ fn a_leak_mid_dive_surfaces_and_disarms_the_couguv_through_the_emulated_teensy()
         .find(|e| e.var == "LEAK" && e.value.as_f64() == Some(1.0))
         .expect("iTeensy posts the leak");
     assert_eq!(leak.source, "iTeensy");
+    // The fault's time is the mission's: the log counts from pLogger's start, a fraction of a
+    // second (a few at warp 8) after the mission's; the leak is posted within an iteration.
+    let leak_at = leak.time;
+    assert!(
+        (117.5..121.0).contains(&leak_at),
+        "the leak at {leak_at:.2} s of the log, not 120 s of mission time"
+    );
     let trigger = log
         .entries
         .iter()
@@ -421,8 +430,19 @@ fn a_leak_mid_dive_surfaces_and_disarms_the_couguv_through_the_emulated_teensy()
     let last = teensy.last.expect("the Teensy heard commands").1;
     assert_eq!(last.thrust_pct, 0, "{teensy:?}");
     assert_eq!(teensy.thruster_us, 1500, "{teensy:?}");
+    // Disarmed, the fins are centred (zero deflection), not left up: coug1's servo frame is
+    // the top fin's -10° offset and the elevators' 0, servos 80°, 90°, 90°.
+    assert_eq!(last.fins_deg, [-10.0, 0.0, 0.0], "{teensy:?}");
+    assert_eq!(teensy.servo_deg, [80, 90, 90], "{teensy:?}");
+    for (var, want) in [
+        ("FIN_DEFLECT_TOP_DEG", 0.0),
+        ("FIN_DEFLECT_STBD_DEG", 0.0),
+        ("FIN_DEFLECT_PORT_DEG", 0.0),
+    ] {
+        assert_eq!(value_at(&log, var, f64::INFINITY), Some(want), "{var}");
+    }
     println!(
-        "leak at {:.1} s ({depth0:.2} m): surfaced {:.1} s later, disarmed {:.1} s after the trigger",
+        "leak posted at {leak_at:.2} s of the log; trigger at {:.1} s ({depth0:.2} m): surfaced {:.1} s later, disarmed {:.1} s after the trigger",
         t0 - log.entries[0].time,
         surfaced - t0,
         disarmed - t0

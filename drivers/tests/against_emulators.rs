@@ -710,3 +710,170 @@ fn iseatrac_against_the_x150_emulator_survives_a_disconnect_and_garbage() {
     d.stop();
     rt.block_on(emu.handle.stop()).unwrap();
 }
+
+/// The errors a protocol has counted so far: broken lines of every kind.
+fn errors<P: Protocol>(d: &Driver<P>) -> u64 {
+    let s = d.protocol.stats();
+    s.garbage_bytes + s.oversize + s.bad_checksum + s.parse_errors
+}
+
+/// Steps until `n` posts of `key` in a row arrived with no error counted among them; returns
+/// the mark where that clean run starts (no clock: a run that long is what the garbage's
+/// rate makes all but impossible while it lasts).
+fn clean_run<P: Protocol>(s: &mut Stepper, d: &mut Driver<P>, key: &str, n: usize) -> usize {
+    let mut seen = errors(d);
+    let mut from = s.mark();
+    s.until(d, "a clean run after the garbage", |s, d| {
+        let e = errors(d);
+        if e != seen {
+            seen = e;
+            from = s.mark();
+        }
+        s.doubles_since(from, key).len() >= n
+    });
+    from
+}
+
+/// The emulated device hangs up at 1 s and is away for half a second (a new pseudo-terminal
+/// behind the same link, as a replugged USB device's udev link), then sends garbage for
+/// 1.5 s: the driver reconnects through the link, counts the broken lines, never panics, and
+/// its values are right again once the garbage stops.
+fn away_then_garbage() -> FaultPlan {
+    FaultPlan::parse(&["disconnect@1+0.5", "garbage@2.5+1.5:400"]).unwrap()
+}
+
+#[test]
+fn iteensy_against_the_teensy_emulator_survives_a_replug_and_garbage() {
+    let dir = scratch("against-teensy-faults");
+    let link = dir.join("teensy");
+    let rt = tokio::runtime::Runtime::new().unwrap();
+    let emu = rt
+        .block_on(spawn(
+            Kind::Teensy,
+            Settings::default(),
+            Transport::Pty {
+                link: Some(link.clone()),
+            },
+            Options {
+                seed: 31,
+                faults: away_then_garbage(),
+                ..Options::default()
+            },
+        ))
+        .unwrap();
+    emu.truth.feed(Truth::default());
+    let port = emu.teensy.clone().expect("the Teensy's port");
+    let cfg = TeensyConfig {
+        calibration_samples: 5,
+        calibration_timeout_s: 1e6,
+        ..TeensyConfig::default()
+    };
+    let mut d = Driver::new(Teensy::new(cfg), serial(&link), 1.0);
+    d.start().unwrap();
+    let mut s = Stepper::new(100.0);
+    s.until(&mut d, "pressures", |s, _| s.count("PRESSURE") >= 3);
+    s.until(&mut d, "a second connection", |_, d| {
+        d.counters().connects >= 2
+    });
+    let back = s.mark();
+    s.until(&mut d, "pressures after the replug", |s, _| {
+        s.doubles_since(back, "PRESSURE").len() >= 3
+    });
+    // Commands reach the new terminal.
+    s.mail(&mut d, "FIN_TOP_DEG", Value::Double(4.0));
+    s.mail(&mut d, "THRUST_PCT", Value::Double(10.0));
+    s.until(&mut d, "a command after the replug", |_, _| {
+        port.get()
+            .last
+            .is_some_and(|(_, c)| c.fins_deg[0] == 4.0 && c.thrust_pct == 10)
+    });
+    let status = s.status("TEENSY_DRIVER_STATUS");
+    let downs = field(&status, "disconnects").unwrap_or(0);
+    assert!(downs >= 1, "{status}");
+    assert_eq!(field(&status, "connects"), Some(downs + 1), "{status}");
+
+    s.until(&mut d, "garbage counted", |_, d| errors(d) > 0);
+    let clean = clean_run(&mut s, &mut d, "PRESSURE", 40);
+    // The surface's air (the emulated MS5837's 101325 Pa, its noise a few pascals) and the
+    // depth from the calibration at the surface.
+    near(
+        &s.doubles_since(clean, "PRESSURE"),
+        101_325.0,
+        200.0,
+        "PRESSURE",
+    );
+    near(&s.doubles_since(clean, "DEPTH"), 0.0, 0.05, "DEPTH");
+    assert_eq!(s.doubles_since(clean, "LEAK").last(), Some(&0.0));
+    let status = s.status("TEENSY_DRIVER_STATUS");
+    assert!(status.starts_with("link=up,"), "{status}");
+    assert!(
+        field(&status, "parse_errors").unwrap_or(0) + field(&status, "garbage_bytes").unwrap_or(0)
+            > 0,
+        "{status}"
+    );
+    d.stop();
+    rt.block_on(emu.handle.stop()).unwrap();
+}
+
+#[test]
+fn igps_against_the_nmea_gps_emulator_survives_a_replug_and_garbage() {
+    let dir = scratch("against-gps-faults");
+    let link = dir.join("gps");
+    let rt = tokio::runtime::Runtime::new().unwrap();
+    let settings = Settings::default();
+    let (lat0, lon0) = settings.gps.origin_lat_lon;
+    let emu = rt
+        .block_on(spawn(
+            Kind::Gps,
+            settings,
+            Transport::Pty {
+                link: Some(link.clone()),
+            },
+            Options {
+                seed: 32,
+                faults: away_then_garbage(),
+                ..Options::default()
+            },
+        ))
+        .unwrap();
+    emu.truth.feed(Truth {
+        x: 30.0,
+        y: 40.0,
+        ..Truth::default()
+    });
+    let grid = vehicle::geodesy::LocalGrid::new(lat0, lon0).unwrap();
+    let mut d = Driver::new(Gps::new(Source::Nmea, Some(grid)), serial(&link), 1.0);
+    d.start().unwrap();
+    let mut s = Stepper::new(0.0);
+    s.until(&mut d, "sentences", |s, _| s.count("GPS_FIX") >= 3);
+    s.until(&mut d, "a second connection", |_, d| {
+        d.counters().connects >= 2
+    });
+    let back = s.mark();
+    s.until(&mut d, "sentences after the replug", |s, _| {
+        s.doubles_since(back, "GPS_FIX").len() >= 3
+    });
+    let status = s.status("GPS_DRIVER_STATUS");
+    let downs = field(&status, "disconnects").unwrap_or(0);
+    assert!(downs >= 1, "{status}");
+    assert_eq!(field(&status, "connects"), Some(downs + 1), "{status}");
+
+    // Random bytes break sentences: their checksums fail or they do not frame; counted.
+    s.until(&mut d, "garbage counted", |_, d| errors(d) > 0);
+    let clean = clean_run(&mut s, &mut d, "GPS_X", 10);
+    let (xs, ys) = (
+        s.doubles_since(clean, "GPS_X"),
+        s.doubles_since(clean, "GPS_Y"),
+    );
+    assert!(xs.len() >= 10 && ys.len() >= xs.len() - 1, "{xs:?} {ys:?}");
+    for (x, y) in xs.iter().zip(&ys) {
+        assert!(
+            (x - 30.0).abs() < 10.0 && (y - 40.0).abs() < 10.0,
+            "({x}, {y})"
+        );
+    }
+    let status = s.status("GPS_DRIVER_STATUS");
+    assert!(status.starts_with("link=up,"), "{status}");
+    d.stop();
+    rt.block_on(emu.handle.stop()).unwrap();
+}

@@ -40,8 +40,9 @@ use vehicle::cougars::{ControlsConfig, CougarsControl};
 use vehicle::couguv::{CougUvSim, CougUvSimConfig};
 use vehicle::geodesy::LocalGrid;
 
-use crate::app::{App, AppResult, Mail, Post, Subscription, Value};
-use crate::appcasting::{AppcastLayer, Note};
+use crate::app::{Mail, Post, Subscription, Value};
+use crate::appcasting::Note;
+use crate::hosted::{AppCore, Hosted};
 
 /// The MOOS name of the controllers app.
 pub const CONTROLS_PROGRAM: &str = "pCougControls";
@@ -80,20 +81,18 @@ fn pairs(block: &ProcessConfig) -> impl Iterator<Item = (&str, &str)> {
         .map(|p| (p.key.as_str(), p.value.as_str()))
 }
 
-/// The `pCougControls` app.
-pub struct CougControlsApp {
-    name: String,
-    block: ProcessConfig,
-    tick: f64,
+/// The controllers: the core of the `pCougControls` app.
+pub struct CougControls {
     ctl: CougarsControl,
-    warnings: Vec<Diagnostic>,
-    appcast: AppcastLayer,
     postings: Vec<Post>,
 }
 
-impl CougControlsApp {
+/// The `pCougControls` app.
+pub type CougControlsApp = Hosted<CougControls>;
+
+impl Hosted<CougControls> {
     /// The app `name` from its `block`. The loop rate is the block's `AppTick`, else
-    /// `1000/timer_period`; configuration problems are [`CougControlsApp::warnings`].
+    /// `1000/timer_period`; configuration problems are [`Hosted::warnings`].
     pub fn new(name: &str, block: ProcessConfig) -> Self {
         let (mut cfg, problems) = ControlsConfig::from_params_lenient(pairs(&block))
             .unwrap_or_else(|e| (ControlsConfig::default(), vec![e]));
@@ -125,192 +124,101 @@ impl CougControlsApp {
             (1000.0 / cfg.cougars.timer_period_ms).min(crate::app::MAX_APP_TICK)
         };
         cfg.cougars.timer_period_ms = 1000.0 / tick;
-        CougControlsApp {
-            name: name.to_string(),
-            appcast: AppcastLayer::with_config_warnings(name, &block, None, 1.0, &warnings),
-            block,
-            tick,
+        let core = CougControls {
             ctl: CougarsControl::new(cfg),
-            warnings,
             postings: Vec::with_capacity(16),
-        }
-    }
-
-    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
-    pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
-        self.appcast = AppcastLayer::with_config_warnings(
-            &self.name,
-            &self.block,
-            community,
-            warp,
-            &self.warnings,
-        );
-        self
-    }
-
-    /// Unknown or unusable parameters of the block, and a `timer_period` the AppTick
-    /// overrides.
-    pub fn warnings(&self) -> &[Diagnostic] {
-        &self.warnings
+        };
+        Hosted::host(name, block, warnings, core).with_tick(tick)
     }
 
     /// The controllers.
     pub fn controls(&self) -> &CougarsControl {
-        &self.ctl
+        &self.core().ctl
     }
 }
 
-impl App for CougControlsApp {
-    fn name(&self) -> &str {
-        &self.name
-    }
-
-    fn process_config(&self) -> Option<&ProcessConfig> {
-        Some(&self.block)
-    }
-
-    fn app_tick(&self) -> f64 {
-        self.tick
-    }
-
+impl AppCore for CougControls {
     fn subscriptions(&self) -> Vec<Subscription> {
-        AppcastLayer::subscriptions()
-            .chain(
-                CougarsControl::subscriptions()
-                    .into_iter()
-                    .map(Subscription::var),
-            )
+        CougarsControl::subscriptions()
+            .into_iter()
+            .map(Subscription::var)
             .collect()
     }
 
-    fn on_startup(&mut self, now: f64, _out: &mut Vec<Post>) -> AppResult {
-        self.appcast.on_startup(now);
-        Ok(())
-    }
-
-    fn on_mail(&mut self, mail: &[Mail], _now: f64, _out: &mut Vec<Post>) -> AppResult {
-        for m in mail {
-            if !self.appcast.take_mail(m) || matches!(m.value, Value::Binary(_)) {
-                continue;
-            }
+    fn on_mail(&mut self, m: &Mail, _now: f64, _out: &mut Vec<Post>, _notes: &mut Vec<Note>) {
+        if !matches!(m.value, Value::Binary(_)) {
             self.ctl.on_mail(&m.key, m.value.as_ref(), m.time);
         }
-        Ok(())
     }
 
-    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) -> AppResult {
-        self.appcast.begin(now, self.tick, out);
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>, notes: &mut Vec<Note>) {
         self.ctl.iterate(now, &mut self.postings);
         out.append(&mut self.postings);
-        for w in self.ctl.take_warnings() {
-            self.appcast.note(Note::Warning(w), now);
-        }
-        let ctl = &self.ctl;
-        self.appcast
-            .end(now, self.tick, out, |body| ctl.appcast_body(body));
-        Ok(())
+        notes.extend(self.ctl.take_warnings().into_iter().map(Note::Warning));
+    }
+
+    fn report(&self, _now: f64, body: &mut String) {
+        self.ctl.appcast_body(body);
     }
 }
 
-/// The `uSimCougUV` app.
-pub struct CougUvSimApp {
-    name: String,
-    block: ProcessConfig,
+/// The simulator: the core of the `uSimCougUV` app.
+pub struct CougUvSimCore {
     sim: CougUvSim,
-    warnings: Vec<Diagnostic>,
-    appcast: AppcastLayer,
     postings: Vec<Post>,
 }
 
-impl CougUvSimApp {
+/// The `uSimCougUV` app.
+pub type CougUvSimApp = Hosted<CougUvSimCore>;
+
+impl Hosted<CougUvSimCore> {
     /// The app `name` from its `block`; `grid` (the mission's origin) adds `<P>_LAT` and
     /// `<P>_LONG`.
     pub fn new(name: &str, block: ProcessConfig, grid: Option<LocalGrid>) -> Self {
         let (cfg, problems) = CougUvSimConfig::from_params_lenient(pairs(&block))
             .unwrap_or_else(|e| (CougUvSimConfig::default(), vec![e]));
         let warnings = diagnostics(&block, &problems);
-        CougUvSimApp {
-            name: name.to_string(),
-            appcast: AppcastLayer::with_config_warnings(name, &block, None, 1.0, &warnings),
-            block,
+        let core = CougUvSimCore {
             sim: CougUvSim::new(cfg, grid),
-            warnings,
             postings: Vec::with_capacity(16),
-        }
-    }
-
-    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
-    pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
-        self.appcast = AppcastLayer::with_config_warnings(
-            &self.name,
-            &self.block,
-            community,
-            warp,
-            &self.warnings,
-        );
-        self
-    }
-
-    /// Unknown or unusable parameters of the block.
-    pub fn warnings(&self) -> &[Diagnostic] {
-        &self.warnings
+        };
+        Hosted::host(name, block, warnings, core)
     }
 
     /// The simulator.
     pub fn sim(&self) -> &CougUvSim {
-        &self.sim
+        &self.core().sim
     }
 }
 
-impl App for CougUvSimApp {
-    fn name(&self) -> &str {
-        &self.name
-    }
-
-    fn process_config(&self) -> Option<&ProcessConfig> {
-        Some(&self.block)
-    }
-
+impl AppCore for CougUvSimCore {
     fn subscriptions(&self) -> Vec<Subscription> {
-        AppcastLayer::subscriptions()
-            .chain(
-                CougUvSim::subscriptions()
-                    .into_iter()
-                    .map(Subscription::var),
-            )
+        CougUvSim::subscriptions()
+            .into_iter()
+            .map(Subscription::var)
             .collect()
     }
 
-    fn on_startup(&mut self, now: f64, _out: &mut Vec<Post>) -> AppResult {
-        self.appcast.on_startup(now);
-        Ok(())
-    }
-
-    fn on_mail(&mut self, mail: &[Mail], _now: f64, _out: &mut Vec<Post>) -> AppResult {
-        for m in mail {
-            if !self.appcast.take_mail(m) || matches!(m.value, Value::Binary(_)) {
-                continue;
-            }
+    fn on_mail(&mut self, m: &Mail, _now: f64, _out: &mut Vec<Post>, _notes: &mut Vec<Note>) {
+        if !matches!(m.value, Value::Binary(_)) {
             self.sim.on_mail(&m.key, m.value.as_ref(), m.time);
         }
-        Ok(())
     }
 
-    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) -> AppResult {
-        let tick = self.app_tick();
-        self.appcast.begin(now, tick, out);
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>, _notes: &mut Vec<Note>) {
         self.sim.iterate(now, &mut self.postings);
         out.append(&mut self.postings);
-        let sim = &self.sim;
-        self.appcast
-            .end(now, tick, out, |body| sim.appcast_body(now, body));
-        Ok(())
+    }
+
+    fn report(&self, now: f64, body: &mut String) {
+        self.sim.appcast_body(now, body);
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::app::App;
 
     fn block(text: &str) -> ProcessConfig {
         crate::testing::block("c.moos", text)

@@ -23,8 +23,9 @@ use vehicle::geodesy::LocalGrid;
 use drivers::link::LinkConfig;
 use drivers::{Driver, Io, Protocol};
 
-use crate::app::{App, AppResult, Mail, Post, Subscription};
-use crate::appcasting::{AppcastLayer, Note};
+use crate::app::{AppResult, Mail, Post, Subscription};
+use crate::appcasting::Note;
+use crate::hosted::{AppCore, Hosted};
 
 /// Where a configuration problem points: its parameter's line, else the block's.
 fn span_of<'a>(block: &'a ProcessConfig, error: &ConfigError) -> &'a Span {
@@ -48,75 +49,56 @@ fn params(block: &ProcessConfig) -> impl Iterator<Item = (&str, &str)> {
         .map(|p| (p.key.as_str(), p.value.as_str()))
 }
 
-/// A driver as a MOOS app.
-pub struct DriverApp<P> {
-    name: String,
-    block: ProcessConfig,
+/// A driver: the core of a driver app (the protocol, its link, and what one callback
+/// produced).
+pub struct DriverCore<P> {
     driver: Driver<P>,
-    warnings: Vec<Diagnostic>,
-    appcast: AppcastLayer,
     io: Io,
 }
 
-impl<P: Protocol> DriverApp<P> {
-    fn new(
-        name: &str,
-        block: ProcessConfig,
-        protocol: P,
-        link: LinkConfig,
-        status_period: f64,
-        problems: &[ConfigError],
-    ) -> Self {
-        let warnings: Vec<Diagnostic> = problems
-            .iter()
-            .map(|e| {
-                Diagnostic::line_warning(
-                    DiagnosticKind::AppSetting,
-                    span_of(&block, e),
-                    e.to_string(),
-                )
-            })
-            .collect();
-        DriverApp {
-            name: name.to_string(),
-            appcast: AppcastLayer::with_config_warnings(name, &block, None, 1.0, &warnings),
-            block,
-            driver: Driver::new(protocol, link, status_period),
-            warnings,
-            io: Io::default(),
-        }
-    }
+/// A driver as a MOOS app.
+pub type DriverApp<P> = Hosted<DriverCore<P>>;
 
-    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
-    pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
-        self.appcast = AppcastLayer::with_config_warnings(
-            &self.name,
-            &self.block,
-            community,
-            warp,
-            &self.warnings,
-        );
-        self
-    }
+fn driver_app<P: Protocol>(
+    name: &str,
+    block: ProcessConfig,
+    protocol: P,
+    link: LinkConfig,
+    status_period: f64,
+    problems: &[ConfigError],
+    extra: Option<Diagnostic>,
+) -> DriverApp<P> {
+    let mut warnings: Vec<Diagnostic> = problems
+        .iter()
+        .map(|e| {
+            Diagnostic::line_warning(
+                DiagnosticKind::AppSetting,
+                span_of(&block, e),
+                e.to_string(),
+            )
+        })
+        .collect();
+    warnings.extend(extra);
+    let core = DriverCore {
+        driver: Driver::new(protocol, link, status_period),
+        io: Io::default(),
+    };
+    Hosted::host(name, block, warnings, core)
+}
 
-    /// The problems of the block (unknown keys, bad values, a missing origin for iGPS).
-    pub fn warnings(&self) -> &[Diagnostic] {
-        &self.warnings
-    }
-
+impl<P: Protocol> Hosted<DriverCore<P>> {
     /// The driver (its protocol, link settings and counters).
     pub fn driver(&self) -> &Driver<P> {
-        &self.driver
+        &self.core().driver
     }
+}
 
-    fn drain(&mut self, now: f64, out: &mut Vec<Post>) {
+impl<P> DriverCore<P> {
+    /// Hands on what the driver produced: posts, and events and warnings for the appcast.
+    fn drain(&mut self, out: &mut Vec<Post>, notes: &mut Vec<Note>) {
         out.append(&mut self.io.posts);
-        for e in self.io.events.drain(..) {
-            self.appcast.note(Note::Event(e), now);
-        }
-        for w in self.io.warnings.drain(..) {
-            self.appcast.note(Note::Warning(w), now);
-        }
+        notes.extend(self.io.events.drain(..).map(Note::Event));
+        notes.extend(self.io.warnings.drain(..).map(Note::Warning));
     }
 }
 
@@ -127,40 +109,38 @@ pub fn gps(
     grid: Option<LocalGrid>,
 ) -> DriverApp<drivers::gps::Gps> {
     let (source, common, link, problems) = drivers::gps::config_from_params(params(&block));
-    let no_grid = grid.is_none();
-    let mut app = DriverApp::new(
+    let no_grid = grid.is_none().then(|| {
+        Diagnostic::line_warning(
+            DiagnosticKind::AppSetting,
+            &block.span,
+            format!(
+                "{}: the mission has no valid LatOrigin/LongOrigin: no GPS_X/GPS_Y, only GPS_LAT/GPS_LONG",
+                drivers::gps::PROGRAM
+            ),
+        )
+    });
+    driver_app(
         name,
         block,
         drivers::gps::Gps::new(source, grid),
         link,
         common.status_period,
         &problems,
-    );
-    if no_grid {
-        let w = Diagnostic::line_warning(
-            DiagnosticKind::AppSetting,
-            &app.block.span,
-            format!(
-                "{}: the mission has no valid LatOrigin/LongOrigin: no GPS_X/GPS_Y, only GPS_LAT/GPS_LONG",
-                drivers::gps::PROGRAM
-            ),
-        );
-        app.appcast.config_warning(&w.located());
-        app.warnings.push(w);
-    }
-    app
+        no_grid,
+    )
 }
 
 /// `iDVL` from its block.
 pub fn dvl(name: &str, block: ProcessConfig) -> DriverApp<drivers::dvl::Dvl> {
     let (cfg, common, link, problems) = drivers::dvl::DvlConfig::from_params(params(&block));
-    DriverApp::new(
+    driver_app(
         name,
         block,
         drivers::dvl::Dvl::new(cfg),
         link,
         common.status_period,
         &problems,
+        None,
     )
 }
 
@@ -168,80 +148,62 @@ pub fn dvl(name: &str, block: ProcessConfig) -> DriverApp<drivers::dvl::Dvl> {
 pub fn seatrac(name: &str, block: ProcessConfig) -> DriverApp<drivers::seatrac::SeaTrac> {
     let (cfg, common, link, problems) =
         drivers::seatrac::SeaTracConfig::from_params(params(&block));
-    DriverApp::new(
+    driver_app(
         name,
         block,
         drivers::seatrac::SeaTrac::new(cfg),
         link,
         common.status_period,
         &problems,
+        None,
     )
 }
 
 /// `iTeensy` from its block.
 pub fn teensy(name: &str, block: ProcessConfig) -> DriverApp<drivers::teensy::Teensy> {
     let (cfg, common, link, problems) = drivers::teensy::TeensyConfig::from_params(params(&block));
-    DriverApp::new(
+    driver_app(
         name,
         block,
         drivers::teensy::Teensy::new(cfg),
         link,
         common.status_period,
         &problems,
+        None,
     )
 }
 
-impl<P: Protocol> App for DriverApp<P> {
-    fn name(&self) -> &str {
-        &self.name
-    }
-
-    fn process_config(&self) -> Option<&ProcessConfig> {
-        Some(&self.block)
-    }
-
+impl<P: Protocol> AppCore for DriverCore<P> {
     fn subscriptions(&self) -> Vec<Subscription> {
-        AppcastLayer::subscriptions()
-            .chain(
-                self.driver
-                    .protocol
-                    .subscriptions()
-                    .into_iter()
-                    .map(Subscription::var),
-            )
+        self.driver
+            .protocol
+            .subscriptions()
+            .into_iter()
+            .map(Subscription::var)
             .collect()
     }
 
-    fn on_startup(&mut self, now: f64, _out: &mut Vec<Post>) -> AppResult {
-        self.appcast.on_startup(now);
+    fn on_startup(&mut self, _now: f64, _out: &mut Vec<Post>, notes: &mut Vec<Note>) {
         if let Err(e) = self.driver.start() {
-            self.appcast.note(
-                Note::Warning(format!("cannot start the link thread: {e}")),
-                now,
-            );
+            notes.push(Note::Warning(format!("cannot start the link thread: {e}")));
         }
-        Ok(())
     }
 
-    fn on_mail(&mut self, mail: &[Mail], now: f64, out: &mut Vec<Post>) -> AppResult {
-        for m in mail {
-            if !self.appcast.take_mail(m) {
-                continue;
-            }
-            self.driver.on_mail(&m.key, &m.value, now, &mut self.io);
-        }
-        self.drain(now, out);
-        Ok(())
+    fn on_mail(&mut self, m: &Mail, now: f64, _out: &mut Vec<Post>, _notes: &mut Vec<Note>) {
+        self.driver.on_mail(&m.key, &m.value, now, &mut self.io);
     }
 
-    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) -> AppResult {
-        let tick = self.app_tick();
-        self.appcast.begin(now, tick, out);
+    fn mail_done(&mut self, _now: f64, out: &mut Vec<Post>, notes: &mut Vec<Note>) {
+        self.drain(out, notes);
+    }
+
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>, notes: &mut Vec<Note>) {
         self.driver.step(now, &mut self.io);
-        self.drain(now, out);
-        let driver = &self.driver;
-        self.appcast.end(now, tick, out, |b| driver.report(b));
-        Ok(())
+        self.drain(out, notes);
+    }
+
+    fn report(&self, _now: f64, body: &mut String) {
+        self.driver.report(body);
     }
 
     fn stop(&mut self, _now: f64) -> AppResult {
@@ -253,7 +215,7 @@ impl<P: Protocol> App for DriverApp<P> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::app::Value;
+    use crate::app::{App, Value};
     use std::io::{BufRead, BufReader, Write};
     use std::net::TcpListener;
     use std::time::{Duration, Instant};

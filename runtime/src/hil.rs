@@ -57,8 +57,9 @@ use vehicle::couguv::{CougUvSim, CougUvSimConfig};
 use vehicle::geodesy::LocalGrid;
 use vehicle::sensors::{TruthField, TruthTracker};
 
-use crate::app::{App, AppResult, Mail, Post, Subscription, Value};
-use crate::appcasting::{AppcastLayer, Note};
+use crate::app::{Mail, Post, Subscription, Value};
+use crate::appcasting::Note;
+use crate::hosted::{AppCore, Hosted};
 
 /// The app's program name.
 pub const PROGRAM: &str = "uSimDevices";
@@ -506,24 +507,23 @@ fn kinematics_of(
 }
 
 /// The `uSimDevices` app (see the module docs).
-pub struct SimDevicesApp {
-    name: String,
-    block: ProcessConfig,
+pub type SimDevicesApp = Hosted<SimDevicesCore>;
+
+/// The model behind the emulators: the core of the `uSimDevices` app.
+pub struct SimDevicesCore {
     bench: Option<String>,
     feeds: Option<Feeds>,
     kin: Kinematics,
     sim: CougUvSim,
     tracker: TruthTracker,
     truth_vars: Vec<(String, TruthField)>,
-    warnings: Vec<Diagnostic>,
-    appcast: AppcastLayer,
     postings: Vec<Post>,
     fed: u64,
     last_inputs: TeensyInputs,
     start: f64,
 }
 
-impl SimDevicesApp {
+impl Hosted<SimDevicesCore> {
     /// The app `name` from its `block` in a mission whose pCougControls block is
     /// `controls` (the fin kinematics, unless the app's own block sets them) and which starts
     /// at MOOS time `start` (the emulators' faults count from it); `grid` (the mission's
@@ -604,49 +604,29 @@ impl SimDevicesApp {
             .iter()
             .map(|(f, suffix)| (format!("{}_{suffix}", cfg.prefix), *f))
             .collect();
-        SimDevicesApp {
-            name: name.to_string(),
-            appcast: AppcastLayer::with_config_warnings(name, &block, None, 1.0, &warnings),
-            block,
+        let core = SimDevicesCore {
             bench,
             feeds: None,
             kin,
             sim: CougUvSim::new(cfg, grid),
             tracker: TruthTracker::new(),
             truth_vars,
-            warnings,
             postings: Vec::with_capacity(16),
             fed: 0,
             last_inputs: TeensyInputs::default(),
             start,
-        }
+        };
+        Hosted::host(name, block, warnings, core)
     }
 
     /// The fin kinematics in force (see [`SimDevicesApp::new`]).
     pub fn kinematics(&self) -> &Kinematics {
-        &self.kin
-    }
-
-    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
-    pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
-        self.appcast = AppcastLayer::with_config_warnings(
-            &self.name,
-            &self.block,
-            community,
-            warp,
-            &self.warnings,
-        );
-        self
-    }
-
-    /// Unknown or unusable parameters of the block.
-    pub fn warnings(&self) -> &[Diagnostic] {
-        &self.warnings
+        &self.core().kin
     }
 
     /// The model.
     pub fn sim(&self) -> &CougUvSim {
-        &self.sim
+        &self.core().sim
     }
 }
 
@@ -683,48 +663,28 @@ fn appcast_body(
     sim.appcast_body(now, body);
 }
 
-impl App for SimDevicesApp {
-    fn name(&self) -> &str {
-        &self.name
-    }
-
-    fn process_config(&self) -> Option<&ProcessConfig> {
-        Some(&self.block)
-    }
-
+impl AppCore for SimDevicesCore {
     fn subscriptions(&self) -> Vec<Subscription> {
-        AppcastLayer::subscriptions().collect()
+        Vec::new()
     }
 
-    fn on_startup(&mut self, now: f64, _out: &mut Vec<Post>) -> AppResult {
-        self.appcast.on_startup(now);
+    fn on_startup(&mut self, _now: f64, _out: &mut Vec<Post>, notes: &mut Vec<Note>) {
         if let Some(b) = &self.bench {
             self.feeds = lookup(b);
             if let Some(f) = &self.feeds {
                 // From now on `leak@120` means 120 s after the mission's start.
                 f.start_faults(self.start);
             } else {
-                self.appcast.note(
-                    Note::Warning(format!(
-                        "no bench {b} in this process: the devices measure nothing"
-                    )),
-                    now,
-                );
+                notes.push(Note::Warning(format!(
+                    "no bench {b} in this process: the devices measure nothing"
+                )));
             }
         }
-        Ok(())
     }
 
-    fn on_mail(&mut self, mail: &[Mail], _now: f64, _out: &mut Vec<Post>) -> AppResult {
-        for m in mail {
-            let _ = self.appcast.take_mail(m);
-        }
-        Ok(())
-    }
+    fn on_mail(&mut self, _m: &Mail, _now: f64, _out: &mut Vec<Post>, _notes: &mut Vec<Note>) {}
 
-    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) -> AppResult {
-        let tick = self.app_tick();
-        self.appcast.begin(now, tick, out);
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>, _notes: &mut Vec<Note>) {
         if let Some(f) = &self.feeds {
             // The Teensy's outputs are the model's command, as fresh as this iteration.
             self.last_inputs = f.teensy.get();
@@ -754,12 +714,11 @@ impl App for SimDevicesApp {
             self.fed += 1;
         }
         out.append(&mut self.postings);
+    }
+
+    fn report(&self, now: f64, body: &mut String) {
         let bench = (self.bench.as_deref(), self.feeds.is_some(), self.fed);
-        let (t, sim) = (&self.last_inputs, &self.sim);
-        self.appcast.end(now, tick, out, |body| {
-            appcast_body(bench, t, sim, now, body)
-        });
-        Ok(())
+        appcast_body(bench, &self.last_inputs, &self.sim, now, body);
     }
 }
 
@@ -936,8 +895,8 @@ mod tests {
             w[1].contains("h.moos:10") && w[1].contains("unknown parameter `colour`"),
             "{w:?}"
         );
-        assert_eq!(app.kin, CougarsConfig::coug2().kinematics);
-        let c = BenchConfig::from_block(Some(&app.block), Some((40.0, -111.0)), 4.0, 9).unwrap();
+        assert_eq!(app.kinematics(), &CougarsConfig::coug2().kinematics);
+        let c = BenchConfig::from_block(crate::app::App::process_config(&app), Some((40.0, -111.0)), 4.0, 9).unwrap();
         assert_eq!(
             (c.declination_deg, c.atmospheric_pa, c.warp, c.origin),
             (10.7, 84246.0, 4.0, Some((40.0, -111.0)))

@@ -43,6 +43,7 @@ pub mod driver_apps;
 pub mod fleet;
 pub mod helm;
 pub mod hil;
+pub mod hosted;
 pub mod logger;
 pub mod navigator;
 pub mod navreplay;

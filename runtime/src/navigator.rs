@@ -52,8 +52,9 @@ use mission::moos::ProcessConfig;
 use nav::feed::{Feed, FeedConfig, Snapshot};
 use vehicle::geodesy::LocalGrid;
 
-use crate::app::{App, AppResult, Mail, Post, Subscription, Value};
-use crate::appcasting::{AppcastLayer, Note};
+use crate::app::{Mail, Post, Subscription, Value};
+use crate::appcasting::Note;
+use crate::hosted::{AppCore, Hosted};
 
 /// The MOOS name of the app.
 pub const PROGRAM: &str = "pNavGraph";
@@ -66,19 +67,18 @@ struct Names {
     dr_depth: String,
 }
 
-/// The `pNavGraph` app.
-pub struct NavApp {
-    name: String,
-    block: ProcessConfig,
+/// The navigator: the core of the `pNavGraph` app.
+pub struct NavCore {
     feed: Feed,
     grid: Option<LocalGrid>,
     names: Names,
-    warnings: Vec<Diagnostic>,
-    appcast: AppcastLayer,
     posted_status: Option<String>,
     last: Option<Snapshot>,
     dives: Vec<String>,
 }
+
+/// The `pNavGraph` app.
+pub type NavApp = Hosted<NavCore>;
 
 /// Reads the block into the feed's settings and the dead-reckoning prefix; problems are
 /// warnings at their lines.
@@ -137,15 +137,12 @@ fn configure(block: &ProcessConfig) -> (FeedConfig, String, Vec<Diagnostic>) {
     (cfg, dr_prefix, warnings)
 }
 
-impl NavApp {
+impl Hosted<NavCore> {
     /// The app `name` from its `block`; `grid` (the mission's origin) adds NAV_LAT/NAV_LONG.
-    /// Configuration problems are [`NavApp::warnings`].
+    /// Configuration problems are [`Hosted::warnings`].
     pub fn new(name: &str, block: ProcessConfig, grid: Option<LocalGrid>) -> Self {
         let (cfg, dr, warnings) = configure(&block);
-        NavApp {
-            name: name.to_string(),
-            appcast: AppcastLayer::with_config_warnings(name, &block, None, 1.0, &warnings),
-            block,
+        let core = NavCore {
             feed: Feed::new(cfg),
             grid,
             names: Names {
@@ -153,36 +150,21 @@ impl NavApp {
                 dr_y: format!("{dr}_Y"),
                 dr_depth: format!("{dr}_DEPTH"),
             },
-            warnings,
             posted_status: None,
             last: None,
             dives: Vec::new(),
-        }
-    }
-
-    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
-    pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
-        self.appcast = AppcastLayer::with_config_warnings(
-            &self.name,
-            &self.block,
-            community,
-            warp,
-            &self.warnings,
-        );
-        self
-    }
-
-    /// Unknown or unusable parameters of the block.
-    pub fn warnings(&self) -> &[Diagnostic] {
-        &self.warnings
+        };
+        Hosted::host(name, block, warnings, core)
     }
 
     /// The feed's settings in force.
     pub fn config(&self) -> &FeedConfig {
-        self.feed.config()
+        self.core().feed.config()
     }
+}
 
-    fn post_snapshot(&mut self, s: &Snapshot, now: f64, out: &mut Vec<Post>) {
+impl NavCore {
+    fn post_snapshot(&mut self, s: &Snapshot, out: &mut Vec<Post>, notes: &mut Vec<Note>) {
         let e = &s.estimate;
         out.push(Post::double("NAV_X", e.x_m));
         out.push(Post::double("NAV_Y", e.y_m));
@@ -214,8 +196,7 @@ impl NavApp {
         if let Some(r) = &s.dive {
             let text = Snapshot::dive_report_text(r);
             out.push(Post::text("NAV_DIVE_REPORT", text.as_str()));
-            self.appcast
-                .note(Note::Event(format!("dive report: {text}")), now);
+            notes.push(Note::Event(format!("dive report: {text}")));
             self.dives.push(text);
         }
     }
@@ -267,45 +248,25 @@ fn appcast_body(feed: &Feed, last: Option<&Snapshot>, dives: &[String], out: &mu
     }
 }
 
-impl App for NavApp {
-    fn name(&self) -> &str {
-        &self.name
-    }
-
-    fn process_config(&self) -> Option<&ProcessConfig> {
-        Some(&self.block)
-    }
-
+impl AppCore for NavCore {
     fn subscriptions(&self) -> Vec<Subscription> {
-        AppcastLayer::subscriptions()
-            .chain(nav::feed::INPUTS.iter().map(|v| Subscription::var(*v)))
+        nav::feed::INPUTS
+            .iter()
+            .map(|v| Subscription::var(*v))
             .collect()
     }
 
-    fn on_startup(&mut self, now: f64, _out: &mut Vec<Post>) -> AppResult {
-        self.appcast.on_startup(now);
-        Ok(())
-    }
-
-    fn on_mail(&mut self, mail: &[Mail], _now: f64, _out: &mut Vec<Post>) -> AppResult {
-        for m in mail {
-            if !self.appcast.take_mail(m) {
-                continue;
-            }
-            if let Value::Double(v) = m.value {
-                // The driver's posting time is the measurement's time.
-                self.feed.take(&m.key, v, m.time);
-            }
+    fn on_mail(&mut self, m: &Mail, _now: f64, _out: &mut Vec<Post>, _notes: &mut Vec<Note>) {
+        if let Value::Double(v) = m.value {
+            // The driver's posting time is the measurement's time.
+            self.feed.take(&m.key, v, m.time);
         }
-        Ok(())
     }
 
-    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) -> AppResult {
-        let tick = self.app_tick();
-        self.appcast.begin(now, tick, out);
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>, notes: &mut Vec<Note>) {
         self.feed.advance(now);
         if let Some(s) = self.feed.poll() {
-            self.post_snapshot(&s, now, out);
+            self.post_snapshot(&s, out, notes);
             self.last = Some(s);
         }
         let status = self.feed.status().describe();
@@ -313,16 +274,17 @@ impl App for NavApp {
             out.push(Post::text("NAV_STATUS", status.as_str()));
             self.posted_status = Some(status);
         }
-        let (feed, last, dives) = (&self.feed, self.last.as_ref(), &self.dives);
-        self.appcast
-            .end(now, tick, out, |b| appcast_body(feed, last, dives, b));
-        Ok(())
+    }
+
+    fn report(&self, _now: f64, body: &mut String) {
+        appcast_body(&self.feed, self.last.as_ref(), &self.dives, body);
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::app::App;
 
     fn block(text: &str) -> ProcessConfig {
         crate::testing::block("n.moos", text)
@@ -350,7 +312,7 @@ mod tests {
             "a bad value keeps the default"
         );
         assert_eq!(app.config().density(), 1025.0);
-        assert_eq!(app.names.dr_x, "DEAD_X");
+        assert_eq!(app.core().names.dr_x, "DEAD_X");
     }
 
     #[test]

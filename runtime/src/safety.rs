@@ -5,123 +5,88 @@
 //! (with the mail's source, so `silent(APP)` hears any post of that app), judges the rules at
 //! each iteration, and reports triggers and releases as appcast events, warn rules as run
 //! warnings, and configuration errors as config warnings. A block with errors makes the app
-//! MALCONFIG ([`App::malconfig`]: `coug check` and `coug run` report it), and the supervisor
+//! MALCONFIG ([`crate::app::App::malconfig`]: `coug check` and `coug run` report it), and the supervisor
 //! then keeps the vehicle from deploying.
 
 use mission::diagnostic::Diagnostic;
 use mission::moos::ProcessConfig;
 use safety::{Notice, SafetyConfig, Supervisor};
 
-use crate::app::{App, AppResult, Mail, Post, Subscription};
-use crate::appcasting::{AppcastLayer, Note};
+use crate::app::{Mail, Post, Subscription};
+use crate::appcasting::Note;
+use crate::hosted::{AppCore, Hosted};
 
 /// The MOOS name of the app.
 pub const PROGRAM: &str = safety::PROGRAM;
 
-/// The `pSafety` app.
-pub struct SafetyApp {
-    name: String,
-    block: ProcessConfig,
+/// The supervisor: the core of the `pSafety` app.
+pub struct SafetyCore {
     supervisor: Supervisor,
-    errors: Vec<Diagnostic>,
-    appcast: AppcastLayer,
-    notes: Vec<Notice>,
+    notices: Vec<Notice>,
 }
 
-impl SafetyApp {
+/// The `pSafety` app.
+pub type SafetyApp = Hosted<SafetyCore>;
+
+impl Hosted<SafetyCore> {
     /// The app `name` from its `block`; its configuration errors are [`SafetyApp::errors`].
     pub fn new(name: &str, block: ProcessConfig) -> Self {
         let (cfg, errors) = SafetyConfig::from_block(&block);
         let located = errors.iter().map(Diagnostic::located).collect();
         let mut supervisor = Supervisor::new(cfg, located);
         supervisor.set_period(1.0 / crate::app::app_tick_of(Some(&block)));
-        SafetyApp {
-            name: name.to_string(),
-            appcast: AppcastLayer::with_config_warnings(name, &block, None, 1.0, &errors),
-            block,
+        let core = SafetyCore {
             supervisor,
-            errors,
-            notes: Vec::new(),
-        }
-    }
-
-    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
-    pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
-        self.appcast = AppcastLayer::with_config_warnings(
-            &self.name,
-            &self.block,
-            community,
-            warp,
-            &self.errors,
-        );
-        self
+            notices: Vec::new(),
+        };
+        Hosted::host(name, block, errors, core)
     }
 
     /// The block's errors (each makes the app MALCONFIG), at their lines.
     pub fn errors(&self) -> &[Diagnostic] {
-        &self.errors
+        self.warnings()
     }
 
     /// The supervisor.
     pub fn supervisor(&self) -> &Supervisor {
-        &self.supervisor
-    }
-
-    fn flush_notes(&mut self, now: f64) {
-        for n in self.notes.drain(..) {
-            let note = match n {
-                Notice::Event(e) => Note::Event(e),
-                Notice::Warning(w) => Note::Warning(w),
-            };
-            self.appcast.note(note, now);
-        }
+        &self.core().supervisor
     }
 }
 
-impl App for SafetyApp {
-    fn name(&self) -> &str {
-        &self.name
+impl SafetyCore {
+    fn flush(&mut self, notes: &mut Vec<Note>) {
+        notes.extend(self.notices.drain(..).map(|n| match n {
+            Notice::Event(e) => Note::Event(e),
+            Notice::Warning(w) => Note::Warning(w),
+        }));
     }
+}
 
-    fn process_config(&self) -> Option<&ProcessConfig> {
-        Some(&self.block)
-    }
-
+impl AppCore for SafetyCore {
     fn subscriptions(&self) -> Vec<Subscription> {
-        AppcastLayer::subscriptions()
-            .chain(
-                self.supervisor
-                    .subscriptions()
-                    .into_iter()
-                    .map(Subscription::var),
-            )
+        self.supervisor
+            .subscriptions()
+            .into_iter()
+            .map(Subscription::var)
             .collect()
     }
 
-    fn on_startup(&mut self, now: f64, out: &mut Vec<Post>) -> AppResult {
-        self.appcast.on_startup(now);
-        self.supervisor.start(now, out, &mut self.notes);
-        self.flush_notes(now);
-        Ok(())
+    fn on_startup(&mut self, now: f64, out: &mut Vec<Post>, notes: &mut Vec<Note>) {
+        self.supervisor.start(now, out, &mut self.notices);
+        self.flush(notes);
     }
 
-    fn on_mail(&mut self, mail: &[Mail], _now: f64, _out: &mut Vec<Post>) -> AppResult {
-        for m in mail {
-            if self.appcast.take_mail(m) {
-                self.supervisor.on_mail(&m.key, &m.value, &m.source, m.time);
-            }
-        }
-        Ok(())
+    fn on_mail(&mut self, m: &Mail, _now: f64, _out: &mut Vec<Post>, _notes: &mut Vec<Note>) {
+        self.supervisor.on_mail(&m.key, &m.value, &m.source, m.time);
     }
 
-    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) -> AppResult {
-        let tick = self.app_tick();
-        self.appcast.begin(now, tick, out);
-        self.supervisor.evaluate(now, out, &mut self.notes);
-        self.flush_notes(now);
-        let sup = &self.supervisor;
-        self.appcast.end(now, tick, out, |b| sup.report(b));
-        Ok(())
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>, notes: &mut Vec<Note>) {
+        self.supervisor.evaluate(now, out, &mut self.notices);
+        self.flush(notes);
+    }
+
+    fn report(&self, _now: f64, body: &mut String) {
+        self.supervisor.report(body);
     }
 
     fn malconfig(&self) -> Vec<String> {
@@ -132,7 +97,7 @@ impl App for SafetyApp {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::app::Value;
+    use crate::app::{App, Value};
 
     fn block(text: &str) -> ProcessConfig {
         crate::testing::block("s.moos", text)

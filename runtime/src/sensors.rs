@@ -74,8 +74,9 @@ use vehicle::ConfigError;
 use vehicle::geodesy::LocalGrid;
 use vehicle::sensors::{Reports, SensorConfig, SensorSuite, TruthField, TruthTracker};
 
-use crate::app::{App, AppResult, Mail, Post, Subscription, Value};
-use crate::appcasting::AppcastLayer;
+use crate::app::{Mail, Post, Subscription, Value};
+use crate::appcasting::Note;
+use crate::hosted::{AppCore, Hosted};
 
 /// The MOOS name of the app.
 pub const PROGRAM: &str = "uSimSensors";
@@ -106,23 +107,22 @@ struct Counts {
     gps_fix: u64,
 }
 
-/// The `uSimSensors` app.
-pub struct SensorsApp {
-    name: String,
-    block: ProcessConfig,
+/// The sensor models: the core of the `uSimSensors` app.
+pub struct SensorsCore {
     suite: SensorSuite,
     tracker: TruthTracker,
     truth_vars: Vec<(String, TruthField)>,
-    warnings: Vec<Diagnostic>,
-    appcast: AppcastLayer,
     counts: Counts,
     last: Reports,
 }
 
-impl SensorsApp {
+/// The `uSimSensors` app.
+pub type SensorsApp = Hosted<SensorsCore>;
+
+impl Hosted<SensorsCore> {
     /// The app `name` from its `block`; `grid` (the mission's origin) adds GPS_LAT/GPS_LONG;
     /// `seed` is used when the block sets none. Configuration problems are
-    /// [`SensorsApp::warnings`].
+    /// [`Hosted::warnings`].
     pub fn new(name: &str, block: ProcessConfig, grid: Option<LocalGrid>, seed: u64) -> Self {
         let params = block
             .entries
@@ -165,42 +165,23 @@ impl SensorsApp {
             .collect();
         let mut suite = SensorSuite::new(cfg, seed);
         suite.gps = suite.gps.clone().with_grid(grid);
-        SensorsApp {
-            name: name.to_string(),
-            appcast: AppcastLayer::with_config_warnings(name, &block, None, 1.0, &warnings),
-            block,
+        let core = SensorsCore {
             suite,
             tracker: TruthTracker::new(),
             truth_vars,
-            warnings,
             counts: Counts::default(),
             last: Reports::default(),
-        }
-    }
-
-    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
-    pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
-        self.appcast = AppcastLayer::with_config_warnings(
-            &self.name,
-            &self.block,
-            community,
-            warp,
-            &self.warnings,
-        );
-        self
-    }
-
-    /// Unknown or unusable parameters of the block, and an AppTick too slow for the
-    /// sensors' rates.
-    pub fn warnings(&self) -> &[Diagnostic] {
-        &self.warnings
+        };
+        Hosted::host(name, block, warnings, core)
     }
 
     /// The sensors' configuration in force.
     pub fn config(&self) -> &SensorConfig {
-        self.suite.config()
+        self.core().suite.config()
     }
+}
 
+impl SensorsCore {
     fn post(&mut self, r: &Reports, out: &mut Vec<Post>) {
         if let Some(d) = &r.dvl {
             self.counts.dvl += 1;
@@ -339,63 +320,46 @@ struct Body<'a> {
     last: &'a Reports,
 }
 
-impl App for SensorsApp {
-    fn name(&self) -> &str {
-        &self.name
-    }
-
-    fn process_config(&self) -> Option<&ProcessConfig> {
-        Some(&self.block)
-    }
-
+impl AppCore for SensorsCore {
     fn subscriptions(&self) -> Vec<Subscription> {
-        AppcastLayer::subscriptions()
-            .chain(self.truth_vars.iter().map(|(v, _)| Subscription::var(v)))
+        self.truth_vars
+            .iter()
+            .map(|(v, _)| Subscription::var(v))
             .collect()
     }
 
-    fn on_startup(&mut self, now: f64, _out: &mut Vec<Post>) -> AppResult {
-        self.appcast.on_startup(now);
-        Ok(())
-    }
-
-    fn on_mail(&mut self, mail: &[Mail], _now: f64, _out: &mut Vec<Post>) -> AppResult {
-        for m in mail {
-            if !self.appcast.take_mail(m) {
-                continue;
-            }
-            let Value::Double(v) = m.value else {
-                continue;
-            };
-            if let Some((_, f)) = self.truth_vars.iter().find(|(name, _)| **name == *m.key) {
-                // The simulator's posting time is the truth's time.
-                self.tracker.update(*f, v, m.time);
-            }
+    fn on_mail(&mut self, m: &Mail, _now: f64, _out: &mut Vec<Post>, _notes: &mut Vec<Note>) {
+        let Value::Double(v) = m.value else {
+            return;
+        };
+        if let Some((_, f)) = self.truth_vars.iter().find(|(name, _)| **name == *m.key) {
+            // The simulator's posting time is the truth's time.
+            self.tracker.update(*f, v, m.time);
         }
-        Ok(())
     }
 
-    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) -> AppResult {
-        let tick = self.app_tick();
-        self.appcast.begin(now, tick, out);
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>, _notes: &mut Vec<Note>) {
         if let Some(truth) = self.tracker.truth(now) {
             let r = self.suite.sample(&truth);
             self.post(&r, out);
         }
+    }
+
+    fn report(&self, _now: f64, body: &mut String) {
         let view = Body {
             suite: &self.suite,
             tracker: &self.tracker,
             counts: &self.counts,
             last: &self.last,
         };
-        self.appcast.end(now, tick, out, |b| appcast_body(&view, b));
-        Ok(())
+        appcast_body(&view, body);
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::app::App;
 
     fn block(text: &str) -> ProcessConfig {
         crate::testing::block("s.moos", text)

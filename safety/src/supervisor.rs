@@ -228,7 +228,7 @@ impl Supervisor {
     fn age(&self, last: Option<f64>, unwatched_then: Option<f64>, now: f64) -> f64 {
         let start = self.start.unwrap_or(now);
         let since = match last {
-            Some(t) => self.unwatched - unwatched_then.unwrap_or(0.0),
+            Some(_) => self.unwatched - unwatched_then.unwrap_or(0.0),
             None => self.unwatched,
         };
         (now - last.unwrap_or(start) - since).max(0.0)
@@ -356,7 +356,6 @@ impl Supervisor {
 
     /// Whether `t` holds at `now`, and what was seen.
     fn term(&self, t: &Term, now: f64) -> (bool, String) {
-        let start = self.start.unwrap_or(now);
         match t {
             Term::Compare { var, op, value } => {
                 let Some((v, _)) = self.values.get(var) else {
