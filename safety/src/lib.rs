@@ -84,8 +84,9 @@
 //! Any of `override_var`, `thrust_var`, `elevator_var`, `rudder_var` may be `none` (never
 //! posted). A CougUV under pCougControls (`vehicle::cougars::CougarsControl`: it stops on
 //! `MOOS_MANUAL_OVERRIDE = true`, forces the fins-up command on `COUG_SURFACE = true` while
-//! keeping the controller's thrust, and disarms when `DEPLOY` is false) surfaces as the CoUGARs
-//! emergency node did, swimming up with its fins up, with the helm dead or alive:
+//! keeping the controller's thrust, and disarms when `DEPLOY` is false: thrust 0 and the fins
+//! centred, where CoUGARs left them up) surfaces as the CoUGARs emergency node did, swimming up
+//! with its fins up, with the helm dead or alive:
 //!
 //! ```text
 //! override_var = none
