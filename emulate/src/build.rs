@@ -171,7 +171,15 @@ pub async fn spawn_warped(
     options: Options,
     warp: f64,
 ) -> io::Result<Running> {
-    spawn_warped_with_clock(kind, settings, transport, options, warp, FaultClock::default()).await
+    spawn_warped_with_clock(
+        kind,
+        settings,
+        transport,
+        options,
+        warp,
+        FaultClock::default(),
+    )
+    .await
 }
 
 /// [`spawn_warped`] with the fault plan counted from `clock`'s origin (in the edge's wall

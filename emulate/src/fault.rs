@@ -201,7 +201,11 @@ impl FaultClock {
     /// The plan's time at emulator time `t` (−∞ while pending: before every fault).
     pub fn plan_time(&self, t: f64) -> f64 {
         let o = self.origin();
-        if o.is_finite() { t - o } else { f64::NEG_INFINITY }
+        if o.is_finite() {
+            t - o
+        } else {
+            f64::NEG_INFINITY
+        }
     }
 }
 
@@ -297,7 +301,10 @@ mod clock_tests {
         let c = FaultClock::pending();
         let shared = c.clone();
         assert!(!plan.leak(c.plan_time(1e9)) && !plan.silent(c.plan_time(5.5)));
-        assert_eq!(plan.disconnects_between(c.plan_time(0.0), c.plan_time(1e9)), 0);
+        assert_eq!(
+            plan.disconnects_between(c.plan_time(0.0), c.plan_time(1e9)),
+            0
+        );
         // The mission starts 3.5 s into the emulator's run: its 10 s is the emulator's 13.5.
         shared.start_at(3.5);
         assert_eq!(c.origin(), 3.5);

@@ -634,7 +634,7 @@ fn make_sim_devices(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
         controls,
         cx.launch.start,
     )
-        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
+    .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
     cx.warnings.extend(app.warnings().iter().cloned());
     Ok(Built::App(Box::new(app)))
 }

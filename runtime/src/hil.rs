@@ -858,7 +858,8 @@ mod tests {
         let w: Vec<String> = own.warnings().iter().map(Diagnostic::located).collect();
         assert_eq!(w.len(), 1, "{w:?}");
         assert!(
-            w[0].contains("h.moos:4") && w[0].contains("uSimDevices: parameter `fin_0_direction = 2`"),
+            w[0].contains("h.moos:4")
+                && w[0].contains("uSimDevices: parameter `fin_0_direction = 2`"),
             "{w:?}"
         );
         // Neither: pCougControls' defaults, as pCougControls itself would run.
@@ -896,7 +897,13 @@ mod tests {
             "{w:?}"
         );
         assert_eq!(app.kinematics(), &CougarsConfig::coug2().kinematics);
-        let c = BenchConfig::from_block(crate::app::App::process_config(&app), Some((40.0, -111.0)), 4.0, 9).unwrap();
+        let c = BenchConfig::from_block(
+            crate::app::App::process_config(&app),
+            Some((40.0, -111.0)),
+            4.0,
+            9,
+        )
+        .unwrap();
         assert_eq!(
             (c.declination_deg, c.atmospheric_pa, c.warp, c.origin),
             (10.7, 84246.0, 4.0, Some((40.0, -111.0)))

@@ -215,13 +215,17 @@ mod tests {
             notes.push(Note::Warning("counting".into()));
         }
         fn report(&self, now: f64, body: &mut String) {
-            body.push_str(&format!("mail={} iter={} at {now}\n", self.mail, self.iterations));
+            body.push_str(&format!(
+                "mail={} iter={} at {now}\n",
+                self.mail, self.iterations
+            ));
         }
     }
 
     #[test]
     fn the_layer_takes_its_mail_and_the_core_writes_the_cast() {
-        let block = crate::testing::block("h.moos", "ProcessConfig = pCount\n{\n  AppTick = 4\n}\n");
+        let block =
+            crate::testing::block("h.moos", "ProcessConfig = pCount\n{\n  AppTick = 4\n}\n");
         let warn = Diagnostic::line_warning(
             mission::diagnostic::DiagnosticKind::AppSetting,
             &block.span,
@@ -232,7 +236,8 @@ mod tests {
         assert_eq!(app.warnings().len(), 1);
         assert_eq!(app.app_tick(), 4.0);
         assert_eq!(app.with_tick(12.5).app_tick(), 12.5);
-        let block = crate::testing::block("h.moos", "ProcessConfig = pCount\n{\n  AppTick = 4\n}\n");
+        let block =
+            crate::testing::block("h.moos", "ProcessConfig = pCount\n{\n  AppTick = 4\n}\n");
         let mut app = Hosted::host("pCount", block, Vec::new(), Counter::default());
         let subs: Vec<String> = app.subscriptions().into_iter().map(|s| s.pattern).collect();
         assert_eq!(subs.first().map(String::as_str), Some("APPCAST_REQ"));
@@ -252,7 +257,11 @@ mod tests {
         let keys: Vec<&str> = out.iter().map(|p| &*p.key).collect();
         assert_eq!(keys, ["SEEN", "ITER", "APPCAST"]);
         let cast = appcast::AppCast::parse(out[2].value.as_str().unwrap());
-        assert!(cast.messages().contains("mail=1 iter=1 at 1.25"), "{}", cast.messages());
+        assert!(
+            cast.messages().contains("mail=1 iter=1 at 1.25"),
+            "{}",
+            cast.messages()
+        );
         assert!(cast.run_warnings().keys().any(|w| w.contains("counting")));
         assert!(cast.events().any(|e| e.contains("mail 1")));
         app.core_mut().mail = 5;

@@ -312,10 +312,12 @@ impl Supervisor {
         }
         if let Some(t) = self.heard.get_mut(source) {
             *t = t.max(time);
-            self.unwatched_at_heard.insert(source.to_string(), unwatched);
+            self.unwatched_at_heard
+                .insert(source.to_string(), unwatched);
         } else if self.status_vars.values().any(|a| a == source) {
             self.heard.insert(source.to_string(), time);
-            self.unwatched_at_heard.insert(source.to_string(), unwatched);
+            self.unwatched_at_heard
+                .insert(source.to_string(), unwatched);
         }
         self.unwatched_at_mail.insert(key.to_string(), unwatched);
         if key == RESET_VAR

@@ -666,7 +666,11 @@ fn disarming_under_the_surface_flag_centres_the_fins_and_stops_the_thrust() {
     let mut c = armed(coug1());
     c.on_mail(vars::COUG_SURFACE, ValueRef::String("true"), 0.5);
     let out = tick(&mut c, 1.0, (90.0, 1.0, 3.0), (45.0, 1.0, 0.0, 1.0));
-    assert_eq!(num(&out, vars::FIN_DEFLECT_PORT_DEG), 30.0, "fins up while armed");
+    assert_eq!(
+        num(&out, vars::FIN_DEFLECT_PORT_DEG),
+        30.0,
+        "fins up while armed"
+    );
     c.on_mail("DEPLOY", ValueRef::String("false"), 1.05);
     let out = tick(&mut c, 1.1, (90.0, 1.0, 3.0), (45.0, 1.0, 0.0, 1.0));
     for (var, want) in [
@@ -684,7 +688,8 @@ fn disarming_under_the_surface_flag_centres_the_fins_and_stops_the_thrust() {
     assert_eq!(c.last_command().1.fin, [0.0; 3]);
     let out = tick(&mut c, 1.2, (90.0, 1.0, 3.0), (45.0, 1.0, 0.0, 1.0));
     assert!(
-        out.iter().all(|p| !p.key.starts_with("FIN_") && p.key != vars::THRUST_PCT),
+        out.iter()
+            .all(|p| !p.key.starts_with("FIN_") && p.key != vars::THRUST_PCT),
         "nothing more while disarmed"
     );
     // Armed again under the flag: the fins go up again (the flag is the operator's to lift).
