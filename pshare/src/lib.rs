@@ -27,6 +27,8 @@ pub mod config;
 pub mod datagram;
 pub mod route;
 
-pub use config::{Command, Config, ConfigError, Endpoint, InputSpec, LineError, OutputSpec};
+pub use config::{
+    Command, Config, ConfigError, Endpoint, InputSpec, LineError, OutputSpec, RadioGate,
+};
 pub use datagram::{DatagramError, EncodeError, MAX_UDP_SIZE, RxCounts};
 pub use route::{Added, Route, RouteTable, Send};
