@@ -166,3 +166,298 @@ fn warn(block: &ProcessConfig, line: Option<u32>, message: String) -> Diagnostic
 fn host_ip(value: &str) -> Option<String> {
     is_valid_ip(value).then(|| value.to_string())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::app::{App, Post, Value};
+    use crate::testing::block;
+
+    fn mail_from(community: &str, key: &str, value: &str, time: f64) -> Mail {
+        Mail {
+            key: key.into(),
+            value: Value::text(value),
+            time,
+            source: "x".into(),
+            source_aux: Default::default(),
+            community: community.into(),
+        }
+    }
+
+    fn texts<'a>(out: &'a [Post], key: &str) -> Vec<&'a str> {
+        out.iter()
+            .filter(|p| &*p.key == key)
+            .filter_map(|p| p.value.as_str())
+            .collect()
+    }
+
+    fn node(community: &str) -> NodeBrokerApp {
+        NodeBrokerApp::new(
+            NODE_BROKER,
+            block(
+                "v.moos",
+                "ProcessConfig = uFldNodeBroker\n{\n  try_shore_host = pshare_route=localhost:9300\n  \
+                 bridge = src=NODE_REPORT_LOCAL, alias=NODE_REPORT\n  auto_bridge_realmcast = false\n  \
+                 auto_bridge_appcast = false\n}\n",
+            ),
+            community,
+            9001,
+            1.0,
+        )
+    }
+
+    fn shore(extra: &str) -> ShoreBrokerApp {
+        ShoreBrokerApp::new(
+            SHORE_BROKER,
+            block(
+                "s.moos",
+                &format!(
+                    "ProcessConfig = uFldShoreBroker\n{{\n  qbridge = DEPLOY\n  \
+                     auto_bridge_realmcast = false\n  auto_bridge_appcast = false\n  \
+                     auto_bridge_mhash = false\n{extra}}}\n"
+                ),
+            ),
+            "shoreside",
+            9000,
+            1.0,
+        )
+    }
+
+    /// The ping of `n` at `t` once its pShare reported its input route.
+    fn ping(n: &mut NodeBrokerApp, t: f64) -> String {
+        let mut out = Vec::new();
+        n.on_mail(
+            &[mail_from(
+                "henry",
+                "PSHARE_INPUT_SUMMARY",
+                "localhost:9301",
+                t,
+            )],
+            t,
+            &mut out,
+        )
+        .unwrap();
+        n.iterate(t, &mut out).unwrap();
+        texts(&out, "NODE_BROKER_PING_0")[0].to_string()
+    }
+
+    #[test]
+    fn a_ping_is_acknowledged_and_the_node_then_bridges_its_variables() {
+        let mut n = node("henry");
+        let mut out = Vec::new();
+        n.on_startup(100.0, &mut out).unwrap();
+        assert_eq!(
+            texts(&out, "PSHARE_CMD"),
+            [
+                "cmd=output,src_name=NODE_BROKER_PING_0,dest_name=NODE_BROKER_PING,route=localhost:9300"
+            ]
+        );
+        let p = ping(&mut n, 101.0);
+        assert_eq!(
+            p,
+            "community=henry,hostip=localhost,port_db=9001,port_udp=9301,\
+             pshare_iroutes=localhost:9301,timewarp=1,time=101.00,key=0"
+        );
+        let mut s = shore("");
+        s.on_startup(100.0, &mut out).unwrap();
+        out.clear();
+        // Its own community's ping is not a node's.
+        s.on_mail(
+            &[mail_from("shoreside", "NODE_BROKER_PING", &p, 101.0)],
+            101.0,
+            &mut out,
+        )
+        .unwrap();
+        assert!(s.nodes().is_empty());
+        s.on_mail(
+            &[mail_from("henry", "NODE_BROKER_PING", &p, 101.0)],
+            101.0,
+            &mut out,
+        )
+        .unwrap();
+        assert_eq!(s.nodes(), ["henry"]);
+        s.on_mail(
+            &[mail_from(
+                "shoreside",
+                "PSHARE_INPUT_SUMMARY",
+                "localhost:9300",
+                101.0,
+            )],
+            101.0,
+            &mut out,
+        )
+        .unwrap();
+        s.iterate(101.5, &mut out).unwrap();
+        let cmds = texts(&out, "PSHARE_CMD");
+        assert_eq!(
+            cmds,
+            [
+                "cmd=output,src_name=DEPLOY_ALL,dest_name=DEPLOY,route=localhost:9301",
+                "cmd=output,src_name=DEPLOY_HENRY,dest_name=DEPLOY,route=localhost:9301",
+                "cmd=output,src_name=NODE_BROKER_ACK_HENRY,dest_name=NODE_BROKER_ACK,route=localhost:9301",
+            ]
+        );
+        let ack = texts(&out, "NODE_BROKER_ACK_HENRY")[0].to_string();
+        assert_eq!(
+            ack,
+            "community=shoreside,hostip=localhost,port_db=9000,port_udp=9300,\
+             pshare_iroutes=localhost:9300,timewarp=1,status=ok,key=0,id=0"
+        );
+        let count: Vec<Option<f64>> = out
+            .iter()
+            .filter(|p| &*p.key == "UFSB_NODE_COUNT")
+            .map(|p| p.value.as_f64())
+            .collect();
+        assert_eq!(count, [Some(1.0)]);
+        // The node takes the acknowledgement (from another community) and bridges.
+        out.clear();
+        n.on_mail(
+            &[mail_from("henry", "NODE_BROKER_ACK", &ack, 102.0)],
+            102.0,
+            &mut out,
+        )
+        .unwrap();
+        assert_eq!(n.acks(), (0, 0), "its own community's ack is not taken");
+        n.on_mail(
+            &[mail_from("shoreside", "NODE_BROKER_ACK", &ack, 102.0)],
+            102.0,
+            &mut out,
+        )
+        .unwrap();
+        assert_eq!(n.acks(), (1, 0));
+        assert_eq!(
+            texts(&out, "NODE_PSHARE_VARS"),
+            ["NODE_REPORT,NODE_PSHARE_VARS"]
+        );
+        assert_eq!(
+            texts(&out, "PSHARE_CMD"),
+            [
+                "cmd=output,src_name=NODE_REPORT_LOCAL,dest_name=NODE_REPORT,route=localhost:9300",
+                "cmd=output,src_name=NODE_PSHARE_VARS,dest_name=NODE_PSHARE_VARS,route=localhost:9300",
+            ]
+        );
+        // Acknowledged (within 5 s): pings every 20 s now, and the ping routes are no longer
+        // restated.
+        n.on_mail(
+            &[mail_from("shoreside", "NODE_BROKER_ACK", &ack, 108.0)],
+            108.0,
+            &mut out,
+        )
+        .unwrap();
+        out.clear();
+        n.iterate(110.0, &mut out).unwrap();
+        assert!(texts(&out, "NODE_BROKER_PING_0").is_empty());
+        assert!(texts(&out, "PSHARE_CMD").is_empty());
+        // A stale node gets no more acknowledgements.
+        out.clear();
+        s.iterate(111.5, &mut out).unwrap();
+        assert!(texts(&out, "NODE_BROKER_ACK_HENRY").is_empty());
+    }
+
+    #[test]
+    fn mismatched_pings_and_bad_acks_are_flagged() {
+        let mut n = node("henry");
+        let p = ping(&mut n, 100.0);
+        let mut s = shore("  keyword = lemon\n");
+        let mut out = Vec::new();
+        s.on_mail(
+            &[mail_from(
+                "shoreside",
+                "PSHARE_INPUT_SUMMARY",
+                "localhost:9300",
+                1.0,
+            )],
+            1.0,
+            &mut out,
+        )
+        .unwrap();
+        let other_warp = p.replace("timewarp=1", "timewarp=2");
+        s.on_mail(
+            &[mail_from("henry", "NODE_BROKER_PING", &other_warp, 1.0)],
+            1.0,
+            &mut out,
+        )
+        .unwrap();
+        s.on_mail(
+            &[mail_from(
+                "henry",
+                "NODE_BROKER_PING",
+                "community=henry",
+                1.0,
+            )],
+            1.0,
+            &mut out,
+        )
+        .unwrap();
+        s.iterate(1.5, &mut out).unwrap();
+        // The node has no keyword: a shoreside with one says so.
+        let ack = texts(&out, "NODE_BROKER_ACK_HENRY")[0].to_string();
+        assert!(ack.contains(",status=keyword_mismatch,key=0,"), "{ack}");
+        let mut out = Vec::new();
+        for bad in [
+            ack.replace("key=0", "key=7"),
+            ack.replace(",key=0", ""),
+            "community=shoreside".to_string(),
+        ] {
+            n.on_mail(
+                &[mail_from("shoreside", "NODE_BROKER_ACK", &bad, 2.0)],
+                2.0,
+                &mut out,
+            )
+            .unwrap();
+        }
+        assert_eq!(n.acks(), (0, 3));
+        assert!(texts(&out, "PSHARE_CMD").is_empty());
+    }
+
+    #[test]
+    fn try_vnode_sends_the_shore_route_and_a_node_adds_it() {
+        let mut s = shore("  try_vnode = route=127.0.0.1:9301\n  try_vnode = route=127.0.0.1\n");
+        assert!(s.warnings().is_empty(), "{:?}", s.warnings());
+        let mut out = Vec::new();
+        s.on_mail(
+            &[mail_from(
+                "shoreside",
+                "PSHARE_INPUT_SUMMARY",
+                "localhost:9300",
+                50.0,
+            )],
+            50.0,
+            &mut out,
+        )
+        .unwrap();
+        s.iterate(50.0, &mut out).unwrap();
+        assert_eq!(
+            texts(&out, "PSHARE_CMD"),
+            [
+                "cmd=output,src_name=TRY_SHORE_HOST,dest_name=TRY_SHORE_HOST,route=127.0.0.1:9301",
+                "cmd=output,src_name=TRY_SHORE_HOST,dest_name=TRY_SHORE_HOST,route=127.0.0.1:9200",
+            ]
+        );
+        let tries = texts(&out, "TRY_SHORE_HOST");
+        assert_eq!(tries, ["pshare_route=localhost:9300"; 2]);
+        let mut n = NodeBrokerApp::new(
+            NODE_BROKER,
+            block("v.moos", "ProcessConfig = uFldNodeBroker\n{\n}\n"),
+            "henry",
+            9001,
+            1.0,
+        );
+        let mut out = Vec::new();
+        n.on_mail(
+            &[mail_from("shoreside", "TRY_SHORE_HOST", tries[0], 50.5)],
+            50.5,
+            &mut out,
+        )
+        .unwrap();
+        n.on_mail(
+            &[mail_from("shoreside", "TRY_SHORE_HOST", tries[0], 50.5)],
+            50.5,
+            &mut out,
+        )
+        .unwrap();
+        assert_eq!(n.shore_routes(), ["localhost:9300"], "a repeat is ignored");
+        // ... but its ping route is restated, as a2a9b716 does.
+        assert_eq!(texts(&out, "PSHARE_CMD").len(), 2);
+    }
+}
