@@ -376,6 +376,94 @@ fn a_real_time_fleet_gives_each_community_its_own_db() {
     }
 }
 
+/// A real-time fleet tells its observer every community's progress values (`NAME:VAR`) and
+/// helm summaries, as a lockstep one does: what `coug run X.fleet` prints per community.
+#[test]
+fn a_real_time_fleet_reports_each_communitys_progress() {
+    let dir = fresh_dir("run-fleet-realtime-progress");
+    let mission = |community: &str, x: f64| {
+        format!(
+            "ServerHost = localhost\nServerPort = 0\nCommunity = {community}\n\
+             ProcessConfig = ANTLER\n{{\n  Run = MOOSDB @ NewConsole = false\n  \
+             Run = uTimerScript @ NewConsole = false\n}}\n\
+             ProcessConfig = uTimerScript\n{{\n  AppTick = 20\n  \
+             event = var=NAV_X, val={x}, time=0.1\n  event = var=IVPHELM_STATE, val=PARK, time=0.1\n  \
+             event = var=DONE, val=1, time=4\n}}\n"
+        )
+    };
+    std::fs::write(dir.join("a.moos"), mission("alpha", 1.5)).unwrap();
+    std::fs::write(dir.join("b.moos"), mission("bravo", -2.5)).unwrap();
+    let loaded = LoadedFleet::from_missions(&[dir.join("a.moos"), dir.join("b.moos")], &[], &[])
+        .expect("loads");
+    let opts = FleetOptions {
+        mode: Mode::RealTime {
+            warp: Some(4.0),
+            port: None,
+        },
+        until: vec!["alpha: DONE = 1".into(), "bravo: DONE = 1".into()],
+        max_time: 60.0,
+        log_dir: Some(dir.join("logs")),
+        ..FleetOptions::default()
+    };
+    let mut seen = Progress::default();
+    let report = session::run_fleet(&loaded, &opts, &mut seen).expect("runs");
+    assert!(!report.until_pending(), "{report}");
+    assert!(seen.steps > 0);
+    for (key, want) in [
+        ("alpha:NAV_X", "1.5"),
+        ("bravo:NAV_X", "-2.5"),
+        ("alpha:IVPHELM_STATE", "PARK"),
+        ("bravo:IVPHELM_STATE", "PARK"),
+        // A plain name reads the first vehicle's (here the first community: no helm runs).
+        ("NAV_X", "1.5"),
+    ] {
+        assert_eq!(
+            seen.values.get(key).map(String::as_str),
+            Some(want),
+            "{key}"
+        );
+    }
+    // Nothing is reported for a community the fleet does not have.
+    assert!(!seen.values.contains_key("charlie:NAV_X"));
+    // Simulated time only grows.
+    assert!(
+        seen.times.windows(2).all(|w| w[0] <= w[1]),
+        "{:?}",
+        seen.times
+    );
+}
+
+/// What a fleet's observer was told about progress.
+#[derive(Default)]
+struct Progress {
+    steps: usize,
+    times: Vec<f64>,
+    values: BTreeMap<String, String>,
+}
+
+impl session::Observer for Progress {
+    fn step(&mut self, sim_s: f64, current: &dyn Fn(&str) -> Option<runtime::app::Value>) {
+        self.steps += 1;
+        self.times.push(sim_s);
+        for k in [
+            "alpha:NAV_X",
+            "bravo:NAV_X",
+            "alpha:IVPHELM_STATE",
+            "bravo:IVPHELM_STATE",
+            "NAV_X",
+            "charlie:NAV_X",
+        ] {
+            if let Some(v) = current(k) {
+                let text = match v {
+                    runtime::app::Value::Double(x) => x.to_string(),
+                    v => v.as_str().unwrap_or_default().to_string(),
+                };
+                self.values.insert(k.to_string(), text);
+            }
+        }
+    }
+}
+
 #[derive(Default)]
 struct Notices(Vec<String>);
 

@@ -15,7 +15,28 @@ use runtime::session::{self, Ended, FleetOptions, Mode};
 
 const VEHICLES: [&str; 3] = ["henry", "ike", "jing"];
 
-fn run(name: &str) -> BTreeMap<String, Vec<u8>> {
+/// What the fleet's observer was told: each community's helm summaries and progress values.
+#[derive(Default)]
+struct Seen {
+    summaries: BTreeMap<String, usize>,
+    nav_x: BTreeMap<String, f64>,
+}
+
+impl session::Observer for Seen {
+    fn member_helm_summary(&mut self, member: &str, _summary: &str) {
+        *self.summaries.entry(member.to_string()).or_default() += 1;
+    }
+
+    fn step(&mut self, _sim_s: f64, current: &dyn Fn(&str) -> Option<runtime::app::Value>) {
+        for v in VEHICLES {
+            if let Some(x) = current(&format!("{v}:NAV_X")).and_then(|x| x.as_f64()) {
+                self.nav_x.insert(v.to_string(), x);
+            }
+        }
+    }
+}
+
+fn run(name: &str) -> (BTreeMap<String, Vec<u8>>, Seen) {
     let dir = fresh_dir(name);
     let fleet = project_mission("fleet_brokers/fleet_brokers.fleet");
     let loaded = LoadedFleet::from_file(&fleet, &[], &[]).expect("the fleet loads");
@@ -32,7 +53,8 @@ fn run(name: &str) -> BTreeMap<String, Vec<u8>> {
         log_dir: Some(dir.join("logs")),
         ..FleetOptions::default()
     };
-    let report = session::run_fleet(&loaded, &opts, &mut session::Quiet).expect("runs");
+    let mut seen = Seen::default();
+    let report = session::run_fleet(&loaded, &opts, &mut seen).expect("runs");
     assert!(
         matches!(
             report.ended,
@@ -40,14 +62,15 @@ fn run(name: &str) -> BTreeMap<String, Vec<u8>> {
         ),
         "{report}"
     );
-    report
+    let logs = report
         .members
         .iter()
         .map(|(m, _)| {
             let alog = find_alog(&dir.join("logs").join(m));
             (m.clone(), std::fs::read(alog).expect("alog readable"))
         })
-        .collect()
+        .collect();
+    (logs, seen)
 }
 
 fn values<'a>(log: &'a alog::Alog, var: &str) -> Vec<&'a alog::Entry> {
@@ -56,8 +79,26 @@ fn values<'a>(log: &'a alog::Alog, var: &str) -> Vec<&'a alog::Entry> {
 
 #[test]
 fn the_brokers_find_the_fleet_and_bridge_reports_and_commands_at_run_time() {
-    let a = run("run-fleet-brokers-1");
-    let b = run("run-fleet-brokers-1");
+    let (a, seen) = run("run-fleet-brokers-1");
+    let (b, _) = run("run-fleet-brokers-1");
+    // The observer heard every vehicle's helm and read its position by name (what `coug
+    // run` prints per community); each came home near its start x (0, 60, 120).
+    for (v, home) in VEHICLES.iter().zip([0.0, 60.0, 120.0]) {
+        assert!(
+            seen.summaries.get(*v).is_some_and(|n| *n > 10),
+            "{v}: {:?}",
+            seen.summaries
+        );
+        assert!(
+            (seen.nav_x[*v] - home).abs() < 10.0,
+            "{v}: {:?}",
+            seen.nav_x
+        );
+    }
+    assert!(
+        !seen.summaries.contains_key("shoreside"),
+        "no helm on the shoreside"
+    );
     assert_eq!(a.len(), 4);
     for (name, bytes) in &a {
         assert!(
