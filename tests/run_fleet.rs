@@ -243,6 +243,82 @@ fn fleet_errors_name_their_line_and_targets_must_exist() {
     );
 }
 
+/// The surface-only radio in a lockstep fleet: a vehicle whose pShare sets
+/// `radio_max_depth` stops reaching the shoreside (and hearing it) while its `NAV_DEPTH` is
+/// deeper, hears and is heard again on surfacing, and nothing of the dive is replayed.
+#[test]
+fn a_diving_vehicle_leaves_the_radio_link_and_rejoins_it_at_the_surface() {
+    let dir = fresh_dir("run-fleet-radio");
+    let events = |var: &str| {
+        (1..=30)
+            .map(|k| format!("  event = var={var}, val={k}, time={k}\n"))
+            .collect::<String>()
+    };
+    // Lockstep opens neither the MOOSDB ports nor the in-process pShare routes.
+    let mission = |community: &str, share: &str, script: &str| {
+        format!(
+            "ServerHost = localhost\nServerPort = 9000\nCommunity = {community}\n\
+             ProcessConfig = ANTLER\n{{\n  Run = MOOSDB @ NewConsole = false\n  \
+             Run = pLogger @ NewConsole = false\n  Run = uTimerScript @ NewConsole = false\n  \
+             Run = pShare @ NewConsole = false\n}}\n\
+             ProcessConfig = pLogger\n{{\n  AppTick = 10\n  WildCardLogging = true\n}}\n\
+             ProcessConfig = pShare\n{{\n  AppTick = 4\n{share}}}\n\
+             ProcessConfig = uTimerScript\n{{\n  AppTick = 4\n{script}}}\n"
+        )
+    };
+    let diver = mission(
+        "diver",
+        "  radio_max_depth = 1\n  input = route = localhost:39511\n  \
+         output = PING->localhost:39510\n",
+        &format!(
+            "  event = var=NAV_DEPTH, val=0, time=0.5\n  event = var=NAV_DEPTH, val=3, time=9.5\n  \
+             event = var=NAV_DEPTH, val=0.4, time=19.5\n  event = var=DONE, val=1, time=31\n{}",
+            events("PING")
+        ),
+    );
+    let shore = mission(
+        "shore",
+        "  input = route = localhost:39510\n  output = SHORE_PING->localhost:39511\n",
+        &events("SHORE_PING"),
+    );
+    std::fs::write(dir.join("diver.moos"), diver).unwrap();
+    std::fs::write(dir.join("shore.moos"), shore).unwrap();
+    let loaded =
+        LoadedFleet::from_missions(&[dir.join("shore.moos"), dir.join("diver.moos")], &[], &[])
+            .expect("loads");
+    let checked = session::validate_fleet(&loaded);
+    assert!(checked.warnings.is_empty(), "{:?}", checked.warnings);
+    let opts = FleetOptions {
+        mode: Mode::Lockstep,
+        until: vec!["diver: DONE = 1".into()],
+        max_time: 60.0,
+        log_dir: Some(dir.join("logs")),
+        ..FleetOptions::default()
+    };
+    let report = session::run_fleet(&loaded, &opts, &mut session::Quiet).expect("runs");
+    assert!(!report.until_pending(), "{report}");
+    let heard = |community: &str, var: &str| -> Vec<u32> {
+        let log = parse(&std::fs::read(find_alog(&dir.join("logs").join(community))).unwrap());
+        log.entries
+            .iter()
+            .filter(|e| e.var == var)
+            .map(|e| e.value.as_f64().expect("a number") as u32)
+            .collect()
+    };
+    // Sent at 1..9 s (at the surface) and from 20 s on; none from the dive, none replayed.
+    let pings = heard("shore", "PING");
+    let want: Vec<u32> = (1..=9).chain(20..=30).collect();
+    assert_eq!(pings, want);
+    // What the shoreside sent during the dive (and at 19 s, read by the diver at 19.25 s,
+    // still under) was dropped on arrival.
+    let shore_pings = heard("diver", "SHORE_PING");
+    assert_eq!(shore_pings[..9], [1, 2, 3, 4, 5, 6, 7, 8, 9]);
+    assert!(
+        shore_pings[9..].iter().all(|k| *k >= 20) && shore_pings.contains(&20),
+        "{shore_pings:?}"
+    );
+}
+
 /// A real-time fleet of two tiny communities, each with its own TCP MOOSDB on a port the
 /// system picks (ServerPort = 0): each runs until its own condition holds.
 #[test]
@@ -297,6 +373,94 @@ fn a_real_time_fleet_gives_each_community_its_own_db() {
             log.entries.iter().any(|e| e.var == var),
             "{name} logged {var}"
         );
+    }
+}
+
+/// A real-time fleet tells its observer every community's progress values (`NAME:VAR`) and
+/// helm summaries, as a lockstep one does: what `coug run X.fleet` prints per community.
+#[test]
+fn a_real_time_fleet_reports_each_communitys_progress() {
+    let dir = fresh_dir("run-fleet-realtime-progress");
+    let mission = |community: &str, x: f64| {
+        format!(
+            "ServerHost = localhost\nServerPort = 0\nCommunity = {community}\n\
+             ProcessConfig = ANTLER\n{{\n  Run = MOOSDB @ NewConsole = false\n  \
+             Run = uTimerScript @ NewConsole = false\n}}\n\
+             ProcessConfig = uTimerScript\n{{\n  AppTick = 20\n  \
+             event = var=NAV_X, val={x}, time=0.1\n  event = var=IVPHELM_STATE, val=PARK, time=0.1\n  \
+             event = var=DONE, val=1, time=4\n}}\n"
+        )
+    };
+    std::fs::write(dir.join("a.moos"), mission("alpha", 1.5)).unwrap();
+    std::fs::write(dir.join("b.moos"), mission("bravo", -2.5)).unwrap();
+    let loaded = LoadedFleet::from_missions(&[dir.join("a.moos"), dir.join("b.moos")], &[], &[])
+        .expect("loads");
+    let opts = FleetOptions {
+        mode: Mode::RealTime {
+            warp: Some(4.0),
+            port: None,
+        },
+        until: vec!["alpha: DONE = 1".into(), "bravo: DONE = 1".into()],
+        max_time: 60.0,
+        log_dir: Some(dir.join("logs")),
+        ..FleetOptions::default()
+    };
+    let mut seen = Progress::default();
+    let report = session::run_fleet(&loaded, &opts, &mut seen).expect("runs");
+    assert!(!report.until_pending(), "{report}");
+    assert!(seen.steps > 0);
+    for (key, want) in [
+        ("alpha:NAV_X", "1.5"),
+        ("bravo:NAV_X", "-2.5"),
+        ("alpha:IVPHELM_STATE", "PARK"),
+        ("bravo:IVPHELM_STATE", "PARK"),
+        // A plain name reads the first vehicle's (here the first community: no helm runs).
+        ("NAV_X", "1.5"),
+    ] {
+        assert_eq!(
+            seen.values.get(key).map(String::as_str),
+            Some(want),
+            "{key}"
+        );
+    }
+    // Nothing is reported for a community the fleet does not have.
+    assert!(!seen.values.contains_key("charlie:NAV_X"));
+    // Simulated time only grows.
+    assert!(
+        seen.times.windows(2).all(|w| w[0] <= w[1]),
+        "{:?}",
+        seen.times
+    );
+}
+
+/// What a fleet's observer was told about progress.
+#[derive(Default)]
+struct Progress {
+    steps: usize,
+    times: Vec<f64>,
+    values: BTreeMap<String, String>,
+}
+
+impl session::Observer for Progress {
+    fn step(&mut self, sim_s: f64, current: &dyn Fn(&str) -> Option<runtime::app::Value>) {
+        self.steps += 1;
+        self.times.push(sim_s);
+        for k in [
+            "alpha:NAV_X",
+            "bravo:NAV_X",
+            "alpha:IVPHELM_STATE",
+            "bravo:IVPHELM_STATE",
+            "NAV_X",
+            "charlie:NAV_X",
+        ] {
+            if let Some(v) = current(k) {
+                let text = match v {
+                    runtime::app::Value::Double(x) => x.to_string(),
+                    v => v.as_str().unwrap_or_default().to_string(),
+                };
+                self.values.insert(k.to_string(), text);
+            }
+        }
     }
 }
 

@@ -2,9 +2,10 @@
 //!
 //! Every authenticated frame is `id | body | tag`, where the body starts with an
 //! [`Auth`](crate::messages::Auth) header (sender 4 bits, destination 4 bits, sequence number
-//! 24 bits) and the tag is the first [`TAG_BYTES`] bytes of HMAC-SHA256 over `id | body`
-//! under the fleet's shared key. The cost is 7 bytes per command: 3 of sequence number and 4
-//! of tag (the sender and destination ids are addressing every command needs anyway).
+//! 24 bits, time sent 12 bits) and the tag is the first [`TAG_BYTES`] bytes of HMAC-SHA256
+//! over `id | body` under the fleet's shared key. The cost is 68 bits per command: 24 of
+//! sequence number, 12 of time and 32 of tag (the sender and destination ids are addressing
+//! every command needs anyway), 9 to 10 bytes once the body is padded to whole bytes.
 //!
 //! - A stray or hostile modem without the key must guess a 32-bit tag: one chance in 2^32
 //!   per packet. At one acoustic packet every 4 s, an attacker expects to need over 270
@@ -17,12 +18,19 @@
 //! - The window starts empty: a vehicle that reboots would accept a replay of a packet sent
 //!   before its reboot. Change the fleet key per mission (or keep the windows across
 //!   reboots) so that old recordings are worthless.
+//! - A delayed command (a recording of a command the vehicle never heard, jammed or out of
+//!   range, played to it later; or a command held up in a queue): the header carries the
+//!   time it was sent, DCCL-style, as whole seconds of the sender's clock modulo an hour (12
+//!   bits, [`time_stamp`]). A receiver given a maximum age ([`crate::Receiver::with_max_age`])
+//!   refuses a command whose age on its own clock ([`age`]) is beyond it, either way (a
+//!   stamp from the future beyond the same bound means a clock off by that much), and counts
+//!   it ([`crate::Counters::stale`]). The ages are read within half an hour: a recording
+//!   replayed a whole number of hours later passes this check, and the sequence numbers
+//!   must stop it (they do unless the vehicle rebooted). Confirmations carry the field too
+//!   and are not checked (they move nothing). The field costs 12 bits: 2 more bytes on a
+//!   kill, surface, abort or return (11 instead of 9), 1 on the others.
 //!
 //! What this does not cover:
-//! - A delayed command: a recording of a command the vehicle never heard (jammed, or out of
-//!   range) is accepted if played to it later, as long as it has accepted nothing newer from
-//!   that sender. A time field (DCCL-style, seconds modulo an hour: 12 bits) in the header
-//!   would bound that delay.
 //! - One key for the whole fleet: any node holding it can command the others. Per-node keys
 //!   would cost nothing on the wire (the sender id picks the key) but a key table on board.
 //!
@@ -31,6 +39,39 @@
 
 use hmac::{Hmac, Mac};
 use sha2::Sha256;
+
+/// The time field's modulo: an hour of seconds.
+pub const TIME_MODULO: u32 = 3600;
+
+/// The time field of a header sent at `now` (seconds of the sender's clock): whole seconds
+/// modulo [`TIME_MODULO`]; a time that is not finite gives 0.
+///
+/// ```
+/// assert_eq!(acomms::auth::time_stamp(7199.9), 3599);
+/// assert_eq!(acomms::auth::time_stamp(-1.5), 3598);
+/// ```
+pub fn time_stamp(now: f64) -> u16 {
+    if !now.is_finite() {
+        return 0;
+    }
+    now.floor().rem_euclid(f64::from(TIME_MODULO)) as u16
+}
+
+/// The age at `now` (the receiver's clock) of a header stamped `stamp`, in seconds, read
+/// within half an hour: in `[-1800, 1800)`, negative for a stamp ahead of the clock. A
+/// header stamped at `t` and read at `t + d` is `d` to `d + 1` old (the stamp drops the
+/// fraction).
+///
+/// ```
+/// use acomms::auth::{age, time_stamp};
+/// assert_eq!(age(time_stamp(3595.0), 3605.5), 10.5);
+/// assert_eq!(age(time_stamp(100.0), 90.0), -10.0);
+/// ```
+pub fn age(stamp: u16, now: f64) -> f64 {
+    let m = f64::from(TIME_MODULO);
+    let a = (now.rem_euclid(m) - f64::from(stamp)).rem_euclid(m);
+    if a >= m / 2.0 { a - m } else { a }
+}
 
 /// Bytes of truncated HMAC-SHA256 appended to an authenticated frame.
 pub const TAG_BYTES: usize = 4;

@@ -22,19 +22,21 @@
 //! | [`StatusRequest`] | 0x72 | 8 | 2 | no | 2 / 1 |
 //! | [`LocalisationRequest`] | 0x73 | 8 | 2 | no | 2 / - |
 //! | [`Localisation`] | 0x74 | 77 | 11 | no | 29 / - |
-//! | [`Confirm`] | 0x75 | 60 | 13 | yes | 3 / - |
-//! | [`Kill`] | 0x78 | 32 | 9 | yes | 2 / 1 |
-//! | [`Surface`] | 0x79 | 32 | 9 | yes | 2 / 1 |
-//! | [`Abort`] | 0x7A | 32 | 9 | yes | - / 1 |
-//! | [`Return`] | 0x7B | 32 | 9 | yes | - / 1 |
-//! | [`GoTo`] | 0x7C | 83 | 16 | yes | - |
-//! | [`Loiter`] | 0x7D | 92 | 17 | yes | - |
-//! | [`SetDepth`] | 0x7E | 43 | 11 | yes | - |
+//! | [`Confirm`] | 0x75 | 72 | 14 | yes | 3 / - |
+//! | [`Kill`] | 0x78 | 44 | 11 | yes | 2 / 1 |
+//! | [`Surface`] | 0x79 | 44 | 11 | yes | 2 / 1 |
+//! | [`Abort`] | 0x7A | 44 | 11 | yes | - / 1 |
+//! | [`Return`] | 0x7B | 44 | 11 | yes | - / 1 |
+//! | [`GoTo`] | 0x7C | 95 | 17 | yes | - |
+//! | [`Loiter`] | 0x7D | 104 | 18 | yes | - |
+//! | [`SetDepth`] | 0x7E | 55 | 12 | yes | - |
 //!
 //! The full status (position to 0.1 m over +-5 km, depth to 0.1 m, heading to 0.5 degree,
 //! speed, battery voltage, waypoint index, the 16-bit health word, navigation sigma and the
 //! vehicle's mode) takes 15 bytes where the paper's structs take 26-29. Authentication costs
-//! 7 bytes per command (a 24-bit sequence number and a 32-bit tag; see [`auth`]).
+//! 68 bits per command (a 24-bit sequence number, a 12-bit time sent and a 32-bit tag; see
+//! [`auth`]): the time field added 2 bytes to a kill, surface, abort or return (9 to 11) and
+//! 1 byte to the others.
 //!
 //! # Receiving
 //!
@@ -42,14 +44,15 @@
 //! valid message for this node: empty or truncated, too long, unknown id, a field out of its
 //! range or non-zero padding, a bad tag (wrong key, any byte changed), a sender id of 0 or of
 //! the receiver itself, a request or command for another node, a replayed or too old sequence
-//! number. No input makes it panic (`tests/fuzz.rs` runs [`fuzz::receive`]).
+//! number, and (given the receiver's clock, [`Receiver::receive_at`], and a maximum age,
+//! [`Receiver::with_max_age`]) a command sent longer ago than that. No input makes it panic (`tests/fuzz.rs` runs [`fuzz::receive`]).
 //!
 //! ```
 //! use acomms::{Auth, FleetKey, Kill, Packet, Receiver, Reject};
 //! let key = FleetKey::new(b"fleet secret, 32 random bytes...");
 //! let kill = Packet::Kill(Kill { auth: Auth::new(15, 2, 7) });
 //! let frame = kill.encode(&key).unwrap();
-//! assert_eq!(frame.len(), 9);
+//! assert_eq!(frame.len(), 11);
 //!
 //! let mut coug2 = Receiver::new(2, key.clone());
 //! assert_eq!(coug2.receive(&frame), Ok(kill));
@@ -349,6 +352,15 @@ pub enum Reject {
         /// The sequence number.
         seq: u32,
     },
+    /// A command whose time field is older (or further ahead) than the receiver's maximum
+    /// age on its clock.
+    #[error("{from}'s command is {age_s} s old")]
+    Stale {
+        /// The sender.
+        from: u8,
+        /// Its age in whole seconds (negative: ahead of the receiver's clock).
+        age_s: i32,
+    },
 }
 
 /// What a [`Receiver`] has seen: every payload is counted once, as accepted or under the
@@ -377,6 +389,8 @@ pub struct Counters {
     pub replayed: u64,
     /// Sequence number behind the window.
     pub too_old: u64,
+    /// Commands older than the maximum age (or stamped that far ahead).
+    pub stale: u64,
 }
 
 impl Counters {
@@ -391,6 +405,7 @@ impl Counters {
             + self.not_for_me
             + self.replayed
             + self.too_old
+            + self.stale
     }
 }
 
@@ -402,6 +417,7 @@ pub struct Receiver {
     key: FleetKey,
     windows: [ReplayWindow; MAX_NODE as usize + 1],
     counters: Counters,
+    max_age_s: Option<f64>,
 }
 
 impl Receiver {
@@ -412,7 +428,33 @@ impl Receiver {
             key,
             windows: [ReplayWindow::new(); MAX_NODE as usize + 1],
             counters: Counters::default(),
+            max_age_s: None,
         }
+    }
+
+    /// Refuses, in [`Receiver::receive_at`], commands whose time field is more than
+    /// `max_age_s` seconds old on the receiver's clock (or that far ahead); `None` (the
+    /// default) takes any age.
+    ///
+    /// ```
+    /// use acomms::{Auth, FleetKey, Kill, Packet, Receiver, Reject};
+    /// let key = FleetKey::new(b"k");
+    /// let sent_at = 1_786_000_010.0;
+    /// let kill = Packet::Kill(Kill { auth: Auth::new(15, 2, 7).at(sent_at) });
+    /// let frame = kill.encode(&key).unwrap();
+    /// let mut v = Receiver::new(2, key).with_max_age(Some(30.0));
+    /// assert_eq!(v.receive_at(&frame, sent_at + 45.0), Err(Reject::Stale { from: 15, age_s: 45 }));
+    /// assert_eq!(v.receive_at(&frame, sent_at + 3.0), Ok(kill));
+    /// assert_eq!(v.counters().stale, 1);
+    /// ```
+    pub fn with_max_age(mut self, max_age_s: Option<f64>) -> Self {
+        self.max_age_s = max_age_s;
+        self
+    }
+
+    /// The maximum age of a command, if any.
+    pub fn max_age(&self) -> Option<f64> {
+        self.max_age_s
     }
 
     /// This node's id.
@@ -430,10 +472,22 @@ impl Receiver {
         self.windows.get(usize::from(from))
     }
 
-    /// Decodes and checks one payload; the message if it is valid and for this node.
+    /// Decodes and checks one payload; the message if it is valid and for this node. No
+    /// clock: the time field is not checked (see [`Receiver::receive_at`]).
     pub fn receive(&mut self, payload: &[u8]) -> Result<Packet, Reject> {
+        self.receive_checked(payload, None)
+    }
+
+    /// [`Receiver::receive`] at `now` (the receiver's clock, seconds): a command older than
+    /// the maximum age ([`Receiver::with_max_age`]) is refused too, before its sequence number
+    /// is taken.
+    pub fn receive_at(&mut self, payload: &[u8], now: f64) -> Result<Packet, Reject> {
+        self.receive_checked(payload, Some(now))
+    }
+
+    fn receive_checked(&mut self, payload: &[u8], now: Option<f64>) -> Result<Packet, Reject> {
         self.counters.received += 1;
-        let r = self.check(payload);
+        let r = self.check(payload, now);
         let c = &mut self.counters;
         match r {
             Ok(_) => c.accepted += 1,
@@ -446,11 +500,12 @@ impl Receiver {
             Err(Reject::NotForMe { .. }) => c.not_for_me += 1,
             Err(Reject::Replayed { .. }) => c.replayed += 1,
             Err(Reject::TooOld { .. }) => c.too_old += 1,
+            Err(Reject::Stale { .. }) => c.stale += 1,
         }
         r
     }
 
-    fn check(&mut self, payload: &[u8]) -> Result<Packet, Reject> {
+    fn check(&mut self, payload: &[u8], now: Option<f64>) -> Result<Packet, Reject> {
         let Some(&id) = payload.first() else {
             return Err(Reject::Empty);
         };
@@ -483,6 +538,17 @@ impl Receiver {
             && to != BROADCAST
         {
             return Err(Reject::NotForMe { to });
+        }
+        if let (Some(a), Some(now), Some(max)) = (packet.auth(), now, self.max_age_s)
+            && !matches!(packet, Packet::Confirm(_))
+        {
+            let age = auth::age(a.time_s, now);
+            if age.abs() > max {
+                return Err(Reject::Stale {
+                    from: a.from,
+                    age_s: age.floor() as i32,
+                });
+            }
         }
         if let Some(a) = packet.auth() {
             let w = &mut self.windows[usize::from(a.from)];

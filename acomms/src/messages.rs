@@ -129,8 +129,9 @@ pub struct Localisation {
     pub heading_deg: f64,
 }
 
-/// The authenticated header of every command and confirmation: who sends, to whom, and the
-/// sender's sequence number (24 bits; see [`crate::auth`]).
+/// The authenticated header of every command and confirmation: who sends, to whom, the
+/// sender's sequence number (24 bits) and the time it was sent (12 bits: whole seconds of the
+/// sender's clock modulo an hour; see [`crate::auth`]).
 #[derive(Compact, Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Auth {
     /// The sender (1-15).
@@ -142,12 +143,35 @@ pub struct Auth {
     /// The sender's sequence number, strictly increasing per sender and key.
     #[compact(min = 0, max = 16_777_215, reject)]
     pub seq: u32,
+    /// When it was sent: whole seconds of the sender's clock modulo
+    /// [`crate::auth::TIME_MODULO`] ([`crate::auth::time_stamp`]).
+    #[compact(min = 0, max = 3599, reject)]
+    pub time_s: u16,
 }
 
 impl Auth {
-    /// A header from `from` to `to` with sequence number `seq`.
+    /// A header from `from` to `to` with sequence number `seq`, sent at stamp 0 (see
+    /// [`Auth::at`]).
     pub fn new(from: u8, to: u8, seq: u32) -> Self {
-        Self { from, to, seq }
+        Self {
+            from,
+            to,
+            seq,
+            time_s: 0,
+        }
+    }
+
+    /// The header stamped as sent at `now` (seconds of the sender's clock, MOOS time).
+    ///
+    /// ```
+    /// let a = acomms::Auth::new(1, 2, 3).at(1_786_000_123.7);
+    /// assert_eq!(u32::from(a.time_s), 1_786_000_123 % 3600);
+    /// ```
+    pub fn at(self, now: f64) -> Self {
+        Self {
+            time_s: crate::auth::time_stamp(now),
+            ..self
+        }
     }
 }
 

@@ -89,7 +89,15 @@ pub struct NetConfig {
     pub max_queue: usize,
     /// The first sequence number of this node's authenticated messages (0).
     pub first_seq: u32,
+    /// The oldest a command may be on this node's clock when it arrives, seconds (its
+    /// header's time field, see [`crate::auth`]); older ones (or stamped that far ahead)
+    /// are refused and counted as stale. `None`: any age (60 s by default).
+    pub command_max_age_s: Option<f64>,
 }
+
+/// The default oldest age of a command on arrival ([`NetConfig::command_max_age_s`]): a
+/// minute, many poll cycles of 4 s, far below the half hour the time field can tell.
+pub const DEFAULT_COMMAND_MAX_AGE_S: f64 = 60.0;
 
 impl NetConfig {
     /// A node with the defaults: 4 s slots and timeouts, two tries per command.
@@ -106,6 +114,7 @@ impl NetConfig {
             usbl_body_frame: false,
             max_queue: 32,
             first_seq: 0,
+            command_max_age_s: Some(DEFAULT_COMMAND_MAX_AGE_S),
         }
     }
 
@@ -822,7 +831,7 @@ impl Node {
             Vec::new()
         };
         Node {
-            receiver: Receiver::new(cfg.me, key.clone()),
+            receiver: Receiver::new(cfg.me, key.clone()).with_max_age(cfg.command_max_age_s),
             seq: Sequencer::starting_at(cfg.first_seq),
             key,
             queue: TxQueue::new(),
@@ -1051,7 +1060,7 @@ impl Node {
                 let Some(seq) = self.next_seq(out) else {
                     return;
                 };
-                let p = req.packet(Auth::new(me, req.to, seq));
+                let p = req.packet(Auth::new(me, req.to, seq).at(now));
                 if self.transmit(now, req.to, &p, out) {
                     self.counters.commands_sent += 1;
                     out.push(Event::Ack {
@@ -1089,7 +1098,7 @@ impl Node {
     /// A payload from the modem, from modem `src` when the modem says, with the fix it
     /// measured.
     pub fn receive(&mut self, now: f64, payload: &[u8], fix: Option<&Fix>, out: &mut Vec<Event>) {
-        let p = match self.receiver.receive(payload) {
+        let p = match self.receiver.receive_at(payload, now) {
             Ok(p) => p,
             Err(r) => {
                 out.push(Event::Rejected(r));
@@ -1278,7 +1287,7 @@ impl Node {
                     return;
                 };
                 let c = Confirm {
-                    auth: Auth::new(me, from, seq),
+                    auth: Auth::new(me, from, seq).at(now),
                     command: command.kind(),
                     command_seq: a.seq,
                     success: true,
@@ -1636,6 +1645,50 @@ mod tests {
         v2.receive(7.0, &frames(&rev)[0].1, None, &mut vev);
         assert!(!vev.iter().any(|e| matches!(e, Event::Apply { .. })));
         assert_eq!(v2.counters().unknown_sender, 1);
+    }
+
+    #[test]
+    fn a_command_delivered_later_than_its_maximum_age_is_refused_and_counted() {
+        // Two goto commands sent at 1000 s; one heard at once, the other held up (jammed,
+        // recorded and played later, or stuck in a queue) and delivered 61 s later: past
+        // the default 60 s it is refused as stale, counted, and applies nothing.
+        let mut b = poller();
+        let mut ev = Vec::new();
+        b.command(1000.0, "to=2,cmd=goto,x=10,y=20", &mut ev)
+            .unwrap();
+        b.command(1000.0, "to=3,cmd=goto,x=30,y=40", &mut ev)
+            .unwrap();
+        b.tick(1000.0, &mut ev);
+        b.tick(1004.0, &mut ev);
+        let f = frames(&ev);
+        let (to2, to3) = (f[0].1, f[1].1);
+        assert_eq!((f[0].0, f[1].0), (2, 3));
+        let mut v2 = vehicle(2);
+        let mut vev = Vec::new();
+        v2.receive(1000.5, &to2, None, &mut vev);
+        assert!(vev.iter().any(|e| matches!(e, Event::Apply { .. })));
+        let mut v3 = vehicle(3);
+        let mut late = Vec::new();
+        v3.receive(1004.0 + 61.0, &to3, None, &mut late);
+        assert!(!late.iter().any(|e| matches!(e, Event::Apply { .. })));
+        assert!(
+            late.iter().any(|e| matches!(
+                e,
+                Event::Rejected(Reject::Stale {
+                    from: 15,
+                    age_s: 61
+                })
+            )),
+            "{late:?}"
+        );
+        assert_eq!(v3.receiver_counters().stale, 1);
+        // Without a maximum age the late copy would have been taken.
+        let mut c = NetConfig::new(3, Role::Vehicle);
+        c.command_max_age_s = None;
+        let mut lax = Node::new(c, key());
+        let mut lev = Vec::new();
+        lax.receive(1004.0 + 61.0, &to3, None, &mut lev);
+        assert!(lev.iter().any(|e| matches!(e, Event::Apply { .. })));
     }
 
     #[test]

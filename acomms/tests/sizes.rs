@@ -16,14 +16,14 @@ fn size_table() {
             ("StatusRequest", 0x72, 8, 2, false),
             ("LocalisationRequest", 0x73, 8, 2, false),
             ("Localisation", 0x74, 77, 11, false),
-            ("Confirm", 0x75, 60, 13, true),
-            ("Kill", 0x78, 32, 9, true),
-            ("Surface", 0x79, 32, 9, true),
-            ("Abort", 0x7A, 32, 9, true),
-            ("Return", 0x7B, 32, 9, true),
-            ("GoTo", 0x7C, 83, 16, true),
-            ("Loiter", 0x7D, 92, 17, true),
-            ("SetDepth", 0x7E, 43, 11, true),
+            ("Confirm", 0x75, 72, 14, true),
+            ("Kill", 0x78, 44, 11, true),
+            ("Surface", 0x79, 44, 11, true),
+            ("Abort", 0x7A, 44, 11, true),
+            ("Return", 0x7B, 44, 11, true),
+            ("GoTo", 0x7C, 95, 17, true),
+            ("Loiter", 0x7D, 104, 18, true),
+            ("SetDepth", 0x7E, 55, 12, true),
         ]
     );
 }

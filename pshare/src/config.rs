@@ -163,6 +163,11 @@ pub struct Config {
     pub multicast_base_port: u16,
     /// `verbose`.
     pub verbose: bool,
+    /// `radio_max_depth` (coug only; `None`, the default: no gate, as MOOS's pShare): the
+    /// deepest `NAV_DEPTH` in metres at which the bridge is up. Deeper, the vehicle is
+    /// submerged and its radio or Wi-Fi link is down: nothing is sent, and what arrives is
+    /// dropped, never queued (see [`RadioGate`]).
+    pub radio_max_depth: Option<f64>,
 }
 
 impl Default for Config {
@@ -173,13 +178,15 @@ impl Default for Config {
             multicast_address: DEFAULT_MULTICAST_ADDRESS.to_string(),
             multicast_base_port: DEFAULT_MULTICAST_BASE_PORT,
             verbose: false,
+            radio_max_depth: None,
         }
     }
 }
 
 impl Config {
     /// Reads a block's `(line, key, value)` parameters: `output`, `input`,
-    /// `multicast_address`, `multicast_base_port` and `verbose` (case-insensitive keys);
+    /// `multicast_address`, `multicast_base_port`, `verbose` and coug's `radio_max_depth`
+    /// (a number of metres, at least 0; case-insensitive keys);
     /// others (AppTick, CommsTick, ...) are not pShare's and are left alone, as the C++ app
     /// does. Refused lines are returned beside what was read.
     ///
@@ -221,10 +228,70 @@ impl Config {
                     None => bad.push(refuse(ConfigError::BadPort(value.trim().to_string()))),
                 },
                 "verbose" => c.verbose = moos_types::text::config_bool(value.trim()),
+                "radio_max_depth" => match value.trim().parse::<f64>() {
+                    Ok(d) if d.is_finite() && d >= 0.0 => c.radio_max_depth = Some(d),
+                    _ => bad.push(refuse(ConfigError::BadNumber {
+                        field: "radio_max_depth",
+                        value: value.trim().to_string(),
+                    })),
+                },
                 _ => {}
             }
         }
         (c, bad)
+    }
+}
+
+/// The surface-only radio of a vehicle's bridge (coug only; issue #16, point 4): vehicles
+/// talk through the acoustic channel underwater and through a radio or Wi-Fi link only at
+/// the surface. MOOS's pShare and uFldNodeComms have no such gate (a simulated MOOS-IvP
+/// fleet shares whatever the depth); coug's pShare applies one when its block sets
+/// `radio_max_depth`: the link is up while the latest `NAV_DEPTH` is at most that many
+/// metres (and before any `NAV_DEPTH` arrives: vehicles start at the surface). A radio does
+/// not store and forward: what is sent or arrives while it is down is dropped and counted.
+///
+/// ```
+/// use pshare::config::RadioGate;
+/// let mut g = RadioGate::new(Some(0.5));
+/// assert!(g.up());
+/// g.depth(3.0);
+/// assert!(!g.up());
+/// g.depth(0.2);
+/// assert!(g.up());
+/// assert!(RadioGate::new(None).up());
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RadioGate {
+    max_depth: Option<f64>,
+    depth: Option<f64>,
+}
+
+impl RadioGate {
+    /// A gate that opens at `max_depth` metres and shallower (`None`: always open).
+    pub fn new(max_depth: Option<f64>) -> RadioGate {
+        RadioGate {
+            max_depth,
+            depth: None,
+        }
+    }
+
+    /// True when the gate depends on depth (`radio_max_depth` was given).
+    pub fn enabled(&self) -> bool {
+        self.max_depth.is_some()
+    }
+
+    /// The vehicle's latest depth in metres (`NAV_DEPTH`).
+    pub fn depth(&mut self, depth_m: f64) {
+        self.depth = Some(depth_m);
+    }
+
+    /// True when the link is up: no gate, no depth yet, or at most `max_depth` deep (a NaN
+    /// depth counts as submerged).
+    pub fn up(&self) -> bool {
+        match (self.max_depth, self.depth) {
+            (Some(max), Some(d)) => d <= max,
+            _ => true,
+        }
     }
 }
 
@@ -448,5 +515,43 @@ mod tests {
             field("route=a:1&b:2,white_list=A&B", "route"),
             Some("a:1&b:2")
         );
+    }
+
+    #[test]
+    fn radio_max_depth_is_a_depth_of_zero_or_more_metres() {
+        let (c, bad) = Config::from_params([(2, "Radio_Max_Depth", " 0.5 ")]);
+        assert!(bad.is_empty());
+        assert_eq!(c.radio_max_depth, Some(0.5));
+        assert_eq!(Config::default().radio_max_depth, None);
+        for v in ["-1", "deep", "inf", ""] {
+            let (c, bad) = Config::from_params([(7, "radio_max_depth", v)]);
+            assert_eq!(c.radio_max_depth, None, "{v}");
+            assert_eq!(bad.len(), 1, "{v}");
+            assert_eq!(bad[0].line, 7);
+            assert!(matches!(
+                bad[0].error,
+                ConfigError::BadNumber {
+                    field: "radio_max_depth",
+                    ..
+                }
+            ));
+        }
+    }
+
+    #[test]
+    fn the_radio_is_up_at_the_surface_only() {
+        let mut g = RadioGate::new(Some(1.0));
+        assert!(g.enabled() && g.up(), "up before any depth arrives");
+        g.depth(1.0);
+        assert!(g.up(), "the threshold itself is the surface");
+        g.depth(1.01);
+        assert!(!g.up());
+        g.depth(f64::NAN);
+        assert!(!g.up(), "a NaN depth is not the surface");
+        g.depth(0.0);
+        assert!(g.up());
+        let mut never = RadioGate::new(None);
+        never.depth(100.0);
+        assert!(!never.enabled() && never.up());
     }
 }

@@ -92,6 +92,9 @@ pub struct RxCounts {
     pub looped: u64,
     /// Datagrams that are not one notify message.
     pub garbage: u64,
+    /// Datagrams dropped unread because the radio was down (a submerged vehicle, see
+    /// [`crate::config::RadioGate`]).
+    pub submerged: u64,
 }
 
 /// White-list check (`Listener.cpp` `IsWanted`): an empty list lets every name in.

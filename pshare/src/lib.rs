@@ -1,7 +1,8 @@
 //! pShare, MOOS's UDP bridge between communities, as pure code (no sockets, no clock):
 //!
 //! - [`config`]: the `ProcessConfig = pShare` block and `PSHARE_CMD` directives, long and short
-//!   forms, into typed shares ([`OutputSpec`], [`InputSpec`]); bad lines are [`LineError`]s.
+//!   forms, into typed shares ([`OutputSpec`], [`InputSpec`]); bad lines are [`LineError`]s;
+//!   coug's surface-only radio ([`RadioGate`], `radio_max_depth`).
 //! - [`route`]: the routing table ([`RouteTable`]): named and wildcard routes, renaming (prefix
 //!   and caret), frequency, duration and share-count limits, with time as an argument.
 //! - [`datagram`]: one serialised MOOS message per datagram (the `moos-wire` layout, key
@@ -27,6 +28,8 @@ pub mod config;
 pub mod datagram;
 pub mod route;
 
-pub use config::{Command, Config, ConfigError, Endpoint, InputSpec, LineError, OutputSpec};
+pub use config::{
+    Command, Config, ConfigError, Endpoint, InputSpec, LineError, OutputSpec, RadioGate,
+};
 pub use datagram::{DatagramError, EncodeError, MAX_UDP_SIZE, RxCounts};
 pub use route::{Added, Route, RouteTable, Send};

@@ -32,6 +32,7 @@
 //! | `poll_order` | the fleet list | `3,2,...`: the vehicles a poller polls, in turn |
 //! | `slot`, `timeout` | 4, 4 | seconds between a poller's transmissions, and waiting for an answer |
 //! | `command_tries` | 2 | transmissions of a command until confirmed |
+//! | `command_max_age` | 60 | seconds: a command whose time field (the sender's clock when it sent it, see `acomms::auth`) is older than this on this node's clock when it arrives, or that far ahead, is refused and counted (`stale=` in `ACOMMS_STATUS`); 0: any age |
 //! | `localisation_every` | 0 | seconds between a poller's position broadcasts (0: never) |
 //! | `usbl_azimuth` | `world` | `world` (from north, as uSimModem and a SeaTrac with its AHRS) or `body` (from the listener's heading) |
 //! | `x`, `y`, `depth` | | the listener's position when it has no `NAV_*` (a moored base) |
@@ -67,7 +68,7 @@
 //! |---|---|---|
 //! | `NODE_REPORT` | each contact with an absolute position | pNodeReporter's format ([`vehicle::node_report::write_report`]); `VSOURCE=acomms_reported` for the position a vehicle reports in its status (named after the vehicle), `VSOURCE=acomms_usbl` for the listener's USBL fix plus its own position (named with `usbl_suffix`) |
 //! | `ACOMMS_CONTACT` | each contact | `name=..,id=..,source=usbl\|reported,time=..` and `rel_x`, `rel_y` (east, north of the listener), `range`, `x`, `y`, `depth` when known |
-//! | `ACOMMS_STATUS` | when the counters change | `role=..,id=..,polls=..,answers=..,timeouts=..,losses=..,commands=..,confirmed=..,command_timeouts=..,applied=..,tx=..,rx=..,accepted=..,rejected=..,bad_tag=..,replayed=..,foreign=..,unknown_id=..,unknown_sender=..,malformed=..,contacts=..` |
+//! | `ACOMMS_STATUS` | when the counters change | `role=..,id=..,polls=..,answers=..,timeouts=..,losses=..,commands=..,confirmed=..,command_timeouts=..,applied=..,tx=..,rx=..,accepted=..,rejected=..,bad_tag=..,replayed=..,stale=..,foreign=..,unknown_id=..,unknown_sender=..,malformed=..,contacts=..` |
 //! | `ACOMMS_WARNING` | a refused command, a full queue | the reason |
 //!
 //! A poller (`role = base` or `lead`) also reads `ACOMMS_COMMAND = to=<id>,cmd=<kill|surface|
@@ -1164,6 +1165,11 @@ impl AcommsApp {
                     Some(x) => cfg.timeout_s = x,
                     None => bad("seconds > 0"),
                 },
+                "command_max_age" => match number(0.0) {
+                    Some(x) if x > 0.0 => cfg.command_max_age_s = Some(x),
+                    Some(_) => cfg.command_max_age_s = None,
+                    None => bad("seconds >= 0"),
+                },
                 "command_tries" => match v.parse::<u32>() {
                     Ok(n) if n >= 1 => cfg.command_tries = n,
                     _ => bad("a count >= 1"),
@@ -1510,7 +1516,7 @@ impl AcommsApp {
         format!(
             "role={},id={},polls={},answers={},timeouts={},losses={},commands={},confirmed={},\
              command_timeouts={},applied={},tx={},rx={},accepted={},rejected={},bad_tag={},\
-             replayed={},foreign={},unknown_id={},unknown_sender={},malformed={},contacts={}",
+             replayed={},stale={},foreign={},unknown_id={},unknown_sender={},malformed={},contacts={}",
             if self.role == Role::Poller {
                 "poller"
             } else {
@@ -1531,6 +1537,7 @@ impl AcommsApp {
             r.rejected() + c.unknown_sender,
             r.bad_tag,
             r.replayed + r.too_old,
+            r.stale,
             r.not_for_me + r.bad_sender,
             r.unknown_id,
             c.unknown_sender,
@@ -1579,15 +1586,16 @@ impl AcommsApp {
         let _ = writeln!(b);
         let _ = writeln!(
             b,
-            "Rx  Accepted  BadTag  Replayed  Foreign  UnknownId  UnknownSender  Malformed"
+            "Rx  Accepted  BadTag  Replayed  Stale  Foreign  UnknownId  UnknownSender  Malformed"
         );
         let _ = writeln!(
             b,
-            "{}  {}  {}  {}  {}  {}  {}  {}",
+            "{}  {}  {}  {}  {}  {}  {}  {}  {}",
             r.received,
             r.accepted,
             r.bad_tag,
             r.replayed + r.too_old,
+            r.stale,
             r.not_for_me + r.bad_sender,
             r.unknown_id,
             c.unknown_sender,

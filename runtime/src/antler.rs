@@ -445,6 +445,18 @@ pub const BUILT_INS: &[BuiltIn] = &[
         reads_block: true,
         make: make_contact_mgr,
     },
+    BuiltIn {
+        program: "uFldNodeBroker",
+        what: "a vehicle's side of the fleet handshake: pings its shore hosts, bridges its variables once acknowledged",
+        reads_block: true,
+        make: make_node_broker,
+    },
+    BuiltIn {
+        program: "uFldShoreBroker",
+        what: "the shoreside's side of the fleet handshake: acknowledges vehicles, bridges commands to each",
+        reads_block: true,
+        make: make_shore_broker,
+    },
 ];
 
 /// The built-in app run by `program` (a path or base name), if coug builds it in.
@@ -582,6 +594,34 @@ fn make_pshare(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let app = crate::pshare::PShareApp::new(cx.moos_name, b)
         .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp)
         .with_shared(&cx.launch.shared);
+    cx.warnings.extend(app.warnings().iter().cloned());
+    Ok(Built::App(Box::new(app)))
+}
+
+fn make_node_broker(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    let b = cx.block_or_empty();
+    let g = cx.globals;
+    let app = crate::brokers::NodeBrokerApp::new(
+        cx.moos_name,
+        b,
+        &g.community,
+        g.server_port,
+        g.time_warp,
+    );
+    cx.warnings.extend(app.warnings().iter().cloned());
+    Ok(Built::App(Box::new(app)))
+}
+
+fn make_shore_broker(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    let b = cx.block_or_empty();
+    let g = cx.globals;
+    let app = crate::brokers::ShoreBrokerApp::new(
+        cx.moos_name,
+        b,
+        &g.community,
+        g.server_port,
+        g.time_warp,
+    );
     cx.warnings.extend(app.warnings().iter().cloned());
     Ok(Built::App(Box::new(app)))
 }

@@ -35,6 +35,7 @@ pub mod acomms_apps;
 pub mod antler;
 pub mod app;
 pub mod appcasting;
+pub mod brokers;
 pub mod bus;
 pub mod clock;
 pub mod contact_mgr;

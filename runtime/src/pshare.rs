@@ -27,6 +27,22 @@
 //! | `listen_address` (coug only; default `0.0.0.0`, every interface, as pShare binds) | the address listeners and the sender bind to; tests use `127.0.0.1` |
 //! | an input port of 0 (coug only) | the system picks the port; [`PShareApp::listening`] reads it back |
 //! | command line `-o`/`-i` | open: the single-app mode reads the mission block only |
+//! | `radio_max_depth` (coug only; default: none, no gate, as pShare) | the surface-only radio: see below |
+//!
+//! # The surface-only radio
+//!
+//! Underwater a vehicle talks only through its acoustic modem (pAcomms); its radio or Wi-Fi
+//! link works at the surface only. MOOS-IvP models no such thing: pShare shares whatever the
+//! depth, and uFldNodeComms (the simulated inter-vehicle link) gates messages by range and
+//! frequency, never by depth. In coug the bridge of a vehicle sets `radio_max_depth = M`
+//! (metres) to gate itself on its own `NAV_DEPTH` ([`pshare::RadioGate`]): while the latest
+//! `NAV_DEPTH` is deeper than `M`, nothing is sent (counted as `submerged` in
+//! [`TxCounts`]) and every datagram that arrives, in process or over UDP, is read and dropped
+//! (counted in [`pshare::RxCounts::submerged`]). A radio does not store and forward: nothing
+//! of the dive is queued and replayed on surfacing. Before any `NAV_DEPTH` the link is up.
+//! Without the parameter (the default, and the shoreside's case) the bridge is always up, so
+//! every MOOS-IvP mission runs unchanged. The gate applies to the in-process route of a fleet
+//! run and to UDP alike, in lockstep and in real time.
 //!
 //! # The in-process route (a fleet run)
 //!
@@ -59,7 +75,7 @@ use moos_types::{ByteString, Relayed};
 use moosdb::Message;
 use pshare::config::{Command, Endpoint, InputSpec, OutputSpec, parse_command};
 use pshare::datagram::{self, RECEIVE_BUFFER, RxCounts};
-use pshare::{Added, Config, RouteTable};
+use pshare::{Added, Config, RadioGate, RouteTable};
 
 use crate::app::{App, AppResult, Mail, Post, Subscription};
 use crate::appcasting::{AppcastLayer, Note};
@@ -73,6 +89,9 @@ const MAX_READS_PER_ITERATION: usize = 4096;
 
 /// Seconds between the summary postings.
 const SUMMARY_PERIOD: f64 = 1.0;
+
+/// The depth the surface-only radio follows.
+const DEPTH_VAR: &str = "NAV_DEPTH";
 
 /// The name of the in-process hub in a run's [`Shared`] set (see the module docs).
 pub const HUB: &str = "pshare";
@@ -178,6 +197,9 @@ pub struct TxCounts {
     pub too_large: u64,
     /// Shares not sent: a multicast route, an address that did not resolve, a send error.
     pub failed: u64,
+    /// Messages not shared because the radio was down (the vehicle submerged, see the
+    /// module docs).
+    pub submerged: u64,
 }
 
 /// The `pShare` app.
@@ -189,6 +211,7 @@ pub struct PShareApp {
     appcast: AppcastLayer,
     listen_address: Ipv4Addr,
     cmd_key: String,
+    radio: RadioGate,
     table: RouteTable,
     listeners: Vec<Listener>,
     hub: Option<Arc<PShareHub>>,
@@ -271,6 +294,7 @@ impl PShareApp {
         let listeners = config.inputs.iter().flat_map(listeners_of).collect();
         PShareApp {
             cmd_key: format!("{}_CMD", name.to_ascii_uppercase()),
+            radio: RadioGate::new(config.radio_max_depth),
             appcast: AppcastLayer::with_config_warnings(name, &block, None, 1.0, &warnings),
             name: name.to_string(),
             block,
@@ -501,6 +525,12 @@ impl PShareApp {
     }
 
     fn share(&mut self, m: &Mail, now: f64) {
+        if !self.radio.up() {
+            if self.table.registered_for(&m.key) {
+                self.tx.submerged += 1;
+            }
+            return;
+        }
         let sends = self.table.route(&m.key, &m.source, now);
         if sends.is_empty() {
             return;
@@ -546,10 +576,15 @@ impl PShareApp {
     }
 
     fn receive(&mut self, now: f64, out: &mut Vec<Post>) {
+        let up = self.radio.up();
         for l in &mut self.listeners {
             if let Some(inbox) = &l.inbox {
                 self.ready.clear();
                 inbox.take_before(now, &mut self.ready);
+                if !up {
+                    l.counts.submerged += self.ready.len() as u64;
+                    self.ready.clear();
+                }
                 for d in self.ready.drain(..) {
                     accept(
                         &mut l.counts,
@@ -572,6 +607,10 @@ impl PShareApp {
                     // An ICMP error of an earlier send, an interrupted call: read on.
                     Err(_) => continue,
                 };
+                if !up {
+                    l.counts.submerged += 1;
+                    continue;
+                }
                 let d = Bytes::copy_from_slice(&self.buf[..n]);
                 accept(
                     &mut l.counts,
@@ -673,7 +712,17 @@ fn listeners_of(spec: &InputSpec) -> Vec<Listener> {
 }
 
 /// The appcast body: the output routes with their share counts, the inputs with what came in.
-fn appcast_body(table: &RouteTable, listeners: &[Listener], tx: TxCounts, out: &mut String) {
+fn appcast_body(
+    table: &RouteTable,
+    listeners: &[Listener],
+    tx: TxCounts,
+    radio: RadioGate,
+    out: &mut String,
+) {
+    if radio.enabled() {
+        let state = if radio.up() { "up" } else { "down (submerged)" };
+        let _ = writeln!(out, "Radio: {state}\n");
+    }
     let _ = writeln!(out, "Output routes:");
     let mut any = false;
     for (var, routes) in table.named() {
@@ -702,8 +751,8 @@ fn appcast_body(table: &RouteTable, listeners: &[Listener], tx: TxCounts, out: &
     let t = tx;
     let _ = writeln!(
         out,
-        "  sent={} too_large={} failed={}",
-        t.sent, t.too_large, t.failed
+        "  sent={} too_large={} failed={} submerged={}",
+        t.sent, t.too_large, t.failed, t.submerged
     );
     let _ = writeln!(out, "\nInput routes:");
     if listeners.is_empty() {
@@ -716,8 +765,8 @@ fn appcast_body(table: &RouteTable, listeners: &[Listener], tx: TxCounts, out: &
         let c = l.counts;
         let _ = writeln!(
             out,
-            "  {} (port {port})  posted={} filtered={} looped={} garbage={}",
-            l.endpoint, c.posted, c.filtered, c.looped, c.garbage
+            "  {} (port {port})  posted={} filtered={} looped={} garbage={} submerged={}",
+            l.endpoint, c.posted, c.filtered, c.looped, c.garbage, c.submerged
         );
     }
 }
@@ -734,6 +783,7 @@ impl App for PShareApp {
     fn subscriptions(&self) -> Vec<Subscription> {
         AppcastLayer::subscriptions()
             .chain(std::iter::once(Subscription::var(&self.cmd_key)))
+            .chain(self.radio.enabled().then(|| Subscription::var(DEPTH_VAR)))
             .chain(self.table.registrations().map(Subscription::var))
             .collect()
     }
@@ -763,6 +813,12 @@ impl App for PShareApp {
                 self.on_command(m, now);
                 continue;
             }
+            if self.radio.enabled()
+                && *m.key == *DEPTH_VAR
+                && let Some(d) = m.value.as_f64()
+            {
+                self.radio.depth(d);
+            }
             self.share(m, now);
         }
         Ok(())
@@ -773,9 +829,10 @@ impl App for PShareApp {
         self.appcast.begin(now, tick, out);
         self.receive(now, out);
         self.summaries(now, out);
-        let (table, listeners, tx) = (&self.table, &self.listeners, self.tx);
-        self.appcast
-            .end(now, tick, out, |b| appcast_body(table, listeners, tx, b));
+        let (table, listeners, tx, radio) = (&self.table, &self.listeners, self.tx, self.radio);
+        self.appcast.end(now, tick, out, |b| {
+            appcast_body(table, listeners, tx, radio, b)
+        });
         Ok(())
     }
 }
@@ -866,6 +923,125 @@ mod tests {
         got.clear();
         rx.iterate(11.5, &mut got).unwrap();
         assert!(posted(&got, "REMOTE_NAV_X").is_empty(), "delivered once");
+    }
+
+    /// A vehicle's bridge with the surface-only radio and a shoreside's, in process.
+    fn vehicle_and_shore(shared: &Shared) -> (PShareApp, PShareApp) {
+        let vehicle = PShareApp::new(
+            "pShare",
+            block(
+                "v.moos",
+                "ProcessConfig = pShare\n{\n  radio_max_depth = 0.5\n  \
+                 input = route = localhost:9441\n  \
+                 output = NODE_REPORT_LOCAL->NODE_REPORT:localhost:9440\n}\n",
+            ),
+        )
+        .with_shared(shared);
+        let shore = PShareApp::new(
+            "pShare",
+            block(
+                "s.moos",
+                "ProcessConfig = pShare\n{\n  input = route = localhost:9440\n  \
+                 output = RETURN_ALL->RETURN:localhost:9441\n}\n",
+            ),
+        )
+        .with_shared(shared);
+        (vehicle, shore)
+    }
+
+    fn depth(d: f64, t: f64) -> Mail {
+        mail("NAV_DEPTH", Value::Double(d), t, "uSimMarine")
+    }
+
+    fn report(n: f64, t: f64) -> Mail {
+        mail("NODE_REPORT_LOCAL", Value::Double(n), t, "pNodeReporter")
+    }
+
+    fn body(app: &PShareApp) -> String {
+        let mut b = String::new();
+        appcast_body(&app.table, &app.listeners, app.tx, app.radio, &mut b);
+        b
+    }
+
+    fn values(out: &[Post], key: &str) -> Vec<Value> {
+        posted(out, key).iter().map(|p| p.value.clone()).collect()
+    }
+
+    #[test]
+    fn a_diving_vehicle_stops_reaching_the_shore_and_nothing_of_the_dive_is_replayed() {
+        let shared = Shared::new();
+        shared.get_or_insert_with(HUB, PShareHub::new);
+        let (mut v, mut shore) = vehicle_and_shore(&shared);
+        let subs: Vec<String> = v.subscriptions().into_iter().map(|s| s.pattern).collect();
+        assert!(subs.contains(&"NAV_DEPTH".to_string()));
+        let subs: Vec<String> = shore
+            .subscriptions()
+            .into_iter()
+            .map(|s| s.pattern)
+            .collect();
+        assert!(
+            !subs.contains(&"NAV_DEPTH".to_string()),
+            "no gate by default"
+        );
+        let mut out = Vec::new();
+        v.on_startup(0.0, &mut out).unwrap();
+        shore.on_startup(0.0, &mut out).unwrap();
+        let mut heard = Vec::new();
+        // One report a second; the vehicle dives at 3 s and surfaces at 6 s.
+        for k in 1..=9 {
+            let t = f64::from(k);
+            let d = if (3..6).contains(&k) { 2.0 } else { 0.2 };
+            v.on_mail(&[depth(d, t), report(t, t)], t, &mut out)
+                .unwrap();
+            shore.iterate(t + 0.5, &mut heard).unwrap();
+        }
+        let got = values(&heard, "NODE_REPORT");
+        let want: Vec<Value> = [1.0, 2.0, 6.0, 7.0, 8.0, 9.0]
+            .into_iter()
+            .map(Value::Double)
+            .collect();
+        assert_eq!(
+            got, want,
+            "nothing sent from 3 s to 5 s, nothing replayed after"
+        );
+        let t = v.sent();
+        assert_eq!((t.sent, t.in_process, t.submerged), (6, 6, 3));
+        assert!(body(&v).starts_with("Radio: up\n"));
+    }
+
+    #[test]
+    fn a_submerged_vehicle_drops_what_arrives_and_hears_again_at_the_surface() {
+        let shared = Shared::new();
+        shared.get_or_insert_with(HUB, PShareHub::new);
+        let (mut v, mut shore) = vehicle_and_shore(&shared);
+        let mut out = Vec::new();
+        v.on_startup(0.0, &mut out).unwrap();
+        shore.on_startup(0.0, &mut out).unwrap();
+        let mut heard = Vec::new();
+        for k in 1..=8 {
+            let t = f64::from(k);
+            // The shoreside has no gate: it sends every second whatever the vehicle's depth.
+            shore
+                .on_mail(
+                    &[mail("RETURN_ALL", Value::Double(t), t, "uPokeDB")],
+                    t,
+                    &mut out,
+                )
+                .unwrap();
+            let d = if (3..6).contains(&k) { 2.0 } else { 0.0 };
+            v.on_mail(&[depth(d, t + 0.5)], t + 0.5, &mut out).unwrap();
+            v.iterate(t + 0.5, &mut heard).unwrap();
+        }
+        let got = values(&heard, "RETURN");
+        let want: Vec<Value> = [1.0, 2.0, 6.0, 7.0, 8.0]
+            .into_iter()
+            .map(Value::Double)
+            .collect();
+        assert_eq!(got, want);
+        let c = v.received()[0].1;
+        assert_eq!((c.posted, c.submerged), (5, 3));
+        assert_eq!(shore.sent().submerged, 0);
+        assert!(body(&v).contains("posted=5 filtered=0 looped=0 garbage=0 submerged=3"));
     }
 
     #[test]

@@ -19,7 +19,9 @@
 //! an optional `NAME:` prefix (`--poke henry:DEPLOY=true@0`, `--until "henry: MISSION =
 //! complete"`); without it a poke goes to every community, a button to every community that
 //! has it, a condition to every vehicle; `--deploy` deploys every community. Each community
-//! logs in its own folder (`LOG_DIR/NAME/`). That is `runtime::session::run_fleet`.
+//! logs in its own folder (`LOG_DIR/NAME/`). That is `runtime::session::run_fleet`. A fleet
+//! prints its progress every `--progress-every` simulated seconds (terminal or not), one line
+//! per community (`FleetProgress`), in lockstep and in real time alike.
 //!
 //! Exit codes: 0 when the `--until` condition held (or the run reached `--max-time`
 //! without one), 2 when `--max-time` came first, 1 on errors in files or arguments.
@@ -81,7 +83,8 @@ pub struct RunArgs {
     /// Seed of every random draw (uTimerScript randomness).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Simulated seconds between progress lines when stderr is not a terminal.
+    /// Simulated seconds between progress lines when stderr is not a terminal (a fleet's
+    /// lines, one per community, always).
     #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
     pub progress_every: f64,
     /// Extra directory searched for nsplug `#include` files (repeatable).
@@ -226,9 +229,75 @@ impl Progress {
     }
 }
 
+/// A fleet's progress: every `every` simulated seconds, one line per community with its
+/// helm state, active behaviours (from its own IVPHELM_SUMMARY postings) and position, read
+/// through the fleet's `NAME:VAR` values.
+struct FleetProgress {
+    members: Vec<String>,
+    active: Vec<Vec<String>>,
+    next_sim: f64,
+}
+
+impl FleetProgress {
+    fn new(members: Vec<String>) -> Self {
+        FleetProgress {
+            active: vec![Vec::new(); members.len()],
+            members,
+            next_sim: 0.0,
+        }
+    }
+
+    /// Takes one IVPHELM_SUMMARY posting of community `member`.
+    fn observe_summary(&mut self, member: &str, summary: &str) {
+        if let Some(i) = self.members.iter().position(|m| m == member)
+            && let Some(a) = behaviour_list(summary, "active_bhvs")
+        {
+            self.active[i] = a;
+        }
+    }
+
+    /// The lines due at `sim` simulated seconds (`wall` seconds into the run), if any.
+    fn lines(
+        &mut self,
+        sim: f64,
+        wall: f64,
+        get: &dyn Fn(&str) -> Option<Value>,
+        every: f64,
+    ) -> Option<String> {
+        if sim < self.next_sim {
+            return None;
+        }
+        while self.next_sim <= sim {
+            self.next_sim += every.max(0.1);
+        }
+        let width = self.members.iter().map(String::len).max().unwrap_or(0);
+        let mut out = String::new();
+        for (name, active) in self.members.iter().zip(&self.active) {
+            let var = |k: &str| get(&format!("{name}:{k}"));
+            let state = text(var("IVPHELM_STATE")).unwrap_or_else(|| "-".into());
+            let active = if active.is_empty() {
+                "none".to_string()
+            } else {
+                active.join(",")
+            };
+            let f = |k: &str| num(var(k)).map_or("-".into(), |x| format!("{x:.1}"));
+            out.push_str(&format!(
+                "t={sim:7.1}s  {:6.0}x  {name:<width$}  helm={state}  active={active}  x={} y={} depth={}\n",
+                sim / wall.max(1e-9),
+                f("NAV_X"),
+                f("NAV_Y"),
+                f("NAV_DEPTH")
+            ));
+        }
+        Some(out)
+    }
+}
+
 /// The command line's observer: warnings to stderr, the progress line, Ctrl-C.
 struct Cli {
     progress: Progress,
+    /// A fleet run's progress (instead of `progress`'s single line).
+    fleet: Option<FleetProgress>,
     wall: Instant,
     terminal: bool,
     every: f64,
@@ -248,7 +317,22 @@ impl Observer for Cli {
         self.progress.observe_summary(summary);
     }
 
+    fn member_helm_summary(&mut self, member: &str, summary: &str) {
+        if let Some(f) = &mut self.fleet {
+            f.observe_summary(member, summary);
+        }
+    }
+
     fn step(&mut self, sim_s: f64, current: &dyn Fn(&str) -> Option<Value>) {
+        if let Some(f) = &mut self.fleet {
+            let wall = self.wall.elapsed().as_secs_f64();
+            if let Some(text) = f.lines(sim_s, wall, current, self.every) {
+                let mut err = std::io::stderr().lock();
+                let _ = err.write_all(text.as_bytes());
+                let _ = err.flush();
+            }
+            return;
+        }
         self.progress
             .tick(sim_s, &self.wall, current, self.terminal, self.every);
     }
@@ -376,6 +460,7 @@ fn run_inner(args: &RunArgs) -> Result<i32, Vec<String>> {
     let terminal = std::io::stderr().is_terminal();
     let mut cli = Cli {
         progress: Progress::default(),
+        fleet: None,
         wall: Instant::now(),
         terminal,
         every: args.progress_every,
@@ -540,6 +625,9 @@ fn run_fleet(args: &RunArgs, extra: Vec<PathBuf>) -> Result<i32, Vec<String>> {
     };
     let mut cli = Cli {
         progress: Progress::default(),
+        fleet: Some(FleetProgress::new(
+            fleet.members.iter().map(|m| m.name.clone()).collect(),
+        )),
         wall: Instant::now(),
         terminal: std::io::stderr().is_terminal(),
         every: args.progress_every,
@@ -576,6 +664,42 @@ fn run_fleet(args: &RunArgs, extra: Vec<PathBuf>) -> Result<i32, Vec<String>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_fleet_prints_one_progress_line_per_community_every_period() {
+        let mut p = FleetProgress::new(vec!["shoreside".into(), "henry".into(), "ike".into()]);
+        p.observe_summary(
+            "henry",
+            "iter=12,utc_time=1786000003.00,ofnum=1,var=speed:2,var=course:180,\
+             active_bhvs=survey$1786000003.00$100.00000$9$0.01000$1/1$1,idle_bhvs=return$0.00$n/a",
+        );
+        p.observe_summary("nobody", "active_bhvs=x$1$1$1$1$1/1$1");
+        let get = |k: &str| -> Option<Value> {
+            match k {
+                "henry:IVPHELM_STATE" => Some(Value::text("DRIVE")),
+                "henry:NAV_X" => Some(Value::Double(12.34)),
+                "henry:NAV_Y" => Some(Value::Double(-5.0)),
+                "henry:NAV_DEPTH" => Some(Value::Double(0.0)),
+                "ike:IVPHELM_STATE" => Some(Value::text("PARK")),
+                "ike:NAV_X" => Some(Value::Double(60.0)),
+                _ => None,
+            }
+        };
+        let text = p.lines(0.0, 1.0, &get, 10.0).expect("due at the start");
+        assert_eq!(
+            text,
+            "t=    0.0s       0x  shoreside  helm=-  active=none  x=- y=- depth=-\n\
+             t=    0.0s       0x  henry      helm=DRIVE  active=survey  x=12.3 y=-5.0 depth=0.0\n\
+             t=    0.0s       0x  ike        helm=PARK  active=none  x=60.0 y=- depth=-\n"
+        );
+        // Not again before the period; then once, with the speed-up over the wall.
+        assert!(p.lines(9.9, 2.0, &get, 10.0).is_none());
+        let text = p.lines(25.0, 2.5, &get, 10.0).expect("due");
+        assert!(text.starts_with("t=   25.0s      10x  shoreside"), "{text}");
+        assert_eq!(text.lines().count(), 3);
+        assert!(p.lines(29.0, 3.0, &get, 10.0).is_none(), "next at 30 s");
+        assert!(p.lines(30.0, 3.0, &get, 10.0).is_some());
+    }
 
     fn write(name: &str, text: &str) -> PathBuf {
         let dir = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/target/tmp/run-load"));

@@ -383,6 +383,7 @@ fn fleet_lockstep(
         if let Some(c) = &plan.until {
             sched.watch_until(c.clone());
         }
+        sched.tap("IVPHELM_SUMMARY");
         running.push(Running {
             member,
             plan,
@@ -418,6 +419,11 @@ fn fleet_lockstep(
                 r.sched.advance(t).map_err(|e| run_error(e, &r.alog))?
             {
                 r.finished = true;
+            }
+            for p in r.sched.take_taps() {
+                if let Some(v) = p.value.as_str() {
+                    observer.member_helm_summary(&r.member.name, v);
+                }
             }
         }
         if conditioned
@@ -494,16 +500,25 @@ fn run_error(e: RunError, alog: &str) -> SessionError {
     }
 }
 
+/// The variables a real-time community's thread reports for the fleet's progress (read by
+/// the fleet's [`Observer::step`] as `NAME:VAR`).
+pub const PROGRESS_VARS: [&str; 4] = ["IVPHELM_STATE", "NAV_X", "NAV_Y", "NAV_DEPTH"];
+
 /// What a community's thread tells the fleet's observer.
 enum Said {
     Warning(String),
     Notice(String),
+    /// The community `.0`'s helm summary.
+    Summary(usize, String),
+    /// The community `.0` at `.1` simulated seconds, with its [`PROGRESS_VARS`].
+    Step(usize, f64, Vec<(&'static str, Value)>),
 }
 
 /// A real-time community's observer: forwards to the fleet's observer (on the caller's
 /// thread) and stops when the fleet does.
 struct Relay {
     name: String,
+    index: usize,
     tx: mpsc::Sender<Said>,
     stop: Arc<AtomicBool>,
 }
@@ -517,6 +532,18 @@ impl Observer for Relay {
 
     fn notice(&mut self, text: &str) {
         let _ = self.tx.send(Said::Notice(format!("{}: {text}", self.name)));
+    }
+
+    fn helm_summary(&mut self, summary: &str) {
+        let _ = self.tx.send(Said::Summary(self.index, summary.to_string()));
+    }
+
+    fn step(&mut self, sim_s: f64, current: &dyn Fn(&str) -> Option<Value>) {
+        let values = PROGRESS_VARS
+            .iter()
+            .filter_map(|k| current(k).map(|v| (*k, v)))
+            .collect();
+        let _ = self.tx.send(Said::Step(self.index, sim_s, values));
     }
 
     fn stop_requested(&self) -> bool {
@@ -551,9 +578,10 @@ fn fleet_realtime(
     let shared = Shared::new();
     let results: Vec<Result<RunReport, SessionError>> = std::thread::scope(|scope| {
         let mut handles = Vec::new();
-        for (member, plan) in fleet.members.iter().zip(plans) {
+        for (index, (member, plan)) in fleet.members.iter().zip(plans).enumerate() {
             let mut relay = Relay {
                 name: member.name.clone(),
+                index,
                 tx: tx.clone(),
                 stop: stop.clone(),
             };
@@ -577,12 +605,42 @@ fn fleet_realtime(
             }));
         }
         drop(tx);
+        // Each community's latest progress values, and the simulated time of the latest.
+        let mut latest: Vec<Vec<(&'static str, Value)>> = vec![Vec::new(); fleet.members.len()];
+        let mut sim = 0.0f64;
+        let first = fleet
+            .members
+            .iter()
+            .position(|m| m.role == Role::Vehicle)
+            .unwrap_or(0);
         // Forward what the communities say; stop the ones without a condition once every
         // one with a condition has ended (or all, on the caller's request).
         loop {
             match rx.recv_timeout(Duration::from_millis(50)) {
                 Ok(Said::Warning(w)) => observer.warning(&w),
                 Ok(Said::Notice(n)) => observer.notice(&n),
+                Ok(Said::Summary(i, s)) => observer.member_helm_summary(&fleet.members[i].name, &s),
+                Ok(Said::Step(i, t, values)) => {
+                    latest[i] = values;
+                    sim = sim.max(t);
+                    let lookup = |i: usize, var: &str| {
+                        latest[i]
+                            .iter()
+                            .find(|(k, _)| *k == var)
+                            .map(|(_, v)| v.clone())
+                    };
+                    let current = |k: &str| -> Option<Value> {
+                        match k.split_once(':') {
+                            Some((n, var)) => fleet
+                                .members
+                                .iter()
+                                .position(|m| m.name == n)
+                                .and_then(|i| lookup(i, var)),
+                            None => lookup(first, k),
+                        }
+                    };
+                    observer.step(sim, &current);
+                }
                 Err(mpsc::RecvTimeoutError::Timeout) => {}
                 Err(mpsc::RecvTimeoutError::Disconnected) => break,
             }

@@ -70,6 +70,10 @@ pub trait Observer {
     /// One `IVPHELM_SUMMARY` posting.
     fn helm_summary(&mut self, _summary: &str) {}
 
+    /// One `IVPHELM_SUMMARY` posting of community `member` of a fleet run (a fleet's
+    /// [`Observer::step`] reads each community's values as `NAME:VAR`).
+    fn member_helm_summary(&mut self, _member: &str, _summary: &str) {}
+
     /// The run is at `sim_s` simulated seconds; `current` reads the DB's current values.
     fn step(&mut self, _sim_s: f64, _current: &dyn Fn(&str) -> Option<Value>) {}
 
