@@ -27,6 +27,8 @@ pub(super) struct Slot {
     /// For a spawned behaviour, its template's name prefix (an update's `name=` then names
     /// it without the prefix, MOOS `getSpawnBaseName`).
     pub(super) spawn_base: Option<String>,
+    /// Why the behaviour completed (its death event's `post_mortem`, MOOS `m_post_mortem`).
+    pub(super) post_mortem: String,
 }
 
 impl Slot {
@@ -57,6 +59,7 @@ impl Slot {
             now_start: None,
             config_out: Out::default(),
             spawn_base: None,
+            post_mortem: String::new(),
         }
     }
 
@@ -118,7 +121,13 @@ impl Helm {
             match e {
                 Emit::Post { var, value, key } => self.queue_owned(i, var, value, &key),
                 Emit::Flag { flag, repeatable } => self.post_flag(i, &flag, repeatable),
-                Emit::Complete => self.set_complete(i),
+                Emit::Complete => self.set_complete(i, &emit.post_mortem),
+                Emit::EndFlags { repeatable } => {
+                    let flags = self.slots[i].common.flags(FlagKind::End).to_vec();
+                    for f in &flags {
+                        self.post_flag(i, f, repeatable);
+                    }
+                }
             }
         }
         if let Some(msg) = emit.error.take() {
@@ -138,10 +147,14 @@ impl Helm {
         self.emit = emit;
     }
 
-    pub(super) fn set_complete(&mut self, i: usize) {
+    /// MOOS `setComplete(reason)`: the endflags, then, unless perpetual, completion with
+    /// the behaviour's post mortem for `reason` ([`Behavior::post_mortem`]).
+    pub(super) fn set_complete(&mut self, i: usize, reason: &str) {
         self.post_flags(i, FlagKind::End);
         if !self.slots[i].common.perpetual {
-            self.slots[i].completed = true;
+            let slot = &mut self.slots[i];
+            slot.completed = true;
+            slot.post_mortem = slot.bhv.post_mortem(reason);
         }
     }
 
@@ -302,7 +315,7 @@ impl Helm {
             self.post_remaining(i, remaining);
         }
         if exceeded {
-            self.set_complete(i);
+            self.set_complete(i, "");
             if self.slots[i].common.perpetual {
                 self.slots[i].clock.reset_pending = true;
             } else {

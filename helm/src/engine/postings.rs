@@ -201,7 +201,8 @@ impl Helm {
         while k < self.slots.len() {
             if self.slots[k].state == RunState::Completed {
                 let s = self.slots.remove(k);
-                self.life_event(&s.common.name, &s.common.kind, "death", "", "", now);
+                let pm = &s.post_mortem;
+                self.life_event(&s.common.name, &s.common.kind, "death", "", pm, now);
                 for ev in std::mem::take(&mut self.life_events) {
                     self.notify("IVPHELM_LIFE_EVENT", Value::String(ev.into()), "");
                 }
