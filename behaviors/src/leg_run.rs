@@ -1196,6 +1196,28 @@ impl LegRun {
         true
     }
 
+    /// Posts `flags` with this behaviour's macros expanded now, as the C++ expands them when
+    /// it posts a flag (the helm expands the common macros).
+    fn post_flags(&self, out: &mut Out, flags: &[Flag], repeatable: bool) {
+        for f in flags {
+            let mut f = f.clone();
+            if let crate::common::FlagValue::String(s) = &mut f.value
+                && s.contains('$')
+            {
+                for m in MACROS {
+                    for pat in [format!("$[{m}]"), format!("$({m})")] {
+                        if s.contains(&pat) {
+                            let mut v = String::new();
+                            self.macro_value(m, &mut v);
+                            *s = s.replace(&pat, &v).into();
+                        }
+                    }
+                }
+            }
+            out.flag(&f, repeatable);
+        }
+    }
+
     fn set_mode(&mut self, mode: LegMode, ctx: &Ctx<'_>, out: &mut Out) {
         self.mode = mode;
         out.post("LR_MODE", mode.name());
@@ -1294,10 +1316,10 @@ impl LegRun {
         let (x, y) = self.os;
         self.legs.set_next_waypoint(x, y);
         if self.legs.advanced() {
-            post_all(out, &self.flags.leg_end, true);
+            self.post_flags(out, &self.flags.leg_end, true);
             match self.mode {
-                LegMode::Leg1 => post_all(out, &self.flags.leg1_end, true),
-                LegMode::Leg2 => post_all(out, &self.flags.leg2_end, true),
+                LegMode::Leg1 => self.post_flags(out, &self.flags.leg1_end, true),
+                LegMode::Leg2 => self.post_flags(out, &self.flags.leg2_end, true),
                 _ => {}
             }
             self.pending = self.mode.next();
@@ -1317,7 +1339,7 @@ impl LegRun {
         self.post_leg_points(ctx, out, true);
         let pct = 100.0 * self.legs.pct_to_next(x, y);
         if pct > self.mid_leg_pct && !self.mid_leg_done {
-            post_all(out, &self.flags.mid_leg, true);
+            self.post_flags(out, &self.flags.mid_leg, true);
             self.mid_leg_done = true;
         }
         true
@@ -1329,10 +1351,10 @@ impl LegRun {
         self.trackpt = self.turn.trackpt;
         self.nextpt = self.turn.point();
         if self.turn.completed() {
-            post_all(out, &self.flags.turn_end, true);
+            self.post_flags(out, &self.flags.turn_end, true);
             match self.mode {
-                LegMode::Turn1 => post_all(out, &self.flags.turn1_end, true),
-                LegMode::Turn2 => post_all(out, &self.flags.turn2_end, true),
+                LegMode::Turn1 => self.post_flags(out, &self.flags.turn1_end, true),
+                LegMode::Turn2 => self.post_flags(out, &self.flags.turn2_end, true),
                 _ => {}
             }
             self.pending = self.mode.next();
@@ -1350,7 +1372,7 @@ impl LegRun {
         self.post_leg_points(ctx, out, true);
         let pct = 100.0 * self.turn.pct_to_end(x, y);
         if pct > self.mid_turn_pct && !self.mid_turn_done {
-            post_all(out, &self.flags.mid_turn, true);
+            self.post_flags(out, &self.flags.mid_turn, true);
             self.mid_turn_done = true;
         }
         true
@@ -1568,11 +1590,11 @@ impl LegRun {
     }
 }
 
-fn post_all(out: &mut Out, flags: &[Flag], repeatable: bool) {
-    for f in flags {
-        out.flag(f, repeatable);
-    }
-}
+/// The behaviour's own macros (see the module docs).
+const MACROS: [&str; 13] = [
+    "SPEED", "NI", "NX", "CYCLES", "CYCREM", "WPTS_HIT", "MODE", "DIST_NP", "DIST_PP", "PCT_NP",
+    "LEG_ODO", "LEG_ID", "WRAPS",
+];
 
 impl Behavior for LegRun {
     fn kind(&self) -> &'static str {

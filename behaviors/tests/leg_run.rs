@@ -237,13 +237,14 @@ fn the_modes_cycle_with_their_flags() {
         ["leg1", "turn1", "leg2", "turn2", "leg1"],
         "{modes:?}"
     );
-    // Leg ends, then leg 1's own; the turn's end flag sees the mode it ends.
+    // Leg ends, then leg 1's own; the behaviour's macros are expanded when the flag is
+    // posted (LEG_ID: legs finished before this one; MODE: the turn ending).
     let first: Vec<&str> = flags.iter().map(String::as_str).take(5).collect();
     assert_eq!(first[0], "MID_LEG=true");
-    assert_eq!(first[1], "LEG_END=$[LEG_ID]");
+    assert_eq!(first[1], "LEG_END=0");
     assert_eq!(first[2], "LEG1_END=true");
     assert_eq!(first[3], "MID_TURN=true");
-    assert_eq!(first[4], "TURN_END=$[MODE]");
+    assert_eq!(first[4], "TURN_END=turn1");
     assert!(flags.iter().any(|f| f == "TURN2_END=true"));
 }
 
