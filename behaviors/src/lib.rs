@@ -54,6 +54,7 @@ mod constant_depth;
 mod constant_heading;
 mod constant_speed;
 pub mod contact;
+pub mod contact_state;
 mod convoy;
 pub mod cpa;
 mod cut_range;

@@ -29,9 +29,29 @@ pub(super) struct Slot {
     pub(super) spawn_base: Option<String>,
     /// Why the behaviour completed (its death event's `post_mortem`, MOOS `m_post_mortem`).
     pub(super) post_mortem: String,
+    /// The generator of the `$[HASH..]` macros (0 until first used, then seeded from the
+    /// behaviour's name).
+    pub(super) hash_rng: u64,
 }
 
+/// The characters of a `$[HASH]` (MOOS `hashAlphaNum`: digits and letters without `o`/`O`).
+const HASH_CHARS: &[u8] = b"0123456789abcdefghijklmnpqrstuvwxyzABCDEFGHIJKLMNPQRSTUVWXYZ";
+
 impl Slot {
+    /// The state of this behaviour's `$[HASH]` generator: a xorshift generator seeded from
+    /// its name (FNV-1a), so a lockstep run posts the same hashes every time (MOOS
+    /// `hashAlphaNum` draws from the process's `rand()`).
+    pub(super) fn hash_state(&mut self) -> u64 {
+        if self.hash_rng == 0 {
+            let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+            for b in self.common.name.bytes() {
+                h = (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+            }
+            self.hash_rng = h | 1;
+        }
+        self.hash_rng
+    }
+
     /// A new behaviour of the set with its type's defaults (name: the type's
     /// [`Behavior::default_name`]).
     pub(super) fn new(bhv: Box<dyn Behavior>) -> Slot {
@@ -60,6 +80,7 @@ impl Slot {
             config_out: Out::default(),
             spawn_base: None,
             post_mortem: String::new(),
+            hash_rng: 0,
         }
     }
 
@@ -77,6 +98,18 @@ impl Slot {
             out.push('/');
             uint(out, u64::from(self.good_updates + self.bad_updates));
         }
+    }
+}
+
+/// Appends `len` random characters of [`HASH_CHARS`] drawn from the generator `state`.
+pub(super) fn push_hash(state: &mut u64, len: usize, out: &mut String) {
+    for _ in 0..len {
+        let mut x = *state;
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        *state = x;
+        out.push(HASH_CHARS[(x % HASH_CHARS.len() as u64) as usize] as char);
     }
 }
 
