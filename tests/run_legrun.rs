@@ -1,7 +1,8 @@
-//! BHV_LegRun in motion (issue #18, point 4): the lockstep test mission
-//! `tests/missions/stockbhv` with `legrun.bhv` (one lap of a leg with Williamson turns), and
-//! the corpus mission `x1_legs`, which pHelmIvP refuses as written (two parameters its
-//! BHV_LegRun does not know) and which runs once those two lines are left out.
+//! BHV_LegRun and BHV_PModelView in motion (issue #18, point 4): the lockstep test mission
+//! `tests/missions/stockbhv` with `legrun.bhv` (one lap of a leg with Williamson turns) and
+//! `pmodel_view.bhv`, and the corpus mission `x1_legs`, which pHelmIvP refuses as written
+//! (two parameters its BHV_LegRun does not know) and which runs once those two lines are
+//! left out.
 
 mod common;
 
@@ -115,4 +116,34 @@ fn x1_legs_is_refused_as_phelmivp_refuses_it_and_runs_without_its_two_unknown_li
     // The vehicle reaches both ends of the leg, vx1 (70,-35) and vx2 (-35,-85).
     let t = track(&log);
     visits_in_order(&t, &[(70.0, -35.0), (-35.0, -85.0), (70.0, -35.0)], 6.0, 0);
+}
+
+#[test]
+fn pmodel_view_draws_the_desired_heading_while_running() {
+    let mission = PathBuf::from(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/missions/stockbhv/stockbhv.moos"
+    ));
+    // Ten seconds past the arrival, so the erasure is in the log.
+    let mut opts = deploy_until("CHECK_END = true", 200.0);
+    opts.pokes = vec!["CHECK_END=true@60".into()];
+    let (bytes, _) = run_lockstep(
+        "stockbhv-pmodel-view",
+        &mission,
+        &["BHV=pmodel_view.bhv"],
+        opts,
+    );
+    assert!(texts(&parse(&bytes), "ARRIVED").iter().any(|a| a.0 < 55.0));
+    let log = parse(&bytes);
+    let seglrs = texts(&log, "VIEW_SEGLR");
+    // Drawn while the waypoint drives (the helm's DESIRED_SPEED 2, heading 0), from the
+    // vehicle's position; erased when its condition fails on arrival.
+    let active: Vec<&String> = seglrs
+        .iter()
+        .map(|s| &s.1)
+        .filter(|s| !s.contains("active=false"))
+        .collect();
+    assert!(active.len() > 20, "{}", active.len());
+    assert!(active.iter().all(|s| s.contains(",ray=0.0,label=abe_seglr,")), "{active:?}");
+    assert!(seglrs.last().unwrap().1.contains("active=false,label=abe_seglr"));
 }

@@ -73,6 +73,7 @@ pub const STOCK: &[(&str, StockFactory)] = &[
     ("BHV_Trail", || Box::new(crate::Trail::new())),
     ("BHV_Convoy", || Box::new(crate::Convoy::new())),
     ("BHV_LegRun", || Box::new(crate::LegRun::new())),
+    ("BHV_PModelView", || Box::new(crate::PModelView::new())),
 ];
 
 type Factory = Arc<dyn Fn() -> Box<dyn Behavior> + Send + Sync>;

@@ -644,6 +644,11 @@ pub const BEHAVIORS: &[BehaviorType] = &[
             "VIEW_POINT",
         ],
     },
+    BehaviorType {
+        name: "BHV_PModelView",
+        params: &["edge_color", "vertex_color", "vertex_size"],
+        posts: &["VIEW_SEGLR"],
+    },
 ];
 
 /// The parameters every contact behaviour takes (MOOS `IvPContactBehavior::setParam`).
