@@ -61,8 +61,16 @@ fn legrun_runs_a_lap_with_its_turns() {
     // One leg cycle completes the legs engine (repeat = 0): the endflag, perpetual.
     assert!(log.entries.iter().any(|e| e.var == "LEGS_DONE"));
     // The turn and the leg points are drawn.
-    assert!(texts(&log, "VIEW_SEGLIST").iter().any(|(_, s)| s.contains("label=abe_turn")));
-    assert!(texts(&log, "VIEW_POINT").iter().any(|(_, s)| s.contains("label=abe_p1")));
+    assert!(
+        texts(&log, "VIEW_SEGLIST")
+            .iter()
+            .any(|(_, s)| s.contains("label=abe_turn"))
+    );
+    assert!(
+        texts(&log, "VIEW_POINT")
+            .iter()
+            .any(|(_, s)| s.contains("label=abe_p1"))
+    );
 }
 
 #[test]
@@ -77,10 +85,7 @@ fn x1_legs_is_refused_as_phelmivp_refuses_it_and_runs_without_its_two_unknown_li
     assert_eq!(reasons.len(), 2, "{reasons:?}");
     assert!(reasons[0].contains("Line 43: legflag"), "{}", reasons[0]);
     assert!(reasons[1].contains("Line 52: mid_pct"), "{}", reasons[1]);
-    assert!(
-        !reasons.iter().any(|r| r.contains("type")),
-        "{reasons:?}"
-    );
+    assert!(!reasons.iter().any(|r| r.contains("type")), "{reasons:?}");
     // Without those two lines the mission runs: the legs, the turns, then (repeat = 1, two
     // cycles) the endflag RETURN = true and the return waypoint.
     let dir = fresh_dir("x1_legs-copy");
@@ -110,9 +115,16 @@ fn x1_legs_is_refused_as_phelmivp_refuses_it_and_runs_without_its_two_unknown_li
         "{modes:?}"
     );
     // Two cycles of the leg (repeat = 1) before the endflags.
-    assert_eq!(modes.iter().filter(|m| *m == "turn2").count(), 2, "{modes:?}");
+    assert_eq!(
+        modes.iter().filter(|m| *m == "turn2").count(),
+        2,
+        "{modes:?}"
+    );
     // The endflag's counter macro: `$[CTR2]` counts its own expansions.
-    assert_eq!(texts(&log, "EFLAG").last().map(|v| v.1.as_str()), Some("endings=1"));
+    assert_eq!(
+        texts(&log, "EFLAG").last().map(|v| v.1.as_str()),
+        Some("endings=1")
+    );
     // The vehicle reaches both ends of the leg, vx1 (70,-35) and vx2 (-35,-85).
     let t = track(&log);
     visits_in_order(&t, &[(70.0, -35.0), (-35.0, -85.0), (70.0, -35.0)], 6.0, 0);
@@ -144,6 +156,17 @@ fn pmodel_view_draws_the_desired_heading_while_running() {
         .filter(|s| !s.contains("active=false"))
         .collect();
     assert!(active.len() > 20, "{}", active.len());
-    assert!(active.iter().all(|s| s.contains(",ray=0.0,label=abe_seglr,")), "{active:?}");
-    assert!(seglrs.last().unwrap().1.contains("active=false,label=abe_seglr"));
+    assert!(
+        active
+            .iter()
+            .all(|s| s.contains(",ray=0.0,label=abe_seglr,")),
+        "{active:?}"
+    );
+    assert!(
+        seglrs
+            .last()
+            .unwrap()
+            .1
+            .contains("active=false,label=abe_seglr")
+    );
 }

@@ -93,7 +93,11 @@ pub fn bearing_rate(os: (f64, f64, f64, f64), cn: (f64, f64, f64, f64)) -> f64 {
             d += 360.0;
         }
         let d = d.abs();
-        if d != 90.0 { d.to_radians().cos() * v } else { 0.0 }
+        if d != 90.0 {
+            d.to_radians().cos() * v
+        } else {
+            0.0
+        }
     };
     let spd = across(osh, -osv) + across(geometry::angle_360(cnh), cnv.max(0.0));
     let range = (osx - cnx).hypot(osy - cny);

@@ -103,7 +103,10 @@ fn dist_point(pts: &[Point], dist: f64) -> Point {
                     sofar += d;
                 } else {
                     let t = if d > 0.0 { (dist - sofar) / d } else { 0.0 };
-                    return Point::new(w[0].x + t * (w[1].x - w[0].x), w[0].y + t * (w[1].y - w[0].y));
+                    return Point::new(
+                        w[0].x + t * (w[1].x - w[0].x),
+                        w[0].y + t * (w[1].y - w[0].y),
+                    );
                 }
             }
             pts[pts.len() - 1]
@@ -217,12 +220,36 @@ pub fn williamson_turn(
         }
         if port {
             arc(&mut pts, c1, port_angle, theta1, 1.0);
-            arc(&mut pts, c3, geometry::angle_360(osh + 90.0 + theta1), 360.0 - ang_w, -1.0);
-            arc(&mut pts, c2, geometry::angle_360(star_angle - theta2), theta2, 1.0);
+            arc(
+                &mut pts,
+                c3,
+                geometry::angle_360(osh + 90.0 + theta1),
+                360.0 - ang_w,
+                -1.0,
+            );
+            arc(
+                &mut pts,
+                c2,
+                geometry::angle_360(star_angle - theta2),
+                theta2,
+                1.0,
+            );
         } else {
             arc(&mut pts, c2, star_angle, theta1, -1.0);
-            arc(&mut pts, c3, geometry::angle_360(osh - 90.0 - theta1), 360.0 - ang_w, 1.0);
-            arc(&mut pts, c1, geometry::angle_360(port_angle + theta2), theta2, -1.0);
+            arc(
+                &mut pts,
+                c3,
+                geometry::angle_360(osh - 90.0 - theta1),
+                360.0 - ang_w,
+                1.0,
+            );
+            arc(
+                &mut pts,
+                c1,
+                geometry::angle_360(port_angle + theta2),
+                theta2,
+                -1.0,
+            );
         }
     } else {
         // Lane switch 2: lanes farther apart than the loop.
@@ -563,9 +590,23 @@ impl LegGeometry {
             return Vec::new();
         };
         let (at, to, ext, rad, bias, port) = if which == 1 {
-            (p1, p2, self.turn1_ext, self.turn1_rad, self.turn1_bias, self.turn1_port)
+            (
+                p1,
+                p2,
+                self.turn1_ext,
+                self.turn1_rad,
+                self.turn1_bias,
+                self.turn1_port,
+            )
         } else {
-            (p2, p1, self.turn2_ext, self.turn2_rad, self.turn2_bias, self.turn2_port)
+            (
+                p2,
+                p1,
+                self.turn2_ext,
+                self.turn2_rad,
+                self.turn2_bias,
+                self.turn2_port,
+            )
         };
         // The heading the turn ends on (away from this end); it starts on the reverse.
         let th = geometry::relative_angle(at.x, at.y, to.x, to.y);
@@ -859,8 +900,7 @@ impl WptEngine {
     }
 
     fn dist_to_prev(&self, osx: f64, osy: f64) -> f64 {
-        self.prevpt
-            .map_or(-1.0, |p| (osx - p.x).hypot(osy - p.y))
+        self.prevpt.map_or(-1.0, |p| (osx - p.x).hypot(osy - p.y))
     }
 
     /// MOOS `pctToNextWpt`: the share of the way from the previous point (the last one for
@@ -1415,7 +1455,9 @@ impl LegRun {
             }
         };
         let f = match (crs, spd) {
-            (Some(c), Some(s)) => couple_weighted(&c, &s, self.patience, 100.0 - self.patience, true).ok(),
+            (Some(c), Some(s)) => {
+                couple_weighted(&c, &s, self.patience, 100.0 - self.patience, true).ok()
+            }
             _ => None,
         };
         if f.is_none() {

@@ -57,14 +57,21 @@ fn defaults_and_the_invalid_leg_warning() {
     let s = posted(&l.configured, "BHV_SETTINGS").unwrap();
     assert_eq!(
         s.as_str(),
-        Some("type=BHV_LegRun,name=legs,speed=2,currix=0,capture_radius=3,slip_radius=15,patience=50")
+        Some(
+            "type=BHV_LegRun,name=legs,speed=2,currix=0,capture_radius=3,slip_radius=15,patience=50"
+        )
     );
-    assert_eq!(posted(&l.configured, "LR_MODE").unwrap().as_str(), Some("init"));
-    assert!(posted(&l.configured, "LR_MODE_REPORT")
-        .unwrap()
-        .as_str()
-        .unwrap()
-        .starts_with("vname=abe,mode=init,utc=0"));
+    assert_eq!(
+        posted(&l.configured, "LR_MODE").unwrap().as_str(),
+        Some("init")
+    );
+    assert!(
+        posted(&l.configured, "LR_MODE_REPORT")
+            .unwrap()
+            .as_str()
+            .unwrap()
+            .starts_with("vname=abe,mode=init,utc=0")
+    );
 }
 
 #[test]
@@ -107,7 +114,11 @@ fn far_and_close_turn_choose_the_first_leg_by_distance() {
         let mut l = legrun(&[LEG[0], LEG[1], LEG[2], LEG[3], ("init_leg_mode", mode)]);
         l.nav(0.0, 80.0, 0.0, 2.0, 0.0);
         let (f, out) = l.start(1.0);
-        assert_eq!(posted(&out, "LR_MODE").unwrap().as_str(), Some(first), "{mode}");
+        assert_eq!(
+            posted(&out, "LR_MODE").unwrap().as_str(),
+            Some(first),
+            "{mode}"
+        );
         let crs = f.unwrap().argmax2("course", "speed").0;
         assert_eq!(crs, if first == "leg1" { 180.0 } else { 0.0 }, "{mode}");
     }
@@ -137,8 +148,18 @@ fn the_turn_is_the_williamson_turn_of_the_cpp() {
     assert_eq!(t.len(), 24);
     assert!(close(t[0], 0.0, 0.0, 1e-9));
     // 110 deg around (-20,0): (-20 + 20 sin 110, 20 cos 110).
-    assert!(close(t[1], -1.206_147_584_281_83, -6.840_402_866_513_374, 1e-9));
-    assert!(close(t[4], -10.0, -34.641_016_151_377_55 + 17.320_508_075_688_77, 1e-9));
+    assert!(close(
+        t[1],
+        -1.206_147_584_281_83,
+        -6.840_402_866_513_374,
+        1e-9
+    ));
+    assert!(close(
+        t[4],
+        -10.0,
+        -34.641_016_151_377_55 + 17.320_508_075_688_77,
+        1e-9
+    ));
     for p in &t[4..20] {
         let r = (p.x - 0.0).hypot(p.y + 34.641_016_151_377_55);
         assert!((r - 20.0).abs() < 1e-9, "{p:?}");
@@ -147,7 +168,12 @@ fn the_turn_is_the_williamson_turn_of_the_cpp() {
     // The turn at p2 mirrors it (its loop beyond p2, heading 0 there, then 180).
     let t2 = leg.turn_points(2);
     assert_eq!(t2.len(), 24);
-    assert!(close(t2[4], 10.0, 100.0 + 34.641_016_151_377_55 - 17.320_508_075_688_77, 1e-9));
+    assert!(close(
+        t2[4],
+        10.0,
+        100.0 + 34.641_016_151_377_55 - 17.320_508_075_688_77,
+        1e-9
+    ));
     // Starboard: the mirror image of the port turn.
     assert!(leg.set_param("turn1_dir", "star"));
     let s = leg.turn_points(1);
@@ -175,7 +201,12 @@ fn the_turn_is_the_williamson_turn_of_the_cpp() {
     let h2 = (be * be + k2 * k2).sqrt() / 2.0;
     let theta2 = (be / k2).atan().to_degrees() - (20.0 / h2).acos().to_degrees();
     let a = (270.0 - theta2).to_radians();
-    assert!(close(*b.last().unwrap(), 20.0 + 20.0 * a.sin(), 20.0 * a.cos(), 1e-9));
+    assert!(close(
+        *b.last().unwrap(),
+        20.0 + 20.0 * a.sin(),
+        20.0 * a.cos(),
+        1e-9
+    ));
     // An extension: the turn starts `turn1_ext` beyond p1 and ends back at p1.
     assert!(leg.set_param("turn1_bias", "0"));
     assert!(leg.set_param("turn1_ext", "10"));
@@ -261,13 +292,7 @@ fn the_legs_engine_posts_the_endflags_after_its_repeats() {
 
 #[test]
 fn leg_speeds_follow_the_schedule_from_the_first_mode_switch() {
-    let mut l = legrun(&[
-        LEG[0],
-        LEG[1],
-        LEG[2],
-        LEG[3],
-        ("leg_spds", "1.5, 2:3"),
-    ]);
+    let mut l = legrun(&[LEG[0], LEG[1], LEG[2], LEG[3], ("leg_spds", "1.5, 2:3")]);
     let (mut x, mut y, mut hdg) = (0.0, 50.0, 180.0);
     let mut seen = Vec::new();
     for k in 0..1500 {
@@ -298,7 +323,10 @@ fn macros_expand_in_the_flags() {
     assert_eq!(s, "2");
     // The C++ expands " NY" (with a space): `$[NY]` is not one of its macros.
     assert!(!b.bhv.macro_value("NY", &mut String::new()));
-    for m in ["NI", "NX", "CYCLES", "CYCREM", "WPTS_HIT", "DIST_NP", "DIST_PP", "PCT_NP", "LEG_ODO", "LEG_ID", "WRAPS"] {
+    for m in [
+        "NI", "NX", "CYCLES", "CYCREM", "WPTS_HIT", "DIST_NP", "DIST_PP", "PCT_NP", "LEG_ODO",
+        "LEG_ID", "WRAPS",
+    ] {
         assert!(b.bhv.macro_value(m, &mut String::new()), "{m}");
     }
 }
@@ -344,7 +372,10 @@ fn bad_values_are_refused_as_the_cpp_refuses_them() {
     }
     // Unknown to BHV_LegRun and to LegRun: the corpus x1_legs's `legflag` and `mid_pct`.
     for p in ["legflag", "mid_pct"] {
-        assert!(matches!(b.set(p, "1"), Err(ParamError::Unknown { .. })), "{p}");
+        assert!(
+            matches!(b.set(p, "1"), Err(ParamError::Unknown { .. })),
+            "{p}"
+        );
     }
     // Accepted with the C++'s leniency: `repeat` text, a `radius` read by atof, clipped
     // patience and bias, a turn radius raised to the minimum.
@@ -361,7 +392,10 @@ fn bad_values_are_refused_as_the_cpp_refuses_them() {
         ("leg_spds", "clear"),
         ("vx1", "70, -35"),
         ("vx2", "-35, -85"),
-        ("visual_hints", "nextpt_lcolor=gray70, turn_vertext_color=green"),
+        (
+            "visual_hints",
+            "nextpt_lcolor=gray70, turn_vertext_color=green",
+        ),
     ] {
         b.set(p, v).unwrap_or_else(|e| panic!("{p} = {v}: {e}"));
     }

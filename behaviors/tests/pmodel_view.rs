@@ -58,7 +58,10 @@ fn missing_navigation_is_an_error() {
     let mut p = Bhv::new("BHV_PModelView", "pv", uuv_domain()).config(&[]);
     p.num("NAV_Y", 1.0).num("NAV_HEADING", 0.0);
     let out = p.start(1.0).1;
-    assert_eq!(out.error.as_deref(), Some("No ownship X/Y info in info_buffer."));
+    assert_eq!(
+        out.error.as_deref(),
+        Some("No ownship X/Y info in info_buffer.")
+    );
 }
 
 #[test]
@@ -75,8 +78,14 @@ fn bad_values_are_refused() {
             "{p} = {v}"
         );
     }
-    assert!(matches!(b.set("speed", "1"), Err(ParamError::Unknown { .. })));
+    assert!(matches!(
+        b.set("speed", "1"),
+        Err(ParamError::Unknown { .. })
+    ));
     for p in mission::catalog::behavior("BHV_PModelView").unwrap().params {
-        assert!(!matches!(b.set(p, "1"), Err(ParamError::Unknown { .. })), "{p}");
+        assert!(
+            !matches!(b.set(p, "1"), Err(ParamError::Unknown { .. })),
+            "{p}"
+        );
     }
 }

@@ -155,7 +155,10 @@ fn contact_event_flags_macros_and_the_post_mortem() {
     // Past 55 m (1.1 x completed_dist) the behaviour completes and dies, its post mortem
     // the range and bearing from ownship to the contact (IvPContactBehavior::setComplete).
     let (td, ev) = death.expect("the behaviour completes");
-    assert!(ev.contains("bname=avd_bob, btype=BHV_AvoidCollision, event=death"), "{ev}");
+    assert!(
+        ev.contains("bname=avd_bob, btype=BHV_AvoidCollision, event=death"),
+        "{ev}"
+    );
     let pm = ev
         .split(", post_mortem=")
         .nth(1)
