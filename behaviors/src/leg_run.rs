@@ -117,21 +117,47 @@ fn dist_point(pts: &[Point], dist: f64) -> Point {
 // ---------------------------------------------------------------------------------------------
 // The turn (MOOS TurnGenWilliamson, as LegRun drives it).
 
-/// The points of a turn from `start` on heading `hdg` back to `end` on the reverse heading,
-/// swinging first away from the turn side, around a loop of `radius`, then back in (MOOS
-/// `TurnGenWilliamson::generate`). `gap` is the angle between points (degrees), `bias_pct`
-/// shifts the loop sideways (−100..100 % of its maximum), `lane_gap0` is the lane gap the
-/// bias maximum is taken from.
-pub fn williamson_turn(
-    start: Point,
-    hdg: f64,
-    end: Point,
-    radius: f64,
-    gap: f64,
-    lane_gap0: f64,
-    bias_pct: f64,
-    port: bool,
-) -> Vec<Point> {
+/// A turn from `start` on heading `hdg` back to `end` on the reverse heading, swinging
+/// first away from the turn side, around a loop of `radius`, then back in (MOOS
+/// `TurnGenWilliamson` as `LegRun` sets it up).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WilliamsonTurn {
+    /// Where the turn starts.
+    pub start: Point,
+    /// The heading at the start, degrees.
+    pub hdg: f64,
+    /// Where the turn ends.
+    pub end: Point,
+    /// The loop's radius, m.
+    pub radius: f64,
+    /// Degrees between points.
+    pub gap: f64,
+    /// The lane gap the bias maximum is taken from (LegRun sets 0.1 before generating).
+    pub lane_gap0: f64,
+    /// Sideways shift of the loop, −100..100 % of its maximum.
+    pub bias_pct: f64,
+    /// A port turn (else starboard).
+    pub port: bool,
+}
+
+impl WilliamsonTurn {
+    /// The turn's points (MOOS `TurnGenWilliamson::generate`).
+    pub fn points(&self) -> Vec<Point> {
+        williamson_points(self)
+    }
+}
+
+fn williamson_points(t: &WilliamsonTurn) -> Vec<Point> {
+    let WilliamsonTurn {
+        start,
+        hdg,
+        end,
+        radius,
+        gap,
+        lane_gap0,
+        bias_pct,
+        port,
+    } = *t;
     let osh = geometry::angle_360(hdg);
     let (sx, sy) = (start.x, start.y);
     let r = radius;
@@ -618,16 +644,17 @@ impl LegGeometry {
         }
         // The generator's radius is only taken when positive (TurnGenerator: 10 otherwise).
         let r = if rad > 0.0 { rad } else { 10.0 };
-        pts.extend(williamson_turn(
+        let turn = WilliamsonTurn {
             start,
-            th + 180.0,
-            at,
-            r,
-            self.turn_pt_gap,
-            0.1,
-            bias,
+            hdg: th + 180.0,
+            end: at,
+            radius: r,
+            gap: self.turn_pt_gap,
+            lane_gap0: 0.1,
+            bias_pct: bias,
             port,
-        ));
+        };
+        pts.extend(turn.points());
         pts
     }
 }
@@ -841,15 +868,12 @@ impl WptEngine {
         if self.current_cpa == -1.0 || dist < self.current_cpa {
             self.current_cpa = dist;
         }
-        let mut advance = false;
-        if dist < self.capture_radius {
-            advance = true;
-            self.hits += 1;
-        } else if self.slip_radius > self.capture_radius
-            && dist > self.current_cpa
-            && self.current_cpa <= self.slip_radius
-        {
-            advance = true;
+        // Captured, or slipped past within the slip radius.
+        let mut advance = dist < self.capture_radius
+            || (self.slip_radius > self.capture_radius
+                && dist > self.current_cpa
+                && self.current_cpa <= self.slip_radius);
+        if advance {
             self.hits += 1;
         }
         if !advance

@@ -100,7 +100,7 @@ pub use cut_range::CutRange;
 pub use fixed_turn::{FixedTurn, ScheduledTurn};
 pub use go_to_depth::GoToDepth;
 pub use hs_line::HsLine;
-pub use leg_run::{LEG_PARAMS, LegGeometry, LegMode, LegRun, williamson_turn};
+pub use leg_run::{LEG_PARAMS, LegGeometry, LegMode, LegRun, WilliamsonTurn};
 pub use loiter::Loiter;
 pub use max_depth::MaxDepth;
 pub use max_speed::MaxSpeed;
