@@ -219,6 +219,11 @@ fn nonneg(param: &str, v: &str) -> Result<f64, ParamError> {
 }
 
 impl Behavior for AvoidCollision {
+    /// IvPContactBehavior's post mortem: the reason, range and bearing to the contact.
+    fn post_mortem(&self, reason: &str) -> String {
+        self.base.post_mortem(reason)
+    }
+
     fn kind(&self) -> &'static str {
         "BHV_AvoidCollision"
     }

@@ -45,6 +45,12 @@ pub enum Emit {
     /// The behaviour declared itself complete at this point of its output (MOOS
     /// `setComplete()`): the helm posts the endflags here.
     Complete,
+    /// The behaviour's common endflags, posted without completing (BHV_LegRun's
+    /// `postFlags(m_end_flags)` when its legs are done).
+    EndFlags {
+        /// Never filtered by the duplicate filter.
+        repeatable: bool,
+    },
 }
 
 /// The output buffer of one behaviour call: postings, completion, errors.
@@ -60,6 +66,9 @@ pub struct Out {
     /// The behaviour makes the helm's process fail (BHV_TestFailure): the helm keeps the
     /// first one until its app acts on it ([`Fault`]).
     pub fault: Option<Fault>,
+    /// Why the behaviour completed (MOOS `setComplete(post_mortem)`), given to
+    /// [`Behavior::post_mortem`] when the helm records its death; empty by default.
+    pub post_mortem: String,
 }
 
 /// A failure a behaviour inflicts on the helm's process, as MOOS-IvP's BHV_TestFailure does
@@ -103,6 +112,16 @@ impl Out {
         self.completed = true;
         self.emits.push(Emit::Complete);
     }
+    /// Declares the behaviour complete, saying why (MOOS `setComplete(post_mortem)`): the
+    /// reason goes into the `post_mortem` of its death's `IVPHELM_LIFE_EVENT`.
+    pub fn complete_because(&mut self, reason: impl Into<String>) {
+        self.post_mortem = reason.into();
+        self.complete();
+    }
+    /// Asks the helm to post the behaviour's common endflags now, without completing it.
+    pub fn end_flags(&mut self, repeatable: bool) {
+        self.emits.push(Emit::EndFlags { repeatable });
+    }
     /// Reports an error (`BHV_ERROR`, helm halts).
     pub fn error(&mut self, msg: impl Into<String>) {
         self.error = Some(msg.into());
@@ -121,6 +140,7 @@ impl Out {
         self.completed = false;
         self.error = None;
         self.fault = None;
+        self.post_mortem.clear();
     }
 }
 
@@ -466,6 +486,15 @@ pub trait Behavior: Send {
 
     /// When the behaviour is found completed.
     fn on_complete(&mut self, _ctx: &Ctx<'_>, _out: &mut Out) {}
+
+    /// The `post_mortem` of this behaviour's death event (MOOS `m_post_mortem`), when it
+    /// completes for `reason` ([`Out::complete_because`]; empty for a plain
+    /// [`Out::complete`] or a `duration` running out). The default is the reason itself; a
+    /// contact behaviour appends the range and bearing to its contact
+    /// ([`crate::contact::ContactBase::post_mortem`]), as IvPContactBehavior's `setComplete`.
+    fn post_mortem(&self, reason: &str) -> String {
+        reason.to_string()
+    }
 
     /// Appends the value of a behaviour-specific macro (e.g. the waypoint's `NX`, `SPEED`) and
     /// returns true, or returns false if `name` is not one of its macros.

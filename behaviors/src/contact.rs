@@ -26,14 +26,14 @@
 //! | exit_on_filter_vtype, exit_on_filter_group, exit_on_filter_region | false | boolean | done |
 //! | bearing_line_show, bearing_line_label_show | false | boolean | done |
 //! | bearing_lines, bearing_line_config | none | `color:threshold, ..., info:range|relevance`; never refused | done |
-//! | cnflag | none | `<N`, `>N`, `@<N`, `@>N`, `@cpa`, `@os_passed_cn*`, `@cn_passed_os*`, `@*crossed*` prefixes | range flags done (posted in running iterations, repeatable); open: the event flags (`@cpa`, passing, crossing) are read but not posted |
+//! | cnflag | none | `<N`, `>N`, `@<N`, `@>N`, `@cpa`, `@os_passed_cn*`, `@cn_passed_os*`, `@*crossed*` prefixes | done: range flags and the events `@cpa`, `@os_passed_cn[_port|_star]`, `@cn_passed_os[_port|_star]` (posted in running iterations, repeatable; `contact_state`); the `@*crossed*` tags are accepted and never posted, as the C++ at a2a9b716 |
 //! | use_plat_model | false | boolean | `false` done; refused: `true` (no platform-model CPA engine) |
 //!
 //! | variable | when | format | coug |
 //! |---|---|---|---|
 //! | BHV_WARNING | the contact is not in the ledger (`on_no_contact_ok`) | `<contact> x/y/heading/speed info not found` | done |
 //! | BHV_ERROR | the same without `on_no_contact_ok`; no contact named | `... info not found`, `contact IDX not set.` | done |
-//! | macros in flags | always | `$[CONTACT]`, `$[CN_NAME]`, `$[CNX]`, `$[CNY]`, `$[CNH]`, `$[CNV]`, `$[CN_VTYPE]`, `$[CN_GROUP]`, `$[CN_RANGE]`, `$[RANGE]` | done; open: the relative-geometry macros (`$[ROC]`, `$[OS_CN_REL_BNG]`, ...) |
+//! | macros in flags | always | `$[CONTACT]`, `$[CN_NAME]`, `$[CNX]`, `$[CNY]`, `$[CNH]`, `$[CNV]`, `$[CN_VTYPE]`, `$[CN_GROUP]`, `$[CN_RANGE]`, `$[RANGE]` | done, with the relative-geometry macros `$[ROC]`, `$[OS_CN_REL_BNG]`, `$[CN_OS_REL_BNG]`, `$[BNG_RATE]`, `$[CN_SPD_IN_OS_POS]`, `$[OS_FORE_OF_CN]` ... `$[CN_STAR_OF_OS]` (`contact_state`) |
 //! | VIEW_SEGLIST | `bearing_lines` given, each running iteration | ownship to contact, label `<us>_<name>`, edge colour by relevance or range, duration 100 | done |
 
 use std::collections::BTreeSet;
@@ -312,6 +312,8 @@ pub struct ContactBase {
     pub range: f64,
     /// The behaviour's relevance (its weight factor) at the last running iteration.
     pub relevance: f64,
+    /// The relative geometry of this and the last iterations (event flags, macros).
+    pub states: crate::contact_state::ContactStates,
 }
 
 impl ContactBase {
@@ -340,6 +342,7 @@ impl ContactBase {
             cn_vtype: String::new(),
             range: 0.0,
             relevance: 0.0,
+            states: Default::default(),
         }
     }
 
@@ -492,13 +495,16 @@ impl ContactBase {
         self.cn_vtype.clone_from(&c.vtype);
         self.prev_range = Some(self.range);
         self.range = (x - c.x_m).hypot(y - c.y_m);
+        let state = crate::contact_state::ContactState::new(self.os, self.cn);
+        self.states.record(state);
         true
     }
 
     /// Posts the range `cnflag`s that hold (MOOS `handleContactFlags`, called in running
     /// iterations after [`ContactBase::update`]): `<N` while the range is at most `N`, `>N`
-    /// while at least `N`, `@<N` when it comes within `N`, `@>N` when it leaves; repeatable.
-    /// The event tags (`@cpa`, `@os_passed_cn`, ...) are read but not posted yet.
+    /// while at least `N`, `@<N` when it comes within `N`, `@>N` when it leaves; and the
+    /// event tags when their event happened this iteration
+    /// ([`crate::contact_state::ContactStates::event`]); repeatable.
     pub fn post_contact_flags(&self, out: &mut Out) {
         let prev = self.prev_range.unwrap_or(0.0);
         for (tag, flag) in &self.cnflags {
@@ -512,7 +518,7 @@ impl ContactBase {
             } else if let Some(t) = tag.strip_prefix('>').and_then(thresh) {
                 self.range >= t
             } else {
-                false
+                self.states.event(tag)
             };
             if holds {
                 out.flag(flag, true);
@@ -523,7 +529,8 @@ impl ContactBase {
     /// Appends the value of a contact macro and returns true (MOOS `expandMacros` of
     /// IvPBehavior and IvPContactBehavior): `CONTACT`/`CN_NAME` (the name), `CNX`, `CNY`,
     /// `CNH`, `CNV` (3 decimals, compacted), `CN_VTYPE`, `CN_GROUP`, `CN_RANGE` and `RANGE`
-    /// (1 decimal). False for any other name.
+    /// (1 decimal), and the relative-geometry macros
+    /// ([`crate::contact_state::ContactStates::macro_value`]). False for any other name.
     pub fn macro_value(&self, name: &str, out: &mut String) -> bool {
         use moos_types::fmt::compact;
         match name {
@@ -535,9 +542,34 @@ impl ContactBase {
             "CN_VTYPE" => out.push_str(&self.cn_vtype),
             "CN_GROUP" => out.push_str(&self.cn_group),
             "CN_RANGE" | "RANGE" => compact(out, self.range, 1),
-            _ => return false,
+            _ => return self.states.macro_value(name, out),
         }
         true
+    }
+
+    /// The post mortem of a contact behaviour completing for `reason` (MOOS
+    /// `IvPContactBehavior::setComplete`): the reason, then `rng=<range>#bng=<bearing from
+    /// ownship to the contact>` (1 decimal), `#`-separated.
+    ///
+    /// ```
+    /// let mut b = behaviors::contact::ContactBase::new(60.0);
+    /// b.os = (0.0, 0.0, 0.0, 1.0);
+    /// b.cn = (30.0, 40.0, 0.0, 1.0);
+    /// b.range = 50.0;
+    /// assert_eq!(b.post_mortem(""), "rng=50#bng=36.9");
+    /// assert_eq!(b.post_mortem("filtera"), "filtera#rng=50#bng=36.9");
+    /// ```
+    pub fn post_mortem(&self, reason: &str) -> String {
+        let mut s = reason.to_string();
+        if !s.is_empty() {
+            s.push('#');
+        }
+        s.push_str("rng=");
+        moos_types::fmt::compact(&mut s, self.range, 1);
+        s.push_str("#bng=");
+        let bng = geometry::relative_angle(self.os.0, self.os.1, self.cn.0, self.cn.1);
+        moos_types::fmt::compact(&mut s, bng, 1);
+        s
     }
 
     /// A CPA engine for the present geometry.

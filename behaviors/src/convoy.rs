@@ -234,6 +234,11 @@ impl Convoy {
 }
 
 impl Behavior for Convoy {
+    /// IvPContactBehavior's post mortem: the reason, range and bearing to the contact.
+    fn post_mortem(&self, reason: &str) -> String {
+        self.base.post_mortem(reason)
+    }
+
     fn kind(&self) -> &'static str {
         "BHV_Convoy"
     }

@@ -204,6 +204,11 @@ fn strict_range(param: &str, v: &str, lo: f64, hi: f64) -> Result<f64, ParamErro
 }
 
 impl Behavior for CutRange {
+    /// IvPContactBehavior's post mortem: the reason, range and bearing to the contact.
+    fn post_mortem(&self, reason: &str) -> String {
+        self.base.post_mortem(reason)
+    }
+
     fn kind(&self) -> &'static str {
         "BHV_CutRange"
     }

@@ -72,6 +72,8 @@ pub const STOCK: &[(&str, StockFactory)] = &[
     ("BHV_Shadow", || Box::new(crate::Shadow::new())),
     ("BHV_Trail", || Box::new(crate::Trail::new())),
     ("BHV_Convoy", || Box::new(crate::Convoy::new())),
+    ("BHV_LegRun", || Box::new(crate::LegRun::new())),
+    ("BHV_PModelView", || Box::new(crate::PModelView::new())),
 ];
 
 type Factory = Arc<dyn Fn() -> Box<dyn Behavior> + Send + Sync>;

@@ -111,6 +111,11 @@ impl Shadow {
 }
 
 impl Behavior for Shadow {
+    /// IvPContactBehavior's post mortem: the reason, range and bearing to the contact.
+    fn post_mortem(&self, reason: &str) -> String {
+        self.base.post_mortem(reason)
+    }
+
     fn kind(&self) -> &'static str {
         "BHV_Shadow"
     }

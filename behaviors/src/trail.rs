@@ -138,6 +138,11 @@ impl Trail {
 }
 
 impl Behavior for Trail {
+    /// IvPContactBehavior's post mortem: the reason, range and bearing to the contact.
+    fn post_mortem(&self, reason: &str) -> String {
+        self.base.post_mortem(reason)
+    }
+
     fn kind(&self) -> &'static str {
         "BHV_Trail"
     }

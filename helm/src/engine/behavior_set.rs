@@ -27,9 +27,31 @@ pub(super) struct Slot {
     /// For a spawned behaviour, its template's name prefix (an update's `name=` then names
     /// it without the prefix, MOOS `getSpawnBaseName`).
     pub(super) spawn_base: Option<String>,
+    /// Why the behaviour completed (its death event's `post_mortem`, MOOS `m_post_mortem`).
+    pub(super) post_mortem: String,
+    /// The generator of the `$[HASH..]` macros (0 until first used, then seeded from the
+    /// behaviour's name).
+    pub(super) hash_rng: u64,
 }
 
+/// The characters of a `$[HASH]` (MOOS `hashAlphaNum`: digits and letters without `o`/`O`).
+const HASH_CHARS: &[u8] = b"0123456789abcdefghijklmnpqrstuvwxyzABCDEFGHIJKLMNPQRSTUVWXYZ";
+
 impl Slot {
+    /// The state of this behaviour's `$[HASH]` generator: a xorshift generator seeded from
+    /// its name (FNV-1a), so a lockstep run posts the same hashes every time (MOOS
+    /// `hashAlphaNum` draws from the process's `rand()`).
+    pub(super) fn hash_state(&mut self) -> u64 {
+        if self.hash_rng == 0 {
+            let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+            for b in self.common.name.bytes() {
+                h = (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+            }
+            self.hash_rng = h | 1;
+        }
+        self.hash_rng
+    }
+
     /// A new behaviour of the set with its type's defaults (name: the type's
     /// [`Behavior::default_name`]).
     pub(super) fn new(bhv: Box<dyn Behavior>) -> Slot {
@@ -57,6 +79,8 @@ impl Slot {
             now_start: None,
             config_out: Out::default(),
             spawn_base: None,
+            post_mortem: String::new(),
+            hash_rng: 0,
         }
     }
 
@@ -74,6 +98,18 @@ impl Slot {
             out.push('/');
             uint(out, u64::from(self.good_updates + self.bad_updates));
         }
+    }
+}
+
+/// Appends `len` random characters of [`HASH_CHARS`] drawn from the generator `state`.
+pub(super) fn push_hash(state: &mut u64, len: usize, out: &mut String) {
+    for _ in 0..len {
+        let mut x = *state;
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        *state = x;
+        out.push(HASH_CHARS[(x % HASH_CHARS.len() as u64) as usize] as char);
     }
 }
 
@@ -118,7 +154,13 @@ impl Helm {
             match e {
                 Emit::Post { var, value, key } => self.queue_owned(i, var, value, &key),
                 Emit::Flag { flag, repeatable } => self.post_flag(i, &flag, repeatable),
-                Emit::Complete => self.set_complete(i),
+                Emit::Complete => self.set_complete(i, &emit.post_mortem),
+                Emit::EndFlags { repeatable } => {
+                    let flags = self.slots[i].common.flags(FlagKind::End).to_vec();
+                    for f in &flags {
+                        self.post_flag(i, f, repeatable);
+                    }
+                }
             }
         }
         if let Some(msg) = emit.error.take() {
@@ -138,10 +180,14 @@ impl Helm {
         self.emit = emit;
     }
 
-    pub(super) fn set_complete(&mut self, i: usize) {
+    /// MOOS `setComplete(reason)`: the endflags, then, unless perpetual, completion with
+    /// the behaviour's post mortem for `reason` ([`Behavior::post_mortem`]).
+    pub(super) fn set_complete(&mut self, i: usize, reason: &str) {
         self.post_flags(i, FlagKind::End);
         if !self.slots[i].common.perpetual {
-            self.slots[i].completed = true;
+            let slot = &mut self.slots[i];
+            slot.completed = true;
+            slot.post_mortem = slot.bhv.post_mortem(reason);
         }
     }
 
@@ -302,7 +348,7 @@ impl Helm {
             self.post_remaining(i, remaining);
         }
         if exceeded {
-            self.set_complete(i);
+            self.set_complete(i, "");
             if self.slots[i].common.perpetual {
                 self.slots[i].clock.reset_pending = true;
             } else {

@@ -201,7 +201,8 @@ impl Helm {
         while k < self.slots.len() {
             if self.slots[k].state == RunState::Completed {
                 let s = self.slots.remove(k);
-                self.life_event(&s.common.name, &s.common.kind, "death", "", "", now);
+                let pm = &s.post_mortem;
+                self.life_event(&s.common.name, &s.common.kind, "death", "", pm, now);
                 for ev in std::mem::take(&mut self.life_events) {
                     self.notify("IVPHELM_LIFE_EVENT", Value::String(ev.into()), "");
                 }
@@ -390,10 +391,32 @@ impl Helm {
                 slot.ctr[k] += 1;
             }
         }
+        let mut rng = slot.hash_state();
         let ownship = slot.common.us.as_deref().unwrap_or(&self.ownship);
         let nav = |v: &str| info.num(v).unwrap_or(0.0);
+        // One value per `HASH` macro and expansion, shared by its occurrences (MOOS
+        // `macroHashExpand`): `HASH` and `HASH6` six characters, `HASHn` n (2 to 9).
+        let mut hashes: [Option<String>; 10] = Default::default();
         expand(text, out, |name, o| {
             if slot.bhv.macro_value(name, o) {
+                return true;
+            }
+            if let Some(n) = name.strip_prefix("HASH") {
+                // `HASH` (slot 0) and `HASH6` are separate macros of six characters.
+                let (k, len) = match n {
+                    "" => (0, 6),
+                    "2" | "3" | "4" | "5" | "6" | "7" | "8" | "9" => {
+                        let l = n.parse().unwrap_or(6);
+                        (l, l)
+                    }
+                    _ => return false,
+                };
+                let h = hashes[k].get_or_insert_with(|| {
+                    let mut h = String::with_capacity(len);
+                    behavior_set::push_hash(&mut rng, len, &mut h);
+                    h
+                });
+                o.push_str(h);
                 return true;
             }
             match name {
@@ -421,6 +444,7 @@ impl Helm {
             }
             true
         });
+        self.slots[i].hash_rng = rng;
     }
 
     /// Records an `IVPHELM_LIFE_EVENT` (`event` spawn, abort or death; `seed`: the spawning
