@@ -4,13 +4,18 @@
 //!   each with a trail of at most [`SceneConfig::trail_max`] points. As pMarineViewer does, a
 //!   vehicle whose last report arrived (viewer time, not the report's `TIME`) more than
 //!   [`SceneConfig::stale_after_s`] ago is stale (greyed), and one silent for that plus
-//!   [`SceneConfig::remove_after_s`] is removed.
+//!   [`SceneConfig::remove_after_s`] is removed. Each vehicle also keeps its depth and
+//!   speed over the last [`SceneConfig::history_s`] seconds (points a second apart, and the newest) for
+//!   the page's strip chart, so a page opened mid-run charts what came before it.
 //! - Every `VIEW_*` object, keyed by kind and label: a new one with the same label replaces the
 //!   old, `active=false` removes it, a positive `duration` expires it. Points, polygons and
 //!   seglists are read by `geometry::spec`; circles, markers, vectors, arrows and pulses are
 //!   kept as their `key=value` fields (numbers as JSON numbers) for the page to draw.
 //!   Unlabelled objects each get their own key; at most [`SceneConfig::max_unlabeled`] of
-//!   each kind are kept (oldest dropped).
+//!   each kind are kept (oldest dropped). Range and comms pulses carry `t0`, their start
+//!   (their `time=`, else when they came), and always a `duration` (pMarineViewer's 15 s
+//!   and 3 s when not given): the page grows and fades them from `t0` as pMarineViewer
+//!   does, and the scene drops them after `duration` (plus a range pulse's `linger`).
 //! - The latest `APPCAST` per node and app.
 //! - The mission's pMarineViewer buttons (`mission::buttons`).
 //!
@@ -25,8 +30,9 @@
 //! - `{"type":"delta","version":v,"now":t,"vehicles":[..],"shapes":[..],"appcasts":[..],"removed_vehicles":[name..],"removed_shapes":[[kind,key]..]}`
 //!
 //! A vehicle is `{"name","type","color","x","y","heading","speed","depth","mode","allstop","helm","received","stale"}`
-//! plus `"trail":[[x,y]..]` in a snapshot or `"trail_add":[[x,y]..]` (points after the
-//! client's version; the page appends and keeps the last `trail_max`) in a delta. A shape is
+//! plus `"trail":[[x,y]..]` and `"history":[[t,depth,speed]..]` in a snapshot, or
+//! `"trail_add":[[x,y]..]` (points after the client's version; the page appends and keeps
+//! the last `trail_max`) in a delta. A shape is
 //! `{"kind","key","label",...fields}`; an appcast `{"node","app","iteration","cfg_warnings","run_warnings","report"}`;
 //! a button `{"label","key","postings":[[var,value]..]}`.
 
@@ -52,6 +58,8 @@ pub struct SceneConfig {
     pub max_unlabeled: usize,
     /// Removals remembered for deltas.
     pub max_tombstones: usize,
+    /// Seconds of depth and speed kept per vehicle for the strip chart.
+    pub history_s: f64,
 }
 
 impl Default for SceneConfig {
@@ -62,6 +70,7 @@ impl Default for SceneConfig {
             remove_after_s: 180.0,
             max_unlabeled: 500,
             max_tombstones: 4096,
+            history_s: 300.0,
         }
     }
 }
@@ -140,10 +149,17 @@ pub struct Vehicle {
     /// Greyed: no report for longer than the stale threshold.
     pub stale: bool,
     trail: VecDeque<(f64, f64, u64)>,
+    history: VecDeque<[f64; 3]>,
     changed: u64,
 }
 
 impl Vehicle {
+    /// Depth and speed over time for the strip chart, oldest first: `[time, depth, speed]`
+    /// (a missing value as 0, as the page charts it).
+    pub fn history(&self) -> impl Iterator<Item = [f64; 3]> + '_ {
+        self.history.iter().copied()
+    }
+
     /// The trail, oldest first.
     pub fn trail(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
         self.trail.iter().map(|&(x, y, _)| (x, y))
@@ -193,7 +209,10 @@ impl Vehicle {
             )
         };
         match trail_since {
-            None => o["trail"] = pts(0),
+            None => {
+                o["trail"] = pts(0);
+                o["history"] = json!(self.history);
+            }
             Some(v) => o["trail_add"] = pts(v),
         }
         o
@@ -372,12 +391,34 @@ impl Scene {
                 received: now,
                 stale: false,
                 trail: VecDeque::new(),
+                history: VecDeque::new(),
                 changed: v,
             });
         if let (Some(x), Some(y)) = (report.x_m, report.y_m) {
             veh.trail.push_back((x, y, v));
             while veh.trail.len() > trail_max {
                 veh.trail.pop_front();
+            }
+        }
+        if report.depth_m.is_some() || report.speed_mps.is_some() {
+            // Points a second apart at least, and the newest always: the last point goes
+            // when it is less than a second after the one before it.
+            let n = veh.history.len();
+            if n >= 2 && veh.history[n - 1][0] - veh.history[n - 2][0] < 1.0 {
+                veh.history.pop_back();
+            }
+            let point = [
+                now,
+                report.depth_m.unwrap_or(0.0),
+                report.speed_mps.unwrap_or(0.0),
+            ];
+            veh.history.push_back(point);
+            while veh
+                .history
+                .front()
+                .is_some_and(|p| p[0] < now - self.config.history_s)
+            {
+                veh.history.pop_front();
             }
         }
         veh.report = report;
@@ -427,7 +468,19 @@ impl Scene {
                 }
             }
         }
-        let expires = attrs.duration.filter(|d| *d > 0.0).map(|d| now + d);
+        let mut expires = attrs.duration.filter(|d| *d > 0.0).map(|d| now + d);
+        if let Some(default) = match kind {
+            ShapeKind::RangePulse => Some(15.0),
+            ShapeKind::CommsPulse => Some(3.0),
+            _ => None,
+        } {
+            let t0 = attrs.time.unwrap_or(now);
+            let duration = attrs.duration.unwrap_or(default);
+            let linger = fields.get("linger").and_then(Json::as_f64).unwrap_or(0.0);
+            fields.insert("t0".into(), json!(t0));
+            fields.insert("duration".into(), json!(duration));
+            expires = (duration > 0.0).then_some(t0 + duration + linger.max(0.0));
+        }
         fields.insert("kind".into(), json!(kind.name()));
         fields.insert("key".into(), json!(key));
         let changed = self.bump();
