@@ -327,6 +327,24 @@ fn alpha_mid_survey_draws_the_vehicle_on_its_reported_spot_and_its_waypoints() {
         "alpha at ({x:.1}, {y:.1}) -> ({px:.0}, {py:.0}) is {got:?} ({})",
         png.display()
     );
+    // The appcast pane lists alpha's apps and shows the first one's report.
+    let dom = dump_dom(&chromium, live.addr().port(), "/", "alpha_mid_survey");
+    for app in [
+        "alpha/pHelmIvP",
+        "alpha/pMarinePIDV22",
+        "alpha/uSimMarineV22",
+        "alpha/pNodeReporter",
+    ] {
+        assert!(
+            dom.contains(&format!("<option value=\"{app}\"")),
+            "{app} in {dom}"
+        );
+    }
+    let report = &dom[dom.find("<pre id=\"report\">").expect("the report pane")..];
+    assert!(
+        report.len() > 200 && !report.starts_with("<pre id=\"report\"></pre>"),
+        "{report}"
+    );
     // Every waypoint of the survey's seglist is drawn (a vertex square, not background).
     let seglist = snapshot["shapes"]
         .as_array()
@@ -575,4 +593,80 @@ fn range_and_comms_pulses_grow_and_fade_as_pmarineviewer_draws_them() {
             png.display()
         );
     }
+}
+
+/// `coug view LOG.alog`'s page, paused at 45 s of a 100 s log: abe where his report at 45 s
+/// puts him, the polygon the log drew at 30 s (removed at 60 s), the replay bar's clock.
+#[test]
+fn a_replayed_log_is_drawn_at_the_playhead_with_its_time_bar() {
+    use alog::{AlogWriter, Header, LogValue};
+    use viewer::replay::Replay;
+    let Some(chromium) = chromium() else { return };
+    let header = Header {
+        path: "./LOG/LOG.alog",
+        opened_on: "Thu Jan  1 00:00:00 1970",
+        log_start: 1000.0,
+        mark_data_type: false,
+    };
+    let mut w = AlogWriter::new(Vec::new(), &header).unwrap();
+    for k in 0..=100 {
+        let t = 1000.0 + f64::from(k);
+        let report = format!(
+            "NAME=abe,X={k},Y=-5,SPD=1,HDG=90,DEP={}",
+            f64::from(k) / 10.0
+        );
+        w.record(
+            t,
+            "NODE_REPORT_LOCAL",
+            "pNodeReporter",
+            LogValue::String(&report),
+        )
+        .unwrap();
+        let polygon = match k {
+            30 => "pts={0,0:60,0:60,40:0,40},label=box,vertex_color=magenta",
+            60 => "pts={0,0:60,0:60,40:0,40},label=box,active=false",
+            _ => continue,
+        };
+        w.record(t, "VIEW_POLYGON", "pHelmIvP", LogValue::String(polygon))
+            .unwrap();
+    }
+    let log = alog::parse(&String::from_utf8(w.into_inner()).unwrap()).unwrap();
+    let replay = Replay::from_alog(&log);
+    let viewer = Viewer::new(
+        &ViewerConfig {
+            bind: "127.0.0.1:0".parse().unwrap(),
+            ..ViewerConfig::default()
+        },
+        Arc::new(NoPosts),
+    )
+    .unwrap();
+    // What the replay driver does on a seek while paused.
+    viewer.rebuild(|s| replay.scene_at(s, 45.0));
+    viewer.set_status(serde_json::json!({
+        "t": 45.0, "start": 1000.0, "end": replay.duration(), "playing": false, "speed": 1.0
+    }));
+    let snapshot = viewer.with_scene(|s| s.snapshot());
+    assert_eq!(snapshot["vehicles"][0]["x"], 45.0);
+    let to_px = transform(&snapshot);
+    let (port, _rt) = serve_on_thread(viewer);
+    let (rgb, png) = screenshot(&chromium, port, "replay");
+    let dom = dump_dom(&chromium, port, "/", "replay");
+    let (px, py) = to_px(45.0, -5.0);
+    assert!(
+        near(pixel(&rgb, px, py), [0xff, 0xd7, 0x00]),
+        "abe at ({px:.0}, {py:.0}) ({})",
+        png.display()
+    );
+    for (x, y) in [(0.0, 0.0), (60.0, 0.0), (60.0, 40.0), (0.0, 40.0)] {
+        let (vx, vy) = to_px(x, y);
+        assert!(
+            near(pixel(&rgb, vx, vy), [0xff, 0x00, 0xff]),
+            "vertex ({x}, {y}) at ({vx:.0}, {vy:.0}) ({})",
+            png.display()
+        );
+    }
+    assert!(dom.contains(">45.0 / 100.0 s<"), "{dom}");
+    assert!(dom.contains("<button id=\"play\">play</button>"), "{dom}");
+    // The bar is shown (bottom left), not the map's background there.
+    assert!(!near(pixel(&rgb, 12.0, f64::from(H) - 14.0), BACKGROUND));
 }
