@@ -17,6 +17,34 @@ fn answers_appcast_requests(mission: &std::path::Path, community: &str, expected
     }
 }
 
+/// What each built-in app's report shows of its state, as its C++ original does (the helm's
+/// MALCONFIG notice, the simulator's poses, the PID's settings, the logger's counts) or, for
+/// coug's own apps, their health (links and counters of the drivers, the navigator's status,
+/// the supervisor's mode and health word, the network's and the channel's counts).
+fn reported(app: &str) -> Option<&'static [&'static str]> {
+    Some(match app {
+        // Its report, or why it cannot drive (a mission without its behaviour file).
+        "pHelmIvP" => &["Helm Iteration", "The helm is in the MALCONFIG state"],
+        "uSimMarine" | "uSimMarineV22" => &["Current Pose"],
+        "pMarinePID" | "pMarinePIDV22" => &["PID Settings"],
+        "pNodeReporter" => &["Vehicle Configuration"],
+        "pLogger" => &["Logged Records"],
+        "uTimerScript" => &["Elements"],
+        "uSimSensors" => &["Reports"],
+        "pNavGraph" => &["Status:"],
+        "pSafety" => &["Health:"],
+        "pCougControls" => &["Armed:"],
+        "uSimCougUV" => &["Fins now"],
+        "pShare" => &["Input routes"],
+        "iGPS" | "iDVL" | "iSeaTrac" | "iTeensy" => &["Disconnects"],
+        "uSimDevices" => &["Bench:"],
+        "pAcomms" => &["Polls  Answers  Timeouts"],
+        "uSimModem" => &["collisions"],
+        "pBasicContactMgr" => &["Alert Status Summary"],
+        _ => return None,
+    })
+}
+
 /// Starts each app, iterates it, sends it an APPCAST_REQ and checks its APPCAST; returns
 /// the apps' names.
 fn each_answers(apps: Vec<Box<dyn runtime::App>>, community: &str) -> Vec<String> {
@@ -67,6 +95,13 @@ fn each_answers(apps: Vec<Box<dyn runtime::App>>, community: &str) -> Vec<String
             cast.iteration()
         );
         assert!(!cast.messages().is_empty(), "{name} reports nothing");
+        if let Some(what) = reported(&name) {
+            assert!(
+                what.iter().any(|w| cast.messages().contains(w)),
+                "{name}'s report has none of {what:?}:\n{}",
+                cast.messages()
+            );
+        }
         // The string round-trips: well-formed.
         assert_eq!(
             appcast::AppCast::parse(&cast.to_moos_string()).messages(),
@@ -150,6 +185,7 @@ fn every_built_in_mission() -> String {
             "pShare" => "  input = route = 127.0.0.1:0\n".to_string(),
             "iGPS" | "iDVL" => "  host = 127.0.0.1\n  port = 1\n".to_string(),
             "iSeaTrac" | "iTeensy" => "  device = /nonexistent/coug-test-tty\n".to_string(),
+            "pAcomms" | "uSimModem" => "  modem_id = 1\n".to_string(),
             // The legacy PID ends at start-up without every gain.
             "pMarinePID" => PID_GAINS.iter().map(|g| format!("  {g} = 1\n")).collect(),
             _ => String::new(),
