@@ -16,6 +16,11 @@
 //!   (their `time=`, else when they came), and always a `duration` (pMarineViewer's 15 s
 //!   and 3 s when not given): the page grows and fades them from `t0` as pMarineViewer
 //!   does, and the scene drops them after `duration` (plus a range pulse's `linger`).
+//! - Colours (`edge_color`, `vertex_color`, `fill_color`, `label_color`, a marker's `color`,
+//!   `primary_color`, `secondary_color`, a report's `COLOR`) are read as MOOS reads them
+//!   (`geometry::color`: names with or without `_`, `greyNN`, `hex:`, fractions) and handed
+//!   to the page as CSS `#rrggbb`; `off`, `empty` and `invisible` as `transparent` (not
+//!   drawn); what MOOS cannot read is passed on as written.
 //! - The latest `APPCAST` per node and app.
 //! - The mission's pMarineViewer buttons (`mission::buttons`).
 //!
@@ -187,7 +192,7 @@ impl Vehicle {
         let mut o = json!({
             "name": r.name,
             "type": r.vtype,
-            "color": r.color,
+            "color": if r.color.is_empty() { String::new() } else { css_color(&r.color) },
             "x": r.x_m,
             "y": r.y_m,
             "heading": r.heading_deg,
@@ -596,6 +601,24 @@ impl Scene {
     }
 }
 
+/// A MOOS colour as CSS (see the module docs).
+pub fn css_color(moos: &str) -> String {
+    let t = moos.trim();
+    if matches!(
+        t.to_ascii_lowercase().as_str(),
+        "off" | "empty" | "invisible"
+    ) {
+        return "transparent".into();
+    }
+    match geometry::color::color_rgb(t) {
+        Some(rgb) => {
+            let b = rgb.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8);
+            format!("#{:02x}{:02x}{:02x}", b[0], b[1], b[2])
+        }
+        None => t.to_string(),
+    }
+}
+
 fn pts_field(pts: &[geometry::Point]) -> Map<String, Json> {
     let mut f = Map::new();
     f.insert(
@@ -623,7 +646,7 @@ fn attrs_fields(a: &Attributes, f: &mut Map<String, Json>) {
         ("fill_color", &a.fill_color),
     ] {
         if let Some(v) = v {
-            f.insert(k.into(), json!(v));
+            f.insert(k.into(), json!(css_color(v)));
         }
     }
     for (k, v) in [
@@ -672,7 +695,9 @@ fn generic(value: &str) -> Result<(Attributes, Map<String, Json>), Rejected> {
         {
             continue;
         }
-        let val = if geometry::is_number(v) {
+        let val = if k.ends_with("color") {
+            json!(css_color(v))
+        } else if geometry::is_number(v) {
             json!(geometry::atof(v))
         } else {
             json!(v)

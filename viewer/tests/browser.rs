@@ -317,8 +317,8 @@ fn alpha_mid_survey_draws_the_vehicle_on_its_reported_spot_and_its_waypoints() {
     let (px, py) = to_px(x, y);
     let expected = match v["color"].as_str() {
         Some("") | None => [0xff, 0xd7, 0x00],
-        // alpha's pNodeReporter reports COLOR=yellow (CSS yellow).
-        Some("yellow") => [0xff, 0xff, 0x00],
+        // alpha's pNodeReporter reports COLOR=yellow (MOOS yellow, handed over as CSS).
+        Some("#ffff00") => [0xff, 0xff, 0x00],
         Some(c) => panic!("alpha reports COLOR={c}; the test knows none and yellow"),
     };
     let got = pixel(&rgb, px, py);

@@ -169,7 +169,7 @@ async fn mail_reaches_the_page_and_buttons_post() {
         .find(|s| s["label"] == "opregion")
         .unwrap();
     assert_eq!(s["pts"].as_array().unwrap().len(), 4);
-    assert_eq!(s["edge_color"], "gray");
+    assert_eq!(s["edge_color"], "#808080", "MOOS gray, as CSS");
 
     let mut cast = appcast::AppCast::new();
     cast.set_node_name("abe");

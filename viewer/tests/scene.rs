@@ -110,7 +110,7 @@ fn polygon_added_replaced_and_removed() {
         p.fields["pts"],
         serde_json::json!([[0.0, 0.0], [10.0, 0.0], [10.0, 10.0]])
     );
-    assert_eq!(p.fields["edge_color"], "red");
+    assert_eq!(p.fields["edge_color"], "#ff0000");
     let v = s.version();
     s.apply("VIEW_POLYGON", "pts={0,0:20,0:20,20:0,20},label=ops", 2.0)
         .unwrap();
@@ -170,7 +170,7 @@ fn other_view_kinds_keep_their_fields_and_expire() {
         .unwrap();
     let c = s.shape(ShapeKind::Circle, "c").unwrap();
     assert_eq!(c.fields["radius"], 20.0);
-    assert_eq!(c.fields["edge_color"], "white");
+    assert_eq!(c.fields["edge_color"], "#ffffff");
     assert_eq!(
         s.shape(ShapeKind::Marker, "m").unwrap().fields["type"],
         "diamond"
@@ -423,4 +423,40 @@ fn depth_and_speed_history_is_kept_for_the_chart() {
     );
     let delta = s.delta_since(s.version() - 1).unwrap();
     assert!(delta["vehicles"][0].get("history").is_none());
+}
+
+/// MOOS colours reach the page as CSS: names with underscores, `greyNN` and fractions as
+/// `#rrggbb`, `off` as transparent, a report's COLOR too.
+#[test]
+fn moos_colours_are_handed_to_the_page_as_css() {
+    let mut s = scene();
+    s.apply(
+        "VIEW_POLYGON",
+        "pts={0,0:1,0:1,1},label=p,edge_color=Light_Blue,vertex_color=1:0.5:0,fill_color=grey50,label_color=off",
+        1.0,
+    )
+    .unwrap();
+    s.apply(
+        "VIEW_MARKER",
+        "x=1,y=2,label=m,color=0:0:1,primary_color=dark_green",
+        1.0,
+    )
+    .unwrap();
+    s.apply("NODE_REPORT", "NAME=abe,X=0,Y=0,COLOR=dodger_blue", 1.0)
+        .unwrap();
+    s.apply("NODE_REPORT", "NAME=ben,X=0,Y=0", 1.0).unwrap();
+    let p = &s.shape(ShapeKind::Polygon, "p").unwrap().fields;
+    assert_eq!(p["edge_color"], "#add8e6");
+    assert_eq!(p["vertex_color"], "#ff8000");
+    assert_eq!(p["fill_color"], "#808080");
+    assert_eq!(p["label_color"], "transparent");
+    let m = &s.shape(ShapeKind::Marker, "m").unwrap().fields;
+    assert_eq!(m["color"], "#0000ff");
+    assert_eq!(m["primary_color"], "#006400");
+    let snap = s.snapshot();
+    assert_eq!(snap["vehicles"][0]["color"], "#1e90ff");
+    assert_eq!(
+        snap["vehicles"][1]["color"], "",
+        "no COLOR: the page's palette"
+    );
 }
