@@ -159,3 +159,88 @@ fn view_warns_of_a_background_it_cannot_find() {
     );
     assert_eq!(out.status.code(), Some(1), "{err}");
 }
+
+/// `coug appcast --once` (uMAC in the terminal) against a DB with one app that answers
+/// appcast requests: it asks with `APPCAST_REQ` (its own key, every app of every node), and
+/// prints the node table, a node's apps, and an app's report.
+#[test]
+fn appcast_once_asks_for_casts_and_prints_nodes_apps_and_reports() {
+    use moosdb::{Client, ClientConfig, Server, ServerConfig, Value};
+    let dir = fresh_dir("appcast-once");
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .unwrap();
+    let server = rt
+        .block_on(Server::bind(ServerConfig::with_addr(
+            "127.0.0.1:0".parse().unwrap(),
+        )))
+        .expect("DB binds on loopback");
+    let port = server.local_addr().port();
+    // pFake on node abe: answers every request with its cast, and keeps the requests.
+    let requests = std::sync::Arc::new(std::sync::Mutex::new(Vec::<String>::new()));
+    {
+        let requests = requests.clone();
+        let (client, mut mail) = {
+            let _in = rt.enter();
+            Client::start(ClientConfig::new("pFake", "127.0.0.1", port))
+        };
+        rt.block_on(client.wait_connected()).unwrap();
+        client.register("APPCAST_REQ", 0.0);
+        rt.spawn(async move {
+            let mut iteration = 0;
+            while let Some(m) = mail.recv().await {
+                requests.lock().unwrap().push(m.sval_str().into_owned());
+                iteration += 1;
+                let mut cast = appcast::AppCast::new();
+                cast.set_proc_name("pFake");
+                cast.set_node_name("abe");
+                cast.set_iteration(iteration);
+                cast.cfg_warning("unknown parameter: wobble");
+                cast.set_messages("Depth goal: 12.5\n");
+                let _ = client.notify("APPCAST", Value::text(cast.to_moos_string()));
+            }
+        });
+    }
+    let port_s = port.to_string();
+    let base = [
+        "appcast",
+        "--host",
+        "127.0.0.1",
+        "--port",
+        &port_s,
+        "--once",
+    ];
+    let run = |extra: &[&str]| {
+        let args: Vec<&str> = base.iter().chain(extra).copied().collect();
+        let out = coug(&dir, &args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    // The node table: abe with one app, one configuration warning.
+    let nodes = run(&[]);
+    let abe = nodes
+        .lines()
+        .find(|l| l.starts_with("abe"))
+        .unwrap_or_else(|| panic!("no abe in {nodes}"));
+    assert_eq!(abe.split_whitespace().nth(1), Some("1"), "{nodes}");
+    let apps = run(&["--node", "abe"]);
+    assert!(apps.contains("pFake"), "{apps}");
+    let report = run(&["--node", "abe", "--app", "pFake"]);
+    assert!(report.contains("Depth goal: 12.5"), "{report}");
+    assert!(report.contains("unknown parameter: wobble"), "{report}");
+    let requests = requests.lock().unwrap();
+    assert!(
+        requests
+            .iter()
+            .any(|r| r.starts_with("node=all,app=all,duration=3.0,key=coug_appcast_")),
+        "{requests:?}"
+    );
+    drop(requests);
+    rt.block_on(async move { server.shutdown() });
+}

@@ -20,7 +20,8 @@ function loadBackground(b) {
   img.onload = () => { backImg = img; };
   img.src = b.url + (token ? "?token=" + encodeURIComponent(token) : "");
 }
-const view = { cx: 0, cy: 0, scale: 2, auto: true, follow: null };
+// `?follow=NAME` opens the page following that vehicle (as clicking it in the list does).
+const view = { cx: 0, cy: 0, scale: 2, auto: true, follow: new URLSearchParams(location.search).get("follow") };
 const history = {}; // vehicle name -> [[t, depth, speed]]
 const PALETTE = ["#ffd700", "#ff4fa0", "#4fe34f", "#4fc3ff", "#ff8c1a", "#c77dff", "#ffffff", "#ff3030"];
 const canvas = document.getElementById("map");
@@ -63,7 +64,8 @@ function handle(m) {
     scene.trailMax = m.trail_max; scene.buttons = m.buttons; scene.contexts = m.contexts || [];
     if (JSON.stringify(m.background || null) !== JSON.stringify(scene.background)) loadBackground(m.background);
     drawButtons();
-    for (const v of m.vehicles) { scene.vehicles[v.name] = v; remember(v); }
+    // The server's history charts what came before the page opened.
+    for (const v of m.vehicles) { scene.vehicles[v.name] = v; if (v.history) history[v.name] = v.history.slice(); else remember(v); }
   } else if (m.type === "delta") {
     for (const v of m.vehicles) {
       const old = scene.vehicles[v.name];
@@ -135,11 +137,16 @@ function drawSide() {
 document.getElementById("cast").onchange = drawSide;
 
 // Depth (blue, down) and speed (green) of the followed vehicle, else the first, over 300 s.
+// What it charts is also written on the canvas (data-vehicle, data-points, data-left,
+// data-top: its place on the page), for tests that read the page's DOM.
 function drawChart() {
   const c = document.getElementById("chart"), g = c.getContext("2d");
   g.fillStyle = "#0b1d2a"; g.fillRect(0, 0, c.width, c.height);
   const name = view.follow || Object.keys(scene.vehicles).sort()[0];
   const h = name && history[name];
+  const r = c.getBoundingClientRect();
+  c.dataset.vehicle = name || ""; c.dataset.points = h ? h.length : 0;
+  c.dataset.left = r.left; c.dataset.top = r.top;
   if (!h || !h.length) return;
   const t1 = h[h.length - 1][0], t0 = t1 - 300;
   const dmax = Math.max(1, ...h.map(p => p[1])), smax = Math.max(0.5, ...h.map(p => p[2]));
@@ -239,9 +246,21 @@ function drawShape(s) {
       const [sx, sy] = toScreen(s.x, s.y); const r = s.vertex_size || 3;
       ctx.fillRect(sx - r / 2, sy - r / 2, r, r); label(s, s.x, s.y); break;
     }
-    case "circle": case "range_pulse": {
+    case "circle": {
       const r = s.radius || s.rad || 0; const [sx, sy] = toScreen(s.x, s.y);
       ctx.beginPath(); ctx.arc(sx, sy, r * view.scale, 0, 2 * Math.PI); ctx.stroke(); label(s, s.x, s.y); break;
+    }
+    case "range_pulse": {
+      // As pMarineViewer: the circle grows from nothing to `radius` over `duration` from t0
+      // (then lingers), its fill fading from `fill` to nothing; green unless coloured.
+      const dur = s.duration, el = scene.now - s.t0;
+      if (!(dur > 0) || el < 0 || el > dur + (s.linger || 0)) break;
+      const r = Math.min(1, el / dur) * (s.radius ?? 40), [sx, sy] = toScreen(s.x, s.y);
+      const fill = s.fill ?? 0.25, degree = s.fill_invariant === "true" ? fill : Math.max(0, fill * (1 - el / dur));
+      ctx.beginPath(); ctx.arc(sx, sy, r * view.scale, 0, 2 * Math.PI);
+      if (degree > 0) { ctx.globalAlpha = degree; ctx.fillStyle = s.fill_color || "green"; ctx.fill(); ctx.globalAlpha = 1; }
+      ctx.strokeStyle = s.edge_color || "green"; ctx.lineWidth = 1; ctx.stroke();
+      label(s, s.x, s.y); break;
     }
     case "marker": {
       const [sx, sy] = toScreen(s.x, s.y); const w = (s.width || 4) * view.scale;
@@ -251,8 +270,18 @@ function drawShape(s) {
       const x = s.x ?? s.cx, y = s.y ?? s.cy, ang = (s.ang ?? s.angle ?? 0) * Math.PI / 180, mag = s.mag ?? s.length ?? 10;
       poly([[x, y], [x + mag * Math.sin(ang), y + mag * Math.cos(ang)]], false); ctx.stroke(); label(s, x, y); break;
     }
-    case "comms_pulse":
-      poly([[s.sx, s.sy], [s.tx, s.ty]], false); ctx.stroke(); break;
+    case "comms_pulse": {
+      // As pMarineViewer: a triangle from the source to a beam `beam_width` wide across the
+      // target, filled (green unless coloured) and fading from `fill` over `duration`.
+      const dur = s.duration, el = scene.now - s.t0;
+      if (!(dur > 0) || el < 0 || el > dur) break;
+      const ang = Math.atan2(s.tx - s.sx, s.ty - s.sy), hw = (s.beam_width ?? 10) / 2;
+      const [px, py] = [hw * Math.cos(ang), -hw * Math.sin(ang)];
+      poly([[s.sx, s.sy], [s.tx + px, s.ty + py], [s.tx - px, s.ty - py]], true);
+      const degree = Math.max(0, (s.fill ?? 0.35) * (1 - el / dur));
+      if (degree > 0) { ctx.globalAlpha = degree; ctx.fillStyle = s.fill_color || "green"; ctx.fill(); ctx.globalAlpha = 1; }
+      label(s, s.sx, s.sy); break;
+    }
   }
 }
 

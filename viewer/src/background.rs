@@ -2,6 +2,14 @@
 //! (the image's lat/lon bounds), decoded here and handed to the page as a PNG from memory,
 //! placed in local metres on the mission's LatOrigin/LongOrigin grid.
 //!
+//! pMarineViewer reads the image with libtiff's RGBA interface, so any kind libtiff knows
+//! shows. [`decode_tiff`] reads the kinds backgrounds come in (the list is in its docs):
+//! MOOS-IvP's own `AerialMIT.tif` (also `Default.tif`) is 8-bit RGBA with premultiplied
+//! alpha, deflate-compressed with a horizontal predictor; `forrest19.tif` (the version in
+//! the history that can be read) is 8-bit RGB compressed as JPEG. Palettes are read through
+//! their `ColorMap` here, the `tiff` crate doing the rest; a kind it cannot read is an error
+//! naming the file and the kind ([`describe_tiff`]).
+//!
 //! The `.info` file, as pMarineViewer's BackImg reads it (lib_marineview/BackImg.cpp,
 //! `readTiffInfo`, `processConfiguration`): one `key = value` per line, `//` comments,
 //! blank lines skipped, a line with other than one `=`, an unknown key or a value that is
@@ -227,48 +235,403 @@ pub struct Rgba {
     pub data: Vec<u8>,
 }
 
-/// Decodes a TIFF (8- or 16-bit grey, grey+alpha, RGB or RGBA; uncompressed, LZW or
-/// deflate; the first image of the file) to RGBA.
+/// Decodes the first image of a TIFF to RGBA, as pMarineViewer's libtiff reads any kind:
+///
+/// - grey (`BlackIsZero` or `WhiteIsZero`) of 1, 2, 4, 8 or 16 bits, with or without alpha;
+/// - palette (colour-mapped) of 1, 2, 4, 8 or 16 bits through its `ColorMap`;
+/// - RGB and RGBA of 8 or 16 bits (premultiplied alpha un-multiplied), chunky or planar;
+/// - CMYK (separated, 4 inks) of 8 or 16 bits, with or without alpha;
+/// - YCbCr of 8 bits (as JPEG-compressed TIFFs usually are);
+///
+/// uncompressed, PackBits, LZW, deflate or JPEG; 16-bit samples keep their high byte.
+/// Anything else (CIE L*a*b*, floating-point or signed samples, other compressions) is a
+/// [`BackgroundError::Decode`] naming the kind ([`describe_tiff`]), never a panic.
 pub fn decode_tiff(bytes: &[u8]) -> Result<Rgba, BackgroundError> {
-    use tiff::ColorType;
-    use tiff::decoder::{Decoder, DecodingResult};
-    let err = |e: tiff::TiffError| BackgroundError::Decode(e.to_string());
-    let mut d = Decoder::new(std::io::Cursor::new(bytes)).map_err(err)?;
-    let (width, height) = d.dimensions().map_err(err)?;
-    let color = d.colortype().map_err(err)?;
-    let samples: Vec<u8> = match d.read_image().map_err(err)? {
-        DecodingResult::U8(v) => v,
-        DecodingResult::U16(v) => v.into_iter().map(|x| (x >> 8) as u8).collect(),
-        _ => {
-            return Err(BackgroundError::Decode(
-                "only 8- and 16-bit samples are read".into(),
-            ));
-        }
-    };
-    let channels = match color {
-        ColorType::Gray(8 | 16) => 1,
-        ColorType::GrayA(8 | 16) => 2,
-        ColorType::RGB(8 | 16) => 3,
-        ColorType::RGBA(8 | 16) => 4,
-        other => {
-            return Err(BackgroundError::Decode(format!(
-                "colour type {other:?} is not read (grey, grey+alpha, RGB or RGBA)"
-            )));
-        }
-    };
-    let pixels = width as usize * height as usize;
-    if samples.len() < pixels * channels {
-        return Err(BackgroundError::Decode("fewer samples than pixels".into()));
+    let kind = describe_tiff(bytes);
+    let refuse = |why: String| BackgroundError::Decode(format!("{kind}: not read ({why})"));
+    // A third-party decoder on a user's file: a panic in it is an error here too.
+    let decoded =
+        std::panic::catch_unwind(|| match first_ifd(bytes).and_then(|ifd| ifd.photometric) {
+            Some(entry) if entry.value == 3 => decode_palette(bytes, entry),
+            _ => decode_direct(bytes),
+        });
+    match decoded {
+        Ok(Ok(img)) => Ok(img),
+        Ok(Err(why)) => Err(refuse(why)),
+        Err(_) => Err(refuse("the decoder failed".into())),
     }
-    let mut data = Vec::with_capacity(pixels * 4);
-    for p in samples.chunks_exact(channels).take(pixels) {
-        let px = match channels {
-            1 => [p[0], p[0], p[0], 255],
-            2 => [p[0], p[0], p[0], p[1]],
-            3 => [p[0], p[1], p[2], 255],
-            _ => [p[0], p[1], p[2], p[3]],
+}
+
+/// The kind of image a TIFF holds, for messages: photometric interpretation, bits per
+/// sample, samples per pixel and compression, e.g. `palette 4-bit (uncompressed)` or
+/// `CIE L*a*b* 8-bit, 3 samples (LZW)`; `not a TIFF` when the header is not one, `a TIFF
+/// without a readable image directory` when its first directory lies outside the file.
+pub fn describe_tiff(bytes: &[u8]) -> String {
+    let Some(ifd) = first_ifd(bytes) else {
+        let tiff = matches!(
+            bytes.get(0..4),
+            Some(b"II*\0" | b"MM\0*" | b"II+\0" | b"MM\0+")
+        );
+        return if tiff {
+            "a TIFF without a readable image directory".into()
+        } else {
+            "not a TIFF".into()
+        };
+    };
+    let photometric = match ifd.photometric.map(|e| e.value) {
+        Some(0) => "grey (white is zero)".to_string(),
+        Some(1) => "grey".into(),
+        Some(2) => "RGB".into(),
+        Some(3) => "palette".into(),
+        Some(4) => "transparency mask".into(),
+        Some(5) => "CMYK (separated)".into(),
+        Some(6) => "YCbCr".into(),
+        Some(8) => "CIE L*a*b*".into(),
+        Some(9) => "ICC L*a*b*".into(),
+        Some(10) => "ITU L*a*b*".into(),
+        Some(32844) => "LogL".into(),
+        Some(32845) => "LogLuv".into(),
+        Some(p) => format!("photometric {p}"),
+        None => "photometric missing".into(),
+    };
+    let format = match ifd.sample_format {
+        2 => " signed",
+        3 => " floating-point",
+        _ => "",
+    };
+    let samples = match (ifd.photometric.map(|e| e.value), ifd.samples) {
+        (Some(0 | 1 | 3 | 4), 1) | (Some(2 | 6 | 8 | 9 | 10), 3) | (Some(5), 4) => String::new(),
+        (_, n) => format!(", {n} samples"),
+    };
+    let compression = match ifd.compression {
+        1 => "uncompressed".to_string(),
+        2 => "CCITT RLE".into(),
+        3 => "CCITT fax 3".into(),
+        4 => "CCITT fax 4".into(),
+        5 => "LZW".into(),
+        6 => "old-style JPEG".into(),
+        7 => "JPEG".into(),
+        8 | 32946 => "deflate".into(),
+        32773 => "PackBits".into(),
+        34712 => "JPEG 2000".into(),
+        34887 => "LERC".into(),
+        50000 => "zstd".into(),
+        50001 => "WebP".into(),
+        c => format!("compression {c}"),
+    };
+    format!(
+        "{photometric}{format} {}-bit{samples} ({compression})",
+        ifd.bits
+    )
+}
+
+/// The first image's tags the decoder looks at, read from the file's first IFD (classic
+/// or BigTIFF, either byte order) without decoding anything.
+struct Ifd {
+    little_endian: bool,
+    photometric: Option<Entry>,
+    bits: u16,
+    samples: u16,
+    compression: u16,
+    sample_format: u16,
+}
+
+/// Where an inline SHORT or LONG tag value lies, and what it is.
+#[derive(Clone, Copy)]
+struct Entry {
+    /// Byte offset of the value in the file.
+    at: usize,
+    /// The value's field type (3 SHORT, 4 LONG).
+    ty: u16,
+    value: u32,
+}
+
+fn first_ifd(b: &[u8]) -> Option<Ifd> {
+    let little_endian = match b.get(0..2)? {
+        b"II" => true,
+        b"MM" => false,
+        _ => return None,
+    };
+    let int = |at: usize, n: usize| -> Option<u64> {
+        let bytes = b.get(at..at.checked_add(n)?)?;
+        let fold = |acc: u64, x: &u8| (acc << 8) | u64::from(*x);
+        Some(if little_endian {
+            bytes.iter().rev().fold(0, fold)
+        } else {
+            bytes.iter().fold(0, fold)
+        })
+    };
+    // Classic: 2-byte entry count, 12-byte entries, 4-byte values; BigTIFF: 8, 20, 8.
+    let (first, count_len, entry_len, value_len) = match int(2, 2)? {
+        42 => (int(4, 4)?, 2, 12, 4),
+        43 => (int(8, 8)?, 8, 20, 8),
+        _ => return None,
+    };
+    let first = usize::try_from(first).ok()?;
+    let count = int(first, count_len)?;
+    let mut ifd = Ifd {
+        little_endian,
+        photometric: None,
+        bits: 1,
+        samples: 1,
+        compression: 1,
+        sample_format: 1,
+    };
+    for i in 0..count.min(4096) as usize {
+        let e = first + count_len + i * entry_len;
+        let (tag, ty) = (int(e, 2)?, int(e + 2, 2)? as u16);
+        let n = int(e + 4, value_len)?;
+        let size = match ty {
+            3 => 2,
+            4 => 4,
+            _ => continue,
+        };
+        // The first value: inline when they all fit, else at the offset given.
+        let at = if n * size <= value_len as u64 {
+            e + 4 + value_len
+        } else {
+            usize::try_from(int(e + 4 + value_len, value_len)?).ok()?
+        };
+        let Some(value) = int(at, size as usize) else {
+            continue;
+        };
+        let value = value as u32;
+        match tag {
+            258 => ifd.bits = value as u16,
+            259 => ifd.compression = value as u16,
+            262 => ifd.photometric = Some(Entry { at, ty, value }),
+            277 => ifd.samples = value as u16,
+            339 => ifd.sample_format = value as u16,
+            _ => {}
+        }
+    }
+    Some(ifd)
+}
+
+/// The samples of the whole image (every plane of a planar one), as read.
+fn read_samples(
+    d: &mut tiff::decoder::Decoder<std::io::Cursor<&[u8]>>,
+) -> Result<tiff::decoder::DecodingResult, String> {
+    let mut buf = tiff::decoder::DecodingResult::U8(Vec::new());
+    let layout = d
+        .read_image_to_buffer(&mut buf)
+        .map_err(|e| e.to_string())?;
+    if buf.as_buffer(0).byte_len() < layout.complete_len {
+        return Err("the image's planes do not fit the decoder's limits".into());
+    }
+    Ok(buf)
+}
+
+/// Samples as `u16` values of `bits` bits each, chunky order: sub-byte samples unpacked
+/// (each row starts on a byte), planes interleaved.
+fn unpack(
+    raw: tiff::decoder::DecodingResult,
+    bits: u8,
+    width: usize,
+    height: usize,
+    channels: usize,
+    planar: bool,
+) -> Result<Vec<u16>, String> {
+    use tiff::decoder::DecodingResult;
+    let (per_row, rows) = if planar {
+        (width, height * channels)
+    } else {
+        (width * channels, height)
+    };
+    let flat: Vec<u16> = match (raw, bits) {
+        (DecodingResult::U8(v), 8) => v.into_iter().map(u16::from).collect(),
+        (DecodingResult::U16(v), 16) => v,
+        (DecodingResult::U8(v), 1 | 2 | 4) => {
+            let row_bytes = (per_row * bits as usize).div_ceil(8);
+            let mask = (1u16 << bits) - 1;
+            let mut out = Vec::with_capacity(per_row * rows);
+            for row in v.chunks(row_bytes.max(1)).take(rows) {
+                for i in 0..per_row {
+                    let bit = i * bits as usize;
+                    let byte = u16::from(*row.get(bit / 8).unwrap_or(&0));
+                    out.push((byte >> (8 - bits as usize - bit % 8)) & mask);
+                }
+            }
+            out
+        }
+        (
+            DecodingResult::U8(_)
+            | DecodingResult::U16(_)
+            | DecodingResult::U32(_)
+            | DecodingResult::U64(_),
+            b,
+        ) => {
+            return Err(format!("{b}-bit samples"));
+        }
+        _ => return Err("signed or floating-point samples".into()),
+    };
+    let pixels = width * height;
+    if flat.len() < pixels * channels {
+        return Err("fewer samples than pixels".into());
+    }
+    if !planar || channels == 1 {
+        return Ok(flat);
+    }
+    let mut out = Vec::with_capacity(pixels * channels);
+    for p in 0..pixels {
+        out.extend((0..channels).map(|c| flat[c * pixels + p]));
+    }
+    Ok(out)
+}
+
+/// A sample of `bits` bits as 8 bits: the high byte of 16, scaled up from fewer.
+fn to8(v: u16, bits: u8) -> u8 {
+    match bits {
+        16 => (v >> 8) as u8,
+        8 => v as u8,
+        b => (u32::from(v) * 255 / ((1u32 << b) - 1)) as u8,
+    }
+}
+
+fn decode_direct(bytes: &[u8]) -> Result<Rgba, String> {
+    use tiff::ColorType;
+    use tiff::decoder::Decoder;
+    use tiff::tags::Tag;
+    let e = |e: tiff::TiffError| e.to_string();
+    let mut d = Decoder::new(std::io::Cursor::new(bytes)).map_err(e)?;
+    let (width, height) = d.dimensions().map_err(e)?;
+    let color = d.colortype().map_err(e)?;
+    let planar = d
+        .find_tag_unsigned::<u16>(Tag::PlanarConfiguration)
+        .map_err(e)?
+        == Some(2);
+    let extra = d
+        .find_tag_unsigned_vec::<u16>(Tag::ExtraSamples)
+        .map_err(e)?
+        .unwrap_or_default();
+    let premultiplied = extra.first() == Some(&1);
+    let (bits, channels) = match color {
+        ColorType::Gray(b) => (b, 1),
+        ColorType::GrayA(b) => (b, 2),
+        // Grey with extra samples: the first extra is alpha when marked so.
+        ColorType::Multiband {
+            bit_depth,
+            num_samples,
+        } => (bit_depth, usize::from(num_samples)),
+        ColorType::RGB(b) | ColorType::YCbCr(b) => (b, 3),
+        ColorType::RGBA(b) | ColorType::CMYK(b) => (b, 4),
+        ColorType::CMYKA(b) => (b, 5),
+        other => return Err(format!("colour type {other:?}")),
+    };
+    if matches!(color, ColorType::YCbCr(b) if b != 8) {
+        return Err(format!("{bits}-bit YCbCr"));
+    }
+    let raw = read_samples(&mut d)?;
+    let (w, h) = (width as usize, height as usize);
+    let s = unpack(raw, bits, w, h, channels, planar)?;
+    let c = |v: u16| to8(v, bits);
+    let grey_alpha = matches!(color, ColorType::GrayA(_))
+        || (matches!(color, ColorType::Multiband { .. }) && matches!(extra.first(), Some(1 | 2)));
+    let mut data = Vec::with_capacity(w * h * 4);
+    for p in s.chunks_exact(channels).take(w * h) {
+        let px = match color {
+            ColorType::Gray(_) => [c(p[0]), c(p[0]), c(p[0]), 255],
+            ColorType::GrayA(_) | ColorType::Multiband { .. } => {
+                let a = if grey_alpha && channels > 1 {
+                    c(p[1])
+                } else {
+                    255
+                };
+                [c(p[0]), c(p[0]), c(p[0]), a]
+            }
+            ColorType::RGB(_) => [c(p[0]), c(p[1]), c(p[2]), 255],
+            ColorType::RGBA(_) => [c(p[0]), c(p[1]), c(p[2]), c(p[3])],
+            ColorType::CMYK(_) | ColorType::CMYKA(_) => {
+                let k = 255 - u32::from(c(p[3]));
+                let ink = |v: u16| ((255 - u32::from(c(v))) * k / 255) as u8;
+                let a = if channels == 5 { c(p[4]) } else { 255 };
+                [ink(p[0]), ink(p[1]), ink(p[2]), a]
+            }
+            // ColorType::YCbCr: 8 bits, full range (ITU-R BT.601, TIFF's defaults).
+            _ => {
+                let (y, cb, cr) = (
+                    f64::from(p[0]),
+                    f64::from(p[1]) - 128.0,
+                    f64::from(p[2]) - 128.0,
+                );
+                let q = |v: f64| v.round().clamp(0.0, 255.0) as u8;
+                [
+                    q(y + 1.402 * cr),
+                    q(y - 0.344136 * cb - 0.714136 * cr),
+                    q(y + 1.772 * cb),
+                    255,
+                ]
+            }
         };
         data.extend_from_slice(&px);
+    }
+    if premultiplied {
+        for px in data.chunks_exact_mut(4) {
+            let a = u32::from(px[3]);
+            if a > 0 && a < 255 {
+                for v in &mut px[..3] {
+                    *v = (u32::from(*v) * 255 / a).min(255) as u8;
+                }
+            }
+        }
+    }
+    Ok(Rgba {
+        width,
+        height,
+        data,
+    })
+}
+
+/// A palette image: the decoder reads the indices as grey once the copy's photometric
+/// interpretation says so (the `tiff` crate refuses palettes), then each index is looked up
+/// in the `ColorMap` (all reds, all greens, all blues; 16 bits each).
+fn decode_palette(bytes: &[u8], photometric: Entry) -> Result<Rgba, String> {
+    use tiff::ColorType;
+    use tiff::decoder::Decoder;
+    use tiff::tags::Tag;
+    let e = |e: tiff::TiffError| e.to_string();
+    let little_endian = first_ifd(bytes).is_some_and(|i| i.little_endian);
+    let mut copy = bytes.to_vec();
+    let one: &[u8] = match (photometric.ty, little_endian) {
+        (3, true) => &[1, 0],
+        (3, false) => &[0, 1],
+        (_, true) => &[1, 0, 0, 0],
+        (_, false) => &[0, 0, 0, 1],
+    };
+    copy.get_mut(photometric.at..photometric.at + one.len())
+        .ok_or("photometric entry out of the file")?
+        .copy_from_slice(one);
+    let mut d = Decoder::new(std::io::Cursor::new(copy.as_slice())).map_err(e)?;
+    let (width, height) = d.dimensions().map_err(e)?;
+    let bits = match d.colortype().map_err(e)? {
+        ColorType::Gray(b @ (1 | 2 | 4 | 8 | 16)) => b,
+        ColorType::Gray(b) => return Err(format!("{b}-bit indices")),
+        _ => return Err("more than one sample per pixel".into()),
+    };
+    let map = d
+        .find_tag_unsigned_vec::<u16>(Tag::ColorMap)
+        .map_err(e)?
+        .ok_or("no ColorMap")?;
+    let n = 1usize << bits;
+    if map.len() != 3 * n {
+        return Err(format!(
+            "a ColorMap of {} values ({} expected)",
+            map.len(),
+            3 * n
+        ));
+    }
+    let raw = read_samples(&mut d)?;
+    let (w, h) = (width as usize, height as usize);
+    let idx = unpack(raw, bits, w, h, 1, false)?;
+    let mut data = Vec::with_capacity(w * h * 4);
+    for &i in idx.iter().take(w * h) {
+        let i = usize::from(i);
+        data.extend_from_slice(&[
+            (map[i] >> 8) as u8,
+            (map[n + i] >> 8) as u8,
+            (map[2 * n + i] >> 8) as u8,
+            255,
+        ]);
     }
     Ok(Rgba {
         width,
@@ -362,7 +725,12 @@ impl Background {
         };
         let info_text = String::from_utf8_lossy(&read(info)?).into_owned();
         let placement = parse_info(&info_text)?.place(origin)?;
-        let img = decode_tiff(&read(tif)?)?;
+        let img = decode_tiff(&read(tif)?).map_err(|e| match e {
+            BackgroundError::Decode(why) => {
+                BackgroundError::Decode(format!("{}: {why}", tif.display()))
+            }
+            other => other,
+        })?;
         Ok(Background {
             file: tif.to_path_buf(),
             png: encode_png(&img),

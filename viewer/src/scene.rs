@@ -4,13 +4,23 @@
 //!   each with a trail of at most [`SceneConfig::trail_max`] points. As pMarineViewer does, a
 //!   vehicle whose last report arrived (viewer time, not the report's `TIME`) more than
 //!   [`SceneConfig::stale_after_s`] ago is stale (greyed), and one silent for that plus
-//!   [`SceneConfig::remove_after_s`] is removed.
+//!   [`SceneConfig::remove_after_s`] is removed. Each vehicle also keeps its depth and
+//!   speed over the last [`SceneConfig::history_s`] seconds (points a second apart, and the newest) for
+//!   the page's strip chart, so a page opened mid-run charts what came before it.
 //! - Every `VIEW_*` object, keyed by kind and label: a new one with the same label replaces the
 //!   old, `active=false` removes it, a positive `duration` expires it. Points, polygons and
 //!   seglists are read by `geometry::spec`; circles, markers, vectors, arrows and pulses are
 //!   kept as their `key=value` fields (numbers as JSON numbers) for the page to draw.
 //!   Unlabelled objects each get their own key; at most [`SceneConfig::max_unlabeled`] of
-//!   each kind are kept (oldest dropped).
+//!   each kind are kept (oldest dropped). Range and comms pulses carry `t0`, their start
+//!   (their `time=`, else when they came), and always a `duration` (pMarineViewer's 15 s
+//!   and 3 s when not given): the page grows and fades them from `t0` as pMarineViewer
+//!   does, and the scene drops them after `duration` (plus a range pulse's `linger`).
+//! - Colours (`edge_color`, `vertex_color`, `fill_color`, `label_color`, a marker's `color`,
+//!   `primary_color`, `secondary_color`, a report's `COLOR`) are read as MOOS reads them
+//!   (`geometry::color`: names with or without `_`, `greyNN`, `hex:`, fractions) and handed
+//!   to the page as CSS `#rrggbb`; `off`, `empty` and `invisible` as `transparent` (not
+//!   drawn); what MOOS cannot read is passed on as written.
 //! - The latest `APPCAST` per node and app.
 //! - The mission's pMarineViewer buttons (`mission::buttons`).
 //!
@@ -25,8 +35,9 @@
 //! - `{"type":"delta","version":v,"now":t,"vehicles":[..],"shapes":[..],"appcasts":[..],"removed_vehicles":[name..],"removed_shapes":[[kind,key]..]}`
 //!
 //! A vehicle is `{"name","type","color","x","y","heading","speed","depth","mode","allstop","helm","received","stale"}`
-//! plus `"trail":[[x,y]..]` in a snapshot or `"trail_add":[[x,y]..]` (points after the
-//! client's version; the page appends and keeps the last `trail_max`) in a delta. A shape is
+//! plus `"trail":[[x,y]..]` and `"history":[[t,depth,speed]..]` in a snapshot, or
+//! `"trail_add":[[x,y]..]` (points after the client's version; the page appends and keeps
+//! the last `trail_max`) in a delta. A shape is
 //! `{"kind","key","label",...fields}`; an appcast `{"node","app","iteration","cfg_warnings","run_warnings","report"}`;
 //! a button `{"label","key","postings":[[var,value]..]}`.
 
@@ -52,6 +63,8 @@ pub struct SceneConfig {
     pub max_unlabeled: usize,
     /// Removals remembered for deltas.
     pub max_tombstones: usize,
+    /// Seconds of depth and speed kept per vehicle for the strip chart.
+    pub history_s: f64,
 }
 
 impl Default for SceneConfig {
@@ -62,6 +75,7 @@ impl Default for SceneConfig {
             remove_after_s: 180.0,
             max_unlabeled: 500,
             max_tombstones: 4096,
+            history_s: 300.0,
         }
     }
 }
@@ -140,10 +154,17 @@ pub struct Vehicle {
     /// Greyed: no report for longer than the stale threshold.
     pub stale: bool,
     trail: VecDeque<(f64, f64, u64)>,
+    history: VecDeque<[f64; 3]>,
     changed: u64,
 }
 
 impl Vehicle {
+    /// Depth and speed over time for the strip chart, oldest first: `[time, depth, speed]`
+    /// (a missing value as 0, as the page charts it).
+    pub fn history(&self) -> impl Iterator<Item = [f64; 3]> + '_ {
+        self.history.iter().copied()
+    }
+
     /// The trail, oldest first.
     pub fn trail(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
         self.trail.iter().map(|&(x, y, _)| (x, y))
@@ -171,7 +192,7 @@ impl Vehicle {
         let mut o = json!({
             "name": r.name,
             "type": r.vtype,
-            "color": r.color,
+            "color": if r.color.is_empty() { String::new() } else { css_color(&r.color) },
             "x": r.x_m,
             "y": r.y_m,
             "heading": r.heading_deg,
@@ -193,7 +214,10 @@ impl Vehicle {
             )
         };
         match trail_since {
-            None => o["trail"] = pts(0),
+            None => {
+                o["trail"] = pts(0);
+                o["history"] = json!(self.history);
+            }
             Some(v) => o["trail_add"] = pts(v),
         }
         o
@@ -372,12 +396,34 @@ impl Scene {
                 received: now,
                 stale: false,
                 trail: VecDeque::new(),
+                history: VecDeque::new(),
                 changed: v,
             });
         if let (Some(x), Some(y)) = (report.x_m, report.y_m) {
             veh.trail.push_back((x, y, v));
             while veh.trail.len() > trail_max {
                 veh.trail.pop_front();
+            }
+        }
+        if report.depth_m.is_some() || report.speed_mps.is_some() {
+            // Points a second apart at least, and the newest always: the last point goes
+            // when it is less than a second after the one before it.
+            let n = veh.history.len();
+            if n >= 2 && veh.history[n - 1][0] - veh.history[n - 2][0] < 1.0 {
+                veh.history.pop_back();
+            }
+            let point = [
+                now,
+                report.depth_m.unwrap_or(0.0),
+                report.speed_mps.unwrap_or(0.0),
+            ];
+            veh.history.push_back(point);
+            while veh
+                .history
+                .front()
+                .is_some_and(|p| p[0] < now - self.config.history_s)
+            {
+                veh.history.pop_front();
             }
         }
         veh.report = report;
@@ -427,7 +473,19 @@ impl Scene {
                 }
             }
         }
-        let expires = attrs.duration.filter(|d| *d > 0.0).map(|d| now + d);
+        let mut expires = attrs.duration.filter(|d| *d > 0.0).map(|d| now + d);
+        if let Some(default) = match kind {
+            ShapeKind::RangePulse => Some(15.0),
+            ShapeKind::CommsPulse => Some(3.0),
+            _ => None,
+        } {
+            let t0 = attrs.time.unwrap_or(now);
+            let duration = attrs.duration.unwrap_or(default);
+            let linger = fields.get("linger").and_then(Json::as_f64).unwrap_or(0.0);
+            fields.insert("t0".into(), json!(t0));
+            fields.insert("duration".into(), json!(duration));
+            expires = (duration > 0.0).then_some(t0 + duration + linger.max(0.0));
+        }
         fields.insert("kind".into(), json!(kind.name()));
         fields.insert("key".into(), json!(key));
         let changed = self.bump();
@@ -543,6 +601,24 @@ impl Scene {
     }
 }
 
+/// A MOOS colour as CSS (see the module docs).
+pub fn css_color(moos: &str) -> String {
+    let t = moos.trim();
+    if matches!(
+        t.to_ascii_lowercase().as_str(),
+        "off" | "empty" | "invisible"
+    ) {
+        return "transparent".into();
+    }
+    match geometry::color::color_rgb(t) {
+        Some(rgb) => {
+            let b = rgb.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8);
+            format!("#{:02x}{:02x}{:02x}", b[0], b[1], b[2])
+        }
+        None => t.to_string(),
+    }
+}
+
 fn pts_field(pts: &[geometry::Point]) -> Map<String, Json> {
     let mut f = Map::new();
     f.insert(
@@ -570,7 +646,7 @@ fn attrs_fields(a: &Attributes, f: &mut Map<String, Json>) {
         ("fill_color", &a.fill_color),
     ] {
         if let Some(v) = v {
-            f.insert(k.into(), json!(v));
+            f.insert(k.into(), json!(css_color(v)));
         }
     }
     for (k, v) in [
@@ -619,7 +695,9 @@ fn generic(value: &str) -> Result<(Attributes, Map<String, Json>), Rejected> {
         {
             continue;
         }
-        let val = if geometry::is_number(v) {
+        let val = if k.ends_with("color") {
+            json!(css_color(v))
+        } else if geometry::is_number(v) {
             json!(geometry::atof(v))
         } else {
             json!(v)

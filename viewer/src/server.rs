@@ -217,6 +217,8 @@ pub struct Viewer {
     token: Option<String>,
     outbox: Arc<dyn Outbox>,
     presses: AtomicU64,
+    /// Pages connected now.
+    pages: AtomicU64,
     min_frame_interval: Duration,
     /// The mission's local grid, when it has an origin.
     grid: Option<vehicle::geodesy::LocalGrid>,
@@ -254,12 +256,19 @@ impl Viewer {
             token: config.token.clone(),
             outbox,
             presses: AtomicU64::new(0),
+            pages: AtomicU64::new(0),
             min_frame_interval: config.min_frame_interval,
             grid: config
                 .origin
                 .and_then(|(lat, lon)| vehicle::geodesy::LocalGrid::new(lat, lon).ok()),
             background: config.background.clone(),
         }))
+    }
+
+    /// How many pages are connected: each page's task counts itself from its upgrade to its
+    /// end (the page closed, its connection broke, or a send failed).
+    pub fn pages(&self) -> u64 {
+        self.pages.load(Ordering::SeqCst)
     }
 
     /// Runs `f` on the scene (read it; changes made here are not announced to clients).
@@ -633,6 +642,15 @@ async fn ws_upgrade(
 /// One page: a snapshot, then deltas whenever the scene changed and the client is free (a
 /// new snapshot after the scene was rebuilt); a replay's state rides on every frame.
 async fn client(v: Arc<Viewer>, socket: WebSocket) {
+    /// Counts the page while its task lives, however it ends.
+    struct Counted(Arc<Viewer>);
+    impl Drop for Counted {
+        fn drop(&mut self) {
+            self.0.pages.fetch_sub(1, Ordering::SeqCst);
+        }
+    }
+    v.pages.fetch_add(1, Ordering::SeqCst);
+    let _counted = Counted(v.clone());
     let (mut tx, mut rx) = socket.split();
     let mut wake = v.version.subscribe();
     let (mut epoch, mut seen) = (u64::MAX, 0);

@@ -169,7 +169,7 @@ async fn mail_reaches_the_page_and_buttons_post() {
         .find(|s| s["label"] == "opregion")
         .unwrap();
     assert_eq!(s["pts"].as_array().unwrap().len(), 4);
-    assert_eq!(s["edge_color"], "gray");
+    assert_eq!(s["edge_color"], "#808080", "MOOS gray, as CSS");
 
     let mut cast = appcast::AppCast::new();
     cast.set_node_name("abe");
@@ -443,4 +443,49 @@ fn press_types_values_as_pmarineviewer() {
             ("N".into(), Value::Double(1.0)),
         ]
     );
+}
+
+/// A page that goes away (one closed properly, one whose connection is simply dropped) ends
+/// its own task and nothing else: the feed goes on, the page left open gets the newest
+/// state, and a page opening afterwards gets a snapshot of it.
+#[tokio::test]
+async fn closed_pages_end_their_tasks_and_the_others_go_on() {
+    let viewer = Viewer::new(&ViewerConfig::default(), Arc::new(NoOutbox)).unwrap();
+    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    tokio::spawn(serve(viewer.clone(), listener));
+    let mut open = connect(addr, "").await;
+    let mut closing = connect(addr, "").await;
+    let dropped = connect(addr, "").await;
+    assert_eq!(next_json(&mut open).await["type"], "snapshot");
+    assert_eq!(next_json(&mut closing).await["type"], "snapshot");
+    let pages = |n: u64| {
+        let v = viewer.clone();
+        async move {
+            timeout(WAIT, async {
+                while v.pages() != n {
+                    tokio::time::sleep(Duration::from_millis(10)).await;
+                }
+            })
+            .await
+            .unwrap_or_else(|_| panic!("{} pages, expected {n}", v.pages()));
+        }
+    };
+    pages(3).await;
+    closing.close(None).await.unwrap();
+    drop(dropped);
+    for i in 1..=1000 {
+        viewer.apply("NODE_REPORT", &format!("NAME=abe,X={i},Y=0"), f64::from(i));
+    }
+    pages(1).await;
+    let m = until(&mut open, "the newest report", |m| {
+        has(m, "vehicles", |v| v["x"] == json!(1000.0))
+    })
+    .await;
+    assert_eq!(m["type"], "delta");
+    let mut late = connect(addr, "").await;
+    let snap = next_json(&mut late).await;
+    assert_eq!(snap["type"], "snapshot");
+    assert_eq!(snap["vehicles"][0]["x"], json!(1000.0));
+    pages(2).await;
 }

@@ -300,3 +300,29 @@ fn a_page_sees_the_helm_appcast_follow_its_mode_in_a_real_time_run() {
         assert_ne!(modes[1], modes[2]);
     });
 }
+
+/// `--pace X` holds a lockstep run to X times real time in steps of about a tenth of a wall
+/// second (X / 10 simulated seconds, kept within 0.05 and 1), so the page gets about ten
+/// frames a wall second; without a pace the session's own step stands (1 s). The holding
+/// itself is the wall clock and is not tested here.
+#[test]
+fn a_pace_gives_the_run_steps_of_a_tenth_of_a_wall_second() {
+    use runtime::session::Observer;
+    let live = LiveView::start(&loopback_any_port()).unwrap();
+    let mut quiet = Quiet;
+    for (pace, step) in [
+        (None, 1.0),
+        (Some(4.0), 0.4),
+        (Some(1.0), 0.1),
+        (Some(0.2), 0.05),
+        (Some(50.0), 1.0),
+        (Some(-3.0), 1.0),
+    ] {
+        let view = ViewObserver::new(&mut quiet, &live, session::LOCKSTEP_START, pace);
+        assert!(
+            (view.step_seconds() - step).abs() < 1e-12,
+            "pace {pace:?}: {}",
+            view.step_seconds()
+        );
+    }
+}

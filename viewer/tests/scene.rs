@@ -110,7 +110,7 @@ fn polygon_added_replaced_and_removed() {
         p.fields["pts"],
         serde_json::json!([[0.0, 0.0], [10.0, 0.0], [10.0, 10.0]])
     );
-    assert_eq!(p.fields["edge_color"], "red");
+    assert_eq!(p.fields["edge_color"], "#ff0000");
     let v = s.version();
     s.apply("VIEW_POLYGON", "pts={0,0:20,0:20,20:0,20},label=ops", 2.0)
         .unwrap();
@@ -170,7 +170,7 @@ fn other_view_kinds_keep_their_fields_and_expire() {
         .unwrap();
     let c = s.shape(ShapeKind::Circle, "c").unwrap();
     assert_eq!(c.fields["radius"], 20.0);
-    assert_eq!(c.fields["edge_color"], "white");
+    assert_eq!(c.fields["edge_color"], "#ffffff");
     assert_eq!(
         s.shape(ShapeKind::Marker, "m").unwrap().fields["type"],
         "diamond"
@@ -329,5 +329,134 @@ fn snapshot_lists_the_buttons() {
     assert_eq!(
         snap["buttons"][1]["postings"][1],
         serde_json::json!(["SPEED", "1.5"])
+    );
+}
+
+/// Pulses carry their start and a duration (pMarineViewer's defaults when not given: range
+/// 15 s, comms 3 s), start at their `time=` when given, and leave after `duration` (plus a
+/// range pulse's `linger`).
+#[test]
+fn pulses_start_at_their_time_and_end_after_their_duration() {
+    let mut s = scene();
+    s.apply("VIEW_RANGE_PULSE", "x=1,y=2,label=r", 10.0)
+        .unwrap();
+    s.apply("VIEW_COMMS_PULSE", "sx=0,sy=0,tx=5,ty=5,label=c", 10.0)
+        .unwrap();
+    s.apply(
+        "VIEW_RANGE_PULSE",
+        "x=1,y=2,radius=50,duration=4,linger=2,time=8,label=late",
+        10.0,
+    )
+    .unwrap();
+    let r = s.shape(ShapeKind::RangePulse, "r").unwrap();
+    assert_eq!(
+        (r.fields["t0"].as_f64(), r.fields["duration"].as_f64()),
+        (Some(10.0), Some(15.0))
+    );
+    let c = s.shape(ShapeKind::CommsPulse, "c").unwrap();
+    assert_eq!(
+        (c.fields["t0"].as_f64(), c.fields["duration"].as_f64()),
+        (Some(10.0), Some(3.0))
+    );
+    let late = s.shape(ShapeKind::RangePulse, "late").unwrap();
+    assert_eq!(
+        (late.fields["t0"].as_f64(), late.fields["duration"].as_f64()),
+        (Some(8.0), Some(4.0))
+    );
+    s.tick(13.5);
+    assert!(
+        s.shape(ShapeKind::CommsPulse, "c").is_none(),
+        "3 s after 10"
+    );
+    assert!(
+        s.shape(ShapeKind::RangePulse, "late").is_some(),
+        "lingers to 14"
+    );
+    s.tick(14.5);
+    assert!(
+        s.shape(ShapeKind::RangePulse, "late").is_none(),
+        "8 + 4 + 2"
+    );
+    s.tick(24.5);
+    assert!(s.shape(ShapeKind::RangePulse, "r").is_some());
+    s.tick(25.5);
+    assert!(
+        s.shape(ShapeKind::RangePulse, "r").is_none(),
+        "15 s after 10"
+    );
+}
+
+/// Each vehicle's depth and speed are kept for the strip chart: points a second apart and
+/// the newest, over the last `history_s` seconds, and the whole of it in a snapshot only.
+#[test]
+fn depth_and_speed_history_is_kept_for_the_chart() {
+    let mut s = Scene::new(
+        SceneConfig {
+            history_s: 10.0,
+            ..SceneConfig::default()
+        },
+        Vec::new(),
+    );
+    for k in 0..=40 {
+        let t = f64::from(k) * 0.5;
+        s.apply(
+            "NODE_REPORT",
+            &format!("NAME=abe,X=0,Y=0,SPD={},DEP={}", t / 10.0, t),
+            t,
+        )
+        .unwrap();
+    }
+    // No depth nor speed: nothing charted.
+    s.apply("NODE_REPORT", "NAME=ben,X=0,Y=0", 20.0).unwrap();
+    let h: Vec<[f64; 3]> = s.vehicles()["abe"].history().collect();
+    // Points at 10, 11, ..., 19 and the newest, 20 (19.5 gave way to it): 11 points.
+    assert_eq!(h.len(), 11, "{h:?}");
+    assert_eq!(h[0], [10.0, 10.0, 1.0]);
+    assert_eq!(h[10], [20.0, 20.0, 2.0]);
+    assert!(h.windows(2).all(|w| w[1][0] - w[0][0] >= 1.0 - 1e-9));
+    assert_eq!(s.vehicles()["ben"].history().count(), 0);
+    let snap = s.snapshot();
+    assert_eq!(snap["vehicles"][0]["history"].as_array().unwrap().len(), 11);
+    assert_eq!(
+        snap["vehicles"][0]["history"][10],
+        serde_json::json!([20.0, 20.0, 2.0])
+    );
+    let delta = s.delta_since(s.version() - 1).unwrap();
+    assert!(delta["vehicles"][0].get("history").is_none());
+}
+
+/// MOOS colours reach the page as CSS: names with underscores, `greyNN` and fractions as
+/// `#rrggbb`, `off` as transparent, a report's COLOR too.
+#[test]
+fn moos_colours_are_handed_to_the_page_as_css() {
+    let mut s = scene();
+    s.apply(
+        "VIEW_POLYGON",
+        "pts={0,0:1,0:1,1},label=p,edge_color=Light_Blue,vertex_color=1:0.5:0,fill_color=grey50,label_color=off",
+        1.0,
+    )
+    .unwrap();
+    s.apply(
+        "VIEW_MARKER",
+        "x=1,y=2,label=m,color=0:0:1,primary_color=dark_green",
+        1.0,
+    )
+    .unwrap();
+    s.apply("NODE_REPORT", "NAME=abe,X=0,Y=0,COLOR=dodger_blue", 1.0)
+        .unwrap();
+    s.apply("NODE_REPORT", "NAME=ben,X=0,Y=0", 1.0).unwrap();
+    let p = &s.shape(ShapeKind::Polygon, "p").unwrap().fields;
+    assert_eq!(p["edge_color"], "#add8e6");
+    assert_eq!(p["vertex_color"], "#ff8000");
+    assert_eq!(p["fill_color"], "#808080");
+    assert_eq!(p["label_color"], "transparent");
+    let m = &s.shape(ShapeKind::Marker, "m").unwrap().fields;
+    assert_eq!(m["color"], "#0000ff");
+    assert_eq!(m["primary_color"], "#006400");
+    let snap = s.snapshot();
+    assert_eq!(snap["vehicles"][0]["color"], "#1e90ff");
+    assert_eq!(
+        snap["vehicles"][1]["color"], "",
+        "no COLOR: the page's palette"
     );
 }
