@@ -46,6 +46,7 @@ pub mod hil;
 pub mod logger;
 pub mod navigator;
 pub mod navreplay;
+pub mod obstacle_mgr;
 pub mod plot;
 pub mod procinfo;
 pub mod pshare;
