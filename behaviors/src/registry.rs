@@ -72,6 +72,9 @@ pub const STOCK: &[(&str, StockFactory)] = &[
     ("BHV_Shadow", || Box::new(crate::Shadow::new())),
     ("BHV_Trail", || Box::new(crate::Trail::new())),
     ("BHV_Convoy", || Box::new(crate::Convoy::new())),
+    ("BHV_AvoidObstacleV24", || {
+        Box::new(crate::AvoidObstacleV24::new())
+    }),
 ];
 
 type Factory = Arc<dyn Fn() -> Box<dyn Behavior> + Send + Sync>;

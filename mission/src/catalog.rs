@@ -564,6 +564,31 @@ pub const BEHAVIORS: &[BehaviorType] = &[
             "SHADOW_RELEVANCE",
         ],
     },
+    BehaviorType {
+        name: "BHV_AvoidObstacleV24",
+        params: &[
+            "polygon",
+            "poly",
+            "allowable_ttc",
+            "min_util_cpa_dist",
+            "max_util_cpa_dist",
+            "pwt_inner_dist",
+            "pwt_outer_dist",
+            "completed_dist",
+            "holonomic_ok",
+            "draw_buff_min_poly",
+            "draw_buff_max_poly",
+            "can_disable",
+            "rng_flag",
+            "cpa_flag",
+            "visual_hints",
+            "use_refinery",
+            "id",
+            "obid",
+            "allstop_on_breach",
+        ],
+        posts: &["OBM_ALERT_REQUEST", "NOTED_RESOLVED", "VIEW_POLYGON"],
+    },
 ];
 
 /// The parameters every contact behaviour takes (MOOS `IvPContactBehavior::setParam`).
