@@ -102,6 +102,7 @@ pub use loiter::Loiter;
 pub use max_depth::MaxDepth;
 pub use max_speed::MaxSpeed;
 pub use memory_turn_limit::MemoryTurnLimit;
+pub use obstacle::legacy::{AvoidObstacle, AvoidObstacleX};
 pub use obstacle::v24::AvoidObstacleV24;
 pub use op_region::{Breach, OpRegion};
 pub use op_region_v24::OpRegionV24;

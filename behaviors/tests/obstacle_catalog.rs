@@ -7,7 +7,12 @@ mod support;
 use behaviors::ParamError;
 use support::{Bhv, uuv_domain};
 
-const KINDS: [&str; 1] = ["BHV_AvoidObstacleV24"];
+const KINDS: [&str; 4] = [
+    "BHV_AvoidObstacleV24",
+    "BHV_AvoidObstacle",
+    "BHV_AvoidObstacleX",
+    "BHV_AvoidObstacleV21",
+];
 
 #[test]
 fn every_listed_parameter_is_known_and_no_other() {
@@ -24,7 +29,13 @@ fn every_listed_parameter_is_known_and_no_other() {
             }
         }
         let mut b = Bhv::new(kind, "b", uuv_domain());
-        for p in ["no_such_param", "buffer_dist", "pwt_grade"] {
+        let unknown: &[&str] = match kind {
+            "BHV_AvoidObstacle" => &["no_such_param", "id", "min_util_cpa_dist"],
+            "BHV_AvoidObstacleX" => &["no_such_param", "rng_flag", "buffer_dist"],
+            "BHV_AvoidObstacleV21" => &["no_such_param", "resolved", "buffer_dist"],
+            _ => &["no_such_param", "buffer_dist", "pwt_grade"],
+        };
+        for p in unknown {
             assert!(
                 matches!(b.set(p, "1"), Err(ParamError::Unknown { .. })),
                 "{kind}: {p}"

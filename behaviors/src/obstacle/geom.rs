@@ -109,6 +109,12 @@ pub fn ray_cpa(rx: f64, ry: f64, hdg: f64, poly: &Polygon) -> f64 {
 /// 180 and the greatest at or below 180 (so `min > max`); `None` for an empty polygon or a
 /// point inside a convex one.
 pub fn bearing_min_max(osx: f64, osy: f64, poly: &Polygon) -> Option<(f64, f64)> {
+    bearing_min_max_x(osx, osy, poly).map(|b| (b.0, b.1))
+}
+
+/// [`bearing_min_max`] with the distances from `(osx, osy)` to the vertices at the two
+/// bearings: `(min, max, min_dist, max_dist)` (MOOS `bearingMinMaxToPolyX`).
+pub fn bearing_min_max_x(osx: f64, osy: f64, poly: &Polygon) -> Option<(f64, f64, f64, f64)> {
     let v = poly.vertices();
     if v.is_empty() || (poly.is_convex() && poly.contains(osx, osy)) {
         return None;
@@ -147,21 +153,23 @@ pub fn bearing_min_max(osx: f64, osy: f64, poly: &Polygon) -> Option<(f64, f64)>
         _ => false,
     };
     let (mut bmin, mut bmax) = (360.0, 0.0);
-    for &a in &angles {
+    let (mut imin, mut imax) = (0, 0);
+    for (i, &a) in angles.iter().enumerate() {
         if !wrap {
             if a < bmin {
-                bmin = a;
+                (bmin, imin) = (a, i);
             }
             if a > bmax {
-                bmax = a;
+                (bmax, imax) = (a, i);
             }
         } else if a > 180.0 && a < bmin {
-            bmin = a;
+            (bmin, imin) = (a, i);
         } else if a <= 180.0 && a > bmax {
-            bmax = a;
+            (bmax, imax) = (a, i);
         }
     }
-    Some((bmin, bmax))
+    let d = |i: usize| (osx - v[i].x).hypot(osy - v[i].y);
+    Some((bmin, bmax, d(imin), d(imax)))
 }
 
 /// Every vertex of the polygon lies more than `xbng` degrees abaft the beam (relative
@@ -229,5 +237,18 @@ mod tests {
         assert!(!poly_aft(0.0, 0.0, 60.0, &sq, 20.0));
         assert!(!poly_aft(0.0, 0.0, 180.0, &sq, 20.0));
         assert!(!poly_aft(0.0, 0.0, 0.0, &Polygon::default(), 0.0));
+    }
+}
+
+/// The distance from `(x, y)` to the polygon's vertices taken as an open path (MOOS
+/// `XYSegList::dist_to_point`: the closing edge is not counted); 0 when empty.
+pub fn dist_to_open_path(p: &Polygon, x: f64, y: f64) -> f64 {
+    let v = p.vertices();
+    match v.len() {
+        0 => 0.0,
+        1 => (x - v[0].x).hypot(y - v[0].y),
+        n => (0..n - 1)
+            .map(|i| dist_point_seg(v[i], v[i + 1], x, y))
+            .fold(f64::INFINITY, f64::min),
     }
 }

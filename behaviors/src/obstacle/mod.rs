@@ -14,6 +14,7 @@
 //! - [`Hints`]: `visual_hints` as MOOS's `HintHolder` keeps them and `applyHints` applies them.
 
 pub mod geom;
+pub mod legacy;
 
 pub mod v24;
 
@@ -311,8 +312,11 @@ pub struct ShipModel {
     pub obcent_relbng: f64,
     /// Derived: `star`, `port` or `n/a`: the side the obstacle's centre is on.
     pub passing_side: &'static str,
-    /// Derived: the expansion failed (`Bad Expand: ...`).
+    /// Derived: the expansion failed (`<expand_failure> <obstacle spec>`).
     pub failed_expand: String,
+    /// The words that open [`ShipModel::failed_expand`] (`Bad Expand:` in V24, `Failed
+    /// Expand:` in the older model).
+    pub expand_failure: &'static str,
     /// The derived values are up to date.
     pub fresh: bool,
 }
@@ -344,6 +348,7 @@ impl Default for ShipModel {
             obcent_relbng: -1.0,
             passing_side: "n/a",
             failed_expand: String::new(),
+            expand_failure: "Bad Expand:",
             fresh: false,
         }
     }
@@ -507,7 +512,7 @@ impl ShipModel {
         let mid = geom::buffer(&self.gut, self.min_util_cpa_flex, self.obuff_rdegs);
         let rim = geom::buffer(&self.gut, self.max_util_cpa_flex, self.obuff_rdegs);
         let (Some(mid), Some(rim)) = (mid, rim) else {
-            let mut spec = String::from("Bad Expand: ");
+            let mut spec = format!("{} ", self.expand_failure);
             let mut v = ViewPolygon::new(self.gut.clone());
             v.attrs.label.clone_from(&self.label);
             v.spec(&mut spec);

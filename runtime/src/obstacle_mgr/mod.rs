@@ -555,6 +555,12 @@ impl ObstacleMgr {
                 }
                 ok
             }
+            _ if appcast::casting::UNHANDLED_EXEMPT
+                .contains(&param.to_ascii_uppercase().as_str())
+                || matches!(param, "comms_policy" | "max_appcast_run_warnings") =>
+            {
+                true
+            }
             "lasso_radius" => {
                 let ok = is_number(value);
                 if ok {

@@ -45,6 +45,8 @@ fn bad_lines_are_refused_as_the_cpp_refuses_them() {
         "new_obs_flag = NOVALUE=",
         "mailflag = DEPLOY # X=1",
         "bogus = 1",
+        "AppTick = 4",
+        "CommsTick = 4",
     ]);
     assert_eq!(
         w,
