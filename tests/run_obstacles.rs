@@ -114,3 +114,91 @@ fn without_the_behaviour_the_transit_runs_through_an_obstacle() {
     assert!(near[0].1 < 0.0, "the track should cross ob_a: {near:?}");
     assert!(!has(&log, "OBM_ALERT_REQUEST", ""));
 }
+
+/// The corpus's s1_alpha_obsavoid in lockstep: BHV_AvoidObstacleV21 spawned from
+/// pObstacleMgr's alert for its one given obstacle (x 50..80, y -100..-120, on the first
+/// survey leg at x = 60) takes the vehicle round it.
+#[test]
+fn corpus_s1_alpha_obsavoid_passes_its_obstacle_with_v21() {
+    let mission = test_support::mission_file("s1_alpha_obsavoid/alpha.moos");
+    let (bytes, _) = run_lockstep(
+        "obstacles-obsavoid",
+        &mission,
+        &[],
+        deploy_until("NAV_Y < -140", 200.0),
+    );
+    let log = parse(&bytes);
+    let d = track(&log)
+        .iter()
+        .map(|&(_, x, y)| signed_dist(x, y, (50.0, 80.0), (-120.0, -100.0)))
+        .fold(f64::INFINITY, f64::min);
+    eprintln!("s1_alpha_obsavoid: closest approach to its obstacle {d:.2} m");
+    // max_util_cpa_dist is 20 there, min_util_cpa_dist 10.
+    assert!(d > 10.0, "{d}");
+    assert!(has(
+        &log,
+        "IVPHELM_LIFE_EVENT",
+        "bname=avd_obsone, btype=BHV_AvoidObstacleV21, event=spawn"
+    ));
+    assert!(has(&log, "OBSTACLE_ALERT", "name=avd_obsone#poly=pts={50,-100:50,-120:80,-120:80,-100},label=one#id=one"));
+}
+
+/// `coug check` on the corpus's obstacle missions reports nothing about pObstacleMgr or the
+/// obstacle behaviours but what MOOS-IvP would refuse too: s1_alpha_obsavoid is clean;
+/// s1_alpha_obstaclemgr's one error is its uTimerScript's gaussian `rand_var`;
+/// m2_berta_obstacles (checked with the macros its launch script gives) gives
+/// BHV_AvoidObstacleV24 a `buffer_dist`, which V24 does not take (the C++ `setParam` returns
+/// false for it too), and its helm names the `targ_` file the launch script writes.
+#[test]
+fn corpus_obstacle_missions_check_as_moos_ivp_would() {
+    let corpus = test_support::corpus("moos-ivp-missions");
+    let check = |args: &[&str]| {
+        let out = coug(&corpus, args);
+        let text = format!(
+            "{}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        (out.status.code(), text)
+    };
+    let (code, text) = check(&[
+        "check",
+        "s1_alpha_obsavoid/alpha.moos",
+        "s1_alpha_obsavoid/alpha.bhv",
+    ]);
+    assert_eq!(code, Some(0), "{text}");
+    assert!(!text.contains("error"), "{text}");
+    assert!(!text.contains("pObstacleMgr"), "{text}");
+    let (_, text) = check(&[
+        "check",
+        "s1_alpha_obstaclemgr/alpha.moos",
+        "s1_alpha_obstaclemgr/alpha.bhv",
+    ]);
+    let errors: Vec<&str> = text.lines().filter(|l| l.contains("error")).collect();
+    assert_eq!(errors.len(), 1, "{text}");
+    assert!(errors[0].contains("uTimerScript: rand_var type \"gaussian\""), "{text}");
+    assert!(!text.contains("pObstacleMgr") && !text.contains("AvoidObstacle"), "{text}");
+    let (code, text) = check(&[
+        "check",
+        "m2_berta_obstacles/meta_vehicle.moos",
+        "m2_berta_obstacles/meta_vehicle.bhv",
+        "VNAME=abe",
+        "START_POS=0,0",
+        "LOITER_POS=x=0,y=-75",
+        "BOT_MOOSDB=9001",
+        "BOT_PSHARE=9201",
+        "SHORE_PSHARE=9200",
+        "WARP=1",
+    ]);
+    assert_eq!(code, Some(1), "{text}");
+    let bhv_errors: Vec<&str> = text
+        .lines()
+        .filter(|l| l.contains("meta_vehicle.bhv") && l.contains("error"))
+        .collect();
+    assert_eq!(bhv_errors.len(), 1, "{text}");
+    assert!(
+        bhv_errors[0].contains("unknown parameter `buffer_dist` for BHV_AvoidObstacleV24"),
+        "{text}"
+    );
+    assert!(!text.contains("pObstacleMgr"), "{text}");
+}
