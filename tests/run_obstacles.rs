@@ -12,9 +12,24 @@ use common::*;
 /// axis-aligned rectangles: key, spec, x range, y range).
 type Rect = (&'static str, &'static str, (f64, f64), (f64, f64));
 const OBSTACLES: [Rect; 3] = [
-    ("ob_a", "pts={-8,52:-8,68:8,68:8,52}, label=ob_a", (-8.0, 8.0), (52.0, 68.0)),
-    ("ob_b", "pts={-4,130:-4,146:12,146:12,130}, label=ob_b", (-4.0, 12.0), (130.0, 146.0)),
-    ("ob_c", "pts={40,90:40,100:50,100:50,90}, label=ob_c", (40.0, 50.0), (90.0, 100.0)),
+    (
+        "ob_a",
+        "pts={-8,52:-8,68:8,68:8,52}, label=ob_a",
+        (-8.0, 8.0),
+        (52.0, 68.0),
+    ),
+    (
+        "ob_b",
+        "pts={-4,130:-4,146:12,146:12,130}, label=ob_b",
+        (-4.0, 12.0),
+        (130.0, 146.0),
+    ),
+    (
+        "ob_c",
+        "pts={40,90:40,100:50,100:50,90}, label=ob_c",
+        (40.0, 50.0),
+        (90.0, 100.0),
+    ),
 ];
 
 /// The signed distance from `(x, y)` to a rectangle's boundary: negative inside.
@@ -140,7 +155,11 @@ fn corpus_s1_alpha_obsavoid_passes_its_obstacle_with_v21() {
         "IVPHELM_LIFE_EVENT",
         "bname=avd_obsone, btype=BHV_AvoidObstacleV21, event=spawn"
     ));
-    assert!(has(&log, "OBSTACLE_ALERT", "name=avd_obsone#poly=pts={50,-100:50,-120:80,-120:80,-100},label=one#id=one"));
+    assert!(has(
+        &log,
+        "OBSTACLE_ALERT",
+        "name=avd_obsone#poly=pts={50,-100:50,-120:80,-120:80,-100},label=one#id=one"
+    ));
 }
 
 /// `coug check` on the corpus's obstacle missions reports nothing about pObstacleMgr or the
@@ -176,8 +195,14 @@ fn corpus_obstacle_missions_check_as_moos_ivp_would() {
     ]);
     let errors: Vec<&str> = text.lines().filter(|l| l.contains("error")).collect();
     assert_eq!(errors.len(), 1, "{text}");
-    assert!(errors[0].contains("uTimerScript: rand_var type \"gaussian\""), "{text}");
-    assert!(!text.contains("pObstacleMgr") && !text.contains("AvoidObstacle"), "{text}");
+    assert!(
+        errors[0].contains("uTimerScript: rand_var type \"gaussian\""),
+        "{text}"
+    );
+    assert!(
+        !text.contains("pObstacleMgr") && !text.contains("AvoidObstacle"),
+        "{text}"
+    );
     let (code, text) = check(&[
         "check",
         "m2_berta_obstacles/meta_vehicle.moos",

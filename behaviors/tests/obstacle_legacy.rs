@@ -156,8 +156,16 @@ fn v21_is_x_s_objective_judged_every_iteration_with_flags_and_five_decimals() {
             .any(|e| matches!(e, Emit::Flag { flag, .. } if flag.var == "NEAR"))
     );
     // Config status names: the C++ X writes `BHV_AvoidObstacleXs`.
-    assert!(x.config_status("a").unwrap().starts_with("type=BHV_AvoidObstacleXs,name=a,"));
-    assert!(v21.config_status("a").unwrap().starts_with("type=BHV_AvoidObstacleV21,name=a,"));
+    assert!(
+        x.config_status("a")
+            .unwrap()
+            .starts_with("type=BHV_AvoidObstacleXs,name=a,")
+    );
+    assert!(
+        v21.config_status("a")
+            .unwrap()
+            .starts_with("type=BHV_AvoidObstacleV21,name=a,")
+    );
 }
 
 #[test]
@@ -200,23 +208,46 @@ fn avoid_obstacle_is_all_or_nothing_on_time_to_its_buffer_and_the_passing_side()
 #[test]
 fn the_old_types_refuse_parameters_as_the_cpp_does() {
     let mut b = AvoidObstacle::new();
-    assert!(matches!(set(&mut b, "id", "ob_1"), Err(ParamError::Unknown { .. })));
+    assert!(matches!(
+        set(&mut b, "id", "ob_1"),
+        Err(ParamError::Unknown { .. })
+    ));
     assert!(set(&mut b, "buffer_dist", "-1").is_err());
     set(&mut b, "pwt_outer_dist", "30").unwrap();
     // completed_dist must exceed pwt_outer_dist once that is set.
     assert!(set(&mut b, "completed_dist", "30").is_err());
     assert_eq!(b.completed_dist, 31.0);
-    assert!(set(&mut b, "visual_hints", "obstacle_edge_color=red, buffer_fill_transparency=0.3").is_ok());
+    assert!(
+        set(
+            &mut b,
+            "visual_hints",
+            "obstacle_edge_color=red, buffer_fill_transparency=0.3"
+        )
+        .is_ok()
+    );
     assert!(set(&mut b, "visual_hints", "edge_color=red").is_err());
     let mut x = AvoidObstacleX::new();
     assert!(set(&mut x, "resolved", "true").is_ok());
-    assert!(matches!(set(&mut x, "rng_flag", "A=1"), Err(ParamError::Unknown { .. })));
+    assert!(matches!(
+        set(&mut x, "rng_flag", "A=1"),
+        Err(ParamError::Unknown { .. })
+    ));
     set(&mut x, "id", "a").unwrap();
     assert!(set(&mut x, "id", "b").is_ok(), "X may change its id");
     // The C++ stops at the first colour of a list: the second hint is never read.
-    assert!(set(&mut x, "visual_hints", "obstacle_edge_color=red, nonsense=1").is_ok());
+    assert!(
+        set(
+            &mut x,
+            "visual_hints",
+            "obstacle_edge_color=red, nonsense=1"
+        )
+        .is_ok()
+    );
     let mut v21 = AvoidObstacleX::v21();
-    assert!(matches!(set(&mut v21, "resolved", "true"), Err(ParamError::Unknown { .. })));
+    assert!(matches!(
+        set(&mut v21, "resolved", "true"),
+        Err(ParamError::Unknown { .. })
+    ));
     set(&mut v21, "id", "a").unwrap();
     assert!(set(&mut v21, "id", "b").is_err(), "V21 sets its id once");
     assert!(set(&mut v21, "rng_flag", "<x A=1").is_err());

@@ -39,7 +39,12 @@ fn ctx<'a>(info: &'a MapInfo, d: &'a Domain) -> Ctx<'a> {
 fn set(b: &mut AvoidObstacleV24, k: &str, v: &str) -> Result<(), ParamError> {
     let d = domain();
     let info = MapInfo::new(0.0);
-    b.set_param(k, v, &mut Common::new("BHV_AvoidObstacleV24"), &ctx(&info, &d))
+    b.set_param(
+        k,
+        v,
+        &mut Common::new("BHV_AvoidObstacleV24"),
+        &ctx(&info, &d),
+    )
 }
 
 fn configured() -> AvoidObstacleV24 {
@@ -67,7 +72,7 @@ fn run(b: &mut AvoidObstacleV24, info: &MapInfo) -> (Option<ivp::IvpFunction>, O
     (f, out)
 }
 
-fn posts<'a>(out: &'a Out, var: &str) -> Vec<String> {
+fn posts(out: &Out, var: &str) -> Vec<String> {
     out.emits
         .iter()
         .filter_map(|e| match e {
@@ -125,7 +130,11 @@ fn relevance_is_discounted_by_the_angle_to_the_nearer_bounding_bearing() {
     let mut b = configured();
     let (f, _) = run(&mut b, &at(20.0, 0.0, 0.0));
     assert!(f.is_some());
-    assert!((b.relevance - 0.5 / 5f64.sqrt()).abs() < 1e-12, "{}", b.relevance);
+    assert!(
+        (b.relevance - 0.5 / 5f64.sqrt()).abs() < 1e-12,
+        "{}",
+        b.relevance
+    );
 }
 
 #[test]
@@ -173,13 +182,16 @@ fn a_breach_or_a_missing_utility_distance_is_an_allstop() {
     let (f, out) = run(&mut b, &at(0.0, 25.0, 0.0));
     assert!(f.is_none());
     assert_eq!(out.error.as_deref(), Some("Allstop: Obstacle Breached"));
-    assert!(
-        posts(&out, "BHV_WARNING")
-            .contains(&"avd_ob_1: Unable to init AOF_AvoidObstacleV24:m_obstacle contains osx,osy".to_string())
-    );
+    assert!(posts(&out, "BHV_WARNING").contains(
+        &"avd_ob_1: Unable to init AOF_AvoidObstacleV24:m_obstacle contains osx,osy".to_string()
+    ));
     // min_util_cpa_dist never set: the C++ AOF refuses to initialise.
     let mut b = AvoidObstacleV24::new();
-    for (k, v) in [("poly", SQUARE), ("max_util_cpa_dist", "8"), ("allowable_ttc", "5")] {
+    for (k, v) in [
+        ("poly", SQUARE),
+        ("max_util_cpa_dist", "8"),
+        ("allowable_ttc", "5"),
+    ] {
         set(&mut b, k, v).unwrap();
     }
     let (f, out) = run(&mut b, &at(0.0, 0.0, 0.0));
@@ -191,7 +203,11 @@ fn a_breach_or_a_missing_utility_distance_is_an_allstop() {
     assert!(out.error.is_none());
     assert!(posts(&out, "BHV_WARNING").contains(&"avd_ob_1: Obstacle Breached".to_string()));
     // The holonomic model is warned about unless holonomic_ok.
-    assert!(posts(&out, "BHV_WARNING").iter().any(|w| w.contains("holo plat_model not best")));
+    assert!(
+        posts(&out, "BHV_WARNING")
+            .iter()
+            .any(|w| w.contains("holo plat_model not best"))
+    );
 }
 
 #[test]
@@ -204,15 +220,25 @@ fn parameters_are_refused_as_the_cpp_refuses_them() {
     // `atof` of text is 0: accepted.
     assert!(set(&mut b, "allowable_ttc", "soon").is_ok());
     assert_eq!(b.model.allowable_ttc, 0.0);
-    assert!(matches!(set(&mut b, "pwt_grade", "linear"), Err(ParamError::Unknown { .. })));
-    assert!(matches!(set(&mut b, "buffer_dist", "3"), Err(ParamError::Unknown { .. })));
+    assert!(matches!(
+        set(&mut b, "pwt_grade", "linear"),
+        Err(ParamError::Unknown { .. })
+    ));
+    assert!(matches!(
+        set(&mut b, "buffer_dist", "3"),
+        Err(ParamError::Unknown { .. })
+    ));
     // The distances' order: an error only when the partner was set explicitly.
     let mut b = AvoidObstacleV24::new();
     set(&mut b, "completed_dist", "5").unwrap();
     assert_eq!((b.model.pwt_inner_dist, b.model.pwt_outer_dist), (5.0, 5.0));
     assert_eq!(
         set(&mut b, "pwt_outer_dist", "10"),
-        Err(ParamError::bad("pwt_outer_dist", "10", "pwt_outer_dist must be <= completed_dist"))
+        Err(ParamError::bad(
+            "pwt_outer_dist",
+            "10",
+            "pwt_outer_dist must be <= completed_dist"
+        ))
     );
     let mut b = AvoidObstacleV24::new();
     set(&mut b, "max_util_cpa_dist", "5").unwrap();

@@ -199,6 +199,19 @@ pub fn buffer(p: &Polygon, dist: f64, rdegs: f64) -> Option<Polygon> {
     p.buffered(dist, rdegs)
 }
 
+/// The distance from `(x, y)` to the polygon's vertices taken as an open path (MOOS
+/// `XYSegList::dist_to_point`: the closing edge is not counted); 0 when empty.
+pub fn dist_to_open_path(p: &Polygon, x: f64, y: f64) -> f64 {
+    let v = p.vertices();
+    match v.len() {
+        0 => 0.0,
+        1 => (x - v[0].x).hypot(y - v[0].y),
+        n => (0..n - 1)
+            .map(|i| dist_point_seg(v[i], v[i + 1], x, y))
+            .fold(f64::INFINITY, f64::min),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -237,18 +250,5 @@ mod tests {
         assert!(!poly_aft(0.0, 0.0, 60.0, &sq, 20.0));
         assert!(!poly_aft(0.0, 0.0, 180.0, &sq, 20.0));
         assert!(!poly_aft(0.0, 0.0, 0.0, &Polygon::default(), 0.0));
-    }
-}
-
-/// The distance from `(x, y)` to the polygon's vertices taken as an open path (MOOS
-/// `XYSegList::dist_to_point`: the closing edge is not counted); 0 when empty.
-pub fn dist_to_open_path(p: &Polygon, x: f64, y: f64) -> f64 {
-    let v = p.vertices();
-    match v.len() {
-        0 => 0.0,
-        1 => (x - v[0].x).hypot(y - v[0].y),
-        n => (0..n - 1)
-            .map(|i| dist_point_seg(v[i], v[i + 1], x, y))
-            .fold(f64::INFINITY, f64::min),
     }
 }

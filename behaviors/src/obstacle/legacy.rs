@@ -234,7 +234,9 @@ impl LegacyModel {
             }
         }
         let minspd = geom::dist_to_open_path(&m.rim, osx, osy) / m.allowable_ttc;
-        if !(spd >= minspd) {
+        // Below the minimum speed (or not comparable with it, as the C++ `osv >= minspd`
+        // test fails then too): 100.
+        if spd.partial_cmp(&minspd).is_none_or(|o| o.is_lt()) {
             return 100.0;
         }
         let cpa = geom::ray_cpa(osx, osy, hdg, &m.gut);
@@ -542,7 +544,11 @@ impl AvoidObstacleX {
             .zip(self.labels())
             .enumerate()
         {
-            let label = if i == 0 || derived { label } else { String::new() };
+            let label = if i == 0 || derived {
+                label
+            } else {
+                String::new()
+            };
             out.post_key("VIEW_POLYGON", spec_inactive(&label), PostKey::Tag(key));
         }
     }
@@ -668,7 +674,12 @@ impl Behavior for AvoidObstacleX {
     fn info_vars(&self, out: &mut Vec<String>) {
         add_vars(
             out,
-            ["NAV_X", "NAV_Y", "NAV_HEADING", self.base.resolved_var.as_str()],
+            [
+                "NAV_X",
+                "NAV_Y",
+                "NAV_HEADING",
+                self.base.resolved_var.as_str(),
+            ],
         );
     }
 
@@ -879,9 +890,7 @@ impl AvoidObstacle {
     /// The relevance (MOOS `getRelevance`).
     pub fn relevance_now(&self) -> f64 {
         let (x, y, h) = self.pose;
-        if self.pwt_outer_dist < self.pwt_inner_dist
-            || geom::poly_aft(x, y, h, self.gut(), 20.0)
-        {
+        if self.pwt_outer_dist < self.pwt_inner_dist || geom::poly_aft(x, y, h, self.gut(), 20.0) {
             return 0.0;
         }
         let r = geom::dist_to_poly(self.gut(), x, y);
@@ -892,7 +901,11 @@ impl AvoidObstacle {
             return 1.0;
         }
         let d = self.pwt_outer_dist - self.pwt_inner_dist;
-        if d <= 0.0 { 0.0 } else { (self.pwt_outer_dist - r) / d }
+        if d <= 0.0 {
+            0.0
+        } else {
+            (self.pwt_outer_dist - r) / d
+        }
     }
 
     /// `AOF_AvoidObstacle`'s utility of `(hdg, spd)` with the buffer polygon `buff`.
@@ -1062,7 +1075,8 @@ impl Behavior for AvoidObstacle {
                 for piece in moos_types::text::parse_string_q(value, ',') {
                     let (k, v) = piece.split_once('=').unwrap_or((piece, ""));
                     let (k, v) = (k.trim().to_ascii_lowercase(), v.trim());
-                    let (i, field) = match (k.strip_prefix("obstacle_"), k.strip_prefix("buffer_")) {
+                    let (i, field) = match (k.strip_prefix("obstacle_"), k.strip_prefix("buffer_"))
+                    {
                         (Some(f), _) => (0, f),
                         (_, Some(f)) => (1, f),
                         _ => return Err(ParamError::bad(param, value, "obstacle_/buffer_ hints")),

@@ -591,7 +591,8 @@ impl ShipModel {
         if bmin > bmax {
             return pct;
         }
-        let theta = geometry::angle::angle_diff(osh, bmin).min(geometry::angle::angle_diff(osh, bmax));
+        let theta =
+            geometry::angle::angle_diff(osh, bmin).min(geometry::angle::angle_diff(osh, bmax));
         let cos = theta.to_radians().cos().max(0.0);
         let pct2 = cos * pct;
         if pct > 0.0 && pct2 == 0.0 { 0.01 } else { pct2 }
@@ -612,7 +613,11 @@ impl ShipModel {
         let (osx, osy, _, _) = self.pose.unwrap_or_default();
         if self.side_lock {
             let rel = geom::rel_bearing(osx, osy, hdg, self.center.0, self.center.1);
-            let side = if rel > 0.0 && rel < 180.0 { "star" } else { "port" };
+            let side = if rel > 0.0 && rel < 180.0 {
+                "star"
+            } else {
+                "port"
+            };
             if side != self.passing_side {
                 return 0.0;
             }

@@ -335,7 +335,11 @@ impl AvoidObstacleV24 {
         fn fill(relevant: bool, c: &'static str) -> &'static str {
             if relevant { c } else { "off" }
         }
-        let gut_fill = if self.side_lock.is_empty() { "gray60" } else { "pink" };
+        let gut_fill = if self.side_lock.is_empty() {
+            "gray60"
+        } else {
+            "pink"
+        };
         self.hints.color("gut_fill_color", fill(relevant, gut_fill));
         self.hints.color("mid_fill_color", fill(relevant, "gray70"));
         self.hints.color("rim_fill_color", fill(relevant, "gray70"));
@@ -348,8 +352,14 @@ impl AvoidObstacleV24 {
         gut.attrs.active = true;
         for (prefix, mut v) in [
             ("gut", gut),
-            ("mid", self.view(&self.model.mid, &format!("{label}_mid_poly"))),
-            ("rim", self.view(&self.model.rim, &format!("{label}_rim_poly"))),
+            (
+                "mid",
+                self.view(&self.model.mid, &format!("{label}_mid_poly")),
+            ),
+            (
+                "rim",
+                self.view(&self.model.rim, &format!("{label}_rim_poly")),
+            ),
         ] {
             v.precision = 5;
             self.hints.apply(prefix, &mut v.attrs);
@@ -380,8 +390,16 @@ impl AvoidObstacleV24 {
             }
         };
         out.post_key("VIEW_POLYGON", spec_inactive(label), PostKey::Tag("gut"));
-        out.post_key("VIEW_POLYGON", spec_inactive(&sub("mid")), PostKey::Tag("mid"));
-        out.post_key("VIEW_POLYGON", spec_inactive(&sub("rim")), PostKey::Tag("rim"));
+        out.post_key(
+            "VIEW_POLYGON",
+            spec_inactive(&sub("mid")),
+            PostKey::Tag("mid"),
+        );
+        out.post_key(
+            "VIEW_POLYGON",
+            spec_inactive(&sub("rim")),
+            PostKey::Tag("rim"),
+        );
     }
 }
 
@@ -472,8 +490,7 @@ impl Behavior for AvoidObstacleV24 {
     }
 
     fn on_helm_start(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
-        self.base
-            .alert_request(ctx, self.model.pwt_outer_dist, out);
+        self.base.alert_request(ctx, self.model.pwt_outer_dist, out);
     }
 
     fn info_vars(&self, out: &mut Vec<String>) {
@@ -553,7 +570,10 @@ impl Behavior for AvoidObstacleV24 {
         self.relevance = relevance;
         let f = match self.aof_problem() {
             Some(p) => {
-                out.warning(ctx.name, &format!("Unable to init AOF_AvoidObstacleV24:{p}"));
+                out.warning(
+                    ctx.name,
+                    &format!("Unable to init AOF_AvoidObstacleV24:{p}"),
+                );
                 None
             }
             None => self.objective(ctx),

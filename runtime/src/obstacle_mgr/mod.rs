@@ -516,7 +516,9 @@ impl ObstacleMgr {
                     s.given_max_duration = -1.0;
                     true
                 } else {
-                    pos_double(value).map(|d| s.given_max_duration = d).is_some()
+                    pos_double(value)
+                        .map(|d| s.given_max_duration = d)
+                        .is_some()
                 }
             }
             "general_alert" => match parse_alert(value, "gen_alert") {
@@ -730,13 +732,11 @@ impl ObstacleMgr {
         if xs.is_empty() || ys.is_empty() || key.is_empty() || vsource.contains(char::is_whitespace)
         {
             self.points_invalid += 1;
-            self.notes
-                .push(Note::Warning(format!("Invalid point:{s}")));
+            self.notes.push(Note::Warning(format!("Invalid point:{s}")));
             return false;
         }
         let (x, y) = (geometry::atof(xs), geometry::atof(ys));
-        if self.s.ignore_range > 0.0
-            && (self.nav.0 - x).hypot(self.nav.1 - y) > self.s.ignore_range
+        if self.s.ignore_range > 0.0 && (self.nav.0 - x).hypot(self.nav.1 - y) > self.s.ignore_range
         {
             self.points_ignored += 1;
             return true;
@@ -944,8 +944,7 @@ impl ObstacleMgr {
             }
             out.push(Post::text("OBM_RESOLVED", key.as_str()));
             self.alerts_resolved += 1;
-            self.notes
-                .push(Note::Event(format!("OBM_RESOLVED={key}")));
+            self.notes.push(Note::Event(format!("OBM_RESOLVED={key}")));
             self.obstacles_released += 1;
         }
     }
@@ -1190,11 +1189,7 @@ impl ObstacleMgr {
         let _ = writeln!(b, "Configuration (lasso option):               ");
         let _ = writeln!(b, "  lasso:        {}", s.lasso);
         let _ = writeln!(b, "  lasso_points: {}", s.lasso_points);
-        let _ = writeln!(
-            b,
-            "  lasso_radius: {}",
-            compact_string(s.lasso_radius, 5)
-        );
+        let _ = writeln!(b, "  lasso_radius: {}", compact_string(s.lasso_radius, 5));
         let _ = writeln!(b, "============================================");
         let _ = writeln!(b, "State: (Nav)                                ");
         let _ = writeln!(
@@ -1210,7 +1205,11 @@ impl ObstacleMgr {
         let _ = writeln!(b, "State: (given_obstacles):                   ");
         let _ = writeln!(b, "  Given Obstacles (mail) ever: {}", self.given_mail_ever);
         let _ = writeln!(b, "  Given Obstacles (mail) good: {}", self.given_mail_good);
-        let _ = writeln!(b, "  Given Obstacles (config):    {}", self.given_config_ever);
+        let _ = writeln!(
+            b,
+            "  Given Obstacles (config):    {}",
+            self.given_config_ever
+        );
         let _ = writeln!(b, "State: (obstacles):                         ");
         let _ = writeln!(b, "  Obstacles:          {}", self.obstacles.len());
         let _ = writeln!(b, "  Obstacles released: {}", self.obstacles_released);

@@ -139,7 +139,13 @@ fn given_mail_needs_a_duration_within_the_maximum_and_expires_after_it() {
     let mut out = Vec::new();
     om.on_startup(0.0, &mut out);
     out.clear();
-    mail(&mut om, "GIVEN_OBSTACLE", Value::text(SQUARE), 5.0, &mut out);
+    mail(
+        &mut om,
+        "GIVEN_OBSTACLE",
+        Value::text(SQUARE),
+        5.0,
+        &mut out,
+    );
     mail(
         &mut om,
         "GIVEN_OBSTACLE",
@@ -214,7 +220,10 @@ fn points_make_a_hull_posted_as_a_view_polygon_and_age_away() {
     assert_eq!(texts(&out, "VIEW_POLYGON"), [view]);
     // Nav at (0,0): the closest vertex (10,10) is 14.14 m away.
     let d = nums(&out, "OBM_MIN_DIST_EVER");
-    assert!(d.len() == 1 && (d[0] - 200f64.sqrt()).abs() < 1e-12, "{d:?}");
+    assert!(
+        d.len() == 1 && (d[0] - 200f64.sqrt()).abs() < 1e-12,
+        "{d:?}"
+    );
     // Without an alert nothing clears the change: the hull is posted again.
     out.clear();
     om.iterate(2.0, &mut out);
@@ -340,7 +349,13 @@ fn mail_flags_and_the_able_variables() {
         2.0,
         &mut out,
     );
-    mail(&mut om, "OBS_DISABLE", Value::text("vsource=radar"), 2.0, &mut out);
+    mail(
+        &mut om,
+        "OBS_DISABLE",
+        Value::text("vsource=radar"),
+        2.0,
+        &mut out,
+    );
     assert_eq!(
         texts(&out, "BHV_ABLE_FILTER"),
         [
@@ -352,7 +367,13 @@ fn mail_flags_and_the_able_variables() {
     // The bare id form does not enter the list (as in the C++): only ob_2 did.
     out.clear();
     om.s.given_max_duration = -1.0;
-    mail(&mut om, "GIVEN_OBSTACLE", Value::text(SQUARE), 3.0, &mut out);
+    mail(
+        &mut om,
+        "GIVEN_OBSTACLE",
+        Value::text(SQUARE),
+        3.0,
+        &mut out,
+    );
     assert_eq!(texts(&out, "LAST_DISABLED"), ["ob_2/1"]);
 }
 
