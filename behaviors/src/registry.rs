@@ -74,6 +74,19 @@ pub const STOCK: &[(&str, StockFactory)] = &[
     ("BHV_Convoy", || Box::new(crate::Convoy::new())),
     ("BHV_LegRun", || Box::new(crate::LegRun::new())),
     ("BHV_PModelView", || Box::new(crate::PModelView::new())),
+    ("BHV_AvoidObstacleV24", || {
+        Box::new(crate::AvoidObstacleV24::new())
+    }),
+    (
+        "BHV_AvoidObstacle",
+        || Box::new(crate::AvoidObstacle::new()),
+    ),
+    ("BHV_AvoidObstacleX", || {
+        Box::new(crate::AvoidObstacleX::new())
+    }),
+    ("BHV_AvoidObstacleV21", || {
+        Box::new(crate::AvoidObstacleX::v21())
+    }),
 ];
 
 type Factory = Arc<dyn Fn() -> Box<dyn Behavior> + Send + Sync>;

@@ -457,6 +457,12 @@ pub const BUILT_INS: &[BuiltIn] = &[
         reads_block: true,
         make: make_shore_broker,
     },
+    BuiltIn {
+        program: "pObstacleMgr",
+        what: "the obstacle manager: obstacle polygons from sensed points or given shapes, alerts that spawn the helm's obstacle behaviours",
+        reads_block: true,
+        make: make_obstacle_mgr,
+    },
 ];
 
 /// The built-in app run by `program` (a path or base name), if coug builds it in.
@@ -584,6 +590,14 @@ fn make_couguv_sim(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
 fn make_contact_mgr(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
     let app = crate::contact_mgr::ContactMgrApp::new(cx.moos_name, b, &cx.globals.community)
+        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
+    cx.warnings.extend(app.warnings().iter().cloned());
+    Ok(Built::App(Box::new(app)))
+}
+
+fn make_obstacle_mgr(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    let b = cx.block_or_empty();
+    let app = crate::obstacle_mgr::ObstacleMgrApp::new(cx.moos_name, b)
         .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
     cx.warnings.extend(app.warnings().iter().cloned());
     Ok(Built::App(Box::new(app)))
