@@ -37,6 +37,12 @@
 //! (the C++ DB keeps matching new variables); `DB_QOS` averages the last five latencies;
 //! `DB_VARSUMMARY` prints times of day in UTC; `--response` consolidation is not offered
 //! (timing echoes carry 0); there is no 100 ms pause before a handshake.
+//!
+//! Told which variables a client drops unread ([`Database::set_unread`]: an in-process
+//! pLogger's `WildCardOmitPattern`s), the DB does not deliver them to it, and builds the
+//! `DB_VARSUMMARY` and `DB_RWSUMMARY` texts only while some client reads them (their writes,
+//! times and frequencies are kept all the same; a late reader gets the text built when it
+//! asks). Nothing a client reads changes.
 
 use std::collections::{BTreeMap, BTreeSet, HashMap, VecDeque};
 use std::fmt::Write as _;
@@ -152,6 +158,28 @@ pub struct Effects {
 struct Sub {
     period: f64,
     last_sent: f64,
+    /// The client drops this variable's mail unread ([`Unread`]): nothing is delivered.
+    unread: bool,
+}
+
+/// Variables a client drops unread although its registrations match them (pLogger's
+/// `WildCardOmitPattern`s under wildcard logging without an exclusion log): the DB delivers
+/// them no mail, and builds `DB_VARSUMMARY`/`DB_RWSUMMARY` only while some client reads them
+/// (see [`Database::set_unread`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Unread {
+    /// `MOOSWildCmp` patterns of the variables dropped.
+    pub patterns: Vec<Bytes>,
+    /// Variables read although a pattern matches them.
+    pub except: Vec<Bytes>,
+}
+
+impl Unread {
+    /// True when the client drops `key`'s mail unread.
+    pub fn covers(&self, key: &[u8]) -> bool {
+        self.patterns.iter().any(|p| wildcard_match(p, key))
+            && !self.except.iter().any(|e| e[..] == *key)
+    }
 }
 
 impl Sub {
@@ -171,6 +199,8 @@ struct Var {
     src_aux: Bytes,
     community: Bytes,
     written_to: u64,
+    /// A DB summary whose text was not built at its last write: no client read it then.
+    stale: bool,
     writers: BTreeSet<Bytes>,
     subscribers: BTreeMap<Bytes, Sub>,
     freq: f64,
@@ -190,6 +220,7 @@ impl Var {
             src_aux: Bytes::new(),
             community: Bytes::new(),
             written_to: 0,
+            stale: false,
             writers: BTreeSet::new(),
             subscribers: BTreeMap::new(),
             freq: 0.0,
@@ -222,6 +253,7 @@ impl Var {
         self.writer = Bytes::new();
         self.src_aux = Bytes::new();
         self.written_to = 0;
+        self.stale = false;
         self.writers.clear();
         self.freq = 0.0;
         self.stats_time = f64::NEG_INFINITY;
@@ -283,6 +315,7 @@ struct ClientState {
     outbox_bytes: usize,
     dropped: u64,
     timing: Option<Timing>,
+    unread: Unread,
 }
 
 impl ClientState {
@@ -355,6 +388,22 @@ fn hold_for(
         c.hold(msg, limit);
     }
 }
+
+/// True when the client called `name` (if connected) drops `key`'s mail unread.
+fn unread_by(
+    clients: &BTreeMap<ClientId, ClientState>,
+    names: &HashMap<Bytes, ClientId>,
+    name: &[u8],
+    key: &[u8],
+) -> bool {
+    names
+        .get(name)
+        .and_then(|id| clients.get(id))
+        .is_some_and(|c| c.unread.covers(key))
+}
+
+/// The DB's summaries, built only while some client reads them.
+const LAZY_SUMMARIES: [&str; 2] = ["DB_VARSUMMARY", "DB_RWSUMMARY"];
 
 impl Database {
     /// A DB started at `now`, holding its own (not yet written) variables.
@@ -441,6 +490,7 @@ impl Database {
                 outbox_bytes: 0,
                 dropped: 0,
                 timing: None,
+                unread: Unread::default(),
             },
         );
         self.names.insert(name.clone(), id);
@@ -618,6 +668,55 @@ impl Database {
         }
     }
 
+    /// Tells the DB which variables client `id` drops unread although its registrations
+    /// match them (an in-process pLogger's omitted variables): they are no longer delivered
+    /// to it, and `DB_VARSUMMARY`/`DB_RWSUMMARY` are built at their 2 s refresh only while
+    /// some client does read them or a tap keeps them (otherwise their write is recorded,
+    /// time, writer and frequency, without the text; a client that registers later, or
+    /// [`Database::current`], gets the text built when it asks). Applies to the client's
+    /// existing registrations too. `false` if the client is not connected.
+    pub fn set_unread(&mut self, id: ClientId, unread: Unread) -> bool {
+        let Some(c) = self.clients.get_mut(&id) else {
+            return false;
+        };
+        let name = c.name.clone();
+        for (k, v) in self.vars.iter_mut() {
+            if let Some(sub) = v.subscribers.get_mut(&name) {
+                sub.unread = unread.covers(k);
+            }
+        }
+        c.unread = unread;
+        true
+    }
+
+    /// True when some client reads `key`'s mail (a registration not marked unread) or a
+    /// tap keeps its writes.
+    fn is_read(&self, key: &str) -> bool {
+        self.tapped.iter().any(|t| t[..] == *key.as_bytes())
+            || self
+                .vars
+                .get(key.as_bytes())
+                .is_some_and(|v| v.subscribers.values().any(|s| !s.unread))
+    }
+
+    /// The text of a lazily built DB summary as it would be built now (empty for any
+    /// other variable).
+    fn summary_text(&self, key: &[u8]) -> String {
+        match key {
+            b"DB_VARSUMMARY" => self.var_summary(),
+            b"DB_RWSUMMARY" => self.rw_summary(&self.ordered_clients()),
+            _ => String::new(),
+        }
+    }
+
+    /// Records a write of a DB summary nobody reads: everything but its text.
+    fn skip_summary(&mut self, key: &'static str, now: DbTime) {
+        self.internal_notify(key, Value::String(String::new().into()), now);
+        if let Some(v) = self.vars.get_mut(key.as_bytes()) {
+            v.stale = true;
+        }
+    }
+
     /// Messages dropped so far for a client because it did not keep up.
     pub fn dropped(&self, id: ClientId) -> Option<u64> {
         self.clients.get(&id).map(|c| c.dropped)
@@ -659,7 +758,11 @@ impl Database {
     /// The current value of a variable as the DB would replay it, if it was ever written.
     pub fn current(&self, key: &str) -> Option<Message> {
         let (k, v) = self.vars.get_key_value(key.as_bytes())?;
-        (v.written_to > 0).then(|| v.to_msg(k))
+        let mut m = (v.written_to > 0).then(|| v.to_msg(k))?;
+        if v.stale {
+            m.sval = self.summary_text(k).into();
+        }
+        Some(m)
     }
 
     /// Names of the clients subscribed to `key`, sorted.
@@ -761,14 +864,20 @@ impl Database {
             .entry(key.clone())
             .or_insert_with(|| Var::new(DataType::NotSet));
         let written = var.written_to != 0;
-        let reply = (already && written).then(|| var.to_msg(key));
+        let unread = unread_by(&self.clients, &self.names, name, key);
+        let stale = var.stale;
+        let reply = (already && written && !unread).then(|| var.to_msg(key));
         let sub = var.subscribers.entry(name.clone()).or_insert(Sub {
             period,
             last_sent: f64::NEG_INFINITY,
+            unread,
         });
         sub.period = period;
-        if let Some(reply) = reply {
+        if let Some(mut reply) = reply {
             sub.last_sent = now.moos;
+            if stale {
+                reply.sval = self.summary_text(key).into();
+            }
             hold_for(&mut self.clients, &self.names, name, reply, limit);
         }
     }
@@ -785,11 +894,13 @@ impl Database {
             for (client, filters) in &self.filters {
                 for f in filters {
                     if f.matches(&msg.src, &msg.key) {
+                        let unread = unread_by(&self.clients, &self.names, client, &msg.key);
                         var.subscribers.insert(
                             client.clone(),
                             Sub {
                                 period: f.period,
                                 last_sent: f64::NEG_INFINITY,
+                                unread,
                             },
                         );
                     }
@@ -839,7 +950,7 @@ impl Database {
             self.taps.push(msg.clone());
         }
         for (client, sub) in var.subscribers.iter_mut() {
-            if sub.expired(t) {
+            if !sub.unread && sub.expired(t) {
                 sub.last_sent = t;
                 hold_for(&mut self.clients, &self.names, client, msg.clone(), limit);
             }
@@ -862,7 +973,11 @@ impl Database {
                 let mut r = v.to_msg(k);
                 r.id = m.id;
                 r.dval = v.dval;
-                r.sval = v.sval.clone();
+                r.sval = if v.stale {
+                    self.summary_text(k).into()
+                } else {
+                    v.sval.clone()
+                };
                 r.dval2 = v.freq;
                 r.time = v.written_time - self.start_time;
                 if r.time < 0.0 {
@@ -935,8 +1050,18 @@ impl Database {
         let list = String::from_utf8(list)
             .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned());
         self.internal_notify("DB_CLIENTS", Value::String(list.into()), now);
-        let summary = self.var_summary();
-        self.internal_notify("DB_VARSUMMARY", Value::String(summary.into()), now);
+        // DB_VARSUMMARY shows DB_RWSUMMARY's text: both are built while the first is read.
+        let read_var = self.is_read(LAZY_SUMMARIES[0]);
+        let read_rw = read_var || self.is_read(LAZY_SUMMARIES[1]);
+        if read_var {
+            let summary = self.var_summary();
+            self.internal_notify("DB_VARSUMMARY", Value::String(summary.into()), now);
+            if let Some(v) = self.vars.get_mut(&b"DB_VARSUMMARY"[..]) {
+                v.stale = false;
+            }
+        } else {
+            self.skip_summary("DB_VARSUMMARY", now);
+        }
         let mut qos = String::new();
         let mut by_name: Vec<&ClientState> = self.clients.values().collect();
         by_name.sort_by(|a, b| a.name.cmp(&b.name));
@@ -954,8 +1079,15 @@ impl Database {
             }
         }
         self.internal_notify("DB_QOS", Value::String(qos.into()), now);
-        let rw = self.rw_summary(&clients);
-        self.internal_notify("DB_RWSUMMARY", Value::String(rw.into()), now);
+        if read_rw {
+            let rw = self.rw_summary(&clients);
+            self.internal_notify("DB_RWSUMMARY", Value::String(rw.into()), now);
+            if let Some(v) = self.vars.get_mut(&b"DB_RWSUMMARY"[..]) {
+                v.stale = false;
+            }
+        } else {
+            self.skip_summary("DB_RWSUMMARY", now);
+        }
     }
 
     fn var_summary(&self) -> String {
@@ -1234,6 +1366,72 @@ mod tests {
         assert_eq!(db.current("DB_TIME").unwrap().dval, 1002.01);
         assert_eq!(db.current("DB_UPTIME").unwrap().dval, 1002.01 - 1000.0);
         assert_eq!(db.current("DB_CLIENTS").unwrap().sval_str(), "c,");
+    }
+
+    fn wildcard_all() -> Message {
+        let mut wr = Message::new(MsgType::WildcardRegister, DataType::String, "");
+        wr.sval = Bytes::from_static(b"AppPattern=*,VarPattern=*,Interval=0");
+        wr
+    }
+
+    fn keys(msgs: &[Message]) -> Vec<String> {
+        msgs.iter().map(|m| m.key_str().into_owned()).collect()
+    }
+
+    #[test]
+    fn summaries_nobody_reads_are_not_built_nor_delivered() {
+        let mut db = new_db();
+        let logger = join(&mut db, "logger", 1000.0);
+        let omit = Unread {
+            patterns: vec![Bytes::from_static(b"DB_*SUMMARY"), Bytes::from_static(b"Y*")],
+            except: vec![Bytes::from_static(b"Y2")],
+        };
+        assert!(db.set_unread(logger, omit));
+        db.handle(logger, vec![wildcard_all()], t(1000.0)).unwrap();
+        for (k, now) in [("X", 1001.0), ("Y", 1001.5), ("Y2", 1002.5), ("X", 1004.6)] {
+            db.handle(logger, vec![post("logger", k, Value::Double(now), now)], t(now))
+                .unwrap();
+        }
+        let got = keys(&drain(&mut db, logger));
+        // Nothing the logger drops reaches it; the other DB variables still do.
+        assert!(!got.iter().any(|k| k.ends_with("SUMMARY") || k == "Y"), "{got:?}");
+        assert!(got.iter().any(|k| k == "DB_TIME") && got.iter().any(|k| k == "Y2"));
+        let var = db.vars.get(&b"DB_VARSUMMARY"[..]).unwrap();
+        assert!(var.stale && var.sval.is_empty() && var.written_to == 2);
+        // Read later, the text is built when asked, as it would be built now.
+        let now_text = db.var_summary();
+        assert!(now_text.contains("DB_QOS") && now_text.contains("MOOSDB_test"));
+        assert_eq!(db.current("DB_VARSUMMARY").unwrap().sval_str(), now_text);
+        let rw = db.current("DB_RWSUMMARY").unwrap();
+        assert!(rw.sval_str().starts_with("logger="), "{}", rw.sval_str());
+        // A reader that registers gets the text at once, then every refresh builds it.
+        let reader = join(&mut db, "reader", 1005.0);
+        db.handle(reader, vec![reg("DB_VARSUMMARY", 0.0)], t(1005.0))
+            .unwrap();
+        let first = drain(&mut db, reader);
+        let vs: Vec<&Message> = first
+            .iter()
+            .filter(|m| m.key_str() == "DB_VARSUMMARY")
+            .collect();
+        assert!(vs.len() == 1 && vs[0].sval_str().contains("DB_UPTIME"));
+        db.handle(logger, vec![post("logger", "X", Value::Double(7.0), 7.0)], t(1007.0))
+            .unwrap();
+        let built = db.vars.get(&b"DB_VARSUMMARY"[..]).unwrap();
+        assert!(!built.stale && built.sval.len() > 100);
+        let text = String::from_utf8_lossy(&built.sval).into_owned();
+        // DB_RWSUMMARY is built with it (the summary shows its beginning).
+        assert!(!db.vars.get(&b"DB_RWSUMMARY"[..]).unwrap().stale);
+        assert!(text.contains("DB_RWSUMMARY"));
+        let again = drain(&mut db, reader);
+        assert_eq!(
+            again
+                .iter()
+                .filter(|m| m.key_str() == "DB_VARSUMMARY")
+                .map(|m| m.sval_str().into_owned())
+                .collect::<Vec<_>>(),
+            vec![text]
+        );
+        assert!(!keys(&drain(&mut db, logger)).iter().any(|k| k.ends_with("SUMMARY")));
     }
 
     #[test]

@@ -91,6 +91,14 @@ pub trait App {
         Vec::new()
     }
 
+    /// The variables whose mail the app drops unread although its registrations match them
+    /// (pLogger's omitted variables): the in-process bus does not deliver them, and the DB
+    /// skips its summaries nobody reads ([`moosdb::db::Database::set_unread`]). Default:
+    /// none.
+    fn unread(&self) -> moosdb::db::Unread {
+        moosdb::db::Unread::default()
+    }
+
     /// Registrations the app wants to add now (polled after every callback).
     fn new_subscriptions(&mut self) -> Vec<Subscription> {
         Vec::new()

@@ -157,6 +157,20 @@ impl<H: DbHost> Bus<H> {
             .ok_or_else(|| BusError::NameTaken(name.to_string()))
     }
 
+    /// Tells the DB which variables client `id` drops unread ([`App::unread`](crate::app::App::unread)).
+    pub fn set_unread(
+        &mut self,
+        id: ClientId,
+        unread: moosdb::db::Unread,
+        now: f64,
+    ) -> Result<(), BusError> {
+        if self.host.with_mut(now, |db, _| db.set_unread(id, unread)) {
+            Ok(())
+        } else {
+            Err(BusError::NotConnected(id))
+        }
+    }
+
     /// Removes a client.
     pub fn disconnect(&mut self, id: ClientId, now: f64) {
         self.host.with_mut(now, |db, t| db.disconnect(id, t));

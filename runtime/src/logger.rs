@@ -835,6 +835,28 @@ impl<W: Write + 'static> App for Logger<W> {
         self.block.as_ref()
     }
 
+    /// Under wildcard logging without an exclusion log, the omitted variables are dropped
+    /// unread (but those with their own `Log =` line, the appcasting layer's and
+    /// `PLOGGER_CMD`, which [`Logger::on_mail`] reads).
+    fn unread(&self) -> moosdb::db::Unread {
+        if !self.config.wildcard || (self.config.exclusion_log && self.side.is_some()) {
+            return moosdb::db::Unread::default();
+        }
+        let bytes = |s: &str| bytes::Bytes::copy_from_slice(s.as_bytes());
+        moosdb::db::Unread {
+            patterns: self.config.omit.iter().map(|p| bytes(p)).collect(),
+            except: self
+                .config
+                .logs
+                .iter()
+                .map(|(v, _)| v.as_str())
+                .chain(appcast::casting::REGISTERED_VARIABLES)
+                .chain(["PLOGGER_CMD"])
+                .map(bytes)
+                .collect(),
+        }
+    }
+
     fn subscriptions(&self) -> Vec<Subscription> {
         let mut subs: Vec<Subscription> = AppcastLayer::subscriptions()
             .chain(
