@@ -39,15 +39,17 @@
 //! (timing echoes carry 0); there is no 100 ms pause before a handshake.
 //!
 //! Told which variables a client drops unread ([`Database::set_unread`]: an in-process
-//! pLogger's `WildCardOmitPattern`s), the DB does not deliver them to it, and builds the
+//! pLogger's `WildCardOmitPattern`s), the DB does not deliver them to it. With
+//! [`DbConfig::lazy_summaries`] (the in-process bus of lockstep runs) it also builds the
 //! `DB_VARSUMMARY` and `DB_RWSUMMARY` texts only while some client reads them (their writes,
 //! times and frequencies are kept all the same; a late reader gets the text built when it
-//! asks). Nothing a client reads changes.
+//! asks, so this one is not for a TCP DB whose clients come and go).
 
-use std::collections::{BTreeMap, BTreeSet, HashMap, VecDeque};
+use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::fmt::Write as _;
 
 use bytes::Bytes;
+use rustc_hash::FxHashMap;
 use thiserror::Error;
 use tracing::{info, warn};
 
@@ -78,6 +80,11 @@ pub struct DbConfig {
     pub outbox_limit: usize,
     /// Most bytes (encoded) queued per client in its outbox; same overflow rule.
     pub outbox_byte_limit: usize,
+    /// Build `DB_VARSUMMARY`/`DB_RWSUMMARY` only while some client reads them (default
+    /// false: always, as the C++ DB). A client that registers for one later, or a server
+    /// request, then gets the text as it is built when asked, not as it was at its last
+    /// refresh: meant for in-process runs whose readers register at the start.
+    pub lazy_summaries: bool,
 }
 
 impl Default for DbConfig {
@@ -88,6 +95,7 @@ impl Default for DbConfig {
             client_timeout: DEFAULT_CLIENT_TIMEOUT,
             outbox_limit: DEFAULT_OUTBOX_LIMIT,
             outbox_byte_limit: DEFAULT_OUTBOX_BYTE_LIMIT,
+            lazy_summaries: false,
         }
     }
 }
@@ -156,6 +164,8 @@ pub struct Effects {
 
 #[derive(Debug, Clone, Copy)]
 struct Sub {
+    /// The subscriber (its mail goes straight to it, no look-up by name).
+    client: ClientId,
     period: f64,
     last_sent: f64,
     /// The client drops this variable's mail unread ([`Unread`]): nothing is delivered.
@@ -310,7 +320,10 @@ struct ClientState {
     order: u64,
     last_heard: f64,
     held: VecDeque<Message>,
-    outbox: VecDeque<Vec<Message>>,
+    /// The queued packets' messages, one after the other (no buffer per packet).
+    outbox: VecDeque<Message>,
+    /// Each queued packet's message count and encoded bytes, oldest first.
+    packets: VecDeque<(usize, usize)>,
     outbox_msgs: usize,
     outbox_bytes: usize,
     dropped: u64,
@@ -339,23 +352,46 @@ impl ClientState {
         self.held.push_back(msg);
     }
 
-    fn queue(&mut self, packet: Vec<Message>, limit: usize, byte_limit: usize) {
-        self.outbox_msgs += packet.len();
-        self.outbox_bytes += packet_bytes(&packet);
-        self.outbox.push_back(packet);
-        while (self.outbox_msgs > limit || self.outbox_bytes > byte_limit) && self.outbox.len() > 1
+    /// Queues the messages as one packet (none: no packet); true if one was queued.
+    fn queue(
+        &mut self,
+        packet: impl IntoIterator<Item = Message>,
+        limit: usize,
+        byte_limit: usize,
+    ) -> bool {
+        let before = self.outbox.len();
+        let mut bytes = 0;
+        for m in packet {
+            bytes += m.encoded_len();
+            self.outbox.push_back(m);
+        }
+        let n = self.outbox.len() - before;
+        if n == 0 {
+            return false;
+        }
+        self.packets.push_back((n, bytes));
+        self.outbox_msgs += n;
+        self.outbox_bytes += bytes;
+        while (self.outbox_msgs > limit || self.outbox_bytes > byte_limit) && self.packets.len() > 1
         {
-            if let Some(old) = self.outbox.pop_front() {
-                self.outbox_msgs -= old.len();
-                self.outbox_bytes -= packet_bytes(&old);
-                self.note_drop(old.len() as u64);
+            if let Some((n, bytes)) = self.packets.pop_front() {
+                self.outbox.drain(..n);
+                self.outbox_msgs -= n;
+                self.outbox_bytes -= bytes;
+                self.note_drop(n as u64);
             }
         }
+        true
     }
-}
 
-fn packet_bytes(p: &[Message]) -> usize {
-    p.iter().map(Message::encoded_len).sum()
+    /// Queues the held mail as one packet (none held: no packet).
+    fn queue_held(&mut self, limit: usize, byte_limit: usize) -> bool {
+        let mut held = std::mem::take(&mut self.held);
+        let queued = self.queue(held.drain(..), limit, byte_limit);
+        // The held buffer is kept for the next mail.
+        self.held = held;
+        queued
+    }
 }
 
 /// The MOOSDB core. See the module documentation.
@@ -368,7 +404,7 @@ pub struct Database {
     summary_time: f64,
     vars: BTreeMap<Bytes, Var>,
     clients: BTreeMap<ClientId, ClientState>,
-    names: HashMap<Bytes, ClientId>,
+    names: FxHashMap<Bytes, ClientId>,
     filters: BTreeMap<Bytes, Vec<Filter>>,
     next_id: u64,
     /// Variables whose every accepted write is kept for [`Database::take_taps`].
@@ -376,30 +412,27 @@ pub struct Database {
     taps: Vec<Message>,
 }
 
-/// Delivers `msg` into the held mail of the client called `name` (if connected).
+/// Delivers `msg` into the held mail of client `id` (if connected).
 fn hold_for(
     clients: &mut BTreeMap<ClientId, ClientState>,
-    names: &HashMap<Bytes, ClientId>,
-    name: &[u8],
+    id: ClientId,
     msg: Message,
     limit: usize,
 ) {
-    if let Some(c) = names.get(name).and_then(|id| clients.get_mut(id)) {
+    if let Some(c) = clients.get_mut(&id) {
         c.hold(msg, limit);
     }
 }
 
-/// True when the client called `name` (if connected) drops `key`'s mail unread.
-fn unread_by(
+/// The id of the client called `name` and whether it drops `key`'s mail unread.
+fn client_of(
     clients: &BTreeMap<ClientId, ClientState>,
-    names: &HashMap<Bytes, ClientId>,
+    names: &FxHashMap<Bytes, ClientId>,
     name: &[u8],
     key: &[u8],
-) -> bool {
-    names
-        .get(name)
-        .and_then(|id| clients.get(id))
-        .is_some_and(|c| c.unread.covers(key))
+) -> Option<(ClientId, bool)> {
+    let id = *names.get(name)?;
+    Some((id, clients.get(&id).is_some_and(|c| c.unread.covers(key))))
 }
 
 /// The DB's summaries, built only while some client reads them.
@@ -436,7 +469,7 @@ impl Database {
             summary_time: now.moos,
             vars,
             clients: BTreeMap::new(),
-            names: HashMap::new(),
+            names: FxHashMap::default(),
             filters: BTreeMap::new(),
             next_id: 1,
             tapped: Vec::new(),
@@ -486,6 +519,7 @@ impl Database {
                 last_heard: now.mono,
                 held: VecDeque::new(),
                 outbox: VecDeque::new(),
+                packets: VecDeque::new(),
                 outbox_msgs: 0,
                 outbox_bytes: 0,
                 dropped: 0,
@@ -614,37 +648,26 @@ impl Database {
         let mut effects = Effects::default();
         if let Some(c) = self.clients.get_mut(&id) {
             let take_held = had_any || !asynchronous;
-            let len = usize::from(echo.is_some() || !asynchronous)
-                + if take_held { c.held.len() } else { 0 }
-                + replies.len();
-            // Most packets of an asynchronous client get no reply: no buffer for them.
-            let mut reply = if len == 0 {
-                Vec::new()
-            } else {
-                Vec::with_capacity(len)
-            };
-            if asynchronous {
-                reply.extend(echo);
+            let head = if asynchronous {
+                echo
             } else {
                 let mut null = Message::new(MsgType::Null, DataType::Double, "");
                 null.time = now.moos;
                 null.dval = now.moos;
-                reply.push(null);
-            }
-            if take_held {
-                reply.extend(c.held.drain(..));
-            }
-            reply.extend(replies);
-            if !reply.is_empty() {
-                c.queue(reply, limit, byte_limit);
+                Some(null)
+            };
+            let mut held = std::mem::take(&mut c.held);
+            let held_part = held.drain(..if take_held { held.len() } else { 0 });
+            let queued = c.queue(head.into_iter().chain(held_part).chain(replies), limit, byte_limit);
+            c.held = held;
+            if queued {
                 effects.ready.push(id);
             }
         }
         if had_notify {
             for (cid, c) in self.clients.iter_mut() {
                 if c.asynchronous && !c.held.is_empty() {
-                    let packet: Vec<Message> = c.held.drain(..).collect();
-                    c.queue(packet, limit, byte_limit);
+                    c.queue_held(limit, byte_limit);
                     if !effects.ready.contains(cid) {
                         effects.ready.push(*cid);
                     }
@@ -659,7 +682,25 @@ impl Database {
     pub fn drain_outbox(&mut self, id: ClientId, out: &mut Vec<Vec<Message>>) -> bool {
         match self.clients.get_mut(&id) {
             Some(c) => {
+                for (n, _) in c.packets.drain(..) {
+                    out.push(c.outbox.drain(..n).collect());
+                }
+                c.outbox_msgs = 0;
+                c.outbox_bytes = 0;
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Moves the messages of the client's queued packets into `out`, one after the other
+    /// (an in-process client needs no packet boundaries, and no buffer per packet);
+    /// `false` if the client is gone.
+    pub fn drain_messages(&mut self, id: ClientId, out: &mut Vec<Message>) -> bool {
+        match self.clients.get_mut(&id) {
+            Some(c) => {
                 out.extend(c.outbox.drain(..));
+                c.packets.clear();
                 c.outbox_msgs = 0;
                 c.outbox_bytes = 0;
                 true
@@ -670,11 +711,12 @@ impl Database {
 
     /// Tells the DB which variables client `id` drops unread although its registrations
     /// match them (an in-process pLogger's omitted variables): they are no longer delivered
-    /// to it, and `DB_VARSUMMARY`/`DB_RWSUMMARY` are built at their 2 s refresh only while
-    /// some client does read them or a tap keeps them (otherwise their write is recorded,
-    /// time, writer and frequency, without the text; a client that registers later, or
-    /// [`Database::current`], gets the text built when it asks). Applies to the client's
-    /// existing registrations too. `false` if the client is not connected.
+    /// to it. With [`DbConfig::lazy_summaries`], `DB_VARSUMMARY`/`DB_RWSUMMARY` are then
+    /// built at their 2 s refresh only while some client does read them or a tap keeps them
+    /// (otherwise their write is recorded, time, writer and frequency, without the text; a
+    /// client that registers later, or [`Database::current`], gets the text built when it
+    /// asks). Applies to the client's existing registrations too. `false` if the client is
+    /// not connected.
     pub fn set_unread(&mut self, id: ClientId, unread: Unread) -> bool {
         let Some(c) = self.clients.get_mut(&id) else {
             return false;
@@ -858,16 +900,19 @@ impl Database {
             return;
         }
         let limit = self.config.outbox_limit;
+        let Some((id, unread)) = client_of(&self.clients, &self.names, name, key) else {
+            return;
+        };
         let already = self.vars.contains_key(key);
         let var = self
             .vars
             .entry(key.clone())
             .or_insert_with(|| Var::new(DataType::NotSet));
         let written = var.written_to != 0;
-        let unread = unread_by(&self.clients, &self.names, name, key);
         let stale = var.stale;
         let reply = (already && written && !unread).then(|| var.to_msg(key));
         let sub = var.subscribers.entry(name.clone()).or_insert(Sub {
+            client: id,
             period,
             last_sent: f64::NEG_INFINITY,
             unread,
@@ -878,7 +923,7 @@ impl Database {
             if stale {
                 reply.sval = self.summary_text(key).into();
             }
-            hold_for(&mut self.clients, &self.names, name, reply, limit);
+            hold_for(&mut self.clients, id, reply, limit);
         }
     }
 
@@ -893,11 +938,14 @@ impl Database {
             var.data_type = msg.data_type;
             for (client, filters) in &self.filters {
                 for f in filters {
-                    if f.matches(&msg.src, &msg.key) {
-                        let unread = unread_by(&self.clients, &self.names, client, &msg.key);
+                    if f.matches(&msg.src, &msg.key)
+                        && let Some((id, unread)) =
+                            client_of(&self.clients, &self.names, client, &msg.key)
+                    {
                         var.subscribers.insert(
                             client.clone(),
                             Sub {
+                                client: id,
                                 period: f.period,
                                 last_sent: f64::NEG_INFINITY,
                                 unread,
@@ -949,10 +997,10 @@ impl Database {
         if self.tapped.contains(&msg.key) {
             self.taps.push(msg.clone());
         }
-        for (client, sub) in var.subscribers.iter_mut() {
+        for sub in var.subscribers.values_mut() {
             if !sub.unread && sub.expired(t) {
                 sub.last_sent = t;
-                hold_for(&mut self.clients, &self.names, client, msg.clone(), limit);
+                hold_for(&mut self.clients, sub.client, msg.clone(), limit);
             }
         }
     }
@@ -1051,7 +1099,8 @@ impl Database {
             .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned());
         self.internal_notify("DB_CLIENTS", Value::String(list.into()), now);
         // DB_VARSUMMARY shows DB_RWSUMMARY's text: both are built while the first is read.
-        let read_var = self.is_read(LAZY_SUMMARIES[0]);
+        let lazy = self.config.lazy_summaries;
+        let read_var = !lazy || self.is_read(LAZY_SUMMARIES[0]);
         let read_rw = read_var || self.is_read(LAZY_SUMMARIES[1]);
         if read_var {
             let summary = self.var_summary();
@@ -1295,6 +1344,15 @@ mod tests {
         Database::new(cfg, t(1000.0))
     }
 
+    fn lazy_db() -> Database {
+        let cfg = DbConfig {
+            community: "test".into(),
+            lazy_summaries: true,
+            ..DbConfig::default()
+        };
+        Database::new(cfg, t(1000.0))
+    }
+
     fn join(db: &mut Database, name: &str, now: f64) -> ClientId {
         db.connect(Bytes::from(name.to_string()), true, now, t(now))
             .id()
@@ -1380,7 +1438,23 @@ mod tests {
 
     #[test]
     fn summaries_nobody_reads_are_not_built_nor_delivered() {
-        let mut db = new_db();
+        // Without lazy summaries the texts are built all the same; unread mail is not sent.
+        let mut eager = new_db();
+        let logger = join(&mut eager, "logger", 1000.0);
+        let omit = Unread {
+            patterns: vec![Bytes::from_static(b"DB_*SUMMARY")],
+            except: Vec::new(),
+        };
+        assert!(eager.set_unread(logger, omit));
+        eager.handle(logger, vec![wildcard_all()], t(1000.0)).unwrap();
+        eager
+            .handle(logger, vec![post("logger", "X", Value::Double(1.0), 1.0)], t(1002.5))
+            .unwrap();
+        let var = eager.vars.get(&b"DB_VARSUMMARY"[..]).unwrap();
+        assert!(!var.stale && var.sval.len() > 100);
+        assert!(!keys(&drain(&mut eager, logger)).iter().any(|k| k.ends_with("SUMMARY")));
+
+        let mut db = lazy_db();
         let logger = join(&mut db, "logger", 1000.0);
         let omit = Unread {
             patterns: vec![Bytes::from_static(b"DB_*SUMMARY"), Bytes::from_static(b"Y*")],
