@@ -71,8 +71,9 @@ impl Subscription {
 /// registrations, then [`App::on_startup`], then at every AppTick period:
 /// fetch mail sorted by time → [`App::on_mail`] → [`App::iterate`].
 ///
-/// Apps never read a clock: `now` (MOOS time, seconds) is always an argument.
-pub trait App {
+/// Apps never read a clock: `now` (MOOS time, seconds) is always an argument. An app is
+/// `Send`: a lockstep fleet run steps its communities on several threads.
+pub trait App: Send {
     /// The MOOS name (the ANTLER alias when one was given, e.g. `pHelmIvP_2`).
     fn name(&self) -> &str;
 

@@ -191,7 +191,7 @@ pub fn teensy(name: &str, block: ProcessConfig) -> DriverApp<drivers::teensy::Te
     )
 }
 
-impl<P: Protocol> App for DriverApp<P> {
+impl<P: Protocol + Send> App for DriverApp<P> {
     fn name(&self) -> &str {
         &self.name
     }

@@ -826,7 +826,7 @@ impl<W: Write> Logger<W> {
     }
 }
 
-impl<W: Write + 'static> App for Logger<W> {
+impl<W: Write + Send + 'static> App for Logger<W> {
     fn name(&self) -> &str {
         &self.name
     }
