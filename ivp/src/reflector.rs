@@ -503,7 +503,10 @@ mod tests {
             (dom2(), "uniform_piece = x:4,y:3"),
             (dom2(), "uniform_piece = x:1,y:11 # strict_range = true"),
             (dom2(), "uniform_amount = 7 # normalize = true"),
-            (d3.clone(), "uniform_piece = course:3,speed:3,depth:2 # normalize = true"),
+            (
+                d3.clone(),
+                "uniform_piece = course:3,speed:3,depth:2 # normalize = true",
+            ),
             (d3, "uniform_piece = course:7,speed:5 # strict_range = true"),
         ] {
             let r = || Reflector::new(&dom, wavy).set_params(spec).unwrap();

@@ -402,7 +402,9 @@ pub struct Database {
     community: Bytes,
     start_time: f64,
     summary_time: f64,
-    vars: BTreeMap<Bytes, Var>,
+    /// The variables by name (hashed: a write looks its variable up once; what lists
+    /// them in order sorts, see [`Database::sorted_vars`]).
+    vars: FxHashMap<Bytes, Var>,
     clients: BTreeMap<ClientId, ClientState>,
     names: FxHashMap<Bytes, ClientId>,
     filters: BTreeMap<Bytes, Vec<Filter>>,
@@ -443,7 +445,7 @@ impl Database {
     pub fn new(config: DbConfig, now: DbTime) -> Database {
         let community = Bytes::from(config.community.clone());
         let db_name = Bytes::from(format!("MOOSDB_{}", config.community));
-        let mut vars = BTreeMap::new();
+        let mut vars = FxHashMap::default();
         for (key, dt) in [
             ("DB_TIME", DataType::Double),
             ("DB_UPTIME", DataType::Double),
@@ -658,7 +660,11 @@ impl Database {
             };
             let mut held = std::mem::take(&mut c.held);
             let held_part = held.drain(..if take_held { held.len() } else { 0 });
-            let queued = c.queue(head.into_iter().chain(held_part).chain(replies), limit, byte_limit);
+            let queued = c.queue(
+                head.into_iter().chain(held_part).chain(replies),
+                limit,
+                byte_limit,
+            );
             c.held = held;
             if queued {
                 effects.ready.push(id);
@@ -822,10 +828,17 @@ impl Database {
 
     /// Names of all variables (written or only registered), sorted.
     pub fn var_names(&self) -> Vec<String> {
-        self.vars
-            .keys()
-            .map(|k| String::from_utf8_lossy(k).into_owned())
+        self.sorted_vars()
+            .into_iter()
+            .map(|(k, _)| String::from_utf8_lossy(k).into_owned())
             .collect()
+    }
+
+    /// The variables in name order (the order of every list the DB makes of them).
+    fn sorted_vars(&self) -> Vec<(&Bytes, &Var)> {
+        let mut v: Vec<(&Bytes, &Var)> = self.vars.iter().collect();
+        v.sort_unstable_by(|a, b| a.0.cmp(b.0));
+        v
     }
 
     fn ordered_clients(&self) -> Vec<Bytes> {
@@ -864,8 +877,8 @@ impl Database {
                     list.push(f.clone());
                 }
                 let keys: Vec<Bytes> = self
-                    .vars
-                    .iter()
+                    .sorted_vars()
+                    .into_iter()
                     .filter(|(k, v)| f.matches(&v.writer, k))
                     .map(|(k, _)| k.clone())
                     .collect();
@@ -1017,7 +1030,7 @@ impl Database {
         let key = &m.key[..];
         let contains = |needle: &[u8]| key.windows(needle.len()).any(|w| w == needle);
         if key == b"ALL" {
-            for (k, v) in &self.vars {
+            for (k, v) in self.sorted_vars() {
                 let mut r = v.to_msg(k);
                 r.id = m.id;
                 r.dval = v.dval;
@@ -1037,7 +1050,7 @@ impl Database {
             for who in self.ordered_clients() {
                 let mut subs = String::from("SUBSCRIBED=");
                 let mut pubs = String::from("PUBLISHED=");
-                for (k, v) in &self.vars {
+                for (k, v) in self.sorted_vars() {
                     let k = String::from_utf8_lossy(k);
                     if v.writers.contains(&who) {
                         pubs.push(',');
@@ -1057,7 +1070,7 @@ impl Database {
             }
         } else if contains(b"VAR_SUMMARY") {
             let mut all = Vec::new();
-            for (i, k) in self.vars.keys().enumerate() {
+            for (i, (k, _)) in self.sorted_vars().into_iter().enumerate() {
                 if i > 0 {
                     all.push(b',');
                 }
@@ -1141,7 +1154,7 @@ impl Database {
 
     fn var_summary(&self) -> String {
         let mut s = String::new();
-        for (k, v) in &self.vars {
+        for (k, v) in self.sorted_vars() {
             let who = if v.writer.is_empty() {
                 "(write pending)".into()
             } else {
@@ -1186,6 +1199,7 @@ impl Database {
     }
 
     fn rw_summary(&self, clients: &[Bytes]) -> String {
+        let vars = self.sorted_vars();
         let mut out = String::new();
         for (i, who) in clients.iter().enumerate() {
             if i > 0 {
@@ -1193,14 +1207,11 @@ impl Database {
             }
             out.push_str(&String::from_utf8_lossy(who));
             out.push('=');
-            let subs = self
-                .vars
-                .iter()
-                .filter(|(_, v)| v.subscribers.contains_key(who));
-            push_joined(&mut out, subs.map(|(k, _)| k), ':');
+            let subs = vars.iter().filter(|(_, v)| v.subscribers.contains_key(who));
+            push_joined(&mut out, subs.map(|(k, _)| *k), ':');
             out.push('&');
-            let pubs = self.vars.iter().filter(|(_, v)| v.writers.contains(who));
-            push_joined(&mut out, pubs.map(|(k, _)| k), ':');
+            let pubs = vars.iter().filter(|(_, v)| v.writers.contains(who));
+            push_joined(&mut out, pubs.map(|(k, _)| *k), ':');
         }
         out
     }
@@ -1446,29 +1457,49 @@ mod tests {
             except: Vec::new(),
         };
         assert!(eager.set_unread(logger, omit));
-        eager.handle(logger, vec![wildcard_all()], t(1000.0)).unwrap();
         eager
-            .handle(logger, vec![post("logger", "X", Value::Double(1.0), 1.0)], t(1002.5))
+            .handle(logger, vec![wildcard_all()], t(1000.0))
+            .unwrap();
+        eager
+            .handle(
+                logger,
+                vec![post("logger", "X", Value::Double(1.0), 1.0)],
+                t(1002.5),
+            )
             .unwrap();
         let var = eager.vars.get(&b"DB_VARSUMMARY"[..]).unwrap();
         assert!(!var.stale && var.sval.len() > 100);
-        assert!(!keys(&drain(&mut eager, logger)).iter().any(|k| k.ends_with("SUMMARY")));
+        assert!(
+            !keys(&drain(&mut eager, logger))
+                .iter()
+                .any(|k| k.ends_with("SUMMARY"))
+        );
 
         let mut db = lazy_db();
         let logger = join(&mut db, "logger", 1000.0);
         let omit = Unread {
-            patterns: vec![Bytes::from_static(b"DB_*SUMMARY"), Bytes::from_static(b"Y*")],
+            patterns: vec![
+                Bytes::from_static(b"DB_*SUMMARY"),
+                Bytes::from_static(b"Y*"),
+            ],
             except: vec![Bytes::from_static(b"Y2")],
         };
         assert!(db.set_unread(logger, omit));
         db.handle(logger, vec![wildcard_all()], t(1000.0)).unwrap();
         for (k, now) in [("X", 1001.0), ("Y", 1001.5), ("Y2", 1002.5), ("X", 1004.6)] {
-            db.handle(logger, vec![post("logger", k, Value::Double(now), now)], t(now))
-                .unwrap();
+            db.handle(
+                logger,
+                vec![post("logger", k, Value::Double(now), now)],
+                t(now),
+            )
+            .unwrap();
         }
         let got = keys(&drain(&mut db, logger));
         // Nothing the logger drops reaches it; the other DB variables still do.
-        assert!(!got.iter().any(|k| k.ends_with("SUMMARY") || k == "Y"), "{got:?}");
+        assert!(
+            !got.iter().any(|k| k.ends_with("SUMMARY") || k == "Y"),
+            "{got:?}"
+        );
         assert!(got.iter().any(|k| k == "DB_TIME") && got.iter().any(|k| k == "Y2"));
         let var = db.vars.get(&b"DB_VARSUMMARY"[..]).unwrap();
         assert!(var.stale && var.sval.is_empty() && var.written_to == 2);
@@ -1488,8 +1519,12 @@ mod tests {
             .filter(|m| m.key_str() == "DB_VARSUMMARY")
             .collect();
         assert!(vs.len() == 1 && vs[0].sval_str().contains("DB_UPTIME"));
-        db.handle(logger, vec![post("logger", "X", Value::Double(7.0), 7.0)], t(1007.0))
-            .unwrap();
+        db.handle(
+            logger,
+            vec![post("logger", "X", Value::Double(7.0), 7.0)],
+            t(1007.0),
+        )
+        .unwrap();
         let built = db.vars.get(&b"DB_VARSUMMARY"[..]).unwrap();
         assert!(!built.stale && built.sval.len() > 100);
         let text = String::from_utf8_lossy(&built.sval).into_owned();
@@ -1505,7 +1540,11 @@ mod tests {
                 .collect::<Vec<_>>(),
             vec![text]
         );
-        assert!(!keys(&drain(&mut db, logger)).iter().any(|k| k.ends_with("SUMMARY")));
+        assert!(
+            !keys(&drain(&mut db, logger))
+                .iter()
+                .any(|k| k.ends_with("SUMMARY"))
+        );
     }
 
     #[test]
