@@ -2,7 +2,8 @@
 //! (missions/fleet_survey: a shoreside and three vehicles from one template) in lockstep,
 //! deployed and recalled from the shoreside through pShare's in-process route; every
 //! vehicle completes, the shoreside logs every vehicle's node reports, and two runs write
-//! the same bytes in every community's alog. Also the `coug run a.moos b.moos` form, the
+//! the same bytes in every community's alog (one on one thread, one with a thread per
+//! community). Also the `coug run a.moos b.moos` form, the
 //! fleet file's errors, and a small real-time fleet (one TCP MOOSDB per community).
 
 mod common;
@@ -58,8 +59,13 @@ fn deployed_until_complete() -> FleetOptions {
 #[test]
 fn fleet_survey_completes_through_the_shoreside_and_is_repeatable() {
     let fleet = project_mission("fleet_survey/fleet_survey.fleet");
-    let (report, a) = run_fleet("run-fleet-1", &fleet, deployed_until_complete());
-    let (_, b) = run_fleet("run-fleet-1", &fleet, deployed_until_complete());
+    // One thread steps the communities, then one thread each: the same bytes.
+    let threads = |n| FleetOptions {
+        threads: n,
+        ..deployed_until_complete()
+    };
+    let (report, a) = run_fleet("run-fleet-1", &fleet, threads(1));
+    let (_, b) = run_fleet("run-fleet-1", &fleet, threads(4));
     let summary = report.to_string();
     assert!(
         matches!(
@@ -72,7 +78,7 @@ fn fleet_survey_completes_through_the_shoreside_and_is_repeatable() {
     for (name, bytes) in &a {
         assert!(
             *bytes == b[name],
-            "two lockstep runs of the fleet wrote different alogs for {name}"
+            "lockstep runs of the fleet on 1 and 4 threads wrote different alogs for {name}"
         );
     }
     assert!(report.in_process > 0, "{summary}");

@@ -238,3 +238,57 @@ fn a_spawning_template_asks_the_contact_manager_for_alerts() {
     b.on_helm_start(&ctx, &mut out);
     assert!(out.emits.is_empty());
 }
+
+/// The objective function is the one the reflector built before its uniform grid had a
+/// path of its own: the same pieces and weights, to the bit, as the general path of boxes
+/// (forced here by a refine region that covers the domain with the same 3 x 3 pieces),
+/// on a few geometries.
+#[test]
+fn the_objective_is_the_box_list_reflection_to_the_bit() {
+    let d = domain();
+    let geometries = [
+        (0.0, 100.0, 180.0, 2.0),
+        (80.0, 30.0, 270.0, 1.5),
+        (-60.0, -90.0, 45.0, 3.0),
+        (5.0, 8.0, 10.0, 0.0),
+        (140.0, -20.0, 300.0, 2.5),
+    ];
+    for (x, y, h, v) in geometries {
+        let inf = info(x, y, h, v);
+        let mut b = configured(&[("max_util_cpa_dist", "30")], &d, &inf);
+        let ctx = Ctx {
+            info: &inf,
+            domain: &d,
+            ownship: "abe",
+            name: "avd_cn",
+            perpetual: false,
+        };
+        let mut out = Out::default();
+        b.on_run(&ctx, &mut out).expect("a function");
+        let fast = b.objective(&ctx).expect("an objective");
+        let min = if b.base.range <= b.min_util_cpa_dist {
+            b.base.range / 2.0
+        } else {
+            b.min_util_cpa_dist
+        };
+        let engine = b.base.cpa_engine();
+        let tol = b.base.time_on_leg;
+        let reference = ivp::Reflector::new(&d, |p: &[f64]| {
+            AvoidCollision::metric(engine.eval_cpa(p[0], p[1], tol), min, b.max_util_cpa_dist)
+        })
+        .set_params(
+            "uniform_piece = course:3,speed:3 # refine_region = course:0:359,speed:0:4 \
+             # refine_piece = course:3,speed:3",
+        )
+        .unwrap()
+        .build()
+        .unwrap();
+        assert_eq!(fast.piece_count(), 1680);
+        assert_eq!(fast.piece_count(), reference.piece_count());
+        let bits = |w: &[f64]| w.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        for (p, q) in fast.pieces().zip(reference.pieces()) {
+            assert_eq!((p.lo, p.hi), (q.lo, q.hi), "contact at {x},{y}");
+            assert_eq!(bits(p.wts), bits(q.wts), "contact at {x},{y}");
+        }
+    }
+}

@@ -111,7 +111,7 @@ impl Io {
 }
 
 /// A device protocol as a pure state machine: it reads no clock and does no I/O.
-pub trait Protocol {
+pub trait Protocol: Send {
     /// The MOOS program name (`iGPS`).
     fn program(&self) -> &'static str;
 

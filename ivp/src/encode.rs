@@ -114,7 +114,13 @@ pub fn mux(whole: &str, id: &str, packet_size: usize, out: &mut Vec<String>) {
         part.push(',');
         // The encoded text is ASCII (names in a MOOS domain and context are), so any byte
         // offset is a character boundary; fall back to lossless handling otherwise.
-        part.push_str(&String::from_utf8_lossy(&bytes[from..to]));
+        // Cut at character boundaries (always so for ASCII text) the slice is the text
+        // itself: no check and no copy; a cut inside a character reads lossily.
+        if whole.is_char_boundary(from) && whole.is_char_boundary(to) {
+            part.push_str(&whole[from..to]);
+        } else {
+            part.push_str(&String::from_utf8_lossy(&bytes[from..to]));
+        }
         out.push(part);
     }
 }

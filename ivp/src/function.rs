@@ -186,6 +186,14 @@ impl IvpFunction {
         Ok(())
     }
 
+    /// Room for `pieces` more pieces.
+    pub(crate) fn reserve(&mut self, pieces: usize) {
+        let d = self.dim();
+        self.lo.reserve(pieces * d);
+        self.hi.reserve(pieces * d);
+        self.wts.reserve(pieces * (d + 1));
+    }
+
     pub(crate) fn push_unchecked(
         &mut self,
         lo: &[u32],

@@ -193,8 +193,18 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
             Some(s) => s.clone(),
             None => self.sizes_for_amount(self.uniform_amount),
         };
+        if self.refine.is_empty() {
+            self.build_uniform(&sizes)
+        } else {
+            self.build_boxes(&sizes)
+        }
+    }
+
+    /// [`Reflector::build`] through the list of boxes: the uniform grid, then each refine
+    /// region's split.
+    fn build_boxes(self, sizes: &[u32]) -> Result<IvpFunction, IvpError> {
         let mut boxes = Vec::new();
-        partition(&self.universe(), &sizes, &mut boxes);
+        partition(&self.universe(), sizes, &mut boxes);
         for (region, piece) in &self.refine {
             let piece = piece.clone().unwrap_or_else(|| vec![1; self.domain.len()]);
             let mut next = Vec::with_capacity(boxes.len());
@@ -206,13 +216,56 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
         let mut f = IvpFunction::new(self.domain.clone());
         let mut fit = Fit::new(self.domain.len());
         for b in &boxes {
-            let (slopes, intercept) = fit.fit(b, &self.domain, &self.func, self.strict_range)?;
+            let (slopes, intercept) =
+                fit.fit(&b.lo, &b.hi, &self.domain, &self.func, self.strict_range)?;
             f.push_piece(&b.lo, &b.hi, slopes, intercept)?;
         }
         if self.normalize {
             f.normalize(0.0, 100.0);
         }
         Ok(f)
+    }
+}
+
+impl<F: Fn(&[f64]) -> f64> Reflector<F> {
+    /// [`Reflector::build`] without refinement: the pieces of the uniform grid, visited in
+    /// `partition`'s order (the last variable fastest) through two reused bound buffers, so
+    /// the pieces and weights are those of the general path without a box per piece.
+    fn build_uniform(self, sizes: &[u32]) -> Result<IvpFunction, IvpError> {
+        let d = self.domain.len();
+        let top: Vec<u32> = self.domain.vars().iter().map(|v| v.points() - 1).collect();
+        let step: Vec<u32> = sizes.iter().map(|s| s.max(&1) - 1).collect();
+        let count: usize = (0..d)
+            .map(|k| (top[k] + 1).div_ceil(step[k] + 1) as usize)
+            .product();
+        let mut f = IvpFunction::new(self.domain.clone());
+        f.reserve(count);
+        let mut fit = Fit::new(d);
+        let mut lo = vec![0u32; d];
+        let mut hi = vec![0u32; d];
+        loop {
+            for k in 0..d {
+                hi[k] = lo[k].saturating_add(step[k]).min(top[k]);
+            }
+            let (slopes, intercept) =
+                fit.fit(&lo, &hi, &self.domain, &self.func, self.strict_range)?;
+            f.push_piece(&lo, &hi, slopes, intercept)?;
+            let mut k = d;
+            loop {
+                if k == 0 {
+                    if self.normalize {
+                        f.normalize(0.0, 100.0);
+                    }
+                    return Ok(f);
+                }
+                k -= 1;
+                if hi[k] < top[k] {
+                    lo[k] = hi[k] + 1;
+                    lo[k + 1..].fill(0);
+                    break;
+                }
+            }
+        }
     }
 }
 
@@ -278,6 +331,8 @@ fn refine_box(mut b: IxBox, region: &IxBox, piece: &[u32], out: &mut Vec<IxBox>)
 struct Fit {
     slopes: Vec<f64>,
     ix: Vec<u32>,
+    /// The sample point's values (reused).
+    x: Vec<f64>,
     vals: Vec<f64>,
 }
 
@@ -286,24 +341,27 @@ impl Fit {
         Self {
             slopes: vec![0.0; d],
             ix: vec![0; d],
-            vals: Vec::new(),
+            x: vec![0.0; d],
+            vals: Vec::with_capacity(1 << d.min(16)),
         }
     }
 
     fn fit<F: Fn(&[f64]) -> f64>(
         &mut self,
-        b: &IxBox,
+        lo: &[u32],
+        hi: &[u32],
         domain: &Domain,
         func: &F,
         strict: bool,
     ) -> Result<(&[f64], f64), IvpError> {
-        let d = b.lo.len();
+        let d = lo.len();
+        let mut x = std::mem::take(&mut self.x);
+        x.resize(d, 0.0);
         let corners = 1usize << d;
-        let mut x = vec![0.0; d];
         self.vals.clear();
         for c in 0..corners {
             for k in 0..d {
-                self.ix[k] = if c >> k & 1 == 1 { b.hi[k] } else { b.lo[k] };
+                self.ix[k] = if c >> k & 1 == 1 { hi[k] } else { lo[k] };
                 x[k] = domain.vars()[k].value(self.ix[k]);
             }
             let v = func(&x);
@@ -315,7 +373,7 @@ impl Fit {
             self.vals.push(v);
         }
         for k in 0..d {
-            let run = f64::from(b.hi[k] - b.lo[k]);
+            let run = f64::from(hi[k] - lo[k]);
             if run == 0.0 {
                 self.slopes[k] = 0.0;
                 continue;
@@ -336,16 +394,16 @@ impl Fit {
         let (mut smin, mut smax) = (f64::INFINITY, f64::NEG_INFINITY);
         for c in 0..corners {
             for k in 0..d {
-                self.ix[k] = if c >> k & 1 == 1 { b.hi[k] } else { b.lo[k] };
+                self.ix[k] = if c >> k & 1 == 1 { hi[k] } else { lo[k] };
             }
             residual += self.vals[c] - plane(&self.ix, &self.slopes);
             samples += 1;
             smin = smin.min(self.vals[c]);
             smax = smax.max(self.vals[c]);
         }
-        if (0..d).all(|k| (b.lo[k] + b.hi[k]).is_multiple_of(2) && b.hi[k] > b.lo[k]) {
+        if (0..d).all(|k| (lo[k] + hi[k]).is_multiple_of(2) && hi[k] > lo[k]) {
             for k in 0..d {
-                self.ix[k] = (b.lo[k] + b.hi[k]) / 2;
+                self.ix[k] = (lo[k] + hi[k]) / 2;
                 x[k] = domain.vars()[k].value(self.ix[k]);
             }
             let v = func(&x);
@@ -362,8 +420,8 @@ impl Fit {
             let (mut pmax, mut pmin) = (intercept, intercept);
             for k in 0..d {
                 let (a, z) = (
-                    self.slopes[k] * f64::from(b.lo[k]),
-                    self.slopes[k] * f64::from(b.hi[k]),
+                    self.slopes[k] * f64::from(lo[k]),
+                    self.slopes[k] * f64::from(hi[k]),
                 );
                 pmax += a.max(z);
                 pmin += a.min(z);
@@ -374,6 +432,7 @@ impl Fit {
                 intercept += smin - pmin;
             }
         }
+        self.x = x;
         Ok((&self.slopes, intercept))
     }
 }
@@ -426,6 +485,46 @@ mod tests {
         assert!(v.abs() < 1e-9);
         let v = f.eval(&[11, 6]).unwrap();
         assert!((v + 2.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_uniform_grid_gives_the_pieces_of_the_box_list() {
+        let d3 = Domain::from_vars(&[
+            ("course", 0.0, 359.0, 360),
+            ("speed", 0.0, 4.0, 41),
+            ("depth", 0.0, 20.0, 5),
+        ])
+        .unwrap();
+        let wavy = |v: &[f64]| {
+            let c = v[0].to_radians();
+            (c.sin() * 40.0 + v[1] * v[1] * 3.0 - v.get(2).copied().unwrap_or(0.0)).max(-10.0)
+        };
+        for (dom, spec) in [
+            (dom2(), "uniform_piece = x:4,y:3"),
+            (dom2(), "uniform_piece = x:1,y:11 # strict_range = true"),
+            (dom2(), "uniform_amount = 7 # normalize = true"),
+            (
+                d3.clone(),
+                "uniform_piece = course:3,speed:3,depth:2 # normalize = true",
+            ),
+            (d3, "uniform_piece = course:7,speed:5 # strict_range = true"),
+        ] {
+            let r = || Reflector::new(&dom, wavy).set_params(spec).unwrap();
+            let sizes = match &r().uniform_piece {
+                Some(s) => s.clone(),
+                None => r().sizes_for_amount(r().uniform_amount),
+            };
+            let fast = r().build().unwrap();
+            let boxes = r().build_boxes(&sizes).unwrap();
+            assert!(fast.piece_count() > 1, "{spec}");
+            assert_eq!(fast.piece_count(), boxes.piece_count(), "{spec}");
+            for (a, b) in fast.pieces().zip(boxes.pieces()) {
+                assert_eq!((a.lo, a.hi), (b.lo, b.hi), "{spec}");
+                // The same arithmetic in the same order: equal to the bit.
+                let bits = |w: &[f64]| w.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(a.wts), bits(b.wts), "{spec}");
+            }
+        }
     }
 
     #[test]

@@ -648,6 +648,8 @@ pub const BEHAVIORS: &[BehaviorType] = &[
         name: "BHV_PModelView",
         params: &["edge_color", "vertex_color", "vertex_size"],
         posts: &["VIEW_SEGLR"],
+    },
+    BehaviorType {
         name: "BHV_AvoidObstacleV24",
         params: &[
             "polygon",

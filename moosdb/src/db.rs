@@ -37,11 +37,19 @@
 //! (the C++ DB keeps matching new variables); `DB_QOS` averages the last five latencies;
 //! `DB_VARSUMMARY` prints times of day in UTC; `--response` consolidation is not offered
 //! (timing echoes carry 0); there is no 100 ms pause before a handshake.
+//!
+//! Told which variables a client drops unread ([`Database::set_unread`]: an in-process
+//! pLogger's `WildCardOmitPattern`s), the DB does not deliver them to it. With
+//! [`DbConfig::lazy_summaries`] (the in-process bus of lockstep runs) it also builds the
+//! `DB_VARSUMMARY` and `DB_RWSUMMARY` texts only while some client reads them (their writes,
+//! times and frequencies are kept all the same; a late reader gets the text built when it
+//! asks, so this one is not for a TCP DB whose clients come and go).
 
-use std::collections::{BTreeMap, BTreeSet, HashMap, VecDeque};
+use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::fmt::Write as _;
 
 use bytes::Bytes;
+use rustc_hash::FxHashMap;
 use thiserror::Error;
 use tracing::{info, warn};
 
@@ -72,6 +80,11 @@ pub struct DbConfig {
     pub outbox_limit: usize,
     /// Most bytes (encoded) queued per client in its outbox; same overflow rule.
     pub outbox_byte_limit: usize,
+    /// Build `DB_VARSUMMARY`/`DB_RWSUMMARY` only while some client reads them (default
+    /// false: always, as the C++ DB). A client that registers for one later, or a server
+    /// request, then gets the text as it is built when asked, not as it was at its last
+    /// refresh: meant for in-process runs whose readers register at the start.
+    pub lazy_summaries: bool,
 }
 
 impl Default for DbConfig {
@@ -82,6 +95,7 @@ impl Default for DbConfig {
             client_timeout: DEFAULT_CLIENT_TIMEOUT,
             outbox_limit: DEFAULT_OUTBOX_LIMIT,
             outbox_byte_limit: DEFAULT_OUTBOX_BYTE_LIMIT,
+            lazy_summaries: false,
         }
     }
 }
@@ -150,8 +164,32 @@ pub struct Effects {
 
 #[derive(Debug, Clone, Copy)]
 struct Sub {
+    /// The subscriber (its mail goes straight to it, no look-up by name).
+    client: ClientId,
     period: f64,
     last_sent: f64,
+    /// The client drops this variable's mail unread ([`Unread`]): nothing is delivered.
+    unread: bool,
+}
+
+/// Variables a client drops unread although its registrations match them (pLogger's
+/// `WildCardOmitPattern`s under wildcard logging without an exclusion log): the DB delivers
+/// them no mail, and builds `DB_VARSUMMARY`/`DB_RWSUMMARY` only while some client reads them
+/// (see [`Database::set_unread`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Unread {
+    /// `MOOSWildCmp` patterns of the variables dropped.
+    pub patterns: Vec<Bytes>,
+    /// Variables read although a pattern matches them.
+    pub except: Vec<Bytes>,
+}
+
+impl Unread {
+    /// True when the client drops `key`'s mail unread.
+    pub fn covers(&self, key: &[u8]) -> bool {
+        self.patterns.iter().any(|p| wildcard_match(p, key))
+            && !self.except.iter().any(|e| e[..] == *key)
+    }
 }
 
 impl Sub {
@@ -171,6 +209,8 @@ struct Var {
     src_aux: Bytes,
     community: Bytes,
     written_to: u64,
+    /// A DB summary whose text was not built at its last write: no client read it then.
+    stale: bool,
     writers: BTreeSet<Bytes>,
     subscribers: BTreeMap<Bytes, Sub>,
     freq: f64,
@@ -190,6 +230,7 @@ impl Var {
             src_aux: Bytes::new(),
             community: Bytes::new(),
             written_to: 0,
+            stale: false,
             writers: BTreeSet::new(),
             subscribers: BTreeMap::new(),
             freq: 0.0,
@@ -222,6 +263,7 @@ impl Var {
         self.writer = Bytes::new();
         self.src_aux = Bytes::new();
         self.written_to = 0;
+        self.stale = false;
         self.writers.clear();
         self.freq = 0.0;
         self.stats_time = f64::NEG_INFINITY;
@@ -278,11 +320,15 @@ struct ClientState {
     order: u64,
     last_heard: f64,
     held: VecDeque<Message>,
-    outbox: VecDeque<Vec<Message>>,
+    /// The queued packets' messages, one after the other (no buffer per packet).
+    outbox: VecDeque<Message>,
+    /// Each queued packet's message count and encoded bytes, oldest first.
+    packets: VecDeque<(usize, usize)>,
     outbox_msgs: usize,
     outbox_bytes: usize,
     dropped: u64,
     timing: Option<Timing>,
+    unread: Unread,
 }
 
 impl ClientState {
@@ -306,23 +352,46 @@ impl ClientState {
         self.held.push_back(msg);
     }
 
-    fn queue(&mut self, packet: Vec<Message>, limit: usize, byte_limit: usize) {
-        self.outbox_msgs += packet.len();
-        self.outbox_bytes += packet_bytes(&packet);
-        self.outbox.push_back(packet);
-        while (self.outbox_msgs > limit || self.outbox_bytes > byte_limit) && self.outbox.len() > 1
+    /// Queues the messages as one packet (none: no packet); true if one was queued.
+    fn queue(
+        &mut self,
+        packet: impl IntoIterator<Item = Message>,
+        limit: usize,
+        byte_limit: usize,
+    ) -> bool {
+        let before = self.outbox.len();
+        let mut bytes = 0;
+        for m in packet {
+            bytes += m.encoded_len();
+            self.outbox.push_back(m);
+        }
+        let n = self.outbox.len() - before;
+        if n == 0 {
+            return false;
+        }
+        self.packets.push_back((n, bytes));
+        self.outbox_msgs += n;
+        self.outbox_bytes += bytes;
+        while (self.outbox_msgs > limit || self.outbox_bytes > byte_limit) && self.packets.len() > 1
         {
-            if let Some(old) = self.outbox.pop_front() {
-                self.outbox_msgs -= old.len();
-                self.outbox_bytes -= packet_bytes(&old);
-                self.note_drop(old.len() as u64);
+            if let Some((n, bytes)) = self.packets.pop_front() {
+                self.outbox.drain(..n);
+                self.outbox_msgs -= n;
+                self.outbox_bytes -= bytes;
+                self.note_drop(n as u64);
             }
         }
+        true
     }
-}
 
-fn packet_bytes(p: &[Message]) -> usize {
-    p.iter().map(Message::encoded_len).sum()
+    /// Queues the held mail as one packet (none held: no packet).
+    fn queue_held(&mut self, limit: usize, byte_limit: usize) -> bool {
+        let mut held = std::mem::take(&mut self.held);
+        let queued = self.queue(held.drain(..), limit, byte_limit);
+        // The held buffer is kept for the next mail.
+        self.held = held;
+        queued
+    }
 }
 
 /// The MOOSDB core. See the module documentation.
@@ -333,9 +402,11 @@ pub struct Database {
     community: Bytes,
     start_time: f64,
     summary_time: f64,
-    vars: BTreeMap<Bytes, Var>,
+    /// The variables by name (hashed: a write looks its variable up once; what lists
+    /// them in order sorts, see [`Database::sorted_vars`]).
+    vars: FxHashMap<Bytes, Var>,
     clients: BTreeMap<ClientId, ClientState>,
-    names: HashMap<Bytes, ClientId>,
+    names: FxHashMap<Bytes, ClientId>,
     filters: BTreeMap<Bytes, Vec<Filter>>,
     next_id: u64,
     /// Variables whose every accepted write is kept for [`Database::take_taps`].
@@ -343,25 +414,38 @@ pub struct Database {
     taps: Vec<Message>,
 }
 
-/// Delivers `msg` into the held mail of the client called `name` (if connected).
+/// Delivers `msg` into the held mail of client `id` (if connected).
 fn hold_for(
     clients: &mut BTreeMap<ClientId, ClientState>,
-    names: &HashMap<Bytes, ClientId>,
-    name: &[u8],
+    id: ClientId,
     msg: Message,
     limit: usize,
 ) {
-    if let Some(c) = names.get(name).and_then(|id| clients.get_mut(id)) {
+    if let Some(c) = clients.get_mut(&id) {
         c.hold(msg, limit);
     }
 }
+
+/// The id of the client called `name` and whether it drops `key`'s mail unread.
+fn client_of(
+    clients: &BTreeMap<ClientId, ClientState>,
+    names: &FxHashMap<Bytes, ClientId>,
+    name: &[u8],
+    key: &[u8],
+) -> Option<(ClientId, bool)> {
+    let id = *names.get(name)?;
+    Some((id, clients.get(&id).is_some_and(|c| c.unread.covers(key))))
+}
+
+/// The DB's summaries, built only while some client reads them.
+const LAZY_SUMMARIES: [&str; 2] = ["DB_VARSUMMARY", "DB_RWSUMMARY"];
 
 impl Database {
     /// A DB started at `now`, holding its own (not yet written) variables.
     pub fn new(config: DbConfig, now: DbTime) -> Database {
         let community = Bytes::from(config.community.clone());
         let db_name = Bytes::from(format!("MOOSDB_{}", config.community));
-        let mut vars = BTreeMap::new();
+        let mut vars = FxHashMap::default();
         for (key, dt) in [
             ("DB_TIME", DataType::Double),
             ("DB_UPTIME", DataType::Double),
@@ -387,7 +471,7 @@ impl Database {
             summary_time: now.moos,
             vars,
             clients: BTreeMap::new(),
-            names: HashMap::new(),
+            names: FxHashMap::default(),
             filters: BTreeMap::new(),
             next_id: 1,
             tapped: Vec::new(),
@@ -437,10 +521,12 @@ impl Database {
                 last_heard: now.mono,
                 held: VecDeque::new(),
                 outbox: VecDeque::new(),
+                packets: VecDeque::new(),
                 outbox_msgs: 0,
                 outbox_bytes: 0,
                 dropped: 0,
                 timing: None,
+                unread: Unread::default(),
             },
         );
         self.names.insert(name.clone(), id);
@@ -564,37 +650,30 @@ impl Database {
         let mut effects = Effects::default();
         if let Some(c) = self.clients.get_mut(&id) {
             let take_held = had_any || !asynchronous;
-            let len = usize::from(echo.is_some() || !asynchronous)
-                + if take_held { c.held.len() } else { 0 }
-                + replies.len();
-            // Most packets of an asynchronous client get no reply: no buffer for them.
-            let mut reply = if len == 0 {
-                Vec::new()
-            } else {
-                Vec::with_capacity(len)
-            };
-            if asynchronous {
-                reply.extend(echo);
+            let head = if asynchronous {
+                echo
             } else {
                 let mut null = Message::new(MsgType::Null, DataType::Double, "");
                 null.time = now.moos;
                 null.dval = now.moos;
-                reply.push(null);
-            }
-            if take_held {
-                reply.extend(c.held.drain(..));
-            }
-            reply.extend(replies);
-            if !reply.is_empty() {
-                c.queue(reply, limit, byte_limit);
+                Some(null)
+            };
+            let mut held = std::mem::take(&mut c.held);
+            let held_part = held.drain(..if take_held { held.len() } else { 0 });
+            let queued = c.queue(
+                head.into_iter().chain(held_part).chain(replies),
+                limit,
+                byte_limit,
+            );
+            c.held = held;
+            if queued {
                 effects.ready.push(id);
             }
         }
         if had_notify {
             for (cid, c) in self.clients.iter_mut() {
                 if c.asynchronous && !c.held.is_empty() {
-                    let packet: Vec<Message> = c.held.drain(..).collect();
-                    c.queue(packet, limit, byte_limit);
+                    c.queue_held(limit, byte_limit);
                     if !effects.ready.contains(cid) {
                         effects.ready.push(*cid);
                     }
@@ -609,12 +688,80 @@ impl Database {
     pub fn drain_outbox(&mut self, id: ClientId, out: &mut Vec<Vec<Message>>) -> bool {
         match self.clients.get_mut(&id) {
             Some(c) => {
-                out.extend(c.outbox.drain(..));
+                for (n, _) in c.packets.drain(..) {
+                    out.push(c.outbox.drain(..n).collect());
+                }
                 c.outbox_msgs = 0;
                 c.outbox_bytes = 0;
                 true
             }
             None => false,
+        }
+    }
+
+    /// Moves the messages of the client's queued packets into `out`, one after the other
+    /// (an in-process client needs no packet boundaries, and no buffer per packet);
+    /// `false` if the client is gone.
+    pub fn drain_messages(&mut self, id: ClientId, out: &mut Vec<Message>) -> bool {
+        match self.clients.get_mut(&id) {
+            Some(c) => {
+                out.extend(c.outbox.drain(..));
+                c.packets.clear();
+                c.outbox_msgs = 0;
+                c.outbox_bytes = 0;
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Tells the DB which variables client `id` drops unread although its registrations
+    /// match them (an in-process pLogger's omitted variables): they are no longer delivered
+    /// to it. With [`DbConfig::lazy_summaries`], `DB_VARSUMMARY`/`DB_RWSUMMARY` are then
+    /// built at their 2 s refresh only while some client does read them or a tap keeps them
+    /// (otherwise their write is recorded, time, writer and frequency, without the text; a
+    /// client that registers later, or [`Database::current`], gets the text built when it
+    /// asks). Applies to the client's existing registrations too. `false` if the client is
+    /// not connected.
+    pub fn set_unread(&mut self, id: ClientId, unread: Unread) -> bool {
+        let Some(c) = self.clients.get_mut(&id) else {
+            return false;
+        };
+        let name = c.name.clone();
+        for (k, v) in self.vars.iter_mut() {
+            if let Some(sub) = v.subscribers.get_mut(&name) {
+                sub.unread = unread.covers(k);
+            }
+        }
+        c.unread = unread;
+        true
+    }
+
+    /// True when some client reads `key`'s mail (a registration not marked unread) or a
+    /// tap keeps its writes.
+    fn is_read(&self, key: &str) -> bool {
+        self.tapped.iter().any(|t| t[..] == *key.as_bytes())
+            || self
+                .vars
+                .get(key.as_bytes())
+                .is_some_and(|v| v.subscribers.values().any(|s| !s.unread))
+    }
+
+    /// The text of a lazily built DB summary as it would be built now (empty for any
+    /// other variable).
+    fn summary_text(&self, key: &[u8]) -> String {
+        match key {
+            b"DB_VARSUMMARY" => self.var_summary(),
+            b"DB_RWSUMMARY" => self.rw_summary(&self.ordered_clients()),
+            _ => String::new(),
+        }
+    }
+
+    /// Records a write of a DB summary nobody reads: everything but its text.
+    fn skip_summary(&mut self, key: &'static str, now: DbTime) {
+        self.internal_notify(key, Value::String(String::new().into()), now);
+        if let Some(v) = self.vars.get_mut(key.as_bytes()) {
+            v.stale = true;
         }
     }
 
@@ -659,7 +806,11 @@ impl Database {
     /// The current value of a variable as the DB would replay it, if it was ever written.
     pub fn current(&self, key: &str) -> Option<Message> {
         let (k, v) = self.vars.get_key_value(key.as_bytes())?;
-        (v.written_to > 0).then(|| v.to_msg(k))
+        let mut m = (v.written_to > 0).then(|| v.to_msg(k))?;
+        if v.stale {
+            m.sval = self.summary_text(k).into();
+        }
+        Some(m)
     }
 
     /// Names of the clients subscribed to `key`, sorted.
@@ -677,10 +828,17 @@ impl Database {
 
     /// Names of all variables (written or only registered), sorted.
     pub fn var_names(&self) -> Vec<String> {
-        self.vars
-            .keys()
-            .map(|k| String::from_utf8_lossy(k).into_owned())
+        self.sorted_vars()
+            .into_iter()
+            .map(|(k, _)| String::from_utf8_lossy(k).into_owned())
             .collect()
+    }
+
+    /// The variables in name order (the order of every list the DB makes of them).
+    fn sorted_vars(&self) -> Vec<(&Bytes, &Var)> {
+        let mut v: Vec<(&Bytes, &Var)> = self.vars.iter().collect();
+        v.sort_unstable_by(|a, b| a.0.cmp(b.0));
+        v
     }
 
     fn ordered_clients(&self) -> Vec<Bytes> {
@@ -719,8 +877,8 @@ impl Database {
                     list.push(f.clone());
                 }
                 let keys: Vec<Bytes> = self
-                    .vars
-                    .iter()
+                    .sorted_vars()
+                    .into_iter()
                     .filter(|(k, v)| f.matches(&v.writer, k))
                     .map(|(k, _)| k.clone())
                     .collect();
@@ -755,21 +913,30 @@ impl Database {
             return;
         }
         let limit = self.config.outbox_limit;
+        let Some((id, unread)) = client_of(&self.clients, &self.names, name, key) else {
+            return;
+        };
         let already = self.vars.contains_key(key);
         let var = self
             .vars
             .entry(key.clone())
             .or_insert_with(|| Var::new(DataType::NotSet));
         let written = var.written_to != 0;
-        let reply = (already && written).then(|| var.to_msg(key));
+        let stale = var.stale;
+        let reply = (already && written && !unread).then(|| var.to_msg(key));
         let sub = var.subscribers.entry(name.clone()).or_insert(Sub {
+            client: id,
             period,
             last_sent: f64::NEG_INFINITY,
+            unread,
         });
         sub.period = period;
-        if let Some(reply) = reply {
+        if let Some(mut reply) = reply {
             sub.last_sent = now.moos;
-            hold_for(&mut self.clients, &self.names, name, reply, limit);
+            if stale {
+                reply.sval = self.summary_text(key).into();
+            }
+            hold_for(&mut self.clients, id, reply, limit);
         }
     }
 
@@ -784,12 +951,17 @@ impl Database {
             var.data_type = msg.data_type;
             for (client, filters) in &self.filters {
                 for f in filters {
-                    if f.matches(&msg.src, &msg.key) {
+                    if f.matches(&msg.src, &msg.key)
+                        && let Some((id, unread)) =
+                            client_of(&self.clients, &self.names, client, &msg.key)
+                    {
                         var.subscribers.insert(
                             client.clone(),
                             Sub {
+                                client: id,
                                 period: f.period,
                                 last_sent: f64::NEG_INFINITY,
+                                unread,
                             },
                         );
                     }
@@ -838,10 +1010,10 @@ impl Database {
         if self.tapped.contains(&msg.key) {
             self.taps.push(msg.clone());
         }
-        for (client, sub) in var.subscribers.iter_mut() {
-            if sub.expired(t) {
+        for sub in var.subscribers.values_mut() {
+            if !sub.unread && sub.expired(t) {
                 sub.last_sent = t;
-                hold_for(&mut self.clients, &self.names, client, msg.clone(), limit);
+                hold_for(&mut self.clients, sub.client, msg.clone(), limit);
             }
         }
     }
@@ -858,11 +1030,15 @@ impl Database {
         let key = &m.key[..];
         let contains = |needle: &[u8]| key.windows(needle.len()).any(|w| w == needle);
         if key == b"ALL" {
-            for (k, v) in &self.vars {
+            for (k, v) in self.sorted_vars() {
                 let mut r = v.to_msg(k);
                 r.id = m.id;
                 r.dval = v.dval;
-                r.sval = v.sval.clone();
+                r.sval = if v.stale {
+                    self.summary_text(k).into()
+                } else {
+                    v.sval.clone()
+                };
                 r.dval2 = v.freq;
                 r.time = v.written_time - self.start_time;
                 if r.time < 0.0 {
@@ -874,7 +1050,7 @@ impl Database {
             for who in self.ordered_clients() {
                 let mut subs = String::from("SUBSCRIBED=");
                 let mut pubs = String::from("PUBLISHED=");
-                for (k, v) in &self.vars {
+                for (k, v) in self.sorted_vars() {
                     let k = String::from_utf8_lossy(k);
                     if v.writers.contains(&who) {
                         pubs.push(',');
@@ -894,7 +1070,7 @@ impl Database {
             }
         } else if contains(b"VAR_SUMMARY") {
             let mut all = Vec::new();
-            for (i, k) in self.vars.keys().enumerate() {
+            for (i, (k, _)) in self.sorted_vars().into_iter().enumerate() {
                 if i > 0 {
                     all.push(b',');
                 }
@@ -935,8 +1111,19 @@ impl Database {
         let list = String::from_utf8(list)
             .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned());
         self.internal_notify("DB_CLIENTS", Value::String(list.into()), now);
-        let summary = self.var_summary();
-        self.internal_notify("DB_VARSUMMARY", Value::String(summary.into()), now);
+        // DB_VARSUMMARY shows DB_RWSUMMARY's text: both are built while the first is read.
+        let lazy = self.config.lazy_summaries;
+        let read_var = !lazy || self.is_read(LAZY_SUMMARIES[0]);
+        let read_rw = read_var || self.is_read(LAZY_SUMMARIES[1]);
+        if read_var {
+            let summary = self.var_summary();
+            self.internal_notify("DB_VARSUMMARY", Value::String(summary.into()), now);
+            if let Some(v) = self.vars.get_mut(&b"DB_VARSUMMARY"[..]) {
+                v.stale = false;
+            }
+        } else {
+            self.skip_summary("DB_VARSUMMARY", now);
+        }
         let mut qos = String::new();
         let mut by_name: Vec<&ClientState> = self.clients.values().collect();
         by_name.sort_by(|a, b| a.name.cmp(&b.name));
@@ -954,13 +1141,20 @@ impl Database {
             }
         }
         self.internal_notify("DB_QOS", Value::String(qos.into()), now);
-        let rw = self.rw_summary(&clients);
-        self.internal_notify("DB_RWSUMMARY", Value::String(rw.into()), now);
+        if read_rw {
+            let rw = self.rw_summary(&clients);
+            self.internal_notify("DB_RWSUMMARY", Value::String(rw.into()), now);
+            if let Some(v) = self.vars.get_mut(&b"DB_RWSUMMARY"[..]) {
+                v.stale = false;
+            }
+        } else {
+            self.skip_summary("DB_RWSUMMARY", now);
+        }
     }
 
     fn var_summary(&self) -> String {
         let mut s = String::new();
-        for (k, v) in &self.vars {
+        for (k, v) in self.sorted_vars() {
             let who = if v.writer.is_empty() {
                 "(write pending)".into()
             } else {
@@ -1005,6 +1199,7 @@ impl Database {
     }
 
     fn rw_summary(&self, clients: &[Bytes]) -> String {
+        let vars = self.sorted_vars();
         let mut out = String::new();
         for (i, who) in clients.iter().enumerate() {
             if i > 0 {
@@ -1012,14 +1207,11 @@ impl Database {
             }
             out.push_str(&String::from_utf8_lossy(who));
             out.push('=');
-            let subs = self
-                .vars
-                .iter()
-                .filter(|(_, v)| v.subscribers.contains_key(who));
-            push_joined(&mut out, subs.map(|(k, _)| k), ':');
+            let subs = vars.iter().filter(|(_, v)| v.subscribers.contains_key(who));
+            push_joined(&mut out, subs.map(|(k, _)| *k), ':');
             out.push('&');
-            let pubs = self.vars.iter().filter(|(_, v)| v.writers.contains(who));
-            push_joined(&mut out, pubs.map(|(k, _)| k), ':');
+            let pubs = vars.iter().filter(|(_, v)| v.writers.contains(who));
+            push_joined(&mut out, pubs.map(|(k, _)| *k), ':');
         }
         out
     }
@@ -1163,6 +1355,15 @@ mod tests {
         Database::new(cfg, t(1000.0))
     }
 
+    fn lazy_db() -> Database {
+        let cfg = DbConfig {
+            community: "test".into(),
+            lazy_summaries: true,
+            ..DbConfig::default()
+        };
+        Database::new(cfg, t(1000.0))
+    }
+
     fn join(db: &mut Database, name: &str, now: f64) -> ClientId {
         db.connect(Bytes::from(name.to_string()), true, now, t(now))
             .id()
@@ -1234,6 +1435,116 @@ mod tests {
         assert_eq!(db.current("DB_TIME").unwrap().dval, 1002.01);
         assert_eq!(db.current("DB_UPTIME").unwrap().dval, 1002.01 - 1000.0);
         assert_eq!(db.current("DB_CLIENTS").unwrap().sval_str(), "c,");
+    }
+
+    fn wildcard_all() -> Message {
+        let mut wr = Message::new(MsgType::WildcardRegister, DataType::String, "");
+        wr.sval = Bytes::from_static(b"AppPattern=*,VarPattern=*,Interval=0");
+        wr
+    }
+
+    fn keys(msgs: &[Message]) -> Vec<String> {
+        msgs.iter().map(|m| m.key_str().into_owned()).collect()
+    }
+
+    #[test]
+    fn summaries_nobody_reads_are_not_built_nor_delivered() {
+        // Without lazy summaries the texts are built all the same; unread mail is not sent.
+        let mut eager = new_db();
+        let logger = join(&mut eager, "logger", 1000.0);
+        let omit = Unread {
+            patterns: vec![Bytes::from_static(b"DB_*SUMMARY")],
+            except: Vec::new(),
+        };
+        assert!(eager.set_unread(logger, omit));
+        eager
+            .handle(logger, vec![wildcard_all()], t(1000.0))
+            .unwrap();
+        eager
+            .handle(
+                logger,
+                vec![post("logger", "X", Value::Double(1.0), 1.0)],
+                t(1002.5),
+            )
+            .unwrap();
+        let var = eager.vars.get(&b"DB_VARSUMMARY"[..]).unwrap();
+        assert!(!var.stale && var.sval.len() > 100);
+        assert!(
+            !keys(&drain(&mut eager, logger))
+                .iter()
+                .any(|k| k.ends_with("SUMMARY"))
+        );
+
+        let mut db = lazy_db();
+        let logger = join(&mut db, "logger", 1000.0);
+        let omit = Unread {
+            patterns: vec![
+                Bytes::from_static(b"DB_*SUMMARY"),
+                Bytes::from_static(b"Y*"),
+            ],
+            except: vec![Bytes::from_static(b"Y2")],
+        };
+        assert!(db.set_unread(logger, omit));
+        db.handle(logger, vec![wildcard_all()], t(1000.0)).unwrap();
+        for (k, now) in [("X", 1001.0), ("Y", 1001.5), ("Y2", 1002.5), ("X", 1004.6)] {
+            db.handle(
+                logger,
+                vec![post("logger", k, Value::Double(now), now)],
+                t(now),
+            )
+            .unwrap();
+        }
+        let got = keys(&drain(&mut db, logger));
+        // Nothing the logger drops reaches it; the other DB variables still do.
+        assert!(
+            !got.iter().any(|k| k.ends_with("SUMMARY") || k == "Y"),
+            "{got:?}"
+        );
+        assert!(got.iter().any(|k| k == "DB_TIME") && got.iter().any(|k| k == "Y2"));
+        let var = db.vars.get(&b"DB_VARSUMMARY"[..]).unwrap();
+        assert!(var.stale && var.sval.is_empty() && var.written_to == 2);
+        // Read later, the text is built when asked, as it would be built now.
+        let now_text = db.var_summary();
+        assert!(now_text.contains("DB_QOS") && now_text.contains("MOOSDB_test"));
+        assert_eq!(db.current("DB_VARSUMMARY").unwrap().sval_str(), now_text);
+        let rw = db.current("DB_RWSUMMARY").unwrap();
+        assert!(rw.sval_str().starts_with("logger="), "{}", rw.sval_str());
+        // A reader that registers gets the text at once, then every refresh builds it.
+        let reader = join(&mut db, "reader", 1005.0);
+        db.handle(reader, vec![reg("DB_VARSUMMARY", 0.0)], t(1005.0))
+            .unwrap();
+        let first = drain(&mut db, reader);
+        let vs: Vec<&Message> = first
+            .iter()
+            .filter(|m| m.key_str() == "DB_VARSUMMARY")
+            .collect();
+        assert!(vs.len() == 1 && vs[0].sval_str().contains("DB_UPTIME"));
+        db.handle(
+            logger,
+            vec![post("logger", "X", Value::Double(7.0), 7.0)],
+            t(1007.0),
+        )
+        .unwrap();
+        let built = db.vars.get(&b"DB_VARSUMMARY"[..]).unwrap();
+        assert!(!built.stale && built.sval.len() > 100);
+        let text = String::from_utf8_lossy(&built.sval).into_owned();
+        // DB_RWSUMMARY is built with it (the summary shows its beginning).
+        assert!(!db.vars.get(&b"DB_RWSUMMARY"[..]).unwrap().stale);
+        assert!(text.contains("DB_RWSUMMARY"));
+        let again = drain(&mut db, reader);
+        assert_eq!(
+            again
+                .iter()
+                .filter(|m| m.key_str() == "DB_VARSUMMARY")
+                .map(|m| m.sval_str().into_owned())
+                .collect::<Vec<_>>(),
+            vec![text]
+        );
+        assert!(
+            !keys(&drain(&mut db, logger))
+                .iter()
+                .any(|k| k.ends_with("SUMMARY"))
+        );
     }
 
     #[test]

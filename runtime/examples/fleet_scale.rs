@@ -7,6 +7,7 @@
 //! ```sh
 //! cargo run --release -p runtime --example fleet_scale            # N = 10, 50, 100
 //! cargo run --release -p runtime --example fleet_scale -- 100 120 # one N, simulated seconds
+//! cargo run --release -p runtime --example fleet_scale -- 100 120 1 # ... on one thread
 //! ```
 //!
 //! With no argument it runs each N in a child process of its own (so the memory figures of
@@ -85,7 +86,7 @@ fn write_fleet(dir: &Path, n: usize) -> PathBuf {
 }
 
 /// Runs one fleet of `n` vehicles for `seconds` simulated seconds; prints one line.
-fn one(n: usize, seconds: f64) {
+fn one(n: usize, seconds: f64, threads: usize) {
     let dir = std::env::temp_dir().join(format!("coug-fleet-scale-{}-{n}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("scratch folder");
     let rss0 = status_kib("VmRSS:").unwrap_or(0);
@@ -98,6 +99,7 @@ fn one(n: usize, seconds: f64) {
         deploy: true,
         max_time: seconds,
         log_dir: Some(dir.join("logs")),
+        threads,
         ..FleetOptions::default()
     };
     let cpu0 = cpu_s();
@@ -140,8 +142,10 @@ fn one(n: usize, seconds: f64) {
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let seconds = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(120.0);
+    // Threads stepping the communities (0: one per core).
+    let threads = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(0);
     if let Some(n) = args.first().and_then(|s| s.parse().ok()) {
-        one(n, seconds);
+        one(n, seconds, threads);
         return;
     }
     let me = std::env::current_exe().expect("own path");
@@ -149,6 +153,7 @@ fn main() {
         let status = Command::new(&me)
             .arg(n.to_string())
             .arg(seconds.to_string())
+            .arg(threads.to_string())
             .status()
             .expect("child runs");
         assert!(status.success(), "N={n} failed");

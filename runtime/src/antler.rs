@@ -114,7 +114,7 @@ pub struct LogTarget {
     /// The logger's settings (from [`logger_config`], possibly with a new path).
     pub config: LoggerConfig,
     /// The alog file (opened by the caller at `config.alog_path(&opened)`).
-    pub writer: Box<dyn Write>,
+    pub writer: Box<dyn Write + Send>,
     /// The session's date-time (names the files).
     pub opened: NaiveDateTime,
     /// The banner's `FILE OPENED ON` text.

@@ -71,8 +71,9 @@ impl Subscription {
 /// registrations, then [`App::on_startup`], then at every AppTick period:
 /// fetch mail sorted by time → [`App::on_mail`] → [`App::iterate`].
 ///
-/// Apps never read a clock: `now` (MOOS time, seconds) is always an argument.
-pub trait App {
+/// Apps never read a clock: `now` (MOOS time, seconds) is always an argument. An app is
+/// `Send`: a lockstep fleet run steps its communities on several threads.
+pub trait App: Send {
     /// The MOOS name (the ANTLER alias when one was given, e.g. `pHelmIvP_2`).
     fn name(&self) -> &str;
 
@@ -89,6 +90,14 @@ pub trait App {
     /// The registrations made when the app connects.
     fn subscriptions(&self) -> Vec<Subscription> {
         Vec::new()
+    }
+
+    /// The variables whose mail the app drops unread although its registrations match them
+    /// (pLogger's omitted variables): the in-process bus does not deliver them, and the DB
+    /// skips its summaries nobody reads ([`moosdb::db::Database::set_unread`]). Default:
+    /// none.
+    fn unread(&self) -> moosdb::db::Unread {
+        moosdb::db::Unread::default()
     }
 
     /// Registrations the app wants to add now (polled after every callback).

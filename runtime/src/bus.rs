@@ -47,8 +47,11 @@ pub struct LocalDb {
 impl LocalDb {
     /// A database of community `community` started at MOOS time `start`.
     pub fn new(community: &str, start: f64) -> LocalDb {
+        // Its clients are the run's apps, registered at their start: the DB summaries are
+        // built only while one of them reads them.
         let config = DbConfig {
             community: community.to_string(),
+            lazy_summaries: true,
             ..DbConfig::default()
         };
         let t = DbTime {
@@ -90,7 +93,8 @@ impl DbHost for LocalDb {
 #[derive(Debug)]
 pub struct Bus<H: DbHost = LocalDb> {
     host: H,
-    packets: Vec<Vec<Message>>,
+    /// The fetched messages (reused: a fetch allocates no buffer of its own).
+    fetched: Vec<Message>,
     names: Names,
 }
 
@@ -139,7 +143,7 @@ impl<H: DbHost> Bus<H> {
     pub fn with_host(host: H) -> Bus<H> {
         Bus {
             host,
-            packets: Vec::new(),
+            fetched: Vec::new(),
             names: Names::default(),
         }
     }
@@ -155,6 +159,20 @@ impl<H: DbHost> Bus<H> {
         self.host
             .with_mut(now, |db, t| db.connect(key, true, now, t).id())
             .ok_or_else(|| BusError::NameTaken(name.to_string()))
+    }
+
+    /// Tells the DB which variables client `id` drops unread ([`App::unread`](crate::app::App::unread)).
+    pub fn set_unread(
+        &mut self,
+        id: ClientId,
+        unread: moosdb::db::Unread,
+        now: f64,
+    ) -> Result<(), BusError> {
+        if self.host.with_mut(now, |db, _| db.set_unread(id, unread)) {
+            Ok(())
+        } else {
+            Err(BusError::NotConnected(id))
+        }
     }
 
     /// Removes a client.
@@ -253,16 +271,17 @@ impl<H: DbHost> Bus<H> {
     pub fn fetch(&mut self, id: ClientId, now: f64, out: &mut Vec<Mail>) -> Result<(), BusError> {
         let poll = Message::new(MsgType::Null, DataType::Double, "");
         Self::send(&mut self.host, id, [poll], now)?;
-        self.packets.clear();
-        let packets = &mut self.packets;
+        self.fetched.clear();
+        let fetched = &mut self.fetched;
         if !self
             .host
-            .with_mut(now, |db, _| db.drain_outbox(id, packets))
+            .with_mut(now, |db, _| db.drain_messages(id, fetched))
         {
             return Err(BusError::NotConnected(id));
         }
         let first = out.len();
-        for m in self.packets.drain(..).flatten() {
+        out.reserve(self.fetched.len());
+        for m in self.fetched.drain(..) {
             if m.msg_type != MsgType::Notify {
                 continue;
             }

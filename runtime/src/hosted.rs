@@ -26,7 +26,7 @@ use crate::app::{App, AppResult, Mail, Post, Subscription, app_tick_of};
 use crate::appcasting::{AppcastLayer, Note};
 
 /// The pure part of a hosted app: no appcast state, no name or block bookkeeping.
-pub trait AppCore {
+pub trait AppCore: Send {
     /// The registrations besides the appcast layer's (which come first).
     fn subscriptions(&self) -> Vec<Subscription>;
 

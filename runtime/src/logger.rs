@@ -826,13 +826,35 @@ impl<W: Write> Logger<W> {
     }
 }
 
-impl<W: Write + 'static> App for Logger<W> {
+impl<W: Write + Send + 'static> App for Logger<W> {
     fn name(&self) -> &str {
         &self.name
     }
 
     fn process_config(&self) -> Option<&ProcessConfig> {
         self.block.as_ref()
+    }
+
+    /// Under wildcard logging without an exclusion log, the omitted variables are dropped
+    /// unread (but those with their own `Log =` line, the appcasting layer's and
+    /// `PLOGGER_CMD`, which [`Logger::on_mail`] reads).
+    fn unread(&self) -> moosdb::db::Unread {
+        if !self.config.wildcard || (self.config.exclusion_log && self.side.is_some()) {
+            return moosdb::db::Unread::default();
+        }
+        let bytes = |s: &str| bytes::Bytes::copy_from_slice(s.as_bytes());
+        moosdb::db::Unread {
+            patterns: self.config.omit.iter().map(|p| bytes(p)).collect(),
+            except: self
+                .config
+                .logs
+                .iter()
+                .map(|(v, _)| v.as_str())
+                .chain(appcast::casting::REGISTERED_VARIABLES)
+                .chain(["PLOGGER_CMD"])
+                .map(bytes)
+                .collect(),
+        }
     }
 
     fn subscriptions(&self) -> Vec<Subscription> {

@@ -97,28 +97,33 @@ const DEPTH_VAR: &str = "NAV_DEPTH";
 pub const HUB: &str = "pshare";
 
 /// The datagrams waiting for one in-process input route, each with the MOOS time it was
-/// sent at.
+/// sent at and its sender's number.
 #[derive(Debug, Default)]
 pub struct Inbox {
-    queue: Mutex<VecDeque<(f64, Bytes)>>,
+    queue: Mutex<VecDeque<(f64, u64, Bytes)>>,
 }
 
 impl Inbox {
-    fn push(&self, sent: f64, datagram: Bytes) {
+    fn push(&self, sent: f64, sender: u64, datagram: Bytes) {
         self.queue
             .lock()
             .unwrap_or_else(PoisonError::into_inner)
-            .push_back((sent, datagram));
+            .push_back((sent, sender, datagram));
     }
 
-    /// Moves the datagrams sent strictly before `now` into `out`, oldest first.
+    /// Moves the datagrams sent strictly before `now` into `out`, oldest first, and those
+    /// of one instant by sender number (the order the senders were built in, so the order
+    /// one thread stepping the communities in fleet order pushes them; several threads push
+    /// an instant's datagrams in any order).
     fn take_before(&self, now: f64, out: &mut Vec<Bytes>) {
         let mut q = self.queue.lock().unwrap_or_else(PoisonError::into_inner);
-        while q.front().is_some_and(|(t, _)| *t < now) {
-            if let Some((_, d)) = q.pop_front() {
-                out.push(d);
-            }
+        let n = q.iter().take_while(|(t, _, _)| *t < now).count();
+        if n == 0 {
+            return;
         }
+        let taken = q.make_contiguous();
+        taken[..n].sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        out.extend(q.drain(..n).map(|(_, _, d)| d));
     }
 }
 
@@ -128,6 +133,8 @@ impl Inbox {
 pub struct PShareHub {
     inputs: Mutex<HashMap<u16, (String, Arc<Inbox>)>>,
     delivered: AtomicU64,
+    /// The number the next pShare to join gets.
+    senders: AtomicU64,
 }
 
 /// True for a host name that means this machine (`localhost`, `127.x.x.x`, `0.0.0.0`).
@@ -215,6 +222,8 @@ pub struct PShareApp {
     table: RouteTable,
     listeners: Vec<Listener>,
     hub: Option<Arc<PShareHub>>,
+    /// This pShare's number in the hub (the order of its datagrams within an instant).
+    sender_no: u64,
     ready: Vec<Bytes>,
     sender: Option<UdpSocket>,
     resolved: HashMap<Endpoint, Option<SocketAddr>>,
@@ -304,6 +313,7 @@ impl PShareApp {
             table,
             listeners,
             hub: None,
+            sender_no: 0,
             ready: Vec::new(),
             sender: None,
             resolved: HashMap::new(),
@@ -334,6 +344,9 @@ impl PShareApp {
     /// hub nothing changes.
     pub fn with_shared(mut self, shared: &Shared) -> Self {
         self.hub = shared.get::<PShareHub>(HUB);
+        if let Some(hub) = &self.hub {
+            self.sender_no = hub.senders.fetch_add(1, Ordering::Relaxed);
+        }
         for i in 0..self.listeners.len() {
             self.attach_inbox(i);
         }
@@ -550,7 +563,7 @@ impl PShareApp {
                 );
                 self.appcast.note(Note::Warning(w), now);
             } else if let Some(inbox) = self.in_process(&s.endpoint) {
-                inbox.push(now, Bytes::copy_from_slice(&out));
+                inbox.push(now, self.sender_no, Bytes::copy_from_slice(&out));
                 self.tx.sent += 1;
                 self.tx.in_process += 1;
             } else {

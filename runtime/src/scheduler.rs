@@ -221,6 +221,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
         let now = self.now;
         let name = app.name().to_string();
         let id = self.bus.connect(&name, now)?;
+        self.bus.set_unread(id, app.unread(), now)?;
         let mut subscribed = BTreeSet::new();
         for s in app.subscriptions() {
             self.bus.subscribe(id, &s, now)?;

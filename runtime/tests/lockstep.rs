@@ -1,12 +1,37 @@
 //! Lockstep runs of small fake apps on the in-process bus, logged by the built-in pLogger.
 
-use std::cell::RefCell;
-use std::rc::Rc;
+use std::sync::Arc;
 
 use chrono::NaiveDate;
 use mission::condition::parse_condition;
 use runtime::logger::{Logger, LoggerConfig, SharedBuffer};
 use runtime::{App, Bus, Mail, Outcome, Poke, Post, Scheduler, Subscription, Value, VirtualClock};
+
+/// `RefCell`'s two calls over a `Mutex`: the test apps that hold one are `Send`, as every
+/// app is.
+#[derive(Debug, Default)]
+struct RefCell<T>(std::sync::Mutex<T>);
+
+#[allow(dead_code)]
+impl<T> RefCell<T> {
+    fn new(value: T) -> Self {
+        RefCell(std::sync::Mutex::new(value))
+    }
+    fn borrow(&self) -> std::sync::MutexGuard<'_, T> {
+        self.0
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+    fn borrow_mut(&self) -> std::sync::MutexGuard<'_, T> {
+        self.borrow()
+    }
+    fn take(&self) -> T
+    where
+        T: Default,
+    {
+        std::mem::take(&mut *self.borrow())
+    }
+}
 
 const START: f64 = 1_700_000_000.0;
 
@@ -30,7 +55,7 @@ impl App for Counter {
 }
 
 /// What the doubler saw: per iterate, its time and the times/values of the mail before it.
-type Seen = Rc<RefCell<Vec<(f64, Vec<(f64, f64)>)>>>;
+type Seen = Arc<RefCell<Vec<(f64, Vec<(f64, f64)>)>>>;
 
 /// Posts DOUBLE = 2 × the latest COUNT it has received.
 struct Doubler {
@@ -77,7 +102,7 @@ struct Run {
 }
 
 fn run(until: &str, max_time: f64) -> Run {
-    let seen: Seen = Rc::default();
+    let seen: Seen = Arc::default();
     let mut s = Scheduler::new(Bus::new("lockstep", START), VirtualClock, START);
     s.add_app(Box::new(Counter { n: 0 })).unwrap();
     s.add_app(Box::new(Doubler {
@@ -230,7 +255,7 @@ fn app_tick_cadence_and_mail_order() {
 
 /// Records its start-up and iterate times.
 struct Recorder {
-    times: Rc<RefCell<Vec<(&'static str, f64)>>>,
+    times: Arc<RefCell<Vec<(&'static str, f64)>>>,
 }
 
 impl App for Recorder {
@@ -257,7 +282,7 @@ fn an_app_added_during_a_run_starts_at_the_current_time() {
     s.add_app(Box::new(Counter { n: 0 })).unwrap();
     assert_eq!(s.advance(START + 1.1).unwrap(), None);
     assert_eq!(s.now(), START + 1.0);
-    let times: Rc<RefCell<Vec<(&'static str, f64)>>> = Rc::default();
+    let times: Arc<RefCell<Vec<(&'static str, f64)>>> = Arc::default();
     s.add_app(Box::new(Recorder {
         times: times.clone(),
     }))
@@ -279,7 +304,7 @@ fn an_app_added_during_a_run_starts_at_the_current_time() {
 struct Ticker {
     name: &'static str,
     hz: f64,
-    log: Rc<RefCell<Vec<(&'static str, f64)>>>,
+    log: Arc<RefCell<Vec<(&'static str, f64)>>>,
 }
 
 impl App for Ticker {
@@ -299,7 +324,7 @@ impl App for Ticker {
 fn coinciding_ticks_of_different_rates_tie_by_app_order() {
     // 3 × (1/5) and 15 × (1/25) differ as floats; tick k is k / AppTick, so 0.6 s is one
     // instant for both apps and the earlier-added app goes first.
-    let log: Rc<RefCell<Vec<(&'static str, f64)>>> = Rc::default();
+    let log: Arc<RefCell<Vec<(&'static str, f64)>>> = Arc::default();
     let mut s = Scheduler::new(Bus::new("ties", 0.0), VirtualClock, 0.0);
     s.set_status_posts(false);
     for (name, hz) in [("slow", 5.0), ("fast", 25.0)] {

@@ -3,15 +3,34 @@
 //! community with its value, source, community and time; garbage datagrams are counted and
 //! never stop the app; the white list and the loop guard hold.
 
-use std::cell::RefCell;
 use std::net::UdpSocket;
-use std::rc::Rc;
+use std::sync::Arc;
 
 use mission::moos::ProcessConfig;
 use mission::source::SourceMap;
 use moosdb::{Message, Value as WireValue};
 use runtime::pshare::PShareApp;
 use runtime::{App, AppResult, Bus, Mail, Post, Scheduler, Subscription, Value, VirtualClock};
+
+/// `RefCell`'s two calls over a `Mutex`: the test apps that hold one are `Send`, as every
+/// app is.
+#[derive(Debug, Default)]
+struct RefCell<T>(std::sync::Mutex<T>);
+
+#[allow(dead_code)]
+impl<T> RefCell<T> {
+    fn new(value: T) -> Self {
+        RefCell(std::sync::Mutex::new(value))
+    }
+    fn borrow(&self) -> std::sync::MutexGuard<'_, T> {
+        self.0
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+    fn borrow_mut(&self) -> std::sync::MutexGuard<'_, T> {
+        self.borrow()
+    }
+}
 
 const START: f64 = 1_700_000_000.0;
 
@@ -21,7 +40,7 @@ fn block(text: &str) -> ProcessConfig {
 }
 
 /// A pShare the test can look into after handing it to a scheduler.
-struct Shared(Rc<RefCell<PShareApp>>);
+struct Shared(Arc<RefCell<PShareApp>>);
 
 impl App for Shared {
     fn name(&self) -> &str {
@@ -51,7 +70,7 @@ impl App for Shared {
 struct Nav {
     k: u32,
     count: u32,
-    sent: Rc<RefCell<Vec<(f64, f64)>>>,
+    sent: Arc<RefCell<Vec<(f64, f64)>>>,
 }
 
 impl App for Nav {
@@ -76,7 +95,7 @@ impl App for Nav {
 /// Keeps every mail of its variables.
 struct Recorder {
     vars: Vec<&'static str>,
-    got: Rc<RefCell<Vec<Mail>>>,
+    got: Arc<RefCell<Vec<Mail>>>,
 }
 
 impl App for Recorder {
@@ -95,13 +114,13 @@ impl App for Recorder {
     }
 }
 
-fn shared(text: &str) -> Rc<RefCell<PShareApp>> {
+fn shared(text: &str) -> Arc<RefCell<PShareApp>> {
     let app = PShareApp::new("pShare", block(text));
     assert!(app.warnings().is_empty(), "{:?}", app.warnings());
-    Rc::new(RefCell::new(app))
+    Arc::new(RefCell::new(app))
 }
 
-fn port_of(app: &Rc<RefCell<PShareApp>>) -> u16 {
+fn port_of(app: &Arc<RefCell<PShareApp>>) -> u16 {
     app.borrow_mut().open();
     let ports = app.borrow().listening();
     ports[0].1.expect("the listener is open")
@@ -122,7 +141,7 @@ fn nav_x_crosses_to_the_other_community_as_remote_nav_x() {
          output = src_name = SECRET, route = 127.0.0.1:{port}\n}}\n"
     ));
 
-    let sent = Rc::new(RefCell::new(Vec::new()));
+    let sent = Arc::new(RefCell::new(Vec::new()));
     let mut alpha = Scheduler::new(Bus::new("alpha", START), VirtualClock, START);
     alpha
         .add_app(Box::new(Nav {
@@ -133,7 +152,7 @@ fn nav_x_crosses_to_the_other_community_as_remote_nav_x() {
         .unwrap();
     alpha.add_app(Box::new(Shared(a.clone()))).unwrap();
 
-    let got = Rc::new(RefCell::new(Vec::new()));
+    let got = Arc::new(RefCell::new(Vec::new()));
     let mut bravo = Scheduler::new(Bus::new("bravo", START), VirtualClock, START);
     bravo.add_app(Box::new(Shared(b.clone()))).unwrap();
     bravo

@@ -2,8 +2,7 @@
 //! block through the app registry, driven by a scripted controller on the lockstep
 //! scheduler: the sensor variables, their rates, and what each sensor says about the truth.
 
-use std::cell::RefCell;
-use std::rc::Rc;
+use std::sync::Arc;
 
 use mission::moos::MissionFile;
 use mission::source::SourceMap;
@@ -11,6 +10,26 @@ use runtime::antler::{Launch, plan};
 use runtime::{App, Bus, Mail, Post, Scheduler, Subscription, Value, VirtualClock};
 use vehicle::sensors::dvl::DvlConfig;
 use vehicle::sensors::pressure::depth_from_pressure;
+
+/// `RefCell`'s two calls over a `Mutex`: the test apps that hold one are `Send`, as every
+/// app is.
+#[derive(Debug, Default)]
+struct RefCell<T>(std::sync::Mutex<T>);
+
+#[allow(dead_code)]
+impl<T> RefCell<T> {
+    fn new(value: T) -> Self {
+        RefCell(std::sync::Mutex::new(value))
+    }
+    fn borrow(&self) -> std::sync::MutexGuard<'_, T> {
+        self.0
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+    fn borrow_mut(&self) -> std::sync::MutexGuard<'_, T> {
+        self.borrow()
+    }
+}
 
 const START: f64 = 1_786_000_000.0;
 
@@ -66,7 +85,7 @@ impl App for Script {
     }
 }
 
-type Record = Rc<RefCell<Vec<(String, f64, f64)>>>;
+type Record = Arc<RefCell<Vec<(String, f64, f64)>>>;
 
 /// Records every sensor and truth posting: (variable, time, value).
 struct Recorder(Record);
@@ -140,7 +159,7 @@ fn run(seed: &str) -> Run {
     let names: Vec<&str> = p.apps.iter().map(|a| a.name()).collect();
     assert_eq!(names, ["uSimMarineV22", "uSimSensors", "pScript"]);
     let mut s = Scheduler::new(Bus::new("abe", START), VirtualClock, START);
-    let rec: Record = Rc::default();
+    let rec: Record = Arc::default();
     for app in p.apps {
         s.add_app(app).unwrap();
     }

@@ -66,6 +66,10 @@ pub struct FleetOptions {
     pub log_dir: Option<PathBuf>,
     /// Seed of every random draw (each community mixes in its name).
     pub seed: u64,
+    /// Lockstep: threads stepping the communities (0: one per core, at most one per
+    /// community). The communities of an instant are independent (see the module docs), so
+    /// every count writes the same bytes.
+    pub threads: usize,
 }
 
 impl Default for FleetOptions {
@@ -79,6 +83,7 @@ impl Default for FleetOptions {
             max_time: 3600.0,
             log_dir: None,
             seed: 1,
+            threads: 0,
         }
     }
 }
@@ -393,6 +398,12 @@ fn fleet_lockstep(
             finished: false,
         });
     }
+    let threads = match opts.threads {
+        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        n => n,
+    }
+    .min(running.len())
+    .max(1);
     let wall = Instant::now();
     let end = start + opts.max_time;
     let conditioned = running.iter().any(|r| r.plan.until.is_some());
@@ -414,12 +425,8 @@ fn fleet_lockstep(
         if t > end {
             break Ended::Outcome(Outcome::MaxTime { time: end });
         }
-        for r in running.iter_mut().filter(|r| !r.finished) {
-            if let Some(Outcome::AllFinished { .. }) =
-                r.sched.advance(t).map_err(|e| run_error(e, &r.alog))?
-            {
-                r.finished = true;
-            }
+        advance_all(&mut running, t, threads)?;
+        for r in running.iter_mut() {
             for p in r.sched.take_taps() {
                 if let Some(v) = p.value.as_str() {
                     observer.member_helm_summary(&r.member.name, v);
@@ -490,6 +497,46 @@ fn fleet_lockstep(
         wall_s,
         members,
         in_process: hub.delivered(),
+    })
+}
+
+/// Steps every unfinished community through instant `t`: on the calling thread alone, or
+/// split in `threads` contiguous runs of communities, one per thread (the communities of an
+/// instant are independent: what one sends another reads at a later instant only). The
+/// first error in fleet order is the run's.
+fn advance_all(running: &mut [Running<'_>], t: f64, threads: usize) -> Result<(), SessionError> {
+    fn step(r: &mut Running<'_>, t: f64) -> Result<(), SessionError> {
+        if r.finished {
+            return Ok(());
+        }
+        if let Some(Outcome::AllFinished { .. }) =
+            r.sched.advance(t).map_err(|e| run_error(e, &r.alog))?
+        {
+            r.finished = true;
+        }
+        Ok(())
+    }
+    fn step_all(rs: &mut [Running<'_>], t: f64) -> Result<(), SessionError> {
+        rs.iter_mut().try_for_each(|r| step(r, t))
+    }
+    if threads <= 1 {
+        return step_all(running, t);
+    }
+    let chunk = running.len().div_ceil(threads);
+    std::thread::scope(|scope| {
+        let mut parts = running.chunks_mut(chunk);
+        let mine = parts.next().unwrap_or_default();
+        let others: Vec<_> = parts
+            .map(|part| scope.spawn(move || step_all(part, t)))
+            .collect();
+        let mut first = step_all(mine, t);
+        for h in others {
+            let res = h.join().unwrap_or_else(|p| std::panic::resume_unwind(p));
+            if first.is_ok() {
+                first = res;
+            }
+        }
+        first
     })
 }
 
