@@ -72,6 +72,18 @@ pub const STOCK: &[(&str, StockFactory)] = &[
     ("BHV_Shadow", || Box::new(crate::Shadow::new())),
     ("BHV_Trail", || Box::new(crate::Trail::new())),
     ("BHV_Convoy", || Box::new(crate::Convoy::new())),
+    ("BHV_AvdColregsV22", || {
+        Box::new(crate::AvdColregs::new(crate::ColregsVersion::V22))
+    }),
+    ("BHV_AvdColregsV19", || {
+        Box::new(crate::AvdColregs::new(crate::ColregsVersion::V19))
+    }),
+    ("BHV_AvdColregsV17", || {
+        Box::new(crate::AvdColregs::new(crate::ColregsVersion::V17))
+    }),
+    ("BHV_AvdColregsV26", || {
+        Box::new(crate::AvdColregs::new(crate::ColregsVersion::V26))
+    }),
 ];
 
 type Factory = Arc<dyn Fn() -> Box<dyn Behavior> + Send + Sync>;
