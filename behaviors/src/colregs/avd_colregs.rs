@@ -961,8 +961,7 @@ impl AvdColregs {
             if active {
                 a.msg = full.clone();
             }
-            let base = s.len();
-            a.write_spec(&mut s, base);
+            a.write_spec(&mut s, 0);
             out.post("VIEW_SEGLIST", s);
         }
         if !self.per_contact() {
