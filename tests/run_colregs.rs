@@ -3,7 +3,8 @@
 //! converging), each vehicle's pBasicContactMgr alerting its helm and the helm spawning a
 //! BHV_AvdColregsV22 per contact. With the behaviour every closest approach stays above its
 //! `min_util_cpa_dist` (10 m) and each vehicle enters the rule's mode; the same fleets with
-//! `AVOID=false` collide (closest approach under 3 m).
+//! `AVOID=false` collide (closest approach under 3 m). Also the stock berta missions
+//! (m2_berta, berta_cmgr) checked and run as fleets.
 
 mod common;
 
@@ -194,5 +195,98 @@ fn the_encounter_fleets_check_clean() {
             String::from_utf8_lossy(&out.stderr)
         );
         assert!(Path::new(dir).join("vehicle.bhv").exists());
+    }
+}
+
+/// A stock two-vehicle berta mission (m2_berta: a loiter each; berta_cmgr: a transit each;
+/// BHV_AvdColregsV22 spawned per contact) as its launch.sh makes it: its `targ_<vname>.bhv`
+/// files are its `meta_vehicle.bhv`, which coug preprocesses with each vehicle's macros, as
+/// launch.sh's nsplug does.
+fn berta_fleet(mission: &str, dir: &Path) -> std::path::PathBuf {
+    std::fs::create_dir_all(dir).unwrap();
+    let src = test_support::corpus(&format!("moos-ivp-missions/{mission}"));
+    for f in std::fs::read_dir(&src).expect("m2_berta").flatten() {
+        std::fs::copy(f.path(), dir.join(f.file_name())).unwrap();
+    }
+    for v in ["abe", "ben"] {
+        std::fs::copy(
+            dir.join("meta_vehicle.bhv"),
+            dir.join(format!("targ_{v}.bhv")),
+        )
+        .unwrap();
+    }
+    // launch.sh's values (init_field.sh's positions, speeds, names and colours).
+    let fleet = "\
+macro    = XMODE=SIM
+macro    = SHORE_IP=localhost
+macro    = SHORE_PSHARE=9200
+macro    = IP_ADDR=localhost
+macro    = WARP=1
+macro    = MAX_SPD=2
+base     = shoreside meta_shoreside.moos MOOS_PORT=9000 PSHARE_PORT=9200 VNAMES=abe:ben
+template = meta_vehicle.moos
+vehicle  = abe MOOS_PORT=9001 PSHARE_PORT=9201 START_POS=x=0,y=0,heading=180   STOCK_SPD=2 COLOR=yellow LOITER_POS=x=0,y=-75   DEST_POS=x=-30,y=-80
+vehicle  = ben MOOS_PORT=9002 PSHARE_PORT=9202 START_POS=x=180,y=0,heading=180 STOCK_SPD=2 COLOR=red    LOITER_POS=x=125,y=-50 DEST_POS=x=170,y=-80
+";
+    let path = dir.join("berta.fleet");
+    std::fs::write(&path, fleet).unwrap();
+    path
+}
+
+/// Checks and runs a berta mission for 120 s; returns the vehicles' logs.
+fn berta(mission: &str) -> BTreeMap<String, alog::Alog> {
+    let dir = fresh_dir(&format!("colregs-{mission}"));
+    let path = berta_fleet(mission, &dir.join("mission"));
+    // coug check: no error, no MALCONFIG (BHV_AvdColregsV22's parameters are all known).
+    let out = coug(path.parent().unwrap(), &["check", "berta.fleet"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let loaded = LoadedFleet::from_file(&path, &[], &[]).expect("berta.fleet loads");
+    let checked = session::validate_fleet(&loaded);
+    assert!(checked.errors.is_empty(), "{:?}", checked.errors);
+    assert!(checked.malconfig.is_empty(), "{:?}", checked.malconfig);
+    let opts = FleetOptions {
+        mode: Mode::Lockstep,
+        deploy: true,
+        max_time: 120.0,
+        log_dir: Some(dir.join("logs")),
+        ..FleetOptions::default()
+    };
+    let report = session::run_fleet(&loaded, &opts, &mut session::Quiet)
+        .unwrap_or_else(|e| panic!("fleet run failed: {e}"));
+    let names: Vec<&str> = report.members.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(names, ["shoreside", "abe", "ben"], "{report}");
+    ["abe", "ben"]
+        .into_iter()
+        .map(|v| {
+            let log = parse(&std::fs::read(find_alog(&dir.join("logs").join(v))).unwrap());
+            // The helm drives, with no behaviour error, and the vehicle moves off.
+            assert!(has(&log, "IVPHELM_STATE", "DRIVE"), "{v}");
+            assert!(!log.entries.iter().any(|e| e.var == "BHV_ERROR"), "{v}");
+            let moved = track(&log);
+            let (_, x0, y0) = moved[0];
+            let (_, x1, y1) = moved[moved.len() - 1];
+            assert!((x1 - x0).hypot(y1 - y0) > 20.0, "{v} stayed put");
+            (v.to_string(), log)
+        })
+        .collect()
+}
+
+#[test]
+fn m2_berta_checks_and_runs_as_a_fleet() {
+    for (v, log) in berta("m2_berta") {
+        // Loitering: its mode tree from the .bhv.
+        assert!(has(&log, "MODE", "ACTIVE:LOITERING"), "{v}");
+        assert!(has(&log, "LOITER_REPORT_A", "capture_hits="), "{v}");
+    }
+}
+
+#[test]
+fn berta_cmgr_checks_and_runs_as_a_fleet() {
+    for (v, log) in berta("berta_cmgr") {
+        assert!(has(&log, "MODE", "ACTIVE:TRANSITING"), "{v}");
     }
 }
