@@ -4,6 +4,9 @@
 //! classification on hand-built geometries, the parameter rules, and what each version does
 //! differently.
 
+// The C++ bearing rate divides by its own 12-digit pi (`MPI`), written out below.
+#![allow(clippy::approx_constant)]
+
 use behaviors::colregs::{
     AofCpa, AofR13, AofR14, AofR16, AofR17, AvdColregs, Cpx, Distances, GiveWaySide, Version,
 };

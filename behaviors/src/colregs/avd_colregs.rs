@@ -656,13 +656,12 @@ impl AvdColregs {
             self.reset();
             return;
         }
-        if self.mode == "standon" {
-            if self.cn_crossed_os_port_star
-                || (self.base.range > self.min_util_cpa_dist && s.rate_of_closure < 0.0)
-            {
-                self.reset();
-                return;
-            }
+        if self.mode == "standon"
+            && (self.cn_crossed_os_port_star
+                || (self.base.range > self.min_util_cpa_dist && s.rate_of_closure < 0.0))
+        {
+            self.reset();
+            return;
         }
         if s.os_cn_rel_bng < 247.5 || s.cn_os_rel_bng > 112.5 {
             return;

@@ -17,6 +17,10 @@ use geometry::{angle_180, angle_360, relative_angle};
 
 use crate::cpa::{CpaEngine, rel_bearing};
 
+/// The value of pi the C++ engines' bearing rate uses (their `MPI`, 12 digits).
+#[allow(clippy::approx_constant)]
+pub const MOOS_PI: f64 = 3.14159265359;
+
 /// MOOS `degToRadians`.
 fn rad(deg: f64) -> f64 {
     (deg / 180.0) * std::f64::consts::PI
@@ -221,8 +225,7 @@ impl Cpx {
         let theta_tn = angle_360(abs_bng_os_cn + 90.0);
         let d = angle_180(cnh - theta_tn).abs();
         let spd_cn_at_tangent = if d != 90.0 { rad(d).cos() * cnv } else { 0.0 };
-        // MOOS's own value of pi here.
-        let tn_constant = 360.0 / (2.0 * range * 3.14159265359);
+        let tn_constant = 360.0 / (2.0 * range * MOOS_PI);
         let theta_os_gam = if port {
             angle_360(cnh + 90.0)
         } else {
