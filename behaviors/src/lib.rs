@@ -49,6 +49,7 @@ mod avoid_collision;
 mod bearing_line;
 mod behavior;
 pub mod color;
+pub mod colregs;
 mod common;
 mod constant_depth;
 mod constant_heading;
@@ -92,6 +93,7 @@ pub use behavior::Fault;
 pub use behavior::{
     Behavior, Ctx, Emit, Info, MapInfo, Out, ParamError, PostKey, Value, nav, post_config_status,
 };
+pub use colregs::{AvdColregs, Version as ColregsVersion};
 pub use common::{Common, Flag, FlagKind, FlagValue, Templating};
 pub use constant_depth::ConstantDepth;
 pub use constant_heading::ConstantHeading;

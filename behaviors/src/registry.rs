@@ -87,6 +87,18 @@ pub const STOCK: &[(&str, StockFactory)] = &[
     ("BHV_AvoidObstacleV21", || {
         Box::new(crate::AvoidObstacleX::v21())
     }),
+    ("BHV_AvdColregsV22", || {
+        Box::new(crate::AvdColregs::new(crate::ColregsVersion::V22))
+    }),
+    ("BHV_AvdColregsV19", || {
+        Box::new(crate::AvdColregs::new(crate::ColregsVersion::V19))
+    }),
+    ("BHV_AvdColregsV17", || {
+        Box::new(crate::AvdColregs::new(crate::ColregsVersion::V17))
+    }),
+    ("BHV_AvdColregsV26", || {
+        Box::new(crate::AvdColregs::new(crate::ColregsVersion::V26))
+    }),
 ];
 
 type Factory = Arc<dyn Fn() -> Box<dyn Behavior> + Send + Sync>;

@@ -1,0 +1,292 @@
+//! COLREGS encounters in lockstep (issue #18, point 4): the fleets of
+//! `missions/encounters_colregs` (two vehicles head-on, crossing and overtaking, three
+//! converging), each vehicle's pBasicContactMgr alerting its helm and the helm spawning a
+//! BHV_AvdColregsV22 per contact. With the behaviour every closest approach stays above its
+//! `min_util_cpa_dist` (10 m) and each vehicle enters the rule's mode; the same fleets with
+//! `AVOID=false` collide (closest approach under 3 m). Also the stock berta missions
+//! (m2_berta, berta_cmgr) checked and run as fleets.
+
+mod common;
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use common::*;
+use runtime::fleet::LoadedFleet;
+use runtime::session::{self, Ended, FleetOptions, Mode};
+
+/// The behaviour's `min_util_cpa_dist` in `vehicle.bhv`.
+const MIN_UTIL_CPA: f64 = 10.0;
+
+/// Runs `fleet` (a file of `missions/encounters_colregs`) with the extra command-line
+/// `macros` until every vehicle completes its transit; returns every vehicle's parsed alog.
+fn run(name: &str, fleet: &str, macros: &[&str]) -> BTreeMap<String, alog::Alog> {
+    let path = project_mission(&format!("encounters_colregs/{fleet}"));
+    let macros: Vec<String> = macros.iter().map(|m| m.to_string()).collect();
+    let loaded = LoadedFleet::from_file(&path, &macros, &[])
+        .unwrap_or_else(|e| panic!("{} does not load: {e}", path.display()));
+    let checked = session::validate_fleet(&loaded);
+    assert!(checked.errors.is_empty(), "{:?}", checked.errors);
+    assert!(checked.malconfig.is_empty(), "{:?}", checked.malconfig);
+    let dir = fresh_dir(name);
+    let opts = FleetOptions {
+        mode: Mode::Lockstep,
+        deploy: true,
+        until: vec!["MISSION = complete".into()],
+        max_time: 600.0,
+        log_dir: Some(dir.join("logs")),
+        ..FleetOptions::default()
+    };
+    let report = session::run_fleet(&loaded, &opts, &mut session::Quiet)
+        .unwrap_or_else(|e| panic!("fleet run failed: {e}"));
+    assert!(
+        matches!(
+            report.ended,
+            Ended::Outcome(runtime::Outcome::ConditionMet { .. })
+        ),
+        "{report}"
+    );
+    report
+        .members
+        .iter()
+        .map(|(m, _)| {
+            let alog = find_alog(&dir.join("logs").join(m));
+            (m.clone(), parse(&std::fs::read(alog).expect("alog")))
+        })
+        .collect()
+}
+
+/// The closest approach of every pair of vehicles over the run, `((a, b), (range, time))`,
+/// from their logged positions at the same lockstep instants.
+fn closest(logs: &BTreeMap<String, alog::Alog>) -> Vec<((String, String), (f64, f64))> {
+    let key = |t: f64| (t * 100.0).round() as i64;
+    let tracks: BTreeMap<&String, BTreeMap<i64, (f64, f64)>> = logs
+        .iter()
+        .map(|(n, l)| {
+            let tr = track(l).into_iter().map(|(t, x, y)| (key(t), (x, y)));
+            (n, tr.collect())
+        })
+        .collect();
+    let names: Vec<&String> = tracks.keys().copied().collect();
+    let mut out = Vec::new();
+    for (i, a) in names.iter().enumerate() {
+        for b in &names[i + 1..] {
+            let mut best = (f64::INFINITY, 0.0);
+            for (t, (x, y)) in &tracks[a] {
+                if let Some((u, v)) = tracks[b].get(t) {
+                    let r = (x - u).hypot(y - v);
+                    if r < best.0 {
+                        best = (r, *t as f64 / 100.0);
+                    }
+                }
+            }
+            assert!(best.0.is_finite(), "{a} and {b} share no instant");
+            out.push((((*a).clone(), (*b).clone()), best));
+        }
+    }
+    out
+}
+
+/// Whether `log` has `var` with a string value containing `needle`.
+fn has(log: &alog::Alog, var: &str, needle: &str) -> bool {
+    log.entries
+        .iter()
+        .any(|e| e.var == var && e.value.as_str().is_some_and(|s| s.contains(needle)))
+}
+
+/// Runs `fleet` with and without the behaviour: with it, every closest approach is above
+/// `min_util_cpa_dist`; without it, some pair comes within 3 m. Returns the logs with it.
+fn encounter(fleet: &str) -> BTreeMap<String, alog::Alog> {
+    let stem = fleet.trim_end_matches(".fleet");
+    let on = run(&format!("colregs-{stem}-on"), fleet, &[]);
+    for ((a, b), (r, t)) in closest(&on) {
+        eprintln!("{stem} with AvdColregsV22: {a}-{b} closest {r:.2} m at t={t:.2}");
+        assert!(
+            r > MIN_UTIL_CPA,
+            "{stem}: {a} and {b} came within {r:.2} m at t={t:.2}"
+        );
+    }
+    let off = run(&format!("colregs-{stem}-off"), fleet, &["AVOID=false"]);
+    let pairs = closest(&off);
+    for ((a, b), (r, t)) in &pairs {
+        eprintln!("{stem} without: {a}-{b} closest {r:.2} m at t={t:.2}");
+    }
+    assert!(
+        pairs.iter().any(|(_, (r, _))| *r < 3.0),
+        "{stem}: without the behaviour the vehicles should have collided: {pairs:?}"
+    );
+    // Off, the spawned behaviours never ran: no function.
+    for log in off.values() {
+        assert!(!has(log, "BHV_IPF", "col_"));
+    }
+    on
+}
+
+#[test]
+fn head_on_both_vehicles_turn_to_starboard() {
+    let on = encounter("headon.fleet");
+    // Each spawned a behaviour for the other and classified the encounter as head-on.
+    assert!(has(
+        &on["abe"],
+        "IVPHELM_LIFE_EVENT",
+        "bname=col_ben, btype=BHV_AvdColregsV22, event=spawn"
+    ));
+    assert!(has(&on["abe"], "COLREGS_AVOID_MODE_BEN", "headon"));
+    assert!(has(&on["ben"], "COLREGS_AVOID_MODE_ABE", "headon"));
+    // Starboard to port: abe (heading north) passes ben on its own left, i.e. abe ends up
+    // east of ben when abeam.
+    let at = |log: &alog::Alog, t0: f64| {
+        track(log)
+            .into_iter()
+            .find(|(t, _, _)| *t >= t0)
+            .map(|(_, x, _)| x)
+            .unwrap()
+    };
+    let (_, (_, t)) = &closest(&on)[0];
+    assert!(
+        at(&on["abe"], *t) > at(&on["ben"], *t),
+        "abe passes east of ben"
+    );
+    // Once clear, the behaviours completed.
+    assert!(has(&on["abe"], "CONTACT_RESOLVED", "ben"));
+}
+
+#[test]
+fn crossing_the_give_way_vessel_keeps_clear_and_the_other_stands_on() {
+    let on = encounter("crossing.fleet");
+    // ben comes from abe's starboard side: abe gives way; ben stands on.
+    assert!(has(&on["abe"], "COLREGS_AVOID_MODE_BEN", "giveway"));
+    assert!(has(&on["ben"], "COLREGS_AVOID_MODE_ABE", "standon"));
+}
+
+#[test]
+fn overtaking_the_faster_vessel_keeps_clear() {
+    let on = encounter("overtaking.fleet");
+    assert!(has(&on["ben"], "COLREGS_AVOID_MODE_ABE", "overtaking"));
+    assert!(has(&on["abe"], "COLREGS_AVOID_MODE_BEN", "standon_ot"));
+}
+
+#[test]
+fn three_vehicles_converging_keep_apart() {
+    let on = encounter("three.fleet");
+    // cal crosses abe's bow from its starboard side and ben's from its port side.
+    assert!(has(&on["abe"], "COLREGS_AVOID_MODE_CAL", "giveway"));
+    assert!(has(&on["cal"], "COLREGS_AVOID_MODE_ABE", "standon"));
+    assert!(has(&on["cal"], "COLREGS_AVOID_MODE_BEN", "giveway"));
+    assert!(has(&on["ben"], "COLREGS_AVOID_MODE_CAL", "standon"));
+    // Every vehicle spawned one behaviour per other vehicle.
+    for (me, log) in &on {
+        for other in on.keys().filter(|o| *o != me) {
+            let bname = format!("bname=col_{other}, btype=BHV_AvdColregsV22, event=spawn");
+            assert!(has(log, "IVPHELM_LIFE_EVENT", &bname), "{me}: {bname}");
+        }
+    }
+}
+
+#[test]
+fn the_encounter_fleets_check_clean() {
+    for fleet in ["headon", "crossing", "overtaking", "three"] {
+        let path = project_mission(&format!("encounters_colregs/{fleet}.fleet"));
+        let dir = path.parent().unwrap();
+        let out = coug(dir, &["check", &format!("{fleet}.fleet")]);
+        assert!(
+            out.status.success(),
+            "{fleet}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(Path::new(dir).join("vehicle.bhv").exists());
+    }
+}
+
+/// A stock two-vehicle berta mission (m2_berta: a loiter each; berta_cmgr: a transit each;
+/// BHV_AvdColregsV22 spawned per contact) as its launch.sh makes it: its `targ_<vname>.bhv`
+/// files are its `meta_vehicle.bhv`, which coug preprocesses with each vehicle's macros, as
+/// launch.sh's nsplug does.
+fn berta_fleet(mission: &str, dir: &Path) -> std::path::PathBuf {
+    std::fs::create_dir_all(dir).unwrap();
+    let src = test_support::corpus(&format!("moos-ivp-missions/{mission}"));
+    for f in std::fs::read_dir(&src).expect("m2_berta").flatten() {
+        std::fs::copy(f.path(), dir.join(f.file_name())).unwrap();
+    }
+    for v in ["abe", "ben"] {
+        std::fs::copy(
+            dir.join("meta_vehicle.bhv"),
+            dir.join(format!("targ_{v}.bhv")),
+        )
+        .unwrap();
+    }
+    // launch.sh's values (init_field.sh's positions, speeds, names and colours).
+    let fleet = "\
+macro    = XMODE=SIM
+macro    = SHORE_IP=localhost
+macro    = SHORE_PSHARE=9200
+macro    = IP_ADDR=localhost
+macro    = WARP=1
+macro    = MAX_SPD=2
+base     = shoreside meta_shoreside.moos MOOS_PORT=9000 PSHARE_PORT=9200 VNAMES=abe:ben
+template = meta_vehicle.moos
+vehicle  = abe MOOS_PORT=9001 PSHARE_PORT=9201 START_POS=x=0,y=0,heading=180   STOCK_SPD=2 COLOR=yellow LOITER_POS=x=0,y=-75   DEST_POS=x=-30,y=-80
+vehicle  = ben MOOS_PORT=9002 PSHARE_PORT=9202 START_POS=x=180,y=0,heading=180 STOCK_SPD=2 COLOR=red    LOITER_POS=x=125,y=-50 DEST_POS=x=170,y=-80
+";
+    let path = dir.join("berta.fleet");
+    std::fs::write(&path, fleet).unwrap();
+    path
+}
+
+/// Checks and runs a berta mission for 120 s; returns the vehicles' logs.
+fn berta(mission: &str) -> BTreeMap<String, alog::Alog> {
+    let dir = fresh_dir(&format!("colregs-{mission}"));
+    let path = berta_fleet(mission, &dir.join("mission"));
+    // coug check: no error, no MALCONFIG (BHV_AvdColregsV22's parameters are all known).
+    let out = coug(path.parent().unwrap(), &["check", "berta.fleet"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let loaded = LoadedFleet::from_file(&path, &[], &[]).expect("berta.fleet loads");
+    let checked = session::validate_fleet(&loaded);
+    assert!(checked.errors.is_empty(), "{:?}", checked.errors);
+    assert!(checked.malconfig.is_empty(), "{:?}", checked.malconfig);
+    let opts = FleetOptions {
+        mode: Mode::Lockstep,
+        deploy: true,
+        max_time: 120.0,
+        log_dir: Some(dir.join("logs")),
+        ..FleetOptions::default()
+    };
+    let report = session::run_fleet(&loaded, &opts, &mut session::Quiet)
+        .unwrap_or_else(|e| panic!("fleet run failed: {e}"));
+    let names: Vec<&str> = report.members.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(names, ["shoreside", "abe", "ben"], "{report}");
+    ["abe", "ben"]
+        .into_iter()
+        .map(|v| {
+            let log = parse(&std::fs::read(find_alog(&dir.join("logs").join(v))).unwrap());
+            // The helm drives, with no behaviour error, and the vehicle moves off.
+            assert!(has(&log, "IVPHELM_STATE", "DRIVE"), "{v}");
+            assert!(!log.entries.iter().any(|e| e.var == "BHV_ERROR"), "{v}");
+            let moved = track(&log);
+            let (_, x0, y0) = moved[0];
+            let (_, x1, y1) = moved[moved.len() - 1];
+            assert!((x1 - x0).hypot(y1 - y0) > 20.0, "{v} stayed put");
+            (v.to_string(), log)
+        })
+        .collect()
+}
+
+#[test]
+fn m2_berta_checks_and_runs_as_a_fleet() {
+    for (v, log) in berta("m2_berta") {
+        // Loitering: its mode tree from the .bhv.
+        assert!(has(&log, "MODE", "ACTIVE:LOITERING"), "{v}");
+        assert!(has(&log, "LOITER_REPORT_A", "capture_hits="), "{v}");
+    }
+}
+
+#[test]
+fn berta_cmgr_checks_and_runs_as_a_fleet() {
+    for (v, log) in berta("berta_cmgr") {
+        assert!(has(&log, "MODE", "ACTIVE:TRANSITING"), "{v}");
+    }
+}
