@@ -224,12 +224,12 @@ fn templates_expanded_with_their_macros_parse_and_check_clean() {
             // of MOOS-IvP a2a9b716 has: pHelmIvP refuses it as well.
             // m2_berta_obstacles gives BHV_AvoidObstacleV24 a `buffer_dist`, which only the
             // older BHV_AvoidObstacle takes: refused by pHelmIvP as well.
-            if d.kind == DiagnosticKind::UnknownParameter
-                && !(rel == "m3_casar/meta_henry.bhv" && d.message.contains("`active_grade`"))
-                && !x1_legs_unknown(&rel, &d)
-                && !(rel == "m2_berta_obstacles/meta_vehicle.bhv"
-                    && d.message.contains("`buffer_dist` for BHV_AvoidObstacleV24"))
-            {
+            let refused_by_moos = (rel == "m3_casar/meta_henry.bhv"
+                && d.message.contains("`active_grade`"))
+                || x1_legs_unknown(&rel, &d)
+                || (rel == "m2_berta_obstacles/meta_vehicle.bhv"
+                    && d.message.contains("`buffer_dist` for BHV_AvoidObstacleV24"));
+            if d.kind == DiagnosticKind::UnknownParameter && !refused_by_moos {
                 problems.push(format!("{rel}: {d}"));
             }
         }
