@@ -1,12 +1,14 @@
-//! A deterministic driver for the helm's cost with contacts: the alpha helm plus a
-//! BHV_AvoidCollision template, driven to mid-survey, then `K` contacts (second argument,
-//! default 5) around the vehicle, each reported every iteration and each with a spawned
-//! avoid-collision behaviour, then `N` measured iterations (first argument, default 2000).
+//! A deterministic driver for the helm's cost with contacts: the alpha helm plus a contact
+//! behaviour template (BHV_AvoidCollision, or BHV_AvdColregsV22 with a third argument
+//! `colregs`), driven to mid-survey, then `K` contacts (second argument, default 5) around
+//! the vehicle, each reported every iteration and each with a spawned behaviour, then `N`
+//! measured iterations (first argument, default 2000).
 //!
 //! ```text
 //! cargo build --release -p helm --example five_contacts
 //! valgrind --tool=callgrind target/release/examples/five_contacts 2000 5
 //! valgrind --tool=callgrind target/release/examples/five_contacts 2000 0
+//! valgrind --tool=callgrind target/release/examples/five_contacts 2000 5 colregs
 //! ```
 //! The difference of the two instruction counts over `N` is the contacts' cost per iteration.
 
@@ -17,8 +19,9 @@ use common::nav;
 use helm::{Helm, Mail, Value};
 use mission::source::SourceMap;
 
+/// The contact behaviour's block after its `Behavior =` line, the same for both types
+/// (BHV_AvdColregsV22 takes `pwt_grade` too, at its default).
 const TEMPLATE: &str = "
-Behavior = BHV_AvoidCollision
 {
   name       = avd_
   pwt        = 300
@@ -39,11 +42,17 @@ fn main() {
     let mut args = std::env::args().skip(1);
     let n: usize = args.next().map_or(2000, |a| a.parse().expect("iterations"));
     let k: usize = args.next().map_or(5, |a| a.parse().expect("contacts"));
+    let kind = match args.next().as_deref() {
+        None | Some("avoid") => "BHV_AvoidCollision",
+        Some("colregs") => "BHV_AvdColregsV22",
+        Some(other) => panic!("third argument: `avoid` or `colregs`, not `{other}`"),
+    };
     let moos = mission::moos::parse_moos(&SourceMap::from_text(
         "alpha.moos",
         &test_support::mission_text("s1_alpha/alpha.moos"),
     ));
-    let bhv_text = test_support::mission_text("s1_alpha/alpha.bhv") + TEMPLATE;
+    let bhv_text =
+        test_support::mission_text("s1_alpha/alpha.bhv") + "\nBehavior = " + kind + TEMPLATE;
     let bhv = mission::bhv::parse_bhv(&SourceMap::from_text("alpha.bhv", &bhv_text));
     let mut helm = Helm::from_mission(&moos.value, &bhv);
     assert!(
@@ -119,6 +128,6 @@ fn main() {
         }
     }
     println!(
-        "{n} iterations, {k} contacts, {posts} postings, {functions} BHV_IPF parts from the avoid-collision behaviours"
+        "{n} iterations, {k} contacts, {posts} postings, {functions} BHV_IPF parts from the {kind} behaviours"
     );
 }

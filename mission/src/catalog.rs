@@ -110,6 +110,44 @@ macro_rules! contact_params {
     };
 }
 
+/// The parameters of every BHV_AvdColregs version (V17's set), then `$own`: the contact
+/// behaviours' common ones included.
+macro_rules! colregs_params {
+    ($($own:literal),* $(,)?) => {
+        contact_params!(
+            "use_plat_model",
+            "pwt_inner_dist",
+            "pwt_outer_dist",
+            "min_util_cpa_dist",
+            "max_util_cpa_dist",
+            "completed_dist",
+            "turn_radius",
+            "avoid_mode",
+            "avoid_submode",
+            "no_alert_request",
+            "contact_type_required",
+            "pwt_grade",
+            $($own),*
+        )
+    };
+}
+
+/// BHV_AvdColregsV22's parameters, which V26 takes as well.
+const COLREGS_V22_PARAMS: &[&str] = colregs_params!(
+    "giveway_bow_dist",
+    "verbose",
+    "use_refinery",
+    "check_plateaus",
+    "check_validity",
+    "pcheck_thresh",
+    "can_disable",
+    "headon_only",
+    "eval_tol",
+    "velocity_filter",
+    "post_status_info_on_idle",
+    "pts_port_turns_ok",
+);
+
 /// The behaviour types whose parameters coug checks (ivp-helm.md §6).
 pub const BEHAVIORS: &[BehaviorType] = &[
     BehaviorType {
@@ -751,50 +789,13 @@ pub const BEHAVIORS: &[BehaviorType] = &[
     },
     BehaviorType {
         name: "BHV_AvdColregsV22",
-        params: contact_params!(
-            "use_plat_model",
-            "pwt_inner_dist",
-            "pwt_outer_dist",
-            "min_util_cpa_dist",
-            "max_util_cpa_dist",
-            "completed_dist",
-            "giveway_bow_dist",
-            "turn_radius",
-            "avoid_mode",
-            "avoid_submode",
-            "no_alert_request",
-            "contact_type_required",
-            "pwt_grade",
-            "verbose",
-            "use_refinery",
-            "check_plateaus",
-            "check_validity",
-            "pcheck_thresh",
-            "can_disable",
-            "headon_only",
-            "eval_tol",
-            "velocity_filter",
-            "post_status_info_on_idle",
-            "pts_port_turns_ok",
-        ),
+        params: COLREGS_V22_PARAMS,
         posts: &["BCM_ALERT_REQUEST"],
     },
     BehaviorType {
         name: "BHV_AvdColregsV19",
-        params: contact_params!(
-            "use_plat_model",
-            "pwt_inner_dist",
-            "pwt_outer_dist",
-            "min_util_cpa_dist",
-            "max_util_cpa_dist",
-            "completed_dist",
+        params: colregs_params!(
             "giveway_bow_dist",
-            "turn_radius",
-            "avoid_mode",
-            "avoid_submode",
-            "no_alert_request",
-            "contact_type_required",
-            "pwt_grade",
             "verbose",
             "use_refinery",
             "check_plateaus",
@@ -811,50 +812,12 @@ pub const BEHAVIORS: &[BehaviorType] = &[
     },
     BehaviorType {
         name: "BHV_AvdColregsV17",
-        params: contact_params!(
-            "use_plat_model",
-            "pwt_inner_dist",
-            "pwt_outer_dist",
-            "min_util_cpa_dist",
-            "max_util_cpa_dist",
-            "completed_dist",
-            "turn_radius",
-            "avoid_mode",
-            "avoid_submode",
-            "no_alert_request",
-            "contact_type_required",
-            "pwt_grade",
-        ),
+        params: colregs_params!(),
         posts: &["BCM_ALERT_REQUEST", "COL17_RELEVANCE", "VIEW_SEGLIST"],
     },
     BehaviorType {
         name: "BHV_AvdColregsV26",
-        params: contact_params!(
-            "use_plat_model",
-            "pwt_inner_dist",
-            "pwt_outer_dist",
-            "min_util_cpa_dist",
-            "max_util_cpa_dist",
-            "completed_dist",
-            "giveway_bow_dist",
-            "turn_radius",
-            "avoid_mode",
-            "avoid_submode",
-            "no_alert_request",
-            "contact_type_required",
-            "pwt_grade",
-            "verbose",
-            "use_refinery",
-            "check_plateaus",
-            "check_validity",
-            "pcheck_thresh",
-            "can_disable",
-            "headon_only",
-            "eval_tol",
-            "velocity_filter",
-            "post_status_info_on_idle",
-            "pts_port_turns_ok",
-        ),
+        params: COLREGS_V22_PARAMS,
         posts: &["BCM_ALERT_REQUEST"],
     },
 ];
