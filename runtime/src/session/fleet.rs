@@ -66,9 +66,11 @@ pub struct FleetOptions {
     pub log_dir: Option<PathBuf>,
     /// Seed of every random draw (each community mixes in its name).
     pub seed: u64,
-    /// Lockstep: threads stepping the communities (0: one per core, at most one per
-    /// community). The communities of an instant are independent (see the module docs), so
-    /// every count writes the same bytes.
+    /// Lockstep: threads stepping the communities (default 1; 0: one per core, at most one
+    /// per community). Communities linked only by pShare are independent within an instant
+    /// (see the module docs), so every count writes the same bytes for them; a fleet sharing
+    /// a simulated acoustic channel (uSimModem) must stay on one thread: what a modem hears
+    /// within an instant then depends on the threads' interleaving.
     pub threads: usize,
 }
 
@@ -83,7 +85,7 @@ impl Default for FleetOptions {
             max_time: 3600.0,
             log_dir: None,
             seed: 1,
-            threads: 0,
+            threads: 1,
         }
     }
 }
