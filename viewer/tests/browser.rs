@@ -19,6 +19,9 @@ use moos_types::Value;
 use serde_json::Value as Json;
 use viewer::server::{Outbox, Viewer, ViewerConfig, serve};
 
+mod support;
+use support::chromium;
+
 const W: u32 = 1200;
 const H: u32 = 800;
 const BACKGROUND: [u8; 3] = [0x0b, 0x1d, 0x2a];
@@ -32,29 +35,6 @@ impl Outbox for NoPosts {
     fn moos_time(&self) -> f64 {
         0.0
     }
-}
-
-/// Chromium's path, or `None` (a loud note; a failure under CI=true).
-fn chromium() -> Option<PathBuf> {
-    for name in ["chromium", "chromium-browser", "google-chrome"] {
-        if let Ok(out) = Command::new("which").arg(name).output()
-            && out.status.success()
-        {
-            let p = String::from_utf8_lossy(&out.stdout).trim().to_string();
-            if !p.is_empty() {
-                return Some(PathBuf::from(p));
-            }
-        }
-    }
-    if std::env::var("CI").is_ok_and(|v| v == "true") {
-        panic!(
-            "chromium is not on PATH: the viewer's browser tests need it (apt-get install chromium)"
-        );
-    }
-    eprintln!(
-        "*** viewer browser test NOT RUN: chromium is not on PATH (CI=true makes this a failure)"
-    );
-    None
 }
 
 /// Serves `viewer` on a loopback port from a runtime on its own thread; returns the port.

@@ -19,6 +19,9 @@ use tokio::time::timeout;
 use tokio_tungstenite::tungstenite::Message;
 use viewer::server::{Outbox, Viewer, ViewerConfig, serve};
 
+mod support;
+use support::chromium;
+
 const WAIT: Duration = Duration::from_secs(30);
 
 type Ws =
@@ -35,28 +38,6 @@ impl Outbox for Recorder {
     fn moos_time(&self) -> f64 {
         0.0
     }
-}
-
-/// Chromium's path, or `None` (a loud note; a failure under CI=true).
-fn chromium() -> Option<PathBuf> {
-    for name in ["chromium", "chromium-browser", "google-chrome"] {
-        if let Ok(out) = Command::new("which").arg(name).output()
-            && out.status.success()
-        {
-            let p = String::from_utf8_lossy(&out.stdout).trim().to_string();
-            if !p.is_empty() {
-                return Some(PathBuf::from(p));
-            }
-        }
-    }
-    assert!(
-        !std::env::var("CI").is_ok_and(|v| v == "true"),
-        "chromium is not on PATH: the viewer's browser tests need it (apt-get install chromium)"
-    );
-    eprintln!(
-        "*** viewer interactive test NOT RUN: chromium is not on PATH (CI=true makes this a failure)"
-    );
-    None
 }
 
 /// The browser process, killed when the test ends however it ends.
