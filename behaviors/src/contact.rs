@@ -184,6 +184,26 @@ impl ContactFilter {
         )
     }
 
+    /// Whether a contact named `name` passes the name filters (MOOS `filterCheckVName`: the
+    /// name in lower case).
+    pub fn check_name(&self, name: &str) -> bool {
+        check(
+            &self.match_names,
+            &self.ignore_names,
+            self.strict_ignore,
+            &name.to_ascii_lowercase(),
+        )
+    }
+
+    /// Whether a contact passes every filter (MOOS `ExFilterSet::filterCheck`: group, name,
+    /// type, then region).
+    pub fn check_all(&self, name: &str, group: &str, vtype: &str, x: f64, y: f64) -> bool {
+        self.check_group(group)
+            && self.check_name(name)
+            && self.check_vtype(vtype)
+            && self.check_region(x, y)
+    }
+
     /// Whether a contact at `(x, y)` passes the region filters.
     pub fn check_region(&self, x: f64, y: f64) -> bool {
         if !self.match_regions.is_empty()

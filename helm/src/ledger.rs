@@ -184,6 +184,18 @@ fn is_known_type(t: &str) -> bool {
     KNOWN_TYPES.iter().any(|k| k.eq_ignore_ascii_case(t))
 }
 
+/// A reported vehicle type as `ContactLedger::processNodeRecord` fixes it: `uuv` becomes
+/// `auv`, a type MOOS does not know becomes `ship`.
+pub fn fixed_type(vtype: &str) -> String {
+    if vtype == "uuv" {
+        "auv".into()
+    } else if !is_known_type(vtype) {
+        "ship".into()
+    } else {
+        vtype.to_string()
+    }
+}
+
 /// Contacts by vehicle name (in name order, as the C++ map).
 #[derive(Debug, Clone)]
 pub struct ContactLedger {
@@ -221,12 +233,7 @@ impl ContactLedger {
             return Err(why);
         }
         self.total_reports += 1;
-        let mut vtype = report.vtype.clone();
-        if vtype == "uuv" {
-            vtype = "auv".into();
-        } else if !is_known_type(&vtype) {
-            vtype = "ship".into();
-        }
+        let vtype = fixed_type(&report.vtype);
         if (vtype == "auv" || vtype == "glider") && report.depth_m.is_none() {
             return Err("underwater vehicle type with no depth reported".into());
         }

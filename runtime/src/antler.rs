@@ -463,6 +463,18 @@ pub const BUILT_INS: &[BuiltIn] = &[
         reads_block: true,
         make: make_obstacle_mgr,
     },
+    BuiltIn {
+        program: "pContactMgrV20",
+        what: "the V20 contact manager: contacts from NODE_REPORTs (filtered, x/y from lat/lon), alerts that spawn the helm's contact behaviours",
+        reads_block: true,
+        make: make_contact_mgr_v20,
+    },
+    BuiltIn {
+        program: "uFldNodeComms",
+        what: "the shoreside's node-report relay: each vehicle's NODE_REPORT to the others within comms range, NODE_MESSAGE routing",
+        reads_block: true,
+        make: make_node_comms,
+    },
 ];
 
 /// The built-in app run by `program` (a path or base name), if coug builds it in.
@@ -591,6 +603,28 @@ fn make_contact_mgr(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
     let app = crate::contact_mgr::ContactMgrApp::new(cx.moos_name, b, &cx.globals.community)
         .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
+    cx.warnings.extend(app.warnings().iter().cloned());
+    Ok(Built::App(Box::new(app)))
+}
+
+fn make_contact_mgr_v20(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    let b = cx.block_or_empty();
+    let app = crate::contact_mgr::ContactMgrApp::new_v20(
+        cx.moos_name,
+        b,
+        &cx.globals.community,
+        cx.globals.grid(),
+    )
+    .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
+    cx.warnings.extend(app.warnings().iter().cloned());
+    Ok(Built::App(Box::new(app)))
+}
+
+fn make_node_comms(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    let b = cx.block_or_empty();
+    let seed = cx.launch.seed ^ fnv(cx.moos_name);
+    let app = crate::node_comms::NodeCommsApp::new(cx.moos_name, b, cx.globals.grid(), seed)
+        .with_globals(cx.mission.global("Community"), cx.globals.time_warp);
     cx.warnings.extend(app.warnings().iter().cloned());
     Ok(Built::App(Box::new(app)))
 }

@@ -48,6 +48,7 @@ pub mod hosted;
 pub mod logger;
 pub mod navigator;
 pub mod navreplay;
+pub mod node_comms;
 pub mod obstacle_mgr;
 pub mod plot;
 pub mod procinfo;

@@ -4,8 +4,13 @@
 //! the helm spawns a behaviour per contact (issue #18, point 3).
 //!
 //! [`ContactMgr`] is the pure core (mail and time in, posts out); [`ContactMgrApp`] is the
-//! app with its appcast. Facts from MOOS-IvP's `dep_pBasicContactMgr` at a2a9b716
-//! (`BasicContactMgr`, `CMAlert`, `PlatformAlertRecord`).
+//! app with its appcast (a [`Hosted`] core). Facts from MOOS-IvP's `dep_pBasicContactMgr` at
+//! a2a9b716 (`BasicContactMgr`, `CMAlert`, `PlatformAlertRecord`).
+//!
+//! The same core is `pContactMgrV20` when built as [`Variant::V20`] ([`ContactMgr::new_v20`]):
+//! what V20 changes (its keys and defaults, filters, alert ranges and validity, the helm hold,
+//! range and closest-bearing postings, retirement and culling, early warnings, enabling and
+//! disabling contacts, its appcast) is in [`v20`] with its own conformance table.
 //!
 //! Each iteration: ranges (actual, extrapolated with the `decay` policy, and the CPA over 10
 //! hours holding ownship's heading and speed), retirement (report older than
@@ -59,6 +64,8 @@
 //! | CONTACT_MGR_WARNING | a bad `CONTACT_RESOLVED` | the C++ text | done |
 //! | PBASICCONTACTMGR_PID | at start-up, as its own process | pid | done |
 
+mod v20;
+
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 
 use behaviors::cpa::CpaEngine;
@@ -68,11 +75,34 @@ use mission::moos::ProcessConfig;
 use moos_types::fmt::{compact_string, fixed};
 use moos_types::text::{is_number, parse_string_q, set_boolean_on_string, tok_string_parse};
 
-use crate::app::{App, AppResult, Mail, Post, Subscription, Value};
-use crate::appcasting::{AppcastLayer, Note};
+use behaviors::contact::ContactFilter;
+use vehicle::geodesy::LocalGrid;
+
+use crate::app::{Mail, Post, Subscription, Value};
+use crate::appcasting::Note;
+use crate::hosted::{AppCore, Hosted};
 
 /// The program name.
 pub const PROGRAM: &str = "pBasicContactMgr";
+
+/// Which contact manager the core is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Variant {
+    /// `pBasicContactMgr` (MOOS-IvP's `dep_pBasicContactMgr`).
+    Basic,
+    /// `pContactMgrV20`.
+    V20,
+}
+
+impl Variant {
+    /// The MOOS program name.
+    pub fn program(self) -> &'static str {
+        match self {
+            Variant::Basic => PROGRAM,
+            Variant::V20 => v20::PROGRAM,
+        }
+    }
+}
 
 /// A flag an alert posts: variable and value (a number when the value is one).
 #[derive(Debug, Clone, PartialEq)]
@@ -113,6 +143,13 @@ struct Alert {
     ignore_type: Vec<String>,
     match_group: Vec<String>,
     ignore_group: Vec<String>,
+    /// V20: the alert's exclusion filters (MOOS `ExFilterSet`).
+    filter: ContactFilter,
+    /// V20: who asked for it (`BCM_ALERT_REQUEST`'s source), empty from the block.
+    source: String,
+    /// V20: the flags' texts already added (duplicates are dropped).
+    on_raw: BTreeSet<String>,
+    off_raw: BTreeSet<String>,
 }
 
 impl Alert {
@@ -165,6 +202,7 @@ struct Record {
     range_actual: f64,
     range_extrap: f64,
     range_cpa: f64,
+    range_roc: f64,
 }
 
 impl Record {
@@ -181,6 +219,7 @@ struct RangeReport {
     group: String,
     vtype: String,
     contacts: String,
+    refresh: bool,
 }
 
 /// The settings of the block.
@@ -292,15 +331,43 @@ pub struct ContactMgr {
     prev_eval: f64,
     requests: u32,
     notes: Vec<Note>,
+    variant: Variant,
+    /// The mission's local grid (V20 derives x/y from lat/lon with it).
+    grid: Option<LocalGrid>,
+    /// What only V20 keeps.
+    x: v20::Extra,
+    /// The process id, posted at start-up (single-app mode).
+    pid: Option<u32>,
 }
 
 impl ContactMgr {
     /// A manager for vehicle `ownship` from the block's `param = value` lines (in file
     /// order), with the warnings the C++ app reports for them.
     pub fn new(ownship: &str, lines: &[&str]) -> (ContactMgr, Vec<String>) {
-        let mut cm = ContactMgr {
+        let mut cm = ContactMgr::blank(ownship, Variant::Basic, None);
+        let mut warnings = Vec::new();
+        for line in lines {
+            let (p, v) = split_line(line);
+            if let Err(w) = cm.configure(&p.to_ascii_lowercase(), &v) {
+                warnings.extend(w.split('\n').map(str::to_string));
+            }
+        }
+        (cm, warnings)
+    }
+
+    /// Which manager this is.
+    pub fn variant(&self) -> Variant {
+        self.variant
+    }
+
+    fn blank(ownship: &str, variant: Variant, grid: Option<LocalGrid>) -> ContactMgr {
+        let mut s = Settings::default();
+        if variant == Variant::V20 {
+            s.contact_max_age = 60.0;
+        }
+        ContactMgr {
             ownship: ownship.to_string(),
-            s: Settings::default(),
+            s,
             alerts: BTreeMap::new(),
             alert_ids: BTreeSet::new(),
             par: BTreeMap::new(),
@@ -320,24 +387,18 @@ impl ContactMgr {
             prev_eval: 0.0,
             requests: 0,
             notes: Vec::new(),
-        };
-        let mut warnings = Vec::new();
-        for line in lines {
-            // The MOOS reader removes every blank of a block's line.
-            let line: String = line
-                .chars()
-                .filter(|c| !matches!(c, ' ' | '\t' | '\r'))
-                .collect();
-            let (p, v) = line.split_once('=').unwrap_or((&line, ""));
-            if let Err(w) = cm.configure(&p.to_ascii_lowercase(), v) {
-                warnings.extend(w.split('\n').map(str::to_string));
-            }
+            variant,
+            grid,
+            x: v20::Extra::default(),
+            pid: None,
         }
-        (cm, warnings)
     }
 
     /// One configuration line; `Err(warning)` as the C++ reports it.
     fn configure(&mut self, param: &str, value: &str) -> Result<(), String> {
+        if self.variant == Variant::V20 {
+            return self.configure_v20(param, value);
+        }
         let s = &mut self.s;
         let dval = geometry::atof(value);
         let lower = value.to_ascii_lowercase();
@@ -512,6 +573,22 @@ impl ContactMgr {
         }
     }
 
+    /// A new alert with the configured defaults.
+    fn new_alert(s: &Settings, variant: Variant) -> Alert {
+        let mut a = Alert::default();
+        if variant == Variant::V20 {
+            // V20: no default ranges; an alert without one is not valid.
+            a.range = -1.0;
+            a.range_far = -1.0;
+            return a;
+        }
+        a.set_range(s.default_range);
+        a.set_range_far(s.default_range_far);
+        a.color = s.default_color.clone();
+        a.far_color = s.default_far_color.clone();
+        a
+    }
+
     /// An alert specification (MOOS `handleConfigAlert`): `Err` with the component refused.
     fn config_alert(&mut self, spec: &str) -> Result<(), String> {
         let mut id = tok_string_parse(spec, "id").to_string();
@@ -519,15 +596,11 @@ impl ContactMgr {
             id = "no_id".into();
         }
         self.add_alert_id(&id);
-        let s = &self.s;
-        let alert = self.alerts.entry(id).or_insert_with(|| {
-            let mut a = Alert::default();
-            a.set_range(s.default_range);
-            a.set_range_far(s.default_range_far);
-            a.color = s.default_color.clone();
-            a.far_color = s.default_far_color.clone();
-            a
-        });
+        let (s, variant) = (&self.s, self.variant);
+        let alert = self
+            .alerts
+            .entry(id)
+            .or_insert_with(|| Self::new_alert(s, variant));
         let (mut var, mut pattern) = (String::new(), String::new());
         for part in parse_string_q(spec, ',') {
             let (l, r) = part.split_once('=').unwrap_or((part, ""));
@@ -649,7 +722,7 @@ impl ContactMgr {
         (s, n)
     }
 
-    /// The variables the app registers for.
+    /// The variables pBasicContactMgr registers for.
     pub const SUBSCRIPTIONS: [&'static str; 9] = [
         "NODE_REPORT",
         "CONTACT_RESOLVED",
@@ -662,8 +735,33 @@ impl ContactMgr {
         "NAV_HEADING",
     ];
 
+    /// The variables the app registers for (besides the appcast layer's).
+    pub fn subscriptions(&self) -> Vec<String> {
+        match self.variant {
+            Variant::Basic => Self::SUBSCRIPTIONS.iter().map(|v| v.to_string()).collect(),
+            Variant::V20 => self.subscriptions_v20(),
+        }
+    }
+
     /// One mail (MOOS `OnNewMail`); posts what a mail makes the C++ post at once.
     pub fn on_mail(&mut self, key: &str, value: &Value, now: f64, out: &mut Vec<Post>) {
+        self.on_mail_from(key, value, "", now, out);
+    }
+
+    /// One mail from `source` (`source:aux` when the mail has an aux, as V20's events name
+    /// it).
+    pub fn on_mail_from(
+        &mut self,
+        key: &str,
+        value: &Value,
+        source: &str,
+        now: f64,
+        out: &mut Vec<Post>,
+    ) {
+        if self.variant == Variant::V20 {
+            self.on_mail_v20(key, value, source, now, out);
+            return;
+        }
         let dval = value.as_ref().as_f64().unwrap_or(0.0);
         let sval = value.as_str().unwrap_or("");
         match key {
@@ -736,6 +834,7 @@ impl ContactMgr {
                         range_actual: 0.0,
                         range_extrap: 0.0,
                         range_cpa: 0.0,
+                        range_roc: 0.0,
                     },
                 );
                 let row = self
@@ -825,6 +924,10 @@ impl ContactMgr {
 
     /// One iteration (MOOS `Iterate`).
     pub fn iterate(&mut self, now: f64, out: &mut Vec<Post>) {
+        if self.variant == Variant::V20 {
+            self.iterate_v20(now, out);
+            return;
+        }
         self.update_ranges(now);
         self.retire(now);
         self.post_range_reports(now, out);
@@ -853,6 +956,7 @@ impl ContactMgr {
                 oy,
             );
             rec.range_cpa = engine.eval_cpa(oh, ov, 36000.0);
+            rec.range_roc = engine.eval_roc(oh, ov);
         }
     }
 
@@ -1187,6 +1291,10 @@ impl ContactMgr {
 
     /// The appcast body (MOOS `buildReport`).
     pub fn report(&self, b: &mut String) {
+        if self.variant == Variant::V20 {
+            self.report_v20(b);
+            return;
+        }
         use std::fmt::Write as _;
         let reject = if self.s.reject_range > 0.0 {
             compact_string(self.s.reject_range, 2)
@@ -1278,94 +1386,89 @@ impl ContactMgr {
     }
 }
 
-/// The `pBasicContactMgr` app.
-pub struct ContactMgrApp {
-    name: String,
-    block: ProcessConfig,
-    core: ContactMgr,
-    warnings: Vec<Diagnostic>,
-    appcast: AppcastLayer,
-    pid: Option<u32>,
+/// A block's text as the MOOS reader gives it (every blank removed).
+fn strip_blanks(t: &str) -> String {
+    t.chars()
+        .filter(|c| !matches!(c, ' ' | '\t' | '\r'))
+        .collect()
 }
 
-impl ContactMgrApp {
-    /// The app `name` of vehicle `community` from its block.
+/// `key = value` of a block's line as the MOOS reader gives it (every blank removed).
+fn split_line(line: &str) -> (String, String) {
+    let line = strip_blanks(line);
+    let (p, v) = line.split_once('=').unwrap_or((&line, ""));
+    (p.to_string(), v.to_string())
+}
+
+/// The `pBasicContactMgr` or `pContactMgrV20` app: the core [`Hosted`].
+pub type ContactMgrApp = Hosted<ContactMgr>;
+
+impl Hosted<ContactMgr> {
+    /// pBasicContactMgr, the app `name` of vehicle `community`, from its block.
     pub fn new(name: &str, block: ProcessConfig, community: &str) -> Self {
-        let (mut core, _) = ContactMgr::new(community, &[]);
+        Self::build(name, block, community, Variant::Basic, None)
+    }
+
+    /// pContactMgrV20, the app `name` of vehicle `community` from its block, with the
+    /// mission's local grid (`None` without `LatOrigin`/`LongOrigin`: a warning).
+    pub fn new_v20(
+        name: &str,
+        block: ProcessConfig,
+        community: &str,
+        grid: Option<LocalGrid>,
+    ) -> Self {
+        Self::build(name, block, community, Variant::V20, grid)
+    }
+
+    fn build(
+        name: &str,
+        block: ProcessConfig,
+        community: &str,
+        variant: Variant,
+        grid: Option<LocalGrid>,
+    ) -> Self {
+        let program = variant.program();
+        let mut core = ContactMgr::blank(community, variant, grid);
         let mut warnings = Vec::new();
-        for p in &block.entries {
-            // The MOOS reader removes every blank of a block's line.
-            let strip = |t: &str| -> String {
-                t.chars()
-                    .filter(|c| !matches!(c, ' ' | '\t' | '\r'))
-                    .collect()
-            };
-            let (k, v) = (strip(&p.key), strip(&p.value));
-            if let Err(msg) = core.configure(&k.to_ascii_lowercase(), &v) {
-                for m in msg.split('\n') {
-                    warnings.push(Diagnostic::line_warning(
-                        DiagnosticKind::AppSetting,
-                        &p.span,
-                        format!("{PROGRAM}: {m}"),
-                    ));
-                }
+        let mut warn = |span: &mission::source::Span, msg: &str| {
+            for m in msg.split('\n') {
+                warnings.push(Diagnostic::line_warning(
+                    DiagnosticKind::AppSetting,
+                    span,
+                    format!("{program}: {m}"),
+                ));
+            }
+        };
+        if variant == Variant::V20 {
+            for w in core.startup_v20() {
+                warn(&block.span, &w);
             }
         }
-        ContactMgrApp {
-            appcast: AppcastLayer::with_config_warnings(name, &block, None, 1.0, &warnings),
-            name: name.to_string(),
-            block,
-            core,
-            warnings,
-            pid: None,
+        // V20 reads its block's lines last to first, as the C++ does.
+        let entries: Vec<_> = match variant {
+            Variant::Basic => block.entries.iter().collect(),
+            Variant::V20 => block.entries.iter().rev().collect(),
+        };
+        for p in entries {
+            let (k, v) = (strip_blanks(&p.key), strip_blanks(&p.value));
+            if let Err(msg) = core.configure(&k.to_ascii_lowercase(), &v) {
+                warn(&p.span, &msg);
+            }
         }
-    }
-
-    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
-    pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
-        self.appcast = AppcastLayer::with_config_warnings(
-            &self.name,
-            &self.block,
-            community,
-            warp,
-            &self.warnings,
-        );
-        self
-    }
-
-    /// The block's bad lines, at their lines.
-    pub fn warnings(&self) -> &[Diagnostic] {
-        &self.warnings
-    }
-
-    /// The core.
-    pub fn core(&self) -> &ContactMgr {
-        &self.core
-    }
-
-    fn flush_notes(&mut self, now: f64) {
-        for n in self.core.take_notes() {
-            self.appcast.note(n, now);
+        if variant == Variant::V20 {
+            for w in core.validate_alerts_v20() {
+                warn(&block.span, &w);
+            }
         }
+        Hosted::host(name, block, warnings, core)
     }
 }
 
-impl App for ContactMgrApp {
-    fn name(&self) -> &str {
-        &self.name
-    }
-
-    fn process_config(&self) -> Option<&ProcessConfig> {
-        Some(&self.block)
-    }
-
+impl AppCore for ContactMgr {
     fn subscriptions(&self) -> Vec<Subscription> {
-        AppcastLayer::subscriptions()
-            .chain(
-                ContactMgr::SUBSCRIPTIONS
-                    .iter()
-                    .map(|v| Subscription::var(*v)),
-            )
+        ContactMgr::subscriptions(self)
+            .into_iter()
+            .map(Subscription::var)
             .collect()
     }
 
@@ -1373,32 +1476,33 @@ impl App for ContactMgrApp {
         self.pid = Some(pid);
     }
 
-    fn on_startup(&mut self, now: f64, out: &mut Vec<Post>) -> AppResult {
-        self.appcast.on_startup(now);
+    fn on_startup(&mut self, _now: f64, out: &mut Vec<Post>, _notes: &mut Vec<Note>) {
         if let Some(pid) = self.pid {
-            out.push(Post::double("PBASICCONTACTMGR_PID", f64::from(pid)));
+            let var = match self.variant {
+                Variant::Basic => "PBASICCONTACTMGR_PID",
+                Variant::V20 => "PCONTACTMGRV20_PID",
+            };
+            out.push(Post::double(var, f64::from(pid)));
         }
-        Ok(())
     }
 
-    fn on_mail(&mut self, mail: &[Mail], now: f64, out: &mut Vec<Post>) -> AppResult {
-        for m in mail {
-            if self.appcast.take_mail(m) {
-                self.core.on_mail(&m.key, &m.value, now, out);
-            }
-        }
-        self.flush_notes(now);
-        Ok(())
+    fn on_mail(&mut self, m: &Mail, now: f64, out: &mut Vec<Post>, notes: &mut Vec<Note>) {
+        let source = if m.source_aux.is_empty() {
+            m.source.to_string()
+        } else {
+            format!("{}:{}", m.source, m.source_aux)
+        };
+        self.on_mail_from(&m.key, &m.value, &source, now, out);
+        notes.extend(self.take_notes());
     }
 
-    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) -> AppResult {
-        let tick = self.app_tick();
-        self.appcast.begin(now, tick, out);
-        self.core.iterate(now, out);
-        self.flush_notes(now);
-        let core = &self.core;
-        self.appcast.end(now, tick, out, |b| core.report(b));
-        Ok(())
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>, notes: &mut Vec<Note>) {
+        ContactMgr::iterate(self, now, out);
+        notes.extend(self.take_notes());
+    }
+
+    fn report(&self, _now: f64, body: &mut String) {
+        ContactMgr::report(self, body);
     }
 }
 

@@ -1,0 +1,1456 @@
+//! What `pContactMgrV20` changes in the contact manager (MOOS-IvP's `pContactMgrV20` at
+//! a2a9b716: `ContactMgrV20`, its `CMAlert`, `PlatformAlertRecord` and `RangeMark`, over
+//! `ContactLedger` and `ExFilterSet`).
+//!
+//! The block is read last line first (the C++ walks its lines in reverse), so of two lines
+//! setting one thing the first wins, and `alert = id=a, alert_range=15, cpa_range=5` read after
+//! a later line of the same id sees that line's ranges first. An alert has no default ranges:
+//! until one is given (here or by the helm's `BCM_ALERT_REQUEST`) it is not valid and never
+//! applies. Contacts go through the manager's filters (`match_name`, `ignore_group`,
+//! `match_region`, ..., ownship's name always ignored) when their report arrives: one that
+//! fails is retired at the next iteration. A report without x/y gets them from its latitude and
+//! longitude on the mission's grid (the C++ ledger's geodesy; `contact_local_coords` is
+//! accepted and has no effect, as in the C++). Types are fixed as the ledger does (`uuv` is
+//! `auv`, an unknown type `ship`; an `auv`/`glider` without depth is refused).
+//!
+//! Each iteration: coordinates, ranges (actual, extrapolated, CPA and rate of closure), early
+//! warnings and their end, the early-warning circles, the alerts (held until the helm is seen
+//! in `DRIVE` when `hold_alerts_for_helm`), the alert circle, retirement (age, 5 % beyond
+//! `reject_range`, and culling past `max_contacts`: the stalest half first, then the farthest),
+//! range reports, summaries.
+//!
+//! # Conformance with pContactMgrV20 (MOOS-IvP a2a9b716)
+//!
+//! | parameter | default | validation (C++ rule) | coug |
+//! |---|---|---|---|
+//! | alert | none | `id`, `var`, `val`/`pattern`, `on_flag`, `off_flag` (`#`-separated), `alert_range`, `cpa_range` (numbers), the filter keys; `action=disable`/`enable` (dis)ables an id; anything else: `unhandled alert config component` | done |
+//! | match_name, ignore_name, match_group, ignore_group, match_type, ignore_type | none | not both match and ignore | done |
+//! | match_region, ignore_region | none | convex polygon | done |
+//! | strict_ignore | true | boolean | done |
+//! | max_contacts | 500 | unsigned | done |
+//! | decay | 15,30 | `start,end`, `0 <= start <= end` | done |
+//! | range_report_timeout | 10 | >= 0 | done |
+//! | range_report_maxsize | 20 | unsigned | done |
+//! | display_radii | false | boolean | done |
+//! | display_radii_id, contact_local_coords, cpa_range_color | | accepted, no effect | done |
+//! | post_closest_range, post_closest_relbng, post_all_ranges | false | boolean | done |
+//! | max_retired_history | 5 | unsigned, clipped to 1..50 (warned) | done |
+//! | recap_interval (contacts_recap_interval: deprecated) | 1 | `off` or > 0 | done |
+//! | reject_range | 2000 | `off` or > 0 | done |
+//! | alert_verbose | false | boolean | done |
+//! | contact_max_age | 60 | > 0 | done |
+//! | alert_range_color (default_alert_range_color: deprecated) | gray65 | colour | done |
+//! | alert_range, alert_cpa_range | | deprecated: warned and unhandled | done |
+//! | hold_alerts_for_helm | false | boolean | done |
+//! | ownship_group, ownship_type | none | no white space | done (appcast only) |
+//! | disable_var, enable_var, expunge_var | none | no white space | done |
+//! | able_flag, disable_flag, enable_flag, early_warning_flag, cease_warning_flag, retire_flag | none | `VAR = value` (`clearall` empties) | done |
+//! | early_warning_time | -1 (off) | >= 0 | done |
+//! | early_warning_radii | false | boolean | done |
+//! | ewarn_radii_color | green | colour | done |
+//!
+//! | variable | when | format | coug |
+//! |---|---|---|---|
+//! | the alerts' flags | a contact enters (on) or leaves (off) an alert | `VAR = value`, macros `$[X]` `$[Y]` `$[LAT]` `$[LON]` `$[HDG]` `$[DEP]` `$[VNAME]` `$[VTYPE]` `$[GROUP]` `$[UTIME]` `%[VNAME]` `%[VTYPE]` `%[GROUP]` (`$[SPD}` as the C++ spells it) | done |
+//! | CONTACTS_LIST, CONTACTS_ALERTED, CONTACTS_RETIRED, CONTACTS_COUNT | on change | as pBasicContactMgr (no CONTACTS_UNALERTED) | done |
+//! | CONTACTS_RECAP | every `recap_interval` s | `vname=..,range=..,age=.. # ...` | done |
+//! | CONTACT_CLOSEST, CONTACT_CLOSEST_TIME | the closest changes | name; time | done |
+//! | CONTACT_CLOSEST_RANGE, CONTACT_CLOSEST_RELBNG | when enabled, on change | whole metres; whole degrees | done |
+//! | CONTACT_RANGES | `post_all_ranges`, each iteration | ranges ascending, 1 decimal, compacted | done |
+//! | ALERT_VERBOSE | `alert_verbose` | `new_contact=..`; `contact=..,alert_id=..,<transition>,alert_range=..,alert_range_cpa=..,range_actual=..[,range_cpa=..][,after_warning=..]` | done |
+//! | VIEW_CIRCLE | `display_radii`: the largest alert range, label `alert_<ownship>`, duration 3; `early_warning_radii`: `xewarn_<contact>` | spec | done |
+//! | BHV_ABLE_FILTER | mail on `disable_var`/`enable_var`/`expunge_var` | `contact=..,action=..` or `vsource=..,action=..` | done |
+//! | the warning, cease and retire flags | a contact closes within the early-warning range, opens 5 % past it, retires | macros `$[CONTACT]`, `$[RNG]`, `$[RNG_EXT]`, `$[CPA]`, `$[ROC]`, `$[UTC]` | done |
+//! | `<var>` of a `BCM_REPORT_REQUEST` | on change, or once with `refresh=true` | names, comma-separated | done |
+//! | PCONTACTMGRV20_PID | at start-up, as its own process | pid | done |
+
+use std::collections::{BTreeMap, BTreeSet, VecDeque};
+use std::fmt::Write as _;
+
+use behaviors::contact::ContactFilter;
+use helm::ledger::NodeReport;
+use moos_types::fmt::{compact_string, fixed};
+use moos_types::text::{is_number, parse_string, parse_string_q, set_boolean_on_string};
+
+use super::{ContactMgr, Flag, RangeReport, Record, flag};
+use crate::app::{Post, Value};
+use crate::appcasting::Note;
+
+/// The program name.
+pub const PROGRAM: &str = "pContactMgrV20";
+
+/// What only pContactMgrV20 keeps.
+#[derive(Debug, Clone)]
+pub(super) struct Extra {
+    filter: ContactFilter,
+    max_contacts: usize,
+    range_report_maxsize: usize,
+    post_closest_relbng: bool,
+    post_all_ranges: bool,
+    alert_rng_color: String,
+    hold_alerts_for_helm: bool,
+    helm_in_drive: bool,
+    os_group: String,
+    os_type: String,
+    disable_var: String,
+    enable_var: String,
+    expunge_var: String,
+    able_flags: Vec<Flag>,
+    disable_flags: Vec<Flag>,
+    enable_flags: Vec<Flag>,
+    early_warning_flags: Vec<Flag>,
+    cease_warning_flags: Vec<Flag>,
+    retire_flags: Vec<Flag>,
+    early_warning_time: f64,
+    early_warning_radii: bool,
+    ewarn_radii_color: String,
+    will_warn: BTreeMap<String, f64>,
+    was_warned: BTreeMap<String, f64>,
+    utc_warned: BTreeMap<String, f64>,
+    alerts_disabled: BTreeSet<String>,
+    disabled_contacts: VecDeque<String>,
+    enabled_contacts: VecDeque<String>,
+    filtered: BTreeSet<String>,
+    alerts_total: BTreeMap<String, u32>,
+    alerts_active: BTreeMap<String, u32>,
+    prev_closest_relbng: f64,
+}
+
+impl Default for Extra {
+    fn default() -> Self {
+        Extra {
+            filter: ContactFilter::default(),
+            max_contacts: 500,
+            range_report_maxsize: 20,
+            post_closest_relbng: false,
+            post_all_ranges: false,
+            alert_rng_color: "gray65".into(),
+            hold_alerts_for_helm: false,
+            helm_in_drive: false,
+            os_group: String::new(),
+            os_type: String::new(),
+            disable_var: String::new(),
+            enable_var: String::new(),
+            expunge_var: String::new(),
+            able_flags: Vec::new(),
+            disable_flags: Vec::new(),
+            enable_flags: Vec::new(),
+            early_warning_flags: Vec::new(),
+            cease_warning_flags: Vec::new(),
+            retire_flags: Vec::new(),
+            early_warning_time: -1.0,
+            early_warning_radii: false,
+            ewarn_radii_color: "green".into(),
+            will_warn: BTreeMap::new(),
+            was_warned: BTreeMap::new(),
+            utc_warned: BTreeMap::new(),
+            alerts_disabled: BTreeSet::new(),
+            disabled_contacts: VecDeque::new(),
+            enabled_contacts: VecDeque::new(),
+            filtered: BTreeSet::new(),
+            alerts_total: BTreeMap::new(),
+            alerts_active: BTreeMap::new(),
+            prev_closest_relbng: 0.0,
+        }
+    }
+}
+
+/// MOOS `setBooleanOnString` into `b`: false when `v` is not a boolean.
+fn set_bool(b: &mut bool, v: &str) -> bool {
+    match set_boolean_on_string(*b, v) {
+        Some(x) => {
+            *b = x;
+            true
+        }
+        None => false,
+    }
+}
+
+/// MOOS `setPosDoubleOnString`.
+fn pos(v: &str) -> Option<f64> {
+    let d = geometry::atof(v);
+    (is_number(v) && d > 0.0).then_some(d)
+}
+
+/// MOOS `setNonNegDoubleOnString`.
+fn non_neg(v: &str) -> Option<f64> {
+    let d = geometry::atof(v);
+    (is_number(v) && d >= 0.0).then_some(d)
+}
+
+/// MOOS `setUIntOnString`.
+fn uint(v: &str) -> Option<usize> {
+    let d = geometry::atof(v);
+    (is_number(v) && d >= 0.0).then_some(d as usize)
+}
+
+/// MOOS `setNonWhiteVarOnString`.
+fn non_white(slot: &mut String, v: &str) -> bool {
+    let v = v.trim();
+    if v.is_empty() || v.contains(char::is_whitespace) {
+        return false;
+    }
+    *slot = v.to_string();
+    true
+}
+
+/// MOOS `addVarDataPairOnString`.
+fn add_flag(flags: &mut Vec<Flag>, v: &str) -> bool {
+    if v == "clearall" {
+        flags.clear();
+        return true;
+    }
+    match flag(v) {
+        Some(f) => {
+            flags.push(f);
+            true
+        }
+        None => false,
+    }
+}
+
+/// MOOS `macroExpand` of `$[name]` and `$(name)`.
+fn expand(s: &str, name: &str, repl: &str) -> String {
+    s.replace(&format!("$({name})"), repl)
+        .replace(&format!("$[{name}]"), repl)
+}
+
+impl ContactMgr {
+    /// A pContactMgrV20 for vehicle `ownship` on the mission's `grid` from the block's
+    /// `param = value` lines (in file order; read last first, as the C++ does), with the
+    /// warnings the C++ app reports.
+    ///
+    /// ```
+    /// use runtime::contact_mgr::ContactMgr;
+    /// use runtime::app::Value;
+    /// let (mut cm, w) = ContactMgr::new_v20("abe", None, &[
+    ///     "alert = id=avd, on_flag=CONTACT_INFO=name=$[VNAME]",
+    ///     "alert = id=avd, alert_range=50",
+    /// ]);
+    /// assert_eq!(w, ["Lat or Lon Origin not set in *.moos file."]);
+    /// let mut out = Vec::new();
+    /// cm.on_mail("NODE_REPORT", &Value::text("NAME=bob,X=30,Y=0,SPD=1,HDG=270,TIME=10,TYPE=kayak"), 10.0, &mut out);
+    /// cm.iterate(10.0, &mut out);
+    /// assert!(out.iter().any(|p| p.key == "CONTACT_INFO" && p.value == Value::text("name=bob")));
+    /// ```
+    pub fn new_v20(
+        ownship: &str,
+        grid: Option<vehicle::geodesy::LocalGrid>,
+        lines: &[&str],
+    ) -> (ContactMgr, Vec<String>) {
+        let mut cm = ContactMgr::blank(ownship, super::Variant::V20, grid);
+        let mut warnings = cm.startup_v20();
+        for line in lines.iter().rev() {
+            let (p, v) = super::split_line(line);
+            if let Err(w) = cm.configure(&p.to_ascii_lowercase(), &v) {
+                warnings.extend(w.split('\n').map(str::to_string));
+            }
+        }
+        warnings.extend(cm.validate_alerts_v20());
+        (cm, warnings)
+    }
+
+    /// OnStartUp before the block: the geodesy and ownship warnings, ownship's name ignored.
+    pub(super) fn startup_v20(&mut self) -> Vec<String> {
+        let mut w = Vec::new();
+        if self.grid.is_none() {
+            w.push("Lat or Lon Origin not set in *.moos file.".to_string());
+        }
+        if self.ownship.is_empty() {
+            w.push("ownship name unknown, host_community unset".to_string());
+        }
+        let own = self.ownship.clone();
+        self.x.filter.set_param("ignore_name", &own);
+        w
+    }
+
+    /// After the block: every alert must be valid.
+    pub(super) fn validate_alerts_v20(&self) -> Vec<String> {
+        self.alerts
+            .iter()
+            .filter(|(_, a)| !a.valid_v20())
+            .map(|(id, _)| format!("Invalid alert config:{id}"))
+            .collect()
+    }
+
+    /// One line of the block (`param` in lower case).
+    pub(super) fn configure_v20(&mut self, param: &str, value: &str) -> Result<(), String> {
+        let mut warns = Vec::new();
+        let renamed = match param {
+            "alert_range" | "alert_cpa_range" => {
+                warns.push(format!("{param} is deprecated"));
+                param
+            }
+            "default_alert_range_color" => "alert_range_color",
+            "default_cpa_range_color" => "cpa_range_color",
+            "contacts_recap_interval" => "recap_interval",
+            _ => param,
+        };
+        if renamed != param {
+            warns.push(format!("{param} is deprecated. Use instead: {renamed}"));
+        }
+        let handled = self.config_line_v20(renamed, value, &mut warns);
+        let exempt = appcast::casting::UNHANDLED_EXEMPT
+            .contains(&param.to_ascii_uppercase().as_str())
+            || matches!(param, "comms_policy" | "max_appcast_run_warnings");
+        if !handled && !exempt {
+            warns.push(format!("Unhandled config line: {param}={value}"));
+        }
+        if warns.is_empty() {
+            Ok(())
+        } else {
+            Err(warns.join("\n"))
+        }
+    }
+
+    fn config_line_v20(&mut self, param: &str, value: &str, warns: &mut Vec<String>) -> bool {
+        let x = &mut self.x;
+        let s = &mut self.s;
+        match param {
+            "alert" => return self.config_alert_v20(value, "", warns),
+            "ignore_name" | "match_name" | "ignore_group" | "match_group" | "ignore_type"
+            | "match_type" | "match_region" | "ignore_region" | "strict_ignore" => {
+                x.filter.set_param(param, value) == Some(true)
+            }
+            "max_contacts" => uint(value).map(|n| x.max_contacts = n).is_some(),
+            "decay" => {
+                let (l, r) = value.split_once(',').unwrap_or((value, ""));
+                let (l, r) = (l.trim(), r.trim());
+                let (a, b) = (geometry::atof(l), geometry::atof(r));
+                if is_number(l) && is_number(r) && a >= 0.0 && a <= b {
+                    s.decay = (a, b);
+                    true
+                } else {
+                    false
+                }
+            }
+            "range_report_timeout" => non_neg(value)
+                .map(|d| s.range_report_timeout = d)
+                .is_some(),
+            "range_report_maxsize" => uint(value).map(|n| x.range_report_maxsize = n).is_some(),
+            "display_radii" => set_bool(&mut s.display_radii, value),
+            "display_radii_id" | "contact_local_coords" | "cpa_range_color" => true,
+            "post_closest_range" => set_bool(&mut s.post_closest_range, value),
+            "post_closest_relbng" => set_bool(&mut x.post_closest_relbng, value),
+            "post_all_ranges" => set_bool(&mut x.post_all_ranges, value),
+            "max_retired_history" => match uint(value) {
+                Some(n) => {
+                    if !(1..=50).contains(&n) {
+                        warns.push("max_retired_hist should be in range [1,50]".into());
+                    }
+                    s.max_retired = n.clamp(1, 50);
+                    true
+                }
+                None => false,
+            },
+            "recap_interval" | "reject_range" => {
+                let slot = if param == "reject_range" {
+                    &mut s.reject_range
+                } else {
+                    &mut s.recap_interval
+                };
+                if value.eq_ignore_ascii_case("off") {
+                    *slot = -1.0;
+                    true
+                } else {
+                    pos(value).map(|d| *slot = d).is_some()
+                }
+            }
+            "alert_verbose" => set_bool(&mut s.alert_verbose, value),
+            "contact_max_age" => pos(value).map(|d| s.contact_max_age = d).is_some(),
+            "alert_range_color" => {
+                let ok = geometry::color::is_color(value);
+                if ok {
+                    x.alert_rng_color = value.to_string();
+                }
+                ok
+            }
+            "hold_alerts_for_helm" => set_bool(&mut x.hold_alerts_for_helm, value),
+            "ownship_group" => non_white(&mut x.os_group, value),
+            "ownship_type" => non_white(&mut x.os_type, value),
+            "disable_var" => non_white(&mut x.disable_var, value),
+            "enable_var" => non_white(&mut x.enable_var, value),
+            "expunge_var" => non_white(&mut x.expunge_var, value),
+            "able_flag" => add_flag(&mut x.able_flags, value),
+            "disable_flag" => add_flag(&mut x.disable_flags, value),
+            "enable_flag" => add_flag(&mut x.enable_flags, value),
+            "early_warning_flag" => add_flag(&mut x.early_warning_flags, value),
+            "cease_warning_flag" => add_flag(&mut x.cease_warning_flags, value),
+            "retire_flag" => add_flag(&mut x.retire_flags, value),
+            "early_warning_time" => non_neg(value).map(|d| x.early_warning_time = d).is_some(),
+            "early_warning_radii" => set_bool(&mut x.early_warning_radii, value),
+            "ewarn_radii_color" => {
+                let ok = geometry::color::is_color(value);
+                if ok {
+                    x.ewarn_radii_color = value.to_string();
+                }
+                ok
+            }
+            _ => false,
+        }
+    }
+
+    /// An alert specification from the block (`source` empty) or a `BCM_ALERT_REQUEST`
+    /// (MOOS `handleConfigAlert`); false, with its warning, at the first bad component.
+    fn config_alert_v20(&mut self, spec: &str, source: &str, warns: &mut Vec<String>) -> bool {
+        let mut id = moos_types::text::tok_string_parse(spec, "id").to_string();
+        if id.is_empty() {
+            id = "no_id".into();
+        }
+        let lower = spec.to_ascii_lowercase();
+        if lower.contains("action=disable") {
+            if id != "no_id" {
+                self.x.alerts_disabled.insert(id);
+            }
+            return true;
+        }
+        if lower.contains("action=enable") {
+            if id != "no_id" {
+                self.x.alerts_disabled.remove(&id);
+            }
+            return true;
+        }
+        self.add_alert_id(&id);
+        let (s, variant) = (&self.s, self.variant);
+        let alert = self
+            .alerts
+            .entry(id)
+            .or_insert_with(|| Self::new_alert(s, variant));
+        if !source.is_empty() {
+            alert.source = source.to_string();
+        }
+        let (mut var, mut pattern) = (String::new(), String::new());
+        for part in parse_string_q(spec, ',') {
+            let (l, r) = part.split_once('=').unwrap_or((part, ""));
+            let left = l.trim().to_ascii_lowercase();
+            let mut right = r.trim();
+            let dval = geometry::atof(right);
+            if right.len() >= 2 && right.starts_with('"') && right.ends_with('"') {
+                right = &right[1..right.len() - 1];
+            }
+            let ok = match left.as_str() {
+                "var" => {
+                    var = right.to_string();
+                    true
+                }
+                "val" | "pattern" => {
+                    pattern = right.to_string();
+                    true
+                }
+                "on_flag" | "onflag" => alert.add_on_flag(right),
+                "off_flag" | "offflag" => alert.add_off_flags(right),
+                "alert_range" if is_number(right) => alert.set_range(dval),
+                "cpa_range" if is_number(right) => alert.set_range_far(dval),
+                "match_name" | "ignore_name" | "match_group" | "ignore_group" | "match_type"
+                | "ignore_type" | "match_region" | "ignore_region" | "strict_ignore" => {
+                    alert.filter.set_param(&left, right) == Some(true)
+                }
+                _ => false,
+            };
+            if !ok && left != "id" {
+                warns.push(format!("unhandled alert config component: {left}"));
+                return false;
+            }
+        }
+        if !var.is_empty() && !pattern.is_empty() {
+            alert.add_on_flag(&format!("{var}={pattern}"));
+        }
+        true
+    }
+
+    pub(super) fn subscriptions_v20(&self) -> Vec<String> {
+        let mut v: Vec<String> = [
+            "NODE_REPORT",
+            "BCM_DISPLAY_RADII",
+            "BCM_ALERT_REQUEST",
+            "BCM_REPORT_REQUEST",
+            "NAV_X",
+            "NAV_Y",
+            "NAV_SPEED",
+            "NAV_HEADING",
+            "IVPHELM_STATE",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        for var in [&self.x.disable_var, &self.x.enable_var, &self.x.expunge_var] {
+            if !var.is_empty() {
+                v.push(var.clone());
+            }
+        }
+        v
+    }
+
+    /// One mail (MOOS `OnNewMail`).
+    pub(super) fn on_mail_v20(
+        &mut self,
+        key: &str,
+        value: &Value,
+        source: &str,
+        now: f64,
+        out: &mut Vec<Post>,
+    ) {
+        let dval = value.as_ref().as_f64().unwrap_or(0.0);
+        let sval = value.as_str().unwrap_or("");
+        let mut whynot = String::new();
+        let handled = match key {
+            "NAV_X" => {
+                self.nav.0 = dval;
+                true
+            }
+            "NAV_Y" => {
+                self.nav.1 = dval;
+                true
+            }
+            "NAV_HEADING" => {
+                self.nav.2 = dval;
+                true
+            }
+            "NAV_SPEED" => {
+                self.nav.3 = dval;
+                true
+            }
+            "NODE_REPORT" => match self.node_report_v20(sval, out) {
+                Ok(()) => true,
+                Err(w) => {
+                    whynot = w;
+                    false
+                }
+            },
+            "BCM_REPORT_REQUEST" => {
+                self.report_request_v20(sval, source, now);
+                true
+            }
+            "BCM_DISPLAY_RADII" => set_bool(&mut self.s.display_radii, sval),
+            "BCM_ALERT_REQUEST" => {
+                self.requests += 1;
+                self.notes.push(Note::Event(format!(
+                    "New BCM_ALERT_REQUEST (src={source}): {sval}"
+                )));
+                let mut w = Vec::new();
+                if !self.config_alert_v20(sval, source, &mut w) {
+                    self.notes.extend(w.into_iter().map(Note::Warning));
+                    self.notes
+                        .push(Note::Warning(format!("Unhandled Alert Request: {sval}")));
+                }
+                true
+            }
+            "IVPHELM_STATE" => {
+                if sval == "DRIVE" {
+                    self.x.helm_in_drive = true;
+                }
+                true
+            }
+            k if !self.x.disable_var.is_empty() && k == self.x.disable_var => {
+                self.able_contact(sval, "disable", out);
+                true
+            }
+            k if !self.x.enable_var.is_empty() && k == self.x.enable_var => {
+                self.able_contact(sval, "enable", out);
+                true
+            }
+            k if !self.x.expunge_var.is_empty() && k == self.x.expunge_var => {
+                self.able_contact(sval, "expunge", out);
+                true
+            }
+            _ => false,
+        };
+        if !handled {
+            self.notes
+                .push(Note::Warning(format!("Bad Mail: {key}:{whynot}")));
+        }
+    }
+
+    /// A node report (MOOS `handleMailNodeReport`): `Err` with the C++'s reason.
+    fn node_report_v20(&mut self, text: &str, out: &mut Vec<Post>) -> Result<(), String> {
+        let mut r = NodeReport::parse(text);
+        let vname = r.name.clone();
+        if vname.is_empty() {
+            return Err("Empty vname".into());
+        }
+        if vname.eq_ignore_ascii_case(&self.ownship) {
+            return Ok(());
+        }
+        let (x, y) = (r.x_m.unwrap_or(0.0), r.y_m.unwrap_or(0.0));
+        if !self.x.filter.check_all(&vname, &r.group, &r.vtype, x, y) {
+            self.x.filtered.insert(vname);
+            return Ok(());
+        }
+        // The ledger's type fixing (`processNodeRecord`).
+        let vtype = helm::ledger::fixed_type(&r.vtype);
+        if (vtype == "auv" || vtype == "glider") && r.depth_m.is_none() {
+            return Err(format!("1:{vname}2:"));
+        }
+        r.vtype = vtype;
+        match self.records.get_mut(&vname) {
+            Some(rec) => rec.report = r,
+            None => {
+                self.records.insert(
+                    vname.clone(),
+                    Record {
+                        report: r,
+                        alerts_total: 0,
+                        alerts_active: 0,
+                        alerts_resolved: 0,
+                        range_actual: 0.0,
+                        range_extrap: 0.0,
+                        range_cpa: 0.0,
+                        range_roc: 0.0,
+                    },
+                );
+                let row = self
+                    .alert_ids
+                    .iter()
+                    .map(|id| (id.clone(), false))
+                    .collect();
+                self.par.entry(vname.to_ascii_lowercase()).or_insert(row);
+                if self.s.alert_verbose {
+                    out.push(Post::text("ALERT_VERBOSE", format!("new_contact={vname}")));
+                }
+            }
+        }
+        self.retired.retain(|v| *v != vname);
+        Ok(())
+    }
+
+    /// `BCM_REPORT_REQUEST` (V20: with `refresh` and `reason`, never timed out but pruned).
+    fn report_request_v20(&mut self, text: &str, source: &str, now: f64) {
+        let mut ok = true;
+        let (mut var, mut range, mut group, mut vtype, mut refresh) =
+            (String::new(), -1.0, String::new(), String::new(), false);
+        for part in parse_string(text, ',') {
+            let (l, r) = part.split_once('=').unwrap_or((part, ""));
+            let (l, r) = (l.trim().to_ascii_lowercase(), r.trim());
+            match l.as_str() {
+                "var" if !r.is_empty() && !r.contains(char::is_whitespace) => var = r.to_string(),
+                "range" if is_number(r) => range = geometry::atof(r),
+                "group" => group = r.to_string(),
+                "type" => vtype = r.to_string(),
+                "refresh" => refresh = r.eq_ignore_ascii_case("true"),
+                "reason" => {}
+                _ => ok = false,
+            }
+        }
+        if !ok || var.is_empty() || range < 0.0 {
+            let msg = format!("Failed REPORT_REQUEST: {text}");
+            self.notes.push(Note::Event(msg.clone()));
+            self.notes.push(Note::Warning(msg));
+            return;
+        }
+        self.notes.push(Note::Event(format!(
+            "New BCM_REPORT_REQUEST (src={source}): {text}"
+        )));
+        let e = self.reports.entry(var).or_insert_with(|| RangeReport {
+            range: -2.0,
+            ..RangeReport::default()
+        });
+        if e.range != range {
+            e.range = range;
+            e.group = group;
+            e.vtype = vtype;
+            e.contacts.clear();
+        }
+        e.refresh = refresh;
+        e.reqtime = now;
+    }
+
+    /// A mail on `disable_var`, `enable_var` or `expunge_var` (MOOS
+    /// `handleMailModEnableContact`).
+    fn able_contact(&mut self, text: &str, action: &str, out: &mut Vec<Post>) {
+        let mut contact = String::new();
+        let msg = if !text.contains('=') && !text.contains(',') {
+            format!("contact={text}")
+        } else {
+            contact = moos_types::text::tok_string_parse(text, "contact").to_string();
+            if !contact.is_empty() {
+                format!("contact={contact}")
+            } else {
+                let vsource = moos_types::text::tok_string_parse(text, "vsource");
+                if vsource.is_empty() {
+                    return;
+                }
+                format!("vsource={vsource}")
+            }
+        };
+        out.push(Post::text(
+            "BHV_ABLE_FILTER",
+            format!("{msg},action={action}"),
+        ));
+        if contact.is_empty() {
+            return;
+        }
+        let x = &mut self.x;
+        let (add, other, max, flags) = match action {
+            "enable" => (
+                &mut x.enabled_contacts,
+                &mut x.disabled_contacts,
+                250,
+                x.enable_flags.clone(),
+            ),
+            "disable" => (
+                &mut x.disabled_contacts,
+                &mut x.enabled_contacts,
+                25,
+                x.disable_flags.clone(),
+            ),
+            _ => return,
+        };
+        other.retain(|c| *c != contact);
+        add.retain(|c| *c != contact);
+        add.push_front(contact);
+        if add.len() > max {
+            add.pop_back();
+        }
+        let able = self.x.able_flags.clone();
+        self.post_able_flags(&able, out);
+        self.post_able_flags(&flags, out);
+    }
+
+    /// MOOS `postFlags` with `expandMacros` (`$[RECENT_DISABLED]`, `$[RECENT_ENABLED]`,
+    /// `$[TOTAL_DISABLED]`, `$[ALL_DISABLED]`).
+    fn post_able_flags(&mut self, flags: &[Flag], out: &mut Vec<Post>) {
+        for f in flags {
+            let shown = match &f.value {
+                Value::String(s) => {
+                    let mut v = s.trim().to_string();
+                    if let Some(c) = self.x.disabled_contacts.front() {
+                        v = expand(&v, "RECENT_DISABLED", c);
+                    }
+                    if let Some(c) = self.x.enabled_contacts.front() {
+                        v = expand(&v, "RECENT_ENABLED", c);
+                    }
+                    let total = self.x.disabled_contacts.len().to_string();
+                    v = expand(&v, "TOTAL_DISABLED", &total);
+                    if v.contains("ALL_DISABLED") {
+                        let all: Vec<&str> =
+                            self.x.disabled_contacts.iter().map(String::as_str).collect();
+                        v = expand(&v, "ALL_DISABLED", &all.join(","));
+                    }
+                    if !v.is_empty() {
+                        out.push(Post::text(f.var.as_str(), v.clone()));
+                    }
+                    v
+                }
+                v => {
+                    let d = v.as_ref().as_f64().unwrap_or(0.0);
+                    out.push(Post::double(f.var.as_str(), d));
+                    compact_string(d, 4)
+                }
+            };
+            self.notes.push(Note::Event(format!("{}={shown}", f.var)));
+        }
+    }
+
+    /// One iteration (MOOS `ContactMgrV20::Iterate`).
+    pub(super) fn iterate_v20(&mut self, now: f64, out: &mut Vec<Post>) {
+        // The ledger derives x/y from lat/lon for reports without them.
+        if let Some(grid) = &self.grid {
+            for rec in self.records.values_mut() {
+                let r = &mut rec.report;
+                if (r.x_m.is_none() || r.y_m.is_none())
+                    && let (Some(lat), Some(lon)) = (r.lat_deg, r.lon_deg)
+                    && let Ok((x, y)) = grid.to_local(lat, lon)
+                {
+                    r.x_m = Some(x);
+                    r.y_m = Some(y);
+                }
+            }
+        }
+        self.update_ranges(now);
+        self.early_warnings(now, out);
+        self.cease_warnings(now, out);
+        self.early_warning_radii(now, out);
+        if !self.x.hold_alerts_for_helm || self.x.helm_in_drive {
+            self.check_alerts_v20(now, out);
+        }
+        self.post_radii_v20(now, out);
+        self.retire_v20(now, out);
+        self.post_range_reports_v20(now, out);
+        self.post_summaries_v20(now, out);
+    }
+
+    /// The largest far range of the enabled alerts (-1 without one).
+    fn max_alert_range(&self) -> f64 {
+        self.alerts
+            .iter()
+            .filter(|(id, _)| !self.x.alerts_disabled.contains(*id))
+            .map(|(_, a)| a.range_far)
+            .fold(-1.0, f64::max)
+    }
+
+    fn early_warnings(&mut self, now: f64, out: &mut Vec<Post>) {
+        if self.x.early_warning_time <= 0.0 {
+            return;
+        }
+        let max_range = self.max_alert_range();
+        let names: Vec<String> = self.records.keys().cloned().collect();
+        for name in names {
+            if self.x.was_warned.contains_key(&name) {
+                continue;
+            }
+            self.x.will_warn.insert(name.clone(), 0.0);
+            let rec = &self.records[&name];
+            let (range, roc) = (rec.range_extrap, rec.range_roc);
+            if roc <= 0.0 || max_range <= 0.0 {
+                continue;
+            }
+            let warn_range = max_range + roc * self.x.early_warning_time;
+            self.x.will_warn.insert(name.clone(), warn_range);
+            if range < warn_range {
+                let flags = self.x.early_warning_flags.clone();
+                self.post_warning_flags(&flags, &name, now, out);
+                self.x.was_warned.insert(name.clone(), range);
+                self.x.utc_warned.insert(name.clone(), now);
+                self.x.will_warn.insert(name, 0.0);
+            }
+        }
+    }
+
+    fn cease_warnings(&mut self, now: f64, out: &mut Vec<Post>) {
+        let names: Vec<String> = self.records.keys().cloned().collect();
+        for name in names {
+            let Some(warned) = self.x.was_warned.get(&name).copied() else {
+                continue;
+            };
+            if self.records[&name].range_extrap > warned * 1.05 {
+                self.x.was_warned.remove(&name);
+                self.x.utc_warned.remove(&name);
+                let flags = self.x.cease_warning_flags.clone();
+                self.post_warning_flags(&flags, &name, now, out);
+            }
+        }
+    }
+
+    /// MOOS `postWarningFlags`: string values with `$[CONTACT]`, `$[RNG_EXT]`, `$[RNG]`,
+    /// `$[CPA]`, `$[ROC]`, `$[UTC]`.
+    fn post_warning_flags(&mut self, flags: &[Flag], contact: &str, now: f64, out: &mut Vec<Post>) {
+        let rec = self.records.get(contact);
+        for f in flags {
+            let shown = match &f.value {
+                Value::String(s) => {
+                    let mut v = expand(s.trim(), "CONTACT", contact);
+                    if let Some(r) = rec {
+                        v = expand(&v, "RNG_EXT", &compact_string(r.range_extrap, 3));
+                        v = expand(&v, "RNG", &compact_string(r.range_actual, 3));
+                        v = expand(&v, "CPA", &compact_string(r.range_cpa, 3));
+                        v = expand(&v, "ROC", &compact_string(r.range_roc, 3));
+                    }
+                    v = expand(&v, "UTC", &compact_string(now, 3));
+                    if !v.is_empty() {
+                        out.push(Post::text(f.var.as_str(), v.clone()));
+                    }
+                    v
+                }
+                v => {
+                    let d = v.as_ref().as_f64().unwrap_or(0.0);
+                    out.push(Post::double(f.var.as_str(), d));
+                    compact_string(d, 4)
+                }
+            };
+            self.notes.push(Note::Event(format!("{}={shown}", f.var)));
+        }
+    }
+
+    /// A `VIEW_CIRCLE` around ownship with a duration and time (MOOS `XYCircle::get_spec`).
+    fn circle_v20(
+        &self,
+        radius: f64,
+        label: &str,
+        label_color: Option<&str>,
+        color: &str,
+        active: bool,
+        now: f64,
+    ) -> String {
+        let mut s = String::from("x=");
+        moos_types::fmt::compact(&mut s, self.nav.0, 2);
+        s.push_str(",y=");
+        moos_types::fmt::compact(&mut s, self.nav.1, 2);
+        s.push_str(",radius=");
+        moos_types::fmt::compact(&mut s, radius, 2);
+        let mut a = geometry::Attributes::labeled(label);
+        a.label_color = label_color.map(str::to_string);
+        a.edge_color = Some(color.to_string());
+        a.vertex_size = Some(0.0);
+        a.edge_size = Some(1.0);
+        a.active = active;
+        a.duration = Some(3.0);
+        a.time = Some(now);
+        a.write_spec(&mut s, 0);
+        s
+    }
+
+    fn early_warning_radii(&self, now: f64, out: &mut Vec<Post>) {
+        if !self.x.early_warning_radii || self.x.early_warning_time <= 0.0 {
+            return;
+        }
+        for name in self.records.keys() {
+            let Some(&r) = self.x.will_warn.get(name) else {
+                continue;
+            };
+            if r <= 0.0 {
+                continue;
+            }
+            let spec = self.circle_v20(
+                r,
+                &format!("xewarn_{name}"),
+                Some("gray50"),
+                &self.x.ewarn_radii_color,
+                true,
+                now,
+            );
+            out.push(Post::text("VIEW_CIRCLE", spec));
+        }
+    }
+
+    /// MOOS `checkAlertApplies`.
+    fn applies_v20(&self, name: &str, id: &str, now: f64) -> bool {
+        let (Some(a), Some(rec)) = (self.alerts.get(id), self.records.get(name)) else {
+            return false;
+        };
+        if !a.valid_v20() || now - rec.time() > self.s.contact_max_age {
+            return false;
+        }
+        let r = &rec.report;
+        let (x, y) = (r.x_m.unwrap_or(0.0), r.y_m.unwrap_or(0.0));
+        if !a.filter.check_all(&r.name, &r.group, &r.vtype, x, y) {
+            return false;
+        }
+        if a.range > 0.0 {
+            if rec.range_actual > a.range_far {
+                return false;
+            }
+            if rec.range_actual > a.range && rec.range_cpa > a.range {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// PlatformAlertRecord's `setAlertedValue` with its counts.
+    fn set_alerted_v20(&mut self, name: &str, id: &str, b: bool) {
+        let v = name.to_ascii_lowercase();
+        if !self.alert_ids.contains(&id.to_ascii_lowercase()) {
+            return;
+        }
+        let Some(row) = self.par.get_mut(&v) else {
+            return;
+        };
+        let was = row.get(id).copied().unwrap_or(false);
+        if b && !was {
+            *self.x.alerts_total.entry(v.clone()).or_default() += 1;
+            *self.x.alerts_active.entry(v.clone()).or_default() += 1;
+        } else if !b && was {
+            let n = self.x.alerts_active.entry(v.clone()).or_default();
+            *n = n.saturating_sub(1);
+        }
+        row.insert(id.to_string(), b);
+    }
+
+    fn check_alerts_v20(&mut self, now: f64, out: &mut Vec<Post>) {
+        let names: Vec<String> = self.records.keys().cloned().collect();
+        let ids: Vec<String> = self.alerts.keys().cloned().collect();
+        for name in &names {
+            for id in &ids {
+                if self.x.alerts_disabled.contains(id) {
+                    continue;
+                }
+                let applies = self.applies_v20(name, id, now);
+                let was = self.alerted(name, id);
+                let transition = if applies && !was {
+                    self.post_alert_v20(name, id, true, out);
+                    self.set_alerted_v20(name, id, true);
+                    "off-->alerted"
+                } else if !applies && was {
+                    self.post_alert_v20(name, id, false, out);
+                    self.set_alerted_v20(name, id, false);
+                    "alerted-->off"
+                } else {
+                    ""
+                };
+                let mut after = String::new();
+                if self.x.early_warning_time > 0.0
+                    && transition == "off-->alerted"
+                    && let Some(t) = self.x.utc_warned.get(name)
+                {
+                    after = format!("after_warning={}", compact_string(now - t, 2));
+                }
+                if self.s.alert_verbose && !transition.is_empty() {
+                    let a = &self.alerts[id];
+                    let rec = &self.records[name];
+                    let mut m = format!("contact={name},alert_id={id},{transition}");
+                    let _ = write!(
+                        m,
+                        ",alert_range={},alert_range_cpa={},range_actual=",
+                        compact_string(a.range, 1),
+                        compact_string(a.range_far, 1)
+                    );
+                    fixed(&mut m, rec.range_actual, 1);
+                    if self.alerted(name, id) {
+                        m.push_str(",range_cpa=");
+                        fixed(&mut m, rec.range_cpa, 1);
+                    }
+                    if !after.is_empty() {
+                        m.push(',');
+                        m.push_str(&after);
+                    }
+                    out.push(Post::text("ALERT_VERBOSE", m));
+                }
+            }
+        }
+    }
+
+    /// MOOS `postAlert` for each on (off) flag of alert `id` about contact `name`.
+    fn post_alert_v20(&mut self, name: &str, id: &str, on: bool, out: &mut Vec<Post>) {
+        let (Some(a), Some(rec)) = (self.alerts.get(id), self.records.get(name)) else {
+            return;
+        };
+        let r = &rec.report;
+        let num = |v: Option<f64>, p| compact_string(v.unwrap_or(0.0), p);
+        let common = [
+            ("$[X]", num(r.x_m, 2)),
+            ("$[Y]", num(r.y_m, 2)),
+            ("$[LAT]", num(r.lat_deg, 8)),
+            ("$[LON]", num(r.lon_deg, 8)),
+            ("$[SPD}", num(r.speed_mps, 2)),
+            ("$[HDG]", num(r.heading_deg, 2)),
+            ("$[DEP]", num(r.depth_m, 2)),
+            ("$[VNAME]", r.name.clone()),
+            ("$[VTYPE]", r.vtype.clone()),
+        ];
+        let time = num(r.time, 2);
+        let var_macros = [
+            ("$[UTIME]", time.clone()),
+            ("$[UTC]", time.clone()),
+            ("%[VNAME]", r.name.clone()),
+            ("%[VTYPE]", r.vtype.to_ascii_lowercase()),
+        ];
+        let msg_macros = [
+            ("$[GROUP]", r.group.clone()),
+            ("$[UTIME]", time),
+            ("%[VNAME]", r.name.clone()),
+            ("%[VTYPE]", r.vtype.to_ascii_lowercase()),
+            ("%[GROUP]", r.group.to_ascii_lowercase()),
+        ];
+        let apply = |s: &str, extra: &[(&str, String)]| {
+            let mut s = s.to_string();
+            for (k, v) in common.iter().chain(extra) {
+                if s.contains(k) {
+                    s = s.replace(k, v);
+                }
+            }
+            s
+        };
+        let flags = if on { &a.on_flags } else { &a.off_flags };
+        let mut notes = Vec::new();
+        for f in flags {
+            let var = apply(&f.var, &var_macros);
+            match &f.value {
+                Value::String(s) => {
+                    let msg = apply(s, &msg_macros);
+                    notes.push(Note::Event(format!("{var}={msg}")));
+                    out.push(Post::text(var, msg));
+                }
+                v => {
+                    let d = v.as_ref().as_f64().unwrap_or(0.0);
+                    notes.push(Note::Event(format!("{var}={}", compact_string(d, 3))));
+                    out.push(Post::double(var, d));
+                }
+            }
+        }
+        self.notes.extend(notes);
+    }
+
+    fn post_radii_v20(&self, now: f64, out: &mut Vec<Post>) {
+        if !self.s.display_radii || self.alerts.is_empty() {
+            return;
+        }
+        let max = self.max_alert_range();
+        let color = &self.x.alert_rng_color;
+        let active = !(max <= 0.0 || matches!(color.as_str(), "invisible" | "empty" | ""));
+        let label = format!("alert_{}", self.ownship);
+        out.push(Post::text(
+            "VIEW_CIRCLE",
+            self.circle_v20(max, &label, None, color, active, now),
+        ));
+    }
+
+    /// MOOS `checkForNewRetiredContacts`.
+    fn retire_v20(&mut self, now: f64, out: &mut Vec<Post>) {
+        let start = self.records.len();
+        let mut gone: BTreeSet<String> = std::mem::take(&mut self.x.filtered);
+        for (name, rec) in &self.records {
+            let age = now - rec.time();
+            if age > self.s.contact_max_age
+                || (self.s.reject_range > 0.0 && rec.range_actual > self.s.reject_range * 1.05)
+            {
+                gone.insert(name.clone());
+            }
+        }
+        let max = self.x.max_contacts;
+        if gone.len() + max < start {
+            for (name, rec) in &self.records {
+                if now - rec.time() > self.s.contact_max_age / 2.0 {
+                    gone.insert(name.clone());
+                }
+            }
+        }
+        if gone.len() + max < start {
+            let to_cull = start - (gone.len() + max);
+            // Farthest first (RangeMark order: ascending range, stable, from a list built
+            // by pushing each name in name order to its front).
+            let mut marks: Vec<(&String, f64)> = self
+                .records
+                .iter()
+                .rev()
+                .map(|(n, r)| (n, r.range_actual))
+                .collect();
+            marks.sort_by(|a, b| a.1.total_cmp(&b.1));
+            let mut culled = 0;
+            let mut extra = Vec::new();
+            for (name, _) in marks.iter().rev() {
+                if !gone.contains(*name) && !extra.contains(*name) {
+                    extra.push((*name).clone());
+                    culled += 1;
+                }
+                if culled >= to_cull {
+                    break;
+                }
+            }
+            gone.extend(extra);
+        }
+        for name in gone {
+            if self.records.remove(&name).is_some() {
+                self.retired.push_front(name.clone());
+            }
+            self.par.remove(&name.to_ascii_lowercase());
+            let flags = self.x.retire_flags.clone();
+            for f in &flags {
+                let shown = match &f.value {
+                    Value::String(s) => {
+                        let v = expand(s.trim(), "CONTACT", &name);
+                        let v = expand(&v, "UTC", &compact_string(now, 3));
+                        if !v.is_empty() {
+                            out.push(Post::text(f.var.as_str(), v.clone()));
+                        }
+                        v
+                    }
+                    v => {
+                        let d = v.as_ref().as_f64().unwrap_or(0.0);
+                        out.push(Post::double(f.var.as_str(), d));
+                        compact_string(d, 4)
+                    }
+                };
+                self.notes.push(Note::Event(format!("{}={shown}", f.var)));
+            }
+            self.x.will_warn.remove(&name);
+            self.x.was_warned.remove(&name);
+            self.x.utc_warned.remove(&name);
+        }
+    }
+
+    fn post_range_reports_v20(&mut self, now: f64, out: &mut Vec<Post>) {
+        if self.reports.len() > self.x.range_report_maxsize {
+            // Forget the oldest request past its timeout.
+            let oldest = self
+                .reports
+                .iter()
+                .map(|(v, r)| (v, now - r.reqtime))
+                .filter(|(_, age)| *age >= self.s.range_report_timeout)
+                .fold(None::<(&String, f64)>, |best, (v, age)| match best {
+                    Some((_, a)) if age <= a => best,
+                    _ => Some((v, age)),
+                })
+                .map(|(v, _)| v.clone());
+            if let Some(v) = oldest {
+                self.reports.remove(&v);
+            }
+        }
+        for (var, rep) in &mut self.reports {
+            let mut contacts = String::new();
+            for (name, rec) in &self.records {
+                let group_ok =
+                    rep.group.is_empty() || rep.group.eq_ignore_ascii_case(&rec.report.group);
+                let type_ok =
+                    rep.vtype.is_empty() || rep.vtype.eq_ignore_ascii_case(&rec.report.vtype);
+                if group_ok && type_ok && rec.range_extrap < rep.range {
+                    if !contacts.is_empty() {
+                        contacts.push(',');
+                    }
+                    contacts.push_str(name);
+                }
+            }
+            if rep.refresh || contacts != rep.contacts {
+                out.push(Post::text(var.as_str(), contacts.clone()));
+                rep.contacts = contacts;
+                rep.refresh = false;
+            }
+        }
+    }
+
+    fn post_summaries_v20(&mut self, now: f64, out: &mut Vec<Post>) {
+        let retired = self
+            .retired
+            .iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>()
+            .join(",");
+        if retired != self.prev_retired {
+            out.push(Post::text("CONTACTS_RETIRED", retired.clone()));
+            self.prev_retired = retired;
+        }
+        self.retired.truncate(self.s.max_retired);
+
+        let (ox, oy, oh, _) = self.nav;
+        let mut list = String::new();
+        let mut recap = String::new();
+        let mut ranges = Vec::new();
+        let mut closest: Option<(&str, f64, f64)> = None;
+        for (name, rec) in &self.records {
+            if !list.is_empty() {
+                list.push(',');
+            }
+            list.push_str(name);
+            let age = now - rec.time();
+            let range = rec.range_actual;
+            ranges.push(range);
+            if closest.is_none_or(|(_, r, _)| range < r) {
+                let (cx, cy) = (
+                    rec.report.x_m.unwrap_or(0.0),
+                    rec.report.y_m.unwrap_or(0.0),
+                );
+                let relbng = behaviors::cpa::rel_bearing(ox, oy, oh, cx, cy);
+                closest = Some((name, range, relbng));
+            }
+            if !recap.is_empty() {
+                recap.push_str(" # ");
+            }
+            recap.push_str("vname=");
+            recap.push_str(name);
+            recap.push_str(",range=");
+            fixed(&mut recap, range, 2);
+            recap.push_str(",age=");
+            fixed(&mut recap, age, 2);
+        }
+        if let Some((name, range, relbng)) = closest {
+            if self.s.post_closest_range {
+                let r = range.trunc();
+                if r != self.prev_closest_range {
+                    out.push(Post::double("CONTACT_CLOSEST_RANGE", r));
+                    self.prev_closest_range = r;
+                }
+            }
+            if self.x.post_closest_relbng {
+                let b = relbng.trunc();
+                if b != self.x.prev_closest_relbng {
+                    out.push(Post::double("CONTACT_CLOSEST_RELBNG", b));
+                    self.x.prev_closest_relbng = b;
+                }
+            }
+            if name != self.prev_closest {
+                out.push(Post::text("CONTACT_CLOSEST", name.to_string()));
+                out.push(Post::double("CONTACT_CLOSEST_TIME", now));
+                self.prev_closest = name.to_string();
+            }
+        }
+        let (alerted, count) = self.group_text(true);
+        if count != self.prev_count {
+            out.push(Post::double("CONTACTS_COUNT", f64::from(count)));
+            self.prev_count = count;
+        }
+        if list != self.prev_list {
+            out.push(Post::text("CONTACTS_LIST", list.clone()));
+            self.prev_list = list;
+        }
+        if alerted != self.prev_alerted {
+            out.push(Post::text("CONTACTS_ALERTED", alerted.clone()));
+            self.prev_alerted = alerted;
+        }
+        if self.s.recap_interval > 0.0 && now - self.recap_posted > self.s.recap_interval {
+            self.recap_posted = now;
+            out.push(Post::text("CONTACTS_RECAP", recap.clone()));
+            self.prev_recap = recap;
+        }
+        if self.x.post_all_ranges {
+            ranges.sort_by(f64::total_cmp);
+            let text: Vec<String> = ranges.iter().map(|r| compact_string(*r, 1)).collect();
+            out.push(Post::text("CONTACT_RANGES", text.join(",")));
+        }
+    }
+
+    /// The appcast body (MOOS `ContactMgrV20::buildReport`).
+    pub(super) fn report_v20(&self, b: &mut String) {
+        let x = &self.x;
+        let or = |s: &str| {
+            if s.is_empty() {
+                "not specified".to_string()
+            } else {
+                s.to_string()
+            }
+        };
+        let reject = if self.s.reject_range > 0.0 {
+            compact_string(self.s.reject_range, 2)
+        } else {
+            "off".into()
+        };
+        let _ = writeln!(b, "Ownship Group:      {}", or(&x.os_group));
+        let _ = writeln!(b, "Ownship Type:       {}", or(&x.os_type));
+        let _ = writeln!(
+            b,
+            "Contact Max Age:    {}",
+            compact_string(self.s.contact_max_age, 2)
+        );
+        let _ = writeln!(b, "Reject Range:       {reject}");
+        let _ = writeln!(
+            b,
+            "Early Warning Time: {}",
+            moos_types::fmt::g_string(x.early_warning_time, 6)
+        );
+        if x.early_warning_time > 0.0 {
+            let disabled: Vec<&str> = x.alerts_disabled.iter().map(String::as_str).collect();
+            let _ = writeln!(b, "EarlyWarn Radii:    {}", x.early_warning_radii);
+            let _ = writeln!(b, "EarlyWarn EWFlags:  {}", x.cease_warning_flags.len());
+            let _ = writeln!(b, "EarlyWarn CWFlags:  {}", x.early_warning_flags.len());
+            let _ = writeln!(b, "AlertsDisabled:     {}", disabled.join(","));
+            let _ = writeln!(
+                b,
+                "max_alert_range:    {}",
+                compact_string(self.max_alert_range(), 2)
+            );
+        }
+        if !x.disable_var.is_empty() {
+            let _ = writeln!(b, "Disable Var:        {}", x.disable_var);
+        }
+        if !x.enable_var.is_empty() {
+            let _ = writeln!(b, "Enable Var:         {}", x.enable_var);
+        }
+        let _ = writeln!(b, "BCM_ALERT_REQUESTs: {}", self.requests);
+        let _ = writeln!(b, "DisplayRadii:       {}", self.s.display_radii);
+        let _ = writeln!(b);
+        let _ = writeln!(b, "Alert Configurations ({}):", self.alerts.len());
+        let _ = writeln!(b, "---------------------");
+        for (i, (id, a)) in self.alerts.iter().enumerate() {
+            let _ = writeln!(b, "{} ID: {id}", i + 1);
+            for line in a.summary_v20() {
+                let _ = writeln!(b, "  {line}");
+            }
+        }
+        let _ = writeln!(b);
+        let _ = writeln!(b, "Alert Status Summary: ");
+        let _ = writeln!(b, "----------------------");
+        let _ = writeln!(b, "       List: {}", self.prev_list);
+        let _ = writeln!(b, "    Alerted: {}", self.prev_alerted);
+        let _ = writeln!(b, "    Retired: {}", self.prev_retired);
+        let _ = writeln!(b, "      Recap: {}", self.prev_recap);
+        let _ = writeln!(b);
+        let _ = writeln!(b, "Contact Status Summary:");
+        let _ = writeln!(b, "-----------------------");
+        let mut t = appcast::Table::with_pad(4, 4);
+        t.set_right_justify(1, true);
+        t.push("Contact | Range  | Alerts  | Alerts ");
+        t.push("        | Actual | Total   | Active ");
+        t.add_header_lines();
+        for (name, r) in self.records.iter().take(7) {
+            let mut range = String::new();
+            fixed(&mut range, r.range_actual, 1);
+            t.push(name);
+            t.push(&range);
+            // The C++ looks the counts up by the contact's name as reported.
+            t.push(&x.alerts_total.get(name).copied().unwrap_or(0).to_string());
+            t.push(&x.alerts_active.get(name).copied().unwrap_or(0).to_string());
+        }
+        t.write(b);
+        let _ = writeln!(b, "\n\nCustom Contact Reports:");
+        let _ = writeln!(b, "-----------------------");
+        let mut t = appcast::Table::with_pad(5, 5);
+        t.set_right_justify(1, true);
+        t.push("VarName | Range  | Group  | VType | Contacts   ");
+        t.add_header_lines();
+        for (var, r) in &self.reports {
+            let n = r.contacts.split(',').filter(|s| !s.is_empty()).count();
+            t.push(var);
+            t.push(&compact_string(r.range, 2));
+            t.push(&r.group);
+            t.push(&r.vtype);
+            t.push(&n.to_string());
+        }
+        t.write(b);
+    }
+}
+
+impl super::Alert {
+    /// V20's `CMAlert::valid`: a range given, and a flag.
+    fn valid_v20(&self) -> bool {
+        self.range != -1.0 && !(self.on_flags.is_empty() && self.off_flags.is_empty())
+    }
+
+    /// V20's `addAlertOnFlag`: `VAR=value`, a repeated text ignored.
+    fn add_on_flag(&mut self, s: &str) -> bool {
+        let s = s.trim();
+        if !self.on_raw.insert(s.to_string()) {
+            return true;
+        }
+        match flag(s) {
+            Some(f) => {
+                self.on_flags.push(f);
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// V20's `addAlertOffFlag`: `#`-separated `VAR=value`s, repeated texts ignored.
+    fn add_off_flags(&mut self, s: &str) -> bool {
+        for part in s.split('#') {
+            let part = part.trim();
+            if !self.off_raw.insert(part.to_string()) {
+                continue;
+            }
+            match flag(part) {
+                Some(f) => self.off_flags.push(f),
+                None => return false,
+            }
+        }
+        true
+    }
+
+    /// V20's `CMAlert::getSummary` lines.
+    fn summary_v20(&self) -> Vec<String> {
+        let range = |r: f64| {
+            if r == -1.0 {
+                "unspecified".to_string()
+            } else if r >= 0.0 {
+                compact_string(r, 2)
+            } else {
+                "off".to_string()
+            }
+        };
+        let mut v = vec![
+            format!(
+                "Alert Ranges: {}/{}",
+                range(self.range),
+                range(self.range_far)
+            ),
+            format!(
+                "Source: {}",
+                if self.source.is_empty() {
+                    "--"
+                } else {
+                    &self.source
+                }
+            ),
+        ];
+        // The C++ labels the off flags "OnFlag" too.
+        for f in self.on_flags.iter().chain(&self.off_flags) {
+            let val = match &f.value {
+                Value::String(s) => s.to_string(),
+                v => compact_string(v.as_ref().as_f64().unwrap_or(0.0), 3),
+            };
+            v.push(format!("OnFlag: {}={val}", f.var));
+        }
+        let filters = self.filter.summary();
+        if !filters.is_empty() {
+            v.extend(filters.split(", ").map(str::to_string));
+        }
+        v
+    }
+}
