@@ -844,6 +844,16 @@ impl NodeComms {
         (x1 - x2).hypot(y1 - y2)
     }
 
+    /// MOOS `ContactLedger::isValid`: a name, x/y, lat/lon and a time. Without a grid the
+    /// latitude and longitude are not required (MOOS makes them up from its uninitialised
+    /// geodesy; coug cannot).
+    fn is_valid(&self, r: &NodeRecord) -> bool {
+        !r.name.is_empty()
+            && r.has_xy()
+            && (r.has_latlon() || self.grid.is_none())
+            && r.time.is_some()
+    }
+
     /// MOOS `hasVNameValidNotStale(v, thresh)` (the ledger itself has no stale threshold).
     fn valid_not_stale(&self, v: &str, thresh: f64, now: f64) -> bool {
         let Some(e) = self.ledger.get(v) else {
@@ -921,8 +931,9 @@ impl NodeComms {
         for src in sources {
             let msgs = self.messages.remove(&src).unwrap_or_default();
             for m in msgs {
-                let last = self.time_nmessage.get(&src).copied().unwrap_or(0.0);
-                if now - last >= self.s.min_msg_interval {
+                // The C++ starts from time 0, so the first message always goes.
+                let last = self.time_nmessage.get(&src).copied();
+                if last.is_none_or(|t| now - t >= self.s.min_msg_interval) {
                     self.distribute_message(&src, &m, now, out);
                     self.time_nmessage.insert(src.clone(), now);
                 } else {
@@ -938,12 +949,10 @@ impl NodeComms {
         let Some(e) = self.ledger.get(us) else {
             return;
         };
-        let r = &e.record;
-        // MOOS `isValid`: name, x, y, lat, lon and time.
-        if r.name.is_empty() || !r.has_xy() || !r.has_latlon() || r.time.is_none() {
+        if !self.is_valid(&e.record) {
             return;
         }
-        let report = r.spec();
+        let report = e.record.spec();
         let names: Vec<String> = self.ledger.keys().cloned().collect();
         for v in names {
             if v == us {
@@ -987,10 +996,7 @@ impl NodeComms {
             return;
         };
         let r = &e.record;
-        if r.name.is_empty() || !r.has_xy() || !r.has_latlon() || r.time.is_none() {
-            return;
-        }
-        if self.s.min_share_interval < 0.0 {
+        if !self.is_valid(r) || self.s.min_share_interval < 0.0 {
             return;
         }
         if let Some(t) = self.lshare.get(us) {
@@ -1160,7 +1166,6 @@ impl NodeComms {
         attrs.fill_color = Some(if color == "auto" { "orange" } else { color }.to_string());
         attrs.time = Some(now);
         attrs.duration = Some(self.s.pulse_duration);
-        s.push(',');
         attrs.write_spec(&mut s, 0);
         out.push(Post::text("VIEW_COMMS_PULSE", s));
     }
@@ -1514,7 +1519,7 @@ mod tests {
         for (n, x) in [("abe", 0.0), ("ben", 50.0), ("cal", 900.0)] {
             nc.on_mail("NODE_REPORT", &report(n, x, 0.0, 1.0), 1.0, &mut out);
         }
-        let msg = "src_node=abe,dest_node=all,var_name=FOO,string_val=a,b";
+        let msg = "src_node=abe,dest_node=all,var_name=FOO,string_val=\"a,b\"";
         nc.on_mail_from("NODE_MESSAGE", &Value::text(msg), "pHelmIvP", 1.0);
         nc.iterate(1.0, &mut out);
         let m: Vec<(&str, &str)> = out
