@@ -198,11 +198,12 @@ fn the_encounter_fleets_check_clean() {
     }
 }
 
-/// A stock two-vehicle berta mission (m2_berta: a loiter each; berta_cmgr: a transit each;
-/// BHV_AvdColregsV22 spawned per contact) as its launch.sh makes it: its `targ_<vname>.bhv`
-/// files are its `meta_vehicle.bhv`, which coug preprocesses with each vehicle's macros, as
-/// launch.sh's nsplug does.
-fn berta_fleet(mission: &str, dir: &Path) -> std::path::PathBuf {
+/// A stock two-vehicle berta mission (m2_berta: a loiter each, swapped at 180 s by the
+/// shoreside's uTimerScript; berta_cmgr: a transit each; BHV_AvdColregsV22 spawned per
+/// contact) as its launch.sh makes it: its `targ_<vname>.bhv` files are its
+/// `meta_vehicle.bhv`, which coug preprocesses with each vehicle's macros, as launch.sh's
+/// nsplug does. `starts` are abe's and ben's `START_POS`.
+fn berta_fleet(mission: &str, dir: &Path, starts: [&str; 2]) -> std::path::PathBuf {
     std::fs::create_dir_all(dir).unwrap();
     let src = test_support::corpus(&format!("moos-ivp-missions/{mission}"));
     for f in std::fs::read_dir(&src).expect("m2_berta").flatten() {
@@ -215,8 +216,20 @@ fn berta_fleet(mission: &str, dir: &Path) -> std::path::PathBuf {
         )
         .unwrap();
     }
-    // launch.sh's values (init_field.sh's positions, speeds, names and colours).
-    let fleet = "\
+    // The stock `<pShare>` plug, shared by the shoreside and the vehicles, white-lists only
+    // DEPLOY, MOOS_MANUAL_OVERRIDE, NODE_BROKER_ACK and APPCAST_REQ on every input: MOOS's
+    // pShare (as coug's) would drop the brokers' pings and every bridged NODE_REPORT, so the
+    // vehicles would never hear of each other. The fleet runs without that white list.
+    let plugs = dir.join("plugs.moos");
+    let text = std::fs::read_to_string(&plugs).unwrap();
+    let white = ", white_list=DEPLOY & MOOS_MANUAL_OVERRIDE & NODE_BROKER_ACK & APPCAST_REQ";
+    assert!(text.contains(white), "the stock plug changed");
+    std::fs::write(&plugs, text.replace(white, "")).unwrap();
+    // launch.sh's values (init_field.sh's speeds, names and colours; vdestpos.txt's
+    // destinations).
+    let [abe, ben] = starts;
+    let fleet = format!(
+        "\
 macro    = XMODE=SIM
 macro    = SHORE_IP=localhost
 macro    = SHORE_PSHARE=9200
@@ -225,18 +238,25 @@ macro    = WARP=1
 macro    = MAX_SPD=2
 base     = shoreside meta_shoreside.moos MOOS_PORT=9000 PSHARE_PORT=9200 VNAMES=abe:ben
 template = meta_vehicle.moos
-vehicle  = abe MOOS_PORT=9001 PSHARE_PORT=9201 START_POS=x=0,y=0,heading=180   STOCK_SPD=2 COLOR=yellow LOITER_POS=x=0,y=-75   DEST_POS=x=-30,y=-80
-vehicle  = ben MOOS_PORT=9002 PSHARE_PORT=9202 START_POS=x=180,y=0,heading=180 STOCK_SPD=2 COLOR=red    LOITER_POS=x=125,y=-50 DEST_POS=x=170,y=-80
-";
+vehicle  = abe MOOS_PORT=9001 PSHARE_PORT=9201 START_POS={abe} STOCK_SPD=2 COLOR=yellow LOITER_POS=x=0,y=-75   DEST_POS=x=-30,y=-80
+vehicle  = ben MOOS_PORT=9002 PSHARE_PORT=9202 START_POS={ben} STOCK_SPD=2 COLOR=red    LOITER_POS=x=125,y=-50 DEST_POS=x=170,y=-80
+"
+    );
     let path = dir.join("berta.fleet");
     std::fs::write(&path, fleet).unwrap();
     path
 }
 
-/// Checks and runs a berta mission for 120 s; returns the vehicles' logs.
-fn berta(mission: &str) -> BTreeMap<String, alog::Alog> {
-    let dir = fresh_dir(&format!("colregs-{mission}"));
-    let path = berta_fleet(mission, &dir.join("mission"));
+/// A berta run: each vehicle's parsed alog, and every community's alog bytes.
+struct Berta {
+    logs: BTreeMap<String, alog::Alog>,
+    bytes: BTreeMap<String, Vec<u8>>,
+}
+
+/// Checks and runs a berta mission for `secs` seconds in `name`'s folder.
+fn berta(mission: &str, name: &str, starts: [&str; 2], secs: f64) -> Berta {
+    let dir = fresh_dir(name);
+    let path = berta_fleet(mission, &dir.join("mission"), starts);
     // coug check: no error, no MALCONFIG (BHV_AvdColregsV22's parameters are all known).
     let out = coug(path.parent().unwrap(), &["check", "berta.fleet"]);
     assert!(
@@ -251,7 +271,7 @@ fn berta(mission: &str) -> BTreeMap<String, alog::Alog> {
     let opts = FleetOptions {
         mode: Mode::Lockstep,
         deploy: true,
-        max_time: 120.0,
+        max_time: secs,
         log_dir: Some(dir.join("logs")),
         ..FleetOptions::default()
     };
@@ -259,10 +279,17 @@ fn berta(mission: &str) -> BTreeMap<String, alog::Alog> {
         .unwrap_or_else(|e| panic!("fleet run failed: {e}"));
     let names: Vec<&str> = report.members.iter().map(|(n, _)| n.as_str()).collect();
     assert_eq!(names, ["shoreside", "abe", "ben"], "{report}");
-    ["abe", "ben"]
+    let bytes: BTreeMap<String, Vec<u8>> = names
+        .iter()
+        .map(|n| {
+            let b = std::fs::read(find_alog(&dir.join("logs").join(n))).unwrap();
+            (n.to_string(), b)
+        })
+        .collect();
+    let logs = ["abe", "ben"]
         .into_iter()
         .map(|v| {
-            let log = parse(&std::fs::read(find_alog(&dir.join("logs").join(v))).unwrap());
+            let log = parse(&bytes[v]);
             // The helm drives, with no behaviour error, and the vehicle moves off.
             assert!(has(&log, "IVPHELM_STATE", "DRIVE"), "{v}");
             assert!(!log.entries.iter().any(|e| e.var == "BHV_ERROR"), "{v}");
@@ -272,21 +299,84 @@ fn berta(mission: &str) -> BTreeMap<String, alog::Alog> {
             assert!((x1 - x0).hypot(y1 - y0) > 20.0, "{v} stayed put");
             (v.to_string(), log)
         })
-        .collect()
+        .collect();
+    Berta { logs, bytes }
+}
+
+/// The `min_util_cpa_dist` of `mission`'s AvdColregsV22 template.
+fn min_util_cpa(mission: &str) -> f64 {
+    let bhv = test_support::corpus(&format!("moos-ivp-missions/{mission}/meta_vehicle.bhv"));
+    let text = std::fs::read_to_string(bhv).unwrap();
+    let line = text
+        .lines()
+        .map(str::trim)
+        .find(|l| l.starts_with("min_util_cpa_dist"))
+        .expect("min_util_cpa_dist");
+    line.split('=').nth(1).unwrap().trim().parse().unwrap()
+}
+
+/// Each vehicle's pContactMgrV20 learns of the other through the shoreside's
+/// uFldNodeComms, alerts its helm, the helm spawns `avdcol_<other>` (BHV_AvdColregsV22) and
+/// runs it; the two keep above the template's `min_util_cpa_dist`.
+fn assert_encounter(mission: &str, run: &Berta) {
+    for (me, log) in &run.logs {
+        let other = if me == "abe" { "ben" } else { "abe" };
+        assert!(has(log, "CONTACTS_LIST", other), "{me}: no contact");
+        assert!(
+            log.entries
+                .iter()
+                .any(|e| e.var == "NODE_REPORT" && e.source == "uFldNodeComms"),
+            "{me}: no relayed report"
+        );
+        assert!(
+            has(log, "CONTACT_INFO", &format!("name={other}")),
+            "{me}: no alert"
+        );
+        let spawn = format!("bname=avdcol_{other}, btype=BHV_AvdColregsV22, event=spawn");
+        assert!(has(log, "IVPHELM_LIFE_EVENT", &spawn), "{me}: {spawn}");
+        assert!(
+            has(log, "IVPHELM_BHV_ACTIVE", &format!("avdcol_{other}")),
+            "{me}: the behaviour never ran"
+        );
+    }
+    let min = min_util_cpa(mission);
+    for ((a, b), (r, t)) in closest(&run.logs) {
+        eprintln!("{mission}: {a}-{b} closest {r:.2} m at t={t:.2}");
+        assert!(
+            r > min,
+            "{mission}: {a} and {b} came within {r:.2} m at t={t:.2}"
+        );
+    }
 }
 
 #[test]
-fn m2_berta_checks_and_runs_as_a_fleet() {
-    for (v, log) in berta("m2_berta") {
+fn m2_berta_vehicles_meet_and_keep_apart_with_colregs_repeatably() {
+    let starts = ["x=0,y=0,heading=180", "x=180,y=0,heading=180"];
+    let run = berta("m2_berta", "colregs-m2_berta", starts, 300.0);
+    for (v, log) in &run.logs {
         // Loitering: its mode tree from the .bhv.
-        assert!(has(&log, "MODE", "ACTIVE:LOITERING"), "{v}");
-        assert!(has(&log, "LOITER_REPORT_A", "capture_hits="), "{v}");
+        assert!(has(log, "MODE", "ACTIVE:LOITERING"), "{v}");
+        assert!(has(log, "LOITER_REPORT_A", "capture_hits="), "{v}");
+    }
+    assert_encounter("m2_berta", &run);
+    // Lockstep: a second run writes the same bytes in every community's alog.
+    // (The same folder: the logs name their path.)
+    let again = berta("m2_berta", "colregs-m2_berta", starts, 300.0);
+    for (community, bytes) in &run.bytes {
+        assert!(
+            *bytes == again.bytes[community],
+            "{community}: the two runs differ"
+        );
     }
 }
 
 #[test]
-fn berta_cmgr_checks_and_runs_as_a_fleet() {
-    for (v, log) in berta("berta_cmgr") {
-        assert!(has(&log, "MODE", "ACTIVE:TRANSITING"), "{v}");
+fn berta_cmgr_crossing_transits_spawn_colregs() {
+    // Each transits to its vdestpos.txt point from the other's side, so their paths cross.
+    let starts = ["x=170,y=0,heading=180", "x=-30,y=0,heading=180"];
+    let run = berta("berta_cmgr", "colregs-berta_cmgr", starts, 200.0);
+    for (v, log) in &run.logs {
+        assert!(has(log, "MODE", "ACTIVE:TRANSITING"), "{v}");
     }
+    assert_encounter("berta_cmgr", &run);
 }

@@ -965,8 +965,7 @@ impl NodeComms {
             if self.is_stale(&v, self.s.stale_time, now) || !self.in_range(us, &v, now) {
                 continue;
             }
-            if self.s.apply_groups && self.ledger[us].record.group != self.ledger[&v].record.group
-            {
+            if self.s.apply_groups && self.ledger[us].record.group != self.ledger[&v].record.group {
                 continue;
             }
             if self.drop_draw() || !self.rate_ok(us, &v, now) {
@@ -1189,14 +1188,22 @@ impl NodeComms {
             let _ = write!(share, " ({})", compact_string(s.min_share_interval, 2));
         }
         let _ = writeln!(b, "Configuration:  ");
-        let _ = writeln!(b, "       Comms Range: {}", compact_string(s.comms_range, 5));
+        let _ = writeln!(
+            b,
+            "       Comms Range: {}",
+            compact_string(s.comms_range, 5)
+        );
         let _ = writeln!(
             b,
             "    Critical Range: {}",
             compact_string(s.critical_range, 5)
         );
         let _ = writeln!(b, "        Stale Drop: {}", compact_string(s.stale_time, 5));
-        let _ = writeln!(b, "       Stale Foget: {}", compact_string(s.stale_forget, 5));
+        let _ = writeln!(
+            b,
+            "       Stale Foget: {}",
+            compact_string(s.stale_forget, 5)
+        );
         let _ = writeln!(b, "   Max Message Len: {}", s.max_msg_length);
         let _ = writeln!(
             b,
@@ -1265,8 +1272,11 @@ impl NodeComms {
         for (v, n) in &self.messages_sent {
             let _ = writeln!(b, "  {v:<20}: {n}");
         }
-        let total =
-            self.blk_invalid + self.blk_tooquick + self.blk_toolong + self.blk_toofar + self.blk_noinfo;
+        let total = self.blk_invalid
+            + self.blk_tooquick
+            + self.blk_toolong
+            + self.blk_toofar
+            + self.blk_noinfo;
         let _ = writeln!(b, "     ------------------ ");
         let _ = writeln!(b, "    Total Blocked Msgs: {total}");
         let _ = writeln!(b, "               Invalid: {}", self.blk_invalid);
@@ -1428,7 +1438,11 @@ mod tests {
         nc.on_mail("NODE_REPORT", &report("abe", 0.0, 0.0, 1.0), 1.0, &mut out);
         nc.on_mail("NODE_REPORT", &report("ben", 15.0, 0.0, 1.0), 1.0, &mut out);
         nc.iterate(1.0, &mut out);
-        assert_eq!(sent(&out, "BEN").len(), 1, "within critical_range, comms off");
+        assert_eq!(
+            sent(&out, "BEN").len(),
+            1,
+            "within critical_range, comms off"
+        );
         assert!(out.iter().all(|p| p.key != "VIEW_COMMS_PULSE"));
         let (mut nc, _) = NodeComms::new(
             None,
@@ -1480,7 +1494,10 @@ mod tests {
                 nc.on_mail("NODE_REPORT", &report("ben", 10.0, 0.0, t), t, &mut out);
                 nc.iterate(t, &mut out);
             }
-            let got = out.iter().filter(|p| p.key.starts_with("NODE_REPORT_")).count();
+            let got = out
+                .iter()
+                .filter(|p| p.key.starts_with("NODE_REPORT_"))
+                .count();
             (got, nc.counts())
         };
         let (got, (sent_n, dropped)) = run(42);
@@ -1503,7 +1520,12 @@ mod tests {
         let mut out = Vec::new();
         let t = format!("NAME=abe,LAT={lat},LON={lon},SPD=1,HDG=0,TIME=3,TYPE=kayak");
         nc.on_mail("NODE_REPORT", &Value::text(t), 3.0, &mut out);
-        nc.on_mail("NODE_REPORT", &report("ben", 30.0, -20.0, 3.0), 3.0, &mut out);
+        nc.on_mail(
+            "NODE_REPORT",
+            &report("ben", 30.0, -20.0, 3.0),
+            3.0,
+            &mut out,
+        );
         nc.iterate(3.0, &mut out);
         let r = NodeRecord::parse(sent(&out, "BEN")[0]);
         assert!((r.x.unwrap() - 30.0).abs() < 0.01 && (r.y.unwrap() + 40.0).abs() < 0.01);
@@ -1514,7 +1536,8 @@ mod tests {
 
     #[test]
     fn node_messages_are_routed_to_their_destinations_at_most_once_per_interval() {
-        let (mut nc, _) = NodeComms::new(None, 1, &["comms_range = nolimit", "min_msg_interval = 10"]);
+        let (mut nc, _) =
+            NodeComms::new(None, 1, &["comms_range = nolimit", "min_msg_interval = 10"]);
         let mut out = Vec::new();
         for (n, x) in [("abe", 0.0), ("ben", 50.0), ("cal", 900.0)] {
             nc.on_mail("NODE_REPORT", &report(n, x, 0.0, 1.0), 1.0, &mut out);
@@ -1531,12 +1554,20 @@ mod tests {
         assert_eq!(m, [("NODE_MESSAGE_BEN", spec), ("NODE_MESSAGE_CAL", spec)]);
         // A second within min_msg_interval is held back.
         out.clear();
-        nc.on_mail("NODE_MESSAGE", &Value::text("src_node=abe,dest_node=ben,var_name=X,double_val=2"), 2.0, &mut out);
+        nc.on_mail(
+            "NODE_MESSAGE",
+            &Value::text("src_node=abe,dest_node=ben,var_name=X,double_val=2"),
+            2.0,
+            &mut out,
+        );
         nc.iterate(2.0, &mut out);
         assert!(out.iter().all(|p| !p.key.starts_with("NODE_MESSAGE_")));
         // An invalid message is bad mail.
         nc.on_mail("NODE_MESSAGE", &Value::text("dest_node=ben"), 3.0, &mut out);
-        assert!(nc.take_notes().contains(&Note::Warning("Bad Mail: NODE_MESSAGE".into())));
+        assert!(
+            nc.take_notes()
+                .contains(&Note::Warning("Bad Mail: NODE_MESSAGE".into()))
+        );
     }
 
     #[test]
@@ -1544,7 +1575,12 @@ mod tests {
         let (_, w) = NodeComms::new(
             None,
             1,
-            &["critical_range = -3", "drop_percentage = 0", "bogus = 2", "AppTick = 4"],
+            &[
+                "critical_range = -3",
+                "drop_percentage = 0",
+                "bogus = 2",
+                "AppTick = 4",
+            ],
         );
         assert_eq!(
             &w[1..],

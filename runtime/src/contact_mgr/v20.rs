@@ -324,9 +324,7 @@ impl ContactMgr {
                     false
                 }
             }
-            "range_report_timeout" => non_neg(value)
-                .map(|d| s.range_report_timeout = d)
-                .is_some(),
+            "range_report_timeout" => non_neg(value).map(|d| s.range_report_timeout = d).is_some(),
             "range_report_maxsize" => uint(value).map(|n| x.range_report_maxsize = n).is_some(),
             "display_radii" => set_bool(&mut s.display_radii, value),
             "display_radii_id" | "contact_local_coords" | "cpa_range_color" => true,
@@ -722,8 +720,12 @@ impl ContactMgr {
                     let total = self.x.disabled_contacts.len().to_string();
                     v = expand(&v, "TOTAL_DISABLED", &total);
                     if v.contains("ALL_DISABLED") {
-                        let all: Vec<&str> =
-                            self.x.disabled_contacts.iter().map(String::as_str).collect();
+                        let all: Vec<&str> = self
+                            .x
+                            .disabled_contacts
+                            .iter()
+                            .map(String::as_str)
+                            .collect();
                         v = expand(&v, "ALL_DISABLED", &all.join(","));
                     }
                     if !v.is_empty() {
@@ -1214,10 +1216,7 @@ impl ContactMgr {
             let range = rec.range_actual;
             ranges.push(range);
             if closest.is_none_or(|(_, r, _)| range < r) {
-                let (cx, cy) = (
-                    rec.report.x_m.unwrap_or(0.0),
-                    rec.report.y_m.unwrap_or(0.0),
-                );
+                let (cx, cy) = (rec.report.x_m.unwrap_or(0.0), rec.report.y_m.unwrap_or(0.0));
                 let relbng = behaviors::cpa::rel_bearing(ox, oy, oh, cx, cy);
                 closest = Some((name, range, relbng));
             }
