@@ -1453,3 +1453,519 @@ impl super::Alert {
         v
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact_mgr::ContactMgrApp;
+    use mission::diagnostic::Diagnostic;
+
+    fn posts<'a>(out: &'a [Post], key: &str) -> Vec<&'a Value> {
+        out.iter()
+            .filter(|p| p.key == key)
+            .map(|p| &p.value)
+            .collect()
+    }
+
+    fn texts<'a>(out: &'a [Post], key: &str) -> Vec<&'a str> {
+        posts(out, key)
+            .into_iter()
+            .filter_map(Value::as_str)
+            .collect()
+    }
+
+    fn report(name: &str, x: f64, y: f64, hdg: f64, spd: f64, t: f64) -> Value {
+        Value::text(format!(
+            "NAME={name},X={x},Y={y},HDG={hdg},SPD={spd},TIME={t},TYPE=kayak,GROUP=blue"
+        ))
+    }
+
+    fn nav(cm: &mut ContactMgr, x: f64, y: f64, hdg: f64, spd: f64) {
+        let mut out = Vec::new();
+        for (k, v) in [
+            ("NAV_X", x),
+            ("NAV_Y", y),
+            ("NAV_HEADING", hdg),
+            ("NAV_SPEED", spd),
+        ] {
+            cm.on_mail(k, &Value::Double(v), 0.0, &mut out);
+        }
+    }
+
+    /// A V20 manager with a grid (no origin warning) from `lines`.
+    fn v20(lines: &[&str]) -> (ContactMgr, Vec<String>) {
+        let grid = vehicle::geodesy::LocalGrid::new(43.8253, -70.3304).unwrap();
+        ContactMgr::new_v20("abe", Some(grid), lines)
+    }
+
+    #[test]
+    fn the_block_is_read_last_line_first_with_the_cpp_warnings() {
+        let (cm, w) = v20(&[
+            "alert = id=a, on_flag=X=1",
+            "alert = id=a, alert_range=15, cpa_range=5",
+            "alert = id=b, on_flag=Y=2",
+            "contacts_recap_interval = 2",
+            "alert_range = 50",
+            "max_retired_history = 0",
+            "reject_range = -5",
+            "alert = id=c, bogus=1",
+            "match_name = ben",
+            "ignore_name = ben",
+            "strict_ignore = maybe",
+            "contact_local_coords = force_lat_lon",
+            "AppTick = 4",
+        ]);
+        assert_eq!(
+            w,
+            [
+                "Unhandled config line: strict_ignore=maybe",
+                "Unhandled config line: match_name=ben",
+                "unhandled alert config component: bogus",
+                "Unhandled config line: alert=id=c,bogus=1",
+                "Unhandled config line: reject_range=-5",
+                "max_retired_hist should be in range [1,50]",
+                "alert_range is deprecated",
+                "Unhandled config line: alert_range=50",
+                "contacts_recap_interval is deprecated. Use instead: recap_interval",
+                // b has no range, c neither flag nor range: neither is valid.
+                "Invalid alert config:b",
+                "Invalid alert config:c",
+            ]
+        );
+        // a: 15 then, read before it, cpa_range 5 pulls the range down to 5.
+        let mut body = String::new();
+        cm.report(&mut body);
+        assert!(body.contains("1 ID: a\n  Alert Ranges: 5/5\n  Source: --\n  OnFlag: X=1\n"));
+        assert!(body.contains("Alert Ranges: unspecified/unspecified"));
+        assert_eq!(cm.s.recap_interval, 2.0);
+        assert_eq!(cm.s.max_retired, 1);
+    }
+
+    #[test]
+    fn an_alert_per_contact_follows_its_range_and_cpa_range() {
+        let (mut cm, w) = v20(&["alert_verbose = true"]);
+        assert!(w.is_empty(), "{w:?}");
+        let mut out = Vec::new();
+        let req = "id=avd_, on_flag=CONTACT_INFO=name=$[VNAME] # contact=$[VNAME], off_flag=GONE=$[VNAME]#N=3, alert_range=50, cpa_range=100";
+        cm.on_mail_from(
+            "BCM_ALERT_REQUEST",
+            &Value::text(req),
+            "pHelmIvP",
+            0.0,
+            &mut out,
+        );
+        assert!(cm.take_notes().contains(&Note::Event(format!(
+            "New BCM_ALERT_REQUEST (src=pHelmIvP): {req}"
+        ))));
+        nav(&mut cm, 0.0, 0.0, 0.0, 0.0);
+        // 120 m east coming west at 2 m/s: beyond cpa_range.
+        cm.on_mail(
+            "NODE_REPORT",
+            &report("bob", 120.0, 0.0, 270.0, 2.0, 1.0),
+            1.0,
+            &mut out,
+        );
+        cm.iterate(1.0, &mut out);
+        assert_eq!(texts(&out, "ALERT_VERBOSE"), ["new_contact=bob"]);
+        assert!(posts(&out, "CONTACT_INFO").is_empty());
+        // 90 m: within cpa_range, its CPA (0) within alert_range: alerted.
+        out.clear();
+        cm.on_mail(
+            "NODE_REPORT",
+            &report("bob", 90.0, 0.0, 270.0, 2.0, 16.0),
+            16.0,
+            &mut out,
+        );
+        // cal 95 m north going north: within cpa_range, its CPA 95 m: not alerted.
+        cm.on_mail(
+            "NODE_REPORT",
+            &report("cal", 0.0, 95.0, 0.0, 1.0, 16.0),
+            16.0,
+            &mut out,
+        );
+        cm.iterate(16.0, &mut out);
+        assert_eq!(texts(&out, "CONTACT_INFO"), ["name=bob # contact=bob"]);
+        assert_eq!(
+            texts(&out, "ALERT_VERBOSE"),
+            [
+                "new_contact=cal",
+                "contact=bob,alert_id=avd_,off-->alerted,alert_range=50,alert_range_cpa=100,range_actual=90.0,range_cpa=0.0"
+            ]
+        );
+        // The summaries follow the alerts within an iteration (V20's order).
+        assert_eq!(texts(&out, "CONTACTS_ALERTED"), ["(bob,avd_)"]);
+        assert_eq!(posts(&out, "CONTACTS_COUNT"), [&Value::Double(1.0)]);
+        assert_eq!(texts(&out, "CONTACTS_LIST"), ["bob,cal"]);
+        assert!(
+            posts(&out, "CONTACTS_UNALERTED").is_empty(),
+            "not a V20 posting"
+        );
+        // bob turns away, 110 m: off, with both off flags.
+        out.clear();
+        cm.on_mail(
+            "NODE_REPORT",
+            &report("bob", 110.0, 0.0, 90.0, 2.0, 26.0),
+            26.0,
+            &mut out,
+        );
+        cm.iterate(26.0, &mut out);
+        assert_eq!(texts(&out, "GONE"), ["bob"]);
+        assert_eq!(posts(&out, "N"), [&Value::Double(3.0)]);
+        assert_eq!(
+            texts(&out, "ALERT_VERBOSE"),
+            [
+                "contact=bob,alert_id=avd_,alerted-->off,alert_range=50,alert_range_cpa=100,range_actual=110.0"
+            ]
+        );
+        // The same on flag again adds nothing; a request can disable the alert.
+        cm.on_mail("BCM_ALERT_REQUEST", &Value::text(req), 27.0, &mut out);
+        assert_eq!(cm.alerts["avd_"].on_flags.len(), 1);
+        cm.on_mail(
+            "BCM_ALERT_REQUEST",
+            &Value::text("id=avd_, action=disable"),
+            27.0,
+            &mut out,
+        );
+        out.clear();
+        cm.on_mail(
+            "NODE_REPORT",
+            &report("bob", 40.0, 0.0, 270.0, 2.0, 28.0),
+            28.0,
+            &mut out,
+        );
+        cm.iterate(28.0, &mut out);
+        assert!(posts(&out, "CONTACT_INFO").is_empty(), "disabled");
+        // An underwater type without depth is bad mail.
+        cm.on_mail(
+            "NODE_REPORT",
+            &Value::text("NAME=dan,X=1,Y=1,TIME=28,TYPE=uuv"),
+            28.0,
+            &mut out,
+        );
+        assert!(
+            cm.take_notes()
+                .contains(&Note::Warning("Bad Mail: NODE_REPORT:1:dan2:".into()))
+        );
+    }
+
+    #[test]
+    fn alerts_wait_for_the_helm_when_asked_to() {
+        let (mut cm, _) = v20(&[
+            "hold_alerts_for_helm = true",
+            "alert = id=a, on_flag=HIT=$[VNAME]@$[X]:$[Y]/$[GROUP]/%[VTYPE], alert_range=30",
+        ]);
+        let mut out = Vec::new();
+        cm.on_mail(
+            "NODE_REPORT",
+            &report("bob", 10.0, 0.0, 0.0, 0.0, 1.0),
+            1.0,
+            &mut out,
+        );
+        cm.iterate(1.0, &mut out);
+        cm.on_mail("IVPHELM_STATE", &Value::text("PARK"), 2.0, &mut out);
+        cm.iterate(2.0, &mut out);
+        assert!(posts(&out, "HIT").is_empty());
+        cm.on_mail("IVPHELM_STATE", &Value::text("DRIVE"), 3.0, &mut out);
+        cm.iterate(3.0, &mut out);
+        assert_eq!(texts(&out, "HIT"), ["bob@10:0/blue/kayak"]);
+    }
+
+    #[test]
+    fn range_marks_closest_bearing_and_all_ranges() {
+        let (mut cm, _) = v20(&[
+            "post_all_ranges = true",
+            "post_closest_range = true",
+            "post_closest_relbng = true",
+        ]);
+        nav(&mut cm, 0.0, 0.0, 90.0, 1.0);
+        let mut out = Vec::new();
+        for (n, x, y) in [("bob", 30.0, 2.5), ("cal", 0.0, 5.0), ("dan", 12.04, 0.0)] {
+            cm.on_mail(
+                "NODE_REPORT",
+                &report(n, x, y, 0.0, 0.0, 1.0),
+                1.0,
+                &mut out,
+            );
+        }
+        cm.iterate(1.0, &mut out);
+        // hypot(30, 2.5) = 30.10; ranges ascending, one decimal, compacted.
+        assert_eq!(texts(&out, "CONTACT_RANGES"), ["5,12,30.1"]);
+        assert_eq!(texts(&out, "CONTACT_CLOSEST"), ["cal"]);
+        assert_eq!(posts(&out, "CONTACT_CLOSEST_RANGE"), [&Value::Double(5.0)]);
+        // cal is due north, ownship heads east: 270 degrees relative.
+        assert_eq!(
+            posts(&out, "CONTACT_CLOSEST_RELBNG"),
+            [&Value::Double(270.0)]
+        );
+        // CONTACT_RANGES goes out every iteration; the others on change.
+        out.clear();
+        cm.iterate(1.5, &mut out);
+        assert_eq!(texts(&out, "CONTACT_RANGES"), ["5,12,30.1"]);
+        assert!(posts(&out, "CONTACT_CLOSEST_RELBNG").is_empty());
+    }
+
+    #[test]
+    fn filters_keep_contacts_out_and_retire_the_ones_that_fail_later() {
+        let (mut cm, w) = v20(&[
+            "ignore_group = red",
+            "retire_flag = RETIRED=$[CONTACT]",
+            "alert = id=k, on_flag=K=$[VNAME], alert_range=100, match_type=kayak",
+            "alert = id=r, on_flag=R=$[VNAME], alert_range=100, match_region=pts={0,0:50,0:50,50:0,50}",
+        ]);
+        assert!(w.is_empty(), "{w:?}");
+        let mut out = Vec::new();
+        let ship = "NAME=cal,X=10,Y=10,HDG=0,SPD=0,TIME=1,TYPE=ship,GROUP=blue";
+        cm.on_mail("NODE_REPORT", &Value::text(ship), 1.0, &mut out);
+        cm.on_mail(
+            "NODE_REPORT",
+            &report("bob", -10.0, 10.0, 0.0, 0.0, 1.0),
+            1.0,
+            &mut out,
+        );
+        cm.on_mail(
+            "NODE_REPORT",
+            &report("ABE", 1.0, 1.0, 0.0, 0.0, 1.0),
+            1.0,
+            &mut out,
+        );
+        let red = "NAME=dan,X=5,Y=5,HDG=0,SPD=0,TIME=1,TYPE=kayak,GROUP=red";
+        cm.on_mail("NODE_REPORT", &Value::text(red), 1.0, &mut out);
+        cm.iterate(1.0, &mut out);
+        // Ownship (any case) and the red group are not contacts; dan's retire flag fires.
+        assert_eq!(texts(&out, "CONTACTS_LIST"), ["bob,cal"]);
+        assert_eq!(texts(&out, "RETIRED"), ["dan"]);
+        // k matches kayaks (bob), r the region (cal).
+        assert_eq!(texts(&out, "K"), ["bob"]);
+        assert_eq!(texts(&out, "R"), ["cal"]);
+        // bob turns red: retired at the next iteration, and listed.
+        out.clear();
+        let bob_red = "NAME=bob,X=-10,Y=10,HDG=0,SPD=0,TIME=2,TYPE=kayak,GROUP=red";
+        cm.on_mail("NODE_REPORT", &Value::text(bob_red), 2.0, &mut out);
+        cm.iterate(2.0, &mut out);
+        assert_eq!(texts(&out, "CONTACTS_RETIRED"), ["bob"]);
+        assert_eq!(texts(&out, "CONTACTS_LIST"), ["cal"]);
+    }
+
+    #[test]
+    fn contacts_retire_by_age_and_past_max_contacts_the_farthest_go() {
+        let (mut cm, _) = v20(&["contact_max_age = 10", "max_contacts = 2"]);
+        let mut out = Vec::new();
+        for (n, x) in [("bob", 30.0), ("cal", 10.0), ("dan", 20.0)] {
+            cm.on_mail(
+                "NODE_REPORT",
+                &report(n, x, 0.0, 0.0, 0.0, 1.0),
+                1.0,
+                &mut out,
+            );
+        }
+        cm.iterate(1.0, &mut out);
+        assert_eq!(texts(&out, "CONTACTS_RETIRED"), ["bob"]);
+        assert_eq!(texts(&out, "CONTACTS_LIST"), ["cal,dan"]);
+        cm.on_mail(
+            "NODE_REPORT",
+            &report("dan", 20.0, 0.0, 0.0, 0.0, 9.0),
+            9.0,
+            &mut out,
+        );
+        out.clear();
+        cm.iterate(11.5, &mut out);
+        // cal's report is 10.5 s old: retired, newest first.
+        assert_eq!(texts(&out, "CONTACTS_RETIRED"), ["cal,bob"]);
+        assert_eq!(texts(&out, "CONTACTS_LIST"), ["dan"]);
+    }
+
+    #[test]
+    fn reports_in_lat_lon_are_placed_on_the_grid() {
+        let grid = vehicle::geodesy::LocalGrid::new(43.8253, -70.3304).unwrap();
+        let (lat, lon) = grid.to_latlon(30.0, 40.0).unwrap();
+        let (mut cm, w) = ContactMgr::new_v20("abe", Some(grid), &[]);
+        assert!(w.is_empty());
+        let mut out = Vec::new();
+        let r = format!("NAME=bob,LAT={lat},LON={lon},HDG=0,SPD=0,TIME=1,TYPE=kayak");
+        cm.on_mail("NODE_REPORT", &Value::text(r), 1.0, &mut out);
+        cm.iterate(1.0, &mut out);
+        let (actual, _, _) = cm.ranges("bob").unwrap();
+        assert!((actual - 50.0).abs() < 0.01, "{actual}");
+    }
+
+    #[test]
+    fn disabling_a_contact_posts_the_able_filter_and_flags() {
+        let (mut cm, w) = v20(&[
+            "disable_var = XYZ_DISABLE",
+            "enable_var = XYZ_ENABLE",
+            "able_flag = ABLE = 1",
+            "disable_flag = DIS = $[TOTAL_DISABLED]:$[RECENT_DISABLED]:$[ALL_DISABLED]",
+        ]);
+        assert!(w.is_empty(), "{w:?}");
+        assert!(cm.subscriptions().contains(&"XYZ_DISABLE".to_string()));
+        let mut out = Vec::new();
+        // A bare id: the filter only.
+        cm.on_mail("XYZ_DISABLE", &Value::text("87993"), 1.0, &mut out);
+        assert_eq!(
+            texts(&out, "BHV_ABLE_FILTER"),
+            ["contact=87993,action=disable"]
+        );
+        assert!(posts(&out, "ABLE").is_empty());
+        out.clear();
+        cm.on_mail(
+            "XYZ_DISABLE",
+            &Value::text("contact=ben, action=x"),
+            1.0,
+            &mut out,
+        );
+        cm.on_mail("XYZ_DISABLE", &Value::text("contact=cal"), 1.0, &mut out);
+        assert_eq!(
+            texts(&out, "BHV_ABLE_FILTER"),
+            ["contact=ben,action=disable", "contact=cal,action=disable"]
+        );
+        assert_eq!(
+            posts(&out, "ABLE"),
+            [&Value::Double(1.0), &Value::Double(1.0)]
+        );
+        assert_eq!(texts(&out, "DIS"), ["1:ben:ben", "2:cal:cal,ben"]);
+        out.clear();
+        cm.on_mail("XYZ_ENABLE", &Value::text("vsource=ais"), 2.0, &mut out);
+        assert_eq!(
+            texts(&out, "BHV_ABLE_FILTER"),
+            ["vsource=ais,action=enable"]
+        );
+    }
+
+    #[test]
+    fn early_warnings_come_before_the_alert_and_cease_when_it_opens() {
+        let (mut cm, _) = v20(&[
+            "early_warning_time = 10",
+            "early_warning_radii = true",
+            // (The MOOS reader drops the blanks of a block's lines.)
+            "early_warning_flag = EW = $[CONTACT] at $[RNG]",
+            "cease_warning_flag = CW = $[CONTACT]",
+            "alert = id=a, on_flag=A=$[VNAME], alert_range=50",
+            "alert_verbose = true",
+        ]);
+        nav(&mut cm, 0.0, 0.0, 0.0, 0.0);
+        let mut out = Vec::new();
+        // Closing at 2 m/s: warned within 50 + 2 * 10 = 70 m.
+        cm.on_mail(
+            "NODE_REPORT",
+            &report("bob", 80.0, 0.0, 270.0, 2.0, 1.0),
+            1.0,
+            &mut out,
+        );
+        cm.iterate(1.0, &mut out);
+        assert!(posts(&out, "EW").is_empty());
+        assert_eq!(
+            texts(&out, "VIEW_CIRCLE"),
+            [
+                "x=0,y=0,radius=70,label=xewarn_bob,label_color=gray50,edge_color=green,time=1,duration=3,vertex_size=0,edge_size=1"
+            ]
+        );
+        out.clear();
+        cm.on_mail(
+            "NODE_REPORT",
+            &report("bob", 65.0, 0.0, 270.0, 2.0, 8.5),
+            8.5,
+            &mut out,
+        );
+        cm.iterate(8.5, &mut out);
+        assert_eq!(texts(&out, "EW"), ["bobat65"]);
+        out.clear();
+        cm.on_mail(
+            "NODE_REPORT",
+            &report("bob", 45.0, 0.0, 270.0, 2.0, 18.5),
+            18.5,
+            &mut out,
+        );
+        cm.iterate(18.5, &mut out);
+        assert!(texts(&out, "ALERT_VERBOSE")[0].ends_with(",range_cpa=0.0,after_warning=10"));
+        // Opening past 65 * 1.05: the warning ceases.
+        out.clear();
+        cm.on_mail(
+            "NODE_REPORT",
+            &report("bob", 69.0, 0.0, 90.0, 2.0, 30.0),
+            30.0,
+            &mut out,
+        );
+        cm.iterate(30.0, &mut out);
+        assert_eq!(texts(&out, "CW"), ["bob"]);
+    }
+
+    #[test]
+    fn the_alert_circle_and_refreshed_range_reports() {
+        let (mut cm, _) = v20(&[
+            "display_radii = true",
+            "alert = id=avd, on_flag=A=1, alert_range=20, cpa_range=40",
+        ]);
+        let mut out = Vec::new();
+        cm.on_mail("NAV_X", &Value::Double(5.5), 0.0, &mut out);
+        cm.on_mail(
+            "NODE_REPORT",
+            &report("bob", 30.0, 0.0, 0.0, 0.0, 1.0),
+            1.0,
+            &mut out,
+        );
+        let req = "var=NEAR, range=50, refresh=true, reason=teaming";
+        cm.on_mail_from(
+            "BCM_REPORT_REQUEST",
+            &Value::text(req),
+            "pX:aux",
+            1.0,
+            &mut out,
+        );
+        assert!(cm.take_notes().contains(&Note::Event(format!(
+            "New BCM_REPORT_REQUEST (src=pX:aux): {req}"
+        ))));
+        cm.iterate(1.0, &mut out);
+        assert_eq!(
+            texts(&out, "VIEW_CIRCLE"),
+            [
+                "x=5.5,y=0,radius=40,label=alert_abe,edge_color=gray65,time=1,duration=3,vertex_size=0,edge_size=1"
+            ]
+        );
+        assert_eq!(texts(&out, "NEAR"), ["bob"]);
+        out.clear();
+        cm.iterate(2.0, &mut out);
+        assert!(posts(&out, "NEAR").is_empty(), "refreshed once");
+        cm.on_mail("BCM_REPORT_REQUEST", &Value::text(req), 2.0, &mut out);
+        cm.iterate(2.5, &mut out);
+        assert_eq!(texts(&out, "NEAR"), ["bob"]);
+        // BCM_DISPLAY_RADII turns the circle off; a bad value is bad mail.
+        cm.on_mail("BCM_DISPLAY_RADII", &Value::text("false"), 3.0, &mut out);
+        cm.on_mail("BCM_DISPLAY_RADII", &Value::text("maybe"), 3.0, &mut out);
+        assert!(
+            cm.take_notes()
+                .contains(&Note::Warning("Bad Mail: BCM_DISPLAY_RADII:".into()))
+        );
+        out.clear();
+        cm.iterate(3.0, &mut out);
+        assert!(posts(&out, "VIEW_CIRCLE").is_empty());
+    }
+
+    #[test]
+    fn the_app_reports_bad_lines_at_their_line_and_its_pid() {
+        let block = crate::testing::block(
+            "m.moos",
+            "ProcessConfig = pContactMgrV20\n{\n  AppTick = 2\n  contact_max_age = -3\n  bogus = 1\n}\n",
+        );
+        let mut app = ContactMgrApp::new_v20("pContactMgrV20", block, "abe", None);
+        let w: Vec<String> = app.warnings().iter().map(Diagnostic::located).collect();
+        assert_eq!(w.len(), 3, "{w:?}");
+        assert!(w[0].contains("Lat or Lon Origin not set"), "{w:?}");
+        // Last line first.
+        assert!(
+            w[1].contains("m.moos:5") && w[1].contains("bogus=1"),
+            "{w:?}"
+        );
+        assert!(
+            w[2].contains("m.moos:4") && w[2].contains("contact_max_age=-3"),
+            "{w:?}"
+        );
+        use crate::app::App;
+        app.set_process_id(42);
+        let mut out = Vec::new();
+        app.on_startup(0.0, &mut out).unwrap();
+        assert_eq!(posts(&out, "PCONTACTMGRV20_PID"), [&Value::Double(42.0)]);
+        let subs: Vec<String> = app.subscriptions().into_iter().map(|s| s.pattern).collect();
+        assert!(subs.contains(&"IVPHELM_STATE".to_string()));
+        assert!(!subs.contains(&"CONTACT_RESOLVED".to_string()));
+    }
+}
