@@ -4,7 +4,9 @@
 //! BHV_AvdColregsV22 per contact. With the behaviour every closest approach stays above its
 //! `min_util_cpa_dist` (10 m) and each vehicle enters the rule's mode; the same fleets with
 //! `AVOID=false` collide (closest approach under 3 m). Also the stock berta missions
-//! (m2_berta, berta_cmgr) checked and run as fleets.
+//! (m2_berta, berta_cmgr) checked and run as fleets: the shoreside's uFldNodeComms relays each
+//! vehicle's reports to the other, whose pContactMgrV20 alerts its helm, which spawns and
+//! runs an AvdColregsV22 for it; they keep above its `min_util_cpa_dist`, repeatably.
 
 mod common;
 

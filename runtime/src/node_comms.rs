@@ -1571,6 +1571,27 @@ mod tests {
     }
 
     #[test]
+    fn every_catalog_parameter_is_read() {
+        for key in mission::catalog::NODE_COMMS_PARAMS {
+            let value = match *key {
+                "stealth" => "vname=abe, stealth=0.5",
+                "earange" => "vname=abe, earange=2",
+                "msg_color" | "msg_repeat_color" => "white",
+                "groups"
+                | "msg_groups"
+                | "view_node_rpt_pulses"
+                | "shared_node_reports"
+                | "app_logging"
+                | "deprecated_ok" => "true",
+                _ => "5",
+            };
+            let line = format!("{key} = {value}");
+            let (_, w) = NodeComms::new(None, 1, &[&line]);
+            assert_eq!(w.len(), 1, "{line}: {w:?}");
+        }
+    }
+
+    #[test]
     fn bad_lines_are_warned_and_the_app_registers_its_variables() {
         let (_, w) = NodeComms::new(
             None,

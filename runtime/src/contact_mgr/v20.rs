@@ -1941,6 +1941,51 @@ mod tests {
     }
 
     #[test]
+    fn every_catalog_parameter_is_read_and_no_other() {
+        // A value each key takes.
+        let value = |k: &str| match k {
+            "alert" => "id=a, on_flag=A=1, alert_range=5",
+            "decay" => "10,20",
+            "match_region" | "ignore_region" => "pts={0,0:10,0:10,10:0,10}",
+            "alert_range_color"
+            | "default_alert_range_color"
+            | "cpa_range_color"
+            | "default_cpa_range_color"
+            | "ewarn_radii_color" => "white",
+            k if k.ends_with("_flag") => "V=1",
+            k if k.ends_with("_var") || k.starts_with("ownship") || k.ends_with("_id") => "X",
+            k if k.ends_with("_name") || k.ends_with("_group") || k.ends_with("_type") => "q",
+            "contact_local_coords" => "verbatim",
+            "strict_ignore"
+            | "display_radii"
+            | "alert_verbose"
+            | "hold_alerts_for_helm"
+            | "early_warning_radii"
+            | "app_logging"
+            | "deprecated_ok" => "true",
+            k if k.starts_with("post_") => "true",
+            _ => "3",
+        };
+        for key in mission::catalog::CONTACT_MGR_V20_PARAMS {
+            let line = format!("{key} = {}", value(key));
+            let (_, w) = v20(&[&line]);
+            assert!(
+                w.iter().all(|w| !w.starts_with("Unhandled config line")),
+                "{line}: {w:?}"
+            );
+        }
+        let (_, w) = v20(&["alert_cpa_range = 3", "post_closest_rng = true"]);
+        assert_eq!(
+            w,
+            [
+                "Unhandled config line: post_closest_rng=true",
+                "alert_cpa_range is deprecated",
+                "Unhandled config line: alert_cpa_range=3",
+            ]
+        );
+    }
+
+    #[test]
     fn the_app_reports_bad_lines_at_their_line_and_its_pid() {
         let block = crate::testing::block(
             "m.moos",
