@@ -355,10 +355,9 @@ impl NodeMessage {
 
     /// A source, a destination, a variable, and not both a string and a double.
     pub fn valid(&self) -> bool {
-        !self.src_node.is_empty()
-            && !(self.dest_node.is_empty() && self.dest_group.is_empty())
-            && !self.var_name.is_empty()
-            && !(!self.string_val.is_empty() && self.double_val.is_some())
+        let has_dest = !self.dest_node.is_empty() || !self.dest_group.is_empty();
+        let one_value = self.string_val.is_empty() || self.double_val.is_none();
+        !self.src_node.is_empty() && has_dest && !self.var_name.is_empty() && one_value
     }
 
     /// MOOS `NodeMessage::length`: the string value's length, at least 2.

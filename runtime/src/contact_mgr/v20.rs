@@ -307,7 +307,7 @@ impl ContactMgr {
         let x = &mut self.x;
         let s = &mut self.s;
         match param {
-            "alert" => return self.config_alert_v20(value, "", warns),
+            "alert" => self.config_alert_v20(value, "", warns),
             "ignore_name" | "match_name" | "ignore_group" | "match_group" | "ignore_type"
             | "match_type" | "match_region" | "ignore_region" | "strict_ignore" => {
                 x.filter.set_param(param, value) == Some(true)
