@@ -477,7 +477,7 @@ impl Default for Settings {
 /// use runtime::node_comms::NodeComms;
 /// use runtime::app::Value;
 /// let (mut nc, w) = NodeComms::new(None, 1, &["comms_range = 100", "view_node_rpt_pulses = false"]);
-/// assert!(w.is_empty());
+/// assert_eq!(w, ["Lat or Lon Origin not set in *.moos file."]);
 /// let mut out = Vec::new();
 /// nc.on_mail("NODE_REPORT", &Value::text("NAME=abe,X=0,Y=0,SPD=1,HDG=0,TIME=1,TYPE=kayak"), 1.0, &mut out);
 /// nc.on_mail("NODE_REPORT", &Value::text("NAME=ben,X=50,Y=0,SPD=1,HDG=0,TIME=1,TYPE=kayak"), 1.0, &mut out);
