@@ -36,7 +36,7 @@
 //! | collision_depth | 0 | > 0 and a `depth` domain | refused when it would apply: open: AOF_AvoidCollisionDepth |
 //! | use_refinery, check_plateaus, check_validity, verbose | false | boolean | read; open: the plateau refinery (pieces stay uniform) |
 //! | pcheck_thresh | 0.001 | number >= 0 | read |
-//! | can_disable | true | boolean | read; open: BHV_ABLE_FILTER |
+//! | can_disable | false | boolean | done: `BHV_ABLE_FILTER` disables, enables or expunges it (`contact::ContactBase::apply_able_filter`); disabled, it erases its bearing line and completes as when idle |
 //!
 //! | variable | when | format | coug |
 //! |---|---|---|---|
@@ -114,7 +114,7 @@ impl AvoidCollision {
             no_alert_request: false,
             update_var: String::new(),
             spawnable: false,
-            flags: [false, false, false, false, true, false],
+            flags: [false; 6],
             pcheck_thresh: 0.001,
         }
     }
@@ -334,6 +334,9 @@ impl Behavior for AvoidCollision {
                 .unwrap_or(0);
                 let b = crate::param::moos_boolean(param, value, self.flags[i])?;
                 self.flags[i] = b;
+                if param == "can_disable" {
+                    self.base.can_disable = b;
+                }
                 if param == "no_alert_request" {
                     self.no_alert_request = b;
                 }
@@ -391,6 +394,25 @@ impl Behavior for AvoidCollision {
             return;
         }
         self.post_range(out);
+        if self.done() {
+            out.complete();
+        }
+    }
+
+    fn apply_able_filter(&mut self, msg: &str, out: &mut Out) -> bool {
+        let kind = self.kind();
+        crate::contact::able_filter_hook(&mut self.base, msg, kind, out)
+    }
+
+    fn is_disabled(&self) -> bool {
+        self.base.disabled
+    }
+
+    /// MOOS `onDisabledState`: the bearing line erased, completion as when idle (on the
+    /// range of the last update).
+    fn on_disabled(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
+        self.base.update(ctx, out);
+        self.base.post_bearing_line(ctx, out, false);
         if self.done() {
             out.complete();
         }

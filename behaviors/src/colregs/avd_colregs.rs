@@ -59,7 +59,7 @@
 //! | avoid_mode, avoid_submode | none | a mode (`headon`, `giveway`, `none`, `overtaking`, `standon`, `cpa`) and a submode that mode allows | done |
 //! | pwt_grade | linear | linear, quadratic, quasi (any case) | done |
 //! | contact_type_required | "" | any non-empty text (lowered); empty refused | done (kept; unused by the C++) |
-//! | no_alert_request, headon_only, verbose, use_refinery, check_plateaus, check_validity, post_status_info_on_idle, pts_port_turns_ok, can_disable | false, false, false, false, false, false, false, true, true | boolean | done; `use_refinery`/`check_plateaus` read, open: the plateau refinery and its PLATEAU_* postings; `can_disable` read, open: BHV_ABLE_FILTER |
+//! | no_alert_request, headon_only, verbose, use_refinery, check_plateaus, check_validity, post_status_info_on_idle, pts_port_turns_ok, can_disable | false, false, false, false, false, false, false, true, false | boolean | done; `use_refinery`/`check_plateaus` read, open: the plateau refinery and its PLATEAU_* postings; `can_disable` done: `BHV_ABLE_FILTER` disables, enables or expunges the behaviour (V19 and later; `on_disabled` as the C++ `onDisabledState`) |
 //! | pcheck_thresh | 0.001 | number >= 0 | done (read) |
 //! | eval_tol | 120 (the time on leg) | number in [5, 300] | done |
 //! | velocity_filter | off | `min_spd=..,max_spd=..,pct=..`, valid ([`VelocityFilter`]) | done |
@@ -328,7 +328,7 @@ impl AvdColregs {
             pwt: 100.0,
             update_var: String::new(),
             spawnable: false,
-            flags: [false, false, false, false, true],
+            flags: [false; 5],
             pcheck_thresh: 0.001,
             segl: None,
         }
@@ -1169,6 +1169,7 @@ impl Behavior for AvdColregs {
                 .position(|p| *p == param)
                 .unwrap_or(4);
                 self.flags[i] = boolean(self.flags[i])?;
+                self.base.can_disable = self.flags[4];
                 return Ok(());
             }
             "pcheck_thresh" if v19 => {
@@ -1304,6 +1305,33 @@ impl Behavior for AvdColregs {
             self.post_status(ctx, out);
         }
         if self.done() {
+            out.complete();
+        }
+    }
+
+    fn apply_able_filter(&mut self, msg: &str, out: &mut Out) -> bool {
+        let kind = self.kind();
+        crate::contact::able_filter_hook(&mut self.base, msg, kind, out)
+    }
+
+    fn is_disabled(&self) -> bool {
+        self.base.disabled
+    }
+
+    /// MOOS `onDisabledState` (V19, V22, V26; V17 cannot be disabled): the bearing line
+    /// erased, completion on the filters or the range (V22 and V26 give the reasons
+    /// `filterb`, `rng1p1b`).
+    fn on_disabled(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
+        self.update(ctx, out);
+        self.base.post_bearing_line(ctx, out, false);
+        if self.version.at_least_v22() {
+            if !self.base.filter_holds() {
+                out.complete_because("filterb");
+            }
+            if self.base.range >= self.completed_dist * 1.1 {
+                out.complete_because("rng1p1b");
+            }
+        } else if self.done() {
             out.complete();
         }
     }
