@@ -798,6 +798,70 @@ mod tests {
     }
 
     #[test]
+    fn able_filters_parse_as_ivp_contact_behavior() {
+        let f = AbleFilter::parse(" Action = Enable ,VSOURCE= AIS").unwrap();
+        assert_eq!(f.action, AbleAction::Enable);
+        assert_eq!(f.vsource, "ais");
+        assert!(f.contact.is_empty() && f.bhv_type.is_empty());
+        assert_eq!(
+            AbleFilter::parse("action=expunge,contact=ben,").map(|f| f.action),
+            Some(AbleAction::Expunge),
+            "a trailing comma adds no field"
+        );
+        // An empty value leaves the field open to a second mention (the C++ tests the value).
+        assert_eq!(
+            AbleFilter::parse("contact=,contact=ben,action=disable").map(|f| f.contact),
+            Some("ben".to_string())
+        );
+        for bad in [
+            "",
+            "action=disable,,contact=ben",
+            "action=disable,contact=ben,contact=ann",
+            "action=disable,action=enable,contact=ben",
+            "action=disable,gen_type=safety",
+            "action=disable,obstacle_id=3",
+            "action=able,contact=ben",
+            "action,contact=ben",
+            "contact=ben",
+        ] {
+            assert!(AbleFilter::parse(bad).is_none(), "{bad:?}");
+        }
+
+        // Applied to a behaviour of type BHV_AvdColregsV22 for contact Ben.
+        let mut b = ContactBase::new(60.0);
+        b.contact = "Ben".into();
+        let kind = "BHV_AvdColregsV22";
+        assert_eq!(b.apply_able_filter("action=disable,gen_type=x", kind), Ok(None));
+        assert!(!b.disabled, "without can_disable, ignored (even malformed)");
+        b.can_disable = true;
+        assert_eq!(b.apply_able_filter("action=disable,gen_type=x", kind), Err(()));
+        assert_eq!(b.apply_able_filter("action=disable", kind), Err(()));
+        for other in [
+            "action=disable,contact=ann",
+            "action=disable,contact=ben,bhv_type=BHV_AvoidCollision",
+            "action=disable,vsource=ais",
+        ] {
+            assert_eq!(b.apply_able_filter(other, kind), Ok(None), "{other}");
+            assert!(!b.disabled);
+        }
+        assert_eq!(
+            b.apply_able_filter("action=disable,bhv_type=bhv_avdcolregsv22", kind),
+            Ok(Some(AbleAction::Disable))
+        );
+        assert!(b.disabled);
+        assert_eq!(
+            b.apply_able_filter("action=expunge,contact=BEN", kind),
+            Ok(Some(AbleAction::Expunge))
+        );
+        assert!(b.disabled, "expunge completes; it does not enable");
+        assert_eq!(
+            b.apply_able_filter("action=enable,contact=ben", kind),
+            Ok(Some(AbleAction::Enable))
+        );
+        assert!(!b.disabled);
+    }
+
+    #[test]
     fn shared_parameters_are_checked_as_ivp_contact_behavior() {
         let mut b = ContactBase::new(60.0);
         assert!(b.set_param("decay", "10,20").unwrap().is_ok());

@@ -1533,7 +1533,7 @@ mod ledger_tests {
         let p = h.iterate(1.0).to_vec();
         assert!(h.contact_disabled("ben"));
         assert!(!h.info().is_known("BHV_ABLE_FILTER"));
-        // No behaviour of coug's can be disabled: none listed, the behaviour stays active.
+        // A constant-speed behaviour ignores the filter: none listed, it stays active.
         assert!(p.iter().all(|p| p.key != "IVPHELM_BHV_DISABLED"));
         let active = p.iter().find(|p| p.key == "IVPHELM_BHV_ACTIVE").unwrap();
         assert_eq!(active.value, Value::String("spd".into()));
