@@ -45,11 +45,12 @@
 //! | RANGE_AVD_<contact>, CLSG_SPD_AVD_<contact> | `post_per_contact_info` | range (whole metres beyond 10 m), closing speed to 0.1 | done |
 //! | VIEW_SEGLIST | bearing lines configured | see [`crate::contact`] | done |
 
-use ivp::{IvpFunction, Reflector};
+use ivp::IvpFunction;
 
 use crate::behavior::{Behavior, Ctx, Out, ParamError, add_vars};
 use crate::common::Common;
 use crate::contact::ContactBase;
+use crate::contact_state::{Distances, reflect};
 use crate::param::is_number;
 
 /// How the relevance grows as the contact closes (`pwt_grade`).
@@ -146,28 +147,14 @@ impl AvoidCollision {
     /// The objective function for the present geometry (before the weight), or `None` if
     /// the reflector fails.
     pub fn objective(&self, ctx: &Ctx<'_>) -> Option<IvpFunction> {
-        let min = if self.base.range <= self.min_util_cpa_dist {
-            self.base.range / 2.0
-        } else {
-            self.min_util_cpa_dist
-        };
-        let max = self.max_util_cpa_dist;
-        if min > max {
-            return None;
-        }
-        let engine = self.base.cpa_engine();
-        let tol = self.base.time_on_leg;
-        let mut domain = ivp::Domain::new();
-        domain.add(ctx.domain.get("course")?.clone()).ok()?;
-        domain.add(ctx.domain.get("speed")?.clone()).ok()?;
-        let f = Reflector::new(&domain, |v: &[f64]| {
-            Self::metric(engine.eval_cpa(v[0], v[1], tol), min, max)
-        })
-        .set_param("uniform_piece", "course:3,speed:3")
-        .ok()?
-        .build()
-        .ok()?;
-        Some(f)
+        let d = Distances::for_contact(
+            &self.base,
+            self.base.time_on_leg,
+            self.min_util_cpa_dist,
+            self.max_util_cpa_dist,
+        )?;
+        let (min, max) = (d.collision_distance, d.all_clear_distance);
+        reflect(ctx.domain, |crs, spd| Self::metric(d.cpa(crs, spd), min, max))
     }
 
     fn post_range(&self, out: &mut Out) {

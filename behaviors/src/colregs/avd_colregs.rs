@@ -80,7 +80,8 @@
 
 use ivp::{IvpFunction, ZaicHdg, ZaicSpd};
 
-use super::geometry::{ContactState, Cpx, project_point, speed_in_heading, turn_gap};
+use super::geometry::{Cpx, project_point, speed_in_heading, turn_gap};
+use crate::contact_state::ContactState;
 use super::{AofCpa, AofR13, AofR14, AofR16, Distances, GiveWaySide, VelocityFilter, reflect};
 use crate::PwtGrade;
 use crate::behavior::{Behavior, Ctx, Out, ParamError, PostKey, add_vars};
@@ -405,10 +406,8 @@ impl AvdColregs {
         if !self.base.update(ctx, out) {
             return false;
         }
-        let (osx, osy, osh, osv) = self.base.os;
-        let (cnx, cny, cnh, cnv) = self.base.cn;
-        let geo = Cpx::new(cnx, cny, cnh, cnv, osx, osy, osh, osv);
-        self.state = ContactState::new(&geo, &self.base.cpa_engine());
+        // The contact state ContactBase::update recorded (IvPContactBehavior's `m_cnos`).
+        self.state = self.base.states.now();
         true
     }
 
@@ -788,23 +787,8 @@ impl AvdColregs {
         }
     }
 
-    /// The collision distance the functions use: `min_util_cpa_dist`, or half the range once
-    /// within it.
-    fn collision_distance(&self) -> f64 {
-        if self.base.range <= self.min_util_cpa_dist {
-            self.base.range / 2.0
-        } else {
-            self.min_util_cpa_dist
-        }
-    }
-
     fn distances(&self, tol: f64) -> Option<Distances> {
-        Distances::new(
-            self.base.cpa_engine(),
-            tol,
-            self.collision_distance(),
-            self.max_util_cpa_dist,
-        )
+        Distances::for_contact(&self.base, tol, self.min_util_cpa_dist, self.max_util_cpa_dist)
     }
 
     fn geo(&self) -> Cpx {
@@ -1265,8 +1249,6 @@ impl Behavior for AvdColregs {
             return true;
         }
         use moos_types::fmt::compact;
-        let s = &self.state;
-        let tf = |b: bool| if b { "true" } else { "false" };
         match name {
             "AVD_MODE" if self.version.at_least_v22() => out.push_str(self.mode),
             "AVD_SMODE" if self.version.at_least_v22() => out.push_str(self.submode),
@@ -1275,19 +1257,6 @@ impl Behavior for AvdColregs {
                 out.push_str(&self.mode_ix.to_string());
             }
             "FULL_MODE" if self.version.at_least_v22() => out.push_str(&self.full_mode()),
-            "ROC" => compact(out, s.rate_of_closure, 1),
-            "OS_CN_REL_BNG" => compact(out, s.os_cn_rel_bng, 1),
-            "CN_OS_REL_BNG" => compact(out, s.cn_os_rel_bng, 1),
-            "BNG_RATE" => compact(out, s.bearing_rate, 1),
-            "CN_SPD_IN_OS_POS" => compact(out, s.cn_spd_in_os_pos, 1),
-            "OS_FORE_OF_CN" => out.push_str(tf(s.os_fore_of_cn)),
-            "OS_AFT_OF_CN" => out.push_str(tf(s.os_aft_of_cn)),
-            "OS_PORT_OF_CN" => out.push_str(tf(s.os_port_of_cn)),
-            "OS_STAR_OF_CN" => out.push_str(tf(s.os_star_of_cn)),
-            "CN_FORE_OF_OS" => out.push_str(tf(s.cn_fore_of_os)),
-            "CN_AFT_OF_OS" => out.push_str(tf(s.cn_aft_of_os)),
-            "CN_PORT_OF_OS" => out.push_str(tf(s.cn_port_of_os)),
-            "CN_STAR_OF_OS" => out.push_str(tf(s.cn_star_of_os)),
             _ => return false,
         }
         true
