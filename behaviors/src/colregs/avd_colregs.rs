@@ -529,7 +529,7 @@ impl AvdColregs {
 
     /// Rule 14 (MOOS `checkModeHeadOn`).
     fn check_head_on(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
-        let s = self.state.clone();
+        let s = self.state;
         if self.mode == "headon" {
             if self.base.range > self.min_util_cpa_dist && s.rate_of_closure < 0.0 {
                 self.headon_debug(ctx, out, "release due to opening range");
@@ -571,7 +571,7 @@ impl AvdColregs {
 
     /// Rules 15/16 (MOOS `checkModeGiveWay`).
     fn check_give_way(&mut self, out: &mut Out) {
-        let s = self.state.clone();
+        let s = self.state;
         if self.base.range >= self.pwt_outer_dist {
             self.reset();
             return;
@@ -650,7 +650,7 @@ impl AvdColregs {
 
     /// Rule 17 (MOOS `checkModeStandOn`).
     fn check_stand_on(&mut self) {
-        let s = self.state.clone();
+        let s = self.state;
         if self.base.range >= self.pwt_outer_dist {
             self.reset();
             return;
@@ -724,7 +724,7 @@ impl AvdColregs {
 
     /// Rule 17 for the overtaken vessel (MOOS `checkModeStandOnOT`).
     fn check_stand_on_ot(&mut self) {
-        let s = self.state.clone();
+        let s = self.state;
         if self.base.range >= self.pwt_outer_dist {
             self.reset();
             return;
