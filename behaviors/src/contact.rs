@@ -274,9 +274,14 @@ pub fn able_filter_hook(base: &mut ContactBase, msg: &str, kind: &str, out: &mut
             true
         }
         Ok(_) => true,
-        Err(()) => false,
+        Err(MalformedAbleFilter) => false,
     }
 }
+
+/// A `BHV_ABLE_FILTER` message a behaviour refuses (the helm warns `Unhandled
+/// BHV_ABLE_FILTER`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MalformedAbleFilter;
 
 /// What a `BHV_ABLE_FILTER` message asks (its `action`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -553,13 +558,13 @@ impl ContactBase {
     /// for `expunge`, completes it (`Some(Expunge)` returned in the `Ok`). Contacts carry no
     /// `vsource` in coug's ledger (an empty one), so a filter naming a `vsource` never
     /// applies.
-    pub fn apply_able_filter(&mut self, msg: &str, kind: &str) -> Result<Option<AbleAction>, ()> {
+    pub fn apply_able_filter(&mut self, msg: &str, kind: &str) -> Result<Option<AbleAction>, MalformedAbleFilter> {
         if !self.can_disable {
             return Ok(None);
         }
-        let f = AbleFilter::parse(msg).ok_or(())?;
+        let f = AbleFilter::parse(msg).ok_or(MalformedAbleFilter)?;
         if f.contact.is_empty() && f.bhv_type.is_empty() && f.vsource.is_empty() {
-            return Err(());
+            return Err(MalformedAbleFilter);
         }
         let applies = (f.bhv_type.is_empty() || f.bhv_type == kind.to_ascii_lowercase())
             && (f.contact.is_empty() || f.contact == self.contact.to_ascii_lowercase())
@@ -834,8 +839,8 @@ mod tests {
         assert_eq!(b.apply_able_filter("action=disable,gen_type=x", kind), Ok(None));
         assert!(!b.disabled, "without can_disable, ignored (even malformed)");
         b.can_disable = true;
-        assert_eq!(b.apply_able_filter("action=disable,gen_type=x", kind), Err(()));
-        assert_eq!(b.apply_able_filter("action=disable", kind), Err(()));
+        assert_eq!(b.apply_able_filter("action=disable,gen_type=x", kind), Err(MalformedAbleFilter));
+        assert_eq!(b.apply_able_filter("action=disable", kind), Err(MalformedAbleFilter));
         for other in [
             "action=disable,contact=ann",
             "action=disable,contact=ben,bhv_type=BHV_AvoidCollision",
