@@ -258,6 +258,7 @@ fn a_malformed_filter_is_a_run_warning_and_changes_nothing() {
             ],
         );
         assert_eq!(state(&h, "avd_bob"), "active", "{msg}");
+        assert!(ipf_from(&p, "avd_bob"), "{msg}");
         assert_eq!(
             h.take_appcast_notes(),
             [AppcastNote::Warning("Unhandled BHV_ABLE_FILTER".into())],
