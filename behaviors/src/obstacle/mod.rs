@@ -15,6 +15,7 @@
 
 pub mod geom;
 pub mod legacy;
+pub mod refinery;
 
 pub mod v24;
 

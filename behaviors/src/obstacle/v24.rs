@@ -39,7 +39,7 @@
 //! | visual_hints | see below | colours and sizes >= 0 | done |
 //! | holonomic_ok | false | boolean; false warns every iteration with the holonomic model | done |
 //! | allstop_on_breach | true | boolean | done |
-//! | use_refinery | false | boolean | read; open: the plateau/basin refinery (pieces stay uniform) |
+//! | use_refinery | false | boolean | done: plateau and basin regions ([`super::refinery`]) |
 //! | draw_buff_min_poly, draw_buff_max_poly | true | boolean | done (read; unused by the C++) |
 //! | can_disable | true | boolean | read; open: `BHV_ABLE_FILTER` (not in coug's helm) |
 //!
@@ -322,11 +322,36 @@ impl AvoidObstacleV24 {
         domain.add(ctx.domain.get("course")?.clone()).ok()?;
         domain.add(ctx.domain.get("speed")?.clone()).ok()?;
         let model = &self.model;
-        Reflector::new(&domain, |v: &[f64]| model.eval_heading(v[0]))
+        let r = Reflector::new(&domain, |v: &[f64]| model.eval_heading(v[0]))
             .set_param("uniform_piece", "course:3,speed:3")
-            .ok()?
-            .build()
-            .ok()
+            .ok()?;
+        let r = if self.use_refinery {
+            self.refine(r, &domain)?
+        } else {
+            r
+        };
+        r.build().ok()
+    }
+
+    /// `use_refinery`: the plateau and basin regions of [`super::refinery`], pieces of the
+    /// AOF's known extremes (0 and 100), the other pieces fitted within their samples.
+    fn refine<F: Fn(&[f64]) -> f64>(
+        &self,
+        mut r: Reflector<F>,
+        domain: &ivp::Domain,
+    ) -> Option<Reflector<F>> {
+        let (plateaus, basins) = super::refinery::regions(domain, &self.model, &self.side_lock);
+        for p in plateaus {
+            r = r.plateau_region(p).ok()?;
+        }
+        for b in basins {
+            r = r.basin_region(b).ok()?;
+        }
+        // The C++ Regressor keeps each fitted plane within its samples (`strict_range`, on
+        // by default): the function's extremes are then the regions' 0 and 100. (coug's
+        // unrefined objectives keep it off, as they always have.)
+        let r = r.set_param("strict_range", "true").ok()?;
+        Some(r.known_min_max(0.0, 100.0))
     }
 
     /// The `gut`, `mid` and `rim` polygons as posted with a function.
