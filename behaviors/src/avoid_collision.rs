@@ -154,7 +154,9 @@ impl AvoidCollision {
             self.max_util_cpa_dist,
         )?;
         let (min, max) = (d.collision_distance, d.all_clear_distance);
-        reflect(ctx.domain, |crs, spd| Self::metric(d.cpa(crs, spd), min, max))
+        reflect(ctx.domain, |crs, spd| {
+            Self::metric(d.cpa(crs, spd), min, max)
+        })
     }
 
     fn post_range(&self, out: &mut Out) {

@@ -324,8 +324,12 @@ impl AbleFilter {
     /// Parses a message; `None` when malformed (the fields alone: whether one of `contact`,
     /// `bhv_type`, `vsource` is given is the caller's check, as in the C++).
     pub fn parse(msg: &str) -> Option<AbleFilter> {
-        let (mut action, mut contact, mut bhv_type, mut vsource) =
-            (None::<String>, None::<String>, None::<String>, None::<String>);
+        let (mut action, mut contact, mut bhv_type, mut vsource) = (
+            None::<String>,
+            None::<String>,
+            None::<String>,
+            None::<String>,
+        );
         for piece in moos_types::text::parse_string(msg, ',') {
             let (k, v) = piece.split_once('=').unwrap_or((piece, ""));
             let (k, v) = (k.trim().to_ascii_lowercase(), v.trim().to_ascii_lowercase());
@@ -558,7 +562,11 @@ impl ContactBase {
     /// for `expunge`, completes it (`Some(Expunge)` returned in the `Ok`). Contacts carry no
     /// `vsource` in coug's ledger (an empty one), so a filter naming a `vsource` never
     /// applies.
-    pub fn apply_able_filter(&mut self, msg: &str, kind: &str) -> Result<Option<AbleAction>, MalformedAbleFilter> {
+    pub fn apply_able_filter(
+        &mut self,
+        msg: &str,
+        kind: &str,
+    ) -> Result<Option<AbleAction>, MalformedAbleFilter> {
         if !self.can_disable {
             return Ok(None);
         }
@@ -836,11 +844,20 @@ mod tests {
         let mut b = ContactBase::new(60.0);
         b.contact = "Ben".into();
         let kind = "BHV_AvdColregsV22";
-        assert_eq!(b.apply_able_filter("action=disable,gen_type=x", kind), Ok(None));
+        assert_eq!(
+            b.apply_able_filter("action=disable,gen_type=x", kind),
+            Ok(None)
+        );
         assert!(!b.disabled, "without can_disable, ignored (even malformed)");
         b.can_disable = true;
-        assert_eq!(b.apply_able_filter("action=disable,gen_type=x", kind), Err(MalformedAbleFilter));
-        assert_eq!(b.apply_able_filter("action=disable", kind), Err(MalformedAbleFilter));
+        assert_eq!(
+            b.apply_able_filter("action=disable,gen_type=x", kind),
+            Err(MalformedAbleFilter)
+        );
+        assert_eq!(
+            b.apply_able_filter("action=disable", kind),
+            Err(MalformedAbleFilter)
+        );
         for other in [
             "action=disable,contact=ann",
             "action=disable,contact=ben,bhv_type=BHV_AvoidCollision",

@@ -84,8 +84,16 @@ fn rim_span(b: &AvoidObstacleV24) -> (u32, u32) {
         .iter()
         .map(|p| geometry::relative_angle(x, y, p.x, p.y))
         .collect();
-    let east = bngs.iter().copied().filter(|a| *a < 180.0).fold(0.0, f64::max);
-    let west = bngs.iter().copied().filter(|a| *a >= 180.0).fold(360.0, f64::min);
+    let east = bngs
+        .iter()
+        .copied()
+        .filter(|a| *a < 180.0)
+        .fold(0.0, f64::max);
+    let west = bngs
+        .iter()
+        .copied()
+        .filter(|a| *a >= 180.0)
+        .fold(360.0, f64::min);
     (east.floor() as u32 + 1, west.ceil() as u32 - 1)
 }
 
@@ -98,7 +106,10 @@ fn the_refinery_makes_the_clear_courses_one_plateau_and_the_blocked_ones_basins(
     let mut b = behaviour(true);
     let f = run(&mut b);
     let (rmin, rmax) = rim_span(&b);
-    assert!((36..=38).contains(&rmin) && (322..=324).contains(&rmax), "{rmin} {rmax}");
+    assert!(
+        (36..=38).contains(&rmin) && (322..=324).contains(&rmax),
+        "{rmin} {rmax}"
+    );
     // The last three pieces: the plateau (largest), then the basins by size: courses 0-15
     // (16 courses) before 345-359 (15), every speed (the C++ ranks regions of equal
     // magnitude by size; `plateau_region`/`basin_region` reset the magnitudes to 1).
@@ -115,7 +126,10 @@ fn the_refinery_makes_the_clear_courses_one_plateau_and_the_blocked_ones_basins(
     // Their values: the AOF's known maximum and minimum, constant (after normalisation to
     // 0..100 over a function whose extremes they are).
     let plateau = f.pieces().nth(n - 3).unwrap();
-    assert_eq!((plateau.wts[0], plateau.wts[1], plateau.wts[2]), (0.0, 0.0, 100.0));
+    assert_eq!(
+        (plateau.wts[0], plateau.wts[1], plateau.wts[2]),
+        (0.0, 0.0, 100.0)
+    );
     for basin in f.pieces().skip(n - 2) {
         assert_eq!((basin.wts[0], basin.wts[1], basin.wts[2]), (0.0, 0.0, 0.0));
     }
@@ -150,7 +164,13 @@ fn the_refined_argmax_is_the_unrefined_one_within_a_grid_step() {
     let b = g.argmax();
     assert!((a[0] - b[0]).abs() <= 1.0, "course {a:?} vs {b:?}");
     assert!((a[1] - b[1]).abs() <= 0.1 + 1e-9, "speed {a:?} vs {b:?}");
-    assert!((f.eval(&[a[0] as u32, (a[1] * 10.0).round() as u32]).unwrap() - 100.0).abs() < 1e-9);
+    assert!(
+        (f.eval(&[a[0] as u32, (a[1] * 10.0).round() as u32])
+            .unwrap()
+            - 100.0)
+            .abs()
+            < 1e-9
+    );
 }
 
 #[test]

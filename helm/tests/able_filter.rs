@@ -3,8 +3,8 @@
 //! completion of a spawned contact behaviour whose contact left the helm's ledger
 //! (`IvPBehavior::isRunnable`).
 
-use helm::config::Globals;
 use appcast::Note as AppcastNote;
+use helm::config::Globals;
 use helm::{Helm, Mail, Posting, Value};
 use mission::source::SourceMap;
 
@@ -53,10 +53,14 @@ fn texts(posts: &[Posting], var: &str) -> Vec<String> {
 }
 
 fn num(posts: &[Posting], var: &str) -> Option<f64> {
-    posts.iter().rev().find(|p| p.key == var).map(|p| match p.value {
-        Value::Double(x) => x,
-        _ => panic!("{var} is not a number"),
-    })
+    posts
+        .iter()
+        .rev()
+        .find(|p| p.key == var)
+        .map(|p| match p.value {
+            Value::Double(x) => x,
+            _ => panic!("{var} is not a number"),
+        })
 }
 
 /// A spawning AvoidCollision template (`can_disable` as given) and a constant speed.
@@ -169,7 +173,8 @@ fn a_spawned_behaviour_is_disabled_and_enabled_again_by_postings() {
     assert_eq!(texts(&p, "IVPHELM_BHV_ACTIVE"), ["spd"]);
     let summary = texts(&p, "IVPHELM_SUMMARY").pop().unwrap();
     assert!(
-        summary.contains(",active_bhvs=spd$") && summary.contains(",disabled_bhvs=avd_bob$2.00$1/1"),
+        summary.contains(",active_bhvs=spd$")
+            && summary.contains(",disabled_bhvs=avd_bob$2.00$1/1"),
         "{summary}"
     );
     let mut body = String::new();
@@ -236,7 +241,10 @@ fn without_can_disable_the_filter_is_ignored_even_when_malformed() {
         assert!(ipf_from(&p, "avd_bob"));
         assert!(texts(&p, "IVPHELM_BHV_DISABLED").is_empty());
     }
-    assert!(h.take_appcast_notes().is_empty(), "nobody found it malformed");
+    assert!(
+        h.take_appcast_notes().is_empty(),
+        "nobody found it malformed"
+    );
 }
 
 #[test]
@@ -301,7 +309,10 @@ fn a_blacklisted_contact_spawns_a_disabled_behaviour_and_expunge_completes() {
     assert_eq!(texts(&p, "AVD_DONE"), ["bob"]);
     assert!(status_of(&p, "avd_bob").contains("state=completed"));
     let death = texts(&p, "IVPHELM_LIFE_EVENT").pop().unwrap();
-    assert!(death.contains("bname=avd_bob") && death.contains("event=death"), "{death}");
+    assert!(
+        death.contains("bname=avd_bob") && death.contains("event=death"),
+        "{death}"
+    );
     assert!(death.contains("post_mortem=rng=40#bng=0"), "{death}");
     assert_eq!(h.behavior_names(), ["spd"]);
 }

@@ -81,12 +81,12 @@
 use ivp::{IvpFunction, ZaicHdg, ZaicSpd};
 
 use super::geometry::{Cpx, project_point, speed_in_heading, turn_gap};
-use crate::contact_state::ContactState;
 use super::{AofCpa, AofR13, AofR14, AofR16, Distances, GiveWaySide, VelocityFilter, reflect};
 use crate::PwtGrade;
 use crate::behavior::{Behavior, Ctx, Out, ParamError, PostKey, add_vars};
 use crate::common::Common;
 use crate::contact::ContactBase;
+use crate::contact_state::ContactState;
 use crate::param::{is_number, moos_boolean};
 
 /// Which MOOS-IvP class the behaviour is.
@@ -788,7 +788,12 @@ impl AvdColregs {
     }
 
     fn distances(&self, tol: f64) -> Option<Distances> {
-        Distances::for_contact(&self.base, tol, self.min_util_cpa_dist, self.max_util_cpa_dist)
+        Distances::for_contact(
+            &self.base,
+            tol,
+            self.min_util_cpa_dist,
+            self.max_util_cpa_dist,
+        )
     }
 
     fn geo(&self) -> Cpx {

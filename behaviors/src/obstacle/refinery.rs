@@ -179,9 +179,7 @@ mod tests {
         assert_eq!(gut_span(&cpa), (349.0, 11.0));
         assert_eq!(rim_span(&cpa), (11.0, 349.0));
         // A clear span running to 359 without wrapping ends at 0 (the C++ loop stops at 358).
-        let cpa: Vec<f64> = (0..360)
-            .map(|h| if h < 100 { 0.0 } else { 5.0 })
-            .collect();
+        let cpa: Vec<f64> = (0..360).map(|h| if h < 100 { 0.0 } else { 5.0 }).collect();
         assert_eq!(rim_span(&cpa), (100.0, 0.0));
         assert_eq!(rim_span(&[1.0; 360]), (-1.0, -1.0));
         assert_eq!(gut_span(&[0.0; 360]), (-1.0, -1.0));

@@ -316,7 +316,11 @@ mod tests {
     fn plateau_and_basin_regions_become_pieces_of_their_own() {
         let d = Domain::from_vars(&[("x", 0.0, 9.0, 10), ("y", 0.0, 4.0, 5)]).unwrap();
         let f = |v: &[f64]| 10.0 * v[0] + v[1];
-        let r = || Reflector::new(&d, f).set_param("uniform_piece", "x:5,y:5").unwrap();
+        let r = || {
+            Reflector::new(&d, f)
+                .set_param("uniform_piece", "x:5,y:5")
+                .unwrap()
+        };
         let regions = |r: Reflector<_>| {
             r.plateau_region(rb([2, 0], [6, 4], 4))
                 .unwrap()
@@ -336,9 +340,16 @@ mod tests {
             (vec![9, 0], vec![9, 1]),
         ];
         assert_eq!(boxes, want);
-        assert_eq!(g.eval(&[4, 3]).unwrap(), 500.0, "plateau: the known maximum");
+        assert_eq!(
+            g.eval(&[4, 3]).unwrap(),
+            500.0,
+            "plateau: the known maximum"
+        );
         assert_eq!(g.eval(&[9, 1]).unwrap(), -5.0, "basin: the known minimum");
-        assert!((g.eval(&[0, 3]).unwrap() - 3.0).abs() < 1e-9, "fitted elsewhere");
+        assert!(
+            (g.eval(&[0, 3]).unwrap() - 3.0).abs() < 1e-9,
+            "fitted elsewhere"
+        );
         for x in 0..10u32 {
             for y in 0..5u32 {
                 assert_eq!(g.pieces().filter(|p| p.contains(&[x, y])).count(), 1);
@@ -352,10 +363,7 @@ mod tests {
     #[test]
     fn boxes_of_all_speeds_snap_inward_and_wrap() {
         let d = Domain::parse_specs(["course:0:359:360", "speed:0:4:41"]).unwrap();
-        assert_eq!(
-            boxes_all_speeds(&d, 10.5, 20.5),
-            [rb([11, 0], [20, 40], 0)]
-        );
+        assert_eq!(boxes_all_speeds(&d, 10.5, 20.5), [rb([11, 0], [20, 40], 0)]);
         assert_eq!(
             boxes_all_speeds(&d, 350.2, 5.0),
             [rb([0, 0], [5, 40], 0), rb([351, 0], [359, 40], 0)]
