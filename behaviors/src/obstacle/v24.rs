@@ -41,7 +41,7 @@
 //! | allstop_on_breach | true | boolean | done |
 //! | use_refinery | false | boolean | done: plateau and basin regions ([`super::refinery`]) |
 //! | draw_buff_min_poly, draw_buff_max_poly | true | boolean | done (read; unused by the C++) |
-//! | can_disable | true | boolean | read; open: `BHV_ABLE_FILTER` (not in coug's helm) |
+//! | can_disable | false | boolean | done: `BHV_ABLE_FILTER` with `obstacle_id` or `vsource` disables, enables or expunges it (`obstacle/able.rs`) |
 //!
 //! Hints (MOOS `initVisualHints`): `vertex_size=0`, `edge_size=1`, `vertex_color=gray50`,
 //! `edge_color=gray50`, `fill_color=off`, `label_color=white` and the `obst_`, `buff_min_`,
@@ -568,6 +568,27 @@ impl Behavior for AvoidObstacleV24 {
         if self.base.resolved_pending {
             out.complete();
         }
+    }
+
+    fn apply_able_filter(&mut self, msg: &str, out: &mut Out) -> bool {
+        match self.base.apply_able_filter(msg) {
+            Ok(Some(crate::contact::AbleAction::Expunge)) => {
+                out.complete();
+                true
+            }
+            Ok(_) => true,
+            Err(_) => false,
+        }
+    }
+
+    fn is_disabled(&self) -> bool {
+        self.base.disabled
+    }
+
+    /// Disabled: only the every-state work (MOOS `onEveryState`; V24 has no
+    /// `onDisabledState`).
+    fn on_disabled(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
+        self.every_state(ctx, out);
     }
 
     fn on_complete(&mut self, _ctx: &Ctx<'_>, out: &mut Out) {

@@ -32,6 +32,7 @@
 //! | spawning from templates | `BehaviorSet::handlePossibleSpawnings` | `spawn.rs` |
 //! | modes and conditions | `ModeSet::evaluate`, `IvPBehavior::checkConditions` | [`crate::mode`], `behavior_set.rs` (`runnable`) |
 //! | each behaviour's state, hooks and function | `BehaviorSet::produceOF` | `behavior_set.rs` |
+//! | `BHV_ABLE_FILTER`, the `disabled` state, spawned behaviours whose contact left the ledger | `BehaviorSet::applyAbleFilterMsg`, `IvPBehavior::isRunnable` | `able.rs` |
 //! | the solve and the summary postings | `HelmEngine::determineNextDecision`, `HelmIvP::Iterate` | `decide` (this file), [`crate::report`] |
 //! | behaviour postings, flags, macros, deaths, all-stop | `postBehaviorMessages`, `IvPBehavior::postFlags`, `postAllStop` | `postings.rs`, [`crate::macro_expand`], [`crate::allstop`] |
 //! | the outgoing buffers and the duplicate filter | `m_outgoing_key_strings` | `outbox.rs` |
