@@ -36,7 +36,7 @@
 //! | collision_depth | 0 | > 0 and a `depth` domain | refused when it would apply: open: AOF_AvoidCollisionDepth |
 //! | use_refinery, check_plateaus, check_validity, verbose | false | boolean | read; open: the plateau refinery (pieces stay uniform) |
 //! | pcheck_thresh | 0.001 | number >= 0 | read |
-//! | can_disable | true | boolean | read; open: BHV_ABLE_FILTER |
+//! | can_disable | false | boolean | done: `BHV_ABLE_FILTER` disables, enables or expunges it (`contact::ContactBase::apply_able_filter`); disabled, it erases its bearing line and completes as when idle |
 //!
 //! | variable | when | format | coug |
 //! |---|---|---|---|
@@ -45,11 +45,12 @@
 //! | RANGE_AVD_<contact>, CLSG_SPD_AVD_<contact> | `post_per_contact_info` | range (whole metres beyond 10 m), closing speed to 0.1 | done |
 //! | VIEW_SEGLIST | bearing lines configured | see [`crate::contact`] | done |
 
-use ivp::{IvpFunction, Reflector};
+use ivp::IvpFunction;
 
 use crate::behavior::{Behavior, Ctx, Out, ParamError, add_vars};
 use crate::common::Common;
 use crate::contact::ContactBase;
+use crate::contact_state::{Distances, reflect};
 use crate::param::is_number;
 
 /// How the relevance grows as the contact closes (`pwt_grade`).
@@ -114,7 +115,7 @@ impl AvoidCollision {
             no_alert_request: false,
             update_var: String::new(),
             spawnable: false,
-            flags: [false, false, false, false, true, false],
+            flags: [false; 6],
             pcheck_thresh: 0.001,
         }
     }
@@ -146,28 +147,16 @@ impl AvoidCollision {
     /// The objective function for the present geometry (before the weight), or `None` if
     /// the reflector fails.
     pub fn objective(&self, ctx: &Ctx<'_>) -> Option<IvpFunction> {
-        let min = if self.base.range <= self.min_util_cpa_dist {
-            self.base.range / 2.0
-        } else {
-            self.min_util_cpa_dist
-        };
-        let max = self.max_util_cpa_dist;
-        if min > max {
-            return None;
-        }
-        let engine = self.base.cpa_engine();
-        let tol = self.base.time_on_leg;
-        let mut domain = ivp::Domain::new();
-        domain.add(ctx.domain.get("course")?.clone()).ok()?;
-        domain.add(ctx.domain.get("speed")?.clone()).ok()?;
-        let f = Reflector::new(&domain, |v: &[f64]| {
-            Self::metric(engine.eval_cpa(v[0], v[1], tol), min, max)
+        let d = Distances::for_contact(
+            &self.base,
+            self.base.time_on_leg,
+            self.min_util_cpa_dist,
+            self.max_util_cpa_dist,
+        )?;
+        let (min, max) = (d.collision_distance, d.all_clear_distance);
+        reflect(ctx.domain, |crs, spd| {
+            Self::metric(d.cpa(crs, spd), min, max)
         })
-        .set_param("uniform_piece", "course:3,speed:3")
-        .ok()?
-        .build()
-        .ok()?;
-        Some(f)
     }
 
     fn post_range(&self, out: &mut Out) {
@@ -334,6 +323,9 @@ impl Behavior for AvoidCollision {
                 .unwrap_or(0);
                 let b = crate::param::moos_boolean(param, value, self.flags[i])?;
                 self.flags[i] = b;
+                if param == "can_disable" {
+                    self.base.can_disable = b;
+                }
                 if param == "no_alert_request" {
                     self.no_alert_request = b;
                 }
@@ -391,6 +383,25 @@ impl Behavior for AvoidCollision {
             return;
         }
         self.post_range(out);
+        if self.done() {
+            out.complete();
+        }
+    }
+
+    fn apply_able_filter(&mut self, msg: &str, out: &mut Out) -> bool {
+        let kind = self.kind();
+        crate::contact::able_filter_hook(&mut self.base, msg, kind, out)
+    }
+
+    fn is_disabled(&self) -> bool {
+        self.base.disabled
+    }
+
+    /// MOOS `onDisabledState`: the bearing line erased, completion as when idle (on the
+    /// range of the last update).
+    fn on_disabled(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
+        self.base.update(ctx, out);
+        self.base.post_bearing_line(ctx, out, false);
         if self.done() {
             out.complete();
         }

@@ -419,6 +419,26 @@ pub trait Behavior: Send {
         None
     }
 
+    /// A `BHV_ABLE_FILTER` message (MOOS `applyAbleFilter`), handed to every behaviour of
+    /// the set when it arrives: a behaviour that can be disabled (a contact behaviour with
+    /// `can_disable`, [`crate::contact::AbleFilter`]) disables or enables itself, or completes
+    /// (`expunge`, through [`Out::complete`]). Returns false for a message it finds malformed
+    /// (the helm then warns `Unhandled BHV_ABLE_FILTER`). The default ignores it.
+    fn apply_able_filter(&mut self, _msg: &str, _out: &mut Out) -> bool {
+        true
+    }
+
+    /// Whether a `BHV_ABLE_FILTER` disabled this behaviour (MOOS `m_disabled`): the helm
+    /// then reports it `disabled` (`IVPHELM_BHV_DISABLED`), calls
+    /// [`Behavior::on_disabled`] instead of the idle or running hooks, and builds no
+    /// function. False by default.
+    fn is_disabled(&self) -> bool {
+        false
+    }
+
+    /// Every iteration in which the behaviour is disabled (MOOS `onDisabledState`).
+    fn on_disabled(&mut self, _ctx: &Ctx<'_>, _out: &mut Out) {}
+
     /// The factor the helm multiplies the priority weight (`pwt`) by for the function this
     /// iteration's [`Behavior::on_run`] returned: a contact behaviour's relevance (MOOS
     /// behaviours set `m_priority_wt · relevance` on their function). 1 by default.

@@ -285,6 +285,103 @@ fn cnflag_ok(s: &str) -> bool {
     CNFLAG_EVENTS.iter().any(|e| s.starts_with(e)) && s.contains('=')
 }
 
+/// [`crate::Behavior::apply_able_filter`] for a behaviour over `base`: the filter applied,
+/// `expunge` completing it through `out`; false for a malformed message.
+pub fn able_filter_hook(base: &mut ContactBase, msg: &str, kind: &str, out: &mut Out) -> bool {
+    match base.apply_able_filter(msg, kind) {
+        Ok(Some(AbleAction::Expunge)) => {
+            out.complete();
+            true
+        }
+        Ok(_) => true,
+        Err(MalformedAbleFilter) => false,
+    }
+}
+
+/// A `BHV_ABLE_FILTER` message a behaviour refuses (the helm warns `Unhandled
+/// BHV_ABLE_FILTER`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MalformedAbleFilter;
+
+/// What a `BHV_ABLE_FILTER` message asks (its `action`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AbleAction {
+    /// `action=disable`: the behaviour stops producing functions.
+    Disable,
+    /// `action=enable`: it resumes.
+    Enable,
+    /// `action=expunge`: it completes.
+    Expunge,
+}
+
+/// A `BHV_ABLE_FILTER` message as IvPContactBehavior's `applyAbleFilter` parses it:
+/// `action=disable|enable|expunge` and at least one of `contact`, `bhv_type`, `vsource`,
+/// comma-separated `field=value` pairs, keys and values case-folded, each field at most once.
+/// Any other field (e.g. `gen_type`, which the C++ comment lists but its parser refuses) or
+/// a repeated one makes the message malformed.
+///
+/// ```
+/// use behaviors::contact::{AbleAction, AbleFilter};
+/// let f = AbleFilter::parse("action=disable, contact=Ben, bhv_type=BHV_AvoidCollision").unwrap();
+/// assert_eq!(f.action, AbleAction::Disable);
+/// assert_eq!((f.contact.as_str(), f.bhv_type.as_str()), ("ben", "bhv_avoidcollision"));
+/// assert!(AbleFilter::parse("action=disable,gen_type=safety").is_none());
+/// assert!(AbleFilter::parse("action=able,contact=ben").is_none());
+/// ```
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct AbleFilter {
+    /// The action.
+    pub action: AbleAction,
+    /// `contact` (lower case; empty: any).
+    pub contact: String,
+    /// `bhv_type` (lower case; empty: any).
+    pub bhv_type: String,
+    /// `vsource` (lower case; empty: any).
+    pub vsource: String,
+}
+
+impl AbleFilter {
+    /// Parses a message; `None` when malformed (the fields alone: whether one of `contact`,
+    /// `bhv_type`, `vsource` is given is the caller's check, as in the C++).
+    pub fn parse(msg: &str) -> Option<AbleFilter> {
+        let (mut action, mut contact, mut bhv_type, mut vsource) = (
+            None::<String>,
+            None::<String>,
+            None::<String>,
+            None::<String>,
+        );
+        for piece in moos_types::text::parse_string(msg, ',') {
+            let (k, v) = piece.split_once('=').unwrap_or((piece, ""));
+            let (k, v) = (k.trim().to_ascii_lowercase(), v.trim().to_ascii_lowercase());
+            // A field may come once; an empty value leaves it open to a second (as the C++
+            // tests the value, not the presence).
+            let slot = match k.as_str() {
+                "action" => &mut action,
+                "contact" => &mut contact,
+                "bhv_type" => &mut bhv_type,
+                "vsource" => &mut vsource,
+                _ => return None,
+            };
+            if slot.as_deref().is_some_and(|s| !s.is_empty()) {
+                return None;
+            }
+            *slot = Some(v);
+        }
+        let action = match action.as_deref() {
+            Some("disable") => AbleAction::Disable,
+            Some("enable") => AbleAction::Enable,
+            Some("expunge") => AbleAction::Expunge,
+            _ => return None,
+        };
+        Some(AbleFilter {
+            action,
+            contact: contact.unwrap_or_default(),
+            bhv_type: bhv_type.unwrap_or_default(),
+            vsource: vsource.unwrap_or_default(),
+        })
+    }
+}
+
 /// The state and parameters every contact behaviour shares (MOOS `IvPContactBehavior`).
 #[derive(Debug, Clone)]
 pub struct ContactBase {
@@ -332,6 +429,11 @@ pub struct ContactBase {
     pub range: f64,
     /// The behaviour's relevance (its weight factor) at the last running iteration.
     pub relevance: f64,
+    /// `can_disable` (IvPBehavior's `m_can_disable`, false): whether `BHV_ABLE_FILTER`
+    /// messages act on the behaviour ([`ContactBase::apply_able_filter`]).
+    pub can_disable: bool,
+    /// Disabled by a `BHV_ABLE_FILTER` (MOOS `m_disabled`).
+    pub disabled: bool,
     /// The relative geometry of this and the last iterations (event flags, macros).
     pub states: crate::contact_state::ContactStates,
 }
@@ -362,6 +464,8 @@ impl ContactBase {
             cn_vtype: String::new(),
             range: 0.0,
             relevance: 0.0,
+            can_disable: false,
+            disabled: false,
             states: Default::default(),
         }
     }
@@ -469,6 +573,39 @@ impl ContactBase {
                 valid = false;
             }
         }
+    }
+
+    /// Applies a `BHV_ABLE_FILTER` message to a behaviour of type `kind` (MOOS
+    /// `IvPContactBehavior::applyAbleFilter`): without `can_disable` it is ignored (true, even
+    /// when malformed); a malformed message is false; one whose `bhv_type`, `contact` and
+    /// `vsource` (those given, case-folded) match this behaviour disables it, enables it, or,
+    /// for `expunge`, completes it (`Some(Expunge)` returned in the `Ok`). Contacts carry no
+    /// `vsource` in coug's ledger (an empty one), so a filter naming a `vsource` never
+    /// applies.
+    pub fn apply_able_filter(
+        &mut self,
+        msg: &str,
+        kind: &str,
+    ) -> Result<Option<AbleAction>, MalformedAbleFilter> {
+        if !self.can_disable {
+            return Ok(None);
+        }
+        let f = AbleFilter::parse(msg).ok_or(MalformedAbleFilter)?;
+        if f.contact.is_empty() && f.bhv_type.is_empty() && f.vsource.is_empty() {
+            return Err(MalformedAbleFilter);
+        }
+        let applies = (f.bhv_type.is_empty() || f.bhv_type == kind.to_ascii_lowercase())
+            && (f.contact.is_empty() || f.contact == self.contact.to_ascii_lowercase())
+            && f.vsource.is_empty();
+        if !applies {
+            return Ok(None);
+        }
+        match f.action {
+            AbleAction::Expunge => return Ok(Some(AbleAction::Expunge)),
+            AbleAction::Disable => self.disabled = true,
+            AbleAction::Enable => self.disabled = false,
+        }
+        Ok(Some(f.action))
     }
 
     /// The contact the behaviour reasons about, if named.
@@ -691,6 +828,79 @@ mod tests {
         );
         assert!(f.check_region(5.0, 5.0) && !f.check_region(20.0, 5.0));
         assert_eq!(f.set_param("colour", "x"), None);
+    }
+
+    #[test]
+    fn able_filters_parse_as_ivp_contact_behavior() {
+        let f = AbleFilter::parse(" Action = Enable ,VSOURCE= AIS").unwrap();
+        assert_eq!(f.action, AbleAction::Enable);
+        assert_eq!(f.vsource, "ais");
+        assert!(f.contact.is_empty() && f.bhv_type.is_empty());
+        assert_eq!(
+            AbleFilter::parse("action=expunge,contact=ben,").map(|f| f.action),
+            Some(AbleAction::Expunge),
+            "a trailing comma adds no field"
+        );
+        // An empty value leaves the field open to a second mention (the C++ tests the value).
+        assert_eq!(
+            AbleFilter::parse("contact=,contact=ben,action=disable").map(|f| f.contact),
+            Some("ben".to_string())
+        );
+        for bad in [
+            "",
+            "action=disable,,contact=ben",
+            "action=disable,contact=ben,contact=ann",
+            "action=disable,action=enable,contact=ben",
+            "action=disable,gen_type=safety",
+            "action=disable,obstacle_id=3",
+            "action=able,contact=ben",
+            "action,contact=ben",
+            "contact=ben",
+        ] {
+            assert!(AbleFilter::parse(bad).is_none(), "{bad:?}");
+        }
+
+        // Applied to a behaviour of type BHV_AvdColregsV22 for contact Ben.
+        let mut b = ContactBase::new(60.0);
+        b.contact = "Ben".into();
+        let kind = "BHV_AvdColregsV22";
+        assert_eq!(
+            b.apply_able_filter("action=disable,gen_type=x", kind),
+            Ok(None)
+        );
+        assert!(!b.disabled, "without can_disable, ignored (even malformed)");
+        b.can_disable = true;
+        assert_eq!(
+            b.apply_able_filter("action=disable,gen_type=x", kind),
+            Err(MalformedAbleFilter)
+        );
+        assert_eq!(
+            b.apply_able_filter("action=disable", kind),
+            Err(MalformedAbleFilter)
+        );
+        for other in [
+            "action=disable,contact=ann",
+            "action=disable,contact=ben,bhv_type=BHV_AvoidCollision",
+            "action=disable,vsource=ais",
+        ] {
+            assert_eq!(b.apply_able_filter(other, kind), Ok(None), "{other}");
+            assert!(!b.disabled);
+        }
+        assert_eq!(
+            b.apply_able_filter("action=disable,bhv_type=bhv_avdcolregsv22", kind),
+            Ok(Some(AbleAction::Disable))
+        );
+        assert!(b.disabled);
+        assert_eq!(
+            b.apply_able_filter("action=expunge,contact=BEN", kind),
+            Ok(Some(AbleAction::Expunge))
+        );
+        assert!(b.disabled, "expunge completes; it does not enable");
+        assert_eq!(
+            b.apply_able_filter("action=enable,contact=ben", kind),
+            Ok(Some(AbleAction::Enable))
+        );
+        assert!(!b.disabled);
     }
 
     #[test]

@@ -1,7 +1,12 @@
-//! The relative geometry of ownship and a contact over the last iterations (MOOS-IvP
-//! `ContactState` / `ContactStateSet` at a2a9b716): what the contact behaviours' event
-//! `cnflag`s (`@cpa`, `@os_passed_cn`, ...) and relative-geometry macros (`$[ROC]`,
-//! `$[OS_CN_REL_BNG]`, `$[OS_FORE_OF_CN]`, ...) read.
+//! What every contact behaviour shares about the pair it reasons about (MOOS-IvP
+//! `ContactState` / `ContactStateSet` and `AOF_ContactX` at a2a9b716): the relative geometry
+//! of ownship and the contact over the last iterations ([`ContactState`], filled once per
+//! update by [`crate::contact::ContactBase::update`]), which the event `cnflag`s (`@cpa`,
+//! `@os_passed_cn`, ...), the relative-geometry macros (`$[ROC]`, `$[OS_CN_REL_BNG]`,
+//! `$[OS_FORE_OF_CN]`, ...) and the COLREGS encounter classification read; and the CPA
+//! set-up of the avoidance objectives ([`Distances`]: the CPA engine, time on leg, collision
+//! and all-clear distances; [`reflect`]: the 3 × 3 uniform sampling over course and speed),
+//! shared by BHV_AvoidCollision and the AvdColregs family.
 //!
 //! The C++ archives a state at each `updatePlatformInfo`, which its contact behaviours call
 //! twice per running iteration (`onEveryState`, then `onRunState`), so its five history
@@ -22,9 +27,17 @@ use std::collections::VecDeque;
 
 use moos_types::fmt::compact;
 
-use crate::cpa::{CpaEngine, rel_bearing};
+use ivp::{Domain, IvpFunction, Reflector};
 
-/// The geometry of one update (MOOS `ContactState`).
+use crate::colregs::geometry::Cpx;
+use crate::cpa::CpaEngine;
+
+/// The geometry of one update (MOOS `ContactState`, IvPContactBehavior's `m_cnos`): the pair
+/// seen both ways, ownship to contact ([`Cpx`]) and contact to ownship
+/// ([`Cpx::reversed`]), as `IvPContactBehavior::updatePlatformInfo` (part 3) fills it from
+/// its two CPA engines. The one contact-state type of every contact behaviour: the event
+/// flags and macros read it ([`ContactStates`]), the COLREGS behaviours classify encounters
+/// with it.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct ContactState {
     /// Range, m.
@@ -51,82 +64,66 @@ pub struct ContactState {
     pub os_cn_rel_bng: f64,
     /// Ownship's bearing relative to the contact's heading (the target angle), degrees.
     pub cn_os_rel_bng: f64,
-    /// Rate of closure, m/s.
+    /// Rate of closure at ownship's present course and speed, m/s (negative: opening).
     pub rate_of_closure: f64,
-    /// Bearing rate, degrees per second.
+    /// The contact's bearing rate seen from ownship, degrees per second (MOOS
+    /// `CPXEngine::bearingRate`: the course's whole degree, the C++'s 12-digit pi).
     pub bearing_rate: f64,
-}
-
-/// Whether `(px, py)` is on the side of `(x, y, h)` that `rel` bearings select (MOOS
-/// `ptForeOfOwnship` and its siblings): never for the same point.
-fn side(x: f64, y: f64, h: f64, px: f64, py: f64, rel: impl Fn(f64) -> bool) -> bool {
-    if x == px && y == py {
-        return false;
-    }
-    rel(rel_bearing(x, y, h, px, py))
-}
-
-fn fore(b: f64) -> bool {
-    b <= 90.0 || b >= 270.0
-}
-fn aft(b: f64) -> bool {
-    (90.0..=270.0).contains(&b)
-}
-fn port(b: f64) -> bool {
-    (180.0..=360.0).contains(&b)
-}
-fn star(b: f64) -> bool {
-    (0.0..=180.0).contains(&b)
-}
-
-/// MOOS `CPXEngine::bearingRate`: the speed of both vehicles across the line of sight, as
-/// degrees per second at the present range.
-pub fn bearing_rate(os: (f64, f64, f64, f64), cn: (f64, f64, f64, f64)) -> f64 {
-    let (osx, osy, osh, osv) = os;
-    let (cnx, cny, cnh, cnv) = cn;
-    let tangent = geometry::angle_360(geometry::relative_angle(osx, osy, cnx, cny) - 90.0);
-    let across = |h: f64, v: f64| {
-        let mut d = h - tangent;
-        if d > 180.0 {
-            d -= 360.0;
-        } else if d < -180.0 {
-            d += 360.0;
-        }
-        let d = d.abs();
-        if d != 90.0 {
-            d.to_radians().cos() * v
-        } else {
-            0.0
-        }
-    };
-    let spd = across(osh, -osv) + across(geometry::angle_360(cnh), cnv.max(0.0));
-    let range = (osx - cnx).hypot(osy - cny);
-    spd * (-360.0 / (2.0 * range * std::f64::consts::PI))
+    /// Ownship on its course passes the contact (crosses its beam line).
+    pub os_passes_cn: bool,
+    /// The contact on its course passes ownship.
+    pub cn_passes_os: bool,
+    /// Ownship crosses the contact's bow-stern line.
+    pub os_crosses_cn: bool,
+    /// Ownship crosses the contact's bow.
+    pub os_crosses_cn_bow: bool,
+    /// How far ahead of the contact ownship crosses, or −1.
+    pub os_crosses_cn_bow_dist: f64,
+    /// The contact crosses ownship's bow-stern line.
+    pub cn_crosses_os: bool,
+    /// How far ahead of ownship the contact crosses, or −1.
+    pub cn_crosses_os_bow_dist: f64,
+    /// The CPA distance if both hold course and speed for 120 s, m.
+    pub os_curr_cpa_dist: f64,
 }
 
 impl ContactState {
-    /// The state of ownship `(x, y, heading, speed)` and contact `(x, y, heading, speed)`
-    /// (MOOS `IvPContactBehavior::updatePlatformInfo`, part 3).
+    /// The state of ownship `(x, y, heading, speed)` and contact `(x, y, heading, speed)`.
     pub fn new(os: (f64, f64, f64, f64), cn: (f64, f64, f64, f64)) -> Self {
         let (osx, osy, osh, osv) = os;
         let (cnx, cny, cnh, cnv) = cn;
-        let (osh, cnh) = (geometry::angle_360(osh), geometry::angle_360(cnh));
-        let engine = CpaEngine::new(cnx, cny, cnh, cnv, osx, osy);
+        let fwd = Cpx::new(cnx, cny, cnh, cnv, osx, osy, osh, osv);
+        Self::of_pair(&fwd, &CpaEngine::new(cnx, cny, cnh, cnv, osx, osy))
+    }
+
+    /// The state of the pair `fwd` (ownship to contact) with its CPA engine.
+    pub fn of_pair(fwd: &Cpx, engine: &CpaEngine) -> Self {
+        let rev = fwd.reversed();
+        let (_, _, osh, osv) = fwd.os;
+        let (_, _, cnh, cnv) = fwd.cn;
         ContactState {
-            range: (osx - cnx).hypot(osy - cny),
-            os_fore_of_cn: side(cnx, cny, cnh, osx, osy, fore),
-            os_aft_of_cn: side(cnx, cny, cnh, osx, osy, aft),
-            os_port_of_cn: side(cnx, cny, cnh, osx, osy, port),
-            os_star_of_cn: side(cnx, cny, cnh, osx, osy, star),
-            cn_fore_of_os: side(osx, osy, osh, cnx, cny, fore),
-            cn_aft_of_os: side(osx, osy, osh, cnx, cny, aft),
-            cn_port_of_os: side(osx, osy, osh, cnx, cny, port),
-            cn_star_of_os: side(osx, osy, osh, cnx, cny, star),
-            cn_spd_in_os_pos: engine.cn_speed_toward_os(),
-            os_cn_rel_bng: rel_bearing(osx, osy, osh, cnx, cny),
-            cn_os_rel_bng: rel_bearing(cnx, cny, cnh, osx, osy),
+            range: fwd.range,
+            os_fore_of_cn: fwd.fore,
+            os_aft_of_cn: fwd.aft,
+            os_port_of_cn: fwd.port,
+            os_star_of_cn: fwd.star,
+            cn_fore_of_os: rev.fore,
+            cn_aft_of_os: rev.aft,
+            cn_port_of_os: rev.port,
+            cn_star_of_os: rev.star,
+            cn_spd_in_os_pos: fwd.cn_to_os_spd,
+            os_cn_rel_bng: fwd.rel_bng_os_cn,
+            cn_os_rel_bng: fwd.rel_bng_cn_os,
             rate_of_closure: engine.eval_roc(osh, osv),
-            bearing_rate: bearing_rate((osx, osy, osh, osv), (cnx, cny, cnh, cnv)),
+            bearing_rate: fwd.bearing_rate(osh, osv),
+            os_passes_cn: fwd.passes(osh, osv),
+            cn_passes_os: rev.passes(cnh, cnv),
+            os_crosses_cn: fwd.crosses_bow_or_stern(osh, osv),
+            os_crosses_cn_bow: fwd.crosses_bow(osh, osv),
+            os_crosses_cn_bow_dist: fwd.crosses_bow_dist(osh, osv),
+            cn_crosses_os: rev.crosses_bow_or_stern(cnh, cnv),
+            cn_crosses_os_bow_dist: rev.crosses_bow_dist(cnh, cnv),
+            os_curr_cpa_dist: engine.eval_cpa(osh, osv, 120.0),
         }
     }
 }
@@ -236,4 +233,99 @@ impl ContactStates {
         }
         true
     }
+}
+
+/// What every CPA objective shares (MOOS `AOF_ContactX`): the CPA engine of the pair, the
+/// time on leg its CPA is evaluated over, and the distances below which a CPA is a collision
+/// and above which it is all clear.
+#[derive(Debug, Clone)]
+pub struct Distances {
+    /// The CPA engine (contact and ownship positions, the contact's motion).
+    pub engine: CpaEngine,
+    /// Time on leg, s (`tol`).
+    pub tol: f64,
+    /// `collision_distance`, m.
+    pub collision_distance: f64,
+    /// `all_clear_distance`, m.
+    pub all_clear_distance: f64,
+}
+
+/// The collision distance of a CPA objective (the contact behaviours' `buildCPA_IPF` and
+/// `onRunState`): `min_util_cpa_dist`, or half the range once the contact is within it (so
+/// the function keeps a preference).
+///
+/// ```
+/// use behaviors::contact_state::collision_distance;
+/// assert_eq!(collision_distance(80.0, 10.0), 10.0);
+/// assert_eq!(collision_distance(8.0, 10.0), 4.0);
+/// ```
+pub fn collision_distance(range: f64, min_util_cpa_dist: f64) -> f64 {
+    if range <= min_util_cpa_dist {
+        range / 2.0
+    } else {
+        min_util_cpa_dist
+    }
+}
+
+impl Distances {
+    /// The distances, or `None` when `collision > all_clear` (MOOS `AOF_ContactX::initialize`
+    /// fails: "collision_dist > all_clear_dist").
+    pub fn new(engine: CpaEngine, tol: f64, collision: f64, all_clear: f64) -> Option<Self> {
+        (collision <= all_clear).then_some(Distances {
+            engine,
+            tol,
+            collision_distance: collision,
+            all_clear_distance: all_clear,
+        })
+    }
+
+    /// The set-up of a contact behaviour's CPA objective at its last update: its CPA engine,
+    /// time on leg `tol`, [`collision_distance`] from `min_util_cpa_dist` and the all-clear
+    /// distance `max_util_cpa_dist`; `None` as [`Distances::new`].
+    pub fn for_contact(
+        base: &crate::contact::ContactBase,
+        tol: f64,
+        min_util_cpa_dist: f64,
+        max_util_cpa_dist: f64,
+    ) -> Option<Self> {
+        Self::new(
+            base.cpa_engine(),
+            tol,
+            collision_distance(base.range, min_util_cpa_dist),
+            max_util_cpa_dist,
+        )
+    }
+
+    /// The CPA distance at ownship course `crs` and speed `spd` over the time on leg.
+    pub fn cpa(&self, crs: f64, spd: f64) -> f64 {
+        self.engine.eval_cpa(crs, spd, self.tol)
+    }
+
+    /// The CPA metric most of the COLREGS objectives use: 0 below `collision_distance`, 100
+    /// above `all_clear_distance`, `25 + 75 · (d − collision) / (all_clear − collision)`
+    /// between.
+    pub fn metric25(&self, dist: f64) -> f64 {
+        let (min, max) = (self.collision_distance, self.all_clear_distance);
+        if dist < min {
+            0.0
+        } else if dist > max {
+            100.0
+        } else {
+            25.0 + 75.0 * (dist - min) / (max - min)
+        }
+    }
+}
+
+/// Samples `f(course, speed)` over the course and speed variables of `domain` in uniform
+/// pieces of 3 courses × 3 speeds (the contact behaviours' `build_info`); `None` when the
+/// domain lacks either variable.
+pub fn reflect(domain: &Domain, f: impl Fn(f64, f64) -> f64) -> Option<IvpFunction> {
+    let mut d = Domain::new();
+    d.add(domain.get("course")?.clone()).ok()?;
+    d.add(domain.get("speed")?.clone()).ok()?;
+    Reflector::new(&d, |v: &[f64]| f(v[0], v[1]))
+        .set_param("uniform_piece", "course:3,speed:3")
+        .ok()?
+        .build()
+        .ok()
 }

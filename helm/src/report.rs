@@ -51,6 +51,8 @@ pub struct HelmReport {
     pub running: Vec<BhvLine>,
     /// Idle behaviours.
     pub idle: Vec<BhvLine>,
+    /// Behaviours disabled by a `BHV_ABLE_FILTER`.
+    pub disabled: Vec<BhvLine>,
     /// Completed behaviours.
     pub completed: Vec<BhvLine>,
     /// The templates (`templating = spawn`), each `KIND::prefix (Spawned:made/tried)`.
@@ -109,12 +111,14 @@ impl HelmReport {
     pub fn idle_names(&self) -> String {
         names(&self.idle)
     }
-    /// Writes the comma-separated names of list `k` (0 active, 1 running, 2 idle) into `out`.
+    /// Writes the comma-separated names of list `k` (0 active, 1 running, 2 idle, 3
+    /// disabled) into `out`.
     pub fn write_names(&self, k: usize, out: &mut String) {
         out.clear();
         let v = match k {
             0 => &self.active,
             1 => &self.running,
+            3 => &self.disabled,
             _ => &self.idle,
         };
         write_names(v, out);
@@ -161,6 +165,7 @@ impl HelmReport {
         full(&self.running, false, &mut r.running);
         full(&self.active, true, &mut r.active);
         full(&self.idle, false, &mut r.idle);
+        full(&self.disabled, false, &mut r.disabled);
         full(&self.completed, false, &mut r.completed);
         r.domain.clear();
         r.domain.push_str(domain);
@@ -206,6 +211,7 @@ pub struct Rendered {
     running: String,
     active: String,
     idle: String,
+    disabled: String,
     completed: String,
     domain: String,
     halt_msg: String,
@@ -250,6 +256,7 @@ impl Rendered {
         for (key, mine, theirs) in [
             ("running_bhvs", &self.running, &prev.running),
             ("active_bhvs", &self.active, &prev.active),
+            ("disabled_bhvs", &self.disabled, &prev.disabled),
             ("idle_bhvs", &self.idle, &prev.idle),
             ("completed_bhvs", &self.completed, &prev.completed),
         ] {
@@ -356,7 +363,16 @@ impl HelmReport {
             time_in_state(now, b.time, out);
             out.push_str("]\n");
         }
-        out.push_str("Behaviors Disabled: --------- (0)\n");
+        out.push_str("Behaviors Disabled: --------- (");
+        uint(out, self.disabled.len() as u64);
+        out.push_str(")\n");
+        for b in &self.disabled {
+            out.push_str("  ");
+            out.push_str(&b.name);
+            out.push_str(" [");
+            time_in_state(now, b.time, out);
+            out.push_str("]\n");
+        }
         out.push_str("Behaviors Idle: ------------ (");
         uint(out, self.idle.len() as u64);
         out.push_str(")\n  ");

@@ -16,6 +16,9 @@ pub enum RunState {
     Active,
     /// Completed (endflags posted); removed after the iteration.
     Completed,
+    /// Disabled by a `BHV_ABLE_FILTER` (MOOS "disabled"): no function, no idle or running
+    /// hooks.
+    Disabled,
 }
 
 impl RunState {
@@ -27,6 +30,7 @@ impl RunState {
             RunState::Running => "running",
             RunState::Active => "active",
             RunState::Completed => "completed",
+            RunState::Disabled => "disabled",
         }
     }
     /// Running or active.

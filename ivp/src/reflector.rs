@@ -1,6 +1,10 @@
 //! The reflector: samples any function of the decision variables into linear pieces
 //! (MOOS-IvP's `OF_Reflector` with uniform pieces and directed refinement).
 
+mod refinery;
+
+pub use refinery::{RegionBox, boxes_all_speeds, make_regions_apart};
+
 use super::domain::Domain;
 use super::error::IvpError;
 use super::function::IvpFunction;
@@ -16,7 +20,8 @@ struct IxBox {
 /// variable) by linear pieces.
 ///
 /// Stages, as in MOOS-IvP: (1) a uniform partition (`uniform_piece` sizes or
-/// `uniform_amount` pieces); (2) directed refinement: each `refine_region` (in domain values)
+/// `uniform_amount` pieces), less the plateau and basin regions, which become pieces of
+/// their own ([`Reflector::plateau_region`], [`RegionBox`]); (2) directed refinement: each `refine_region` (in domain values)
 /// is cut out of the pieces it overlaps and re-partitioned with its `refine_piece` sizes.
 /// Each piece is fitted from the function's values at its corners (and its centre point when
 /// it has one): the slope per dimension is the mean rise over run of corner pairs, the
@@ -39,6 +44,12 @@ pub struct Reflector<F> {
     refine: Vec<(IxBox, Option<Vec<u32>>)>,
     strict_range: bool,
     normalize: bool,
+    /// Plateau regions (`refinery.rs`).
+    plateaus: Vec<RegionBox>,
+    /// Basin regions.
+    basins: Vec<RegionBox>,
+    /// The function's known minimum and maximum, for plateau and basin pieces.
+    known: Option<(f64, f64)>,
 }
 
 impl<F: Fn(&[f64]) -> f64> Reflector<F> {
@@ -52,6 +63,9 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
             refine: Vec::new(),
             strict_range: false,
             normalize: false,
+            plateaus: Vec::new(),
+            basins: Vec::new(),
+            known: None,
         }
     }
 
@@ -193,7 +207,9 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
             Some(s) => s.clone(),
             None => self.sizes_for_amount(self.uniform_amount),
         };
-        if self.refine.is_empty() {
+        if !self.plateaus.is_empty() || !self.basins.is_empty() {
+            self.build_with_regions(&sizes)
+        } else if self.refine.is_empty() {
             self.build_uniform(&sizes)
         } else {
             self.build_boxes(&sizes)

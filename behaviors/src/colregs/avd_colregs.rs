@@ -59,7 +59,7 @@
 //! | avoid_mode, avoid_submode | none | a mode (`headon`, `giveway`, `none`, `overtaking`, `standon`, `cpa`) and a submode that mode allows | done |
 //! | pwt_grade | linear | linear, quadratic, quasi (any case) | done |
 //! | contact_type_required | "" | any non-empty text (lowered); empty refused | done (kept; unused by the C++) |
-//! | no_alert_request, headon_only, verbose, use_refinery, check_plateaus, check_validity, post_status_info_on_idle, pts_port_turns_ok, can_disable | false, false, false, false, false, false, false, true, true | boolean | done; `use_refinery`/`check_plateaus` read, open: the plateau refinery and its PLATEAU_* postings; `can_disable` read, open: BHV_ABLE_FILTER |
+//! | no_alert_request, headon_only, verbose, use_refinery, check_plateaus, check_validity, post_status_info_on_idle, pts_port_turns_ok, can_disable | false, false, false, false, false, false, false, true, false | boolean | done; `use_refinery`/`check_plateaus` read, open: the plateau refinery and its PLATEAU_* postings; `can_disable` done: `BHV_ABLE_FILTER` disables, enables or expunges the behaviour (V19 and later; `on_disabled` as the C++ `onDisabledState`) |
 //! | pcheck_thresh | 0.001 | number >= 0 | done (read) |
 //! | eval_tol | 120 (the time on leg) | number in [5, 300] | done |
 //! | velocity_filter | off | `min_spd=..,max_spd=..,pct=..`, valid ([`VelocityFilter`]) | done |
@@ -80,12 +80,13 @@
 
 use ivp::{IvpFunction, ZaicHdg, ZaicSpd};
 
-use super::geometry::{ContactState, Cpx, project_point, speed_in_heading, turn_gap};
+use super::geometry::{Cpx, project_point, speed_in_heading, turn_gap};
 use super::{AofCpa, AofR13, AofR14, AofR16, Distances, GiveWaySide, VelocityFilter, reflect};
 use crate::PwtGrade;
 use crate::behavior::{Behavior, Ctx, Out, ParamError, PostKey, add_vars};
 use crate::common::Common;
 use crate::contact::ContactBase;
+use crate::contact_state::ContactState;
 use crate::param::{is_number, moos_boolean};
 
 /// Which MOOS-IvP class the behaviour is.
@@ -328,7 +329,7 @@ impl AvdColregs {
             pwt: 100.0,
             update_var: String::new(),
             spawnable: false,
-            flags: [false, false, false, false, true],
+            flags: [false; 5],
             pcheck_thresh: 0.001,
             segl: None,
         }
@@ -405,10 +406,8 @@ impl AvdColregs {
         if !self.base.update(ctx, out) {
             return false;
         }
-        let (osx, osy, osh, osv) = self.base.os;
-        let (cnx, cny, cnh, cnv) = self.base.cn;
-        let geo = Cpx::new(cnx, cny, cnh, cnv, osx, osy, osh, osv);
-        self.state = ContactState::new(&geo, &self.base.cpa_engine());
+        // The contact state ContactBase::update recorded (IvPContactBehavior's `m_cnos`).
+        self.state = self.base.states.now();
         true
     }
 
@@ -530,7 +529,7 @@ impl AvdColregs {
 
     /// Rule 14 (MOOS `checkModeHeadOn`).
     fn check_head_on(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
-        let s = self.state.clone();
+        let s = self.state;
         if self.mode == "headon" {
             if self.base.range > self.min_util_cpa_dist && s.rate_of_closure < 0.0 {
                 self.headon_debug(ctx, out, "release due to opening range");
@@ -572,7 +571,7 @@ impl AvdColregs {
 
     /// Rules 15/16 (MOOS `checkModeGiveWay`).
     fn check_give_way(&mut self, out: &mut Out) {
-        let s = self.state.clone();
+        let s = self.state;
         if self.base.range >= self.pwt_outer_dist {
             self.reset();
             return;
@@ -651,7 +650,7 @@ impl AvdColregs {
 
     /// Rule 17 (MOOS `checkModeStandOn`).
     fn check_stand_on(&mut self) {
-        let s = self.state.clone();
+        let s = self.state;
         if self.base.range >= self.pwt_outer_dist {
             self.reset();
             return;
@@ -725,7 +724,7 @@ impl AvdColregs {
 
     /// Rule 17 for the overtaken vessel (MOOS `checkModeStandOnOT`).
     fn check_stand_on_ot(&mut self) {
-        let s = self.state.clone();
+        let s = self.state;
         if self.base.range >= self.pwt_outer_dist {
             self.reset();
             return;
@@ -788,21 +787,11 @@ impl AvdColregs {
         }
     }
 
-    /// The collision distance the functions use: `min_util_cpa_dist`, or half the range once
-    /// within it.
-    fn collision_distance(&self) -> f64 {
-        if self.base.range <= self.min_util_cpa_dist {
-            self.base.range / 2.0
-        } else {
-            self.min_util_cpa_dist
-        }
-    }
-
     fn distances(&self, tol: f64) -> Option<Distances> {
-        Distances::new(
-            self.base.cpa_engine(),
+        Distances::for_contact(
+            &self.base,
             tol,
-            self.collision_distance(),
+            self.min_util_cpa_dist,
             self.max_util_cpa_dist,
         )
     }
@@ -1169,6 +1158,7 @@ impl Behavior for AvdColregs {
                 .position(|p| *p == param)
                 .unwrap_or(4);
                 self.flags[i] = boolean(self.flags[i])?;
+                self.base.can_disable = self.flags[4];
                 return Ok(());
             }
             "pcheck_thresh" if v19 => {
@@ -1264,8 +1254,6 @@ impl Behavior for AvdColregs {
             return true;
         }
         use moos_types::fmt::compact;
-        let s = &self.state;
-        let tf = |b: bool| if b { "true" } else { "false" };
         match name {
             "AVD_MODE" if self.version.at_least_v22() => out.push_str(self.mode),
             "AVD_SMODE" if self.version.at_least_v22() => out.push_str(self.submode),
@@ -1274,19 +1262,6 @@ impl Behavior for AvdColregs {
                 out.push_str(&self.mode_ix.to_string());
             }
             "FULL_MODE" if self.version.at_least_v22() => out.push_str(&self.full_mode()),
-            "ROC" => compact(out, s.rate_of_closure, 1),
-            "OS_CN_REL_BNG" => compact(out, s.os_cn_rel_bng, 1),
-            "CN_OS_REL_BNG" => compact(out, s.cn_os_rel_bng, 1),
-            "BNG_RATE" => compact(out, s.bearing_rate, 1),
-            "CN_SPD_IN_OS_POS" => compact(out, s.cn_spd_in_os_pos, 1),
-            "OS_FORE_OF_CN" => out.push_str(tf(s.os_fore_of_cn)),
-            "OS_AFT_OF_CN" => out.push_str(tf(s.os_aft_of_cn)),
-            "OS_PORT_OF_CN" => out.push_str(tf(s.os_port_of_cn)),
-            "OS_STAR_OF_CN" => out.push_str(tf(s.os_star_of_cn)),
-            "CN_FORE_OF_OS" => out.push_str(tf(s.cn_fore_of_os)),
-            "CN_AFT_OF_OS" => out.push_str(tf(s.cn_aft_of_os)),
-            "CN_PORT_OF_OS" => out.push_str(tf(s.cn_port_of_os)),
-            "CN_STAR_OF_OS" => out.push_str(tf(s.cn_star_of_os)),
             _ => return false,
         }
         true
@@ -1304,6 +1279,33 @@ impl Behavior for AvdColregs {
             self.post_status(ctx, out);
         }
         if self.done() {
+            out.complete();
+        }
+    }
+
+    fn apply_able_filter(&mut self, msg: &str, out: &mut Out) -> bool {
+        let kind = self.kind();
+        crate::contact::able_filter_hook(&mut self.base, msg, kind, out)
+    }
+
+    fn is_disabled(&self) -> bool {
+        self.base.disabled
+    }
+
+    /// MOOS `onDisabledState` (V19, V22, V26; V17 cannot be disabled): the bearing line
+    /// erased, completion on the filters or the range (V22 and V26 give the reasons
+    /// `filterb`, `rng1p1b`).
+    fn on_disabled(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
+        self.update(ctx, out);
+        self.base.post_bearing_line(ctx, out, false);
+        if self.version.at_least_v22() {
+            if !self.base.filter_holds() {
+                out.complete_because("filterb");
+            }
+            if self.base.range >= self.completed_dist * 1.1 {
+                out.complete_because("rng1p1b");
+            }
+        } else if self.done() {
             out.complete();
         }
     }

@@ -10,12 +10,13 @@
 //! `gam` (to the bow-stern line). Course-dependent terms are taken at the whole degree below
 //! the course, as the C++ caches them.
 //!
-//! [`ContactState`] is what IvPContactBehavior keeps each iteration (its `m_cnos`): the pair
-//! seen both ways (ownship to contact and contact to ownship).
+//! [`crate::contact_state::ContactState`] is what IvPContactBehavior keeps each iteration
+//! from a pair (its `m_cnos`): the pair seen both ways (ownship to contact and contact to
+//! ownship).
 
 use geometry::{angle_180, angle_360, relative_angle};
 
-use crate::cpa::{CpaEngine, rel_bearing};
+use crate::cpa::rel_bearing;
 
 /// The value of pi the C++ engines' bearing rate uses (their `MPI`, 12 digits).
 #[allow(clippy::approx_constant)]
@@ -414,89 +415,6 @@ impl Cpx {
             return true;
         }
         osv > 0.0 && cos_between(ix(osh), self.theta_os_gam) > 0.00001
-    }
-}
-
-/// What IvPContactBehavior knows of ownship and its contact after an update (its
-/// `ContactStateSet`'s current entry, the parts the COLREGS behaviours read).
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct ContactState {
-    /// Range, m.
-    pub range: f64,
-    /// Ownship relative to the contact: fore, aft, port, starboard.
-    pub os_fore_of_cn: bool,
-    /// See `os_fore_of_cn`.
-    pub os_aft_of_cn: bool,
-    /// See `os_fore_of_cn`.
-    pub os_port_of_cn: bool,
-    /// See `os_fore_of_cn`.
-    pub os_star_of_cn: bool,
-    /// The contact relative to ownship: fore, aft, port, starboard.
-    pub cn_fore_of_os: bool,
-    /// See `cn_fore_of_os`.
-    pub cn_aft_of_os: bool,
-    /// See `cn_fore_of_os`.
-    pub cn_port_of_os: bool,
-    /// See `cn_fore_of_os`.
-    pub cn_star_of_os: bool,
-    /// The contact's relative bearing from ownship, degrees.
-    pub os_cn_rel_bng: f64,
-    /// Ownship's relative bearing from the contact (contact angle), degrees.
-    pub cn_os_rel_bng: f64,
-    /// Rate of closure at ownship's present course and speed, m/s (negative: opening).
-    pub rate_of_closure: f64,
-    /// The contact's bearing rate seen from ownship, degrees/s.
-    pub bearing_rate: f64,
-    /// The contact's speed toward ownship, m/s.
-    pub cn_spd_in_os_pos: f64,
-    /// Ownship on its course passes the contact (crosses its beam line).
-    pub os_passes_cn: bool,
-    /// The contact on its course passes ownship.
-    pub cn_passes_os: bool,
-    /// Ownship crosses the contact's bow-stern line.
-    pub os_crosses_cn: bool,
-    /// Ownship crosses the contact's bow.
-    pub os_crosses_cn_bow: bool,
-    /// How far ahead of the contact ownship crosses, or −1.
-    pub os_crosses_cn_bow_dist: f64,
-    /// The contact crosses ownship's bow-stern line.
-    pub cn_crosses_os: bool,
-    /// How far ahead of ownship the contact crosses, or −1.
-    pub cn_crosses_os_bow_dist: f64,
-    /// The CPA distance if both hold course and speed for 120 s, m.
-    pub os_curr_cpa_dist: f64,
-}
-
-impl ContactState {
-    /// The state of the pair `fwd` (ownship to contact) with its CPA engine.
-    pub fn new(fwd: &Cpx, engine: &CpaEngine) -> Self {
-        let rev = fwd.reversed();
-        let (_, _, osh, osv) = fwd.os;
-        let (_, _, cnh, cnv) = fwd.cn;
-        ContactState {
-            range: fwd.range,
-            os_fore_of_cn: fwd.fore,
-            os_aft_of_cn: fwd.aft,
-            os_port_of_cn: fwd.port,
-            os_star_of_cn: fwd.star,
-            cn_fore_of_os: rev.fore,
-            cn_aft_of_os: rev.aft,
-            cn_port_of_os: rev.port,
-            cn_star_of_os: rev.star,
-            os_cn_rel_bng: fwd.rel_bng_os_cn,
-            cn_os_rel_bng: fwd.rel_bng_cn_os,
-            rate_of_closure: engine.eval_roc(osh, osv),
-            bearing_rate: fwd.bearing_rate(osh, osv),
-            cn_spd_in_os_pos: fwd.cn_to_os_spd,
-            os_passes_cn: fwd.passes(osh, osv),
-            cn_passes_os: rev.passes(cnh, cnv),
-            os_crosses_cn: fwd.crosses_bow_or_stern(osh, osv),
-            os_crosses_cn_bow: fwd.crosses_bow(osh, osv),
-            os_crosses_cn_bow_dist: fwd.crosses_bow_dist(osh, osv),
-            cn_crosses_os: rev.crosses_bow_or_stern(cnh, cnv),
-            cn_crosses_os_bow_dist: rev.crosses_bow_dist(cnh, cnv),
-            os_curr_cpa_dist: engine.eval_cpa(osh, osv, 120.0),
-        }
     }
 }
 

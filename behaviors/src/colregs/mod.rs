@@ -24,68 +24,7 @@ pub use aof_r14::AofR14;
 pub use aof_r16::{AofR16, GiveWaySide};
 pub use aof_r17::AofR17;
 pub use avd_colregs::{AvdColregs, Version};
-pub use geometry::{ContactState, Cpx};
+pub use geometry::Cpx;
 pub use velocity_filter::VelocityFilter;
 
-use ivp::{Domain, IvpFunction, Reflector};
-
-use crate::cpa::CpaEngine;
-
-/// What every COLREGS objective shares (MOOS `AOF_ContactX`): the CPA engine of the pair,
-/// the time on leg its CPA is evaluated over, and the distances below which a CPA is a
-/// collision and above which it is all clear.
-#[derive(Debug, Clone)]
-pub struct Distances {
-    /// The CPA engine (contact and ownship positions, the contact's motion).
-    pub engine: CpaEngine,
-    /// Time on leg, s (`tol`).
-    pub tol: f64,
-    /// `collision_distance`, m.
-    pub collision_distance: f64,
-    /// `all_clear_distance`, m.
-    pub all_clear_distance: f64,
-}
-
-impl Distances {
-    /// The distances, or `None` when `collision > all_clear` (MOOS `AOF_ContactX::initialize`
-    /// fails: "collision_dist > all_clear_dist").
-    pub fn new(engine: CpaEngine, tol: f64, collision: f64, all_clear: f64) -> Option<Self> {
-        (collision <= all_clear).then_some(Distances {
-            engine,
-            tol,
-            collision_distance: collision,
-            all_clear_distance: all_clear,
-        })
-    }
-
-    /// The CPA distance at ownship course `crs` and speed `spd` over the time on leg.
-    pub fn cpa(&self, crs: f64, spd: f64) -> f64 {
-        self.engine.eval_cpa(crs, spd, self.tol)
-    }
-
-    /// The CPA metric most of the objectives use: 0 below `collision_distance`, 100 above
-    /// `all_clear_distance`, `25 + 75 · (d − collision) / (all_clear − collision)` between.
-    pub fn metric25(&self, dist: f64) -> f64 {
-        let (min, max) = (self.collision_distance, self.all_clear_distance);
-        if dist < min {
-            0.0
-        } else if dist > max {
-            100.0
-        } else {
-            25.0 + 75.0 * (dist - min) / (max - min)
-        }
-    }
-}
-
-/// Samples `f(course, speed)` over the course and speed variables of `domain` in uniform
-/// pieces of 3 courses × 3 speeds; `None` when the domain lacks either variable.
-pub fn reflect(domain: &Domain, f: impl Fn(f64, f64) -> f64) -> Option<IvpFunction> {
-    let mut d = Domain::new();
-    d.add(domain.get("course")?.clone()).ok()?;
-    d.add(domain.get("speed")?.clone()).ok()?;
-    Reflector::new(&d, |v: &[f64]| f(v[0], v[1]))
-        .set_param("uniform_piece", "course:3,speed:3")
-        .ok()?
-        .build()
-        .ok()
-}
+pub use crate::contact_state::{ContactState, Distances, reflect};

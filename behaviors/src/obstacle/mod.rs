@@ -13,8 +13,10 @@
 //!   utility of a heading (its ray's closest approach to the obstacle);
 //! - [`Hints`]: `visual_hints` as MOOS's `HintHolder` keeps them and `applyHints` applies them.
 
+mod able;
 pub mod geom;
 pub mod legacy;
+pub mod refinery;
 
 pub mod v24;
 
@@ -154,8 +156,11 @@ pub struct ObstacleBase {
     pub resolved_pending: bool,
     /// The variable the obstacle manager announces resolutions on.
     pub resolved_var: String,
-    /// `can_disable` (read; coug's helm has no `BHV_ABLE_FILTER` yet).
+    /// `can_disable` (IvPBehavior's `m_can_disable`, false): `BHV_ABLE_FILTER` acts on the
+    /// behaviour (`able.rs`).
     pub can_disable: bool,
+    /// Disabled by a `BHV_ABLE_FILTER`.
+    pub disabled: bool,
     /// The template's `updates` variable.
     pub update_var: String,
     /// A spawning template.
@@ -167,7 +172,6 @@ impl ObstacleBase {
     pub fn new() -> Self {
         ObstacleBase {
             resolved_var: "OBM_RESOLVED".into(),
-            can_disable: true,
             ..ObstacleBase::default()
         }
     }

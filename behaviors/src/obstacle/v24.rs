@@ -39,9 +39,9 @@
 //! | visual_hints | see below | colours and sizes >= 0 | done |
 //! | holonomic_ok | false | boolean; false warns every iteration with the holonomic model | done |
 //! | allstop_on_breach | true | boolean | done |
-//! | use_refinery | false | boolean | read; open: the plateau/basin refinery (pieces stay uniform) |
+//! | use_refinery | false | boolean | done: plateau and basin regions ([`super::refinery`]) |
 //! | draw_buff_min_poly, draw_buff_max_poly | true | boolean | done (read; unused by the C++) |
-//! | can_disable | true | boolean | read; open: `BHV_ABLE_FILTER` (not in coug's helm) |
+//! | can_disable | false | boolean | done: `BHV_ABLE_FILTER` with `obstacle_id` or `vsource` disables, enables or expunges it (`obstacle/able.rs`) |
 //!
 //! Hints (MOOS `initVisualHints`): `vertex_size=0`, `edge_size=1`, `vertex_color=gray50`,
 //! `edge_color=gray50`, `fill_color=off`, `label_color=white` and the `obst_`, `buff_min_`,
@@ -322,11 +322,36 @@ impl AvoidObstacleV24 {
         domain.add(ctx.domain.get("course")?.clone()).ok()?;
         domain.add(ctx.domain.get("speed")?.clone()).ok()?;
         let model = &self.model;
-        Reflector::new(&domain, |v: &[f64]| model.eval_heading(v[0]))
+        let r = Reflector::new(&domain, |v: &[f64]| model.eval_heading(v[0]))
             .set_param("uniform_piece", "course:3,speed:3")
-            .ok()?
-            .build()
-            .ok()
+            .ok()?;
+        let r = if self.use_refinery {
+            self.refine(r, &domain)?
+        } else {
+            r
+        };
+        r.build().ok()
+    }
+
+    /// `use_refinery`: the plateau and basin regions of [`super::refinery`], pieces of the
+    /// AOF's known extremes (0 and 100), the other pieces fitted within their samples.
+    fn refine<F: Fn(&[f64]) -> f64>(
+        &self,
+        mut r: Reflector<F>,
+        domain: &ivp::Domain,
+    ) -> Option<Reflector<F>> {
+        let (plateaus, basins) = super::refinery::regions(domain, &self.model, &self.side_lock);
+        for p in plateaus {
+            r = r.plateau_region(p).ok()?;
+        }
+        for b in basins {
+            r = r.basin_region(b).ok()?;
+        }
+        // The C++ Regressor keeps each fitted plane within its samples (`strict_range`, on
+        // by default): the function's extremes are then the regions' 0 and 100. (coug's
+        // unrefined objectives keep it off, as they always have.)
+        let r = r.set_param("strict_range", "true").ok()?;
+        Some(r.known_min_max(0.0, 100.0))
     }
 
     /// The `gut`, `mid` and `rim` polygons as posted with a function.
@@ -543,6 +568,27 @@ impl Behavior for AvoidObstacleV24 {
         if self.base.resolved_pending {
             out.complete();
         }
+    }
+
+    fn apply_able_filter(&mut self, msg: &str, out: &mut Out) -> bool {
+        match self.base.apply_able_filter(msg) {
+            Ok(Some(crate::contact::AbleAction::Expunge)) => {
+                out.complete();
+                true
+            }
+            Ok(_) => true,
+            Err(_) => false,
+        }
+    }
+
+    fn is_disabled(&self) -> bool {
+        self.base.disabled
+    }
+
+    /// Disabled: only the every-state work (MOOS `onEveryState`; V24 has no
+    /// `onDisabledState`).
+    fn on_disabled(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
+        self.every_state(ctx, out);
     }
 
     fn on_complete(&mut self, _ctx: &Ctx<'_>, out: &mut Out) {

@@ -321,8 +321,12 @@ impl Helm {
     /// MOOS `isRunnable`: the state from conditions, duration and starvation. Returns the
     /// state and the first failed condition.
     pub(super) fn runnable(&mut self, i: usize, now: f64) -> (RunState, Option<Failed>) {
+        self.complete_if_contact_gone(i);
         if self.slots[i].completed {
             return (RunState::Completed, None);
+        }
+        if self.slots[i].bhv.is_disabled() {
+            return (RunState::Disabled, None);
         }
         let failed = {
             let info = &self.info;
@@ -452,6 +456,7 @@ impl Helm {
                     None
                 });
             }
+            RunState::Disabled => self.run_disabled(i),
             RunState::Idle => {
                 if old != RunState::Idle {
                     self.post_flags(i, FlagKind::Idle);
@@ -544,6 +549,9 @@ impl Helm {
                 self.slots[i].clock.account(now, true);
             }
         }
+        // MOOS calls `isRunnable` once more here: a spawned behaviour whose contact is gone
+        // completes again (`able.rs`).
+        self.complete_if_contact_gone(i);
         if state != RunState::Completed && self.slots[i].completed {
             state = RunState::Completed;
             ipf = None;

@@ -196,10 +196,10 @@ impl Helm {
             } else if m.key == "IVPHELM_REJOURNAL" {
                 self.rejournal = true;
             } else if m.key == "BHV_ABLE_FILTER" {
-                // BehaviorSet: every behaviour sees the filter (only contact behaviours act
-                // on it, none of coug's yet), then the helm's spawn blacklist.
+                // BehaviorSet: every behaviour sees the filter (`able.rs`), then the helm's
+                // spawn blacklist.
                 if let Value::String(s) = &m.value {
-                    self.disabled_contacts.apply(s);
+                    self.able_filter_mail(s);
                 }
             } else if m.key == "NODE_REPORT_LOCAL" {
                 self.node_report_local(&m.value, now);

@@ -32,10 +32,12 @@
 //! | spawning from templates | `BehaviorSet::handlePossibleSpawnings` | `spawn.rs` |
 //! | modes and conditions | `ModeSet::evaluate`, `IvPBehavior::checkConditions` | [`crate::mode`], `behavior_set.rs` (`runnable`) |
 //! | each behaviour's state, hooks and function | `BehaviorSet::produceOF` | `behavior_set.rs` |
+//! | `BHV_ABLE_FILTER`, the `disabled` state, spawned behaviours whose contact left the ledger | `BehaviorSet::applyAbleFilterMsg`, `IvPBehavior::isRunnable` | `able.rs` |
 //! | the solve and the summary postings | `HelmEngine::determineNextDecision`, `HelmIvP::Iterate` | `decide` (this file), [`crate::report`] |
 //! | behaviour postings, flags, macros, deaths, all-stop | `postBehaviorMessages`, `IvPBehavior::postFlags`, `postAllStop` | `postings.rs`, [`crate::macro_expand`], [`crate::allstop`] |
 //! | the outgoing buffers and the duplicate filter | `m_outgoing_key_strings` | `outbox.rs` |
 
+mod able;
 mod behavior_set;
 mod mail;
 mod outbox;
@@ -177,7 +179,7 @@ pub struct Helm {
     /// `DESIRED_<VAR>` (with the helm prefix) for each domain variable, in domain order.
     desired_vars: Vec<String>,
     domain_str: String,
-    lists: [String; 3],
+    lists: [String; 4],
     bhv_count: Option<usize>,
     bhv_count_ever: Option<usize>,
     state_vars: String,
@@ -217,6 +219,8 @@ pub struct Helm {
     ledger: crate::ledger::ContactLedger,
     /// Contacts `BHV_ABLE_FILTER` disabled spawning for.
     disabled_contacts: crate::ledger::DisabledContacts,
+    /// `BHV_ABLE_FILTER` messages not yet given to the behaviours (`able.rs`).
+    able_pending: Vec<String>,
     /// Run warnings and events for the appcast, oldest first.
     notes: Vec<AppcastNote>,
 }
@@ -488,6 +492,7 @@ impl Helm {
             outgoing: std::collections::BTreeMap::new(),
             ledger: crate::ledger::ContactLedger::new(45.0),
             disabled_contacts: crate::ledger::DisabledContacts::default(),
+            able_pending: Vec::new(),
             notes: Vec::new(),
         };
         helm.ledger = crate::ledger::ContactLedger::new(helm.config.contact_max_age);
@@ -769,6 +774,7 @@ impl Helm {
         for s in &mut self.slots {
             s.ok = true;
         }
+        self.apply_able_filters();
         self.handle_spawnings(now);
         let modes: Vec<(String, String)> = self.modes.evaluate(&mut self.info).to_vec();
 
@@ -832,6 +838,7 @@ impl Helm {
                 RunState::Active => report.active.push(line),
                 RunState::Running => report.running.push(line),
                 RunState::Idle | RunState::New => report.idle.push(line),
+                RunState::Disabled => report.disabled.push(line),
                 RunState::Completed => report.completed.push(line),
             }
         }
@@ -893,7 +900,12 @@ impl Helm {
             Value::Double(report.pcs_cached as f64),
             "",
         );
-        let counts = [report.active.len(), report.running.len(), report.idle.len()];
+        let counts = [
+            report.active.len(),
+            report.running.len(),
+            report.idle.len(),
+            report.disabled.len(),
+        ];
         for (k, cnt) in counts.into_iter().enumerate() {
             let mut list = std::mem::take(&mut self.scratch);
             report.write_names(k, &mut list);
@@ -902,6 +914,7 @@ impl Helm {
                     ["IVPHELM_BHV_ACTIVE", "IVPHELM_BHV_ACTIVE_CNT"],
                     ["IVPHELM_BHV_RUNNING", "IVPHELM_BHV_RUNNING_CNT"],
                     ["IVPHELM_BHV_IDLE", "IVPHELM_BHV_IDLE_CNT"],
+                    ["IVPHELM_BHV_DISABLED", "IVPHELM_BHV_DISABLED_CNT"],
                 ][k];
                 self.out.text_copy(base, &list);
                 self.notify(base_cnt, Value::Double(cnt as f64), "");
@@ -987,6 +1000,7 @@ impl Helm {
             &mut old.active,
             &mut old.running,
             &mut old.idle,
+            &mut old.disabled,
             &mut old.completed,
         ] {
             self.line_pool.append(list);
@@ -1520,7 +1534,7 @@ mod ledger_tests {
         let p = h.iterate(1.0).to_vec();
         assert!(h.contact_disabled("ben"));
         assert!(!h.info().is_known("BHV_ABLE_FILTER"));
-        // No behaviour of coug's can be disabled: none listed, the behaviour stays active.
+        // A constant-speed behaviour ignores the filter: none listed, it stays active.
         assert!(p.iter().all(|p| p.key != "IVPHELM_BHV_DISABLED"));
         let active = p.iter().find(|p| p.key == "IVPHELM_BHV_ACTIVE").unwrap();
         assert_eq!(active.value, Value::String("spd".into()));

@@ -83,7 +83,7 @@ impl Template {
 
 /// `tokStringParse(s, key, '#', '=')`: the value of the first `key=value` piece, empty when
 /// there is none or a piece before it is not one `left=right` pair.
-fn field<'a>(s: &'a str, key: &str) -> &'a str {
+pub(super) fn field<'a>(s: &'a str, key: &str) -> &'a str {
     for piece in parse_string_q(s, '#') {
         let parts = parse_string(piece, '=');
         if parts.len() != 2 {
@@ -218,6 +218,7 @@ impl Helm {
             None
         });
         self.post_flags(i, FlagKind::Spawn);
+        self.disable_if_blacklisted(i, request);
         self.subs_dirty = true;
         self.state_vars_dirty = true;
     }
