@@ -14,10 +14,11 @@
 //! the layer at the end of the callback, at its time, before the cast is built.
 //!
 //! pCougControls, uSimCougUV, pNavGraph, uSimSensors, pSafety, the drivers iGPS, iDVL,
-//! iSeaTrac and iTeensy, and uSimDevices are hosted this way (the cores: `CougControls`,
-//! `CougUvSimCore`, `NavCore`, `SensorsCore`, `SafetyCore`, `DriverCore`, `SimDevicesCore`).
-//! pAcomms, uSimModem and pBasicContactMgr fit it as they are (a dynamic subscription list, a
-//! process id, startup postings and notes at mail time are all hooks here).
+//! iSeaTrac and iTeensy, uSimDevices, pAcomms and uSimModem are hosted this way (the cores:
+//! `CougControls`, `CougUvSimCore`, `NavCore`, `SensorsCore`, `SafetyCore`, `DriverCore`,
+//! `SimDevicesCore`, `AcommsCore`, `SimModemCore`). pBasicContactMgr fits it as it is (a
+//! dynamic subscription list, a process id, startup postings and notes at mail time are all
+//! hooks here).
 
 use mission::diagnostic::Diagnostic;
 use mission::moos::ProcessConfig;
