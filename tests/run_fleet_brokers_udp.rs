@@ -209,6 +209,7 @@ fn three_coug_processes_find_each_other_and_share_over_loopback_udp() {
             "PSHARE_CMD",
             "UFSB_NODE_COUNT",
             "NODE_REPORT",
+            "NODE_BROKER_PING",
         ],
     ))];
     rt.block_on(until(
@@ -281,13 +282,23 @@ fn three_coug_processes_find_each_other_and_share_over_loopback_udp() {
     // The shoreside's routes go to the ports the vehicles' pShares picked, learnt from
     // their pings only.
     let cmds = heard.texts("shoreside", "PSHARE_CMD");
-    for (v, _, _) in VEHICLES {
+    let pings = heard.texts("shoreside", "NODE_BROKER_PING");
+    for (run, (v, _, _)) in runs[1..].iter().zip(VEHICLES) {
         let summaries = heard.texts(v, "PSHARE_INPUT_SUMMARY");
         let port = summaries
             .iter()
             .find_map(|s| summary_port(s))
             .unwrap_or_else(|| panic!("{v}'s pShare reported its port: {summaries:?}"));
         assert_ne!(port, shore_listen);
+        // The ping names the vehicle's MOOSDB and pShare as bound, and the run's warp.
+        let record = format!(
+            "community={v},hostip=localhost,port_db={},port_udp={port},pshare_iroutes=localhost:{port},timewarp={WARP},",
+            run.db_port
+        );
+        assert!(
+            pings.iter().any(|p| p.starts_with(&record)),
+            "{record} in {pings:?}"
+        );
         let ack = format!(
             "cmd=output,src_name=NODE_BROKER_ACK_{},dest_name=NODE_BROKER_ACK,route=localhost:{port}",
             v.to_uppercase()

@@ -621,7 +621,8 @@ fn make_node_broker(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
         &g.community,
         g.server_port,
         g.time_warp,
-    );
+    )
+    .with_shared(&cx.launch.shared);
     cx.warnings.extend(app.warnings().iter().cloned());
     Ok(Built::App(Box::new(app)))
 }
@@ -635,7 +636,8 @@ fn make_shore_broker(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
         &g.community,
         g.server_port,
         g.time_warp,
-    );
+    )
+    .with_shared(&cx.launch.shared);
     cx.warnings.extend(app.warnings().iter().cloned());
     Ok(Built::App(Box::new(app)))
 }
