@@ -642,7 +642,7 @@ impl PShareApp {
 
     fn share(&mut self, m: &Mail, now: f64) {
         if !self.radio.up() {
-            if self.table.registered_for(&m.key) {
+            if self.would_route(m) {
                 self.tx.submerged += 1;
                 self.store.keep(m);
             }
@@ -679,6 +679,17 @@ impl PShareApp {
             }
             self.out_buf = out;
         }
+    }
+
+    /// True when `m` has routes: a named share, or a wildcard share matching its name and
+    /// its writer.
+    fn would_route(&self, m: &Mail) -> bool {
+        use moos_types::text::wildcard_match;
+        self.table.registered_for(&m.key)
+            || self.table.wildcards().any(|(var, app, _)| {
+                wildcard_match(var.as_bytes(), m.key.as_bytes())
+                    && wildcard_match(app.as_bytes(), m.source.as_bytes())
+            })
     }
 
     /// Surfaced: what the store kept goes out, oldest first.
@@ -1338,6 +1349,64 @@ mod tests {
         assert!(body(&v).contains(
             "Store: latest (at most 1)  queued=0 stored=3 forwarded=1 superseded=1 overflow=1"
         ));
+    }
+
+    #[test]
+    fn an_all_store_keeps_wildcard_shares_in_order() {
+        let shared = Shared::new();
+        shared.get_or_insert_with(HUB, PShareHub::new);
+        let mut v = PShareApp::new(
+            "pShare",
+            block(
+                "v.moos",
+                "ProcessConfig = pShare\n{\n  radio_max_depth = 0.5\n  radio_store = all\n  \
+                 output = src_name=SENSOR_*, route=localhost:9471\n}\n",
+            ),
+        )
+        .with_shared(&shared);
+        let mut shore = PShareApp::new(
+            "pShare",
+            block(
+                "s.moos",
+                "ProcessConfig = pShare\n{\n  input = route = localhost:9471\n}\n",
+            ),
+        )
+        .with_shared(&shared);
+        let mut out = Vec::new();
+        v.on_startup(0.0, &mut out).unwrap();
+        shore.on_startup(0.0, &mut out).unwrap();
+        let sensor = |k: &str, x: f64, t: f64| mail(k, Value::Double(x), t, "iSensor");
+        v.on_mail(
+            &[depth(3.0, 1.0), sensor("SENSOR_A", 1.0, 1.0)],
+            1.0,
+            &mut out,
+        )
+        .unwrap();
+        v.on_mail(
+            &[sensor("SENSOR_B", 2.0, 2.0), sensor("SENSOR_A", 3.0, 2.0)],
+            2.0,
+            &mut out,
+        )
+        .unwrap();
+        v.on_mail(&[depth(0.0, 3.0)], 3.0, &mut out).unwrap();
+        let mut heard = Vec::new();
+        shore.iterate(3.5, &mut heard).unwrap();
+        let got: Vec<(&str, Value)> = heard
+            .iter()
+            .filter(|p| p.key.starts_with("SENSOR_"))
+            .map(|p| (&*p.key, p.value.clone()))
+            .collect();
+        assert_eq!(
+            got,
+            [
+                ("SENSOR_A", Value::Double(1.0)),
+                ("SENSOR_B", Value::Double(2.0)),
+                ("SENSOR_A", Value::Double(3.0)),
+            ]
+        );
+        let (c, queued) = v.store_counts();
+        assert_eq!((c.stored, c.forwarded, queued), (3, 3, 0));
+        assert_eq!(v.sent().submerged, 3);
     }
 
     #[test]
