@@ -168,3 +168,131 @@ fn two_coug_processes_share_a_variable_over_loopback_udp() {
     // The shore never had a COUNT of its own: only the renamed share crossed.
     assert!(log.entries.iter().all(|e| e.var != "COUNT"));
 }
+
+/// Store and forward on the surface-only radio, in a lockstep fleet of a diver and a
+/// shoreside: the diver posts `PING = k` and `STATE = k` every second from 1 s to 30 s and is
+/// under from 9.5 s to 19.5 s. The shoreside receives exactly what `radio_store` says, and
+/// the diver's pShare appcast gives the counts.
+#[test]
+fn a_surfacing_vehicle_forwards_what_its_store_kept() {
+    // (radio_store lines, the PINGs and STATEs the shoreside must log, the store's appcast
+    // line)
+    let surface: Vec<u32> = (1..=9).chain(20..=30).collect();
+    let with = |kept: &[u32]| -> Vec<u32> {
+        let mut v: Vec<u32> = (1..=9).collect();
+        v.extend_from_slice(kept);
+        v.extend(20..=30);
+        v
+    };
+    let cases = [
+        ("", surface, None),
+        (
+            "  radio_store = latest\n",
+            with(&[19]),
+            Some(
+                "Store: latest (at most 100)  queued=0 stored=20 forwarded=2 superseded=18 overflow=0",
+            ),
+        ),
+        (
+            "  radio_store = all\n  radio_store_max = 4\n",
+            with(&[18, 19]),
+            Some("Store: all (at most 4)  queued=0 stored=20 forwarded=4 superseded=0 overflow=16"),
+        ),
+    ];
+    for (store, want, cast) in cases {
+        let dir = fresh_dir("run-pshare-radio-store");
+        let events = |var: &str| {
+            (1..=30)
+                .map(|k| format!("  event = var={var}, val={k}, time={k}\n"))
+                .collect::<String>()
+        };
+        let mission = |community: &str, share: &str, script: &str| {
+            format!(
+                "ServerHost = localhost\nServerPort = 9000\nCommunity = {community}\n\
+                 ProcessConfig = ANTLER\n{{\n  Run = MOOSDB @ NewConsole = false\n  \
+                 Run = pLogger @ NewConsole = false\n  Run = uTimerScript @ NewConsole = false\n  \
+                 Run = pShare @ NewConsole = false\n}}\n\
+                 ProcessConfig = pLogger\n{{\n  AppTick = 10\n  WildCardLogging = true\n}}\n\
+                 ProcessConfig = pShare\n{{\n  AppTick = 4\n{share}}}\n\
+                 ProcessConfig = uTimerScript\n{{\n  AppTick = 4\n{script}}}\n"
+            )
+        };
+        let diver = mission(
+            "diver",
+            &format!(
+                "  radio_max_depth = 1\n{store}  input = route = localhost:39521\n  \
+                 output = PING->localhost:39520\n  output = STATE->localhost:39520\n"
+            ),
+            &format!(
+                "  event = var=NAV_DEPTH, val=0, time=0.5\n  event = var=NAV_DEPTH, val=3, time=9.5\n  \
+                 event = var=NAV_DEPTH, val=0.4, time=19.5\n  event = var=DONE, val=1, time=31\n{}{}",
+                events("PING"),
+                events("STATE")
+            ),
+        );
+        let shore = mission("shore", "  input = route = localhost:39520\n", "");
+        std::fs::write(dir.join("diver.moos"), diver).unwrap();
+        std::fs::write(dir.join("shore.moos"), shore).unwrap();
+        let loaded = runtime::fleet::LoadedFleet::from_missions(
+            &[dir.join("shore.moos"), dir.join("diver.moos")],
+            &[],
+            &[],
+        )
+        .expect("loads");
+        let checked = runtime::session::validate_fleet(&loaded);
+        assert!(checked.warnings.is_empty(), "{:?}", checked.warnings);
+        let opts = runtime::session::FleetOptions {
+            mode: runtime::session::Mode::Lockstep,
+            pokes: vec![
+                "diver:APPCAST_REQ:=node=diver,app=pShare,duration=20,key=t,thresh=any@25".into(),
+            ],
+            until: vec!["diver: DONE = 1".into()],
+            max_time: 60.0,
+            log_dir: Some(dir.join("logs")),
+            ..Default::default()
+        };
+        let report = runtime::session::run_fleet(&loaded, &opts, &mut runtime::session::Quiet)
+            .expect("runs");
+        assert!(!report.until_pending(), "{report}");
+        let log = |community: &str| {
+            parse(&std::fs::read(find_alog(&dir.join("logs").join(community))).unwrap())
+        };
+        let shore_log = log("shore");
+        let heard = |var: &str| -> Vec<u32> {
+            shore_log
+                .entries
+                .iter()
+                .filter(|e| e.var == var)
+                .map(|e| e.value.as_f64().expect("a number") as u32)
+                .collect()
+        };
+        assert_eq!(heard("PING"), want, "PING with {store:?}");
+        assert_eq!(heard("STATE"), want, "STATE with {store:?}");
+        // Forwarded messages keep their writer's time: 19 s for PING 19, not the surfacing.
+        if cast.is_some() {
+            let start = shore_log.entries[0].time;
+            let ping19 = shore_log
+                .entries
+                .iter()
+                .find(|e| e.var == "PING" && e.value.as_f64() == Some(19.0))
+                .expect("PING 19");
+            assert!(
+                (ping19.time - start - 19.0).abs() < 1e-6,
+                "{} vs start {start}",
+                ping19.time
+            );
+        }
+        let diver_log = log("diver");
+        let casts: Vec<&str> = diver_log
+            .entries
+            .iter()
+            .filter(|e| e.var == "APPCAST" && e.source == "pShare")
+            .filter_map(|e| e.value.as_str())
+            .collect();
+        let last = casts.last().expect("pShare appcasts");
+        match cast {
+            Some(line) => assert!(last.contains(line), "{line} in {last}"),
+            None => assert!(!last.contains("Store:"), "{last}"),
+        }
+    }
+}

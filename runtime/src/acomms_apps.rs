@@ -142,8 +142,9 @@ use moos_types::text::parse_poke;
 use vehicle::config::is_generic_app_key;
 use vehicle::node_report::{NavRecord, NodeReportConfig, ReportInputs, write_report};
 
-use crate::app::{App, AppResult, Mail, Post, Subscription, Value};
-use crate::appcasting::{AppcastLayer, Note};
+use crate::app::{Mail, Post, Subscription, Value};
+use crate::appcasting::Note;
+use crate::hosted::{AppCore, Hosted};
 use crate::shared::Shared;
 
 /// pAcomms's program name.
@@ -473,13 +474,11 @@ pub fn shared_net(shared: &Shared, name: &str, config: achannel::Config) -> Arc<
 // ---------------------------------------------------------------------------------------
 // uSimModem.
 
-/// `uSimModem`: the acoustic modem in simulation, over a shared [`AcousticNet`].
-pub struct SimModemApp {
-    name: String,
-    block: ProcessConfig,
-    warnings: Vec<Diagnostic>,
-    appcast: AppcastLayer,
+/// The core of `uSimModem`: the modem's node on a shared [`AcousticNet`].
+pub struct SimModemCore {
     net: Arc<SharedNet>,
+    /// A valid `modem_id` that another modem already holds on the channel: not running.
+    claimed_twice: bool,
     channel_name: String,
     modem: Option<u8>,
     prefix: String,
@@ -492,6 +491,9 @@ pub struct SimModemApp {
     last_error: String,
     last_counts: String,
 }
+
+/// `uSimModem`: the acoustic modem in simulation, over a shared [`AcousticNet`].
+pub type SimModemApp = Hosted<SimModemCore>;
 
 fn channel_config(
     block: &ProcessConfig,
@@ -622,7 +624,7 @@ fn modem_id(
     }
 }
 
-impl SimModemApp {
+impl Hosted<SimModemCore> {
     /// The app `name` from its block; `shared` holds the run's channels; `seed` is the run's
     /// seed (a channel made by this app without `seed` uses it, mixed with the channel's
     /// name).
@@ -710,13 +712,12 @@ impl SimModemApp {
                 ));
             }
         }
-        let appcast = AppcastLayer::with_config_warnings(name, &block, None, 1.0, &warnings);
-        SimModemApp {
-            name: name.to_string(),
-            block,
-            warnings,
-            appcast,
+        let claimed_twice = warnings
+            .iter()
+            .any(|w| w.message.contains("already on channel"));
+        let core = SimModemCore {
             net,
+            claimed_twice,
             channel_name,
             modem,
             prefix,
@@ -728,37 +729,19 @@ impl SimModemApp {
             posted_rx: 0,
             last_error: String::new(),
             last_counts: String::new(),
-        }
-    }
-
-    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
-    pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
-        self.appcast = AppcastLayer::with_config_warnings(
-            &self.name,
-            &self.block,
-            community,
-            warp,
-            &self.warnings,
-        );
-        self
-    }
-
-    /// The problems of the block.
-    pub fn warnings(&self) -> &[Diagnostic] {
-        &self.warnings
+        };
+        Hosted::host(name, block, warnings, core)
     }
 
     /// The shared net it is on.
     pub fn net(&self) -> &Arc<SharedNet> {
-        &self.net
+        &self.core().net
     }
+}
 
+impl SimModemCore {
     fn running(&self) -> Option<u8> {
-        let claimed_twice = self
-            .warnings
-            .iter()
-            .any(|w| w.message.contains("already on channel"));
-        if claimed_twice { None } else { self.modem }
+        if self.claimed_twice { None } else { self.modem }
     }
 
     fn post_reception(&mut self, me: u8, d: &Delivered, own_depth: f64, out: &mut Vec<Post>) {
@@ -803,7 +786,7 @@ impl SimModemApp {
         ));
     }
 
-    fn report(&self, b: &mut String) {
+    fn write_report(&self, b: &mut String) {
         let _ = writeln!(
             b,
             "Channel: {}   modem id: {}   position from: {}X/Y/DEPTH",
@@ -853,127 +836,104 @@ fn fnv1a(s: &str) -> u64 {
     h
 }
 
-impl App for SimModemApp {
-    fn name(&self) -> &str {
-        &self.name
-    }
-
-    fn process_config(&self) -> Option<&ProcessConfig> {
-        Some(&self.block)
-    }
-
+impl AppCore for SimModemCore {
     fn subscriptions(&self) -> Vec<Subscription> {
         let p = &self.prefix;
-        AppcastLayer::subscriptions()
-            .chain(
-                [
-                    "ACOMMS_TX".to_string(),
-                    format!("{p}X"),
-                    format!("{p}Y"),
-                    format!("{p}DEPTH"),
-                ]
-                .into_iter()
-                .map(Subscription::var),
-            )
-            .collect()
+        [
+            "ACOMMS_TX".to_string(),
+            format!("{p}X"),
+            format!("{p}Y"),
+            format!("{p}DEPTH"),
+        ]
+        .into_iter()
+        .map(Subscription::var)
+        .collect()
     }
 
-    fn on_startup(&mut self, now: f64, _out: &mut Vec<Post>) -> AppResult {
-        self.appcast.on_startup(now);
+    fn on_startup(&mut self, now: f64, _out: &mut Vec<Post>, _notes: &mut Vec<Note>) {
         if let Some(m) = self.running() {
             let mut net = self.net.lock().unwrap_or_else(PoisonError::into_inner);
             net.register(now, m, self.position);
             self.registered = true;
         }
-        Ok(())
     }
 
-    fn on_mail(&mut self, mail: &[Mail], now: f64, out: &mut Vec<Post>) -> AppResult {
-        let p = self.prefix.clone();
-        for m in mail {
-            if !self.appcast.take_mail(m) {
-                continue;
-            }
-            let key: &str = &m.key;
-            if key == "ACOMMS_TX" {
-                let parsed = m
-                    .value
-                    .as_str()
-                    .ok_or_else(|| "expected a string".to_string())
-                    .and_then(parse_tx);
-                match parsed {
-                    Ok(tx) => self.queue.push_back(tx),
-                    Err(why) => {
-                        let why = format!("ACOMMS_TX: {why}");
-                        out.push(Post::text("ACOMMS_ERROR", why.clone()));
-                        self.appcast.note(Note::Warning(why), now);
-                    }
+    fn on_mail(&mut self, m: &Mail, _now: f64, out: &mut Vec<Post>, notes: &mut Vec<Note>) {
+        let key: &str = &m.key;
+        if key == "ACOMMS_TX" {
+            let parsed = m
+                .value
+                .as_str()
+                .ok_or_else(|| "expected a string".to_string())
+                .and_then(parse_tx);
+            match parsed {
+                Ok(tx) => self.queue.push_back(tx),
+                Err(why) => {
+                    let why = format!("ACOMMS_TX: {why}");
+                    out.push(Post::text("ACOMMS_ERROR", why.clone()));
+                    notes.push(Note::Warning(why));
                 }
-                continue;
             }
-            let Some(v) = m.value.as_f64() else { continue };
-            if !v.is_finite() {
-                continue;
-            }
-            match key.strip_prefix(p.as_str()) {
-                Some("X") => self.position.x_m = v,
-                Some("Y") => self.position.y_m = v,
-                Some("DEPTH") => self.position.depth_m = v,
-                _ => {}
-            }
+            return;
         }
-        Ok(())
+        let Some(v) = m.value.as_f64() else { return };
+        if !v.is_finite() {
+            return;
+        }
+        match key.strip_prefix(self.prefix.as_str()) {
+            Some("X") => self.position.x_m = v,
+            Some("Y") => self.position.y_m = v,
+            Some("DEPTH") => self.position.depth_m = v,
+            _ => {}
+        }
     }
 
-    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) -> AppResult {
-        let tick = self.app_tick();
-        self.appcast.begin(now, tick, out);
-        if let Some(me) = self.running() {
-            let net = self.net.clone();
-            let mut n = net.lock().unwrap_or_else(PoisonError::into_inner);
-            if !self.registered {
-                n.register(now, me, self.position);
-                self.registered = true;
-            }
-            n.sync(now);
-            let inbox = n.take_inbox(me);
-            let notices = n.take_notices(me);
-            let counts = counts_text(me, n.counts(me), n.channel().stats());
-            n.set_position(now, me, self.position);
-            if now >= self.tx_until
-                && let Some((dest, data)) = self.queue.pop_front()
-            {
-                self.tx_until = now + n.channel().config().airtime_s(data.len());
-                n.transmit(now, me, dest, &data);
-            }
-            drop(n);
-            let depth = self.position.depth_m;
-            for d in &inbox {
-                self.post_reception(me, d, depth, out);
-            }
-            for t in notices {
-                match t {
-                    TxNotice::Sent { dest } => out.push(Post::text(
-                        "ACOMMS_TX_ACK",
-                        format!("dest={dest},cid=DAT_SEND"),
-                    )),
-                    TxNotice::Failed(why) => {
-                        let why = format!("DAT_SEND: {why}");
-                        out.push(Post::text("ACOMMS_ERROR", why.clone()));
-                        self.appcast.note(Note::Warning(why.clone()), now);
-                        self.last_error = why;
-                    }
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>, notes: &mut Vec<Note>) {
+        let Some(me) = self.running() else { return };
+        let net = self.net.clone();
+        let mut n = net.lock().unwrap_or_else(PoisonError::into_inner);
+        if !self.registered {
+            n.register(now, me, self.position);
+            self.registered = true;
+        }
+        n.sync(now);
+        let inbox = n.take_inbox(me);
+        let notices = n.take_notices(me);
+        let counts = counts_text(me, n.counts(me), n.channel().stats());
+        n.set_position(now, me, self.position);
+        if now >= self.tx_until
+            && let Some((dest, data)) = self.queue.pop_front()
+        {
+            self.tx_until = now + n.channel().config().airtime_s(data.len());
+            n.transmit(now, me, dest, &data);
+        }
+        drop(n);
+        let depth = self.position.depth_m;
+        for d in &inbox {
+            self.post_reception(me, d, depth, out);
+        }
+        for t in notices {
+            match t {
+                TxNotice::Sent { dest } => out.push(Post::text(
+                    "ACOMMS_TX_ACK",
+                    format!("dest={dest},cid=DAT_SEND"),
+                )),
+                TxNotice::Failed(why) => {
+                    let why = format!("DAT_SEND: {why}");
+                    out.push(Post::text("ACOMMS_ERROR", why.clone()));
+                    notes.push(Note::Warning(why.clone()));
+                    self.last_error = why;
                 }
             }
-            if counts != self.last_counts {
-                out.push(Post::text("ACOMMS_CHANNEL", counts.clone()));
-                self.last_counts = counts;
-            }
         }
-        let mut body = String::new();
-        self.report(&mut body);
-        self.appcast.end(now, tick, out, |b| b.push_str(&body));
-        Ok(())
+        if counts != self.last_counts {
+            out.push(Post::text("ACOMMS_CHANNEL", counts.clone()));
+            self.last_counts = counts;
+        }
+    }
+
+    fn report(&self, _now: f64, body: &mut String) {
+        self.write_report(body);
     }
 }
 
@@ -1053,12 +1013,8 @@ pub fn default_flags(kind: CommandKind) -> Vec<String> {
     v.iter().map(|s| s.to_string()).collect()
 }
 
-/// `pAcomms`: the polled acoustic network over a modem's MOOS variables.
-pub struct AcommsApp {
-    name: String,
-    block: ProcessConfig,
-    warnings: Vec<Diagnostic>,
-    appcast: AppcastLayer,
+/// The core of `pAcomms`: the network node and what it knows of its own vehicle.
+pub struct AcommsCore {
     node: Option<Node>,
     role: Role,
     flags: BTreeMap<CommandKindKey, Vec<String>>,
@@ -1079,7 +1035,14 @@ pub struct AcommsApp {
     events: Vec<Event>,
     last_status: String,
     commands_given: u64,
+    /// The `USBL_FIX`es of the mail being delivered, with their times.
+    batch_fixes: Vec<(f64, u8, Fix)>,
+    /// The `ACOMMS_RX`es of the mail being delivered, with their times.
+    batch_rx: Vec<(f64, u8, Vec<u8>)>,
 }
+
+/// `pAcomms`: the polled acoustic network over a modem's MOOS variables.
+pub type AcommsApp = Hosted<AcommsCore>;
 
 /// A [`CommandKind`] as a map key.
 type CommandKindKey = u8;
@@ -1088,7 +1051,7 @@ fn kind_key(k: CommandKind) -> CommandKindKey {
     FLAG_KEYS.iter().position(|(_, c)| *c == k).unwrap_or(0) as u8
 }
 
-impl AcommsApp {
+impl Hosted<AcommsCore> {
     /// The app `name` from its block. Problems are warnings at their lines; without a valid
     /// `modem_id` the app runs idle (it posts its appcast only).
     pub fn new(name: &str, block: ProcessConfig) -> Self {
@@ -1265,12 +1228,7 @@ impl AcommsApp {
         cfg.role = role;
         let key = FleetKey::new(key.as_deref().unwrap_or(DEFAULT_KEY).as_bytes());
         let node = modem.map(|_| Node::new(cfg, key));
-        let appcast = AppcastLayer::with_config_warnings(name, &block, None, 1.0, &warnings);
-        AcommsApp {
-            name: name.to_string(),
-            block,
-            warnings,
-            appcast,
+        let core = AcommsCore {
             node,
             role,
             flags,
@@ -1291,31 +1249,19 @@ impl AcommsApp {
             events: Vec::new(),
             last_status: String::new(),
             commands_given: 0,
-        }
-    }
-
-    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
-    pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
-        self.appcast = AppcastLayer::with_config_warnings(
-            &self.name,
-            &self.block,
-            community,
-            warp,
-            &self.warnings,
-        );
-        self
-    }
-
-    /// The problems of the block.
-    pub fn warnings(&self) -> &[Diagnostic] {
-        &self.warnings
+            batch_fixes: Vec::new(),
+            batch_rx: Vec::new(),
+        };
+        Hosted::host(name, block, warnings, core)
     }
 
     /// The network core (none without a valid `modem_id`).
     pub fn node(&self) -> Option<&Node> {
-        self.node.as_ref()
+        self.core().node.as_ref()
     }
+}
 
+impl AcommsCore {
     fn mode(&self) -> VehicleMode {
         if self.killed {
             return VehicleMode::Killed;
@@ -1355,7 +1301,14 @@ impl AcommsApp {
         }
     }
 
-    fn apply(&mut self, now: f64, from: u8, seq: u32, c: &Applied, out: &mut Vec<Post>) {
+    fn apply(
+        &mut self,
+        from: u8,
+        seq: u32,
+        c: &Applied,
+        out: &mut Vec<Post>,
+        notes: &mut Vec<Note>,
+    ) {
         let kind = c.kind();
         self.last_command = Some(kind);
         if kind == CommandKind::Kill {
@@ -1406,13 +1359,10 @@ impl AcommsApp {
         {
             out.push(Post::text("ACOMMS_DEPTH_UPDATE", format!("depth={}", g(d))));
         }
-        self.appcast.note(
-            Note::Event(format!(
-                "applied {} from {from} (seq {seq})",
-                command_word(kind)
-            )),
-            now,
-        );
+        notes.push(Note::Event(format!(
+            "applied {} from {from} (seq {seq})",
+            command_word(kind)
+        )));
     }
 
     fn node_report(&self, c: &Contact, out: &mut Vec<Post>) {
@@ -1449,7 +1399,7 @@ impl AcommsApp {
         out.push(Post::text(self.report_var.clone(), s));
     }
 
-    fn post_events(&mut self, now: f64, out: &mut Vec<Post>) {
+    fn post_events(&mut self, now: f64, out: &mut Vec<Post>, notes: &mut Vec<Note>) {
         let events = std::mem::take(&mut self.events);
         for e in &events {
             match e {
@@ -1478,28 +1428,25 @@ impl AcommsApp {
                         s.push_str(",success=false");
                     }
                     if *state == AckState::Timeout {
-                        self.appcast.note(
-                            Note::Warning(format!(
-                                "{} to {to}: no confirmation",
-                                command_word(*kind)
-                            )),
-                            now,
-                        );
+                        notes.push(Note::Warning(format!(
+                            "{} to {to}: no confirmation",
+                            command_word(*kind)
+                        )));
                     }
                     out.push(Post::text("ACOMMS_COMMAND_ACK", s));
                 }
-                Event::Apply { from, seq, command } => self.apply(now, *from, *seq, command, out),
+                Event::Apply { from, seq, command } => self.apply(*from, *seq, command, out, notes),
                 Event::PollerHeard { .. } => {
                     out.push(Post::double("ACOMMS_LAST_BASE_CONTACT", now));
                 }
                 // Packets for another node are overheard all the time: counted, not noted.
                 Event::Rejected(acomms::Reject::NotForMe { .. }) => {}
                 Event::Rejected(r) => {
-                    self.appcast.note(Note::Event(format!("refused: {r}")), now);
+                    notes.push(Note::Event(format!("refused: {r}")));
                 }
                 Event::Warning(w) => {
                     out.push(Post::text("ACOMMS_WARNING", w.clone()));
-                    self.appcast.note(Note::Warning(w.clone()), now);
+                    notes.push(Note::Warning(w.clone()));
                 }
             }
         }
@@ -1546,7 +1493,7 @@ impl AcommsApp {
         )
     }
 
-    fn report(&self, b: &mut String) {
+    fn write_report(&self, b: &mut String) {
         let Some(n) = &self.node else {
             let _ = writeln!(b, "Not running: no valid modem_id.");
             return;
@@ -1728,15 +1675,7 @@ fn parse_rx(s: &str) -> Option<(u8, Vec<u8>)> {
     Some((src?, data?))
 }
 
-impl App for AcommsApp {
-    fn name(&self) -> &str {
-        &self.name
-    }
-
-    fn process_config(&self) -> Option<&ProcessConfig> {
-        Some(&self.block)
-    }
-
+impl AppCore for AcommsCore {
     fn subscriptions(&self) -> Vec<Subscription> {
         let mut v: Vec<String> = [
             "ACOMMS_RX",
@@ -1761,89 +1700,81 @@ impl App for AcommsApp {
         if self.role == Role::Poller {
             v.push("ACOMMS_COMMAND".into());
         }
-        AppcastLayer::subscriptions()
-            .chain(v.into_iter().map(Subscription::var))
-            .collect()
+        v.into_iter().map(Subscription::var).collect()
     }
 
-    fn on_startup(&mut self, now: f64, _out: &mut Vec<Post>) -> AppResult {
-        self.appcast.on_startup(now);
-        Ok(())
-    }
-
-    fn on_mail(&mut self, mail: &[Mail], now: f64, out: &mut Vec<Post>) -> AppResult {
-        let mut fixes: Vec<(f64, u8, Fix)> = Vec::new();
-        let mut rx: Vec<(f64, u8, Vec<u8>)> = Vec::new();
-        for m in mail {
-            if !self.appcast.take_mail(m) {
-                continue;
+    fn on_mail(&mut self, m: &Mail, now: f64, out: &mut Vec<Post>, notes: &mut Vec<Note>) {
+        let key: &str = &m.key;
+        match key {
+            "USBL_FIX" => {
+                if let Some((src, f)) = m.value.as_str().and_then(parse_fix) {
+                    self.batch_fixes.push((m.time, src, f));
+                }
+                return;
             }
-            let key: &str = &m.key;
-            match key {
-                "USBL_FIX" => {
-                    if let Some((src, f)) = m.value.as_str().and_then(parse_fix) {
-                        fixes.push((m.time, src, f));
-                    }
-                    continue;
+            "ACOMMS_RX" => {
+                match m.value.as_str().and_then(parse_rx) {
+                    Some((src, data)) => self.batch_rx.push((m.time, src, data)),
+                    None => notes.push(Note::Warning(format!(
+                        "ACOMMS_RX: cannot read {:?}",
+                        m.value
+                    ))),
                 }
-                "ACOMMS_RX" => {
-                    match m.value.as_str().and_then(parse_rx) {
-                        Some((src, data)) => rx.push((m.time, src, data)),
-                        None => self.appcast.note(
-                            Note::Warning(format!("ACOMMS_RX: cannot read {:?}", m.value)),
-                            now,
-                        ),
-                    }
-                    continue;
-                }
-                "ACOMMS_COMMAND" => {
-                    let text = match &m.value {
-                        Value::String(s) => s.to_string(),
-                        other => format!("{other:?}"),
-                    };
-                    self.commands_given += 1;
-                    if let Some(n) = &mut self.node
-                        && let Err(e) = n.command(now, &text, &mut self.events)
-                    {
-                        let w = format!("ACOMMS_COMMAND = {text}: {e}");
-                        out.push(Post::text("ACOMMS_WARNING", w.clone()));
-                        self.appcast.note(Note::Warning(w), now);
-                    }
-                    continue;
-                }
-                "SAFETY_MODE" => {
-                    self.safety_mode = m.value.as_str().unwrap_or("").trim().to_ascii_uppercase();
-                    continue;
-                }
-                "DEPLOY" => {
-                    let s = match &m.value {
-                        Value::String(s) => s.to_string(),
-                        Value::Double(d) => (*d != 0.0).to_string(),
-                        Value::Binary(_) => String::new(),
-                    };
-                    self.deploy = moos_types::text::strict_bool(&s).unwrap_or(false);
-                    continue;
-                }
-                _ => {}
+                return;
             }
-            let Some(v) = m.value.as_f64().filter(|v| v.is_finite()) else {
-                continue;
-            };
-            match key {
-                "NAV_X" => self.own.x_m = Some(v),
-                "NAV_Y" => self.own.y_m = Some(v),
-                "NAV_DEPTH" => self.own.depth_m = Some(v),
-                "NAV_HEADING" => self.own.heading_deg = Some(v),
-                "NAV_SPEED" => self.state.speed_mps = v,
-                "NAV_PITCH" => self.state.pitch_deg = v.to_degrees(),
-                "NAV_ROLL" => self.state.roll_deg = v.to_degrees(),
-                "SAFETY_HEALTH" => self.state.health = v.clamp(0.0, 65535.0) as u16,
-                k if k == self.waypoint_var => self.state.waypoint = v.clamp(0.0, 255.0) as u8,
-                k if k == self.battery_var => self.state.battery_v = v,
-                k if k == self.sigma_var => self.state.nav_sigma_m = Some(v),
-                _ => {}
+            "ACOMMS_COMMAND" => {
+                let text = match &m.value {
+                    Value::String(s) => s.to_string(),
+                    other => format!("{other:?}"),
+                };
+                self.commands_given += 1;
+                if let Some(n) = &mut self.node
+                    && let Err(e) = n.command(now, &text, &mut self.events)
+                {
+                    let w = format!("ACOMMS_COMMAND = {text}: {e}");
+                    out.push(Post::text("ACOMMS_WARNING", w.clone()));
+                    notes.push(Note::Warning(w));
+                }
+                return;
             }
+            "SAFETY_MODE" => {
+                self.safety_mode = m.value.as_str().unwrap_or("").trim().to_ascii_uppercase();
+                return;
+            }
+            "DEPLOY" => {
+                let s = match &m.value {
+                    Value::String(s) => s.to_string(),
+                    Value::Double(d) => (*d != 0.0).to_string(),
+                    Value::Binary(_) => String::new(),
+                };
+                self.deploy = moos_types::text::strict_bool(&s).unwrap_or(false);
+                return;
+            }
+            _ => {}
         }
+        let Some(v) = m.value.as_f64().filter(|v| v.is_finite()) else {
+            return;
+        };
+        match key {
+            "NAV_X" => self.own.x_m = Some(v),
+            "NAV_Y" => self.own.y_m = Some(v),
+            "NAV_DEPTH" => self.own.depth_m = Some(v),
+            "NAV_HEADING" => self.own.heading_deg = Some(v),
+            "NAV_SPEED" => self.state.speed_mps = v,
+            "NAV_PITCH" => self.state.pitch_deg = v.to_degrees(),
+            "NAV_ROLL" => self.state.roll_deg = v.to_degrees(),
+            "SAFETY_HEALTH" => self.state.health = v.clamp(0.0, 65535.0) as u16,
+            k if k == self.waypoint_var => self.state.waypoint = v.clamp(0.0, 255.0) as u8,
+            k if k == self.battery_var => self.state.battery_v = v,
+            k if k == self.sigma_var => self.state.nav_sigma_m = Some(v),
+            _ => {}
+        }
+    }
+
+    /// A packet is paired with a fix of the same delivery, so the batch is read here.
+    fn mail_done(&mut self, now: f64, out: &mut Vec<Post>, notes: &mut Vec<Note>) {
+        let fixes = std::mem::take(&mut self.batch_fixes);
+        let rx = std::mem::take(&mut self.batch_rx);
         let own = self.own_nav();
         if let Some(n) = &mut self.node {
             n.set_own(own);
@@ -1857,13 +1788,10 @@ impl App for AcommsApp {
         if let Some(&(t, s, f)) = fixes.last() {
             self.last_fix = Some((t, s, f));
         }
-        self.post_events(now, out);
-        Ok(())
+        self.post_events(now, out, notes);
     }
 
-    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) -> AppResult {
-        let tick = self.app_tick();
-        self.appcast.begin(now, tick, out);
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>, notes: &mut Vec<Note>) {
         let own = self.own_nav();
         let mut st = self.state;
         st.mode = self.mode();
@@ -1878,15 +1806,15 @@ impl App for AcommsApp {
             n.set_vehicle_state(st);
             n.tick(now, &mut self.events);
         }
-        self.post_events(now, out);
+        self.post_events(now, out, notes);
         let status = self.status_text();
         if !status.is_empty() && status != self.last_status {
             out.push(Post::text("ACOMMS_STATUS", status.clone()));
             self.last_status = status;
         }
-        let mut body = String::new();
-        self.report(&mut body);
-        self.appcast.end(now, tick, out, |b| b.push_str(&body));
-        Ok(())
+    }
+
+    fn report(&self, _now: f64, body: &mut String) {
+        self.write_report(body);
     }
 }

@@ -655,7 +655,8 @@ fn make_node_broker(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
         &g.community,
         g.server_port,
         g.time_warp,
-    );
+    )
+    .with_shared(&cx.launch.shared);
     cx.warnings.extend(app.warnings().iter().cloned());
     Ok(Built::App(Box::new(app)))
 }
@@ -669,7 +670,8 @@ fn make_shore_broker(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
         &g.community,
         g.server_port,
         g.time_warp,
-    );
+    )
+    .with_shared(&cx.launch.shared);
     cx.warnings.extend(app.warnings().iter().cloned());
     Ok(Built::App(Box::new(app)))
 }

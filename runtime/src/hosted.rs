@@ -15,11 +15,9 @@
 //!
 //! pCougControls, uSimCougUV, pNavGraph, uSimSensors, pSafety, the drivers iGPS, iDVL,
 //! iSeaTrac and iTeensy, uSimDevices, the contact managers pBasicContactMgr and
-//! pContactMgrV20, and uFldNodeComms are hosted this way (the cores: `CougControls`,
-//! `CougUvSimCore`, `NavCore`, `SensorsCore`, `SafetyCore`, `DriverCore`, `SimDevicesCore`,
-//! `ContactMgr`, `NodeComms`). pAcomms and uSimModem fit it as they are (a dynamic
-//! subscription list, a process id, startup postings and notes at mail time are all hooks
-//! here).
+//! pContactMgrV20, uFldNodeComms, pAcomms and uSimModem are hosted this way (the cores:
+//! `CougControls`, `CougUvSimCore`, `NavCore`, `SensorsCore`, `SafetyCore`, `DriverCore`,
+//! `SimDevicesCore`, `ContactMgr`, `NodeComms`, `AcommsCore`, `SimModemCore`).
 
 use mission::diagnostic::Diagnostic;
 use mission::moos::ProcessConfig;

@@ -28,6 +28,7 @@
 //! | an input port of 0 (coug only) | the system picks the port; [`PShareApp::listening`] reads it back |
 //! | command line `-o`/`-i` | open: the single-app mode reads the mission block only |
 //! | `radio_max_depth` (coug only; default: none, no gate, as pShare) | the surface-only radio: see below |
+//! | `radio_store`, `radio_store_max` (coug only; default `off`, 100) | store and forward on the surface-only radio: see below |
 //!
 //! # The surface-only radio
 //!
@@ -38,11 +39,31 @@
 //! (metres) to gate itself on its own `NAV_DEPTH` ([`pshare::RadioGate`]): while the latest
 //! `NAV_DEPTH` is deeper than `M`, nothing is sent (counted as `submerged` in
 //! [`TxCounts`]) and every datagram that arrives, in process or over UDP, is read and dropped
-//! (counted in [`pshare::RxCounts::submerged`]). A radio does not store and forward: nothing
-//! of the dive is queued and replayed on surfacing. Before any `NAV_DEPTH` the link is up.
-//! Without the parameter (the default, and the shoreside's case) the bridge is always up, so
-//! every MOOS-IvP mission runs unchanged. The gate applies to the in-process route of a fleet
-//! run and to UDP alike, in lockstep and in real time.
+//! (counted in [`pshare::RxCounts::submerged`]). By default a radio does not store and
+//! forward: nothing of the dive is queued and replayed on surfacing. Before any `NAV_DEPTH`
+//! the link is up. Without the parameter (the default, and the shoreside's case) the bridge
+//! is always up, so every MOOS-IvP mission runs unchanged. The gate applies to the
+//! in-process route of a fleet run and to UDP alike, in lockstep and in real time.
+//!
+//! ## Store and forward
+//!
+//! A vehicle's bridge may keep what it would have sent while submerged and send it when it
+//! surfaces, as a vehicle whose software queues its reports for the next radio contact:
+//!
+//! | parameter | default | meaning |
+//! |---|---|---|
+//! | `radio_store` | `off` | `off`: what the dive would have sent is dropped (counted `submerged`); `latest`: the latest value of each variable is kept (an older one is `superseded`); `all`: every message is kept, in order |
+//! | `radio_store_max` | 100 | the most messages kept (`all`) or variables kept (`latest`); past it the oldest is dropped and counted (`overflow`) |
+//!
+//! On surfacing (the first `NAV_DEPTH` at most `radio_max_depth` after a deeper one), the
+//! kept messages go out, oldest first, before any mail delivered after that `NAV_DEPTH`,
+//! through the routes as they are then (so a route's `frequency` or `max_shares` still
+//! applies, and a route added during the dive carries them too); each keeps its writer's
+//! time, source and community, so the shoreside logs when it was written. Only the sending
+//! side stores: what arrives while submerged is still dropped (the other side's radio has
+//! nobody to talk to). The counts (`stored`, `forwarded`, `superseded`, `overflow` and
+//! the number queued) are in the appcast and [`PShareApp::store_counts`]; `radio_store`
+//! without `radio_max_depth` has no effect (a warning says so).
 //!
 //! # The in-process route (a fleet run)
 //!
@@ -209,6 +230,75 @@ pub struct TxCounts {
     pub submerged: u64,
 }
 
+/// What a submerged bridge does with what it would have sent (`radio_store`, see the
+/// module docs).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum RadioStore {
+    /// Dropped and counted (the default).
+    #[default]
+    Off,
+    /// The latest value of each variable is kept.
+    Latest,
+    /// Every message is kept, in order.
+    All,
+}
+
+impl RadioStore {
+    /// The parameter's word.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            RadioStore::Off => "off",
+            RadioStore::Latest => "latest",
+            RadioStore::All => "all",
+        }
+    }
+}
+
+/// The default `radio_store_max`.
+pub const DEFAULT_RADIO_STORE_MAX: usize = 100;
+
+/// What the store of a submerged bridge did, in all.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct StoreCounts {
+    /// Messages kept while submerged.
+    pub stored: u64,
+    /// Kept messages sent on surfacing (each through its routes as they were then).
+    pub forwarded: u64,
+    /// Kept messages replaced by a newer value of their variable (`latest`).
+    pub superseded: u64,
+    /// Kept messages dropped, the oldest first, because the store was full.
+    pub overflow: u64,
+}
+
+/// The messages a submerged bridge keeps for its next surfacing.
+#[derive(Debug, Default)]
+struct Store {
+    mode: RadioStore,
+    max: usize,
+    kept: VecDeque<Mail>,
+    counts: StoreCounts,
+}
+
+impl Store {
+    fn keep(&mut self, m: &Mail) {
+        if self.mode == RadioStore::Off {
+            return;
+        }
+        self.counts.stored += 1;
+        if self.mode == RadioStore::Latest
+            && let Some(i) = self.kept.iter().position(|k| k.key == m.key)
+        {
+            self.kept.remove(i);
+            self.counts.superseded += 1;
+        }
+        self.kept.push_back(m.clone());
+        while self.kept.len() > self.max {
+            self.kept.pop_front();
+            self.counts.overflow += 1;
+        }
+    }
+}
+
 /// The `pShare` app.
 pub struct PShareApp {
     name: String,
@@ -219,6 +309,7 @@ pub struct PShareApp {
     listen_address: Ipv4Addr,
     cmd_key: String,
     radio: RadioGate,
+    store: Store,
     table: RouteTable,
     listeners: Vec<Listener>,
     hub: Option<Arc<PShareHub>>,
@@ -296,6 +387,7 @@ impl PShareApp {
                 )),
             }
         }
+        let store = radio_store(&block, config.radio_max_depth.is_some(), &mut warnings);
         let mut table = RouteTable::default();
         for o in &config.outputs {
             table.add(o, 0.0);
@@ -304,6 +396,7 @@ impl PShareApp {
         PShareApp {
             cmd_key: format!("{}_CMD", name.to_ascii_uppercase()),
             radio: RadioGate::new(config.radio_max_depth),
+            store,
             appcast: AppcastLayer::with_config_warnings(name, &block, None, 1.0, &warnings),
             name: name.to_string(),
             block,
@@ -483,6 +576,16 @@ impl PShareApp {
         self.tx
     }
 
+    /// The store and forward setting (`radio_store`) and its bound (`radio_store_max`).
+    pub fn radio_store(&self) -> (RadioStore, usize) {
+        (self.store.mode, self.store.max)
+    }
+
+    /// What the store did, and how many messages it holds now.
+    pub fn store_counts(&self) -> (StoreCounts, usize) {
+        (self.store.counts, self.store.kept.len())
+    }
+
     /// The routing table in force.
     pub fn routes(&self) -> &RouteTable {
         &self.table
@@ -539,8 +642,9 @@ impl PShareApp {
 
     fn share(&mut self, m: &Mail, now: f64) {
         if !self.radio.up() {
-            if self.table.registered_for(&m.key) {
+            if self.would_route(m) {
                 self.tx.submerged += 1;
+                self.store.keep(m);
             }
             return;
         }
@@ -574,6 +678,26 @@ impl PShareApp {
                 }
             }
             self.out_buf = out;
+        }
+    }
+
+    /// True when `m` has routes: a named share, or a wildcard share matching its name and
+    /// its writer.
+    fn would_route(&self, m: &Mail) -> bool {
+        use moos_types::text::wildcard_match;
+        self.table.registered_for(&m.key)
+            || self.table.wildcards().any(|(var, app, _)| {
+                wildcard_match(var.as_bytes(), m.key.as_bytes())
+                    && wildcard_match(app.as_bytes(), m.source.as_bytes())
+            })
+    }
+
+    /// Surfaced: what the store kept goes out, oldest first.
+    fn forward_stored(&mut self, now: f64) {
+        let kept = std::mem::take(&mut self.store.kept);
+        for m in &kept {
+            self.store.counts.forwarded += 1;
+            self.share(m, now);
         }
     }
 
@@ -710,6 +834,51 @@ fn accept(
     });
 }
 
+/// Reads `radio_store` and `radio_store_max` (coug only); bad values and a store without
+/// `radio_max_depth` are warnings.
+fn radio_store(block: &ProcessConfig, gated: bool, warnings: &mut Vec<Diagnostic>) -> Store {
+    let mut store = Store {
+        max: DEFAULT_RADIO_STORE_MAX,
+        ..Store::default()
+    };
+    let mut warn = |p: &mission::Param, why: &str| {
+        warnings.push(Diagnostic::line_warning(
+            DiagnosticKind::AppSetting,
+            &p.span,
+            format!("{PROGRAM}: {} = {}: {why}", p.key.trim(), p.value.trim()),
+        ))
+    };
+    for p in &block.entries {
+        let v = p.value.trim();
+        match p.key.trim().to_ascii_lowercase().as_str() {
+            "radio_store" => match v.to_ascii_lowercase().as_str() {
+                "off" => store.mode = RadioStore::Off,
+                "latest" => store.mode = RadioStore::Latest,
+                "all" => store.mode = RadioStore::All,
+                _ => warn(p, "expected off, latest or all"),
+            },
+            "radio_store_max" => match v.parse::<usize>() {
+                Ok(n) if n >= 1 => store.max = n,
+                _ => warn(p, "expected a count of 1 or more"),
+            },
+            _ => {}
+        }
+    }
+    if store.mode != RadioStore::Off
+        && !gated
+        && let Some(p) = block
+            .entries
+            .iter()
+            .find(|p| p.key.trim().eq_ignore_ascii_case("radio_store"))
+    {
+        warn(
+            p,
+            "no effect without radio_max_depth (the radio is always up)",
+        );
+    }
+    store
+}
+
 fn listeners_of(spec: &InputSpec) -> Vec<Listener> {
     spec.endpoints
         .iter()
@@ -729,12 +898,27 @@ fn appcast_body(
     table: &RouteTable,
     listeners: &[Listener],
     tx: TxCounts,
-    radio: RadioGate,
+    (radio, store): (RadioGate, &Store),
     out: &mut String,
 ) {
     if radio.enabled() {
         let state = if radio.up() { "up" } else { "down (submerged)" };
-        let _ = writeln!(out, "Radio: {state}\n");
+        let _ = writeln!(out, "Radio: {state}");
+        if store.mode != RadioStore::Off {
+            let c = store.counts;
+            let _ = writeln!(
+                out,
+                "Store: {} (at most {})  queued={} stored={} forwarded={} superseded={} overflow={}",
+                store.mode.as_str(),
+                store.max,
+                store.kept.len(),
+                c.stored,
+                c.forwarded,
+                c.superseded,
+                c.overflow
+            );
+        }
+        let _ = writeln!(out);
     }
     let _ = writeln!(out, "Output routes:");
     let mut any = false;
@@ -830,7 +1014,11 @@ impl App for PShareApp {
                 && *m.key == *DEPTH_VAR
                 && let Some(d) = m.value.as_f64()
             {
+                let was_up = self.radio.up();
                 self.radio.depth(d);
+                if !was_up && self.radio.up() {
+                    self.forward_stored(now);
+                }
             }
             self.share(m, now);
         }
@@ -842,7 +1030,8 @@ impl App for PShareApp {
         self.appcast.begin(now, tick, out);
         self.receive(now, out);
         self.summaries(now, out);
-        let (table, listeners, tx, radio) = (&self.table, &self.listeners, self.tx, self.radio);
+        let (table, listeners, tx) = (&self.table, &self.listeners, self.tx);
+        let radio = (self.radio, &self.store);
         self.appcast.end(now, tick, out, |b| {
             appcast_body(table, listeners, tx, radio, b)
         });
@@ -972,7 +1161,13 @@ mod tests {
 
     fn body(app: &PShareApp) -> String {
         let mut b = String::new();
-        appcast_body(&app.table, &app.listeners, app.tx, app.radio, &mut b);
+        appcast_body(
+            &app.table,
+            &app.listeners,
+            app.tx,
+            (app.radio, &app.store),
+            &mut b,
+        );
         b
     }
 
@@ -1055,6 +1250,163 @@ mod tests {
         assert_eq!((c.posted, c.submerged), (5, 3));
         assert_eq!(shore.sent().submerged, 0);
         assert!(body(&v).contains("posted=5 filtered=0 looped=0 garbage=0 submerged=3"));
+    }
+
+    #[test]
+    fn the_store_settings_are_read_and_bad_ones_are_warnings() {
+        let app = |lines: &str| {
+            PShareApp::new(
+                "pShare",
+                block(
+                    "v.moos",
+                    &format!("ProcessConfig = pShare\n{{\n{lines}}}\n"),
+                ),
+            )
+        };
+        let a = app("  radio_max_depth = 1\n  radio_store = Latest\n  radio_store_max = 7\n");
+        assert!(a.warnings().is_empty(), "{:?}", a.warnings());
+        assert_eq!(a.radio_store(), (RadioStore::Latest, 7));
+        let d = app("  radio_max_depth = 1\n");
+        assert_eq!(d.radio_store(), (RadioStore::Off, DEFAULT_RADIO_STORE_MAX));
+        let b = app("  radio_max_depth = 1\n  radio_store = some\n  radio_store_max = 0\n");
+        let w: Vec<String> = b.warnings().iter().map(Diagnostic::located).collect();
+        assert_eq!(
+            w,
+            [
+                "v.moos:4: pShare: radio_store = some: expected off, latest or all",
+                "v.moos:5: pShare: radio_store_max = 0: expected a count of 1 or more",
+            ]
+        );
+        assert_eq!(b.radio_store(), (RadioStore::Off, DEFAULT_RADIO_STORE_MAX));
+        let c = app("  radio_store = all\n");
+        let w: Vec<String> = c.warnings().iter().map(Diagnostic::located).collect();
+        assert_eq!(
+            w,
+            [
+                "v.moos:3: pShare: radio_store = all: no effect without radio_max_depth (the radio is always up)"
+            ]
+        );
+    }
+
+    #[test]
+    fn a_latest_store_keeps_one_value_per_variable_and_forwards_it_on_surfacing() {
+        let shared = Shared::new();
+        shared.get_or_insert_with(HUB, PShareHub::new);
+        let v = PShareApp::new(
+            "pShare",
+            block(
+                "v.moos",
+                "ProcessConfig = pShare\n{\n  radio_max_depth = 0.5\n  radio_store = latest\n  \
+                 radio_store_max = 1\n  input = route = localhost:9451\n  \
+                 output = NODE_REPORT_LOCAL->NODE_REPORT:localhost:9450\n  output = X->localhost:9450\n}\n",
+            ),
+        );
+        let mut v = v.with_shared(&shared);
+        let mut shore = PShareApp::new(
+            "pShare",
+            block(
+                "s.moos",
+                "ProcessConfig = pShare\n{\n  input = route = localhost:9450\n}\n",
+            ),
+        )
+        .with_shared(&shared);
+        let mut out = Vec::new();
+        v.on_startup(0.0, &mut out).unwrap();
+        shore.on_startup(0.0, &mut out).unwrap();
+        // Under: two reports and one X; with room for one variable, the report goes.
+        v.on_mail(
+            &[depth(2.0, 1.0), report(1.0, 1.0), report(2.0, 2.0)],
+            2.0,
+            &mut out,
+        )
+        .unwrap();
+        v.on_mail(&[mail("X", Value::Double(9.0), 3.0, "a")], 3.0, &mut out)
+            .unwrap();
+        assert_eq!(v.store_counts().1, 1);
+        let mut heard = Vec::new();
+        shore.iterate(3.5, &mut heard).unwrap();
+        assert!(
+            heard
+                .iter()
+                .all(|p| &*p.key != "X" && &*p.key != "NODE_REPORT")
+        );
+        // Surfacing: X goes out before the report that came with the surfacing depth.
+        v.on_mail(&[depth(0.2, 4.0), report(4.0, 4.0)], 4.0, &mut out)
+            .unwrap();
+        shore.iterate(4.5, &mut heard).unwrap();
+        let keys: Vec<&str> = heard
+            .iter()
+            .filter(|p| &*p.key == "X" || &*p.key == "NODE_REPORT")
+            .map(|p| &*p.key)
+            .collect();
+        assert_eq!(keys, ["X", "NODE_REPORT"]);
+        let (c, queued) = v.store_counts();
+        assert_eq!(
+            (c.stored, c.forwarded, c.superseded, c.overflow, queued),
+            (3, 1, 1, 1, 0)
+        );
+        assert_eq!(v.sent().submerged, 3);
+        assert!(body(&v).contains(
+            "Store: latest (at most 1)  queued=0 stored=3 forwarded=1 superseded=1 overflow=1"
+        ));
+    }
+
+    #[test]
+    fn an_all_store_keeps_wildcard_shares_in_order() {
+        let shared = Shared::new();
+        shared.get_or_insert_with(HUB, PShareHub::new);
+        let mut v = PShareApp::new(
+            "pShare",
+            block(
+                "v.moos",
+                "ProcessConfig = pShare\n{\n  radio_max_depth = 0.5\n  radio_store = all\n  \
+                 output = src_name=SENSOR_*, route=localhost:9471\n}\n",
+            ),
+        )
+        .with_shared(&shared);
+        let mut shore = PShareApp::new(
+            "pShare",
+            block(
+                "s.moos",
+                "ProcessConfig = pShare\n{\n  input = route = localhost:9471\n}\n",
+            ),
+        )
+        .with_shared(&shared);
+        let mut out = Vec::new();
+        v.on_startup(0.0, &mut out).unwrap();
+        shore.on_startup(0.0, &mut out).unwrap();
+        let sensor = |k: &str, x: f64, t: f64| mail(k, Value::Double(x), t, "iSensor");
+        v.on_mail(
+            &[depth(3.0, 1.0), sensor("SENSOR_A", 1.0, 1.0)],
+            1.0,
+            &mut out,
+        )
+        .unwrap();
+        v.on_mail(
+            &[sensor("SENSOR_B", 2.0, 2.0), sensor("SENSOR_A", 3.0, 2.0)],
+            2.0,
+            &mut out,
+        )
+        .unwrap();
+        v.on_mail(&[depth(0.0, 3.0)], 3.0, &mut out).unwrap();
+        let mut heard = Vec::new();
+        shore.iterate(3.5, &mut heard).unwrap();
+        let got: Vec<(&str, Value)> = heard
+            .iter()
+            .filter(|p| p.key.starts_with("SENSOR_"))
+            .map(|p| (&*p.key, p.value.clone()))
+            .collect();
+        assert_eq!(
+            got,
+            [
+                ("SENSOR_A", Value::Double(1.0)),
+                ("SENSOR_B", Value::Double(2.0)),
+                ("SENSOR_A", Value::Double(3.0)),
+            ]
+        );
+        let (c, queued) = v.store_counts();
+        assert_eq!((c.stored, c.forwarded, queued), (3, 3, 0));
+        assert_eq!(v.sent().submerged, 3);
     }
 
     #[test]

@@ -30,6 +30,27 @@ pub struct RunSpec {
     pub max_time: f64,
 }
 
+/// The MOOSDB of a community in a real-time run, as bound: its port (the system's pick
+/// when the mission says 0 or `--port 0`) and the run's time warp (`--warp` or the
+/// mission's). The run puts it in its launch's [`crate::shared::Shared`] set under
+/// [`RunningDb::key`] before the apps are built, so an app that reports where its community
+/// is (the uField brokers' host record) tells the truth. Lockstep runs have none.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunningDb {
+    /// The TCP port the MOOSDB listens on.
+    pub port: u16,
+    /// The run's `MOOSTimeWarp`.
+    pub warp: f64,
+}
+
+impl RunningDb {
+    /// Its name in the shared set: one per community (a real-time fleet's communities
+    /// share one set).
+    pub fn key(community: &str) -> String {
+        format!("moosdb:{community}")
+    }
+}
+
 /// How a real-time run ended, with the last values of the `until` variables.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RunEnd {

@@ -106,6 +106,23 @@ impl OwnHost {
         }
     }
 
+    /// The run's actual MOOSDB port and time warp (a real-time run, see
+    /// [`crate::realtime::RunningDb`]) instead of the mission's.
+    fn set_running(&mut self, db: &crate::realtime::RunningDb) {
+        self.record.port_db = db.port.to_string();
+        self.record.timewarp = moos_types::fmt::compact_string(db.warp, 1);
+    }
+
+    /// The run's MOOSDB as bound, if the run is a real-time one.
+    fn running(
+        shared: &crate::shared::Shared,
+        community: &str,
+    ) -> Option<crate::realtime::RunningDb> {
+        shared
+            .get::<crate::realtime::RunningDb>(&crate::realtime::RunningDb::key(community))
+            .map(|db| *db)
+    }
+
     /// True when `m` was written in this community.
     fn is_local(&self, m: &Mail) -> bool {
         *m.community == *self.record.community
@@ -352,6 +369,45 @@ mod tests {
         out.clear();
         s.iterate(111.5, &mut out).unwrap();
         assert!(texts(&out, "NODE_BROKER_ACK_HENRY").is_empty());
+    }
+
+    #[test]
+    fn in_real_time_the_records_carry_the_db_as_bound() {
+        let shared = crate::shared::Shared::new();
+        let db = |port, warp| move || crate::realtime::RunningDb { port, warp };
+        shared.get_or_insert_with(&crate::realtime::RunningDb::key("henry"), db(41234, 4.0));
+        shared.get_or_insert_with(
+            &crate::realtime::RunningDb::key("shoreside"),
+            db(41000, 4.0),
+        );
+        // Another community's entry is not this one's.
+        let other = node("ike").with_shared(&shared);
+        assert_eq!(other.host_record().port_db, "9001");
+        let mut n = node("henry").with_shared(&shared);
+        let p = ping(&mut n, 101.0);
+        assert!(
+            p.starts_with("community=henry,hostip=localhost,port_db=41234,port_udp=9301,"),
+            "{p}"
+        );
+        assert!(p.contains(",timewarp=4,"), "{p}");
+        let s = shore("").with_shared(&shared);
+        assert_eq!(s.host_record().port_db, "41000");
+        // A node at the mission's warp of 1 differs from this run's 4.
+        let slow = p.replace(",timewarp=4,", ",timewarp=1,");
+        for (text, status) in [(&p, ",status=ok,"), (&slow, ",status=timewarp (4!=1),")] {
+            let mut s = shore("").with_shared(&shared);
+            let mut out = Vec::new();
+            s.on_mail(
+                &[mail_from("henry", "NODE_BROKER_PING", text, 101.0)],
+                101.0,
+                &mut out,
+            )
+            .unwrap();
+            s.iterate(101.5, &mut out).unwrap();
+            let ack = texts(&out, "NODE_BROKER_ACK_HENRY")[0].to_string();
+            assert!(ack.contains(status), "{status} in {ack}");
+            assert!(ack.contains(",port_db=41000,"), "{ack}");
+        }
     }
 
     #[test]

@@ -144,6 +144,24 @@ impl NodeBrokerApp {
         app
     }
 
+    /// In a real-time run (`shared` holds the community's [`crate::realtime::RunningDb`]),
+    /// its host record carries the MOOSDB's actual port and the run's time warp rather than
+    /// the mission's `ServerPort` and `MOOSTimeWarp` (a port of 0 is the system's pick);
+    /// otherwise nothing changes.
+    pub fn with_shared(mut self, shared: &crate::shared::Shared) -> Self {
+        if let Some(db) = OwnHost::running(shared, &self.own.record.community) {
+            self.own.set_running(&db);
+            self.appcast = AppcastLayer::with_config_warnings(
+                &self.name,
+                &self.block,
+                Some(&self.own.record.community),
+                db.warp,
+                &self.warnings,
+            );
+        }
+        self
+    }
+
     /// Bad lines of the block.
     pub fn warnings(&self) -> &[Diagnostic] {
         &self.warnings

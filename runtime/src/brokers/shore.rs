@@ -167,6 +167,24 @@ impl ShoreBrokerApp {
         app
     }
 
+    /// In a real-time run (`shared` holds the community's [`crate::realtime::RunningDb`]),
+    /// its host record carries the MOOSDB's actual port and the run's time warp, which is
+    /// also the warp the nodes' pings are compared with; otherwise nothing changes.
+    pub fn with_shared(mut self, shared: &crate::shared::Shared) -> Self {
+        if let Some(db) = OwnHost::running(shared, &self.own.record.community) {
+            self.own.set_running(&db);
+            self.time_warp = moos_types::fmt::compact_string(db.warp, 5);
+            self.appcast = AppcastLayer::with_config_warnings(
+                &self.name,
+                &self.block,
+                Some(&self.own.record.community),
+                db.warp,
+                &self.warnings,
+            );
+        }
+        self
+    }
+
     /// Bad lines of the block.
     pub fn warnings(&self) -> &[Diagnostic] {
         &self.warnings

@@ -152,6 +152,10 @@ pub(super) fn realtime(
             .await
             .map_err(|e| SessionError::Net(format!("cannot listen on {addr}: {e}")))?;
         let port = server.local_addr().port();
+        let running = crate::realtime::RunningDb { port, warp: warp_f };
+        shared.get_or_insert_with(&crate::realtime::RunningDb::key(&globals.community), || {
+            running
+        });
         observer.db_listening(server.local_addr(), warp_f);
         observer.notice(&format!(
             "MOOSDB_{} listening on {} (warp {warp_f})",
