@@ -142,6 +142,7 @@ use moos_types::text::parse_poke;
 use vehicle::config::is_generic_app_key;
 use vehicle::node_report::{NavRecord, NodeReportConfig, ReportInputs, write_report};
 
+use crate::antler::BuiltInApp;
 use crate::app::{App, AppResult, Mail, Post, Subscription, Value};
 use crate::appcasting::{AppcastLayer, Note};
 use crate::shared::Shared;
@@ -622,6 +623,25 @@ fn modem_id(
     }
 }
 
+impl BuiltInApp for SimModemApp {
+    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
+    fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
+        self.appcast = AppcastLayer::with_config_warnings(
+            &self.name,
+            &self.block,
+            community,
+            warp,
+            &self.warnings,
+        );
+        self
+    }
+
+    /// The problems of the block.
+    fn warnings(&self) -> &[Diagnostic] {
+        &self.warnings
+    }
+}
+
 impl SimModemApp {
     /// The app `name` from its block; `shared` holds the run's channels; `seed` is the run's
     /// seed (a channel made by this app without `seed` uses it, mixed with the channel's
@@ -729,23 +749,6 @@ impl SimModemApp {
             last_error: String::new(),
             last_counts: String::new(),
         }
-    }
-
-    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
-    pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
-        self.appcast = AppcastLayer::with_config_warnings(
-            &self.name,
-            &self.block,
-            community,
-            warp,
-            &self.warnings,
-        );
-        self
-    }
-
-    /// The problems of the block.
-    pub fn warnings(&self) -> &[Diagnostic] {
-        &self.warnings
     }
 
     /// The shared net it is on.
@@ -1088,6 +1091,25 @@ fn kind_key(k: CommandKind) -> CommandKindKey {
     FLAG_KEYS.iter().position(|(_, c)| *c == k).unwrap_or(0) as u8
 }
 
+impl BuiltInApp for AcommsApp {
+    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
+    fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
+        self.appcast = AppcastLayer::with_config_warnings(
+            &self.name,
+            &self.block,
+            community,
+            warp,
+            &self.warnings,
+        );
+        self
+    }
+
+    /// The problems of the block.
+    fn warnings(&self) -> &[Diagnostic] {
+        &self.warnings
+    }
+}
+
 impl AcommsApp {
     /// The app `name` from its block. Problems are warnings at their lines; without a valid
     /// `modem_id` the app runs idle (it posts its appcast only).
@@ -1292,23 +1314,6 @@ impl AcommsApp {
             last_status: String::new(),
             commands_given: 0,
         }
-    }
-
-    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
-    pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
-        self.appcast = AppcastLayer::with_config_warnings(
-            &self.name,
-            &self.block,
-            community,
-            warp,
-            &self.warnings,
-        );
-        self
-    }
-
-    /// The problems of the block.
-    pub fn warnings(&self) -> &[Diagnostic] {
-        &self.warnings
     }
 
     /// The network core (none without a valid `modem_id`).

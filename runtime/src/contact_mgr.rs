@@ -68,6 +68,7 @@ use mission::moos::ProcessConfig;
 use moos_types::fmt::{compact_string, fixed};
 use moos_types::text::{is_number, parse_string_q, set_boolean_on_string, tok_string_parse};
 
+use crate::antler::BuiltInApp;
 use crate::app::{App, AppResult, Mail, Post, Subscription, Value};
 use crate::appcasting::{AppcastLayer, Note};
 
@@ -1288,6 +1289,25 @@ pub struct ContactMgrApp {
     pid: Option<u32>,
 }
 
+impl BuiltInApp for ContactMgrApp {
+    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
+    fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
+        self.appcast = AppcastLayer::with_config_warnings(
+            &self.name,
+            &self.block,
+            community,
+            warp,
+            &self.warnings,
+        );
+        self
+    }
+
+    /// The block's bad lines, at their lines.
+    fn warnings(&self) -> &[Diagnostic] {
+        &self.warnings
+    }
+}
+
 impl ContactMgrApp {
     /// The app `name` of vehicle `community` from its block.
     pub fn new(name: &str, block: ProcessConfig, community: &str) -> Self {
@@ -1319,23 +1339,6 @@ impl ContactMgrApp {
             warnings,
             pid: None,
         }
-    }
-
-    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
-    pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
-        self.appcast = AppcastLayer::with_config_warnings(
-            &self.name,
-            &self.block,
-            community,
-            warp,
-            &self.warnings,
-        );
-        self
-    }
-
-    /// The block's bad lines, at their lines.
-    pub fn warnings(&self) -> &[Diagnostic] {
-        &self.warnings
     }
 
     /// The core.

@@ -218,6 +218,7 @@ impl AppCore for CougUvSimCore {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::antler::BuiltInApp;
     use crate::app::App;
 
     fn block(text: &str) -> ProcessConfig {

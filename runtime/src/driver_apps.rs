@@ -215,6 +215,7 @@ impl<P: Protocol> AppCore for DriverCore<P> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::antler::BuiltInApp;
     use crate::app::{App, Value};
     use std::io::{BufRead, BufReader, Write};
     use std::net::TcpListener;

@@ -359,6 +359,7 @@ impl AppCore for SensorsCore {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::antler::BuiltInApp;
     use crate::app::App;
 
     fn block(text: &str) -> ProcessConfig {

@@ -11,6 +11,7 @@ use vehicle::pid::{MarinePid, PidConfig};
 use vehicle::sim::{SimConfig, Simulator};
 use vehicle::{ConfigError, Posting};
 
+use crate::antler::BuiltInApp;
 use crate::app::{App, Mail, Post, Subscription, Value};
 use crate::appcasting::AppcastLayer;
 
@@ -93,6 +94,31 @@ pub struct VehicleApp {
     appcast: AppcastLayer,
 }
 
+impl BuiltInApp for VehicleApp {
+    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts (the node
+    /// name, the real-time rate limit); the block's appcasting keys are read again with
+    /// them.
+    fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
+        self.appcast = AppcastLayer::with_config_warnings(
+            &self.name,
+            &self.block,
+            community,
+            warp,
+            &self.warnings,
+        );
+        if let Inner::Reporter(r) = &mut self.inner {
+            r.set_term_report_interval(self.appcast.term_report_interval());
+        }
+        self
+    }
+
+    /// Unknown or unusable parameters of the block (`file:line: warning: app: unknown
+    /// parameter ...`), which the C++ apps also only warn about.
+    fn warnings(&self) -> &[Diagnostic] {
+        &self.warnings
+    }
+}
+
 impl VehicleApp {
     fn new(
         name: &str,
@@ -115,23 +141,6 @@ impl VehicleApp {
             startup_failure: None,
             appcast,
         }
-    }
-
-    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts (the node
-    /// name, the real-time rate limit); the block's appcasting keys are read again with
-    /// them.
-    pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
-        self.appcast = AppcastLayer::with_config_warnings(
-            &self.name,
-            &self.block,
-            community,
-            warp,
-            &self.warnings,
-        );
-        if let Inner::Reporter(r) = &mut self.inner {
-            r.set_term_report_interval(self.appcast.term_report_interval());
-        }
-        self
     }
 
     /// uSimMarineV22 (`legacy` false) or the older uSimMarine (`legacy` true) from its
@@ -219,12 +228,6 @@ impl VehicleApp {
             subs,
             w,
         ))
-    }
-
-    /// Unknown or unusable parameters of the block (`file:line: warning: app: unknown
-    /// parameter ...`), which the C++ apps also only warn about.
-    pub fn warnings(&self) -> &[Diagnostic] {
-        &self.warnings
     }
 
     fn flush(&mut self, out: &mut Vec<Post>) {

@@ -9,6 +9,7 @@ use std::sync::Arc;
 use mission::moos::ProcessConfig;
 use mission::source::SourceMap;
 use moosdb::{Message, Value as WireValue};
+use runtime::antler::BuiltInApp;
 use runtime::pshare::PShareApp;
 use runtime::{App, AppResult, Bus, Mail, Post, Scheduler, Subscription, Value, VirtualClock};
 
