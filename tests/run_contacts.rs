@@ -193,15 +193,19 @@ fn write_mission(dir: &Path, avoid: bool) -> PathBuf {
     write_files(dir, &bhv_text(avoid), &mission_text(&script, ""))
 }
 
-/// The closest approach over the run: the vehicle's track against the contact's reported
-/// straight line (its first report's log time is its time 0).
-fn closest_approach(log: &alog::Alog) -> (f64, f64) {
-    let t0 = log
-        .entries
+/// The log time of the contact's first report.
+fn first_report(log: &alog::Alog) -> f64 {
+    log.entries
         .iter()
         .find(|e| e.var == "NODE_REPORT")
         .map(|e| e.time)
-        .expect("the contact's reports are logged");
+        .expect("the contact's reports are logged")
+}
+
+/// The closest approach over the run: the vehicle's track against the contact's reported
+/// straight line (its first report's log time is its time 0).
+fn closest_approach(log: &alog::Alog) -> (f64, f64) {
+    let t0 = first_report(log);
     track(log)
         .iter()
         .filter(|(t, _, _)| *t >= t0 && *t <= t0 + 149.0)
@@ -283,12 +287,7 @@ set MODE = ACTIVE {{
 
 /// `(time, range)` from the vehicle's track to the contact's reported straight line.
 fn ranges(log: &alog::Alog, x0: f64, y0: f64, hdg: f64, spd: f64) -> Vec<(f64, f64)> {
-    let t0 = log
-        .entries
-        .iter()
-        .find(|e| e.var == "NODE_REPORT")
-        .map(|e| e.time)
-        .expect("the contact's reports are logged");
+    let t0 = first_report(log);
     track(log)
         .iter()
         .filter(|(t, _, _)| *t >= t0)
@@ -316,11 +315,11 @@ fn template(kind: &str, prefix: &str, own: &str) -> String {
     )
 }
 
-/// A contact reporting once a second along a straight line: from `(x0, y0)`, heading
+/// A contact reporting once a second along a straight line: from `from` (x, y), heading
 /// `hdg` at `spd`, for `secs` s; the timer script ends the mission at `end` s.
+#[derive(Clone, Copy)]
 struct Crossing {
-    x0: f64,
-    y0: f64,
+    from: (f64, f64),
     hdg: f64,
     spd: f64,
     secs: u32,
@@ -328,9 +327,21 @@ struct Crossing {
 }
 
 impl Crossing {
+    /// The contact from `from`, heading `hdg` at `spd`, reporting for `secs` s, the mission
+    /// ending at `end` s.
+    fn new(from: (f64, f64), hdg: f64, spd: f64, secs: u32, end: u32) -> Crossing {
+        Crossing {
+            from,
+            hdg,
+            spd,
+            secs,
+            end,
+        }
+    }
+
     /// `(time, range)` from the vehicle's track to this contact.
     fn ranges(&self, log: &alog::Alog) -> Vec<(f64, f64)> {
-        ranges(log, self.x0, self.y0, self.hdg, self.spd)
+        ranges(log, self.from.0, self.from.1, self.hdg, self.spd)
     }
 }
 
@@ -342,9 +353,10 @@ fn alert(id: &str) -> String {
 }
 
 /// Runs `name` in lockstep: the vehicle with the one template `bhv` against the contact `c`,
-/// the contact manager's block with `cm_extra`, until the mission completes or `limit` s.
-fn run_template(name: &str, bhv: &str, c: &Crossing, cm_extra: &str, limit: f64) -> alog::Alog {
-    let script = contact_script(c.x0, c.y0, c.hdg, c.spd, c.secs)
+/// the contact manager's block with `cm_extra`, until the mission completes (or 110 s after
+/// it should have).
+fn run_template(name: &str, bhv: &str, c: &Crossing, cm_extra: &str) -> alog::Alog {
+    let script = contact_script(c.from.0, c.from.1, c.hdg, c.spd, c.secs)
         + &format!("  event = var=MISSION, val=complete, time={}\n", c.end);
     let dir = fresh_dir(&format!("{name}-mission"));
     let mission = write_files(&dir, &template_bhv(bhv), &mission_text(&script, cm_extra));
@@ -352,7 +364,7 @@ fn run_template(name: &str, bhv: &str, c: &Crossing, cm_extra: &str, limit: f64)
         name,
         &mission,
         &[],
-        deploy_until("MISSION = complete", limit),
+        deploy_until("MISSION = complete", f64::from(c.end) + 110.0),
     );
     parse(&bytes)
 }
@@ -364,20 +376,12 @@ fn cut_range_closes_on_a_crossing_contact() {
     giveup_range = 500
       pursueflag = PURSUING = $[CONTACT]
 ";
-    let c = Crossing {
-        x0: 0.0,
-        y0: 100.0,
-        hdg: 90.0,
-        spd: 1.0,
-        secs: 100,
-        end: 90,
-    };
+    let c = Crossing::new((0.0, 100.0), 90.0, 1.0, 100, 90);
     let log = run_template(
         "contacts-cut",
         &template("BHV_CutRange", "cut_", own),
         &c,
         "",
-        200.0,
     );
     let r = c.ranges(&log);
     let first = r.first().unwrap().1;
@@ -397,20 +401,12 @@ fn cut_range_closes_on_a_crossing_contact() {
 
 #[test]
 fn shadow_takes_the_contact_s_heading_and_speed() {
-    let c = Crossing {
-        x0: 20.0,
-        y0: 20.0,
-        hdg: 90.0,
-        spd: 1.5,
-        secs: 100,
-        end: 90,
-    };
+    let c = Crossing::new((20.0, 20.0), 90.0, 1.5, 100, 90);
     let log = run_template(
         "contacts-shadow",
         &template("BHV_Shadow", "shd_", ""),
         &c,
         &alert("shd"),
-        200.0,
     );
     let last = |var: &str| -> Vec<f64> {
         log.entries
@@ -438,23 +434,18 @@ fn trail_keeps_station_behind_the_contact() {
        trail_range = 30
        trail_angle = 180
 ";
-    let c = Crossing {
-        x0: 0.0,
-        y0: 60.0,
-        hdg: 90.0,
-        spd: 1.5,
-        secs: 150,
-        end: 140,
-    };
+    let c = Crossing::new((0.0, 60.0), 90.0, 1.5, 150, 140);
     let log = run_template(
         "contacts-trail",
         &template("BHV_Trail", "trl_", own),
         &c,
         "",
-        300.0,
     );
     // The trail point: 30 m behind the contact (west of it).
-    let behind = Crossing { x0: -30.0, ..c };
+    let behind = Crossing {
+        from: (-30.0, 60.0),
+        ..c
+    };
     let r = behind.ranges(&log);
     let late: Vec<f64> = r.iter().filter(|(t, _)| *t > 100.0).map(|x| x.1).collect();
     assert!(!late.is_empty());
@@ -472,20 +463,12 @@ fn trail_keeps_station_behind_the_contact() {
 #[test]
 fn convoy_follows_the_contact_along_its_track() {
     // Straight ahead of the vehicle, heading away from it.
-    let c = Crossing {
-        x0: 0.0,
-        y0: 40.0,
-        hdg: 0.0,
-        spd: 1.2,
-        secs: 200,
-        end: 190,
-    };
+    let c = Crossing::new((0.0, 40.0), 0.0, 1.2, 200, 190);
     let log = run_template(
         "contacts-convoy",
         &template("BHV_Convoy", "cnv_", ""),
         &c,
         &alert("cnv"),
-        300.0,
     );
     let r = c.ranges(&log);
     let tr = track(&log);
