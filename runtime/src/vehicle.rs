@@ -60,15 +60,13 @@ fn params(block: &ProcessConfig) -> impl Iterator<Item = (&str, &str)> {
         .map(|p| (p.key.as_str(), p.value.as_str()))
 }
 
-fn warnings(block: &ProcessConfig, unknown: Vec<ConfigError>) -> Vec<Diagnostic> {
-    unknown
-        .into_iter()
+/// The configuration problems of an app's `block` as warnings, each at its parameter's line
+/// (else the block's): the vehicle apps', the drivers', uSimSensors' and the CoUGARs apps'.
+pub(crate) fn config_warnings(block: &ProcessConfig, problems: &[ConfigError]) -> Vec<Diagnostic> {
+    problems
+        .iter()
         .map(|e| {
-            Diagnostic::line_warning(
-                DiagnosticKind::AppSetting,
-                span_of(block, &e),
-                e.to_string(),
-            )
+            Diagnostic::line_warning(DiagnosticKind::AppSetting, span_of(block, e), e.to_string())
         })
         .collect()
 }
@@ -156,7 +154,7 @@ impl VehicleApp {
         let (mut cfg, unknown) =
             SimConfig::from_params_lenient(params(&block)).map_err(|e| located(&block, e))?;
         cfg.legacy = legacy;
-        let w = warnings(&block, unknown);
+        let w = config_warnings(&block, &unknown);
         let sim = Simulator::new(cfg, grid, start);
         let subs = sim.subscriptions();
         Ok(VehicleApp::new(
@@ -194,7 +192,7 @@ impl VehicleApp {
                 missing.join(", ")
             )
         });
-        let w = warnings(&block, unknown);
+        let w = config_warnings(&block, &unknown);
         let pid = MarinePid::new(cfg);
         let subs = pid.subscriptions();
         let mut app = VehicleApp::new(name, block, Inner::Pid(Box::new(pid)), subs, w);
@@ -214,7 +212,7 @@ impl VehicleApp {
     ) -> Result<Self, VehicleAppError> {
         let (cfg, unknown) = NodeReportConfig::from_params_lenient(params(&block))
             .map_err(|e| located(&block, e))?;
-        let w = warnings(&block, unknown);
+        let w = config_warnings(&block, &unknown);
         let rep = NodeReporter::new(cfg, community, start)
             .with_grid(grid)
             .with_seed(seed);
