@@ -332,3 +332,31 @@ fn check_reads_fleet_files_as_coug_run_starts_them() {
         "{stdout}"
     );
 }
+
+#[test]
+fn check_reports_a_psafety_block_s_unknown_key_once_at_its_line() {
+    // pSafety refuses a block with an unknown key (MALCONFIG); pCougControls only warns.
+    let dir = scratch_dir("check-cli-psafety");
+    let m = dir.join("s.moos");
+    std::fs::write(
+        &m,
+        "Community = abe\nProcessConfig = ANTLER\n{\n  Run = MOOSDB @ NewConsole = false\n  \
+         Run = pSafety @ NewConsole = false\n  Run = pCougControls @ NewConsole = false\n}\n\
+         ProcessConfig = pSafety\n{\n  bogus_key = 1\n}\n\
+         ProcessConfig = pCougControls\n{\n  other_key = 2\n}\n",
+    )
+    .unwrap();
+    let m = m.to_str().unwrap();
+    let (code, stdout, _) = coug(&["check", m]);
+    assert_eq!(code, 1, "{stdout}");
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert_eq!(
+        lines,
+        [
+            format!("{m}:14: warning: pCougControls: unknown parameter `other_key`"),
+            format!(
+                "error: pSafety would run in MALCONFIG (never driving): {m}:10: pSafety: unknown parameter `bogus_key`"
+            ),
+        ]
+    );
+}

@@ -193,15 +193,19 @@ fn write_mission(dir: &Path, avoid: bool) -> PathBuf {
     write_files(dir, &bhv_text(avoid), &mission_text(&script, ""))
 }
 
-/// The closest approach over the run: the vehicle's track against the contact's reported
-/// straight line (its first report's log time is its time 0).
-fn closest_approach(log: &alog::Alog) -> (f64, f64) {
-    let t0 = log
-        .entries
+/// The log time of the contact's first report.
+fn first_report(log: &alog::Alog) -> f64 {
+    log.entries
         .iter()
         .find(|e| e.var == "NODE_REPORT")
         .map(|e| e.time)
-        .expect("the contact's reports are logged");
+        .expect("the contact's reports are logged")
+}
+
+/// The closest approach over the run: the vehicle's track against the contact's reported
+/// straight line (its first report's log time is its time 0).
+fn closest_approach(log: &alog::Alog) -> (f64, f64) {
+    let t0 = first_report(log);
     track(log)
         .iter()
         .filter(|(t, _, _)| *t >= t0 && *t <= t0 + 149.0)
@@ -283,12 +287,7 @@ set MODE = ACTIVE {{
 
 /// `(time, range)` from the vehicle's track to the contact's reported straight line.
 fn ranges(log: &alog::Alog, x0: f64, y0: f64, hdg: f64, spd: f64) -> Vec<(f64, f64)> {
-    let t0 = log
-        .entries
-        .iter()
-        .find(|e| e.var == "NODE_REPORT")
-        .map(|e| e.time)
-        .expect("the contact's reports are logged");
+    let t0 = first_report(log);
     track(log)
         .iter()
         .filter(|(t, _, _)| *t >= t0)
@@ -299,36 +298,92 @@ fn ranges(log: &alog::Alog, x0: f64, y0: f64, hdg: f64, spd: f64) -> Vec<(f64, f
         .collect()
 }
 
-#[test]
-fn cut_range_closes_on_a_crossing_contact() {
-    let bhv = template_bhv(
-        "Behavior = BHV_CutRange
-{
-  name       = cut_
+/// One spawning contact-behaviour template of type `kind` named `prefix`, with `own` (its
+/// own parameters, one a line) after the spawning lines every template here shares.
+fn template(kind: &str, prefix: &str, own: &str) -> String {
+    format!(
+        "Behavior = {kind}
+{{
+  name       = {prefix}
   pwt        = 100
   condition  = MODE == ACTIVE
   updates    = CONTACT_INFO
   templating = spawn
-         contact = to-be-set
-  pwt_outer_dist = 200
+  contact    = to-be-set
+{own}}}
+"
+    )
+}
+
+/// A contact reporting once a second along a straight line: from `from` (x, y), heading
+/// `hdg` at `spd`, for `secs` s; the timer script ends the mission at `end` s.
+#[derive(Clone, Copy)]
+struct Crossing {
+    from: (f64, f64),
+    hdg: f64,
+    spd: f64,
+    secs: u32,
+    end: u32,
+}
+
+impl Crossing {
+    /// The contact from `from`, heading `hdg` at `spd`, reporting for `secs` s, the mission
+    /// ending at `end` s.
+    fn new(from: (f64, f64), hdg: f64, spd: f64, secs: u32, end: u32) -> Crossing {
+        Crossing {
+            from,
+            hdg,
+            spd,
+            secs,
+            end,
+        }
+    }
+
+    /// `(time, range)` from the vehicle's track to this contact.
+    fn ranges(&self, log: &alog::Alog) -> Vec<(f64, f64)> {
+        ranges(log, self.from.0, self.from.1, self.hdg, self.spd)
+    }
+}
+
+/// pBasicContactMgr's extra line: an alert `id` posting `CONTACT_INFO` for a contact within 100 m.
+fn alert(id: &str) -> String {
+    format!(
+        "  alert = id={id}, var=CONTACT_INFO, val=\"name=$[VNAME] # contact=$[VNAME]\", alert_range=100\n"
+    )
+}
+
+/// Runs `name` in lockstep: the vehicle with the one template `bhv` against the contact `c`,
+/// the contact manager's block with `cm_extra`, until the mission completes (or 110 s after
+/// it should have).
+fn run_template(name: &str, bhv: &str, c: &Crossing, cm_extra: &str) -> alog::Alog {
+    let script = contact_script(c.from.0, c.from.1, c.hdg, c.spd, c.secs)
+        + &format!("  event = var=MISSION, val=complete, time={}\n", c.end);
+    let dir = fresh_dir(&format!("{name}-mission"));
+    let mission = write_files(&dir, &template_bhv(bhv), &mission_text(&script, cm_extra));
+    let (bytes, _) = run_lockstep(
+        name,
+        &mission,
+        &[],
+        deploy_until("MISSION = complete", f64::from(c.end) + 110.0),
+    );
+    parse(&bytes)
+}
+
+#[test]
+fn cut_range_closes_on_a_crossing_contact() {
+    let own = "  pwt_outer_dist = 200
   pwt_inner_dist = 0
     giveup_range = 500
       pursueflag = PURSUING = $[CONTACT]
-}
-",
-    );
-    let script = contact_script(0.0, 100.0, 90.0, 1.0, 100)
-        + "  event = var=MISSION, val=complete, time=90\n";
-    let dir = fresh_dir("contacts-cut-mission");
-    let mission = write_files(&dir, &bhv, &mission_text(&script, ""));
-    let (bytes, _) = run_lockstep(
+";
+    let c = Crossing::new((0.0, 100.0), 90.0, 1.0, 100, 90);
+    let log = run_template(
         "contacts-cut",
-        &mission,
-        &[],
-        deploy_until("MISSION = complete", 200.0),
+        &template("BHV_CutRange", "cut_", own),
+        &c,
+        "",
     );
-    let log = parse(&bytes);
-    let r = ranges(&log, 0.0, 100.0, 90.0, 1.0);
+    let r = c.ranges(&log);
     let first = r.first().unwrap().1;
     let closest = r.iter().map(|x| x.1).fold(f64::INFINITY, f64::min);
     eprintln!("BHV_CutRange: range {first:.1} m at the first report, closest {closest:.2} m");
@@ -346,30 +401,13 @@ fn cut_range_closes_on_a_crossing_contact() {
 
 #[test]
 fn shadow_takes_the_contact_s_heading_and_speed() {
-    let bhv = template_bhv(
-        "Behavior = BHV_Shadow
-{
-  name       = shd_
-  pwt        = 100
-  condition  = MODE == ACTIVE
-  updates    = CONTACT_INFO
-  templating = spawn
-  contact    = to-be-set
-}
-",
-    );
-    let script = contact_script(20.0, 20.0, 90.0, 1.5, 100)
-        + "  event = var=MISSION, val=complete, time=90\n";
-    let cm = "  alert = id=shd, var=CONTACT_INFO, val=\"name=$[VNAME] # contact=$[VNAME]\", alert_range=100\n";
-    let dir = fresh_dir("contacts-shadow-mission");
-    let mission = write_files(&dir, &bhv, &mission_text(&script, cm));
-    let (bytes, _) = run_lockstep(
+    let c = Crossing::new((20.0, 20.0), 90.0, 1.5, 100, 90);
+    let log = run_template(
         "contacts-shadow",
-        &mission,
-        &[],
-        deploy_until("MISSION = complete", 200.0),
+        &template("BHV_Shadow", "shd_", ""),
+        &c,
+        &alert("shd"),
     );
-    let log = parse(&bytes);
     let last = |var: &str| -> Vec<f64> {
         log.entries
             .iter()
@@ -391,35 +429,24 @@ fn shadow_takes_the_contact_s_heading_and_speed() {
 
 #[test]
 fn trail_keeps_station_behind_the_contact() {
-    let bhv = template_bhv(
-        "Behavior = BHV_Trail
-{
-  name       = trl_
-  pwt        = 100
-  condition  = MODE == ACTIVE
-  updates    = CONTACT_INFO
-  templating = spawn
-           contact = to-be-set
-  no_alert_request = false
+    let own = "  no_alert_request = false
     pwt_outer_dist = 300
        trail_range = 30
        trail_angle = 180
-}
-",
-    );
-    let script = contact_script(0.0, 60.0, 90.0, 1.5, 150)
-        + "  event = var=MISSION, val=complete, time=140\n";
-    let dir = fresh_dir("contacts-trail-mission");
-    let mission = write_files(&dir, &bhv, &mission_text(&script, ""));
-    let (bytes, _) = run_lockstep(
+";
+    let c = Crossing::new((0.0, 60.0), 90.0, 1.5, 150, 140);
+    let log = run_template(
         "contacts-trail",
-        &mission,
-        &[],
-        deploy_until("MISSION = complete", 300.0),
+        &template("BHV_Trail", "trl_", own),
+        &c,
+        "",
     );
-    let log = parse(&bytes);
     // The trail point: 30 m behind the contact (west of it).
-    let r = ranges(&log, -30.0, 60.0, 90.0, 1.5);
+    let behind = Crossing {
+        from: (-30.0, 60.0),
+        ..c
+    };
+    let r = behind.ranges(&log);
     let late: Vec<f64> = r.iter().filter(|(t, _)| *t > 100.0).map(|x| x.1).collect();
     assert!(!late.is_empty());
     let worst = late.iter().cloned().fold(0.0, f64::max);
@@ -435,32 +462,15 @@ fn trail_keeps_station_behind_the_contact() {
 
 #[test]
 fn convoy_follows_the_contact_along_its_track() {
-    let bhv = template_bhv(
-        "Behavior = BHV_Convoy
-{
-  name       = cnv_
-  pwt        = 100
-  condition  = MODE == ACTIVE
-  updates    = CONTACT_INFO
-  templating = spawn
-  contact    = to-be-set
-}
-",
-    );
     // Straight ahead of the vehicle, heading away from it.
-    let script = contact_script(0.0, 40.0, 0.0, 1.2, 200)
-        + "  event = var=MISSION, val=complete, time=190\n";
-    let cm = "  alert = id=cnv, var=CONTACT_INFO, val=\"name=$[VNAME] # contact=$[VNAME]\", alert_range=100\n";
-    let dir = fresh_dir("contacts-convoy-mission");
-    let mission = write_files(&dir, &bhv, &mission_text(&script, cm));
-    let (bytes, _) = run_lockstep(
+    let c = Crossing::new((0.0, 40.0), 0.0, 1.2, 200, 190);
+    let log = run_template(
         "contacts-convoy",
-        &mission,
-        &[],
-        deploy_until("MISSION = complete", 300.0),
+        &template("BHV_Convoy", "cnv_", ""),
+        &c,
+        &alert("cnv"),
     );
-    let log = parse(&bytes);
-    let r = ranges(&log, 0.0, 40.0, 0.0, 1.2);
+    let r = c.ranges(&log);
     let tr = track(&log);
     let late: Vec<(f64, f64, f64)> = tr.iter().filter(|(t, ..)| *t > 120.0).cloned().collect();
     assert!(!late.is_empty());

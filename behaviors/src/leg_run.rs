@@ -1913,40 +1913,5 @@ fn is_leg_param(param: &str) -> bool {
     LEG_PARAMS.contains(&param)
 }
 
-/// The parameters `LegRun::setParam` knows.
-pub const LEG_PARAMS: &[&str] = &[
-    "p1",
-    "vx1",
-    "p2",
-    "vx2",
-    "leg",
-    "leg_len",
-    "leg_len_mod",
-    "leg_ang",
-    "leg_ang_mod",
-    "shift_pt",
-    "turn1_bias",
-    "turn2_bias",
-    "turn_bias",
-    "turn1_bias_mod",
-    "turn2_bias_mod",
-    "turn_bias_mod",
-    "turn1_ext",
-    "turn2_ext",
-    "turn_ext",
-    "turn1_ext_mod",
-    "turn2_ext_mod",
-    "turn_ext_mod",
-    "turn1_rad",
-    "turn2_rad",
-    "turn_rad",
-    "turn_rad_min",
-    "turn1_rad_mod",
-    "turn2_rad_mod",
-    "turn_rad_mod",
-    "turn_pt_gap",
-    "turn1_dir",
-    "turn2_dir",
-    "turn_dir",
-    "id",
-];
+/// The parameters `LegRun::setParam` knows (listed once, in the catalog `coug check` reads).
+pub use mission::catalog::LEG_PARAMS;

@@ -400,22 +400,3 @@ fn bad_values_are_refused_as_the_cpp_refuses_them() {
         b.set(p, v).unwrap_or_else(|e| panic!("{p} = {v}: {e}"));
     }
 }
-
-#[test]
-fn the_catalog_lists_exactly_its_parameters() {
-    let t = mission::catalog::behavior("BHV_LegRun").unwrap();
-    for p in t.params {
-        let mut b = Bhv::new("BHV_LegRun", "b", uuv_domain());
-        for v in ["1", "true", "A=1", "x=1,y=2"] {
-            assert!(
-                !matches!(b.set(p, v), Err(ParamError::Unknown { .. })),
-                "`{p}` is listed but unknown"
-            );
-        }
-    }
-    for p in behaviors::LEG_PARAMS {
-        assert!(t.accepts(p), "{p}");
-    }
-    assert!(!t.accepts("legflag"));
-    assert!(behaviors::kinds().any(|k| k == "BHV_LegRun"));
-}

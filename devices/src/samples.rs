@@ -94,7 +94,15 @@ pub fn a50_dead_reckoning() -> Vec<u8> {
 /// The X150's STATUS with the blocks the CoUGARs driver asks for (environment, attitude,
 /// compensated AHRS), framed with its CRC and CRLF.
 pub fn seatrac_status() -> Vec<u8> {
-    Response::Status(Status {
+    Response::Status(seatrac_status_fields())
+        .encode()
+        .into_bytes()
+}
+
+/// The fields of [`seatrac_status`]: 1.2 m deep on 15.6 V; yaw 355.0, pitch -2.5 and roll
+/// 1.0 deg.
+pub fn seatrac_status_fields() -> Status {
+    Status {
         timestamp_ms: 123_456,
         environment: Some(Environment {
             supply_mv: 15_600,
@@ -116,9 +124,7 @@ pub fn seatrac_status() -> Vec<u8> {
             mag: [20.0, -3.0, 40.0],
             gyro: [0.1, -0.2, 1.5],
         }),
-    })
-    .encode()
-    .into_bytes()
+    }
 }
 
 /// The Teensy's `$DEPTH`, `$BATTE` and `$LEAK` lines of one loop.

@@ -832,7 +832,7 @@ pub fn blank_settings() -> Settings {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use devices::seatrac::{AhrsComp, Attitude, Environment, Position, Range, Usbl, cid};
+    use devices::seatrac::{AhrsComp, Attitude, Position, Range, Usbl, cid};
 
     fn doubles(io: &Io, key: &str) -> Vec<f64> {
         io.doubles(key)
@@ -951,26 +951,12 @@ mod tests {
         let mut io = Io::default();
         let st = Status {
             timestamp_ms: 1234,
-            environment: Some(Environment {
-                supply_mv: 15_600,
-                temp_ddegc: 215,
-                pressure_mbar: 1100,
-                depth_dm: 12,
-                vos_dmps: 14_820,
-            }),
-            attitude: Some(Attitude {
-                yaw_ddeg: 3550,
-                pitch_ddeg: -25,
-                roll_ddeg: 10,
-            }),
-            mag_cal: None,
-            acc_cal: None,
-            ahrs_raw: None,
             ahrs_comp: Some(AhrsComp {
                 acc: [0.0, 0.0, 1.0],
                 mag: [0.0; 3],
                 gyro: [1.0, 3.0, -2.0],
             }),
+            ..devices::samples::seatrac_status_fields()
         };
         p.on_bytes(Response::Status(st).encode().as_bytes(), 1.0, &mut io);
         let keys: Vec<&str> = io.posts.iter().map(|p| &*p.key).collect();

@@ -6,12 +6,11 @@
 
 mod common;
 
-use std::time::{Duration, Instant};
+use std::path::PathBuf;
 
-use common::{Stepper, scratch};
+use common::{Stepper, scratch, serial, tcp};
 use drivers::dvl::{Dvl, DvlConfig};
 use drivers::gps::{Gps, Source};
-use drivers::link::{Endpoint, LinkConfig};
 use drivers::seatrac::{SeaTrac, SeaTracConfig, Startup};
 use drivers::teensy::{Teensy, TeensyConfig};
 use drivers::{Driver, Protocol};
@@ -22,46 +21,115 @@ use emulate::transport::Transport;
 use emulate::truth::Truth;
 use moos_types::Value;
 
-fn serial(path: &std::path::Path) -> LinkConfig {
-    let mut l = LinkConfig::new(Endpoint::Serial {
-        path: path.to_path_buf(),
-        baud: 115_200,
-    });
-    l.backoff_min = Duration::from_millis(20);
-    l.backoff_max = Duration::from_millis(100);
-    l
+/// One test's emulator: its tokio runtime, the running emulator, and the link a serial
+/// driver opens (a pseudo-terminal's symlink in a scratch folder; empty over TCP).
+struct Rig {
+    rt: tokio::runtime::Runtime,
+    emu: emulate::build::Running,
+    link: PathBuf,
 }
 
-#[test]
-fn iteensy_against_the_teensy_emulator_depth_battery_and_fin_commands() {
-    let dir = scratch("against-teensy");
-    let link = dir.join("teensy");
-    let rt = tokio::runtime::Runtime::new().unwrap();
-    let emu = rt
-        .block_on(spawn(
-            Kind::Teensy,
-            Settings::default(),
-            Transport::Pty {
-                link: Some(link.clone()),
-            },
-            Options {
-                seed: 7,
-                ..Options::default()
-            },
-        ))
-        .unwrap();
-    // At the surface first: the driver calibrates the atmosphere there.
-    emu.truth.feed(Truth::default());
-    let port = emu.teensy.clone().expect("the Teensy's port");
+impl Rig {
+    /// The `kind` emulator with `settings`, its draws seeded with `seed`, its faults `faults`:
+    /// on a pseudo-terminal behind a link in the scratch folder `test`, or with `None` on a
+    /// loopback TCP port.
+    fn start(
+        test: Option<&str>,
+        kind: Kind,
+        settings: Settings,
+        seed: u64,
+        faults: FaultPlan,
+    ) -> Rig {
+        let rt = tokio::runtime::Runtime::new().unwrap();
+        let (link, transport) = match test {
+            Some(t) => {
+                let link = scratch(t).join("device");
+                let transport = Transport::Pty {
+                    link: Some(link.clone()),
+                };
+                (link, transport)
+            }
+            None => (PathBuf::new(), Transport::loopback(0)),
+        };
+        let options = Options {
+            seed,
+            faults,
+            ..Options::default()
+        };
+        let emu = rt
+            .block_on(spawn(kind, settings, transport, options))
+            .unwrap();
+        Rig { rt, emu, link }
+    }
 
-    // The test's MOOS time runs faster than the emulator's 20 Hz (0.05 s a step, a couple of
-    // milliseconds apart): a long calibration timeout, so the samples decide, not the clock.
+    /// The emulator's TCP address.
+    fn addr(&self) -> std::net::SocketAddr {
+        self.emu.handle.endpoint().tcp().expect("a TCP endpoint")
+    }
+
+    /// Stops the emulator.
+    fn stop(self) {
+        self.rt.block_on(self.emu.handle.stop()).unwrap();
+    }
+}
+
+/// iTeensy on `link`. The test's MOOS time runs faster than the emulator's 20 Hz (0.05 s a
+/// step, a couple of milliseconds apart): a long calibration timeout, so the samples decide,
+/// not the clock.
+fn iteensy(link: &std::path::Path) -> Driver<Teensy> {
     let cfg = TeensyConfig {
         calibration_samples: 5,
         calibration_timeout_s: 1e6,
         ..TeensyConfig::default()
     };
-    let mut d = Driver::new(Teensy::new(cfg), serial(&link), 1.0);
+    Driver::new(Teensy::new(cfg), serial(link), 1.0)
+}
+
+/// iGPS reading NMEA on `link`, projecting on the emulator's default origin.
+fn igps(link: &std::path::Path) -> Driver<Gps> {
+    let (lat0, lon0) = Settings::default().gps.origin_lat_lon;
+    let grid = vehicle::geodesy::LocalGrid::new(lat0, lon0).unwrap();
+    Driver::new(Gps::new(Source::Nmea, Some(grid)), serial(link), 1.0)
+}
+
+/// The NMEA GPS emulator on a pseudo-terminal in the scratch folder `test` with the vehicle
+/// at the surface 30 m east and 40 m north of its origin, and iGPS reading it, started.
+fn gps_at_30_40(test: &str, seed: u64, faults: FaultPlan) -> (Rig, Driver<Gps>, Stepper) {
+    let rig = Rig::start(Some(test), Kind::Gps, Settings::default(), seed, faults);
+    let mut d = igps(&rig.link);
+    rig.emu.truth.feed(Truth {
+        x: 30.0,
+        y: 40.0,
+        ..Truth::default()
+    });
+    d.start().unwrap();
+    (rig, d, Stepper::new(0.0))
+}
+
+/// Every fix `(xs, ys)` within a few sigma of the emulated receiver's noise (1.5 m x HDOP
+/// per axis) of (30, 40).
+fn near_30_40(xs: &[f64], ys: &[f64]) {
+    for (x, y) in xs.iter().zip(ys) {
+        assert!(
+            (x - 30.0).abs() < 10.0 && (y - 40.0).abs() < 10.0,
+            "({x}, {y})"
+        );
+    }
+}
+
+#[test]
+fn iteensy_against_the_teensy_emulator_depth_battery_and_fin_commands() {
+    let rig = Rig::start(
+        Some("against-teensy"),
+        Kind::Teensy,
+        Settings::default(),
+        7,
+        FaultPlan::default(),
+    );
+    // At the surface first: the driver calibrates the atmosphere there.
+    rig.emu.truth.feed(Truth::default());
+    let port = rig.emu.teensy.clone().expect("the Teensy's port");
+    let mut d = iteensy(&rig.link);
     d.start().unwrap();
     let mut s = Stepper::new(100.0);
     s.until(&mut d, "calibrated at the surface", |s, _| {
@@ -73,7 +141,7 @@ fn iteensy_against_the_teensy_emulator_depth_battery_and_fin_commands() {
     assert!((atm - 101_325.0).abs() < 200.0, "atmosphere {atm} Pa");
 
     // Then 3 m down: the emulated MS5837 reads it, the driver posts the depth.
-    emu.truth.feed(Truth {
+    rig.emu.truth.feed(Truth {
         depth: 3.0,
         ..Truth::default()
     });
@@ -103,57 +171,24 @@ fn iteensy_against_the_teensy_emulator_depth_battery_and_fin_commands() {
     assert_eq!(port.get().refused, 0);
     let st = d.protocol.stats();
     assert_eq!(st.bad_checksum + st.oversize + st.parse_errors, 0, "{st:?}");
-    rt.block_on(emu.handle.stop()).unwrap();
+    rig.stop();
 }
 
 #[test]
 fn igps_against_the_nmea_gps_emulator_fixes_at_the_surface_none_under_water() {
-    let dir = scratch("against-gps");
-    let link = dir.join("gps");
-    let rt = tokio::runtime::Runtime::new().unwrap();
-    let settings = Settings::default();
-    let (lat0, lon0) = settings.gps.origin_lat_lon;
-    let emu = rt
-        .block_on(spawn(
-            Kind::Gps,
-            settings,
-            Transport::Pty {
-                link: Some(link.clone()),
-            },
-            Options {
-                seed: 3,
-                ..Options::default()
-            },
-        ))
-        .unwrap();
-    // 30 m east and 40 m north of the origin, at the surface.
-    emu.truth.feed(Truth {
-        x: 30.0,
-        y: 40.0,
-        ..Truth::default()
-    });
-    let grid = vehicle::geodesy::LocalGrid::new(lat0, lon0).unwrap();
-    let mut d = Driver::new(Gps::new(Source::Nmea, Some(grid)), serial(&link), 1.0);
-    d.start().unwrap();
-    let mut s = Stepper::new(0.0);
+    let (rig, mut d, mut s) = gps_at_30_40("against-gps", 3, FaultPlan::default());
     s.until(&mut d, "five fixes", |s, _| {
         s.doubles("GPS_FIX").iter().filter(|f| **f == 1.0).count() >= 5
     });
-    // Within a few sigma of the emulated receiver's noise (1.5 m x HDOP per axis).
     let (xs, ys) = (s.doubles("GPS_X"), s.doubles("GPS_Y"));
     assert!(xs.len() >= 5 && xs.len() == ys.len());
-    for (x, y) in xs.iter().zip(&ys) {
-        assert!(
-            (x - 30.0).abs() < 10.0 && (y - 40.0).abs() < 10.0,
-            "({x}, {y})"
-        );
-    }
+    near_30_40(&xs, &ys);
     // Satellites in view once fixed (zero while the receiver was acquiring).
     let sats = s.doubles("GPS_SATELLITES");
     assert!(sats.last().is_some_and(|n| *n >= 4.0), "{sats:?}");
 
     // Under water the antenna hears nothing: no more fixes, the driver says so.
-    emu.truth.feed(Truth {
+    rig.emu.truth.feed(Truth {
         x: 30.0,
         y: 40.0,
         depth: 3.0,
@@ -163,17 +198,7 @@ fn igps_against_the_nmea_gps_emulator_fixes_at_the_surface_none_under_water() {
         s.doubles("GPS_FIX").last() == Some(&0.0)
     });
     assert_eq!(d.protocol.stats().bad_checksum, 0);
-    rt.block_on(emu.handle.stop()).unwrap();
-}
-
-fn tcp(addr: std::net::SocketAddr) -> LinkConfig {
-    let mut l = LinkConfig::new(Endpoint::Tcp {
-        host: addr.ip().to_string(),
-        port: addr.port(),
-    });
-    l.backoff_min = Duration::from_millis(20);
-    l.backoff_max = Duration::from_millis(100);
-    l
+    rig.stop();
 }
 
 /// The number after `key=` in a status line (`DVL_DRIVER_STATUS` and the like).
@@ -197,22 +222,10 @@ fn cruising_east() -> Truth {
 
 #[test]
 fn idvl_against_the_a50_emulator_reports_acoustics_and_commands() {
-    let rt = tokio::runtime::Runtime::new().unwrap();
     let mut settings = Settings::default();
     settings.dvl.gyro_calibration_s = 0.3;
-    let emu = rt
-        .block_on(spawn(
-            Kind::Dvl,
-            settings,
-            Transport::loopback(0),
-            Options {
-                seed: 11,
-                ..Options::default()
-            },
-        ))
-        .unwrap();
-    emu.truth.feed(cruising_east());
-    let addr = emu.handle.endpoint().tcp().expect("a TCP endpoint");
+    let rig = Rig::start(None, Kind::Dvl, settings, 11, FaultPlan::default());
+    rig.emu.truth.feed(cruising_east());
     // The test's MOOS time runs faster than the emulator's clock: the commands wait for
     // their answers as long as it takes (their retries are the unit tests').
     let cfg = DvlConfig {
@@ -220,7 +233,11 @@ fn idvl_against_the_a50_emulator_reports_acoustics_and_commands() {
         gyro_timeout_s: 1e6,
         ..DvlConfig::default()
     };
-    let mut d = Driver::new(Dvl::new(cfg), tcp(addr), 1.0);
+    let mut d = Driver::new(
+        Dvl::new(cfg),
+        tcp(&rig.addr().ip().to_string(), rig.addr().port()),
+        1.0,
+    );
     d.start().unwrap();
     let mut s = Stepper::new(0.0);
 
@@ -339,71 +356,36 @@ fn idvl_against_the_a50_emulator_reports_acoustics_and_commands() {
     assert!(status.contains(",acoustics=off,"), "{status}");
     assert!(s.warnings.is_empty(), "{:?}", s.warnings);
     d.stop();
-    rt.block_on(emu.handle.stop()).unwrap();
+    rig.stop();
 }
 
 #[test]
 fn idvl_against_the_a50_emulator_survives_a_disconnect_and_garbage() {
-    let rt = tokio::runtime::Runtime::new().unwrap();
-    let faults = FaultPlan::parse(&["disconnect@1+0.5", "garbage@2.5+1.5:400"]).unwrap();
-    let started = Instant::now();
-    let emu = rt
-        .block_on(spawn(
-            Kind::Dvl,
-            Settings::default(),
-            Transport::loopback(0),
-            Options {
-                seed: 12,
-                faults,
-                ..Options::default()
-            },
-        ))
-        .unwrap();
-    emu.truth.feed(cruising_east());
-    let addr = emu.handle.endpoint().tcp().expect("a TCP endpoint");
-    let mut d = Driver::new(Dvl::new(DvlConfig::default()), tcp(addr), 1.0);
+    let rig = Rig::start(
+        None,
+        Kind::Dvl,
+        Settings::default(),
+        12,
+        away_then_garbage(),
+    );
+    rig.emu.truth.feed(cruising_east());
+    let mut d = Driver::new(
+        Dvl::new(DvlConfig::default()),
+        tcp(&rig.addr().ip().to_string(), rig.addr().port()),
+        1.0,
+    );
     let mut s = Stepper::new(0.0);
     s.mail(&mut d, "DEPLOY", Value::String("true".into()));
     s.mail(&mut d, "NAV_DEPTH", Value::Double(10.0));
     d.start().unwrap();
-    s.until(&mut d, "reports", |s, _| s.count("DVL_VALID") >= 3);
-
-    // The emulator hangs up at 1 s and is away for half a second: the link comes back, the
-    // driver says the acoustics again and the reports resume.
-    s.until(&mut d, "a second connection", |_, d| {
-        d.counters().connects >= 2
-    });
-    let back = s.mark();
-    s.until(&mut d, "reports after the reconnection", |s, _| {
-        s.doubles_since(back, "DVL_VALID").len() >= 3
-    });
-    // While it is away it hangs up on every connection: each is counted, and the link is
-    // up once more than it was down.
-    let status = s.status("DVL_DRIVER_STATUS");
-    let downs = field(&status, "disconnects").unwrap_or(0);
-    assert!(downs >= 1, "{status}");
-    assert_eq!(field(&status, "connects"), Some(downs + 1), "{status}");
+    // Over TCP the emulator, while away, hangs up on every connection: each is counted.
+    let (back, clean) = survives_away_and_garbage(&mut s, &mut d, "DVL_VALID", 10);
+    // Back, the driver said the acoustics again.
     assert!(
         s.texts_since(back, "DVL_COMMAND_ACK")
             .contains(&"set_config".to_string())
     );
-
-    // Then random bytes in its output for 1.5 s: broken lines are counted, none panics.
-    s.until(&mut d, "garbage counted", |_, d| {
-        d.protocol.stats().parse_errors > 0
-    });
-    // Past the garbage (emulator time 4 s, with a margin for bytes in flight), the lines are
-    // whole again: no new error, the reports carry the truth.
-    while started.elapsed() < Duration::from_millis(5500) {
-        s.step(&mut d);
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    let errors = d.protocol.stats().parse_errors;
-    let clean = s.mark();
-    s.until(&mut d, "reports after the garbage", |s, _| {
-        s.doubles_since(clean, "DVL_VALID").len() >= 10
-    });
-    assert_eq!(d.protocol.stats().parse_errors, errors);
+    // Past the garbage the reports carry the truth.
     let vx = s.doubles_since(clean, "DVL_VEL_X");
     assert!(vx.iter().all(|v| (v - 1.0).abs() < 0.1), "{vx:?}");
     let status = s.status("DVL_DRIVER_STATUS");
@@ -413,18 +395,22 @@ fn idvl_against_the_a50_emulator_survives_a_disconnect_and_garbage() {
     );
     assert!(status.starts_with("link=up,"), "{status}");
     d.stop();
-    rt.block_on(emu.handle.stop()).unwrap();
+    rig.stop();
 }
 
-/// The X150 emulator on a pseudo-terminal behind `link`, its remote beacon (15) at `remote`
-/// (x east, y north, depth).
-fn x150(
-    rt: &tokio::runtime::Runtime,
-    link: &std::path::Path,
+/// The X150 emulator on a pseudo-terminal in the scratch folder `test`, its remote beacon
+/// (15) at `remote` (x east, y north, depth), measuring `truth`, and iSeaTrac configured as
+/// on Utah Lake (beacon 3, salt water, the declination 10.7 deg E) stepped until its
+/// start-up sequence has run to its end. The test's MOOS time runs faster than the
+/// emulator's clock (0.05 s a step, a few milliseconds apart): a send waits 5 s of it (100
+/// steps) for its answer, so a loaded machine's slow answer is not taken for a lost one.
+fn x150_running(
+    test: &str,
     remote: (f64, f64, f64),
     busy_first: u32,
     faults: FaultPlan,
-) -> emulate::build::Running {
+    truth: Truth,
+) -> (Rig, Driver<SeaTrac>, Stepper) {
     let mut settings = Settings::default();
     settings.seatrac.declination_deg = 10.7;
     settings.seatrac.busy_first = busy_first;
@@ -433,26 +419,8 @@ fn x150(
         position: remote,
         received: Vec::new(),
     });
-    rt.block_on(spawn(
-        Kind::Seatrac,
-        settings,
-        Transport::Pty {
-            link: Some(link.to_path_buf()),
-        },
-        Options {
-            seed: 21,
-            faults,
-            ..Options::default()
-        },
-    ))
-    .unwrap()
-}
-
-/// iSeaTrac configured as on Utah Lake: beacon 3, salt water, the declination 10.7 deg E.
-/// The test's MOOS time runs faster than the emulator's clock (0.05 s a step, a few
-/// milliseconds apart): a send waits 5 s of it (100 steps) for its answer, so a loaded
-/// machine's slow answer is not taken for a lost one.
-fn iseatrac(link: &std::path::Path) -> Driver<SeaTrac> {
+    let rig = Rig::start(Some(test), Kind::Seatrac, settings, 21, faults);
+    rig.emu.truth.feed(truth);
     let cfg = SeaTracConfig {
         beacon_id: 3,
         salinity_ppt: 35.0,
@@ -460,7 +428,18 @@ fn iseatrac(link: &std::path::Path) -> Driver<SeaTrac> {
         send_wait_s: 5.0,
         ..SeaTracConfig::default()
     };
-    Driver::new(SeaTrac::new(cfg), serial(link), 1.0)
+    let mut d = Driver::new(SeaTrac::new(cfg), serial(&rig.link), 1.0);
+    d.start().unwrap();
+    let mut s = Stepper::new(0.0);
+    s.until(&mut d, "running", |_, d| {
+        d.protocol.startup() == Startup::Running
+    });
+    (rig, d, s)
+}
+
+/// The doubles posted to `key` since `mark`, each within `tol` of `want` (and at least one).
+fn near_since(s: &Stepper, mark: usize, key: &str, want: f64, tol: f64) {
+    near(&s.doubles_since(mark, key), want, tol, key);
 }
 
 fn near(got: &[f64], want: f64, tol: f64, what: &str) {
@@ -473,26 +452,22 @@ fn near(got: &[f64], want: f64, tol: f64, what: &str) {
 
 #[test]
 fn iseatrac_against_the_x150_emulator_startup_status_ping_dat_and_busy() {
-    let dir = scratch("against-seatrac");
-    let link = dir.join("seatrac");
-    let rt = tokio::runtime::Runtime::new().unwrap();
     // The base beacon (15) 20 m east and 20 m deeper: from a vehicle heading 030 deg, it is
-    // 60 deg to starboard and 45 deg down, 28.28 m away.
-    let emu = x150(&rt, &link, (20.0, 0.0, 30.0), 2, FaultPlan::default());
-    emu.truth.feed(Truth {
+    // 60 deg to starboard and 45 deg down, 28.28 m away. The start-up sequence runs to its
+    // end: the beacon takes id 3 and sends its STATUS at 10 Hz with attitude, AHRS and
+    // environment (the settings it was given).
+    let truth = Truth {
         depth: 10.0,
         heading_deg: 30.0,
         ..Truth::default()
-    });
-    let mut d = iseatrac(&link);
-    d.start().unwrap();
-    let mut s = Stepper::new(0.0);
-
-    // The start-up sequence runs to its end: the beacon takes id 3 and sends its STATUS at
-    // 10 Hz with attitude, AHRS and environment (the settings it was given).
-    s.until(&mut d, "running", |_, d| {
-        d.protocol.startup() == Startup::Running
-    });
+    };
+    let (rig, mut d, mut s) = x150_running(
+        "against-seatrac",
+        (20.0, 0.0, 30.0),
+        2,
+        FaultPlan::default(),
+        truth,
+    );
     assert_eq!(s.doubles("SEATRAC_BEACON_ID"), [3.0]);
     let up = s.mark();
     s.until(&mut d, "ten STATUS", |s, _| {
@@ -500,52 +475,17 @@ fn iseatrac_against_the_x150_emulator_startup_status_ping_dat_and_busy() {
     });
     // The AHRS (σ 1 deg heading, 0.2 deg attitude) writes the magnetic yaw; the driver adds
     // the declination once.
-    near(
-        &s.doubles_since(up, "AHRS_HEADING"),
-        30.0,
-        4.0,
-        "AHRS_HEADING",
-    );
-    near(&s.doubles_since(up, "AHRS_PITCH"), 0.0, 1.0, "AHRS_PITCH");
-    near(&s.doubles_since(up, "AHRS_ROLL"), 0.0, 1.0, "AHRS_ROLL");
-    near(
-        &s.doubles_since(up, "AHRS_YAW_RATE"),
-        0.0,
-        0.3,
-        "AHRS_YAW_RATE",
-    );
+    near_since(&s, up, "AHRS_HEADING", 30.0, 4.0);
+    near_since(&s, up, "AHRS_PITCH", 0.0, 1.0);
+    near_since(&s, up, "AHRS_ROLL", 0.0, 1.0);
+    near_since(&s, up, "AHRS_YAW_RATE", 0.0, 0.3);
     // The environment block: the modem's depth sensor (σ 0.1 m), the supply, the absolute
     // pressure (101325 Pa + 997 kg/m³ · 9.81 · 10 m, in whole mbar), the speed of sound.
-    near(
-        &s.doubles_since(up, "SEATRAC_DEPTH"),
-        10.0,
-        0.5,
-        "SEATRAC_DEPTH",
-    );
-    near(
-        &s.doubles_since(up, "SEATRAC_SUPPLY_VOLTAGE"),
-        16.4,
-        1e-9,
-        "SEATRAC_SUPPLY_VOLTAGE",
-    );
-    near(
-        &s.doubles_since(up, "SEATRAC_TEMP"),
-        15.0,
-        1e-9,
-        "SEATRAC_TEMP",
-    );
-    near(
-        &s.doubles_since(up, "SEATRAC_PRESSURE"),
-        199_100.0,
-        1e-6,
-        "SEATRAC_PRESSURE",
-    );
-    near(
-        &s.doubles_since(up, "SEATRAC_VOS"),
-        1475.0,
-        1e-9,
-        "SEATRAC_VOS",
-    );
+    near_since(&s, up, "SEATRAC_DEPTH", 10.0, 0.5);
+    near_since(&s, up, "SEATRAC_SUPPLY_VOLTAGE", 16.4, 1e-9);
+    near_since(&s, up, "SEATRAC_TEMP", 15.0, 1e-9);
+    near_since(&s, up, "SEATRAC_PRESSURE", 199_100.0, 1e-6);
+    near_since(&s, up, "SEATRAC_VOS", 1475.0, 1e-9);
 
     // A ping to the base: the transceiver says busy twice (the emulator's first two sends),
     // the driver sends it again each time, then the fix comes back with range and angles.
@@ -585,18 +525,8 @@ fn iseatrac_against_the_x150_emulator_startup_status_ping_dat_and_busy() {
         s.texts_since(sent, "ACOMMS_TX_ACK"),
         ["dest=15,cid=DAT_SEND"]
     );
-    near(
-        &s.doubles_since(sent, "USBL_RANGE"),
-        range,
-        0.5,
-        "USBL_RANGE",
-    );
-    near(
-        &s.doubles_since(sent, "USBL_AZIMUTH"),
-        60.0,
-        4.0,
-        "USBL_AZIMUTH",
-    );
+    near_since(&s, sent, "USBL_RANGE", range, 0.5);
+    near_since(&s, sent, "USBL_AZIMUTH", 60.0, 4.0);
     let c = d.protocol.counts();
     assert_eq!((c.sent_ok, c.dat_rx, c.send_errors), (2, 1, 0), "{c:?}");
     assert_eq!(d.protocol.queued(), 0);
@@ -604,7 +534,7 @@ fn iseatrac_against_the_x150_emulator_startup_status_ping_dat_and_busy() {
     // Turning right at 10 deg/s, pitching up at 0.1 rad/s and rolling at 0.05 rad/s (level
     // for now): the gyro, written in the modem's 45 deg frame, comes back as the body's
     // rates, as uSimSensors posts them (about forward, starboard and down).
-    emu.truth.feed(Truth {
+    rig.emu.truth.feed(Truth {
         depth: 10.0,
         heading_deg: 30.0,
         yaw_rate_deg_s: 10.0,
@@ -636,79 +566,34 @@ fn iseatrac_against_the_x150_emulator_startup_status_ping_dat_and_busy() {
     assert_eq!(st.bad_checksum + st.parse_errors + st.oversize, 0, "{st:?}");
     assert!(s.warnings.is_empty(), "{:?}", s.warnings);
     d.stop();
-    rt.block_on(emu.handle.stop()).unwrap();
+    rig.stop();
 }
 
 #[test]
 fn iseatrac_against_the_x150_emulator_survives_a_disconnect_and_garbage() {
-    let dir = scratch("against-seatrac-faults");
-    let link = dir.join("seatrac");
-    let rt = tokio::runtime::Runtime::new().unwrap();
-    let started = Instant::now();
+    // Away for 0.3 s only, and thinner garbage (300 bytes/s).
     let faults = FaultPlan::parse(&["disconnect@1+0.3", "garbage@2.5+1.5:300"]).unwrap();
-    let emu = x150(&rt, &link, (0.0, 50.0, 5.0), 0, faults);
-    emu.truth.feed(Truth {
+    let truth = Truth {
         depth: 2.0,
         ..Truth::default()
-    });
-    let mut d = iseatrac(&link);
-    d.start().unwrap();
-    let mut s = Stepper::new(0.0);
-    s.until(&mut d, "running", |_, d| {
-        d.protocol.startup() == Startup::Running
-    });
-
-    // At 1 s the terminal goes away; 0.3 s later the device is back on a new one (the link
-    // moved): the driver reopens it, runs the start-up again, and the STATUS resumes.
-    s.until(&mut d, "a second connection", |_, d| {
-        d.counters().connects >= 2
-    });
-    s.until(&mut d, "running again", |_, d| {
-        d.protocol.startup() == Startup::Running
-    });
-    assert_eq!(s.doubles("SEATRAC_BEACON_ID"), [3.0, 3.0]);
-    let back = s.mark();
-    s.until(&mut d, "STATUS after the reconnection", |s, _| {
-        s.doubles_since(back, "AHRS_HEADING").len() >= 3
-    });
-    let status = s.status("SEATRAC_DRIVER_STATUS");
-    assert!(
-        field(&status, "disconnects").is_some_and(|n| n >= 1),
-        "{status}"
-    );
-
-    // Then random bytes among the frames: torn frames and bad CRCs are counted.
-    let junk = |d: &Driver<SeaTrac>| {
-        let st = d.protocol.stats();
-        st.garbage_bytes + st.bad_checksum + st.parse_errors + st.oversize
     };
-    s.until(&mut d, "garbage counted", |_, d| junk(d) > 0);
-    while started.elapsed() < Duration::from_millis(5500) {
-        s.step(&mut d);
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    // Past it, the frames are whole again and the values are the truth's.
-    let before = junk(&d);
-    let clean = s.mark();
-    s.until(&mut d, "STATUS after the garbage", |s, _| {
-        s.doubles_since(clean, "SEATRAC_DEPTH").len() >= 10
-    });
-    assert_eq!(junk(&d), before);
-    near(
-        &s.doubles_since(clean, "SEATRAC_DEPTH"),
-        2.0,
-        0.5,
-        "SEATRAC_DEPTH",
-    );
+    let (rig, mut d, mut s) =
+        x150_running("against-seatrac-faults", (0.0, 50.0, 5.0), 0, faults, truth);
+    // Back on a new terminal, the driver runs the start-up again and the STATUS resumes.
+    let (_, clean) = survives_away_and_garbage(&mut s, &mut d, "SEATRAC_DEPTH", 10);
+    assert_eq!(d.protocol.startup(), Startup::Running);
+    assert_eq!(s.doubles("SEATRAC_BEACON_ID"), [3.0, 3.0]);
+    // Past the garbage the values are the truth's, and the status counts what was torn.
+    near_since(&s, clean, "SEATRAC_DEPTH", 2.0, 0.5);
     let status = s.status("SEATRAC_DRIVER_STATUS");
     assert!(status.starts_with("link=up,state=running,"), "{status}");
     let counted: u64 = ["garbage_bytes", "bad_checksum", "parse_errors", "oversize"]
         .iter()
         .filter_map(|k| field(&status, k))
         .sum();
-    assert_eq!(counted, before, "{status}");
+    assert_eq!(counted, errors(&d), "{status}");
     d.stop();
-    rt.block_on(emu.handle.stop()).unwrap();
+    rig.stop();
 }
 
 /// The errors a protocol has counted so far: broken lines of every kind.
@@ -735,74 +620,56 @@ fn clean_run<P: Protocol>(s: &mut Stepper, d: &mut Driver<P>, key: &str, n: usiz
 }
 
 /// The emulated device hangs up at 1 s and is away for half a second (a new pseudo-terminal
-/// behind the same link, as a replugged USB device's udev link), then sends garbage for
-/// 1.5 s: the driver reconnects through the link, counts the broken lines, never panics, and
-/// its values are right again once the garbage stops.
+/// behind the same link, as a replugged USB device's udev link; over TCP a listener that
+/// hangs up), then sends garbage for 1.5 s.
 fn away_then_garbage() -> FaultPlan {
     FaultPlan::parse(&["disconnect@1+0.5", "garbage@2.5+1.5:400"]).unwrap()
 }
 
-#[test]
-fn iteensy_against_the_teensy_emulator_survives_a_replug_and_garbage() {
-    let dir = scratch("against-teensy-faults");
-    let link = dir.join("teensy");
-    let rt = tokio::runtime::Runtime::new().unwrap();
-    let emu = rt
-        .block_on(spawn(
-            Kind::Teensy,
-            Settings::default(),
-            Transport::Pty {
-                link: Some(link.clone()),
-            },
-            Options {
-                seed: 31,
-                faults: away_then_garbage(),
-                ..Options::default()
-            },
-        ))
-        .unwrap();
-    emu.truth.feed(Truth::default());
-    let port = emu.teensy.clone().expect("the Teensy's port");
-    let cfg = TeensyConfig {
-        calibration_samples: 5,
-        calibration_timeout_s: 1e6,
-        ..TeensyConfig::default()
-    };
-    let mut d = Driver::new(Teensy::new(cfg), serial(&link), 1.0);
-    d.start().unwrap();
-    let mut s = Stepper::new(100.0);
-    s.until(&mut d, "pressures", |s, _| s.count("PRESSURE") >= 3);
-    s.until(&mut d, "a second connection", |_, d| {
-        d.counters().connects >= 2
-    });
+/// What every driver does through [`away_then_garbage`] (or a plan like it): it posts `key`, reconnects through
+/// its link (the status counts each disconnection, and the link is up once more than it was
+/// down), posts `key` again, counts the broken lines, never panics, and then posts `clean`
+/// values of `key` in a row with no error among them. Returns the marks where the posts
+/// after the reconnection and the clean run start.
+fn survives_away_and_garbage<P: Protocol>(
+    s: &mut Stepper,
+    d: &mut Driver<P>,
+    key: &str,
+    clean: usize,
+) -> (usize, usize) {
+    s.until(d, "posts before the fault", |s, _| s.count(key) >= 3);
+    s.until(d, "a second connection", |_, d| d.counters().connects >= 2);
     let back = s.mark();
-    s.until(&mut d, "pressures after the replug", |s, _| {
-        s.doubles_since(back, "PRESSURE").len() >= 3
+    s.until(d, "posts after the reconnection", |s, _| {
+        s.doubles_since(back, key).len() >= 3
     });
-    // Commands reach the new terminal.
-    s.mail(&mut d, "FIN_TOP_DEG", Value::Double(4.0));
-    s.mail(&mut d, "THRUST_PCT", Value::Double(10.0));
-    s.until(&mut d, "a command after the replug", |_, _| {
-        port.get()
-            .last
-            .is_some_and(|(_, c)| c.fins_deg[0] == 4.0 && c.thrust_pct == 10)
-    });
-    let status = s.status("TEENSY_DRIVER_STATUS");
+    let status = s.status(d.protocol.status_var());
     let downs = field(&status, "disconnects").unwrap_or(0);
     assert!(downs >= 1, "{status}");
     assert_eq!(field(&status, "connects"), Some(downs + 1), "{status}");
+    s.until(d, "garbage counted", |_, d| errors(d) > 0);
+    (back, clean_run(s, d, key, clean))
+}
 
-    s.until(&mut d, "garbage counted", |_, d| errors(d) > 0);
-    let clean = clean_run(&mut s, &mut d, "PRESSURE", 40);
+#[test]
+fn iteensy_against_the_teensy_emulator_survives_a_replug_and_garbage() {
+    let rig = Rig::start(
+        Some("against-teensy-faults"),
+        Kind::Teensy,
+        Settings::default(),
+        31,
+        away_then_garbage(),
+    );
+    rig.emu.truth.feed(Truth::default());
+    let port = rig.emu.teensy.clone().expect("the Teensy's port");
+    let mut d = iteensy(&rig.link);
+    d.start().unwrap();
+    let mut s = Stepper::new(100.0);
+    let (_, clean) = survives_away_and_garbage(&mut s, &mut d, "PRESSURE", 40);
     // The surface's air (the emulated MS5837's 101325 Pa, its noise a few pascals) and the
     // depth from the calibration at the surface.
-    near(
-        &s.doubles_since(clean, "PRESSURE"),
-        101_325.0,
-        200.0,
-        "PRESSURE",
-    );
-    near(&s.doubles_since(clean, "DEPTH"), 0.0, 0.05, "DEPTH");
+    near_since(&s, clean, "PRESSURE", 101_325.0, 200.0);
+    near_since(&s, clean, "DEPTH", 0.0, 0.05);
     assert_eq!(s.doubles_since(clean, "LEAK").last(), Some(&0.0));
     let status = s.status("TEENSY_DRIVER_STATUS");
     assert!(status.starts_with("link=up,"), "{status}");
@@ -811,69 +678,31 @@ fn iteensy_against_the_teensy_emulator_survives_a_replug_and_garbage() {
             > 0,
         "{status}"
     );
+    // Commands reach the new terminal.
+    s.mail(&mut d, "FIN_TOP_DEG", Value::Double(4.0));
+    s.mail(&mut d, "THRUST_PCT", Value::Double(10.0));
+    s.until(&mut d, "a command after the replug", |_, _| {
+        port.get()
+            .last
+            .is_some_and(|(_, c)| c.fins_deg[0] == 4.0 && c.thrust_pct == 10)
+    });
     d.stop();
-    rt.block_on(emu.handle.stop()).unwrap();
+    rig.stop();
 }
 
 #[test]
 fn igps_against_the_nmea_gps_emulator_survives_a_replug_and_garbage() {
-    let dir = scratch("against-gps-faults");
-    let link = dir.join("gps");
-    let rt = tokio::runtime::Runtime::new().unwrap();
-    let settings = Settings::default();
-    let (lat0, lon0) = settings.gps.origin_lat_lon;
-    let emu = rt
-        .block_on(spawn(
-            Kind::Gps,
-            settings,
-            Transport::Pty {
-                link: Some(link.clone()),
-            },
-            Options {
-                seed: 32,
-                faults: away_then_garbage(),
-                ..Options::default()
-            },
-        ))
-        .unwrap();
-    emu.truth.feed(Truth {
-        x: 30.0,
-        y: 40.0,
-        ..Truth::default()
-    });
-    let grid = vehicle::geodesy::LocalGrid::new(lat0, lon0).unwrap();
-    let mut d = Driver::new(Gps::new(Source::Nmea, Some(grid)), serial(&link), 1.0);
-    d.start().unwrap();
-    let mut s = Stepper::new(0.0);
-    s.until(&mut d, "sentences", |s, _| s.count("GPS_FIX") >= 3);
-    s.until(&mut d, "a second connection", |_, d| {
-        d.counters().connects >= 2
-    });
-    let back = s.mark();
-    s.until(&mut d, "sentences after the replug", |s, _| {
-        s.doubles_since(back, "GPS_FIX").len() >= 3
-    });
-    let status = s.status("GPS_DRIVER_STATUS");
-    let downs = field(&status, "disconnects").unwrap_or(0);
-    assert!(downs >= 1, "{status}");
-    assert_eq!(field(&status, "connects"), Some(downs + 1), "{status}");
-
+    let (rig, mut d, mut s) = gps_at_30_40("against-gps-faults", 32, away_then_garbage());
     // Random bytes break sentences: their checksums fail or they do not frame; counted.
-    s.until(&mut d, "garbage counted", |_, d| errors(d) > 0);
-    let clean = clean_run(&mut s, &mut d, "GPS_X", 10);
+    let (_, clean) = survives_away_and_garbage(&mut s, &mut d, "GPS_X", 10);
     let (xs, ys) = (
         s.doubles_since(clean, "GPS_X"),
         s.doubles_since(clean, "GPS_Y"),
     );
     assert!(xs.len() >= 10 && ys.len() >= xs.len() - 1, "{xs:?} {ys:?}");
-    for (x, y) in xs.iter().zip(&ys) {
-        assert!(
-            (x - 30.0).abs() < 10.0 && (y - 40.0).abs() < 10.0,
-            "({x}, {y})"
-        );
-    }
+    near_30_40(&xs, &ys);
     let status = s.status("GPS_DRIVER_STATUS");
     assert!(status.starts_with("link=up,"), "{status}");
     d.stop();
-    rt.block_on(emu.handle.stop()).unwrap();
+    rig.stop();
 }

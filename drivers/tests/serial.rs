@@ -7,25 +7,14 @@ mod common;
 
 use std::time::Duration;
 
-use common::{Pty, Stepper, point, scratch};
+use common::{Pty, Stepper, point, scratch, serial};
 use devices::seatrac::{self, Command, Cst, Response};
 use devices::teensy::Telemetry;
 use drivers::gps::{Gps, Source};
-use drivers::link::{Endpoint, LinkConfig};
 use drivers::seatrac::{SeaTrac, SeaTracConfig, blank_settings};
 use drivers::teensy::{Teensy, TeensyConfig};
 use drivers::{Driver, Protocol};
 use moos_types::Value;
-
-fn serial(path: &std::path::Path) -> LinkConfig {
-    let mut l = LinkConfig::new(Endpoint::Serial {
-        path: path.to_path_buf(),
-        baud: 115_200,
-    });
-    l.backoff_min = Duration::from_millis(20);
-    l.backoff_max = Duration::from_millis(100);
-    l
-}
 
 /// Deterministic junk: a linear congruential generator's bytes.
 fn junk(n: usize, seed: u32) -> Vec<u8> {

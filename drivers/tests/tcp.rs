@@ -11,24 +11,14 @@ use std::net::{TcpListener, TcpStream};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use common::{BOUND, Stepper};
+use common::{BOUND, Stepper, tcp};
 use devices::a50::{self, Command, Config, Response, VelocityReport};
 use devices::nmea::gpsd::{Satellite, Sky, Tpv};
 use drivers::dvl::{Dvl, DvlConfig};
 use drivers::gps::{Gps, Source, WATCH};
-use drivers::link::{Endpoint, Link, LinkConfig};
+use drivers::link::Link;
 use drivers::{Driver, Protocol};
 use moos_types::Value;
-
-fn tcp(port: u16) -> LinkConfig {
-    let mut l = LinkConfig::new(Endpoint::Tcp {
-        host: "127.0.0.1".into(),
-        port,
-    });
-    l.backoff_min = Duration::from_millis(20);
-    l.backoff_max = Duration::from_millis(100);
-    l
-}
 
 fn read_line(s: &TcpStream) -> String {
     s.set_read_timeout(Some(BOUND)).unwrap();
@@ -84,7 +74,11 @@ fn igps_through_gpsd_with_a_hang_up_and_a_reconnection() {
         watches
     });
     let grid = vehicle::geodesy::LocalGrid::new(40.07, -111.6).unwrap();
-    let mut d = Driver::new(Gps::new(Source::Gpsd, Some(grid)), tcp(port), 1.0);
+    let mut d = Driver::new(
+        Gps::new(Source::Gpsd, Some(grid)),
+        tcp("127.0.0.1", port),
+        1.0,
+    );
     d.start().unwrap();
     let mut s = Stepper::new(0.0);
     s.until(&mut d, "two fixes", |s, _| s.count("GPS_FIX") == 2);
@@ -184,7 +178,7 @@ fn idvl_garbage_then_reports_and_a_checked_command() {
         let _ = done_rx.recv_timeout(BOUND);
         (first, second)
     });
-    let mut d = Driver::new(Dvl::new(DvlConfig::default()), tcp(port), 1.0);
+    let mut d = Driver::new(Dvl::new(DvlConfig::default()), tcp("127.0.0.1", port), 1.0);
     d.start().unwrap();
     let mut s = Stepper::new(0.0);
     s.until(&mut d, "reports", |s, _| s.count("DVL_VALID") == 3);
@@ -240,7 +234,7 @@ fn a_stalled_peer_never_blocks_the_app_and_is_dropped_after_the_stall_timeout() 
 
     // The link alone: sends far beyond what the socket buffers hold all return at once;
     // what cannot go is dropped and counted.
-    let mut cfg = tcp(port);
+    let mut cfg = tcp("127.0.0.1", port);
     cfg.write_timeout = Duration::from_millis(50);
     cfg.tx_capacity = 4;
     let link = Link::open(cfg).unwrap();
@@ -266,7 +260,7 @@ fn a_stalled_peer_never_blocks_the_app_and_is_dropped_after_the_stall_timeout() 
 
     // The driver: iterations go on while the peer says nothing; the stall timeout drops the
     // connection and the driver reconnects.
-    let mut cfg = tcp(port);
+    let mut cfg = tcp("127.0.0.1", port);
     cfg.stall_timeout = Some(Duration::from_millis(200));
     let mut d = Driver::new(Dvl::new(DvlConfig::default()), cfg, 1.0);
     d.start().unwrap();

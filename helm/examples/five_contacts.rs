@@ -16,7 +16,7 @@
 #[allow(dead_code)]
 mod common;
 use common::nav;
-use helm::{Helm, Mail, Value};
+use helm::{Helm, Mail};
 use mission::source::SourceMap;
 
 /// The contact behaviour's block after its `Behavior =` line, the same for both types
@@ -61,32 +61,8 @@ fn main() {
         helm.config_errors()
     );
     // Mid-survey with a point-mass vehicle, as the `iteration` bench.
-    let (mut x, mut y, mut h, mut v) = (0.0f64, -20.0f64, 180.0f64, 0.0f64);
-    let (mut dh, mut dv) = (h, 0.0);
+    let (mut t, (x, y, h, v)) = common::fly_to_mid_survey(&mut helm);
     let dt = 0.25;
-    let mut t = 0.0;
-    while t < 120.0 {
-        t += dt;
-        let err = (dh - h + 540.0).rem_euclid(360.0) - 180.0;
-        h = (h + err.clamp(-10.0, 10.0)).rem_euclid(360.0);
-        v += (dv - v).clamp(-0.125, 0.125);
-        x += h.to_radians().sin() * v * dt;
-        y += h.to_radians().cos() * v * dt;
-        helm.on_mail(&nav(x, y, h, v, t));
-        if (t - 1.0).abs() < 1e-9 {
-            helm.on_mail(&[Mail::new("MOOS_MANUAL_OVERRIDE", "false", t)]);
-        }
-        if (t - 2.0).abs() < 1e-9 {
-            helm.on_mail(&[Mail::new("DEPLOY", "true", t)]);
-        }
-        for p in helm.iterate(t) {
-            match (&*p.key, &p.value) {
-                ("DESIRED_HEADING", Value::Double(d)) => dh = *d,
-                ("DESIRED_SPEED", Value::Double(d)) => dv = *d,
-                _ => {}
-            }
-        }
-    }
     // K contacts 40..120 m away, each heading for the vehicle at 1.5 m/s.
     let contacts: Vec<(String, f64, f64, f64)> = (0..k)
         .map(|i| {

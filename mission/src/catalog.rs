@@ -132,6 +132,71 @@ macro_rules! colregs_params {
     };
 }
 
+/// `$own`, then the parameters of BHV_LegRun's leg (written once, here).
+macro_rules! leg_params {
+    ($($own:literal),* $(,)?) => {
+        &[
+            $($own,)*
+            "p1",
+            "vx1",
+            "p2",
+            "vx2",
+            "leg",
+            "leg_len",
+            "leg_len_mod",
+            "leg_ang",
+            "leg_ang_mod",
+            "shift_pt",
+            "turn1_bias",
+            "turn2_bias",
+            "turn_bias",
+            "turn1_bias_mod",
+            "turn2_bias_mod",
+            "turn_bias_mod",
+            "turn1_ext",
+            "turn2_ext",
+            "turn_ext",
+            "turn1_ext_mod",
+            "turn2_ext_mod",
+            "turn_ext_mod",
+            "turn1_rad",
+            "turn2_rad",
+            "turn_rad",
+            "turn_rad_min",
+            "turn1_rad_mod",
+            "turn2_rad_mod",
+            "turn_rad_mod",
+            "turn_pt_gap",
+            "turn1_dir",
+            "turn2_dir",
+            "turn_dir",
+            "id",
+        ]
+    };
+}
+
+/// The parameters of BHV_LegRun's leg (MOOS `LegRun::setParam`): the behaviour tells a bad
+/// value of one of these from an unknown parameter by this list.
+pub const LEG_PARAMS: &[&str] = leg_params!();
+
+/// The parameters BHV_AvoidObstacleV24, BHV_AvoidObstacleX and BHV_AvoidObstacleV21 share
+/// (written once, here), then `$own`.
+macro_rules! obstacle_params {
+    ($($own:literal),* $(,)?) => {
+        &[
+            "polygon",
+            "poly",
+            "allowable_ttc",
+            "min_util_cpa_dist",
+            "max_util_cpa_dist",
+            "pwt_inner_dist",
+            "pwt_outer_dist",
+            "completed_dist",
+            $($own),*
+        ]
+    };
+}
+
 /// BHV_AvdColregsV22's parameters, which V26 takes as well.
 const COLREGS_V22_PARAMS: &[&str] = colregs_params!(
     "giveway_bow_dist",
@@ -604,8 +669,8 @@ pub const BEHAVIORS: &[BehaviorType] = &[
     },
     BehaviorType {
         name: "BHV_LegRun",
-        params: &[
-            // BHV_LegRun's own and its waypoint engines'.
+        params: leg_params!(
+            // BHV_LegRun's own and its waypoint engines', then the leg's.
             "capture_line",
             "init_leg_mode",
             "lead",
@@ -638,42 +703,7 @@ pub const BEHAVIORS: &[BehaviorType] = &[
             "turn2_endflag",
             "turn2_end_flag",
             "visual_hints",
-            // The leg's (MOOS `LegRun::setParam`).
-            "p1",
-            "vx1",
-            "p2",
-            "vx2",
-            "leg",
-            "leg_len",
-            "leg_len_mod",
-            "leg_ang",
-            "leg_ang_mod",
-            "shift_pt",
-            "turn1_bias",
-            "turn2_bias",
-            "turn_bias",
-            "turn1_bias_mod",
-            "turn2_bias_mod",
-            "turn_bias_mod",
-            "turn1_ext",
-            "turn2_ext",
-            "turn_ext",
-            "turn1_ext_mod",
-            "turn2_ext_mod",
-            "turn_ext_mod",
-            "turn1_rad",
-            "turn2_rad",
-            "turn_rad",
-            "turn_rad_min",
-            "turn1_rad_mod",
-            "turn2_rad_mod",
-            "turn_rad_mod",
-            "turn_pt_gap",
-            "turn1_dir",
-            "turn2_dir",
-            "turn_dir",
-            "id",
-        ],
+        ),
         posts: &[
             "LR_MODE",
             "LR_MODE_REPORT",
@@ -689,15 +719,7 @@ pub const BEHAVIORS: &[BehaviorType] = &[
     },
     BehaviorType {
         name: "BHV_AvoidObstacleV24",
-        params: &[
-            "polygon",
-            "poly",
-            "allowable_ttc",
-            "min_util_cpa_dist",
-            "max_util_cpa_dist",
-            "pwt_inner_dist",
-            "pwt_outer_dist",
-            "completed_dist",
+        params: obstacle_params!(
             "holonomic_ok",
             "draw_buff_min_poly",
             "draw_buff_max_poly",
@@ -709,26 +731,18 @@ pub const BEHAVIORS: &[BehaviorType] = &[
             "id",
             "obid",
             "allstop_on_breach",
-        ],
+        ),
         posts: &["OBM_ALERT_REQUEST", "NOTED_RESOLVED", "VIEW_POLYGON"],
     },
     BehaviorType {
         name: "BHV_AvoidObstacleX",
-        params: &[
-            "polygon",
-            "poly",
-            "allowable_ttc",
-            "min_util_cpa_dist",
-            "max_util_cpa_dist",
-            "pwt_inner_dist",
-            "pwt_outer_dist",
-            "completed_dist",
+        params: obstacle_params!(
             "resolved",
             "visual_hints",
             "use_refinery",
             "id",
             "i_understand_this_behavior_is_deprecated",
-        ],
+        ),
         posts: &[
             "OBM_ALERT_REQUEST",
             "NOTED_RESOLVED",
@@ -739,22 +753,14 @@ pub const BEHAVIORS: &[BehaviorType] = &[
     },
     BehaviorType {
         name: "BHV_AvoidObstacleV21",
-        params: &[
-            "polygon",
-            "poly",
-            "allowable_ttc",
-            "min_util_cpa_dist",
-            "max_util_cpa_dist",
-            "pwt_inner_dist",
-            "pwt_outer_dist",
-            "completed_dist",
+        params: obstacle_params!(
             "rng_flag",
             "cpa_flag",
             "visual_hints",
             "use_refinery",
             "id",
             "i_understand_this_behavior_is_deprecated",
-        ],
+        ),
         posts: &[
             "OBM_ALERT_REQUEST",
             "NOTED_RESOLVED",
@@ -825,10 +831,27 @@ pub const BEHAVIORS: &[BehaviorType] = &[
 /// The parameters every contact behaviour takes (MOOS `IvPContactBehavior::setParam`).
 pub const CONTACT_PARAMS: &[&str] = contact_params!();
 
+/// `$own`, then the lines every AppCasting MOOS app takes ([`APP_CASTING_PARAMS`], written
+/// once, here).
+macro_rules! app_casting_params {
+    ($($own:literal),* $(,)?) => {
+        &[
+            $($own,)*
+            "apptick",
+            "commstick",
+            "maxapptick",
+            "app_logging",
+            "term_report_interval",
+            "max_appcast_events",
+            "deprecated_ok",
+        ]
+    };
+}
+
 /// pHelmIvP's own ProcessConfig parameters (MOOS-IvP a2a9b716 `HelmIvP::OnStartUp`), plus
 /// [`APP_CASTING_PARAMS`]. Any other line is an unhandled config line: a config warning,
 /// which puts pHelmIvP in MALCONFIG.
-pub const HELM_PARAMS: &[&str] = &[
+pub const HELM_PARAMS: &[&str] = app_casting_params!(
     "behaviors",
     "domain",
     "ok_skew",
@@ -855,14 +878,7 @@ pub const HELM_PARAMS: &[&str] = &[
     "bhv_dirs_not_found_ok",
     "pmgen",
     "other_override_var",
-    "apptick",
-    "commstick",
-    "maxapptick",
-    "app_logging",
-    "term_report_interval",
-    "max_appcast_events",
-    "deprecated_ok",
-];
+);
 
 /// pContactMgrV20's ProcessConfig parameters (MOOS-IvP a2a9b716 `ContactMgrV20::OnStartUp`
 /// and its `handleConfigDeprecations`: the deprecated names are accepted with a warning; its
@@ -953,15 +969,7 @@ pub const NODE_COMMS_PARAMS: &[&str] = &[
 
 /// The lines an AppCasting MOOS app's unhandled-line check lets through without a warning
 /// (MOOS-IvP a2a9b716 `AppCastingMOOSApp::reportUnhandledConfigWarning`), lower case.
-pub const APP_CASTING_PARAMS: &[&str] = &[
-    "apptick",
-    "commstick",
-    "maxapptick",
-    "app_logging",
-    "term_report_interval",
-    "max_appcast_events",
-    "deprecated_ok",
-];
+pub const APP_CASTING_PARAMS: &[&str] = app_casting_params!();
 
 /// Whether pHelmIvP accepts `key` in its ProcessConfig block (case-insensitive).
 pub fn helm_accepts(key: &str) -> bool {

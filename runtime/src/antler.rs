@@ -289,6 +289,46 @@ impl BuildCx<'_> {
             entries: Vec::new(),
         })
     }
+
+    /// Hands `app` to the launch: with the mission's appcast globals, its configuration
+    /// findings added to the launch's warnings (less those it gives as MALCONFIG reasons,
+    /// which are reported as such), boxed.
+    pub fn launched<A: BuiltInApp>(&mut self, app: A) -> Result<Built, LaunchError> {
+        self.launched_then(app, |app, _| app)
+    }
+
+    /// [`BuildCx::launched`], with `then` applied to the app once it has its globals.
+    pub fn launched_then<A: BuiltInApp>(
+        &mut self,
+        app: A,
+        then: impl FnOnce(A, &Launch) -> A,
+    ) -> Result<Built, LaunchError> {
+        let app =
+            app.with_appcast_globals(self.mission.global("Community"), self.globals.time_warp);
+        let app = then(app, self.launch);
+        let malconfig = app.malconfig();
+        self.warnings.extend(
+            app.warnings()
+                .iter()
+                .filter(|w| !malconfig.contains(&w.located()))
+                .cloned(),
+        );
+        Ok(Built::App(Box::new(app)))
+    }
+}
+
+/// What every built-in app hands its launch: the configuration findings of its block, and a
+/// way to take the mission's `Community` and `MOOSTimeWarp` for its appcasts.
+/// [`BuildCx::launched`] applies both, so a `make` function builds the app and hands it over.
+pub trait BuiltInApp: App + Sized + 'static {
+    /// The block's configuration findings, each at its line (`coug check` and `coug run`
+    /// report them; one that is also a [`App::malconfig`] reason is reported there only).
+    fn warnings(&self) -> &[Diagnostic];
+
+    /// The same app with the mission's `Community` and `MOOSTimeWarp` for its appcasts (the
+    /// node name, the real-time rate limit); the block's appcasting keys are read again with
+    /// them.
+    fn with_appcast_globals(self, community: Option<&str>, warp: f64) -> Self;
 }
 
 /// One app coug builds in: the program name pAntler runs, what it does, and how it is made.
@@ -498,19 +538,15 @@ fn make_helm(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
 fn make_simulator(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let legacy = cx.program == "uSimMarine";
     let b = cx.block_or_empty();
-    let v = VehicleApp::simulator(cx.moos_name, b, cx.globals.grid(), cx.launch.start, legacy)?
-        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
-    cx.warnings.extend(v.warnings().iter().cloned());
-    Ok(Built::App(Box::new(v)))
+    let v = VehicleApp::simulator(cx.moos_name, b, cx.globals.grid(), cx.launch.start, legacy)?;
+    cx.launched(v)
 }
 
 fn make_pid(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let legacy = cx.program == "pMarinePID";
     let b = cx.block_or_empty();
-    let v = VehicleApp::marine_pid(cx.moos_name, b, legacy)?
-        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
-    cx.warnings.extend(v.warnings().iter().cloned());
-    Ok(Built::App(Box::new(v)))
+    let v = VehicleApp::marine_pid(cx.moos_name, b, legacy)?;
+    cx.launched(v)
 }
 
 fn make_node_reporter(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
@@ -522,89 +558,85 @@ fn make_node_reporter(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
         cx.launch.start,
         cx.globals.grid(),
         cx.launch.seed ^ fnv(cx.moos_name),
-    )?
-    .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
-    cx.warnings.extend(v.warnings().iter().cloned());
-    Ok(Built::App(Box::new(v)))
+    )?;
+    cx.launched(v)
 }
 
 fn make_logger(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    // Its warnings are the block's, said whether or not it runs.
     if let Some(b) = &cx.block {
         cx.warnings.extend(LoggerConfig::warnings(b));
     }
     let Some(t) = cx.launch.log.take() else {
         return Ok(Built::NoLogTarget);
     };
-    Ok(Built::App(Box::new(
-        Logger::new(
-            cx.moos_name,
-            cx.block.take(),
-            t.config,
-            t.writer,
-            &t.opened,
-            &t.opened_on,
-        )
-        .with_side_files(t.side)
-        .with_community(&cx.globals.community)
-        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp),
-    )))
+    let app = Logger::new(
+        cx.moos_name,
+        cx.block.take(),
+        t.config,
+        t.writer,
+        &t.opened,
+        &t.opened_on,
+    )
+    .with_side_files(t.side)
+    .with_community(&cx.globals.community);
+    cx.launched(app)
 }
 
 fn make_timer_script(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
     let seed = cx.launch.seed ^ fnv(cx.moos_name);
-    let ts = TimerScript::new(cx.moos_name, b, &cx.globals.community, seed)?
-        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
-    cx.warnings.extend(ts.warnings().iter().cloned());
-    Ok(Built::App(Box::new(ts)))
+    let ts = TimerScript::new(cx.moos_name, b, &cx.globals.community, seed)?;
+    cx.launched(ts)
 }
 
 fn make_sensors(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
     let seed = cx.launch.seed ^ fnv(cx.moos_name);
-    let app = crate::sensors::SensorsApp::new(cx.moos_name, b, cx.globals.grid(), seed)
-        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
-    cx.warnings.extend(app.warnings().iter().cloned());
-    Ok(Built::App(Box::new(app)))
+    cx.launched(crate::sensors::SensorsApp::new(
+        cx.moos_name,
+        b,
+        cx.globals.grid(),
+        seed,
+    ))
 }
 
 fn make_navigator(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
-    let app = crate::navigator::NavApp::new(cx.moos_name, b, cx.globals.grid())
-        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
-    cx.warnings.extend(app.warnings().iter().cloned());
-    Ok(Built::App(Box::new(app)))
+    cx.launched(crate::navigator::NavApp::new(
+        cx.moos_name,
+        b,
+        cx.globals.grid(),
+    ))
 }
 
 fn make_safety(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
-    let app = crate::safety::SafetyApp::new(cx.moos_name, b)
-        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
-    Ok(Built::App(Box::new(app)))
+    cx.launched(crate::safety::SafetyApp::new(cx.moos_name, b))
 }
 
 fn make_coug_controls(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
-    let app = crate::cougars::CougControlsApp::new(cx.moos_name, b)
-        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
-    cx.warnings.extend(app.warnings().iter().cloned());
-    Ok(Built::App(Box::new(app)))
+    cx.launched(crate::cougars::CougControlsApp::new(cx.moos_name, b))
 }
 
 fn make_couguv_sim(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
-    let app = crate::cougars::CougUvSimApp::new(cx.moos_name, b, cx.globals.grid())
-        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
-    cx.warnings.extend(app.warnings().iter().cloned());
-    Ok(Built::App(Box::new(app)))
+    cx.launched(crate::cougars::CougUvSimApp::new(
+        cx.moos_name,
+        b,
+        cx.globals.grid(),
+    ))
 }
 
 fn make_contact_mgr(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
-    let app = crate::contact_mgr::ContactMgrApp::new(cx.moos_name, b, &cx.globals.community)
-        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
-    cx.warnings.extend(app.warnings().iter().cloned());
-    Ok(Built::App(Box::new(app)))
+    let community = &cx.globals.community;
+    cx.launched(crate::contact_mgr::ContactMgrApp::new(
+        cx.moos_name,
+        b,
+        community,
+    ))
 }
 
 fn make_contact_mgr_v20(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
@@ -615,9 +647,8 @@ fn make_contact_mgr_v20(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
         &cx.globals.community,
         cx.globals.grid(),
     )
-    .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
-    cx.warnings.extend(app.warnings().iter().cloned());
-    Ok(Built::App(Box::new(app)))
+;
+    cx.launched(app)
 }
 
 fn make_node_comms(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
@@ -625,25 +656,19 @@ fn make_node_comms(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let seed = cx.launch.seed ^ fnv(cx.moos_name);
     let app = crate::node_comms::NodeCommsApp::new(cx.moos_name, b, cx.globals.grid(), seed)
         .with_globals(cx.mission.global("Community"), cx.globals.time_warp);
-    cx.warnings.extend(app.warnings().iter().cloned());
-    Ok(Built::App(Box::new(app)))
+    cx.launched(app)
 }
 
 fn make_obstacle_mgr(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
-    let app = crate::obstacle_mgr::ObstacleMgrApp::new(cx.moos_name, b)
-        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
-    cx.warnings.extend(app.warnings().iter().cloned());
-    Ok(Built::App(Box::new(app)))
+    cx.launched(crate::obstacle_mgr::ObstacleMgrApp::new(cx.moos_name, b))
 }
 
 fn make_pshare(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
-    let app = crate::pshare::PShareApp::new(cx.moos_name, b)
-        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp)
-        .with_shared(&cx.launch.shared);
-    cx.warnings.extend(app.warnings().iter().cloned());
-    Ok(Built::App(Box::new(app)))
+    let app = crate::pshare::PShareApp::new(cx.moos_name, b);
+    // After the globals: joining the run's radio may note a warning on the new appcast.
+    cx.launched_then(app, |app, launch| app.with_shared(&launch.shared))
 }
 
 fn make_node_broker(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
@@ -657,8 +682,7 @@ fn make_node_broker(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
         g.time_warp,
     )
     .with_shared(&cx.launch.shared);
-    cx.warnings.extend(app.warnings().iter().cloned());
-    Ok(Built::App(Box::new(app)))
+    cx.launched(app)
 }
 
 fn make_shore_broker(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
@@ -672,40 +696,27 @@ fn make_shore_broker(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
         g.time_warp,
     )
     .with_shared(&cx.launch.shared);
-    cx.warnings.extend(app.warnings().iter().cloned());
-    Ok(Built::App(Box::new(app)))
+    cx.launched(app)
 }
 
 fn make_gps(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
-    let app = crate::driver_apps::gps(cx.moos_name, b, cx.globals.grid())
-        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
-    cx.warnings.extend(app.warnings().iter().cloned());
-    Ok(Built::App(Box::new(app)))
+    cx.launched(crate::driver_apps::gps(cx.moos_name, b, cx.globals.grid()))
 }
 
 fn make_dvl(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
-    let app = crate::driver_apps::dvl(cx.moos_name, b)
-        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
-    cx.warnings.extend(app.warnings().iter().cloned());
-    Ok(Built::App(Box::new(app)))
+    cx.launched(crate::driver_apps::dvl(cx.moos_name, b))
 }
 
 fn make_seatrac(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
-    let app = crate::driver_apps::seatrac(cx.moos_name, b)
-        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
-    cx.warnings.extend(app.warnings().iter().cloned());
-    Ok(Built::App(Box::new(app)))
+    cx.launched(crate::driver_apps::seatrac(cx.moos_name, b))
 }
 
 fn make_teensy(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
-    let app = crate::driver_apps::teensy(cx.moos_name, b)
-        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
-    cx.warnings.extend(app.warnings().iter().cloned());
-    Ok(Built::App(Box::new(app)))
+    cx.launched(crate::driver_apps::teensy(cx.moos_name, b))
 }
 
 fn make_sim_devices(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
@@ -723,27 +734,20 @@ fn make_sim_devices(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
         cx.globals.grid(),
         controls,
         cx.launch.start,
-    )
-    .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
-    cx.warnings.extend(app.warnings().iter().cloned());
-    Ok(Built::App(Box::new(app)))
+    );
+    cx.launched(app)
 }
 
 fn make_acomms(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
-    let app = crate::acomms_apps::AcommsApp::new(cx.moos_name, b)
-        .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
-    cx.warnings.extend(app.warnings().iter().cloned());
-    Ok(Built::App(Box::new(app)))
+    cx.launched(crate::acomms_apps::AcommsApp::new(cx.moos_name, b))
 }
 
 fn make_sim_modem(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
-    let app =
-        crate::acomms_apps::SimModemApp::new(cx.moos_name, b, &cx.launch.shared, cx.launch.seed)
-            .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
-    cx.warnings.extend(app.warnings().iter().cloned());
-    Ok(Built::App(Box::new(app)))
+    let l = &cx.launch;
+    let app = crate::acomms_apps::SimModemApp::new(cx.moos_name, b, &l.shared, l.seed);
+    cx.launched(app)
 }
 
 /// Builds the built-in app `program` (a path or base name such as `uSimMarineV22`) running
@@ -1024,6 +1028,29 @@ mod tests {
             build("pMarineViewer", "pMarineViewer", &m, &g, &mut log, &mut w),
             Ok(Built::Unknown)
         ));
+    }
+
+    #[test]
+    fn each_config_finding_is_reported_once_as_a_warning_or_as_malconfig() {
+        // pSafety's findings make it MALCONFIG (reported as such), pCougControls' only warn.
+        let text = "ProcessConfig = ANTLER\n{\n  Run = pSafety\n  Run = pCougControls\n}\n\
+                    ProcessConfig = pSafety\n{\n  bogus_key = 1\n}\n\
+                    ProcessConfig = pCougControls\n{\n  other_key = 2\n}\n";
+        let m = mission::moos::parse_moos(&SourceMap::from_text("s.moos", text)).value;
+        let p = plan(&m, Launch::new(0.0, 1), &mut |_, _| None).unwrap();
+        let safety = p.apps.iter().find(|a| a.name() == "pSafety").unwrap();
+        assert_eq!(
+            safety.malconfig(),
+            ["s.moos:8: pSafety: unknown parameter `bogus_key`"]
+        );
+        let w: Vec<String> = p.warnings.iter().map(Diagnostic::located).collect();
+        assert!(!w.iter().any(|w| w.contains("bogus_key")), "{w:?}");
+        assert_eq!(
+            w.iter().filter(|w| w.starts_with("s.moos:12: ")).count(),
+            1,
+            "{w:?}"
+        );
+        assert!(w.iter().any(|w| w.contains("other_key")), "{w:?}");
     }
 
     #[test]

@@ -35,7 +35,6 @@
 
 use mission::diagnostic::{Diagnostic, DiagnosticKind};
 use mission::moos::ProcessConfig;
-use vehicle::ConfigError;
 use vehicle::cougars::{ControlsConfig, CougarsControl};
 use vehicle::couguv::{CougUvSim, CougUvSimConfig};
 use vehicle::geodesy::LocalGrid;
@@ -49,30 +48,6 @@ pub const CONTROLS_PROGRAM: &str = "pCougControls";
 
 /// The MOOS name of the CougUV simulator.
 pub const SIM_PROGRAM: &str = "uSimCougUV";
-
-/// Warnings for configuration problems, each at its parameter's line (else the block's).
-fn diagnostics(block: &ProcessConfig, problems: &[ConfigError]) -> Vec<Diagnostic> {
-    problems
-        .iter()
-        .map(|e| {
-            let key = match e {
-                ConfigError::UnknownKey { key, .. } | ConfigError::BadValue { key, .. } => {
-                    Some(key)
-                }
-                ConfigError::Missing { .. } => None,
-            };
-            let span = key
-                .and_then(|k| {
-                    block
-                        .entries
-                        .iter()
-                        .find(|p| p.key.trim().eq_ignore_ascii_case(k.trim()))
-                })
-                .map_or(&block.span, |p| &p.span);
-            Diagnostic::line_warning(DiagnosticKind::AppSetting, span, e.to_string())
-        })
-        .collect()
-}
 
 fn pairs(block: &ProcessConfig) -> impl Iterator<Item = (&str, &str)> {
     block
@@ -96,7 +71,7 @@ impl Hosted<CougControls> {
     pub fn new(name: &str, block: ProcessConfig) -> Self {
         let (mut cfg, problems) = ControlsConfig::from_params_lenient(pairs(&block))
             .unwrap_or_else(|e| (ControlsConfig::default(), vec![e]));
-        let mut warnings = diagnostics(&block, &problems);
+        let mut warnings = crate::vehicle::config_warnings(&block, &problems);
         let has_tick = block.get("AppTick").is_some();
         let period_line = block.entries.iter().find(|p| {
             let k = p.key.trim();
@@ -177,7 +152,7 @@ impl Hosted<CougUvSimCore> {
     pub fn new(name: &str, block: ProcessConfig, grid: Option<LocalGrid>) -> Self {
         let (cfg, problems) = CougUvSimConfig::from_params_lenient(pairs(&block))
             .unwrap_or_else(|e| (CougUvSimConfig::default(), vec![e]));
-        let warnings = diagnostics(&block, &problems);
+        let warnings = crate::vehicle::config_warnings(&block, &problems);
         let core = CougUvSimCore {
             sim: CougUvSim::new(cfg, grid),
             postings: Vec::with_capacity(16),
@@ -218,6 +193,7 @@ impl AppCore for CougUvSimCore {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::antler::BuiltInApp;
     use crate::app::App;
 
     fn block(text: &str) -> ProcessConfig {

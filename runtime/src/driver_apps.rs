@@ -16,7 +16,6 @@
 
 use mission::diagnostic::{Diagnostic, DiagnosticKind};
 use mission::moos::ProcessConfig;
-use mission::source::Span;
 use vehicle::ConfigError;
 use vehicle::geodesy::LocalGrid;
 
@@ -26,21 +25,6 @@ use drivers::{Driver, Io, Protocol};
 use crate::app::{AppResult, Mail, Post, Subscription};
 use crate::appcasting::Note;
 use crate::hosted::{AppCore, Hosted};
-
-/// Where a configuration problem points: its parameter's line, else the block's.
-fn span_of<'a>(block: &'a ProcessConfig, error: &ConfigError) -> &'a Span {
-    let key = match error {
-        ConfigError::UnknownKey { key, .. } | ConfigError::BadValue { key, .. } => Some(key),
-        ConfigError::Missing { .. } => None,
-    };
-    key.and_then(|k| {
-        block
-            .entries
-            .iter()
-            .find(|p| p.key.trim().eq_ignore_ascii_case(k.trim()))
-    })
-    .map_or(&block.span, |p| &p.span)
-}
 
 fn params(block: &ProcessConfig) -> impl Iterator<Item = (&str, &str)> {
     block
@@ -68,16 +52,7 @@ fn driver_app<P: Protocol>(
     problems: &[ConfigError],
     extra: Option<Diagnostic>,
 ) -> DriverApp<P> {
-    let mut warnings: Vec<Diagnostic> = problems
-        .iter()
-        .map(|e| {
-            Diagnostic::line_warning(
-                DiagnosticKind::AppSetting,
-                span_of(&block, e),
-                e.to_string(),
-            )
-        })
-        .collect();
+    let mut warnings = crate::vehicle::config_warnings(&block, problems);
     warnings.extend(extra);
     let core = DriverCore {
         driver: Driver::new(protocol, link, status_period),
@@ -215,6 +190,7 @@ impl<P: Protocol> AppCore for DriverCore<P> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::antler::BuiltInApp;
     use crate::app::{App, Value};
     use std::io::{BufRead, BufReader, Write};
     use std::net::TcpListener;

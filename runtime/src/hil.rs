@@ -725,6 +725,7 @@ impl AppCore for SimDevicesCore {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::antler::BuiltInApp;
     use vehicle::cougars::CougarsConfig;
 
     fn block(text: &str) -> ProcessConfig {

@@ -3,7 +3,7 @@
 //! AppTick and the [`AppcastLayer`]) and is the [`App`]; the core implements [`AppCore`]: its
 //! registrations, its mail, its iteration, its appcast body. Adding an app is its core plus
 //! its registry entry in [`crate::antler::BUILT_INS`], whose `make` builds it with
-//! [`Hosted::host`] and [`Hosted::with_appcast_globals`].
+//! [`Hosted::host`] and hands it over with [`crate::antler::BuildCx::launched`].
 //!
 //! The adapter calls the layer at the points AppCastingMOOSApp does and keeps each app's
 //! order of postings: `OnStartUp` ([`AppcastLayer::on_startup`], then the core's);
@@ -22,6 +22,7 @@
 use mission::diagnostic::Diagnostic;
 use mission::moos::ProcessConfig;
 
+use crate::antler::BuiltInApp;
 use crate::app::{App, AppResult, Mail, Post, Subscription, app_tick_of};
 use crate::appcasting::{AppcastLayer, Note};
 
@@ -70,11 +71,30 @@ pub struct Hosted<C> {
     core: C,
 }
 
+impl<C: AppCore + 'static> BuiltInApp for Hosted<C> {
+    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
+    fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
+        self.appcast = AppcastLayer::with_config_warnings(
+            &self.name,
+            &self.block,
+            community,
+            warp,
+            &self.warnings,
+        );
+        self
+    }
+
+    /// The configuration problems of the block, at their lines.
+    fn warnings(&self) -> &[Diagnostic] {
+        &self.warnings
+    }
+}
+
 impl<C: AppCore> Hosted<C> {
     /// The app `name` made of `core`, configured from `block` with `warnings` (its
     /// configuration problems, each posted as an appcast config warning as `file:line:
     /// message`); it ticks at the block's `AppTick`. The appcasts name no community and no
-    /// warp until [`Hosted::with_appcast_globals`].
+    /// warp until [`BuiltInApp::with_appcast_globals`].
     pub fn host(name: &str, block: ProcessConfig, warnings: Vec<Diagnostic>, core: C) -> Self {
         Hosted {
             appcast: AppcastLayer::with_config_warnings(name, &block, None, 1.0, &warnings),
@@ -91,23 +111,6 @@ impl<C: AppCore> Hosted<C> {
     pub fn with_tick(mut self, hz: f64) -> Self {
         self.tick = hz;
         self
-    }
-
-    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
-    pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
-        self.appcast = AppcastLayer::with_config_warnings(
-            &self.name,
-            &self.block,
-            community,
-            warp,
-            &self.warnings,
-        );
-        self
-    }
-
-    /// The configuration problems of the block, at their lines.
-    pub fn warnings(&self) -> &[Diagnostic] {
-        &self.warnings
     }
 
     /// The core.

@@ -22,6 +22,7 @@ use mission::diagnostic::{Diagnostic, DiagnosticKind};
 use mission::moos::ProcessConfig;
 use moosdb::db::wildcard_match;
 
+use crate::antler::BuiltInApp;
 use crate::app::{App, Mail, Post, Subscription, Value};
 use crate::appcasting::AppcastLayer;
 
@@ -596,6 +597,21 @@ pub struct SideFiles {
     pub base_dir: std::path::PathBuf,
 }
 
+impl<W: Write + Send + 'static> BuiltInApp for Logger<W> {
+    /// None: pLogger's block is judged before the log target is known
+    /// ([`LoggerConfig::warnings`]), so its findings are reported even when it does not run.
+    fn warnings(&self) -> &[Diagnostic] {
+        &[]
+    }
+
+    /// Sets the mission's `Community` and `MOOSTimeWarp` for the logger's appcasts; the
+    /// block's appcasting keys are read with them.
+    fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
+        self.appcast = AppcastLayer::with_globals(&self.name, self.block.as_ref(), community, warp);
+        self
+    }
+}
+
 impl<W: Write> Logger<W> {
     /// A logger called `name` (usually `pLogger`) writing to `sink`. `opened` is the
     /// session's date-time (names the files; with `opened_on`, the banner's `FILE OPENED
@@ -641,13 +657,6 @@ impl<W: Write> Logger<W> {
     /// messages from any other are marked `src@community`.
     pub fn with_community(mut self, community: &str) -> Self {
         self.community = community.to_string();
-        self
-    }
-
-    /// Sets the mission's `Community` and `MOOSTimeWarp` for the logger's appcasts; the
-    /// block's appcasting keys are read with them.
-    pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
-        self.appcast = AppcastLayer::with_globals(&self.name, self.block.as_ref(), community, warp);
         self
     }
 

@@ -284,6 +284,7 @@ impl AppCore for NavCore {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::antler::BuiltInApp;
     use crate::app::App;
 
     fn block(text: &str) -> ProcessConfig {

@@ -98,6 +98,7 @@ use pshare::config::{Command, Endpoint, InputSpec, OutputSpec, parse_command};
 use pshare::datagram::{self, RECEIVE_BUFFER, RxCounts};
 use pshare::{Added, Config, RadioGate, RouteTable};
 
+use crate::antler::BuiltInApp;
 use crate::app::{App, AppResult, Mail, Post, Subscription};
 use crate::appcasting::{AppcastLayer, Note};
 use crate::shared::Shared;
@@ -327,6 +328,25 @@ pub struct PShareApp {
     out_buf: Vec<u8>,
 }
 
+impl BuiltInApp for PShareApp {
+    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
+    fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
+        self.appcast = AppcastLayer::with_config_warnings(
+            &self.name,
+            &self.block,
+            community,
+            warp,
+            &self.warnings,
+        );
+        self
+    }
+
+    /// Bad lines of the block and the multicast routes that will not be opened.
+    fn warnings(&self) -> &[Diagnostic] {
+        &self.warnings
+    }
+}
+
 impl PShareApp {
     /// The app `name` from its `block`; bad lines are [`PShareApp::warnings`].
     pub fn new(name: &str, block: ProcessConfig) -> Self {
@@ -420,18 +440,6 @@ impl PShareApp {
         }
     }
 
-    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
-    pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
-        self.appcast = AppcastLayer::with_config_warnings(
-            &self.name,
-            &self.block,
-            community,
-            warp,
-            &self.warnings,
-        );
-        self
-    }
-
     /// Joins the run's in-process radio when `shared` holds a [`PShareHub`] (a fleet run):
     /// the input routes register there and open no socket (see the module docs). Without a
     /// hub nothing changes.
@@ -465,11 +473,6 @@ impl PShareApp {
             );
             self.appcast.note(Note::Warning(w), self.start);
         }
-    }
-
-    /// Bad lines of the block and the multicast routes that will not be opened.
-    pub fn warnings(&self) -> &[Diagnostic] {
-        &self.warnings
     }
 
     /// The configuration read.

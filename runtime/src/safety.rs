@@ -12,6 +12,7 @@ use mission::diagnostic::Diagnostic;
 use mission::moos::ProcessConfig;
 use safety::{Notice, SafetyConfig, Supervisor};
 
+use crate::antler::BuiltInApp;
 use crate::app::{Mail, Post, Subscription};
 use crate::appcasting::Note;
 use crate::hosted::{AppCore, Hosted};

@@ -69,8 +69,6 @@
 
 use mission::diagnostic::{Diagnostic, DiagnosticKind};
 use mission::moos::ProcessConfig;
-use mission::source::Span;
-use vehicle::ConfigError;
 use vehicle::geodesy::LocalGrid;
 use vehicle::sensors::{Reports, SensorConfig, SensorSuite, TruthField, TruthTracker};
 
@@ -80,21 +78,6 @@ use crate::hosted::{AppCore, Hosted};
 
 /// The MOOS name of the app.
 pub const PROGRAM: &str = "uSimSensors";
-
-/// Where a configuration problem points: its parameter's line, else the block's.
-fn span_of<'a>(block: &'a ProcessConfig, error: &ConfigError) -> &'a Span {
-    let key = match error {
-        ConfigError::UnknownKey { key, .. } | ConfigError::BadValue { key, .. } => Some(key),
-        ConfigError::Missing { .. } => None,
-    };
-    key.and_then(|k| {
-        block
-            .entries
-            .iter()
-            .find(|p| p.key.trim().eq_ignore_ascii_case(k.trim()))
-    })
-    .map_or(&block.span, |p| &p.span)
-}
 
 /// Counts of the reports posted, per sensor.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -132,16 +115,7 @@ impl Hosted<SensorsCore> {
             Ok(r) => r,
             Err(e) => (SensorConfig::default(), vec![e]),
         };
-        let mut warnings: Vec<Diagnostic> = problems
-            .iter()
-            .map(|e| {
-                Diagnostic::line_warning(
-                    DiagnosticKind::AppSetting,
-                    span_of(&block, e),
-                    e.to_string(),
-                )
-            })
-            .collect();
+        let mut warnings = crate::vehicle::config_warnings(&block, &problems);
         let tick = crate::app::app_tick_of(Some(&block));
         let need = cfg.max_rate_hz();
         if tick + 1e-9 < need {
@@ -359,6 +333,7 @@ impl AppCore for SensorsCore {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::antler::BuiltInApp;
     use crate::app::App;
 
     fn block(text: &str) -> ProcessConfig {

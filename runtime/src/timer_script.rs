@@ -20,6 +20,7 @@ use mission::diagnostic::{Diagnostic, DiagnosticKind};
 use mission::moos::ProcessConfig;
 use thiserror::Error;
 
+use crate::antler::BuiltInApp;
 use crate::app::{App, Mail, Post, Subscription, Value};
 use crate::appcasting::AppcastLayer;
 use moos_types::text::set_boolean_on_string;
@@ -246,6 +247,28 @@ pub struct TimerScript {
 
 /// Postings the appcast lists.
 const EVENT_LOG_LEN: usize = 20;
+
+impl BuiltInApp for TimerScript {
+    /// Config lines ignored as MOOS ignores them (with a warning), each at its line.
+    fn warnings(&self) -> &[Diagnostic] {
+        &self.warnings
+    }
+
+    /// Sets the mission's `Community` and `MOOSTimeWarp` for the script's appcasts (the node
+    /// name, the real-time rate limit); the block's appcasting keys are read again with them.
+    fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
+        if let Some(block) = &self.block {
+            self.appcast = Some(AppcastLayer::with_config_warnings(
+                &self.name,
+                block,
+                community,
+                warp,
+                &self.warnings,
+            ));
+        }
+        self
+    }
+}
 
 impl TimerScript {
     /// Reads a uTimerScript block. `name` is the MOOS name (alias), `community` the
@@ -547,26 +570,6 @@ impl TimerScript {
         }
         self.rand_vars.push(rv);
         Ok(())
-    }
-
-    /// Config lines ignored as MOOS ignores them (with a warning), each at its line.
-    pub fn warnings(&self) -> &[Diagnostic] {
-        &self.warnings
-    }
-
-    /// Sets the mission's `Community` and `MOOSTimeWarp` for the script's appcasts (the node
-    /// name, the real-time rate limit); the block's appcasting keys are read again with them.
-    pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
-        if let Some(block) = &self.block {
-            self.appcast = Some(AppcastLayer::with_config_warnings(
-                &self.name,
-                block,
-                community,
-                warp,
-                &self.warnings,
-            ));
-        }
-        self
     }
 
     /// The appcast report: the script's state, what holds it, its random variables and its

@@ -11,6 +11,7 @@ use vehicle::pid::{MarinePid, PidConfig};
 use vehicle::sim::{SimConfig, Simulator};
 use vehicle::{ConfigError, Posting};
 
+use crate::antler::BuiltInApp;
 use crate::app::{App, Mail, Post, Subscription, Value};
 use crate::appcasting::AppcastLayer;
 
@@ -59,15 +60,13 @@ fn params(block: &ProcessConfig) -> impl Iterator<Item = (&str, &str)> {
         .map(|p| (p.key.as_str(), p.value.as_str()))
 }
 
-fn warnings(block: &ProcessConfig, unknown: Vec<ConfigError>) -> Vec<Diagnostic> {
-    unknown
-        .into_iter()
+/// The configuration problems of an app's `block` as warnings, each at its parameter's line
+/// (else the block's): the vehicle apps', the drivers', uSimSensors' and the CoUGARs apps'.
+pub(crate) fn config_warnings(block: &ProcessConfig, problems: &[ConfigError]) -> Vec<Diagnostic> {
+    problems
+        .iter()
         .map(|e| {
-            Diagnostic::line_warning(
-                DiagnosticKind::AppSetting,
-                span_of(block, &e),
-                e.to_string(),
-            )
+            Diagnostic::line_warning(DiagnosticKind::AppSetting, span_of(block, e), e.to_string())
         })
         .collect()
 }
@@ -91,6 +90,31 @@ pub struct VehicleApp {
     startup_failure: Option<String>,
     /// AppCastingMOOSApp around the app.
     appcast: AppcastLayer,
+}
+
+impl BuiltInApp for VehicleApp {
+    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts (the node
+    /// name, the real-time rate limit); the block's appcasting keys are read again with
+    /// them.
+    fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
+        self.appcast = AppcastLayer::with_config_warnings(
+            &self.name,
+            &self.block,
+            community,
+            warp,
+            &self.warnings,
+        );
+        if let Inner::Reporter(r) = &mut self.inner {
+            r.set_term_report_interval(self.appcast.term_report_interval());
+        }
+        self
+    }
+
+    /// Unknown or unusable parameters of the block (`file:line: warning: app: unknown
+    /// parameter ...`), which the C++ apps also only warn about.
+    fn warnings(&self) -> &[Diagnostic] {
+        &self.warnings
+    }
 }
 
 impl VehicleApp {
@@ -117,23 +141,6 @@ impl VehicleApp {
         }
     }
 
-    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts (the node
-    /// name, the real-time rate limit); the block's appcasting keys are read again with
-    /// them.
-    pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
-        self.appcast = AppcastLayer::with_config_warnings(
-            &self.name,
-            &self.block,
-            community,
-            warp,
-            &self.warnings,
-        );
-        if let Inner::Reporter(r) = &mut self.inner {
-            r.set_term_report_interval(self.appcast.term_report_interval());
-        }
-        self
-    }
-
     /// uSimMarineV22 (`legacy` false) or the older uSimMarine (`legacy` true) from its
     /// block; `grid` from the mission's LatOrigin/LongOrigin adds NAV_LAT/NAV_LONG;
     /// `start` is the MOOS start time.
@@ -147,7 +154,7 @@ impl VehicleApp {
         let (mut cfg, unknown) =
             SimConfig::from_params_lenient(params(&block)).map_err(|e| located(&block, e))?;
         cfg.legacy = legacy;
-        let w = warnings(&block, unknown);
+        let w = config_warnings(&block, &unknown);
         let sim = Simulator::new(cfg, grid, start);
         let subs = sim.subscriptions();
         Ok(VehicleApp::new(
@@ -185,7 +192,7 @@ impl VehicleApp {
                 missing.join(", ")
             )
         });
-        let w = warnings(&block, unknown);
+        let w = config_warnings(&block, &unknown);
         let pid = MarinePid::new(cfg);
         let subs = pid.subscriptions();
         let mut app = VehicleApp::new(name, block, Inner::Pid(Box::new(pid)), subs, w);
@@ -205,7 +212,7 @@ impl VehicleApp {
     ) -> Result<Self, VehicleAppError> {
         let (cfg, unknown) = NodeReportConfig::from_params_lenient(params(&block))
             .map_err(|e| located(&block, e))?;
-        let w = warnings(&block, unknown);
+        let w = config_warnings(&block, &unknown);
         let rep = NodeReporter::new(cfg, community, start)
             .with_grid(grid)
             .with_seed(seed);
@@ -219,12 +226,6 @@ impl VehicleApp {
             subs,
             w,
         ))
-    }
-
-    /// Unknown or unusable parameters of the block (`file:line: warning: app: unknown
-    /// parameter ...`), which the C++ apps also only warn about.
-    pub fn warnings(&self) -> &[Diagnostic] {
-        &self.warnings
     }
 
     fn flush(&mut self, out: &mut Vec<Post>) {

@@ -5,6 +5,7 @@
 use mission::moos::{ProcessConfig, parse_moos};
 use mission::source::SourceMap;
 use runtime::acomms_apps::{AcommsApp, SharedNet, SimModemApp};
+use runtime::antler::BuiltInApp;
 use runtime::app::{App, Mail, Post, Value};
 use runtime::shared::Shared;
 

@@ -149,29 +149,6 @@ fn delta_legacy_apps_answer_appcast_requests() {
 /// A mission whose ANTLER block runs every built-in app once (MOOSDB aside), each with the
 /// least configuration it needs to build: pShare listening on loopback, the drivers on
 /// devices that are not there (their links retry in the background; they still appcast).
-const PID_GAINS: [&str; 20] = [
-    "yaw_pid_kp",
-    "yaw_pid_kd",
-    "yaw_pid_ki",
-    "yaw_pid_integral_limit",
-    "maxrudder",
-    "speed_pid_kp",
-    "speed_pid_kd",
-    "speed_pid_ki",
-    "speed_pid_integral_limit",
-    "maxthrust",
-    "z_to_pitch_pid_kp",
-    "z_to_pitch_pid_kd",
-    "z_to_pitch_pid_ki",
-    "z_to_pitch_pid_integral_limit",
-    "maxpitch",
-    "pitch_pid_kp",
-    "pitch_pid_kd",
-    "pitch_pid_ki",
-    "pitch_pid_integral_limit",
-    "maxelevator",
-];
-
 fn every_built_in_mission() -> String {
     let mut antler =
         String::from("ProcessConfig = ANTLER\n{\n  Run = MOOSDB @ NewConsole = false\n");
@@ -187,7 +164,11 @@ fn every_built_in_mission() -> String {
             "iSeaTrac" | "iTeensy" => "  device = /nonexistent/coug-test-tty\n".to_string(),
             "pAcomms" | "uSimModem" => "  modem_id = 1\n".to_string(),
             // The legacy PID ends at start-up without every gain.
-            "pMarinePID" => PID_GAINS.iter().map(|g| format!("  {g} = 1\n")).collect(),
+            "pMarinePID" => vehicle::pid::REQUIRED_ALWAYS
+                .iter()
+                .chain(vehicle::pid::REQUIRED_DEPTH)
+                .map(|g| format!("  {g} = 1\n"))
+                .collect(),
             _ => String::new(),
         };
         blocks.push_str(&format!(

@@ -1,37 +1,14 @@
 //! Lockstep runs of small fake apps on the in-process bus, logged by the built-in pLogger.
 
+mod support;
+
 use std::sync::Arc;
 
 use chrono::NaiveDate;
 use mission::condition::parse_condition;
 use runtime::logger::{Logger, LoggerConfig, SharedBuffer};
 use runtime::{App, Bus, Mail, Outcome, Poke, Post, Scheduler, Subscription, Value, VirtualClock};
-
-/// `RefCell`'s two calls over a `Mutex`: the test apps that hold one are `Send`, as every
-/// app is.
-#[derive(Debug, Default)]
-struct RefCell<T>(std::sync::Mutex<T>);
-
-#[allow(dead_code)]
-impl<T> RefCell<T> {
-    fn new(value: T) -> Self {
-        RefCell(std::sync::Mutex::new(value))
-    }
-    fn borrow(&self) -> std::sync::MutexGuard<'_, T> {
-        self.0
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner)
-    }
-    fn borrow_mut(&self) -> std::sync::MutexGuard<'_, T> {
-        self.borrow()
-    }
-    fn take(&self) -> T
-    where
-        T: Default,
-    {
-        std::mem::take(&mut *self.borrow())
-    }
-}
+use support::RefCell;
 
 const START: f64 = 1_700_000_000.0;
 

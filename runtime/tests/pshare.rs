@@ -3,34 +3,18 @@
 //! community with its value, source, community and time; garbage datagrams are counted and
 //! never stop the app; the white list and the loop guard hold.
 
+mod support;
+
 use std::net::UdpSocket;
 use std::sync::Arc;
 
 use mission::moos::ProcessConfig;
 use mission::source::SourceMap;
 use moosdb::{Message, Value as WireValue};
+use runtime::antler::BuiltInApp;
 use runtime::pshare::PShareApp;
 use runtime::{App, AppResult, Bus, Mail, Post, Scheduler, Subscription, Value, VirtualClock};
-
-/// `RefCell`'s two calls over a `Mutex`: the test apps that hold one are `Send`, as every
-/// app is.
-#[derive(Debug, Default)]
-struct RefCell<T>(std::sync::Mutex<T>);
-
-#[allow(dead_code)]
-impl<T> RefCell<T> {
-    fn new(value: T) -> Self {
-        RefCell(std::sync::Mutex::new(value))
-    }
-    fn borrow(&self) -> std::sync::MutexGuard<'_, T> {
-        self.0
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner)
-    }
-    fn borrow_mut(&self) -> std::sync::MutexGuard<'_, T> {
-        self.borrow()
-    }
-}
+use support::RefCell;
 
 const START: f64 = 1_700_000_000.0;
 

@@ -2,34 +2,17 @@
 //! block through the app registry, driven by a scripted controller on the lockstep
 //! scheduler: the sensor variables, their rates, and what each sensor says about the truth.
 
+mod support;
+
 use std::sync::Arc;
 
 use mission::moos::MissionFile;
 use mission::source::SourceMap;
 use runtime::antler::{Launch, plan};
 use runtime::{App, Bus, Mail, Post, Scheduler, Subscription, Value, VirtualClock};
+use support::RefCell;
 use vehicle::sensors::dvl::DvlConfig;
 use vehicle::sensors::pressure::depth_from_pressure;
-
-/// `RefCell`'s two calls over a `Mutex`: the test apps that hold one are `Send`, as every
-/// app is.
-#[derive(Debug, Default)]
-struct RefCell<T>(std::sync::Mutex<T>);
-
-#[allow(dead_code)]
-impl<T> RefCell<T> {
-    fn new(value: T) -> Self {
-        RefCell(std::sync::Mutex::new(value))
-    }
-    fn borrow(&self) -> std::sync::MutexGuard<'_, T> {
-        self.0
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner)
-    }
-    fn borrow_mut(&self) -> std::sync::MutexGuard<'_, T> {
-        self.borrow()
-    }
-}
 
 const START: f64 = 1_786_000_000.0;
 

@@ -4,6 +4,7 @@
 use chrono::NaiveDate;
 use mission::moos::{MissionFile, ProcessConfig};
 use mission::source::SourceMap;
+use runtime::antler::BuiltInApp;
 use runtime::logger::{Logger, LoggerConfig, SharedBuffer};
 use runtime::vehicle::VehicleApp;
 use runtime::{App, Bus, Outcome, Poke, Post, Scheduler, VirtualClock};

@@ -307,7 +307,9 @@ pub const ENGINE_KEYS: &[&str] = &[
     "maxelevator",
 ];
 
-const REQUIRED_ALWAYS: &[&str] = &[
+/// The gains every PID block should set (a missing one is a config warning; its loop runs
+/// with 0).
+pub const REQUIRED_ALWAYS: &[&str] = &[
     "yaw_pid_kp",
     "yaw_pid_kd",
     "yaw_pid_ki",
@@ -319,7 +321,8 @@ const REQUIRED_ALWAYS: &[&str] = &[
     "speed_pid_integral_limit",
     "maxthrust",
 ];
-const REQUIRED_DEPTH: &[&str] = &[
+/// The gains a block should set besides [`REQUIRED_ALWAYS`] when `depth_control` is on.
+pub const REQUIRED_DEPTH: &[&str] = &[
     "z_to_pitch_pid_kp",
     "z_to_pitch_pid_kd",
     "z_to_pitch_pid_ki",

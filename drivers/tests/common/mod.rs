@@ -97,6 +97,31 @@ pub fn point(link: &Path, target: &Path) {
     std::os::unix::fs::symlink(target, link).unwrap();
 }
 
+/// A link to `endpoint` that reconnects quickly (20 ms, backing off to 100 ms), as a test
+/// wants.
+pub fn fast_link(endpoint: drivers::link::Endpoint) -> drivers::link::LinkConfig {
+    let mut l = drivers::link::LinkConfig::new(endpoint);
+    l.backoff_min = Duration::from_millis(20);
+    l.backoff_max = Duration::from_millis(100);
+    l
+}
+
+/// [`fast_link`] to the serial port (or pseudo-terminal) at `path`, 115200 baud.
+pub fn serial(path: &Path) -> drivers::link::LinkConfig {
+    fast_link(drivers::link::Endpoint::Serial {
+        path: path.to_path_buf(),
+        baud: 115_200,
+    })
+}
+
+/// [`fast_link`] to a TCP server at `host:port`.
+pub fn tcp(host: &str, port: u16) -> drivers::link::LinkConfig {
+    fast_link(drivers::link::Endpoint::Tcp {
+        host: host.to_string(),
+        port,
+    })
+}
+
 /// A fresh scratch folder `name` under cargo's temporary folder for integration tests
 /// (`target/tmp`), emptied by the next run.
 pub fn scratch(name: &str) -> PathBuf {

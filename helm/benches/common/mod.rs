@@ -26,6 +26,14 @@ pub fn mid_survey() -> (Helm, f64, (f64, f64, f64, f64)) {
     ));
     let mut helm = Helm::from_mission(&moos.value, &bhv);
     assert!(helm.config_errors().is_empty());
+    let (t, state) = fly_to_mid_survey(&mut helm);
+    (helm, t, state)
+}
+
+/// Flies `helm` (alpha's, possibly with more behaviours) for 120 s with a point-mass vehicle,
+/// the override lifted at 1 s and DEPLOY at 2 s; returns the time and the vehicle's
+/// `(x, y, heading, speed)`.
+pub fn fly_to_mid_survey(helm: &mut Helm) -> (f64, (f64, f64, f64, f64)) {
     let (mut x, mut y, mut h, mut v) = (0.0f64, -20.0f64, 180.0f64, 0.0f64);
     let (mut dh, mut dv) = (h, 0.0);
     let dt = 0.25;
@@ -52,5 +60,5 @@ pub fn mid_survey() -> (Helm, f64, (f64, f64, f64, f64)) {
             }
         }
     }
-    (helm, t, (x, y, h, v))
+    (t, (x, y, h, v))
 }

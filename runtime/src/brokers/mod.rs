@@ -187,6 +187,7 @@ fn host_ip(value: &str) -> Option<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::antler::BuiltInApp;
     use crate::app::{App, Post, Value};
     use crate::testing::block;
 

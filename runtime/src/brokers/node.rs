@@ -10,6 +10,7 @@ use vehicle::config::is_generic_app_key;
 
 use super::host::{HostRecord, bite, is_valid_ip, is_valid_pshare_route};
 use super::{OwnHost, host_ip, warn};
+use crate::antler::BuiltInApp;
 use crate::app::{App, AppResult, Mail, Post, Subscription};
 use crate::appcasting::{AppcastLayer, Note};
 
@@ -51,6 +52,19 @@ pub struct NodeBrokerApp {
 enum TryError {
     Unhandled,
     Warn(String),
+}
+
+impl BuiltInApp for NodeBrokerApp {
+    /// Bad lines of the block.
+    fn warnings(&self) -> &[Diagnostic] {
+        &self.warnings
+    }
+
+    /// The broker takes `Community` and `MOOSTimeWarp` when it is made (its handshake needs
+    /// them): nothing changes here.
+    fn with_appcast_globals(self, _community: Option<&str>, _warp: f64) -> Self {
+        self
+    }
 }
 
 impl NodeBrokerApp {
@@ -160,11 +174,6 @@ impl NodeBrokerApp {
             );
         }
         self
-    }
-
-    /// Bad lines of the block.
-    pub fn warnings(&self) -> &[Diagnostic] {
-        &self.warnings
     }
 
     /// The bridges `(src, alias)` it asks for once a shore host answers, in order.

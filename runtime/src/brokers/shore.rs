@@ -11,6 +11,7 @@ use vehicle::config::is_generic_app_key;
 
 use super::host::{HostRecord, bite, is_valid_ip};
 use super::{OwnHost, host_ip, warn};
+use crate::antler::BuiltInApp;
 use crate::app::{App, AppResult, Mail, Post, Subscription};
 use crate::appcasting::{AppcastLayer, Note};
 
@@ -56,6 +57,19 @@ pub struct ShoreBrokerApp {
     acks_posted: u64,
     cmds_posted: u64,
     tests_posted: u64,
+}
+
+impl BuiltInApp for ShoreBrokerApp {
+    /// Bad lines of the block.
+    fn warnings(&self) -> &[Diagnostic] {
+        &self.warnings
+    }
+
+    /// The broker takes `Community` and `MOOSTimeWarp` when it is made (its handshake needs
+    /// them): nothing changes here.
+    fn with_appcast_globals(self, _community: Option<&str>, _warp: f64) -> Self {
+        self
+    }
 }
 
 impl ShoreBrokerApp {
@@ -183,11 +197,6 @@ impl ShoreBrokerApp {
             );
         }
         self
-    }
-
-    /// Bad lines of the block.
-    pub fn warnings(&self) -> &[Diagnostic] {
-        &self.warnings
     }
 
     /// The bridges `(src, alias)` made for every node, in order (`$V`, `$v`, `$N` unexpanded).

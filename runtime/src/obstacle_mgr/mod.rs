@@ -67,6 +67,7 @@ use mission::moos::ProcessConfig;
 use moos_types::fmt::{compact_string, fixed, g_string};
 use moos_types::text::{is_number, parse_string, set_boolean_on_string, tok_string_parse};
 
+use crate::antler::BuiltInApp;
 use crate::app::{App, AppResult, Mail, Post, Subscription, Value};
 use crate::appcasting::{AppcastLayer, Note};
 
@@ -1255,6 +1256,25 @@ pub struct ObstacleMgrApp {
     appcast: AppcastLayer,
 }
 
+impl BuiltInApp for ObstacleMgrApp {
+    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
+    fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
+        self.appcast = AppcastLayer::with_config_warnings(
+            &self.name,
+            &self.block,
+            community,
+            warp,
+            &self.warnings,
+        );
+        self
+    }
+
+    /// The block's bad lines, at their lines.
+    fn warnings(&self) -> &[Diagnostic] {
+        &self.warnings
+    }
+}
+
 impl ObstacleMgrApp {
     /// The app `name` from its block.
     pub fn new(name: &str, block: ProcessConfig) -> Self {
@@ -1286,23 +1306,6 @@ impl ObstacleMgrApp {
             core,
             warnings,
         }
-    }
-
-    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
-    pub fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
-        self.appcast = AppcastLayer::with_config_warnings(
-            &self.name,
-            &self.block,
-            community,
-            warp,
-            &self.warnings,
-        );
-        self
-    }
-
-    /// The block's bad lines, at their lines.
-    pub fn warnings(&self) -> &[Diagnostic] {
-        &self.warnings
     }
 
     /// The core.

@@ -92,3 +92,34 @@ pub fn run_dir(
     s.deliver_pending().unwrap();
     (outcome, buf.contents())
 }
+
+/// `RefCell`'s calls over a `Mutex`: the test apps that hold one are `Send`, as every app is.
+#[derive(Debug, Default)]
+pub struct RefCell<T>(std::sync::Mutex<T>);
+
+impl<T> RefCell<T> {
+    /// A cell holding `value`.
+    pub fn new(value: T) -> Self {
+        RefCell(std::sync::Mutex::new(value))
+    }
+
+    /// The value (a poisoned lock's too: a failed test's panic must not hide the next).
+    pub fn borrow(&self) -> std::sync::MutexGuard<'_, T> {
+        self.0
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+
+    /// The value, to change.
+    pub fn borrow_mut(&self) -> std::sync::MutexGuard<'_, T> {
+        self.borrow()
+    }
+
+    /// The value, leaving the default in its place.
+    pub fn take(&self) -> T
+    where
+        T: Default,
+    {
+        std::mem::take(&mut *self.borrow())
+    }
+}
