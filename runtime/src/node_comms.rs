@@ -1330,7 +1330,7 @@ impl Hosted<NodeComms> {
     /// `shared_node_reports`' real-time interval).
     pub fn with_globals(mut self, community: Option<&str>, warp: f64) -> Self {
         self.core_mut().warp = warp;
-        self.with_appcast_globals(community, warp)
+        crate::antler::BuiltInApp::with_appcast_globals(self, community, warp)
     }
 }
 
@@ -1360,6 +1360,7 @@ impl AppCore for NodeComms {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::antler::BuiltInApp;
 
     fn report(name: &str, x: f64, y: f64, t: f64) -> Value {
         Value::text(format!(

@@ -1509,6 +1509,7 @@ impl AppCore for ContactMgr {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::antler::BuiltInApp;
 
     fn posts<'a>(out: &'a [Post], key: &str) -> Vec<&'a Value> {
         out.iter()

@@ -1457,6 +1457,7 @@ impl super::Alert {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::antler::BuiltInApp;
     use crate::contact_mgr::ContactMgrApp;
     use mission::diagnostic::Diagnostic;
 
