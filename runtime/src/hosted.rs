@@ -14,8 +14,9 @@
 //! the layer at the end of the callback, at its time, before the cast is built.
 //!
 //! pCougControls, uSimCougUV, pNavGraph, uSimSensors, pSafety, the drivers iGPS, iDVL,
-//! iSeaTrac and iTeensy, and uSimDevices are hosted this way (the cores: `CougControls`,
-//! `CougUvSimCore`, `NavCore`, `SensorsCore`, `SafetyCore`, `DriverCore`, `SimDevicesCore`).
+//! iSeaTrac and iTeensy, uSimDevices, pObstacleMgr and uFldObstacleSim are hosted this way
+//! (the cores: `CougControls`, `CougUvSimCore`, `NavCore`, `SensorsCore`, `SafetyCore`,
+//! `DriverCore`, `SimDevicesCore`, `ObstacleMgr`, `ObstacleSim`).
 //! pAcomms, uSimModem and pBasicContactMgr fit it as they are (a dynamic subscription list, a
 //! process id, startup postings and notes at mail time are all hooks here).
 
