@@ -157,7 +157,11 @@ fn snap_to_step(v: f64, step: f64) -> f64 {
         return v;
     }
     let q = v / step;
-    let n = if q < 0.0 { (q - 0.5).trunc() } else { (q + 0.5).trunc() };
+    let n = if q < 0.0 {
+        (q - 0.5).trunc()
+    } else {
+        (q + 0.5).trunc()
+    };
     n * step
 }
 
@@ -1747,7 +1751,13 @@ mod tests {
         let rv = &ts.rand_vars;
         assert_eq!(rv.len(), 3);
         assert_eq!(
-            (rv[0].name.as_str(), rv[0].min, rv[0].max, rv[0].key, rv[0].snap),
+            (
+                rv[0].name.as_str(),
+                rv[0].min,
+                rv[0].max,
+                rv[0].key,
+                rv[0].snap
+            ),
             ("RND_AX", 155.0, 165.0, RandKey::Reset, 0.001)
         );
         assert_eq!(
@@ -1866,7 +1876,14 @@ mod tests {
              event = var=C, val=\"$[G]\", time=0",
         );
         let out = without_status(run(&mut ts, 10.0, 1.0, 2, &[]));
-        let get = |k: &str| out.iter().find(|(_, p)| p.key == k).unwrap().1.value.clone();
+        let get = |k: &str| {
+            out.iter()
+                .find(|(_, p)| p.key == k)
+                .unwrap()
+                .1
+                .value
+                .clone()
+        };
         assert_eq!(get("S"), Value::text("x=1.23457,u=1.235"));
         assert_eq!(get("C"), Value::text("1.23457"));
         let d = get("D").as_f64().expect("a double");
@@ -1928,7 +1945,10 @@ mod tests {
         assert!((m - 160.0).abs() < 0.08, "{m}");
         assert!((1.92..2.03).contains(&sd), "{sd}");
         assert!(v.iter().all(|x| (155.0..=165.0).contains(x)));
-        assert!(v.iter().all(|x| ((x / 0.001) - (x / 0.001).round()).abs() < 1e-6));
+        assert!(
+            v.iter()
+                .all(|x| ((x / 0.001) - (x / 0.001).round()).abs() < 1e-6)
+        );
 
         // A narrow range: a third of the draws beyond one sigma, all on the bounds.
         rv.min = -1.0;
@@ -1945,7 +1965,10 @@ mod tests {
             })
             .collect();
         assert!(v.iter().all(|x| (-1.0..=1.0).contains(x)));
-        assert!(v.iter().all(|x| (x * 4.0).fract() == 0.0), "on the 0.25 grid");
+        assert!(
+            v.iter().all(|x| (x * 4.0).fract() == 0.0),
+            "on the 0.25 grid"
+        );
         let at_bounds = v.iter().filter(|x| x.abs() == 1.0).count() as f64 / n as f64;
         // P(|z| >= 0.875) = 0.381: what snaps to +-1 or lies beyond.
         assert!((0.36..0.40).contains(&at_bounds), "{at_bounds}");
