@@ -463,6 +463,12 @@ pub const BUILT_INS: &[BuiltIn] = &[
         reads_block: true,
         make: make_obstacle_mgr,
     },
+    BuiltIn {
+        program: "uFldObstacleSim",
+        what: "the obstacle simulator: obstacles from a file as given obstacles or sensed points, random lifetimes, regenerated fields",
+        reads_block: true,
+        make: make_obstacle_sim,
+    },
 ];
 
 /// The built-in app run by `program` (a path or base name), if coug builds it in.
@@ -599,6 +605,20 @@ fn make_obstacle_mgr(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
     let app = crate::obstacle_mgr::ObstacleMgrApp::new(cx.moos_name, b)
         .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
+    cx.warnings.extend(app.warnings().iter().cloned());
+    Ok(Built::App(Box::new(app)))
+}
+
+fn make_obstacle_sim(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    let b = cx.block_or_empty();
+    let app = crate::obstacle_mgr::sim::ObstacleSimApp::new(
+        cx.moos_name,
+        b,
+        &cx.launch.helm_files.dir,
+        cx.launch.seed ^ fnv(cx.moos_name),
+        cx.globals.grid(),
+    )
+    .with_appcast_globals(cx.mission.global("Community"), cx.globals.time_warp);
     cx.warnings.extend(app.warnings().iter().cloned());
     Ok(Built::App(Box::new(app)))
 }

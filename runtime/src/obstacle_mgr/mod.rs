@@ -57,6 +57,7 @@
 //! only once a helm alert exists.
 
 pub mod hull;
+pub mod sim;
 
 use std::collections::{BTreeMap, VecDeque};
 
