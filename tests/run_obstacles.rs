@@ -362,3 +362,123 @@ fn closest_to_posted_polygons(
     }
     closest
 }
+
+/// The true obstacles of `missions/obstacles/sensed.txt` (label, vertices).
+fn sensed_obstacles() -> Vec<(String, Vec<(f64, f64)>)> {
+    let text = std::fs::read_to_string(project_mission("obstacles/sensed.txt")).unwrap();
+    text.lines()
+        .filter_map(|l| l.trim().strip_prefix("poly = "))
+        .map(|spec| {
+            let label = spec.split(',').find_map(|kv| kv.strip_prefix("label="));
+            (label.unwrap().to_string(), pts_of(spec))
+        })
+        .collect()
+}
+
+/// For each true obstacle, the closest the track came to it (negative: inside).
+fn closest_to_truth(log: &alog::Alog) -> Vec<(String, f64)> {
+    let t = track(log);
+    assert!(t.len() > 100, "a track");
+    sensed_obstacles()
+        .into_iter()
+        .map(|(k, p)| {
+            let d = t
+                .iter()
+                .map(|&(_, x, y)| poly_dist(x, y, &p))
+                .fold(f64::INFINITY, f64::min);
+            (k, d)
+        })
+        .collect()
+}
+
+/// s1_alpha_obstaclemgr's survey with simulated obstacles (`missions/obstacles/sensed.moos`):
+/// uFldObstacleSim reads the obstacle file and posts the points the vehicle's 40 m sensor
+/// sees of each obstacle (`TRACKED_FEATURE_ALPHA`, from its `NODE_REPORT`), pObstacleMgr
+/// hulls them into obstacles and alerts the helm, and the BHV_AvoidObstacleV24 spawned for
+/// each keeps the vehicle more than its `min_util_cpa_dist` (5 m) from every true obstacle
+/// polygon while the survey completes. The viewer gets the true obstacles, the sensed hulls,
+/// the behaviours' buffers and the points.
+#[test]
+fn sensed_obstacles_from_the_simulator_are_avoided_by_their_spawned_behaviours() {
+    let mission = project_mission("obstacles/sensed.moos");
+    let (bytes, summary) = run_lockstep(
+        "obstacles-sensed",
+        &mission,
+        &[],
+        deploy_until("MISSION = complete", 600.0),
+    );
+    let log = parse(&bytes);
+    let near = closest_to_truth(&log);
+    eprintln!("{summary}\nsensed: closest approach per obstacle: {near:?}");
+    for (k, d) in &near {
+        assert!(*d > 5.0, "{k}: {d:.2} m, min_util_cpa_dist is 5");
+    }
+    for k in ["ob_0", "ob_1", "ob_2"] {
+        assert!(
+            has(
+                &log,
+                "IVPHELM_LIFE_EVENT",
+                &format!("bname=avd_obs_{k}, btype=BHV_AvoidObstacleV24, event=spawn")
+            ),
+            "{k} spawned"
+        );
+        // The simulator's true obstacle, the manager's hull, the behaviour's buffer.
+        assert!(has(
+            &log,
+            "VIEW_POLYGON",
+            &format!(
+                "label={k},label_color=invisible,edge_color=white,vertex_color=green,fill_color=invisible"
+            )
+        ));
+        assert!(has(&log, "VIEW_POLYGON", &format!("label=obmgr_{k},")));
+        assert!(has(&log, "TRACKED_FEATURE_ALPHA", &format!(",key={k}")));
+    }
+    assert!(has(
+        &log,
+        "VIEW_POLYGON",
+        "label=obs_region,edge_color=gray50,vertex_color=white"
+    ));
+    assert!(has(&log, "VIEW_POINT", "label=alpha:ob_0:"));
+    assert!(has(
+        &log,
+        "KNOWN_OBSTACLE",
+        "pts={56,-76:64,-76:64,-84:56,-84},label=ob_0"
+    ));
+    assert!(
+        !has(&log, "GIVEN_OBSTACLE", ""),
+        "points, not given obstacles"
+    );
+    assert!(!has(&log, "BHV_ERROR", ""), "no allstop");
+}
+
+/// The same survey with `POINTS=false`: the simulator gives the obstacles whole
+/// (`GIVEN_OBSTACLE`, no duration: the manager's `given_max_duration` is off), pObstacleMgr
+/// takes them as given and alerts the helm. Each obstacle straddles a leg of the survey
+/// (x = 60, y = -160): the straight track would cross all three.
+#[test]
+fn given_obstacles_from_the_simulator_are_avoided_too() {
+    let mission = project_mission("obstacles/sensed.moos");
+    let (bytes, _) = run_lockstep(
+        "obstacles-given",
+        &mission,
+        &["POINTS=false"],
+        deploy_until("MISSION = complete", 600.0),
+    );
+    let log = parse(&bytes);
+    let near = closest_to_truth(&log);
+    eprintln!("given: closest approach per obstacle: {near:?}");
+    for (k, d) in &near {
+        assert!(*d > 5.0, "{k}: {d:.2} m");
+    }
+    assert!(has(
+        &log,
+        "GIVEN_OBSTACLE",
+        "pts={56,-76:64,-76:64,-84:56,-84},label=ob_0"
+    ));
+    assert!(!has(&log, "TRACKED_FEATURE_ALPHA", ""));
+    assert!(has(
+        &log,
+        "OBSTACLE_ALERT",
+        "name=avd_obs_ob_0#poly=pts={56,-76:64,-76:64,-84:56,-84},label=ob_0#id=ob_0"
+    ));
+}
