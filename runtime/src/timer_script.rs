@@ -150,21 +150,6 @@ struct RandVar {
     value: f64,
 }
 
-/// MOOS `snapToStep`: to the nearest multiple of `step`, ties away from zero (as the C++'s
-/// `long` truncation of `v/step ± 0.5`); `step <= 0` leaves `v`.
-fn snap_to_step(v: f64, step: f64) -> f64 {
-    if step <= 0.0 {
-        return v;
-    }
-    let q = v / step;
-    let n = if q < 0.0 {
-        (q - 0.5).trunc()
-    } else {
-        (q + 0.5).trunc()
-    };
-    n * step
-}
-
 /// MOOS `MOOSWhiteNoise(sigma)`: the polar Box-Muller method on uniform draws in `[0, 1]`,
 /// making two normal deviates at a time; the second is kept in `spare` (the C++ keeps it in a
 /// static, one per process: here one per uTimerScript) and returned, scaled by that call's
@@ -204,7 +189,8 @@ impl RandVar {
                 self.value = v.clamp(self.min, self.max);
             }
             RandKind::Gaussian { mu, sigma } => {
-                let mut v = snap_to_step(mu + white_noise(rng, spare, sigma), self.snap);
+                let mut v =
+                    geometry::point::snap_to_step(mu + white_noise(rng, spare, sigma), self.snap);
                 // The C++ clamps to the maximum first, then to the minimum.
                 if v > self.max {
                     v = self.max;
@@ -1920,6 +1906,14 @@ mod tests {
         assert!((0.97..1.03).contains(&sd), "{sd}");
         assert!((0.66..0.71).contains(&within), "{within}");
 
+        let draws = |rv: &mut RandVar, rng: &mut fastrand::Rng, spare: &mut Option<f64>| {
+            (0..n)
+                .map(|_| {
+                    rv.draw(rng, spare);
+                    rv.value
+                })
+                .collect::<Vec<f64>>()
+        };
         // s1_alpha_obstaclemgr's RND_AX: clamped at 2.5 sigma, so the deviation is 0.989 of
         // sigma (1.977).
         let mut rv = RandVar {
@@ -1934,12 +1928,7 @@ mod tests {
             },
             value: 0.0,
         };
-        let v: Vec<f64> = (0..n)
-            .map(|_| {
-                rv.draw(&mut rng, &mut spare);
-                rv.value
-            })
-            .collect();
+        let v = draws(&mut rv, &mut rng, &mut spare);
         let (m, sd) = stats(&v);
         eprintln!("RND_AX: mean {m:.4}, sd {sd:.4}");
         assert!((m - 160.0).abs() < 0.08, "{m}");
@@ -1958,12 +1947,7 @@ mod tests {
             mu: 0.0,
             sigma: 1.0,
         };
-        let v: Vec<f64> = (0..n)
-            .map(|_| {
-                rv.draw(&mut rng, &mut spare);
-                rv.value
-            })
-            .collect();
+        let v = draws(&mut rv, &mut rng, &mut spare);
         assert!(v.iter().all(|x| (-1.0..=1.0).contains(x)));
         assert!(
             v.iter().all(|x| (x * 4.0).fract() == 0.0),
@@ -1986,16 +1970,6 @@ mod tests {
         };
         assert_eq!(again(9), again(9));
         assert_ne!(again(9), again(10));
-    }
-
-    #[test]
-    fn snap_to_step_rounds_ties_away_from_zero() {
-        assert_eq!(snap_to_step(6.18, 0.5), 6.0);
-        assert_eq!(snap_to_step(6.18, 5.0), 5.0);
-        assert!((snap_to_step(6.18, 0.05) - 6.2).abs() < 1e-12);
-        assert_eq!(snap_to_step(2.5, 1.0), 3.0);
-        assert_eq!(snap_to_step(-2.5, 1.0), -3.0);
-        assert_eq!(snap_to_step(1.7, 0.0), 1.7);
     }
 
     #[test]

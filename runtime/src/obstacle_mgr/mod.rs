@@ -331,6 +331,23 @@ impl Default for Settings {
     }
 }
 
+/// A block line as the MOOS reader hands it to pObstacleMgr and uFldObstacleSim: every
+/// blank removed, the parameter in lower case (`(param, value)`).
+pub(crate) fn config_line(key: &str, value: &str) -> (String, String) {
+    let strip = |t: &str| -> String {
+        t.chars()
+            .filter(|c| !matches!(c, ' ' | '\t' | '\r'))
+            .collect()
+    };
+    (strip(key).to_ascii_lowercase(), strip(value))
+}
+
+/// [`config_line`] of a `param = value` line given whole.
+pub(crate) fn config_text(line: &str) -> (String, String) {
+    let (p, v) = line.split_once('=').unwrap_or((line, ""));
+    config_line(p, v)
+}
+
 /// `setPosDoubleOnString`: a number > 0.
 fn pos_double(v: &str) -> Option<f64> {
     let d = geometry::atof(v);
@@ -450,13 +467,8 @@ impl ObstacleMgr {
         };
         let mut warnings = Vec::new();
         for line in lines {
-            // The MOOS reader removes every blank of a block's line.
-            let line: String = line
-                .chars()
-                .filter(|c| !matches!(c, ' ' | '\t' | '\r'))
-                .collect();
-            let (p, v) = line.split_once('=').unwrap_or((&line, ""));
-            if let Err(w) = om.configure(&p.to_ascii_lowercase(), v) {
+            let (p, v) = config_text(line);
+            if let Err(w) = om.configure(&p, &v) {
                 warnings.push(w);
             }
         }
@@ -1257,14 +1269,8 @@ impl Hosted<ObstacleMgr> {
         let (mut core, _) = ObstacleMgr::new(&[]);
         let mut warnings = Vec::new();
         for p in &block.entries {
-            // The MOOS reader removes every blank of a block's line.
-            let strip = |t: &str| -> String {
-                t.chars()
-                    .filter(|c| !matches!(c, ' ' | '\t' | '\r'))
-                    .collect()
-            };
-            let (k, v) = (strip(&p.key), strip(&p.value));
-            if let Err(msg) = core.configure(&k.to_ascii_lowercase(), &v) {
+            let (k, v) = config_line(&p.key, &p.value);
+            if let Err(msg) = core.configure(&k, &v) {
                 for m in msg.split('\n') {
                     warnings.push(Diagnostic::line_warning(
                         DiagnosticKind::AppSetting,

@@ -496,12 +496,8 @@ impl ObstacleSim {
         let mut sim = ObstacleSim::empty(seed);
         let mut warnings = Vec::new();
         for line in lines {
-            let line: String = line
-                .chars()
-                .filter(|c| !matches!(c, ' ' | '\t' | '\r'))
-                .collect();
-            let (p, v) = line.split_once('=').unwrap_or((&line, ""));
-            if let Err(w) = sim.configure(&p.to_ascii_lowercase(), v) {
+            let (p, v) = super::config_text(line);
+            if let Err(w) = sim.configure(&p, &v) {
                 warnings.push(w);
             }
         }
@@ -1088,11 +1084,6 @@ impl Hosted<ObstacleSim> {
     ) -> Self {
         let mut core = ObstacleSim::empty(seed);
         let mut warnings = Vec::new();
-        let strip = |t: &str| -> String {
-            t.chars()
-                .filter(|c| !matches!(c, ' ' | '\t' | '\r'))
-                .collect()
-        };
         let mut warn = |span: &mission::source::Span, m: &str| {
             warnings.push(Diagnostic::line_warning(
                 DiagnosticKind::AppSetting,
@@ -1101,17 +1092,17 @@ impl Hosted<ObstacleSim> {
             ));
         };
         for p in &block.entries {
-            let (k, v) = (strip(&p.key).to_ascii_lowercase(), strip(&p.value));
+            let (k, v) = super::config_line(&p.key, &p.value);
             if let Err(m) = core.configure(&k, &v) {
                 warn(&p.span, &m);
             }
         }
         // Pass 2: the obstacle files, with every colour and size already set.
         for p in &block.entries {
-            if !strip(&p.key).eq_ignore_ascii_case("obstacle_file") {
+            let (k, file) = super::config_line(&p.key, &p.value);
+            if k != "obstacle_file" {
                 continue;
             }
-            let file = strip(&p.value);
             let path: PathBuf = if Path::new(&file).is_absolute() {
                 PathBuf::from(&file)
             } else {
