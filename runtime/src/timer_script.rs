@@ -1762,15 +1762,7 @@ mod tests {
             }
         );
         assert_eq!(rv[2].kind, RandKind::Uniform);
-        let text = test_support::mission_text("s1_alpha_obstaclemgr/alpha.moos");
-        let src = SourceMap::from_text("alpha.moos", &text);
-        let block = mission::moos::parse_moos(&src)
-            .value
-            .processes
-            .into_iter()
-            .find(|b| b.name == "uTimerScript")
-            .unwrap();
-        let ts = TimerScript::new("uTimerScript", block, "alpha", 3).unwrap();
+        let ts = corpus_script("s1_alpha_obstaclemgr/alpha.moos", "alpha");
         assert!(ts.warnings().is_empty(), "{:?}", ts.warnings());
         assert_eq!(ts.rand_vars.len(), 10);
         assert!(
@@ -1972,17 +1964,22 @@ mod tests {
         assert_ne!(again(9), again(10));
     }
 
-    #[test]
-    fn delta_block_parses() {
-        let text = test_support::mission_text("s4_delta/delta.moos");
-        let src = SourceMap::from_text("delta.moos", &text);
+    /// The uTimerScript block of corpus mission `rel`, read for community `community`.
+    fn corpus_script(rel: &str, community: &str) -> TimerScript {
+        let text = test_support::mission_text(rel);
+        let src = SourceMap::from_text(rel, &text);
         let block = mission::moos::parse_moos(&src)
             .value
             .processes
             .into_iter()
             .find(|b| b.name == "uTimerScript")
             .unwrap();
-        let ts = TimerScript::new("uTimerScript", block, "delta", 3).unwrap();
+        TimerScript::new("uTimerScript", block, community, 3).unwrap()
+    }
+
+    #[test]
+    fn delta_block_parses() {
+        let ts = corpus_script("s4_delta/delta.moos", "delta");
         assert_eq!(ts.event_count(), 1);
         assert_eq!(ts.app_tick(), 4.0);
         assert_eq!(ts.script_name, "GPS_SCRIPT");
