@@ -1074,7 +1074,8 @@ impl Hosted<ObstacleSim> {
     /// The app `name` from its block; `dir` is where a relative `obstacle_file` is found
     /// (the mission's folder), `seed` seeds its draws, `grid` places `LAT`/`LON` reports.
     /// Each problem is a configuration warning at its block line (the obstacle file's
-    /// problems at the `obstacle_file` line, each naming its file and line).
+    /// problems at the `obstacle_file` line, each naming its file and line; a mission
+    /// without a usable `LatOrigin`/`LongOrigin` at the block, as the C++ warns).
     pub fn new(
         name: &str,
         block: ProcessConfig,
@@ -1112,6 +1113,9 @@ impl Hosted<ObstacleSim> {
             for m in core.load_file(&file, text.as_deref()) {
                 warn(&p.span, &m);
             }
+        }
+        if grid.is_none() {
+            warn(&block.span, "Lat or Lon Origin not set in *.moos file.");
         }
         core.finish_config();
         core.set_grid(grid);

@@ -483,11 +483,20 @@ fn the_app_reads_its_obstacle_file_beside_the_mission() {
         "ProcessConfig = uFldObstacleSim\n{\n  AppTick = 2\n  obstacle_file = ob.txt\n  \
          poly_vert_color = fuzzy\n}\n",
     );
-    let app = ObstacleSimApp::new("uFldObstacleSim", block, &dir, 1, None);
+    let grid = vehicle::geodesy::LocalGrid::new(42.358456, -71.087589).ok();
+    let app = ObstacleSimApp::new("uFldObstacleSim", block.clone(), &dir, 1, grid);
     let w: Vec<String> = app.warnings().iter().map(|d| d.located()).collect();
     assert_eq!(
         w,
         ["m.moos:5: uFldObstacleSim: Unhandled config line: poly_vert_color=fuzzy"]
+    );
+    let bare = ObstacleSimApp::new("uFldObstacleSim", block.clone(), &dir, 1, None);
+    assert!(
+        bare.warnings()[1]
+            .located()
+            .ends_with("uFldObstacleSim: Lat or Lon Origin not set in *.moos file."),
+        "{:?}",
+        bare.warnings()
     );
     assert_eq!(app.core().obstacles().len(), 2);
     use crate::app::App;
