@@ -1109,6 +1109,33 @@ pub const MOOS_CONFIG_APPS: &[&str] = &[
     "uXMS",
 ];
 
+/// Every parameter of uFldObstacleSim's block (MOOS-IvP a2a9b716 `ObstacleSim::OnStartUp`),
+/// besides the AppCastingMOOSApp ones.
+pub const OBSTACLE_SIM_PARAMS: &[&str] = &[
+    "obstacle_file",
+    "poly_vert_color",
+    "poly_fill_color",
+    "poly_edge_color",
+    "poly_label_color",
+    "poly_vert_size",
+    "poly_edge_size",
+    "poly_transparency",
+    "draw_region",
+    "region_edge_color",
+    "region_vert_color",
+    "post_points",
+    "rate_points",
+    "point_size",
+    "sensor_range",
+    "min_duration",
+    "max_duration",
+    "refresh_interval",
+    "reset_interval",
+    "reset_range",
+    "reuse_ids",
+    "post_visuals",
+];
+
 /// Whether coug reads the block of program `app` (a base name, case-insensitive) line by
 /// line; see [`MOOS_CONFIG_APPS`].
 ///

@@ -515,6 +515,12 @@ pub const BUILT_INS: &[BuiltIn] = &[
         reads_block: true,
         make: make_node_comms,
     },
+    BuiltIn {
+        program: "uFldObstacleSim",
+        what: "the obstacle simulator: obstacles from a file as given obstacles or sensed points, random lifetimes, regenerated fields",
+        reads_block: true,
+        make: make_obstacle_sim,
+    },
 ];
 
 /// The built-in app run by `program` (a path or base name), if coug builds it in.
@@ -662,6 +668,18 @@ fn make_node_comms(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
 fn make_obstacle_mgr(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
     let b = cx.block_or_empty();
     cx.launched(crate::obstacle_mgr::ObstacleMgrApp::new(cx.moos_name, b))
+}
+
+fn make_obstacle_sim(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
+    let b = cx.block_or_empty();
+    let app = crate::obstacle_mgr::sim::ObstacleSimApp::new(
+        cx.moos_name,
+        b,
+        &cx.launch.helm_files.dir,
+        cx.launch.seed ^ fnv(cx.moos_name),
+        cx.globals.grid(),
+    );
+    cx.launched(app)
 }
 
 fn make_pshare(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {

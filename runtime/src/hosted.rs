@@ -15,9 +15,10 @@
 //!
 //! pCougControls, uSimCougUV, pNavGraph, uSimSensors, pSafety, the drivers iGPS, iDVL,
 //! iSeaTrac and iTeensy, uSimDevices, the contact managers pBasicContactMgr and
-//! pContactMgrV20, uFldNodeComms, pAcomms and uSimModem are hosted this way (the cores:
-//! `CougControls`, `CougUvSimCore`, `NavCore`, `SensorsCore`, `SafetyCore`, `DriverCore`,
-//! `SimDevicesCore`, `ContactMgr`, `NodeComms`, `AcommsCore`, `SimModemCore`).
+//! pContactMgrV20, uFldNodeComms, pAcomms, uSimModem, pObstacleMgr and uFldObstacleSim are
+//! hosted this way (the cores: `CougControls`, `CougUvSimCore`, `NavCore`, `SensorsCore`,
+//! `SafetyCore`, `DriverCore`, `SimDevicesCore`, `ContactMgr`, `NodeComms`, `AcommsCore`,
+//! `SimModemCore`, `ObstacleMgr`, `ObstacleSim`).
 
 use mission::diagnostic::Diagnostic;
 use mission::moos::ProcessConfig;

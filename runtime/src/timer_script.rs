@@ -4,12 +4,14 @@
 //! Supported: `event` (var/val/time, time ranges, `amt` with `$(IDX)`, `quit`),
 //! `script_name`, `script_atomic`, `paused`, `pause_var`, `reset_var`, `forward_var`,
 //! `status_var`, `reset_max`, `reset_time`, `condition` (mission-crate conditions),
-//! `upon_awake`, `delay_start`, `delay_reset`, `time_warp`, `rand_var` (uniform),
+//! `upon_awake`, `delay_start`, `delay_reset`, `time_warp`, `rand_var` (uniform, and
+//! gaussian/normal as MOOS's `RandVarGaussian`: `mu + MOOSWhiteNoise(sigma)` by the polar
+//! Box-Muller method on the seeded generator, snapped, clamped to `[min, max]`, expanded
+//! with 5 decimals; its bad specs are config warnings with the C++'s words),
 //! `block_on`, `shuffle`, `time_zero`, and the post-time macros (`$(COUNT)`, `$(TCOUNT)`,
 //! `$(DBTIME)`, `$(UTCTIME)`, `$[NAV_X]`, `$[VNAME]`, `$(1)`..`$(20)`, rand vars,
-//! `{a op b}` math). Not supported: `rand_pair`, gaussian `rand_var` (both refused with
-//! an error naming the line). Random draws come from a seeded generator, so a lockstep
-//! run is repeatable.
+//! `{a op b}` math). Not supported: `rand_pair` (refused with an error naming the line).
+//! Random draws come from a seeded generator, so a lockstep run is repeatable.
 //!
 //! Like MOOS, every config value has its white space removed before it is read.
 
@@ -128,6 +130,16 @@ enum RandKey {
     Post,
 }
 
+/// How a random variable draws.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum RandKind {
+    /// MOOS `RandVarUniform`: `min + (rand()%10000)/10000 * (max-min)`, posted with 3 decimals.
+    Uniform,
+    /// MOOS `RandVarGaussian`: `mu + MOOSWhiteNoise(sigma)`, snapped, clamped to
+    /// `[min, max]`, posted with 5 decimals.
+    Gaussian { mu: f64, sigma: f64 },
+}
+
 #[derive(Debug, Clone, PartialEq)]
 struct RandVar {
     name: String,
@@ -135,22 +147,70 @@ struct RandVar {
     max: f64,
     snap: f64,
     key: RandKey,
+    kind: RandKind,
     value: f64,
 }
 
-impl RandVar {
-    fn draw(&mut self, rng: &mut fastrand::Rng) {
-        let v = Range {
-            min: self.min,
-            max: self.max,
+/// MOOS `MOOSWhiteNoise(sigma)`: the polar Box-Muller method on uniform draws in `[0, 1]`,
+/// making two normal deviates at a time; the second is kept in `spare` (the C++ keeps it in a
+/// static, one per process: here one per uTimerScript) and returned, scaled by that call's
+/// `sigma`, at the next call. A pair on the unit circle's centre (`s = 0`, where the C++
+/// would take the logarithm of 0) is drawn again.
+fn white_noise(rng: &mut fastrand::Rng, spare: &mut Option<f64>, sigma: f64) -> f64 {
+    if let Some(g) = spare.take() {
+        return g * sigma;
+    }
+    loop {
+        let v1 = 2.0 * rng.f64() - 1.0;
+        let v2 = 2.0 * rng.f64() - 1.0;
+        let s = v1 * v1 + v2 * v2;
+        if s > 1.0 || s == 0.0 {
+            continue;
         }
-        .draw(rng);
-        let v = if self.snap > 0.0 {
-            (v / self.snap).round() * self.snap
-        } else {
-            v
-        };
-        self.value = v.clamp(self.min, self.max);
+        let fac = (-2.0 * s.ln() / s).sqrt();
+        *spare = Some(v1 * fac);
+        return v2 * fac * sigma;
+    }
+}
+
+impl RandVar {
+    fn draw(&mut self, rng: &mut fastrand::Rng, spare: &mut Option<f64>) {
+        match self.kind {
+            RandKind::Uniform => {
+                let v = Range {
+                    min: self.min,
+                    max: self.max,
+                }
+                .draw(rng);
+                let v = if self.snap > 0.0 {
+                    (v / self.snap).round() * self.snap
+                } else {
+                    v
+                };
+                self.value = v.clamp(self.min, self.max);
+            }
+            RandKind::Gaussian { mu, sigma } => {
+                let mut v =
+                    geometry::point::snap_to_step(mu + white_noise(rng, spare, sigma), self.snap);
+                // The C++ clamps to the maximum first, then to the minimum.
+                if v > self.max {
+                    v = self.max;
+                }
+                if v < self.min {
+                    v = self.min;
+                }
+                self.value = v;
+            }
+        }
+    }
+
+    /// The value as its macros expand (MOOS `getStringValue`): `doubleToStringX` with 3
+    /// decimals for a uniform variable, 5 for a gaussian one.
+    fn text(&self) -> String {
+        match self.kind {
+            RandKind::Uniform => fmt_x(self.value, 3),
+            RandKind::Gaussian { .. } => fmt_x(self.value, 5),
+        }
     }
 }
 
@@ -206,6 +266,8 @@ pub struct TimerScript {
     delay_reset: Range,
     time_warp: Range,
     rand_vars: Vec<RandVar>,
+    /// MOOSWhiteNoise's second normal deviate, kept for the next gaussian draw.
+    gauss_spare: Option<f64>,
     conditions: Vec<Condition>,
     block_on: Vec<String>,
     shuffle: bool,
@@ -298,6 +360,7 @@ impl TimerScript {
             delay_reset: Range::fixed(0.0),
             time_warp: Range::fixed(1.0),
             rand_vars: Vec::new(),
+            gauss_spare: None,
             conditions: Vec::new(),
             block_on: Vec::new(),
             shuffle: true,
@@ -523,12 +586,31 @@ impl TimerScript {
     }
 
     fn add_rand_var(&mut self, spec: &str) -> Result<(), String> {
+        // MOOS `RandomVariableSet::addRandomVar`: the type picks the parser; a gaussian
+        // variable's problems, and an unknown type, are config warnings (the line ignored).
+        match moos_types::text::tok_string_parse(spec, "type") {
+            "" | "uniform" => {}
+            "gaussian" | "normal" => {
+                if let Err(why) = self.add_gaussian(spec) {
+                    self.ignored
+                        .push(format!("Rand variable problem: {spec}:{why}"));
+                }
+                return Ok(());
+            }
+            t => {
+                self.ignored.push(format!(
+                    "Rand variable problem: {spec}:unknown random variable type: {t}"
+                ));
+                return Ok(());
+            }
+        }
         let mut rv = RandVar {
             name: String::new(),
             min: 0.0,
             max: 0.0,
             snap: 0.001,
             key: RandKey::Start,
+            kind: RandKind::Uniform,
             value: 0.0,
         };
         let num = |k: &str, v: &str| {
@@ -556,12 +638,7 @@ impl TimerScript {
                         }
                     }
                 }
-                "type" if v.eq_ignore_ascii_case("uniform") => {}
-                "type" => {
-                    return Err(format!(
-                        "rand_var type {v:?} is not supported (uniform only)"
-                    ));
-                }
+                "type" => {}
                 _ => return Err(format!("rand_var: unknown field {k:?}")),
             }
         }
@@ -569,6 +646,61 @@ impl TimerScript {
             return Err(format!("rand_var {spec:?}: needs varname and min <= max"));
         }
         self.rand_vars.push(rv);
+        Ok(())
+    }
+
+    /// A gaussian `rand_var` (MOOS `addRandomVarGaussian`): `varname`, `key`, `min`, `max`,
+    /// `mu` and `sigma` all needed, `snap` optional (used when > 0); `Err` with the C++'s
+    /// words.
+    fn add_gaussian(&mut self, spec: &str) -> Result<(), String> {
+        let (mut name, mut key) = (String::new(), String::new());
+        let (mut min, mut max, mut mu, mut sigma) = (None, None, None, None);
+        let mut snap = -1.0;
+        for piece in moos_types::text::parse_string(spec, ',') {
+            let (left, right) = piece.split_once('=').unwrap_or((piece, ""));
+            let (left, right) = (left.trim(), right.trim());
+            let num = moos_types::text::is_number(right).then(|| geometry::atof(right));
+            match (left, num) {
+                ("varname", _) => name = right.to_string(),
+                ("key", _) => key = right.to_ascii_lowercase(),
+                ("min", Some(x)) => min = Some(x),
+                ("max", Some(x)) => max = Some(x),
+                ("snap", Some(x)) => snap = x,
+                ("mu", Some(x)) => mu = Some(x),
+                ("sigma", Some(x)) => sigma = Some(x),
+                ("type", _) => {}
+                _ => return Err(format!("Bad parameterx=value: {left}={right}")),
+            }
+        }
+        let key = match key.as_str() {
+            "" => return Err("key is not specified".into()),
+            "at_start" => RandKey::Start,
+            "at_reset" => RandKey::Reset,
+            "at_post" => RandKey::Post,
+            k => return Err(format!("unknown random_var key: {k}")),
+        };
+        if name.is_empty() {
+            return Err("Unset variable name".into());
+        }
+        let min = min.ok_or("Lower value of the range not set")?;
+        let max = max.ok_or("Upper value of the range not set")?;
+        let mu = mu.ok_or("Mu not set")?;
+        let sigma = sigma.ok_or("Sigma not set")?;
+        if min > max {
+            return Err("Minimum value greater than maximum value".into());
+        }
+        if self.rand_vars.iter().any(|r| r.name == name) {
+            return Err("Duplicate random variable".into());
+        }
+        self.rand_vars.push(RandVar {
+            name,
+            min,
+            max,
+            snap: if snap > 0.0 { snap } else { 0.001 },
+            key,
+            kind: RandKind::Gaussian { mu, sigma },
+            value: 0.0,
+        });
         Ok(())
     }
 
@@ -676,7 +808,7 @@ impl TimerScript {
         self.delay_reset_value = self.delay_reset.draw(&mut self.rng);
         for rv in &mut self.rand_vars {
             if rv.key != RandKey::Start {
-                rv.draw(&mut self.rng);
+                rv.draw(&mut self.rng, &mut self.gauss_spare);
             }
         }
         self.elapsed = 0.0;
@@ -754,7 +886,7 @@ impl TimerScript {
             }
             s = s.replace("$[VNAME]", &self.community);
             for rv in &self.rand_vars {
-                let t = fmt_x(rv.value, 3);
+                let t = rv.text();
                 s = s
                     .replace(&format!("$({})", rv.name), &t)
                     .replace(&format!("$[{}]", rv.name), &t);
@@ -783,7 +915,7 @@ impl TimerScript {
     fn execute(&mut self, i: usize, now: f64, out: &mut Vec<Post>) {
         for rv in &mut self.rand_vars {
             if rv.key == RandKey::Post {
-                rv.draw(&mut self.rng);
+                rv.draw(&mut self.rng, &mut self.gauss_spare);
             }
         }
         let e = self.events[i].clone();
@@ -922,7 +1054,7 @@ impl App for TimerScript {
         }
         self.started_at = now;
         for rv in &mut self.rand_vars {
-            rv.draw(&mut self.rng);
+            rv.draw(&mut self.rng, &mut self.gauss_spare);
         }
         Ok(())
     }
@@ -1595,17 +1727,262 @@ mod tests {
         assert!(seen >= 20, "only {seen} uTimerScript blocks read");
     }
 
+    /// The gaussian variables of the corpus's s1_alpha_obstaclemgr, read as the C++ reads
+    /// them: every one kept, with its mu, sigma, range and key.
     #[test]
-    fn delta_block_parses() {
-        let text = test_support::mission_text("s4_delta/delta.moos");
-        let src = SourceMap::from_text("delta.moos", &text);
+    fn gaussian_rand_vars_parse_as_moos_does() {
+        let ts = script(
+            "rand_var = varname=RND_AX, type=gaussian, min=155, max=165, mu=160, sigma=2, key=at_reset\n\
+             rand_var = varname=N, type=normal, min=-1, max=1, mu=0, sigma=0.5, snap=0.25, key=AT_POST\n\
+             rand_var = varname=U, min=0, max=1, key=at_start",
+        );
+        assert!(ts.warnings().is_empty(), "{:?}", ts.warnings());
+        let rv = &ts.rand_vars;
+        assert_eq!(rv.len(), 3);
+        assert_eq!(
+            (
+                rv[0].name.as_str(),
+                rv[0].min,
+                rv[0].max,
+                rv[0].key,
+                rv[0].snap
+            ),
+            ("RND_AX", 155.0, 165.0, RandKey::Reset, 0.001)
+        );
+        assert_eq!(
+            rv[0].kind,
+            RandKind::Gaussian {
+                mu: 160.0,
+                sigma: 2.0
+            }
+        );
+        assert_eq!((rv[1].key, rv[1].snap), (RandKey::Post, 0.25));
+        assert_eq!(
+            rv[1].kind,
+            RandKind::Gaussian {
+                mu: 0.0,
+                sigma: 0.5
+            }
+        );
+        assert_eq!(rv[2].kind, RandKind::Uniform);
+        let ts = corpus_script("s1_alpha_obstaclemgr/alpha.moos", "alpha");
+        assert!(ts.warnings().is_empty(), "{:?}", ts.warnings());
+        assert_eq!(ts.rand_vars.len(), 10);
+        assert!(
+            ts.rand_vars
+                .iter()
+                .all(|r| matches!(r.kind, RandKind::Gaussian { sigma: 2.0, .. }))
+        );
+    }
+
+    /// Each spec the C++ refuses is a config warning with its words, the line ignored.
+    #[test]
+    fn bad_gaussian_rand_vars_are_warned_with_the_cpp_words() {
+        let base = "varname=G, type=gaussian, min=0, max=10, mu=5, sigma=1, key=at_start";
+        let cases = [
+            (
+                "varname=G, type=gaussian, min=0, max=10, mu=5, sigma=1",
+                "key is not specified",
+            ),
+            (
+                "varname=G, type=gaussian, min=0, max=10, mu=5, sigma=1, key=at_noon",
+                "unknown random_var key: at_noon",
+            ),
+            (
+                "type=gaussian, min=0, max=10, mu=5, sigma=1, key=at_start",
+                "Unset variable name",
+            ),
+            (
+                "varname=G, type=gaussian, max=10, mu=5, sigma=1, key=at_start",
+                "Lower value of the range not set",
+            ),
+            (
+                "varname=G, type=gaussian, min=0, mu=5, sigma=1, key=at_start",
+                "Upper value of the range not set",
+            ),
+            (
+                "varname=G, type=gaussian, min=0, max=10, sigma=1, key=at_start",
+                "Mu not set",
+            ),
+            (
+                "varname=G, type=gaussian, min=0, max=10, mu=5, key=at_start",
+                "Sigma not set",
+            ),
+            (
+                "varname=G, type=gaussian, min=10, max=0, mu=5, sigma=1, key=at_start",
+                "Minimum value greater than maximum value",
+            ),
+            (
+                "varname=G, type=gaussian, min=zero, max=10, mu=5, sigma=1, key=at_start",
+                "Bad parameterx=value: min=zero",
+            ),
+            (
+                "varname=G, type=gaussian, min=0, max=10, mu=5, sigma=1, key=at_start, skew=2",
+                "Bad parameterx=value: skew=2",
+            ),
+            (
+                "varname=G, type=poisson, min=0, max=10, key=at_start",
+                "unknown random variable type: poisson",
+            ),
+        ];
+        for (spec, why) in cases {
+            let ts = script(&format!("rand_var = {spec}"));
+            assert!(ts.rand_vars.is_empty(), "{spec}");
+            let w: Vec<String> = ts.warnings().iter().map(|d| d.located()).collect();
+            let want = format!(
+                "t.moos:3: Rand variable problem: {}:{why}",
+                spec.replace(' ', "")
+            );
+            assert_eq!(w, [want], "{spec}");
+        }
+        let ts = script(&format!("rand_var = {base}\nrand_var = {base}"));
+        assert_eq!(ts.rand_vars.len(), 1);
+        assert!(
+            ts.warnings()[0]
+                .located()
+                .ends_with(":Duplicate random variable"),
+            "{:?}",
+            ts.warnings()
+        );
+    }
+
+    /// A gaussian variable expands with up to 5 decimals (a uniform one with 3), and as a
+    /// whole unquoted value posts a double.
+    #[test]
+    fn gaussian_macros_expand_with_five_decimals() {
+        let mut ts = script(
+            "rand_var = varname=G, type=gaussian, min=-50, max=50, mu=1.2345678, sigma=0, snap=0.00001, key=at_start\n\
+             rand_var = varname=U, min=1.2345678, max=1.2345678, snap=0.00001, key=at_start\n\
+             event = var=S, val=\"x=$[G],u=$[U]\", time=0\nevent = var=D, val=$(G), time=0\n\
+             event = var=C, val=\"$[G]\", time=0",
+        );
+        let out = without_status(run(&mut ts, 10.0, 1.0, 2, &[]));
+        let get = |k: &str| {
+            out.iter()
+                .find(|(_, p)| p.key == k)
+                .unwrap()
+                .1
+                .value
+                .clone()
+        };
+        assert_eq!(get("S"), Value::text("x=1.23457,u=1.235"));
+        assert_eq!(get("C"), Value::text("1.23457"));
+        let d = get("D").as_f64().expect("a double");
+        assert!((d - 1.23457).abs() < 1e-12, "{d}");
+        // Whole numbers lose their decimals, as doubleToStringX writes them.
+        let mut ts = script(
+            "rand_var = varname=G, type=gaussian, min=0, max=100, mu=160, sigma=3, key=at_start\n\
+             event = var=S, val=\"g=$[G]\", time=0",
+        );
+        let out = without_status(run(&mut ts, 0.0, 1.0, 1, &[]));
+        assert_eq!(out[0].1.value, Value::text("g=100"), "clamped to max");
+    }
+
+    /// 10,000 seeded draws: the deviates are N(0, 1) (mean, deviation, the share within one
+    /// sigma); a variable's values have its mean and (clamped) deviation, stay within
+    /// `[min, max]` and sit on its snap grid.
+    #[test]
+    fn gaussian_draws_over_ten_thousand_seeded_samples() {
+        let n = 10_000;
+        let mut rng = fastrand::Rng::with_seed(2026);
+        let mut spare = None;
+        let z: Vec<f64> = (0..n)
+            .map(|_| white_noise(&mut rng, &mut spare, 1.0))
+            .collect();
+        let stats = |v: &[f64]| {
+            let m = v.iter().sum::<f64>() / v.len() as f64;
+            let var = v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (v.len() - 1) as f64;
+            (m, var.sqrt())
+        };
+        let (m, sd) = stats(&z);
+        let within = z.iter().filter(|x| x.abs() <= 1.0).count() as f64 / n as f64;
+        eprintln!("N(0,1): mean {m:.4}, sd {sd:.4}, within 1 sigma {within:.4}");
+        assert!(m.abs() < 0.04, "{m}");
+        assert!((0.97..1.03).contains(&sd), "{sd}");
+        assert!((0.66..0.71).contains(&within), "{within}");
+
+        let draws = |rv: &mut RandVar, rng: &mut fastrand::Rng, spare: &mut Option<f64>| {
+            (0..n)
+                .map(|_| {
+                    rv.draw(rng, spare);
+                    rv.value
+                })
+                .collect::<Vec<f64>>()
+        };
+        // s1_alpha_obstaclemgr's RND_AX: clamped at 2.5 sigma, so the deviation is 0.989 of
+        // sigma (1.977).
+        let mut rv = RandVar {
+            name: "RND_AX".into(),
+            min: 155.0,
+            max: 165.0,
+            snap: 0.001,
+            key: RandKey::Reset,
+            kind: RandKind::Gaussian {
+                mu: 160.0,
+                sigma: 2.0,
+            },
+            value: 0.0,
+        };
+        let v = draws(&mut rv, &mut rng, &mut spare);
+        let (m, sd) = stats(&v);
+        eprintln!("RND_AX: mean {m:.4}, sd {sd:.4}");
+        assert!((m - 160.0).abs() < 0.08, "{m}");
+        assert!((1.92..2.03).contains(&sd), "{sd}");
+        assert!(v.iter().all(|x| (155.0..=165.0).contains(x)));
+        assert!(
+            v.iter()
+                .all(|x| ((x / 0.001) - (x / 0.001).round()).abs() < 1e-6)
+        );
+
+        // A narrow range: a third of the draws beyond one sigma, all on the bounds.
+        rv.min = -1.0;
+        rv.max = 1.0;
+        rv.snap = 0.25;
+        rv.kind = RandKind::Gaussian {
+            mu: 0.0,
+            sigma: 1.0,
+        };
+        let v = draws(&mut rv, &mut rng, &mut spare);
+        assert!(v.iter().all(|x| (-1.0..=1.0).contains(x)));
+        assert!(
+            v.iter().all(|x| (x * 4.0).fract() == 0.0),
+            "on the 0.25 grid"
+        );
+        let at_bounds = v.iter().filter(|x| x.abs() == 1.0).count() as f64 / n as f64;
+        // P(|z| >= 0.875) = 0.381: what snaps to +-1 or lies beyond.
+        assert!((0.36..0.40).contains(&at_bounds), "{at_bounds}");
+        // The same seed draws the same values.
+        let again = |seed| {
+            let mut ts = script(
+                "rand_var = varname=G, type=gaussian, min=0, max=10, mu=5, sigma=1, key=at_post\n\
+                 event = var=S, val=\"$[G]\", time=0, amt=5",
+            );
+            ts.rng = fastrand::Rng::with_seed(seed);
+            without_status(run(&mut ts, 0.0, 1.0, 2, &[]))
+                .into_iter()
+                .map(|(_, p)| p.value)
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(again(9), again(9));
+        assert_ne!(again(9), again(10));
+    }
+
+    /// The uTimerScript block of corpus mission `rel`, read for community `community`.
+    fn corpus_script(rel: &str, community: &str) -> TimerScript {
+        let text = test_support::mission_text(rel);
+        let src = SourceMap::from_text(rel, &text);
         let block = mission::moos::parse_moos(&src)
             .value
             .processes
             .into_iter()
             .find(|b| b.name == "uTimerScript")
             .unwrap();
-        let ts = TimerScript::new("uTimerScript", block, "delta", 3).unwrap();
+        TimerScript::new("uTimerScript", block, community, 3).unwrap()
+    }
+
+    #[test]
+    fn delta_block_parses() {
+        let ts = corpus_script("s4_delta/delta.moos", "delta");
         assert_eq!(ts.event_count(), 1);
         assert_eq!(ts.app_tick(), 4.0);
         assert_eq!(ts.script_name, "GPS_SCRIPT");

@@ -78,20 +78,13 @@
 
 use ivp::{IvpFunction, Reflector};
 
-use super::{ObstacleBase, ShipModel, geom, spec_inactive};
+use super::{
+    ObstacleBase, RangeFlags, ShipModel, erase_ship_polygons, geom, idle_tail, non_neg,
+    ship_config_status, ship_param, spec_inactive,
+};
 use crate::behavior::{Behavior, Ctx, Out, ParamError, PostKey, add_vars};
-use crate::common::{Common, Flag};
+use crate::common::Common;
 use crate::param::{atof, is_number, moos_boolean};
-
-/// A number >= 0 (the C++ `non_neg_number` gate).
-fn non_neg(param: &str, value: &str) -> Result<f64, ParamError> {
-    let d = atof(value);
-    if is_number(value) && d >= 0.0 {
-        Ok(d)
-    } else {
-        Err(ParamError::bad(param, value, "a number >= 0"))
-    }
-}
 
 /// The course and speed of the helm's domain.
 fn course_speed(ctx: &Ctx<'_>) -> Option<ivp::Domain> {
@@ -338,16 +331,10 @@ pub struct AvoidObstacleX {
     use_refinery: bool,
     hide_deprecation: bool,
     hints: XHints,
-    rng_flags: Vec<(f64, Flag)>,
-    cpa_flags: Vec<Flag>,
+    flags: RangeFlags,
     /// The relevance of the last running iteration.
     pub relevance: f64,
     valid: bool,
-    closing: bool,
-    cpa_rng_sofar: f64,
-    fpa_rng_sofar: f64,
-    cpa_rng_ever: f64,
-    cpa_reported: f64,
 }
 
 impl Default for AvoidObstacleX {
@@ -366,15 +353,9 @@ impl AvoidObstacleX {
             use_refinery: false,
             hide_deprecation: false,
             hints: XHints::default(),
-            rng_flags: Vec::new(),
-            cpa_flags: Vec::new(),
+            flags: RangeFlags::default(),
             relevance: 0.0,
             valid: false,
-            closing: false,
-            cpa_rng_sofar: -1.0,
-            fpa_rng_sofar: -1.0,
-            cpa_rng_ever: -1.0,
-            cpa_reported: -1.0,
         }
     }
 
@@ -408,48 +389,6 @@ impl AvoidObstacleX {
         problem.is_none()
     }
 
-    /// V21's range and CPA flags (as BHV_AvoidObstacleV24's).
-    fn flags(&mut self, range: f64, out: &mut Out) {
-        if self.cpa_rng_ever < 0.0 || range < self.cpa_rng_ever {
-            self.cpa_rng_ever = range;
-        }
-        self.cpa_reported = self.cpa_rng_ever;
-        for (thresh, f) in &self.rng_flags {
-            if *thresh <= 0.0 || range < *thresh {
-                out.flag(f, false);
-            }
-        }
-        let mut cpa_event = false;
-        if self.cpa_rng_sofar < 0.0 || self.fpa_rng_sofar < 0.0 {
-            (self.cpa_rng_sofar, self.fpa_rng_sofar) = (range, range);
-        }
-        if self.closing {
-            self.cpa_rng_sofar = self.cpa_rng_sofar.min(range);
-            if range > self.cpa_rng_sofar + 1.0 {
-                self.closing = false;
-                cpa_event = true;
-                self.fpa_rng_sofar = range;
-            }
-        } else {
-            self.fpa_rng_sofar = self.fpa_rng_sofar.max(range);
-            if range < self.fpa_rng_sofar - 1.0 {
-                self.closing = true;
-                self.cpa_rng_sofar = range;
-            }
-        }
-        if cpa_event && range < self.model.m.pwt_outer_dist {
-            let mut c = String::new();
-            moos_types::fmt::compact(&mut c, self.cpa_rng_sofar, 3);
-            for f in &self.cpa_flags {
-                let mut f = f.clone();
-                if let moos_types::Value::String(s) = &f.value {
-                    f.value = moos_types::Value::text(s.replace("$[CPA]", &c));
-                }
-                out.flag(&f, false);
-            }
-        }
-    }
-
     /// MOOS `onEveryState`: X notes resolutions; V21 also judges the model, posts flags and
     /// the range, and makes completion pending beyond `completed_dist`.
     fn every_state(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
@@ -469,7 +408,7 @@ impl AvoidObstacleX {
             return;
         }
         let range = self.model.m.range;
-        self.flags(range, out);
+        self.flags.update(range, self.model.m.pwt_outer_dist, out);
         out.post("OS_DIST_TO_POLY", range);
         if range > self.model.m.completed_dist {
             self.base.resolved_pending = true;
@@ -538,19 +477,8 @@ impl AvoidObstacleX {
     }
 
     fn erase_polygons(&self, out: &mut Out) {
-        let derived = !self.model.m.mid.is_empty();
-        for (i, (key, label)) in ["one", "two", "three"]
-            .into_iter()
-            .zip(self.labels())
-            .enumerate()
-        {
-            let label = if i == 0 || derived {
-                label
-            } else {
-                String::new()
-            };
-            out.post_key("VIEW_POLYGON", spec_inactive(&label), PostKey::Tag(key));
-        }
+        let [_, min, max] = self.labels();
+        erase_ship_polygons(&self.model.m, [&min, &max], ["one", "two", "three"], out);
     }
 }
 
@@ -582,21 +510,10 @@ impl Behavior for AvoidObstacleX {
         _common: &mut Common,
         _ctx: &Ctx<'_>,
     ) -> Result<(), ParamError> {
-        let model = |r: Result<(), &'static str>| r.map_err(|e| ParamError::bad(param, value, e));
-        let m = &mut self.model.m;
+        if let Some(r) = ship_param(&mut self.base, &mut self.model.m, param, value) {
+            return r;
+        }
         match param {
-            "polygon" | "poly" => {
-                model(self.base.set_poly(value))?;
-                let v = self.base.poly.as_ref().expect("just set");
-                self.model.m.set_gut(&v.polygon, &v.attrs.label);
-                Ok(())
-            }
-            "allowable_ttc" => model(m.set_allowable_ttc(atof(value))),
-            "min_util_cpa_dist" => model(m.set_min_util_cpa(non_neg(param, value)?)),
-            "max_util_cpa_dist" => model(m.set_max_util_cpa(non_neg(param, value)?)),
-            "pwt_inner_dist" => model(m.set_pwt_inner(non_neg(param, value)?)),
-            "pwt_outer_dist" => model(m.set_pwt_outer(non_neg(param, value)?)),
-            "completed_dist" => model(m.set_completed(non_neg(param, value)?)),
             "resolved" if !self.v21 => {
                 self.base.resolved_pending =
                     moos_boolean(param, value, self.base.resolved_pending)?;
@@ -626,32 +543,8 @@ impl Behavior for AvoidObstacleX {
                 self.hide_deprecation = moos_boolean(param, value, self.hide_deprecation)?;
                 Ok(())
             }
-            "rng_flag" if self.v21 => {
-                if value.is_empty() {
-                    return Err(ParamError::bad(param, value, "[<range ]VAR=value"));
-                }
-                let (thresh, rest) = match value.strip_prefix('<') {
-                    Some(r) => {
-                        let (num, tail) = r.split_once(' ').unwrap_or((r, ""));
-                        if !is_number(num.trim()) {
-                            return Err(ParamError::bad(param, value, "<RANGE VAR=value"));
-                        }
-                        (atof(num.trim()), tail.trim())
-                    }
-                    None => (-1.0, value),
-                };
-                if let Some(f) = Flag::parse(rest) {
-                    self.rng_flags.push((thresh, f));
-                }
-                Ok(())
-            }
-            "cpa_flag" if self.v21 => match Flag::parse(value) {
-                Some(f) => {
-                    self.cpa_flags.push(f);
-                    Ok(())
-                }
-                None => Err(ParamError::bad(param, value, "VAR=value")),
-            },
+            "rng_flag" if self.v21 => self.flags.set_rng_flag(param, value),
+            "cpa_flag" if self.v21 => self.flags.set_cpa_flag(param, value),
             _ => Err(ParamError::unknown(param)),
         }
     }
@@ -688,27 +581,12 @@ impl Behavior for AvoidObstacleX {
     }
 
     fn config_status(&self, name: &str) -> Option<String> {
-        let m = &self.model.m;
         let kind = if self.v21 {
             "BHV_AvoidObstacleV21"
         } else {
             "BHV_AvoidObstacleXs"
         };
-        let mut s = format!("type={kind},name={name}");
-        for (k, v) in [
-            ("allowable_ttc", m.allowable_ttc),
-            ("min_util_cpa", m.min_util_cpa),
-            ("max_util_cpa", m.max_util_cpa),
-            ("pwt_outer_dist", m.pwt_outer_dist),
-            ("pwt_inner_dist", m.pwt_inner_dist),
-            ("completed_dist", m.completed_dist),
-        ] {
-            s.push(',');
-            s.push_str(k);
-            s.push('=');
-            moos_types::fmt::fixed(&mut s, v, 2);
-        }
-        Some(s)
+        Some(ship_config_status(kind, name, &self.model.m))
     }
 
     fn on_idle_to_run(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
@@ -717,10 +595,7 @@ impl Behavior for AvoidObstacleX {
 
     fn on_idle(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
         self.every_state(ctx, out);
-        self.erase_polygons(out);
-        if self.base.resolved_pending {
-            out.complete();
-        }
+        idle_tail(&self.base, |o| self.erase_polygons(o), out);
     }
 
     fn on_complete(&mut self, _ctx: &Ctx<'_>, out: &mut Out) {
@@ -784,7 +659,7 @@ impl Behavior for AvoidObstacleX {
         use moos_types::fmt::compact;
         let m = &self.model.m;
         match name {
-            "CPA" => compact(out, self.cpa_reported, 3),
+            "CPA" => compact(out, self.flags.cpa_reported, 3),
             "RNG" => compact(out, m.range, 3),
             "BNG" => compact(out, m.obcent_bng, 3),
             "RBNG" => compact(out, m.obcent_relbng, 3),

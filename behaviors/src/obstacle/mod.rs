@@ -25,7 +25,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use geometry::{Attributes, Polygon, ViewPolygon};
 
 use crate::behavior::{Ctx, Out, ParamError};
-use crate::common::Common;
+use crate::common::{Common, Flag};
 
 /// `visual_hints` (MOOS `HintHolder`): colours (keys containing `color`, `lcolor` read as
 /// `label_color`) and measures (numbers >= 0).
@@ -250,6 +250,215 @@ impl ObstacleBase {
         if self.obstacle_id == id {
             self.resolved_pending = true;
         }
+    }
+}
+
+/// A number >= 0 (the C++ `non_neg_number` gate of the obstacle behaviours' distances).
+pub fn non_neg(param: &str, value: &str) -> Result<f64, ParamError> {
+    let d = crate::param::atof(value);
+    if crate::param::is_number(value) && d >= 0.0 {
+        Ok(d)
+    } else {
+        Err(ParamError::bad(param, value, "a number >= 0"))
+    }
+}
+
+/// The parameters of a [`ShipModel`] the behaviours over it read alike (`poly`/`polygon`,
+/// `allowable_ttc`, `min_util_cpa_dist`, `max_util_cpa_dist`, `pwt_inner_dist`,
+/// `pwt_outer_dist`, `completed_dist`): `None` for any other parameter.
+pub fn ship_param(
+    base: &mut ObstacleBase,
+    model: &mut ShipModel,
+    param: &str,
+    value: &str,
+) -> Option<Result<(), ParamError>> {
+    let bad = |r: Result<(), &'static str>| r.map_err(|e| ParamError::bad(param, value, e));
+    let dist = |set: fn(&mut ShipModel, f64) -> Result<(), &'static str>, model: &mut ShipModel| {
+        non_neg(param, value).and_then(|d| bad(set(model, d)))
+    };
+    Some(match param {
+        "polygon" | "poly" => bad(base.set_poly(value)).map(|()| {
+            let v = base.poly.as_ref().expect("just set");
+            model.set_gut(&v.polygon, &v.attrs.label);
+        }),
+        "allowable_ttc" => bad(model.set_allowable_ttc(crate::param::atof(value))),
+        "min_util_cpa_dist" => dist(ShipModel::set_min_util_cpa, model),
+        "max_util_cpa_dist" => dist(ShipModel::set_max_util_cpa, model),
+        "pwt_inner_dist" => dist(ShipModel::set_pwt_inner, model),
+        "pwt_outer_dist" => dist(ShipModel::set_pwt_outer, model),
+        "completed_dist" => dist(ShipModel::set_completed, model),
+        _ => return None,
+    })
+}
+
+/// The `BHV_SETTINGS` line of a behaviour over a [`ShipModel`]:
+/// `type=<kind>,name=<name>` and its six distances with 2 decimals.
+pub fn ship_config_status(kind: &str, name: &str, m: &ShipModel) -> String {
+    let mut s = format!("type={kind},name={name}");
+    for (k, v) in [
+        ("allowable_ttc", m.allowable_ttc),
+        ("min_util_cpa", m.min_util_cpa),
+        ("max_util_cpa", m.max_util_cpa),
+        ("pwt_outer_dist", m.pwt_outer_dist),
+        ("pwt_inner_dist", m.pwt_inner_dist),
+        ("completed_dist", m.completed_dist),
+    ] {
+        s.push(',');
+        s.push_str(k);
+        s.push('=');
+        moos_types::fmt::fixed(&mut s, v, 2);
+    }
+    s
+}
+
+/// The range and closest-approach flags of V24 and V21 (`rng_flag`, `cpa_flag`) and the
+/// ranges they follow: the closest range ever, and per pass the closest range while closing
+/// and the farthest while opening (1 m of hysteresis).
+#[derive(Debug, Clone)]
+pub struct RangeFlags {
+    /// `rng_flag`s: the range below which each is posted (<= 0: always) and the flag.
+    pub rng_flags: Vec<(f64, Flag)>,
+    /// `cpa_flag`s, posted at each closest approach within `pwt_outer_dist`.
+    pub cpa_flags: Vec<Flag>,
+    closing: bool,
+    cpa_rng_sofar: f64,
+    fpa_rng_sofar: f64,
+    cpa_rng_ever: f64,
+    /// What `$[CPA]` expands to outside the CPA flags: the closest range ever (-1 before).
+    pub cpa_reported: f64,
+}
+
+impl Default for RangeFlags {
+    fn default() -> Self {
+        RangeFlags {
+            rng_flags: Vec::new(),
+            cpa_flags: Vec::new(),
+            closing: false,
+            cpa_rng_sofar: -1.0,
+            fpa_rng_sofar: -1.0,
+            cpa_rng_ever: -1.0,
+            cpa_reported: -1.0,
+        }
+    }
+}
+
+impl RangeFlags {
+    /// `rng_flag = [<RANGE ]VAR=value` (MOOS `handleParamRangeFlag`: a bad flag after a good
+    /// threshold is ignored, not refused).
+    pub fn set_rng_flag(&mut self, param: &str, value: &str) -> Result<(), ParamError> {
+        if value.is_empty() {
+            return Err(ParamError::bad(param, value, "[<range ]VAR=value"));
+        }
+        let (thresh, rest) = match value.strip_prefix('<') {
+            Some(r) => {
+                let (num, tail) = r.split_once(' ').unwrap_or((r, ""));
+                if !crate::param::is_number(num.trim()) {
+                    return Err(ParamError::bad(param, value, "<RANGE VAR=value"));
+                }
+                (crate::param::atof(num.trim()), tail.trim())
+            }
+            None => (-1.0, value),
+        };
+        if let Some(f) = Flag::parse(rest) {
+            self.rng_flags.push((thresh, f));
+        }
+        Ok(())
+    }
+
+    /// `cpa_flag = VAR=value`.
+    pub fn set_cpa_flag(&mut self, param: &str, value: &str) -> Result<(), ParamError> {
+        match Flag::parse(value) {
+            Some(f) => {
+                self.cpa_flags.push(f);
+                Ok(())
+            }
+            None => Err(ParamError::bad(param, value, "VAR=value")),
+        }
+    }
+
+    /// One range to the obstacle: the range flags that apply, and at a closest approach
+    /// within `outer` the CPA flags with `$[CPA]` at this pass's closest range (the helm
+    /// expands the flags' other macros when it posts them, so `$[CPA]` is expanded here).
+    pub fn update(&mut self, range: f64, outer: f64, out: &mut Out) {
+        if self.cpa_rng_ever < 0.0 || range < self.cpa_rng_ever {
+            self.cpa_rng_ever = range;
+        }
+        self.cpa_reported = self.cpa_rng_ever;
+        for (thresh, f) in &self.rng_flags {
+            if *thresh <= 0.0 || range < *thresh {
+                out.flag(f, false);
+            }
+        }
+        let mut cpa_event = false;
+        if self.cpa_rng_sofar < 0.0 || self.fpa_rng_sofar < 0.0 {
+            (self.cpa_rng_sofar, self.fpa_rng_sofar) = (range, range);
+        }
+        if self.closing {
+            self.cpa_rng_sofar = self.cpa_rng_sofar.min(range);
+            if range > self.cpa_rng_sofar + 1.0 {
+                self.closing = false;
+                cpa_event = true;
+                self.fpa_rng_sofar = range;
+            }
+        } else {
+            self.fpa_rng_sofar = self.fpa_rng_sofar.max(range);
+            if range < self.fpa_rng_sofar - 1.0 {
+                self.closing = true;
+                self.cpa_rng_sofar = range;
+            }
+        }
+        if cpa_event && range < outer {
+            let mut c = String::new();
+            moos_types::fmt::compact(&mut c, self.cpa_rng_sofar, 3);
+            for f in &self.cpa_flags {
+                let mut f = f.clone();
+                if let moos_types::Value::String(s) = &f.value {
+                    f.value = moos_types::Value::text(s.replace("$[CPA]", &c));
+                }
+                out.flag(&f, false);
+            }
+        }
+    }
+}
+
+/// Erases the three polygons a behaviour over a [`ShipModel`] draws (MOOS
+/// `postErasablePolygons`): the obstacle's, then the two buffers' (each with an empty label
+/// while `m` has derived no buffers yet), each under its posting key.
+pub fn erase_ship_polygons(
+    m: &ShipModel,
+    buffers: [&str; 2],
+    keys: [&'static str; 3],
+    out: &mut Out,
+) {
+    let derived = !m.mid.is_empty();
+    let labels = [
+        m.label.clone(),
+        if derived {
+            buffers[0].to_string()
+        } else {
+            String::new()
+        },
+        if derived {
+            buffers[1].to_string()
+        } else {
+            String::new()
+        },
+    ];
+    for (key, label) in keys.into_iter().zip(labels) {
+        out.post_key(
+            "VIEW_POLYGON",
+            spec_inactive(&label),
+            crate::behavior::PostKey::Tag(key),
+        );
+    }
+}
+
+/// The idle tail every obstacle behaviour shares: its polygons erased (by `erase`), then
+/// completion once the obstacle is resolved.
+pub fn idle_tail(base: &ObstacleBase, erase: impl FnOnce(&mut Out), out: &mut Out) {
+    erase(out);
+    if base.resolved_pending {
+        out.complete();
     }
 }
 

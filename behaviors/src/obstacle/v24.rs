@@ -65,10 +65,13 @@
 
 use ivp::{IvpFunction, Reflector};
 
-use super::{Hints, ObstacleBase, ShipModel, plat_pose, spec_inactive};
+use super::{
+    Hints, ObstacleBase, RangeFlags, ShipModel, erase_ship_polygons, idle_tail, plat_pose,
+    ship_config_status, ship_param,
+};
 use crate::behavior::{Behavior, Ctx, Out, ParamError, PostKey, add_vars};
-use crate::common::{Common, Flag};
-use crate::param::{atof, is_number, moos_boolean};
+use crate::common::Common;
+use crate::param::moos_boolean;
 
 /// BHV_AvoidObstacleV24.
 #[derive(Debug, Clone)]
@@ -78,8 +81,7 @@ pub struct AvoidObstacleV24 {
     /// Ownship and the obstacle.
     pub model: ShipModel,
     use_refinery: bool,
-    rng_flags: Vec<(f64, Flag)>,
-    cpa_flags: Vec<Flag>,
+    flags: RangeFlags,
     draw_buff_min_poly: bool,
     draw_buff_max_poly: bool,
     holonomic_ok: bool,
@@ -88,11 +90,6 @@ pub struct AvoidObstacleV24 {
     /// The relevance of the last running iteration.
     pub relevance: f64,
     valid: bool,
-    closing: bool,
-    cpa_rng_sofar: f64,
-    fpa_rng_sofar: f64,
-    cpa_rng_ever: f64,
-    cpa_reported: f64,
     /// `port`, `star` or empty: the passing side held.
     pub side_lock: String,
 }
@@ -140,16 +137,6 @@ fn default_hints() -> Hints {
     h
 }
 
-/// A number >= 0 (the C++ `non_neg_number` gate).
-fn non_neg(param: &str, value: &str) -> Result<f64, ParamError> {
-    let d = atof(value);
-    if is_number(value) && d >= 0.0 {
-        Ok(d)
-    } else {
-        Err(ParamError::bad(param, value, "a number >= 0"))
-    }
-}
-
 impl AvoidObstacleV24 {
     /// A behaviour with MOOS-IvP's defaults.
     pub fn new() -> Self {
@@ -157,8 +144,7 @@ impl AvoidObstacleV24 {
             base: ObstacleBase::new(),
             model: ShipModel::default(),
             use_refinery: false,
-            rng_flags: Vec::new(),
-            cpa_flags: Vec::new(),
+            flags: RangeFlags::default(),
             draw_buff_min_poly: true,
             draw_buff_max_poly: true,
             holonomic_ok: false,
@@ -166,36 +152,8 @@ impl AvoidObstacleV24 {
             hints: default_hints(),
             relevance: 0.0,
             valid: false,
-            closing: false,
-            cpa_rng_sofar: -1.0,
-            fpa_rng_sofar: -1.0,
-            cpa_rng_ever: -1.0,
-            cpa_reported: -1.0,
             side_lock: String::new(),
         }
-    }
-
-    /// `rng_flag = [<RANGE ]VAR=value` (MOOS `handleParamRangeFlag`: a bad flag after a good
-    /// threshold is ignored, not refused).
-    fn range_flag(&mut self, param: &str, value: &str) -> Result<(), ParamError> {
-        if value.is_empty() {
-            return Err(ParamError::bad(param, value, "[<range ]VAR=value"));
-        }
-        let mut thresh = -1.0;
-        let mut rest = value;
-        if let Some(r) = value.strip_prefix('<') {
-            let (num, tail) = r.split_once(' ').unwrap_or((r, ""));
-            let num = num.trim();
-            if !is_number(num) {
-                return Err(ParamError::bad(param, value, "<RANGE VAR=value"));
-            }
-            thresh = atof(num);
-            rest = tail.trim();
-        }
-        if let Some(f) = Flag::parse(rest) {
-            self.rng_flags.push((thresh, f));
-        }
-        Ok(())
     }
 
     /// MOOS `onEveryState`.
@@ -215,53 +173,7 @@ impl AvoidObstacleV24 {
             return;
         }
         let range = self.model.range;
-        if self.cpa_rng_ever < 0.0 || range < self.cpa_rng_ever {
-            self.cpa_rng_ever = range;
-        }
-        self.cpa_reported = self.cpa_rng_ever;
-        for (thresh, f) in &self.rng_flags {
-            if *thresh <= 0.0 || range < *thresh {
-                out.flag(f, false);
-            }
-        }
-        let mut cpa_event = false;
-        if self.cpa_rng_sofar < 0.0 || self.fpa_rng_sofar < 0.0 {
-            self.cpa_rng_sofar = range;
-            self.fpa_rng_sofar = range;
-        }
-        if self.closing {
-            if range < self.cpa_rng_sofar {
-                self.cpa_rng_sofar = range;
-            }
-            if range > self.cpa_rng_sofar + 1.0 {
-                self.closing = false;
-                cpa_event = true;
-                self.fpa_rng_sofar = range;
-            }
-        } else {
-            if range > self.fpa_rng_sofar {
-                self.fpa_rng_sofar = range;
-            }
-            if range < self.fpa_rng_sofar - 1.0 {
-                self.closing = true;
-                self.cpa_rng_sofar = range;
-            }
-        }
-        if cpa_event && range < self.model.pwt_outer_dist {
-            // `$[CPA]` is this pass's closest approach while the CPA flags are posted: the
-            // helm expands the flags' macros when it posts them, so they are expanded here.
-            self.cpa_reported = self.cpa_rng_sofar;
-            for f in &self.cpa_flags {
-                let mut f = f.clone();
-                if let moos_types::Value::String(s) = &f.value {
-                    let mut c = String::new();
-                    moos_types::fmt::compact(&mut c, self.cpa_reported, 3);
-                    f.value = moos_types::Value::text(s.replace("$[CPA]", &c));
-                }
-                out.flag(&f, false);
-            }
-            self.cpa_reported = self.cpa_rng_ever;
-        }
+        self.flags.update(range, self.model.pwt_outer_dist, out);
         if range > self.model.completed_dist {
             self.base.resolved_pending = true;
         }
@@ -406,24 +318,11 @@ impl AvoidObstacleV24 {
     /// The erasing polygons (MOOS `postErasablePolygons`).
     fn erase_polygons(&self, out: &mut Out) {
         let label = &self.model.label;
-        let derived = !self.model.mid.is_empty();
-        let sub = |s: &str| {
-            if derived {
-                format!("{label}_{s}_poly")
-            } else {
-                String::new()
-            }
-        };
-        out.post_key("VIEW_POLYGON", spec_inactive(label), PostKey::Tag("gut"));
-        out.post_key(
-            "VIEW_POLYGON",
-            spec_inactive(&sub("mid")),
-            PostKey::Tag("mid"),
-        );
-        out.post_key(
-            "VIEW_POLYGON",
-            spec_inactive(&sub("rim")),
-            PostKey::Tag("rim"),
+        erase_ship_polygons(
+            &self.model,
+            [&format!("{label}_mid_poly"), &format!("{label}_rim_poly")],
+            ["gut", "mid", "rim"],
+            out,
         );
     }
 }
@@ -452,20 +351,10 @@ impl Behavior for AvoidObstacleV24 {
         _common: &mut Common,
         _ctx: &Ctx<'_>,
     ) -> Result<(), ParamError> {
-        let model = |r: Result<(), &'static str>| r.map_err(|e| ParamError::bad(param, value, e));
+        if let Some(r) = ship_param(&mut self.base, &mut self.model, param, value) {
+            return r;
+        }
         match param {
-            "polygon" | "poly" => {
-                model(self.base.set_poly(value))?;
-                let v = self.base.poly.as_ref().expect("just set");
-                self.model.set_gut(&v.polygon, &v.attrs.label);
-                Ok(())
-            }
-            "allowable_ttc" => model(self.model.set_allowable_ttc(atof(value))),
-            "min_util_cpa_dist" => model(self.model.set_min_util_cpa(non_neg(param, value)?)),
-            "max_util_cpa_dist" => model(self.model.set_max_util_cpa(non_neg(param, value)?)),
-            "pwt_inner_dist" => model(self.model.set_pwt_inner(non_neg(param, value)?)),
-            "pwt_outer_dist" => model(self.model.set_pwt_outer(non_neg(param, value)?)),
-            "completed_dist" => model(self.model.set_completed(non_neg(param, value)?)),
             "holonomic_ok" => {
                 self.holonomic_ok = moos_boolean(param, value, self.holonomic_ok)?;
                 Ok(())
@@ -490,14 +379,8 @@ impl Behavior for AvoidObstacleV24 {
                 self.allstop_on_breach = moos_boolean(param, value, self.allstop_on_breach)?;
                 Ok(())
             }
-            "rng_flag" => self.range_flag(param, value),
-            "cpa_flag" => match Flag::parse(value) {
-                Some(f) => {
-                    self.cpa_flags.push(f);
-                    Ok(())
-                }
-                None => Err(ParamError::bad(param, value, "VAR=value")),
-            },
+            "rng_flag" => self.flags.set_rng_flag(param, value),
+            "cpa_flag" => self.flags.set_cpa_flag(param, value),
             "visual_hints" => {
                 if self.hints.set(value) {
                     Ok(())
@@ -529,10 +412,10 @@ impl Behavior for AvoidObstacleV24 {
                 self.base.resolved_var.as_str(),
             ],
         );
-        for (_, f) in &self.rng_flags {
+        for (_, f) in &self.flags.rng_flags {
             crate::behavior::add_flag_vars(out, std::slice::from_ref(f));
         }
-        crate::behavior::add_flag_vars(out, &self.cpa_flags);
+        crate::behavior::add_flag_vars(out, &self.flags.cpa_flags);
     }
 
     fn pwt_factor(&self) -> f64 {
@@ -540,22 +423,7 @@ impl Behavior for AvoidObstacleV24 {
     }
 
     fn config_status(&self, name: &str) -> Option<String> {
-        let m = &self.model;
-        let mut s = format!("type=BHV_AvoidObstacleV24,name={name}");
-        for (k, v) in [
-            ("allowable_ttc", m.allowable_ttc),
-            ("min_util_cpa", m.min_util_cpa),
-            ("max_util_cpa", m.max_util_cpa),
-            ("pwt_outer_dist", m.pwt_outer_dist),
-            ("pwt_inner_dist", m.pwt_inner_dist),
-            ("completed_dist", m.completed_dist),
-        ] {
-            s.push(',');
-            s.push_str(k);
-            s.push('=');
-            moos_types::fmt::fixed(&mut s, v, 2);
-        }
-        Some(s)
+        Some(ship_config_status(self.kind(), name, &self.model))
     }
 
     fn on_idle_to_run(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
@@ -564,10 +432,7 @@ impl Behavior for AvoidObstacleV24 {
 
     fn on_idle(&mut self, ctx: &Ctx<'_>, out: &mut Out) {
         self.every_state(ctx, out);
-        self.erase_polygons(out);
-        if self.base.resolved_pending {
-            out.complete();
-        }
+        idle_tail(&self.base, |o| self.erase_polygons(o), out);
     }
 
     fn apply_able_filter(&mut self, msg: &str, out: &mut Out) -> bool {
@@ -651,7 +516,7 @@ impl Behavior for AvoidObstacleV24 {
             "BNG" => compact(out, m.obcent_bng, 3),
             "SIDE" => out.push_str(m.passing_side),
             "OID" => out.push_str(&m.label),
-            "CPA" => compact(out, self.cpa_reported, 3),
+            "CPA" => compact(out, self.flags.cpa_reported, 3),
             "SLOCK" => out.push_str(&self.side_lock),
             "OIDX" => {
                 if let Some((_, idx)) = m.label.rsplit_once('_') {

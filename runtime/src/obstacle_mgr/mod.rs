@@ -6,8 +6,8 @@
 //! `OBM_RESOLVED` (issue #18, point 4).
 //!
 //! [`ObstacleMgr`] is the pure core (mail and time in, posts out); [`ObstacleMgrApp`] is the
-//! app with its appcast. Facts from MOOS-IvP's `pObstacleMgr` and `lib_obstacles`'
-//! `Obstacle` at a2a9b716.
+//! app with its appcast: the core hosted by [`crate::hosted::Hosted`]. Facts from MOOS-IvP's
+//! `pObstacleMgr` and `lib_obstacles`' `Obstacle` at a2a9b716.
 //!
 //! Each iteration, in the C++ order: expiry (points older than `max_age_per_point`, given
 //! obstacles older than their duration, polygons posted inactive), hulls of the point
@@ -57,6 +57,7 @@
 //! only once a helm alert exists.
 
 pub mod hull;
+pub mod sim;
 
 use std::collections::{BTreeMap, VecDeque};
 
@@ -67,9 +68,9 @@ use mission::moos::ProcessConfig;
 use moos_types::fmt::{compact_string, fixed, g_string};
 use moos_types::text::{is_number, parse_string, set_boolean_on_string, tok_string_parse};
 
-use crate::antler::BuiltInApp;
-use crate::app::{App, AppResult, Mail, Post, Subscription, Value};
-use crate::appcasting::{AppcastLayer, Note};
+use crate::app::{Mail, Post, Subscription, Value};
+use crate::appcasting::Note;
+use crate::hosted::{AppCore, Hosted};
 
 /// The program name.
 pub const PROGRAM: &str = "pObstacleMgr";
@@ -330,6 +331,23 @@ impl Default for Settings {
     }
 }
 
+/// A block line as the MOOS reader hands it to pObstacleMgr and uFldObstacleSim: every
+/// blank removed, the parameter in lower case (`(param, value)`).
+pub(crate) fn config_line(key: &str, value: &str) -> (String, String) {
+    let strip = |t: &str| -> String {
+        t.chars()
+            .filter(|c| !matches!(c, ' ' | '\t' | '\r'))
+            .collect()
+    };
+    (strip(key).to_ascii_lowercase(), strip(value))
+}
+
+/// [`config_line`] of a `param = value` line given whole.
+pub(crate) fn config_text(line: &str) -> (String, String) {
+    let (p, v) = line.split_once('=').unwrap_or((line, ""));
+    config_line(p, v)
+}
+
 /// `setPosDoubleOnString`: a number > 0.
 fn pos_double(v: &str) -> Option<f64> {
     let d = geometry::atof(v);
@@ -449,13 +467,8 @@ impl ObstacleMgr {
         };
         let mut warnings = Vec::new();
         for line in lines {
-            // The MOOS reader removes every blank of a block's line.
-            let line: String = line
-                .chars()
-                .filter(|c| !matches!(c, ' ' | '\t' | '\r'))
-                .collect();
-            let (p, v) = line.split_once('=').unwrap_or((&line, ""));
-            if let Err(w) = om.configure(&p.to_ascii_lowercase(), v) {
+            let (p, v) = config_text(line);
+            if let Err(w) = om.configure(&p, &v) {
                 warnings.push(w);
             }
         }
@@ -1247,48 +1260,17 @@ impl ObstacleMgr {
     }
 }
 
-/// The `pObstacleMgr` app.
-pub struct ObstacleMgrApp {
-    name: String,
-    block: ProcessConfig,
-    core: ObstacleMgr,
-    warnings: Vec<Diagnostic>,
-    appcast: AppcastLayer,
-}
+/// The `pObstacleMgr` app: the core hosted with its name, block, warnings and appcast.
+pub type ObstacleMgrApp = Hosted<ObstacleMgr>;
 
-impl BuiltInApp for ObstacleMgrApp {
-    /// Sets the mission's `Community` and `MOOSTimeWarp` for the app's appcasts.
-    fn with_appcast_globals(mut self, community: Option<&str>, warp: f64) -> Self {
-        self.appcast = AppcastLayer::with_config_warnings(
-            &self.name,
-            &self.block,
-            community,
-            warp,
-            &self.warnings,
-        );
-        self
-    }
-
-    /// The block's bad lines, at their lines.
-    fn warnings(&self) -> &[Diagnostic] {
-        &self.warnings
-    }
-}
-
-impl ObstacleMgrApp {
-    /// The app `name` from its block.
+impl Hosted<ObstacleMgr> {
+    /// The app `name` from its block; each bad line is a configuration warning at its line.
     pub fn new(name: &str, block: ProcessConfig) -> Self {
         let (mut core, _) = ObstacleMgr::new(&[]);
         let mut warnings = Vec::new();
         for p in &block.entries {
-            // The MOOS reader removes every blank of a block's line.
-            let strip = |t: &str| -> String {
-                t.chars()
-                    .filter(|c| !matches!(c, ' ' | '\t' | '\r'))
-                    .collect()
-            };
-            let (k, v) = (strip(&p.key), strip(&p.value));
-            if let Err(msg) = core.configure(&k.to_ascii_lowercase(), &v) {
+            let (k, v) = config_line(&p.key, &p.value);
+            if let Err(msg) = core.configure(&k, &v) {
                 for m in msg.split('\n') {
                     warnings.push(Diagnostic::line_warning(
                         DiagnosticKind::AppSetting,
@@ -1299,68 +1281,40 @@ impl ObstacleMgrApp {
             }
         }
         core.finish_config();
-        ObstacleMgrApp {
-            appcast: AppcastLayer::with_config_warnings(name, &block, None, 1.0, &warnings),
-            name: name.to_string(),
-            block,
-            core,
-            warnings,
-        }
-    }
-
-    /// The core.
-    pub fn core(&self) -> &ObstacleMgr {
-        &self.core
-    }
-
-    fn flush_notes(&mut self, now: f64) {
-        for n in self.core.take_notes() {
-            self.appcast.note(n, now);
-        }
+        Hosted::host(name, block, warnings, core)
     }
 }
 
-impl App for ObstacleMgrApp {
-    fn name(&self) -> &str {
-        &self.name
-    }
-
-    fn process_config(&self) -> Option<&ProcessConfig> {
-        Some(&self.block)
-    }
-
+impl AppCore for ObstacleMgr {
     fn subscriptions(&self) -> Vec<Subscription> {
-        AppcastLayer::subscriptions()
-            .chain(self.core.subscriptions().into_iter().map(Subscription::var))
+        ObstacleMgr::subscriptions(self)
+            .into_iter()
+            .map(Subscription::var)
             .collect()
     }
 
-    fn on_startup(&mut self, now: f64, out: &mut Vec<Post>) -> AppResult {
-        self.appcast.on_startup(now);
-        self.core.on_startup(now, out);
-        self.flush_notes(now);
-        Ok(())
+    fn on_startup(&mut self, now: f64, out: &mut Vec<Post>, notes: &mut Vec<Note>) {
+        ObstacleMgr::on_startup(self, now, out);
+        notes.append(&mut self.notes);
     }
 
-    fn on_mail(&mut self, mail: &[Mail], now: f64, out: &mut Vec<Post>) -> AppResult {
-        for m in mail {
-            if self.appcast.take_mail(m) {
-                self.core.on_mail(&m.key, &m.value, now, out);
-            }
-        }
-        self.core.end_mail(out);
-        self.flush_notes(now);
-        Ok(())
+    fn on_mail(&mut self, m: &Mail, now: f64, out: &mut Vec<Post>, notes: &mut Vec<Note>) {
+        ObstacleMgr::on_mail(self, &m.key, &m.value, now, out);
+        notes.append(&mut self.notes);
     }
 
-    fn iterate(&mut self, now: f64, out: &mut Vec<Post>) -> AppResult {
-        let tick = self.app_tick();
-        self.appcast.begin(now, tick, out);
-        self.core.iterate(now, out);
-        self.flush_notes(now);
-        let core = &self.core;
-        self.appcast.end(now, tick, out, |b| core.report(b, now));
-        Ok(())
+    fn mail_done(&mut self, _now: f64, out: &mut Vec<Post>, notes: &mut Vec<Note>) {
+        self.end_mail(out);
+        notes.append(&mut self.notes);
+    }
+
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>, notes: &mut Vec<Note>) {
+        ObstacleMgr::iterate(self, now, out);
+        notes.append(&mut self.notes);
+    }
+
+    fn report(&self, now: f64, body: &mut String) {
+        ObstacleMgr::report(self, body, now);
     }
 }
 
