@@ -339,7 +339,14 @@ mod tests {
                 format!("{int_part}.{}", f.trim_end_matches('0'))
             };
             assert_eq!(weight(w), plain, "{units}");
-            assert_eq!(weight(-w), if units == 0 { plain } else { format!("-{plain}") });
+            assert_eq!(
+                weight(-w),
+                if units == 0 {
+                    plain
+                } else {
+                    format!("-{plain}")
+                }
+            );
         }
         for v in (0..5000).chain([u32::MAX]) {
             let mut s = String::new();
