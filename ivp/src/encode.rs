@@ -285,7 +285,7 @@ fn push_weight(out: &mut String, w: f64) {
     // Four digits, the trailing zeros dropped (`frac` is not 0, so one digit stays).
     let mut frac = frac as u32;
     let mut width = 4;
-    while frac % 10 == 0 {
+    while frac.is_multiple_of(10) {
         frac /= 10;
         width -= 1;
     }
