@@ -354,8 +354,9 @@ struct Running<'a> {
 
 /// The write buffer of each community's alog in a lockstep fleet run: a quarter of a single
 /// mission's (a vehicle of missions/fleet_survey logs ~13 kB per simulated second, so it is
-/// still written in pieces of ~1 simulated second), which is 48 KiB less resident memory
-/// per vehicle of a large fleet.
+/// still written in pieces of ~1 simulated second): 48 KiB less heap per vehicle of a large
+/// fleet (heaptrack; the resident set hardly moves, the larger buffer's pages were not all
+/// touched).
 const FLEET_LOG_BUFFER: usize = 1 << 14;
 
 fn fleet_lockstep(
