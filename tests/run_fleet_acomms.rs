@@ -32,9 +32,9 @@ fn options() -> FleetOptions {
     }
 }
 
-/// Runs the fleet in lockstep in process, logging under a fresh folder `name`; returns the
-/// report and every community's alog bytes by name.
-fn run_fleet(name: &str) -> (FleetReport, BTreeMap<String, Vec<u8>>) {
+/// Runs the fleet in lockstep in process on `threads` threads, logging under a fresh folder
+/// `name`; returns the report and every community's alog bytes by name.
+fn run_fleet(name: &str, threads: usize) -> (FleetReport, BTreeMap<String, Vec<u8>>) {
     let fleet = project_mission("fleet_acomms/fleet_acomms.fleet");
     let dir = fresh_dir(name);
     let loaded = LoadedFleet::from_file(&fleet, &[], &[])
@@ -48,6 +48,7 @@ fn run_fleet(name: &str) -> (FleetReport, BTreeMap<String, Vec<u8>>) {
     let opts = FleetOptions {
         mode: Mode::Lockstep,
         log_dir: Some(dir.join("logs")),
+        threads,
         ..options()
     };
     let report = session::run_fleet(&loaded, &opts, &mut session::Quiet)
@@ -113,7 +114,7 @@ fn mean_max(v: &[f64]) -> (f64, f64) {
 
 #[test]
 fn a_base_polls_two_couguvs_underwater_aborts_one_and_runs_repeat() {
-    let (report, logs) = run_fleet("run-fleet-acomms-1");
+    let (report, logs) = run_fleet("run-fleet-acomms-1", 1);
     let summary = report.to_string();
     assert!(
         matches!(
@@ -413,13 +414,33 @@ fn a_base_polls_two_couguvs_underwater_aborts_one_and_runs_repeat() {
     eprintln!("{}", figures.join("\n"));
 
     // ---- Determinism: a second run writes the same bytes in every community's log (the
-    // same folder name: an alog names its own path).
-    let (_, again) = run_fleet("run-fleet-acomms-1");
+    // same folder name: an alog names its own path), here with the communities stepped on
+    // several threads (one each: three), which hand their modems' requests to the shared
+    // channel in whatever order the threads interleave.
+    let (_, again) = run_fleet("run-fleet-acomms-1", 4);
+    assert_eq!(again.len(), logs.len());
     for (name, bytes) in &logs {
         assert!(
             *bytes == again[name],
-            "two lockstep runs of fleet_acomms wrote different alogs for {name}"
+            "lockstep runs of fleet_acomms on 1 and 4 threads wrote different alogs for {name}"
         );
+    }
+}
+
+/// Two threads (the base and coug1 on one, coug2 on the other) write the bytes of one
+/// thread too, run after run.
+#[test]
+fn two_threads_write_the_bytes_of_one() {
+    let (_, one) = run_fleet("run-fleet-acomms-2", 1);
+    for _ in 0..2 {
+        let (_, two) = run_fleet("run-fleet-acomms-2", 2);
+        assert_eq!(two.len(), one.len());
+        for (name, bytes) in &one {
+            assert!(
+                *bytes == two[name],
+                "lockstep runs of fleet_acomms on 1 and 2 threads wrote different alogs for {name}"
+            );
+        }
     }
 }
 

@@ -56,6 +56,7 @@ pub fn couple_weighted(
 
     let (d1, d2) = (a.dim(), b.dim());
     let mut out = IvpFunction::new(domain);
+    out.reserve_pieces(a.piece_count() * b.piece_count());
     let mut lo = vec![0u32; d1 + d2];
     let mut hi = vec![0u32; d1 + d2];
     let mut w = vec![0.0; d1 + d2];

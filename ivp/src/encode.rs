@@ -69,9 +69,9 @@ pub fn encode(f: &IvpFunction, context: &str, out: &mut String) {
     out.push_str("F,");
     for (i, p) in f.pieces().enumerate() {
         for d in 0..dim {
-            push_uint(out, u64::from(p.lo[d]));
+            push_index(out, p.lo[d]);
             out.push(',');
-            push_uint(out, u64::from(p.hi[d]));
+            push_index(out, p.hi[d]);
             out.push(',');
         }
         for (j, &w) in p.wts.iter().enumerate() {
@@ -230,6 +230,25 @@ fn push_uint(out: &mut String, v: u64) {
     moos_types::fmt::uint(out, v);
 }
 
+/// A grid index in decimal: the pieces' boxes are most of the text, and their indices are
+/// small (a domain has at most a few thousand points), so the common widths are written
+/// digit by digit, without a call per number.
+fn push_index(out: &mut String, v: u32) {
+    let digit = |d: u32| char::from(b'0' + d as u8);
+    if v < 10 {
+        out.push(digit(v));
+    } else if v < 100 {
+        out.push(digit(v / 10));
+        out.push(digit(v % 10));
+    } else if v < 1000 {
+        out.push(digit(v / 100));
+        out.push(digit(v / 10 % 10));
+        out.push(digit(v % 10));
+    } else {
+        push_uint(out, u64::from(v));
+    }
+}
+
 /// MOOS `dstringCompact(doubleToString(v))`: 5 decimals, then trailing zeros and a trailing
 /// point dropped.
 pub(crate) fn push_compact5(out: &mut String, v: f64) {
@@ -251,7 +270,11 @@ fn push_weight(out: &mut String, w: f64) {
     let units = (w * 10000.0 + 0.5) as u64;
     let int_part = units / 10_000;
     let frac = units % 10_000;
-    push_uint(out, int_part);
+    if int_part < 1000 {
+        push_index(out, int_part as u32);
+    } else {
+        push_uint(out, int_part);
+    }
     out.push('.');
     if frac == 0 {
         if int_part == 0 {
@@ -260,10 +283,17 @@ fn push_weight(out: &mut String, w: f64) {
         return;
     }
     // Four digits, the trailing zeros dropped (`frac` is not 0, so one digit stays).
-    let start = out.len();
-    moos_types::fmt::uint_padded(out, frac, 4);
-    let keep = out[start..].trim_end_matches('0').len();
-    out.truncate(start + keep);
+    let mut frac = frac as u32;
+    let mut width = 4;
+    while frac.is_multiple_of(10) {
+        frac /= 10;
+        width -= 1;
+    }
+    let mut div = 10u32.pow(width - 1);
+    while div > 0 {
+        out.push(char::from(b'0' + (frac / div % 10) as u8));
+        div /= 10;
+    }
 }
 
 #[cfg(test)]
@@ -291,6 +321,38 @@ mod tests {
         assert_eq!(weight(99.99996), "100.");
         assert_eq!(weight(3.0405), "3.0405");
         assert_eq!(weight(-0.00004), "-0.0000");
+    }
+
+    #[test]
+    fn weights_and_indices_match_the_plain_formatting() {
+        // Every count of ten-thousandths up to 20000.0000 in steps that hit each digit
+        // position, against the same rule written with `format!`.
+        for units in (0u64..200_000).chain((0..3000).map(|k| k * 66_667)) {
+            let w = units as f64 / 10_000.0;
+            let (int_part, frac) = (units / 10_000, units % 10_000);
+            let plain = if units == 0 {
+                "0".to_string()
+            } else if frac == 0 {
+                format!("{int_part}.{}", if int_part == 0 { "0000" } else { "" })
+            } else {
+                let f = format!("{frac:04}");
+                format!("{int_part}.{}", f.trim_end_matches('0'))
+            };
+            assert_eq!(weight(w), plain, "{units}");
+            assert_eq!(
+                weight(-w),
+                if units == 0 {
+                    plain
+                } else {
+                    format!("-{plain}")
+                }
+            );
+        }
+        for v in (0..5000).chain([u32::MAX]) {
+            let mut s = String::new();
+            push_index(&mut s, v);
+            assert_eq!(s, v.to_string());
+        }
     }
 
     #[test]

@@ -194,6 +194,15 @@ impl IvpFunction {
         self.wts.reserve(pieces * (d + 1));
     }
 
+    /// Makes room for `pieces` more pieces (a builder that knows its count pushes them
+    /// without regrowing the buffers).
+    pub(crate) fn reserve_pieces(&mut self, pieces: usize) {
+        let d = self.dim();
+        self.lo.reserve(pieces * d);
+        self.hi.reserve(pieces * d);
+        self.wts.reserve(pieces * (d + 1));
+    }
+
     pub(crate) fn push_unchecked(
         &mut self,
         lo: &[u32],

@@ -389,7 +389,7 @@ impl ZaicPeak {
 
     /// Builds the function.
     pub fn extract(&self) -> Result<IvpFunction, IvpError> {
-        let mut vals = Vec::new();
+        let mut vals = Vec::with_capacity(self.var.points() as usize);
         self.values(&mut vals);
         if self.summit_insist {
             for c in &self.components {

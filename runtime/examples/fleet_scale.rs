@@ -10,6 +10,24 @@
 //! cargo run --release -p runtime --example fleet_scale -- 100 120 1 # ... on one thread
 //! ```
 //!
+//! The third argument is the number of threads stepping the communities
+//! (`FleetOptions::threads`; 0, the default here, is one per core). The alogs are the same
+//! bytes on any number (the run's only shared media, pShare's in-process route and the
+//! simulated acoustic channel, merge what an instant's communities hand them in a fixed
+//! order).
+//!
+//! Instructions per vehicle per simulated second, the figure that does not depend on the
+//! machine's load: callgrind counting the fleet's loop alone, on a short run on one thread,
+//!
+//! ```sh
+//! valgrind --tool=callgrind --toggle-collect=runtime::session::fleet::advance_all \
+//!     target/release/examples/fleet_scale 10 30 1
+//! ```
+//!
+//! gives the loop's total over 10 vehicles and 30 simulated seconds (divide by 300). The whole
+//! run's counts of a 40 s and a 10 s run, subtracted, give more: the loop plus the reading of
+//! the logs back for the report.
+//!
 //! With no argument it runs each N in a child process of its own (so the memory figures of
 //! one do not include the others') and prints one line per fleet: simulated seconds, wall
 //! seconds of the run's loop, speed-up over real time, the CPU seconds of the whole call

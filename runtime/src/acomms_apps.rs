@@ -116,14 +116,22 @@
 //! Several communities' uSimModems reach one [`AcousticNet`] in an order the scheduler picks.
 //! The net is built so that order never matters: what an app asks at time `t` (its
 //! registration, its position, its transmission) is stamped `t` and held; when the first app
-//! arrives at a later time, everything held is applied to the channel sorted by (time, kind,
-//! modem id), and the channel is stepped to the new time. Receptions complete by then go to
-//! each modem's inbox, which only that modem's app drains. A transmission at `t` cannot
-//! change a reception complete by `t` (the channel's intervals are half-open), so the order
-//! in which the apps of one instant run changes nothing (tested by running the communities
-//! in both orders). Apps must reach the net in non-decreasing time across communities (the
-//! lockstep scheduler does: one instant at a time); a call earlier than the latest seen is
-//! stamped at the latest and counted as late.
+//! arrives at a later time, everything held at earlier times is applied to the channel sorted
+//! by (time, kind, modem id, then that modem's order of asking), and the channel is stepped to
+//! the new time; what was held at the new time itself (a registration at start-up, made
+//! before anyone synced) waits for the next instant. Within an instant the net so only
+//! collects: the channel, its counts and every inbox are what the first sync of the instant
+//! made them, whichever app came first, and every modem syncs before it reads them. This is
+//! the tick barrier of a threaded fleet run (`session::FleetOptions::threads`): the
+//! communities of an instant, stepped on several threads, hand their requests over in any
+//! interleaving; they are merged in that fixed order when the run moves on, and receptions
+//! are computed after the merge. Receptions complete by then go to each modem's inbox, which
+//! only that modem's app drains. A transmission at `t` cannot change a reception complete by
+//! `t` (the channel's intervals are half-open), so the order in which the apps of one instant
+//! run changes nothing (tested by running the communities in both orders, and
+//! missions/fleet_acomms on 1 and 4 threads). Apps must reach the net in non-decreasing time
+//! across communities (the lockstep scheduler does: one instant at a time); a call earlier
+//! than the latest seen is stamped at the latest and counted as late.
 
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::fmt::Write as _;
@@ -351,13 +359,20 @@ impl AcousticNet {
     }
 
     /// Brings the channel to time `t`: when `t` is past the latest time seen, applies what
-    /// was held (by time, kind, modem, then order of asking) and steps the channel, filling
-    /// the inboxes.
+    /// was held at earlier times (by time, kind, modem, then each modem's order of asking)
+    /// and steps the channel, filling the inboxes. What was held at `t` itself waits for
+    /// the next instant, whoever asked first: within an instant the net only collects.
     pub fn sync(&mut self, t: f64) {
         if t <= self.now {
             return;
         }
-        let mut ops = std::mem::take(&mut self.ops);
+        // Held at `t` already: an app that reached the net at this instant before anyone
+        // synced (a registration at start-up). Kept for the next instant, so that what
+        // the channel holds during the instant `t` does not depend on who came first.
+        let (mut ops, now_ops): (Vec<Op>, Vec<Op>) = std::mem::take(&mut self.ops)
+            .into_iter()
+            .partition(|op| op.t < t);
+        self.ops = now_ops;
         ops.sort_by(|a, b| {
             a.t.total_cmp(&b.t)
                 .then(a.kind.rank().cmp(&b.kind.rank()))
@@ -889,6 +904,13 @@ impl AppCore for SimModemCore {
     }
 
     fn iterate(&mut self, now: f64, out: &mut Vec<Post>, notes: &mut Vec<Note>) {
+        // Every modem, running or not, brings the net to this instant before reading it
+        // (its appcast shows the channel's counts): they then read the same counts,
+        // whichever community's modem came first.
+        self.net
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .sync(now);
         let Some(me) = self.running() else { return };
         let net = self.net.clone();
         let mut n = net.lock().unwrap_or_else(PoisonError::into_inner);

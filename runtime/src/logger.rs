@@ -518,9 +518,26 @@ pub struct Logger<W: Write> {
     /// Records written to the alog and to the exclusion log.
     logged: u64,
     excluded: u64,
-    /// Distinct variables seen.
-    variables: std::collections::HashSet<moos_types::ByteString>,
+    /// What becomes of each variable's mail, decided once per name (the omit patterns and
+    /// `Log =` lines are fixed at start-up), and whether it was logged yet.
+    fates: rustc_hash::FxHashMap<moos_types::ByteString, Fate>,
+    /// Distinct variables logged.
+    variables: usize,
     copies: u32,
+}
+
+/// What [`Logger`] does with a variable's mail (memoised per variable name).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Fate {
+    /// Omitted (`WildCardOmitPattern`, MISSION_FILE): to the exclusion log if any.
+    Omitted,
+    /// pLogger's command and the appcast variables, without wildcard logging or a `Log =`
+    /// line: dropped.
+    Dropped,
+    /// Logged; not written yet.
+    Log,
+    /// Logged, and written at least once.
+    Logged,
 }
 
 /// How a record's source column is written.
@@ -647,7 +664,8 @@ impl<W: Write> Logger<W> {
             appcast: AppcastLayer::with_globals(name, None, None, 1.0),
             logged: 0,
             excluded: 0,
-            variables: std::collections::HashSet::new(),
+            fates: rustc_hash::FxHashMap::default(),
+            variables: 0,
             copies: 0,
             community: String::new(),
         }
@@ -676,7 +694,7 @@ impl<W: Write> Logger<W> {
         );
         let _ = writeln!(out, "  Logged Records: {}", self.logged);
         let _ = writeln!(out, "Excluded Records: {}", self.excluded);
-        let _ = writeln!(out, "Variables Logged: {}", self.variables.len());
+        let _ = writeln!(out, "Variables Logged: {}", self.variables);
         let _ = writeln!(out, "    Binary Bytes: {}", self.blog_offset);
         let _ = writeln!(out, "    Files Copied: {}", self.copies);
         let state = if self.failed || self.error.is_some() {
@@ -779,8 +797,33 @@ impl<W: Write> Logger<W> {
         }
     }
 
+    /// What becomes of mail of `key` (the patterns matched once per variable name).
+    fn fate(&self, key: &str) -> Fate {
+        if self.config.omitted(key) {
+            Fate::Omitted
+        } else if (key == "PLOGGER_CMD" || appcast::casting::REGISTERED_VARIABLES.contains(&key))
+            && !self.config.wildcard
+            && !self.config.logs.iter().any(|(v, _)| v == key)
+        {
+            // Subscribed as pLogger's command variable only: logged like any other variable
+            // only when wildcard logging or a `Log =` line asks for it. So are the
+            // appcasting layer's variables.
+            Fate::Dropped
+        } else {
+            Fate::Log
+        }
+    }
+
     fn log(&mut self, m: &Mail) {
-        if self.config.omitted(&m.key) {
+        let fate = match self.fates.get(&m.key) {
+            Some(&f) => f,
+            None => {
+                let f = self.fate(&m.key);
+                self.fates.insert(m.key.clone(), f);
+                f
+            }
+        };
+        if fate == Fate::Omitted {
             if self.config.wildcard
                 && let Some(x) = self.xlog.as_mut()
             {
@@ -802,13 +845,7 @@ impl<W: Write> Logger<W> {
             }
             return;
         }
-        // Subscribed as pLogger's command variable only: logged like any other variable
-        // only when wildcard logging or a `Log =` line asks for it.
-        // So are the appcasting layer's variables.
-        if (m.key == "PLOGGER_CMD" || appcast::casting::REGISTERED_VARIABLES.contains(&&*m.key))
-            && !self.config.wildcard
-            && !self.config.logs.iter().any(|(v, _)| *v == *m.key)
-        {
+        if fate == Fate::Dropped {
             return;
         }
         let Some(w) = self.writer.as_mut() else {
@@ -828,8 +865,11 @@ impl<W: Write> Logger<W> {
             &mut self.scratch,
         );
         self.logged += 1;
-        if !self.variables.contains(&m.key) {
-            self.variables.insert(m.key.clone());
+        if fate == Fate::Log {
+            self.variables += 1;
+            if let Some(f) = self.fates.get_mut(&m.key) {
+                *f = Fate::Logged;
+            }
         }
         self.note(r);
     }

@@ -595,3 +595,47 @@ fn a_modem_without_seed_takes_the_channels() {
         c.warnings()
     );
 }
+
+/// The net at the tick barrier: what modems ask at one instant is merged in modem order when
+/// the run moves on, whichever came first. In a fleet run a community's modem starts and
+/// iterates (syncing the net) before the next community's modem starts, and on several threads
+/// any of them may come first; here coug2's community or the base's is first, and every
+/// reception (payload, arrival, USBL fix drawn from the seeded noise) is the same.
+#[test]
+fn modems_registering_at_one_instant_in_any_order_hear_the_same() {
+    use achannel::Position;
+    use runtime::acomms_apps::AcousticNet;
+    let run = |first: u8| {
+        let mut net = AcousticNet::new(achannel::Config {
+            seed: 11,
+            ..achannel::Config::default()
+        });
+        let at = |m: u8| match m {
+            15 => Position::new(0.0, 0.0, 1.0),
+            1 => Position::new(300.0, 40.0, 3.0),
+            _ => Position::new(-200.0, 350.0, 5.0),
+        };
+        // Start-up: `first` registers and syncs (its first iteration), then the others.
+        net.register(0.0, first, at(first));
+        net.sync(0.0);
+        for m in [15, 1, 2].into_iter().filter(|&m| m != first) {
+            net.register(0.0, m, at(m));
+            net.sync(0.0);
+        }
+        for k in 1..=6u8 {
+            let t = f64::from(k) * 10.0;
+            net.sync(t);
+            net.transmit(t, 15, 0, &[k; 12]);
+        }
+        net.sync(100.0);
+        (net.take_inbox(1), net.take_inbox(2), *net.channel().stats())
+    };
+    let base_first = run(15);
+    let coug2_first = run(2);
+    assert!(
+        base_first.0.len() + base_first.1.len() >= 6,
+        "{base_first:?}"
+    );
+    assert_eq!(base_first, coug2_first);
+    assert_eq!(base_first, run(1));
+}

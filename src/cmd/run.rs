@@ -622,7 +622,7 @@ fn run_fleet(args: &RunArgs, extra: Vec<PathBuf>) -> Result<i32, Vec<String>> {
         max_time: args.max_time,
         log_dir: args.log_dir.clone(),
         seed: args.seed,
-        threads: 1,
+        threads: 0,
     };
     let mut cli = Cli {
         progress: Progress::default(),

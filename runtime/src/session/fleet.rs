@@ -4,10 +4,15 @@
 //!
 //! Lockstep: one virtual clock. The run goes from instant to instant (the earliest next
 //! event of any community); at each, every community processes its events of that instant,
-//! in fleet order (the base first). pShare routes between communities of the run go
-//! through the in-process [`crate::pshare::PShareHub`] and arrive at the receiver's first
-//! iteration after they were sent, so two runs of a fleet write the same bytes in every
-//! community's alog.
+//! in fleet order (the base first), or split in contiguous runs of communities over
+//! [`FleetOptions::threads`] threads that meet at the end of each instant. pShare routes
+//! between communities of the run go through the in-process [`crate::pshare::PShareHub`]
+//! and arrive at the receiver's first iteration after they were sent; the simulated
+//! acoustic channel ([`crate::acomms_apps::AcousticNet`]) only collects what the modems ask
+//! during an instant and merges it in a fixed order (time, kind, modem id, each modem's
+//! order) when the run moves on. So what one community hands another is never read within
+//! the instant it was handed over, and two runs of a fleet, on any number of threads, write
+//! the same bytes in every community's alog.
 //!
 //! Real time: each community has its own TCP MOOSDB (on its mission's `ServerPort` when the
 //! file sets one other than 0, else on a port the system picks) and runs as a single
@@ -66,11 +71,10 @@ pub struct FleetOptions {
     pub log_dir: Option<PathBuf>,
     /// Seed of every random draw (each community mixes in its name).
     pub seed: u64,
-    /// Lockstep: threads stepping the communities (default 1; 0: one per core, at most one
-    /// per community). Communities linked only by pShare are independent within an instant
-    /// (see the module docs), so every count writes the same bytes for them; a fleet sharing
-    /// a simulated acoustic channel (uSimModem) must stay on one thread: what a modem hears
-    /// within an instant then depends on the threads' interleaving.
+    /// Lockstep: threads stepping the communities (0, the default: one per core; at most
+    /// one per community). The communities are independent within an instant (see the
+    /// module docs), so every count writes the same bytes, for fleets linked by pShare and
+    /// fleets sharing a simulated acoustic channel alike.
     pub threads: usize,
 }
 
@@ -85,7 +89,7 @@ impl Default for FleetOptions {
             max_time: 3600.0,
             log_dir: None,
             seed: 1,
-            threads: 1,
+            threads: 0,
         }
     }
 }
@@ -348,6 +352,13 @@ struct Running<'a> {
     finished: bool,
 }
 
+/// The write buffer of each community's alog in a lockstep fleet run: a quarter of a single
+/// mission's (a vehicle of missions/fleet_survey logs ~13 kB per simulated second, so it is
+/// still written in pieces of ~1 simulated second): 48 KiB less heap per vehicle of a large
+/// fleet (heaptrack; the resident set hardly moves, the larger buffer's pages were not all
+/// touched).
+const FLEET_LOG_BUFFER: usize = 1 << 14;
+
 fn fleet_lockstep(
     fleet: &LoadedFleet,
     plans: Vec<MemberPlan>,
@@ -371,7 +382,7 @@ fn fleet_lockstep(
         let p = loaded
             .plan_shared(start, plan.opts.seed, Some(target), shared.clone())
             .map_err(|e| SessionError::Invalid(format!("{name}: {e}")))?;
-        let alog = open_log(loaded, &plan.log_dir, wall_now(), &sink)?;
+        let alog = open_log(loaded, &plan.log_dir, wall_now(), &sink, FLEET_LOG_BUFFER)?;
         for ext in &p.external {
             observer.warning(&format!(
                 "{name}: {}:{}: {} is not built into coug; skipped in lockstep",
@@ -505,7 +516,10 @@ fn fleet_lockstep(
 /// Steps every unfinished community through instant `t`: on the calling thread alone, or
 /// split in `threads` contiguous runs of communities, one per thread (the communities of an
 /// instant are independent: what one sends another reads at a later instant only). The
-/// first error in fleet order is the run's.
+/// first error in fleet order is the run's. Never inlined: profilers (callgrind's
+/// `--toggle-collect=runtime::session::fleet::advance_all`) count the fleet's loop by
+/// this name.
+#[inline(never)]
 fn advance_all(running: &mut [Running<'_>], t: f64, threads: usize) -> Result<(), SessionError> {
     fn step(r: &mut Running<'_>, t: f64) -> Result<(), SessionError> {
         if r.finished {

@@ -168,7 +168,7 @@ pub(super) fn realtime(
         let p = loaded
             .plan_shared(start, opts.seed, Some(target), shared)
             .map_err(|e| SessionError::Invalid(e.to_string()))?;
-        let alog = open_log(loaded, log_dir, opened, &sink)?;
+        let alog = open_log(loaded, log_dir, opened, &sink, super::run::LOG_BUFFER)?;
         let mut children = Children(Vec::new());
         if !p.external.is_empty() {
             let path = write_mission_for_externals(loaded, &globals, port, warp_f, log_dir)?;

@@ -165,13 +165,18 @@ pub(super) fn log_target(
     (target, sink)
 }
 
+/// The alog's write buffer of a single mission.
+pub(super) const LOG_BUFFER: usize = 1 << 16;
+
 /// Creates the session's folder and alog, named from `named` (the wall-clock start), never
-/// over an existing log, attaches the file to `sink`, and returns the alog's path.
+/// over an existing log, attaches the file to `sink` behind a write buffer of `buffer`
+/// bytes, and returns the alog's path.
 pub(super) fn open_log(
     loaded: &LoadedMission,
     dir: &Path,
     named: NaiveDateTime,
     sink: &LateSink,
+    buffer: usize,
 ) -> Result<String, SessionError> {
     let (target, _) = log_target(loaded, dir, named);
     let (at, file) = target
@@ -179,7 +184,7 @@ pub(super) fn open_log(
         .claim_session(&named)
         .map_err(|e| SessionError::LogOpen(e.to_string()))?;
     let folder = PathBuf::from(target.config.directory(&at));
-    sink.attach(Box::new(BufWriter::with_capacity(1 << 16, file)), folder);
+    sink.attach(Box::new(BufWriter::with_capacity(buffer, file)), folder);
     Ok(target.config.alog_path(&at))
 }
 
@@ -266,7 +271,7 @@ pub(super) fn lockstep(
         .map_err(|e| SessionError::Invalid(e.to_string()))?;
     // The files are named from the wall-clock start (two runs never share a name); their
     // contents keep the virtual date, so a lockstep log is byte-identical run to run.
-    let alog = open_log(loaded, log_dir, wall_now(), &sink)?;
+    let alog = open_log(loaded, log_dir, wall_now(), &sink, LOG_BUFFER)?;
     for ext in &p.external {
         observer.warning(&format!(
             "{}:{}: {} is not built into coug; skipped in lockstep",
