@@ -286,6 +286,8 @@ pub struct AvdColregs {
     flags: [bool; 5],
     pcheck_thresh: f64,
     segl: Option<[(f64, f64); 2]>,
+    /// V26's platform model this iteration when it is not holonomic (see [`super::plat_cpx`]).
+    plat_model: Option<std::sync::Arc<crate::plat_model::PlatModel>>,
 }
 
 impl AvdColregs {
@@ -314,6 +316,7 @@ impl AvdColregs {
             submode: "none",
             mode_ix: 0,
             state: ContactState::default(),
+            plat_model: None,
             cn_crossed_os_port_star: false,
             actual_pwt: 0.0,
             mode_start: 0.0,
@@ -409,6 +412,7 @@ impl AvdColregs {
         let (cnx, cny, cnh, cnv) = self.base.cn;
         let geo = Cpx::new(cnx, cny, cnh, cnv, osx, osy, osh, osv);
         self.state = ContactState::new(&geo, &self.base.cpa_engine());
+        self.plat_model = super::plat_cpx::turning_model(self.version, ctx);
         true
     }
 
@@ -799,18 +803,26 @@ impl AvdColregs {
     }
 
     fn distances(&self, tol: f64) -> Option<Distances> {
-        Distances::new(
+        let d = Distances::new(
             self.base.cpa_engine(),
             tol,
             self.collision_distance(),
             self.max_util_cpa_dist,
-        )
+        )?;
+        Some(match &self.plat_model {
+            Some(m) => d.with_plat_model(m.clone(), self.base.cn),
+            None => d,
+        })
     }
 
     fn geo(&self) -> Cpx {
         let (osx, osy, osh, osv) = self.base.os;
         let (cnx, cny, cnh, cnv) = self.base.cn;
-        Cpx::new(cnx, cny, cnh, cnv, osx, osy, osh, osv)
+        let g = Cpx::new(cnx, cny, cnh, cnv, osx, osy, osh, osv);
+        match &self.plat_model {
+            Some(m) => g.with_plat_model(m.clone()),
+            None => g,
+        }
     }
 
     /// The time on leg of the catch-all and give-way functions.

@@ -16,6 +16,7 @@ pub mod aof_r16;
 pub mod aof_r17;
 mod avd_colregs;
 pub mod geometry;
+pub mod plat_cpx;
 pub mod velocity_filter;
 
 pub use aof_cpa::AofCpa;
@@ -44,6 +45,9 @@ pub struct Distances {
     pub collision_distance: f64,
     /// `all_clear_distance`, m.
     pub all_clear_distance: f64,
+    /// V26 with a Dubins platform model: the CPA along the model's turn
+    /// ([`plat_cpx::PlatCpx::eval_cpa`]) instead of the engine's ray.
+    pub pm: Option<plat_cpx::PlatCpx>,
 }
 
 impl Distances {
@@ -55,11 +59,26 @@ impl Distances {
             tol,
             collision_distance: collision,
             all_clear_distance: all_clear,
+            pm: None,
         })
+    }
+
+    /// The distances with the CPA taken along ownship's platform model's turns to each
+    /// course, for the contact `cn` (`x, y, heading, speed`).
+    pub fn with_plat_model(
+        mut self,
+        model: std::sync::Arc<crate::plat_model::PlatModel>,
+        cn: (f64, f64, f64, f64),
+    ) -> Self {
+        self.pm = Some(plat_cpx::PlatCpx::new(model, cn));
+        self
     }
 
     /// The CPA distance at ownship course `crs` and speed `spd` over the time on leg.
     pub fn cpa(&self, crs: f64, spd: f64) -> f64 {
+        if let Some(pm) = &self.pm {
+            return pm.eval_cpa(crs, spd, self.tol);
+        }
         self.engine.eval_cpa(crs, spd, self.tol)
     }
 
