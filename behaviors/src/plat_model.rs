@@ -92,7 +92,23 @@ pub struct PlatModel {
     spoke_degs: f64,
     star: Vec<Point>,
     port: Vec<Point>,
+    /// Each side's segments between successive spokes: `(heading, length)`.
+    star_segs: Vec<(f64, f64)>,
+    port_segs: Vec<(f64, f64)>,
     id: u64,
+}
+
+/// The heading and length of each segment of `pts`.
+fn segments(pts: &[Point]) -> Vec<(f64, f64)> {
+    pts.windows(2)
+        .map(|w| {
+            let (a, b) = (w[0], w[1]);
+            (
+                relative_angle(a.x, a.y, b.x, b.y),
+                (a.x - b.x).hypot(a.y - b.y),
+            )
+        })
+        .collect()
 }
 
 impl PlatModel {
@@ -106,6 +122,8 @@ impl PlatModel {
             spoke_degs: 0.0,
             star: Vec::new(),
             port: Vec::new(),
+            star_segs: Vec::new(),
+            port_segs: Vec::new(),
             id: 0,
         }
     }
@@ -143,6 +161,8 @@ impl PlatModel {
             pose: (x, y, h, v.max(0.0)),
             radius,
             spoke_degs,
+            star_segs: segments(&star),
+            port_segs: segments(&port),
             star,
             port,
             id: 0,
@@ -205,21 +225,32 @@ impl PlatModel {
             return TurnPath {
                 start,
                 arc: &[],
+                segs: &[],
                 ray: hdg,
+                port: false,
             };
         }
         let segs = (angle_diff(osh, hdg) / self.spoke_degs + 0.5).trunc();
         let n = if segs > 0.0 { segs as usize } else { 0 };
-        let side = if port_turn(osh, hdg) {
-            &self.port
-        } else {
-            &self.star
-        };
+        let port = port_turn(osh, hdg);
+        let (side, segs) = self.side(port);
         let n = n.min(side.len() - 1);
         TurnPath {
             start,
             arc: &side[1..=n],
+            segs: &segs[..n],
             ray: hdg,
+            port,
+        }
+    }
+
+    /// The spokes of the port (`port`) or starboard side and the segments between them,
+    /// `(heading, length)`.
+    pub fn side(&self, port: bool) -> (&[Point], &[(f64, f64)]) {
+        if port {
+            (&self.port, &self.port_segs)
+        } else {
+            (&self.star, &self.star_segs)
         }
     }
 
@@ -245,8 +276,12 @@ pub struct TurnPath<'a> {
     pub start: Point,
     /// The spokes after it.
     pub arc: &'a [Point],
+    /// The segments between the vertices: `(heading, length)`.
+    pub segs: &'a [(f64, f64)],
     /// The ray's heading from the last vertex.
     pub ray: f64,
+    /// The spokes are the port side's (else the starboard side's, or none).
+    pub port: bool,
 }
 
 impl TurnPath<'_> {
@@ -268,20 +303,18 @@ impl TurnPath<'_> {
     /// The heading from vertex `i` to the next, or the ray's heading at the last (MOOS
     /// `getVertAngle`).
     pub fn vert_angle(&self, i: usize) -> f64 {
-        if i + 1 >= self.len() {
-            return self.ray;
+        match self.segs.get(i) {
+            Some(s) => s.0,
+            None => self.ray,
         }
-        let (a, b) = (self.vertex(i), self.vertex(i + 1));
-        relative_angle(a.x, a.y, b.x, b.y)
     }
 
     /// The distance from vertex `i` to the next, or −1 at the last (MOOS `getVertDist`).
     pub fn vert_dist(&self, i: usize) -> f64 {
-        if i + 1 >= self.len() {
-            return -1.0;
+        match self.segs.get(i) {
+            Some(s) => s.1,
+            None => -1.0,
         }
-        let (a, b) = (self.vertex(i), self.vertex(i + 1));
-        (a.x - b.x).hypot(a.y - b.y)
     }
 
     /// The distance along the path from the start to vertex `i` (MOOS `getVertPDist`).

@@ -20,12 +20,11 @@
 //! picks the natural one: for a contact at rest the C++ reads uninitialised positions at
 //! every vertex after the first, coug keeps the contact where it is.
 
-use std::sync::Arc;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
 
 use geometry::{angle_180, angle_360, relative_angle};
 
-use super::geometry::Cpx;
-use crate::cpa::rel_bearing;
 use crate::plat_model::{PlatModel, project};
 
 /// The platform model V26's functions follow this iteration: the helm's model when it is not
@@ -58,13 +57,103 @@ fn cos_between(i: f64, theta: f64) -> f64 {
     if d == 90.0 { 0.0 } else { rad(d).cos() }
 }
 
+/// Where ownship stands relative to the contact at one vertex (the statics of MOOS
+/// `CPXEngine`'s `setStaticRoot`, the parts the single-heading questions read): on it, on
+/// its bow or stern line, abeam, fore, aft, port, starboard; the range and its parts across
+/// (`gam`, to the bow-stern line) and along (`eps`, to the beam line) the contact's heading.
+#[derive(Debug, Clone, Copy)]
+struct Pair {
+    on_contact: bool,
+    on_bowline: bool,
+    on_sternline: bool,
+    on_beam: bool,
+    fore: bool,
+    aft: bool,
+    port: bool,
+    star: bool,
+    range: f64,
+    gam: f64,
+    eps: f64,
+}
+
+impl Pair {
+    fn new((cnx, cny): (f64, f64), cnh: f64, (osx, osy): (f64, f64)) -> Pair {
+        let on_contact = osx == cnx && osy == cny;
+        let ang_cn_os = relative_angle(cnx, cny, osx, osy);
+        let rb = angle_360(ang_cn_os - cnh);
+        let on_bowline = ang_cn_os == cnh;
+        let on_sternline = !on_bowline && ang_cn_os == angle_360(cnh - 180.0);
+        let (fore, aft, port, star) = if on_contact {
+            (false, false, false, false)
+        } else {
+            (
+                rb <= 90.0 || rb >= 270.0,
+                (90.0..=270.0).contains(&rb),
+                (180.0..=360.0).contains(&rb),
+                (0.0..=180.0).contains(&rb),
+            )
+        };
+        let range = (osx - cnx).hypot(osy - cny);
+        let rb180 = angle_180(rb).abs();
+        let (gam, eps) = if rb180 == 0.0 || rb180 == 180.0 {
+            (0.0, range)
+        } else {
+            let gam = range * rad(90.0 - rb180).cos();
+            (gam, (range * range - gam * gam).max(0.0).sqrt())
+        };
+        Pair {
+            on_contact,
+            on_bowline,
+            on_sternline,
+            on_beam: on_contact || (fore && aft),
+            fore,
+            aft,
+            port,
+            star,
+            range,
+            gam,
+            eps,
+        }
+    }
+}
+
 /// A contact `(x, y, heading, speed)` with ownship's platform model.
-#[derive(Debug, Clone, PartialEq)]
+///
+/// The answers at the spokes before a path's last vertex do not depend on the course (every
+/// course turning to that side shares them), so the first spoke that answers is kept per
+/// question, side and speed: a course then costs one lookup and its last vertex.
+#[derive(Debug)]
 pub struct PlatCpx {
     /// The platform model.
     pub model: Arc<PlatModel>,
     /// The contact: x, y, heading (in `[0, 360)`), speed (>= 0).
     pub cn: (f64, f64, f64, f64),
+    first: Mutex<HashMap<Key, Option<(usize, Answer)>>>,
+}
+
+/// A kept answer's question (with its time on leg's bits), side and speed's bits.
+type Key = (Q, u64, bool, u64);
+
+/// The questions the engine answers along a path.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+enum Q {
+    Cpa,
+    PassPort,
+    PassStar,
+    CrossBow,
+    CrossStern,
+}
+
+impl Clone for PlatCpx {
+    fn clone(&self) -> Self {
+        PlatCpx::new(self.model.clone(), self.cn)
+    }
+}
+
+impl PartialEq for PlatCpx {
+    fn eq(&self, other: &Self) -> bool {
+        self.model == other.model && self.cn == other.cn
+    }
 }
 
 /// One vertex's answer: a distance and the time it happens, each −1 when there is none.
@@ -79,53 +168,89 @@ impl PlatCpx {
         PlatCpx {
             model,
             cn: (x, y, angle_360(h), v.max(0.0)),
+            first: Mutex::new(HashMap::new()),
         }
     }
 
-    /// Walks the path of course `crs` (see the module docs); `f` answers at one vertex with
-    /// the contact's position, ownship's position and heading.
+    /// The contact after `t` seconds.
+    fn cn_at(&self, t: f64) -> (f64, f64) {
+        let (cnx, cny, cnh, cnv) = self.cn;
+        if cnv > 0.0 {
+            let p = project(cnh, t * cnv, cnx, cny);
+            (p.x, p.y)
+        } else {
+            (cnx, cny)
+        }
+    }
+
+    /// The first spoke of side `port` before the side's last that answers within its
+    /// segment at speed `spd` (> 0): its index and answer, time from now.
+    fn first_spoke(
+        &self,
+        port: bool,
+        spd: f64,
+        f: &impl Fn((f64, f64), (f64, f64, f64)) -> Answer,
+    ) -> Option<(usize, Answer)> {
+        let (spokes, segs) = self.model.side(port);
+        let mut pdist = 0.0;
+        for (j, (v, &(hdg, len))) in spokes.iter().zip(segs).enumerate() {
+            let tp = pdist / spd;
+            let (xd, xt) = f(self.cn_at(tp), (v.x, v.y, hdg));
+            if xt >= 0.0 && xt <= len / spd {
+                return Some((j, (xd, xt + tp)));
+            }
+            pdist += len;
+        }
+        None
+    }
+
+    /// Walks the path of course `crs` (see the module docs) asking `q` (`tol` its time on
+    /// leg, 0 for the others); `f` answers at one vertex with the contact's position,
+    /// ownship's position and heading.
     fn walk(
         &self,
+        q: Q,
+        tol: f64,
         crs: f64,
         spd: f64,
         f: impl Fn((f64, f64), (f64, f64, f64)) -> Answer,
     ) -> Answer {
         let path = self.model.turn(crs);
-        let (cnx, cny, cnh, cnv) = self.cn;
         if spd <= 0.0 {
             let v = path.vertex(0);
-            let a = f((cnx, cny), (v.x, v.y, path.vert_angle(0)));
+            let a = f((self.cn.0, self.cn.1), (v.x, v.y, path.vert_angle(0)));
             return if a.1 >= 0.0 { a } else { NONE };
         }
-        let mut pdist = 0.0;
-        for i in 0..path.len() {
-            let tp = pdist / spd;
-            let cn = if cnv > 0.0 {
-                let p = project(cnh, tp * cnv, cnx, cny);
-                (p.x, p.y)
-            } else {
-                (cnx, cny)
-            };
-            let v = path.vertex(i);
-            let (xd, xt) = f(cn, (v.x, v.y, path.vert_angle(i)));
-            let seg = path.vert_dist(i);
-            if xt >= 0.0 && (seg < 0.0 || xt <= seg / spd) {
-                return (xd, xt + tp);
+        let last = path.len() - 1;
+        if last > 0 {
+            let key = (q, tol.to_bits(), path.port, spd.to_bits());
+            let mut first = self.first.lock().unwrap_or_else(|e| e.into_inner());
+            let hit = *first
+                .entry(key)
+                .or_insert_with(|| self.first_spoke(path.port, spd, &f));
+            if let Some((k, a)) = hit
+                && k < last
+            {
+                return a;
             }
-            pdist += seg.max(0.0);
         }
-        NONE
+        let tp = path.vert_pdist(last) / spd;
+        let v = path.vertex(last);
+        let (xd, xt) = f(self.cn_at(tp), (v.x, v.y, path.ray));
+        if xt >= 0.0 { (xd, xt + tp) } else { NONE }
     }
 
-    fn pair(&self, cn: (f64, f64), os: (f64, f64, f64), spd: f64) -> Cpx {
-        Cpx::new(cn.0, cn.1, self.cn.2, self.cn.3, os.0, os.1, os.2, spd)
+    fn pair(&self, cn: (f64, f64), os: (f64, f64, f64)) -> Pair {
+        Pair::new(cn, self.cn.2, (os.0, os.1))
     }
 
     /// The CPA distance at course `crs` and speed `spd` over the time on leg `tol` (MOOS
     /// `CPXEnginePM::evalCPA`).
     pub fn eval_cpa(&self, crs: f64, spd: f64, tol: f64) -> f64 {
-        self.walk(crs, spd, |cn, os| self.thin_cpa(cn, os, spd, tol))
-            .0
+        self.walk(Q::Cpa, tol, crs, spd, |cn, os| {
+            self.thin_cpa(cn, os, spd, tol)
+        })
+        .0
     }
 
     /// The CPA and its time with the pair as it stands, ownship holding `os.2` (MOOS
@@ -141,12 +266,13 @@ impl PlatCpx {
     ) -> Answer {
         let (_, _, cnh, cnv) = self.cn;
         let range = (osx - cnx).hypot(osy - cny);
-        let rb = rel_bearing(cnx, cny, cnh, osx, osy);
+        let ang_cn_os = relative_angle(cnx, cny, osx, osy);
+        let rb = angle_360(ang_cn_os - cnh);
         let cn_to_os = if rb != 90.0 { cnv * rad(rb).cos() } else { 0.0 };
         let closing = cn_to_os > 0.0;
         let i = whole(osh);
         let (from, sign) = if closing {
-            (relative_angle(cnx, cny, osx, osy), 1.0)
+            (ang_cn_os, 1.0)
         } else {
             (relative_angle(osx, osy, cnx, cny), -1.0)
         };
@@ -205,7 +331,7 @@ impl PlatCpx {
 
     /// Passing the contact's beam line on its port (`port`) or starboard side, as the pair
     /// stands (MOOS `CPXEngineThin::passesPortDist`/`passesStarDist`).
-    fn thin_passes(c: &Cpx, osh: f64, osv: f64, port: bool) -> Answer {
+    fn thin_passes(&self, c: &Pair, osh: f64, osv: f64, port: bool) -> Answer {
         let (same, other) = if port {
             (c.port, c.star)
         } else {
@@ -217,37 +343,37 @@ impl PlatCpx {
         if c.on_beam && same {
             return (c.range, -1.0);
         }
-        let (_, _, cnh, cnv) = c.cn;
+        let (_, _, cnh, cnv) = self.cn;
         let i = whole(osh);
         let v_cnh = cos_between(i, cnh) * osv;
         let v_eps = if c.aft { v_cnh - cnv } else { cnv - v_cnh };
         if v_eps <= 0.0 {
             return NONE;
         }
-        let t = c.range_eps / v_eps;
-        let gam_dist = t * cos_between(i, Self::theta_gam(c)) * osv;
+        let t = c.eps / v_eps;
+        let gam_dist = t * cos_between(i, self.theta_gam(c)) * osv;
         let mut x = -1.0;
-        if same && gam_dist <= c.range_gam {
-            x = c.range_gam - gam_dist;
+        if same && gam_dist <= c.gam {
+            x = c.gam - gam_dist;
         }
-        if other && gam_dist > c.range_gam {
-            x = gam_dist - c.range_gam;
+        if other && gam_dist > c.gam {
+            x = gam_dist - c.gam;
         }
         if x < 0.0 { NONE } else { (x, t) }
     }
 
     /// The heading toward the contact's bow-stern line from ownship's side of it.
-    fn theta_gam(c: &Cpx) -> f64 {
+    fn theta_gam(&self, c: &Pair) -> f64 {
         if c.port {
-            angle_360(c.cn.2 + 90.0)
+            angle_360(self.cn.2 + 90.0)
         } else {
-            angle_360(c.cn.2 - 90.0)
+            angle_360(self.cn.2 - 90.0)
         }
     }
 
     /// Crossing the contact's bow-stern line ahead (`bow`) or astern of it, as the pair
     /// stands (MOOS `CPXEngineThin::crossesBowDist`/`crossesSternDist`).
-    fn thin_crosses(c: &Cpx, osh: f64, osv: f64, bow: bool) -> Answer {
+    fn thin_crosses(&self, c: &Pair, osh: f64, osv: f64, bow: bool) -> Answer {
         let (on_same, on_other) = if bow {
             (c.on_bowline, c.on_sternline)
         } else {
@@ -260,19 +386,19 @@ impl PlatCpx {
             return NONE;
         }
         let i = whole(osh);
-        let v_gam = cos_between(i, Self::theta_gam(c)) * osv;
+        let v_gam = cos_between(i, self.theta_gam(c)) * osv;
         if v_gam <= 0.0 {
             return NONE;
         }
-        let t = c.range_gam / v_gam;
-        let cn_run = t * c.cn.3;
-        let os_run = t * cos_between(i, c.cn.2) * osv;
+        let t = c.gam / v_gam;
+        let cn_run = t * self.cn.3;
+        let os_run = t * cos_between(i, self.cn.2) * osv;
         let mut x = if bow { os_run - cn_run } else { cn_run };
         let ahead = if bow { c.fore } else { !c.fore };
         if ahead {
-            x += c.range_eps;
+            x += c.eps;
         } else {
-            x -= c.range_eps;
+            x -= c.eps;
         }
         if !bow {
             x -= os_run;
@@ -281,14 +407,16 @@ impl PlatCpx {
     }
 
     fn passes_side(&self, crs: f64, spd: f64, port: bool) -> Answer {
-        self.walk(crs, spd, |cn, os| {
-            Self::thin_passes(&self.pair(cn, os, spd), os.2, spd, port)
+        let q = if port { Q::PassPort } else { Q::PassStar };
+        self.walk(q, 0.0, crs, spd, |cn, os| {
+            self.thin_passes(&self.pair(cn, os), os.2, spd, port)
         })
     }
 
     fn crosses_side(&self, crs: f64, spd: f64, bow: bool) -> Answer {
-        self.walk(crs, spd, |cn, os| {
-            Self::thin_crosses(&self.pair(cn, os, spd), os.2, spd, bow)
+        let q = if bow { Q::CrossBow } else { Q::CrossStern };
+        self.walk(q, 0.0, crs, spd, |cn, os| {
+            self.thin_crosses(&self.pair(cn, os), os.2, spd, bow)
         })
     }
 
