@@ -16,6 +16,7 @@
 pub mod geom;
 pub mod legacy;
 
+pub mod turn;
 pub mod v24;
 
 use std::collections::{BTreeMap, BTreeSet};
