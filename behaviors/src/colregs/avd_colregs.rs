@@ -40,7 +40,7 @@
 //! | status on idle | always | always | `post_status_info_on_idle` | as V22 |
 //! | `VIEW_SEGLIST` | the mode line (`<us><name>`, msg the mode) with every status | as V17 | the bearing line with a function | as V22 |
 //! | macros `AVD_MODE`, `AVD_SMODE`, `APWT`, `MODE_ID`, `FULL_MODE` | no | no | yes | yes |
-//! | CPA engine | OG | OG | OG | platform model (coug: OG, see below) |
+//! | CPA engine | OG | OG | OG | platform model (see below) |
 //!
 //! # Conformance with BHV_AvdColregsV22 (MOOS-IvP a2a9b716)
 //!
@@ -74,9 +74,13 @@
 //! | VIEW_SEGLIST | bearing lines configured | see [`crate::contact`] | done |
 //! | PLATEAU_CHECK_OK, BASIN_CHECK_OK, PLATEAU_LOGIC_CASE, PLATEAU_WORST_FAIL | `check_plateaus` with `use_refinery` | | open |
 //!
-//! V26 evaluates CPAs with MOOS-IvP's platform-model engine (`CPXEnginePM`, ownship's turn
-//! model); coug has no platform model and evaluates V26 with the OG engine, as every other
-//! contact behaviour does (open).
+//! V26 evaluates its functions with MOOS-IvP's platform-model engine (`CPXEnginePM`): with
+//! the helm's Dubins model (`pmgen = alg=dubins`) the CPA and the passing and crossing
+//! predicates of each course follow the model's turn to it ([`super::plat_cpx`]); with the
+//! holonomic model (the default) the path is a ray and V26's functions are the OG engine's,
+//! as before. The contact state (modes, postings) is V22's, from the present pose: the C++
+//! works it out with its engine's model of the previous iteration (and the reverse engine
+//! with no model, ownship's turn from the origin), which coug does not copy.
 
 use ivp::{IvpFunction, ZaicHdg, ZaicSpd};
 
