@@ -492,13 +492,14 @@ mod tests {
     #[test]
     fn dubins_turn_arc_radius_and_time() {
         // North at the origin, radius 20, to 90: a starboard quarter circle about (20, 0)
-        // from bearing 270 to 0; the ray starts at (20, 20); the arc is 2·3.14159265359·20/4.
+        // from bearing 270 to 0; the ray starts at (20, 20); the arc is 2·MOOS_PI·20/4 (the
+        // C++'s 12-digit pi, 3.14159265359).
         let t = DubinsTurn::new(0.0, 0.0, 0.0, 20.0, 90.0);
         assert_eq!(t.turn, 1);
         assert_eq!(t.center, Point::new(20.0, 0.0));
         assert_eq!((t.langle, t.rangle), (270.0, 0.0));
         assert!(near(t.ray_start.x, 20.0) && near(t.ray_start.y, 20.0));
-        let arc = 3.14159265359 * 20.0 * 2.0 / 4.0;
+        let arc = MOOS_PI * 20.0 * 2.0 / 4.0;
         assert!(near(t.arc_len, arc));
         // At 2 m/s the turn takes arc / 2 s.
         assert!(near(t.time_at(2.0), arc / 2.0));
@@ -510,7 +511,7 @@ mod tests {
         assert_eq!((t.langle, t.rangle), (45.0, 180.0));
         let h = 10.0 * 45f64.to_radians().sin();
         assert!(near(t.ray_start.x, 10.0 + h) && near(t.ray_start.y, 20.0 + h));
-        assert!(near(t.arc_len, 135.0 / 360.0 * 3.14159265359 * 20.0));
+        assert!(near(t.arc_len, 135.0 / 360.0 * MOOS_PI * 20.0));
         // No turn: a zero arc, no time.
         let t = DubinsTurn::new(0.0, 0.0, 30.0, 10.0, 30.0);
         assert_eq!((t.turn, t.arc_len, t.time_at(0.0)), (0, 0.0, 0.0));
