@@ -382,3 +382,35 @@ fn berta_cmgr_crossing_transits_spawn_colregs() {
     }
     assert_encounter("berta_cmgr", &run);
 }
+
+/// The platform model these tests give the helm (`pmgen`): Dubins turns of 10 m radius.
+const DUBINS: &str = "PMGEN=alg=dubins#radius=10#spoke_degs=10";
+
+/// BHV_AvdColregsV26 on the helm's Dubins platform model (its CPA, passing and crossing along
+/// the model's turns): the head-on and crossing encounters keep every closest approach above
+/// `min_util_cpa_dist`.
+#[test]
+fn v26_on_the_dubins_platform_model_keeps_clear() {
+    for fleet in ["headon.fleet", "crossing.fleet"] {
+        let stem = fleet.trim_end_matches(".fleet");
+        let on = run(
+            &format!("colregs-{stem}-v26-dubins"),
+            fleet,
+            &["COLREGS=V26", DUBINS],
+        );
+        assert!(has(
+            &on["abe"],
+            "IVPHELM_LIFE_EVENT",
+            "btype=BHV_AvdColregsV26, event=spawn"
+        ));
+        for ((a, b), (r, t)) in closest(&on) {
+            eprintln!(
+                "{stem} with AvdColregsV26 on Dubins turns: {a}-{b} closest {r:.2} m at t={t:.2}"
+            );
+            assert!(
+                r > MIN_UTIL_CPA,
+                "{stem}: {a} and {b} came within {r:.2} m at t={t:.2}"
+            );
+        }
+    }
+}

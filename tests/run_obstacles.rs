@@ -482,3 +482,22 @@ fn given_obstacles_from_the_simulator_are_avoided_too() {
         "name=avd_obs_ob_0#poly=pts={56,-76:64,-76:64,-84:56,-84},label=ob_0#id=ob_0"
     ));
 }
+
+/// BHV_AvoidObstacleV24 on the helm's Dubins platform model (`pmgen`, 10 m turns): each
+/// heading judged by the closest approach of the model's turn to it; the transit still
+/// passes the obstacles on its track at least `min_util_cpa_dist` (5 m) off.
+#[test]
+fn avoid_obstacle_v24_on_the_dubins_platform_model() {
+    let log = run(
+        "obstacles-avoid-dubins",
+        &["PMGEN=alg=dubins#radius=10#spoke_degs=10"],
+    );
+    let near = closest(&log);
+    eprintln!("with BHV_AvoidObstacleV24 on Dubins turns, closest approach per obstacle: {near:?}");
+    for (key, d) in &near {
+        assert!(*d > 0.0, "{key}: the track entered it ({d:.2} m)");
+    }
+    assert!(near[0].1 > 5.0 && near[1].1 > 5.0, "{near:?}");
+    assert!(has(&log, "BHV_IPF", "avd_obs_ob_a"));
+    assert!(!has(&log, "BHV_ERROR", ""), "no allstop");
+}

@@ -164,6 +164,11 @@ pub trait Info {
     fn contact(&self, _name: &str) -> Option<&crate::contact::ContactInfo> {
         None
     }
+    /// The helm's platform model this iteration (pHelmIvP's `setPlatModel`), once it has
+    /// known all of `NAV_X`, `NAV_Y`, `NAV_HEADING` and `NAV_SPEED`. The default has none.
+    fn plat_model(&self) -> Option<&crate::plat_model::PlatModel> {
+        None
+    }
 }
 
 /// A small [`Info`] over a map, for tests and examples.
@@ -172,6 +177,7 @@ pub struct MapInfo {
     now: f64,
     vars: HashMap<String, (Value, f64)>,
     contacts: HashMap<String, crate::contact::ContactInfo>,
+    plat_model: Option<crate::plat_model::PlatModel>,
 }
 
 impl MapInfo {
@@ -181,7 +187,13 @@ impl MapInfo {
             now,
             vars: HashMap::new(),
             contacts: HashMap::new(),
+            plat_model: None,
         }
+    }
+    /// Builder: the helm's platform model [`Info::plat_model`] gives.
+    pub fn with_plat_model(mut self, m: crate::plat_model::PlatModel) -> Self {
+        self.plat_model = Some(m);
+        self
     }
     /// Builder: puts contact `name` in the ledger [`Info::contact`] reads.
     pub fn with_contact(mut self, name: &str, c: crate::contact::ContactInfo) -> Self {
@@ -233,6 +245,9 @@ impl Info for MapInfo {
     }
     fn contact(&self, name: &str) -> Option<&crate::contact::ContactInfo> {
         self.contacts.get(name)
+    }
+    fn plat_model(&self) -> Option<&crate::plat_model::PlatModel> {
+        self.plat_model.as_ref()
     }
 }
 

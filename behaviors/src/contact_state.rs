@@ -248,6 +248,9 @@ pub struct Distances {
     pub collision_distance: f64,
     /// `all_clear_distance`, m.
     pub all_clear_distance: f64,
+    /// V26 with a Dubins platform model: the CPA along the model's turn
+    /// ([`crate::colregs::plat_cpx::PlatCpx::eval_cpa`]) instead of the engine's ray.
+    pub pm: Option<crate::colregs::plat_cpx::PlatCpx>,
 }
 
 /// The collision distance of a CPA objective (the contact behaviours' `buildCPA_IPF` and
@@ -276,7 +279,19 @@ impl Distances {
             tol,
             collision_distance: collision,
             all_clear_distance: all_clear,
+            pm: None,
         })
+    }
+
+    /// The distances with the CPA taken along ownship's platform model's turns to each
+    /// course, for the contact `cn` (`x, y, heading, speed`).
+    pub fn with_plat_model(
+        mut self,
+        model: std::sync::Arc<crate::plat_model::PlatModel>,
+        cn: (f64, f64, f64, f64),
+    ) -> Self {
+        self.pm = Some(crate::colregs::plat_cpx::PlatCpx::new(model, cn));
+        self
     }
 
     /// The set-up of a contact behaviour's CPA objective at its last update: its CPA engine,
@@ -298,6 +313,9 @@ impl Distances {
 
     /// The CPA distance at ownship course `crs` and speed `spd` over the time on leg.
     pub fn cpa(&self, crs: f64, spd: f64) -> f64 {
+        if let Some(pm) = &self.pm {
+            return pm.eval_cpa(crs, spd, self.tol);
+        }
         self.engine.eval_cpa(crs, spd, self.tol)
     }
 

@@ -76,6 +76,7 @@ mod op_region_v24;
 pub mod param;
 mod periodic_speed;
 mod periodic_surface;
+pub mod plat_model;
 mod pmodel_view;
 pub mod registry;
 mod shadow;

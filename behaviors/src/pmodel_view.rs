@@ -16,10 +16,11 @@
 //!
 //! The behaviour never builds an objective function and posts no BHV_SETTINGS (its
 //! `onSetParamComplete` is empty). The turn is pHelmIvP's platform model's
-//! (`PlatModel::getTurnSeglr`): with the default holonomic model, the one coug's helm has, a
-//! single vertex at ownship's position with a ray along the desired heading (open: the
-//! `pmgen = alg=dubins` model's turn spokes). The position is the model's pose, which the
-//! helm takes from NAV_X/NAV_Y each iteration all four NAV variables are known.
+//! (`PlatModel::getTurnSeglr`): with the default holonomic model a single vertex at ownship's
+//! position with a ray along the desired heading; with `pmgen = alg=dubins` the model's turn
+//! spokes follow it (`pts={x,y:x1,y1:...}`, [`crate::plat_model`]). The position is the
+//! model's pose, which the helm takes from NAV_X/NAV_Y each iteration all four NAV variables
+//! are known.
 
 use geometry::Attributes;
 use ivp::IvpFunction;
@@ -40,6 +41,8 @@ pub struct PModelView {
     des_hdg: f64,
     des_spd: f64,
     pose: (f64, f64),
+    /// The Dubins model's spokes on the turn to the desired heading (none: holonomic).
+    turn: Vec<(f64, f64)>,
 }
 
 impl Default for PModelView {
@@ -58,16 +61,18 @@ impl PModelView {
             des_hdg: 0.0,
             des_spd: 0.0,
             pose: (0.0, 0.0),
+            turn: Vec::new(),
         }
     }
 
     /// The turn's spec (MOOS `XYSeglr::get_spec`): `pts` and `ray` with one decimal, then the
     /// drawing attributes, `ray_len` and `head_size`.
     fn seglr_spec(&self, attrs: &Attributes, ray_len: f64, head: f64) -> String {
-        let mut s = format!(
-            "pts={{{:.1},{:.1}}},ray={:.1}",
-            self.pose.0, self.pose.1, self.des_hdg
-        );
+        let mut s = format!("pts={{{:.1},{:.1}", self.pose.0, self.pose.1);
+        for (x, y) in &self.turn {
+            s.push_str(&format!(":{x:.1},{y:.1}"));
+        }
+        s.push_str(&format!("}},ray={:.1}", self.des_hdg));
         let base = s.len();
         s.push(',');
         let before = s.len();
@@ -98,6 +103,11 @@ impl PModelView {
         }
         self.des_hdg = info.num("DESIRED_HEADING").unwrap_or(0.0);
         self.des_spd = info.num("DESIRED_SPEED").unwrap_or(0.0);
+        self.turn.clear();
+        if let Some(m) = info.plat_model().filter(|m| !m.is_holonomic()) {
+            let path = m.turn(self.des_hdg);
+            self.turn.extend(path.arc.iter().map(|p| (p.x, p.y)));
+        }
         true
     }
 }

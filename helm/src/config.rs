@@ -100,6 +100,8 @@ pub struct HelmConfig {
     pub hold_on_apps: Vec<String>,
     /// `node_skew` entries.
     pub node_skews: Vec<(String, f64)>,
+    /// `pmgen`: the platform-model generator (holonomic unless set).
+    pub pmgen: crate::plat_model::PmGen,
 }
 
 impl Default for HelmConfig {
@@ -122,6 +124,7 @@ impl Default for HelmConfig {
             seed_random: true,
             hold_on_apps: Vec::new(),
             node_skews: Vec::new(),
+            pmgen: crate::plat_model::PmGen::default(),
         }
     }
 }
@@ -130,41 +133,6 @@ impl Default for HelmConfig {
 /// `true`/`yes`/`on`, `false`/`no`/`off`, or `toggle` (flips `current`).
 fn boolean(v: &str, current: bool) -> Option<bool> {
     moos_types::text::set_boolean_on_string(current, v.trim())
-}
-
-/// MOOS `PlatModelGenerator::setParams`: `#`-separated `param=value` pieces with `alg` holo or
-/// dubins; the dubins generator takes radius (`rad`) >= 0, spoke_degs (`degs`) > 0 and the
-/// numbers mod_radius and mod_spoke_degs; the holonomic one takes anything.
-fn pmgen_ok(spec: &str) -> bool {
-    let pieces: Vec<(&str, &str)> = spec
-        .split('#')
-        .map(|p| {
-            let (k, v) = p.split_once('=').unwrap_or((p, ""));
-            (k.trim(), v.trim())
-        })
-        .collect();
-    let alg = pieces
-        .iter()
-        .find(|(k, _)| *k == "alg")
-        .map(|(_, v)| v.to_ascii_lowercase());
-    let num = |v: &str| {
-        geometry::is_number(v)
-            .then(|| v.parse::<f64>().ok())
-            .flatten()
-    };
-    match alg.as_deref() {
-        Some("holo") => true,
-        Some("dubins") => pieces
-            .iter()
-            .filter(|(k, _)| *k != "alg")
-            .all(|(k, v)| match *k {
-                "radius" | "rad" => num(v).is_some_and(|x| x >= 0.0),
-                "spoke_degs" | "degs" => num(v).is_some_and(|x| x > 0.0),
-                "mod_radius" | "mod_spoke_degs" => num(v).is_some(),
-                _ => false,
-            }),
-        _ => false,
-    }
 }
 
 fn number(v: &str) -> Option<f64> {
@@ -301,10 +269,10 @@ impl HelmConfig {
                 },
                 // Dynamic behaviour libraries are accepted; coug links its behaviours statically.
                 "ivp_behavior_dir" | "ivp_behavior_dirs" => {}
-                // The platform-model generator's settings, checked as MOOS's
-                // `PlatModelGenerator::setParams` (no coug behaviour uses the model yet).
+                // The platform-model generator's settings (MOOS
+                // `PlatModelGenerator::setParams`, see `crate::plat_model`).
                 "pmgen" => {
-                    if !pmgen_ok(v.as_ref()) {
+                    if !c.pmgen.apply(v.as_ref()) {
                         errs.push(bad(
                             "alg=holo|dubins#... (dubins: radius/rad >= 0, spoke_degs/degs > 0, mod_radius, mod_spoke_degs)",
                         ))

@@ -2,6 +2,7 @@
 //! plus the string values received during the current iteration (MOOS `InfoBuffer`).
 
 use behaviors::contact::ContactInfo;
+use behaviors::plat_model::PlatModel;
 use behaviors::{Info, Value};
 
 use rustc_hash::FxHashMap;
@@ -38,6 +39,8 @@ pub struct InfoBuffer {
     now: f64,
     /// The contact ledger's snapshot for the behaviours (pHelmIvP's `LedgerSnap`).
     contacts: FxHashMap<String, ContactInfo>,
+    /// The platform model of the latest decision iteration with ownship's navigation known.
+    plat_model: Option<PlatModel>,
 }
 
 /// A variable's entry and its string values of this iteration (one map lookup per write).
@@ -193,6 +196,20 @@ impl InfoBuffer {
         }
     }
 
+    /// pHelmIvP's `updatePlatModel`: with `NAV_X`, `NAV_Y`, `NAV_HEADING` and `NAV_SPEED` all
+    /// known, `pmgen` makes this iteration's platform model; otherwise the last one stays.
+    pub fn update_plat_model(&mut self, pmgen: &mut crate::plat_model::PmGen, now: f64) {
+        let (Some(x), Some(y), Some(h), Some(v)) = (
+            self.num("NAV_X"),
+            self.num("NAV_Y"),
+            self.num("NAV_HEADING"),
+            self.num("NAV_SPEED"),
+        ) else {
+            return;
+        };
+        self.plat_model = Some(pmgen.generate(now, x, y, h, v));
+    }
+
     /// The value as a condition operand.
     pub fn condition_value(&self, var: &str) -> Option<mission::condition::Value<'_>> {
         Some(self.get(var)?.value.as_ref())
@@ -218,6 +235,9 @@ impl Info for InfoBuffer {
     }
     fn contact(&self, name: &str) -> Option<&ContactInfo> {
         self.contacts.get(name)
+    }
+    fn plat_model(&self) -> Option<&PlatModel> {
+        self.plat_model.as_ref()
     }
 }
 

@@ -21,6 +21,7 @@ pub mod info_buffer;
 pub mod ledger;
 pub mod macro_expand;
 pub mod mode;
+pub mod plat_model;
 pub mod report;
 pub mod runstate;
 

@@ -40,7 +40,7 @@
 //! | status on idle | always | always | `post_status_info_on_idle` | as V22 |
 //! | `VIEW_SEGLIST` | the mode line (`<us><name>`, msg the mode) with every status | as V17 | the bearing line with a function | as V22 |
 //! | macros `AVD_MODE`, `AVD_SMODE`, `APWT`, `MODE_ID`, `FULL_MODE` | no | no | yes | yes |
-//! | CPA engine | OG | OG | OG | platform model (coug: OG, see below) |
+//! | CPA engine | OG | OG | OG | platform model (see below) |
 //!
 //! # Conformance with BHV_AvdColregsV22 (MOOS-IvP a2a9b716)
 //!
@@ -74,9 +74,13 @@
 //! | VIEW_SEGLIST | bearing lines configured | see [`crate::contact`] | done |
 //! | PLATEAU_CHECK_OK, BASIN_CHECK_OK, PLATEAU_LOGIC_CASE, PLATEAU_WORST_FAIL | `check_plateaus` with `use_refinery` | | open |
 //!
-//! V26 evaluates CPAs with MOOS-IvP's platform-model engine (`CPXEnginePM`, ownship's turn
-//! model); coug has no platform model and evaluates V26 with the OG engine, as every other
-//! contact behaviour does (open).
+//! V26 evaluates its functions with MOOS-IvP's platform-model engine (`CPXEnginePM`): with
+//! the helm's Dubins model (`pmgen = alg=dubins`) the CPA and the passing and crossing
+//! predicates of each course follow the model's turn to it ([`super::plat_cpx`]); with the
+//! holonomic model (the default) the path is a ray and V26's functions are the OG engine's,
+//! as before. The contact state (modes, postings) is V22's, from the present pose: the C++
+//! works it out with its engine's model of the previous iteration (and the reverse engine
+//! with no model, ownship's turn from the origin), which coug does not copy.
 
 use ivp::{IvpFunction, ZaicHdg, ZaicSpd};
 
@@ -287,6 +291,8 @@ pub struct AvdColregs {
     flags: [bool; 5],
     pcheck_thresh: f64,
     segl: Option<[(f64, f64); 2]>,
+    /// V26's platform model this iteration when it is not holonomic (see [`super::plat_cpx`]).
+    plat_model: Option<std::sync::Arc<crate::plat_model::PlatModel>>,
 }
 
 impl AvdColregs {
@@ -315,6 +321,7 @@ impl AvdColregs {
             submode: "none",
             mode_ix: 0,
             state: ContactState::default(),
+            plat_model: None,
             cn_crossed_os_port_star: false,
             actual_pwt: 0.0,
             mode_start: 0.0,
@@ -408,6 +415,7 @@ impl AvdColregs {
         }
         // The contact state ContactBase::update recorded (IvPContactBehavior's `m_cnos`).
         self.state = self.base.states.now();
+        self.plat_model = super::plat_cpx::turning_model(self.version, ctx);
         true
     }
 
@@ -788,18 +796,26 @@ impl AvdColregs {
     }
 
     fn distances(&self, tol: f64) -> Option<Distances> {
-        Distances::for_contact(
+        let d = Distances::for_contact(
             &self.base,
             tol,
             self.min_util_cpa_dist,
             self.max_util_cpa_dist,
-        )
+        )?;
+        Some(match &self.plat_model {
+            Some(m) => d.with_plat_model(m.clone(), self.base.cn),
+            None => d,
+        })
     }
 
     fn geo(&self) -> Cpx {
         let (osx, osy, osh, osv) = self.base.os;
         let (cnx, cny, cnh, cnv) = self.base.cn;
-        Cpx::new(cnx, cny, cnh, cnv, osx, osy, osh, osv)
+        let g = Cpx::new(cnx, cny, cnh, cnv, osx, osy, osh, osv);
+        match &self.plat_model {
+            Some(m) => g.with_plat_model(m.clone()),
+            None => g,
+        }
     }
 
     /// The time on leg of the catch-all and give-way functions.

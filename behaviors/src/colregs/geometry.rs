@@ -174,6 +174,9 @@ pub struct Cpx {
     theta_os_gam: f64,
     spd_cn_at_tangent: f64,
     tn_constant: f64,
+    /// V26 with a Dubins platform model: the course-dependent passing and crossing
+    /// predicates follow the model's turn ([`super::plat_cpx`]); `None`: a ray.
+    pub pm: Option<std::sync::Arc<super::plat_cpx::PlatCpx>>,
 }
 
 impl Cpx {
@@ -255,7 +258,16 @@ impl Cpx {
             theta_os_gam,
             spd_cn_at_tangent,
             tn_constant,
+            pm: None,
         }
+    }
+
+    /// The pair with ownship's platform model: its course-dependent passing and crossing
+    /// predicates are the platform-model engine's ([`super::plat_cpx::PlatCpx`]).
+    pub fn with_plat_model(mut self, model: std::sync::Arc<crate::plat_model::PlatModel>) -> Self {
+        let pm = super::plat_cpx::PlatCpx::new(model, self.cn);
+        self.pm = Some(std::sync::Arc::new(pm));
+        self
     }
 
     /// The pair seen from the contact: the contact as ownship, ownship as the contact.
@@ -295,11 +307,17 @@ impl Cpx {
     /// Whether ownship will cross the contact's beam line (pass it on one side) (MOOS
     /// `passesPortOrStar`).
     pub fn passes(&self, osh: f64, osv: f64) -> bool {
+        if let Some(pm) = &self.pm {
+            return pm.passes(osh, osv);
+        }
         self.on_beam || self.v_os_eps(osh, osv) > 0.0
     }
 
     /// Whether ownship will pass the contact on the contact's port side (MOOS `passesPort`).
     pub fn passes_port(&self, osh: f64, osv: f64) -> bool {
+        if let Some(pm) = &self.pm {
+            return pm.passes_port(osh, osv);
+        }
         if self.on_contact || !self.passes(osh, osv) {
             return false;
         }
@@ -315,12 +333,22 @@ impl Cpx {
 
     /// Whether ownship will pass the contact on its starboard side (MOOS `passesStar`).
     pub fn passes_star(&self, osh: f64, osv: f64) -> bool {
+        if let Some(pm) = &self.pm {
+            return pm.passes_star(osh, osv);
+        }
         !self.on_contact && self.passes(osh, osv) && !self.passes_port(osh, osv)
     }
 
     /// The side distance at which ownship passes the contact's beam line, or −1 (MOOS
     /// `passesPortDist` with `port`, `passesStarDist` without).
     fn passes_dist(&self, osh: f64, osv: f64, port: bool) -> f64 {
+        if let Some(pm) = &self.pm {
+            return if port {
+                pm.passes_port_dist(osh, osv)
+            } else {
+                pm.passes_star_dist(osh, osv)
+            };
+        }
         let (same, other) = if port {
             (self.port, self.star)
         } else {
@@ -362,6 +390,9 @@ impl Cpx {
 
     /// Whether ownship will cross the contact's stern (MOOS `crossesStern`).
     pub fn crosses_stern(&self, osh: f64, osv: f64) -> bool {
+        if let Some(pm) = &self.pm {
+            return pm.crosses_stern(osh, osv);
+        }
         if self.on_sternline {
             return true;
         }
@@ -375,6 +406,9 @@ impl Cpx {
     /// Whether ownship will cross the contact's bow (MOOS `crossesBow`; on the stern line it
     /// answers true, as the C++ does).
     pub fn crosses_bow(&self, osh: f64, osv: f64) -> bool {
+        if let Some(pm) = &self.pm {
+            return pm.crosses_bow(osh, osv);
+        }
         if self.on_sternline {
             return true;
         }
@@ -388,6 +422,9 @@ impl Cpx {
     /// How far ahead of the contact ownship crosses its bow-stern line, or −1 when it crosses
     /// astern or not at all (MOOS `crossesBowDist`).
     pub fn crosses_bow_dist(&self, osh: f64, osv: f64) -> f64 {
+        if let Some(pm) = &self.pm {
+            return pm.crosses_bow_dist(osh, osv);
+        }
         if self.on_bowline {
             return self.range;
         }
@@ -411,6 +448,9 @@ impl Cpx {
     /// Whether ownship will cross the contact's bow-stern line at all (MOOS
     /// `crossesBowOrStern`).
     pub fn crosses_bow_or_stern(&self, osh: f64, osv: f64) -> bool {
+        if let Some(pm) = &self.pm {
+            return pm.crosses_bow_or_stern(osh, osv);
+        }
         if self.on_bowsternline {
             return true;
         }

@@ -16,6 +16,7 @@ pub mod aof_r16;
 pub mod aof_r17;
 mod avd_colregs;
 pub mod geometry;
+pub mod plat_cpx;
 pub mod velocity_filter;
 
 pub use aof_cpa::AofCpa;

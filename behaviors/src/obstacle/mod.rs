@@ -18,6 +18,7 @@ pub mod geom;
 pub mod legacy;
 pub mod refinery;
 
+pub mod turn;
 pub mod v24;
 
 use std::collections::{BTreeMap, BTreeSet};

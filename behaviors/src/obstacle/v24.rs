@@ -15,7 +15,8 @@
 //! `pwt_grade`); above 0.6 the passing side locks (only headings keeping the obstacle's
 //! centre on its present side count) until the relevance drops below 0.1. The objective at
 //! `(course, speed)` is, for the closest approach `d` of the ray from ownship along `course`
-//! to the obstacle, 0 for `d <= min_util_cpa_dist`, 100 for `d >= max_util_cpa_dist`,
+//! to the obstacle (with the helm's Dubins platform model: of the model's turn to `course`
+//! and the ray after it, [`super::turn`]), 0 for `d <= min_util_cpa_dist`, 100 for `d >= max_util_cpa_dist`,
 //! linear between (speed plays no part); sampled by the reflector in 3 × 3 pieces,
 //! normalised to 0..100 and weighted by `relevance · pwt`. Ownship inside the obstacle, or
 //! `min_util_cpa_dist`, `max_util_cpa_dist` or `allowable_ttc` never set, leaves no function:
@@ -27,7 +28,7 @@
 //! | parameter | default | validation (C++ rule) | coug |
 //! |---|---|---|---|
 //! | polygon, poly | none | a convex polygon (`obstacle is not convex`) | done |
-//! | allowable_ttc | 20 | `atof` of the value >= 0 (text reads as 0) | done (read; the holonomic model has no time to collision) |
+//! | allowable_ttc | 20 | `atof` of the value >= 0 (text reads as 0) | done (read; required by the function; unused by the C++'s evaluation with either model) |
 //! | min_util_cpa_dist | 8 | number >= 0; max raised to it, an error when max was set | done |
 //! | max_util_cpa_dist | 16 | number >= 0; min lowered to it, an error when min was set | done |
 //! | pwt_inner_dist | 10 | number >= 0; outer and completed raised to it (errors when set) | done |
@@ -37,7 +38,7 @@
 //! | rng_flag | none | `[<RANGE ]VAR=value`, posted while the range is below RANGE (always without one) | done |
 //! | cpa_flag | none | `VAR=value`, posted at the closest approach of each pass within `pwt_outer_dist` | done |
 //! | visual_hints | see below | colours and sizes >= 0 | done |
-//! | holonomic_ok | false | boolean; false warns every iteration with the holonomic model | done |
+//! | holonomic_ok | false | boolean; false warns every iteration with the holonomic model (not with `pmgen = alg=dubins`) | done |
 //! | allstop_on_breach | true | boolean | done |
 //! | use_refinery | false | boolean | done: plateau and basin regions ([`super::refinery`]) |
 //! | draw_buff_min_poly, draw_buff_max_poly | true | boolean | done (read; unused by the C++) |
@@ -177,7 +178,7 @@ impl AvoidObstacleV24 {
         if range > self.model.completed_dist {
             self.base.resolved_pending = true;
         }
-        if !self.holonomic_ok {
+        if !self.holonomic_ok && ctx.info.plat_model().is_none_or(|m| m.is_holonomic()) {
             out.warning(
                 ctx.name,
                 "holo plat_model not best. Set holonomic_ok=true to silence",
@@ -234,7 +235,11 @@ impl AvoidObstacleV24 {
         domain.add(ctx.domain.get("course")?.clone()).ok()?;
         domain.add(ctx.domain.get("speed")?.clone()).ok()?;
         let model = &self.model;
-        let r = Reflector::new(&domain, |v: &[f64]| model.eval_heading(v[0]))
+        let turning = ctx.info.plat_model().filter(|m| !m.is_holonomic());
+        let r = Reflector::new(&domain, |v: &[f64]| match turning {
+            Some(pm) => super::turn::eval_heading(model, pm, v[0]),
+            None => model.eval_heading(v[0]),
+        })
             .set_param("uniform_piece", "course:3,speed:3")
             .ok()?;
         let r = if self.use_refinery {

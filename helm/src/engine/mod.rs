@@ -749,6 +749,8 @@ impl Helm {
             self.restart_post_pending = false;
             self.notify("IVPHELM_RESTARTED", Value::String("true".into()), "");
         }
+        // pHelmIvP's `updatePlatModel`: the behaviours' platform model for this decision.
+        self.info.update_plat_model(&mut self.config.pmgen, now);
         self.decide(now);
         self.cap_appcast_notes();
         self.out.as_slice()
