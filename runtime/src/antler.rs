@@ -652,8 +652,7 @@ fn make_contact_mgr_v20(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
         b,
         &cx.globals.community,
         cx.globals.grid(),
-    )
-;
+    );
     cx.launched(app)
 }
 

@@ -240,8 +240,8 @@ impl AvoidObstacleV24 {
             Some(pm) => super::turn::eval_heading(model, pm, v[0]),
             None => model.eval_heading(v[0]),
         })
-            .set_param("uniform_piece", "course:3,speed:3")
-            .ok()?;
+        .set_param("uniform_piece", "course:3,speed:3")
+        .ok()?;
         let r = if self.use_refinery {
             self.refine(r, &domain)?
         } else {
