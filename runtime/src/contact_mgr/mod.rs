@@ -821,6 +821,13 @@ impl ContactMgr {
                 return;
             }
         }
+        self.upsert(vname, r, out);
+    }
+
+    /// Keeps the report `r` of contact `vname`: a new record (its alert row, the
+    /// `ALERT_VERBOSE` note) for a contact not seen before; a contact back from retirement is
+    /// no longer retired.
+    fn upsert(&mut self, vname: String, r: NodeReport, out: &mut Vec<Post>) {
         match self.records.get_mut(&vname) {
             Some(rec) => rec.report = r,
             None => {

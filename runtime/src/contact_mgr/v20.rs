@@ -72,7 +72,7 @@ use helm::ledger::NodeReport;
 use moos_types::fmt::{compact_string, fixed};
 use moos_types::text::{is_number, parse_string, parse_string_q, set_boolean_on_string};
 
-use super::{ContactMgr, Flag, RangeReport, Record, flag};
+use super::{ContactMgr, Flag, RangeReport, flag};
 use crate::app::{Post, Value};
 use crate::appcasting::Note;
 
@@ -580,34 +580,7 @@ impl ContactMgr {
             return Err(format!("1:{vname}2:"));
         }
         r.vtype = vtype;
-        match self.records.get_mut(&vname) {
-            Some(rec) => rec.report = r,
-            None => {
-                self.records.insert(
-                    vname.clone(),
-                    Record {
-                        report: r,
-                        alerts_total: 0,
-                        alerts_active: 0,
-                        alerts_resolved: 0,
-                        range_actual: 0.0,
-                        range_extrap: 0.0,
-                        range_cpa: 0.0,
-                        range_roc: 0.0,
-                    },
-                );
-                let row = self
-                    .alert_ids
-                    .iter()
-                    .map(|id| (id.clone(), false))
-                    .collect();
-                self.par.entry(vname.to_ascii_lowercase()).or_insert(row);
-                if self.s.alert_verbose {
-                    out.push(Post::text("ALERT_VERBOSE", format!("new_contact={vname}")));
-                }
-            }
-        }
-        self.retired.retain(|v| *v != vname);
+        self.upsert(vname, r, out);
         Ok(())
     }
 
