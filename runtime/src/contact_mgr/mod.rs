@@ -1066,6 +1066,18 @@ impl ContactMgr {
                 self.prev_closest = name.to_string();
             }
         }
+        self.post_lists(list, out);
+        let (unalerted, _) = self.group_text(false);
+        if unalerted != self.prev_unalerted {
+            out.push(Post::text("CONTACTS_UNALERTED", unalerted.clone()));
+            self.prev_unalerted = unalerted;
+        }
+        self.post_recap(now, recap, out);
+    }
+
+    /// `CONTACTS_COUNT`, `CONTACTS_LIST` (`list`) and `CONTACTS_ALERTED`, each when it changed
+    /// (both managers' `postSummaries`).
+    fn post_lists(&mut self, list: String, out: &mut Vec<Post>) {
         let (alerted, count) = self.group_text(true);
         if count != self.prev_count {
             out.push(Post::double("CONTACTS_COUNT", f64::from(count)));
@@ -1079,11 +1091,10 @@ impl ContactMgr {
             out.push(Post::text("CONTACTS_ALERTED", alerted.clone()));
             self.prev_alerted = alerted;
         }
-        let (unalerted, _) = self.group_text(false);
-        if unalerted != self.prev_unalerted {
-            out.push(Post::text("CONTACTS_UNALERTED", unalerted.clone()));
-            self.prev_unalerted = unalerted;
-        }
+    }
+
+    /// `CONTACTS_RECAP` (`recap`) every `recap_interval` seconds, when one is set.
+    fn post_recap(&mut self, now: f64, recap: String, out: &mut Vec<Post>) {
         if self.s.recap_interval > 0.0 && now - self.recap_posted > self.s.recap_interval {
             self.recap_posted = now;
             out.push(Post::text("CONTACTS_RECAP", recap.clone()));

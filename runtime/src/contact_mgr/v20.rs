@@ -1224,24 +1224,8 @@ impl ContactMgr {
                 self.prev_closest = name.to_string();
             }
         }
-        let (alerted, count) = self.group_text(true);
-        if count != self.prev_count {
-            out.push(Post::double("CONTACTS_COUNT", f64::from(count)));
-            self.prev_count = count;
-        }
-        if list != self.prev_list {
-            out.push(Post::text("CONTACTS_LIST", list.clone()));
-            self.prev_list = list;
-        }
-        if alerted != self.prev_alerted {
-            out.push(Post::text("CONTACTS_ALERTED", alerted.clone()));
-            self.prev_alerted = alerted;
-        }
-        if self.s.recap_interval > 0.0 && now - self.recap_posted > self.s.recap_interval {
-            self.recap_posted = now;
-            out.push(Post::text("CONTACTS_RECAP", recap.clone()));
-            self.prev_recap = recap;
-        }
+        self.post_lists(list, out);
+        self.post_recap(now, recap, out);
         if self.x.post_all_ranges {
             ranges.sort_by(f64::total_cmp);
             let text: Vec<String> = ranges.iter().map(|r| compact_string(*r, 1)).collect();
