@@ -67,6 +67,7 @@
 mod v20;
 
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
+use std::fmt::Write as _;
 
 use behaviors::cpa::CpaEngine;
 use helm::ledger::NodeReport;
@@ -104,15 +105,19 @@ impl Variant {
     }
 }
 
-/// A flag an alert posts: variable and value (a number when the value is one).
+/// A `VAR = value` flag as MOOS `VarDataPair(.., "auto")` reads it: the value is a number
+/// when it reads as one. The contact managers' alert, warning, retire and able flags and
+/// pObstacleMgr's flags.
 #[derive(Debug, Clone, PartialEq)]
-struct Flag {
-    var: String,
-    value: Value,
+pub(crate) struct Flag {
+    /// The variable.
+    pub(crate) var: String,
+    /// The value: a double or a string (which may hold macros).
+    pub(crate) value: Value,
 }
 
-/// `VAR=value` as `CMAlert::addAlertOnFlag` reads it (`VarDataPair(.., "auto")`).
-fn flag(s: &str) -> Option<Flag> {
+/// `VAR=value` (both sides trimmed, neither empty), as `addVarDataPairOnString` reads it.
+pub(crate) fn flag(s: &str) -> Option<Flag> {
     let (l, r) = s.split_once('=')?;
     let (l, r) = (l.trim(), r.trim());
     if l.is_empty() || r.is_empty() {
@@ -127,6 +132,29 @@ fn flag(s: &str) -> Option<Flag> {
         var: l.to_string(),
         value,
     })
+}
+
+impl Flag {
+    /// Posts the flag as the apps' `postFlags` do: a string value trimmed and run through
+    /// `expand`, posted unless that leaves it empty; a number posted as it is. Returns the
+    /// appcast event `VAR=value` (a number compacted to 4 decimals).
+    pub(crate) fn post(&self, expand: impl FnOnce(&str) -> String, out: &mut Vec<Post>) -> Note {
+        let shown = match &self.value {
+            Value::String(s) => {
+                let v = expand(s.trim());
+                if !v.is_empty() {
+                    out.push(Post::text(self.var.as_str(), v.as_str()));
+                }
+                v
+            }
+            v => {
+                let d = v.as_ref().as_f64().unwrap_or(0.0);
+                out.push(Post::double(self.var.as_str(), d));
+                compact_string(d, 4)
+            }
+        };
+        Note::Event(format!("{}={shown}", self.var))
+    }
 }
 
 /// One alert (MOOS `CMAlert`).
@@ -153,6 +181,17 @@ struct Alert {
 }
 
 impl Alert {
+    /// pBasicContactMgr's type and group lists: a contact's type (group), when it has one,
+    /// must be matched when there are matches and not ignored.
+    fn lists_pass(&self, vtype: &str, group: &str) -> bool {
+        let pass = |v: &str, matches: &[String], ignores: &[String]| {
+            let v = v.to_string();
+            v.is_empty() || ((matches.is_empty() || matches.contains(&v)) && !ignores.contains(&v))
+        };
+        pass(vtype, &self.match_type, &self.ignore_type)
+            && pass(group, &self.match_group, &self.ignore_group)
+    }
+
     fn set_range(&mut self, d: f64) -> bool {
         if d < 0.0 {
             return false;
@@ -404,7 +443,7 @@ impl ContactMgr {
         let lower = value.to_ascii_lowercase();
         match param {
             "alert" => self
-                .config_alert(value)
+                .config_alert(value, "")
                 .map_err(|w| format!("{w}\nFailed alert config: {value}")),
             "ignore_group" => {
                 let g = value.to_ascii_lowercase();
@@ -589,11 +628,31 @@ impl ContactMgr {
         a
     }
 
-    /// An alert specification (MOOS `handleConfigAlert`): `Err` with the component refused.
-    fn config_alert(&mut self, spec: &str) -> Result<(), String> {
+    /// An alert specification from the block (`source` empty) or a `BCM_ALERT_REQUEST`
+    /// (MOOS `handleConfigAlert`): `Err` with the first component refused. The variants read
+    /// the same keys but for these: pBasicContactMgr's flags are one `VAR=value` each and it
+    /// reads regions, colours and type/group lists; V20 drops a repeated flag, reads `#`-joined
+    /// off flags and its filter keys, and `action=disable`/`enable` (dis)ables an id.
+    fn config_alert(&mut self, spec: &str, source: &str) -> Result<(), String> {
+        let v20 = self.variant == Variant::V20;
         let mut id = tok_string_parse(spec, "id").to_string();
         if id.is_empty() {
             id = "no_id".into();
+        }
+        if v20 {
+            let lower = spec.to_ascii_lowercase();
+            for (action, disable) in [("action=disable", true), ("action=enable", false)] {
+                if lower.contains(action) {
+                    if id != "no_id" {
+                        if disable {
+                            self.x.alerts_disabled.insert(id);
+                        } else {
+                            self.x.alerts_disabled.remove(&id);
+                        }
+                    }
+                    return Ok(());
+                }
+            }
         }
         self.add_alert_id(&id);
         let (s, variant) = (&self.s, self.variant);
@@ -601,6 +660,9 @@ impl ContactMgr {
             .alerts
             .entry(id)
             .or_insert_with(|| Self::new_alert(s, variant));
+        if !source.is_empty() {
+            alert.source = source.to_string();
+        }
         let (mut var, mut pattern) = (String::new(), String::new());
         for part in parse_string_q(spec, ',') {
             let (l, r) = part.split_once('=').unwrap_or((part, ""));
@@ -619,8 +681,19 @@ impl ContactMgr {
                     pattern = right.to_string();
                     true
                 }
+                "on_flag" | "onflag" if v20 => alert.add_on_flag(right),
+                "off_flag" | "offflag" if v20 => alert.add_off_flags(right),
                 "on_flag" | "onflag" => flag(right).map(|f| alert.on_flags.push(f)).is_some(),
                 "off_flag" | "offflag" => flag(right).map(|f| alert.off_flags.push(f)).is_some(),
+                "alert_range" if is_number(right) => alert.set_range(dval),
+                "cpa_range" if is_number(right) => alert.set_range_far(dval),
+                "match_name" | "ignore_name" | "match_group" | "ignore_group" | "match_type"
+                | "ignore_type" | "match_region" | "ignore_region" | "strict_ignore"
+                    if v20 =>
+                {
+                    alert.filter.set_param(&left, right) == Some(true)
+                }
+                _ if v20 => false,
                 "region" => match right.parse::<geometry::Polygon>() {
                     Ok(p) if p.is_convex() => {
                         alert.region = Some(p);
@@ -628,8 +701,6 @@ impl ContactMgr {
                     }
                     _ => false,
                 },
-                "alert_range" if is_number(right) => alert.set_range(dval),
-                "cpa_range" if is_number(right) => alert.set_range_far(dval),
                 "alert_range_color" if geometry::color::is_color(right) => {
                     alert.color = right.to_string();
                     true
@@ -661,14 +732,18 @@ impl ContactMgr {
             }
         }
         if !var.is_empty() && !pattern.is_empty() {
-            alert.on_flags.push(Flag {
-                var: var.trim().to_string(),
-                value: if is_number(pattern.trim()) {
-                    Value::Double(geometry::atof(&pattern))
-                } else {
-                    Value::String(pattern.trim().into())
-                },
-            });
+            if v20 {
+                alert.add_on_flag(&format!("{var}={pattern}"));
+            } else {
+                alert.on_flags.push(Flag {
+                    var: var.trim().to_string(),
+                    value: if is_number(pattern.trim()) {
+                        Value::Double(geometry::atof(&pattern))
+                    } else {
+                        Value::String(pattern.trim().into())
+                    },
+                });
+            }
         }
         Ok(())
     }
@@ -758,19 +833,30 @@ impl ContactMgr {
         now: f64,
         out: &mut Vec<Post>,
     ) {
-        if self.variant == Variant::V20 {
-            self.on_mail_v20(key, value, source, now, out);
-            return;
-        }
         let dval = value.as_ref().as_f64().unwrap_or(0.0);
-        let sval = value.as_str().unwrap_or("");
         match key {
             "NAV_X" => self.nav.0 = dval,
             "NAV_Y" => self.nav.1 = dval,
             "NAV_HEADING" => self.nav.2 = dval,
             "NAV_SPEED" => self.nav.3 = dval,
+            _ if self.variant == Variant::V20 => self.on_mail_v20(key, value, source, now, out),
+            _ => self.on_mail_basic(key, value, source, now, out),
+        }
+    }
+
+    /// pBasicContactMgr's mail but ownship's navigation.
+    fn on_mail_basic(
+        &mut self,
+        key: &str,
+        value: &Value,
+        source: &str,
+        now: f64,
+        out: &mut Vec<Post>,
+    ) {
+        let sval = value.as_str().unwrap_or("");
+        match key {
             "NODE_REPORT" => self.node_report(sval, out),
-            "BCM_REPORT_REQUEST" => self.report_request(sval, now),
+            "BCM_REPORT_REQUEST" => self.report_request(sval, source, now),
             "BCM_DISPLAY_RADII" => match set_boolean_on_string(self.s.display_radii, sval) {
                 Some(b) => {
                     self.s.display_radii = b;
@@ -791,7 +877,7 @@ impl ContactMgr {
             },
             "BCM_ALERT_REQUEST" => {
                 self.requests += 1;
-                if let Err(w) = self.config_alert(sval) {
+                if let Err(w) = self.config_alert(sval, "") {
                     self.notes.push(Note::Warning(w));
                     self.notes
                         .push(Note::Warning(format!("Unhandled Alert Request: {sval}")));
@@ -893,10 +979,13 @@ impl ContactMgr {
             .push(Note::Event(format!("Resolved: ({vehicle},{id})")));
     }
 
-    fn report_request(&mut self, text: &str, now: f64) {
+    /// `BCM_REPORT_REQUEST` from `source`: `var`, `range`, `group`, `type`; V20 also reads
+    /// `refresh` (post the list at the next iteration even if unchanged) and `reason`.
+    fn report_request(&mut self, text: &str, source: &str, now: f64) {
+        let v20 = self.variant == Variant::V20;
         let mut ok = true;
-        let (mut var, mut range, mut group, mut vtype) =
-            (String::new(), -1.0, String::new(), String::new());
+        let (mut var, mut range, mut group, mut vtype, mut refresh) =
+            (String::new(), -1.0, String::new(), String::new(), false);
         for part in moos_types::text::parse_string(text, ',') {
             let (l, r) = part.split_once('=').unwrap_or((part, ""));
             let (l, r) = (l.trim().to_ascii_lowercase(), r.trim());
@@ -905,6 +994,8 @@ impl ContactMgr {
                 "range" if is_number(r) => range = geometry::atof(r),
                 "group" => group = r.to_string(),
                 "type" => vtype = r.to_string(),
+                "refresh" if v20 => refresh = r.eq_ignore_ascii_case("true"),
+                "reason" if v20 => {}
                 _ => ok = false,
             }
         }
@@ -914,8 +1005,11 @@ impl ContactMgr {
             self.notes.push(Note::Warning(msg));
             return;
         }
-        self.notes
-            .push(Note::Event(format!("New REPORT_REQUEST: {text}")));
+        self.notes.push(Note::Event(if v20 {
+            format!("New BCM_REPORT_REQUEST (src={source}): {text}")
+        } else {
+            format!("New REPORT_REQUEST: {text}")
+        }));
         let e = self.reports.entry(var).or_insert_with(|| RangeReport {
             range: -2.0,
             ..RangeReport::default()
@@ -926,6 +1020,7 @@ impl ContactMgr {
             e.vtype = vtype;
             e.contacts.clear();
         }
+        e.refresh = refresh;
         e.reqtime = now;
     }
 
@@ -936,7 +1031,7 @@ impl ContactMgr {
             return;
         }
         self.update_ranges(now);
-        self.retire(now);
+        self.retire(now, out);
         self.post_range_reports(now, out);
         self.post_summaries(now, out);
         self.check_alerts(now, out);
@@ -967,34 +1062,56 @@ impl ContactMgr {
         }
     }
 
-    fn retire(&mut self, now: f64) {
-        let mut newly = Vec::new();
+    /// Retires the contacts older than `contact_max_age` or beyond the reject range (10 m past
+    /// it for pBasicContactMgr, 5 % for V20), and for V20 also the ones its filters refused
+    /// and those culled past `max_contacts`, with V20's retire flags. Each goes to the front
+    /// of the retired list, in name order.
+    fn retire(&mut self, now: f64, out: &mut Vec<Post>) {
+        let start = self.records.len();
+        let reject = match self.variant {
+            Variant::Basic => self.s.reject_range + 10.0,
+            Variant::V20 => self.s.reject_range * 1.05,
+        };
+        let mut gone: BTreeSet<String> = std::mem::take(&mut self.x.filtered);
         for (name, rec) in &self.records {
             let age = now - rec.time();
             if age > self.s.contact_max_age
-                || (self.s.reject_range > 0.0 && rec.range_actual > self.s.reject_range + 10.0)
+                || (self.s.reject_range > 0.0 && rec.range_actual > reject)
             {
-                newly.push(name.clone());
+                gone.insert(name.clone());
             }
         }
-        // The C++ builds the list by pushing to the front, then pushes each to the front of
-        // the retired list: the retired list gets them in name order, newest first overall.
-        for name in newly
-            .into_iter()
-            .rev()
-            .collect::<Vec<_>>()
-            .into_iter()
-            .rev()
-        {
-            self.records.remove(&name);
+        if self.variant == Variant::V20 {
+            self.cull(&mut gone, start, now);
+        }
+        for name in gone {
+            if self.records.remove(&name).is_some() {
+                self.retired.push_front(name.clone());
+            }
             self.par.remove(&name.to_ascii_lowercase());
-            self.retired.push_front(name);
+            for f in &self.x.retire_flags {
+                let expand_all = |v: &str| {
+                    let v = v20::expand(v, "CONTACT", &name);
+                    v20::expand(&v, "UTC", &compact_string(now, 3))
+                };
+                self.notes.push(f.post(expand_all, out));
+            }
+            self.x.will_warn.remove(&name);
+            self.x.was_warned.remove(&name);
+            self.x.utc_warned.remove(&name);
         }
     }
 
+    /// Posts each requested range report's contacts (by extrapolated range, group and type)
+    /// when they changed or a refresh was asked for. pBasicContactMgr forgets requests not
+    /// renewed within `range_report_timeout`; V20 forgets the oldest timed-out one when it
+    /// has more than `range_report_maxsize`.
     fn post_range_reports(&mut self, now: f64, out: &mut Vec<Post>) {
         let timeout = self.s.range_report_timeout;
-        self.reports.retain(|_, r| now - r.reqtime <= timeout);
+        match self.variant {
+            Variant::Basic => self.reports.retain(|_, r| now - r.reqtime <= timeout),
+            Variant::V20 => self.prune_range_reports(now),
+        }
         for (var, rep) in &mut self.reports {
             let mut contacts = String::new();
             for (name, rec) in &self.records {
@@ -1009,13 +1126,17 @@ impl ContactMgr {
                     contacts.push_str(name);
                 }
             }
-            if contacts != rep.contacts {
+            if rep.refresh || contacts != rep.contacts {
                 out.push(Post::text(var.as_str(), contacts.clone()));
                 rep.contacts = contacts;
+                rep.refresh = false;
             }
         }
     }
 
+    /// MOOS `postSummaries`: `CONTACTS_RETIRED`, the closest contact (its range and, V20, its
+    /// relative bearing when asked), the lists, `CONTACTS_UNALERTED` (pBasicContactMgr),
+    /// `CONTACTS_RECAP` and `CONTACT_RANGES` (V20's `post_all_ranges`).
     fn post_summaries(&mut self, now: f64, out: &mut Vec<Post>) {
         let retired = self
             .retired
@@ -1031,7 +1152,8 @@ impl ContactMgr {
 
         let mut list = String::new();
         let mut recap = String::new();
-        let mut closest: Option<(&str, f64)> = None;
+        let mut ranges = Vec::new();
+        let mut closest: Option<(&str, f64, &Record)> = None;
         for (name, rec) in &self.records {
             if !list.is_empty() {
                 list.push(',');
@@ -1039,8 +1161,9 @@ impl ContactMgr {
             list.push_str(name);
             let age = now - rec.time();
             let range = rec.range_actual;
-            if closest.is_none_or(|(_, r)| range < r) {
-                closest = Some((name, range));
+            ranges.push(range);
+            if closest.is_none_or(|(_, r, _)| range < r) {
+                closest = Some((name, range, rec));
             }
             if !recap.is_empty() {
                 recap.push_str(" # ");
@@ -1052,12 +1175,21 @@ impl ContactMgr {
             recap.push_str(",age=");
             fixed(&mut recap, age, 2);
         }
-        if let Some((name, range)) = closest {
+        if let Some((name, range, rec)) = closest {
             if self.s.post_closest_range {
                 let r = range.trunc();
                 if r != self.prev_closest_range {
                     out.push(Post::double("CONTACT_CLOSEST_RANGE", r));
                     self.prev_closest_range = r;
+                }
+            }
+            if self.x.post_closest_relbng {
+                let (ox, oy, oh, _) = self.nav;
+                let (cx, cy) = (rec.report.x_m.unwrap_or(0.0), rec.report.y_m.unwrap_or(0.0));
+                let b = behaviors::cpa::rel_bearing(ox, oy, oh, cx, cy).trunc();
+                if b != self.x.prev_closest_relbng {
+                    out.push(Post::double("CONTACT_CLOSEST_RELBNG", b));
+                    self.x.prev_closest_relbng = b;
                 }
             }
             if name != self.prev_closest {
@@ -1067,12 +1199,19 @@ impl ContactMgr {
             }
         }
         self.post_lists(list, out);
-        let (unalerted, _) = self.group_text(false);
-        if unalerted != self.prev_unalerted {
-            out.push(Post::text("CONTACTS_UNALERTED", unalerted.clone()));
-            self.prev_unalerted = unalerted;
+        if self.variant == Variant::Basic {
+            let (unalerted, _) = self.group_text(false);
+            if unalerted != self.prev_unalerted {
+                out.push(Post::text("CONTACTS_UNALERTED", unalerted.clone()));
+                self.prev_unalerted = unalerted;
+            }
         }
         self.post_recap(now, recap, out);
+        if self.x.post_all_ranges {
+            ranges.sort_by(f64::total_cmp);
+            let text: Vec<String> = ranges.iter().map(|r| compact_string(*r, 1)).collect();
+            out.push(Post::text("CONTACT_RANGES", text.join(",")));
+        }
     }
 
     /// `CONTACTS_COUNT`, `CONTACTS_LIST` (`list`) and `CONTACTS_ALERTED`, each when it changed
@@ -1102,6 +1241,10 @@ impl ContactMgr {
         }
     }
 
+    /// Whether alert `id` applies to contact `name` (MOOS `checkAlertApplies`): the report is
+    /// not older than `contact_max_age`, the contact passes the alert's type and group lists
+    /// (V20: the alert is valid and its filters pass), is within its ranges and inside its
+    /// region.
     fn applies(&self, name: &str, id: &str, now: f64) -> bool {
         let (Some(a), Some(rec)) = (self.alerts.get(id), self.records.get(name)) else {
             return false;
@@ -1109,23 +1252,14 @@ impl ContactMgr {
         if now - rec.time() > self.s.contact_max_age {
             return false;
         }
-        let t = &rec.report.vtype;
-        if !t.is_empty() {
-            if !a.match_type.is_empty() && !a.match_type.contains(t) {
-                return false;
-            }
-            if a.ignore_type.contains(t) {
-                return false;
-            }
-        }
-        let g = &rec.report.group;
-        if !g.is_empty() {
-            if !a.match_group.is_empty() && !a.match_group.contains(g) {
-                return false;
-            }
-            if a.ignore_group.contains(g) {
-                return false;
-            }
+        let r = &rec.report;
+        let (x, y) = (r.x_m.unwrap_or(0.0), r.y_m.unwrap_or(0.0));
+        let passes = match self.variant {
+            Variant::Basic => a.lists_pass(&r.vtype, &r.group),
+            Variant::V20 => a.valid_v20() && a.filter.check_all(&r.name, &r.group, &r.vtype, x, y),
+        };
+        if !passes {
+            return false;
         }
         if a.range > 0.0 {
             if rec.range_actual > a.range_far {
@@ -1135,58 +1269,88 @@ impl ContactMgr {
                 return false;
             }
         }
-        if let Some(region) = &a.region {
-            let (x, y) = (rec.report.x_m.unwrap_or(0.0), rec.report.y_m.unwrap_or(0.0));
-            if !region.contains(x, y) {
-                return false;
-            }
-        }
-        true
+        a.region.as_ref().is_none_or(|region| region.contains(x, y))
     }
 
+    /// Every contact against every enabled alert: the flags of each transition, the alerted
+    /// matrix and its counts, and `ALERT_VERBOSE` when asked.
     fn check_alerts(&mut self, now: f64, out: &mut Vec<Post>) {
         let names: Vec<String> = self.records.keys().cloned().collect();
         let ids: Vec<String> = self.alerts.keys().cloned().collect();
         for name in &names {
             for id in &ids {
+                if self.x.alerts_disabled.contains(id) {
+                    continue;
+                }
                 let applies = self.applies(name, id, now);
                 let was = self.alerted(name, id);
-                let transition = if applies && !was {
-                    self.post_flags(name, id, true, out);
-                    self.set_alerted(name, id, true);
-                    if let Some(rec) = self.records.get_mut(name) {
-                        rec.alerts_total += 1;
-                        rec.alerts_active += 1;
-                    }
-                    "off-->alerted"
-                } else if !applies && was {
-                    self.post_flags(name, id, false, out);
-                    self.set_alerted(name, id, false);
-                    "alerted-->off"
-                } else {
+                if applies == was {
                     continue;
-                };
+                }
+                self.post_alert(name, id, applies, out);
+                self.mark_alerted(name, id, applies);
                 if self.s.alert_verbose {
-                    let now_alerted = self.alerted(name, id);
-                    out.push(Post::text(
-                        "ALERT_VERBOSE",
-                        format!("contact={name},alert_id={id},{transition}, alerted={now_alerted}"),
-                    ));
+                    let line = self.verbose_line(name, id, applies, now);
+                    out.push(Post::text("ALERT_VERBOSE", line));
                 }
             }
         }
     }
 
-    fn post_flags(&mut self, name: &str, id: &str, on: bool, out: &mut Vec<Post>) {
-        let Some(a) = self.alerts.get(id) else {
-            return;
-        };
-        let Some(rec) = self.records.get(name) else {
-            return;
-        };
-        let r = &rec.report;
+    /// Sets contact `name` (un)alerted for alert `id` with the variant's counts.
+    fn mark_alerted(&mut self, name: &str, id: &str, on: bool) {
+        match self.variant {
+            Variant::Basic => {
+                self.set_alerted(name, id, on);
+                if on && let Some(rec) = self.records.get_mut(name) {
+                    rec.alerts_total += 1;
+                    rec.alerts_active += 1;
+                }
+            }
+            Variant::V20 => self.set_alerted_v20(name, id, on),
+        }
+    }
+
+    /// `ALERT_VERBOSE` for a transition of contact `name` for alert `id` (`on`: it became
+    /// alerted): V20 adds the ranges and the time since the early warning.
+    fn verbose_line(&self, name: &str, id: &str, on: bool, now: f64) -> String {
+        let transition = if on { "off-->alerted" } else { "alerted-->off" };
+        let alerted = self.alerted(name, id);
+        let mut m = format!("contact={name},alert_id={id},{transition}");
+        if self.variant == Variant::Basic {
+            let _ = write!(m, ", alerted={alerted}");
+            return m;
+        }
+        let (a, rec) = (&self.alerts[id], &self.records[name]);
+        let _ = write!(
+            m,
+            ",alert_range={},alert_range_cpa={},range_actual=",
+            compact_string(a.range, 1),
+            compact_string(a.range_far, 1)
+        );
+        fixed(&mut m, rec.range_actual, 1);
+        if alerted {
+            m.push_str(",range_cpa=");
+            fixed(&mut m, rec.range_cpa, 1);
+        }
+        if on
+            && self.x.early_warning_time > 0.0
+            && let Some(t) = self.x.utc_warned.get(name)
+        {
+            let _ = write!(m, ",after_warning={}", compact_string(now - t, 2));
+        }
+        m
+    }
+
+    /// The macros of alert flags about report `r` (`for_var`: in the variable's name, else in
+    /// the value), in the order they are expanded. Both variants expand the position, motion
+    /// and name macros (`$[SPD}` as the C++ spells it); pBasicContactMgr adds `$[UTIME]` and
+    /// the lower-case names everywhere; V20 adds `$[UTC]` to names and `$[GROUP]` to values,
+    /// and its `%[VNAME]` is the name as reported.
+    fn alert_macros(&self, r: &NodeReport, for_var: bool) -> Vec<(&'static str, String)> {
         let num = |v: Option<f64>, p| compact_string(v.unwrap_or(0.0), p);
-        let macros = [
+        let time = num(r.time, 2);
+        let mut m = vec![
             ("$[X]", num(r.x_m, 2)),
             ("$[Y]", num(r.y_m, 2)),
             ("$[LAT]", num(r.lat_deg, 8)),
@@ -1196,13 +1360,42 @@ impl ContactMgr {
             ("$[DEP]", num(r.depth_m, 2)),
             ("$[VNAME]", r.name.clone()),
             ("$[VTYPE]", r.vtype.clone()),
-            ("$[UTIME]", num(r.time, 2)),
-            ("%[VNAME]", r.name.to_ascii_lowercase()),
-            ("%[VTYPE]", r.vtype.to_ascii_lowercase()),
         ];
-        let expand = |s: &str| {
+        let vtype = r.vtype.to_ascii_lowercase();
+        match (self.variant, for_var) {
+            (Variant::Basic, _) => m.extend([
+                ("$[UTIME]", time),
+                ("%[VNAME]", r.name.to_ascii_lowercase()),
+                ("%[VTYPE]", vtype),
+            ]),
+            (Variant::V20, true) => m.extend([
+                ("$[UTIME]", time.clone()),
+                ("$[UTC]", time),
+                ("%[VNAME]", r.name.clone()),
+                ("%[VTYPE]", vtype),
+            ]),
+            (Variant::V20, false) => m.extend([
+                ("$[GROUP]", r.group.clone()),
+                ("$[UTIME]", time),
+                ("%[VNAME]", r.name.clone()),
+                ("%[VTYPE]", vtype),
+                ("%[GROUP]", r.group.to_ascii_lowercase()),
+            ]),
+        }
+        m
+    }
+
+    /// MOOS `postAlert`: each on (off) flag of alert `id` about contact `name`, its macros
+    /// expanded.
+    fn post_alert(&mut self, name: &str, id: &str, on: bool, out: &mut Vec<Post>) {
+        let (Some(a), Some(rec)) = (self.alerts.get(id), self.records.get(name)) else {
+            return;
+        };
+        let r = &rec.report;
+        let (var_macros, msg_macros) = (self.alert_macros(r, true), self.alert_macros(r, false));
+        let apply = |s: &str, macros: &[(&str, String)]| {
             let mut s = s.to_string();
-            for (k, v) in &macros {
+            for (k, v) in macros {
                 if s.contains(k) {
                     s = s.replace(k, v);
                 }
@@ -1211,10 +1404,10 @@ impl ContactMgr {
         };
         let flags = if on { &a.on_flags } else { &a.off_flags };
         for f in flags {
-            let var = expand(&f.var);
+            let var = apply(&f.var, &var_macros);
             match &f.value {
                 Value::String(s) => {
-                    let msg = expand(s);
+                    let msg = apply(s, &msg_macros);
                     self.notes.push(Note::Event(format!("{var}={msg}")));
                     out.push(Post::text(var, msg));
                 }
@@ -1258,7 +1451,7 @@ impl ContactMgr {
             }
             out.push(Post::text(
                 "VIEW_CIRCLE",
-                self.circle(a.range, &format!("{id}_in"), &a.color, active),
+                self.circle(a.range, &format!("{id}_in"), &a.color, active, None, None),
             ));
             if a.range_far > a.range {
                 if !active || invisible(&a.far_color) {
@@ -1266,15 +1459,31 @@ impl ContactMgr {
                 }
                 out.push(Post::text(
                     "VIEW_CIRCLE",
-                    self.circle(a.range_far, &format!("{id}_out"), &a.far_color, active),
+                    self.circle(
+                        a.range_far,
+                        &format!("{id}_out"),
+                        &a.far_color,
+                        active,
+                        None,
+                        None,
+                    ),
                 ));
             }
         }
     }
 
-    /// `XYCircle::get_spec`: `x=..,y=..,radius=..` (2 decimals, compacted) then the object
-    /// fields.
-    fn circle(&self, radius: f64, label: &str, color: &str, active: bool) -> String {
+    /// A `VIEW_CIRCLE` around ownship (MOOS `XYCircle::get_spec`): `x=..,y=..,radius=..` (2
+    /// decimals, compacted) then the object fields; V20's circles have a label colour, a
+    /// duration of 3 s and the time `timed`.
+    fn circle(
+        &self,
+        radius: f64,
+        label: &str,
+        color: &str,
+        active: bool,
+        label_color: Option<&str>,
+        timed: Option<f64>,
+    ) -> String {
         let mut s = String::from("x=");
         moos_types::fmt::compact(&mut s, self.nav.0, 2);
         s.push_str(",y=");
@@ -1282,10 +1491,15 @@ impl ContactMgr {
         s.push_str(",radius=");
         moos_types::fmt::compact(&mut s, radius, 2);
         let mut a = geometry::Attributes::labeled(label);
+        a.label_color = label_color.map(str::to_string);
         a.edge_color = Some(color.to_string());
         a.vertex_size = Some(0.0);
         a.edge_size = Some(1.0);
         a.active = active;
+        if let Some(t) = timed {
+            a.duration = Some(3.0);
+            a.time = Some(t);
+        }
         a.write_spec(&mut s, 0);
         s
     }
@@ -1313,7 +1527,6 @@ impl ContactMgr {
             self.report_v20(b);
             return;
         }
-        use std::fmt::Write as _;
         let reject = if self.s.reject_range > 0.0 {
             compact_string(self.s.reject_range, 2)
         } else {
@@ -1360,30 +1573,57 @@ impl ContactMgr {
                 }
             }
         }
+        self.report_status(b);
+    }
+
+    /// The appcast's status part, after the alert configurations (both variants'
+    /// `buildReport`): the lists (pBasicContactMgr with the unalerted pairs), a contact table
+    /// (pBasicContactMgr: every contact with its resolved count; V20: the first 7), and the
+    /// requested range reports.
+    fn report_status(&self, b: &mut String) {
+        let basic = self.variant == Variant::Basic;
         let _ = writeln!(b);
         let _ = writeln!(b, "Alert Status Summary: ");
         let _ = writeln!(b, "----------------------");
         let _ = writeln!(b, "       List: {}", self.prev_list);
         let _ = writeln!(b, "    Alerted: {}", self.prev_alerted);
-        let _ = writeln!(b, "  UnAlerted: {}", self.prev_unalerted);
+        if basic {
+            let _ = writeln!(b, "  UnAlerted: {}", self.prev_unalerted);
+        }
         let _ = writeln!(b, "    Retired: {}", self.prev_retired);
         let _ = writeln!(b, "      Recap: {}", self.prev_recap);
         let _ = writeln!(b);
         let _ = writeln!(b, "Contact Status Summary:");
         let _ = writeln!(b, "-----------------------");
-        let mut t = appcast::Table::with_pad(5, 5);
+        let mut t = if basic {
+            let mut t = appcast::Table::with_pad(5, 5);
+            t.push("Contact | Range  | Alerts  | Alerts | Alerts   ");
+            t.push("        | Actual | Total   | Active | Resolved ");
+            t
+        } else {
+            let mut t = appcast::Table::with_pad(4, 4);
+            t.push("Contact | Range  | Alerts  | Alerts ");
+            t.push("        | Actual | Total   | Active ");
+            t
+        };
         t.set_right_justify(1, true);
-        t.push("Contact | Range  | Alerts  | Alerts | Alerts   ");
-        t.push("        | Actual | Total   | Active | Resolved ");
         t.add_header_lines();
-        for (name, r) in &self.records {
+        let shown = if basic { usize::MAX } else { 7 };
+        for (name, r) in self.records.iter().take(shown) {
             let mut range = String::new();
             fixed(&mut range, r.range_actual, 1);
             t.push(name);
             t.push(&range);
-            t.push(&r.alerts_total.to_string());
-            t.push(&r.alerts_active.max(0).to_string());
-            t.push(&r.alerts_resolved.to_string());
+            if basic {
+                t.push(&r.alerts_total.to_string());
+                t.push(&r.alerts_active.max(0).to_string());
+                t.push(&r.alerts_resolved.to_string());
+            } else {
+                // The C++ looks the counts up by the contact's name as reported.
+                let count = |m: &BTreeMap<String, u32>| m.get(name).copied().unwrap_or(0);
+                t.push(&count(&self.x.alerts_total).to_string());
+                t.push(&count(&self.x.alerts_active).to_string());
+            }
         }
         t.write(b);
         let _ = writeln!(b, "\n\nCustom Contact Reports:");
@@ -1529,14 +1769,16 @@ mod tests {
     use super::*;
     use crate::antler::BuiltInApp;
 
-    fn posts<'a>(out: &'a [Post], key: &str) -> Vec<&'a Value> {
+    /// The values posted to `key`.
+    pub(super) fn posts<'a>(out: &'a [Post], key: &str) -> Vec<&'a Value> {
         out.iter()
             .filter(|p| p.key == key)
             .map(|p| &p.value)
             .collect()
     }
 
-    fn report(name: &str, x: f64, y: f64, hdg: f64, spd: f64, t: f64) -> Value {
+    /// A kayak's node report in group blue.
+    pub(super) fn report(name: &str, x: f64, y: f64, hdg: f64, spd: f64, t: f64) -> Value {
         Value::text(format!(
             "NAME={name},X={x},Y={y},HDG={hdg},SPD={spd},TIME={t},TYPE=kayak,GROUP=blue"
         ))

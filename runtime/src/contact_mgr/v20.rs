@@ -69,10 +69,10 @@ use std::fmt::Write as _;
 
 use behaviors::contact::ContactFilter;
 use helm::ledger::NodeReport;
-use moos_types::fmt::{compact_string, fixed};
-use moos_types::text::{is_number, parse_string, parse_string_q, set_boolean_on_string};
+use moos_types::fmt::compact_string;
+use moos_types::text::{is_number, set_boolean_on_string};
 
-use super::{ContactMgr, Flag, RangeReport, flag};
+use super::{ContactMgr, Flag, flag};
 use crate::app::{Post, Value};
 use crate::appcasting::Note;
 
@@ -82,38 +82,38 @@ pub const PROGRAM: &str = "pContactMgrV20";
 /// What only pContactMgrV20 keeps.
 #[derive(Debug, Clone)]
 pub(super) struct Extra {
-    filter: ContactFilter,
-    max_contacts: usize,
-    range_report_maxsize: usize,
-    post_closest_relbng: bool,
-    post_all_ranges: bool,
-    alert_rng_color: String,
-    hold_alerts_for_helm: bool,
-    helm_in_drive: bool,
-    os_group: String,
-    os_type: String,
-    disable_var: String,
-    enable_var: String,
-    expunge_var: String,
-    able_flags: Vec<Flag>,
-    disable_flags: Vec<Flag>,
-    enable_flags: Vec<Flag>,
-    early_warning_flags: Vec<Flag>,
-    cease_warning_flags: Vec<Flag>,
-    retire_flags: Vec<Flag>,
-    early_warning_time: f64,
-    early_warning_radii: bool,
-    ewarn_radii_color: String,
-    will_warn: BTreeMap<String, f64>,
-    was_warned: BTreeMap<String, f64>,
-    utc_warned: BTreeMap<String, f64>,
-    alerts_disabled: BTreeSet<String>,
-    disabled_contacts: VecDeque<String>,
-    enabled_contacts: VecDeque<String>,
-    filtered: BTreeSet<String>,
-    alerts_total: BTreeMap<String, u32>,
-    alerts_active: BTreeMap<String, u32>,
-    prev_closest_relbng: f64,
+    pub(super) filter: ContactFilter,
+    pub(super) max_contacts: usize,
+    pub(super) range_report_maxsize: usize,
+    pub(super) post_closest_relbng: bool,
+    pub(super) post_all_ranges: bool,
+    pub(super) alert_rng_color: String,
+    pub(super) hold_alerts_for_helm: bool,
+    pub(super) helm_in_drive: bool,
+    pub(super) os_group: String,
+    pub(super) os_type: String,
+    pub(super) disable_var: String,
+    pub(super) enable_var: String,
+    pub(super) expunge_var: String,
+    pub(super) able_flags: Vec<Flag>,
+    pub(super) disable_flags: Vec<Flag>,
+    pub(super) enable_flags: Vec<Flag>,
+    pub(super) early_warning_flags: Vec<Flag>,
+    pub(super) cease_warning_flags: Vec<Flag>,
+    pub(super) retire_flags: Vec<Flag>,
+    pub(super) early_warning_time: f64,
+    pub(super) early_warning_radii: bool,
+    pub(super) ewarn_radii_color: String,
+    pub(super) will_warn: BTreeMap<String, f64>,
+    pub(super) was_warned: BTreeMap<String, f64>,
+    pub(super) utc_warned: BTreeMap<String, f64>,
+    pub(super) alerts_disabled: BTreeSet<String>,
+    pub(super) disabled_contacts: VecDeque<String>,
+    pub(super) enabled_contacts: VecDeque<String>,
+    pub(super) filtered: BTreeSet<String>,
+    pub(super) alerts_total: BTreeMap<String, u32>,
+    pub(super) alerts_active: BTreeMap<String, u32>,
+    pub(super) prev_closest_relbng: f64,
 }
 
 impl Default for Extra {
@@ -210,7 +210,7 @@ fn add_flag(flags: &mut Vec<Flag>, v: &str) -> bool {
 }
 
 /// MOOS `macroExpand` of `$[name]` and `$(name)`.
-fn expand(s: &str, name: &str, repl: &str) -> String {
+pub(super) fn expand(s: &str, name: &str, repl: &str) -> String {
     s.replace(&format!("$({name})"), repl)
         .replace(&format!("$[{name}]"), repl)
 }
@@ -307,7 +307,13 @@ impl ContactMgr {
         let x = &mut self.x;
         let s = &mut self.s;
         match param {
-            "alert" => self.config_alert_v20(value, "", warns),
+            "alert" => match self.config_alert(value, "") {
+                Ok(()) => true,
+                Err(w) => {
+                    warns.push(w);
+                    false
+                }
+            },
             "ignore_name" | "match_name" | "ignore_group" | "match_group" | "ignore_type"
             | "match_type" | "match_region" | "ignore_region" | "strict_ignore" => {
                 x.filter.set_param(param, value) == Some(true)
@@ -388,74 +394,6 @@ impl ContactMgr {
         }
     }
 
-    /// An alert specification from the block (`source` empty) or a `BCM_ALERT_REQUEST`
-    /// (MOOS `handleConfigAlert`); false, with its warning, at the first bad component.
-    fn config_alert_v20(&mut self, spec: &str, source: &str, warns: &mut Vec<String>) -> bool {
-        let mut id = moos_types::text::tok_string_parse(spec, "id").to_string();
-        if id.is_empty() {
-            id = "no_id".into();
-        }
-        let lower = spec.to_ascii_lowercase();
-        if lower.contains("action=disable") {
-            if id != "no_id" {
-                self.x.alerts_disabled.insert(id);
-            }
-            return true;
-        }
-        if lower.contains("action=enable") {
-            if id != "no_id" {
-                self.x.alerts_disabled.remove(&id);
-            }
-            return true;
-        }
-        self.add_alert_id(&id);
-        let (s, variant) = (&self.s, self.variant);
-        let alert = self
-            .alerts
-            .entry(id)
-            .or_insert_with(|| Self::new_alert(s, variant));
-        if !source.is_empty() {
-            alert.source = source.to_string();
-        }
-        let (mut var, mut pattern) = (String::new(), String::new());
-        for part in parse_string_q(spec, ',') {
-            let (l, r) = part.split_once('=').unwrap_or((part, ""));
-            let left = l.trim().to_ascii_lowercase();
-            let mut right = r.trim();
-            let dval = geometry::atof(right);
-            if right.len() >= 2 && right.starts_with('"') && right.ends_with('"') {
-                right = &right[1..right.len() - 1];
-            }
-            let ok = match left.as_str() {
-                "var" => {
-                    var = right.to_string();
-                    true
-                }
-                "val" | "pattern" => {
-                    pattern = right.to_string();
-                    true
-                }
-                "on_flag" | "onflag" => alert.add_on_flag(right),
-                "off_flag" | "offflag" => alert.add_off_flags(right),
-                "alert_range" if is_number(right) => alert.set_range(dval),
-                "cpa_range" if is_number(right) => alert.set_range_far(dval),
-                "match_name" | "ignore_name" | "match_group" | "ignore_group" | "match_type"
-                | "ignore_type" | "match_region" | "ignore_region" | "strict_ignore" => {
-                    alert.filter.set_param(&left, right) == Some(true)
-                }
-                _ => false,
-            };
-            if !ok && left != "id" {
-                warns.push(format!("unhandled alert config component: {left}"));
-                return false;
-            }
-        }
-        if !var.is_empty() && !pattern.is_empty() {
-            alert.add_on_flag(&format!("{var}={pattern}"));
-        }
-        true
-    }
-
     pub(super) fn subscriptions_v20(&self) -> Vec<String> {
         let mut v: Vec<String> = [
             "NODE_REPORT",
@@ -479,7 +417,7 @@ impl ContactMgr {
         v
     }
 
-    /// One mail (MOOS `OnNewMail`).
+    /// One mail but ownship's navigation (MOOS `OnNewMail`).
     pub(super) fn on_mail_v20(
         &mut self,
         key: &str,
@@ -488,26 +426,9 @@ impl ContactMgr {
         now: f64,
         out: &mut Vec<Post>,
     ) {
-        let dval = value.as_ref().as_f64().unwrap_or(0.0);
         let sval = value.as_str().unwrap_or("");
         let mut whynot = String::new();
         let handled = match key {
-            "NAV_X" => {
-                self.nav.0 = dval;
-                true
-            }
-            "NAV_Y" => {
-                self.nav.1 = dval;
-                true
-            }
-            "NAV_HEADING" => {
-                self.nav.2 = dval;
-                true
-            }
-            "NAV_SPEED" => {
-                self.nav.3 = dval;
-                true
-            }
             "NODE_REPORT" => match self.node_report_v20(sval, out) {
                 Ok(()) => true,
                 Err(w) => {
@@ -516,7 +437,7 @@ impl ContactMgr {
                 }
             },
             "BCM_REPORT_REQUEST" => {
-                self.report_request_v20(sval, source, now);
+                self.report_request(sval, source, now);
                 true
             }
             "BCM_DISPLAY_RADII" => set_bool(&mut self.s.display_radii, sval),
@@ -525,9 +446,8 @@ impl ContactMgr {
                 self.notes.push(Note::Event(format!(
                     "New BCM_ALERT_REQUEST (src={source}): {sval}"
                 )));
-                let mut w = Vec::new();
-                if !self.config_alert_v20(sval, source, &mut w) {
-                    self.notes.extend(w.into_iter().map(Note::Warning));
+                if let Err(w) = self.config_alert(sval, source) {
+                    self.notes.push(Note::Warning(w));
                     self.notes
                         .push(Note::Warning(format!("Unhandled Alert Request: {sval}")));
                 }
@@ -582,47 +502,6 @@ impl ContactMgr {
         r.vtype = vtype;
         self.upsert(vname, r, out);
         Ok(())
-    }
-
-    /// `BCM_REPORT_REQUEST` (V20: with `refresh` and `reason`, never timed out but pruned).
-    fn report_request_v20(&mut self, text: &str, source: &str, now: f64) {
-        let mut ok = true;
-        let (mut var, mut range, mut group, mut vtype, mut refresh) =
-            (String::new(), -1.0, String::new(), String::new(), false);
-        for part in parse_string(text, ',') {
-            let (l, r) = part.split_once('=').unwrap_or((part, ""));
-            let (l, r) = (l.trim().to_ascii_lowercase(), r.trim());
-            match l.as_str() {
-                "var" if !r.is_empty() && !r.contains(char::is_whitespace) => var = r.to_string(),
-                "range" if is_number(r) => range = geometry::atof(r),
-                "group" => group = r.to_string(),
-                "type" => vtype = r.to_string(),
-                "refresh" => refresh = r.eq_ignore_ascii_case("true"),
-                "reason" => {}
-                _ => ok = false,
-            }
-        }
-        if !ok || var.is_empty() || range < 0.0 {
-            let msg = format!("Failed REPORT_REQUEST: {text}");
-            self.notes.push(Note::Event(msg.clone()));
-            self.notes.push(Note::Warning(msg));
-            return;
-        }
-        self.notes.push(Note::Event(format!(
-            "New BCM_REPORT_REQUEST (src={source}): {text}"
-        )));
-        let e = self.reports.entry(var).or_insert_with(|| RangeReport {
-            range: -2.0,
-            ..RangeReport::default()
-        });
-        if e.range != range {
-            e.range = range;
-            e.group = group;
-            e.vtype = vtype;
-            e.contacts.clear();
-        }
-        e.refresh = refresh;
-        e.reqtime = now;
     }
 
     /// A mail on `disable_var`, `enable_var` or `expunge_var` (MOOS
@@ -680,39 +559,24 @@ impl ContactMgr {
     /// MOOS `postFlags` with `expandMacros` (`$[RECENT_DISABLED]`, `$[RECENT_ENABLED]`,
     /// `$[TOTAL_DISABLED]`, `$[ALL_DISABLED]`).
     fn post_able_flags(&mut self, flags: &[Flag], out: &mut Vec<Post>) {
+        let x = &self.x;
+        let expand_all = |s: &str| {
+            let mut v = s.to_string();
+            if let Some(c) = x.disabled_contacts.front() {
+                v = expand(&v, "RECENT_DISABLED", c);
+            }
+            if let Some(c) = x.enabled_contacts.front() {
+                v = expand(&v, "RECENT_ENABLED", c);
+            }
+            v = expand(&v, "TOTAL_DISABLED", &x.disabled_contacts.len().to_string());
+            if v.contains("ALL_DISABLED") {
+                let all: Vec<&str> = x.disabled_contacts.iter().map(String::as_str).collect();
+                v = expand(&v, "ALL_DISABLED", &all.join(","));
+            }
+            v
+        };
         for f in flags {
-            let shown = match &f.value {
-                Value::String(s) => {
-                    let mut v = s.trim().to_string();
-                    if let Some(c) = self.x.disabled_contacts.front() {
-                        v = expand(&v, "RECENT_DISABLED", c);
-                    }
-                    if let Some(c) = self.x.enabled_contacts.front() {
-                        v = expand(&v, "RECENT_ENABLED", c);
-                    }
-                    let total = self.x.disabled_contacts.len().to_string();
-                    v = expand(&v, "TOTAL_DISABLED", &total);
-                    if v.contains("ALL_DISABLED") {
-                        let all: Vec<&str> = self
-                            .x
-                            .disabled_contacts
-                            .iter()
-                            .map(String::as_str)
-                            .collect();
-                        v = expand(&v, "ALL_DISABLED", &all.join(","));
-                    }
-                    if !v.is_empty() {
-                        out.push(Post::text(f.var.as_str(), v.clone()));
-                    }
-                    v
-                }
-                v => {
-                    let d = v.as_ref().as_f64().unwrap_or(0.0);
-                    out.push(Post::double(f.var.as_str(), d));
-                    compact_string(d, 4)
-                }
-            };
-            self.notes.push(Note::Event(format!("{}={shown}", f.var)));
+            self.notes.push(f.post(expand_all, out));
         }
     }
 
@@ -736,12 +600,12 @@ impl ContactMgr {
         self.cease_warnings(now, out);
         self.early_warning_radii(now, out);
         if !self.x.hold_alerts_for_helm || self.x.helm_in_drive {
-            self.check_alerts_v20(now, out);
+            self.check_alerts(now, out);
         }
         self.post_radii_v20(now, out);
-        self.retire_v20(now, out);
-        self.post_range_reports_v20(now, out);
-        self.post_summaries_v20(now, out);
+        self.retire(now, out);
+        self.post_range_reports(now, out);
+        self.post_summaries(now, out);
     }
 
     /// The largest far range of the enabled alerts (-1 without one).
@@ -800,58 +664,19 @@ impl ContactMgr {
     /// `$[CPA]`, `$[ROC]`, `$[UTC]`.
     fn post_warning_flags(&mut self, flags: &[Flag], contact: &str, now: f64, out: &mut Vec<Post>) {
         let rec = self.records.get(contact);
+        let expand_all = |s: &str| {
+            let mut v = expand(s, "CONTACT", contact);
+            if let Some(r) = rec {
+                v = expand(&v, "RNG_EXT", &compact_string(r.range_extrap, 3));
+                v = expand(&v, "RNG", &compact_string(r.range_actual, 3));
+                v = expand(&v, "CPA", &compact_string(r.range_cpa, 3));
+                v = expand(&v, "ROC", &compact_string(r.range_roc, 3));
+            }
+            expand(&v, "UTC", &compact_string(now, 3))
+        };
         for f in flags {
-            let shown = match &f.value {
-                Value::String(s) => {
-                    let mut v = expand(s.trim(), "CONTACT", contact);
-                    if let Some(r) = rec {
-                        v = expand(&v, "RNG_EXT", &compact_string(r.range_extrap, 3));
-                        v = expand(&v, "RNG", &compact_string(r.range_actual, 3));
-                        v = expand(&v, "CPA", &compact_string(r.range_cpa, 3));
-                        v = expand(&v, "ROC", &compact_string(r.range_roc, 3));
-                    }
-                    v = expand(&v, "UTC", &compact_string(now, 3));
-                    if !v.is_empty() {
-                        out.push(Post::text(f.var.as_str(), v.clone()));
-                    }
-                    v
-                }
-                v => {
-                    let d = v.as_ref().as_f64().unwrap_or(0.0);
-                    out.push(Post::double(f.var.as_str(), d));
-                    compact_string(d, 4)
-                }
-            };
-            self.notes.push(Note::Event(format!("{}={shown}", f.var)));
+            self.notes.push(f.post(expand_all, out));
         }
-    }
-
-    /// A `VIEW_CIRCLE` around ownship with a duration and time (MOOS `XYCircle::get_spec`).
-    fn circle_v20(
-        &self,
-        radius: f64,
-        label: &str,
-        label_color: Option<&str>,
-        color: &str,
-        active: bool,
-        now: f64,
-    ) -> String {
-        let mut s = String::from("x=");
-        moos_types::fmt::compact(&mut s, self.nav.0, 2);
-        s.push_str(",y=");
-        moos_types::fmt::compact(&mut s, self.nav.1, 2);
-        s.push_str(",radius=");
-        moos_types::fmt::compact(&mut s, radius, 2);
-        let mut a = geometry::Attributes::labeled(label);
-        a.label_color = label_color.map(str::to_string);
-        a.edge_color = Some(color.to_string());
-        a.vertex_size = Some(0.0);
-        a.edge_size = Some(1.0);
-        a.active = active;
-        a.duration = Some(3.0);
-        a.time = Some(now);
-        a.write_spec(&mut s, 0);
-        s
     }
 
     fn early_warning_radii(&self, now: f64, out: &mut Vec<Post>) {
@@ -865,44 +690,20 @@ impl ContactMgr {
             if r <= 0.0 {
                 continue;
             }
-            let spec = self.circle_v20(
+            let spec = self.circle(
                 r,
                 &format!("xewarn_{name}"),
-                Some("gray50"),
                 &self.x.ewarn_radii_color,
                 true,
-                now,
+                Some("gray50"),
+                Some(now),
             );
             out.push(Post::text("VIEW_CIRCLE", spec));
         }
     }
 
-    /// MOOS `checkAlertApplies`.
-    fn applies_v20(&self, name: &str, id: &str, now: f64) -> bool {
-        let (Some(a), Some(rec)) = (self.alerts.get(id), self.records.get(name)) else {
-            return false;
-        };
-        if !a.valid_v20() || now - rec.time() > self.s.contact_max_age {
-            return false;
-        }
-        let r = &rec.report;
-        let (x, y) = (r.x_m.unwrap_or(0.0), r.y_m.unwrap_or(0.0));
-        if !a.filter.check_all(&r.name, &r.group, &r.vtype, x, y) {
-            return false;
-        }
-        if a.range > 0.0 {
-            if rec.range_actual > a.range_far {
-                return false;
-            }
-            if rec.range_actual > a.range && rec.range_cpa > a.range {
-                return false;
-            }
-        }
-        true
-    }
-
     /// PlatformAlertRecord's `setAlertedValue` with its counts.
-    fn set_alerted_v20(&mut self, name: &str, id: &str, b: bool) {
+    pub(super) fn set_alerted_v20(&mut self, name: &str, id: &str, b: bool) {
         let v = name.to_ascii_lowercase();
         if !self.alert_ids.contains(&id.to_ascii_lowercase()) {
             return;
@@ -921,120 +722,6 @@ impl ContactMgr {
         row.insert(id.to_string(), b);
     }
 
-    fn check_alerts_v20(&mut self, now: f64, out: &mut Vec<Post>) {
-        let names: Vec<String> = self.records.keys().cloned().collect();
-        let ids: Vec<String> = self.alerts.keys().cloned().collect();
-        for name in &names {
-            for id in &ids {
-                if self.x.alerts_disabled.contains(id) {
-                    continue;
-                }
-                let applies = self.applies_v20(name, id, now);
-                let was = self.alerted(name, id);
-                let transition = if applies && !was {
-                    self.post_alert_v20(name, id, true, out);
-                    self.set_alerted_v20(name, id, true);
-                    "off-->alerted"
-                } else if !applies && was {
-                    self.post_alert_v20(name, id, false, out);
-                    self.set_alerted_v20(name, id, false);
-                    "alerted-->off"
-                } else {
-                    ""
-                };
-                let mut after = String::new();
-                if self.x.early_warning_time > 0.0
-                    && transition == "off-->alerted"
-                    && let Some(t) = self.x.utc_warned.get(name)
-                {
-                    after = format!("after_warning={}", compact_string(now - t, 2));
-                }
-                if self.s.alert_verbose && !transition.is_empty() {
-                    let a = &self.alerts[id];
-                    let rec = &self.records[name];
-                    let mut m = format!("contact={name},alert_id={id},{transition}");
-                    let _ = write!(
-                        m,
-                        ",alert_range={},alert_range_cpa={},range_actual=",
-                        compact_string(a.range, 1),
-                        compact_string(a.range_far, 1)
-                    );
-                    fixed(&mut m, rec.range_actual, 1);
-                    if self.alerted(name, id) {
-                        m.push_str(",range_cpa=");
-                        fixed(&mut m, rec.range_cpa, 1);
-                    }
-                    if !after.is_empty() {
-                        m.push(',');
-                        m.push_str(&after);
-                    }
-                    out.push(Post::text("ALERT_VERBOSE", m));
-                }
-            }
-        }
-    }
-
-    /// MOOS `postAlert` for each on (off) flag of alert `id` about contact `name`.
-    fn post_alert_v20(&mut self, name: &str, id: &str, on: bool, out: &mut Vec<Post>) {
-        let (Some(a), Some(rec)) = (self.alerts.get(id), self.records.get(name)) else {
-            return;
-        };
-        let r = &rec.report;
-        let num = |v: Option<f64>, p| compact_string(v.unwrap_or(0.0), p);
-        let common = [
-            ("$[X]", num(r.x_m, 2)),
-            ("$[Y]", num(r.y_m, 2)),
-            ("$[LAT]", num(r.lat_deg, 8)),
-            ("$[LON]", num(r.lon_deg, 8)),
-            ("$[SPD}", num(r.speed_mps, 2)),
-            ("$[HDG]", num(r.heading_deg, 2)),
-            ("$[DEP]", num(r.depth_m, 2)),
-            ("$[VNAME]", r.name.clone()),
-            ("$[VTYPE]", r.vtype.clone()),
-        ];
-        let time = num(r.time, 2);
-        let var_macros = [
-            ("$[UTIME]", time.clone()),
-            ("$[UTC]", time.clone()),
-            ("%[VNAME]", r.name.clone()),
-            ("%[VTYPE]", r.vtype.to_ascii_lowercase()),
-        ];
-        let msg_macros = [
-            ("$[GROUP]", r.group.clone()),
-            ("$[UTIME]", time),
-            ("%[VNAME]", r.name.clone()),
-            ("%[VTYPE]", r.vtype.to_ascii_lowercase()),
-            ("%[GROUP]", r.group.to_ascii_lowercase()),
-        ];
-        let apply = |s: &str, extra: &[(&str, String)]| {
-            let mut s = s.to_string();
-            for (k, v) in common.iter().chain(extra) {
-                if s.contains(k) {
-                    s = s.replace(k, v);
-                }
-            }
-            s
-        };
-        let flags = if on { &a.on_flags } else { &a.off_flags };
-        let mut notes = Vec::new();
-        for f in flags {
-            let var = apply(&f.var, &var_macros);
-            match &f.value {
-                Value::String(s) => {
-                    let msg = apply(s, &msg_macros);
-                    notes.push(Note::Event(format!("{var}={msg}")));
-                    out.push(Post::text(var, msg));
-                }
-                v => {
-                    let d = v.as_ref().as_f64().unwrap_or(0.0);
-                    notes.push(Note::Event(format!("{var}={}", compact_string(d, 3))));
-                    out.push(Post::double(var, d));
-                }
-            }
-        }
-        self.notes.extend(notes);
-    }
-
     fn post_radii_v20(&self, now: f64, out: &mut Vec<Post>) {
         if !self.s.display_radii || self.alerts.is_empty() {
             return;
@@ -1045,22 +732,13 @@ impl ContactMgr {
         let label = format!("alert_{}", self.ownship);
         out.push(Post::text(
             "VIEW_CIRCLE",
-            self.circle_v20(max, &label, None, color, active, now),
+            self.circle(max, &label, color, active, None, Some(now)),
         ));
     }
 
-    /// MOOS `checkForNewRetiredContacts`.
-    fn retire_v20(&mut self, now: f64, out: &mut Vec<Post>) {
-        let start = self.records.len();
-        let mut gone: BTreeSet<String> = std::mem::take(&mut self.x.filtered);
-        for (name, rec) in &self.records {
-            let age = now - rec.time();
-            if age > self.s.contact_max_age
-                || (self.s.reject_range > 0.0 && rec.range_actual > self.s.reject_range * 1.05)
-            {
-                gone.insert(name.clone());
-            }
-        }
+    /// Past `max_contacts` (`start` contacts, `gone` already leaving): the stale half (older
+    /// than half `contact_max_age`) go, then the farthest (MOOS `checkForNewRetiredContacts`).
+    pub(super) fn cull(&self, gone: &mut BTreeSet<String>, start: usize, now: f64) {
         let max = self.x.max_contacts;
         if gone.len() + max < start {
             for (name, rec) in &self.records {
@@ -1093,39 +771,12 @@ impl ContactMgr {
             }
             gone.extend(extra);
         }
-        for name in gone {
-            if self.records.remove(&name).is_some() {
-                self.retired.push_front(name.clone());
-            }
-            self.par.remove(&name.to_ascii_lowercase());
-            let flags = self.x.retire_flags.clone();
-            for f in &flags {
-                let shown = match &f.value {
-                    Value::String(s) => {
-                        let v = expand(s.trim(), "CONTACT", &name);
-                        let v = expand(&v, "UTC", &compact_string(now, 3));
-                        if !v.is_empty() {
-                            out.push(Post::text(f.var.as_str(), v.clone()));
-                        }
-                        v
-                    }
-                    v => {
-                        let d = v.as_ref().as_f64().unwrap_or(0.0);
-                        out.push(Post::double(f.var.as_str(), d));
-                        compact_string(d, 4)
-                    }
-                };
-                self.notes.push(Note::Event(format!("{}={shown}", f.var)));
-            }
-            self.x.will_warn.remove(&name);
-            self.x.was_warned.remove(&name);
-            self.x.utc_warned.remove(&name);
-        }
     }
 
-    fn post_range_reports_v20(&mut self, now: f64, out: &mut Vec<Post>) {
+    /// Forgets the oldest range report request past its timeout when there are more than
+    /// `range_report_maxsize`.
+    pub(super) fn prune_range_reports(&mut self, now: f64) {
         if self.reports.len() > self.x.range_report_maxsize {
-            // Forget the oldest request past its timeout.
             let oldest = self
                 .reports
                 .iter()
@@ -1139,97 +790,6 @@ impl ContactMgr {
             if let Some(v) = oldest {
                 self.reports.remove(&v);
             }
-        }
-        for (var, rep) in &mut self.reports {
-            let mut contacts = String::new();
-            for (name, rec) in &self.records {
-                let group_ok =
-                    rep.group.is_empty() || rep.group.eq_ignore_ascii_case(&rec.report.group);
-                let type_ok =
-                    rep.vtype.is_empty() || rep.vtype.eq_ignore_ascii_case(&rec.report.vtype);
-                if group_ok && type_ok && rec.range_extrap < rep.range {
-                    if !contacts.is_empty() {
-                        contacts.push(',');
-                    }
-                    contacts.push_str(name);
-                }
-            }
-            if rep.refresh || contacts != rep.contacts {
-                out.push(Post::text(var.as_str(), contacts.clone()));
-                rep.contacts = contacts;
-                rep.refresh = false;
-            }
-        }
-    }
-
-    fn post_summaries_v20(&mut self, now: f64, out: &mut Vec<Post>) {
-        let retired = self
-            .retired
-            .iter()
-            .map(String::as_str)
-            .collect::<Vec<_>>()
-            .join(",");
-        if retired != self.prev_retired {
-            out.push(Post::text("CONTACTS_RETIRED", retired.clone()));
-            self.prev_retired = retired;
-        }
-        self.retired.truncate(self.s.max_retired);
-
-        let (ox, oy, oh, _) = self.nav;
-        let mut list = String::new();
-        let mut recap = String::new();
-        let mut ranges = Vec::new();
-        let mut closest: Option<(&str, f64, f64)> = None;
-        for (name, rec) in &self.records {
-            if !list.is_empty() {
-                list.push(',');
-            }
-            list.push_str(name);
-            let age = now - rec.time();
-            let range = rec.range_actual;
-            ranges.push(range);
-            if closest.is_none_or(|(_, r, _)| range < r) {
-                let (cx, cy) = (rec.report.x_m.unwrap_or(0.0), rec.report.y_m.unwrap_or(0.0));
-                let relbng = behaviors::cpa::rel_bearing(ox, oy, oh, cx, cy);
-                closest = Some((name, range, relbng));
-            }
-            if !recap.is_empty() {
-                recap.push_str(" # ");
-            }
-            recap.push_str("vname=");
-            recap.push_str(name);
-            recap.push_str(",range=");
-            fixed(&mut recap, range, 2);
-            recap.push_str(",age=");
-            fixed(&mut recap, age, 2);
-        }
-        if let Some((name, range, relbng)) = closest {
-            if self.s.post_closest_range {
-                let r = range.trunc();
-                if r != self.prev_closest_range {
-                    out.push(Post::double("CONTACT_CLOSEST_RANGE", r));
-                    self.prev_closest_range = r;
-                }
-            }
-            if self.x.post_closest_relbng {
-                let b = relbng.trunc();
-                if b != self.x.prev_closest_relbng {
-                    out.push(Post::double("CONTACT_CLOSEST_RELBNG", b));
-                    self.x.prev_closest_relbng = b;
-                }
-            }
-            if name != self.prev_closest {
-                out.push(Post::text("CONTACT_CLOSEST", name.to_string()));
-                out.push(Post::double("CONTACT_CLOSEST_TIME", now));
-                self.prev_closest = name.to_string();
-            }
-        }
-        self.post_lists(list, out);
-        self.post_recap(now, recap, out);
-        if self.x.post_all_ranges {
-            ranges.sort_by(f64::total_cmp);
-            let text: Vec<String> = ranges.iter().map(|r| compact_string(*r, 1)).collect();
-            out.push(Post::text("CONTACT_RANGES", text.join(",")));
         }
     }
 
@@ -1290,57 +850,18 @@ impl ContactMgr {
                 let _ = writeln!(b, "  {line}");
             }
         }
-        let _ = writeln!(b);
-        let _ = writeln!(b, "Alert Status Summary: ");
-        let _ = writeln!(b, "----------------------");
-        let _ = writeln!(b, "       List: {}", self.prev_list);
-        let _ = writeln!(b, "    Alerted: {}", self.prev_alerted);
-        let _ = writeln!(b, "    Retired: {}", self.prev_retired);
-        let _ = writeln!(b, "      Recap: {}", self.prev_recap);
-        let _ = writeln!(b);
-        let _ = writeln!(b, "Contact Status Summary:");
-        let _ = writeln!(b, "-----------------------");
-        let mut t = appcast::Table::with_pad(4, 4);
-        t.set_right_justify(1, true);
-        t.push("Contact | Range  | Alerts  | Alerts ");
-        t.push("        | Actual | Total   | Active ");
-        t.add_header_lines();
-        for (name, r) in self.records.iter().take(7) {
-            let mut range = String::new();
-            fixed(&mut range, r.range_actual, 1);
-            t.push(name);
-            t.push(&range);
-            // The C++ looks the counts up by the contact's name as reported.
-            t.push(&x.alerts_total.get(name).copied().unwrap_or(0).to_string());
-            t.push(&x.alerts_active.get(name).copied().unwrap_or(0).to_string());
-        }
-        t.write(b);
-        let _ = writeln!(b, "\n\nCustom Contact Reports:");
-        let _ = writeln!(b, "-----------------------");
-        let mut t = appcast::Table::with_pad(5, 5);
-        t.set_right_justify(1, true);
-        t.push("VarName | Range  | Group  | VType | Contacts   ");
-        t.add_header_lines();
-        for (var, r) in &self.reports {
-            let n = r.contacts.split(',').filter(|s| !s.is_empty()).count();
-            t.push(var);
-            t.push(&compact_string(r.range, 2));
-            t.push(&r.group);
-            t.push(&r.vtype);
-            t.push(&n.to_string());
-        }
-        t.write(b);
+        self.report_status(b);
     }
 }
 
 impl super::Alert {
     /// V20's `CMAlert::valid`: a range given, and a flag.
-    fn valid_v20(&self) -> bool {
+    pub(super) fn valid_v20(&self) -> bool {
         self.range != -1.0 && !(self.on_flags.is_empty() && self.off_flags.is_empty())
     }
 
     /// V20's `addAlertOnFlag`: `VAR=value`, a repeated text ignored.
-    fn add_on_flag(&mut self, s: &str) -> bool {
+    pub(super) fn add_on_flag(&mut self, s: &str) -> bool {
         let s = s.trim();
         if !self.on_raw.insert(s.to_string()) {
             return true;
@@ -1355,7 +876,7 @@ impl super::Alert {
     }
 
     /// V20's `addAlertOffFlag`: `#`-separated `VAR=value`s, repeated texts ignored.
-    fn add_off_flags(&mut self, s: &str) -> bool {
+    pub(super) fn add_off_flags(&mut self, s: &str) -> bool {
         for part in s.split('#') {
             let part = part.trim();
             if !self.off_raw.insert(part.to_string()) {
@@ -1370,7 +891,7 @@ impl super::Alert {
     }
 
     /// V20's `CMAlert::getSummary` lines.
-    fn summary_v20(&self) -> Vec<String> {
+    pub(super) fn summary_v20(&self) -> Vec<String> {
         let range = |r: f64| {
             if r == -1.0 {
                 "unspecified".to_string()
@@ -1416,26 +937,14 @@ mod tests {
     use super::*;
     use crate::antler::BuiltInApp;
     use crate::contact_mgr::ContactMgrApp;
+    use crate::contact_mgr::tests::{posts, report};
     use mission::diagnostic::Diagnostic;
-
-    fn posts<'a>(out: &'a [Post], key: &str) -> Vec<&'a Value> {
-        out.iter()
-            .filter(|p| p.key == key)
-            .map(|p| &p.value)
-            .collect()
-    }
 
     fn texts<'a>(out: &'a [Post], key: &str) -> Vec<&'a str> {
         posts(out, key)
             .into_iter()
             .filter_map(Value::as_str)
             .collect()
-    }
-
-    fn report(name: &str, x: f64, y: f64, hdg: f64, spd: f64, t: f64) -> Value {
-        Value::text(format!(
-            "NAME={name},X={x},Y={y},HDG={hdg},SPD={spd},TIME={t},TYPE=kayak,GROUP=blue"
-        ))
     }
 
     fn nav(cm: &mut ContactMgr, x: f64, y: f64, hdg: f64, spd: f64) {

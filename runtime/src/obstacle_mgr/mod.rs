@@ -70,35 +70,11 @@ use moos_types::text::{is_number, parse_string, set_boolean_on_string, tok_strin
 
 use crate::app::{Mail, Post, Subscription, Value};
 use crate::appcasting::Note;
+use crate::contact_mgr::{Flag, flag};
 use crate::hosted::{AppCore, Hosted};
 
 /// The program name.
 pub const PROGRAM: &str = "pObstacleMgr";
-
-/// A flag: variable and value (a number when the value reads as one, as `VarDataPair(..,
-/// "auto")`).
-#[derive(Debug, Clone, PartialEq)]
-struct Flag {
-    var: String,
-    value: Value,
-}
-
-fn flag(s: &str) -> Option<Flag> {
-    let (l, r) = s.split_once('=')?;
-    let (l, r) = (l.trim(), r.trim());
-    if l.is_empty() || r.is_empty() {
-        return None;
-    }
-    let value = if is_number(r) {
-        Value::Double(geometry::atof(r))
-    } else {
-        Value::String(r.into())
-    };
-    Some(Flag {
-        var: l.to_string(),
-        value,
-    })
-}
 
 /// `$[KEY]` replaced by `val` everywhere in `s`.
 fn macro_expand(s: &str, key: &str, val: &str) -> String {
