@@ -642,6 +642,7 @@ fn make_contact_mgr(cx: &mut BuildCx<'_>) -> Result<Built, LaunchError> {
         cx.moos_name,
         b,
         community,
+        cx.globals.grid(),
     ))
 }
 

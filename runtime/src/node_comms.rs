@@ -3,7 +3,8 @@
 //! (or `NODE_REPORT_LOCAL`) is kept in a ledger; at each iteration each new report is posted
 //! as `NODE_REPORT_<VNAME>` for every other vehicle it reaches, which uFldShoreBroker's
 //! `qbridge = NODE_REPORT` carries to that vehicle as its `NODE_REPORT`. `NODE_MESSAGE`s are
-//! routed the same way to their `dest_node`/`dest_group` as `NODE_MESSAGE_<VNAME>`.
+//! routed the same way to their `dest_node`/`dest_group` as `NODE_MESSAGE_<VNAME>`, and
+//! `ACK_MESSAGE`s (`src=ben, dest=abe, id=abe_21`) to `ACK_MESSAGE_<dest>`.
 //!
 //! [`NodeComms`] is the pure core (mail and time in, posts out); [`NodeCommsApp`] is it
 //! [`Hosted`]. Facts from MOOS-IvP's `uFldNodeComms` at a2a9b716 (`FldNodeComms`, over
@@ -47,7 +48,8 @@
 //! | VIEW_COMMS_PULSE | each relayed report (`view_node_rpt_pulses`) and message | `sx,sy,tx,ty,beam_width,fill,ptype`, label `<a>2<b>`, fill colour, time, duration | done |
 //! | NODE_REPORT_UNC, RTE | `shared_node_reports` | the spec; real seconds since the last | done |
 //! | mail UNC_COMMS_RANGE, UNC_STEALTH, UNC_EARANGE, UNC_DROP_PCT, UNC_SHARED_NODE_REPORTS, UNC_VIEW_NODE_RPT_PULSES | any time | as the parameters | done |
-//! | ACK_MESSAGE_<VNAME> | acknowledgements | | open: ACK_MESSAGE is not relayed |
+//! | ACK_MESSAGE_<VNAME> (the name as the acknowledgement gives it) | mail `ACK_MESSAGE = src=..,dest=..,id=..` whose two vehicles have valid reports not older than `stale_time` and are within comms range (not the critical range), the drop draw keeping it, at most one per source per `min_msg_interval` | `id=.., src=.., dest=..` | done |
+//! | appcast | each report | configuration, node report and message summaries, blocked messages (invalid, missing info, stale receiver, too recent, too long, too far: acknowledgements count there too; the C++ keeps received/sent acknowledgement counts without showing them, [`NodeComms::ack_counts`]) | done |
 
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::fmt::Write as _;
@@ -405,6 +407,55 @@ impl NodeMessage {
     }
 }
 
+/// An acknowledgement as MOOS `AckMessage` holds it: `src=henry, dest=ike, id=ike_21`.
+///
+/// ```
+/// use runtime::node_comms::AckMessage;
+/// let a = AckMessage::parse("src=henry, dest=ike, id=ike_21");
+/// assert_eq!(a.spec(), "id=ike_21, src=henry, dest=ike");
+/// assert!(!AckMessage::parse("src=henry, dest=henry, id=3").valid());
+/// ```
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct AckMessage {
+    /// `src`: the vehicle that acknowledges.
+    pub src: String,
+    /// `dest`: the vehicle the acknowledgement goes to.
+    pub dest: String,
+    /// `id`: the acknowledged message's id.
+    pub id: String,
+}
+
+impl AckMessage {
+    /// MOOS `string2AckMessage`: `src`, `dest` and `id` (keys in any case, other keys
+    /// ignored); a name with white space, or the same as the other end, is not taken; an
+    /// acknowledgement without all three is empty.
+    pub fn parse(text: &str) -> AckMessage {
+        let mut m = AckMessage::default();
+        for part in parse_string_q(text, ',') {
+            let (k, v) = part.split_once('=').unwrap_or((part, ""));
+            let (k, v) = (k.trim().to_ascii_lowercase(), v.trim());
+            let white = v.contains(char::is_whitespace);
+            match k.as_str() {
+                "src" if !white && v != m.dest => m.src = v.to_string(),
+                "dest" if !white && v != m.src => m.dest = v.to_string(),
+                "id" => m.id = v.to_string(),
+                _ => {}
+            }
+        }
+        if m.valid() { m } else { AckMessage::default() }
+    }
+
+    /// A source, a destination and an id.
+    pub fn valid(&self) -> bool {
+        !self.id.is_empty() && !self.src.is_empty() && !self.dest.is_empty()
+    }
+
+    /// MOOS `AckMessage::getSpec`: `id=.., src=.., dest=..`.
+    pub fn spec(&self) -> String {
+        format!("id={}, src={}, dest={}", self.id, self.src, self.dest)
+    }
+}
+
 /// One vehicle in the ledger.
 #[derive(Debug, Clone)]
 struct Entry {
@@ -412,6 +463,15 @@ struct Entry {
     /// When its last report arrived.
     received: f64,
     reports: u32,
+}
+
+/// What goes out at most once per `min_msg_interval` from each source.
+#[derive(Debug, Clone, Copy)]
+enum Kind {
+    /// A node (or mediated) message.
+    Message,
+    /// An acknowledgement.
+    Ack,
 }
 
 /// A small seeded generator (splitmix64) for the drop draws.
@@ -496,6 +556,14 @@ pub struct NodeComms {
     new_record: BTreeSet<String>,
     messages: BTreeMap<String, Vec<NodeMessage>>,
     time_nmessage: BTreeMap<String, f64>,
+    /// The acknowledgements received since the last iteration, by source.
+    acks: BTreeMap<String, Vec<AckMessage>>,
+    /// When each source's last acknowledgement went out.
+    time_amessage: BTreeMap<String, f64>,
+    acks_rcvd: BTreeMap<String, u32>,
+    acks_sent: BTreeMap<String, u32>,
+    total_acks_rcvd: u64,
+    total_acks_sent: u64,
     last_rpt: BTreeMap<String, f64>,
     lshare: BTreeMap<String, f64>,
     last_messages: VecDeque<String>,
@@ -513,6 +581,7 @@ pub struct NodeComms {
     blk_toolong: u32,
     blk_toofar: u32,
     blk_noinfo: u32,
+    blk_toostale: u32,
     start: Option<f64>,
     warp: f64,
     notes: Vec<Note>,
@@ -546,6 +615,12 @@ impl NodeComms {
             new_record: BTreeSet::new(),
             messages: BTreeMap::new(),
             time_nmessage: BTreeMap::new(),
+            acks: BTreeMap::new(),
+            time_amessage: BTreeMap::new(),
+            acks_rcvd: BTreeMap::new(),
+            acks_sent: BTreeMap::new(),
+            total_acks_rcvd: 0,
+            total_acks_sent: 0,
             last_rpt: BTreeMap::new(),
             lshare: BTreeMap::new(),
             last_messages: VecDeque::new(),
@@ -563,6 +638,7 @@ impl NodeComms {
             blk_toolong: 0,
             blk_toofar: 0,
             blk_noinfo: 0,
+            blk_toostale: 0,
             start: None,
             warp: 1.0,
             notes: Vec::new(),
@@ -681,11 +757,12 @@ impl NodeComms {
     }
 
     /// The variables the app registers for.
-    pub const SUBSCRIPTIONS: [&'static str; 10] = [
+    pub const SUBSCRIPTIONS: [&'static str; 11] = [
         "NODE_REPORT",
         "NODE_REPORT_LOCAL",
         "NODE_MESSAGE",
         "MEDIATED_MESSAGE",
+        "ACK_MESSAGE",
         "UNC_COMMS_RANGE",
         "UNC_STEALTH",
         "UNC_EARANGE",
@@ -708,6 +785,7 @@ impl NodeComms {
                 }
             },
             "NODE_MESSAGE" | "MEDIATED_MESSAGE" => self.node_message(sval, source),
+            "ACK_MESSAGE" => self.ack_message(sval),
             "UNC_SHARED_NODE_REPORTS" => self.set_shared(sval),
             "UNC_STEALTH" => self.set_stealth(sval),
             "UNC_COMMS_RANGE" => {
@@ -831,6 +909,25 @@ impl NodeComms {
         true
     }
 
+    /// MOOS `handleMailAckMessage`: kept (with the last messages shown) and counted by its
+    /// source; false when it is not a valid acknowledgement.
+    fn ack_message(&mut self, text: &str) -> bool {
+        self.last_messages.push_back(text.to_string());
+        if self.last_messages.len() > 5 {
+            self.last_messages.pop_front();
+        }
+        let m = AckMessage::parse(text);
+        if !m.valid() {
+            return false;
+        }
+        let src = m.src.clone();
+        self.acks.entry(src.clone()).or_default().push(m);
+        *self.acks_rcvd.entry(src).or_default() += 1;
+        self.total_acks_rcvd += 1;
+        self.notes.push(Note::Event(format!("Msg rec'd: {text}")));
+        true
+    }
+
     fn position(&self, v: &str) -> (f64, f64) {
         self.ledger.get(v).map_or((0.0, 0.0), |e| {
             (e.record.x.unwrap_or(0.0), e.record.y.unwrap_or(0.0))
@@ -930,13 +1027,15 @@ impl NodeComms {
         for src in sources {
             let msgs = self.messages.remove(&src).unwrap_or_default();
             for m in msgs {
-                // The C++ starts from time 0, so the first message always goes.
-                let last = self.time_nmessage.get(&src).copied();
-                if last.is_none_or(|t| now - t >= self.s.min_msg_interval) {
+                if self.interval_ok(Kind::Message, &src, now) {
                     self.distribute_message(&src, &m, now, out);
-                    self.time_nmessage.insert(src.clone(), now);
-                } else {
-                    self.blk_tooquick += 1;
+                }
+            }
+        }
+        for (src, acks) in std::mem::take(&mut self.acks) {
+            for m in acks {
+                if self.interval_ok(Kind::Ack, &src, now) {
+                    self.distribute_ack(&src, &m, now, out);
                 }
             }
         }
@@ -1006,6 +1105,57 @@ impl NodeComms {
         }
         self.lshare.insert(us.to_string(), now);
         out.push(Post::text("NODE_REPORT_UNC", r.spec()));
+    }
+
+    /// Whether a message (an acknowledgement) of `src` may go out now, at most one per
+    /// `min_msg_interval` for each kind (the time is then taken); else counted as too
+    /// recent. The C++ starts from time 0, so the first one always goes.
+    fn interval_ok(&mut self, kind: Kind, src: &str, now: f64) -> bool {
+        let times = match kind {
+            Kind::Message => &mut self.time_nmessage,
+            Kind::Ack => &mut self.time_amessage,
+        };
+        if times
+            .get(src)
+            .is_none_or(|t| now - t >= self.s.min_msg_interval)
+        {
+            times.insert(src.to_string(), now);
+            true
+        } else {
+            self.blk_tooquick += 1;
+            false
+        }
+    }
+
+    /// MOOS `distributeAckMessageInfo(src, msg)`: posted as `ACK_MESSAGE_<dest>` (the name
+    /// as the acknowledgement gives it) when both vehicles have valid reports not older than
+    /// `stale_time`, are within comms range, and the drop draw keeps it.
+    fn distribute_ack(&mut self, src: &str, m: &AckMessage, now: f64, out: &mut Vec<Post>) {
+        if !m.valid() {
+            self.blk_invalid += 1;
+            return;
+        }
+        let dest = m.dest.as_str();
+        let has_valid = |v: &str| self.ledger.get(v).is_some_and(|e| e.record.valid());
+        if !has_valid(src) || !has_valid(dest) {
+            self.blk_noinfo += 1;
+            return;
+        }
+        let stale = self.s.stale_time;
+        if !self.valid_not_stale(src, stale, now) || !self.valid_not_stale(dest, stale, now) {
+            self.blk_toostale += 1;
+            return;
+        }
+        if !self.in_range(src, dest, now) {
+            self.blk_toofar += 1;
+            return;
+        }
+        if self.drop_draw() {
+            return;
+        }
+        out.push(Post::text(format!("ACK_MESSAGE_{dest}"), m.spec()));
+        self.total_acks_sent += 1;
+        *self.acks_sent.entry(dest.to_string()).or_default() += 1;
     }
 
     /// MOOS `distributeNodeMessageInfo(src, msg)`.
@@ -1178,6 +1328,12 @@ impl NodeComms {
         (self.total_reports_sent, self.dropped)
     }
 
+    /// The acknowledgements received and relayed so far (MOOS keeps these counts; its
+    /// appcast does not show them).
+    pub fn ack_counts(&self) -> (u64, u64) {
+        (self.total_acks_rcvd, self.total_acks_sent)
+    }
+
     /// The appcast body (MOOS `buildReport`).
     pub fn report(&self, now: f64, b: &mut String) {
         let s = &self.s;
@@ -1272,6 +1428,7 @@ impl NodeComms {
             let _ = writeln!(b, "  {v:<20}: {n}");
         }
         let total = self.blk_invalid
+            + self.blk_toostale
             + self.blk_tooquick
             + self.blk_toolong
             + self.blk_toofar
@@ -1280,7 +1437,7 @@ impl NodeComms {
         let _ = writeln!(b, "    Total Blocked Msgs: {total}");
         let _ = writeln!(b, "               Invalid: {}", self.blk_invalid);
         let _ = writeln!(b, "          Missing Info: {}", self.blk_noinfo);
-        let _ = writeln!(b, "        Stale Receiver: 0");
+        let _ = writeln!(b, "        Stale Receiver: {}", self.blk_toostale);
         let _ = writeln!(b, "            Too Recent: {}", self.blk_tooquick);
         let _ = writeln!(b, "          Msg Too Long: {}", self.blk_toolong);
         let _ = writeln!(b, "         Range Too Far: {}\n", self.blk_toofar);
@@ -1568,6 +1725,111 @@ mod tests {
             nc.take_notes()
                 .contains(&Note::Warning("Bad Mail: NODE_MESSAGE".into()))
         );
+    }
+
+    #[test]
+    fn acknowledgements_go_to_their_destination_as_ack_message_vname() {
+        // abe at the origin, ben 50 m east (comms_range 100, stale_time 5, min_msg_interval
+        // 10): the C++'s checks in order, each blocked acknowledgement counted once.
+        let (mut nc, _) = NodeComms::new(None, 1, &["min_msg_interval = 10"]);
+        let mut out = Vec::new();
+        let acks = |out: &[Post]| -> Vec<(String, String)> {
+            out.iter()
+                .filter(|p| p.key.starts_with("ACK_MESSAGE_"))
+                .map(|p| (p.key.to_string(), p.value.as_str().unwrap().to_string()))
+                .collect()
+        };
+        let step = |nc: &mut NodeComms, t: f64, ben_x: f64, mail: &[&str], out: &mut Vec<Post>| {
+            out.clear();
+            nc.on_mail("NODE_REPORT", &report("abe", 0.0, 0.0, t), t, out);
+            nc.on_mail("NODE_REPORT", &report("ben", ben_x, 0.0, t), t, out);
+            for m in mail {
+                nc.on_mail("ACK_MESSAGE", &Value::text(*m), t, out);
+            }
+            nc.iterate(t, out);
+        };
+        // Two from ben in one iteration: the first goes, to the name as written (not upper
+        // case), the second is too recent.
+        step(
+            &mut nc,
+            1.0,
+            50.0,
+            &["src=ben, dest=abe, id=abe_1", "SRC=ben,DEST=abe,ID=abe_2"],
+            &mut out,
+        );
+        let one = (
+            "ACK_MESSAGE_abe".to_string(),
+            "id=abe_1, src=ben, dest=abe".to_string(),
+        );
+        assert_eq!(acks(&out), [one]);
+        assert_eq!(nc.ack_counts(), (2, 1));
+        // 10 s later ben may send again; to a vehicle nobody knows: missing info.
+        step(
+            &mut nc,
+            11.0,
+            50.0,
+            &["src=ben, dest=cal, id=cal_1"],
+            &mut out,
+        );
+        assert!(acks(&out).is_empty());
+        // Beyond comms range: too far (the interval has passed again).
+        step(
+            &mut nc,
+            21.0,
+            500.0,
+            &["src=ben, dest=abe, id=abe_3"],
+            &mut out,
+        );
+        assert!(acks(&out).is_empty());
+        // abe's last report older than stale_time: a stale receiver.
+        out.clear();
+        nc.on_mail(
+            "NODE_REPORT",
+            &report("ben", 50.0, 0.0, 37.0),
+            37.0,
+            &mut out,
+        );
+        nc.on_mail(
+            "ACK_MESSAGE",
+            &Value::text("src=ben, dest=abe, id=abe_4"),
+            37.0,
+            &mut out,
+        );
+        nc.iterate(37.0, &mut out);
+        assert!(acks(&out).is_empty());
+        // abe acknowledges back, in range and fresh: ACK_MESSAGE_ben.
+        step(
+            &mut nc,
+            40.0,
+            50.0,
+            &["src=abe, dest=ben, id=ben_1"],
+            &mut out,
+        );
+        let back = (
+            "ACK_MESSAGE_ben".to_string(),
+            "id=ben_1, src=abe, dest=ben".to_string(),
+        );
+        assert_eq!(acks(&out), [back]);
+        assert_eq!(nc.ack_counts(), (6, 2));
+        // Not an acknowledgement (no id; a source that is its destination): bad mail.
+        for bad in ["src=ben, dest=abe", "src=abe, dest=abe, id=3"] {
+            nc.on_mail("ACK_MESSAGE", &Value::text(bad), 41.0, &mut out);
+        }
+        let bad = Note::Warning("Bad Mail: ACK_MESSAGE".into());
+        assert_eq!(nc.take_notes().iter().filter(|n| **n == bad).count(), 2);
+        assert_eq!(nc.ack_counts(), (6, 2));
+        let mut body = String::new();
+        nc.report(41.0, &mut body);
+        for line in [
+            "    Total Blocked Msgs: 4",
+            "          Missing Info: 1",
+            "        Stale Receiver: 1",
+            "            Too Recent: 1",
+            "         Range Too Far: 1",
+        ] {
+            assert!(body.contains(line), "{line:?} in\n{body}");
+        }
+        assert!(NodeComms::SUBSCRIPTIONS.contains(&"ACK_MESSAGE"));
     }
 
     #[test]

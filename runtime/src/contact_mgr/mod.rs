@@ -7,6 +7,10 @@
 //! app with its appcast (a [`Hosted`] core). Facts from MOOS-IvP's `dep_pBasicContactMgr` at
 //! a2a9b716 (`BasicContactMgr`, `CMAlert`, `PlatformAlertRecord`).
 //!
+//! With `contact_local_coords` at `lazy_lat_lon` or `force_lat_lon` and the mission's grid
+//! ([`ContactMgr::with_grid`]), a report's x/y come from its latitude and longitude when it
+//! arrives (lazy: only for a report without x or y).
+//!
 //! The same core is `pContactMgrV20` when built as [`Variant::V20`] ([`ContactMgr::new_v20`]):
 //! what V20 changes (its keys and defaults, filters, alert ranges and validity, the helm hold,
 //! range and closest-bearing postings, retirement and culling, early warnings, enabling and
@@ -36,7 +40,7 @@
 //! | display_radii | false | boolean | done |
 //! | post_closest_range | false | boolean | done |
 //! | max_retired_history | 5 | 1..50 (clipped, warned) | done |
-//! | contact_local_coords | verbatim | verbatim, lazy_lat_lon, force_lat_lon | read; open: x/y from lat/lon |
+//! | contact_local_coords | verbatim | verbatim, lazy_lat_lon, force_lat_lon; other than verbatim needs `LatOrigin`/`LongOrigin` (warned without) | done: x/y from the report's lat/lon on the mission's grid (`vehicle::geodesy`, UTM as the C++ builds), lazy only when x or y is missing, force always, before the reject range |
 //! | alert_range, default_alert_range | 1000 | > 0 | done |
 //! | alert_cpa_range, default_cpa_range | 1000 | > 0 | done |
 //! | contacts_recap_interval | 1 | `off` or >= 0 | done |
@@ -373,6 +377,9 @@ pub struct ContactMgr {
     variant: Variant,
     /// The mission's local grid (V20 derives x/y from lat/lon with it).
     grid: Option<LocalGrid>,
+    /// pBasicContactMgr: `contact_local_coords` is not `verbatim` and the grid is known, so
+    /// reports' x/y may come from their lat/lon.
+    use_geodesy: bool,
     /// What only V20 keeps.
     x: v20::Extra,
     /// The process id, posted at start-up (single-app mode).
@@ -383,7 +390,30 @@ impl ContactMgr {
     /// A manager for vehicle `ownship` from the block's `param = value` lines (in file
     /// order), with the warnings the C++ app reports for them.
     pub fn new(ownship: &str, lines: &[&str]) -> (ContactMgr, Vec<String>) {
-        let mut cm = ContactMgr::blank(ownship, Variant::Basic, None);
+        ContactMgr::with_grid(ownship, None, lines)
+    }
+
+    /// As [`ContactMgr::new`], on the mission's local `grid` (`None` without
+    /// `LatOrigin`/`LongOrigin`), which `contact_local_coords` uses.
+    ///
+    /// ```
+    /// use runtime::contact_mgr::ContactMgr;
+    /// use vehicle::geodesy::LocalGrid;
+    /// let grid = LocalGrid::new(43.8, -69.0).ok();
+    /// let (mut cm, w) = ContactMgr::with_grid("abe", grid, &["contact_local_coords = lazy_lat_lon"]);
+    /// assert!(w.is_empty());
+    /// let mut out = Vec::new();
+    /// cm.on_mail("NODE_REPORT", &runtime::app::Value::text("NAME=bob,LAT=43.801,LON=-69,SPD=1,HDG=0,TIME=1"), 1.0, &mut out);
+    /// cm.iterate(1.0, &mut out);
+    /// let (range, _, _) = cm.ranges("bob").unwrap();
+    /// assert!((range - 111.064).abs() < 1e-3);
+    /// ```
+    pub fn with_grid(
+        ownship: &str,
+        grid: Option<LocalGrid>,
+        lines: &[&str],
+    ) -> (ContactMgr, Vec<String>) {
+        let mut cm = ContactMgr::blank(ownship, Variant::Basic, grid);
         let mut warnings = Vec::new();
         for line in lines {
             let (p, v) = split_line(line);
@@ -391,7 +421,49 @@ impl ContactMgr {
                 warnings.extend(w.split('\n').map(str::to_string));
             }
         }
+        warnings.extend(cm.startup_basic());
         (cm, warnings)
+    }
+
+    /// pBasicContactMgr's start-up after its block: with `contact_local_coords` other than
+    /// `verbatim` the grid is needed (warned without it, and reports are then taken
+    /// verbatim).
+    fn startup_basic(&mut self) -> Vec<String> {
+        if self.s.local_coords == "verbatim" {
+            return Vec::new();
+        }
+        if self.grid.is_none() {
+            // coug knows the grid or not: the C++ names the missing origin of the two.
+            return vec![
+                "No LatOrigin in *.moos file".into(),
+                "Wont derive x/y from lat/lon in node reports.".into(),
+            ];
+        }
+        self.use_geodesy = true;
+        self.notes.push(Note::Event(
+            "Geodesy init ok: Will derive x/y from lat/lon in node reports.".into(),
+        ));
+        Vec::new()
+    }
+
+    /// pBasicContactMgr's `contact_local_coords`: x/y from the report's lat/lon on the grid,
+    /// always with `force_lat_lon`, with `lazy_lat_lon` only when x or y is missing, never
+    /// `verbatim` or without the grid or a lat/lon.
+    fn local_coords(&self, r: &mut NodeReport) {
+        let wanted = match self.s.local_coords.as_str() {
+            "force_lat_lon" => true,
+            "lazy_lat_lon" => r.x_m.is_none() || r.y_m.is_none(),
+            _ => false,
+        };
+        if !(wanted && self.use_geodesy) {
+            return;
+        }
+        if let (Some(grid), Some(lat), Some(lon)) = (&self.grid, r.lat_deg, r.lon_deg)
+            && let Ok((x, y)) = grid.to_local(lat, lon)
+        {
+            r.x_m = Some(x);
+            r.y_m = Some(y);
+        }
     }
 
     /// Which manager this is.
@@ -428,6 +500,7 @@ impl ContactMgr {
             notes: Vec::new(),
             variant,
             grid,
+            use_geodesy: false,
             x: v20::Extra::default(),
             pid: None,
         }
@@ -891,10 +964,11 @@ impl ContactMgr {
     }
 
     fn node_report(&mut self, text: &str, out: &mut Vec<Post>) {
-        let r = NodeReport::parse(text);
+        let mut r = NodeReport::parse(text);
         if self.s.ignore_groups.contains(&r.group.to_ascii_lowercase()) {
             return;
         }
+        self.local_coords(&mut r);
         let vname = r.name.clone();
         if vname == self.ownship {
             return;
@@ -1533,7 +1607,7 @@ impl ContactMgr {
             "off".into()
         };
         let _ = writeln!(b, "DisplayRadii:              {}", self.s.display_radii);
-        let _ = writeln!(b, "Deriving X/Y from Lat/Lon: false");
+        let _ = writeln!(b, "Deriving X/Y from Lat/Lon: {}", self.use_geodesy);
         let _ = writeln!(
             b,
             "Contact Max Age: {}",
@@ -1662,9 +1736,11 @@ fn split_line(line: &str) -> (String, String) {
 pub type ContactMgrApp = Hosted<ContactMgr>;
 
 impl Hosted<ContactMgr> {
-    /// pBasicContactMgr, the app `name` of vehicle `community`, from its block.
-    pub fn new(name: &str, block: ProcessConfig, community: &str) -> Self {
-        Self::build(name, block, community, Variant::Basic, None)
+    /// pBasicContactMgr, the app `name` of vehicle `community`, from its block, with the
+    /// mission's local grid (`None` without `LatOrigin`/`LongOrigin`; `contact_local_coords`
+    /// needs it).
+    pub fn new(name: &str, block: ProcessConfig, community: &str, grid: Option<LocalGrid>) -> Self {
+        Self::build(name, block, community, Variant::Basic, grid)
     }
 
     /// pContactMgrV20, the app `name` of vehicle `community` from its block, with the
@@ -1713,10 +1789,12 @@ impl Hosted<ContactMgr> {
                 warn(&p.span, &msg);
             }
         }
-        if variant == Variant::V20 {
-            for w in core.validate_alerts_v20() {
-                warn(&block.span, &w);
-            }
+        let after = match variant {
+            Variant::Basic => core.startup_basic(),
+            Variant::V20 => core.validate_alerts_v20(),
+        };
+        for w in after {
+            warn(&block.span, &w);
         }
         Hosted::host(name, block, warnings, core)
     }
@@ -1782,6 +1860,66 @@ mod tests {
         Value::text(format!(
             "NAME={name},X={x},Y={y},HDG={hdg},SPD={spd},TIME={t},TYPE=kayak,GROUP=blue"
         ))
+    }
+
+    /// On a grid whose origin (43.8 N, 69 W) is on its UTM zone's central meridian, a point
+    /// 0.001 degrees north is at x = 0 and y = k0 * M * dlat: M, the meridian radius of
+    /// WGS 84 at 43.8005 N, a(1-e^2)/(1-e^2 sin^2)^1.5 = 6366039.38 m, dlat = 1.745329e-5
+    /// rad, k0 = 0.9996: y = 111.0639 m.
+    #[test]
+    fn contact_local_coords_derives_x_y_from_lat_lon_as_configured() {
+        const Y: f64 = 111.0639;
+        let grid = || vehicle::geodesy::LocalGrid::new(43.8, -69.0).ok();
+        let with_xy = Value::text("NAME=bob,X=5,Y=7,LAT=43.801,LON=-69,SPD=0,HDG=0,TIME=1");
+        let no_xy = Value::text("NAME=bob,LAT=43.801,LON=-69,SPD=0,HDG=0,TIME=1");
+        let no_lat = Value::text("NAME=bob,X=5,Y=7,LON=-69,SPD=0,HDG=0,TIME=1");
+        let range = |mode: &str, report: &Value| {
+            let line = format!("contact_local_coords = {mode}");
+            let alert = "alert = id=a, var=AT, val=y=$[Y], alert_range=500";
+            let (mut cm, w) = ContactMgr::with_grid("abe", grid(), &[&line, alert]);
+            assert!(w.is_empty(), "{w:?}");
+            let mut out = Vec::new();
+            cm.on_mail("NODE_REPORT", report, 1.0, &mut out);
+            cm.iterate(1.0, &mut out);
+            let at = posts(&out, "AT")[0].as_str().unwrap().to_string();
+            (cm.ranges("bob").unwrap().0, at)
+        };
+        let near = |got: (f64, String), want: f64, at: &str| {
+            assert!((got.0 - want).abs() < 1e-3, "{} vs {want}", got.0);
+            assert_eq!(got.1, at);
+        };
+        let xy = 5f64.hypot(7.0);
+        near(range("verbatim", &with_xy), xy, "y=7");
+        near(range("lazy_lat_lon", &with_xy), xy, "y=7");
+        near(range("lazy_lat_lon", &no_xy), Y, "y=111.06");
+        near(range("force_lat_lon", &with_xy), Y, "y=111.06");
+        near(range("force_lat_lon", &no_lat), xy, "y=7");
+        // The derived position is what the reject range sees.
+        let (mut cm, _) = ContactMgr::with_grid(
+            "abe",
+            grid(),
+            &["contact_local_coords = force_lat_lon", "reject_range = 100"],
+        );
+        let mut out = Vec::new();
+        cm.on_mail("NODE_REPORT", &with_xy, 1.0, &mut out);
+        assert_eq!(cm.contacts().count(), 0);
+        let mut body = String::new();
+        cm.report(&mut body);
+        assert!(body.contains("Deriving X/Y from Lat/Lon: true"), "{body}");
+        // Without the grid: warned, and reports are taken verbatim.
+        let (mut cm, w) = ContactMgr::new("abe", &["contact_local_coords = force_lat_lon"]);
+        assert_eq!(
+            w,
+            [
+                "No LatOrigin in *.moos file",
+                "Wont derive x/y from lat/lon in node reports."
+            ]
+        );
+        cm.on_mail("NODE_REPORT", &with_xy, 1.0, &mut out);
+        cm.iterate(1.0, &mut out);
+        assert!((cm.ranges("bob").unwrap().0 - xy).abs() < 1e-9);
+        let (_, w) = ContactMgr::new("abe", &["contact_local_coords = utm"]);
+        assert_eq!(w, ["Illegal contact_local_coords configuration"]);
     }
 
     #[test]
@@ -2046,7 +2184,7 @@ mod tests {
             "m.moos",
             "ProcessConfig = pBasicContactMgr\n{\n  AppTick = 2\n  contact_max_age = -3\n  bogus = 1\n}\n",
         );
-        let app = ContactMgrApp::new("pBasicContactMgr", block, "abe");
+        let app = ContactMgrApp::new("pBasicContactMgr", block, "abe", None);
         let w: Vec<String> = app.warnings().iter().map(Diagnostic::located).collect();
         assert_eq!(w.len(), 2, "{w:?}");
         assert!(
