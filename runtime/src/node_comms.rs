@@ -1733,10 +1733,10 @@ mod tests {
         // 10): the C++'s checks in order, each blocked acknowledgement counted once.
         let (mut nc, _) = NodeComms::new(None, 1, &["min_msg_interval = 10"]);
         let mut out = Vec::new();
-        let acks = |out: &[Post]| -> Vec<(String, String)> {
+        let acks = |out: &[Post]| -> Vec<String> {
             out.iter()
                 .filter(|p| p.key.starts_with("ACK_MESSAGE_"))
-                .map(|p| (p.key.to_string(), p.value.as_str().unwrap().to_string()))
+                .map(|p| format!("{}={}", p.key, p.value.as_str().unwrap()))
                 .collect()
         };
         let step = |nc: &mut NodeComms, t: f64, ben_x: f64, mail: &[&str], out: &mut Vec<Post>| {
@@ -1757,11 +1757,7 @@ mod tests {
             &["src=ben, dest=abe, id=abe_1", "SRC=ben,DEST=abe,ID=abe_2"],
             &mut out,
         );
-        let one = (
-            "ACK_MESSAGE_abe".to_string(),
-            "id=abe_1, src=ben, dest=abe".to_string(),
-        );
-        assert_eq!(acks(&out), [one]);
+        assert_eq!(acks(&out), ["ACK_MESSAGE_abe=id=abe_1, src=ben, dest=abe"]);
         assert_eq!(nc.ack_counts(), (2, 1));
         // 10 s later ben may send again; to a vehicle nobody knows: missing info.
         step(
@@ -1805,11 +1801,7 @@ mod tests {
             &["src=abe, dest=ben, id=ben_1"],
             &mut out,
         );
-        let back = (
-            "ACK_MESSAGE_ben".to_string(),
-            "id=ben_1, src=abe, dest=ben".to_string(),
-        );
-        assert_eq!(acks(&out), [back]);
+        assert_eq!(acks(&out), ["ACK_MESSAGE_ben=id=ben_1, src=abe, dest=ben"]);
         assert_eq!(nc.ack_counts(), (6, 2));
         // Not an acknowledgement (no id; a source that is its destination): bad mail.
         for bad in ["src=ben, dest=abe", "src=abe, dest=abe, id=3"] {

@@ -138,6 +138,31 @@ pub(crate) fn flag(s: &str) -> Option<Flag> {
     })
 }
 
+/// The macros of pContactMgrV20's and pObstacleMgr's flags about (dis)abled contacts or
+/// obstacles: `RECENT_DISABLED`, `RECENT_ENABLED` (the newest of each, when there is one),
+/// `TOTAL_DISABLED`, `ALL_DISABLED` (comma-separated), each replaced in `s` by `expand(s,
+/// name, value)` (the apps differ in the macro forms they read).
+pub(crate) fn expand_able_macros(
+    s: &str,
+    disabled: &VecDeque<String>,
+    enabled: &VecDeque<String>,
+    expand: impl Fn(&str, &str, &str) -> String,
+) -> String {
+    let mut v = s.to_string();
+    if let Some(c) = disabled.front() {
+        v = expand(&v, "RECENT_DISABLED", c);
+    }
+    if let Some(c) = enabled.front() {
+        v = expand(&v, "RECENT_ENABLED", c);
+    }
+    v = expand(&v, "TOTAL_DISABLED", &disabled.len().to_string());
+    if v.contains("ALL_DISABLED") {
+        let all: Vec<&str> = disabled.iter().map(String::as_str).collect();
+        v = expand(&v, "ALL_DISABLED", &all.join(","));
+    }
+    v
+}
+
 impl Flag {
     /// Posts the flag as the apps' `postFlags` do: a string value trimmed and run through
     /// `expand`, posted unless that leaves it empty; a number posted as it is. Returns the
@@ -913,23 +938,15 @@ impl ContactMgr {
             "NAV_HEADING" => self.nav.2 = dval,
             "NAV_SPEED" => self.nav.3 = dval,
             _ if self.variant == Variant::V20 => self.on_mail_v20(key, value, source, now, out),
-            _ => self.on_mail_basic(key, value, source, now, out),
+            _ => self.on_mail_basic(key, value.as_str().unwrap_or(""), source, now, out),
         }
     }
 
-    /// pBasicContactMgr's mail but ownship's navigation.
-    fn on_mail_basic(
-        &mut self,
-        key: &str,
-        value: &Value,
-        source: &str,
-        now: f64,
-        out: &mut Vec<Post>,
-    ) {
-        let sval = value.as_str().unwrap_or("");
+    /// pBasicContactMgr's mail but ownship's navigation: `sval`, the mail's text.
+    fn on_mail_basic(&mut self, key: &str, sval: &str, src: &str, now: f64, out: &mut Vec<Post>) {
         match key {
             "NODE_REPORT" => self.node_report(sval, out),
-            "BCM_REPORT_REQUEST" => self.report_request(sval, source, now),
+            "BCM_REPORT_REQUEST" => self.report_request(sval, src, now),
             "BCM_DISPLAY_RADII" => match set_boolean_on_string(self.s.display_radii, sval) {
                 Some(b) => {
                     self.s.display_radii = b;

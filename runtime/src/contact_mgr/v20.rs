@@ -561,19 +561,7 @@ impl ContactMgr {
     fn post_able_flags(&mut self, flags: &[Flag], out: &mut Vec<Post>) {
         let x = &self.x;
         let expand_all = |s: &str| {
-            let mut v = s.to_string();
-            if let Some(c) = x.disabled_contacts.front() {
-                v = expand(&v, "RECENT_DISABLED", c);
-            }
-            if let Some(c) = x.enabled_contacts.front() {
-                v = expand(&v, "RECENT_ENABLED", c);
-            }
-            v = expand(&v, "TOTAL_DISABLED", &x.disabled_contacts.len().to_string());
-            if v.contains("ALL_DISABLED") {
-                let all: Vec<&str> = x.disabled_contacts.iter().map(String::as_str).collect();
-                v = expand(&v, "ALL_DISABLED", &all.join(","));
-            }
-            v
+            super::expand_able_macros(s, &x.disabled_contacts, &x.enabled_contacts, expand)
         };
         for f in flags {
             self.notes.push(f.post(expand_all, out));

@@ -70,7 +70,7 @@ use moos_types::text::{is_number, parse_string, set_boolean_on_string, tok_strin
 
 use crate::app::{Mail, Post, Subscription, Value};
 use crate::appcasting::Note;
-use crate::contact_mgr::{Flag, flag};
+use crate::contact_mgr::{Flag, expand_able_macros, flag};
 use crate::hosted::{AppCore, Hosted};
 
 /// The program name.
@@ -873,18 +873,7 @@ impl ObstacleMgr {
     /// `$[RECENT_DISABLED]`, `$[RECENT_ENABLED]`, `$[TOTAL_DISABLED]`, `$[ALL_DISABLED]`,
     /// `$[OBS_NOW]`, `$[OBS_EVER]`.
     fn expand_macros(&self, s: &str) -> String {
-        let mut s = s.to_string();
-        if let Some(d) = self.disabled.front() {
-            s = macro_expand(&s, "RECENT_DISABLED", d);
-        }
-        if let Some(e) = self.enabled.front() {
-            s = macro_expand(&s, "RECENT_ENABLED", e);
-        }
-        s = macro_expand(&s, "TOTAL_DISABLED", &self.disabled.len().to_string());
-        if s.contains("ALL_DISABLED") {
-            let all: Vec<&str> = self.disabled.iter().map(String::as_str).collect();
-            s = macro_expand(&s, "ALL_DISABLED", &all.join(","));
-        }
+        let mut s = expand_able_macros(s, &self.disabled, &self.enabled, macro_expand);
         s = macro_expand(&s, "OBS_NOW", &self.obstacles.len().to_string());
         macro_expand(&s, "OBS_EVER", &self.obstacles_ever.to_string())
     }
