@@ -1739,70 +1739,63 @@ mod tests {
                 .map(|p| format!("{}={}", p.key, p.value.as_str().unwrap()))
                 .collect()
         };
-        let step = |nc: &mut NodeComms, t: f64, ben_x: f64, mail: &[&str], out: &mut Vec<Post>| {
+        // Each step: the time, who reports from where, the acknowledgements mailed, what
+        // goes out, the counts received and relayed.
+        let steps: [(f64, &[(&str, f64)], &[&str], &[&str], (u64, u64)); 5] = [
+            // Two from ben in one iteration: the first goes, to the name as written (not
+            // upper case), the second is too recent.
+            (
+                1.0,
+                &[("abe", 0.0), ("ben", 50.0)],
+                &["src=ben, dest=abe, id=abe_1", "SRC=ben,DEST=abe,ID=abe_2"],
+                &["ACK_MESSAGE_abe=id=abe_1, src=ben, dest=abe"],
+                (2, 1),
+            ),
+            // 10 s later ben may send again; to a vehicle nobody knows: missing info.
+            (
+                11.0,
+                &[("abe", 0.0), ("ben", 50.0)],
+                &["src=ben, dest=cal, id=cal_1"],
+                &[],
+                (3, 1),
+            ),
+            // Beyond comms range: too far (the interval has passed again).
+            (
+                21.0,
+                &[("abe", 0.0), ("ben", 500.0)],
+                &["src=ben, dest=abe, id=abe_3"],
+                &[],
+                (4, 1),
+            ),
+            // abe's last report (21 s) older than stale_time: a stale receiver.
+            (
+                37.0,
+                &[("ben", 50.0)],
+                &["src=ben, dest=abe, id=abe_4"],
+                &[],
+                (5, 1),
+            ),
+            // abe acknowledges back, in range and fresh: ACK_MESSAGE_ben.
+            (
+                40.0,
+                &[("abe", 0.0), ("ben", 50.0)],
+                &["src=abe, dest=ben, id=ben_1"],
+                &["ACK_MESSAGE_ben=id=ben_1, src=abe, dest=ben"],
+                (6, 2),
+            ),
+        ];
+        for (t, at, mail, want, counts) in steps {
             out.clear();
-            nc.on_mail("NODE_REPORT", &report("abe", 0.0, 0.0, t), t, out);
-            nc.on_mail("NODE_REPORT", &report("ben", ben_x, 0.0, t), t, out);
-            for m in mail {
-                nc.on_mail("ACK_MESSAGE", &Value::text(*m), t, out);
+            for (v, x) in at {
+                nc.on_mail("NODE_REPORT", &report(v, *x, 0.0, t), t, &mut out);
             }
-            nc.iterate(t, out);
-        };
-        // Two from ben in one iteration: the first goes, to the name as written (not upper
-        // case), the second is too recent.
-        step(
-            &mut nc,
-            1.0,
-            50.0,
-            &["src=ben, dest=abe, id=abe_1", "SRC=ben,DEST=abe,ID=abe_2"],
-            &mut out,
-        );
-        assert_eq!(acks(&out), ["ACK_MESSAGE_abe=id=abe_1, src=ben, dest=abe"]);
-        assert_eq!(nc.ack_counts(), (2, 1));
-        // 10 s later ben may send again; to a vehicle nobody knows: missing info.
-        step(
-            &mut nc,
-            11.0,
-            50.0,
-            &["src=ben, dest=cal, id=cal_1"],
-            &mut out,
-        );
-        assert!(acks(&out).is_empty());
-        // Beyond comms range: too far (the interval has passed again).
-        step(
-            &mut nc,
-            21.0,
-            500.0,
-            &["src=ben, dest=abe, id=abe_3"],
-            &mut out,
-        );
-        assert!(acks(&out).is_empty());
-        // abe's last report older than stale_time: a stale receiver.
-        out.clear();
-        nc.on_mail(
-            "NODE_REPORT",
-            &report("ben", 50.0, 0.0, 37.0),
-            37.0,
-            &mut out,
-        );
-        nc.on_mail(
-            "ACK_MESSAGE",
-            &Value::text("src=ben, dest=abe, id=abe_4"),
-            37.0,
-            &mut out,
-        );
-        nc.iterate(37.0, &mut out);
-        assert!(acks(&out).is_empty());
-        // abe acknowledges back, in range and fresh: ACK_MESSAGE_ben.
-        step(
-            &mut nc,
-            40.0,
-            50.0,
-            &["src=abe, dest=ben, id=ben_1"],
-            &mut out,
-        );
-        assert_eq!(acks(&out), ["ACK_MESSAGE_ben=id=ben_1, src=abe, dest=ben"]);
-        assert_eq!(nc.ack_counts(), (6, 2));
+            for m in mail {
+                nc.on_mail("ACK_MESSAGE", &Value::text(*m), t, &mut out);
+            }
+            nc.iterate(t, &mut out);
+            assert_eq!(acks(&out), want, "at {t}");
+            assert_eq!(nc.ack_counts(), counts, "at {t}");
+        }
         // Not an acknowledgement (no id; a source that is its destination): bad mail.
         for bad in ["src=ben, dest=abe", "src=abe, dest=abe, id=3"] {
             nc.on_mail("ACK_MESSAGE", &Value::text(bad), 41.0, &mut out);
