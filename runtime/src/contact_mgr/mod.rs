@@ -1872,6 +1872,12 @@ mod tests {
             .collect()
     }
 
+    /// Mails node report `report` to `cm` at `t`, then iterates at `t`.
+    pub(super) fn tick(cm: &mut ContactMgr, report: &Value, t: f64, out: &mut Vec<Post>) {
+        cm.on_mail("NODE_REPORT", report, t, out);
+        cm.iterate(t, out);
+    }
+
     /// A kayak's node report in group blue.
     pub(super) fn report(name: &str, x: f64, y: f64, hdg: f64, spd: f64, t: f64) -> Value {
         Value::text(format!(
@@ -1961,13 +1967,12 @@ mod tests {
             cm.on_mail(k, &Value::Double(v), 0.0, &mut out);
         }
         // 120 m east heading west at 2 m/s: beyond cpa_range (100): no alert.
-        cm.on_mail(
-            "NODE_REPORT",
+        tick(
+            &mut cm,
             &report("bob", 120.0, 0.0, 270.0, 2.0, 1.0),
             1.0,
             &mut out,
         );
-        cm.iterate(1.0, &mut out);
         assert_eq!(posts(&out, "CONTACTS_LIST"), [&Value::text("bob")]);
         assert_eq!(
             posts(&out, "CONTACTS_UNALERTED"),
@@ -1980,13 +1985,12 @@ mod tests {
         assert!(cpa < 1e-6, "coming straight at ownship: CPA 0, got {cpa}");
         // 90 m: within cpa_range, and its CPA (0) within alert_range: alerted.
         out.clear();
-        cm.on_mail(
-            "NODE_REPORT",
+        tick(
+            &mut cm,
             &report("bob", 90.0, 0.0, 270.0, 2.0, 16.0),
             16.0,
             &mut out,
         );
-        cm.iterate(16.0, &mut out);
         assert_eq!(
             posts(&out, "CONTACT_INFO"),
             [&Value::text("name=bob # contact=bob")]
@@ -1995,13 +1999,12 @@ mod tests {
         assert!(posts(&out, "CONTACTS_ALERTED").is_empty());
         // Still alerted: no second flag.
         out.clear();
-        cm.on_mail(
-            "NODE_REPORT",
+        tick(
+            &mut cm,
             &report("bob", 80.0, 0.0, 270.0, 2.0, 21.0),
             21.0,
             &mut out,
         );
-        cm.iterate(21.0, &mut out);
         assert!(posts(&out, "CONTACT_INFO").is_empty());
         assert_eq!(
             posts(&out, "CONTACTS_ALERTED"),
