@@ -1739,9 +1739,16 @@ mod tests {
                 .map(|p| format!("{}={}", p.key, p.value.as_str().unwrap()))
                 .collect()
         };
-        // Each step: the time, who reports from where, the acknowledgements mailed, what
-        // goes out, the counts received and relayed.
-        let steps: [(f64, &[(&str, f64)], &[&str], &[&str], (u64, u64)); 5] = [
+        /// A step: the time, who reports from where, the acknowledgements mailed, what goes
+        /// out, the counts received and relayed.
+        type Step<'a> = (
+            f64,
+            &'a [(&'a str, f64)],
+            &'a [&'a str],
+            &'a [&'a str],
+            (u64, u64),
+        );
+        let steps: [Step; 5] = [
             // Two from ben in one iteration: the first goes, to the name as written (not
             // upper case), the second is too recent.
             (
