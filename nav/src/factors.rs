@@ -71,6 +71,21 @@ pub fn add_outer<const R: usize, const CA: usize, const CB: usize>(
     }
 }
 
+/// `h += a' a` for a Jacobian on its non-zero columns: [`add_outer`] of `a` with itself, each
+/// dot product computed once for the two symmetric entries (the same dot product nalgebra's
+/// `tr_mul` computes for either, so the same bits).
+pub fn add_gram<const R: usize, const C: usize>(h: &mut M7, a: &Jac<R, C>) {
+    for q in 0..C {
+        let cq = a.m.column(q);
+        for p in 0..q {
+            let t = a.m.column(p).dot(&cq);
+            h[(a.cols[p], a.cols[q])] += t;
+            h[(a.cols[q], a.cols[p])] += t;
+        }
+        h[(a.cols[q], a.cols[q])] += cq.dot(&cq);
+    }
+}
+
 /// `g += a' r` for a Jacobian on its non-zero columns.
 pub fn add_gradient<const R: usize, const C: usize>(
     g: &mut V7,

@@ -9,7 +9,7 @@
 //! and position by GPS there is no unobservable direction the mix could make look observable,
 //! and the only nonlinearity left (the heading in the odometry) is mild over a window.
 
-use crate::factors::{Factor, Jac, Sink, add_gradient, add_outer};
+use crate::factors::{Factor, Jac, Sink, add_gradient, add_gram, add_outer};
 use crate::solver::Prior;
 use crate::state::{M7, V7};
 use nalgebra::{Cholesky, SVector};
@@ -34,10 +34,10 @@ impl Sink for PairSystem {
         touches_j: bool,
     ) {
         debug_assert_eq!(i, 0);
-        add_outer(&mut self.h00, ji, ji);
+        add_gram(&mut self.h00, ji);
         add_gradient(&mut self.g0, ji, r);
         if touches_j {
-            add_outer(&mut self.h11, jj, jj);
+            add_gram(&mut self.h11, jj);
             add_gradient(&mut self.g1, jj, r);
             add_outer(&mut self.h01, ji, jj);
         }

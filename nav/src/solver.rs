@@ -7,7 +7,7 @@
 //! [`solve_batch`] is the same Gauss-Newton with a dense matrix over any number of keyframes:
 //! the reference the window is tested against.
 
-use crate::factors::{Factor, Jac, Sink, add_gradient, add_outer};
+use crate::factors::{Factor, Jac, Sink, add_gradient, add_gram, add_outer};
 use crate::state::{DIM, M7, V7};
 use nalgebra::{Cholesky, DMatrix, DVector, SVector};
 
@@ -125,10 +125,10 @@ impl Sink for BlockSystem {
         jj: &Jac<R, CJ>,
         touches_j: bool,
     ) {
-        add_outer(&mut self.d[i], ji, ji);
+        add_gram(&mut self.d[i], ji);
         add_gradient(&mut self.g[i], ji, r);
         if touches_j {
-            add_outer(&mut self.d[i + 1], jj, jj);
+            add_gram(&mut self.d[i + 1], jj);
             add_gradient(&mut self.g[i + 1], jj, r);
             add_outer(&mut self.o[i], ji, jj);
         }
