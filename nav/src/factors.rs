@@ -248,9 +248,9 @@ impl RandomWalk {
         let s = self.sigmas();
         let mut ji = Jac::zeros([BIAS, CX, CY]);
         let mut jj = Jac::zeros([BIAS, CX, CY]);
-        for k in 0..3 {
-            ji.m[(k, k)] = -1.0 / s[k];
-            jj.m[(k, k)] = 1.0 / s[k];
+        for (k, sk) in s.iter().enumerate() {
+            ji.m[(k, k)] = -1.0 / sk;
+            jj.m[(k, k)] = 1.0 / sk;
         }
         (ji, jj)
     }
