@@ -12,19 +12,101 @@
 //! tests see the plain whitened residual.
 
 use crate::state::{
-    BIAS, CX, CY, DIM, PSI, V7, X, Y, Z, level_to_grid, level_to_grid_dpsi, wrap_pi,
+    BIAS, CX, CY, DIM, M7, PSI, V7, X, Y, Z, level_to_grid, level_to_grid_dpsi, wrap_pi,
 };
 use nalgebra::{SMatrix, SVector};
+
+/// A factor's Jacobian on one keyframe restricted to the state columns it can be non-zero in:
+/// column `c` of `m` is the derivative with respect to state component `cols[c]` (every other
+/// component's derivative is exactly zero). The normal equations are assembled from these
+/// small blocks: the same products as the full `R x 7` Jacobian gives, without the zeros.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Jac<const R: usize, const C: usize> {
+    /// The state components (indices into a keyframe's state) of the columns.
+    pub cols: [usize; C],
+    /// The non-zero columns.
+    pub m: SMatrix<f64, R, C>,
+}
+
+impl<const R: usize, const C: usize> Jac<R, C> {
+    /// A zero Jacobian on the components `cols`.
+    pub fn zeros(cols: [usize; C]) -> Self {
+        Jac {
+            cols,
+            m: SMatrix::zeros(),
+        }
+    }
+
+    /// The full `R x 7` Jacobian.
+    pub fn dense(&self) -> SMatrix<f64, R, DIM> {
+        let mut d = SMatrix::<f64, R, DIM>::zeros();
+        for (c, &col) in self.cols.iter().enumerate() {
+            d.set_column(col, &self.m.column(c));
+        }
+        d
+    }
+
+    /// The Jacobian scaled by `w`.
+    pub fn scaled(&self, w: f64) -> Self {
+        Jac {
+            cols: self.cols,
+            m: self.m * w,
+        }
+    }
+}
+
+/// `h += a' b` for Jacobians on their non-zero columns: the products of the full Jacobians
+/// (bit for bit: each entry is the same dot product over the rows; the entries left out are
+/// exact zeros).
+pub fn add_outer<const R: usize, const CA: usize, const CB: usize>(
+    h: &mut M7,
+    a: &Jac<R, CA>,
+    b: &Jac<R, CB>,
+) {
+    let t = a.m.tr_mul(&b.m);
+    for (q, &cb) in b.cols.iter().enumerate() {
+        for (p, &ra) in a.cols.iter().enumerate() {
+            h[(ra, cb)] += t[(p, q)];
+        }
+    }
+}
+
+/// `h += a' a` for a Jacobian on its non-zero columns: [`add_outer`] of `a` with itself, each
+/// dot product computed once for the two symmetric entries (the same dot product nalgebra's
+/// `tr_mul` computes for either, so the same bits).
+pub fn add_gram<const R: usize, const C: usize>(h: &mut M7, a: &Jac<R, C>) {
+    for q in 0..C {
+        let cq = a.m.column(q);
+        for p in 0..q {
+            let t = a.m.column(p).dot(&cq);
+            h[(a.cols[p], a.cols[q])] += t;
+            h[(a.cols[q], a.cols[p])] += t;
+        }
+        h[(a.cols[q], a.cols[q])] += cq.dot(&cq);
+    }
+}
+
+/// `g += a' r` for a Jacobian on its non-zero columns.
+pub fn add_gradient<const R: usize, const C: usize>(
+    g: &mut V7,
+    a: &Jac<R, C>,
+    r: &SVector<f64, R>,
+) {
+    let t = a.m.tr_mul(r);
+    for (p, &ra) in a.cols.iter().enumerate() {
+        g[ra] += t[p];
+    }
+}
 
 /// Receives linearised factors: the whitened residual and its Jacobians on `i` and `i + 1`.
 pub trait Sink {
     /// Adds one factor of `R` rows on keyframes `i` (and `i + 1` when `touches_j`).
-    fn add<const R: usize>(
+    fn add<const R: usize, const CI: usize, const CJ: usize>(
         &mut self,
         i: usize,
         r: &SVector<f64, R>,
-        ji: &SMatrix<f64, R, DIM>,
-        jj: &SMatrix<f64, R, DIM>,
+        ji: &Jac<R, CI>,
+        jj: &Jac<R, CJ>,
         touches_j: bool,
     );
 }
@@ -70,21 +152,28 @@ impl Odometry {
 
     /// The Jacobians of [`Odometry::residual`] on `i` and `j`.
     pub fn jacobians(&self, xi: &V7, xj: &V7) -> (SMatrix<f64, 3, DIM>, SMatrix<f64, 3, DIM>) {
+        let (ji, jj) = self.jac(xi, xj);
+        (ji.dense(), jj.dense())
+    }
+
+    /// [`Odometry::jacobians`] on their non-zero columns: x, y, z, heading and the current on
+    /// `i`; x, y, z and heading on `j`.
+    pub fn jac(&self, xi: &V7, xj: &V7) -> (Jac<3, 6>, Jac<3, 4>) {
         let da = level_to_grid_dpsi(xi[PSI], &self.u_i);
         let db = level_to_grid_dpsi(xj[PSI], &self.u_j);
         let h = 0.5 * self.dt_s;
         let w = self.current_weight();
-        let mut ji = SMatrix::<f64, 3, DIM>::zeros();
-        let mut jj = SMatrix::<f64, 3, DIM>::zeros();
+        let mut ji = Jac::zeros([X, Y, Z, PSI, CX, CY]);
+        let mut jj = Jac::zeros([X, Y, Z, PSI]);
         for k in 0..3 {
             let s = 1.0 / self.sigma_m[k];
-            ji[(k, X + k)] = -s;
-            jj[(k, X + k)] = s;
-            ji[(k, PSI)] = -h * da[k] * s;
-            jj[(k, PSI)] = -h * db[k] * s;
+            ji.m[(k, k)] = -s;
+            jj.m[(k, k)] = s;
+            ji.m[(k, 3)] = -h * da[k] * s;
+            jj.m[(k, 3)] = -h * db[k] * s;
         }
-        ji[(0, CX)] = -w / self.sigma_m[0];
-        ji[(1, CY)] = -w / self.sigma_m[1];
+        ji.m[(0, 4)] = -w / self.sigma_m[0];
+        ji.m[(1, 5)] = -w / self.sigma_m[1];
         (ji, jj)
     }
 }
@@ -106,10 +195,16 @@ impl YawIncrement {
 
     /// The Jacobians on `i` and `j`.
     pub fn jacobians(&self) -> (SMatrix<f64, 1, DIM>, SMatrix<f64, 1, DIM>) {
-        let mut ji = SMatrix::<f64, 1, DIM>::zeros();
-        let mut jj = SMatrix::<f64, 1, DIM>::zeros();
-        ji[(0, PSI)] = -1.0 / self.sigma_rad;
-        jj[(0, PSI)] = 1.0 / self.sigma_rad;
+        let (ji, jj) = self.jac();
+        (ji.dense(), jj.dense())
+    }
+
+    /// [`YawIncrement::jacobians`] on their non-zero column (the heading).
+    pub fn jac(&self) -> (Jac<1, 1>, Jac<1, 1>) {
+        let mut ji = Jac::zeros([PSI]);
+        let mut jj = Jac::zeros([PSI]);
+        ji.m[0] = -1.0 / self.sigma_rad;
+        jj.m[0] = 1.0 / self.sigma_rad;
         (ji, jj)
     }
 }
@@ -144,12 +239,18 @@ impl RandomWalk {
 
     /// The Jacobians on `i` and `j`.
     pub fn jacobians(&self) -> (SMatrix<f64, 3, DIM>, SMatrix<f64, 3, DIM>) {
+        let (ji, jj) = self.jac();
+        (ji.dense(), jj.dense())
+    }
+
+    /// [`RandomWalk::jacobians`] on their non-zero columns (bias and current).
+    pub fn jac(&self) -> (Jac<3, 3>, Jac<3, 3>) {
         let s = self.sigmas();
-        let mut ji = SMatrix::<f64, 3, DIM>::zeros();
-        let mut jj = SMatrix::<f64, 3, DIM>::zeros();
-        for (k, col) in [BIAS, CX, CY].into_iter().enumerate() {
-            ji[(k, col)] = -1.0 / s[k];
-            jj[(k, col)] = 1.0 / s[k];
+        let mut ji = Jac::zeros([BIAS, CX, CY]);
+        let mut jj = Jac::zeros([BIAS, CX, CY]);
+        for (k, sk) in s.iter().enumerate() {
+            ji.m[(k, k)] = -1.0 / sk;
+            jj.m[(k, k)] = 1.0 / sk;
         }
         (ji, jj)
     }
@@ -178,13 +279,19 @@ impl Heading {
 
     /// The Jacobians on `i` and `j`.
     pub fn jacobians(&self) -> (SMatrix<f64, 1, DIM>, SMatrix<f64, 1, DIM>) {
+        let (ji, jj) = self.jac();
+        (ji.dense(), jj.dense())
+    }
+
+    /// [`Heading::jacobians`] on their non-zero columns (heading and bias).
+    pub fn jac(&self) -> (Jac<1, 2>, Jac<1, 2>) {
         let s = 1.0 / self.sigma_rad;
-        let mut ji = SMatrix::<f64, 1, DIM>::zeros();
-        let mut jj = SMatrix::<f64, 1, DIM>::zeros();
-        ji[(0, PSI)] = (1.0 - self.alpha) * s;
-        ji[(0, BIAS)] = (1.0 - self.alpha) * s;
-        jj[(0, PSI)] = self.alpha * s;
-        jj[(0, BIAS)] = self.alpha * s;
+        let mut ji = Jac::zeros([PSI, BIAS]);
+        let mut jj = Jac::zeros([PSI, BIAS]);
+        ji.m[0] = (1.0 - self.alpha) * s;
+        ji.m[1] = (1.0 - self.alpha) * s;
+        jj.m[0] = self.alpha * s;
+        jj.m[1] = self.alpha * s;
         (ji, jj)
     }
 }
@@ -209,10 +316,16 @@ impl DepthObs {
 
     /// The Jacobians on `i` and `j`.
     pub fn jacobians(&self) -> (SMatrix<f64, 1, DIM>, SMatrix<f64, 1, DIM>) {
-        let mut ji = SMatrix::<f64, 1, DIM>::zeros();
-        let mut jj = SMatrix::<f64, 1, DIM>::zeros();
-        ji[(0, Z)] = (1.0 - self.alpha) / self.sigma_m;
-        jj[(0, Z)] = self.alpha / self.sigma_m;
+        let (ji, jj) = self.jac();
+        (ji.dense(), jj.dense())
+    }
+
+    /// [`DepthObs::jacobians`] on their non-zero column (the depth).
+    pub fn jac(&self) -> (Jac<1, 1>, Jac<1, 1>) {
+        let mut ji = Jac::zeros([Z]);
+        let mut jj = Jac::zeros([Z]);
+        ji.m[0] = (1.0 - self.alpha) / self.sigma_m;
+        jj.m[0] = self.alpha / self.sigma_m;
         (ji, jj)
     }
 }
@@ -244,13 +357,19 @@ impl GpsPosition {
 
     /// The Jacobians on `i` and `j` (before the robust kernel).
     pub fn jacobians(&self) -> (SMatrix<f64, 2, DIM>, SMatrix<f64, 2, DIM>) {
-        let mut ji = SMatrix::<f64, 2, DIM>::zeros();
-        let mut jj = SMatrix::<f64, 2, DIM>::zeros();
+        let (ji, jj) = self.jac();
+        (ji.dense(), jj.dense())
+    }
+
+    /// [`GpsPosition::jacobians`] on their non-zero columns (x and y).
+    pub fn jac(&self) -> (Jac<2, 2>, Jac<2, 2>) {
         let s = 1.0 / self.sigma_m;
-        ji[(0, X)] = (1.0 - self.alpha) * s;
-        ji[(1, Y)] = (1.0 - self.alpha) * s;
-        jj[(0, X)] = self.alpha * s;
-        jj[(1, Y)] = self.alpha * s;
+        let mut ji = Jac::zeros([X, Y]);
+        let mut jj = Jac::zeros([X, Y]);
+        ji.m[(0, 0)] = (1.0 - self.alpha) * s;
+        ji.m[(1, 1)] = (1.0 - self.alpha) * s;
+        jj.m[(0, 0)] = self.alpha * s;
+        jj.m[(1, 1)] = self.alpha * s;
         (ji, jj)
     }
 
@@ -299,30 +418,30 @@ impl Factor {
         let tj = self.touches_j();
         match self {
             Factor::Odometry(f) => {
-                let (ji, jj) = f.jacobians(xi, xj);
+                let (ji, jj) = f.jac(xi, xj);
                 sink.add(i, &f.residual(xi, xj), &ji, &jj, true);
             }
             Factor::YawIncrement(f) => {
-                let (ji, jj) = f.jacobians();
+                let (ji, jj) = f.jac();
                 sink.add(i, &f.residual(xi, xj), &ji, &jj, true);
             }
             Factor::RandomWalk(f) => {
-                let (ji, jj) = f.jacobians();
+                let (ji, jj) = f.jac();
                 sink.add(i, &f.residual(xi, xj), &ji, &jj, true);
             }
             Factor::Heading(f) => {
-                let (ji, jj) = f.jacobians();
+                let (ji, jj) = f.jac();
                 sink.add(i, &f.residual(xi, xj), &ji, &jj, tj);
             }
             Factor::Depth(f) => {
-                let (ji, jj) = f.jacobians();
+                let (ji, jj) = f.jac();
                 sink.add(i, &f.residual(xi, xj), &ji, &jj, tj);
             }
             Factor::Gps(f) => {
                 let r = f.residual(xi, xj);
-                let (ji, jj) = f.jacobians();
+                let (ji, jj) = f.jac();
                 let w = f.huber_weight(r.norm()).sqrt();
-                sink.add(i, &(r * w), &(ji * w), &(jj * w), tj);
+                sink.add(i, &(r * w), &ji.scaled(w), &jj.scaled(w), tj);
             }
         }
     }

@@ -9,10 +9,10 @@
 //! and position by GPS there is no unobservable direction the mix could make look observable,
 //! and the only nonlinearity left (the heading in the odometry) is mild over a window.
 
-use crate::factors::{Factor, Sink};
+use crate::factors::{Factor, Jac, Sink, add_gradient, add_gram, add_outer};
 use crate::solver::Prior;
-use crate::state::{DIM, M7, V7};
-use nalgebra::{Cholesky, SMatrix, SVector};
+use crate::state::{M7, V7};
+use nalgebra::{Cholesky, SVector};
 
 /// A two-keyframe system (keyframes 0 and 1) for marginalising keyframe 0.
 #[derive(Debug, Default, Clone)]
@@ -25,21 +25,21 @@ struct PairSystem {
 }
 
 impl Sink for PairSystem {
-    fn add<const R: usize>(
+    fn add<const R: usize, const CI: usize, const CJ: usize>(
         &mut self,
         i: usize,
         r: &SVector<f64, R>,
-        ji: &SMatrix<f64, R, DIM>,
-        jj: &SMatrix<f64, R, DIM>,
+        ji: &Jac<R, CI>,
+        jj: &Jac<R, CJ>,
         touches_j: bool,
     ) {
         debug_assert_eq!(i, 0);
-        self.h00 += ji.tr_mul(ji);
-        self.g0 += ji.tr_mul(r);
+        add_gram(&mut self.h00, ji);
+        add_gradient(&mut self.g0, ji, r);
         if touches_j {
-            self.h11 += jj.tr_mul(jj);
-            self.g1 += jj.tr_mul(r);
-            self.h01 += ji.tr_mul(jj);
+            add_gram(&mut self.h11, jj);
+            add_gradient(&mut self.g1, jj, r);
+            add_outer(&mut self.h01, ji, jj);
         }
     }
 }

@@ -49,6 +49,8 @@
 
 use mission::diagnostic::{Diagnostic, DiagnosticKind};
 use mission::moos::ProcessConfig;
+use moos_types::ByteString;
+use nav::Status;
 use nav::feed::{Feed, FeedConfig, Snapshot};
 use vehicle::geodesy::LocalGrid;
 
@@ -59,20 +61,36 @@ use crate::hosted::{AppCore, Hosted};
 /// The MOOS name of the app.
 pub const PROGRAM: &str = "pNavGraph";
 
-/// The names the app posts, the dead-reckoning ones made from `dr_prefix`.
+/// The names the app posts, the dead-reckoning ones made from `dr_prefix`, made once: a
+/// posting then shares its name's buffer instead of copying the name.
 #[derive(Debug, Clone)]
 struct Names {
-    dr_x: String,
-    dr_y: String,
-    dr_depth: String,
+    dr_x: ByteString,
+    dr_y: ByteString,
+    dr_depth: ByteString,
 }
+
+const NAV_X: ByteString = ByteString::from_static("NAV_X");
+const NAV_Y: ByteString = ByteString::from_static("NAV_Y");
+const NAV_DEPTH: ByteString = ByteString::from_static("NAV_DEPTH");
+const NAV_HEADING: ByteString = ByteString::from_static("NAV_HEADING");
+const NAV_SPEED: ByteString = ByteString::from_static("NAV_SPEED");
+const NAV_LAT: ByteString = ByteString::from_static("NAV_LAT");
+const NAV_LONG: ByteString = ByteString::from_static("NAV_LONG");
+const NAV_PITCH: ByteString = ByteString::from_static("NAV_PITCH");
+const NAV_ROLL: ByteString = ByteString::from_static("NAV_ROLL");
+const NAV_POS_STD: ByteString = ByteString::from_static("NAV_POS_STD");
+const NAV_HEADING_BIAS: ByteString = ByteString::from_static("NAV_HEADING_BIAS");
+const NAV_CURRENT_X: ByteString = ByteString::from_static("NAV_CURRENT_X");
+const NAV_CURRENT_Y: ByteString = ByteString::from_static("NAV_CURRENT_Y");
 
 /// The navigator: the core of the `pNavGraph` app.
 pub struct NavCore {
     feed: Feed,
     grid: Option<LocalGrid>,
     names: Names,
-    posted_status: Option<String>,
+    /// The status last posted (its text is `Status::describe`, a function of the value).
+    posted_status: Option<Status>,
     last: Option<Snapshot>,
     dives: Vec<String>,
 }
@@ -146,9 +164,9 @@ impl Hosted<NavCore> {
             feed: Feed::new(cfg),
             grid,
             names: Names {
-                dr_x: format!("{dr}_X"),
-                dr_y: format!("{dr}_Y"),
-                dr_depth: format!("{dr}_DEPTH"),
+                dr_x: ByteString::from(format!("{dr}_X")),
+                dr_y: ByteString::from(format!("{dr}_Y")),
+                dr_depth: ByteString::from(format!("{dr}_DEPTH")),
             },
             posted_status: None,
             last: None,
@@ -166,32 +184,32 @@ impl Hosted<NavCore> {
 impl NavCore {
     fn post_snapshot(&mut self, s: &Snapshot, out: &mut Vec<Post>, notes: &mut Vec<Note>) {
         let e = &s.estimate;
-        out.push(Post::double("NAV_X", e.x_m));
-        out.push(Post::double("NAV_Y", e.y_m));
-        out.push(Post::double("NAV_DEPTH", e.depth_m));
-        out.push(Post::double("NAV_HEADING", e.heading_rad.to_degrees()));
-        out.push(Post::double("NAV_SPEED", e.speed_mps));
+        out.push(Post::double(NAV_X, e.x_m));
+        out.push(Post::double(NAV_Y, e.y_m));
+        out.push(Post::double(NAV_DEPTH, e.depth_m));
+        out.push(Post::double(NAV_HEADING, e.heading_rad.to_degrees()));
+        out.push(Post::double(NAV_SPEED, e.speed_mps));
         if let Some((lat, lon)) = self
             .grid
             .as_ref()
             .and_then(|g| g.to_latlon(e.x_m, e.y_m).ok())
         {
-            out.push(Post::double("NAV_LAT", lat));
-            out.push(Post::double("NAV_LONG", lon));
+            out.push(Post::double(NAV_LAT, lat));
+            out.push(Post::double(NAV_LONG, lon));
         }
-        out.push(Post::double("NAV_PITCH", e.pitch_rad));
-        out.push(Post::double("NAV_ROLL", e.roll_rad));
-        out.push(Post::double("NAV_POS_STD", e.pos_sigma_m));
+        out.push(Post::double(NAV_PITCH, e.pitch_rad));
+        out.push(Post::double(NAV_ROLL, e.roll_rad));
+        out.push(Post::double(NAV_POS_STD, e.pos_sigma_m));
         out.push(Post::double(
-            "NAV_HEADING_BIAS",
+            NAV_HEADING_BIAS,
             e.heading_bias_rad.to_degrees(),
         ));
-        out.push(Post::double("NAV_CURRENT_X", e.current_east_mps));
-        out.push(Post::double("NAV_CURRENT_Y", e.current_north_mps));
+        out.push(Post::double(NAV_CURRENT_X, e.current_east_mps));
+        out.push(Post::double(NAV_CURRENT_Y, e.current_north_mps));
         if let Some([x, y, d]) = s.dead_reckoning {
-            out.push(Post::double(self.names.dr_x.as_str(), x));
-            out.push(Post::double(self.names.dr_y.as_str(), y));
-            out.push(Post::double(self.names.dr_depth.as_str(), d));
+            out.push(Post::double(&self.names.dr_x, x));
+            out.push(Post::double(&self.names.dr_y, y));
+            out.push(Post::double(&self.names.dr_depth, d));
         }
         if let Some(r) = &s.dive {
             let text = Snapshot::dive_report_text(r);
@@ -269,9 +287,10 @@ impl AppCore for NavCore {
             self.post_snapshot(&s, out, notes);
             self.last = Some(s);
         }
-        let status = self.feed.status().describe();
-        if self.posted_status.as_deref() != Some(status.as_str()) {
-            out.push(Post::text("NAV_STATUS", status.as_str()));
+        // Equal statuses have equal texts: the text is made only when the status changes.
+        let status = self.feed.status();
+        if self.posted_status != Some(status) {
+            out.push(Post::text("NAV_STATUS", status.describe()));
             self.posted_status = Some(status);
         }
     }
