@@ -34,6 +34,7 @@ mod options;
 mod realtime;
 mod report;
 mod run;
+mod tally;
 
 pub use fleet::{FleetOptions, FleetReport, fleet_port, run_fleet, validate_fleet};
 pub use options::{Mode, Observer, Quiet, RunOptions};
