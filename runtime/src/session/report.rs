@@ -1,4 +1,4 @@
-//! What a run did: how it ended and the totals read back from its log.
+//! What a run did: how it ended and the totals of its log.
 
 use std::fmt;
 use std::path::PathBuf;
@@ -19,7 +19,7 @@ pub enum Ended {
     },
 }
 
-/// Totals read back from a run's alog.
+/// Totals of a run's alog (as read back from the file; a run counts them while writing it).
 #[derive(Debug, Clone, PartialEq)]
 pub struct LogTotals {
     /// Distance, position and the helm's last state (see [`RunSummary`]).
@@ -115,7 +115,7 @@ pub struct RunReport {
     pub until_values: Vec<(String, Option<Value>)>,
     /// The alog written.
     pub alog: String,
-    /// The alog's totals (`None` when it could not be read back).
+    /// The alog's totals (`None` when the file would not read back as an alog).
     pub totals: Option<LogTotals>,
 }
 

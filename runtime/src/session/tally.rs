@@ -91,8 +91,8 @@ struct Scanner {
     records: bool,
     /// The last record, when the totals want it.
     pending: Option<Pending>,
-    /// The last record's raw value when the totals do not want it (whether it is a string
-    /// decides whether a following non-record line is legal).
+    /// The text after the last record's source when the totals do not want the record
+    /// (whether its value is a string decides whether a following non-record line is legal).
     last_raw: String,
     /// `alog::parse` would refuse the file (or it is not UTF-8).
     broken: bool,
@@ -164,13 +164,9 @@ impl Scanner {
     /// Reads a record line as `alog::parse_line` does; `None` if it is not one.
     fn record(&mut self, line: &str) -> Option<()> {
         let (t, rest) = token(line)?;
-        if !is_number(t) {
-            return None;
-        }
-        let time = t.parse::<f64>().ok()?;
+        let time = number(t)?;
         let (var, rest) = token(rest)?;
         let (_source, rest) = token(rest)?;
-        let raw = rest.trim();
         if let Some(p) = self.pending.take() {
             self.totals.entry(p.time, &p.var, &p.value);
         }
@@ -178,12 +174,13 @@ impl Scanner {
             self.pending = Some(Pending {
                 time,
                 var: var.to_string(),
-                value: self.value(raw),
+                value: self.value(rest.trim()),
             });
         } else {
             self.totals.time(time);
+            // Kept untrimmed (trimmed only if a continuation line needs its type).
             self.last_raw.clear();
-            self.last_raw.push_str(raw);
+            self.last_raw.push_str(rest);
         }
         Some(())
     }
@@ -219,7 +216,7 @@ impl Scanner {
             Some(_) => self.broken = true,
             None if !self.records => self.broken = true,
             None => {
-                if !matches!(self.value(&self.last_raw), Value::String(_)) {
+                if !matches!(self.value(self.last_raw.trim()), Value::String(_)) {
                     self.broken = true;
                 }
             }
@@ -241,14 +238,80 @@ impl Scanner {
     }
 }
 
-/// The first white-space separated token and the text after it (as `alog`'s reader splits).
+/// The first white-space separated token and the text after it, as `alog`'s reader splits
+/// a line (`str::trim_start`, then up to a space or a tab), on the bytes while they are
+/// ASCII.
 fn token(s: &str) -> Option<(&str, &str)> {
-    let s = s.trim_start();
-    if s.is_empty() {
+    let b = s.as_bytes();
+    let mut i = 0;
+    // The ASCII characters `char::is_whitespace` holds: tab, LF, VT, FF, CR and space.
+    while i < b.len() && matches!(b[i], b'\t' | b'\n' | 0x0b | 0x0c | b'\r' | b' ') {
+        i += 1;
+    }
+    if i == b.len() {
         return None;
     }
-    let end = s.find([' ', '\t']).unwrap_or(s.len());
+    if b[i] >= 0x80 {
+        // A character beyond ASCII may be white space too.
+        let s = s[i..].trim_start();
+        if s.is_empty() {
+            return None;
+        }
+        let end = s.find([' ', '\t']).unwrap_or(s.len());
+        return Some((&s[..end], &s[end..]));
+    }
+    let s = &s[i..];
+    let end = s
+        .bytes()
+        .position(|c| c == b' ' || c == b'\t')
+        .unwrap_or(s.len());
     Some((&s[..end], &s[end..]))
+}
+
+/// Powers of ten that are exact doubles.
+const POW10: [f64; 16] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+];
+
+/// A record's time token as `alog`'s reader takes it (`is_number`, then `str::parse`):
+/// `[-]digits[.digits]` of at most 15 digits directly (the integer of its digits and the power
+/// of ten are exact doubles, so their quotient is the correctly rounded value `str::parse`
+/// gives), anything else through the reader's own two steps.
+fn number(t: &str) -> Option<f64> {
+    let b = t.as_bytes();
+    let (negative, digits) = match b.first() {
+        Some(b'-') => (true, &b[1..]),
+        _ => (false, b),
+    };
+    let (mut m, mut n, mut decimals) = (0u64, 0usize, None::<usize>);
+    for &c in digits {
+        match c {
+            b'0'..=b'9' => {
+                n += 1;
+                if n > 15 {
+                    return number_slow(t);
+                }
+                m = m * 10 + u64::from(c - b'0');
+                if let Some(d) = decimals.as_mut() {
+                    *d += 1;
+                }
+            }
+            b'.' if decimals.is_none() => decimals = Some(0),
+            _ => return number_slow(t),
+        }
+    }
+    if n == 0 {
+        return number_slow(t);
+    }
+    let v = m as f64 / POW10[decimals.unwrap_or(0)];
+    Some(if negative { -v } else { v })
+}
+
+fn number_slow(t: &str) -> Option<f64> {
+    if !is_number(t) {
+        return None;
+    }
+    t.parse::<f64>().ok()
 }
 
 #[cfg(test)]
@@ -307,6 +370,73 @@ mod tests {
         }
         assert!(read_back(texts[0]).is_some_and(|t| t.summary.distance == 11.0));
         assert!(read_back(texts[4]).is_none());
+    }
+
+    #[test]
+    fn times_are_the_numbers_the_reader_takes() {
+        let reader = |t: &str| is_number(t).then(|| t.parse::<f64>().ok()).flatten();
+        let cases = [
+            "0",
+            "12.34567",
+            "-0",
+            "-0.10000",
+            "5.",
+            ".5",
+            "-.5",
+            "123456789012345",
+            "1234567890123456",
+            "0.000000000000001",
+            "9007199254740993",
+            "+3",
+            "-",
+            ".",
+            "",
+            "1.2.3",
+            "1e5",
+            "--1",
+            "0x10",
+            "86399.99999",
+            "1.00000000000000000001",
+        ];
+        for t in cases {
+            let (got, want) = (number(t), reader(t));
+            assert_eq!(got.map(f64::to_bits), want.map(f64::to_bits), "{t:?}");
+        }
+        // Every time pLogger writes over a day, to the bit.
+        let mut s = String::new();
+        for k in 0..200_000u32 {
+            let x = f64::from(k) * 0.43201 + 0.000_01 * f64::from(k % 7);
+            s.clear();
+            moos_types::fmt::fixed(&mut s, x, 5);
+            assert_eq!(
+                number(&s).map(f64::to_bits),
+                reader(&s).map(f64::to_bits),
+                "{s}"
+            );
+        }
+    }
+
+    #[test]
+    fn tokens_split_as_the_reader_splits() {
+        for line in [
+            "  1.0 \tNAV_X   src   3 ",
+            "\u{a0}1.0 NAV_X s 3",
+            "1.0\u{2003}NAV_X s 3",
+            "\x0b\x0c1 A\tB",
+            "   ",
+            "",
+            "\u{85}",
+        ] {
+            fn reader(s: &str) -> Option<(&str, &str)> {
+                let s = s.trim_start();
+                if s.is_empty() {
+                    return None;
+                }
+                let end = s.find([' ', '\t']).unwrap_or(s.len());
+                Some((&s[..end], &s[end..]))
+            }
+            assert_eq!(token(line), reader(line), "{line:?}");
+        }
     }
 
     #[test]
