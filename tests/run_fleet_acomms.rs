@@ -57,7 +57,13 @@ fn run_fleet(name: &str, threads: usize) -> (FleetReport, BTreeMap<String, Vec<u
     for (member, r) in &report.members {
         let alog = find_alog(&dir.join("logs").join(member));
         assert_eq!(Path::new(&r.alog), alog, "the report names {member}'s log");
-        logs.insert(member.clone(), std::fs::read(&alog).expect("alog readable"));
+        let bytes = std::fs::read(&alog).expect("alog readable");
+        // The report's totals, counted while the log was written, are those of the file
+        // read back.
+        let text = std::str::from_utf8(&bytes).expect("UTF-8");
+        let back = session::LogTotals::from_alog(&alog::parse(text).expect("an alog"));
+        assert_eq!(r.totals.as_ref(), Some(&back), "{member}'s totals");
+        logs.insert(member.clone(), bytes);
     }
     (report, logs)
 }

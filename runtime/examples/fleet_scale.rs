@@ -8,7 +8,15 @@
 //! cargo run --release -p runtime --example fleet_scale            # N = 10, 50, 100
 //! cargo run --release -p runtime --example fleet_scale -- 100 120 # one N, simulated seconds
 //! cargo run --release -p runtime --example fleet_scale -- 100 120 1 # ... on one thread
+//! cargo run --release -p runtime --example fleet_scale -- --stack cougar 100 120 1
 //! ```
+//!
+//! `--stack cougar` runs CougUVs instead: missions/fleet_acomms' vehicle template (uSimCougUV,
+//! uSimSensors, pNavGraph, pCougControls, pSafety, the helm, pNodeReporter, uSimModem,
+//! pAcomms, pLogger) N times with its base beacon, the vehicles 60 m apart and their modem
+//! ids 1 to 14 in turn; they talk only through the simulated acoustic channel (the base
+//! polls coug1 and coug2, as in the mission). The output has the same format (the
+//! in-process pShare count is 0).
 //!
 //! The third argument is the number of threads stepping the communities
 //! (`FleetOptions::threads`; 0, the default here, is one per core). The alogs are the same
@@ -79,8 +87,64 @@ impl session::Observer for CpuProbe {
     }
 }
 
+/// Which vehicles the fleet is made of.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Stack {
+    /// missions/fleet_survey: surface vehicles (helm, uSimMarineV22, pMarinePIDV22,
+    /// pNodeReporter, pShare, pLogger) and a shoreside.
+    Surface,
+    /// missions/fleet_acomms: CougUVs (uSimCougUV, uSimSensors, pNavGraph, pCougControls,
+    /// pSafety, helm, pNodeReporter, uSimModem, pAcomms, pLogger) and the base beacon.
+    Cougar,
+}
+
+impl Stack {
+    fn name(self) -> &'static str {
+        match self {
+            Stack::Surface => "surface",
+            Stack::Cougar => "cougar",
+        }
+    }
+}
+
+/// Writes a fleet file of `n` vehicles into `dir`, from the stack's template.
+fn write_fleet(dir: &Path, n: usize, stack: Stack) -> PathBuf {
+    match stack {
+        Stack::Surface => write_surface_fleet(dir, n),
+        Stack::Cougar => write_cougar_fleet(dir, n),
+    }
+}
+
+/// Writes a fleet file of `n` CougUVs from the fleet_acomms template into `dir`: the base
+/// beacon (polling coug1 and coug2, as in the mission), and vehicles `coug1..cougN` 60 m
+/// apart (each starts at `X1 = 60 (i - 1)`, 0 and runs its lane down `X1` and up
+/// `X1 + 20`), modem ids 1 to 14 in turn (`1 + (i - 1) mod 14`: the channel has 15 ids and
+/// the base is 15).
+fn write_cougar_fleet(dir: &Path, n: usize) -> PathBuf {
+    let missions = Path::new(env!("CARGO_MANIFEST_DIR")).join("../missions/fleet_acomms");
+    let mut text = format!(
+        "macro = ACOMMS_KEY=cougars-fleet-acomms-example-key\n\
+         base = base {}/base.moos PORT=9000\n\
+         template = {}/vehicle.moos\n",
+        missions.display(),
+        missions.display()
+    );
+    for i in 1..=n {
+        let x1 = (i - 1) as f64 * 60.0;
+        text.push_str(&format!(
+            "vehicle = coug{i} PORT={} MODEM_ID={} X1={x1} X2={} COLOR=yellow\n",
+            9000 + i,
+            1 + (i - 1) % 14,
+            x1 + 20.0,
+        ));
+    }
+    let path = dir.join(format!("fleet_{n}.fleet"));
+    std::fs::write(&path, text).expect("fleet file written");
+    path
+}
+
 /// Writes a fleet file of `n` vehicles from the fleet_survey template into `dir`.
-fn write_fleet(dir: &Path, n: usize) -> PathBuf {
+fn write_surface_fleet(dir: &Path, n: usize) -> PathBuf {
     let missions = Path::new(env!("CARGO_MANIFEST_DIR")).join("../missions/fleet_survey");
     let mut text = format!(
         "macro = SHORE_LISTEN=9300\nbase = shoreside {}/shoreside.moos SHORE_PORT=9000\n\
@@ -104,11 +168,15 @@ fn write_fleet(dir: &Path, n: usize) -> PathBuf {
 }
 
 /// Runs one fleet of `n` vehicles for `seconds` simulated seconds; prints one line.
-fn one(n: usize, seconds: f64, threads: usize) {
-    let dir = std::env::temp_dir().join(format!("coug-fleet-scale-{}-{n}", std::process::id()));
+fn one(n: usize, seconds: f64, threads: usize, stack: Stack) {
+    let dir = std::env::temp_dir().join(format!(
+        "coug-fleet-scale-{}-{}-{n}",
+        std::process::id(),
+        stack.name()
+    ));
     std::fs::create_dir_all(&dir).expect("scratch folder");
     let rss0 = status_kib("VmRSS:").unwrap_or(0);
-    let path = write_fleet(&dir, n);
+    let path = write_fleet(&dir, n, stack);
     let t0 = Instant::now();
     let fleet = LoadedFleet::from_file(&path, &[], &[]).expect("the fleet loads");
     let load_s = t0.elapsed().as_secs_f64();
@@ -158,17 +226,27 @@ fn one(n: usize, seconds: f64, threads: usize) {
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let mut stack = Stack::Surface;
+    if let Some(at) = args.iter().position(|a| a == "--stack") {
+        stack = match args.get(at + 1).map(String::as_str) {
+            Some("surface") => Stack::Surface,
+            Some("cougar") => Stack::Cougar,
+            other => panic!("--stack surface|cougar, not {other:?}"),
+        };
+        args.drain(at..at + 2);
+    }
     let seconds = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(120.0);
     // Threads stepping the communities (0: one per core).
     let threads = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(0);
     if let Some(n) = args.first().and_then(|s| s.parse().ok()) {
-        one(n, seconds, threads);
+        one(n, seconds, threads, stack);
         return;
     }
     let me = std::env::current_exe().expect("own path");
     for n in [10, 50, 100] {
         let status = Command::new(&me)
+            .args(["--stack", stack.name()])
             .arg(n.to_string())
             .arg(seconds.to_string())
             .arg(threads.to_string())

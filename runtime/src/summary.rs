@@ -57,43 +57,79 @@ pub struct RunSummary {
 impl RunSummary {
     /// Reads the totals from a parsed alog.
     pub fn from_alog(log: &Alog) -> RunSummary {
-        let mut s = RunSummary::default();
-        let (mut x, mut y) = (None, None);
-        let mut last: Option<(f64, f64)> = None;
+        let mut b = SummaryBuilder::default();
         for e in &log.entries {
-            s.duration = s.duration.max(e.time);
-            match (e.var.as_str(), &e.value) {
-                ("NAV_X", Value::Double(v)) => x = Some(*v),
-                ("NAV_Y", Value::Double(v)) => y = Some(*v),
-                ("NAV_DEPTH", Value::Double(v)) => {
-                    s.max_depth = s.max_depth.max(*v);
-                    s.final_depth = Some(*v);
-                    continue;
-                }
-                ("IVPHELM_STATE", Value::String(v)) => {
-                    s.helm_state = Some(v.to_string());
-                    continue;
-                }
-                ("IVPHELM_SUMMARY", Value::String(v)) => {
-                    if let Some(c) = behaviour_list(v, "completed_bhvs") {
-                        s.completed = c;
-                    }
-                    if let Some(a) = behaviour_list(v, "active_bhvs") {
-                        s.active = a;
-                    }
-                    continue;
-                }
-                _ => continue,
-            }
-            if let (Some(x), Some(y)) = (x, y) {
-                if let Some((lx, ly)) = last {
-                    s.distance += (x - lx).hypot(y - ly);
-                }
-                last = Some((x, y));
-            }
+            b.entry(e.time, &e.var, &e.value);
         }
-        s.final_position = last;
-        s
+        b.finish()
+    }
+}
+
+/// Builds a [`RunSummary`] record by record, in the log's order (what
+/// [`RunSummary::from_alog`] does over a parsed log, and what a run's log tally does while
+/// the log is written).
+#[derive(Debug, Clone, Default)]
+pub struct SummaryBuilder {
+    s: RunSummary,
+    x: Option<f64>,
+    y: Option<f64>,
+    last: Option<(f64, f64)>,
+}
+
+impl SummaryBuilder {
+    /// True when a record of `var` changes the totals beyond the duration (only these need
+    /// their value: see [`SummaryBuilder::time`]).
+    pub fn wants(var: &str) -> bool {
+        matches!(
+            var,
+            "NAV_X" | "NAV_Y" | "NAV_DEPTH" | "IVPHELM_STATE" | "IVPHELM_SUMMARY"
+        )
+    }
+
+    /// Counts a record of a variable [`SummaryBuilder::wants`] does not want: its time only.
+    pub fn time(&mut self, time: f64) {
+        self.s.duration = self.s.duration.max(time);
+    }
+
+    /// Counts one record (time relative to LOGSTART, as written).
+    pub fn entry(&mut self, time: f64, var: &str, value: &Value) {
+        let s = &mut self.s;
+        s.duration = s.duration.max(time);
+        match (var, value) {
+            ("NAV_X", Value::Double(v)) => self.x = Some(*v),
+            ("NAV_Y", Value::Double(v)) => self.y = Some(*v),
+            ("NAV_DEPTH", Value::Double(v)) => {
+                s.max_depth = s.max_depth.max(*v);
+                s.final_depth = Some(*v);
+                return;
+            }
+            ("IVPHELM_STATE", Value::String(v)) => {
+                s.helm_state = Some(v.to_string());
+                return;
+            }
+            ("IVPHELM_SUMMARY", Value::String(v)) => {
+                if let Some(c) = behaviour_list(v, "completed_bhvs") {
+                    s.completed = c;
+                }
+                if let Some(a) = behaviour_list(v, "active_bhvs") {
+                    s.active = a;
+                }
+                return;
+            }
+            _ => return,
+        }
+        if let (Some(x), Some(y)) = (self.x, self.y) {
+            if let Some((lx, ly)) = self.last {
+                s.distance += (x - lx).hypot(y - ly);
+            }
+            self.last = Some((x, y));
+        }
+    }
+
+    /// The totals of the records counted.
+    pub fn finish(mut self) -> RunSummary {
+        self.s.final_position = self.last;
+        self.s
     }
 }
 

@@ -82,6 +82,14 @@ fn a_survey_runs_in_process_and_reports_its_log_totals() {
     assert!(obs.summaries > 10 && obs.saw_drive);
     assert!(Path::new(&report.alog).starts_with(&dir), "{}", report.alog);
     let totals = report.totals.as_ref().expect("the log reads back");
+    // Counted while the log was written: what reading the file back gives, and so the same
+    // report text.
+    let text = std::fs::read_to_string(&report.alog).expect("the alog is readable");
+    let back = session::LogTotals::from_alog(&alog::parse(&text).expect("an alog"));
+    assert_eq!(totals, &back);
+    let mut read_back = report.clone();
+    read_back.totals = Some(back);
+    assert_eq!(read_back.to_string(), report.to_string());
     assert_eq!(totals.completed, vec!["survey", "return"]);
     assert!(
         totals.summary.distance > 100.0,

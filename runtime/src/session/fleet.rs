@@ -348,7 +348,7 @@ struct Running<'a> {
     plan: MemberPlan,
     sched: Scheduler,
     sink: LateSink,
-    alog: String,
+    alog: super::tally::OpenLog,
     finished: bool,
 }
 

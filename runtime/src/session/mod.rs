@@ -6,7 +6,8 @@
 //! pLogger session on disk and runs the apps in lockstep on the virtual clock or in real
 //! time on a TCP MOOSDB, until the `until` condition holds, the time runs out, every app
 //! finishes or the caller asks it to stop. It returns a [`RunReport`]: how the run ended,
-//! the `until` values, the alog's path and the totals read back from it.
+//! the `until` values, the alog's path and its totals (counted while it was written: those
+//! reading it back would give).
 //!
 //! Printing, Ctrl-C and exit codes are the caller's: an [`Observer`] is told the run's
 //! warnings and notices, every `IVPHELM_SUMMARY` and, about once per simulated second (or
@@ -34,6 +35,7 @@ mod options;
 mod realtime;
 mod report;
 mod run;
+mod tally;
 
 pub use fleet::{FleetOptions, FleetReport, fleet_port, run_fleet, validate_fleet};
 pub use options::{Mode, Observer, Quiet, RunOptions};

@@ -1,11 +1,11 @@
-//! What a run did: how it ended and the totals read back from its log.
+//! What a run did: how it ended and the totals of its log.
 
 use std::fmt;
 use std::path::PathBuf;
 
 use crate::app::Value;
 use crate::scheduler::Outcome;
-use crate::summary::{RunSummary, behaviour_list};
+use crate::summary::{RunSummary, SummaryBuilder, behaviour_list};
 
 /// How a run ended.
 #[derive(Debug, Clone, PartialEq)]
@@ -19,7 +19,7 @@ pub enum Ended {
     },
 }
 
-/// Totals read back from a run's alog.
+/// Totals of a run's alog (as read back from the file; a run counts them while writing it).
 #[derive(Debug, Clone, PartialEq)]
 pub struct LogTotals {
     /// Distance, position and the helm's last state (see [`RunSummary`]).
@@ -33,35 +33,65 @@ pub struct LogTotals {
 impl LogTotals {
     /// The totals of a parsed alog.
     pub fn from_alog(log: &alog::Alog) -> LogTotals {
-        // Every behaviour that completed during the run (the helm's later reports may drop
-        // it, e.g. once the mission is no longer active).
-        let mut completed: Vec<String> = Vec::new();
-        let mut malconfig = Vec::new();
+        let mut b = TotalsBuilder::default();
         for e in &log.entries {
-            match e.var.as_str() {
-                "IVPHELM_SUMMARY" => {
-                    let list = e
-                        .value
-                        .as_str()
-                        .and_then(|v| behaviour_list(v, "completed_bhvs"));
-                    for b in list.unwrap_or_default() {
-                        if !completed.contains(&b) {
-                            completed.push(b);
-                        }
-                    }
-                }
-                "IVPHELM_CONFIG_WARNING" => {
-                    if let Some(why) = e.value.as_str() {
-                        malconfig.push(why.to_string());
-                    }
-                }
-                _ => {}
-            }
+            b.entry(e.time, &e.var, &e.value);
         }
+        b.finish()
+    }
+}
+
+/// Builds [`LogTotals`] record by record, in the log's order: over a parsed log
+/// ([`LogTotals::from_alog`]) or while the log is written (`super::tally`).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct TotalsBuilder {
+    summary: SummaryBuilder,
+    /// Every behaviour that completed during the run (the helm's later reports may drop
+    /// it, e.g. once the mission is no longer active).
+    completed: Vec<String>,
+    malconfig: Vec<String>,
+}
+
+impl TotalsBuilder {
+    /// True when a record of `var` counts beyond its time.
+    pub(crate) fn wants(var: &str) -> bool {
+        SummaryBuilder::wants(var) || var == "IVPHELM_CONFIG_WARNING"
+    }
+
+    /// Counts a record of a variable [`TotalsBuilder::wants`] does not want.
+    pub(crate) fn time(&mut self, time: f64) {
+        self.summary.time(time);
+    }
+
+    /// Counts one record.
+    pub(crate) fn entry(&mut self, time: f64, var: &str, value: &Value) {
+        self.summary.entry(time, var, value);
+        match var {
+            "IVPHELM_SUMMARY" => {
+                let list = value
+                    .as_str()
+                    .and_then(|v| behaviour_list(v, "completed_bhvs"));
+                for b in list.unwrap_or_default() {
+                    if !self.completed.contains(&b) {
+                        self.completed.push(b);
+                    }
+                }
+            }
+            "IVPHELM_CONFIG_WARNING" => {
+                if let Some(why) = value.as_str() {
+                    self.malconfig.push(why.to_string());
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// The totals of the records counted.
+    pub(crate) fn finish(self) -> LogTotals {
         LogTotals {
-            summary: RunSummary::from_alog(log),
-            completed,
-            malconfig,
+            summary: self.summary.finish(),
+            completed: self.completed,
+            malconfig: self.malconfig,
         }
     }
 }
@@ -85,7 +115,7 @@ pub struct RunReport {
     pub until_values: Vec<(String, Option<Value>)>,
     /// The alog written.
     pub alog: String,
-    /// The alog's totals (`None` when it could not be read back).
+    /// The alog's totals (`None` when the file would not read back as an alog).
     pub totals: Option<LogTotals>,
 }
 

@@ -21,6 +21,7 @@ use crate::remote::RemoteError;
 use crate::scheduler::{Outcome, Poke, PokeAt, RunError, Scheduler};
 
 use super::realtime::*;
+use super::tally::{LogTally, OpenLog};
 use super::*;
 /// Why a run could not start or did not complete.
 #[derive(Debug, Error)]
@@ -170,22 +171,28 @@ pub(super) const LOG_BUFFER: usize = 1 << 16;
 
 /// Creates the session's folder and alog, named from `named` (the wall-clock start), never
 /// over an existing log, attaches the file to `sink` behind a write buffer of `buffer`
-/// bytes, and returns the alog's path.
+/// bytes (behind the tally that counts the report's totals as it is written), and returns
+/// the alog's path and tally.
 pub(super) fn open_log(
     loaded: &LoadedMission,
     dir: &Path,
     named: NaiveDateTime,
     sink: &LateSink,
     buffer: usize,
-) -> Result<String, SessionError> {
+) -> Result<OpenLog, SessionError> {
     let (target, _) = log_target(loaded, dir, named);
     let (at, file) = target
         .config
         .claim_session(&named)
         .map_err(|e| SessionError::LogOpen(e.to_string()))?;
     let folder = PathBuf::from(target.config.directory(&at));
-    sink.attach(Box::new(BufWriter::with_capacity(buffer, file)), folder);
-    Ok(target.config.alog_path(&at))
+    let tally = LogTally::default();
+    let file = tally.writer(BufWriter::with_capacity(buffer, file));
+    sink.attach(Box::new(file), folder);
+    Ok(OpenLog {
+        path: target.config.alog_path(&at),
+        tally,
+    })
 }
 
 /// The local wall-clock time, to the second (log names).
@@ -360,19 +367,18 @@ pub(super) struct Ending(
 );
 
 /// Closes the log (a write error fails the run) and reports the run, with the totals of its
-/// alog read back.
+/// alog (those reading it back would give, counted while it was written).
 pub(super) fn close_and_report(
     loaded: &LoadedMission,
     opts: &RunOptions,
     sink: &LateSink,
-    alog: String,
+    alog: OpenLog,
     end: Ending,
 ) -> Result<RunReport, SessionError> {
     close_log(sink, &alog)?;
-    let totals = std::fs::read_to_string(&alog)
-        .ok()
-        .and_then(|t| alog::parse(&t).ok())
-        .map(|log| LogTotals::from_alog(&log));
+    // What reading the closed alog back would give, counted while it was written.
+    let totals = alog.tally.totals();
+    let alog = alog.path;
     Ok(RunReport {
         mission: loaded.path.clone(),
         ended: end.0,
