@@ -48,10 +48,15 @@
 use ivp::IvpFunction;
 
 use crate::behavior::{Behavior, Ctx, Out, ParamError, add_vars};
+use crate::colregs::geometry::Cpx;
 use crate::common::Common;
 use crate::contact::ContactBase;
 use crate::contact_state::{Distances, reflect};
 use crate::param::is_number;
+use crate::refinery_cpa::{
+    PairGeometry, Refined, RefineryCpa, RefinerySettings, covers_once, distances_cpa,
+    post_avoid_checks, reflect_refined,
+};
 
 /// How the relevance grows as the contact closes (`pwt_grade`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -157,6 +162,72 @@ impl AvoidCollision {
         reflect(ctx.domain, |crs, spd| {
             Self::metric(d.cpa(crs, spd), min, max)
         })
+    }
+
+    /// The refinery parameters (`use_refinery`, `check_plateaus`, `check_validity`,
+    /// `pcheck_thresh`, `verbose`).
+    pub fn refinery_settings(&self) -> RefinerySettings {
+        RefinerySettings {
+            use_refinery: self.flags[2],
+            check_plateaus: self.flags[3],
+            check_validity: self.flags[5],
+            pcheck_thresh: self.pcheck_thresh,
+            verbose: self.flags[1],
+        }
+    }
+
+    /// The objective with `use_refinery` (MOOS `RefineryCPA`'s plateau regions handed to the
+    /// reflector, each a piece of the AOF's known maximum, the utility of the present range)
+    /// and `check_plateaus`, or [`AvoidCollision::objective`] without; `None` as it.
+    pub fn objective_refined(&self, ctx: &Ctx<'_>) -> Option<(IvpFunction, Refined)> {
+        let d = Distances::for_contact(
+            &self.base,
+            self.base.time_on_leg,
+            self.min_util_cpa_dist,
+            self.max_util_cpa_dist,
+        )?;
+        let (min, max) = (d.collision_distance, d.all_clear_distance);
+        let settings = self.refinery_settings();
+        let known = (0.0, Self::metric(d.engine.range(), min, max));
+        let (osx, osy, osh, osv) = self.base.os;
+        let (cnx, cny, cnh, cnv) = self.base.cn;
+        let geo = PairGeometry::of(&Cpx::new(cnx, cny, cnh, cnv, osx, osy, osh, osv));
+        let refinery = |dom: &ivp::Domain| {
+            RefineryCpa::new(
+                dom,
+                geo,
+                self.base.time_on_leg,
+                self.min_util_cpa_dist,
+                self.max_util_cpa_dist,
+                |h, s, t| distances_cpa(&d, h, s, t),
+            )
+        };
+        reflect_refined(ctx.domain, refinery, &settings, Some(known), |crs, spd| {
+            Self::metric(d.cpa(crs, spd), min, max)
+        })
+    }
+
+    /// The objective of a running iteration with the refinery's and the checks' postings
+    /// (MOOS `getAvoidIPF`): with `use_refinery`, [`AvoidCollision::objective_refined`] and
+    /// its checks ([`crate::refinery_cpa::post_avoid_checks`]), the reflector's warnings on
+    /// `AVD_DEBUG`; with `check_validity`, `VALID_CHECK_OK` (every grid point in one piece).
+    fn objective_checked(&self, ctx: &Ctx<'_>, out: &mut Out) -> Option<IvpFunction> {
+        let settings = self.refinery_settings();
+        let f = if settings.use_refinery {
+            let (f, info) = self.objective_refined(ctx)?;
+            post_avoid_checks(&info, settings.verbose, out);
+            if !info.warnings.is_empty() {
+                out.post("AVD_DEBUG", info.warnings);
+            }
+            f
+        } else {
+            self.objective(ctx)?
+        };
+        if settings.check_validity {
+            let ok = if covers_once(&f) { "true" } else { "false" };
+            out.post("VALID_CHECK_OK", ok);
+        }
+        Some(f)
     }
 
     fn post_range(&self, out: &mut Out) {
@@ -432,7 +503,7 @@ impl Behavior for AvoidCollision {
             return None;
         }
         self.base.relevance = relevance;
-        let Some(mut f) = self.objective(ctx) else {
+        let Some(mut f) = self.objective_checked(ctx, out) else {
             out.error("Unable to init AOF_AvoidCollision.");
             return None;
         };

@@ -760,6 +760,16 @@ impl<F: Fn(f64, f64, f64) -> f64> RefineryCpa<F> {
     }
 }
 
+/// The CPA of a contact behaviour's [`crate::contact_state::Distances`] at course `h`, speed
+/// `s` over `t` seconds (its platform model's turn when it has one, else the engine's ray):
+/// the refinery's queries, which take their own time on leg.
+pub fn distances_cpa(d: &crate::contact_state::Distances, h: f64, s: f64, t: f64) -> f64 {
+    match &d.pm {
+        Some(pm) => pm.eval_cpa(h, s, t),
+        None => d.engine.eval_cpa(h, s, t),
+    }
+}
+
 /// The refinery-related parameters of a contact behaviour (`use_refinery`,
 /// `check_plateaus`, `check_validity`, `pcheck_thresh`, `verbose`).
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -82,6 +82,10 @@
 //! works it out with its engine's model of the previous iteration (and the reverse engine
 //! with no model, ownship's turn from the origin), which coug does not copy.
 
+use crate::refinery_cpa::{
+    PairGeometry, RefineryCpa, RefinerySettings, distances_cpa, post_colregs_checks,
+    reflect_refined,
+};
 use ivp::{IvpFunction, ZaicHdg, ZaicSpd};
 
 use super::geometry::{Cpx, project_point, speed_in_heading, turn_gap};
@@ -904,10 +908,54 @@ impl AvdColregs {
                     return None;
                 };
                 let aof = AofCpa { d };
+                if self.flags[1] {
+                    return self.cpa_refined(domain, &aof, out);
+                }
                 reflect(domain, |c, s| aof.eval(c, s))
             }
             _ => None,
         }
+    }
+
+    /// The refinery parameters (`use_refinery`, `check_plateaus`, `check_validity`,
+    /// `pcheck_thresh`, `verbose`; V19 and later).
+    pub fn refinery_settings(&self) -> RefinerySettings {
+        RefinerySettings {
+            use_refinery: self.flags[1],
+            check_plateaus: self.flags[2],
+            check_validity: self.flags[3],
+            pcheck_thresh: self.pcheck_thresh,
+            verbose: self.flags[0],
+        }
+    }
+
+    /// The catch-all CPA function with `use_refinery` (MOOS `buildCPA_IPF`'s refinery):
+    /// `RefineryCPA` over the pair with the behaviour's time on leg and its own
+    /// `min/max_util_cpa_dist` (not halved), its plateau regions handed to the reflector
+    /// (fitted as any piece: AOF_CPA's extremes are not known), and with `check_plateaus`
+    /// the checks' postings ([`crate::refinery_cpa::post_colregs_checks`]).
+    fn cpa_refined(
+        &self,
+        domain: &ivp::Domain,
+        aof: &AofCpa,
+        out: &mut Out,
+    ) -> Option<IvpFunction> {
+        let rd = self.distances(self.base.time_on_leg)?;
+        let geo = PairGeometry::of(&self.geo());
+        let refinery = |dom: &ivp::Domain| {
+            RefineryCpa::new(
+                dom,
+                geo,
+                self.base.time_on_leg,
+                self.min_util_cpa_dist,
+                self.max_util_cpa_dist,
+                |h, s, t| distances_cpa(&rd, h, s, t),
+            )
+        };
+        let settings = self.refinery_settings();
+        let (f, info) = reflect_refined(domain, refinery, &settings, None, |c, s| aof.eval(c, s))?;
+        post_colregs_checks(&info, out);
+        Some(f)
     }
 
     /// Hold the course and speed of the mode's start (MOOS `buildStandOnIPF`).
