@@ -34,14 +34,22 @@
 //! | contact_type_required | none | as `match_type` | done |
 //! | no_alert_request | false | boolean | done |
 //! | collision_depth | 0 | > 0 and a `depth` domain | refused when it would apply: open: AOF_AvoidCollisionDepth |
-//! | use_refinery, check_plateaus, check_validity, verbose | false | boolean | read; open: the plateau refinery (pieces stay uniform) |
-//! | pcheck_thresh | 0.001 | number >= 0 | read |
+//! | use_refinery | false | boolean (`setBooleanOnString`) | done: the plateau regions of [`crate::refinery_cpa`] (MOOS `RefineryCPA`, time on leg `time_on_leg`, the unhalved `min_util_cpa_dist`) cut out of the 3 × 3 pieces, each a piece at the AOF's known maximum (the utility of the present range) |
+//! | check_plateaus | false | boolean | done: with `use_refinery`, every point of every plateau checked against that maximum (`OF_Reflector::checkPlateaus`) |
+//! | check_validity | false | boolean | done: `VALID_CHECK_OK` (every grid point in exactly one piece, `PDMap::valid`), with or without the refinery |
+//! | verbose | false | boolean | done: gates `PLATEAU_CHECK_OK` and `PLATEAU_LOGIC_CASE` (the C++ prints to the console as well; coug does not) |
+//! | pcheck_thresh | 0.001 | number >= 0 | done: the check's threshold; outside `[0, 1]` the reflector keeps 0.001 and warns (`AVD_DEBUG`) |
 //! | can_disable | false | boolean | done: `BHV_ABLE_FILTER` disables, enables or expunges it (`contact::ContactBase::apply_able_filter`); disabled, it erases its bearing line and completes as when idle |
 //!
 //! | variable | when | format | coug |
 //! |---|---|---|---|
 //! | BCM_ALERT_REQUEST | helm start, for a spawning template with an `updates` variable, unless `no_alert_request` | `id=<name>, on_flag=<UPDATES>=name=$[VNAME] # contact=$[VNAME],alert_range=<outer>, cpa_range=<completed>` then the filters | done |
 //! | AVD_DEBUG | each running iteration with a contact | `In getRelevance: <range, 5 decimals>` | done |
+//! | AVD_DEBUG | `check_plateaus` with `pcheck_thresh` outside `[0, 1]` (the reflector's warnings) | `pcheck_thresh value must be in range [0,1]` | done |
+//! | PLATEAU_CHECK_OK | `use_refinery`, `check_plateaus` and `verbose` | `true`/`false` (on change) | done |
+//! | PLATEAU_LOGIC_CASE | as PLATEAU_CHECK_OK | `aft`, `fore_in_rgam`, `fore_out_rgam` (repeatable) | done |
+//! | PLATEAU_WORST_FAIL | `use_refinery`, `check_plateaus`, a plateau point off the maximum by more than `pcheck_thresh` | the worst difference (repeatable) | done |
+//! | VALID_CHECK_OK | `check_validity` | `true`/`false` (on change) | done |
 //! | RANGE_AVD_<contact>, CLSG_SPD_AVD_<contact> | `post_per_contact_info` | range (whole metres beyond 10 m), closing speed to 0.1 | done |
 //! | VIEW_SEGLIST | bearing lines configured | see [`crate::contact`] | done |
 
@@ -176,9 +184,10 @@ impl AvoidCollision {
         }
     }
 
-    /// The objective with `use_refinery` (MOOS `RefineryCPA`'s plateau regions handed to the
-    /// reflector, each a piece of the AOF's known maximum, the utility of the present range)
-    /// and `check_plateaus`, or [`AvoidCollision::objective`] without; `None` as it.
+    /// The objective refined (MOOS `getAvoidIPF` with `use_refinery`: `RefineryCPA`'s plateau
+    /// regions handed to the reflector, each a piece of the AOF's known maximum, the utility
+    /// of the present range), with the plateau checks when `check_plateaus` is set, and what
+    /// the refinery found; `None` as [`AvoidCollision::objective`].
     pub fn objective_refined(&self, ctx: &Ctx<'_>) -> Option<(IvpFunction, Refined)> {
         let d = Distances::for_contact(
             &self.base,

@@ -1122,3 +1122,46 @@ mod tests {
         assert!(!covers_once(&f), "3,1 twice");
     }
 }
+#[cfg(test)]
+mod quirks {
+    use super::*;
+    use crate::cpa::CpaEngine;
+
+    /// From the head-on lockstep encounter with the refinery (`tests/run_refinery.rs`, ben at
+    /// t = 83.75): ownship abaft and to starboard of a contact heading 359.78, 32.8 m from
+    /// its track (no tightening of the passing course). The passing course 359.78 snaps up
+    /// past the last grid course and is clamped to 359 (MOOS `getDiscreteVal`), so the
+    /// course-359 column of the wrapped box is in the plateau although it converges on the
+    /// contact's track: the C++'s own `PLATEAU_WORST_FAIL`.
+    #[test]
+    fn a_passing_course_between_359_and_360_is_clamped_into_the_plateau() {
+        let d = Domain::parse_specs(["course:0:359:360", "speed:0:4:41"]).unwrap();
+        let (os, cn) = ((16.41882, 139.07823), (-16.42, 159.95, 359.78, 1.95));
+        let cpx = Cpx::new(cn.0, cn.1, cn.2, cn.3, os.0, os.1, 180.0, 1.95);
+        let e = CpaEngine::new(cn.0, cn.1, cn.2, cn.3, os.0, os.1);
+        let g = PairGeometry::of(&cpx);
+        assert!(!g.os_fore_of_cn && g.os_star_of_cn && g.range_gamma > 30.0);
+        let mut r =
+            RefineryCpa::new(&d, g, 120.0, 10.0, 30.0, |h, s, t| e.eval_cpa(h, s, t)).unwrap();
+        let regions = r.regions();
+        assert_eq!(r.logic_case(), "aft");
+        let spans: Vec<_> = regions
+            .iter()
+            .map(|b| ((b.lo[0], b.hi[0]), (b.lo[1], b.hi[1])))
+            .collect();
+        // Part A: the contact opens at 1.05 m/s, plus (38.9 − 30) / 120: 1.13, stepped down
+        // to 1.0; part B: the span from 359.78 clockwise to the crossing course 279 (its
+        // crossing side), above 1.1 m/s, two boxes through north.
+        assert_eq!(
+            spans,
+            [
+                ((0, 359), (0, 10)),
+                ((0, 279), (11, 40)),
+                ((359, 359), (11, 40))
+            ]
+        );
+        // At course 359 and 2.1 m/s the CPA is under 30 m; at course 0 it is not.
+        assert!(e.eval_cpa(359.0, 2.1, 120.0) < 30.0);
+        assert!(e.eval_cpa(0.0, 2.1, 120.0) >= 30.0);
+    }
+}
