@@ -100,13 +100,13 @@ fn text(v: &str) -> Value {
     Value::String(v.into())
 }
 
+/// A vehicle's x, y, heading and speed.
+type Pose = (f64, f64, f64, f64);
+
 /// The geometries of the refinery's unit tests, ownship heading north at 2 m/s.
-const CROSSING: ((f64, f64, f64, f64), (f64, f64, f64, f64)) =
-    ((0.0, 0.0, 0.0, 2.0), (100.0, 100.0, 270.0, 1.0));
-const HEAD_ON: ((f64, f64, f64, f64), (f64, f64, f64, f64)) =
-    ((0.0, 0.0, 0.0, 2.0), (0.0, 100.0, 180.0, 1.0));
-const OVERTAKING: ((f64, f64, f64, f64), (f64, f64, f64, f64)) =
-    ((0.0, 0.0, 0.0, 2.0), (0.0, 100.0, 0.0, 1.0));
+const CROSSING: (Pose, Pose) = ((0.0, 0.0, 0.0, 2.0), (100.0, 100.0, 270.0, 1.0));
+const HEAD_ON: (Pose, Pose) = ((0.0, 0.0, 0.0, 2.0), (0.0, 100.0, 180.0, 1.0));
+const OVERTAKING: (Pose, Pose) = ((0.0, 0.0, 0.0, 2.0), (0.0, 100.0, 0.0, 1.0));
 
 /// The grid point `(course, speed)` of the function's maximum.
 fn argmax_ix(f: &IvpFunction) -> (i64, i64) {
