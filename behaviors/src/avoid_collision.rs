@@ -34,24 +34,37 @@
 //! | contact_type_required | none | as `match_type` | done |
 //! | no_alert_request | false | boolean | done |
 //! | collision_depth | 0 | > 0 and a `depth` domain | refused when it would apply: open: AOF_AvoidCollisionDepth |
-//! | use_refinery, check_plateaus, check_validity, verbose | false | boolean | read; open: the plateau refinery (pieces stay uniform) |
-//! | pcheck_thresh | 0.001 | number >= 0 | read |
+//! | use_refinery | false | boolean (`setBooleanOnString`) | done: the plateau regions of [`crate::refinery_cpa`] (MOOS `RefineryCPA`, time on leg `time_on_leg`, the unhalved `min_util_cpa_dist`) cut out of the 3 × 3 pieces, each a piece at the AOF's known maximum (the utility of the present range) |
+//! | check_plateaus | false | boolean | done: with `use_refinery`, every point of every plateau checked against that maximum (`OF_Reflector::checkPlateaus`) |
+//! | check_validity | false | boolean | done: `VALID_CHECK_OK` (every grid point in exactly one piece, `PDMap::valid`), with or without the refinery |
+//! | verbose | false | boolean | done: gates `PLATEAU_CHECK_OK` and `PLATEAU_LOGIC_CASE` (the C++ prints to the console as well; coug does not) |
+//! | pcheck_thresh | 0.001 | number >= 0 | done: the check's threshold; outside `[0, 1]` the reflector keeps 0.001 and warns (`AVD_DEBUG`) |
 //! | can_disable | false | boolean | done: `BHV_ABLE_FILTER` disables, enables or expunges it (`contact::ContactBase::apply_able_filter`); disabled, it erases its bearing line and completes as when idle |
 //!
 //! | variable | when | format | coug |
 //! |---|---|---|---|
 //! | BCM_ALERT_REQUEST | helm start, for a spawning template with an `updates` variable, unless `no_alert_request` | `id=<name>, on_flag=<UPDATES>=name=$[VNAME] # contact=$[VNAME],alert_range=<outer>, cpa_range=<completed>` then the filters | done |
 //! | AVD_DEBUG | each running iteration with a contact | `In getRelevance: <range, 5 decimals>` | done |
+//! | AVD_DEBUG | `check_plateaus` with `pcheck_thresh` outside `[0, 1]` (the reflector's warnings) | `pcheck_thresh value must be in range [0,1]` | done |
+//! | PLATEAU_CHECK_OK | `use_refinery`, `check_plateaus` and `verbose` | `true`/`false` (on change) | done |
+//! | PLATEAU_LOGIC_CASE | as PLATEAU_CHECK_OK | `aft`, `fore_in_rgam`, `fore_out_rgam` (repeatable) | done |
+//! | PLATEAU_WORST_FAIL | `use_refinery`, `check_plateaus`, a plateau point off the maximum by more than `pcheck_thresh` | the worst difference (repeatable) | done |
+//! | VALID_CHECK_OK | `check_validity` | `true`/`false` (on change) | done |
 //! | RANGE_AVD_<contact>, CLSG_SPD_AVD_<contact> | `post_per_contact_info` | range (whole metres beyond 10 m), closing speed to 0.1 | done |
 //! | VIEW_SEGLIST | bearing lines configured | see [`crate::contact`] | done |
 
 use ivp::IvpFunction;
 
 use crate::behavior::{Behavior, Ctx, Out, ParamError, add_vars};
+use crate::colregs::geometry::Cpx;
 use crate::common::Common;
 use crate::contact::ContactBase;
 use crate::contact_state::{Distances, reflect};
 use crate::param::is_number;
+use crate::refinery_cpa::{
+    PairGeometry, Refined, RefineryCpa, RefinerySettings, covers_once, distances_cpa,
+    post_avoid_checks, reflect_refined,
+};
 
 /// How the relevance grows as the contact closes (`pwt_grade`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -157,6 +170,73 @@ impl AvoidCollision {
         reflect(ctx.domain, |crs, spd| {
             Self::metric(d.cpa(crs, spd), min, max)
         })
+    }
+
+    /// The refinery parameters (`use_refinery`, `check_plateaus`, `check_validity`,
+    /// `pcheck_thresh`, `verbose`).
+    pub fn refinery_settings(&self) -> RefinerySettings {
+        RefinerySettings {
+            use_refinery: self.flags[2],
+            check_plateaus: self.flags[3],
+            check_validity: self.flags[5],
+            pcheck_thresh: self.pcheck_thresh,
+            verbose: self.flags[1],
+        }
+    }
+
+    /// The objective refined (MOOS `getAvoidIPF` with `use_refinery`: `RefineryCPA`'s plateau
+    /// regions handed to the reflector, each a piece of the AOF's known maximum, the utility
+    /// of the present range), with the plateau checks when `check_plateaus` is set, and what
+    /// the refinery found; `None` as [`AvoidCollision::objective`].
+    pub fn objective_refined(&self, ctx: &Ctx<'_>) -> Option<(IvpFunction, Refined)> {
+        let d = Distances::for_contact(
+            &self.base,
+            self.base.time_on_leg,
+            self.min_util_cpa_dist,
+            self.max_util_cpa_dist,
+        )?;
+        let (min, max) = (d.collision_distance, d.all_clear_distance);
+        let settings = self.refinery_settings();
+        let known = (0.0, Self::metric(d.engine.range(), min, max));
+        let (osx, osy, osh, osv) = self.base.os;
+        let (cnx, cny, cnh, cnv) = self.base.cn;
+        let geo = PairGeometry::of(&Cpx::new(cnx, cny, cnh, cnv, osx, osy, osh, osv));
+        let refinery = |dom: &ivp::Domain| {
+            RefineryCpa::new(
+                dom,
+                geo,
+                self.base.time_on_leg,
+                self.min_util_cpa_dist,
+                self.max_util_cpa_dist,
+                |h, s, t| distances_cpa(&d, h, s, t),
+            )
+        };
+        reflect_refined(ctx.domain, refinery, &settings, Some(known), |crs, spd| {
+            Self::metric(d.cpa(crs, spd), min, max)
+        })
+    }
+
+    /// The objective of a running iteration with the refinery's and the checks' postings
+    /// (MOOS `getAvoidIPF`): with `use_refinery`, [`AvoidCollision::objective_refined`] and
+    /// its checks ([`crate::refinery_cpa::post_avoid_checks`]), the reflector's warnings on
+    /// `AVD_DEBUG`; with `check_validity`, `VALID_CHECK_OK` (every grid point in one piece).
+    fn objective_checked(&self, ctx: &Ctx<'_>, out: &mut Out) -> Option<IvpFunction> {
+        let settings = self.refinery_settings();
+        let f = if settings.use_refinery {
+            let (f, info) = self.objective_refined(ctx)?;
+            post_avoid_checks(&info, settings.verbose, out);
+            if !info.warnings.is_empty() {
+                out.post("AVD_DEBUG", info.warnings);
+            }
+            f
+        } else {
+            self.objective(ctx)?
+        };
+        if settings.check_validity {
+            let ok = if covers_once(&f) { "true" } else { "false" };
+            out.post("VALID_CHECK_OK", ok);
+        }
+        Some(f)
     }
 
     fn post_range(&self, out: &mut Out) {
@@ -432,7 +512,7 @@ impl Behavior for AvoidCollision {
             return None;
         }
         self.base.relevance = relevance;
-        let Some(mut f) = self.objective(ctx) else {
+        let Some(mut f) = self.objective_checked(ctx, out) else {
             out.error("Unable to init AOF_AvoidCollision.");
             return None;
         };

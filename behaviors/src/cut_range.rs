@@ -24,6 +24,7 @@
 //! | max_patience | 85 | 0..100 | done |
 //! | time_on_leg | 15 | number >= 0 (the function needs >= 1) | done |
 //! | contact parameters | | see [`crate::contact`] | done |
+//! | use_refinery, check_plateaus, pcheck_thresh | not parameters | the C++ includes `RefineryCPA.h` but neither reads nor uses them: unknown, so MALCONFIG | done (refused) |
 //!
 //! | variable | when | format | coug |
 //! |---|---|---|---|

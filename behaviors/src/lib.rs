@@ -78,6 +78,7 @@ mod periodic_speed;
 mod periodic_surface;
 pub mod plat_model;
 mod pmodel_view;
+pub mod refinery_cpa;
 pub mod registry;
 mod shadow;
 mod station_keep;

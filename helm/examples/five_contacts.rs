@@ -1,6 +1,6 @@
 //! A deterministic driver for the helm's cost with contacts: the alpha helm plus a contact
 //! behaviour template (BHV_AvoidCollision, or BHV_AvdColregsV22 with a third argument
-//! `colregs`), driven to mid-survey, then `K` contacts (second argument, default 5) around
+//! `colregs`; a fourth argument `refinery` adds `use_refinery = true`), driven to mid-survey, then `K` contacts (second argument, default 5) around
 //! the vehicle, each reported every iteration and each with a spawned behaviour, then `N`
 //! measured iterations (first argument, default 2000).
 //!
@@ -9,6 +9,7 @@
 //! valgrind --tool=callgrind target/release/examples/five_contacts 2000 5
 //! valgrind --tool=callgrind target/release/examples/five_contacts 2000 0
 //! valgrind --tool=callgrind target/release/examples/five_contacts 2000 5 colregs
+//! valgrind --tool=callgrind target/release/examples/five_contacts 2000 5 avoid refinery
 //! ```
 //! The difference of the two instruction counts over `N` is the contacts' cost per iteration.
 
@@ -47,12 +48,18 @@ fn main() {
         Some("colregs") => "BHV_AvdColregsV22",
         Some(other) => panic!("third argument: `avoid` or `colregs`, not `{other}`"),
     };
+    let refinery = match args.next().as_deref() {
+        None => "",
+        Some("refinery") => "\n  use_refinery = true",
+        Some(other) => panic!("fourth argument: `refinery`, not `{other}`"),
+    };
+    let template = TEMPLATE.replacen('{', &format!("{{{refinery}"), 1);
     let moos = mission::moos::parse_moos(&SourceMap::from_text(
         "alpha.moos",
         &test_support::mission_text("s1_alpha/alpha.moos"),
     ));
     let bhv_text =
-        test_support::mission_text("s1_alpha/alpha.bhv") + "\nBehavior = " + kind + TEMPLATE;
+        test_support::mission_text("s1_alpha/alpha.bhv") + "\nBehavior = " + kind + &template;
     let bhv = mission::bhv::parse_bhv(&SourceMap::from_text("alpha.bhv", &bhv_text));
     let mut helm = Helm::from_mission(&moos.value, &bhv);
     assert!(

@@ -37,7 +37,9 @@ pub use coupler::{couple, couple_weighted};
 pub use domain::{Domain, DomainVar, Snap};
 pub use error::{DomainError, IvpError};
 pub use function::{DEFAULT_PWT, IvpFunction, Piece};
-pub use reflector::{Reflector, RegionBox, boxes_all_speeds, make_regions_apart};
+pub use reflector::{
+    DEFAULT_PCHECK_THRESH, Reflector, RegionBox, boxes_all_speeds, make_regions_apart,
+};
 pub use solver::{Decision, DecisionVar, Problem, Solver};
 pub use zaic::{
     BREAK_TIES, Combine, PeakComponent, SEGMENT_TOLERANCE, ZaicHdg, ZaicHeq, ZaicLeq, ZaicPeak,

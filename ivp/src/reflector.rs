@@ -1,8 +1,10 @@
 //! The reflector: samples any function of the decision variables into linear pieces
 //! (MOOS-IvP's `OF_Reflector` with uniform pieces and directed refinement).
 
+mod checks;
 mod refinery;
 
+pub use checks::DEFAULT_PCHECK_THRESH;
 pub use refinery::{RegionBox, boxes_all_speeds, make_regions_apart};
 
 use super::domain::Domain;

@@ -59,8 +59,8 @@
 //! | avoid_mode, avoid_submode | none | a mode (`headon`, `giveway`, `none`, `overtaking`, `standon`, `cpa`) and a submode that mode allows | done |
 //! | pwt_grade | linear | linear, quadratic, quasi (any case) | done |
 //! | contact_type_required | "" | any non-empty text (lowered); empty refused | done (kept; unused by the C++) |
-//! | no_alert_request, headon_only, verbose, use_refinery, check_plateaus, check_validity, post_status_info_on_idle, pts_port_turns_ok, can_disable | false, false, false, false, false, false, false, true, false | boolean | done; `use_refinery`/`check_plateaus` read, open: the plateau refinery and its PLATEAU_* postings; `can_disable` done: `BHV_ABLE_FILTER` disables, enables or expunges the behaviour (V19 and later; `on_disabled` as the C++ `onDisabledState`) |
-//! | pcheck_thresh | 0.001 | number >= 0 | done (read) |
+//! | no_alert_request, headon_only, verbose, use_refinery, check_plateaus, check_validity, post_status_info_on_idle, pts_port_turns_ok, can_disable | false, false, false, false, false, false, false, true, false | boolean | done; `use_refinery` (V19 and later): the catch-all CPA function (mode `cpa`, stand-on in extremis) gets the plateau regions of [`crate::refinery_cpa`] (MOOS `RefineryCPA` with the behaviour's `time_on_leg` and its unhalved `min_util_cpa_dist`, whatever time on leg the AOF uses), fitted as any piece since AOF_CPA does not know its extremes; `check_plateaus` with it: the checks and their postings; `verbose` and `check_validity` are read and change nothing (the C++ prints with `verbose` and never reads `check_validity`); `can_disable` done: `BHV_ABLE_FILTER` disables, enables or expunges the behaviour (V19 and later; `on_disabled` as the C++ `onDisabledState`) |
+//! | pcheck_thresh | 0.001 | number >= 0 | done: the checks' threshold (outside `[0, 1]` the reflector keeps 0.001; the C++ posts none of its warnings here) |
 //! | eval_tol | 120 (the time on leg) | number in [5, 300] | done |
 //! | velocity_filter | off | `min_spd=..,max_spd=..,pct=..`, valid ([`VelocityFilter`]) | done |
 //!
@@ -72,7 +72,9 @@
 //! | HEADON_DEBUG_<US>, XCN_BOW_DIST_<CN>, XCN_BOW_TURN_GAP_<CN> | mode checks, per-contact info | text, distances | done |
 //! | AOF_R16 | the reflector's messages | text | none: coug's reflector has no messages |
 //! | VIEW_SEGLIST | bearing lines configured | see [`crate::contact`] | done |
-//! | PLATEAU_CHECK_OK, BASIN_CHECK_OK, PLATEAU_LOGIC_CASE, PLATEAU_WORST_FAIL | `check_plateaus` with `use_refinery` | | open |
+//! | PLATEAU_CHECK_OK, BASIN_CHECK_OK | `check_plateaus` with `use_refinery`, each refined CPA function | `true`/`false` (on change): the plateau check fails (answers 1) whenever there is a region, AOF_CPA's extremes being unknown; the basin check holds (no basin) | done |
+//! | PLATEAU_LOGIC_CASE | as above | `aft`, `fore_in_rgam`, `fore_out_rgam` (repeatable) | done |
+//! | PLATEAU_WORST_FAIL | as above, per failed check (plateaus, then basins) | the worst difference (repeatable) | done |
 //!
 //! V26 evaluates its functions with MOOS-IvP's platform-model engine (`CPXEnginePM`): with
 //! the helm's Dubins model (`pmgen = alg=dubins`) the CPA and the passing and crossing
@@ -82,6 +84,10 @@
 //! works it out with its engine's model of the previous iteration (and the reverse engine
 //! with no model, ownship's turn from the origin), which coug does not copy.
 
+use crate::refinery_cpa::{
+    PairGeometry, RefineryCpa, RefinerySettings, distances_cpa, post_colregs_checks,
+    reflect_refined,
+};
 use ivp::{IvpFunction, ZaicHdg, ZaicSpd};
 
 use super::geometry::{Cpx, project_point, speed_in_heading, turn_gap};
@@ -904,10 +910,54 @@ impl AvdColregs {
                     return None;
                 };
                 let aof = AofCpa { d };
+                if self.flags[1] {
+                    return self.cpa_refined(domain, &aof, out);
+                }
                 reflect(domain, |c, s| aof.eval(c, s))
             }
             _ => None,
         }
+    }
+
+    /// The refinery parameters (`use_refinery`, `check_plateaus`, `check_validity`,
+    /// `pcheck_thresh`, `verbose`; V19 and later).
+    pub fn refinery_settings(&self) -> RefinerySettings {
+        RefinerySettings {
+            use_refinery: self.flags[1],
+            check_plateaus: self.flags[2],
+            check_validity: self.flags[3],
+            pcheck_thresh: self.pcheck_thresh,
+            verbose: self.flags[0],
+        }
+    }
+
+    /// The catch-all CPA function with `use_refinery` (MOOS `buildCPA_IPF`'s refinery):
+    /// `RefineryCPA` over the pair with the behaviour's time on leg and its own
+    /// `min/max_util_cpa_dist` (not halved), its plateau regions handed to the reflector
+    /// (fitted as any piece: AOF_CPA's extremes are not known), and with `check_plateaus`
+    /// the checks' postings ([`crate::refinery_cpa::post_colregs_checks`]).
+    fn cpa_refined(
+        &self,
+        domain: &ivp::Domain,
+        aof: &AofCpa,
+        out: &mut Out,
+    ) -> Option<IvpFunction> {
+        let rd = self.distances(self.base.time_on_leg)?;
+        let geo = PairGeometry::of(&self.geo());
+        let refinery = |dom: &ivp::Domain| {
+            RefineryCpa::new(
+                dom,
+                geo,
+                self.base.time_on_leg,
+                self.min_util_cpa_dist,
+                self.max_util_cpa_dist,
+                |h, s, t| distances_cpa(&rd, h, s, t),
+            )
+        };
+        let settings = self.refinery_settings();
+        let (f, info) = reflect_refined(domain, refinery, &settings, None, |c, s| aof.eval(c, s))?;
+        post_colregs_checks(&info, out);
+        Some(f)
     }
 
     /// Hold the course and speed of the mode's start (MOOS `buildStandOnIPF`).
