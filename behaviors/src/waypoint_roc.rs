@@ -111,8 +111,8 @@ mod tests {
 
     #[test]
     fn the_reflected_function_peaks_toward_the_point_at_the_desired_speed() {
-        let d = Domain::parse_specs(["course:0:359:360", "speed:0:4:41", "depth:0:100:101"])
-            .unwrap();
+        let d =
+            Domain::parse_specs(["course:0:359:360", "speed:0:4:41", "depth:0:100:101"]).unwrap();
         let f = objective(&d, (0.0, 0.0), (100.0, 100.0), 2.0).unwrap();
         assert_eq!(f.dim(), 2, "course and speed only");
         // 600 uniform pieces at most, then 500 more.

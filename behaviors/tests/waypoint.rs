@@ -270,14 +270,21 @@ fn ipf_type_roc_reflects_the_rate_of_closure_function() {
     let f = f.unwrap();
     // 600 uniform pieces at most (genUnifBox over 360 x 41), then 500 cut by smart
     // refinement; normalised to 0..100.
-    assert!(f.piece_count() > 1000 && f.piece_count() <= 1100, "{}", f.piece_count());
+    assert!(
+        f.piece_count() > 1000 && f.piece_count() <= 1100,
+        "{}",
+        f.piece_count()
+    );
     assert!((f.max_val() - 100.0).abs() < 1e-9 && f.min_val().abs() < 1e-9);
     // AOF_Waypoint: 100 toward the point (course 90) at 2 m/s; 20 straight away at 4 m/s;
     // the normalisation maps [20, 100] to [0, 100] (20 is the lowest value: away at top
     // speed). The pieces are planes through samples, so a few units of slack.
     let near = |c: u32, s: u32, want: f64, tol: f64| {
         let v = value(&f, c, s);
-        assert!((v - want).abs() <= tol, "course {c} speed {s}: {v} vs {want}");
+        assert!(
+            (v - want).abs() <= tol,
+            "course {c} speed {s}: {v} vs {want}"
+        );
     };
     near(90, 20, 100.0, 2.0);
     near(270, 40, 0.0, 2.0);
@@ -285,7 +292,10 @@ fn ipf_type_roc_reflects_the_rate_of_closure_function() {
     near(0, 0, 75.0, 3.0);
     let d = decide(&b.domain, &[("wpt", f.clone(), 100.0)]);
     let (crs, spd) = (d.get("course").unwrap(), d.get("speed").unwrap());
-    assert!((crs - 90.0).abs() <= 2.0 && (spd - 2.0).abs() <= 0.15, "{crs} {spd}");
+    assert!(
+        (crs - 90.0).abs() <= 2.0 && (spd - 2.0).abs() <= 0.15,
+        "{crs} {spd}"
+    );
 
     // The desired speed is the alternate one when in use; crs_spd_zaic_ratio does not apply.
     b.set("speed_alt", "1").unwrap();
@@ -294,7 +304,10 @@ fn ipf_type_roc_reflects_the_rate_of_closure_function() {
     let (g, _) = run_at(&mut b, 1.0, 0.0, 0.0, 0.0);
     let d = decide(&b.domain, &[("wpt", g.unwrap(), 100.0)]);
     let (crs, spd) = (d.get("course").unwrap(), d.get("speed").unwrap());
-    assert!((crs - 90.0).abs() <= 2.0 && (spd - 1.0).abs() <= 0.15, "{crs} {spd}");
+    assert!(
+        (crs - 90.0).abs() <= 2.0 && (spd - 1.0).abs() <= 0.15,
+        "{crs} {spd}"
+    );
     // Two builds give the same pieces (the queue's generator has a fixed seed).
     let (h, _) = run_at(&mut b, 2.0, 0.0, 0.0, 0.0);
     let (k, _) = run_at(&mut b, 3.0, 0.0, 0.0, 0.0);

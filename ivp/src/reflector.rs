@@ -118,9 +118,16 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
             "smart_amount" | "priority_amt" => self.smart.amount = parse_count(name, value)?,
             "smart_percent" => self.smart.percent = parse_count(name, value)?,
             "smart_thresh" => {
-                self.smart.thresh = value.parse::<f64>().ok().filter(|t| *t >= 0.0).ok_or_else(
-                    || IvpError::Reflector(format!("smart_thresh {value:?} is not a number >= 0")),
-                )?;
+                self.smart.thresh =
+                    value
+                        .parse::<f64>()
+                        .ok()
+                        .filter(|t| *t >= 0.0)
+                        .ok_or_else(|| {
+                            IvpError::Reflector(format!(
+                                "smart_thresh {value:?} is not a number >= 0"
+                            ))
+                        })?;
             }
             "queue_levels" => {
                 self.smart.levels = u32::try_from(parse_count(name, value)?)

@@ -36,7 +36,7 @@
 //! | resolved (X only) | false | boolean | done |
 //! | id | none | no white space (V21: set once) | done |
 //! | visual_hints | obstacle white/white/gray60 0.7, buffer_min gray60/dodger_blue/gray70 0.25, buffer_max gray60/dodger_blue/gray70 0.1, vertex sizes 1 | `obstacle_*`, `buffer_min_*`, `buffer_max_*` (`edge_color`, `vertex_color`, `vertex_size`, `fill_color`, `fill_transparency`); the C++ stops after the first colour or size of a list | done |
-//! | use_refinery | false | boolean | read; open: the refinery |
+//! | use_refinery | false | boolean | done: the plateau and basin regions of the older `RefineryObAvoid` ([`super::refinery::legacy_regions`]) |
 //! | rng_flag, cpa_flag (V21 only) | none | as BHV_AvoidObstacleV24 | done |
 //! | i_understand_this_behavior_is_deprecated | false | boolean | read |
 //!
@@ -437,11 +437,16 @@ impl AvoidObstacleX {
     pub fn objective(&self, ctx: &Ctx<'_>) -> Option<IvpFunction> {
         let domain = course_speed(ctx)?;
         let model = &self.model;
-        Reflector::new(&domain, |v: &[f64]| model.eval(v[0], v[1]))
+        let r = Reflector::new(&domain, |v: &[f64]| model.eval(v[0], v[1]))
             .set_param("uniform_piece", "course:3,speed:2")
-            .ok()?
-            .build()
-            .ok()
+            .ok()?;
+        let r = if self.use_refinery {
+            let regions = super::refinery::legacy_regions(&domain, model);
+            super::refinery::apply(r, regions)?
+        } else {
+            r
+        };
+        r.build().ok()
     }
 
     fn labels(&self) -> [String; 3] {

@@ -243,32 +243,12 @@ impl AvoidObstacleV24 {
         .set_param("uniform_piece", "course:3,speed:3")
         .ok()?;
         let r = if self.use_refinery {
-            self.refine(r, &domain)?
+            let regions = super::refinery::regions(&domain, &self.model, &self.side_lock);
+            super::refinery::apply(r, regions)?
         } else {
             r
         };
         r.build().ok()
-    }
-
-    /// `use_refinery`: the plateau and basin regions of [`super::refinery`], pieces of the
-    /// AOF's known extremes (0 and 100), the other pieces fitted within their samples.
-    fn refine<F: Fn(&[f64]) -> f64>(
-        &self,
-        mut r: Reflector<F>,
-        domain: &ivp::Domain,
-    ) -> Option<Reflector<F>> {
-        let (plateaus, basins) = super::refinery::regions(domain, &self.model, &self.side_lock);
-        for p in plateaus {
-            r = r.plateau_region(p).ok()?;
-        }
-        for b in basins {
-            r = r.basin_region(b).ok()?;
-        }
-        // The C++ Regressor keeps each fitted plane within its samples (`strict_range`, on
-        // by default): the function's extremes are then the regions' 0 and 100. (coug's
-        // unrefined objectives keep it off, as they always have.)
-        let r = r.set_param("strict_range", "true").ok()?;
-        Some(r.known_min_max(0.0, 100.0))
     }
 
     /// The `gut`, `mid` and `rim` polygons as posted with a function.

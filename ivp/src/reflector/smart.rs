@@ -342,8 +342,13 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
                     self.strict_range,
                     &mut lower.wts,
                 )?;
-                let err2 =
-                    fit.fit_moos(&upper, &self.domain, &self.func, self.strict_range, &mut wts)?;
+                let err2 = fit.fit_moos(
+                    &upper,
+                    &self.domain,
+                    &self.func,
+                    self.strict_range,
+                    &mut wts,
+                )?;
                 let new_ix = pieces.len();
                 let lower_point = is_point(&pieces[i].b);
                 let upper_point = is_point(&upper);
@@ -489,7 +494,11 @@ mod tests {
             .unwrap();
         assert_eq!(boxes(&none), boxes(&plain));
         // smart_percent: 34 % of 3 pieces is one piece (whole part), more than amount 0.
-        let pct = r().set_param("smart_percent", "34").unwrap().build().unwrap();
+        let pct = r()
+            .set_param("smart_percent", "34")
+            .unwrap()
+            .build()
+            .unwrap();
         assert_eq!(boxes(&pct), boxes(&one));
         // More pieces fit better: the largest error over the grid falls.
         let worst = |f: &IvpFunction| {
@@ -533,7 +542,10 @@ mod tests {
         assert!(r().set_param("smart_thresh", "-0.1").is_err());
         assert!(r().set_param("queue_levels", "0").is_err());
         // atoi: the whole part.
-        assert_eq!(r().set_param("smart_amount", "2.7").unwrap().smart.amount, 2);
+        assert_eq!(
+            r().set_param("smart_amount", "2.7").unwrap().smart.amount,
+            2
+        );
         assert_eq!(r().set_param("priority_amt", "3").unwrap().smart.amount, 3);
         let with_regions = r()
             .set_param("smart_amount", "2")
