@@ -263,16 +263,7 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
     /// [`Reflector::build`] through the list of boxes: the uniform grid, then each refine
     /// region's split.
     fn build_boxes(self, sizes: &[u32]) -> Result<IvpFunction, IvpError> {
-        let mut boxes = Vec::new();
-        partition(&self.universe(), sizes, &mut boxes);
-        for (region, piece) in &self.refine {
-            let piece = piece.clone().unwrap_or_else(|| vec![1; self.domain.len()]);
-            let mut next = Vec::with_capacity(boxes.len());
-            for b in boxes {
-                refine_box(b, region, &piece, &mut next);
-            }
-            boxes = next;
-        }
+        let boxes = self.directed_boxes(sizes);
         let mut f = IvpFunction::new(self.domain.clone());
         let mut fit = Fit::new(self.domain.len());
         for b in &boxes {
@@ -288,6 +279,22 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
 }
 
 impl<F: Fn(&[f64]) -> f64> Reflector<F> {
+    /// The uniform grid's boxes, then each refine region's split (stages 1 and 2 without
+    /// plateau or basin regions).
+    fn directed_boxes(&self, sizes: &[u32]) -> Vec<IxBox> {
+        let mut boxes = Vec::new();
+        partition(&self.universe(), sizes, &mut boxes);
+        for (region, piece) in &self.refine {
+            let piece = piece.clone().unwrap_or_else(|| vec![1; self.domain.len()]);
+            let mut next = Vec::with_capacity(boxes.len());
+            for b in boxes {
+                refine_box(b, region, &piece, &mut next);
+            }
+            boxes = next;
+        }
+        boxes
+    }
+
     /// [`Reflector::build`] without refinement: the pieces of the uniform grid, visited in
     /// `partition`'s order (the last variable fastest) through two reused bound buffers, so
     /// the pieces and weights are those of the general path without a box per piece.

@@ -416,21 +416,7 @@ impl AvoidObstacleX {
     }
 
     fn aof_problem(&self) -> Option<&'static str> {
-        let m = &self.model.m;
-        let (osx, osy) = m.pose.map(|p| (p.0, p.1)).unwrap_or_default();
-        if !m.set.contains("min_util_cpa") {
-            Some("min_util_cpa is not set")
-        } else if !m.set.contains("max_util_cpa") {
-            Some("max_util_cpa is not set")
-        } else if !m.set.contains("allowable_ttc") {
-            Some("allowable_ttc is not set")
-        } else if !m.gut.is_convex() {
-            Some("m_obstacle is not convex")
-        } else if m.gut.contains(osx, osy) {
-            Some("m_obstacle contains osx,osy")
-        } else {
-            None
-        }
+        self.model.m.aof_problem()
     }
 
     /// The objective function for the present model, before normalisation and weight.
@@ -496,17 +482,7 @@ impl Behavior for AvoidObstacleX {
         }
     }
 
-    fn domain_vars(&self) -> &'static [&'static str] {
-        &["course", "speed"]
-    }
-
-    fn default_name(&self) -> &'static str {
-        "avoid_obstacle"
-    }
-
-    fn is_constraint(&self) -> bool {
-        true
-    }
+    super::obstacle_identity!("avoid_obstacle");
 
     fn set_param(
         &mut self,
@@ -845,21 +821,7 @@ impl AvoidObstacle {
 }
 
 impl Behavior for AvoidObstacle {
-    fn kind(&self) -> &'static str {
-        "BHV_AvoidObstacle"
-    }
-
-    fn domain_vars(&self) -> &'static [&'static str] {
-        &["course", "speed"]
-    }
-
-    fn default_name(&self) -> &'static str {
-        "avoid_obstacles"
-    }
-
-    fn is_constraint(&self) -> bool {
-        true
-    }
+    super::obstacle_identity!("BHV_AvoidObstacle", "avoid_obstacles");
 
     fn set_param(
         &mut self,

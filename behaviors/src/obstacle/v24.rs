@@ -209,22 +209,10 @@ impl AvoidObstacleV24 {
 
     /// Why the objective function cannot be built (MOOS `AOF_AvoidObstacleV24::initialize`).
     fn aof_problem(&self) -> Option<&'static str> {
-        let m = &self.model;
-        let (osx, osy) = m.pose.map(|p| (p.0, p.1)).unwrap_or_default();
-        if m.pose.is_none() {
+        if self.model.pose.is_none() {
             Some("osx is not set")
-        } else if !m.set.contains("min_util_cpa") {
-            Some("min_util_cpa is not set")
-        } else if !m.set.contains("max_util_cpa") {
-            Some("max_util_cpa is not set")
-        } else if !m.set.contains("allowable_ttc") {
-            Some("allowable_ttc is not set")
-        } else if !m.gut.is_convex() {
-            Some("m_obstacle is not convex")
-        } else if m.gut.contains(osx, osy) {
-            Some("m_obstacle contains osx,osy")
         } else {
-            None
+            self.model.aof_problem()
         }
     }
 
@@ -313,21 +301,7 @@ impl AvoidObstacleV24 {
 }
 
 impl Behavior for AvoidObstacleV24 {
-    fn kind(&self) -> &'static str {
-        "BHV_AvoidObstacleV24"
-    }
-
-    fn domain_vars(&self) -> &'static [&'static str] {
-        &["course", "speed"]
-    }
-
-    fn default_name(&self) -> &'static str {
-        "avdobs"
-    }
-
-    fn is_constraint(&self) -> bool {
-        true
-    }
+    super::obstacle_identity!("BHV_AvoidObstacleV24", "avdobs");
 
     fn set_param(
         &mut self,

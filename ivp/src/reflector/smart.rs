@@ -24,7 +24,7 @@
 //! from a generator with a fixed seed, so a build gives the same pieces every time.
 //! Smart refinement with plateau or basin regions is refused (no caller uses it).
 
-use super::{Fit, IxBox, Reflector, partition, refine_box};
+use super::{Fit, IxBox, Reflector};
 use crate::domain::Domain;
 use crate::error::IvpError;
 use crate::function::IvpFunction;
@@ -308,16 +308,7 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
                 "smart refinement with plateau or basin regions is not supported".to_string(),
             ));
         }
-        let mut boxes = Vec::new();
-        partition(&self.universe(), sizes, &mut boxes);
-        for (region, piece) in &self.refine {
-            let piece = piece.clone().unwrap_or_else(|| vec![1; self.domain.len()]);
-            let mut next = Vec::with_capacity(boxes.len());
-            for b in boxes {
-                refine_box(b, region, &piece, &mut next);
-            }
-            boxes = next;
-        }
+        let boxes = self.directed_boxes(sizes);
         let mut fit = Fit::new(self.domain.len());
         let mut queue = PQueue::new(self.smart.levels);
         let mut pieces: Vec<Fitted> = Vec::with_capacity(boxes.len());
