@@ -38,7 +38,7 @@
 //! | reset_on_idle | | MOOS boolean | false | | yes | done |
 //! | ipf_type | ipf-type | zaic, zaic_spd, roc, rate_of_closure | zaic | any case (kept in lower case for `IPF_TYPE` and BHV_SETTINGS); any other value accepted and ignored | yes | done |
 //! | ipf_type = roc | rate_of_closure | | | | | done: `AOF_Waypoint` reflected with 600 uniform pieces and 500 by smart refinement ([`roc`]); the desired speed as for the ZAICs (speed_alt, end_spd); crs_spd_zaic_ratio unused |
-//! | crs_spd_zaic_ratio | patience | % course | 50 | in [1, 99] | yes | done |
+//! | crs_spd_zaic_ratio | patience | % course | 50 | in [1, 99]; the zaic types only (roc does not read it) | yes | done |
 //! | efficiency_measure | | all, off | off | any case | yes | done |
 //! | end_spd | | `slow_dist=..,stop_dist=..` | none | both given, slow > 0, stop >= 0, stop <= slow | yes | done |
 //! | visual_hints | | hints | see [`Waypoint::new`] | each hint a colour (`isColor`) or a number; stops at the first bad one | yes | done |
