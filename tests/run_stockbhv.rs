@@ -332,3 +332,29 @@ fn fixed_turn_flies_a_full_circle_and_reports_its_radius() {
     }
     assert!(turned_deg >= 355.0, "turned {turned_deg}");
 }
+
+#[test]
+fn waypoint_with_ipf_type_roc_reaches_its_points() {
+    let log = run("waypoint_roc.bhv", "ARRIVED = true", 400.0);
+    let xs = nums(&log, "NAV_X");
+    let ys = nums(&log, "NAV_Y");
+    assert!(xs.len() > 100 && xs.len() == ys.len());
+    // Each point is passed within the capture radius (5 m), or the slip radius (10 m) and
+    // moving away, as the waypoint engine counts it: the closest approach to each.
+    for (px, py) in [(0.0, 80.0), (60.0, 140.0), (0.0, 200.0)] {
+        let closest = xs
+            .iter()
+            .zip(&ys)
+            .map(|(x, y)| (x.1 - px).hypot(y.1 - py))
+            .fold(f64::INFINITY, f64::min);
+        assert!(closest <= 10.0, "closest to {px},{py}: {closest:.1} m");
+    }
+    let hits: Vec<f64> = nums(&log, "WPT_INDEX").into_iter().map(|p| p.1).collect();
+    assert_eq!(hits, [0.0, 1.0, 2.0], "the index moves through the points");
+    assert_eq!(texts(&log, "ARRIVED").len(), 1);
+    // The rate-of-closure function's best speed is the desired 2 m/s once under way.
+    let speeds = nums(&log, "DESIRED_SPEED");
+    let late: Vec<f64> = speeds.iter().filter(|p| p.0 > 20.0).map(|p| p.1).collect();
+    let mean = late.iter().sum::<f64>() / late.len() as f64;
+    assert!((mean - 2.0).abs() < 0.25, "mean desired speed {mean}");
+}

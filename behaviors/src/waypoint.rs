@@ -36,9 +36,9 @@
 //! | cycleflag, wptflag | | flag | none | `VAR=value` | yes | done |
 //! | wptflag_on_start | | MOOS boolean | false | | yes | done |
 //! | reset_on_idle | | MOOS boolean | false | | yes | done |
-//! | ipf_type | ipf-type | zaic, zaic_spd | zaic | any case; any other value accepted and ignored | yes | done |
-//! | ipf_type = roc | rate_of_closure | | | | | refused: needs the reflector's smart refinement (`RT_Smart`, `PQueue`, `RT_Evaluator`) over `AOF_Waypoint`, which the ivp crate lacks (MALCONFIG) |
-//! | crs_spd_zaic_ratio | patience | % course | 50 | in [1, 99] | yes | done |
+//! | ipf_type | ipf-type | zaic, zaic_spd, roc, rate_of_closure | zaic | any case (kept in lower case for `IPF_TYPE` and BHV_SETTINGS); any other value accepted and ignored | yes | done |
+//! | ipf_type = roc | rate_of_closure | | | | | done: `AOF_Waypoint` reflected with 600 uniform pieces and 500 by smart refinement ([`roc`]); the desired speed as for the ZAICs (speed_alt, end_spd); crs_spd_zaic_ratio unused |
+//! | crs_spd_zaic_ratio | patience | % course | 50 | in [1, 99]; the zaic types only (roc does not read it) | yes | done |
 //! | efficiency_measure | | all, off | off | any case | yes | done |
 //! | end_spd | | `slow_dist=..,stop_dist=..` | none | both given, slow > 0, stop >= 0, stop <= slow | yes | done |
 //! | visual_hints | | hints | see [`Waypoint::new`] | each hint a colour (`isColor`) or a number; stops at the first bad one | yes | done |
@@ -64,6 +64,9 @@
 //! | NI, NX, NY, PI, PX, PY, X, Y, IX | next/previous point and index (X, Y = PX, PY) | done |
 //! | CYCLES, CYCREM, WPTS_HIT, WPTS_REM, WPTS | progress counts | done |
 //! | CYC_DIST_TOGO, ALL_DIST_TOGO | distance to the end of the cycle / of all cycles (−1 if endless) | done |
+
+#[path = "waypoint_roc.rs"]
+pub mod roc;
 
 use geometry::spec::{parse_point, parse_waypoints};
 use geometry::{Attributes, Point, Polygon, SegList, Segment, ViewPoint, ViewPolygon, ViewSegList};
@@ -97,6 +100,10 @@ pub enum IpfType {
     Zaic,
     /// ZAIC_SPD on speed coupled with the same course function.
     ZaicSpd,
+    /// `roc`: the rate-of-closure function [`roc::AofWaypoint`], reflected.
+    Roc,
+    /// `rate_of_closure`: the same as [`IpfType::Roc`] under its long name.
+    RateOfClosure,
 }
 
 impl IpfType {
@@ -104,6 +111,8 @@ impl IpfType {
         match self {
             IpfType::Zaic => "zaic",
             IpfType::ZaicSpd => "zaic_spd",
+            IpfType::Roc => "roc",
+            IpfType::RateOfClosure => "rate_of_closure",
         }
     }
 }
@@ -1035,6 +1044,7 @@ impl Waypoint {
                         .ok()?;
                     z.extract().ok()?
                 }
+                IpfType::Roc | IpfType::RateOfClosure => return None,
             };
             self.spd_cache = Some(SpeedFunction {
                 ipf_type: self.ipf_type,
@@ -1049,11 +1059,15 @@ impl Waypoint {
     fn build_of(&mut self, ctx: &Ctx<'_>, out: &mut Out) -> Option<IvpFunction> {
         let (osx, osy, osh, _) = self.os;
         let speed = self.desired_speed(osx, osy);
+        let util = match self.ipf_type {
+            IpfType::Zaic => "ZAIC_PEAK",
+            IpfType::ZaicSpd => "ZAIC_SPD",
+            IpfType::Roc | IpfType::RateOfClosure => {
+                let pt = (self.trackpt.x, self.trackpt.y);
+                return roc::objective(ctx.domain, (osx, osy), pt, speed);
+            }
+        };
         if self.speed_of(ctx, speed).is_none() {
-            let util = match self.ipf_type {
-                IpfType::Zaic => "ZAIC_PEAK",
-                IpfType::ZaicSpd => "ZAIC_SPD",
-            };
             out.warning(
                 ctx.name,
                 &format!("Failure on the SPD ZAIC via {util} utility"),
@@ -1285,9 +1299,8 @@ impl Behavior for Waypoint {
             "ipf_type" | "ipf-type" => match v.to_ascii_lowercase().as_str() {
                 "zaic" => self.ipf_type = IpfType::Zaic,
                 "zaic_spd" => self.ipf_type = IpfType::ZaicSpd,
-                "roc" | "rate_of_closure" => {
-                    return bad("zaic or zaic_spd (coug does not support roc)");
-                }
+                "roc" => self.ipf_type = IpfType::Roc,
+                "rate_of_closure" => self.ipf_type = IpfType::RateOfClosure,
                 // The C++ accepts and ignores any other value.
                 _ => {}
             },

@@ -252,3 +252,93 @@ fn the_old_types_refuse_parameters_as_the_cpp_does() {
     assert!(set(&mut v21, "id", "b").is_err(), "V21 sets its id once");
     assert!(set(&mut v21, "rng_flag", "<x A=1").is_err());
 }
+
+/// The distance from `(x, y)` to the polygon's vertices as an open path (MOOS
+/// `XYSegList::dist_to_point`, which `XYPolygon` inherits).
+fn open_path_dist(p: &geometry::Polygon, x: f64, y: f64) -> f64 {
+    p.vertices()
+        .windows(2)
+        .map(|w| geometry::segment::dist_point_to_segment(w[0].x, w[0].y, w[1].x, w[1].y, x, y))
+        .fold(f64::INFINITY, f64::min)
+}
+
+fn region_of<'a>(f: &'a ivp::IvpFunction, lo: [u32; 2], hi: [u32; 2]) -> Option<ivp::Piece<'a>> {
+    f.pieces().find(|p| p.lo == lo && p.hi == hi)
+}
+
+#[test]
+fn x_and_v21_refinery_makes_the_older_plateaus_and_basins() {
+    // RefineryObAvoid from (-1, 0) heading north (passing the square to starboard, as in
+    // the first test): the major basin runs from the centre's bearing 2.29° (snapped up:
+    // 3) to θ_b = 180 (snapped down), value -5, every speed; the major plateau from the
+    // outer buffer's greatest bearing (up) round to its least (down), value 4; the minor
+    // plateau every course below the speed reaching the outer buffer in allowable_ttc
+    // (snapped down), value 2; the minor basin the square's bearings 348.69° (to (-5, 20))
+    // to 16.70° (to (5, 20)), each rounded up (349, 17), at speeds from the farther
+    // vertex's 20.88 m / 5 s = 4.18 m/s (up: past the top, so 4.0) to the top, value -4.
+    // makeRegionsApart keeps the larger magnitude's overlaps.
+    for v21 in [false, true] {
+        let mut x = if v21 {
+            AvoidObstacleX::v21()
+        } else {
+            AvoidObstacleX::new()
+        };
+        configure(&mut x, &MODEL);
+        set(&mut x, "use_refinery", "true").unwrap();
+        let (f, out) = run(&mut x, &at(-1.0, 0.0, 0.0));
+        let f = f.unwrap_or_else(|| panic!("{out:?}"));
+        assert_eq!((x.model.m.passing_side, x.model.theta_b), ("star", 180.0));
+        let (cmin, cmax) = (x.model.cpa_bng.0, x.model.cpa_bng.1);
+        assert!(cmax < 90.0 && cmin > 270.0, "{cmin} {cmax}");
+        let (p_lo, p_hi) = (cmax.ceil() as u32, cmin.floor() as u32);
+        let spd_top = (open_path_dist(&x.model.m.rim, -1.0, 0.0) / 5.0 * 10.0).floor() as u32;
+        assert!((20..=26).contains(&spd_top), "{spd_top}");
+        let constant = |lo: [u32; 2], hi: [u32; 2], want: f64| {
+            let p = region_of(&f, lo, hi).unwrap_or_else(|| panic!("{lo:?} {hi:?}"));
+            assert_eq!(p.wts, [0.0, 0.0, want], "{lo:?} {hi:?}");
+        };
+        // The major basin, whole; the plateau beyond it.
+        constant([3, 0], [180, 40], 0.0);
+        constant([181, 0], [p_hi, 40], 100.0);
+        assert!(
+            (3..=180).contains(&p_lo),
+            "the plateau begins in the basin: {p_lo}"
+        );
+        // The minor basin at the top speed: its west part whole, its east part outside
+        // the major basin.
+        constant([349, 40], [359, 40], 0.0);
+        constant([0, 40], [2, 40], 0.0);
+        // The minor plateau: every course below spd_top outside the regions above: courses
+        // 0-2 and those between the plateau and the minor basin.
+        let slow = f
+            .pieces()
+            .filter(|p| p.wts == [0.0, 0.0, 100.0] && p.hi[1] == spd_top && p.lo[1] == 0)
+            .count();
+        assert!(slow >= 2, "minor plateau pieces");
+        for c in [0u32, 1, 2, p_hi + 1, 340] {
+            assert_eq!(f.eval(&[c, spd_top]).unwrap(), 100.0, "course {c}");
+            assert_eq!(x.model.eval(f64::from(c), f64::from(spd_top) / 10.0), 100.0);
+        }
+        // The regions hold where the AOF is flat: 100 on the plateaus; the basins take
+        // the AOF's known minimum 0, where AOF_AvoidObstacleX gives 20 in the major basin
+        // (the C++ does too) and 0 in the minor one (4 m/s is below the 4.18 that the
+        // AOF's own 20 needs; the ray meets the square: CPA 0).
+        for (c, s, aof) in [
+            (90u32, 20u32, 20.0),
+            (180, 0, 20.0),
+            (0, 40, 0.0),
+            (355, 40, 0.0),
+        ] {
+            assert_eq!(x.model.eval(f64::from(c), f64::from(s) / 10.0), aof);
+            assert_eq!(f.eval(&[c, s]).unwrap(), 0.0);
+        }
+        for (c, s) in [(200u32, 40u32), (p_hi, 10)] {
+            assert_eq!(x.model.eval(f64::from(c), f64::from(s) / 10.0), 100.0);
+        }
+        for c in 0..360u32 {
+            for s in 0..41u32 {
+                assert_eq!(f.pieces().filter(|p| p.contains(&[c, s])).count(), 1);
+            }
+        }
+    }
+}

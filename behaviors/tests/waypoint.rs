@@ -254,11 +254,69 @@ fn ipf_type_zaic_spd_shapes_the_speed_function() {
     let (f, _) = run_at(&mut b, 1.0, 0.0, 0.0, 90.0);
     assert!((value(&f.unwrap(), 90, 0) - 50.0).abs() < 1e-6);
 
-    // Any other value is accepted and ignored, as the C++ does; roc is refused (MALCONFIG).
+    // Any other value is accepted and ignored, as the C++ does.
     b.set("ipf_type", "gaussian").unwrap();
     assert_eq!(macro_of(&b, "IPF_TYPE"), "zaic");
-    assert!(is_bad(b.set("ipf_type", "roc")));
-    assert!(is_bad(b.set("ipf_type", "rate_of_closure")));
+    b.set("ipf_type", "ROC").unwrap();
+    assert_eq!(macro_of(&b, "IPF_TYPE"), "roc");
+    b.set("ipf_type", "Rate_Of_Closure").unwrap();
+    assert_eq!(macro_of(&b, "IPF_TYPE"), "rate_of_closure");
+}
+
+#[test]
+fn ipf_type_roc_reflects_the_rate_of_closure_function() {
+    let mut b = wpt(&[("points", "100,0"), ("speed", "2"), ("ipf_type", "roc")]);
+    let (f, _) = run_at(&mut b, 0.0, 0.0, 0.0, 0.0);
+    let f = f.unwrap();
+    // 600 uniform pieces at most (genUnifBox over 360 x 41), then 500 cut by smart
+    // refinement; normalised to 0..100.
+    assert!(
+        f.piece_count() > 1000 && f.piece_count() <= 1100,
+        "{}",
+        f.piece_count()
+    );
+    assert!((f.max_val() - 100.0).abs() < 1e-9 && f.min_val().abs() < 1e-9);
+    // AOF_Waypoint: 100 toward the point (course 90) at 2 m/s; 20 straight away at 4 m/s;
+    // the normalisation maps [20, 100] to [0, 100] (20 is the lowest value: away at top
+    // speed). The pieces are planes through samples, so a few units of slack.
+    let near = |c: u32, s: u32, want: f64, tol: f64| {
+        let v = value(&f, c, s);
+        assert!(
+            (v - want).abs() <= tol,
+            "course {c} speed {s}: {v} vs {want}"
+        );
+    };
+    near(90, 20, 100.0, 2.0);
+    near(270, 40, 0.0, 2.0);
+    // Standing still: 80 -> 75 after normalisation.
+    near(0, 0, 75.0, 3.0);
+    let d = decide(&b.domain, &[("wpt", f.clone(), 100.0)]);
+    let (crs, spd) = (d.get("course").unwrap(), d.get("speed").unwrap());
+    assert!(
+        (crs - 90.0).abs() <= 2.0 && (spd - 2.0).abs() <= 0.15,
+        "{crs} {spd}"
+    );
+
+    // The desired speed is the alternate one when in use; crs_spd_zaic_ratio does not apply.
+    b.set("speed_alt", "1").unwrap();
+    b.set("use_alt_speed", "true").unwrap();
+    b.set("crs_spd_zaic_ratio", "90").unwrap();
+    let (g, _) = run_at(&mut b, 1.0, 0.0, 0.0, 0.0);
+    let d = decide(&b.domain, &[("wpt", g.unwrap(), 100.0)]);
+    let (crs, spd) = (d.get("course").unwrap(), d.get("speed").unwrap());
+    assert!(
+        (crs - 90.0).abs() <= 2.0 && (spd - 1.0).abs() <= 0.15,
+        "{crs} {spd}"
+    );
+    // Two builds give the same pieces (the queue's generator has a fixed seed).
+    let (h, _) = run_at(&mut b, 2.0, 0.0, 0.0, 0.0);
+    let (k, _) = run_at(&mut b, 3.0, 0.0, 0.0, 0.0);
+    let boxes = |f: &IvpFunction| {
+        f.pieces()
+            .map(|p| (p.lo.to_vec(), p.hi.to_vec()))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(boxes(&h.unwrap()), boxes(&k.unwrap()));
 }
 
 #[test]

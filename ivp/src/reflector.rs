@@ -1,8 +1,10 @@
 //! The reflector: samples any function of the decision variables into linear pieces
-//! (MOOS-IvP's `OF_Reflector` with uniform pieces and directed refinement).
+//! (MOOS-IvP's `OF_Reflector` with uniform pieces, directed refinement and smart
+//! refinement).
 
 mod checks;
 mod refinery;
+mod smart;
 
 pub use checks::DEFAULT_PCHECK_THRESH;
 pub use refinery::{RegionBox, boxes_all_speeds, make_regions_apart};
@@ -24,7 +26,9 @@ struct IxBox {
 /// Stages, as in MOOS-IvP: (1) a uniform partition (`uniform_piece` sizes or
 /// `uniform_amount` pieces), less the plateau and basin regions, which become pieces of
 /// their own ([`Reflector::plateau_region`], [`RegionBox`]); (2) directed refinement: each `refine_region` (in domain values)
-/// is cut out of the pieces it overlaps and re-partitioned with its `refine_piece` sizes.
+/// is cut out of the pieces it overlaps and re-partitioned with its `refine_piece` sizes;
+/// (3) smart refinement (`smart_amount`, `smart_percent`, `smart_thresh`, `queue_levels`):
+/// the worst-fitted pieces are cut in two, see `reflector/smart.rs`.
 /// Each piece is fitted from the function's values at its corners (and its centre point when
 /// it has one): the slope per dimension is the mean rise over run of corner pairs, the
 /// intercept the mean residual; `strict_range` keeps each plane within the sampled values.
@@ -52,6 +56,8 @@ pub struct Reflector<F> {
     basins: Vec<RegionBox>,
     /// The function's known minimum and maximum, for plateau and basin pieces.
     known: Option<(f64, f64)>,
+    /// Smart refinement (`smart.rs`).
+    smart: smart::Smart,
 }
 
 impl<F: Fn(&[f64]) -> f64> Reflector<F> {
@@ -68,6 +74,7 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
             plateaus: Vec::new(),
             basins: Vec::new(),
             known: None,
+            smart: smart::Smart::default(),
         }
     }
 
@@ -75,7 +82,10 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
     /// piece sizes in grid points), `uniform_amount` (`"100"`), `refine_region`
     /// (`"x:0:10,y:-5:5"`, in domain values; variables not named span their range),
     /// `refine_piece` (sizes, pairs with the latest region), `strict_range` and `normalize`
-    /// (`true`/`false`).
+    /// (`true`/`false`); smart refinement: `smart_amount` (alias `priority_amt`) and
+    /// `smart_percent` (pieces to add, numbers >= 0, their whole part taken), `smart_thresh`
+    /// (the fit error at or below which a piece is not cut, >= 0), `queue_levels` (>= 1,
+    /// default 8).
     pub fn set_param(mut self, name: &str, value: &str) -> Result<Self, IvpError> {
         let value = value.trim();
         match name.trim().to_ascii_lowercase().as_str() {
@@ -106,6 +116,28 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
                         ));
                     }
                 }
+            }
+            "smart_amount" | "priority_amt" => self.smart.amount = parse_count(name, value)?,
+            "smart_percent" => self.smart.percent = parse_count(name, value)?,
+            "smart_thresh" => {
+                self.smart.thresh =
+                    value
+                        .parse::<f64>()
+                        .ok()
+                        .filter(|t| *t >= 0.0)
+                        .ok_or_else(|| {
+                            IvpError::Reflector(format!(
+                                "smart_thresh {value:?} is not a number >= 0"
+                            ))
+                        })?;
+            }
+            "queue_levels" => {
+                self.smart.levels = u32::try_from(parse_count(name, value)?)
+                    .ok()
+                    .filter(|&n| n >= 1)
+                    .ok_or_else(|| {
+                        IvpError::Reflector(format!("queue_levels {value:?} is not >= 1"))
+                    })?;
             }
             "strict_range" => self.strict_range = parse_bool(value)?,
             "normalize" => self.normalize = parse_bool(value)?,
@@ -176,28 +208,38 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
         }
     }
 
-    /// Sizes giving at least `amount` uniform pieces: halve the widest piece until enough.
+    /// Piece sizes giving at most `amount` uniform pieces (MOOS `genUnifBox`): one more
+    /// piece at a time along the variable whose pieces are longest, a variable maxed out
+    /// once one more piece there would pass the amount or give more pieces than points.
     fn sizes_for_amount(&self, amount: usize) -> Vec<u32> {
-        let pts: Vec<u32> = self.domain.vars().iter().map(|v| v.points()).collect();
-        let mut sizes = pts.clone();
-        let count = |s: &[u32]| -> u64 {
-            s.iter()
-                .zip(&pts)
-                .map(|(&s, &p)| u64::from(p.div_ceil(s)))
-                .product()
-        };
-        while count(&sizes) < amount as u64 {
-            let Some((k, _)) = sizes
-                .iter()
-                .enumerate()
-                .filter(|(_, s)| **s > 1)
-                .max_by_key(|(_, s)| **s)
-            else {
-                break;
-            };
-            sizes[k] = sizes[k].div_ceil(2);
+        let pts: Vec<f64> = self
+            .domain
+            .vars()
+            .iter()
+            .map(|v| f64::from(v.points()))
+            .collect();
+        let d = pts.len();
+        let mut pcs = vec![1.0f64; d];
+        let mut maxed = vec![false; d];
+        while !maxed.iter().all(|&m| m) {
+            let mut grow = 0;
+            let mut biggest = 0.0;
+            for k in 0..d {
+                if !maxed[k] && pts[k] / pcs[k] > biggest {
+                    biggest = pts[k] / pcs[k];
+                    grow = k;
+                }
+            }
+            pcs[grow] += 1.0;
+            if pcs.iter().product::<f64>() > amount as f64 {
+                maxed[grow] = true;
+                pcs[grow] -= 1.0;
+            }
+            if pcs[grow] >= pts[grow] {
+                maxed[grow] = true;
+            }
         }
-        sizes
+        (0..d).map(|k| (pts[k] / pcs[k]).ceil() as u32).collect()
     }
 
     /// Builds the function.
@@ -209,7 +251,9 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
             Some(s) => s.clone(),
             None => self.sizes_for_amount(self.uniform_amount),
         };
-        if !self.plateaus.is_empty() || !self.basins.is_empty() {
+        if self.smart.active() {
+            self.build_smart(&sizes)
+        } else if !self.plateaus.is_empty() || !self.basins.is_empty() {
             self.build_with_regions(&sizes)
         } else if self.refine.is_empty() {
             self.build_uniform(&sizes)
@@ -221,16 +265,7 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
     /// [`Reflector::build`] through the list of boxes: the uniform grid, then each refine
     /// region's split.
     fn build_boxes(self, sizes: &[u32]) -> Result<IvpFunction, IvpError> {
-        let mut boxes = Vec::new();
-        partition(&self.universe(), sizes, &mut boxes);
-        for (region, piece) in &self.refine {
-            let piece = piece.clone().unwrap_or_else(|| vec![1; self.domain.len()]);
-            let mut next = Vec::with_capacity(boxes.len());
-            for b in boxes {
-                refine_box(b, region, &piece, &mut next);
-            }
-            boxes = next;
-        }
+        let boxes = self.directed_boxes(sizes);
         let mut f = IvpFunction::new(self.domain.clone());
         let mut fit = Fit::new(self.domain.len());
         for b in &boxes {
@@ -246,6 +281,22 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
 }
 
 impl<F: Fn(&[f64]) -> f64> Reflector<F> {
+    /// The uniform grid's boxes, then each refine region's split (stages 1 and 2 without
+    /// plateau or basin regions).
+    fn directed_boxes(&self, sizes: &[u32]) -> Vec<IxBox> {
+        let mut boxes = Vec::new();
+        partition(&self.universe(), sizes, &mut boxes);
+        for (region, piece) in &self.refine {
+            let piece = piece.clone().unwrap_or_else(|| vec![1; self.domain.len()]);
+            let mut next = Vec::with_capacity(boxes.len());
+            for b in boxes {
+                refine_box(b, region, &piece, &mut next);
+            }
+            boxes = next;
+        }
+        boxes
+    }
+
     /// [`Reflector::build`] without refinement: the pieces of the uniform grid, visited in
     /// `partition`'s order (the last variable fastest) through two reused bound buffers, so
     /// the pieces and weights are those of the general path without a box per piece.
@@ -285,6 +336,15 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
             }
         }
     }
+}
+
+/// A count as the C++ reads it: a number >= 0, its whole part taken (`atoi`).
+fn parse_count(name: &str, v: &str) -> Result<usize, IvpError> {
+    v.parse::<f64>()
+        .ok()
+        .filter(|n| n.is_finite() && *n >= 0.0)
+        .map(|n| n as usize)
+        .ok_or_else(|| IvpError::Reflector(format!("{name} {v:?} is not a number >= 0")))
 }
 
 fn parse_bool(v: &str) -> Result<bool, IvpError> {
@@ -364,14 +424,15 @@ impl Fit {
         }
     }
 
-    fn fit<F: Fn(&[f64]) -> f64>(
+    /// Evaluates `func` at the box's corners into `vals` (corner `c` has `hi` in the
+    /// dimensions whose bit is set in `c`), leaving `x` in `self.x`.
+    fn sample_corners<F: Fn(&[f64]) -> f64>(
         &mut self,
         lo: &[u32],
         hi: &[u32],
         domain: &Domain,
         func: &F,
-        strict: bool,
-    ) -> Result<(&[f64], f64), IvpError> {
+    ) -> Result<(), IvpError> {
         let d = lo.len();
         let mut x = std::mem::take(&mut self.x);
         x.resize(d, 0.0);
@@ -390,7 +451,14 @@ impl Fit {
             }
             self.vals.push(v);
         }
-        for k in 0..d {
+        self.x = x;
+        Ok(())
+    }
+
+    /// The slope per dimension: the mean rise over run of the corner pairs along it.
+    fn corner_slopes(&mut self, lo: &[u32], hi: &[u32]) {
+        let corners = 1usize << lo.len();
+        for k in 0..lo.len() {
             let run = f64::from(hi[k] - lo[k]);
             if run == 0.0 {
                 self.slopes[k] = 0.0;
@@ -404,6 +472,21 @@ impl Fit {
             }
             self.slopes[k] = rise / (corners / 2) as f64 / run;
         }
+    }
+
+    fn fit<F: Fn(&[f64]) -> f64>(
+        &mut self,
+        lo: &[u32],
+        hi: &[u32],
+        domain: &Domain,
+        func: &F,
+        strict: bool,
+    ) -> Result<(&[f64], f64), IvpError> {
+        let d = lo.len();
+        self.sample_corners(lo, hi, domain, func)?;
+        self.corner_slopes(lo, hi);
+        let corners = 1usize << d;
+        let mut x = std::mem::take(&mut self.x);
         let plane = |ix: &[u32], slopes: &[f64]| -> f64 {
             ix.iter().zip(slopes).map(|(&i, &s)| s * f64::from(i)).sum()
         };

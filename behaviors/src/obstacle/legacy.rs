@@ -36,7 +36,7 @@
 //! | resolved (X only) | false | boolean | done |
 //! | id | none | no white space (V21: set once) | done |
 //! | visual_hints | obstacle white/white/gray60 0.7, buffer_min gray60/dodger_blue/gray70 0.25, buffer_max gray60/dodger_blue/gray70 0.1, vertex sizes 1 | `obstacle_*`, `buffer_min_*`, `buffer_max_*` (`edge_color`, `vertex_color`, `vertex_size`, `fill_color`, `fill_transparency`); the C++ stops after the first colour or size of a list | done |
-//! | use_refinery | false | boolean | read; open: the refinery |
+//! | use_refinery | false | boolean | done: the plateau and basin regions of the older `RefineryObAvoid` ([`super::refinery::legacy_regions`]) |
 //! | rng_flag, cpa_flag (V21 only) | none | as BHV_AvoidObstacleV24 | done |
 //! | i_understand_this_behavior_is_deprecated | false | boolean | read |
 //!
@@ -416,32 +416,23 @@ impl AvoidObstacleX {
     }
 
     fn aof_problem(&self) -> Option<&'static str> {
-        let m = &self.model.m;
-        let (osx, osy) = m.pose.map(|p| (p.0, p.1)).unwrap_or_default();
-        if !m.set.contains("min_util_cpa") {
-            Some("min_util_cpa is not set")
-        } else if !m.set.contains("max_util_cpa") {
-            Some("max_util_cpa is not set")
-        } else if !m.set.contains("allowable_ttc") {
-            Some("allowable_ttc is not set")
-        } else if !m.gut.is_convex() {
-            Some("m_obstacle is not convex")
-        } else if m.gut.contains(osx, osy) {
-            Some("m_obstacle contains osx,osy")
-        } else {
-            None
-        }
+        self.model.m.aof_problem()
     }
 
     /// The objective function for the present model, before normalisation and weight.
     pub fn objective(&self, ctx: &Ctx<'_>) -> Option<IvpFunction> {
         let domain = course_speed(ctx)?;
         let model = &self.model;
-        Reflector::new(&domain, |v: &[f64]| model.eval(v[0], v[1]))
+        let r = Reflector::new(&domain, |v: &[f64]| model.eval(v[0], v[1]))
             .set_param("uniform_piece", "course:3,speed:2")
-            .ok()?
-            .build()
-            .ok()
+            .ok()?;
+        let r = if self.use_refinery {
+            let regions = super::refinery::legacy_regions(&domain, model);
+            super::refinery::apply(r, regions)?
+        } else {
+            r
+        };
+        r.build().ok()
     }
 
     fn labels(&self) -> [String; 3] {
@@ -491,17 +482,7 @@ impl Behavior for AvoidObstacleX {
         }
     }
 
-    fn domain_vars(&self) -> &'static [&'static str] {
-        &["course", "speed"]
-    }
-
-    fn default_name(&self) -> &'static str {
-        "avoid_obstacle"
-    }
-
-    fn is_constraint(&self) -> bool {
-        true
-    }
+    super::obstacle_identity!("avoid_obstacle");
 
     fn set_param(
         &mut self,
@@ -840,21 +821,7 @@ impl AvoidObstacle {
 }
 
 impl Behavior for AvoidObstacle {
-    fn kind(&self) -> &'static str {
-        "BHV_AvoidObstacle"
-    }
-
-    fn domain_vars(&self) -> &'static [&'static str] {
-        &["course", "speed"]
-    }
-
-    fn default_name(&self) -> &'static str {
-        "avoid_obstacles"
-    }
-
-    fn is_constraint(&self) -> bool {
-        true
-    }
+    super::obstacle_identity!("BHV_AvoidObstacle", "avoid_obstacles");
 
     fn set_param(
         &mut self,

@@ -23,6 +23,32 @@ pub mod v24;
 
 use std::collections::{BTreeMap, BTreeSet};
 
+/// The `Behavior` methods every obstacle type answers alike: its course and speed, its
+/// default name (the C++ constructor's), a constraint; with two arguments its type name too.
+macro_rules! obstacle_identity {
+    ($name:literal) => {
+        fn domain_vars(&self) -> &'static [&'static str] {
+            &["course", "speed"]
+        }
+
+        fn default_name(&self) -> &'static str {
+            $name
+        }
+
+        fn is_constraint(&self) -> bool {
+            true
+        }
+    };
+    ($kind:literal, $name:literal) => {
+        fn kind(&self) -> &'static str {
+            $kind
+        }
+
+        $crate::obstacle::obstacle_identity!($name);
+    };
+}
+pub(crate) use obstacle_identity;
+
 use geometry::{Attributes, Polygon, ViewPolygon};
 
 use crate::behavior::{Ctx, Out, ParamError};
@@ -569,6 +595,27 @@ impl Default for ShipModel {
 }
 
 impl ShipModel {
+    /// Why an avoidance objective cannot be built (the AOFs' `initialize` checks): a
+    /// utility distance or `allowable_ttc` not set, the obstacle not convex or around
+    /// ownship.
+    pub fn aof_problem(&self) -> Option<&'static str> {
+        let m = self;
+        let (osx, osy) = m.pose.map(|p| (p.0, p.1)).unwrap_or_default();
+        if !m.set.contains("min_util_cpa") {
+            Some("min_util_cpa is not set")
+        } else if !m.set.contains("max_util_cpa") {
+            Some("max_util_cpa is not set")
+        } else if !m.set.contains("allowable_ttc") {
+            Some("allowable_ttc is not set")
+        } else if !m.gut.is_convex() {
+            Some("m_obstacle is not convex")
+        } else if m.gut.contains(osx, osy) {
+            Some("m_obstacle contains osx,osy")
+        } else {
+            None
+        }
+    }
+
     /// `pwt_inner_dist`: >= 0; `pwt_outer_dist` and `completed_dist` raised to it, an error
     /// when they were set explicitly.
     pub fn set_pwt_inner(&mut self, v: f64) -> Result<(), &'static str> {

@@ -17,10 +17,26 @@
 //! | overlaps | `makeRegionsApart` over all of them, then split by sign | done ([`ivp::make_regions_apart`]) |
 //! | in the reflector | each region added as `plateau_region` / `basin_region` (their values reset to 1 / −1), pieces of the AOF's known 100 / 0 | done |
 
-use ivp::{Domain, RegionBox, boxes_all_speeds, make_regions_apart};
+//!
+//! # Conformance with RefineryObAvoid (the X family's, MOOS-IvP a2a9b716)
+//!
+//! BHV_AvoidObstacleX and BHV_AvoidObstacleV21 use the older `RefineryObAvoid` over the older
+//! `ObShipModel` ([`legacy_regions`], [`super::legacy::LegacyModel`]): different regions,
+//! the same reflector stage.
+//!
+//! | step | C++ | coug |
+//! |---|---|---|
+//! | major plateau | `buildBoxesSpdAll` from the outer buffer's greatest bearing (snapped up) round to its least (snapped down), value 4 | done |
+//! | major basin | passing `port`: `theta_b` (snapped down) to the obstacle centre's bearing (snapped up); `star`: centre (up) to `theta_b` (down); none otherwise; value −5 | done |
+//! | minor plateau | with `allowable_ttc` > 0: every course at speeds from the domain's lowest to the speed reaching the outer buffer in `allowable_ttc` (its vertices as an open path, `dist_to_point`; snapped down), `buildBoxHdgAll`, value 2 | done |
+//! | minor basin | with `allowable_ttc` > 0: the obstacle's bearing span (each end snapped by `getHdgSnappedProx`, which rounds up) at speeds from the one covering the farther of its two vertices in `allowable_ttc` (snapped up) to the top, `buildBoxesHdgSpd`, value −4 | done |
+//! | overlaps, reflector | as V24's | done |
+
+use ivp::{Domain, Reflector, RegionBox, Snap, boxes_all_speeds, make_regions_apart};
 
 use super::ShipModel;
 use super::geom::ray_cpa;
+use super::legacy::LegacyModel;
 
 /// The heading spans the refinery reads from the ship model (MOOS
 /// `ObShipModelV24::updateBngExtremes`): −1 when a span is not found.
@@ -131,12 +147,6 @@ pub fn regions(
     side_lock: &str,
 ) -> (Vec<RegionBox>, Vec<RegionBox>) {
     let ext = BngExtremes::of(model);
-    let with = |mut v: Vec<RegionBox>, plat: i32| {
-        for r in &mut v {
-            r.plat = plat;
-        }
-        v
-    };
     let mut all = Vec::new();
     if ext.rim_min >= 0.0 && ext.rim_max >= 0.0 && ext.rim_unhit > 0 {
         all.extend(with(boxes_all_speeds(domain, ext.rim_min, ext.rim_max), 4));
@@ -154,8 +164,154 @@ pub fn regions(
         let (hmin, hmax) = (geometry::angle_360(osh + a), geometry::angle_360(osh + b));
         all.extend(with(boxes_all_speeds(domain, hmin, hmax), -3));
     }
-    let apart = make_regions_apart(all);
-    apart.into_iter().partition(|r| r.plat >= 0)
+    apart(all)
+}
+
+/// `regions` with plateau value `plat`.
+fn with(mut v: Vec<RegionBox>, plat: i32) -> Vec<RegionBox> {
+    for r in &mut v {
+        r.plat = plat;
+    }
+    v
+}
+
+/// The regions made disjoint, then split into plateaus and basins.
+fn apart(all: Vec<RegionBox>) -> (Vec<RegionBox>, Vec<RegionBox>) {
+    make_regions_apart(all)
+        .into_iter()
+        .partition(|r| r.plat >= 0)
+}
+
+/// Hands the regions to the reflector as plateaus and basins, the AOF's known extremes (0
+/// and 100) their values; the other pieces are fitted within their samples: the C++
+/// `Regressor`'s `strict_range`, on by default (coug's unrefined objectives keep it off, as
+/// they always have).
+pub fn apply<F: Fn(&[f64]) -> f64>(
+    mut r: Reflector<F>,
+    (plateaus, basins): (Vec<RegionBox>, Vec<RegionBox>),
+) -> Option<Reflector<F>> {
+    for p in plateaus {
+        r = r.plateau_region(p).ok()?;
+    }
+    for b in basins {
+        r = r.basin_region(b).ok()?;
+    }
+    let r = r.set_param("strict_range", "true").ok()?;
+    Some(r.known_min_max(0.0, 100.0))
+}
+
+/// A value of `var` snapped onto its grid (MOOS `getDiscreteVal` then `getVal`).
+fn snapped(var: &ivp::DomainVar, v: f64, snap: Snap) -> f64 {
+    var.value(var.index(v, snap))
+}
+
+/// A heading in `[0, 360)` for the snaps below.
+fn hdg360(h: f64) -> f64 {
+    if (0.0..360.0).contains(&h) {
+        h
+    } else {
+        geometry::angle_360(h)
+    }
+}
+
+/// MOOS `RefineryObAvoid::getHdgSnappedHigh`: 0 past the domain's last course.
+fn hdg_snapped_high(crs: &ivp::DomainVar, h: f64) -> f64 {
+    let h = hdg360(h);
+    if h > crs.high() {
+        return 0.0;
+    }
+    snapped(crs, h, Snap::Ceil)
+}
+
+/// MOOS `getHdgSnappedProx`: past the last course, that course within half a step, else
+/// 0; otherwise rounded up (as the C++ does, despite the name).
+fn hdg_snapped_prox(crs: &ivp::DomainVar, h: f64) -> f64 {
+    let h = hdg360(h);
+    if h > crs.high() {
+        return if h - crs.high() > crs.delta() / 2.0 {
+            0.0
+        } else {
+            crs.high()
+        };
+    }
+    snapped(crs, h, Snap::Ceil)
+}
+
+/// MOOS `buildBoxHdgAll`: every course at speeds `smin..smax` (snapped inward; the nearest to
+/// their mean when that leaves none); `None` when `smin > smax`.
+fn boxes_all_courses(domain: &Domain, smin: f64, smax: f64) -> Option<RegionBox> {
+    if smin > smax {
+        return None;
+    }
+    let b = RegionBox {
+        lo: vec![0; domain.len()],
+        hi: domain.vars().iter().map(|v| v.points() - 1).collect(),
+        plat: 0,
+    };
+    Some(with_speeds(domain, b, smin, smax))
+}
+
+/// The speed span of a region set to `smin..smax`, snapped inward (the nearest to their mean
+/// when that leaves none), as `buildBoxHdgAll` and `buildBoxesHdgSpd` do.
+fn with_speeds(domain: &Domain, mut b: RegionBox, smin: f64, smax: f64) -> RegionBox {
+    let Some(si) = domain.index_of("speed") else {
+        return b;
+    };
+    let spd = &domain.vars()[si];
+    let (mut lo, mut hi) = (spd.index(smin, Snap::Ceil), spd.index(smax, Snap::Floor));
+    if lo > hi {
+        lo = spd.index((smin + smax) / 2.0, Snap::Nearest);
+        hi = lo;
+    }
+    b.lo[si] = lo;
+    b.hi[si] = hi;
+    b
+}
+
+/// The plateau and basin regions of BHV_AvoidObstacleX / V21 (MOOS
+/// `RefineryObAvoid::setRefineRegions`) over the course and speed of `domain`.
+pub fn legacy_regions(domain: &Domain, model: &LegacyModel) -> (Vec<RegionBox>, Vec<RegionBox>) {
+    let (Some(crs), Some(spd)) = (domain.get("course"), domain.get("speed")) else {
+        return (Vec::new(), Vec::new());
+    };
+    let m = &model.m;
+    let low = |h| snapped(crs, hdg360(h), Snap::Floor);
+    let high = |h| hdg_snapped_high(crs, h);
+    let mut plats = with(
+        boxes_all_speeds(domain, high(model.cpa_bng.1), low(model.cpa_bng.0)),
+        4,
+    );
+    let mut basins = Vec::new();
+    let (theta_b, cent) = (model.theta_b, m.obcent_bng);
+    let major_basin = match m.passing_side {
+        "port" => Some((low(theta_b), high(cent))),
+        "star" => Some((high(cent), low(theta_b))),
+        _ => None,
+    };
+    if let Some((bmin, bmax)) = major_basin {
+        basins.extend(with(boxes_all_speeds(domain, bmin, bmax), -5));
+    }
+    let ttc = m.allowable_ttc;
+    if ttc > 0.0 {
+        let (osx, osy, _, _) = m.pose.unwrap_or_default();
+        let minspd = super::geom::dist_to_open_path(&m.rim, osx, osy) / ttc;
+        let smax = snapped(spd, minspd, Snap::Floor);
+        if let Some(mut b) = boxes_all_courses(domain, spd.low(), smax) {
+            b.plat = 2;
+            plats.push(b);
+        }
+        let (hmin, hmax) = (
+            hdg_snapped_prox(crs, model.bng.0),
+            hdg_snapped_prox(crs, model.bng.1),
+        );
+        let smin = snapped(spd, model.bng.2.max(model.bng.3) / ttc, Snap::Ceil);
+        let hdg_spd = boxes_all_speeds(domain, hmin, hmax)
+            .into_iter()
+            .map(|b| with_speeds(domain, b, smin, spd.high()));
+        basins.extend(with(hdg_spd.collect(), -4));
+    }
+    plats.append(&mut basins);
+    apart(plats)
 }
 
 #[cfg(test)]

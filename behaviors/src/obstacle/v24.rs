@@ -209,22 +209,10 @@ impl AvoidObstacleV24 {
 
     /// Why the objective function cannot be built (MOOS `AOF_AvoidObstacleV24::initialize`).
     fn aof_problem(&self) -> Option<&'static str> {
-        let m = &self.model;
-        let (osx, osy) = m.pose.map(|p| (p.0, p.1)).unwrap_or_default();
-        if m.pose.is_none() {
+        if self.model.pose.is_none() {
             Some("osx is not set")
-        } else if !m.set.contains("min_util_cpa") {
-            Some("min_util_cpa is not set")
-        } else if !m.set.contains("max_util_cpa") {
-            Some("max_util_cpa is not set")
-        } else if !m.set.contains("allowable_ttc") {
-            Some("allowable_ttc is not set")
-        } else if !m.gut.is_convex() {
-            Some("m_obstacle is not convex")
-        } else if m.gut.contains(osx, osy) {
-            Some("m_obstacle contains osx,osy")
         } else {
-            None
+            self.model.aof_problem()
         }
     }
 
@@ -243,32 +231,12 @@ impl AvoidObstacleV24 {
         .set_param("uniform_piece", "course:3,speed:3")
         .ok()?;
         let r = if self.use_refinery {
-            self.refine(r, &domain)?
+            let regions = super::refinery::regions(&domain, &self.model, &self.side_lock);
+            super::refinery::apply(r, regions)?
         } else {
             r
         };
         r.build().ok()
-    }
-
-    /// `use_refinery`: the plateau and basin regions of [`super::refinery`], pieces of the
-    /// AOF's known extremes (0 and 100), the other pieces fitted within their samples.
-    fn refine<F: Fn(&[f64]) -> f64>(
-        &self,
-        mut r: Reflector<F>,
-        domain: &ivp::Domain,
-    ) -> Option<Reflector<F>> {
-        let (plateaus, basins) = super::refinery::regions(domain, &self.model, &self.side_lock);
-        for p in plateaus {
-            r = r.plateau_region(p).ok()?;
-        }
-        for b in basins {
-            r = r.basin_region(b).ok()?;
-        }
-        // The C++ Regressor keeps each fitted plane within its samples (`strict_range`, on
-        // by default): the function's extremes are then the regions' 0 and 100. (coug's
-        // unrefined objectives keep it off, as they always have.)
-        let r = r.set_param("strict_range", "true").ok()?;
-        Some(r.known_min_max(0.0, 100.0))
     }
 
     /// The `gut`, `mid` and `rim` polygons as posted with a function.
@@ -333,21 +301,7 @@ impl AvoidObstacleV24 {
 }
 
 impl Behavior for AvoidObstacleV24 {
-    fn kind(&self) -> &'static str {
-        "BHV_AvoidObstacleV24"
-    }
-
-    fn domain_vars(&self) -> &'static [&'static str] {
-        &["course", "speed"]
-    }
-
-    fn default_name(&self) -> &'static str {
-        "avdobs"
-    }
-
-    fn is_constraint(&self) -> bool {
-        true
-    }
+    super::obstacle_identity!("BHV_AvoidObstacleV24", "avdobs");
 
     fn set_param(
         &mut self,
