@@ -15,6 +15,13 @@
 //!   `max = max_util_cpa_dist`; sampled by the reflector in 3 × 3 pieces, normalised to
 //!   0..100 and weighted by `relevance · pwt`.
 //!
+//! With `use_plat_model = true` the CPA of each course is the platform-model engine's
+//! (MOOS `CPXEnginePM`, [`crate::colregs::plat_cpx::PlatCpx::eval_cpa`]): along the helm's
+//! model's turn to that course (the holonomic model's ray from ownship, or the Dubins spokes
+//! then the ray). The engine gets the iteration's model once the relevance is positive, after
+//! the contact's update, whose contact state therefore reads the previous iteration's model
+//! ([`crate::contact`]).
+//!
 //! # Conformance with BHV_AvoidCollision (MOOS-IvP a2a9b716)
 //!
 //! The contact parameters (`contact`, `decay`, filters, bearing lines, ...) are those of
@@ -147,12 +154,14 @@ impl AvoidCollision {
     /// The objective function for the present geometry (before the weight), or `None` if
     /// the reflector fails.
     pub fn objective(&self, ctx: &Ctx<'_>) -> Option<IvpFunction> {
-        let d = Distances::for_contact(
+        let mut d = Distances::for_contact(
             &self.base,
             self.base.time_on_leg,
             self.min_util_cpa_dist,
             self.max_util_cpa_dist,
         )?;
+        // `use_plat_model`: the CPA along the model handed to the engine this iteration.
+        d.pm = self.base.plat_cpx(self.base.engine_model.clone());
         let (min, max) = (d.collision_distance, d.all_clear_distance);
         reflect(ctx.domain, |crs, spd| {
             Self::metric(d.cpa(crs, spd), min, max)
@@ -432,6 +441,9 @@ impl Behavior for AvoidCollision {
             return None;
         }
         self.base.relevance = relevance;
+        // The platform-model engine gets this iteration's model (after the update, so the
+        // contact state read the previous one, as the C++).
+        self.base.hand_model(ctx);
         let Some(mut f) = self.objective(ctx) else {
             out.error("Unable to init AOF_AvoidCollision.");
             return None;
