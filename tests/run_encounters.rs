@@ -135,3 +135,32 @@ fn overtaking() {
 fn three_way() {
     encounter("three_way.fleet", 3);
 }
+
+/// BHV_AvoidCollision with `use_plat_model = true` on the helm's Dubins platform model
+/// (`pmgen`, 10 m turns): its CPA follows the model's turn to each course, and the head-on and
+/// crossing encounter keeps every closest approach above `min_util_cpa_dist`; the turns change
+/// the encounter (the closest approach differs from the default engine's: 29.27 m against
+/// 30.17 m when measured; head-on, 31.05 m against 30.01 m).
+#[test]
+fn use_plat_model_on_the_dubins_model_keeps_clear() {
+    let pm = [
+        "PLAT_MODEL=true",
+        "PMGEN=alg=dubins#radius=10#spoke_degs=10",
+    ];
+    for fleet in ["crossing.fleet"] {
+        let stem = fleet.trim_end_matches(".fleet");
+        let on = approaches(&run(&format!("enc-{stem}-pm"), fleet, &pm));
+        let og = approaches(&run(&format!("enc-{stem}-og"), fleet, &[pm[1]]));
+        for ((pair, d, t), (_, d0, _)) in on.iter().zip(&og) {
+            eprintln!(
+                "{fleet} {pair}: closest approach {d:.2} m at t={t:.2} with use_plat_model, \
+                 {d0:.2} m without"
+            );
+            assert!(
+                *d > MIN_UTIL_CPA,
+                "{fleet} {pair}: {d:.2} m at t={t:.2} is within min_util_cpa_dist"
+            );
+        }
+        assert_ne!(on, og, "{fleet}: use_plat_model changed nothing");
+    }
+}

@@ -40,7 +40,7 @@
 //! | time_on_leg | 120 | number >= 0 | done |
 //! | contact_type_required | none | as `match_type` | done |
 //! | no_alert_request | false | boolean | done |
-//! | collision_depth | 0 | > 0 and a `depth` domain | refused when it would apply: open: AOF_AvoidCollisionDepth |
+//! | collision_depth | 0 | `atof` > 0 and a `depth` domain, else refused; at or below the depth domain's high end accepted and ignored | done: the objective becomes [`crate::aof_avoid_collision_depth`]'s over course, speed and depth |
 //! | use_refinery, check_plateaus, check_validity, verbose | false | boolean | read; open: the plateau refinery (pieces stay uniform) |
 //! | pcheck_thresh | 0.001 | number >= 0 | read |
 //! | can_disable | false | boolean | done: `BHV_ABLE_FILTER` disables, enables or expunges it (`contact::ContactBase::apply_able_filter`); disabled, it erases its bearing line and completes as when idle |
@@ -49,11 +49,13 @@
 //! |---|---|---|---|
 //! | BCM_ALERT_REQUEST | helm start, for a spawning template with an `updates` variable, unless `no_alert_request` | `id=<name>, on_flag=<UPDATES>=name=$[VNAME] # contact=$[VNAME],alert_range=<outer>, cpa_range=<completed>` then the filters | done |
 //! | AVD_DEBUG | each running iteration with a contact | `In getRelevance: <range, 5 decimals>` | done |
+//! | AVD_STATUS | each depth-aware function (`collision_depth`) | the reflector's warnings (empty) | done |
 //! | RANGE_AVD_<contact>, CLSG_SPD_AVD_<contact> | `post_per_contact_info` | range (whole metres beyond 10 m), closing speed to 0.1 | done |
 //! | VIEW_SEGLIST | bearing lines configured | see [`crate::contact`] | done |
 
 use ivp::IvpFunction;
 
+use crate::aof_avoid_collision_depth::AofAvoidCollisionDepth;
 use crate::behavior::{Behavior, Ctx, Out, ParamError, add_vars};
 use crate::common::Common;
 use crate::contact::ContactBase;
@@ -94,6 +96,9 @@ pub struct AvoidCollision {
     pub roc_max_dampen: f64,
     /// `no_alert_request`.
     pub no_alert_request: bool,
+    /// `collision_depth`, m (0: none): the depth-aware objective
+    /// ([`crate::aof_avoid_collision_depth`]) instead of the course-speed one.
+    pub collision_depth: f64,
     update_var: String,
     spawnable: bool,
     flags: [bool; 6],
@@ -120,6 +125,7 @@ impl AvoidCollision {
             roc_max_heighten: 2.0,
             roc_max_dampen: -2.0,
             no_alert_request: false,
+            collision_depth: 0.0,
             update_var: String::new(),
             spawnable: false,
             flags: [false; 6],
@@ -166,6 +172,24 @@ impl AvoidCollision {
         reflect(ctx.domain, |crs, spd| {
             Self::metric(d.cpa(crs, spd), min, max)
         })
+    }
+
+    /// The depth-aware objective for the present geometry (MOOS `getAvoidDepthIPF`, see
+    /// [`crate::aof_avoid_collision_depth`]), before the weight; `None` without a course,
+    /// speed and depth domain.
+    pub fn depth_objective(&self, ctx: &Ctx<'_>) -> Option<IvpFunction> {
+        let (_, _, osh, osv) = self.base.os;
+        AofAvoidCollisionDepth::new(
+            ctx.domain,
+            self.base.cpa_engine(),
+            osh,
+            osv,
+            self.base.time_on_leg,
+            self.min_util_cpa_dist,
+            self.max_util_cpa_dist,
+            self.collision_depth,
+        )?
+        .build(ctx.domain)
     }
 
     fn post_range(&self, out: &mut Out) {
@@ -227,7 +251,11 @@ impl Behavior for AvoidCollision {
     }
 
     fn domain_vars(&self) -> &'static [&'static str] {
-        &["course", "speed"]
+        if self.collision_depth > 0.0 {
+            &["course", "speed", "depth"]
+        } else {
+            &["course", "speed"]
+        }
     }
 
     fn default_name(&self) -> &'static str {
@@ -281,14 +309,20 @@ impl Behavior for AvoidCollision {
                 self.base.set_param("match_type", value).unwrap_or(Ok(()))
             }
             "collision_depth" => {
+                // MOOS: > 0 with a depth domain; at or below the domain's deepest it is
+                // accepted and changes nothing.
                 let d = geometry::atof(value);
-                let high = ctx.domain.get("depth").map(|v| v.high());
-                match high {
-                    Some(h) if d > 0.0 && d >= h => Ok(()),
+                match ctx.domain.get("depth").map(|v| v.high()) {
+                    Some(h) if d > 0.0 => {
+                        if d < h {
+                            self.collision_depth = d;
+                        }
+                        Ok(())
+                    }
                     _ => Err(ParamError::bad(
                         param,
                         value,
-                        "a depth at or below the domain's deepest (coug has no depth-aware avoidance yet)",
+                        "a depth > 0 with a depth decision variable",
                     )),
                 }
             }
@@ -444,7 +478,17 @@ impl Behavior for AvoidCollision {
         // The platform-model engine gets this iteration's model (after the update, so the
         // contact state read the previous one, as the C++).
         self.base.hand_model(ctx);
-        let Some(mut f) = self.objective(ctx) else {
+        let f = if self.collision_depth > 0.0 {
+            let f = self.depth_objective(ctx);
+            if f.is_some() {
+                // MOOS posts the reflector's warnings each time (none from coug's).
+                out.post("AVD_STATUS", "");
+            }
+            f
+        } else {
+            self.objective(ctx)
+        };
+        let Some(mut f) = f else {
             out.error("Unable to init AOF_AvoidCollision.");
             return None;
         };
