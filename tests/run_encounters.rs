@@ -20,6 +20,14 @@ const MIN_UTIL_CPA: f64 = 10.0;
 /// Runs `fleet` in lockstep, deployed, until every vehicle's transit is complete; returns
 /// each community's track `(time, x, y)` by name.
 fn run(name: &str, fleet: &str, macros: &[&str]) -> BTreeMap<String, Vec<(f64, f64, f64)>> {
+    run_logs(name, fleet, macros)
+        .iter()
+        .map(|(m, log)| (m.clone(), track(log)))
+        .collect()
+}
+
+/// Runs `fleet` as [`run`] does; returns each community's alog by name.
+fn run_logs(name: &str, fleet: &str, macros: &[&str]) -> BTreeMap<String, alog::Alog> {
     let path = project_mission(&format!("encounters/{fleet}"));
     let macros: Vec<String> = macros.iter().map(|m| m.to_string()).collect();
     let loaded = LoadedFleet::from_file(&path, &macros, &[])
@@ -46,14 +54,13 @@ fn run(name: &str, fleet: &str, macros: &[&str]) -> BTreeMap<String, Vec<(f64, f
         ),
         "{fleet}: {summary}"
     );
-    let mut tracks = BTreeMap::new();
+    let mut logs = BTreeMap::new();
     for (member, r) in &report.members {
         let alog = find_alog(&dir.join("logs").join(member));
         assert_eq!(Path::new(&r.alog), alog);
-        let log = parse(&std::fs::read(&alog).unwrap());
-        tracks.insert(member.clone(), track(&log));
+        logs.insert(member.clone(), parse(&std::fs::read(&alog).unwrap()));
     }
-    tracks
+    logs
 }
 
 /// The closest approach of two tracks: at each position record of `a`, the distance to
@@ -163,4 +170,36 @@ fn use_plat_model_on_the_dubins_model_keeps_clear() {
         }
         assert_ne!(on, og, "{fleet}: use_plat_model changed nothing");
     }
+}
+
+/// BHV_AvoidCollision with `collision_depth` (`head_on_depth.fleet`: abe with a depth domain
+/// and `collision_depth = 4`, ben at the surface without avoidance): abe keeps close to its
+/// line and passes under ben, below the collision depth when they are closest, then
+/// returns to the surface.
+#[test]
+fn collision_depth_passes_under_a_surface_contact() {
+    let logs = run_logs("enc-head_on_depth", "head_on_depth.fleet", &[]);
+    let tracks: BTreeMap<String, Vec<(f64, f64, f64)>> =
+        logs.iter().map(|(m, l)| (m.clone(), track(l))).collect();
+    let (d, t) = closest(&tracks["abe"], &tracks["ben"]);
+    let abe_depth = depths(&logs["abe"]);
+    let at = |t: f64| {
+        abe_depth
+            .iter()
+            .take_while(|s| s.0 <= t)
+            .last()
+            .map_or(0.0, |s| s.1)
+    };
+    let deepest = abe_depth.iter().map(|s| s.1).fold(0.0, f64::max);
+    eprintln!(
+        "head_on_depth: closest {d:.2} m at t={t:.2}, abe at {:.2} m then (deepest {deepest:.2} m)",
+        at(t)
+    );
+    assert!(
+        at(t) >= 4.0,
+        "abe at {:.2} m when closest ({d:.2} m at t={t:.2})",
+        at(t)
+    );
+    let last = abe_depth.last().expect("NAV_DEPTH logged").1;
+    assert!(last < 1.0, "back near the surface at the end: {last:.2} m");
 }
