@@ -20,7 +20,7 @@
 //! |---|---|
 //! | `pmgen` settings and their MALCONFIG rule | done |
 //! | the model each decision iteration, handed to every behaviour | done |
-//! | `TURN_RATE`: [`PmGen::turn_rate`] (the mean heading change between the headings of the last 5 s, degrees, negative to port; a double, on every decision iteration that made a model, whatever the `alg`, right after the ledger summary and before the decision's postings, never filtered as a duplicate) | done (`helm/tests/turn_rate.rs`) |
+//! | `TURN_RATE`: [`PmGen::turn_rate`] (the mean heading change between the headings of the last 5 s, degrees, negative to port; a double, on every decision iteration that made a model, whatever the `alg`, after the ledger summary (and a pending `IVPHELM_RESTARTED`), before the decision's postings, never filtered as a duplicate) | done (`helm/tests/turn_rate.rs`) |
 //! | a VIEW of the model | none in pHelmIvP (BHV_PModelView draws a turn) |
 
 use std::collections::VecDeque;
