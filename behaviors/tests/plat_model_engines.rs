@@ -142,7 +142,10 @@ fn contact_state_of_the_engines_hand_worked() {
     assert!((s.rate_of_closure - 20.0 / range).abs() < 1e-9);
     // Bearing rate: the tangent 90° to port of the bearing 56.31° is 326.31°; ownship's speed
     // along it cos(33.69°) · −1 = −30/36.056; × −360 / (2π · 36.056): +1.3223 °/s.
-    let want = -(30.0 / range) * (-360.0 / (2.0 * range * 3.14159265359));
+    // The C++'s 12-digit pi (MPI).
+    #[allow(clippy::approx_constant)]
+    let mpi = 3.14159265359;
+    let want = -(30.0 / range) * (-360.0 / (2.0 * range * mpi));
     assert!((s.bearing_rate - want).abs() < 1e-9, "{}", s.bearing_rate);
     assert!((s.os_curr_cpa_dist - 30.0).abs() < 1e-9);
     // Ownship heading north passes the contact's beam line (y = 20) to its port side.
