@@ -20,6 +20,14 @@ const MIN_UTIL_CPA: f64 = 10.0;
 /// Runs `fleet` in lockstep, deployed, until every vehicle's transit is complete; returns
 /// each community's track `(time, x, y)` by name.
 fn run(name: &str, fleet: &str, macros: &[&str]) -> BTreeMap<String, Vec<(f64, f64, f64)>> {
+    run_logs(name, fleet, macros)
+        .iter()
+        .map(|(m, log)| (m.clone(), track(log)))
+        .collect()
+}
+
+/// Runs `fleet` as [`run`] does; returns each community's alog by name.
+fn run_logs(name: &str, fleet: &str, macros: &[&str]) -> BTreeMap<String, alog::Alog> {
     let path = project_mission(&format!("encounters/{fleet}"));
     let macros: Vec<String> = macros.iter().map(|m| m.to_string()).collect();
     let loaded = LoadedFleet::from_file(&path, &macros, &[])
@@ -46,14 +54,13 @@ fn run(name: &str, fleet: &str, macros: &[&str]) -> BTreeMap<String, Vec<(f64, f
         ),
         "{fleet}: {summary}"
     );
-    let mut tracks = BTreeMap::new();
+    let mut logs = BTreeMap::new();
     for (member, r) in &report.members {
         let alog = find_alog(&dir.join("logs").join(member));
         assert_eq!(Path::new(&r.alog), alog);
-        let log = parse(&std::fs::read(&alog).unwrap());
-        tracks.insert(member.clone(), track(&log));
+        logs.insert(member.clone(), parse(&std::fs::read(&alog).unwrap()));
     }
-    tracks
+    logs
 }
 
 /// The closest approach of two tracks: at each position record of `a`, the distance to
@@ -134,4 +141,65 @@ fn overtaking() {
 #[test]
 fn three_way() {
     encounter("three_way.fleet", 3);
+}
+
+/// BHV_AvoidCollision with `use_plat_model = true` on the helm's Dubins platform model
+/// (`pmgen`, 10 m turns): its CPA follows the model's turn to each course, and the head-on and
+/// crossing encounter keeps every closest approach above `min_util_cpa_dist`; the turns change
+/// the encounter (the closest approach differs from the default engine's: 29.27 m against
+/// 30.17 m when measured; head-on, 31.05 m against 30.01 m).
+#[test]
+fn use_plat_model_on_the_dubins_model_keeps_clear() {
+    let pm = [
+        "PLAT_MODEL=true",
+        "PMGEN=alg=dubins#radius=10#spoke_degs=10",
+    ];
+    for fleet in ["crossing.fleet"] {
+        let stem = fleet.trim_end_matches(".fleet");
+        let on = approaches(&run(&format!("enc-{stem}-pm"), fleet, &pm));
+        let og = approaches(&run(&format!("enc-{stem}-og"), fleet, &[pm[1]]));
+        for ((pair, d, t), (_, d0, _)) in on.iter().zip(&og) {
+            eprintln!(
+                "{fleet} {pair}: closest approach {d:.2} m at t={t:.2} with use_plat_model, \
+                 {d0:.2} m without"
+            );
+            assert!(
+                *d > MIN_UTIL_CPA,
+                "{fleet} {pair}: {d:.2} m at t={t:.2} is within min_util_cpa_dist"
+            );
+        }
+        assert_ne!(on, og, "{fleet}: use_plat_model changed nothing");
+    }
+}
+
+/// BHV_AvoidCollision with `collision_depth` (`head_on_depth.fleet`: abe with a depth domain
+/// and `collision_depth = 4`, ben at the surface without avoidance): abe keeps close to its
+/// line and passes under ben, below the collision depth when they are closest, then
+/// returns to the surface.
+#[test]
+fn collision_depth_passes_under_a_surface_contact() {
+    let logs = run_logs("enc-head_on_depth", "head_on_depth.fleet", &[]);
+    let tracks: BTreeMap<String, Vec<(f64, f64, f64)>> =
+        logs.iter().map(|(m, l)| (m.clone(), track(l))).collect();
+    let (d, t) = closest(&tracks["abe"], &tracks["ben"]);
+    let abe_depth = depths(&logs["abe"]);
+    let at = |t: f64| {
+        abe_depth
+            .iter()
+            .take_while(|s| s.0 <= t)
+            .last()
+            .map_or(0.0, |s| s.1)
+    };
+    let deepest = abe_depth.iter().map(|s| s.1).fold(0.0, f64::max);
+    eprintln!(
+        "head_on_depth: closest {d:.2} m at t={t:.2}, abe at {:.2} m then (deepest {deepest:.2} m)",
+        at(t)
+    );
+    assert!(
+        at(t) >= 4.0,
+        "abe at {:.2} m when closest ({d:.2} m at t={t:.2})",
+        at(t)
+    );
+    let last = abe_depth.last().expect("NAV_DEPTH logged").1;
+    assert!(last < 1.0, "back near the surface at the end: {last:.2} m");
 }

@@ -15,6 +15,13 @@
 //!   `max = max_util_cpa_dist`; sampled by the reflector in 3 × 3 pieces, normalised to
 //!   0..100 and weighted by `relevance · pwt`.
 //!
+//! With `use_plat_model = true` the CPA of each course is the platform-model engine's
+//! (MOOS `CPXEnginePM`, [`crate::colregs::plat_cpx::PlatCpx::eval_cpa`]): along the helm's
+//! model's turn to that course (the holonomic model's ray from ownship, or the Dubins spokes
+//! then the ray). The engine gets the iteration's model once the relevance is positive, after
+//! the contact's update, whose contact state therefore reads the previous iteration's model
+//! ([`crate::contact`]).
+//!
 //! # Conformance with BHV_AvoidCollision (MOOS-IvP a2a9b716)
 //!
 //! The contact parameters (`contact`, `decay`, filters, bearing lines, ...) are those of
@@ -33,7 +40,7 @@
 //! | time_on_leg | 120 | number >= 0 | done |
 //! | contact_type_required | none | as `match_type` | done |
 //! | no_alert_request | false | boolean | done |
-//! | collision_depth | 0 | > 0 and a `depth` domain | refused when it would apply: open: AOF_AvoidCollisionDepth |
+//! | collision_depth | 0 | `atof` > 0 and a `depth` domain, else refused; at or below the depth domain's high end accepted and ignored | done: the objective becomes [`crate::aof_avoid_collision_depth`]'s over course, speed and depth |
 //! | use_refinery | false | boolean (`setBooleanOnString`) | done: the plateau regions of [`crate::refinery_cpa`] (MOOS `RefineryCPA`, time on leg `time_on_leg`, the unhalved `min_util_cpa_dist`) cut out of the 3 × 3 pieces, each a piece at the AOF's known maximum (the utility of the present range) |
 //! | check_plateaus | false | boolean | done: with `use_refinery`, every point of every plateau checked against that maximum (`OF_Reflector::checkPlateaus`) |
 //! | check_validity | false | boolean | done: `VALID_CHECK_OK` (every grid point in exactly one piece, `PDMap::valid`), with or without the refinery |
@@ -50,11 +57,13 @@
 //! | PLATEAU_LOGIC_CASE | as PLATEAU_CHECK_OK | `aft`, `fore_in_rgam`, `fore_out_rgam` (repeatable) | done |
 //! | PLATEAU_WORST_FAIL | `use_refinery`, `check_plateaus`, a plateau point off the maximum by more than `pcheck_thresh` | the worst difference (repeatable) | done |
 //! | VALID_CHECK_OK | `check_validity` | `true`/`false` (on change) | done |
+//! | AVD_STATUS | each depth-aware function (`collision_depth`) | the reflector's warnings (empty) | done |
 //! | RANGE_AVD_<contact>, CLSG_SPD_AVD_<contact> | `post_per_contact_info` | range (whole metres beyond 10 m), closing speed to 0.1 | done |
 //! | VIEW_SEGLIST | bearing lines configured | see [`crate::contact`] | done |
 
 use ivp::IvpFunction;
 
+use crate::aof_avoid_collision_depth::AofAvoidCollisionDepth;
 use crate::behavior::{Behavior, Ctx, Out, ParamError, add_vars};
 use crate::colregs::geometry::Cpx;
 use crate::common::Common;
@@ -100,6 +109,9 @@ pub struct AvoidCollision {
     pub roc_max_dampen: f64,
     /// `no_alert_request`.
     pub no_alert_request: bool,
+    /// `collision_depth`, m (0: none): the depth-aware objective
+    /// ([`crate::aof_avoid_collision_depth`]) instead of the course-speed one.
+    pub collision_depth: f64,
     update_var: String,
     spawnable: bool,
     flags: [bool; 6],
@@ -126,6 +138,7 @@ impl AvoidCollision {
             roc_max_heighten: 2.0,
             roc_max_dampen: -2.0,
             no_alert_request: false,
+            collision_depth: 0.0,
             update_var: String::new(),
             spawnable: false,
             flags: [false; 6],
@@ -160,12 +173,14 @@ impl AvoidCollision {
     /// The objective function for the present geometry (before the weight), or `None` if
     /// the reflector fails.
     pub fn objective(&self, ctx: &Ctx<'_>) -> Option<IvpFunction> {
-        let d = Distances::for_contact(
+        let mut d = Distances::for_contact(
             &self.base,
             self.base.time_on_leg,
             self.min_util_cpa_dist,
             self.max_util_cpa_dist,
         )?;
+        // `use_plat_model`: the CPA along the model handed to the engine this iteration.
+        d.pm = self.base.plat_cpx(self.base.engine_model.clone());
         let (min, max) = (d.collision_distance, d.all_clear_distance);
         reflect(ctx.domain, |crs, spd| {
             Self::metric(d.cpa(crs, spd), min, max)
@@ -189,12 +204,14 @@ impl AvoidCollision {
     /// of the present range), with the plateau checks when `check_plateaus` is set, and what
     /// the refinery found; `None` as [`AvoidCollision::objective`].
     pub fn objective_refined(&self, ctx: &Ctx<'_>) -> Option<(IvpFunction, Refined)> {
-        let d = Distances::for_contact(
+        let mut d = Distances::for_contact(
             &self.base,
             self.base.time_on_leg,
             self.min_util_cpa_dist,
             self.max_util_cpa_dist,
         )?;
+        // `use_plat_model`: the CPA along the model handed to the engine this iteration.
+        d.pm = self.base.plat_cpx(self.base.engine_model.clone());
         let (min, max) = (d.collision_distance, d.all_clear_distance);
         let settings = self.refinery_settings();
         let known = (0.0, Self::metric(d.engine.range(), min, max));
@@ -237,6 +254,24 @@ impl AvoidCollision {
             out.post("VALID_CHECK_OK", ok);
         }
         Some(f)
+    }
+
+    /// The depth-aware objective for the present geometry (MOOS `getAvoidDepthIPF`, see
+    /// [`crate::aof_avoid_collision_depth`]), before the weight; `None` without a course,
+    /// speed and depth domain.
+    pub fn depth_objective(&self, ctx: &Ctx<'_>) -> Option<IvpFunction> {
+        let (_, _, osh, osv) = self.base.os;
+        AofAvoidCollisionDepth::new(
+            ctx.domain,
+            self.base.cpa_engine(),
+            osh,
+            osv,
+            self.base.time_on_leg,
+            self.min_util_cpa_dist,
+            self.max_util_cpa_dist,
+            self.collision_depth,
+        )?
+        .build(ctx.domain)
     }
 
     fn post_range(&self, out: &mut Out) {
@@ -298,7 +333,11 @@ impl Behavior for AvoidCollision {
     }
 
     fn domain_vars(&self) -> &'static [&'static str] {
-        &["course", "speed"]
+        if self.collision_depth > 0.0 {
+            &["course", "speed", "depth"]
+        } else {
+            &["course", "speed"]
+        }
     }
 
     fn default_name(&self) -> &'static str {
@@ -352,14 +391,20 @@ impl Behavior for AvoidCollision {
                 self.base.set_param("match_type", value).unwrap_or(Ok(()))
             }
             "collision_depth" => {
+                // MOOS: > 0 with a depth domain; at or below the domain's deepest it is
+                // accepted and changes nothing.
                 let d = geometry::atof(value);
-                let high = ctx.domain.get("depth").map(|v| v.high());
-                match high {
-                    Some(h) if d > 0.0 && d >= h => Ok(()),
+                match ctx.domain.get("depth").map(|v| v.high()) {
+                    Some(h) if d > 0.0 => {
+                        if d < h {
+                            self.collision_depth = d;
+                        }
+                        Ok(())
+                    }
                     _ => Err(ParamError::bad(
                         param,
                         value,
-                        "a depth at or below the domain's deepest (coug has no depth-aware avoidance yet)",
+                        "a depth > 0 with a depth decision variable",
                     )),
                 }
             }
@@ -512,7 +557,20 @@ impl Behavior for AvoidCollision {
             return None;
         }
         self.base.relevance = relevance;
-        let Some(mut f) = self.objective_checked(ctx, out) else {
+        // The platform-model engine gets this iteration's model (after the update, so the
+        // contact state read the previous one, as the C++).
+        self.base.hand_model(ctx);
+        let f = if self.collision_depth > 0.0 {
+            let f = self.depth_objective(ctx);
+            if f.is_some() {
+                // MOOS posts the reflector's warnings each time (none from coug's).
+                out.post("AVD_STATUS", "");
+            }
+            f
+        } else {
+            self.objective_checked(ctx, out)
+        };
+        let Some(mut f) = f else {
             out.error("Unable to init AOF_AvoidCollision.");
             return None;
         };

@@ -27,7 +27,7 @@
 //! | bearing_line_show, bearing_line_label_show | false | boolean | done |
 //! | bearing_lines, bearing_line_config | none | `color:threshold, ..., info:range|relevance`; never refused | done |
 //! | cnflag | none | `<N`, `>N`, `@<N`, `@>N`, `@cpa`, `@os_passed_cn*`, `@cn_passed_os*`, `@*crossed*` prefixes | done: range flags and the events `@cpa`, `@os_passed_cn[_port|_star]`, `@cn_passed_os[_port|_star]` (posted in running iterations, repeatable; `contact_state`); the `@*crossed*` tags are accepted and never posted, as the C++ at a2a9b716 |
-//! | use_plat_model | false | boolean | `false` done; refused: `true` (no platform-model CPA engine) |
+//! | use_plat_model | false (V26: true) | `true` or `false` (any case; nothing else) | done: the platform-model engines (`CPXEnginePM`) work out the contact state, see below |
 //!
 //! | variable | when | format | coug |
 //! |---|---|---|---|
@@ -35,6 +35,24 @@
 //! | BHV_ERROR | the same without `on_no_contact_ok`; no contact named | `... info not found`, `contact IDX not set.` | done |
 //! | macros in flags | always | `$[CONTACT]`, `$[CN_NAME]`, `$[CNX]`, `$[CNY]`, `$[CNH]`, `$[CNV]`, `$[CN_VTYPE]`, `$[CN_GROUP]`, `$[CN_RANGE]`, `$[RANGE]` | done, with the relative-geometry macros `$[ROC]`, `$[OS_CN_REL_BNG]`, `$[CN_OS_REL_BNG]`, `$[BNG_RATE]`, `$[CN_SPD_IN_OS_POS]`, `$[OS_FORE_OF_CN]` ... `$[CN_STAR_OF_OS]` (`contact_state`) |
 //! | VIEW_SEGLIST | `bearing_lines` given, each running iteration | ownship to contact, label `<us>_<name>`, edge colour by relevance or range, duration 100 | done |
+//!
+//! # `use_plat_model`
+//!
+//! With `use_plat_model = true` IvPContactBehavior swaps its two CPA engines (ownship to
+//! contact, contact to ownship) for platform-model ones (`CPXEnginePM`), which evaluate the
+//! CPA, passing and crossing along the path a platform model gives for a heading
+//! ([`crate::colregs::plat_cpx`]). The contact state of each update
+//! ([`crate::colregs::plat_cpx::contact_state`]) comes from them: the forward engine holds the
+//! model its behaviour last handed it ([`ContactBase::engine_model`]), the reverse one never
+//! gets one (the empty model: a ray from the origin). Who hands the forward engine the
+//! helm's model, always after the update, so that the state reads the previous iteration's:
+//! BHV_AvoidCollision on each running iteration with a positive relevance (its objective then
+//! uses the iteration's model: [`crate::avoid_collision`]) and BHV_AvdColregsV26 on each
+//! running iteration (V26 has the platform-model engines by default). CutRange, Trail,
+//! Shadow, Convoy and AvdColregs V17/V19/V22 never do: their forward engine keeps the empty
+//! model, and the C++'s AvdColregs functions evaluate their CPA along a ray from the origin
+//! too, which coug keeps (CutRange and Trail build their CPA objective on an engine of their
+//! own, unchanged).
 
 use std::collections::BTreeSet;
 
@@ -436,6 +454,12 @@ pub struct ContactBase {
     pub disabled: bool,
     /// The relative geometry of this and the last iterations (event flags, macros).
     pub states: crate::contact_state::ContactStates,
+    /// `use_plat_model`: the contact state comes from the platform-model engines (see the
+    /// module docs).
+    pub use_plat_model: bool,
+    /// The model the forward platform-model engine holds (MOOS `m_cpa_engine_pm`'s
+    /// `setPlatModel`), handed by the behaviour after its update; `None`: the empty model.
+    pub engine_model: Option<std::sync::Arc<crate::plat_model::PlatModel>>,
 }
 
 impl ContactBase {
@@ -467,6 +491,8 @@ impl ContactBase {
             can_disable: false,
             disabled: false,
             states: Default::default(),
+            use_plat_model: false,
+            engine_model: None,
         }
     }
 
@@ -544,8 +570,15 @@ impl ContactBase {
                 }
             }
             "use_plat_model" => match value.to_ascii_lowercase().as_str() {
-                "false" => Ok(()),
-                _ => bad("false (coug has no platform-model CPA engine)"),
+                "true" => {
+                    self.use_plat_model = true;
+                    Ok(())
+                }
+                "false" => {
+                    self.use_plat_model = false;
+                    Ok(())
+                }
+                _ => bad("true or false"),
             },
             _ => match self.filter.set_param(param, value) {
                 Some(true) => Ok(()),
@@ -652,7 +685,11 @@ impl ContactBase {
         self.cn_vtype.clone_from(&c.vtype);
         self.prev_range = Some(self.range);
         self.range = (x - c.x_m).hypot(y - c.y_m);
-        let state = crate::contact_state::ContactState::new(self.os, self.cn);
+        let state = if self.use_plat_model {
+            crate::colregs::plat_cpx::contact_state(self.os, self.cn, self.engine_model.clone())
+        } else {
+            crate::contact_state::ContactState::new(self.os, self.cn)
+        };
         self.states.record(state);
         true
     }
@@ -727,6 +764,31 @@ impl ContactBase {
         let bng = geometry::relative_angle(self.os.0, self.os.1, self.cn.0, self.cn.1);
         moos_types::fmt::compact(&mut s, bng, 1);
         s
+    }
+
+    /// Hands the forward platform-model engine the helm's model of this iteration (MOOS
+    /// `m_cpa_engine_pm.setPlatModel(m_plat_model)`; no model yet: the empty one), for the
+    /// next update's contact state.
+    pub fn hand_model(&mut self, ctx: &Ctx<'_>) {
+        self.engine_model = ctx
+            .info
+            .plat_model()
+            .map(|m| std::sync::Arc::new(m.clone()));
+    }
+
+    /// The forward platform-model engine's CPA along the model's turns, for the objective of
+    /// this iteration, when `use_plat_model` is on: the contact at its last update with
+    /// `model` (`None`: the empty model).
+    pub fn plat_cpx(
+        &self,
+        model: Option<std::sync::Arc<crate::plat_model::PlatModel>>,
+    ) -> Option<crate::colregs::plat_cpx::PlatCpx> {
+        self.use_plat_model.then(|| {
+            crate::colregs::plat_cpx::PlatCpx::new(
+                model.unwrap_or_else(crate::colregs::plat_cpx::empty_model),
+                self.cn,
+            )
+        })
     }
 
     /// A CPA engine for the present geometry.
@@ -912,7 +974,18 @@ mod tests {
         assert!(b.set_param("decay", "-1,10").unwrap().is_err());
         assert!(b.set_param("time_on_leg", "-5").unwrap().is_err());
         assert!(b.set_param("on_no_contact_ok", "maybe").unwrap().is_err());
-        assert!(b.set_param("use_plat_model", "true").unwrap().is_err());
+        // use_plat_model: `true` or `false` in any case, nothing else (not even `yes`).
+        assert!(b.set_param("use_plat_model", "TRUE").unwrap().is_ok());
+        assert!(b.use_plat_model);
+        for bad in ["yes", "1", "on", ""] {
+            assert!(
+                b.set_param("use_plat_model", bad).unwrap().is_err(),
+                "{bad}"
+            );
+        }
+        assert!(b.use_plat_model, "a refused value changes nothing");
+        assert!(b.set_param("use_plat_model", "False").unwrap().is_ok());
+        assert!(!b.use_plat_model);
         assert!(
             b.set_param("cnflag", "@cpa CPA_REACHED=true")
                 .unwrap()

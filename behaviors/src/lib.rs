@@ -45,6 +45,7 @@
 
 #![warn(missing_docs)]
 
+pub mod aof_avoid_collision_depth;
 mod avoid_collision;
 mod bearing_line;
 mod behavior;

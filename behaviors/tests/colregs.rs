@@ -570,7 +570,7 @@ fn parameters_are_refused_as_moos_ivp_refuses_them() {
         ("headon_only", "maybe"),
         ("pcheck_thresh", "-0.1"),
         ("contact_type_required", ""),
-        ("use_plat_model", "true"),
+        ("use_plat_model", "yes"),
     ] {
         assert!(
             matches!(set(&mut b, k, v), Err(ParamError::BadValue { .. })),

@@ -197,17 +197,19 @@ impl InfoBuffer {
     }
 
     /// pHelmIvP's `updatePlatModel`: with `NAV_X`, `NAV_Y`, `NAV_HEADING` and `NAV_SPEED` all
-    /// known, `pmgen` makes this iteration's platform model; otherwise the last one stays.
-    pub fn update_plat_model(&mut self, pmgen: &mut crate::plat_model::PmGen, now: f64) {
+    /// known, `pmgen` makes this iteration's platform model (true); otherwise the last one
+    /// stays (false).
+    pub fn update_plat_model(&mut self, pmgen: &mut crate::plat_model::PmGen, now: f64) -> bool {
         let (Some(x), Some(y), Some(h), Some(v)) = (
             self.num("NAV_X"),
             self.num("NAV_Y"),
             self.num("NAV_HEADING"),
             self.num("NAV_SPEED"),
         ) else {
-            return;
+            return false;
         };
         self.plat_model = Some(pmgen.generate(now, x, y, h, v));
+        true
     }
 
     /// The value as a condition operand.

@@ -12,14 +12,15 @@
 //! already changed a kept one, as in the C++.
 //!
 //! Each decision iteration, once `NAV_X`, `NAV_Y`, `NAV_HEADING` and `NAV_SPEED` are all
-//! known, the engine makes the iteration's [`PlatModel`] ([`PmGen::generate`]) and the
-//! behaviours read it through `Info::plat_model`; without them the last model stays.
+//! known, the engine makes the iteration's [`PlatModel`] ([`PmGen::generate`]), posts
+//! `TURN_RATE` ([`PmGen::turn_rate`]) and the behaviours read the model through
+//! `Info::plat_model`; without them the last model stays and nothing is posted.
 //!
 //! | pHelmIvP | coug |
 //! |---|---|
 //! | `pmgen` settings and their MALCONFIG rule | done |
 //! | the model each decision iteration, handed to every behaviour | done |
-//! | `TURN_RATE` (the mean heading change over the last 5 s, posted every iteration) | not posted: it would add a posting to every helm's log; [`PmGen::turn_rate`] computes it |
+//! | `TURN_RATE`: [`PmGen::turn_rate`] (the mean heading change between the headings of the last 5 s, degrees, negative to port; a double, on every decision iteration that made a model, whatever the `alg`, after the ledger summary (and a pending `IVPHELM_RESTARTED`), before the decision's postings, never filtered as a duplicate) | done (`helm/tests/turn_rate.rs`) |
 //! | a VIEW of the model | none in pHelmIvP (BHV_PModelView draws a turn) |
 
 use std::collections::VecDeque;

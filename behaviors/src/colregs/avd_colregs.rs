@@ -80,9 +80,14 @@
 //! the helm's Dubins model (`pmgen = alg=dubins`) the CPA and the passing and crossing
 //! predicates of each course follow the model's turn to it ([`super::plat_cpx`]); with the
 //! holonomic model (the default) the path is a ray and V26's functions are the OG engine's,
-//! as before. The contact state (modes, postings) is V22's, from the present pose: the C++
-//! works it out with its engine's model of the previous iteration (and the reverse engine
-//! with no model, ownship's turn from the origin), which coug does not copy.
+//! as before. Its contact state (modes, postings) comes from the platform-model engines as
+//! the C++ works it out ([`super::plat_cpx::contact_state`]): the forward engine holds the
+//! model V26 handed it on its previous running iteration (none before the first: the empty
+//! model, a ray from the origin), the reverse engine never gets one. `use_plat_model =
+//! false` puts V26 on the OG engines (contact state and functions), as in the C++; with
+//! `use_plat_model = true` V17, V19 and V22 get the platform-model engines without a model
+//! (the C++ never hands them one): their contact state and their CPA, passing and crossing
+//! follow rays from the origin ([`crate::contact`]).
 
 use crate::refinery_cpa::{
     PairGeometry, RefineryCpa, RefinerySettings, distances_cpa, post_colregs_checks,
@@ -304,9 +309,12 @@ pub struct AvdColregs {
 impl AvdColregs {
     /// The C++ defaults of `version`.
     pub fn new(version: Version) -> Self {
+        let mut base = ContactBase::new(120.0);
+        // V26 starts on the platform-model engines (its constructor's `m_cpa_engine_pm`).
+        base.use_plat_model = version == Version::V26;
         AvdColregs {
             version,
-            base: ContactBase::new(120.0),
+            base,
             pwt_outer_dist: 100.0,
             pwt_inner_dist: 90.0,
             min_util_cpa_dist: 10.0,
@@ -421,7 +429,8 @@ impl AvdColregs {
         }
         // The contact state ContactBase::update recorded (IvPContactBehavior's `m_cnos`).
         self.state = self.base.states.now();
-        self.plat_model = super::plat_cpx::turning_model(self.version, ctx);
+        self.plat_model =
+            super::plat_cpx::turning_model(self.version, self.base.use_plat_model, ctx);
         true
     }
 
@@ -1393,6 +1402,11 @@ impl Behavior for AvdColregs {
         let prev_cn_port = self.state.cn_port_of_os;
         if !self.update(ctx, out) {
             return None;
+        }
+        if self.version == Version::V26 && self.base.use_plat_model {
+            // MOOS V26 `m_cpa_engine->setPlatModel(m_plat_model)`, after the update: the next
+            // iteration's contact state reads this model.
+            self.base.hand_model(ctx);
         }
         self.base.post_contact_flags(out);
         self.cn_crossed_os_port_star =

@@ -27,18 +27,130 @@ use geometry::{angle_180, angle_360, relative_angle};
 
 use crate::plat_model::{PlatModel, project};
 
-/// The platform model V26's functions follow this iteration: the helm's model when it is not
-/// the holonomic one (with the holonomic model V26's CPA is the OG engine's, see the module
-/// docs of [`super`]'s `AvdColregs`); `None` for the other versions.
+/// The platform model the AvdColregs functions follow this iteration: none without
+/// `use_plat_model` (the OG engine); for V26 the helm's model when it is not the holonomic
+/// one (with the holonomic model V26's CPA is the OG engine's, see the module docs of
+/// [`super`]'s `AvdColregs`); for the other versions the empty model (the C++ never hands
+/// their platform-model engine one).
 pub(super) fn turning_model(
     version: super::Version,
+    use_plat_model: bool,
     ctx: &crate::behavior::Ctx<'_>,
 ) -> Option<Arc<PlatModel>> {
-    if version != super::Version::V26 {
+    if !use_plat_model {
         return None;
+    }
+    if version != super::Version::V26 {
+        return Some(empty_model());
     }
     let m = ctx.info.plat_model()?;
     (!m.is_holonomic()).then(|| Arc::new(m.clone()))
+}
+
+/// The model of a platform-model engine no behaviour handed one (a default MOOS
+/// `PlatModel`): no spokes, at the origin, so every course's path is the ray from `(0, 0)`.
+/// IvPContactBehavior's reverse engine (the contact as ownship) always has it, and so has
+/// its forward engine in the behaviours that never hand it the helm's model (CutRange,
+/// Trail, Shadow, Convoy, AvdColregs V17/V19/V22) and in AvoidCollision and V26 before their
+/// first running iteration.
+pub fn empty_model() -> Arc<PlatModel> {
+    Arc::new(PlatModel::holonomic(0.0, 0.0, 0.0, 0.0))
+}
+
+/// The rate of closure at ownship course `osh` and speed `osv` (MOOS
+/// `CPXEnginePM::evalROC`: the exact heading, no whole-degree cache): ownship's speed toward
+/// the contact plus the contact's toward ownship.
+pub fn pm_roc(pair: &super::geometry::Cpx, osh: f64, osv: f64) -> f64 {
+    let mut delta = osh - pair.abs_bng_os_cn;
+    // The C++'s wrap (its second test compares with +180, so it adds a turn to anything
+    // below it): the cosine is the same.
+    if delta > 180.0 {
+        delta -= 360.0;
+    } else if delta < 180.0 {
+        delta += 360.0;
+    }
+    if delta < 0.0 {
+        delta = -delta;
+    }
+    rad(delta).cos() * osv + pair.cn_to_os_spd
+}
+
+/// The contact's bearing rate seen from ownship at course `osh` and speed `osv`, degrees per
+/// second (MOOS `CPXEnginePM::bearingRate`: the exact heading, the tangent 90° to port of
+/// the bearing, the C++'s 12-digit pi).
+pub fn pm_bearing_rate(pair: &super::geometry::Cpx, osh: f64, osv: f64) -> f64 {
+    #[allow(clippy::approx_constant)]
+    const MPI: f64 = 3.14159265359;
+    let tangent = angle_360(pair.abs_bng_os_cn - 90.0);
+    let off = |h: f64| {
+        let mut d = h - tangent;
+        if d > 180.0 {
+            d -= 360.0;
+        } else if d < -180.0 {
+            d += 360.0;
+        }
+        d.abs()
+    };
+    let (d_os, d_cn) = (off(osh), off(pair.cn.2));
+    let os_at = if d_os != 90.0 {
+        rad(d_os).cos() * -osv
+    } else {
+        0.0
+    };
+    let cn_at = if d_cn != 90.0 {
+        rad(d_cn).cos() * pair.cn.3
+    } else {
+        0.0
+    };
+    (os_at + cn_at) * (-360.0 / (2.0 * pair.range * MPI))
+}
+
+/// The contact state (IvPContactBehavior's `m_cnos`) its `updatePlatformInfo` fills with
+/// `use_plat_model = true` (its two `CPXEnginePM`s): ownship `os` and contact `cn` as
+/// `(x, y, heading, speed)`; the forward engine holds `model` (the one the behaviour last
+/// handed it, `None`: [`empty_model`]), the reverse engine (the contact as ownship) the
+/// empty model. The sides, bearings and the contact's speed toward ownship are the pair's
+/// as they stand; the rate of closure and the bearing rate are [`pm_roc`] and
+/// [`pm_bearing_rate`]; passing, crossing and the present CPA (120 s) follow the engines'
+/// paths at the present headings and speeds ([`PlatCpx`]).
+pub fn contact_state(
+    os: (f64, f64, f64, f64),
+    cn: (f64, f64, f64, f64),
+    model: Option<Arc<PlatModel>>,
+) -> crate::contact_state::ContactState {
+    let (osx, osy, osh, osv) = os;
+    let (cnx, cny, cnh, cnv) = cn;
+    let model = model.unwrap_or_else(empty_model);
+    let fwd = super::geometry::Cpx::new(cnx, cny, cnh, cnv, osx, osy, osh, osv);
+    let rev = fwd.reversed().with_plat_model(empty_model());
+    let fwd = fwd.with_plat_model(model);
+    let (_, _, osh, osv) = fwd.os;
+    let (_, _, cnh, cnv) = fwd.cn;
+    let pm = fwd.pm.as_ref().expect("a model was just given");
+    crate::contact_state::ContactState {
+        range: fwd.range,
+        os_fore_of_cn: fwd.fore,
+        os_aft_of_cn: fwd.aft,
+        os_port_of_cn: fwd.port,
+        os_star_of_cn: fwd.star,
+        cn_fore_of_os: rev.fore,
+        cn_aft_of_os: rev.aft,
+        cn_port_of_os: rev.port,
+        cn_star_of_os: rev.star,
+        cn_spd_in_os_pos: fwd.cn_to_os_spd,
+        os_cn_rel_bng: fwd.rel_bng_os_cn,
+        cn_os_rel_bng: fwd.rel_bng_cn_os,
+        rate_of_closure: pm_roc(&fwd, osh, osv),
+        bearing_rate: pm_bearing_rate(&fwd, osh, osv),
+        os_passes_cn: fwd.passes(osh, osv),
+        cn_passes_os: rev.passes(cnh, cnv),
+        os_crosses_cn: fwd.crosses_bow_or_stern(osh, osv),
+        os_crosses_cn_bow: fwd.crosses_bow(osh, osv),
+        os_crosses_cn_bow_dist: fwd.crosses_bow_dist(osh, osv),
+        cn_crosses_os: rev.crosses_bow_or_stern(cnh, cnv),
+        cn_crosses_os_bow_dist: rev.crosses_bow_dist(cnh, cnv),
+        os_curr_cpa_dist: pm.eval_cpa(osh, osv, 120.0),
+    }
 }
 
 /// MOOS `degToRadians`.

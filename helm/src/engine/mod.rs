@@ -749,8 +749,12 @@ impl Helm {
             self.restart_post_pending = false;
             self.notify("IVPHELM_RESTARTED", Value::String("true".into()), "");
         }
-        // pHelmIvP's `updatePlatModel`: the behaviours' platform model for this decision.
-        self.info.update_plat_model(&mut self.config.pmgen, now);
+        // pHelmIvP's `updatePlatModel`: the behaviours' platform model for this decision,
+        // and the turn rate of its heading history (`crate::plat_model`).
+        if self.info.update_plat_model(&mut self.config.pmgen, now) {
+            let rate = self.config.pmgen.turn_rate();
+            self.notify("TURN_RATE", Value::Double(rate), "");
+        }
         self.decide(now);
         self.cap_appcast_notes();
         self.out.as_slice()
