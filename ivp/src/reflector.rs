@@ -2,12 +2,17 @@
 //! (MOOS-IvP's `OF_Reflector` with uniform pieces, directed refinement and smart
 //! refinement).
 
+mod autopeak;
 mod checks;
 mod refinery;
+mod regressor;
 mod smart;
 
 pub use checks::DEFAULT_PCHECK_THRESH;
 pub use refinery::{RegionBox, boxes_all_speeds, make_regions_apart};
+pub use regressor::Degree;
+
+use regressor::Regressor;
 
 use super::domain::Domain;
 use super::error::IvpError;
@@ -29,9 +34,11 @@ struct IxBox {
 /// is cut out of the pieces it overlaps and re-partitioned with its `refine_piece` sizes;
 /// (3) smart refinement (`smart_amount`, `smart_percent`, `smart_thresh`, `queue_levels`):
 /// the worst-fitted pieces are cut in two, see `reflector/smart.rs`.
-/// Each piece is fitted from the function's values at its corners (and its centre point when
-/// it has one): the slope per dimension is the mean rise over run of corner pairs, the
-/// intercept the mean residual; `strict_range` keeps each plane within the sampled values.
+/// (4) `auto_peak`: the piece holding the highest value is cut, again and again, until it is
+/// one grid point (`reflector/autopeak.rs`). Every piece, at every stage, is fitted by one
+/// routine, MOOS-IvP's `Regressor` (`reflector/regressor.rs`): its corners and centre sampled,
+/// the slope per dimension the mean rise over run of corner pairs, the intercept the mean
+/// residual, kept within the sampled values by `strict_range` (on by default, as in the C++).
 ///
 /// ```
 /// # use ivp::{Domain, Reflector};
@@ -58,10 +65,19 @@ pub struct Reflector<F> {
     known: Option<(f64, f64)>,
     /// Smart refinement (`smart.rs`).
     smart: smart::Smart,
+    /// Linear or scalar pieces.
+    degree: Degree,
+    /// The auto-peak stage (`autopeak.rs`).
+    auto_peak: bool,
+    /// `auto_peak_max_pcs`, checked and kept but unused, as in the C++.
+    auto_peak_max_pcs: Option<u32>,
+    /// `refine_point` settings, checked and kept but unused, as in the C++.
+    refine_points: Vec<Vec<i64>>,
 }
 
 impl<F: Fn(&[f64]) -> f64> Reflector<F> {
-    /// A reflector over `domain` for `func`, with one uniform piece and no normalization.
+    /// A reflector over `domain` for `func`, with one uniform linear piece, `strict_range`
+    /// on and no normalization (the C++ `OF_Reflector`'s defaults).
     pub fn new(domain: &Domain, func: F) -> Self {
         Self {
             domain: domain.clone(),
@@ -69,13 +85,40 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
             uniform_piece: None,
             uniform_amount: 1,
             refine: Vec::new(),
-            strict_range: false,
+            strict_range: true,
             normalize: false,
             plateaus: Vec::new(),
             basins: Vec::new(),
             known: None,
             smart: smart::Smart::default(),
+            degree: Degree::Linear,
+            auto_peak: false,
+            auto_peak_max_pcs: None,
+            refine_points: Vec::new(),
         }
+    }
+
+    /// The pieces' interior functions: linear (the default) or scalar (MOOS `OF_Reflector`'s
+    /// `degree` argument, 1 or 0).
+    pub fn degree(mut self, degree: Degree) -> Self {
+        self.degree = degree;
+        self
+    }
+
+    /// The `refine_point` settings given, each a grid index per variable as the C++ converts
+    /// them (see [`Reflector::set_param`]).
+    pub fn refine_points(&self) -> &[Vec<i64>] {
+        &self.refine_points
+    }
+
+    /// A regressor for this reflector's pieces.
+    fn regressor(&self) -> Regressor {
+        Regressor::new(
+            self.domain.len(),
+            self.degree,
+            self.strict_range,
+            self.known,
+        )
     }
 
     /// Sets one parameter by MOOS-IvP name: `uniform_piece` / `uniform_box` (`"x:5,y:3"`,
@@ -85,7 +128,10 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
     /// (`true`/`false`); smart refinement: `smart_amount` (alias `priority_amt`) and
     /// `smart_percent` (pieces to add, numbers >= 0, their whole part taken), `smart_thresh`
     /// (the fit error at or below which a piece is not cut, >= 0), `queue_levels` (>= 1,
-    /// default 8).
+    /// default 8); `auto_peak` (`true`/`false`: the auto-peak stage, off by default);
+    /// `auto_peak_max_pcs` (a number > 0) and `refine_point` (a value for every variable,
+    /// `"x:3,y:all"`, optionally prefixed `native@`, `float@` or `discrete@`), both checked as
+    /// the C++ checks them and kept, but used by no stage, as in `OF_Reflector` at a2a9b716.
     pub fn set_param(mut self, name: &str, value: &str) -> Result<Self, IvpError> {
         let value = value.trim();
         match name.trim().to_ascii_lowercase().as_str() {
@@ -140,6 +186,22 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
                     })?;
             }
             "strict_range" => self.strict_range = parse_bool(value)?,
+            "auto_peak" => {
+                self.auto_peak = parse_bool(value).map_err(|_| {
+                    IvpError::Reflector(format!("auto_peak {value:?} is not true or false"))
+                })?;
+            }
+            "auto_peak_max_pcs" => {
+                let n = value.parse::<f64>().ok().filter(|n| n.is_finite());
+                let n = n.map(|n| n.trunc()).filter(|n| *n >= 1.0).ok_or_else(|| {
+                    IvpError::Reflector(format!("auto_peak_max_pcs {value:?} is not > 0"))
+                })?;
+                self.auto_peak_max_pcs = Some(n.min(f64::from(u32::MAX)) as u32);
+            }
+            "refine_point" => {
+                let point = self.parse_point(value)?;
+                self.refine_points.push(point);
+            }
             "normalize" => self.normalize = parse_bool(value)?,
             other => {
                 return Err(IvpError::Reflector(format!("unknown parameter {other:?}")));
@@ -174,6 +236,56 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
             sizes[ix] = n;
         }
         Ok(sizes)
+    }
+
+    /// A `refine_point` value as MOOS `stringToPointBox` reads it: `native@` (the default, or
+    /// `float@`) takes a number or `all` (the variable's high value) for every variable,
+    /// clipped to its range, and makes it the index `(int)(value / delta + 0.5) - 1` (the
+    /// C++ reads the value as a piece's extent); `discrete@` takes a whole number of points
+    /// `n >= 1` (at most the variable's points) and makes it `n - 1`. A variable left out, a
+    /// value that is not a number, another prefix or a second `@` is an error.
+    fn parse_point(&self, spec: &str) -> Result<Vec<i64>, IvpError> {
+        let bad = || IvpError::Reflector(format!("refine_point {spec:?} is ill-defined"));
+        let parts: Vec<&str> = spec.split('@').collect();
+        let (discrete, body) = match parts.as_slice() {
+            [body] => (false, *body),
+            [pre, body] => match pre.trim().to_ascii_lowercase().as_str() {
+                "discrete" => (true, *body),
+                "native" | "float" => (false, *body),
+                _ => return Err(bad()),
+            },
+            _ => return Err(bad()),
+        };
+        let fields: Vec<(String, String)> = body
+            .split(',')
+            .filter_map(|part| {
+                let f: Vec<&str> = part.split(':').map(str::trim).collect();
+                (f.len() == 2).then(|| (f[0].to_ascii_lowercase(), f[1].to_ascii_lowercase()))
+            })
+            .collect();
+        let number = |v: &str| v.parse::<f64>().ok().filter(|n| n.is_finite());
+        let mut point = Vec::with_capacity(self.domain.len());
+        for var in self.domain.vars() {
+            let name = var.name().to_ascii_lowercase();
+            let value = fields
+                .iter()
+                .find(|(n, _)| *n == name)
+                .map(|(_, v)| v.as_str())
+                .ok_or_else(bad)?;
+            if discrete {
+                let n = number(value).map(|n| n.trunc()).filter(|n| *n >= 1.0);
+                let n = n.ok_or_else(bad)?.min(f64::from(var.points()));
+                point.push(n as i64 - 1);
+            } else {
+                let v = if value == "all" {
+                    var.high()
+                } else {
+                    number(value).ok_or_else(bad)?.clamp(var.low(), var.high())
+                };
+                point.push((v / var.delta() + 0.5) as i64 - 1);
+            }
+        }
+        Ok(point)
     }
 
     fn parse_region(&self, spec: &str) -> Result<IxBox, IvpError> {
@@ -251,30 +363,34 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
             Some(s) => s.clone(),
             None => self.sizes_for_amount(self.uniform_amount),
         };
-        if self.smart.active() {
-            self.build_smart(&sizes)
+        let (mut f, plats) = if self.smart.active() {
+            (self.build_smart(&sizes)?, Vec::new())
         } else if !self.plateaus.is_empty() || !self.basins.is_empty() {
-            self.build_with_regions(&sizes)
+            self.build_with_regions(&sizes)?
         } else if self.refine.is_empty() {
-            self.build_uniform(&sizes)
+            (self.build_uniform(&sizes)?, Vec::new())
         } else {
-            self.build_boxes(&sizes)
-        }
-    }
-
-    /// [`Reflector::build`] through the list of boxes: the uniform grid, then each refine
-    /// region's split.
-    fn build_boxes(self, sizes: &[u32]) -> Result<IvpFunction, IvpError> {
-        let boxes = self.directed_boxes(sizes);
-        let mut f = IvpFunction::new(self.domain.clone());
-        let mut fit = Fit::new(self.domain.len());
-        for b in &boxes {
-            let (slopes, intercept) =
-                fit.fit(&b.lo, &b.hi, &self.domain, &self.func, self.strict_range)?;
-            f.push_piece(&b.lo, &b.hi, slopes, intercept)?;
+            (self.build_boxes(&sizes)?, Vec::new())
+        };
+        if self.auto_peak {
+            f = self.build_auto_peak(&f, &plats)?;
         }
         if self.normalize {
             f.normalize(0.0, 100.0);
+        }
+        Ok(f)
+    }
+
+    /// Stages 1 and 2 through the list of boxes: the uniform grid, then each refine
+    /// region's split.
+    fn build_boxes(&self, sizes: &[u32]) -> Result<IvpFunction, IvpError> {
+        let boxes = self.directed_boxes(sizes);
+        let mut f = IvpFunction::new(self.domain.clone());
+        let mut reg = self.regressor();
+        let d = self.domain.len();
+        for b in &boxes {
+            reg.fit(&b.lo, &b.hi, 0, &self.domain, &self.func)?;
+            f.push_piece(&b.lo, &b.hi, &reg.wts()[..d], reg.wts()[d])?;
         }
         Ok(f)
     }
@@ -297,10 +413,10 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
         boxes
     }
 
-    /// [`Reflector::build`] without refinement: the pieces of the uniform grid, visited in
-    /// `partition`'s order (the last variable fastest) through two reused bound buffers, so
-    /// the pieces and weights are those of the general path without a box per piece.
-    fn build_uniform(self, sizes: &[u32]) -> Result<IvpFunction, IvpError> {
+    /// Stage 1 without refinement: the pieces of the uniform grid, visited in `partition`'s
+    /// order (the last variable fastest) through two reused bound buffers, so the pieces and
+    /// weights are those of the general path without a box per piece.
+    fn build_uniform(&self, sizes: &[u32]) -> Result<IvpFunction, IvpError> {
         let d = self.domain.len();
         let top: Vec<u32> = self.domain.vars().iter().map(|v| v.points() - 1).collect();
         let step: Vec<u32> = sizes.iter().map(|s| s.max(&1) - 1).collect();
@@ -309,22 +425,18 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
             .product();
         let mut f = IvpFunction::new(self.domain.clone());
         f.reserve(count);
-        let mut fit = Fit::new(d);
+        let mut reg = self.regressor();
         let mut lo = vec![0u32; d];
         let mut hi = vec![0u32; d];
         loop {
             for k in 0..d {
                 hi[k] = lo[k].saturating_add(step[k]).min(top[k]);
             }
-            let (slopes, intercept) =
-                fit.fit(&lo, &hi, &self.domain, &self.func, self.strict_range)?;
-            f.push_piece(&lo, &hi, slopes, intercept)?;
+            reg.fit(&lo, &hi, 0, &self.domain, &self.func)?;
+            f.push_piece(&lo, &hi, &reg.wts()[..d], reg.wts()[d])?;
             let mut k = d;
             loop {
                 if k == 0 {
-                    if self.normalize {
-                        f.normalize(0.0, 100.0);
-                    }
                     return Ok(f);
                 }
                 k -= 1;
@@ -405,139 +517,6 @@ fn refine_box(mut b: IxBox, region: &IxBox, piece: &[u32], out: &mut Vec<IxBox>)
     partition(&b, piece, out);
 }
 
-/// Scratch space for fitting planes.
-struct Fit {
-    slopes: Vec<f64>,
-    ix: Vec<u32>,
-    /// The sample point's values (reused).
-    x: Vec<f64>,
-    vals: Vec<f64>,
-}
-
-impl Fit {
-    fn new(d: usize) -> Self {
-        Self {
-            slopes: vec![0.0; d],
-            ix: vec![0; d],
-            x: vec![0.0; d],
-            vals: Vec::with_capacity(1 << d.min(16)),
-        }
-    }
-
-    /// Evaluates `func` at the box's corners into `vals` (corner `c` has `hi` in the
-    /// dimensions whose bit is set in `c`), leaving `x` in `self.x`.
-    fn sample_corners<F: Fn(&[f64]) -> f64>(
-        &mut self,
-        lo: &[u32],
-        hi: &[u32],
-        domain: &Domain,
-        func: &F,
-    ) -> Result<(), IvpError> {
-        let d = lo.len();
-        let mut x = std::mem::take(&mut self.x);
-        x.resize(d, 0.0);
-        let corners = 1usize << d;
-        self.vals.clear();
-        for c in 0..corners {
-            for k in 0..d {
-                self.ix[k] = if c >> k & 1 == 1 { hi[k] } else { lo[k] };
-                x[k] = domain.vars()[k].value(self.ix[k]);
-            }
-            let v = func(&x);
-            if !v.is_finite() {
-                return Err(IvpError::Reflector(format!(
-                    "function is not finite at {x:?}"
-                )));
-            }
-            self.vals.push(v);
-        }
-        self.x = x;
-        Ok(())
-    }
-
-    /// The slope per dimension: the mean rise over run of the corner pairs along it.
-    fn corner_slopes(&mut self, lo: &[u32], hi: &[u32]) {
-        let corners = 1usize << lo.len();
-        for k in 0..lo.len() {
-            let run = f64::from(hi[k] - lo[k]);
-            if run == 0.0 {
-                self.slopes[k] = 0.0;
-                continue;
-            }
-            let mut rise = 0.0;
-            for c in 0..corners {
-                if c >> k & 1 == 0 {
-                    rise += self.vals[c | 1 << k] - self.vals[c];
-                }
-            }
-            self.slopes[k] = rise / (corners / 2) as f64 / run;
-        }
-    }
-
-    fn fit<F: Fn(&[f64]) -> f64>(
-        &mut self,
-        lo: &[u32],
-        hi: &[u32],
-        domain: &Domain,
-        func: &F,
-        strict: bool,
-    ) -> Result<(&[f64], f64), IvpError> {
-        let d = lo.len();
-        self.sample_corners(lo, hi, domain, func)?;
-        self.corner_slopes(lo, hi);
-        let corners = 1usize << d;
-        let mut x = std::mem::take(&mut self.x);
-        let plane = |ix: &[u32], slopes: &[f64]| -> f64 {
-            ix.iter().zip(slopes).map(|(&i, &s)| s * f64::from(i)).sum()
-        };
-        let mut residual = 0.0;
-        let mut samples = 0usize;
-        let (mut smin, mut smax) = (f64::INFINITY, f64::NEG_INFINITY);
-        for c in 0..corners {
-            for k in 0..d {
-                self.ix[k] = if c >> k & 1 == 1 { hi[k] } else { lo[k] };
-            }
-            residual += self.vals[c] - plane(&self.ix, &self.slopes);
-            samples += 1;
-            smin = smin.min(self.vals[c]);
-            smax = smax.max(self.vals[c]);
-        }
-        if (0..d).all(|k| (lo[k] + hi[k]).is_multiple_of(2) && hi[k] > lo[k]) {
-            for k in 0..d {
-                self.ix[k] = (lo[k] + hi[k]) / 2;
-                x[k] = domain.vars()[k].value(self.ix[k]);
-            }
-            let v = func(&x);
-            if v.is_finite() {
-                residual += v - plane(&self.ix, &self.slopes);
-                samples += 1;
-                smin = smin.min(v);
-                smax = smax.max(v);
-            }
-        }
-        let mut intercept = residual / samples as f64;
-        if strict {
-            // keep the plane's extremes over the box within the sampled range
-            let (mut pmax, mut pmin) = (intercept, intercept);
-            for k in 0..d {
-                let (a, z) = (
-                    self.slopes[k] * f64::from(lo[k]),
-                    self.slopes[k] * f64::from(hi[k]),
-                );
-                pmax += a.max(z);
-                pmin += a.min(z);
-            }
-            if pmax > smax {
-                intercept -= pmax - smax;
-            } else if pmin < smin {
-                intercept += smin - pmin;
-            }
-        }
-        self.x = x;
-        Ok((&self.slopes, intercept))
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -616,7 +595,10 @@ mod tests {
                 None => r().sizes_for_amount(r().uniform_amount),
             };
             let fast = r().build().unwrap();
-            let boxes = r().build_boxes(&sizes).unwrap();
+            let mut boxes = r().build_boxes(&sizes).unwrap();
+            if spec.contains("normalize") {
+                boxes.normalize(0.0, 100.0);
+            }
             assert!(fast.piece_count() > 1, "{spec}");
             assert_eq!(fast.piece_count(), boxes.piece_count(), "{spec}");
             for (a, b) in fast.pieces().zip(boxes.pieces()) {

@@ -8,11 +8,11 @@
 //! are replaced by what lies outside it, appended after the untouched pieces, as `BoxSet`
 //! merges them), and the regions themselves become pieces, plateaus then basins. When the
 //! function's extremes are known ([`Reflector::known_min_max`], MOOS `AOF::minMaxKnown`), a
-//! plateau piece is the constant maximum and a basin piece the constant minimum; otherwise
-//! they are fitted like any piece. Overlapping regions are first made disjoint
+//! linear plateau piece is the constant maximum and a linear basin piece the constant minimum
+//! (the regressor's rule); otherwise they are fitted like any piece. Overlapping regions are first made disjoint
 //! ([`make_regions_apart`]): the one of larger plateau magnitude keeps the overlap.
 
-use super::{Fit, IxBox, Reflector, partition, refine_box};
+use super::{IxBox, Reflector, partition, refine_box};
 use crate::domain::{Domain, Snap};
 use crate::error::IvpError;
 use crate::function::IvpFunction;
@@ -197,23 +197,28 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
         }
     }
 
-    /// [`Reflector::build`] with plateau or basin regions (`RT_UniformX::create`, then the
-    /// directed refinement and the fit of every piece).
-    pub(super) fn build_with_regions(mut self, sizes: &[u32]) -> Result<IvpFunction, IvpError> {
-        if self.plateaus.len() + self.basins.len() >= 2 {
-            let mut all = std::mem::take(&mut self.plateaus);
-            all.append(&mut self.basins);
+    /// [`Reflector::build`]'s stages 1 and 2 with plateau or basin regions
+    /// (`RT_UniformX::create`, then the directed refinement and the fit of every piece); the
+    /// function and each piece's plateau value.
+    pub(super) fn build_with_regions(
+        &self,
+        sizes: &[u32],
+    ) -> Result<(IvpFunction, Vec<i32>), IvpError> {
+        let (mut plateaus, mut basins) = (self.plateaus.clone(), self.basins.clone());
+        if plateaus.len() + basins.len() >= 2 {
+            let mut all = std::mem::take(&mut plateaus);
+            all.append(&mut basins);
             for r in make_regions_apart(all) {
                 if r.plat < 0 {
-                    self.basins.push(r);
+                    basins.push(r);
                 } else {
-                    self.plateaus.push(r);
+                    plateaus.push(r);
                 }
             }
         }
         let mut boxes = Vec::new();
         partition(&self.universe(), sizes, &mut boxes);
-        for region in self.plateaus.iter().chain(&self.basins) {
+        for region in plateaus.iter().chain(&basins) {
             let mut kept = Vec::with_capacity(boxes.len());
             let mut rest = Vec::new();
             for b in boxes {
@@ -228,8 +233,8 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
         }
         // Each piece with its plateau value (0 for an ordinary piece).
         let mut pieces: Vec<(IxBox, i32)> = boxes.into_iter().map(|b| (b, 0)).collect();
-        pieces.extend(self.plateaus.iter().map(|r| (r.ix(), 1)));
-        pieces.extend(self.basins.iter().map(|r| (r.ix(), -1)));
+        pieces.extend(plateaus.iter().map(|r| (r.ix(), 1)));
+        pieces.extend(basins.iter().map(|r| (r.ix(), -1)));
         for (region, piece) in &self.refine {
             let piece = piece.clone().unwrap_or_else(|| vec![1; self.domain.len()]);
             let mut next = Vec::with_capacity(pieces.len());
@@ -241,23 +246,13 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
             pieces = next;
         }
         let mut f = IvpFunction::new(self.domain.clone());
-        let mut fit = Fit::new(self.domain.len());
-        let zeros = vec![0.0; self.domain.len()];
+        let mut reg = self.regressor();
+        let d = self.domain.len();
         for (b, plat) in &pieces {
-            match (plat.signum(), self.known) {
-                (1, Some((_, max))) => f.push_piece(&b.lo, &b.hi, &zeros, max)?,
-                (-1, Some((min, _))) => f.push_piece(&b.lo, &b.hi, &zeros, min)?,
-                _ => {
-                    let (slopes, intercept) =
-                        fit.fit(&b.lo, &b.hi, &self.domain, &self.func, self.strict_range)?;
-                    f.push_piece(&b.lo, &b.hi, slopes, intercept)?;
-                }
-            }
+            reg.fit(&b.lo, &b.hi, *plat, &self.domain, &self.func)?;
+            f.push_piece(&b.lo, &b.hi, &reg.wts()[..d], reg.wts()[d])?;
         }
-        if self.normalize {
-            f.normalize(0.0, 100.0);
-        }
-        Ok(f)
+        Ok((f, pieces.into_iter().map(|(_, plat)| plat).collect()))
     }
 }
 

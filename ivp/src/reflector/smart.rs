@@ -10,11 +10,8 @@
 //! queued unless they are single points. The amount of pieces added is the larger of
 //! `smart_amount` and `smart_percent` of the pieces before this stage.
 //!
-//! Fits here follow the C++ `Regressor` exactly, which the older reflector paths do not
-//! (their outputs are kept unchanged for the logs): a centre sample at `lo + (hi - lo) / 2`
-//! whenever some edge spans more than two points, and `strict_range` clamping the
-//! intercept first to its upper then to its lower bound. A piece's error is the root of
-//! the summed squared residuals at its samples, divided by their count.
+//! Pieces are fitted, and their fit error measured, by the reflector's regressor (MOOS
+//! `Regressor::setWeight` with feedback, `reflector/regressor.rs`), as on every other path.
 //!
 //! The queue is the C++ `PQueue`, its quirks included: its capacity is `2^(levels - 1)`
 //! entries; inserting into an empty (or one-entry) heap stores the entry twice and leaves
@@ -24,8 +21,7 @@
 //! from a generator with a fixed seed, so a build gives the same pieces every time.
 //! Smart refinement with plateau or basin regions is refused (no caller uses it).
 
-use super::{Fit, IxBox, Reflector};
-use crate::domain::Domain;
+use super::{IxBox, Reflector};
 use crate::error::IvpError;
 use crate::function::IvpFunction;
 
@@ -222,100 +218,23 @@ struct Fitted {
     wts: Vec<f64>,
 }
 
-impl Fit {
-    /// MOOS `Regressor::setWeight1` with feedback: fits a plane to the corners and the
-    /// centre sample (see the module docs) and returns the fit error.
-    fn fit_moos<F: Fn(&[f64]) -> f64>(
-        &mut self,
-        b: &IxBox,
-        domain: &Domain,
-        func: &F,
-        strict: bool,
-        wts: &mut Vec<f64>,
-    ) -> Result<f64, IvpError> {
-        let (lo, hi) = (&b.lo, &b.hi);
-        let d = lo.len();
-        self.sample_corners(lo, hi, domain, func)?;
-        self.corner_slopes(lo, hi);
-        let corners = 1usize << d;
-        let mut pts: Vec<(Vec<u32>, f64)> = Vec::with_capacity(corners + 1);
-        for c in 0..corners {
-            let ix = (0..d)
-                .map(|k| if c >> k & 1 == 1 { hi[k] } else { lo[k] })
-                .collect();
-            pts.push((ix, self.vals[c]));
-        }
-        if (0..d).any(|k| hi[k] - lo[k] > 1) {
-            let ix: Vec<u32> = (0..d).map(|k| lo[k] + (hi[k] - lo[k]) / 2).collect();
-            let x: Vec<f64> = (0..d).map(|k| domain.vars()[k].value(ix[k])).collect();
-            let v = func(&x);
-            if !v.is_finite() {
-                return Err(IvpError::Reflector(format!(
-                    "function is not finite at {x:?}"
-                )));
-            }
-            pts.push((ix, v));
-        }
-        let high = pts.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max);
-        let low = pts.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
-        let slopes = &self.slopes;
-        let plane = |ix: &[u32]| -> f64 {
-            let mut s = 0.0;
-            for k in 0..d {
-                s += slopes[k] * f64::from(ix[k]);
-            }
-            s
-        };
-        let mut total = 0.0;
-        let (mut max_icpt, mut min_icpt) = (f64::INFINITY, f64::NEG_INFINITY);
-        for (ix, v) in &pts {
-            let p = plane(ix);
-            total += v - p;
-            max_icpt = max_icpt.min(high - p);
-            min_icpt = min_icpt.max(low - p);
-        }
-        let n = pts.len() as f64;
-        let mut intercept = total / n;
-        if strict {
-            if intercept > max_icpt {
-                intercept = max_icpt;
-            }
-            if intercept < min_icpt {
-                intercept = min_icpt;
-            }
-        }
-        let mut err = 0.0;
-        for (ix, v) in &pts {
-            let mut lin = intercept;
-            for k in 0..d {
-                lin += slopes[k] * f64::from(ix[k]);
-            }
-            err += (lin - v) * (lin - v);
-        }
-        wts.clear();
-        wts.extend_from_slice(&self.slopes);
-        wts.push(intercept);
-        Ok(err.sqrt() / n)
-    }
-}
-
 impl<F: Fn(&[f64]) -> f64> Reflector<F> {
     /// [`Reflector::build`] with smart refinement: the uniform grid, the refine regions,
     /// every piece fitted and queued by its error, then the worst pieces cut.
-    pub(super) fn build_smart(self, sizes: &[u32]) -> Result<IvpFunction, IvpError> {
+    pub(super) fn build_smart(&self, sizes: &[u32]) -> Result<IvpFunction, IvpError> {
         if !self.plateaus.is_empty() || !self.basins.is_empty() {
             return Err(IvpError::Reflector(
                 "smart refinement with plateau or basin regions is not supported".to_string(),
             ));
         }
         let boxes = self.directed_boxes(sizes);
-        let mut fit = Fit::new(self.domain.len());
+        let mut reg = self.regressor();
         let mut queue = PQueue::new(self.smart.levels);
         let mut pieces: Vec<Fitted> = Vec::with_capacity(boxes.len());
         for (i, b) in boxes.into_iter().enumerate() {
-            let mut wts = Vec::new();
-            let err = fit.fit_moos(&b, &self.domain, &self.func, self.strict_range, &mut wts)?;
+            let err = reg.fit(&b.lo, &b.hi, 0, &self.domain, &self.func)?;
             queue.insert(i, err);
+            let wts = reg.wts().to_vec();
             pieces.push(Fitted { b, wts });
         }
         let mut left = self.smart.pieces_to_add(pieces.len());
@@ -324,22 +243,11 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
         while let Some(i) = worst.filter(|_| left > 0 && worst_err > self.smart.thresh) {
             let dim = longest_dim(&pieces[i].b);
             if let Some(upper) = cut_box(&mut pieces[i].b, dim) {
-                let mut wts = Vec::new();
                 let lower = &mut pieces[i];
-                let err1 = fit.fit_moos(
-                    &lower.b,
-                    &self.domain,
-                    &self.func,
-                    self.strict_range,
-                    &mut lower.wts,
-                )?;
-                let err2 = fit.fit_moos(
-                    &upper,
-                    &self.domain,
-                    &self.func,
-                    self.strict_range,
-                    &mut wts,
-                )?;
+                let err1 = reg.fit(&lower.b.lo, &lower.b.hi, 0, &self.domain, &self.func)?;
+                lower.wts.copy_from_slice(reg.wts());
+                let err2 = reg.fit(&upper.lo, &upper.hi, 0, &self.domain, &self.func)?;
+                let wts = reg.wts().to_vec();
                 let new_ix = pieces.len();
                 let lower_point = is_point(&pieces[i].b);
                 let upper_point = is_point(&upper);
@@ -361,9 +269,6 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
         for p in &pieces {
             f.push_piece(&p.b.lo, &p.b.hi, &p.wts[..d], p.wts[d])?;
         }
-        if self.normalize {
-            f.normalize(0.0, 100.0);
-        }
         Ok(f)
     }
 }
@@ -371,6 +276,7 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::domain::Domain;
 
     #[test]
     fn the_queue_keeps_the_cpp_quirks() {
@@ -428,42 +334,6 @@ mod tests {
     }
 
     #[test]
-    fn fit_errors_are_the_cpp_regressors() {
-        let d = line(21);
-        let f = |v: &[f64]| (v[0] - 10.0).max(0.0).powi(2);
-        let mut fit = Fit::new(1);
-        let mut wts = Vec::new();
-        let mut err = |lo: u32, hi: u32| {
-            let b = IxBox {
-                lo: vec![lo],
-                hi: vec![hi],
-            };
-            fit.fit_moos(&b, &d, &f, false, &mut wts).unwrap()
-        };
-        // 0..6: flat, exact.
-        assert_eq!(err(0, 6), 0.0);
-        // 7..13: samples 0 (7), 0 (centre 10), 9 (13); slope 1.5, intercept -12 (the mean
-        // residual of -10.5, -15, -10.5); residuals -1.5, 3, -1.5: sqrt(13.5) / 3.
-        assert!((err(7, 13) - 13.5f64.sqrt() / 3.0).abs() < 1e-12);
-        // A parabola over a piece of half-width h: residuals -h²/3 at the corners and
-        // 2h²/3 at the centre, error h² sqrt(6) / 9; h = 3 gives sqrt(6).
-        assert!((err(14, 20) - 6f64.sqrt()).abs() < 1e-12);
-        // Even edges sample the centre off the middle (lo + (hi - lo) / 2), as the C++.
-        // 0..3 of x²... here 11..14: values 1, 4 (centre 12), 16; slope 5, plane 55, 60,
-        // 70 at 11, 12, 14; residuals -54, -56, -54: intercept -164/3.
-        let b = IxBox {
-            lo: vec![11],
-            hi: vec![14],
-        };
-        let mut fit = Fit::new(1);
-        let e = fit.fit_moos(&b, &d, &f, false, &mut wts).unwrap();
-        assert!((wts[0] - 5.0).abs() < 1e-12 && (wts[1] + 164.0 / 3.0).abs() < 1e-12);
-        // deltas: -164/3 + 54 = -2/3 (twice), -164/3 + 56 = 4/3.
-        let want = (2.0 * 4.0 / 9.0 + 16.0 / 9.0f64).sqrt() / 3.0;
-        assert!((e - want).abs() < 1e-12);
-    }
-
-    #[test]
     fn the_worst_fitted_piece_is_split_first() {
         let d = line(21);
         let r = || {
@@ -473,17 +343,29 @@ mod tests {
         };
         let plain = r().build().unwrap();
         assert_eq!(boxes(&plain), [(0, 6), (7, 13), (14, 20)]);
-        // Errors 0, 1.22, 2.45: the parabola's piece is cut, its lower half taking
-        // (7 + 1) / 2 points and keeping its place, the upper half appended.
+        // strict_range (the default) makes the two bent pieces chords: 7..13 samples 0, 0
+        // (centre 10), 9, the plane 0, 4.5, 9: error 4.5 / 3 = 1.5; 14..20 samples 16, 49
+        // (centre 17), 100, the plane 16, 58, 100: error 9 / 3 = 3. Errors 0, 1.5, 3: the
+        // parabola's piece is cut, its lower half taking (7 + 1) / 2 points and keeping its
+        // place, the upper half appended.
         let one = r().set_param("smart_amount", "1").unwrap().build().unwrap();
         assert_eq!(boxes(&one), [(0, 6), (7, 13), (14, 17), (18, 20)]);
         // A threshold above the worst error cuts nothing.
         let none = r()
-            .set_params("smart_amount = 5 # smart_thresh = 2.5")
+            .set_params("smart_amount = 5 # smart_thresh = 3.5")
             .unwrap()
             .build()
             .unwrap();
         assert_eq!(boxes(&none), boxes(&plain));
+        // Below it, the cut halves are chords too: 14..17 (16, 25 at 15, 49) errs by
+        // 2 / 3, 18..20 (64, 81, 100) by 1 / 3; the worst left is 7..13's 1.5, within a
+        // threshold of 2.5: one cut of the five allowed.
+        let thresh = r()
+            .set_params("smart_amount = 5 # smart_thresh = 2.5")
+            .unwrap()
+            .build()
+            .unwrap();
+        assert_eq!(boxes(&thresh), boxes(&one));
         // smart_percent: 34 % of 3 pieces is one piece (whole part), more than amount 0.
         let pct = r()
             .set_param("smart_percent", "34")
