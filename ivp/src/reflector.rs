@@ -636,4 +636,96 @@ mod tests {
         let nan = Reflector::new(&d, |_: &[f64]| f64::NAN).build();
         assert!(nan.is_err());
     }
+
+    #[test]
+    fn auto_peak_and_refine_point_are_checked_as_the_cpp_checks_them() {
+        let d = dom2();
+        let r = || Reflector::new(&d, |v: &[f64]| v[0]);
+        assert!(r().set_param("auto_peak", "TRUE").unwrap().auto_peak);
+        assert!(!r().set_param("auto_peak", "false").unwrap().auto_peak);
+        assert!(r().set_param("auto_peak", "yes").is_err());
+        // auto_peak_max_pcs: a number whose whole part is > 0 (kept, unused).
+        assert_eq!(
+            r().set_param("auto_peak_max_pcs", "2.5")
+                .unwrap()
+                .auto_peak_max_pcs,
+            Some(2)
+        );
+        for bad in ["0", "0.9", "-3", "many"] {
+            assert!(r().set_param("auto_peak_max_pcs", bad).is_err(), "{bad}");
+        }
+        // refine_point: every variable, the value read as an extent (value / delta + 0.5,
+        // truncated, less 1), clipped to the range first; `all` is the high value. x 12.85:
+        // 13.35 -> 12; y 7.4 clipped to y's high 5: 5.5 -> 4.
+        let p = r().set_param("refine_point", "y:7.4, x:12.85").unwrap();
+        assert_eq!(p.refine_points(), [vec![12, 4]]);
+        let p = r()
+            .set_params("refine_point = native@x:all,y:-9 # refine_point = discrete@x:3,y:40")
+            .unwrap();
+        // x all: 20 -> 19; y -9 clipped to -5 -> (-5 + 0.5) as int = -4, less 1: -5;
+        // discrete: 3 points -> 2, 40 points clipped to y's 11 -> 10.
+        assert_eq!(p.refine_points(), [vec![19, -5], vec![2, 10]]);
+        for bad in [
+            "x:3",
+            "x:3,y:abc",
+            "",
+            "discrete@x:0,y:1",
+            "grid@x:1,y:1",
+            "native@x:1@y:1",
+        ] {
+            assert!(r().set_param("refine_point", bad).is_err(), "{bad:?}");
+        }
+        // No stage uses them: the function is the same.
+        let f = |r: Reflector<_>| r.set_param("uniform_piece", "x:4,y:3").unwrap().build();
+        let plain = f(r()).unwrap();
+        let with = f(r()
+            .set_params("refine_point = x:3,y:2 # auto_peak_max_pcs = 1")
+            .unwrap())
+        .unwrap();
+        assert_eq!(plain, with);
+    }
+
+    #[test]
+    fn every_path_fits_a_piece_alike() {
+        // The piece x 0..3, y 0..2 of a curved function, built on each path: uniform,
+        // directed (a region elsewhere), with a plateau region elsewhere, with smart
+        // refinement that cuts elsewhere, and after auto_peak when the peak is elsewhere.
+        let curved = |v: &[f64]| 50.0 - (v[0] - 15.0).powi(2) / 4.0 + v[1] * v[1];
+        let d = dom2();
+        let r = || {
+            Reflector::new(&d, curved)
+                .set_param("uniform_piece", "x:4,y:3")
+                .unwrap()
+        };
+        let piece = |f: &IvpFunction| {
+            let p = f.pieces().find(|p| p.lo == [0, 0]).unwrap();
+            assert_eq!(p.hi, [3, 2]);
+            p.wts.to_vec()
+        };
+        let want = piece(&r().build().unwrap());
+        let mut reg = Regressor::new(2, Degree::Linear, true, None);
+        reg.fit(&[0, 0], &[3, 2], 0, &d, &curved).unwrap();
+        assert_eq!(want, reg.wts());
+        let directed = r()
+            .set_params("refine_region = x:12:20,y:-5:5 # refine_piece = x:1,y:1")
+            .unwrap();
+        let plateau = r()
+            .plateau_region(RegionBox {
+                lo: vec![16, 0],
+                hi: vec![20, 10],
+                plat: 1,
+            })
+            .unwrap();
+        let smart = r().set_param("smart_amount", "3").unwrap();
+        let peak = r().set_param("auto_peak", "true").unwrap();
+        for (name, r) in [
+            ("directed", directed),
+            ("plateau", plateau),
+            ("smart", smart),
+            ("auto_peak", peak),
+        ] {
+            let f = r.build().unwrap();
+            assert_eq!(piece(&f), want, "{name}");
+        }
+    }
 }

@@ -203,7 +203,9 @@ impl Regressor {
         }
         let mut n = corners as f64;
         let centre = &self.centre;
-        let centre_p = self.centre_val.map(|v| (v, plane(0.0, slopes, |k| centre[k])));
+        let centre_p = self
+            .centre_val
+            .map(|v| (v, plane(0.0, slopes, |k| centre[k])));
         if let Some((v, p)) = centre_p {
             total += v - p;
             max_icpt = max_icpt.min(high - p);
@@ -268,7 +270,13 @@ mod tests {
         (v[0] - 10.0).max(0.0).powi(2)
     }
 
-    fn fit(reg: &mut Regressor, d: &Domain, lo: &[u32], hi: &[u32], f: impl Fn(&[f64]) -> f64) -> f64 {
+    fn fit(
+        reg: &mut Regressor,
+        d: &Domain,
+        lo: &[u32],
+        hi: &[u32],
+        f: impl Fn(&[f64]) -> f64,
+    ) -> f64 {
         reg.fit(lo, hi, 0, d, &f).unwrap()
     }
 
@@ -368,9 +376,15 @@ mod tests {
             [(0.0, 0.0), (1.0, 0.0), (0.0, 2.0), (1.0, 2.0), (0.0, 1.0)]
         );
         // Edges of 2 points: corners only.
-        assert_eq!(samples([2, 1], [3, 2]), [(2.0, 1.0), (3.0, 1.0), (2.0, 2.0), (3.0, 2.0)]);
+        assert_eq!(
+            samples([2, 1], [3, 2]),
+            [(2.0, 1.0), (3.0, 1.0), (2.0, 2.0), (3.0, 2.0)]
+        );
         // An edge of one point: its repeated corners are borrowed, not evaluated again.
-        assert_eq!(samples([2, 0], [2, 2]), [(2.0, 0.0), (2.0, 2.0), (2.0, 1.0)]);
+        assert_eq!(
+            samples([2, 0], [2, 2]),
+            [(2.0, 0.0), (2.0, 2.0), (2.0, 1.0)]
+        );
         // A point: one evaluation, the plane its value.
         assert_eq!(samples([4, 2], [4, 2]), [(4.0, 2.0)]);
         assert!(near(reg.wts(), &[0.0, 0.0, 24.0]));
