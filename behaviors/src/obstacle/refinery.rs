@@ -184,8 +184,8 @@ fn apart(all: Vec<RegionBox>) -> (Vec<RegionBox>, Vec<RegionBox>) {
 
 /// Hands the regions to the reflector as plateaus and basins, the AOF's known extremes (0
 /// and 100) their values; the other pieces are fitted within their samples: the C++
-/// `Regressor`'s `strict_range`, on by default (coug's unrefined objectives keep it off, as
-/// they always have).
+/// `Regressor`'s `strict_range`, on by default (the reflector's default too; set here all the
+/// same).
 pub fn apply<F: Fn(&[f64]) -> f64>(
     mut r: Reflector<F>,
     (plateaus, basins): (Vec<RegionBox>, Vec<RegionBox>),
