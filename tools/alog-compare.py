@@ -37,9 +37,11 @@ def records(path):
 
 
 def changed_lines(a, b):
-    """Lines only in one of the two files (`diff` lines marked < or >), and the line count."""
-    out = subprocess.run(["diff", a, b], capture_output=True, text=True, errors="replace").stdout
-    n = sum(1 for line in out.splitlines() if line[:2] in ("< ", "> "))
+    """Lines only in one of the two files (`diff` lines marked < or >; the `%%` header, which
+    names the log's folder, left out), and the line count."""
+    cmd = ["diff", "--ignore-matching-lines=^%", a, b]
+    out = subprocess.run(cmd, capture_output=True, text=True, errors="replace").stdout
+    n = sum(1 for line in out.splitlines() if line[:2] in ("< ", "> ") and line[2:3] != "%")
     with open(a, "rb") as f:
         total = sum(1 for _ in f)
     return n, total

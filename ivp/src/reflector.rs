@@ -1,6 +1,7 @@
-//! The reflector: samples any function of the decision variables into linear pieces
-//! (MOOS-IvP's `OF_Reflector` with uniform pieces, directed refinement and smart
-//! refinement).
+//! The reflector: samples any function of the decision variables into linear (or scalar)
+//! pieces (MOOS-IvP's `OF_Reflector` with uniform pieces, plateau and basin regions, directed
+//! refinement, smart refinement and auto-peak refinement, every piece fitted by the C++
+//! `Regressor`'s rule).
 
 mod autopeak;
 mod checks;
@@ -34,8 +35,8 @@ struct IxBox {
 /// is cut out of the pieces it overlaps and re-partitioned with its `refine_piece` sizes;
 /// (3) smart refinement (`smart_amount`, `smart_percent`, `smart_thresh`, `queue_levels`):
 /// the worst-fitted pieces are cut in two, see `reflector/smart.rs`.
-/// (4) `auto_peak`: the piece holding the highest value is cut, again and again, until it is
-/// one grid point (`reflector/autopeak.rs`). Every piece, at every stage, is fitted by one
+/// (4) `auto_peak`: the piece of the highest value is cut, again and again, until that piece
+/// is one grid point (`reflector/autopeak.rs`). Every piece, at every stage, is fitted by one
 /// routine, MOOS-IvP's `Regressor` (`reflector/regressor.rs`): its corners and centre sampled,
 /// the slope per dimension the mean rise over run of corner pairs, the intercept the mean
 /// residual, kept within the sampled values by `strict_range` (on by default, as in the C++).

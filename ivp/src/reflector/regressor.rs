@@ -95,12 +95,12 @@ impl Regressor {
         func: &F,
     ) -> Result<f64, IvpError> {
         let d = lo.len();
-        if let (Degree::Linear, Some((min, max))) = (self.degree, self.known) {
-            if plat != 0 {
-                self.wts[..d].fill(0.0);
-                self.wts[d] = if plat > 0 { max } else { min };
-                return Ok(0.0);
-            }
+        if let (Degree::Linear, Some((min, max))) = (self.degree, self.known)
+            && plat != 0
+        {
+            self.wts[..d].fill(0.0);
+            self.wts[d] = if plat > 0 { max } else { min };
+            return Ok(0.0);
         }
         self.sample(lo, hi, domain, func)?;
         match self.degree {
