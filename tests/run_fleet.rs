@@ -8,6 +8,8 @@
 
 mod common;
 
+use test_support::missions::{counting_events, pshare_community};
+
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -255,23 +257,9 @@ fn fleet_errors_name_their_line_and_targets_must_exist() {
 #[test]
 fn a_diving_vehicle_leaves_the_radio_link_and_rejoins_it_at_the_surface() {
     let dir = fresh_dir("run-fleet-radio");
-    let events = |var: &str| {
-        (1..=30)
-            .map(|k| format!("  event = var={var}, val={k}, time={k}\n"))
-            .collect::<String>()
-    };
+    let events = |var: &str| counting_events(var, 30);
     // Lockstep opens neither the MOOSDB ports nor the in-process pShare routes.
-    let mission = |community: &str, share: &str, script: &str| {
-        format!(
-            "ServerHost = localhost\nServerPort = 9000\nCommunity = {community}\n\
-             ProcessConfig = ANTLER\n{{\n  Run = MOOSDB @ NewConsole = false\n  \
-             Run = pLogger @ NewConsole = false\n  Run = uTimerScript @ NewConsole = false\n  \
-             Run = pShare @ NewConsole = false\n}}\n\
-             ProcessConfig = pLogger\n{{\n  AppTick = 10\n  WildCardLogging = true\n}}\n\
-             ProcessConfig = pShare\n{{\n  AppTick = 4\n{share}}}\n\
-             ProcessConfig = uTimerScript\n{{\n  AppTick = 4\n{script}}}\n"
-        )
-    };
+    let mission = pshare_community;
     let diver = mission(
         "diver",
         "  radio_max_depth = 1\n  input = route = localhost:39511\n  \
