@@ -1,5 +1,7 @@
 //! CoUGARs cascade, mixing and actuators.
 
+mod common;
+
 use vehicle::ValueRef;
 use vehicle::cougars::{
     Actuators, ControllerInputs, ControlsConfig, ControlsMode, CougPid, CougUvModel, CougUvState,
@@ -759,13 +761,7 @@ fn controls_config_presets_overrides_and_problems() {
 #[test]
 fn a_forty_second_stall_mid_dive_leaves_the_loop_finite_and_recovering() {
     use vehicle::couguv::{CougUvSim, CougUvSimConfig};
-    let cfg = ControlsConfig::from_params([
-        ("vehicle", "coug1"),
-        ("speed_factor", "50"),
-        ("pitch_ki", "0.2"),
-        ("fixed_surge", "none"),
-    ])
-    .unwrap();
+    let cfg = common::mission_controls();
     let mut c = armed(cfg);
     let mut sim = CougUvSim::new(
         CougUvSimConfig::from_params([

@@ -210,13 +210,21 @@ fn the_actuators_stop_without_commands_and_bad_settings_are_reported() {
     assert_eq!(cfg.prefix, "SIM");
 }
 
-/// The same simulator iterated at 20 Hz from 0 to `secs`.
-fn fine_steps(s: &mut CougUvSim, secs: f64) {
+/// Two simulators from `params` given [`full_command`] at 0 s: one iterated at 0 and 40 s
+/// (a stalled run's one step), one at 20 Hz from 0 to 40 s.
+fn once_and_fine(params: &[(&str, &str)]) -> (CougUvSim, CougUvSim) {
+    let mut once = sim(params);
     let mut out = Vec::new();
-    for k in 0..=(secs * 20.0).round() as u32 {
+    full_command(&mut once, 0.0);
+    once.iterate(0.0, &mut out);
+    once.iterate(40.0, &mut out);
+    let mut fine = sim(params);
+    full_command(&mut fine, 0.0);
+    for k in 0..=800 {
         out.clear();
-        s.iterate(f64::from(k) * 0.05, &mut out);
+        fine.iterate(f64::from(k) * 0.05, &mut out);
     }
+    (once, fine)
 }
 
 fn full_command(s: &mut CougUvSim, t: f64) {
@@ -241,14 +249,7 @@ fn a_forty_second_step_flies_the_command_until_the_failsafe_as_short_steps_do() 
         ("start_pos", "x=0, y=0, heading=0, speed=1, depth=2"),
         ("command_timeout", "5"),
     ];
-    let mut once = sim(&params);
-    let mut out = Vec::new();
-    full_command(&mut once, 0.0);
-    once.iterate(0.0, &mut out);
-    once.iterate(40.0, &mut out);
-    let mut fine = sim(&params);
-    full_command(&mut fine, 0.0);
-    fine_steps(&mut fine, 40.0);
+    let (once, fine) = once_and_fine(&params);
     let (a, b) = (once.truth(), fine.truth());
     assert!(a.is_finite(), "{a:?}");
     for (what, x, y) in [
@@ -281,14 +282,7 @@ fn a_forty_second_step_without_failsafe_stays_finite_and_plausible() {
         ("start_pos", "x=0, y=0, heading=0, speed=1, depth=5"),
         ("command_timeout", "0"),
     ];
-    let mut once = sim(&params);
-    let mut out = Vec::new();
-    full_command(&mut once, 0.0);
-    once.iterate(0.0, &mut out);
-    once.iterate(40.0, &mut out);
-    let mut fine = sim(&params);
-    full_command(&mut fine, 0.0);
-    fine_steps(&mut fine, 40.0);
+    let (once, fine) = once_and_fine(&params);
     let (a, b) = (once.truth(), fine.truth());
     assert!(a.is_finite(), "{a:?}");
     assert!(a.body.fins.iter().all(|f| f.abs() <= 25.0 + 1e-9), "{a:?}");
