@@ -341,6 +341,9 @@ mod tests {
             (r.time, r.depth_m, r.length_m),
             (Some(1000.25), Some(4.0), Some(4.0))
         );
+        // As the C++ reads it: a numeric group or colour is a property, not the group.
+        let n = NodeReport::parse("NAME=abe,X=1,Y=2,GROUP=3,COLOR=4");
+        assert_eq!((n.group.as_str(), n.color.as_str()), ("", ""));
         let j = NodeReport::parse(r#"{"NAME":"cal","X":1,"Y":2,"UTC_TIME":5,"TYPE":"UUV"}"#);
         assert_eq!(j.name, "cal");
         assert_eq!((j.x_m, j.time), (Some(1.0), Some(5.0)));

@@ -265,3 +265,33 @@ fn split_outside_braces(s: &str) -> Vec<&str> {
     out.push(&s[start..]);
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// As `string2NodeRecordCSP`: a numeric `COLOR` or `GROUP` is a property (the numeric
+    /// branch comes first), a non-numeric `X` is not a position, keys are case-insensitive,
+    /// commas inside braces do not split, and a later field wins.
+    #[test]
+    fn fields_follow_string2noderecord() {
+        let r = NodeRecord::parse(
+            "name=abe,COLOR=7,GROUP=2,X=far,Y=3,Spd=1,HDG=10,TRAJECTORY={1,2:3,4},hdg=20,INDEX=4.9",
+        );
+        assert_eq!(r.name, "abe");
+        assert_eq!((r.color.as_str(), r.group.as_str()), ("", ""));
+        assert_eq!(r.properties.get("COLOR").map(String::as_str), Some("7"));
+        assert_eq!(r.properties.get("GROUP").map(String::as_str), Some("2"));
+        assert_eq!(
+            (r.x, r.y, r.speed, r.heading),
+            (None, Some(3.0), Some(1.0), Some(20.0))
+        );
+        assert_eq!(r.trajectory.as_deref(), Some("1,2:3,4"));
+        assert_eq!(r.index, 4);
+        assert!(!r.valid(), "no position");
+        // JSON: quotes dropped, `:` separates.
+        let j =
+            NodeRecord::parse(r#" {"NAME":"ben","LAT":"43.8","LON":"-70.3","SPD":"0","HDG":"0"} "#);
+        assert!(j.has_latlon() && !j.has_xy() && j.valid(), "{j:?}");
+    }
+}
