@@ -8,6 +8,8 @@
 
 mod common;
 
+use test_support::missions::{self, counting_events, pshare_community};
+
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -255,23 +257,9 @@ fn fleet_errors_name_their_line_and_targets_must_exist() {
 #[test]
 fn a_diving_vehicle_leaves_the_radio_link_and_rejoins_it_at_the_surface() {
     let dir = fresh_dir("run-fleet-radio");
-    let events = |var: &str| {
-        (1..=30)
-            .map(|k| format!("  event = var={var}, val={k}, time={k}\n"))
-            .collect::<String>()
-    };
+    let events = |var: &str| counting_events(var, 30);
     // Lockstep opens neither the MOOSDB ports nor the in-process pShare routes.
-    let mission = |community: &str, share: &str, script: &str| {
-        format!(
-            "ServerHost = localhost\nServerPort = 9000\nCommunity = {community}\n\
-             ProcessConfig = ANTLER\n{{\n  Run = MOOSDB @ NewConsole = false\n  \
-             Run = pLogger @ NewConsole = false\n  Run = uTimerScript @ NewConsole = false\n  \
-             Run = pShare @ NewConsole = false\n}}\n\
-             ProcessConfig = pLogger\n{{\n  AppTick = 10\n  WildCardLogging = true\n}}\n\
-             ProcessConfig = pShare\n{{\n  AppTick = 4\n{share}}}\n\
-             ProcessConfig = uTimerScript\n{{\n  AppTick = 4\n{script}}}\n"
-        )
-    };
+    let mission = pshare_community;
     let diver = mission(
         "diver",
         "  radio_max_depth = 1\n  input = route = localhost:39511\n  \
@@ -331,28 +319,21 @@ fn a_diving_vehicle_leaves_the_radio_link_and_rejoins_it_at_the_surface() {
 fn a_real_time_fleet_gives_each_community_its_own_db() {
     let dir = fresh_dir("run-fleet-realtime");
     let mission = |community: &str, var: &str| {
-        format!(
-            "ServerHost = localhost\nServerPort = 0\nCommunity = {community}\n\
-             ProcessConfig = ANTLER\n{{\n  Run = MOOSDB @ NewConsole = false\n  \
-             Run = pLogger @ NewConsole = false\n  Run = uTimerScript @ NewConsole = false\n}}\n\
-             ProcessConfig = pLogger\n{{\n  AppTick = 10\n  WildCardLogging = true\n}}\n\
-             ProcessConfig = uTimerScript\n{{\n  AppTick = 20\n  event = var={var}, val=1, time=0.2\n}}\n"
+        let script = format!("  AppTick = 20\n  event = var={var}, val=1, time=0.2\n");
+        missions::community(
+            community,
+            0,
+            &[
+                ("pLogger", missions::WILDCARD_LOGGER),
+                ("uTimerScript", &script),
+            ],
         )
     };
     std::fs::write(dir.join("a.moos"), mission("alpha", "A_DONE")).unwrap();
     std::fs::write(dir.join("b.moos"), mission("bravo", "B_DONE")).unwrap();
     let loaded = LoadedFleet::from_missions(&[dir.join("a.moos"), dir.join("b.moos")], &[], &[])
         .expect("loads");
-    let opts = FleetOptions {
-        mode: Mode::RealTime {
-            warp: Some(4.0),
-            port: None,
-        },
-        until: vec!["alpha: A_DONE = 1".into(), "bravo: B_DONE = 1".into()],
-        max_time: 60.0,
-        log_dir: Some(dir.join("logs")),
-        ..FleetOptions::default()
-    };
+    let opts = realtime_two(&dir, ["alpha: A_DONE = 1", "bravo: B_DONE = 1"]);
     let mut notices = Notices::default();
     let report = session::run_fleet(&loaded, &opts, &mut notices).expect("runs");
     assert!(!report.until_pending(), "{report}");
@@ -388,29 +369,17 @@ fn a_real_time_fleet_gives_each_community_its_own_db() {
 fn a_real_time_fleet_reports_each_communitys_progress() {
     let dir = fresh_dir("run-fleet-realtime-progress");
     let mission = |community: &str, x: f64| {
-        format!(
-            "ServerHost = localhost\nServerPort = 0\nCommunity = {community}\n\
-             ProcessConfig = ANTLER\n{{\n  Run = MOOSDB @ NewConsole = false\n  \
-             Run = uTimerScript @ NewConsole = false\n}}\n\
-             ProcessConfig = uTimerScript\n{{\n  AppTick = 20\n  \
-             event = var=NAV_X, val={x}, time=0.1\n  event = var=IVPHELM_STATE, val=PARK, time=0.1\n  \
-             event = var=DONE, val=1, time=4\n}}\n"
-        )
+        let script = format!(
+            "  AppTick = 20\n  event = var=NAV_X, val={x}, time=0.1\n  \
+             event = var=IVPHELM_STATE, val=PARK, time=0.1\n  event = var=DONE, val=1, time=4\n"
+        );
+        missions::community(community, 0, &[("uTimerScript", &script)])
     };
     std::fs::write(dir.join("a.moos"), mission("alpha", 1.5)).unwrap();
     std::fs::write(dir.join("b.moos"), mission("bravo", -2.5)).unwrap();
     let loaded = LoadedFleet::from_missions(&[dir.join("a.moos"), dir.join("b.moos")], &[], &[])
         .expect("loads");
-    let opts = FleetOptions {
-        mode: Mode::RealTime {
-            warp: Some(4.0),
-            port: None,
-        },
-        until: vec!["alpha: DONE = 1".into(), "bravo: DONE = 1".into()],
-        max_time: 60.0,
-        log_dir: Some(dir.join("logs")),
-        ..FleetOptions::default()
-    };
+    let opts = realtime_two(&dir, ["alpha: DONE = 1", "bravo: DONE = 1"]);
     let mut seen = Progress::default();
     let report = session::run_fleet(&loaded, &opts, &mut seen).expect("runs");
     assert!(!report.until_pending(), "{report}");
@@ -476,5 +445,20 @@ struct Notices(Vec<String>);
 impl session::Observer for Notices {
     fn notice(&mut self, text: &str) {
         self.0.push(text.to_string());
+    }
+}
+
+/// Real-time options for the two-community fleets above: warp 4, system-picked ports, until
+/// both conditions hold, at most 60 s, logs in `dir/logs`.
+fn realtime_two(dir: &std::path::Path, until: [&str; 2]) -> FleetOptions {
+    FleetOptions {
+        mode: Mode::RealTime {
+            warp: Some(4.0),
+            port: None,
+        },
+        until: until.iter().map(|u| u.to_string()).collect(),
+        max_time: 60.0,
+        log_dir: Some(dir.join("logs")),
+        ..FleetOptions::default()
     }
 }

@@ -13,10 +13,11 @@
 
 mod common;
 
+use test_support::missions::spawn_reading_stderr;
+
 use std::collections::{BTreeMap, BTreeSet};
-use std::io::{BufRead, BufReader};
 use std::path::Path;
-use std::process::{Command, Stdio};
+use std::process::Command;
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
@@ -46,33 +47,22 @@ struct Run {
 fn start(dir: &Path, name: &str, mission: &str, macros: &[String]) -> Run {
     let cwd = dir.join(name);
     std::fs::create_dir_all(&cwd).unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_coug"))
-        .current_dir(&cwd)
-        .arg("run")
-        .arg(project_mission(mission))
-        .args(macros)
-        .args([
-            "--warp",
-            &WARP.to_string(),
-            "--port",
-            "0",
-            "--log-dir",
-            "logs",
-        ])
-        .args(["--until", "TEST_DONE = true", "--max-time", "900"])
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("coug starts");
-    let (tx, rx) = mpsc::channel();
-    let stderr = child.stderr.take().unwrap();
-    std::thread::spawn(move || {
-        for line in BufReader::new(stderr).lines().map_while(Result::ok) {
-            if tx.send(line).is_err() {
-                break;
-            }
-        }
-    });
+    let (child, rx) = spawn_reading_stderr(
+        Command::new(env!("CARGO_BIN_EXE_coug"))
+            .current_dir(&cwd)
+            .arg("run")
+            .arg(project_mission(mission))
+            .args(macros)
+            .args([
+                "--warp",
+                &WARP.to_string(),
+                "--port",
+                "0",
+                "--log-dir",
+                "logs",
+            ])
+            .args(["--until", "TEST_DONE = true", "--max-time", "900"]),
+    );
     let mut seen = Vec::new();
     let deadline = Instant::now() + STEP;
     let db_port = loop {

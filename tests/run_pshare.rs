@@ -5,10 +5,11 @@
 
 mod common;
 
-use std::io::{BufRead, BufReader};
+use test_support::missions::{counting_events, pshare_community, spawn_reading_stderr};
+
 use std::net::UdpSocket;
 use std::path::Path;
-use std::process::{Child, Command, Stdio};
+use std::process::{Child, Command};
 use std::sync::mpsc;
 use std::time::Duration;
 
@@ -57,32 +58,21 @@ fn write_mission(dir: &Path, community: &str, share: &str, sender: bool) {
 /// Starts `coug run MISSION --warp W ...` in `dir` with stderr lines sent to the returned
 /// channel.
 fn start(dir: &Path, mission: &str, extra: &[&str]) -> (Child, mpsc::Receiver<String>) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_coug"))
-        .current_dir(dir)
-        .args([
-            "run",
-            mission,
-            "--warp",
-            "4",
-            "--port",
-            "0",
-            "--log-dir",
-            "logs",
-        ])
-        .args(extra)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("coug starts");
-    let (tx, rx) = mpsc::channel();
-    let stderr = child.stderr.take().unwrap();
-    std::thread::spawn(move || {
-        for line in BufReader::new(stderr).lines().map_while(Result::ok) {
-            if tx.send(line).is_err() {
-                break;
-            }
-        }
-    });
+    let (child, rx) = spawn_reading_stderr(
+        Command::new(env!("CARGO_BIN_EXE_coug"))
+            .current_dir(dir)
+            .args([
+                "run",
+                mission,
+                "--warp",
+                "4",
+                "--port",
+                "0",
+                "--log-dir",
+                "logs",
+            ])
+            .args(extra),
+    );
     (child, rx)
 }
 
@@ -201,22 +191,8 @@ fn a_surfacing_vehicle_forwards_what_its_store_kept() {
     ];
     for (store, want, cast) in cases {
         let dir = fresh_dir("run-pshare-radio-store");
-        let events = |var: &str| {
-            (1..=30)
-                .map(|k| format!("  event = var={var}, val={k}, time={k}\n"))
-                .collect::<String>()
-        };
-        let mission = |community: &str, share: &str, script: &str| {
-            format!(
-                "ServerHost = localhost\nServerPort = 9000\nCommunity = {community}\n\
-                 ProcessConfig = ANTLER\n{{\n  Run = MOOSDB @ NewConsole = false\n  \
-                 Run = pLogger @ NewConsole = false\n  Run = uTimerScript @ NewConsole = false\n  \
-                 Run = pShare @ NewConsole = false\n}}\n\
-                 ProcessConfig = pLogger\n{{\n  AppTick = 10\n  WildCardLogging = true\n}}\n\
-                 ProcessConfig = pShare\n{{\n  AppTick = 4\n{share}}}\n\
-                 ProcessConfig = uTimerScript\n{{\n  AppTick = 4\n{script}}}\n"
-            )
-        };
+        let events = |var: &str| counting_events(var, 30);
+        let mission = pshare_community;
         let diver = mission(
             "diver",
             &format!(

@@ -19,6 +19,7 @@
 //! - a contact is stale when its report's own timestamp is older than `contact_max_age`
 //!   (a report stamped 0 never goes stale, as `getUTCAge` treats 0 as unknown).
 
+use moos_types::node_record::NodeRecord;
 use std::collections::BTreeMap;
 
 /// One vehicle as last reported.
@@ -81,76 +82,36 @@ pub struct NodeReport {
 }
 
 impl NodeReport {
-    /// Reads a report. Numeric fields take only values MOOS calls numbers; unknown keys are
-    /// ignored. Never fails: missing fields stay unset.
+    /// Reads a report through the one node-report parse
+    /// ([`moos_types::node_record::NodeRecord::parse`], MOOS `string2NodeRecord`): numeric
+    /// fields take only values MOOS calls numbers (a numeric `COLOR` or `GROUP` is a property
+    /// there, so neither is set); unknown keys are ignored. Never fails: missing fields stay
+    /// unset.
     pub fn parse(report: &str) -> NodeReport {
-        let trimmed = report.trim();
-        let mut r = NodeReport::default();
-        if trimmed.starts_with('{') && trimmed.ends_with('}') && trimmed.len() >= 2 {
-            let inner: String = trimmed[1..trimmed.len() - 1]
-                .chars()
-                .filter(|&c| c != '"')
-                .collect();
-            for field in inner.split(',') {
-                let (k, v) = field.split_once(':').unwrap_or((field, ""));
-                r.set(k.trim(), v.trim());
-            }
-        } else {
-            for field in split_outside_braces(report) {
-                let (k, v) = field.split_once('=').unwrap_or((field, ""));
-                r.set(k.trim(), v.trim());
-            }
-        }
-        r
-    }
-
-    fn set(&mut self, key: &str, value: &str) {
-        let key = key.to_ascii_uppercase();
-        match key.as_str() {
-            "NAME" => self.name = value.to_string(),
-            "TYPE" => self.vtype = value.to_string(),
-            "GROUP" => self.group = value.to_string(),
-            "COLOR" => self.color = value.to_string(),
-            "MODE" => self.mode = value.to_string(),
-            "ALLSTOP" => self.allstop = value.to_string(),
-            _ if geometry::is_number(value) => {
-                let v = Some(geometry::atof(value));
-                match key.as_str() {
-                    "TIME" | "UTC_TIME" => self.time = v,
-                    "X" => self.x_m = v,
-                    "Y" => self.y_m = v,
-                    "LAT" => self.lat_deg = v,
-                    "LON" => self.lon_deg = v,
-                    "SPD" | "SPEED" => self.speed_mps = v,
-                    "HDG" | "HEADING" => self.heading_deg = v,
-                    "DEP" | "DEPTH" => self.depth_m = v,
-                    "LENGTH" | "LEN" => self.length_m = v,
-                    _ => {}
-                }
-            }
-            _ => {}
-        }
+        NodeReport::from(NodeRecord::parse(report))
     }
 }
 
-/// Splits at commas that are not inside `{...}` (MOOS `parseStringZ(s, ',', "{")`).
-fn split_outside_braces(s: &str) -> Vec<&str> {
-    let mut out = Vec::new();
-    let mut depth = 0usize;
-    let mut start = 0;
-    for (i, c) in s.char_indices() {
-        match c {
-            '{' => depth += 1,
-            '}' => depth = depth.saturating_sub(1),
-            ',' if depth == 0 => {
-                out.push(&s[start..i]);
-                start = i + 1;
-            }
-            _ => {}
+impl From<NodeRecord> for NodeReport {
+    fn from(r: NodeRecord) -> NodeReport {
+        NodeReport {
+            name: r.name,
+            vtype: r.vtype,
+            group: r.group,
+            color: r.color,
+            time: r.time,
+            x_m: r.x,
+            y_m: r.y,
+            lat_deg: r.lat,
+            lon_deg: r.lon,
+            speed_mps: r.speed,
+            heading_deg: r.heading,
+            depth_m: r.depth,
+            length_m: r.length,
+            mode: r.mode,
+            allstop: r.allstop,
         }
     }
-    out.push(&s[start..]);
-    out
 }
 
 /// Vehicle types MOOS knows (`isKnownVehicleType`, case-insensitive).
@@ -380,6 +341,9 @@ mod tests {
             (r.time, r.depth_m, r.length_m),
             (Some(1000.25), Some(4.0), Some(4.0))
         );
+        // As the C++ reads it: a numeric group or colour is a property, not the group.
+        let n = NodeReport::parse("NAME=abe,X=1,Y=2,GROUP=3,COLOR=4");
+        assert_eq!((n.group.as_str(), n.color.as_str()), ("", ""));
         let j = NodeReport::parse(r#"{"NAME":"cal","X":1,"Y":2,"UTC_TIME":5,"TYPE":"UUV"}"#);
         assert_eq!(j.name, "cal");
         assert_eq!((j.x_m, j.time), (Some(1.0), Some(5.0)));

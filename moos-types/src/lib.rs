@@ -24,6 +24,7 @@
 #![warn(missing_docs)]
 
 pub mod fmt;
+pub mod node_record;
 pub mod text;
 
 pub use bytes::Bytes;

@@ -180,9 +180,10 @@ impl AppCore for CougUvSimCore {
         }
     }
 
-    fn iterate(&mut self, now: f64, out: &mut Vec<Post>, _notes: &mut Vec<Note>) {
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>, notes: &mut Vec<Note>) {
         self.sim.iterate(now, &mut self.postings);
         out.append(&mut self.postings);
+        notes.extend(self.sim.take_warnings().into_iter().map(Note::Warning));
     }
 
     fn report(&self, now: f64, body: &mut String) {

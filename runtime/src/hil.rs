@@ -630,6 +630,29 @@ impl Hosted<SimDevicesCore> {
     }
 }
 
+/// The MOOS time from which the Teensy's actuators hold what they drive now: the time it took
+/// its last `$CONTR` (emulator time `t`, warped, is MOOS time `epoch × warp + t`), within the
+/// model's step (`after`, the model's last advance, to `now`); `now` before any `$CONTR` (the
+/// firmware's power-up neutral holds all along).
+pub fn command_time(
+    inputs: &TeensyInputs,
+    epoch_unix_s: f64,
+    warp: f64,
+    after: Option<f64>,
+    now: f64,
+) -> f64 {
+    let Some((t, _)) = inputs.last else {
+        return now;
+    };
+    let given = epoch_unix_s * warp + t;
+    let given = if given.is_finite() {
+        given.min(now)
+    } else {
+        now
+    };
+    after.map_or(given, |a| given.max(a))
+}
+
 /// The app's appcast body: the bench (its name, whether it runs, truths fed), the Teensy's
 /// inputs and the model.
 fn appcast_body(
@@ -684,10 +707,17 @@ impl AppCore for SimDevicesCore {
 
     fn on_mail(&mut self, _m: &Mail, _now: f64, _out: &mut Vec<Post>, _notes: &mut Vec<Note>) {}
 
-    fn iterate(&mut self, now: f64, out: &mut Vec<Post>, _notes: &mut Vec<Note>) {
+    fn iterate(&mut self, now: f64, out: &mut Vec<Post>, notes: &mut Vec<Note>) {
         if let Some(f) = &self.feeds {
-            // The Teensy's outputs are the model's command, as fresh as this iteration.
-            self.last_inputs = f.teensy.get();
+            // The Teensy's outputs are the model's command from the time the Teensy took its
+            // last $CONTR: after a stall the model flies the old command up to the new one,
+            // and no command longer than the failsafe's timeout after it was sent.
+            let inputs = f.teensy.get();
+            let given = command_time(&inputs, f.epoch_unix_s, f.warp, self.sim.last_time(), now);
+            if inputs.accepted != self.last_inputs.accepted {
+                self.sim.advance_to(given);
+            }
+            self.last_inputs = inputs;
             let (fins, thrust) = actuators_to_command(&self.last_inputs, &self.kin);
             let names = [
                 vars::FIN_DEFLECT_TOP_DEG,
@@ -695,12 +725,13 @@ impl AppCore for SimDevicesCore {
                 vars::FIN_DEFLECT_PORT_DEG,
             ];
             for (n, v) in names.iter().zip(fins) {
-                self.sim.on_mail(n, Value::Double(v).as_ref(), now);
+                self.sim.on_mail(n, Value::Double(v).as_ref(), given);
             }
             self.sim
-                .on_mail(vars::THRUST_PCT, Value::Double(thrust).as_ref(), now);
+                .on_mail(vars::THRUST_PCT, Value::Double(thrust).as_ref(), given);
         }
         self.sim.iterate(now, &mut self.postings);
+        notes.extend(self.sim.take_warnings().into_iter().map(Note::Warning));
         for p in &self.postings {
             let Some(v) = p.value.as_f64() else { continue };
             if let Some((_, f)) = self.truth_vars.iter().find(|(n, _)| *n == *p.key) {
@@ -730,6 +761,90 @@ mod tests {
 
     fn block(text: &str) -> ProcessConfig {
         crate::testing::block("h.moos", text)
+    }
+
+    /// The model takes the Teensy's command from the time the Teensy took it (MOOS time
+    /// `epoch × warp + emulator time`), within the model's step: after a stall of 40 simulated
+    /// seconds the new command starts when it came, not at the stall's start, and a command
+    /// taken before the step counts from the step's start.
+    #[test]
+    fn the_teensys_command_counts_from_when_the_teensy_took_it() {
+        let c = devices::teensy::Contr {
+            fins_deg: [0.0; 3],
+            thrust_pct: 40,
+        };
+        let at = |t: f64| TeensyInputs {
+            last: Some((t, c)),
+            ..TeensyInputs::default()
+        };
+        let (epoch, warp) = (1.0e9, 8.0);
+        let moos = epoch * warp;
+        // Before any $CONTR: the power-up neutral, now.
+        let none = TeensyInputs::default();
+        assert_eq!(
+            command_time(&none, epoch, warp, Some(moos), moos + 40.0),
+            moos + 40.0
+        );
+        // Taken 39 s into a 40 s step: from then.
+        assert_eq!(
+            command_time(&at(139.0), epoch, warp, Some(moos + 100.0), moos + 140.0),
+            moos + 139.0
+        );
+        // Taken before the step: from the step's start; never after now.
+        assert_eq!(
+            command_time(&at(50.0), epoch, warp, Some(moos + 100.0), moos + 140.0),
+            moos + 100.0
+        );
+        assert_eq!(
+            command_time(&at(150.0), epoch, warp, Some(moos + 100.0), moos + 140.0),
+            moos + 140.0
+        );
+        assert_eq!(
+            command_time(&at(50.0), epoch, warp, None, moos + 140.0),
+            moos + 50.0
+        );
+    }
+
+    /// uSimDevices' model over a stall: the old command flies until the failsafe's timeout,
+    /// the new one from when the Teensy took it, as the split of [`command_time`] and
+    /// `advance_to` gives; the same vehicle as short steps, finite.
+    #[test]
+    fn a_stalled_step_flies_the_old_command_to_the_failsafe_and_the_new_one_from_its_time() {
+        use vehicle::couguv::{CougUvSim, CougUvSimConfig};
+        let cfg = CougUvSimConfig::from_params([
+            ("start_pos", "x=0, y=0, heading=0, speed=1, depth=2"),
+            ("command_timeout", "5"),
+        ])
+        .unwrap();
+        let set = |s: &mut CougUvSim, thrust: f64, t: f64| {
+            s.on_mail(vars::THRUST_PCT, Value::Double(thrust).as_ref(), t);
+        };
+        // One step: 100 % at 0, nothing until 39 s, then 20 %, the step ending at 40 s.
+        let mut once = CougUvSim::new(cfg.clone(), None);
+        let mut out = Vec::new();
+        set(&mut once, 100.0, 0.0);
+        once.iterate(0.0, &mut out);
+        once.advance_to(39.0);
+        set(&mut once, 20.0, 39.0);
+        once.iterate(40.0, &mut out);
+        // Short steps: 100 % given at 0 (stopped by the failsafe after 5 s), 20 % at 39 s.
+        let mut fine = CougUvSim::new(cfg, None);
+        set(&mut fine, 100.0, 0.0);
+        for k in 0..=800 {
+            let t = f64::from(k) * 0.05;
+            if k == 780 {
+                set(&mut fine, 20.0, t);
+            }
+            fine.iterate(t, &mut out);
+        }
+        let (a, b) = (once.truth(), fine.truth());
+        assert!(a.is_finite());
+        // (The short steps fly the 20 % over the whole 50 ms step it arrived in.)
+        assert!(
+            (a.y - b.y).abs() < 1e-2 && (a.body.surge - b.body.surge).abs() < 5e-3,
+            "{a:?}\n{b:?}"
+        );
+        assert_eq!(once.command().thruster, 20.0);
     }
 
     #[test]

@@ -15,6 +15,7 @@
 #![warn(missing_docs)]
 
 pub mod fuzz;
+pub mod missions;
 
 use std::path::{Path, PathBuf};
 

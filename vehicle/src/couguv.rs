@@ -22,6 +22,20 @@
 //! Without a fin or thrust command for `command_timeout` seconds (5 s: the Teensy's
 //! failsafe) the fins go to zero and the thrust to 0.
 //!
+//! # Large steps
+//!
+//! In a real-time run a starved process iterates late: at a warp of 8 a stall of 5 s of
+//! wall time is one step of 40 simulated seconds. The model then integrates the whole gap
+//! in steps of at most [`MAX_STEP_S`] (and the model's own 5 ms), so a long step gives the
+//! same vehicle as many short ones, and the actuator failsafe takes effect inside the step:
+//! the command flies until `command_timeout` after it was given, the rest of the gap with
+//! the actuators stopped ([`CougUvSim::advance_to`]). The C++ uSimMarine makes one Euler
+//! step of the whole gap; its model is kinematic (rates and speeds with limits), so that
+//! stays bounded, and uSimMarineV22 here does the same. This model has dynamics (the pitch
+//! pendulum, the actuator lags), which an explicit step of seconds would make diverge,
+//! hence the substeps. A state that is not finite (which no finite command can produce) is
+//! refused: the truth stays where it was, and a warning says so ([`CougUvSim::take_warnings`]).
+//!
 //! # Configuration
 //!
 //! | parameter | default | meaning |
@@ -61,8 +75,9 @@ use crate::sim::StartPose;
 
 const APP: &str = "uSimCougUV";
 
-/// Longest integration step, seconds (the model substeps further, at 5 ms).
-const MAX_STEP_S: f64 = 0.01;
+/// Longest integration step, seconds (the model substeps further, at 5 ms), whatever the gap
+/// between two iterations.
+pub const MAX_STEP_S: f64 = 0.01;
 
 /// `uSimCougUV` configuration.
 #[derive(Debug, Clone, PartialEq)]
@@ -166,6 +181,29 @@ pub struct CougUvTruth {
     pub vel_north_mps: f64,
 }
 
+impl CougUvTruth {
+    /// True when every number of the state is finite.
+    pub fn is_finite(&self) -> bool {
+        let b = &self.body;
+        [
+            self.x,
+            self.y,
+            self.vel_east_mps,
+            self.vel_north_mps,
+            b.depth,
+            b.depth_rate,
+            b.pitch,
+            b.pitch_rate,
+            b.heading,
+            b.yaw_rate,
+            b.surge,
+        ]
+        .iter()
+        .chain(&b.fins)
+        .all(|v| v.is_finite())
+    }
+}
+
 /// Advances `truth` by `dt` seconds under the physical command `cmd` and the current.
 pub fn advance(
     model: &CougUvModel,
@@ -208,6 +246,8 @@ pub struct CougUvSim {
     last_cmd: Option<f64>,
     last_time: Option<f64>,
     names: [ByteString; 13],
+    warnings: Vec<String>,
+    refused_steps: u64,
 }
 
 impl CougUvSim {
@@ -250,6 +290,8 @@ impl CougUvSim {
             last_cmd: None,
             last_time: None,
             names,
+            warnings: Vec::new(),
+            refused_steps: 0,
         }
     }
 
@@ -307,19 +349,69 @@ impl CougUvSim {
         }
     }
 
-    /// One iteration at MOOS time `now`: advance from the previous iteration and post the
-    /// truth.
-    pub fn iterate(&mut self, now: f64, out: &mut Vec<Posting>) {
-        let dt = self.last_time.map_or(0.0, |t0| now - t0);
+    /// The MOOS time of the last advance (`None` before the first iteration).
+    pub fn last_time(&self) -> Option<f64> {
+        self.last_time
+    }
+
+    /// Steps whose result was not finite and was refused (the truth was kept).
+    pub fn refused_steps(&self) -> u64 {
+        self.refused_steps
+    }
+
+    /// Run warnings raised since the last call (a refused non-finite step).
+    pub fn take_warnings(&mut self) -> Vec<String> {
+        std::mem::take(&mut self.warnings)
+    }
+
+    /// Advances the truth from the last advance to MOOS time `now` without posting: the
+    /// command in force flies until `command_timeout` after it was given, the actuators are
+    /// stopped for the rest of the gap, however long the gap is (see "Large steps"). The
+    /// first call only sets the time; a `now` before the last advance changes nothing.
+    pub fn advance_to(&mut self, now: f64) {
+        let Some(t0) = self.last_time else {
+            self.last_time = Some(now);
+            return;
+        };
+        if now.is_nan() || now <= t0 {
+            return;
+        }
         self.last_time = Some(now);
-        let cmd = self.effective(now);
-        self.truth = advance(
-            &self.cfg.model,
-            &self.truth,
-            &cmd,
-            (self.cfg.drift_x_mps, self.cfg.drift_y_mps),
-            dt,
-        );
+        let drift = (self.cfg.drift_x_mps, self.cfg.drift_y_mps);
+        let stop = UCommand::default();
+        // Until when the command flies: never without one, always without a timeout.
+        let until = match self.last_cmd {
+            None => t0,
+            Some(_) if self.cfg.command_timeout_s <= 0.0 => now,
+            Some(t) => (t + self.cfg.command_timeout_s).clamp(t0, now),
+        };
+        let mut next = self.truth;
+        if until > t0 {
+            next = advance(&self.cfg.model, &next, &self.cmd, drift, until - t0);
+        }
+        if now > until {
+            next = advance(&self.cfg.model, &next, &stop, drift, now - until);
+        }
+        if next.is_finite() {
+            self.truth = next;
+        } else {
+            self.refused_steps += 1;
+            self.warnings.push(format!(
+                "the model's state over {:.3} s to {now:.3} is not finite: kept the previous \
+                 truth (command top={} stbd={} port={} thrust={})",
+                now - t0,
+                self.cmd.fin[0],
+                self.cmd.fin[1],
+                self.cmd.fin[2],
+                self.cmd.thruster
+            ));
+        }
+    }
+
+    /// One iteration at MOOS time `now`: advance from the previous iteration
+    /// ([`CougUvSim::advance_to`]) and post the truth.
+    pub fn iterate(&mut self, now: f64, out: &mut Vec<Posting>) {
+        self.advance_to(now);
         let t = &self.truth;
         let b = &t.body;
         let n = &self.names;

@@ -2,8 +2,10 @@
 //! in, either the marine PID and uSimMarine, or the CoUGARs controllers and the CougUV
 //! simulator, and node reports.
 
+mod common;
+
 use vehicle::angle::angle180;
-use vehicle::cougars::{ControlsConfig, CougarsControl};
+use vehicle::cougars::CougarsControl;
 use vehicle::couguv::{CougUvSim, CougUvSimConfig};
 use vehicle::moos::last_posting;
 use vehicle::node_report::{NodeReportConfig, NodeReporter};
@@ -178,13 +180,7 @@ fn marine_pid_drives_the_simulator_through_moos_names() {
 
 #[test]
 fn cougars_controllers_drive_the_couguv_simulator() {
-    let cfg = ControlsConfig::from_params([
-        ("vehicle", "coug1"),
-        ("speed_factor", "50"),
-        ("pitch_ki", "0.2"),
-        ("fixed_surge", "none"),
-    ])
-    .unwrap();
+    let cfg = common::mission_controls();
     let mut c = CougarsControl::new(cfg);
     c.on_mail("DEPLOY", ValueRef::String("true"), 0.0);
     c.on_mail("MOOS_MANUAL_OVERIDE", ValueRef::String("false"), 0.0);

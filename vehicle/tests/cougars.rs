@@ -1,5 +1,7 @@
 //! CoUGARs cascade, mixing and actuators.
 
+mod common;
+
 use vehicle::ValueRef;
 use vehicle::cougars::{
     Actuators, ControllerInputs, ControlsConfig, ControlsMode, CougPid, CougUvModel, CougUvState,
@@ -745,4 +747,128 @@ fn controls_config_presets_overrides_and_problems() {
     assert!(matches!(&problems[1], ConfigError::BadValue { key, .. } if key == "speed_factor"));
     assert!(matches!(&problems[2], ConfigError::UnknownKey { key, .. } if key == "colour"));
     assert_eq!((c.speed_factor, c.cougars.pitch.kp), (0.0, 0.5));
+}
+
+// ---------------------------------------------------------------------------------------
+// Large steps: a real-time run starved for 5 s of wall time at a warp of 8.
+
+/// pCougControls closing the loop on uSimCougUV (the mission's settings), both at 12.5 Hz,
+/// with a stall of 40 simulated seconds mid-dive: neither iterates, then each takes the
+/// whole gap in one step. The PID loops run on their fixed period (the C++ `Ts`), so the
+/// gap enters only the rates taken from successive NAV samples; the controller first sees
+/// its inputs stale (all-stop), then resumes, and the vehicle is back at the set depth with
+/// every number finite and every fin within its limit (the controller's, the model's 25°).
+#[test]
+fn a_forty_second_stall_mid_dive_leaves_the_loop_finite_and_recovering() {
+    use vehicle::couguv::{CougUvSim, CougUvSimConfig};
+    let cfg = common::mission_controls();
+    let mut c = armed(cfg);
+    let mut sim = CougUvSim::new(
+        CougUvSimConfig::from_params([
+            ("prefix", "NAV"),
+            ("start_pos", "heading=90"),
+            ("buoyancy_rate", "0.05"),
+        ])
+        .unwrap(),
+        None,
+    );
+    let mut nav: Vec<Posting> = Vec::new();
+    let mut modes = Vec::new();
+    let mut worst_fin: f64 = 0.0;
+    // The mail of the previous tick (the helm's set-points, the simulator's NAV_*) is
+    // stamped with that tick's time, as it was posted then: after the stall it is 40 s old.
+    let mut posted = 0.0;
+    let mut run = |c: &mut CougarsControl, sim: &mut CougUvSim, times: &[f64]| {
+        for &t in times {
+            for (k, v) in [
+                ("DESIRED_HEADING", 180.0),
+                ("DESIRED_SPEED", 1.0),
+                ("DESIRED_DEPTH", 3.0),
+            ] {
+                c.on_mail(k, ValueRef::Double(v), posted);
+            }
+            for p in nav.drain(..) {
+                if let Some(v) = p.value.as_f64() {
+                    c.on_mail(&p.key, ValueRef::Double(v), posted);
+                }
+            }
+            posted = t;
+            let mut cmds = Vec::new();
+            c.iterate(t, &mut cmds);
+            modes.push(c.mode().clone());
+            for p in &cmds {
+                let Some(v) = p.value.as_f64() else { continue };
+                assert!(v.is_finite(), "{} = {v} at {t}", p.key);
+                if p.key.starts_with("FIN_DEFLECT") {
+                    worst_fin = worst_fin.max(v.abs());
+                }
+                sim.on_mail(&p.key, ValueRef::Double(v), t);
+            }
+            sim.iterate(t, &mut nav);
+            nav.retain(|p| p.key.starts_with("NAV_"));
+            assert!(sim.truth().is_finite(), "{:?} at {t}", sim.truth());
+        }
+    };
+    let ticks = |from: f64, to: f64| -> Vec<f64> {
+        (0..=((to - from) / 0.08).round() as u32)
+            .map(|k| from + f64::from(k) * 0.08)
+            .collect()
+    };
+    run(&mut c, &mut sim, &ticks(0.0, 120.0));
+    let before = *sim.truth();
+    assert!((before.body.depth - 3.0).abs() < 0.3, "{before:?}");
+    // The stall: the next iteration of both 40 s later.
+    run(&mut c, &mut sim, &ticks(160.0, 280.0));
+    assert!(
+        matches!(modes[modes.len() - 1501], ControlsMode::Stale(_)),
+        "all-stop on the stale inputs: {:?}",
+        &modes[modes.len() - 1502..modes.len() - 1495]
+    );
+    assert_eq!(modes.last(), Some(&ControlsMode::Active));
+    let s = c.state();
+    for pid in [&s.depth_pid, &s.pitch_pid, &s.heading_pid] {
+        assert!(pid.integrator().is_finite(), "{s:?}");
+    }
+    let after = *sim.truth();
+    assert!((after.body.depth - 3.0).abs() < 0.3, "{after:?}");
+    let lim = coug1().cougars;
+    assert!(
+        worst_fin <= lim.pitch.max.max(lim.heading.max) + 1e-9,
+        "{worst_fin}"
+    );
+    assert!(
+        after.body.fins.iter().all(|f| f.abs() <= 25.0 + 1e-9),
+        "{after:?}"
+    );
+    assert!((after.body.surge - 1.0).abs() < 0.05, "{after:?}");
+}
+
+/// NAV samples a microsecond apart (a burst delivered at once after a stall) give rates of
+/// thousands per second: the loops saturate for that tick, every output stays finite and
+/// within its limits, and the next ordinary tick is back to normal.
+#[test]
+fn nav_samples_a_microsecond_apart_saturate_but_never_blow_up() {
+    let mut c = armed(coug1());
+    let des = (90.0, 1.0, 2.0);
+    for k in 0..50 {
+        let t = f64::from(k) * 0.08;
+        let _ = tick(&mut c, t, des, (90.0, 2.0, 0.0, 1.0));
+    }
+    let t = 4.0;
+    feed(&mut c, t, des, (90.0, 2.0, 0.0, 1.0));
+    feed(&mut c, t + 1e-6, des, (90.0, 2.5, -0.2, 1.0));
+    let mut out = Vec::new();
+    c.iterate(t + 1e-6, &mut out);
+    for p in &out {
+        if let Some(v) = p.value.as_f64() {
+            assert!(v.is_finite(), "{} = {v}", p.key);
+        }
+    }
+    let lim = coug1().cougars.pitch.max;
+    let port = num(&out, vars::FIN_DEFLECT_PORT_DEG);
+    assert!(port.abs() <= lim + 1e-9, "{port}");
+    let s = c.state();
+    assert!(s.pitch_pid.integrator().is_finite() && s.depth_pid.integrator().is_finite());
+    let out = tick(&mut c, t + 0.08, des, (90.0, 2.5, -0.2, 1.0));
+    assert!(num(&out, vars::FIN_DEFLECT_PORT_DEG).is_finite());
 }

@@ -209,3 +209,114 @@ fn the_actuators_stop_without_commands_and_bad_settings_are_reported() {
     assert_eq!(cfg.start.x, 0.0, "a bad start_pos is not applied");
     assert_eq!(cfg.prefix, "SIM");
 }
+
+/// Two simulators from `params` given [`full_command`] at 0 s: one iterated at 0 and 40 s
+/// (a stalled run's one step), one at 20 Hz from 0 to 40 s.
+fn once_and_fine(params: &[(&str, &str)]) -> (CougUvSim, CougUvSim) {
+    let mut once = sim(params);
+    let mut out = Vec::new();
+    full_command(&mut once, 0.0);
+    once.iterate(0.0, &mut out);
+    once.iterate(40.0, &mut out);
+    let mut fine = sim(params);
+    full_command(&mut fine, 0.0);
+    for k in 0..=800 {
+        out.clear();
+        fine.iterate(f64::from(k) * 0.05, &mut out);
+    }
+    (once, fine)
+}
+
+fn full_command(s: &mut CougUvSim, t: f64) {
+    // Full thrust, a hard starboard turn and a full nose-down elevator.
+    for (v, x) in [
+        (vars::FIN_DEFLECT_TOP_DEG, 25.0),
+        (vars::FIN_DEFLECT_STBD_DEG, 25.0),
+        (vars::FIN_DEFLECT_PORT_DEG, -25.0),
+        (vars::THRUST_PCT, 100.0),
+    ] {
+        s.on_mail(v, ValueRef::Double(x), t);
+    }
+}
+
+/// A real-time run starved for 5 s of wall time at a warp of 8 iterates once over 40
+/// simulated seconds: the command given before the stall flies until the failsafe's 5 s, the
+/// rest of the gap with the actuators stopped, as 800 iterations at 20 Hz would have it; the
+/// vehicle stays finite and physically plausible.
+#[test]
+fn a_forty_second_step_flies_the_command_until_the_failsafe_as_short_steps_do() {
+    let params = [
+        ("start_pos", "x=0, y=0, heading=0, speed=1, depth=2"),
+        ("command_timeout", "5"),
+    ];
+    let (once, fine) = once_and_fine(&params);
+    let (a, b) = (once.truth(), fine.truth());
+    assert!(a.is_finite(), "{a:?}");
+    for (what, x, y) in [
+        ("x", a.x, b.x),
+        ("y", a.y, b.y),
+        ("depth", a.body.depth, b.body.depth),
+        ("heading", a.body.heading, b.body.heading),
+        ("pitch", a.body.pitch, b.body.pitch),
+        ("surge", a.body.surge, b.body.surge),
+    ] {
+        assert!(
+            (x - y).abs() < 1e-3 * (1.0 + y.abs()),
+            "{what}: one 40 s step {x}, 20 Hz {y}"
+        );
+    }
+    // It flew the command for 5 s (nose down, a turn, faster), then coasted and rose.
+    assert!(a.body.surge > 0.1 && a.body.surge < 1.0, "{a:?}");
+    assert!(a.x.hypot(a.y) > 10.0, "{a:?}");
+    assert!((0.0..30.0).contains(&a.body.depth), "{a:?}");
+    assert!(a.body.pitch.abs() < 0.5, "{a:?}");
+    assert!(a.body.fins.iter().all(|f| f.abs() < 1e-6), "{a:?}");
+}
+
+/// Without a failsafe (`command_timeout = 0`) the command flies the whole 40 s step, and the
+/// substeps keep the pendulum and the actuator lags as stable as at 20 Hz: fins within their
+/// limits, surge below the top speed, depth not negative, and the same vehicle as short steps.
+#[test]
+fn a_forty_second_step_without_failsafe_stays_finite_and_plausible() {
+    let params = [
+        ("start_pos", "x=0, y=0, heading=0, speed=1, depth=5"),
+        ("command_timeout", "0"),
+    ];
+    let (once, fine) = once_and_fine(&params);
+    let (a, b) = (once.truth(), fine.truth());
+    assert!(a.is_finite(), "{a:?}");
+    assert!(a.body.fins.iter().all(|f| f.abs() <= 25.0 + 1e-9), "{a:?}");
+    assert!(a.body.surge > 1.0 && a.body.surge <= 2.0, "{a:?}");
+    assert!(a.body.depth >= 0.0 && a.x.hypot(a.y) < 2.0 * 40.0, "{a:?}");
+    assert!(
+        (a.x - b.x).abs() < 1e-2
+            && (a.y - b.y).abs() < 1e-2
+            && (a.body.depth - b.body.depth).abs() < 1e-2,
+        "one step {a:?}\n20 Hz {b:?}"
+    );
+    assert_eq!(once.refused_steps(), 0);
+}
+
+/// A model whose state is not finite (a zero mass, which the configuration refuses, set
+/// directly) is refused with a warning: the truth stays where it was, never NaN.
+#[test]
+fn a_non_finite_state_is_refused_with_a_warning() {
+    let mut cfg = CougUvSimConfig::from_params([("start_pos", "x=3, y=4, speed=1")]).unwrap();
+    cfg.model.mass = 0.0;
+    let mut s = CougUvSim::new(cfg, None);
+    let mut out = Vec::new();
+    s.on_mail(vars::THRUST_PCT, ValueRef::Double(50.0), 0.0);
+    s.iterate(0.0, &mut out);
+    let before = *s.truth();
+    out.clear();
+    s.iterate(8.0, &mut out);
+    assert_eq!(*s.truth(), before);
+    assert_eq!(s.refused_steps(), 1);
+    let w = s.take_warnings();
+    assert!(w.len() == 1 && w[0].contains("not finite"), "{w:?}");
+    assert_eq!(
+        last_posting(&out, "SIM_X").and_then(|v| v.as_f64()),
+        Some(3.0)
+    );
+    assert!(s.take_warnings().is_empty());
+}

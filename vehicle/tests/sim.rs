@@ -1257,3 +1257,56 @@ fn start_keys_rotate_speed_depth_rate_speed_and_navpos_summary() {
     .0;
     assert!(close(s1.depth, 0.25, 1e-12), "{}", s1.depth);
 }
+
+/// uSimMarineV22 over a stalled real-time iteration (40 simulated seconds at once) does what
+/// the C++ `USM_Model::propagate` does: one step of the whole gap, no substeps (its model is
+/// kinematic: speed towards the thrust map's with the acceleration limits, heading at the
+/// rudder's turn rate, depth at a rate, position along the heading). That stays finite and
+/// bounded: full thrust and rudder for 40 s leave the speed at most the map's top speed and
+/// the vehicle at most that speed times 40 s from where it was.
+#[test]
+fn a_forty_second_step_is_one_step_as_the_cpp_and_stays_bounded() {
+    let (cfg, warnings) = SimConfig::from_params_lenient([
+        ("start_pos", "x=0, y=0, heading=0, speed=1, depth=5"),
+        ("max_acceleration", "0.5"),
+        ("max_deceleration", "0.5"),
+    ])
+    .unwrap();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let mut sim = Simulator::new(cfg, None, 0.0);
+    let mut out = Vec::new();
+    for (v, x) in [
+        ("DESIRED_THRUST", 100.0),
+        ("DESIRED_RUDDER", 100.0),
+        ("DESIRED_ELEVATOR", -100.0),
+    ] {
+        sim.on_mail(v, ValueRef::Double(x), 0.0);
+    }
+    sim.iterate(0.0, &mut out);
+    sim.iterate(40.0, &mut out);
+    let s = *sim.state();
+    for v in [s.x, s.y, s.heading_deg, s.speed_mps, s.depth, s.pitch_rad] {
+        assert!(v.is_finite(), "{s:?}");
+    }
+    assert!(s.speed_mps > 0.0 && s.speed_mps <= 5.0 + 1e-9, "{s:?}");
+    assert!(
+        s.x.hypot(s.y) <= 1.0f64.max(s.speed_mps) * 40.0 + 1e-9,
+        "{s:?}"
+    );
+    assert!(
+        (0.0..360.0).contains(&s.heading_deg) && s.depth >= 0.0,
+        "{s:?}"
+    );
+    // One step: a straight line at the step's mean heading (over ground: half way from 0° to
+    // the heading the step ends with) and the new speed, not a curve.
+    assert!(
+        (s.heading_og_deg - s.heading_deg / 2.0).abs() < 1e-9,
+        "{s:?}"
+    );
+    let h = s.heading_og_deg.to_radians();
+    assert!(
+        (s.x - s.speed_mps * 40.0 * h.sin()).abs() < 1e-6
+            && (s.y - s.speed_mps * 40.0 * h.cos()).abs() < 1e-6,
+        "{s:?}"
+    );
+}

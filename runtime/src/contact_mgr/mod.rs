@@ -1878,6 +1878,23 @@ mod tests {
         cm.iterate(t, out);
     }
 
+    /// Mails the kayak `(name, x, y, hdg, spd)`'s node report ([`report`]) stamped `t` to `cm`,
+    /// then iterates at `t`.
+    pub(super) fn kayak_tick(
+        cm: &mut ContactMgr,
+        (name, x, y, hdg, spd): (&str, f64, f64, f64, f64),
+        t: f64,
+        out: &mut Vec<Post>,
+    ) {
+        tick(cm, &report(name, x, y, hdg, spd, t), t, out);
+    }
+
+    /// The manager of a `(manager, warnings)` pair, which must have no warnings.
+    pub(super) fn no_warnings((cm, w): (ContactMgr, Vec<String>)) -> ContactMgr {
+        assert!(w.is_empty(), "{w:?}");
+        cm
+    }
+
     /// A kayak's node report in group blue.
     pub(super) fn report(name: &str, x: f64, y: f64, hdg: f64, spd: f64, t: f64) -> Value {
         Value::text(format!(
@@ -1967,12 +1984,7 @@ mod tests {
             cm.on_mail(k, &Value::Double(v), 0.0, &mut out);
         }
         // 120 m east heading west at 2 m/s: beyond cpa_range (100): no alert.
-        tick(
-            &mut cm,
-            &report("bob", 120.0, 0.0, 270.0, 2.0, 1.0),
-            1.0,
-            &mut out,
-        );
+        kayak_tick(&mut cm, ("bob", 120.0, 0.0, 270.0, 2.0), 1.0, &mut out);
         assert_eq!(posts(&out, "CONTACTS_LIST"), [&Value::text("bob")]);
         assert_eq!(
             posts(&out, "CONTACTS_UNALERTED"),
@@ -1985,12 +1997,7 @@ mod tests {
         assert!(cpa < 1e-6, "coming straight at ownship: CPA 0, got {cpa}");
         // 90 m: within cpa_range, and its CPA (0) within alert_range: alerted.
         out.clear();
-        tick(
-            &mut cm,
-            &report("bob", 90.0, 0.0, 270.0, 2.0, 16.0),
-            16.0,
-            &mut out,
-        );
+        kayak_tick(&mut cm, ("bob", 90.0, 0.0, 270.0, 2.0), 16.0, &mut out);
         assert_eq!(
             posts(&out, "CONTACT_INFO"),
             [&Value::text("name=bob # contact=bob")]
@@ -1999,12 +2006,7 @@ mod tests {
         assert!(posts(&out, "CONTACTS_ALERTED").is_empty());
         // Still alerted: no second flag.
         out.clear();
-        tick(
-            &mut cm,
-            &report("bob", 80.0, 0.0, 270.0, 2.0, 21.0),
-            21.0,
-            &mut out,
-        );
+        kayak_tick(&mut cm, ("bob", 80.0, 0.0, 270.0, 2.0), 21.0, &mut out);
         assert!(posts(&out, "CONTACT_INFO").is_empty());
         assert_eq!(
             posts(&out, "CONTACTS_ALERTED"),

@@ -44,3 +44,15 @@ pub fn global(text: &str, key: &str) -> Option<String> {
 pub fn pairs(v: &[(String, String)]) -> impl Iterator<Item = (&str, &str)> {
     v.iter().map(|(k, v)| (k.as_str(), v.as_str()))
 }
+
+/// pCougControls as `missions/cougUV` configures it: coug1's gains and kinematics, 50 %
+/// thrust per m/s, `pitch_ki = 0.2`, the gain schedule on the measured speed.
+pub fn mission_controls() -> vehicle::cougars::ControlsConfig {
+    vehicle::cougars::ControlsConfig::from_params([
+        ("vehicle", "coug1"),
+        ("speed_factor", "50"),
+        ("pitch_ki", "0.2"),
+        ("fixed_surge", "none"),
+    ])
+    .unwrap()
+}
