@@ -14,13 +14,15 @@
 //! runs an AvdColregsV22 for it; they keep above its `min_util_cpa_dist`, repeatably.
 
 mod common;
+mod encounters;
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
 use common::*;
+use encounters::{closest, has, run_fleet, values};
 use runtime::fleet::LoadedFleet;
-use runtime::session::{self, Ended, FleetOptions, Mode};
+use runtime::session::{self, FleetOptions, Mode};
 
 /// The behaviour's `min_util_cpa_dist` in `vehicle.bhv`.
 const MIN_UTIL_CPA: f64 = 10.0;
@@ -28,77 +30,7 @@ const MIN_UTIL_CPA: f64 = 10.0;
 /// Runs `fleet` (a file of `missions/encounters_colregs`) with the extra command-line
 /// `macros` until every vehicle completes its transit; returns every vehicle's parsed alog.
 fn run(name: &str, fleet: &str, macros: &[&str]) -> BTreeMap<String, alog::Alog> {
-    let path = project_mission(&format!("encounters_colregs/{fleet}"));
-    let macros: Vec<String> = macros.iter().map(|m| m.to_string()).collect();
-    let loaded = LoadedFleet::from_file(&path, &macros, &[])
-        .unwrap_or_else(|e| panic!("{} does not load: {e}", path.display()));
-    let checked = session::validate_fleet(&loaded);
-    assert!(checked.errors.is_empty(), "{:?}", checked.errors);
-    assert!(checked.malconfig.is_empty(), "{:?}", checked.malconfig);
-    let dir = fresh_dir(name);
-    let opts = FleetOptions {
-        mode: Mode::Lockstep,
-        deploy: true,
-        until: vec!["MISSION = complete".into()],
-        max_time: 600.0,
-        log_dir: Some(dir.join("logs")),
-        ..FleetOptions::default()
-    };
-    let report = session::run_fleet(&loaded, &opts, &mut session::Quiet)
-        .unwrap_or_else(|e| panic!("fleet run failed: {e}"));
-    assert!(
-        matches!(
-            report.ended,
-            Ended::Outcome(runtime::Outcome::ConditionMet { .. })
-        ),
-        "{report}"
-    );
-    report
-        .members
-        .iter()
-        .map(|(m, _)| {
-            let alog = find_alog(&dir.join("logs").join(m));
-            (m.clone(), parse(&std::fs::read(alog).expect("alog")))
-        })
-        .collect()
-}
-
-/// The closest approach of every pair of vehicles over the run, `((a, b), (range, time))`,
-/// from their logged positions at the same lockstep instants.
-fn closest(logs: &BTreeMap<String, alog::Alog>) -> Vec<((String, String), (f64, f64))> {
-    let key = |t: f64| (t * 100.0).round() as i64;
-    let tracks: BTreeMap<&String, BTreeMap<i64, (f64, f64)>> = logs
-        .iter()
-        .map(|(n, l)| {
-            let tr = track(l).into_iter().map(|(t, x, y)| (key(t), (x, y)));
-            (n, tr.collect())
-        })
-        .collect();
-    let names: Vec<&String> = tracks.keys().copied().collect();
-    let mut out = Vec::new();
-    for (i, a) in names.iter().enumerate() {
-        for b in &names[i + 1..] {
-            let mut best = (f64::INFINITY, 0.0);
-            for (t, (x, y)) in &tracks[a] {
-                if let Some((u, v)) = tracks[b].get(t) {
-                    let r = (x - u).hypot(y - v);
-                    if r < best.0 {
-                        best = (r, *t as f64 / 100.0);
-                    }
-                }
-            }
-            assert!(best.0.is_finite(), "{a} and {b} share no instant");
-            out.push((((*a).clone(), (*b).clone()), best));
-        }
-    }
-    out
-}
-
-/// Whether `log` has `var` with a string value containing `needle`.
-fn has(log: &alog::Alog, var: &str, needle: &str) -> bool {
-    log.entries
-        .iter()
-        .any(|e| e.var == var && e.value.as_str().is_some_and(|s| s.contains(needle)))
+    run_fleet("encounters_colregs", name, fleet, macros)
 }
 
 /// One fleet's runs with the behaviour: as the mission has it, and with `REFINERY=on`.
@@ -469,15 +401,6 @@ fn v26_on_the_dubins_platform_model_keeps_clear() {
             );
         }
     }
-}
-
-/// Every value `log` holds for `var`, in order, as text.
-fn values(log: &alog::Alog, var: &str) -> Vec<String> {
-    log.entries
-        .iter()
-        .filter(|e| e.var == var)
-        .map(|e| e.value.to_string())
-        .collect()
 }
 
 /// Ownship's first turn away from its start heading, degrees (positive: to starboard): the
