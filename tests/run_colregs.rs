@@ -3,19 +3,26 @@
 //! converging), each vehicle's pBasicContactMgr alerting its helm and the helm spawning a
 //! BHV_AvdColregsV22 per contact. With the behaviour every closest approach stays above its
 //! `min_util_cpa_dist` (10 m) and each vehicle enters the rule's mode; the same fleets with
-//! `AVOID=false` collide (closest approach under 3 m). Also the stock berta missions
+//! `AVOID=false` collide (closest approach under 3 m). Each fleet runs a third time with
+//! `REFINERY=on` (the CPA function's `use_refinery` and `check_plateaus`, MOOS `RefineryCPA`):
+//! the same modes, the give-way vessel turning to starboard, every closest approach above
+//! the minimum, and the checks' `PLATEAU_CHECK_OK`, `BASIN_CHECK_OK`, `PLATEAU_LOGIC_CASE`
+//! and `PLATEAU_WORST_FAIL` postings; BHV_AvdColregsV19 likewise in the two-vehicle
+//! encounters. Also the stock berta missions
 //! (m2_berta, berta_cmgr) checked and run as fleets: the shoreside's uFldNodeComms relays each
 //! vehicle's reports to the other, whose pContactMgrV20 alerts its helm, which spawns and
 //! runs an AvdColregsV22 for it; they keep above its `min_util_cpa_dist`, repeatably.
 
 mod common;
+mod encounters;
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
 use common::*;
+use encounters::{closest, has, run_fleet, values};
 use runtime::fleet::LoadedFleet;
-use runtime::session::{self, Ended, FleetOptions, Mode};
+use runtime::session::{self, FleetOptions, Mode};
 
 /// The behaviour's `min_util_cpa_dist` in `vehicle.bhv`.
 const MIN_UTIL_CPA: f64 = 10.0;
@@ -23,83 +30,28 @@ const MIN_UTIL_CPA: f64 = 10.0;
 /// Runs `fleet` (a file of `missions/encounters_colregs`) with the extra command-line
 /// `macros` until every vehicle completes its transit; returns every vehicle's parsed alog.
 fn run(name: &str, fleet: &str, macros: &[&str]) -> BTreeMap<String, alog::Alog> {
-    let path = project_mission(&format!("encounters_colregs/{fleet}"));
-    let macros: Vec<String> = macros.iter().map(|m| m.to_string()).collect();
-    let loaded = LoadedFleet::from_file(&path, &macros, &[])
-        .unwrap_or_else(|e| panic!("{} does not load: {e}", path.display()));
-    let checked = session::validate_fleet(&loaded);
-    assert!(checked.errors.is_empty(), "{:?}", checked.errors);
-    assert!(checked.malconfig.is_empty(), "{:?}", checked.malconfig);
-    let dir = fresh_dir(name);
-    let opts = FleetOptions {
-        mode: Mode::Lockstep,
-        deploy: true,
-        until: vec!["MISSION = complete".into()],
-        max_time: 600.0,
-        log_dir: Some(dir.join("logs")),
-        ..FleetOptions::default()
-    };
-    let report = session::run_fleet(&loaded, &opts, &mut session::Quiet)
-        .unwrap_or_else(|e| panic!("fleet run failed: {e}"));
-    assert!(
-        matches!(
-            report.ended,
-            Ended::Outcome(runtime::Outcome::ConditionMet { .. })
-        ),
-        "{report}"
-    );
-    report
-        .members
-        .iter()
-        .map(|(m, _)| {
-            let alog = find_alog(&dir.join("logs").join(m));
-            (m.clone(), parse(&std::fs::read(alog).expect("alog")))
-        })
-        .collect()
+    run_fleet("encounters_colregs", name, fleet, macros)
 }
 
-/// The closest approach of every pair of vehicles over the run, `((a, b), (range, time))`,
-/// from their logged positions at the same lockstep instants.
-fn closest(logs: &BTreeMap<String, alog::Alog>) -> Vec<((String, String), (f64, f64))> {
-    let key = |t: f64| (t * 100.0).round() as i64;
-    let tracks: BTreeMap<&String, BTreeMap<i64, (f64, f64)>> = logs
-        .iter()
-        .map(|(n, l)| {
-            let tr = track(l).into_iter().map(|(t, x, y)| (key(t), (x, y)));
-            (n, tr.collect())
-        })
-        .collect();
-    let names: Vec<&String> = tracks.keys().copied().collect();
-    let mut out = Vec::new();
-    for (i, a) in names.iter().enumerate() {
-        for b in &names[i + 1..] {
-            let mut best = (f64::INFINITY, 0.0);
-            for (t, (x, y)) in &tracks[a] {
-                if let Some((u, v)) = tracks[b].get(t) {
-                    let r = (x - u).hypot(y - v);
-                    if r < best.0 {
-                        best = (r, *t as f64 / 100.0);
-                    }
-                }
-            }
-            assert!(best.0.is_finite(), "{a} and {b} share no instant");
-            out.push((((*a).clone(), (*b).clone()), best));
-        }
+/// One fleet's runs with the behaviour: as the mission has it, and with `REFINERY=on`.
+struct Runs {
+    on: BTreeMap<String, alog::Alog>,
+    refined: BTreeMap<String, alog::Alog>,
+}
+
+impl Runs {
+    /// Both runs' logs.
+    fn both(&self) -> [&BTreeMap<String, alog::Alog>; 2] {
+        [&self.on, &self.refined]
     }
-    out
 }
 
-/// Whether `log` has `var` with a string value containing `needle`.
-fn has(log: &alog::Alog, var: &str, needle: &str) -> bool {
-    log.entries
-        .iter()
-        .any(|e| e.var == var && e.value.as_str().is_some_and(|s| s.contains(needle)))
-}
-
-/// Runs `fleet` with and without the behaviour: with it, every closest approach is above
-/// `min_util_cpa_dist`; without it, some pair comes within 3 m. Returns the logs with it.
-fn encounter(fleet: &str) -> BTreeMap<String, alog::Alog> {
+/// Runs `fleet` with the behaviour, with it and its refinery ([`refined`]), and without it:
+/// with it, every closest approach is above `min_util_cpa_dist`; without it, some pair
+/// comes within 3 m.
+fn encounter(fleet: &str) -> Runs {
     let stem = fleet.trim_end_matches(".fleet");
+    let refined = refined(fleet, "V22");
     let on = run(&format!("colregs-{stem}-on"), fleet, &[]);
     for ((a, b), (r, t)) in closest(&on) {
         eprintln!("{stem} with AvdColregsV22: {a}-{b} closest {r:.2} m at t={t:.2}");
@@ -121,68 +73,104 @@ fn encounter(fleet: &str) -> BTreeMap<String, alog::Alog> {
     for log in off.values() {
         assert!(!has(log, "BHV_IPF", "col_"));
     }
-    on
+    Runs { on, refined }
 }
 
 #[test]
 fn head_on_both_vehicles_turn_to_starboard() {
-    let on = encounter("headon.fleet");
-    // Each spawned a behaviour for the other and classified the encounter as head-on.
-    assert!(has(
-        &on["abe"],
-        "IVPHELM_LIFE_EVENT",
-        "bname=col_ben, btype=BHV_AvdColregsV22, event=spawn"
-    ));
-    assert!(has(&on["abe"], "COLREGS_AVOID_MODE_BEN", "headon"));
-    assert!(has(&on["ben"], "COLREGS_AVOID_MODE_ABE", "headon"));
-    // Starboard to port: abe (heading north) passes ben on its own left, i.e. abe ends up
-    // east of ben when abeam.
-    let at = |log: &alog::Alog, t0: f64| {
-        track(log)
-            .into_iter()
-            .find(|(t, _, _)| *t >= t0)
-            .map(|(_, x, _)| x)
-            .unwrap()
-    };
-    let (_, (_, t)) = &closest(&on)[0];
-    assert!(
-        at(&on["abe"], *t) > at(&on["ben"], *t),
-        "abe passes east of ben"
-    );
-    // Once clear, the behaviours completed.
-    assert!(has(&on["abe"], "CONTACT_RESOLVED", "ben"));
+    let runs = encounter("headon.fleet");
+    for on in runs.both() {
+        // Each spawned a behaviour for the other and classified the encounter as head-on.
+        assert!(has(
+            &on["abe"],
+            "IVPHELM_LIFE_EVENT",
+            "bname=col_ben, btype=BHV_AvdColregsV22, event=spawn"
+        ));
+        assert!(has(&on["abe"], "COLREGS_AVOID_MODE_BEN", "headon"));
+        assert!(has(&on["ben"], "COLREGS_AVOID_MODE_ABE", "headon"));
+        assert!(has(&on["abe"], "COL22_AVOID_MODE_BEN", "headon"));
+        // Starboard to port: abe (heading north) passes ben on its own left, i.e. abe ends
+        // up east of ben when abeam; each turned to starboard first.
+        let at = |log: &alog::Alog, t0: f64| {
+            track(log)
+                .into_iter()
+                .find(|(t, _, _)| *t >= t0)
+                .map(|(_, x, _)| x)
+                .unwrap()
+        };
+        let (_, (_, t)) = &closest(on)[0];
+        assert!(
+            at(&on["abe"], *t) > at(&on["ben"], *t),
+            "abe passes east of ben"
+        );
+        for v in ["abe", "ben"] {
+            let turn = first_turn(&on[v]);
+            assert!(turn > 0.0, "{v} turned {turn:.1} degrees");
+        }
+        // Once clear, the behaviours completed.
+        assert!(has(&on["abe"], "CONTACT_RESOLVED", "ben"));
+    }
 }
 
 #[test]
 fn crossing_the_give_way_vessel_keeps_clear_and_the_other_stands_on() {
-    let on = encounter("crossing.fleet");
-    // ben comes from abe's starboard side: abe gives way; ben stands on.
-    assert!(has(&on["abe"], "COLREGS_AVOID_MODE_BEN", "giveway"));
-    assert!(has(&on["ben"], "COLREGS_AVOID_MODE_ABE", "standon"));
+    let runs = encounter("crossing.fleet");
+    for on in runs.both() {
+        // ben comes from abe's starboard side: abe gives way, turning to starboard; ben
+        // stands on.
+        assert!(has(&on["abe"], "COLREGS_AVOID_MODE_BEN", "giveway"));
+        assert!(has(&on["ben"], "COLREGS_AVOID_MODE_ABE", "standon"));
+        let turn = first_turn(&on["abe"]);
+        assert!(turn > 0.0, "abe turned {turn:.1} degrees");
+    }
 }
 
 #[test]
 fn overtaking_the_faster_vessel_keeps_clear() {
-    let on = encounter("overtaking.fleet");
-    assert!(has(&on["ben"], "COLREGS_AVOID_MODE_ABE", "overtaking"));
-    assert!(has(&on["abe"], "COLREGS_AVOID_MODE_BEN", "standon_ot"));
+    let runs = encounter("overtaking.fleet");
+    for on in runs.both() {
+        assert!(has(&on["ben"], "COLREGS_AVOID_MODE_ABE", "overtaking"));
+        assert!(has(&on["abe"], "COLREGS_AVOID_MODE_BEN", "standon_ot"));
+    }
 }
 
 #[test]
 fn three_vehicles_converging_keep_apart() {
-    let on = encounter("three.fleet");
-    // cal crosses abe's bow from its starboard side and ben's from its port side.
-    assert!(has(&on["abe"], "COLREGS_AVOID_MODE_CAL", "giveway"));
-    assert!(has(&on["cal"], "COLREGS_AVOID_MODE_ABE", "standon"));
-    assert!(has(&on["cal"], "COLREGS_AVOID_MODE_BEN", "giveway"));
-    assert!(has(&on["ben"], "COLREGS_AVOID_MODE_CAL", "standon"));
-    // Every vehicle spawned one behaviour per other vehicle.
-    for (me, log) in &on {
-        for other in on.keys().filter(|o| *o != me) {
-            let bname = format!("bname=col_{other}, btype=BHV_AvdColregsV22, event=spawn");
-            assert!(has(log, "IVPHELM_LIFE_EVENT", &bname), "{me}: {bname}");
+    let runs = encounter("three.fleet");
+    for on in runs.both() {
+        // cal crosses abe's bow from its starboard side and ben's from its port side.
+        assert!(has(&on["abe"], "COLREGS_AVOID_MODE_CAL", "giveway"));
+        assert!(has(&on["cal"], "COLREGS_AVOID_MODE_ABE", "standon"));
+        assert!(has(&on["cal"], "COLREGS_AVOID_MODE_BEN", "giveway"));
+        assert!(has(&on["ben"], "COLREGS_AVOID_MODE_CAL", "standon"));
+        let turn = first_turn(&on["abe"]);
+        assert!(turn > 0.0, "abe turned {turn:.1} degrees");
+        // Every vehicle spawned one behaviour per other vehicle.
+        for (me, log) in on {
+            for other in on.keys().filter(|o| *o != me) {
+                let bname = format!("bname=col_{other}, btype=BHV_AvdColregsV22, event=spawn");
+                assert!(has(log, "IVPHELM_LIFE_EVENT", &bname), "{me}: {bname}");
+            }
         }
     }
+}
+
+/// BHV_AvdColregsV19 (the same engine, V19's parameters and postings) with `REFINERY=on`
+/// in the two-vehicle encounters: the same modes, the give-way turns to starboard, every
+/// closest approach above `min_util_cpa_dist`, and the refinery's checks posted.
+#[test]
+fn v19_with_the_refinery_keeps_clear() {
+    let on = refined("headon.fleet", "V19");
+    assert!(has(&on["abe"], "COLREGS_AVOID_MODE_BEN", "headon"));
+    assert!(has(&on["ben"], "COLREGS_AVOID_MODE_ABE", "headon"));
+    assert!(first_turn(&on["abe"]) > 0.0 && first_turn(&on["ben"]) > 0.0);
+    let on = refined("crossing.fleet", "V19");
+    assert!(has(&on["abe"], "COLREGS_AVOID_MODE_BEN", "giveway"));
+    assert!(has(&on["ben"], "COLREGS_AVOID_MODE_ABE", "standon"));
+    assert!(first_turn(&on["abe"]) > 0.0);
+    let on = refined("overtaking.fleet", "V19");
+    assert!(has(&on["ben"], "COLREGS_AVOID_MODE_ABE", "overtaking"));
+    assert!(has(&on["abe"], "COLREGS_AVOID_MODE_BEN", "standon_ot"));
 }
 
 #[test]
@@ -413,4 +401,76 @@ fn v26_on_the_dubins_platform_model_keeps_clear() {
             );
         }
     }
+}
+
+/// Ownship's first turn away from its start heading, degrees (positive: to starboard): the
+/// first `NAV_HEADING` more than 10° off the first one, as the signed difference.
+fn first_turn(log: &alog::Alog) -> f64 {
+    let hdgs: Vec<f64> = log
+        .entries
+        .iter()
+        .filter(|e| e.var == "NAV_HEADING")
+        .filter_map(|e| e.value.to_string().parse().ok())
+        .collect();
+    let h0 = hdgs[0];
+    let off = |h: f64| (h - h0 + 540.0).rem_euclid(360.0) - 180.0;
+    hdgs.iter()
+        .map(|h| off(*h))
+        .find(|d| d.abs() > 10.0)
+        .expect("the vehicle never turned")
+}
+
+/// `fleet` with the AvdColregs `version` (`V22`, `V19`) and `REFINERY=on` (`use_refinery`,
+/// `check_plateaus`): every closest approach stays above `min_util_cpa_dist`, and each
+/// vehicle's refined CPA functions posted their checks. AOF_CPA does not know its
+/// extremes (MOOS `minMaxKnown` is false), so the plateau check fails with 1 whenever the
+/// refinery gave a region (`PLATEAU_CHECK_OK = false`, `PLATEAU_WORST_FAIL = 1`), and the
+/// basin check always holds (RefineryCPA gives no basin). Returns the logs.
+fn refined(fleet: &str, version: &str) -> BTreeMap<String, alog::Alog> {
+    let stem = fleet.trim_end_matches(".fleet");
+    let colregs = format!("COLREGS={version}");
+    let on = run(
+        &format!("colregs-{stem}-refinery-{version}"),
+        fleet,
+        &["REFINERY=on", &colregs],
+    );
+    for ((a, b), (r, t)) in closest(&on) {
+        eprintln!(
+            "{stem} with AvdColregs{version} and use_refinery: {a}-{b} closest {r:.2} m at t={t:.2}"
+        );
+        assert!(
+            r > MIN_UTIL_CPA,
+            "{stem} {version}: {a} and {b} came within {r:.2} m at t={t:.2}"
+        );
+    }
+    let spawn = format!("btype=BHV_AvdColregs{version}, event=spawn");
+    for (name, log) in &on {
+        assert!(has(log, "IVPHELM_LIFE_EVENT", &spawn), "{name}: {spawn}");
+        let ok = values(log, "PLATEAU_CHECK_OK");
+        let basin = values(log, "BASIN_CHECK_OK");
+        let cases = values(log, "PLATEAU_LOGIC_CASE");
+        let fails = values(log, "PLATEAU_WORST_FAIL");
+        eprintln!(
+            "{stem} {version} {name}: PLATEAU_CHECK_OK {ok:?}, BASIN_CHECK_OK {basin:?}, {} PLATEAU_LOGIC_CASE, {} PLATEAU_WORST_FAIL",
+            cases.len(),
+            fails.len()
+        );
+        assert!(
+            !ok.is_empty(),
+            "{stem} {version} {name}: no PLATEAU_CHECK_OK"
+        );
+        assert!(basin.iter().all(|v| v == "true"), "{basin:?}");
+        assert!(!cases.is_empty(), "{stem} {version} {name}");
+        for c in &cases {
+            assert!(
+                ["aft", "fore_in_rgam", "fore_out_rgam"].contains(&c.as_str()),
+                "{stem} {version} {name}: case {c}"
+            );
+        }
+        // Each refined function here had plateau regions, so each check failed with 1.
+        assert!(ok.iter().all(|v| v == "false"), "{ok:?}");
+        assert!(fails.iter().all(|v| v == "1"), "{fails:?}");
+        assert_eq!(fails.len(), cases.len());
+    }
+    on
 }

@@ -6,102 +6,35 @@
 //! `min_util_cpa_dist` (10 m); with it off (`AVOID=off`) the same encounters collide.
 
 mod common;
+mod encounters;
 
 use std::collections::BTreeMap;
-use std::path::Path;
 
 use common::*;
-use runtime::fleet::LoadedFleet;
-use runtime::session::{self, FleetOptions, Mode};
+use encounters::{closest, run_fleet};
 
 /// The behaviour's `min_util_cpa_dist` in `missions/encounters/vehicle.bhv`.
 const MIN_UTIL_CPA: f64 = 10.0;
 
-/// Runs `fleet` in lockstep, deployed, until every vehicle's transit is complete; returns
-/// each community's track `(time, x, y)` by name.
-fn run(name: &str, fleet: &str, macros: &[&str]) -> BTreeMap<String, Vec<(f64, f64, f64)>> {
-    run_logs(name, fleet, macros)
-        .iter()
-        .map(|(m, log)| (m.clone(), track(log)))
-        .collect()
-}
-
-/// Runs `fleet` as [`run`] does; returns each community's alog by name.
+/// Runs `fleet` (a file of `missions/encounters`) with the command-line `macros`; returns
+/// each community's alog by name.
 fn run_logs(name: &str, fleet: &str, macros: &[&str]) -> BTreeMap<String, alog::Alog> {
-    let path = project_mission(&format!("encounters/{fleet}"));
-    let macros: Vec<String> = macros.iter().map(|m| m.to_string()).collect();
-    let loaded = LoadedFleet::from_file(&path, &macros, &[])
-        .unwrap_or_else(|e| panic!("{fleet} does not load: {e}"));
-    let checked = session::validate_fleet(&loaded);
-    assert!(checked.errors.is_empty(), "{:?}", checked.errors);
-    assert!(checked.malconfig.is_empty(), "{:?}", checked.malconfig);
-    let dir = fresh_dir(name);
-    let opts = FleetOptions {
-        mode: Mode::Lockstep,
-        deploy: true,
-        until: vec!["MISSION = complete".into()],
-        max_time: 600.0,
-        log_dir: Some(dir.join("logs")),
-        ..FleetOptions::default()
-    };
-    let report = session::run_fleet(&loaded, &opts, &mut session::Quiet)
-        .unwrap_or_else(|e| panic!("{fleet} failed: {e}"));
-    let summary = report.to_string();
-    assert!(
-        matches!(
-            report.ended,
-            session::Ended::Outcome(runtime::Outcome::ConditionMet { .. })
-        ),
-        "{fleet}: {summary}"
-    );
-    let mut logs = BTreeMap::new();
-    for (member, r) in &report.members {
-        let alog = find_alog(&dir.join("logs").join(member));
-        assert_eq!(Path::new(&r.alog), alog);
-        logs.insert(member.clone(), parse(&std::fs::read(&alog).unwrap()));
-    }
-    logs
+    run_fleet("encounters", name, fleet, macros)
 }
 
-/// The closest approach of two tracks: at each position record of `a`, the distance to
-/// `b`'s latest position at that time (both simulators post at the same instants); the
-/// smallest, and when.
-fn closest(a: &[(f64, f64, f64)], b: &[(f64, f64, f64)]) -> (f64, f64) {
-    let mut best = (f64::INFINITY, 0.0);
-    let mut j = 0;
-    for &(t, x, y) in a {
-        while j + 1 < b.len() && b[j + 1].0 <= t {
-            j += 1;
-        }
-        if b.is_empty() || b[j].0 > t {
-            continue;
-        }
-        let d = (x - b[j].1).hypot(y - b[j].2);
-        if d < best.0 {
-            best = (d, t);
-        }
-    }
-    best
-}
-
-/// Every pair's closest approach, `(pair, distance, time)`.
-fn approaches(tracks: &BTreeMap<String, Vec<(f64, f64, f64)>>) -> Vec<(String, f64, f64)> {
-    let names: Vec<&String> = tracks.keys().collect();
-    let mut out = Vec::new();
-    for i in 0..names.len() {
-        for k in i + 1..names.len() {
-            let (d, t) = closest(&tracks[names[i]], &tracks[names[k]]);
-            out.push((format!("{}-{}", names[i], names[k]), d, t));
-        }
-    }
-    out
+/// Every pair's closest approach in the run of `fleet`, `("a-b", distance, time)`.
+fn approaches(name: &str, fleet: &str, macros: &[&str]) -> Vec<(String, f64, f64)> {
+    closest(&run_logs(name, fleet, macros))
+        .into_iter()
+        .map(|((a, b), (d, t))| (format!("{a}-{b}"), d, t))
+        .collect()
 }
 
 /// Runs `fleet` with and without the behaviour and checks both outcomes.
 fn encounter(fleet: &str, vehicles: usize) {
     let stem = fleet.trim_end_matches(".fleet");
-    let with = approaches(&run(&format!("enc-{stem}"), fleet, &[]));
-    let without = approaches(&run(&format!("enc-{stem}-off"), fleet, &["AVOID=off"]));
+    let with = approaches(&format!("enc-{stem}"), fleet, &[]);
+    let without = approaches(&format!("enc-{stem}-off"), fleet, &["AVOID=off"]);
     assert_eq!(with.len(), vehicles * (vehicles - 1) / 2);
     for ((pair, d, t), (_, d0, t0)) in with.iter().zip(&without) {
         eprintln!(
@@ -156,8 +89,8 @@ fn use_plat_model_on_the_dubins_model_keeps_clear() {
     ];
     for fleet in ["crossing.fleet"] {
         let stem = fleet.trim_end_matches(".fleet");
-        let on = approaches(&run(&format!("enc-{stem}-pm"), fleet, &pm));
-        let og = approaches(&run(&format!("enc-{stem}-og"), fleet, &[pm[1]]));
+        let on = approaches(&format!("enc-{stem}-pm"), fleet, &pm);
+        let og = approaches(&format!("enc-{stem}-og"), fleet, &[pm[1]]);
         for ((pair, d, t), (_, d0, _)) in on.iter().zip(&og) {
             eprintln!(
                 "{fleet} {pair}: closest approach {d:.2} m at t={t:.2} with use_plat_model, \
@@ -179,9 +112,7 @@ fn use_plat_model_on_the_dubins_model_keeps_clear() {
 #[test]
 fn collision_depth_passes_under_a_surface_contact() {
     let logs = run_logs("enc-head_on_depth", "head_on_depth.fleet", &[]);
-    let tracks: BTreeMap<String, Vec<(f64, f64, f64)>> =
-        logs.iter().map(|(m, l)| (m.clone(), track(l))).collect();
-    let (d, t) = closest(&tracks["abe"], &tracks["ben"]);
+    let (_, (d, t)) = closest(&logs)[0];
     let abe_depth = depths(&logs["abe"]);
     let at = |t: f64| {
         abe_depth

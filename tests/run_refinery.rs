@@ -5,81 +5,19 @@
 //! postings: `PLATEAU_CHECK_OK`, `PLATEAU_LOGIC_CASE` and `VALID_CHECK_OK`.
 
 mod common;
+mod encounters;
 
-use std::collections::BTreeMap;
+use encounters::{closest, run_fleet, values};
 
-use common::*;
-use runtime::fleet::LoadedFleet;
-use runtime::session::{self, FleetOptions, Mode};
-
-/// Runs `fleet` with `REFINERY=on`, deployed, until every transit is complete; returns each
-/// community's parsed alog by name.
-fn run(fleet: &str) -> BTreeMap<String, alog::Alog> {
-    let path = project_mission(&format!("encounters/{fleet}"));
-    let macros = vec!["REFINERY=on".to_string()];
-    let loaded = LoadedFleet::from_file(&path, &macros, &[])
-        .unwrap_or_else(|e| panic!("{fleet} does not load: {e}"));
-    let checked = session::validate_fleet(&loaded);
-    assert!(checked.errors.is_empty(), "{:?}", checked.errors);
-    assert!(checked.malconfig.is_empty(), "{:?}", checked.malconfig);
-    let dir = fresh_dir(&format!("refinery-{}", fleet.trim_end_matches(".fleet")));
-    let opts = FleetOptions {
-        mode: Mode::Lockstep,
-        deploy: true,
-        until: vec!["MISSION = complete".into()],
-        max_time: 600.0,
-        log_dir: Some(dir.join("logs")),
-        ..FleetOptions::default()
-    };
-    let report = session::run_fleet(&loaded, &opts, &mut session::Quiet)
-        .unwrap_or_else(|e| panic!("{fleet} failed: {e}"));
-    assert!(
-        matches!(
-            report.ended,
-            session::Ended::Outcome(runtime::Outcome::ConditionMet { .. })
-        ),
-        "{fleet}: {report}"
-    );
-    report
-        .members
-        .iter()
-        .map(|(m, _)| {
-            let alog = find_alog(&dir.join("logs").join(m));
-            (m.clone(), parse(&std::fs::read(&alog).unwrap()))
-        })
-        .collect()
-}
-
-/// The closest approach of two tracks (each position of `a` against `b`'s latest).
-fn closest(a: &[(f64, f64, f64)], b: &[(f64, f64, f64)]) -> f64 {
-    let mut best = f64::INFINITY;
-    let mut j = 0;
-    for &(t, x, y) in a {
-        while j + 1 < b.len() && b[j + 1].0 <= t {
-            j += 1;
-        }
-        if b.is_empty() || b[j].0 > t {
-            continue;
-        }
-        best = best.min((x - b[j].1).hypot(y - b[j].2));
-    }
-    best
-}
-
-fn values(log: &alog::Alog, var: &str) -> Vec<String> {
-    log.entries
-        .iter()
-        .filter(|e| e.var == var)
-        .map(|e| e.value.to_string())
-        .collect()
-}
-
+/// Runs `fleet` with `REFINERY=on`: the closest approach stays above `min_util_cpa_dist`,
+/// and each vehicle's alog holds the checks' postings.
 fn encounter(fleet: &str) {
-    let logs = run(fleet);
-    let names: Vec<&String> = logs.keys().collect();
-    assert_eq!(names.len(), 2);
-    let d = closest(&track(&logs[names[0]]), &track(&logs[names[1]]));
-    eprintln!("{fleet} with use_refinery: closest approach {d:.2} m");
+    let name = format!("refinery-{}", fleet.trim_end_matches(".fleet"));
+    let logs = run_fleet("encounters", &name, fleet, &["REFINERY=on"]);
+    let pairs = closest(&logs);
+    assert_eq!(pairs.len(), 1);
+    let (_, (d, t)) = pairs[0];
+    eprintln!("{fleet} with use_refinery: closest approach {d:.2} m at t={t:.2}");
     assert!(d > 10.0, "{fleet}: {d:.2} m is within min_util_cpa_dist");
     for (name, log) in &logs {
         let ok = values(log, "PLATEAU_CHECK_OK");

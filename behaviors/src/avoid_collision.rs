@@ -473,19 +473,8 @@ impl Behavior for AvoidCollision {
         if self.no_alert_request || self.update_var.is_empty() || !self.spawnable {
             return;
         }
-        let mut req = format!(
-            "id={}, on_flag={}=name=$[VNAME] # contact=$[VNAME],alert_range={}, cpa_range={}",
-            ctx.name,
-            self.update_var,
-            moos_types::fmt::compact_string(self.pwt_outer_dist, 1),
-            moos_types::fmt::compact_string(self.completed_dist, 1),
-        );
-        let filters = self.base.filter.summary();
-        if !filters.is_empty() {
-            req.push(',');
-            req.push_str(&filters);
-        }
-        out.post("BCM_ALERT_REQUEST", req);
+        let ranges = (self.pwt_outer_dist, self.completed_dist);
+        post_alert_request(ctx.name, &self.update_var, ranges, &self.base, out);
     }
 
     fn info_vars(&self, out: &mut Vec<String>) {
@@ -578,4 +567,28 @@ impl Behavior for AvoidCollision {
         self.base.post_bearing_line(ctx, out, true);
         Some(f)
     }
+}
+
+/// Posts a spawning contact template's `BCM_ALERT_REQUEST` at helm start (BHV_AvoidCollision
+/// and the AvdColregs family): its name as the alert's id, a flag on its `updates` variable
+/// naming the contact, `(alert_range, cpa_range)` as given, then the contact filters of
+/// `base`.
+pub(crate) fn post_alert_request(
+    name: &str,
+    update_var: &str,
+    (alert_range, cpa_range): (f64, f64),
+    base: &ContactBase,
+    out: &mut Out,
+) {
+    let mut req = format!(
+        "id={name}, on_flag={update_var}=name=$[VNAME] # contact=$[VNAME],alert_range={}, cpa_range={}",
+        moos_types::fmt::compact_string(alert_range, 1),
+        moos_types::fmt::compact_string(cpa_range, 1),
+    );
+    let filters = base.filter.summary();
+    if !filters.is_empty() {
+        req.push(',');
+        req.push_str(&filters);
+    }
+    out.post("BCM_ALERT_REQUEST", req);
 }

@@ -98,7 +98,29 @@ impl ContactState {
 
     /// The state of the pair `fwd` (ownship to contact) with its CPA engine.
     pub fn of_pair(fwd: &Cpx, engine: &CpaEngine) -> Self {
-        let rev = fwd.reversed();
+        let (_, _, osh, osv) = fwd.os;
+        Self::of_engines(
+            fwd,
+            &fwd.reversed(),
+            engine.eval_roc(osh, osv),
+            fwd.bearing_rate(osh, osv),
+            engine.eval_cpa(osh, osv, 120.0),
+        )
+    }
+
+    /// The state of the pair seen both ways, `fwd` (ownship to contact) and `rev` (the
+    /// contact as ownship), with what the engine in use works out at ownship's present
+    /// heading and speed: the rate of closure, the bearing rate and the 120 s CPA. The sides,
+    /// bearings, passing and crossing are the pairs' own (each [`Cpx`] answers along its
+    /// platform model when it has one), so the OG engines ([`Self::of_pair`]) and the
+    /// platform-model ones (`colregs::plat_cpx::contact_state`) fill the state alike.
+    pub(crate) fn of_engines(
+        fwd: &Cpx,
+        rev: &Cpx,
+        rate_of_closure: f64,
+        bearing_rate: f64,
+        os_curr_cpa_dist: f64,
+    ) -> Self {
         let (_, _, osh, osv) = fwd.os;
         let (_, _, cnh, cnv) = fwd.cn;
         ContactState {
@@ -114,8 +136,8 @@ impl ContactState {
             cn_spd_in_os_pos: fwd.cn_to_os_spd,
             os_cn_rel_bng: fwd.rel_bng_os_cn,
             cn_os_rel_bng: fwd.rel_bng_cn_os,
-            rate_of_closure: engine.eval_roc(osh, osv),
-            bearing_rate: fwd.bearing_rate(osh, osv),
+            rate_of_closure,
+            bearing_rate,
             os_passes_cn: fwd.passes(osh, osv),
             cn_passes_os: rev.passes(cnh, cnv),
             os_crosses_cn: fwd.crosses_bow_or_stern(osh, osv),
@@ -123,7 +145,7 @@ impl ContactState {
             os_crosses_cn_bow_dist: fwd.crosses_bow_dist(osh, osv),
             cn_crosses_os: rev.crosses_bow_or_stern(cnh, cnv),
             cn_crosses_os_bow_dist: rev.crosses_bow_dist(cnh, cnv),
-            os_curr_cpa_dist: engine.eval_cpa(osh, osv, 120.0),
+            os_curr_cpa_dist,
         }
     }
 }

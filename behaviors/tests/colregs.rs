@@ -630,7 +630,7 @@ fn every_catalog_parameter_is_known_to_its_version_and_no_other() {
             }
         }
         for p in Version::V22.params() {
-            if !t.params.contains(p) {
+            if !t.params.contains(&p) {
                 let mut b = AvdColregs::new(v);
                 assert!(
                     matches!(set(&mut b, p, "1"), Err(ParamError::Unknown { .. })),

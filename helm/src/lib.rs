@@ -24,6 +24,7 @@ pub mod mode;
 pub mod plat_model;
 pub mod report;
 pub mod runstate;
+pub mod testing;
 
 /// What BHV_TestFailure does to the helm's process ([`Helm::take_fault`]).
 pub use behaviors::Fault;

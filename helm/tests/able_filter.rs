@@ -4,52 +4,16 @@
 //! (`IvPBehavior::isRunnable`).
 
 use appcast::Note as AppcastNote;
-use helm::config::Globals;
-use helm::{Helm, Mail, Posting, Value};
-use mission::source::SourceMap;
+use helm::testing::{self, texts};
+use helm::{Helm, Posting, Value};
 
 fn helm_with(bhv: &str) -> Helm {
-    let parsed = mission::bhv::parse_bhv(&SourceMap::from_text("a.bhv", bhv));
-    let g = Globals {
-        lat_origin: Some("0".into()),
-        long_origin: Some("0".into()),
-        community: Some("abe".into()),
-    };
-    let params = [
-        ("domain", "course:0:359:360"),
-        ("domain", "speed:0:4:41"),
-        ("start_engaged", "true"),
-    ];
-    let h = Helm::from_parsed(&params, &g, &parsed);
-    assert!(h.config_errors().is_empty(), "{:?}", h.config_errors());
-    h
+    testing::engaged(bhv, &[])
 }
 
 /// One iteration at `t`: ownship at the origin heading north at 1 m/s, then `mail`.
 fn step(h: &mut Helm, t: f64, mail: &[(&str, String)]) -> Vec<Posting> {
-    for (var, v) in [
-        ("NAV_X", 0.0),
-        ("NAV_Y", 0.0),
-        ("NAV_HEADING", 0.0),
-        ("NAV_SPEED", 1.0),
-    ] {
-        h.on_mail(&[Mail::new(var, v, t)]);
-    }
-    for (var, v) in mail {
-        h.on_mail(&[Mail::new(var, v.as_str(), t)]);
-    }
-    h.iterate(t).to_vec()
-}
-
-fn texts(posts: &[Posting], var: &str) -> Vec<String> {
-    posts
-        .iter()
-        .filter(|p| p.key == var)
-        .map(|p| match &p.value {
-            Value::String(s) => s.to_string(),
-            v => v.to_string(),
-        })
-        .collect()
+    testing::step(h, t, (0.0, 0.0, 0.0, 1.0), mail)
 }
 
 fn num(posts: &[Posting], var: &str) -> Option<f64> {

@@ -9,9 +9,7 @@
 mod common;
 
 use common::Vehicle;
-use helm::config::Globals;
-use helm::{Helm, Mail, Value};
-use mission::source::SourceMap;
+use helm::{Helm, Mail, Value, testing};
 
 fn bhv(depth_line: &str) -> String {
     format!(
@@ -47,22 +45,7 @@ Behavior = BHV_AvoidCollision
 }
 
 fn helm(depth_line: &str) -> Helm {
-    let text = bhv(depth_line);
-    let parsed = mission::bhv::parse_bhv(&SourceMap::from_text("d.bhv", &text));
-    let g = Globals {
-        lat_origin: Some("0".into()),
-        long_origin: Some("0".into()),
-        community: Some("abe".into()),
-    };
-    let params = [
-        ("domain", "course:0:359:360"),
-        ("domain", "speed:0:4:41"),
-        ("domain", "depth:0:40:41"),
-        ("start_engaged", "true"),
-    ];
-    let h = Helm::from_parsed(&params, &g, &parsed);
-    assert!(h.config_errors().is_empty(), "{:?}", h.config_errors());
-    h
+    testing::engaged(&bhv(depth_line), &[("domain", "depth:0:40:41")])
 }
 
 /// One run of 120 s: ownship from the origin north at 2 m/s, diving at most 1 m/s; bob

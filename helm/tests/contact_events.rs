@@ -4,45 +4,16 @@
 //! `$[HASH]` macros of every behaviour's flags, and the `post_mortem` of a death life event
 //! (IvPContactBehavior's `rng=..#bng=..` after the reason).
 
-use helm::config::Globals;
-use helm::{Helm, Mail, Posting, Value};
-use mission::source::SourceMap;
+use helm::testing::{self, texts};
+use helm::{Helm, Posting};
 
 fn helm_with(bhv: &str) -> Helm {
-    let parsed = mission::bhv::parse_bhv(&SourceMap::from_text("s.bhv", bhv));
-    let g = Globals {
-        lat_origin: Some("0".into()),
-        long_origin: Some("0".into()),
-        community: Some("abe".into()),
-    };
-    let params = [
-        ("domain", "course:0:359:360"),
-        ("domain", "speed:0:4:41"),
-        ("start_engaged", "true"),
-    ];
-    Helm::from_parsed(&params, &g, &parsed)
+    testing::engaged(bhv, &[])
 }
 
 /// One iteration at `t`: ownship still at the origin heading north, `mail` (string values).
 fn step(h: &mut Helm, t: f64, mail: &[(&str, String)]) -> Vec<Posting> {
-    for var in ["NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"] {
-        h.on_mail(&[Mail::new(var, 0.0, t)]);
-    }
-    for (var, v) in mail {
-        h.on_mail(&[Mail::new(var, v.as_str(), t)]);
-    }
-    h.iterate(t).to_vec()
-}
-
-fn texts(posts: &[Posting], var: &str) -> Vec<String> {
-    posts
-        .iter()
-        .filter(|p| p.key == var)
-        .map(|p| match &p.value {
-            Value::String(s) => s.to_string(),
-            v => v.to_string(),
-        })
-        .collect()
+    testing::step(h, t, (0.0, 0.0, 0.0, 0.0), mail)
 }
 
 const AVOID: &str = "\

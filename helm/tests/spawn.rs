@@ -3,9 +3,8 @@
 //! named `<prefix><name>`; a taken name is an update; completed instances leave the set;
 //! a request with a bad parameter aborts with a warning.
 
-use helm::config::Globals;
-use helm::{Helm, HelmState, Mail, Posting, Value};
-use mission::source::SourceMap;
+use helm::testing::{self, texts};
+use helm::{Helm, HelmState, Posting};
 
 const TEMPLATE: &str = "\
 Behavior = BHV_ConstantHeading
@@ -21,36 +20,13 @@ Behavior = BHV_ConstantHeading
 ";
 
 fn helm_with(bhv: &str) -> Helm {
-    let parsed = mission::bhv::parse_bhv(&SourceMap::from_text("s.bhv", bhv));
-    let g = Globals {
-        lat_origin: Some("0".into()),
-        long_origin: Some("0".into()),
-        community: Some("abe".into()),
-    };
     let params = [("domain", "course:0:359:360"), ("start_engaged", "true")];
-    Helm::from_parsed(&params, &g, &parsed)
+    testing::from_text("s.bhv", bhv, &params)
 }
 
 /// One iteration at `t` with the navigation and `mail` (var, string value).
 fn step(h: &mut Helm, t: f64, mail: &[(&str, &str)]) -> Vec<Posting> {
-    for var in ["NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"] {
-        h.on_mail(&[Mail::new(var, 0.0, t)]);
-    }
-    for (var, v) in mail {
-        h.on_mail(&[Mail::new(var, *v, t)]);
-    }
-    h.iterate(t).to_vec()
-}
-
-fn texts(posts: &[Posting], var: &str) -> Vec<String> {
-    posts
-        .iter()
-        .filter(|p| p.key == var)
-        .map(|p| match &p.value {
-            Value::String(s) => s.to_string(),
-            v => v.to_string(),
-        })
-        .collect()
+    testing::step(h, t, (0.0, 0.0, 0.0, 0.0), mail)
 }
 
 fn num(posts: &[Posting], var: &str) -> Option<f64> {

@@ -128,8 +128,9 @@ impl Version {
         }
     }
 
-    /// The parameters this version takes besides the contact ones (for `coug check`).
-    pub fn params(self) -> &'static [&'static str] {
+    /// The parameters this version takes besides the contact ones (for `coug check`): V17's,
+    /// then those V19 added, then those V22 added (V26 takes V22's).
+    pub fn params(self) -> impl Iterator<Item = &'static str> {
         const V17: &[&str] = &[
             "pwt_inner_dist",
             "pwt_outer_dist",
@@ -143,56 +144,25 @@ impl Version {
             "contact_type_required",
             "pwt_grade",
         ];
-        const V19: &[&str] = &[
-            "pwt_inner_dist",
-            "pwt_outer_dist",
-            "min_util_cpa_dist",
-            "max_util_cpa_dist",
-            "completed_dist",
+        const FROM_V19: &[&str] = &[
             "giveway_bow_dist",
-            "turn_radius",
-            "avoid_mode",
-            "avoid_submode",
-            "no_alert_request",
-            "contact_type_required",
             "verbose",
             "use_refinery",
             "check_plateaus",
             "check_validity",
             "pcheck_thresh",
-            "pwt_grade",
             "can_disable",
         ];
-        const V22: &[&str] = &[
-            "pwt_inner_dist",
-            "pwt_outer_dist",
-            "min_util_cpa_dist",
-            "max_util_cpa_dist",
-            "completed_dist",
-            "giveway_bow_dist",
-            "turn_radius",
-            "avoid_mode",
-            "avoid_submode",
-            "no_alert_request",
+        const FROM_V22: &[&str] = &[
             "headon_only",
-            "contact_type_required",
-            "verbose",
-            "use_refinery",
-            "check_plateaus",
-            "check_validity",
-            "pcheck_thresh",
             "eval_tol",
             "velocity_filter",
             "post_status_info_on_idle",
             "pts_port_turns_ok",
-            "pwt_grade",
-            "can_disable",
         ];
-        match self {
-            Version::V17 => V17,
-            Version::V19 => V19,
-            Version::V22 | Version::V26 => V22,
-        }
+        let v19: &[&str] = if self.at_least_v19() { FROM_V19 } else { &[] };
+        let v22: &[&str] = if self.at_least_v22() { FROM_V22 } else { &[] };
+        V17.iter().chain(v19).chain(v22).copied()
     }
 
     fn at_least_v19(self) -> bool {
@@ -1277,7 +1247,7 @@ impl Behavior for AvdColregs {
                 return Ok(());
             }
             _ => {
-                return Err(if self.version.params().contains(&param) {
+                return Err(if self.version.params().any(|p| p == param) {
                     ParamError::bad(param, value, "a non-empty value")
                 } else {
                     ParamError::unknown(param)
@@ -1305,19 +1275,14 @@ impl Behavior for AvdColregs {
         if self.no_alert_request || self.update_var.is_empty() || !self.spawnable {
             return;
         }
-        let mut req = format!(
-            "id={}, on_flag={}=name=$[VNAME] # contact=$[VNAME],alert_range={}, cpa_range={}",
+        let ranges = (self.pwt_outer_dist, self.completed_dist);
+        crate::avoid_collision::post_alert_request(
             ctx.name,
-            self.update_var,
-            moos_types::fmt::compact_string(self.pwt_outer_dist, 1),
-            moos_types::fmt::compact_string(self.completed_dist, 1),
+            &self.update_var,
+            ranges,
+            &self.base,
+            out,
         );
-        let filters = self.base.filter.summary();
-        if !filters.is_empty() {
-            req.push(',');
-            req.push_str(&filters);
-        }
-        out.post("BCM_ALERT_REQUEST", req);
     }
 
     fn info_vars(&self, out: &mut Vec<String>) {

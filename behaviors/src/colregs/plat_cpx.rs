@@ -125,32 +125,14 @@ pub fn contact_state(
     let rev = fwd.reversed().with_plat_model(empty_model());
     let fwd = fwd.with_plat_model(model);
     let (_, _, osh, osv) = fwd.os;
-    let (_, _, cnh, cnv) = fwd.cn;
     let pm = fwd.pm.as_ref().expect("a model was just given");
-    crate::contact_state::ContactState {
-        range: fwd.range,
-        os_fore_of_cn: fwd.fore,
-        os_aft_of_cn: fwd.aft,
-        os_port_of_cn: fwd.port,
-        os_star_of_cn: fwd.star,
-        cn_fore_of_os: rev.fore,
-        cn_aft_of_os: rev.aft,
-        cn_port_of_os: rev.port,
-        cn_star_of_os: rev.star,
-        cn_spd_in_os_pos: fwd.cn_to_os_spd,
-        os_cn_rel_bng: fwd.rel_bng_os_cn,
-        cn_os_rel_bng: fwd.rel_bng_cn_os,
-        rate_of_closure: pm_roc(&fwd, osh, osv),
-        bearing_rate: pm_bearing_rate(&fwd, osh, osv),
-        os_passes_cn: fwd.passes(osh, osv),
-        cn_passes_os: rev.passes(cnh, cnv),
-        os_crosses_cn: fwd.crosses_bow_or_stern(osh, osv),
-        os_crosses_cn_bow: fwd.crosses_bow(osh, osv),
-        os_crosses_cn_bow_dist: fwd.crosses_bow_dist(osh, osv),
-        cn_crosses_os: rev.crosses_bow_or_stern(cnh, cnv),
-        cn_crosses_os_bow_dist: rev.crosses_bow_dist(cnh, cnv),
-        os_curr_cpa_dist: pm.eval_cpa(osh, osv, 120.0),
-    }
+    crate::contact_state::ContactState::of_engines(
+        &fwd,
+        &rev,
+        pm_roc(&fwd, osh, osv),
+        pm_bearing_rate(&fwd, osh, osv),
+        pm.eval_cpa(osh, osv, 120.0),
+    )
 }
 
 /// MOOS `degToRadians`.

@@ -1090,7 +1090,7 @@ impl Helm {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use mission::source::SourceMap;
+    use crate::testing;
 
     /// A behaviour of another type that declares itself a constraint (as MOOS-IvP's avoidance
     /// behaviours do); everything else is delegated.
@@ -1138,20 +1138,7 @@ Behavior = BHV_ConstantSpeed
     /// A driving helm (goals_mandatory as given) whose behaviours named in `constraints` are
     /// turned into constraint behaviours.
     fn helm(goals_mandatory: &str, constraints: &[&str]) -> Helm {
-        let bhv = mission::bhv::parse_bhv(&SourceMap::from_text("g.bhv", BHV));
-        let g = Globals {
-            lat_origin: Some("0".into()),
-            long_origin: Some("0".into()),
-            community: Some("abe".into()),
-        };
-        let params = [
-            ("domain", "course:0:359:360"),
-            ("domain", "speed:0:4:41"),
-            ("start_engaged", "true"),
-            ("goals_mandatory", goals_mandatory),
-        ];
-        let mut h = Helm::from_parsed(&params, &g, &bhv);
-        assert!(h.config_errors().is_empty(), "{:?}", h.config_errors());
+        let mut h = testing::engaged(BHV, &[("goals_mandatory", goals_mandatory)]);
         for slot in &mut h.slots {
             if constraints.contains(&slot.common.name.as_str()) {
                 let inner = std::mem::replace(&mut slot.bhv, Box::new(behaviors::Timer::new()));
@@ -1162,14 +1149,7 @@ Behavior = BHV_ConstantSpeed
     }
 
     fn step(h: &mut Helm, t: f64) -> Vec<Posting> {
-        for (var, v) in [
-            ("NAV_X", 0.0),
-            ("NAV_Y", 0.0),
-            ("NAV_HEADING", 0.0),
-            ("NAV_SPEED", 0.0),
-        ] {
-            h.on_mail(&[Mail::new(var, v, t)]);
-        }
+        testing::nav(h, t, (0.0, 0.0, 0.0, 0.0));
         h.iterate(t).to_vec()
     }
 
@@ -1275,7 +1255,7 @@ Behavior = BHV_ConstantSpeed
 #[cfg(test)]
 mod ipf_tests {
     use super::*;
-    use mission::source::SourceMap;
+    use crate::testing;
 
     const BHV: &str = "\
 Behavior = BHV_ConstantSpeed
@@ -1289,23 +1269,8 @@ Behavior = BHV_ConstantSpeed
 
     #[test]
     fn every_active_behaviour_posts_its_function_as_bhv_ipf_parts() {
-        let bhv = mission::bhv::parse_bhv(&SourceMap::from_text("g.bhv", BHV));
-        let g = Globals {
-            lat_origin: Some("0".into()),
-            long_origin: Some("0".into()),
-            community: Some("abe".into()),
-        };
-        let params = [
-            ("domain", "course:0:359:360"),
-            ("domain", "speed:0:4:41"),
-            ("start_engaged", "true"),
-        ];
-        let mut h = Helm::from_parsed(&params, &g, &bhv);
-        let nav = |h: &mut Helm, t: f64| {
-            for var in ["NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"] {
-                h.on_mail(&[Mail::new(var, 0.0, t)]);
-            }
-        };
+        let mut h = testing::engaged(BHV, &[]);
+        let nav = |h: &mut Helm, t: f64| testing::nav(h, t, (0.0, 0.0, 0.0, 0.0));
         nav(&mut h, 0.0);
         assert!(h.iterate(0.0).iter().all(|p| p.key != "BHV_IPF"));
         for (t, iter) in [(1.0, 1), (1.25, 2)] {
@@ -1345,28 +1310,21 @@ Behavior = BHV_ConstantSpeed
 #[cfg(test)]
 mod ledger_tests {
     use super::*;
+    use crate::testing;
     use behaviors::Info;
-    use mission::source::SourceMap;
 
     fn helm(extra: &[(&str, &str)]) -> Helm {
-        let bhv = mission::bhv::parse_bhv(&SourceMap::from_text(
+        let mut params = testing::COURSE_SPEED.to_vec();
+        params.extend_from_slice(extra);
+        testing::from_text(
             "g.bhv",
             "Behavior = BHV_ConstantSpeed\n{\n name = spd\n speed = 1\n duration = no-time-limit\n}\n",
-        ));
-        let g = Globals {
-            lat_origin: Some("0".into()),
-            long_origin: Some("0".into()),
-            community: Some("abe".into()),
-        };
-        let mut params = vec![("domain", "course:0:359:360"), ("domain", "speed:0:4:41")];
-        params.extend_from_slice(extra);
-        Helm::from_parsed(&params, &g, &bhv)
+            &params,
+        )
     }
 
     fn nav(h: &mut Helm, t: f64) {
-        for var in ["NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"] {
-            h.on_mail(&[Mail::new(var, 0.0, t)]);
-        }
+        testing::nav(h, t, (0.0, 0.0, 0.0, 0.0));
     }
 
     fn summaries(p: &[Posting]) -> Vec<String> {
@@ -1456,24 +1414,11 @@ mod ledger_tests {
 
     #[test]
     fn contact_behaviours_read_the_ledger_and_keep_their_contact_twice_as_long() {
-        let bhv = mission::bhv::parse_bhv(&SourceMap::from_text(
-            "c.bhv",
+        let mut h = testing::engaged(
             "Behavior = BHV_ConstantSpeed\n{\n name = spd\n speed = 1\n duration = no-time-limit\n}\n\
              Behavior = BHV_AvoidCollision\n{\n name = avd_ben\n pwt = 200\n contact = ben\n}\n",
-        ));
-        let g = Globals {
-            lat_origin: Some("0".into()),
-            long_origin: Some("0".into()),
-            community: Some("abe".into()),
-        };
-        let params = [
-            ("domain", "course:0:359:360"),
-            ("domain", "speed:0:4:41"),
-            ("contact_max_age", "20"),
-            ("start_engaged", "true"),
-        ];
-        let mut h = Helm::from_parsed(&params, &g, &bhv);
-        assert!(h.config_errors().is_empty(), "{:?}", h.config_errors());
+            &[("contact_max_age", "20")],
+        );
         nav(&mut h, 0.0);
         h.on_mail(&[Mail::new(
             "NODE_REPORT",
