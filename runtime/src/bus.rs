@@ -3,8 +3,11 @@
 //! register, intervals, wildcard registrations, `DB_*` variables) and the same database
 //! can also serve TCP clients in real-time mode.
 
+use std::sync::Arc;
+
 use bytes::Bytes;
-use moosdb::db::{ClientId, Database, DbConfig, DbTime, Effects};
+use moosdb::db::{ClientId, Database, DbConfig, DbError, DbTime, Delivery, Effects};
+use moosdb::message::NO_ID;
 use moosdb::{DataType, Message, MsgType};
 use rustc_hash::FxHashSet;
 use thiserror::Error;
@@ -93,8 +96,10 @@ impl DbHost for LocalDb {
 #[derive(Debug)]
 pub struct Bus<H: DbHost = LocalDb> {
     host: H,
-    /// The fetched messages (reused: a fetch allocates no buffer of its own).
-    fetched: Vec<Message>,
+    /// The fetched deliveries (reused: a fetch allocates no buffer of its own).
+    fetched: Vec<Arc<Delivery>>,
+    /// The last call's effects (reused likewise).
+    effects: Effects,
     names: Names,
 }
 
@@ -144,6 +149,7 @@ impl<H: DbHost> Bus<H> {
         Bus {
             host,
             fetched: Vec::new(),
+            effects: Effects::default(),
             names: Names::default(),
         }
     }
@@ -201,7 +207,7 @@ impl<H: DbHost> Bus<H> {
             m.time = now;
             m
         };
-        Self::send(&mut self.host, id, [msg], now)
+        Self::send(&mut self.host, &mut self.effects, id, [msg], now)
     }
 
     /// Publishes posts made at `now` by the client `id`; a post with an empty source gets
@@ -219,49 +225,50 @@ impl<H: DbHost> Bus<H> {
         let default_src = self.names.get(default_source);
         let names = &mut self.names;
         let msgs = posts.iter().map(|p| {
-            let mut m = Message::new(MsgType::Notify, DataType::Double, "");
-            m.key = names.get(&p.key);
-            m.time = now;
-            match &p.value {
-                Value::Double(x) => m.dval = *x,
-                Value::String(s) => {
-                    m.data_type = DataType::String;
-                    m.sval = s.as_bytes().clone();
-                }
-                Value::Binary(b) => {
-                    m.data_type = DataType::Binary;
-                    m.sval = Bytes::copy_from_slice(b);
-                }
-            }
-            // Aux fields vary (the helm's `<iteration>:<behaviour>`): the post's own
-            // buffer, shared as the app made it.
-            m.src_aux = p.aux.as_bytes().clone();
-            m.src = if p.source.is_empty() {
-                default_src.clone()
-            } else {
-                names.get(&p.source)
+            let (data_type, dval, sval) = match &p.value {
+                Value::Double(x) => (DataType::Double, *x, Bytes::new()),
+                Value::String(s) => (DataType::String, -1.0, s.as_bytes().clone()),
+                Value::Binary(b) => (DataType::Binary, -1.0, Bytes::copy_from_slice(b)),
             };
             // A relayed message keeps its time and community (the DB keeps a non-empty one).
-            if let Some(r) = &p.relayed {
-                m.time = r.time;
-                m.community = r.community.as_bytes().clone();
+            let (time, community) = match &p.relayed {
+                Some(r) => (r.time, r.community.as_bytes().clone()),
+                None => (now, Bytes::new()),
+            };
+            Message {
+                id: NO_ID,
+                msg_type: MsgType::Notify,
+                data_type,
+                src: if p.source.is_empty() {
+                    default_src.clone()
+                } else {
+                    names.get(&p.source)
+                },
+                // Aux fields vary (the helm's `<iteration>:<behaviour>`): the post's own
+                // buffer, shared as the app made it.
+                src_aux: p.aux.as_bytes().clone(),
+                community,
+                key: names.get(&p.key),
+                time,
+                dval,
+                dval2: -1.0,
+                sval,
             }
-            m
         });
-        Self::send(&mut self.host, id, msgs, now)
+        Self::send(&mut self.host, &mut self.effects, id, msgs, now)
     }
 
     fn send(
         host: &mut H,
+        effects: &mut Effects,
         id: ClientId,
         msgs: impl IntoIterator<Item = Message>,
         now: f64,
     ) -> Result<(), BusError> {
-        let effects = host
-            .with_mut(now, |db, t| db.handle(id, msgs, t))
+        host.with_mut(now, |db, t| db.handle_into(id, msgs, t, effects))
             .map_err(|_| BusError::NotConnected(id))?;
         if !effects.ready.is_empty() {
-            host.wake(&effects);
+            host.wake(effects);
         }
         Ok(())
     }
@@ -269,24 +276,29 @@ impl<H: DbHost> Bus<H> {
     /// Everything delivered to `id` so far, sorted by message time (stable), appended to
     /// `out`. Like a sync client's poll, this also collects held mail.
     pub fn fetch(&mut self, id: ClientId, now: f64, out: &mut Vec<Mail>) -> Result<(), BusError> {
-        let poll = Message::new(MsgType::Null, DataType::Double, "");
-        Self::send(&mut self.host, id, [poll], now)?;
+        // A poll (a `'.'`), then the queued deliveries, in one call on the DB.
         self.fetched.clear();
         let fetched = &mut self.fetched;
-        if !self
-            .host
-            .with_mut(now, |db, _| db.drain_messages(id, fetched))
-        {
+        let effects = &mut self.effects;
+        let drained = self.host.with_mut(now, |db, t| -> Result<bool, DbError> {
+            db.poll_into(id, t, effects)?;
+            Ok(db.drain_deliveries(id, fetched))
+        });
+        if !matches!(drained, Ok(true)) {
             return Err(BusError::NotConnected(id));
+        }
+        if !self.effects.ready.is_empty() {
+            self.host.wake(&self.effects);
         }
         let first = out.len();
         out.reserve(self.fetched.len());
-        for m in self.fetched.drain(..) {
-            if m.msg_type != MsgType::Notify {
+        for d in self.fetched.drain(..) {
+            if d.message().msg_type != MsgType::Notify {
                 continue;
             }
-            if let Some(mail) = m.mail() {
-                out.push(mail);
+            // Converted once per message, whatever the number of readers: each clones it.
+            if let Some(mail) = d.mail() {
+                out.push(mail.clone());
             }
         }
         out[first..].sort_by(|a, b| a.time.total_cmp(&b.time));
