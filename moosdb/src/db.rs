@@ -44,10 +44,17 @@
 //! `DB_VARSUMMARY` and `DB_RWSUMMARY` texts only while some client reads them (their writes,
 //! times and frequencies are kept all the same; a late reader gets the text built when it
 //! asks, so this one is not for a TCP DB whose clients come and go).
+//!
+//! Every write is queued for its subscribers as one shared [`Delivery`] (an `Arc`: no copy
+//! of the message per subscriber). An in-process client posts through
+//! [`Database::handle_posted_into`] deliveries made with the [`moos_types::Mail`] they
+//! deliver, and reads them back with [`Database::poll_into`] and
+//! [`Database::drain_deliveries`]: its mail is a clone of the poster's, with no conversion
+//! of the message's bytes. The TCP edge drains plain messages ([`Database::drain_outbox`]).
 
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::fmt::Write as _;
-use std::sync::{Arc, OnceLock};
+use std::sync::Arc;
 
 use bytes::Bytes;
 use rustc_hash::FxHashMap;
@@ -166,13 +173,15 @@ pub struct Effects {
 
 /// A message as the DB queues it for its clients: one shared allocation per write, whatever
 /// the number of clients it reaches (each held mail and outbox holds an [`Arc`] of it, so a
-/// delivery copies no message). Its encoded size is counted once, and an in-process reader
-/// gets its [`Mail`] converted once ([`Delivery::mail`]) and clones that.
+/// delivery copies no message). Its encoded size is counted once. A notify an in-process
+/// client posted carries the [`Mail`] it delivers, made by the poster from text that was
+/// UTF-8 already ([`Database::handle_posted_into`]): in-process readers clone it, with no
+/// conversion of the message's bytes.
 #[derive(Debug)]
 pub struct Delivery {
     message: Message,
     encoded_len: usize,
-    mail: OnceLock<Option<Mail>>,
+    mail: Option<Mail>,
 }
 
 impl Delivery {
@@ -181,7 +190,17 @@ impl Delivery {
         Arc::new(Delivery {
             encoded_len: message.encoded_len(),
             message,
-            mail: OnceLock::new(),
+            mail: None,
+        })
+    }
+
+    /// A shared delivery of `message` whose mail is `mail`, made by the caller (what
+    /// [`Message::mail`] gives, from text known to be UTF-8): it is never converted.
+    pub fn with_mail(message: Message, mail: Mail) -> Arc<Delivery> {
+        Arc::new(Delivery {
+            encoded_len: message.encoded_len(),
+            message,
+            mail: Some(mail),
         })
     }
 
@@ -190,15 +209,73 @@ impl Delivery {
         &self.message
     }
 
-    /// The mail the message delivers ([`Message::mail`]), converted at the first call only
-    /// (every later reader shares it); `None` for data type `'~'`.
-    pub fn mail(&self) -> Option<&Mail> {
-        self.mail.get_or_init(|| self.message.mail()).as_ref()
+    /// The mail the message delivers ([`Message::mail`]; `None` for data type `'~'`): the
+    /// poster's, cloned, or else converted from the message.
+    pub fn mail(&self) -> Option<Mail> {
+        match &self.mail {
+            Some(mail) => Some(mail.clone()),
+            None => self.message.mail(),
+        }
     }
 
     /// The message itself when this was its last holder, else a copy.
     pub fn into_message(this: Arc<Delivery>) -> Message {
         Arc::try_unwrap(this).map_or_else(|d| d.message.clone(), |d| d.message)
+    }
+}
+
+/// A message of a packet: as decoded or made, or a notify an in-process client posted
+/// already shared with its mail.
+enum Incoming {
+    Message(Message),
+    Shared(Arc<Delivery>),
+}
+
+impl Incoming {
+    fn message(&self) -> &Message {
+        match self {
+            Incoming::Message(m) => m,
+            Incoming::Shared(d) => &d.message,
+        }
+    }
+
+    /// Gives a message with no community the DB's (a shared one that another holder has
+    /// too is copied, without its mail).
+    fn fill_community(&mut self, community: &Bytes) {
+        if !self.message().community.is_empty() {
+            return;
+        }
+        match self {
+            Incoming::Message(m) => m.community = community.clone(),
+            Incoming::Shared(shared) => match Arc::get_mut(shared) {
+                Some(d) => {
+                    d.message.community = community.clone();
+                    d.encoded_len = d.message.encoded_len();
+                    if let Some(mail) = &mut d.mail {
+                        mail.community = moos_types::text_of(community);
+                    }
+                }
+                None => {
+                    let mut m = shared.message.clone();
+                    m.community = community.clone();
+                    *self = Incoming::Message(m);
+                }
+            },
+        }
+    }
+
+    fn into_shared(self) -> Arc<Delivery> {
+        match self {
+            Incoming::Message(m) => Delivery::new(m),
+            Incoming::Shared(d) => d,
+        }
+    }
+
+    fn into_message(self) -> Message {
+        match self {
+            Incoming::Message(m) => m,
+            Incoming::Shared(d) => Delivery::into_message(d),
+        }
     }
 }
 
@@ -657,6 +734,7 @@ impl Database {
         now: DbTime,
     ) -> Result<Effects, DbError> {
         let mut effects = Effects::default();
+        let msgs = msgs.into_iter().map(Incoming::Message);
         self.packet(id, msgs, false, now, &mut effects.ready)?;
         Ok(effects)
     }
@@ -671,6 +749,24 @@ impl Database {
         effects: &mut Effects,
     ) -> Result<(), DbError> {
         effects.ready.clear();
+        let msgs = msgs.into_iter().map(Incoming::Message);
+        self.packet(id, msgs, false, now, &mut effects.ready)
+    }
+
+    /// [`Database::handle_into`] for an in-process client whose notifies come shared
+    /// already, each with the mail it delivers ([`Delivery::with_mail`]: made by the
+    /// poster from text that was UTF-8, as an app's [`moos_types::Post`]; the community
+    /// filled in, as the DB would): the DB stores and queues them as they are, and its
+    /// in-process readers get that mail with no conversion.
+    pub fn handle_posted_into(
+        &mut self,
+        id: ClientId,
+        posts: impl IntoIterator<Item = Arc<Delivery>>,
+        now: DbTime,
+        effects: &mut Effects,
+    ) -> Result<(), DbError> {
+        effects.ready.clear();
+        let msgs = posts.into_iter().map(Incoming::Shared);
         self.packet(id, msgs, false, now, &mut effects.ready)
     }
 
@@ -691,7 +787,7 @@ impl Database {
     fn packet(
         &mut self,
         id: ClientId,
-        msgs: impl IntoIterator<Item = Message>,
+        msgs: impl IntoIterator<Item = Incoming>,
         polled: bool,
         now: DbTime,
         ready: &mut Vec<ClientId>,
@@ -705,7 +801,8 @@ impl Database {
         let asynchronous = c.asynchronous;
         let mut echo = None;
         let mut msgs = msgs.into_iter().peekable();
-        if let Some(mut t) = msgs.next_if(|m| m.msg_type == MsgType::Timing) {
+        if let Some(t) = msgs.next_if(|m| m.message().msg_type == MsgType::Timing) {
+            let mut t = t.into_message();
             c.timing
                 .get_or_insert_with(Timing::default)
                 .add((now.moos - t.time) * 1000.0);
@@ -718,8 +815,12 @@ impl Database {
         let mut replies = VecDeque::new();
         for m in msgs {
             had_any = true;
-            had_notify |= m.msg_type == MsgType::Notify;
-            self.process(&name, m, now, &mut replies);
+            if m.message().msg_type == MsgType::Notify {
+                had_notify = true;
+                self.on_notify(m, now);
+            } else {
+                self.process(&name, m.into_message(), now, &mut replies);
+            }
         }
         if now.moos - self.summary_time > SUMMARY_PERIOD {
             self.summary_time = now.moos;
@@ -950,7 +1051,7 @@ impl Database {
 
     fn process(&mut self, name: &Bytes, m: Message, now: DbTime, replies: &mut VecDeque<Message>) {
         match m.msg_type {
-            MsgType::Notify => self.on_notify(m, now),
+            MsgType::Notify => self.on_notify(Incoming::Message(m), now),
             MsgType::Register => self.on_register(name, &m.key, m.dval, now),
             MsgType::Unregister => {
                 if let Some(v) = self.vars.get_mut(&m.key) {
@@ -1038,8 +1139,16 @@ impl Database {
     }
 
     /// `OnNotify`: type lock, first-write wildcard matching, value store and fan-out.
-    fn on_notify(&mut self, mut msg: Message, now: DbTime) {
+    fn on_notify(&mut self, mut incoming: Incoming, now: DbTime) {
         let limit = self.config.outbox_limit;
+        incoming.fill_community(&self.community);
+        let msg = incoming.message();
+        if let Incoming::Shared(d) = &incoming {
+            debug_assert!(
+                d.mail.is_none() || d.mail == msg.mail(),
+                "a posted mail is the one its message delivers"
+            );
+        }
         // A write to a known variable looks it up once and clones no name.
         let var = match self.vars.get_mut(&msg.key) {
             Some(var) => var,
@@ -1093,9 +1202,6 @@ impl Database {
         if var.src_aux != msg.src_aux {
             var.src_aux = msg.src_aux.clone();
         }
-        if msg.community.is_empty() {
-            msg.community = self.community.clone();
-        }
         if var.community != msg.community {
             var.community = msg.community.clone();
         }
@@ -1115,18 +1221,17 @@ impl Database {
             var.stats_writes = var.written_to;
             var.stats_time = t;
         }
-        msg.msg_type = MsgType::Notify;
         if !self.tapped.is_empty() && self.tapped.contains(&msg.key) {
             self.taps.push(msg.clone());
         }
         // One shared delivery for every subscriber it reaches (made at the first).
-        let mut pending = Some(msg);
+        let mut pending = Some(incoming);
         let mut shared: Option<Arc<Delivery>> = None;
         for sub in var.subscribers.values_mut() {
             if !sub.unread && sub.expired(t) {
                 sub.last_sent = t;
                 if let Some(m) = pending.take() {
-                    shared = Some(Delivery::new(m));
+                    shared = Some(m.into_shared());
                 }
                 if let Some(d) = &shared {
                     hold_for(&mut self.clients, sub.client, Arc::clone(d), limit);
@@ -1140,7 +1245,7 @@ impl Database {
         m.key = Bytes::from_static(key.as_bytes());
         m.src = self.db_name.clone();
         m.community = self.community.clone();
-        self.on_notify(m, now);
+        self.on_notify(Incoming::Message(m), now);
     }
 
     fn server_request(&mut self, m: &Message, now: DbTime, replies: &mut VecDeque<Message>) {
@@ -1764,7 +1869,7 @@ mod tests {
     }
 
     #[test]
-    fn one_shared_delivery_per_write_and_its_mail_converted_once() {
+    fn one_shared_delivery_per_write_and_a_posted_mail_handed_on() {
         let mut db = new_db();
         let a = join(&mut db, "a", 1000.0);
         let b = join(&mut db, "b", 1000.0);
@@ -1789,8 +1894,46 @@ mod tests {
         let ma = da[0].mail().unwrap();
         assert_eq!((&*ma.key, &*ma.source, &*ma.community), ("S", "p", "test"));
         assert_eq!(ma.value.as_str(), Some("hi"));
-        // The second reader gets the same converted mail, not a new conversion.
-        assert!(std::ptr::eq(ma, dbb[0].mail().unwrap()));
+        assert_eq!(Some(ma), dbb[0].mail());
+        // A posted mail is handed on as it was made.
+        let mut made = post("p", "S", Value::from("hé"), 1000.6);
+        made.community = Bytes::from_static(b"test");
+        let mail = made.mail().unwrap();
+        db.handle_posted_into(
+            p,
+            [Delivery::with_mail(made, mail.clone())],
+            t(1000.6),
+            &mut Effects::default(),
+        )
+        .unwrap();
+        assert!(db.drain_deliveries(a, &mut da));
+        assert_eq!(da.len(), 2);
+        assert!(
+            Arc::ptr_eq(&da[0], &dbb[0]),
+            "the first write, still shared"
+        );
+        assert_eq!(da[1].mail(), Some(mail));
+        // One made without a community gets the DB's, in its message and its mail.
+        let bare = post("p", "S", Value::from("x"), 1000.7);
+        let mut mail = bare.mail().unwrap();
+        db.handle_posted_into(
+            p,
+            [Delivery::with_mail(bare, mail.clone())],
+            t(1000.7),
+            &mut Effects::default(),
+        )
+        .unwrap();
+        mail.community = "test".into();
+        let mut fresh = Vec::new();
+        assert!(db.drain_deliveries(b, &mut fresh));
+        let last = fresh.last().unwrap();
+        assert_eq!(last.message().community, Bytes::from_static(b"test"));
+        assert_eq!(last.mail(), Some(mail));
+        assert_eq!(
+            db.current("S").unwrap().community,
+            Bytes::from_static(b"test")
+        );
+        let mut da = vec![da.remove(0)];
         // The last holder takes the message itself; a shared one is copied.
         let first = Delivery::into_message(da.pop().unwrap());
         assert_eq!(first.sval_str(), "hi");
