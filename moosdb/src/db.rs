@@ -44,9 +44,17 @@
 //! `DB_VARSUMMARY` and `DB_RWSUMMARY` texts only while some client reads them (their writes,
 //! times and frequencies are kept all the same; a late reader gets the text built when it
 //! asks, so this one is not for a TCP DB whose clients come and go).
+//!
+//! Every write is queued for its subscribers as one shared [`Delivery`] (an `Arc`: no copy
+//! of the message per subscriber). An in-process client posts through
+//! [`Database::handle_posted_into`] deliveries made with the [`moos_types::Mail`] they
+//! deliver, and reads them back with [`Database::poll_into`] and
+//! [`Database::drain_deliveries`]: its mail is a clone of the poster's, with no conversion
+//! of the message's bytes. The TCP edge drains plain messages ([`Database::drain_outbox`]).
 
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::fmt::Write as _;
+use std::sync::Arc;
 
 use bytes::Bytes;
 use rustc_hash::FxHashMap;
@@ -54,6 +62,7 @@ use thiserror::Error;
 use tracing::{info, warn};
 
 use crate::message::{ASYNCHRONOUS, DataType, Message, MsgType, Value};
+use moos_types::Mail;
 
 /// Seconds between refreshes of the DB's own variables (DB_TIME, DB_CLIENTS, ...).
 pub const SUMMARY_PERIOD: f64 = 2.0;
@@ -160,6 +169,114 @@ impl Handshake {
 pub struct Effects {
     /// Clients whose outbox received packets; the edge should drain and send them.
     pub ready: Vec<ClientId>,
+}
+
+/// A message as the DB queues it for its clients: one shared allocation per write, whatever
+/// the number of clients it reaches (each held mail and outbox holds an [`Arc`] of it, so a
+/// delivery copies no message). Its encoded size is counted once. A notify an in-process
+/// client posted carries the [`Mail`] it delivers, made by the poster from text that was
+/// UTF-8 already ([`Database::handle_posted_into`]): in-process readers clone it, with no
+/// conversion of the message's bytes.
+#[derive(Debug)]
+pub struct Delivery {
+    message: Message,
+    encoded_len: usize,
+    mail: Option<Mail>,
+}
+
+impl Delivery {
+    /// A shared delivery of `message`.
+    pub fn new(message: Message) -> Arc<Delivery> {
+        Arc::new(Delivery {
+            encoded_len: message.encoded_len(),
+            message,
+            mail: None,
+        })
+    }
+
+    /// A shared delivery of `message` whose mail is `mail`, made by the caller (what
+    /// [`Message::mail`] gives, from text known to be UTF-8): it is never converted.
+    pub fn with_mail(message: Message, mail: Mail) -> Arc<Delivery> {
+        Arc::new(Delivery {
+            encoded_len: message.encoded_len(),
+            message,
+            mail: Some(mail),
+        })
+    }
+
+    /// The message.
+    pub fn message(&self) -> &Message {
+        &self.message
+    }
+
+    /// The mail the message delivers ([`Message::mail`]; `None` for data type `'~'`): the
+    /// poster's, cloned, or else converted from the message.
+    pub fn mail(&self) -> Option<Mail> {
+        match &self.mail {
+            Some(mail) => Some(mail.clone()),
+            None => self.message.mail(),
+        }
+    }
+
+    /// The message itself when this was its last holder, else a copy.
+    pub fn into_message(this: Arc<Delivery>) -> Message {
+        Arc::try_unwrap(this).map_or_else(|d| d.message.clone(), |d| d.message)
+    }
+}
+
+/// A message of a packet: as decoded or made, or a notify an in-process client posted
+/// already shared with its mail.
+enum Incoming {
+    Message(Message),
+    Shared(Arc<Delivery>),
+}
+
+impl Incoming {
+    fn message(&self) -> &Message {
+        match self {
+            Incoming::Message(m) => m,
+            Incoming::Shared(d) => &d.message,
+        }
+    }
+
+    /// Gives a message with no community the DB's (a shared one that another holder has
+    /// too is copied, without its mail).
+    fn fill_community(&mut self, community: &Bytes) {
+        if !self.message().community.is_empty() {
+            return;
+        }
+        match self {
+            Incoming::Message(m) => m.community = community.clone(),
+            Incoming::Shared(shared) => match Arc::get_mut(shared) {
+                Some(d) => {
+                    d.message.community = community.clone();
+                    d.encoded_len = d.message.encoded_len();
+                    if let Some(mail) = &mut d.mail {
+                        mail.community = moos_types::text_of(community);
+                    }
+                }
+                None => {
+                    let mut m = shared.message.clone();
+                    m.community = community.clone();
+                    *self = Incoming::Message(m);
+                }
+            },
+        }
+    }
+
+    fn into_shared(self) -> Arc<Delivery> {
+        match self {
+            Incoming::Message(m) => Delivery::new(m),
+            Incoming::Shared(d) => d,
+        }
+    }
+
+    fn into_message(self) -> Message {
+        match self {
+            Incoming::Message(m) => m,
+            Incoming::Shared(d) => Delivery::into_message(d),
+        }
+    }
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -319,9 +436,9 @@ struct ClientState {
     asynchronous: bool,
     order: u64,
     last_heard: f64,
-    held: VecDeque<Message>,
+    held: VecDeque<Arc<Delivery>>,
     /// The queued packets' messages, one after the other (no buffer per packet).
-    outbox: VecDeque<Message>,
+    outbox: VecDeque<Arc<Delivery>>,
     /// Each queued packet's message count and encoded bytes, oldest first.
     packets: VecDeque<(usize, usize)>,
     outbox_msgs: usize,
@@ -344,7 +461,7 @@ impl ClientState {
         }
     }
 
-    fn hold(&mut self, msg: Message, limit: usize) {
+    fn hold(&mut self, msg: Arc<Delivery>, limit: usize) {
         if self.held.len() >= limit.max(1) {
             self.held.pop_front();
             self.note_drop(1);
@@ -355,14 +472,14 @@ impl ClientState {
     /// Queues the messages as one packet (none: no packet); true if one was queued.
     fn queue(
         &mut self,
-        packet: impl IntoIterator<Item = Message>,
+        packet: impl IntoIterator<Item = Arc<Delivery>>,
         limit: usize,
         byte_limit: usize,
     ) -> bool {
         let before = self.outbox.len();
         let mut bytes = 0;
         for m in packet {
-            bytes += m.encoded_len();
+            bytes += m.encoded_len;
             self.outbox.push_back(m);
         }
         let n = self.outbox.len() - before;
@@ -418,7 +535,7 @@ pub struct Database {
 fn hold_for(
     clients: &mut BTreeMap<ClientId, ClientState>,
     id: ClientId,
-    msg: Message,
+    msg: Arc<Delivery>,
     limit: usize,
 ) {
     if let Some(c) = clients.get_mut(&id) {
@@ -616,6 +733,65 @@ impl Database {
         msgs: impl IntoIterator<Item = Message>,
         now: DbTime,
     ) -> Result<Effects, DbError> {
+        let mut effects = Effects::default();
+        let msgs = msgs.into_iter().map(Incoming::Message);
+        self.packet(id, msgs, false, now, &mut effects.ready)?;
+        Ok(effects)
+    }
+
+    /// [`Database::handle`] with the effects written into `effects` (cleared first), so an
+    /// in-process caller reuses one buffer.
+    pub fn handle_into(
+        &mut self,
+        id: ClientId,
+        msgs: impl IntoIterator<Item = Message>,
+        now: DbTime,
+        effects: &mut Effects,
+    ) -> Result<(), DbError> {
+        effects.ready.clear();
+        let msgs = msgs.into_iter().map(Incoming::Message);
+        self.packet(id, msgs, false, now, &mut effects.ready)
+    }
+
+    /// [`Database::handle_into`] for an in-process client whose notifies come shared
+    /// already, each with the mail it delivers ([`Delivery::with_mail`]: made by the
+    /// poster from text that was UTF-8, as an app's [`moos_types::Post`]; the community
+    /// filled in, as the DB would): the DB stores and queues them as they are, and its
+    /// in-process readers get that mail with no conversion.
+    pub fn handle_posted_into(
+        &mut self,
+        id: ClientId,
+        posts: impl IntoIterator<Item = Arc<Delivery>>,
+        now: DbTime,
+        effects: &mut Effects,
+    ) -> Result<(), DbError> {
+        effects.ready.clear();
+        let msgs = posts.into_iter().map(Incoming::Shared);
+        self.packet(id, msgs, false, now, &mut effects.ready)
+    }
+
+    /// What [`Database::handle_into`] does with a packet of one `'.'` (a poll: the client's
+    /// held mail is queued), without building the message.
+    pub fn poll_into(
+        &mut self,
+        id: ClientId,
+        now: DbTime,
+        effects: &mut Effects,
+    ) -> Result<(), DbError> {
+        effects.ready.clear();
+        self.packet(id, std::iter::empty(), true, now, &mut effects.ready)
+    }
+
+    /// A packet's processing; `polled`: it held a message that needs no processing (a
+    /// `'.'`) besides `msgs`.
+    fn packet(
+        &mut self,
+        id: ClientId,
+        msgs: impl IntoIterator<Item = Incoming>,
+        polled: bool,
+        now: DbTime,
+        ready: &mut Vec<ClientId>,
+    ) -> Result<(), DbError> {
         let c = self
             .clients
             .get_mut(&id)
@@ -625,7 +801,8 @@ impl Database {
         let asynchronous = c.asynchronous;
         let mut echo = None;
         let mut msgs = msgs.into_iter().peekable();
-        if let Some(mut t) = msgs.next_if(|m| m.msg_type == MsgType::Timing) {
+        if let Some(t) = msgs.next_if(|m| m.message().msg_type == MsgType::Timing) {
+            let mut t = t.into_message();
             c.timing
                 .get_or_insert_with(Timing::default)
                 .add((now.moos - t.time) * 1000.0);
@@ -634,12 +811,16 @@ impl Database {
             echo = Some(t);
         }
         let mut had_notify = false;
-        let mut had_any = false;
+        let mut had_any = polled;
         let mut replies = VecDeque::new();
         for m in msgs {
             had_any = true;
-            had_notify |= m.msg_type == MsgType::Notify;
-            self.process(&name, m, now, &mut replies);
+            if m.message().msg_type == MsgType::Notify {
+                had_notify = true;
+                self.on_notify(m, now);
+            } else {
+                self.process(&name, m.into_message(), now, &mut replies);
+            }
         }
         if now.moos - self.summary_time > SUMMARY_PERIOD {
             self.summary_time = now.moos;
@@ -647,7 +828,6 @@ impl Database {
         }
         let limit = self.config.outbox_limit;
         let byte_limit = self.config.outbox_byte_limit;
-        let mut effects = Effects::default();
         if let Some(c) = self.clients.get_mut(&id) {
             let take_held = had_any || !asynchronous;
             let head = if asynchronous {
@@ -661,26 +841,29 @@ impl Database {
             let mut held = std::mem::take(&mut c.held);
             let held_part = held.drain(..if take_held { held.len() } else { 0 });
             let queued = c.queue(
-                head.into_iter().chain(held_part).chain(replies),
+                head.into_iter()
+                    .map(Delivery::new)
+                    .chain(held_part)
+                    .chain(replies.into_iter().map(Delivery::new)),
                 limit,
                 byte_limit,
             );
             c.held = held;
             if queued {
-                effects.ready.push(id);
+                ready.push(id);
             }
         }
         if had_notify {
             for (cid, c) in self.clients.iter_mut() {
                 if c.asynchronous && !c.held.is_empty() {
                     c.queue_held(limit, byte_limit);
-                    if !effects.ready.contains(cid) {
-                        effects.ready.push(*cid);
+                    if !ready.contains(cid) {
+                        ready.push(*cid);
                     }
                 }
             }
         }
-        Ok(effects)
+        Ok(())
     }
 
     /// Moves the client's queued packets into `out`; `false` if the client is gone (the edge
@@ -689,7 +872,7 @@ impl Database {
         match self.clients.get_mut(&id) {
             Some(c) => {
                 for (n, _) in c.packets.drain(..) {
-                    out.push(c.outbox.drain(..n).collect());
+                    out.push(c.outbox.drain(..n).map(Delivery::into_message).collect());
                 }
                 c.outbox_msgs = 0;
                 c.outbox_bytes = 0;
@@ -703,6 +886,21 @@ impl Database {
     /// (an in-process client needs no packet boundaries, and no buffer per packet);
     /// `false` if the client is gone.
     pub fn drain_messages(&mut self, id: ClientId, out: &mut Vec<Message>) -> bool {
+        match self.clients.get_mut(&id) {
+            Some(c) => {
+                out.extend(c.outbox.drain(..).map(Delivery::into_message));
+                c.packets.clear();
+                c.outbox_msgs = 0;
+                c.outbox_bytes = 0;
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// [`Database::drain_messages`] without copies: the shared deliveries themselves (an
+    /// in-process reader takes each one's [`Delivery::mail`]).
+    pub fn drain_deliveries(&mut self, id: ClientId, out: &mut Vec<Arc<Delivery>>) -> bool {
         match self.clients.get_mut(&id) {
             Some(c) => {
                 out.extend(c.outbox.drain(..));
@@ -853,7 +1051,7 @@ impl Database {
 
     fn process(&mut self, name: &Bytes, m: Message, now: DbTime, replies: &mut VecDeque<Message>) {
         match m.msg_type {
-            MsgType::Notify => self.on_notify(m, now),
+            MsgType::Notify => self.on_notify(Incoming::Message(m), now),
             MsgType::Register => self.on_register(name, &m.key, m.dval, now),
             MsgType::Unregister => {
                 if let Some(v) = self.vars.get_mut(&m.key) {
@@ -936,17 +1134,29 @@ impl Database {
             if stale {
                 reply.sval = self.summary_text(key).into();
             }
-            hold_for(&mut self.clients, id, reply, limit);
+            hold_for(&mut self.clients, id, Delivery::new(reply), limit);
         }
     }
 
     /// `OnNotify`: type lock, first-write wildcard matching, value store and fan-out.
-    fn on_notify(&mut self, mut msg: Message, now: DbTime) {
+    fn on_notify(&mut self, mut incoming: Incoming, now: DbTime) {
         let limit = self.config.outbox_limit;
-        let var = self
-            .vars
-            .entry(msg.key.clone())
-            .or_insert_with(|| Var::new(msg.data_type));
+        incoming.fill_community(&self.community);
+        let msg = incoming.message();
+        if let Incoming::Shared(d) = &incoming {
+            debug_assert!(
+                d.mail.is_none() || d.mail == msg.mail(),
+                "a posted mail is the one its message delivers"
+            );
+        }
+        // A write to a known variable looks it up once and clones no name.
+        let var = match self.vars.get_mut(&msg.key) {
+            Some(var) => var,
+            None => self
+                .vars
+                .entry(msg.key.clone())
+                .or_insert_with(|| Var::new(msg.data_type)),
+        };
         if var.written_to == 0 {
             var.data_type = msg.data_type;
             for (client, filters) in &self.filters {
@@ -981,18 +1191,23 @@ impl Database {
         let t = now.moos;
         var.written_time = t;
         var.time = msg.time;
-        var.writer = msg.src.clone();
-        var.src_aux = msg.src_aux.clone();
-        if msg.community.is_empty() {
-            msg.community = self.community.clone();
+        // The writer, its aux field and community mostly repeat: a name is replaced (and the
+        // writers looked up) only when it changed.
+        if var.written_to == 0 || var.writer != msg.src {
+            if !var.writers.contains(&msg.src) {
+                var.writers.insert(msg.src.clone());
+            }
+            var.writer = msg.src.clone();
         }
-        var.community = msg.community.clone();
+        if var.src_aux != msg.src_aux {
+            var.src_aux = msg.src_aux.clone();
+        }
+        if var.community != msg.community {
+            var.community = msg.community.clone();
+        }
         match var.data_type {
             DataType::Double => var.dval = msg.dval,
             _ => var.sval = msg.sval.clone(),
-        }
-        if !var.writers.contains(&msg.src) {
-            var.writers.insert(msg.src.clone());
         }
         var.written_to += 1;
         let dt = t - var.stats_time;
@@ -1006,14 +1221,21 @@ impl Database {
             var.stats_writes = var.written_to;
             var.stats_time = t;
         }
-        msg.msg_type = MsgType::Notify;
-        if self.tapped.contains(&msg.key) {
+        if !self.tapped.is_empty() && self.tapped.contains(&msg.key) {
             self.taps.push(msg.clone());
         }
+        // One shared delivery for every subscriber it reaches (made at the first).
+        let mut pending = Some(incoming);
+        let mut shared: Option<Arc<Delivery>> = None;
         for sub in var.subscribers.values_mut() {
             if !sub.unread && sub.expired(t) {
                 sub.last_sent = t;
-                hold_for(&mut self.clients, sub.client, msg.clone(), limit);
+                if let Some(m) = pending.take() {
+                    shared = Some(m.into_shared());
+                }
+                if let Some(d) = &shared {
+                    hold_for(&mut self.clients, sub.client, Arc::clone(d), limit);
+                }
             }
         }
     }
@@ -1023,7 +1245,7 @@ impl Database {
         m.key = Bytes::from_static(key.as_bytes());
         m.src = self.db_name.clone();
         m.community = self.community.clone();
-        self.on_notify(m, now);
+        self.on_notify(Incoming::Message(m), now);
     }
 
     fn server_request(&mut self, m: &Message, now: DbTime, replies: &mut VecDeque<Message>) {
@@ -1644,6 +1866,170 @@ mod tests {
         let vs = drain(&mut db, a);
         assert_eq!(vs[0].key_str(), "VAR_SUMMARY");
         assert!(vs[0].sval_str().contains("IN,OUT"), "{}", vs[0].sval_str());
+    }
+
+    #[test]
+    fn one_shared_delivery_per_write_and_a_posted_mail_handed_on() {
+        let mut db = new_db();
+        let a = join(&mut db, "a", 1000.0);
+        let b = join(&mut db, "b", 1000.0);
+        let p = join(&mut db, "p", 1000.0);
+        for c in [a, b] {
+            db.handle(c, vec![reg("S", 0.0)], t(1000.0)).unwrap();
+        }
+        db.handle(
+            p,
+            vec![post("p", "S", Value::from("hi"), 1000.5)],
+            t(1000.5),
+        )
+        .unwrap();
+        let (mut da, mut dbb) = (Vec::new(), Vec::new());
+        assert!(db.drain_deliveries(a, &mut da));
+        assert!(db.drain_deliveries(b, &mut dbb));
+        assert_eq!((da.len(), dbb.len()), (1, 1));
+        assert!(
+            Arc::ptr_eq(&da[0], &dbb[0]),
+            "both subscribers hold one delivery"
+        );
+        let ma = da[0].mail().unwrap();
+        assert_eq!((&*ma.key, &*ma.source, &*ma.community), ("S", "p", "test"));
+        assert_eq!(ma.value.as_str(), Some("hi"));
+        assert_eq!(Some(ma), dbb[0].mail());
+        // A posted mail is handed on as it was made.
+        let mut made = post("p", "S", Value::from("hé"), 1000.6);
+        made.community = Bytes::from_static(b"test");
+        let mail = made.mail().unwrap();
+        db.handle_posted_into(
+            p,
+            [Delivery::with_mail(made, mail.clone())],
+            t(1000.6),
+            &mut Effects::default(),
+        )
+        .unwrap();
+        assert!(db.drain_deliveries(a, &mut da));
+        assert_eq!(da.len(), 2);
+        assert!(
+            Arc::ptr_eq(&da[0], &dbb[0]),
+            "the first write, still shared"
+        );
+        assert_eq!(da[1].mail(), Some(mail));
+        // One made without a community gets the DB's, in its message and its mail.
+        let bare = post("p", "S", Value::from("x"), 1000.7);
+        let mut mail = bare.mail().unwrap();
+        db.handle_posted_into(
+            p,
+            [Delivery::with_mail(bare, mail.clone())],
+            t(1000.7),
+            &mut Effects::default(),
+        )
+        .unwrap();
+        mail.community = "test".into();
+        let mut fresh = Vec::new();
+        assert!(db.drain_deliveries(b, &mut fresh));
+        let last = fresh.last().unwrap();
+        assert_eq!(last.message().community, Bytes::from_static(b"test"));
+        assert_eq!(last.mail(), Some(mail));
+        assert_eq!(
+            db.current("S").unwrap().community,
+            Bytes::from_static(b"test")
+        );
+        let mut da = vec![da.remove(0)];
+        // The last holder takes the message itself; a shared one is copied.
+        let first = Delivery::into_message(da.pop().unwrap());
+        assert_eq!(first.sval_str(), "hi");
+        assert_eq!(Delivery::into_message(dbb.pop().unwrap()), first);
+        assert!(!db.drain_deliveries(ClientId(99), &mut da));
+    }
+
+    #[test]
+    fn poll_and_handle_into_match_handle() {
+        // Two DBs fed alike: one polled with a '.' through `handle`, one with `poll_into`.
+        let mut dbs = [new_db(), new_db()];
+        let mut got = Vec::new();
+        for (i, db) in dbs.iter_mut().enumerate() {
+            let s = join(db, "s", 1000.0);
+            let p = join(db, "p", 1000.0);
+            let mut fx = Effects {
+                ready: vec![ClientId(42)],
+            };
+            db.handle_into(s, vec![reg("X", 0.0)], t(1000.0), &mut fx)
+                .unwrap();
+            assert!(!fx.ready.contains(&ClientId(42)), "cleared first");
+            db.handle_into(
+                p,
+                vec![post("p", "X", Value::Double(1.0), 1000.1)],
+                t(1000.1),
+                &mut fx,
+            )
+            .unwrap();
+            assert_eq!(fx.ready, vec![s]);
+            // A registration's replay waits in the held mail until a poll.
+            let q = join(db, "q", 1000.2);
+            db.handle(q, vec![reg("X", 0.0)], t(1000.2)).unwrap();
+            drain(db, q);
+            db.handle(p, vec![reg("X", 0.0)], t(1000.3)).unwrap();
+            if i == 0 {
+                let null = Message::new(MsgType::Null, DataType::Double, "");
+                fx = db.handle(p, vec![null], t(1000.4)).unwrap();
+            } else {
+                db.poll_into(p, t(1000.4), &mut fx).unwrap();
+            }
+            got.push((fx.ready.clone(), drain(db, p), drain(db, s)));
+            assert_eq!(
+                db.poll_into(ClientId(99), t(1000.5), &mut fx),
+                Err(DbError::UnknownClient(ClientId(99)))
+            );
+        }
+        assert_eq!(got[0], got[1]);
+        assert_eq!(got[0].1.len(), 1, "p's replay of X");
+    }
+
+    #[test]
+    fn writers_are_recorded_when_the_writer_changes_back_and_forth() {
+        let mut db = new_db();
+        let a = join(&mut db, "a", 1000.0);
+        let b = join(&mut db, "b", 1000.0);
+        for (who, src, now) in [(a, "a", 1000.1), (b, "b", 1000.2), (a, "a", 1000.3)] {
+            db.handle(who, vec![post(src, "V", Value::Double(now), now)], t(now))
+                .unwrap();
+        }
+        assert_eq!(db.current("V").unwrap().src_str(), "a");
+        db.handle(a, vec![request("PROC_SUMMARY")], t(1000.4))
+            .unwrap();
+        let ps: Vec<String> = drain(&mut db, a)
+            .iter()
+            .map(|m| m.sval_str().into_owned())
+            .collect();
+        assert!(
+            ps.contains(&"a:SUBSCRIBED=,PUBLISHED=,V".to_string()),
+            "{ps:?}"
+        );
+        assert!(
+            ps.contains(&"b:SUBSCRIBED=,PUBLISHED=,V".to_string()),
+            "{ps:?}"
+        );
+        // After a DB_CLEAR the first write records its writer again.
+        db.handle(a, vec![request("DB_CLEAR")], t(1000.5)).unwrap();
+        db.handle(
+            a,
+            vec![post("a", "V", Value::Double(1.0), 1000.6)],
+            t(1000.6),
+        )
+        .unwrap();
+        db.handle(a, vec![request("PROC_SUMMARY")], t(1000.7))
+            .unwrap();
+        let ps: Vec<String> = drain(&mut db, a)
+            .iter()
+            .map(|m| m.sval_str().into_owned())
+            .collect();
+        assert!(
+            ps.contains(&"a:SUBSCRIBED=,PUBLISHED=,V".to_string()),
+            "{ps:?}"
+        );
+        assert!(
+            ps.contains(&"b:SUBSCRIBED=,PUBLISHED=".to_string()),
+            "{ps:?}"
+        );
     }
 
     #[test]

@@ -43,7 +43,7 @@
 //! the loop (what one free core gives; on a loaded shared machine the wall figure is lower),
 //! and memory per vehicle (the growth of the
 //! resident set from before loading to its peak, over N; the alogs go to a temporary folder
-//! and are removed).
+//! and are removed, or to `$FLEET_SCALE_KEEP_LOGS` and are kept).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -175,6 +175,9 @@ fn one(n: usize, seconds: f64, threads: usize, stack: Stack) {
         stack.name()
     ));
     std::fs::create_dir_all(&dir).expect("scratch folder");
+    // FLEET_SCALE_KEEP_LOGS=DIR writes the alogs there and keeps them (to compare the
+    // output of two builds).
+    let keep = std::env::var_os("FLEET_SCALE_KEEP_LOGS").map(PathBuf::from);
     let rss0 = status_kib("VmRSS:").unwrap_or(0);
     let path = write_fleet(&dir, n, stack);
     let t0 = Instant::now();
@@ -184,7 +187,7 @@ fn one(n: usize, seconds: f64, threads: usize, stack: Stack) {
         mode: Mode::Lockstep,
         deploy: true,
         max_time: seconds,
-        log_dir: Some(dir.join("logs")),
+        log_dir: Some(keep.clone().unwrap_or_else(|| dir.join("logs"))),
         threads,
         ..FleetOptions::default()
     };

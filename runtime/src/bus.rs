@@ -3,8 +3,12 @@
 //! register, intervals, wildcard registrations, `DB_*` variables) and the same database
 //! can also serve TCP clients in real-time mode.
 
+use std::sync::Arc;
+
 use bytes::Bytes;
-use moosdb::db::{ClientId, Database, DbConfig, DbTime, Effects};
+use moos_types::ByteString;
+use moosdb::db::{ClientId, Database, DbConfig, DbError, DbTime, Delivery, Effects};
+use moosdb::message::NO_ID;
 use moosdb::{DataType, Message, MsgType};
 use rustc_hash::FxHashSet;
 use thiserror::Error;
@@ -93,9 +97,13 @@ impl DbHost for LocalDb {
 #[derive(Debug)]
 pub struct Bus<H: DbHost = LocalDb> {
     host: H,
-    /// The fetched messages (reused: a fetch allocates no buffer of its own).
-    fetched: Vec<Message>,
+    /// The fetched deliveries (reused: a fetch allocates no buffer of its own).
+    fetched: Vec<Arc<Delivery>>,
+    /// The last call's effects (reused likewise).
+    effects: Effects,
     names: Names,
+    /// The DB's community, the one of the mail of the posts that name none.
+    community: ByteString,
 }
 
 /// Most names [`Names`] keeps before it starts afresh (it only saves copies: a name seen
@@ -107,22 +115,22 @@ const NAMES_LIMIT: usize = 4096;
 /// names and writers, and clones them into every subscriber's mail).
 #[derive(Debug, Default)]
 struct Names {
-    set: FxHashSet<Bytes>,
+    set: FxHashSet<ByteString>,
 }
 
 impl Names {
     /// The shared buffer holding `s` (empty text needs none).
-    fn get(&mut self, s: &str) -> Bytes {
+    fn get(&mut self, s: &str) -> ByteString {
         if s.is_empty() {
-            return Bytes::new();
+            return ByteString::new();
         }
-        if let Some(b) = self.set.get(s.as_bytes()) {
+        if let Some(b) = self.set.get(s) {
             return b.clone();
         }
         if self.set.len() >= NAMES_LIMIT {
             self.set.clear();
         }
-        let b = Bytes::copy_from_slice(s.as_bytes());
+        let b = ByteString::from(s);
         // The first clone turns the buffer into a shared one (one allocation); every later
         // clone of either handle only counts a reference.
         let shared = b.clone();
@@ -141,10 +149,13 @@ impl Bus<LocalDb> {
 impl<H: DbHost> Bus<H> {
     /// A bus over any database host.
     pub fn with_host(host: H) -> Bus<H> {
+        let community = host.with_ref(|db| ByteString::from(db.config().community.as_str()));
         Bus {
             host,
             fetched: Vec::new(),
+            effects: Effects::default(),
             names: Names::default(),
+            community,
         }
     }
 
@@ -155,7 +166,7 @@ impl<H: DbHost> Bus<H> {
 
     /// Connects a client called `name` (an asynchronous client, as every V10 app is).
     pub fn connect(&mut self, name: &str, now: f64) -> Result<ClientId, BusError> {
-        let key = self.names.get(name);
+        let key = self.names.get(name).into_bytes();
         self.host
             .with_mut(now, |db, t| db.connect(key, true, now, t).id())
             .ok_or_else(|| BusError::NameTaken(name.to_string()))
@@ -201,7 +212,7 @@ impl<H: DbHost> Bus<H> {
             m.time = now;
             m
         };
-        Self::send(&mut self.host, id, [msg], now)
+        Self::send(&mut self.host, &mut self.effects, id, [msg], now)
     }
 
     /// Publishes posts made at `now` by the client `id`; a post with an empty source gets
@@ -218,50 +229,74 @@ impl<H: DbHost> Bus<H> {
         }
         let default_src = self.names.get(default_source);
         let names = &mut self.names;
+        let own_community = &self.community;
+        // Each post goes with the mail it delivers, made here from its text (UTF-8
+        // already): the DB hands it to the readers without converting the message.
         let msgs = posts.iter().map(|p| {
-            let mut m = Message::new(MsgType::Notify, DataType::Double, "");
-            m.key = names.get(&p.key);
-            m.time = now;
-            match &p.value {
-                Value::Double(x) => m.dval = *x,
-                Value::String(s) => {
-                    m.data_type = DataType::String;
-                    m.sval = s.as_bytes().clone();
-                }
-                Value::Binary(b) => {
-                    m.data_type = DataType::Binary;
-                    m.sval = Bytes::copy_from_slice(b);
-                }
-            }
-            // Aux fields vary (the helm's `<iteration>:<behaviour>`): the post's own
-            // buffer, shared as the app made it.
-            m.src_aux = p.aux.as_bytes().clone();
-            m.src = if p.source.is_empty() {
+            let (data_type, dval, sval) = match &p.value {
+                Value::Double(x) => (DataType::Double, *x, Bytes::new()),
+                Value::String(s) => (DataType::String, -1.0, s.as_bytes().clone()),
+                Value::Binary(b) => (DataType::Binary, -1.0, Bytes::copy_from_slice(b)),
+            };
+            // A relayed message keeps its time and community (the DB keeps a non-empty one);
+            // the others get the DB's, as the DB would give them.
+            let (time, community) = match &p.relayed {
+                Some(r) if !r.community.is_empty() => (r.time, r.community.clone()),
+                Some(r) => (r.time, own_community.clone()),
+                None => (now, own_community.clone()),
+            };
+            let key = names.get(&p.key);
+            let source = if p.source.is_empty() {
                 default_src.clone()
             } else {
                 names.get(&p.source)
             };
-            // A relayed message keeps its time and community (the DB keeps a non-empty one).
-            if let Some(r) = &p.relayed {
-                m.time = r.time;
-                m.community = r.community.as_bytes().clone();
-            }
-            m
+            let message = Message {
+                id: NO_ID,
+                msg_type: MsgType::Notify,
+                data_type,
+                src: source.as_bytes().clone(),
+                // Aux fields vary (the helm's `<iteration>:<behaviour>`): the post's own
+                // buffer, shared as the app made it.
+                src_aux: p.aux.as_bytes().clone(),
+                community: community.as_bytes().clone(),
+                key: key.as_bytes().clone(),
+                time,
+                dval,
+                dval2: -1.0,
+                sval,
+            };
+            let mail = Mail {
+                key,
+                value: p.value.clone(),
+                time,
+                source,
+                source_aux: p.aux.clone(),
+                community,
+            };
+            Delivery::with_mail(message, mail)
         });
-        Self::send(&mut self.host, id, msgs, now)
+        let effects = &mut self.effects;
+        self.host
+            .with_mut(now, |db, t| db.handle_posted_into(id, msgs, t, effects))
+            .map_err(|_| BusError::NotConnected(id))?;
+        if !self.effects.ready.is_empty() {
+            self.host.wake(&self.effects);
+        }
+        Ok(())
     }
 
     fn send(
         host: &mut H,
+        effects: &mut Effects,
         id: ClientId,
         msgs: impl IntoIterator<Item = Message>,
         now: f64,
     ) -> Result<(), BusError> {
-        let effects = host
-            .with_mut(now, |db, t| db.handle(id, msgs, t))
+        host.with_mut(now, |db, t| db.handle_into(id, msgs, t, effects))
             .map_err(|_| BusError::NotConnected(id))?;
         if !effects.ready.is_empty() {
-            host.wake(&effects);
+            host.wake(effects);
         }
         Ok(())
     }
@@ -269,27 +304,35 @@ impl<H: DbHost> Bus<H> {
     /// Everything delivered to `id` so far, sorted by message time (stable), appended to
     /// `out`. Like a sync client's poll, this also collects held mail.
     pub fn fetch(&mut self, id: ClientId, now: f64, out: &mut Vec<Mail>) -> Result<(), BusError> {
-        let poll = Message::new(MsgType::Null, DataType::Double, "");
-        Self::send(&mut self.host, id, [poll], now)?;
+        // A poll (a `'.'`), then the queued deliveries, in one call on the DB.
         self.fetched.clear();
         let fetched = &mut self.fetched;
-        if !self
-            .host
-            .with_mut(now, |db, _| db.drain_messages(id, fetched))
-        {
+        let effects = &mut self.effects;
+        let drained = self.host.with_mut(now, |db, t| -> Result<bool, DbError> {
+            db.poll_into(id, t, effects)?;
+            Ok(db.drain_deliveries(id, fetched))
+        });
+        if !matches!(drained, Ok(true)) {
             return Err(BusError::NotConnected(id));
+        }
+        if !self.effects.ready.is_empty() {
+            self.host.wake(&self.effects);
         }
         let first = out.len();
         out.reserve(self.fetched.len());
-        for m in self.fetched.drain(..) {
-            if m.msg_type != MsgType::Notify {
+        for d in self.fetched.drain(..) {
+            if d.message().msg_type != MsgType::Notify {
                 continue;
             }
-            if let Some(mail) = m.mail() {
+            // A post's mail as the poster made it (cloned): no conversion.
+            if let Some(mail) = d.mail() {
                 out.push(mail);
             }
         }
-        out[first..].sort_by(|a, b| a.time.total_cmp(&b.time));
+        // Mostly in time order already: a sort only when not.
+        if !out[first..].is_sorted_by(|a, b| a.time.total_cmp(&b.time).is_le()) {
+            out[first..].sort_by(|a, b| a.time.total_cmp(&b.time));
+        }
         Ok(())
     }
 
@@ -409,6 +452,67 @@ mod tests {
         bus.host()
             .with_mut(1.0, |db, _| db.drain_outbox(tcp, &mut out));
         assert_eq!(out.concat()[0].dval, 4.0);
+    }
+
+    #[test]
+    fn posted_mail_is_the_mail_the_message_delivers() {
+        use moos_types::Relayed;
+        let mut bus = Bus::new("home", 0.0);
+        let a = bus.connect("a", 0.0).unwrap();
+        let b = bus.connect("b", 0.0).unwrap();
+        bus.subscribe(b, &Subscription::var("*"), 0.0).unwrap();
+        // A client outside the bus reads the same posts as messages.
+        let tcp = bus
+            .host()
+            .with_mut(0.0, |db, t| {
+                db.connect(Bytes::from_static(b"tcp"), true, 0.0, t).id()
+            })
+            .unwrap();
+        let mut reg = Message::new(MsgType::WildcardRegister, DataType::String, "");
+        reg.sval = Bytes::from_static(b"AppPattern=*,VarPattern=*,Interval=0");
+        bus.host()
+            .with_mut(0.0, |db, t| db.handle(tcp, vec![reg], t))
+            .unwrap();
+        let mut relayed = Post::double("R", 5.0);
+        relayed.source = "far".into();
+        relayed.relayed = Some(Box::new(Relayed {
+            time: 0.25,
+            community: "away".into(),
+        }));
+        let mut relayed_here = Post::text("RH", "x");
+        relayed_here.relayed = Some(Box::new(Relayed {
+            time: 0.5,
+            community: "".into(),
+        }));
+        let posts = [
+            Post::double("D", 1.5).with_aux("7:cruise"),
+            Post::text("S", "héllo"),
+            Post::new("B", Value::Binary(vec![0, 0xff, 7])),
+            relayed,
+            relayed_here,
+        ];
+        bus.publish(a, &posts, "a", 1.0).unwrap();
+        let mut mail = Vec::new();
+        bus.fetch(b, 1.0, &mut mail).unwrap();
+        mail.retain(|m| !m.key.starts_with("DB_"));
+        let mut packets = Vec::new();
+        bus.host()
+            .with_mut(1.0, |db, _| db.drain_outbox(tcp, &mut packets));
+        let mut read: Vec<Mail> = packets
+            .concat()
+            .iter()
+            .filter(|m| m.msg_type == MsgType::Notify && !m.key.starts_with(b"DB_"))
+            .filter_map(Message::mail)
+            .collect();
+        read.sort_by(|x, y| x.time.total_cmp(&y.time));
+        assert_eq!(mail, read);
+        assert_eq!(mail.len(), 5);
+        let r = mail.iter().find(|m| m.key == "R").unwrap();
+        assert_eq!((&*r.source, &*r.community, r.time), ("far", "away", 0.25));
+        let rh = mail.iter().find(|m| m.key == "RH").unwrap();
+        assert_eq!(&*rh.community, "home");
+        let d = mail.iter().find(|m| m.key == "D").unwrap();
+        assert_eq!((&*d.source_aux, &*d.community), ("7:cruise", "home"));
     }
 
     #[test]

@@ -17,6 +17,7 @@ use crate::app::{App, AppError, Mail, Post, STATUS_PERIOD, Value};
 use crate::bus::{Bus, BusError, DbHost, LocalDb};
 use crate::clock::{Clock, VirtualClock};
 use moos_types::ByteString;
+use rustc_hash::FxHashSet;
 
 /// When a poke is posted.
 #[derive(Debug, Clone, PartialEq)]
@@ -128,6 +129,9 @@ struct Slot {
     started_at: f64,
     last_status: Option<f64>,
     published: BTreeSet<String>,
+    /// The names in `published`, hashed: a post's name is looked up here, cheaply, and
+    /// added to the sorted set only the first time.
+    published_known: FxHashSet<ByteString>,
     subscribed: BTreeSet<String>,
     done: bool,
 }
@@ -229,10 +233,12 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
         }
         let hz = app.app_tick();
         let mut published = BTreeSet::new();
+        let mut published_known = FxHashSet::default();
         if self.started {
             self.posts.clear();
             app.on_startup(now, &mut self.posts)?;
             published.extend(self.posts.iter().map(|p| p.key.to_string()));
+            published_known.extend(self.posts.iter().map(|p| p.key.clone()));
             self.bus.publish(id, &self.posts, &name, now)?;
         }
         self.slots.push(Slot {
@@ -247,6 +253,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
             started_at: now,
             last_status: None,
             published,
+            published_known,
             subscribed,
             done: false,
         });
@@ -433,7 +440,8 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
         now: f64,
     ) -> Result<(), BusError> {
         for p in posts {
-            if !slot.published.contains(&*p.key) {
+            if !slot.published_known.contains(&p.key) {
+                slot.published_known.insert(p.key.clone());
                 slot.published.insert(p.key.to_string());
             }
         }
