@@ -86,7 +86,9 @@ impl<W: Write> AlogWriter<W> {
     }
 
     fn out_mut(&mut self) -> &mut W {
-        self.out.as_mut().expect("the writer is only taken by into_inner")
+        self.out
+            .as_mut()
+            .expect("the writer is only taken by into_inner")
     }
 
     /// Sets the number of decimals of double values (pLogger `DoublePrecision`, default 5).
@@ -637,7 +639,11 @@ mod tests {
             w.record(11.0, "A", "s", LogValue::Double(1.0)).unwrap();
             n += 1;
         }
-        assert_eq!(w.get_ref().len(), n * line.len(), "a full buffer goes out whole");
+        assert_eq!(
+            w.get_ref().len(),
+            n * line.len(),
+            "a full buffer goes out whole"
+        );
         assert!(w.get_ref().len() >= AlogWriter::<Vec<u8>>::CHUNK);
         w.record(12.0, "B", "s", LogValue::String("x")).unwrap();
         let mut out = Vec::new();

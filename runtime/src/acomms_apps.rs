@@ -139,8 +139,8 @@ use std::sync::{Arc, Mutex, PoisonError};
 
 use achannel::{Channel, LossCurve, NodeId, Position, Usbl};
 use acomms::net::{
-    AckState, Applied, Contact, ContactSource, Event, Fix, NetConfig, NetCounters, Node, OwnNav, Role,
-    VehicleState, VehicleView, command_word,
+    AckState, Applied, Contact, ContactSource, Event, Fix, NetConfig, NetCounters, Node, OwnNav,
+    Role, VehicleState, VehicleView, command_word,
 };
 use acomms::{CommandKind, FleetKey, VehicleMode};
 use mission::diagnostic::{Diagnostic, DiagnosticKind};

@@ -97,7 +97,10 @@ impl Tm {
             ellps: p.ellps(0),
             lon_0: p.lon(0).to_radians(),
             x_0: p.x(0),
-            qs: *p.real.get("scaled_radius").ok_or_else(|| missing("a radius"))?,
+            qs: *p
+                .real
+                .get("scaled_radius")
+                .ok_or_else(|| missing("a radius"))?,
             zb: *p.real.get("zb").ok_or_else(|| missing("zb"))?,
             conformal: p
                 .fourier_coefficients
