@@ -23,5 +23,7 @@ mod reader;
 mod writer;
 
 pub use naming::{ctime, log_root};
-pub use reader::{Alog, AlogError, Entry, Value, parse, parse_line};
+pub use reader::{
+    Alog, AlogError, Entry, Value, field, parse, parse_line, parse_time, parse_value,
+};
 pub use writer::{AlogWriter, BANNER_RULE, Header, LogValue};

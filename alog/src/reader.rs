@@ -134,16 +134,31 @@ pub fn parse_line(line: &str) -> Option<Entry> {
 }
 
 fn parse_line_marked(line: &str, marked: bool) -> Option<Entry> {
+    let (t, rest) = field(line)?;
+    let time = parse_time(t)?;
+    let (var, rest) = field(rest)?;
+    let (source, rest) = field(rest)?;
+    Some(Entry {
+        time,
+        var: var.to_string(),
+        source: source.to_string(),
+        value: parse_value(rest.trim(), marked),
+    })
+}
+
+/// A record's value from its text (after the source, trimmed): with type marking a `D:`
+/// text is a double (a string if it does not parse) and an `S:` one a string; without, a
+/// text MOOS reads as a number (`isNumber`: no exponent) is a double.
+///
+/// ```
+/// use alog::{Value, parse_value};
+/// assert_eq!(parse_value("-2.5", false), Value::Double(-2.5));
+/// assert_eq!(parse_value("1e5", false), Value::String("1e5".into()));
+/// assert_eq!(parse_value("S:42", true), Value::String("42".into()));
+/// ```
+pub fn parse_value(raw: &str, marked: bool) -> Value {
     use moos_types::text::is_number;
-    let (t, rest) = token(line)?;
-    if !is_number(t) {
-        return None;
-    }
-    let time = t.parse::<f64>().ok()?;
-    let (var, rest) = token(rest)?;
-    let (source, rest) = token(rest)?;
-    let raw = rest.trim();
-    let value = if marked {
+    if marked {
         if let Some(d) = raw.strip_prefix("D:") {
             d.trim()
                 .parse::<f64>()
@@ -158,23 +173,94 @@ fn parse_line_marked(line: &str, marked: bool) -> Option<Entry> {
             .unwrap_or_else(|_| Value::text(raw))
     } else {
         Value::text(raw)
-    };
-    Some(Entry {
-        time,
-        var: var.to_string(),
-        source: source.to_string(),
-        value,
-    })
+    }
 }
 
-/// The first white-space separated token and the text after it.
-fn token(s: &str) -> Option<(&str, &str)> {
-    let s = s.trim_start();
-    if s.is_empty() {
+/// The first white-space separated field of a record line and the text after it: white
+/// space (`char::is_whitespace`) skipped, then up to a space or a tab; `None` when only
+/// white space is left. Fast on the ASCII lines pLogger writes (padding skipped eight
+/// spaces at a time, the field's end found by `memchr`).
+///
+/// ```
+/// assert_eq!(alog::field("  12.5  NAV_X s 3"), Some(("12.5", "  NAV_X s 3")));
+/// assert_eq!(alog::field(" \t "), None);
+/// ```
+pub fn field(s: &str) -> Option<(&str, &str)> {
+    let b = s.as_bytes();
+    let mut i = 0;
+    while b.len() - i >= 8 && b[i..i + 8] == *b"        " {
+        i += 8;
+    }
+    // The ASCII characters `char::is_whitespace` holds: tab, LF, VT, FF, CR and space.
+    while i < b.len() && matches!(b[i], b'\t' | b'\n' | 0x0b | 0x0c | b'\r' | b' ') {
+        i += 1;
+    }
+    if i == b.len() {
         return None;
     }
-    let end = s.find([' ', '\t']).unwrap_or(s.len());
+    let s = if b[i] >= 0x80 {
+        // A character beyond ASCII may be white space too.
+        let s = s[i..].trim_start();
+        if s.is_empty() {
+            return None;
+        }
+        s
+    } else {
+        &s[i..]
+    };
+    let end = memchr::memchr2(b' ', b'\t', s.as_bytes()).unwrap_or(s.len());
     Some((&s[..end], &s[end..]))
+}
+
+/// Powers of ten that are exact doubles.
+const POW10: [f64; 16] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+];
+
+/// A record's time field: a number as MOOS reads one (`isNumber`), then its value as
+/// `str::parse` gives it. `[-]digits[.digits]` of at most 15 digits is read directly (the
+/// integer of its digits and the power of ten are exact doubles, so their quotient is the
+/// correctly rounded value `str::parse` gives); anything else takes the two steps.
+///
+/// ```
+/// assert_eq!(alog::parse_time("12.34567"), Some(12.34567));
+/// assert_eq!(alog::parse_time("1e3"), None);
+/// ```
+pub fn parse_time(t: &str) -> Option<f64> {
+    let b = t.as_bytes();
+    let (negative, digits) = match b.first() {
+        Some(b'-') => (true, &b[1..]),
+        _ => (false, b),
+    };
+    let (mut m, mut n, mut decimals) = (0u64, 0usize, None::<usize>);
+    for &c in digits {
+        match c {
+            b'0'..=b'9' => {
+                n += 1;
+                if n > 15 {
+                    return parse_time_slow(t);
+                }
+                m = m * 10 + u64::from(c - b'0');
+                if let Some(d) = decimals.as_mut() {
+                    *d += 1;
+                }
+            }
+            b'.' if decimals.is_none() => decimals = Some(0),
+            _ => return parse_time_slow(t),
+        }
+    }
+    if n == 0 {
+        return parse_time_slow(t);
+    }
+    let v = m as f64 / POW10[decimals.unwrap_or(0)];
+    Some(if negative { -v } else { v })
+}
+
+fn parse_time_slow(t: &str) -> Option<f64> {
+    if !moos_types::text::is_number(t) {
+        return None;
+    }
+    t.parse::<f64>().ok()
 }
 
 #[cfg(test)]
@@ -193,5 +279,76 @@ mod tests {
             parse_line("1e3 X src 1").is_none(),
             "a time must be a number"
         );
+    }
+    #[test]
+    fn times_are_the_numbers_moos_reads() {
+        use moos_types::text::is_number;
+        let two_steps = |t: &str| is_number(t).then(|| t.parse::<f64>().ok()).flatten();
+        let cases = [
+            "0",
+            "12.34567",
+            "-0",
+            "-0.10000",
+            "5.",
+            ".5",
+            "-.5",
+            "123456789012345",
+            "1234567890123456",
+            "0.000000000000001",
+            "9007199254740993",
+            "+3",
+            "-",
+            ".",
+            "",
+            "1.2.3",
+            "1e5",
+            "--1",
+            "0x10",
+            "86399.99999",
+            "1.00000000000000000001",
+        ];
+        for t in cases {
+            let (got, want) = (parse_time(t), two_steps(t));
+            assert_eq!(got.map(f64::to_bits), want.map(f64::to_bits), "{t:?}");
+        }
+        // Every time pLogger writes over a day, to the bit.
+        let mut s = String::new();
+        for k in 0..200_000u32 {
+            let x = f64::from(k) * 0.43201 + 0.000_01 * f64::from(k % 7);
+            s.clear();
+            moos_types::fmt::fixed(&mut s, x, 5);
+            assert_eq!(
+                parse_time(&s).map(f64::to_bits),
+                two_steps(&s).map(f64::to_bits),
+                "{s}"
+            );
+        }
+    }
+
+    #[test]
+    fn fields_split_as_trim_start_and_find_split_them() {
+        fn plain(s: &str) -> Option<(&str, &str)> {
+            let s = s.trim_start();
+            if s.is_empty() {
+                return None;
+            }
+            let end = s.find([' ', '\t']).unwrap_or(s.len());
+            Some((&s[..end], &s[end..]))
+        }
+        for line in [
+            "  1.0 \tNAV_X   src   3 ",
+            "\u{a0}1.0 NAV_X s 3",
+            "1.0\u{2003}NAV_X s 3",
+            "\x0b\x0c1 A\tB",
+            "                 NAV_X                uSimMarine      -23.10000    ",
+            "        ",
+            "                \t",
+            "        \u{2003}x",
+            "   ",
+            "",
+            "\u{85}",
+        ] {
+            assert_eq!(field(line), plain(line), "{line:?}");
+        }
     }
 }

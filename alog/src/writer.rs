@@ -43,42 +43,52 @@ pub enum LogValue<'a> {
 /// Writes an alog file: the banner on creation, then one line per [`AlogWriter::record`].
 ///
 /// Records are written in the order given; pLogger sorts each batch of mail by time first
-/// (callers do the same).
+/// (callers do the same). Lines are formatted straight into the writer's own buffer, which
+/// goes to `out` in large pieces (once it holds [`AlogWriter::CHUNK`] bytes) and on
+/// [`AlogWriter::flush`]; dropping the writer hands `out` what is left, as a `BufWriter` does.
 #[derive(Debug)]
 pub struct AlogWriter<W: Write> {
-    out: W,
+    /// `None` only once [`AlogWriter::into_inner`] took it.
+    out: Option<W>,
     log_start: f64,
     precision: usize,
     mark_data_type: bool,
-    line: String,
+    buf: Vec<u8>,
 }
 
 impl<W: Write> AlogWriter<W> {
+    /// The size at which the buffered lines are handed to the underlying writer.
+    pub const CHUNK: usize = 8 << 10;
+
+    fn with_out(out: W, log_start: f64, mark_data_type: bool) -> Self {
+        AlogWriter {
+            out: Some(out),
+            log_start,
+            precision: 5,
+            mark_data_type,
+            buf: Vec::with_capacity(Self::CHUNK + 512),
+        }
+    }
+
     /// Writes the banner to `out` and returns the writer (DoublePrecision 5).
     pub fn new(out: W, header: &Header<'_>) -> io::Result<Self> {
-        let mut w = AlogWriter {
-            out,
-            log_start: header.log_start,
-            precision: 5,
-            mark_data_type: header.mark_data_type,
-            line: String::with_capacity(256),
-        };
+        let mut w = Self::with_out(out, header.log_start, header.mark_data_type);
         let mut banner = String::with_capacity(256);
         write_banner(&mut banner, header);
-        w.out.write_all(banner.as_bytes())?;
+        w.out_mut().write_all(banner.as_bytes())?;
         Ok(w)
     }
 
     /// A writer without a banner (pLogger's `.xlog` of excluded variables has none): records
     /// relative to `log_start`, DoublePrecision 5.
     pub fn headless(out: W, log_start: f64, mark_data_type: bool) -> Self {
-        AlogWriter {
-            out,
-            log_start,
-            precision: 5,
-            mark_data_type,
-            line: String::with_capacity(256),
-        }
+        Self::with_out(out, log_start, mark_data_type)
+    }
+
+    fn out_mut(&mut self) -> &mut W {
+        self.out
+            .as_mut()
+            .expect("the writer is only taken by into_inner")
     }
 
     /// Sets the number of decimals of double values (pLogger `DoublePrecision`, default 5).
@@ -93,6 +103,9 @@ impl<W: Write> AlogWriter<W> {
 
     /// Writes one record: `time` is the message's MOOS time (written as `time − LOGSTART`),
     /// `source` the publishing app (with any `:aux` / `@community` already appended).
+    ///
+    /// The line is buffered: a write error of the underlying writer is returned by the
+    /// record that fills the buffer, or by [`AlogWriter::flush`].
     pub fn record(
         &mut self,
         time: f64,
@@ -100,9 +113,8 @@ impl<W: Write> AlogWriter<W> {
         source: &str,
         value: LogValue<'_>,
     ) -> io::Result<()> {
-        self.line.clear();
         format_record(
-            &mut self.line,
+            &mut self.buf,
             time - self.log_start,
             var,
             source,
@@ -110,22 +122,54 @@ impl<W: Write> AlogWriter<W> {
             self.precision,
             self.mark_data_type,
         );
-        self.out.write_all(self.line.as_bytes())
+        if self.buf.len() >= Self::CHUNK {
+            self.write_buffered()?;
+        }
+        Ok(())
     }
 
-    /// Flushes the underlying writer.
+    /// Hands the buffered lines to the underlying writer (all of them, or an error; the
+    /// buffer is emptied either way, as the bytes' fate is then the writer's).
+    fn write_buffered(&mut self) -> io::Result<()> {
+        if self.buf.is_empty() {
+            return Ok(());
+        }
+        let Some(out) = self.out.as_mut() else {
+            return Ok(());
+        };
+        let r = out.write_all(&self.buf);
+        self.buf.clear();
+        r
+    }
+
+    /// Writes the buffered lines and flushes the underlying writer.
     pub fn flush(&mut self) -> io::Result<()> {
-        self.out.flush()
+        self.write_buffered()?;
+        self.out_mut().flush()
     }
 
-    /// The underlying writer.
+    /// The underlying writer (lines still in the writer's buffer are not in it yet).
     pub fn get_ref(&self) -> &W {
-        &self.out
+        self.out
+            .as_ref()
+            .expect("the writer is only taken by into_inner")
     }
 
-    /// Gives back the underlying writer.
-    pub fn into_inner(self) -> W {
+    /// Writes the buffered lines and gives back the underlying writer (a write error there
+    /// is lost, as when a `BufWriter` is dropped: call [`AlogWriter::flush`] first to see it).
+    pub fn into_inner(mut self) -> W {
+        let _ = self.write_buffered();
         self.out
+            .take()
+            .expect("the writer is only taken by into_inner")
+    }
+}
+
+impl<W: Write> Drop for AlogWriter<W> {
+    /// Hands the underlying writer the lines still buffered (errors are lost, as a dropped
+    /// `BufWriter`'s are).
+    fn drop(&mut self) {
+        let _ = self.write_buffered();
     }
 }
 
@@ -158,16 +202,86 @@ fn pad_left(out: &mut String, s: &str, width: usize) {
     out.push_str(s);
 }
 
-fn push_padded(out: &mut String, s: &str, width: usize) {
-    out.push_str(s);
-    for _ in s.chars().count()..width {
-        out.push(' ');
+/// Spaces to pad a column from (the widest column is 20).
+const SPACES: &[u8; 20] = b"                    ";
+
+/// Appends `n` spaces (at most 20).
+fn spaces(out: &mut Vec<u8>, n: usize) {
+    out.extend_from_slice(&SPACES[..n.min(SPACES.len())]);
+}
+
+/// Appends `s`, then spaces up to `width` characters.
+fn push_padded(out: &mut Vec<u8>, s: &str, width: usize) {
+    out.extend_from_slice(s.as_bytes());
+    // A text of 4 × width bytes has at least `width` characters.
+    let n = if s.len() >= 4 * width {
+        width
+    } else if s.is_ascii() {
+        s.len()
+    } else {
+        s.chars().count()
+    };
+    spaces(out, width.saturating_sub(n));
+}
+
+/// Powers of ten that are exact doubles, for the decimals [`push_fixed`] writes directly.
+const POW10: [u64; 7] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000];
+
+/// Appends `v` with `prec` decimals exactly as [`moos_types::fmt::fixed`] writes it (C
+/// `%.Nf`: a negative value that rounds to zero keeps its sign), digit by digit from the
+/// rounded integer when the scaled value is below 2^37 and not within 1e-5 of a rounding
+/// tie, else through `moos_types::fmt::fixed` itself.
+///
+/// Below 2^37 the product `|v| · 10^prec` is within half an ulp (2^-17 < 7.7e-6) of the
+/// exact one, so away from a tie both round to the same integer.
+fn push_fixed(out: &mut Vec<u8>, v: f64, prec: usize) {
+    if let Some(&scale) = POW10.get(prec) {
+        let s = v.abs() * scale as f64;
+        if s < 137_438_953_472.0 {
+            // Truncation is the floor of a non-negative value.
+            let fl = s as u64;
+            let frac = s - fl as f64;
+            if (frac - 0.5).abs() >= 1e-5 {
+                let n = fl + u64::from(frac > 0.5);
+                // At most 12 integer digits, 6 decimals, a point and a sign.
+                let mut buf = [0u8; 24];
+                let mut i = buf.len();
+                let (mut int, mut dec) = (n / scale, n % scale);
+                for _ in 0..prec {
+                    i -= 1;
+                    buf[i] = b'0' + (dec % 10) as u8;
+                    dec /= 10;
+                }
+                if prec > 0 {
+                    i -= 1;
+                    buf[i] = b'.';
+                }
+                loop {
+                    i -= 1;
+                    buf[i] = b'0' + (int % 10) as u8;
+                    int /= 10;
+                    if int == 0 {
+                        break;
+                    }
+                }
+                if v.is_sign_negative() {
+                    i -= 1;
+                    buf[i] = b'-';
+                }
+                out.extend_from_slice(&buf[i..]);
+                return;
+            }
+        }
     }
+    // NaN, infinities, large values, ties and many decimals.
+    let mut s = String::new();
+    fmt_fixed(&mut s, v, prec);
+    out.extend_from_slice(s.as_bytes());
 }
 
 /// Appends one record line (with its newline) to `out`.
 fn format_record(
-    out: &mut String,
+    out: &mut Vec<u8>,
     rel_time: f64,
     var: &str,
     source: &str,
@@ -176,47 +290,45 @@ fn format_record(
     mark: bool,
 ) {
     let start = out.len();
-    fmt_fixed(out, rel_time, 5);
+    push_fixed(out, rel_time, 5);
     let n = out.len() - start;
-    for _ in n..15 {
-        out.push(' ');
-    }
-    out.push(' ');
+    spaces(out, 16usize.saturating_sub(n).max(1));
     push_padded(out, var, 20);
-    out.push(' ');
+    out.push(b' ');
     push_padded(out, source, 15);
-    out.push(' ');
+    out.push(b' ');
     match value {
         LogValue::Double(x) => {
             if mark {
-                out.push_str("D:");
+                out.extend_from_slice(b"D:");
             }
             let start = out.len();
-            fmt_fixed(out, x, precision);
+            push_fixed(out, x, precision);
             let n = out.len() - start;
-            for _ in n..12 {
-                out.push(' ');
-            }
+            spaces(out, 12usize.saturating_sub(n));
         }
         LogValue::String(s) => {
             if mark {
-                out.push_str("S:");
+                out.extend_from_slice(b"S:");
             }
-            out.push_str(s);
+            out.extend_from_slice(s.as_bytes());
         }
         LogValue::Binary {
             file,
             offset,
             bytes,
         } => {
-            use std::fmt::Write as _;
-            let _ = write!(
-                out,
-                "<MOOS_BINARY>File={file},Offset={offset},Bytes={bytes}</MOOS_BINARY>"
-            );
+            let mut digits = itoa::Buffer::new();
+            out.extend_from_slice(b"<MOOS_BINARY>File=");
+            out.extend_from_slice(file.as_bytes());
+            out.extend_from_slice(b",Offset=");
+            out.extend_from_slice(digits.format(offset).as_bytes());
+            out.extend_from_slice(b",Bytes=");
+            out.extend_from_slice(digits.format(bytes).as_bytes());
+            out.extend_from_slice(b"</MOOS_BINARY>");
         }
     }
-    out.push_str(" \n");
+    out.extend_from_slice(b" \n");
 }
 
 #[cfg(test)]
@@ -263,9 +375,9 @@ mod tests {
     }
 
     fn one(time: f64, var: &str, src: &str, v: LogValue<'_>, mark: bool) -> String {
-        let mut s = String::new();
+        let mut s = Vec::new();
         format_record(&mut s, time, var, src, v, 5, mark);
-        s
+        String::from_utf8(s).unwrap()
     }
 
     #[test]
@@ -355,5 +467,229 @@ mod tests {
             text.ends_with("1.00000         X                    a               4.57         \n"),
             "{text}"
         );
+    }
+    /// The record formatter as it was before it wrote bytes directly (`core::fmt` behind
+    /// `moos_types::fmt::fixed`, padding by characters): the oracle of the new one.
+    fn old_format_record(
+        out: &mut String,
+        rel_time: f64,
+        var: &str,
+        source: &str,
+        value: LogValue<'_>,
+        precision: usize,
+        mark: bool,
+    ) {
+        fn push_padded(out: &mut String, s: &str, width: usize) {
+            out.push_str(s);
+            for _ in s.chars().count()..width {
+                out.push(' ');
+            }
+        }
+        let start = out.len();
+        fmt_fixed(out, rel_time, 5);
+        let n = out.len() - start;
+        for _ in n..15 {
+            out.push(' ');
+        }
+        out.push(' ');
+        push_padded(out, var, 20);
+        out.push(' ');
+        push_padded(out, source, 15);
+        out.push(' ');
+        match value {
+            LogValue::Double(x) => {
+                if mark {
+                    out.push_str("D:");
+                }
+                let start = out.len();
+                fmt_fixed(out, x, precision);
+                let n = out.len() - start;
+                for _ in n..12 {
+                    out.push(' ');
+                }
+            }
+            LogValue::String(s) => {
+                if mark {
+                    out.push_str("S:");
+                }
+                out.push_str(s);
+            }
+            LogValue::Binary {
+                file,
+                offset,
+                bytes,
+            } => {
+                use std::fmt::Write as _;
+                let _ = write!(
+                    out,
+                    "<MOOS_BINARY>File={file},Offset={offset},Bytes={bytes}</MOOS_BINARY>"
+                );
+            }
+        }
+        out.push_str(" \n");
+    }
+
+    /// Both formatters' lines for one record.
+    fn both(
+        t: f64,
+        var: &str,
+        src: &str,
+        v: LogValue<'_>,
+        prec: usize,
+        mark: bool,
+    ) -> (String, String) {
+        let mut new = Vec::new();
+        format_record(&mut new, t, var, src, v, prec, mark);
+        let mut old = String::new();
+        old_format_record(&mut old, t, var, src, v, prec, mark);
+        (String::from_utf8(new).unwrap(), old)
+    }
+
+    #[test]
+    fn awkward_times_and_values_are_written_as_before() {
+        let mut cases = vec![
+            0.0,
+            -0.0,
+            1e-300,
+            -1e-300,
+            0.000005,
+            -0.000005,
+            0.000015,
+            0.015625,
+            2.5e-6,
+            1.000005,
+            12.345675,
+            0.1 + 0.2,
+            10737.41824,
+            10737.418245,
+            1_374_389.534_72,
+            1_374_389.534_725,
+            999_999.999_995,
+            1e6,
+            1e6 + 0.000005,
+            4503599627370496.5,
+            1786054975.123456,
+            -1786054975.123455,
+            1e300,
+            f64::MAX,
+            f64::MIN_POSITIVE,
+            f64::NAN,
+            -f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        // x.0005-style ties at every power of ten, and their neighbours.
+        for e in -7..=12 {
+            let base = 10f64.powi(e);
+            for k in [1.0, 5.0, 0.5, 1.5, 2.5] {
+                let x = k * base;
+                cases.extend([x, -x, x.next_up(), x.next_down()]);
+            }
+        }
+        for t in &cases {
+            for prec in [0, 1, 2, 3, 5, 6, 7, 9] {
+                for mark in [false, true] {
+                    let (new, old) = both(*t, "V", "src", LogValue::Double(*t), prec, mark);
+                    assert_eq!(new, old, "time and value {t:e}, precision {prec}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn names_wider_than_or_outside_ascii_are_padded_by_characters_as_before() {
+        for name in [
+            "",
+            "X",
+            "NAV_X",
+            "EXACTLY_TWENTY_CHARS",
+            "NINETEEN_CHARACTERS",
+            "TWENTY_ONE_CHARACTER",
+            "DÉPTH",
+            "ÉÉÉÉÉÉÉÉÉÉÉÉÉÉÉÉÉÉÉÉÉ",
+            "ÉÉÉÉÉÉÉÉÉÉÉÉÉÉÉÉÉÉÉ",
+            "日本語のとても長い変数の名前です",
+            "🚀🚀🚀🚀🚀🚀🚀🚀🚀🚀🚀🚀🚀🚀🚀🚀🚀🚀🚀🚀🚀🚀",
+        ] {
+            for v in [
+                LogValue::Double(1.0),
+                LogValue::String(name),
+                LogValue::Binary {
+                    file: name,
+                    offset: u64::MAX,
+                    bytes: 0,
+                },
+            ] {
+                let (new, old) = both(3.0, name, name, v, 5, false);
+                assert_eq!(new, old, "{name:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn buffered_lines_reach_the_writer_on_flush_when_full_and_when_dropped() {
+        let mut w = AlogWriter::headless(Vec::new(), 10.0, false);
+        w.record(11.0, "A", "s", LogValue::Double(1.0)).unwrap();
+        assert!(w.get_ref().is_empty(), "held until flushed");
+        w.flush().unwrap();
+        let line = "1.00000         A                    s               1.00000      \n";
+        assert_eq!(w.get_ref(), line.as_bytes());
+        let mut n = 1;
+        while w.get_ref().len() == line.len() {
+            w.record(11.0, "A", "s", LogValue::Double(1.0)).unwrap();
+            n += 1;
+        }
+        assert_eq!(
+            w.get_ref().len(),
+            n * line.len(),
+            "a full buffer goes out whole"
+        );
+        assert!(w.get_ref().len() >= AlogWriter::<Vec<u8>>::CHUNK);
+        w.record(12.0, "B", "s", LogValue::String("x")).unwrap();
+        let mut out = Vec::new();
+        {
+            let mut w2 = AlogWriter::headless(&mut out, 0.0, false);
+            w2.record(1.0, "C", "s", LogValue::String("y")).unwrap();
+        }
+        assert_eq!(
+            String::from_utf8(out).unwrap(),
+            "1.00000         C                    s               y \n"
+        );
+        let all = String::from_utf8(w.into_inner()).unwrap();
+        assert!(all.ends_with("2.00000         B                    s               x \n"));
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(4000))]
+
+        #[test]
+        fn the_line_is_the_old_formatter_s(
+            t in 0.0f64..1e6,
+            ms in 0u64..1_000_000_000,
+            half in proptest::bool::ANY,
+            v in proptest::num::f64::ANY,
+            small in -1e4f64..1e4,
+            prec in 0usize..8,
+            mark in proptest::bool::ANY,
+            var in "[A-Z_]{0,24}",
+            src in "[a-zA-Zé]{0,18}",
+            text in "\\PC{0,30}",
+        ) {
+            // A plain time, a time on the millisecond grid, and one on a half-way point
+            // of the fifth decimal (x.xxxxx5).
+            let grid = ms as f64 / 1000.0;
+            let tie = (ms as f64 * 100.0 + if half { 0.5 } else { 0.0 }) / 100_000.0;
+            for time in [t, grid, tie, -grid] {
+                for value in [
+                    LogValue::Double(v),
+                    LogValue::Double(small),
+                    LogValue::Double(tie),
+                    LogValue::String(&text),
+                ] {
+                    let (new, old) = both(time, &var, &src, value, prec, mark);
+                    proptest::prop_assert_eq!(new, old);
+                }
+            }
+        }
     }
 }

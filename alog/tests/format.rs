@@ -104,6 +104,7 @@ fn marked_types_read_back_as_written() {
     let mut w = AlogWriter::new(Vec::new(), &header).unwrap();
     w.record(1.0, "S_NUM", "a", LogValue::String("42")).unwrap();
     w.record(2.0, "D_NUM", "a", LogValue::Double(42.0)).unwrap();
+    w.flush().unwrap();
     let log = parse(std::str::from_utf8(w.get_ref()).unwrap()).unwrap();
     assert!(log.data_type_marking);
     assert_eq!(log.entries[0].value, Value::String("42".into()));

@@ -139,8 +139,8 @@ use std::sync::{Arc, Mutex, PoisonError};
 
 use achannel::{Channel, LossCurve, NodeId, Position, Usbl};
 use acomms::net::{
-    AckState, Applied, Contact, ContactSource, Event, Fix, NetConfig, Node, OwnNav, Role,
-    VehicleState, VehicleView, command_word,
+    AckState, Applied, Contact, ContactSource, Event, Fix, NetConfig, NetCounters, Node, OwnNav,
+    Role, VehicleState, VehicleView, command_word,
 };
 use acomms::{CommandKind, FleetKey, VehicleMode};
 use mission::diagnostic::{Diagnostic, DiagnosticKind};
@@ -504,7 +504,8 @@ pub struct SimModemCore {
     registered: bool,
     posted_rx: u64,
     last_error: String,
-    last_counts: String,
+    /// The counts `ACOMMS_CHANNEL` last showed (its text is built only when they change).
+    last_counts: Option<(ModemCounts, achannel::Stats)>,
 }
 
 /// `uSimModem`: the acoustic modem in simulation, over a shared [`AcousticNet`].
@@ -743,7 +744,7 @@ impl Hosted<SimModemCore> {
             registered: false,
             posted_rx: 0,
             last_error: String::new(),
-            last_counts: String::new(),
+            last_counts: None,
         };
         Hosted::host(name, block, warnings, core)
     }
@@ -921,7 +922,7 @@ impl AppCore for SimModemCore {
         n.sync(now);
         let inbox = n.take_inbox(me);
         let notices = n.take_notices(me);
-        let counts = counts_text(me, n.counts(me), n.channel().stats());
+        let counts = (n.counts(me), *n.channel().stats());
         n.set_position(now, me, self.position);
         if now >= self.tx_until
             && let Some((dest, data)) = self.queue.pop_front()
@@ -948,9 +949,12 @@ impl AppCore for SimModemCore {
                 }
             }
         }
-        if counts != self.last_counts {
-            out.push(Post::text("ACOMMS_CHANNEL", counts.clone()));
-            self.last_counts = counts;
+        if self.last_counts != Some(counts) {
+            out.push(Post::text(
+                "ACOMMS_CHANNEL",
+                counts_text(me, counts.0, &counts.1),
+            ));
+            self.last_counts = Some(counts);
         }
     }
 
@@ -1056,6 +1060,8 @@ pub struct AcommsCore {
     last_fix: Option<(f64, u8, Fix)>,
     events: Vec<Event>,
     last_status: String,
+    /// The counters `last_status` was built from (it is rebuilt only when they change).
+    status_counts: Option<(NetCounters, acomms::Counters)>,
     commands_given: u64,
     /// The `USBL_FIX`es of the mail being delivered, with their times.
     batch_fixes: Vec<(f64, u8, Fix)>,
@@ -1270,6 +1276,7 @@ impl Hosted<AcommsCore> {
             last_fix: None,
             events: Vec::new(),
             last_status: String::new(),
+            status_counts: None,
             commands_given: 0,
             batch_fixes: Vec::new(),
             batch_rx: Vec::new(),
@@ -1829,10 +1836,18 @@ impl AppCore for AcommsCore {
             n.tick(now, &mut self.events);
         }
         self.post_events(now, out, notes);
-        let status = self.status_text();
-        if !status.is_empty() && status != self.last_status {
-            out.push(Post::text("ACOMMS_STATUS", status.clone()));
-            self.last_status = status;
+        // The text is a function of the counters alone (the role and id are fixed).
+        let counts = self
+            .node
+            .as_ref()
+            .map(|n| (*n.counters(), *n.receiver_counters()));
+        if counts != self.status_counts {
+            self.status_counts = counts;
+            let status = self.status_text();
+            if !status.is_empty() && status != self.last_status {
+                out.push(Post::text("ACOMMS_STATUS", status.clone()));
+                self.last_status = status;
+            }
         }
     }
 

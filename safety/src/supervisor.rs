@@ -142,6 +142,16 @@ fn as_bool(v: &Value) -> Option<bool> {
     }
 }
 
+/// `map[key] = value`, the key copied only when it is new (this runs for every mail).
+fn set<T>(map: &mut HashMap<String, T>, key: &str, value: T) {
+    match map.get_mut(key) {
+        Some(slot) => *slot = value,
+        None => {
+            map.insert(key.to_string(), value);
+        }
+    }
+}
+
 fn show(v: &Value) -> String {
     match v {
         Value::Double(d) => format!("{d}"),
@@ -312,14 +322,13 @@ impl Supervisor {
         }
         if let Some(t) = self.heard.get_mut(source) {
             *t = t.max(time);
-            self.unwatched_at_heard
-                .insert(source.to_string(), unwatched);
+            set(&mut self.unwatched_at_heard, source, unwatched);
         } else if self.status_vars.values().any(|a| a == source) {
             self.heard.insert(source.to_string(), time);
             self.unwatched_at_heard
                 .insert(source.to_string(), unwatched);
         }
-        self.unwatched_at_mail.insert(key.to_string(), unwatched);
+        set(&mut self.unwatched_at_mail, key, unwatched);
         if key == RESET_VAR
             && let Some(s) = value.as_str()
         {
@@ -334,7 +343,7 @@ impl Supervisor {
         {
             self.override_released = true;
         }
-        self.values.insert(key.to_string(), (value.clone(), time));
+        set(&mut self.values, key, (value.clone(), time));
     }
 
     /// OnStartUp at `now`: silence and staleness count from here; a MALCONFIG supervisor
@@ -356,14 +365,14 @@ impl Supervisor {
             .and_then(|(v, _)| v.as_f64())
     }
 
-    /// Whether `t` holds at `now`, and what was seen.
-    fn term(&self, t: &Term, now: f64) -> (bool, String) {
+    /// Whether `t` holds at `now` (evaluated every iteration: no text is built).
+    fn holds(&self, t: &Term, now: f64) -> bool {
         match t {
             Term::Compare { var, op, value } => {
                 let Some((v, _)) = self.values.get(var) else {
-                    return (false, format!("{var} never received"));
+                    return false;
                 };
-                let holds = match value {
+                match value {
                     Operand::Number(x) => {
                         let n = v
                             .as_f64()
@@ -376,27 +385,46 @@ impl Supervisor {
                     Operand::Word(w) => v.as_str().is_some_and(|s| {
                         s.trim().eq_ignore_ascii_case(w) == (*op == crate::rule::Op::Eq)
                     }),
-                };
-                (holds, format!("{var}={}", show(v)))
+                }
             }
-            Term::Stale { var, seconds } => {
-                let last = self.values.get(var).map(|(_, t)| *t);
-                let age = self.age(last, self.unwatched_at_mail.get(var).copied(), now);
-                let seen = match last {
+            Term::Stale { var, seconds } => self.stale_age(var, now) > *seconds,
+            Term::Silent { app, seconds } => self.silent_age(app, now) > *seconds,
+        }
+    }
+
+    /// What was seen of `t` at `now`, for a trigger's reason.
+    fn seen(&self, t: &Term, now: f64) -> String {
+        match t {
+            Term::Compare { var, .. } => match self.values.get(var) {
+                None => format!("{var} never received"),
+                Some((v, _)) => format!("{var}={}", show(v)),
+            },
+            Term::Stale { var, .. } => {
+                let age = self.stale_age(var, now);
+                match self.values.get(var) {
                     Some(_) => format!("no {var} for {age:.1} s"),
                     None => format!("no {var} since start ({age:.1} s)"),
-                };
-                (age > *seconds, seen)
+                }
             }
-            Term::Silent { app, seconds } => {
-                let age = self.age(
-                    self.heard.get(app).copied(),
-                    self.unwatched_at_heard.get(app).copied(),
-                    now,
-                );
-                (age > *seconds, format!("{app} silent for {age:.1} s"))
+            Term::Silent { app, .. } => {
+                format!("{app} silent for {:.1} s", self.silent_age(app, now))
             }
         }
+    }
+
+    /// Seconds since `var`'s latest mail (or the start), time not watched left out.
+    fn stale_age(&self, var: &str, now: f64) -> f64 {
+        let last = self.values.get(var).map(|(_, t)| *t);
+        self.age(last, self.unwatched_at_mail.get(var).copied(), now)
+    }
+
+    /// Seconds since `app` was last heard (or the start), time not watched left out.
+    fn silent_age(&self, app: &str, now: f64) -> f64 {
+        self.age(
+            self.heard.get(app).copied(),
+            self.unwatched_at_heard.get(app).copied(),
+            now,
+        )
     }
 
     fn event(&self, text: String, out: &mut Vec<Post>, notes: &mut Vec<Notice>) {
@@ -408,16 +436,11 @@ impl Supervisor {
         let resets = std::mem::take(&mut self.resets);
         for i in 0..self.cfg.rules.len() {
             let rule = &self.cfg.rules[i];
-            let mut holds = true;
-            let mut seen = Vec::new();
-            for t in &rule.terms {
-                let (h, s) = self.term(t, now);
-                holds &= h;
-                seen.push(s);
-            }
+            let holds = rule.terms.iter().all(|t| self.holds(t, now));
             let st = &self.states[i];
             if !st.active {
                 if holds {
+                    let seen: Vec<String> = rule.terms.iter().map(|t| self.seen(t, now)).collect();
                     let reason = format!("{} ({})", rule.condition_text(), seen.join(", "));
                     let text = format!(
                         "trigger={},action={},priority={},reason={reason}",

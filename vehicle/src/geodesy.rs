@@ -12,8 +12,7 @@
 //! which gives the same numbers as MOOS-IvP inside the origin's zone and correct ones outside
 //! it. The projection itself is the Poder/Engsager TM of the `geodesy` crate (Rust Geodesy).
 
-use std::sync::Arc;
-
+use geodesy::authoring::{FourierCoefficients, angular, fourier, gudermannian};
 use geodesy::prelude::*;
 
 /// Why a local grid could not be built or a point not converted.
@@ -56,6 +55,128 @@ pub fn zone_central_meridian(zone: u8) -> f64 {
     f64::from(zone) * 6.0 - 183.0
 }
 
+/// The `geodesy` crate's definition of the projection of a zone's central meridian.
+fn tm_definition(central_meridian: f64) -> String {
+    format!("tmerc ellps=WGS84 lon_0={central_meridian} k_0=0.9996 x_0=500000")
+}
+
+/// Beyond this normalised easting (radians on the conformal sphere) the `geodesy` crate's
+/// transverse Mercator gives no result.
+const TM_MAX_EASTING: f64 = 2.623395162778;
+
+/// One transverse Mercator projection (the Poder/Engsager series of the `geodesy` crate),
+/// its constants read once from the operator the crate builds, evaluated per point by the
+/// same steps and the same crate functions as its `tmerc` operator, so every result is the
+/// crate's to the bit (tested against it), without its per-call look-ups of the operator,
+/// its parameters by name and its ellipsoid.
+#[derive(Debug, Clone)]
+struct Tm {
+    ellps: Ellipsoid,
+    /// Central meridian, radians.
+    lon_0: f64,
+    /// False easting, metres.
+    x_0: f64,
+    /// The scaled radius (Qn in Engsager's notation).
+    qs: f64,
+    /// The northing offset of the latitude of origin.
+    zb: f64,
+    /// Series between geographic and conformal latitude.
+    conformal: FourierCoefficients,
+    /// Series between the conformal sphere and the projection.
+    tm: FourierCoefficients,
+}
+
+impl Tm {
+    fn new(central_meridian: f64) -> Result<Self, GeodesyError> {
+        let err = |e: geodesy::Error| GeodesyError::Projection(e.to_string());
+        let mut ctx = Minimal::new();
+        let op = ctx.op(&tm_definition(central_meridian)).map_err(err)?;
+        let p = ctx.params(op, 0).map_err(err)?;
+        let missing = |what: &str| GeodesyError::Projection(format!("tmerc without {what}"));
+        Ok(Tm {
+            ellps: p.ellps(0),
+            lon_0: p.lon(0).to_radians(),
+            x_0: p.x(0),
+            qs: *p
+                .real
+                .get("scaled_radius")
+                .ok_or_else(|| missing("a radius"))?,
+            zb: *p.real.get("zb").ok_or_else(|| missing("zb"))?,
+            conformal: p
+                .fourier_coefficients
+                .get("conformal")
+                .copied()
+                .ok_or_else(|| missing("its conformal series"))?,
+            tm: p
+                .fourier_coefficients
+                .get("tm")
+                .copied()
+                .ok_or_else(|| missing("its TM series"))?,
+        })
+    }
+
+    /// Longitude, latitude (radians) to easting, northing; `None` too far from the
+    /// central meridian.
+    fn fwd(&self, lon: f64, lat: f64) -> Option<(f64, f64)> {
+        // Geographic to conformal latitude; longitude from the central meridian.
+        let lat = self
+            .ellps
+            .latitude_geographic_to_conformal(lat, &self.conformal);
+        let lon = lon - self.lon_0;
+        // Conformal latitude and longitude to complex spherical latitude.
+        let (sin_lat, cos_lat) = lat.sin_cos();
+        let (sin_lon, cos_lon) = lon.sin_cos();
+        let cos_lat_lon = cos_lat * cos_lon;
+        let mut lat = sin_lat.atan2(cos_lat_lon);
+        // To ellipsoidal normalised northing and easting (the crate's Clenshaw terms).
+        let inv_denom_tan_lon = sin_lat.hypot(cos_lat_lon).recip();
+        let tan_lon = sin_lon * cos_lat * inv_denom_tan_lon;
+        let mut lon = tan_lon.asinh();
+        let two_inv_denom_tan_lon = 2.0 * inv_denom_tan_lon;
+        let two_inv_denom_tan_lon_square = two_inv_denom_tan_lon * inv_denom_tan_lon;
+        let tmp_r = cos_lat_lon * two_inv_denom_tan_lon_square;
+        let trig = [sin_lat * tmp_r, cos_lat_lon * tmp_r - 1.0];
+        let hyp = [
+            tan_lon * two_inv_denom_tan_lon,
+            two_inv_denom_tan_lon_square - 1.0,
+        ];
+        let dc = fourier::complex_sin_optimized_for_tmerc(trig, hyp, &self.tm.fwd);
+        lat += dc[0];
+        lon += dc[1];
+        if lon.abs() > TM_MAX_EASTING {
+            return None;
+        }
+        Some((self.qs * lon + self.x_0, self.qs * lat + self.zb))
+    }
+
+    /// Easting, northing to longitude, latitude (radians); `None` too far from the
+    /// central meridian.
+    fn inv(&self, x: f64, y: f64) -> Option<(f64, f64)> {
+        let mut lon = (x - self.x_0) / self.qs;
+        let mut lat = (y - self.zb) / self.qs;
+        if lon.abs() > TM_MAX_EASTING {
+            return None;
+        }
+        // Normalised northing and easting to complex spherical latitude and longitude.
+        let dc = fourier::complex_sin([2. * lat, 2. * lon], &self.tm.inv);
+        lat += dc[0];
+        lon += dc[1];
+        lon = gudermannian::fwd(lon);
+        // To Gaussian latitude and longitude.
+        let (sin_lat, cos_lat) = lat.sin_cos();
+        let (sin_lon, cos_lon) = lon.sin_cos();
+        let cos_lat_lon = cos_lat * cos_lon;
+        lon = sin_lon.atan2(cos_lat_lon);
+        lat = (sin_lat * cos_lon).atan2(sin_lon.hypot(cos_lat_lon));
+        // To geographic latitude and longitude.
+        let lon = angular::normalize_symmetric(lon + self.lon_0);
+        let lat = self
+            .ellps
+            .latitude_conformal_to_geographic(lat, &self.conformal);
+        Some((lon, lat))
+    }
+}
+
 /// A mission's local grid: `LatOrigin`/`LongOrigin` and the projection of the origin's zone.
 ///
 /// ```
@@ -69,8 +190,7 @@ pub struct LocalGrid {
     lat0: f64,
     lon0: f64,
     zone: u8,
-    ctx: Arc<Minimal>,
-    op: OpHandle,
+    tm: Tm,
     east0: f64,
     north0: f64,
 }
@@ -98,18 +218,11 @@ impl LocalGrid {
             });
         }
         let zone = utm_zone(lat_origin, lon_origin);
-        let cm = zone_central_meridian(zone);
-        let mut ctx = Minimal::new();
-        let def = format!("tmerc ellps=WGS84 lon_0={cm} k_0=0.9996 x_0=500000");
-        let op = ctx
-            .op(&def)
-            .map_err(|e| GeodesyError::Projection(e.to_string()))?;
         let mut grid = LocalGrid {
             lat0: lat_origin,
             lon0: lon_origin,
             zone,
-            ctx: Arc::new(ctx),
-            op,
+            tm: Tm::new(zone_central_meridian(zone))?,
             east0: 0.0,
             north0: 0.0,
         };
@@ -136,18 +249,12 @@ impl LocalGrid {
 
     /// Easting/northing (with 500 km false easting, no false northing) in the origin's zone.
     fn project(&self, lat: f64, lon: f64) -> Result<(f64, f64), GeodesyError> {
-        let mut data = [Coor2D::geo(lat, lon)];
-        let n = self
-            .ctx
-            .apply(self.op, Fwd, &mut data)
-            .map_err(|e| GeodesyError::Projection(e.to_string()))?;
-        let (e, nn) = (data[0][0], data[0][1]);
-        if n != 1 || !e.is_finite() || !nn.is_finite() {
-            return Err(GeodesyError::Projection(format!(
+        match self.tm.fwd(lon.to_radians(), lat.to_radians()) {
+            Some((e, n)) if e.is_finite() && n.is_finite() => Ok((e, n)),
+            _ => Err(GeodesyError::Projection(format!(
                 "cannot project lat={lat}, lon={lon}"
-            )));
+            ))),
         }
-        Ok((e, nn))
     }
 
     /// Latitude/longitude (degrees) to local x (east) / y (north) metres.
@@ -158,13 +265,11 @@ impl LocalGrid {
 
     /// Local x (east) / y (north) metres to latitude/longitude (degrees).
     pub fn to_latlon(&self, x: f64, y: f64) -> Result<(f64, f64), GeodesyError> {
-        let mut data = [Coor2D::raw(x + self.east0, y + self.north0)];
-        let n = self
-            .ctx
-            .apply(self.op, Inv, &mut data)
-            .map_err(|e| GeodesyError::Projection(e.to_string()))?;
-        let (lon, lat) = (data[0][0].to_degrees(), data[0][1].to_degrees());
-        if n != 1 || !lat.is_finite() || !lon.is_finite() {
+        let inverted = self.tm.inv(x + self.east0, y + self.north0);
+        let (lon, lat) = inverted.map_or((f64::NAN, f64::NAN), |(lon, lat)| {
+            (lon.to_degrees(), lat.to_degrees())
+        });
+        if inverted.is_none() || !lat.is_finite() || !lon.is_finite() {
             return Err(GeodesyError::Projection(format!(
                 "cannot invert x={x}, y={y}"
             )));
@@ -197,5 +302,80 @@ mod tests {
             Err(GeodesyError::InvalidOrigin { .. })
         ));
         assert!(LocalGrid::new(f64::NAN, 0.0).is_err());
+    }
+    /// The `geodesy` crate's operator applied per call, as `LocalGrid` did before it kept
+    /// the operator's constants: the oracle of [`Tm`].
+    struct Library {
+        ctx: Minimal,
+        op: OpHandle,
+    }
+
+    impl Library {
+        fn new(central_meridian: f64) -> Self {
+            let mut ctx = Minimal::new();
+            let op = ctx.op(&tm_definition(central_meridian)).unwrap();
+            Library { ctx, op }
+        }
+
+        fn apply(&self, c: Coor2D, dir: Direction) -> Option<(f64, f64)> {
+            let mut data = [c];
+            let n = self.ctx.apply(self.op, dir, &mut data).unwrap();
+            (n == 1).then(|| (data[0][0], data[0][1]))
+        }
+    }
+
+    fn bits(p: Option<(f64, f64)>) -> Option<(u64, u64)> {
+        p.map(|(a, b)| (a.to_bits(), b.to_bits()))
+    }
+
+    #[test]
+    fn the_projection_is_the_crate_s_to_the_bit() {
+        for (lat0, lon0) in [
+            (40.3394, -111.90721),
+            (43.8253, -70.3304),
+            (42.358456, -71.087589),
+            (-33.86, 151.21),
+            (0.0, 0.0),
+            (60.0, 5.0),
+            (78.0, 15.0),
+            (-83.9, -179.9),
+        ] {
+            let grid = LocalGrid::new(lat0, lon0).unwrap();
+            let lib = Library::new(zone_central_meridian(grid.zone()));
+            let mut checked = 0;
+            for i in -60..=60 {
+                for j in -60..=60 {
+                    // Local points up to ~25 km out, off any round number, then far ones
+                    // (a whole zone and beyond, where the projection gives up).
+                    let (x, y) = (f64::from(i) * 417.3 + 0.137, f64::from(j) * 409.9 - 0.071);
+                    for (x, y) in [(x, y), (x * 1e3, y * 37.0)] {
+                        let (e, n) = (x + grid.east0, y + grid.north0);
+                        let want = lib.apply(Coor2D::raw(e, n), Inv);
+                        assert_eq!(bits(grid.tm.inv(e, n)), bits(want), "inv {x},{y}");
+                        let got = grid.to_latlon(x, y).ok();
+                        let want = want
+                            .map(|(lon, lat)| (lon.to_degrees(), lat.to_degrees()))
+                            .filter(|(lon, lat)| lon.is_finite() && lat.is_finite())
+                            .map(|(lon, lat)| (lat, crate::angle::angle180(lon)));
+                        assert_eq!(bits(got), bits(want), "to_latlon {x},{y}");
+                        let Some((lat, lon)) = got else { continue };
+                        let want = lib.apply(Coor2D::geo(lat, lon), Fwd);
+                        let fwd = grid.tm.fwd(lon.to_radians(), lat.to_radians());
+                        assert_eq!(bits(fwd), bits(want), "fwd {lat},{lon}");
+                        let want = want
+                            .filter(|(e, n)| e.is_finite() && n.is_finite())
+                            .map(|(e, n)| (e - grid.east0, n - grid.north0));
+                        assert_eq!(bits(grid.to_local(lat, lon).ok()), bits(want));
+                        checked += 1;
+                    }
+                }
+            }
+            assert!(checked >= 121 * 121, "{checked} points at {lat0},{lon0}");
+        }
+        // Points the projection refuses: the same errors.
+        let grid = LocalGrid::new(43.8253, -70.3304).unwrap();
+        assert!(grid.to_latlon(3e7, 0.0).is_err());
+        assert!(grid.to_latlon(f64::NAN, 0.0).is_err());
+        assert!(grid.to_local(f64::NAN, 0.0).is_err());
     }
 }

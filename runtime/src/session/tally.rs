@@ -8,8 +8,6 @@
 use std::io::{self, Write};
 use std::sync::{Arc, Mutex};
 
-use moos_types::text::is_number;
-
 use super::report::{LogTotals, TotalsBuilder};
 use crate::app::Value;
 
@@ -110,27 +108,36 @@ impl Scanner {
             };
             let mut line = std::mem::take(&mut self.carry);
             line.extend_from_slice(&bytes[..i]);
-            self.line(&line, true);
+            match std::str::from_utf8(&line) {
+                Ok(text) => self.line(text, true),
+                Err(_) => self.broken = true,
+            }
             line.clear();
             self.carry = line;
             bytes = &bytes[i + 1..];
         }
-        while let Some(i) = memchr::memchr(b'\n', bytes) {
-            self.line(&bytes[..i], true);
-            bytes = &bytes[i + 1..];
-        }
-        self.carry.extend_from_slice(bytes);
-    }
-
-    /// One line (without its `\n`; `ended`: it had one).
-    fn line(&mut self, bytes: &[u8], ended: bool) {
-        if self.broken {
-            return;
-        }
-        let Ok(mut line) = std::str::from_utf8(bytes) else {
+        // The whole lines of the piece are checked as UTF-8 at once: a `\n` never sits
+        // inside a character, so they are all text exactly when each line is.
+        let whole = memchr::memrchr(b'\n', bytes).map_or(0, |i| i + 1);
+        let Ok(mut text) = std::str::from_utf8(&bytes[..whole]) else {
             self.broken = true;
             return;
         };
+        while let Some(i) = memchr::memchr(b'\n', text.as_bytes()) {
+            if self.broken {
+                return;
+            }
+            self.line(&text[..i], true);
+            text = &text[i + 1..];
+        }
+        self.carry.extend_from_slice(&bytes[whole..]);
+    }
+
+    /// One line (without its `\n`; `ended`: it had one).
+    fn line(&mut self, mut line: &str, ended: bool) {
+        if self.broken {
+            return;
+        }
         // `str::lines` drops the `\r` of a `\r\n`; `alog::parse` then drops one more.
         if ended {
             line = line.strip_suffix('\r').unwrap_or(line);
@@ -163,10 +170,10 @@ impl Scanner {
 
     /// Reads a record line as `alog::parse_line` does; `None` if it is not one.
     fn record(&mut self, line: &str) -> Option<()> {
-        let (t, rest) = token(line)?;
-        let time = number(t)?;
-        let (var, rest) = token(rest)?;
-        let (_source, rest) = token(rest)?;
+        let (t, rest) = alog::field(line)?;
+        let time = alog::parse_time(t)?;
+        let (var, rest) = alog::field(rest)?;
+        let (_source, rest) = alog::field(rest)?;
         if let Some(p) = self.pending.take() {
             self.totals.entry(p.time, &p.var, &p.value);
         }
@@ -187,22 +194,7 @@ impl Scanner {
 
     /// A record's value as `alog::parse` reads it.
     fn value(&self, raw: &str) -> Value {
-        if self.marked {
-            if let Some(d) = raw.strip_prefix("D:") {
-                d.trim()
-                    .parse::<f64>()
-                    .map(Value::Double)
-                    .unwrap_or_else(|_| Value::text(d))
-            } else {
-                Value::text(raw.strip_prefix("S:").unwrap_or(raw))
-            }
-        } else if is_number(raw) {
-            raw.parse::<f64>()
-                .map(Value::Double)
-                .unwrap_or_else(|_| Value::text(raw))
-        } else {
-            Value::text(raw)
-        }
+        alog::parse_value(raw, self.marked)
     }
 
     /// A line that is not a record: it continues the last record's string value, or the
@@ -226,7 +218,10 @@ impl Scanner {
     fn finish(mut self) -> Option<LogTotals> {
         if !self.carry.is_empty() {
             let line = std::mem::take(&mut self.carry);
-            self.line(&line, false);
+            match std::str::from_utf8(&line) {
+                Ok(text) => self.line(text, false),
+                Err(_) => self.broken = true,
+            }
         }
         if self.broken {
             return None;
@@ -236,82 +231,6 @@ impl Scanner {
         }
         Some(self.totals.finish())
     }
-}
-
-/// The first white-space separated token and the text after it, as `alog`'s reader splits
-/// a line (`str::trim_start`, then up to a space or a tab), on the bytes while they are
-/// ASCII.
-fn token(s: &str) -> Option<(&str, &str)> {
-    let b = s.as_bytes();
-    let mut i = 0;
-    // The ASCII characters `char::is_whitespace` holds: tab, LF, VT, FF, CR and space.
-    while i < b.len() && matches!(b[i], b'\t' | b'\n' | 0x0b | 0x0c | b'\r' | b' ') {
-        i += 1;
-    }
-    if i == b.len() {
-        return None;
-    }
-    if b[i] >= 0x80 {
-        // A character beyond ASCII may be white space too.
-        let s = s[i..].trim_start();
-        if s.is_empty() {
-            return None;
-        }
-        let end = s.find([' ', '\t']).unwrap_or(s.len());
-        return Some((&s[..end], &s[end..]));
-    }
-    let s = &s[i..];
-    let end = s
-        .bytes()
-        .position(|c| c == b' ' || c == b'\t')
-        .unwrap_or(s.len());
-    Some((&s[..end], &s[end..]))
-}
-
-/// Powers of ten that are exact doubles.
-const POW10: [f64; 16] = [
-    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
-];
-
-/// A record's time token as `alog`'s reader takes it (`is_number`, then `str::parse`):
-/// `[-]digits[.digits]` of at most 15 digits directly (the integer of its digits and the power
-/// of ten are exact doubles, so their quotient is the correctly rounded value `str::parse`
-/// gives), anything else through the reader's own two steps.
-fn number(t: &str) -> Option<f64> {
-    let b = t.as_bytes();
-    let (negative, digits) = match b.first() {
-        Some(b'-') => (true, &b[1..]),
-        _ => (false, b),
-    };
-    let (mut m, mut n, mut decimals) = (0u64, 0usize, None::<usize>);
-    for &c in digits {
-        match c {
-            b'0'..=b'9' => {
-                n += 1;
-                if n > 15 {
-                    return number_slow(t);
-                }
-                m = m * 10 + u64::from(c - b'0');
-                if let Some(d) = decimals.as_mut() {
-                    *d += 1;
-                }
-            }
-            b'.' if decimals.is_none() => decimals = Some(0),
-            _ => return number_slow(t),
-        }
-    }
-    if n == 0 {
-        return number_slow(t);
-    }
-    let v = m as f64 / POW10[decimals.unwrap_or(0)];
-    Some(if negative { -v } else { v })
-}
-
-fn number_slow(t: &str) -> Option<f64> {
-    if !is_number(t) {
-        return None;
-    }
-    t.parse::<f64>().ok()
 }
 
 #[cfg(test)]
@@ -352,6 +271,10 @@ mod tests {
             // Type marking: a D: value is a double, an S: one a string.
             "%% LOGSTART 0\n%% DATATYPE MARKING ON\n1 NAV_X s D:2\n1 NAV_Y s D:3\n\
              2 NAV_X s S:9\n3 NAV_Y s D:7\n",
+            // Characters beyond ASCII (split across pieces when written in small ones),
+            // white space beyond ASCII between fields.
+            "%% LOGSTART 0\n1 NAV_X s\u{2003}4\n1 NAV_Y é 3\n2 IVPHELM_STATE h DRIVÉ\n\
+             3\u{a0}NAV_X s 5\n4 NAV_Y s 日本\n",
             // A numeric string is read back as a double.
             "%% LOGSTART 0\n1 NAV_X s 4\n1 NAV_Y a 3\n2 NAV_DEPTH s deep\n",
             // Not alogs: a line that continues a double, a bad LOGSTART, a line before any
@@ -369,74 +292,7 @@ mod tests {
             }
         }
         assert!(read_back(texts[0]).is_some_and(|t| t.summary.distance == 11.0));
-        assert!(read_back(texts[4]).is_none());
-    }
-
-    #[test]
-    fn times_are_the_numbers_the_reader_takes() {
-        let reader = |t: &str| is_number(t).then(|| t.parse::<f64>().ok()).flatten();
-        let cases = [
-            "0",
-            "12.34567",
-            "-0",
-            "-0.10000",
-            "5.",
-            ".5",
-            "-.5",
-            "123456789012345",
-            "1234567890123456",
-            "0.000000000000001",
-            "9007199254740993",
-            "+3",
-            "-",
-            ".",
-            "",
-            "1.2.3",
-            "1e5",
-            "--1",
-            "0x10",
-            "86399.99999",
-            "1.00000000000000000001",
-        ];
-        for t in cases {
-            let (got, want) = (number(t), reader(t));
-            assert_eq!(got.map(f64::to_bits), want.map(f64::to_bits), "{t:?}");
-        }
-        // Every time pLogger writes over a day, to the bit.
-        let mut s = String::new();
-        for k in 0..200_000u32 {
-            let x = f64::from(k) * 0.43201 + 0.000_01 * f64::from(k % 7);
-            s.clear();
-            moos_types::fmt::fixed(&mut s, x, 5);
-            assert_eq!(
-                number(&s).map(f64::to_bits),
-                reader(&s).map(f64::to_bits),
-                "{s}"
-            );
-        }
-    }
-
-    #[test]
-    fn tokens_split_as_the_reader_splits() {
-        for line in [
-            "  1.0 \tNAV_X   src   3 ",
-            "\u{a0}1.0 NAV_X s 3",
-            "1.0\u{2003}NAV_X s 3",
-            "\x0b\x0c1 A\tB",
-            "   ",
-            "",
-            "\u{85}",
-        ] {
-            fn reader(s: &str) -> Option<(&str, &str)> {
-                let s = s.trim_start();
-                if s.is_empty() {
-                    return None;
-                }
-                let end = s.find([' ', '\t']).unwrap_or(s.len());
-                Some((&s[..end], &s[end..]))
-            }
-            assert_eq!(token(line), reader(line), "{line:?}");
-        }
+        assert!(read_back(texts[5]).is_none());
     }
 
     #[test]
