@@ -9,10 +9,11 @@
 //! and position by GPS there is no unobservable direction the mix could make look observable,
 //! and the only nonlinearity left (the heading in the odometry) is mild over a window.
 
+use crate::chol::{self, Chol7};
 use crate::factors::{Factor, Jac, Sink, add_gradient, add_gram, add_outer};
 use crate::solver::Prior;
 use crate::state::{M7, V7};
-use nalgebra::{Cholesky, SVector};
+use nalgebra::SVector;
 
 /// A two-keyframe system (keyframes 0 and 1) for marginalising keyframe 0.
 #[derive(Debug, Default, Clone)]
@@ -57,13 +58,14 @@ pub fn marginalize_first<'a>(
     for f in factors {
         f.linearize(0, x0, x1, &mut s);
     }
-    let c = Cholesky::new(s.h00)?;
-    let w = c.solve(&s.h01);
-    let y = c.solve(&s.g0);
-    let mut h = s.h11 - s.h01.tr_mul(&w);
-    // Keep it exactly symmetric.
-    h = (h + h.transpose()) * 0.5;
-    let g = s.g1 - s.h01.tr_mul(&y);
+    // H10 H00^-1 H01 = V'V and H10 H00^-1 g0 = V'z with V = L^-1 H01, z = L^-1 g0: the
+    // result is exactly symmetric.
+    let c = Chol7::new(&s.h00)?;
+    let v = c.forward_columns(&s.h01);
+    let mut z = s.g0.data.0[0];
+    c.forward(&mut z);
+    let h = chol::sub_gram(&s.h11, &v);
+    let g = chol::sub_tr_mul(&s.g1, &v, &z);
     if !h.iter().chain(g.iter()).all(|v| v.is_finite()) {
         return None;
     }

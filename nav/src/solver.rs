@@ -7,6 +7,7 @@
 //! [`solve_batch`] is the same Gauss-Newton with a dense matrix over any number of keyframes:
 //! the reference the window is tested against.
 
+use crate::chol::{self, Chol7};
 use crate::factors::{Factor, Jac, Sink, add_gradient, add_gram, add_outer};
 use crate::state::{DIM, M7, V7};
 use nalgebra::{Cholesky, DMatrix, DVector, SVector};
@@ -67,8 +68,16 @@ pub struct BlockSystem {
     pub o: Vec<M7>,
     /// Gradient blocks.
     pub g: Vec<V7>,
-    w: Vec<M7>,
-    y: Vec<V7>,
+    /// The Cholesky factors `L_k` of the Schur complements.
+    l: Vec<Chol7>,
+    /// `V_k = L_k^-1 o[k]`.
+    v: Vec<M7>,
+    /// `z_k = L_k^-1 gh_k` (`gh_k` the gradient of keyframe `k` once the older ones are
+    /// eliminated).
+    z: Vec<[f64; DIM]>,
+    /// Where the factor of the newest keyframe's marginal information is in `l` (last
+    /// successful solve).
+    last: Option<usize>,
 }
 
 impl BlockSystem {
@@ -82,37 +91,68 @@ impl BlockSystem {
         self.g.resize(n, V7::zeros());
     }
 
-    /// Solves `H step = -g` into `step` and returns the covariance of the last keyframe (the
-    /// inverse of its marginal information).
-    pub fn solve(&mut self, step: &mut Vec<V7>) -> Result<M7, SolveError> {
+    /// Solves `H step = -g` into `step` by block Cholesky elimination from the oldest
+    /// keyframe: with `S_0 = d[0]`, each `S_k = L_k L_k'` gives `V_k = L_k^-1 o[k]`,
+    /// `z_k = L_k^-1 gh_k` and the next Schur complement `S_k+1 = d[k+1] - V_k' V_k`
+    /// (`gh_k+1 = g[k+1] - V_k' z_k`); the steps come back from the newest,
+    /// `step_k = -L_k'^-1 (z_k + V_k step_k+1)`. The newest keyframe's marginal information is
+    /// kept for [`BlockSystem::covariance`].
+    pub fn solve(&mut self, step: &mut Vec<V7>) -> Result<(), SolveError> {
         let n = self.d.len();
         step.clear();
         step.resize(n, V7::zeros());
         if n == 0 {
-            return Ok(M7::zeros());
+            self.last = None;
+            return Ok(());
         }
-        self.w.clear();
-        self.y.clear();
+        if self.l.len() < n {
+            self.l.resize(n, Chol7::default());
+            self.v.resize(n, M7::zeros());
+            self.z.resize(n, [0.0; DIM]);
+        }
         let mut s = self.d[0];
         let mut gh = self.g[0];
-        for k in 0..n - 1 {
-            let c = Cholesky::new(s).ok_or(SolveError::NotPositiveDefinite)?;
-            let w = c.solve(&self.o[k]);
-            let y = c.solve(&gh);
-            s = self.d[k + 1] - self.o[k].tr_mul(&w);
-            gh = self.g[k + 1] - self.o[k].tr_mul(&y);
-            self.w.push(w);
-            self.y.push(y);
+        for k in 0..n {
+            let c = &mut self.l[k];
+            if !c.factor(&s) {
+                return Err(SolveError::NotPositiveDefinite);
+            }
+            let z = &mut self.z[k];
+            *z = gh.data.0[0];
+            c.forward(z);
+            if k + 1 < n {
+                let v = &mut self.v[k];
+                *v = self.o[k];
+                c.forward_columns_in_place(v);
+                chol::sub_gram_lower(&self.d[k + 1], v, &mut s);
+                gh = chol::sub_tr_mul(&self.g[k + 1], v, z);
+            }
         }
-        let c = Cholesky::new(s).ok_or(SolveError::NotPositiveDefinite)?;
-        step[n - 1] = -c.solve(&gh);
-        for k in (0..n - 1).rev() {
-            step[k] = -(self.y[k] + self.w[k] * step[k + 1]);
+        let mut next = V7::zeros();
+        for k in (0..n).rev() {
+            let mut x = if k + 1 < n {
+                chol::add_mul(&self.z[k], &self.v[k], &next)
+            } else {
+                self.z[k]
+            };
+            self.l[k].backward(&mut x);
+            for e in x.iter_mut() {
+                *e = -*e;
+            }
+            next = V7::from(x);
+            step[k] = next;
         }
         if step.iter().any(|v| !v.iter().all(|e| e.is_finite())) {
             return Err(SolveError::NotPositiveDefinite);
         }
-        Ok(c.inverse())
+        self.last = Some(n - 1);
+        Ok(())
+    }
+
+    /// The covariance of the newest keyframe (the inverse of its marginal information) at
+    /// the last successful [`BlockSystem::solve`]; zero before any.
+    pub fn covariance(&self) -> M7 {
+        self.last.map_or_else(M7::zeros, |k| self.l[k].inverse())
     }
 }
 
@@ -359,7 +399,8 @@ mod tests {
             }
         }
         let mut step = Vec::new();
-        let cov = bs.solve(&mut step).unwrap();
+        bs.solve(&mut step).unwrap();
+        let cov = bs.covariance();
         let full = ds.h.clone().cholesky().unwrap();
         let dense = -full.solve(&ds.g);
         let inv = full.inverse();

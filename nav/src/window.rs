@@ -732,6 +732,7 @@ impl Navigator {
 
     fn solve(&mut self) {
         let n = self.window.len();
+        let mut solved = false;
         for _ in 0..self.cfg.max_iterations.max(1) {
             self.sys.reset(n);
             {
@@ -747,9 +748,9 @@ impl Navigator {
                 }
             }
             match self.sys.solve(&mut self.step) {
-                Ok(cov) => {
+                Ok(()) => {
                     self.solver_failed = false;
-                    self.cov = cov;
+                    solved = true;
                     let mut biggest: f64 = 0.0;
                     for (kf, d) in self.window.iter_mut().zip(&self.step) {
                         kf.x += d;
@@ -764,6 +765,10 @@ impl Navigator {
                     break;
                 }
             }
+        }
+        // The newest keyframe's covariance at the last successful iteration, inverted once.
+        if solved {
+            self.cov = self.sys.covariance();
         }
     }
 
