@@ -109,6 +109,68 @@ pub trait Sink {
         jj: &Jac<R, CJ>,
         touches_j: bool,
     );
+
+    /// Adds an odometry factor ([`Odometry::jac`]'s Jacobians, whose only non-zero entries
+    /// are the first three columns' diagonals, the heading column and, on `i`, the current's
+    /// two entries). The default is [`Sink::add`]; a sink may use the pattern.
+    fn add_odometry(&mut self, i: usize, r: &SVector<f64, 3>, ji: &Jac<3, 6>, jj: &Jac<3, 4>) {
+        self.add(i, r, ji, jj, true);
+    }
+}
+
+/// Receives only the gradient part of linearised factors (`J' r` on `i` and `i + 1`), for
+/// factors whose Hessian part `J' J` is assembled once ([`Factor::constant_jacobian`]).
+pub trait GradientSink {
+    /// Adds one factor's gradient on keyframes `i` (and `i + 1` when `touches_j`).
+    fn add_gradient<const R: usize, const CI: usize, const CJ: usize>(
+        &mut self,
+        i: usize,
+        r: &SVector<f64, R>,
+        ji: &Jac<R, CI>,
+        jj: &Jac<R, CJ>,
+        touches_j: bool,
+    );
+}
+
+/// The Hessian part `J' J` of the factors of one interval (keyframes `i` and `j = i + 1`):
+/// a [`Sink`] that ignores the residuals. For factors with constant Jacobians it does not
+/// change between Gauss-Newton iterations or keyframe updates, so the window keeps it per
+/// interval until a factor is added.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PairHessian {
+    /// `J_i' J_i`.
+    pub ii: M7,
+    /// `J_j' J_j`.
+    pub jj: M7,
+    /// `J_i' J_j`.
+    pub ij: M7,
+}
+
+impl Default for PairHessian {
+    fn default() -> Self {
+        PairHessian {
+            ii: M7::zeros(),
+            jj: M7::zeros(),
+            ij: M7::zeros(),
+        }
+    }
+}
+
+impl Sink for PairHessian {
+    fn add<const R: usize, const CI: usize, const CJ: usize>(
+        &mut self,
+        _i: usize,
+        _r: &SVector<f64, R>,
+        ji: &Jac<R, CI>,
+        jj: &Jac<R, CJ>,
+        touches_j: bool,
+    ) {
+        add_gram(&mut self.ii, ji);
+        if touches_j {
+            add_gram(&mut self.jj, jj);
+            add_outer(&mut self.ij, ji, jj);
+        }
+    }
 }
 
 /// DVL (or dead-reckoned) odometry between keyframes `i` and `j`: the displacement is the
@@ -419,7 +481,7 @@ impl Factor {
         match self {
             Factor::Odometry(f) => {
                 let (ji, jj) = f.jac(xi, xj);
-                sink.add(i, &f.residual(xi, xj), &ji, &jj, true);
+                sink.add_odometry(i, &f.residual(xi, xj), &ji, &jj);
             }
             Factor::YawIncrement(f) => {
                 let (ji, jj) = f.jac();
@@ -442,6 +504,51 @@ impl Factor {
                 let (ji, jj) = f.jac();
                 let w = f.huber_weight(r.norm()).sqrt();
                 sink.add(i, &(r * w), &ji.scaled(w), &jj.scaled(w), tj);
+            }
+        }
+    }
+
+    /// Whether the factor's Jacobians are the same at every state (the gyro increment, the
+    /// random walk, the AHRS yaw and the depth: linear in the states, the yaw's wrap aside),
+    /// so its Hessian part `J' J` can be assembled once. The odometry's depends on the
+    /// headings, the GPS's on its Huber weight.
+    pub fn constant_jacobian(&self) -> bool {
+        matches!(
+            self,
+            Factor::YawIncrement(_) | Factor::RandomWalk(_) | Factor::Heading(_) | Factor::Depth(_)
+        )
+    }
+
+    /// The gradient part of [`Factor::linearize`] alone (`J' r`: the same residual and
+    /// Jacobians), for a factor whose Hessian part is kept ([`Factor::constant_jacobian`]).
+    pub fn linearize_gradient<S: GradientSink>(&self, i: usize, xi: &V7, xj: &V7, sink: &mut S) {
+        let tj = self.touches_j();
+        match self {
+            Factor::Odometry(f) => {
+                let (ji, jj) = f.jac(xi, xj);
+                sink.add_gradient(i, &f.residual(xi, xj), &ji, &jj, true);
+            }
+            Factor::YawIncrement(f) => {
+                let (ji, jj) = f.jac();
+                sink.add_gradient(i, &f.residual(xi, xj), &ji, &jj, true);
+            }
+            Factor::RandomWalk(f) => {
+                let (ji, jj) = f.jac();
+                sink.add_gradient(i, &f.residual(xi, xj), &ji, &jj, true);
+            }
+            Factor::Heading(f) => {
+                let (ji, jj) = f.jac();
+                sink.add_gradient(i, &f.residual(xi, xj), &ji, &jj, tj);
+            }
+            Factor::Depth(f) => {
+                let (ji, jj) = f.jac();
+                sink.add_gradient(i, &f.residual(xi, xj), &ji, &jj, tj);
+            }
+            Factor::Gps(f) => {
+                let r = f.residual(xi, xj);
+                let (ji, jj) = f.jac();
+                let w = f.huber_weight(r.norm()).sqrt();
+                sink.add_gradient(i, &(r * w), &ji.scaled(w), &jj.scaled(w), tj);
             }
         }
     }

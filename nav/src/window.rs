@@ -32,7 +32,9 @@
 
 use crate::config::NavConfig;
 use crate::dive::{DiveReport, DiveTracker};
-use crate::factors::{DepthObs, Factor, GpsPosition, Heading, Odometry, RandomWalk, YawIncrement};
+use crate::factors::{
+    DepthObs, Factor, GpsPosition, Heading, Odometry, PairHessian, RandomWalk, YawIncrement,
+};
 use crate::marginal::marginalize_first;
 use crate::measurements::{
     Attitude, Depth, DvlVelocity, GpsFix, GyroRates, Rejection, RejectionCounters, Sensor,
@@ -120,6 +122,16 @@ struct Keyframe {
     sigma_v: f64,
     /// Factors whose first keyframe is this one.
     factors: Vec<Factor>,
+    /// The Hessian part of `factors` with constant Jacobians, once assembled (`None` after a
+    /// factor is added).
+    kept: Option<PairHessian>,
+}
+
+impl Keyframe {
+    fn push(&mut self, f: Factor) {
+        self.factors.push(f);
+        self.kept = None;
+    }
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -482,6 +494,7 @@ impl Navigator {
             water,
             sigma_v,
             factors,
+            kept: None,
         });
         self.keyframes += 1;
         self.cov = M7::zeros();
@@ -611,7 +624,7 @@ impl Navigator {
         if same >= self.cfg.max_per_interval {
             return self.reject(s, Rejection::Crowded);
         }
-        kf.factors.push(f);
+        kf.push(f);
         Ok(())
     }
 
@@ -681,10 +694,10 @@ impl Navigator {
             current_mps_per_sqrt_s: self.cfg.current_rw_mps_per_sqrt_s,
         };
         let prev = self.window.back_mut().expect("checked above");
-        prev.factors.push(Factor::Odometry(odo));
-        prev.factors.push(Factor::RandomWalk(rw));
+        prev.push(Factor::Odometry(odo));
+        prev.push(Factor::RandomWalk(rw));
         if let Some(d) = dpsi {
-            prev.factors.push(Factor::YawIncrement(YawIncrement {
+            prev.push(Factor::YawIncrement(YawIncrement {
                 dpsi_rad: d,
                 sigma_rad: gyro_sigma.max(1e-5),
             }));
@@ -700,6 +713,7 @@ impl Navigator {
             water,
             sigma_v,
             factors,
+            kept: None,
         });
         self.keyframes += 1;
         // Measurements that were waiting for this keyframe.
@@ -743,8 +757,23 @@ impl Navigator {
             for k in 0..n {
                 let xi = self.window[k].x;
                 let xj = if k + 1 < n { self.window[k + 1].x } else { xi };
-                for f in &self.window[k].factors {
-                    f.linearize(k, &xi, &xj, &mut self.sys);
+                let kf = &mut self.window[k];
+                // The Hessian part of the factors with constant Jacobians is assembled once
+                // per interval (until a factor is added); their gradients at every iteration.
+                let kept = kf.kept.get_or_insert_with(|| {
+                    let mut h = PairHessian::default();
+                    for f in kf.factors.iter().filter(|f| f.constant_jacobian()) {
+                        f.linearize(k, &xi, &xj, &mut h);
+                    }
+                    h
+                });
+                self.sys.add_pair_hessian(k, kept);
+                for f in &kf.factors {
+                    if f.constant_jacobian() {
+                        f.linearize_gradient(k, &xi, &xj, &mut self.sys);
+                    } else {
+                        f.linearize(k, &xi, &xj, &mut self.sys);
+                    }
                 }
             }
             match self.sys.solve(&mut self.step) {
