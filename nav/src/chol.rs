@@ -79,6 +79,26 @@ impl Chol7 {
         }
     }
 
+    /// `b <- L^-1 b` for a `b` that is zero above row `r` (so is the result).
+    #[inline(always)]
+    fn forward_from(&self, b: &mut [f64; DIM], r: usize) {
+        for i in r..DIM {
+            let mut v = b[i];
+            for k in r..i {
+                v -= self.l[i][k] * b[k];
+            }
+            b[i] = v * self.inv_diag[i];
+        }
+    }
+
+    /// `V <- L^-1 V` for a `V` whose column `c` is zero above row `start[c]`.
+    #[inline(always)]
+    pub(crate) fn forward_columns_from(&self, v: &mut M7, start: &[usize; DIM]) {
+        for (col, &r) in v.data.0.iter_mut().zip(start) {
+            self.forward_from(col, r);
+        }
+    }
+
     /// `V = L^-1 O`, column by column.
     pub(crate) fn forward_columns(&self, o: &M7) -> M7 {
         let mut v = *o;
@@ -150,6 +170,69 @@ pub(crate) fn sub_gram_lower(d: &M7, v: &M7, out: &mut M7) {
     }
 }
 
+/// The sparsity pattern of the window's off-diagonal blocks: columns x, y, z and heading are
+/// full, the bias column is zero above the heading row (the AHRS yaw and the random walk
+/// join heading and bias only), each current column is zero above its own row (the random
+/// walk alone). `L^-1` keeps a column's leading zeros, so `V = L^-1 O` has the same pattern.
+pub(crate) const OFF_DIAGONAL_START: [usize; DIM] = [0, 0, 0, 0, 3, 5, 6];
+
+/// No pattern: every column full.
+pub(crate) const FULL: [usize; DIM] = [0; DIM];
+
+/// Whether every column `c` of `o` is zero above row `start[c]`.
+pub(crate) fn has_pattern(o: &M7, start: &[usize; DIM]) -> bool {
+    o.data
+        .0
+        .iter()
+        .zip(start)
+        .all(|(col, &r)| col[..r].iter().all(|e| *e == 0.0))
+}
+
+/// The lower half of `d - V' V` for `V` with the leading zeros `start` (see
+/// [`sub_gram_lower`]).
+#[inline(always)]
+pub(crate) fn sub_gram_lower_from(d: &M7, v: &M7, start: &[usize; DIM], out: &mut M7) {
+    let cols = &v.data.0;
+    let (d, o) = (&d.data.0, &mut out.data.0);
+    for b in 0..DIM {
+        for a in b..DIM {
+            let mut t = 0.0;
+            for k in start[a].max(start[b])..DIM {
+                t += cols[a][k] * cols[b][k];
+            }
+            o[b][a] = d[b][a] - t;
+        }
+    }
+}
+
+/// `g - V' z` for `V` with the leading zeros `start`.
+#[inline(always)]
+pub(crate) fn sub_tr_mul_from(g: &V7, v: &M7, start: &[usize; DIM], z: &[f64; DIM]) -> V7 {
+    let cols = &v.data.0;
+    let mut out = *g;
+    for a in 0..DIM {
+        let mut t = 0.0;
+        for k in start[a]..DIM {
+            t += cols[a][k] * z[k];
+        }
+        out[a] -= t;
+    }
+    out
+}
+
+/// `z + V x` for `V` with the leading zeros `start`.
+#[inline(always)]
+pub(crate) fn add_mul_from(z: &[f64; DIM], v: &M7, start: &[usize; DIM], x: &V7) -> [f64; DIM] {
+    let mut out = *z;
+    for (c, col) in v.data.0.iter().enumerate() {
+        let xc = x[c];
+        for k in start[c]..DIM {
+            out[k] += col[k] * xc;
+        }
+    }
+    out
+}
+
 /// `g - V' z`.
 #[inline]
 pub(crate) fn sub_tr_mul(g: &V7, v: &M7, z: &[f64; DIM]) -> V7 {
@@ -161,19 +244,6 @@ pub(crate) fn sub_tr_mul(g: &V7, v: &M7, z: &[f64; DIM]) -> V7 {
             t += cols[a][k] * z[k];
         }
         out[a] -= t;
-    }
-    out
-}
-
-/// `z + V x`.
-#[inline]
-pub(crate) fn add_mul(z: &[f64; DIM], v: &M7, x: &V7) -> [f64; DIM] {
-    let mut out = *z;
-    for (c, col) in v.data.0.iter().enumerate() {
-        let xc = x[c];
-        for k in 0..DIM {
-            out[k] += col[k] * xc;
-        }
     }
     out
 }
@@ -220,7 +290,7 @@ mod tests {
             let inv = c.inverse();
             assert!((inv - reference.inverse()).amax() < 1e-9);
             assert_eq!(inv, inv.transpose());
-            let zx = add_mul(&z, &v, &g);
+            let zx = add_mul_from(&z, &v, &FULL, &g);
             let vg = v * g;
             for k in 0..DIM {
                 assert!((zx[k] - (z[k] + vg[k])).abs() < 1e-12);

@@ -77,6 +77,8 @@ pub struct BlockSystem {
     /// `z_k = L_k^-1 gh_k` (`gh_k` the gradient of keyframe `k` once the older ones are
     /// eliminated).
     z: Vec<[f64; DIM]>,
+    /// Whether `o[k]` had the usual pattern ([`chol::OFF_DIAGONAL_START`]).
+    sparse: Vec<bool>,
     /// Where the factor of the newest keyframe's marginal information is in `l` (last
     /// successful solve).
     last: Option<usize>,
@@ -111,6 +113,7 @@ impl BlockSystem {
             self.l.resize(n, Chol7::default());
             self.v.resize(n, M7::zeros());
             self.z.resize(n, [0.0; DIM]);
+            self.sparse.resize(n, false);
         }
         let mut s = self.d[0];
         let mut gh = self.g[0];
@@ -125,15 +128,32 @@ impl BlockSystem {
             if k + 1 < n {
                 let v = &mut self.v[k];
                 *v = self.o[k];
-                c.forward_columns_in_place(v);
-                chol::sub_gram_lower(&self.d[k + 1], v, &mut s);
-                gh = chol::sub_tr_mul(&self.g[k + 1], v, z);
+                // The usual pattern of the off-diagonal block skips its structural zeros
+                // (the same sums without their exact-zero terms); any other block is full.
+                let sparse = chol::has_pattern(v, &chol::OFF_DIAGONAL_START);
+                self.sparse[k] = sparse;
+                if sparse {
+                    let start = &chol::OFF_DIAGONAL_START;
+                    c.forward_columns_from(v, start);
+                    chol::sub_gram_lower_from(&self.d[k + 1], v, start, &mut s);
+                    gh = chol::sub_tr_mul_from(&self.g[k + 1], v, start, z);
+                } else {
+                    let start = &chol::FULL;
+                    c.forward_columns_from(v, start);
+                    chol::sub_gram_lower_from(&self.d[k + 1], v, start, &mut s);
+                    gh = chol::sub_tr_mul_from(&self.g[k + 1], v, start, z);
+                }
             }
         }
         let mut next = V7::zeros();
         for k in (0..n).rev() {
             let mut x = if k + 1 < n {
-                chol::add_mul(&self.z[k], &self.v[k], &next)
+                let (z, v) = (&self.z[k], &self.v[k]);
+                if self.sparse[k] {
+                    chol::add_mul_from(z, v, &chol::OFF_DIAGONAL_START, &next)
+                } else {
+                    chol::add_mul_from(z, v, &chol::FULL, &next)
+                }
             } else {
                 self.z[k]
             };
