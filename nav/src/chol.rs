@@ -180,12 +180,16 @@ pub(crate) const OFF_DIAGONAL_START: [usize; DIM] = [0, 0, 0, 0, 3, 5, 6];
 pub(crate) const FULL: [usize; DIM] = [0; DIM];
 
 /// Whether every column `c` of `o` is zero above row `start[c]`.
+#[inline]
 pub(crate) fn has_pattern(o: &M7, start: &[usize; DIM]) -> bool {
-    o.data
-        .0
-        .iter()
-        .zip(start)
-        .all(|(col, &r)| col[..r].iter().all(|e| *e == 0.0))
+    let cols = &o.data.0;
+    let mut nonzero = false;
+    for c in 0..DIM {
+        for r in 0..start[c] {
+            nonzero |= cols[c][r] != 0.0;
+        }
+    }
+    !nonzero
 }
 
 /// The lower half of `d - V' V` for `V` with the leading zeros `start` (see

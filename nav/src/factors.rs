@@ -201,6 +201,11 @@ impl Odometry {
     pub fn residual(&self, xi: &V7, xj: &V7) -> SVector<f64, 3> {
         let a = level_to_grid(xi[PSI], &self.u_i);
         let b = level_to_grid(xj[PSI], &self.u_j);
+        self.residual_from(xi, xj, &a, &b)
+    }
+
+    /// The residual from the two velocities already on the grid.
+    fn residual_from(&self, xi: &V7, xj: &V7, a: &[f64; 3], b: &[f64; 3]) -> SVector<f64, 3> {
         let w = self.current_weight();
         let h = 0.5 * self.dt_s;
         let cur = [xi[CX], xi[CY], 0.0];
@@ -223,6 +228,25 @@ impl Odometry {
     pub fn jac(&self, xi: &V7, xj: &V7) -> (Jac<3, 6>, Jac<3, 4>) {
         let da = level_to_grid_dpsi(xi[PSI], &self.u_i);
         let db = level_to_grid_dpsi(xj[PSI], &self.u_j);
+        self.jac_from(&da, &db)
+    }
+
+    /// [`Odometry::residual`] and [`Odometry::jac`] together, each heading's sine and cosine
+    /// computed once (the same bits as the two calls).
+    pub fn linearized(&self, xi: &V7, xj: &V7) -> (SVector<f64, 3>, Jac<3, 6>, Jac<3, 4>) {
+        let (si, ci) = xi[PSI].sin_cos();
+        let (sj, cj) = xj[PSI].sin_cos();
+        let (ui, uj) = (&self.u_i, &self.u_j);
+        // level_to_grid and level_to_grid_dpsi, written out on the shared sines and cosines.
+        let a = [si * ui[0] + ci * ui[1], ci * ui[0] - si * ui[1], ui[2]];
+        let b = [sj * uj[0] + cj * uj[1], cj * uj[0] - sj * uj[1], uj[2]];
+        let da = [ci * ui[0] - si * ui[1], -si * ui[0] - ci * ui[1], 0.0];
+        let db = [cj * uj[0] - sj * uj[1], -sj * uj[0] - cj * uj[1], 0.0];
+        let (ji, jj) = self.jac_from(&da, &db);
+        (self.residual_from(xi, xj, &a, &b), ji, jj)
+    }
+
+    fn jac_from(&self, da: &[f64; 3], db: &[f64; 3]) -> (Jac<3, 6>, Jac<3, 4>) {
         let h = 0.5 * self.dt_s;
         let w = self.current_weight();
         let mut ji = Jac::zeros([X, Y, Z, PSI, CX, CY]);
@@ -480,8 +504,8 @@ impl Factor {
         let tj = self.touches_j();
         match self {
             Factor::Odometry(f) => {
-                let (ji, jj) = f.jac(xi, xj);
-                sink.add_odometry(i, &f.residual(xi, xj), &ji, &jj);
+                let (r, ji, jj) = f.linearized(xi, xj);
+                sink.add_odometry(i, &r, &ji, &jj);
             }
             Factor::YawIncrement(f) => {
                 let (ji, jj) = f.jac();

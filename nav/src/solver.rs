@@ -295,14 +295,21 @@ impl GradientSink for BlockSystem {
 }
 
 impl BlockSystem {
-    /// Adds an interval's kept Hessian part (keyframes `i` and `i + 1`; only the `ii` block
-    /// when `i` is the newest keyframe).
-    pub fn add_pair_hessian(&mut self, i: usize, h: &PairHessian) {
-        self.d[i] += h.ii;
-        if i + 1 < self.d.len() {
-            self.d[i + 1] += h.jj;
-            self.o[i] += h.ij;
+    /// Starts the system for the keyframes of `pairs` (one per keyframe, oldest first) from
+    /// their intervals' kept Hessian parts: `d[k] = jj[k-1] + ii[k]`, `o[k] = ij[k]` (the
+    /// newest keyframe's `jj` and `ij` have no interval and are left out), zero gradients.
+    pub fn reset_with<'a>(&mut self, pairs: impl Iterator<Item = &'a PairHessian>) {
+        self.d.clear();
+        self.o.clear();
+        self.g.clear();
+        let mut carry: Option<&M7> = None;
+        for p in pairs {
+            self.d.push(carry.map_or(p.ii, |jj| jj + p.ii));
+            self.o.push(p.ij);
+            self.g.push(V7::zeros());
+            carry = Some(&p.jj);
         }
+        self.o.pop();
     }
 }
 

@@ -748,7 +748,19 @@ impl Navigator {
         let n = self.window.len();
         let mut solved = false;
         for _ in 0..self.cfg.max_iterations.max(1) {
-            self.sys.reset(n);
+            // The Hessian part of the factors with constant Jacobians is assembled once per
+            // interval (until a factor is added); their gradients at every iteration.
+            for (k, kf) in self.window.iter_mut().enumerate() {
+                if kf.kept.is_none() {
+                    let mut h = PairHessian::default();
+                    for f in kf.factors.iter().filter(|f| f.constant_jacobian()) {
+                        f.linearize(k, &kf.x, &kf.x, &mut h);
+                    }
+                    kf.kept = Some(h);
+                }
+            }
+            self.sys
+                .reset_with(self.window.iter().filter_map(|kf| kf.kept.as_ref()));
             {
                 let k0 = &self.window[0];
                 self.prior
@@ -757,18 +769,7 @@ impl Navigator {
             for k in 0..n {
                 let xi = self.window[k].x;
                 let xj = if k + 1 < n { self.window[k + 1].x } else { xi };
-                let kf = &mut self.window[k];
-                // The Hessian part of the factors with constant Jacobians is assembled once
-                // per interval (until a factor is added); their gradients at every iteration.
-                let kept = kf.kept.get_or_insert_with(|| {
-                    let mut h = PairHessian::default();
-                    for f in kf.factors.iter().filter(|f| f.constant_jacobian()) {
-                        f.linearize(k, &xi, &xj, &mut h);
-                    }
-                    h
-                });
-                self.sys.add_pair_hessian(k, kept);
-                for f in &kf.factors {
+                for f in &self.window[k].factors {
                     if f.constant_jacobian() {
                         f.linearize_gradient(k, &xi, &xj, &mut self.sys);
                     } else {
