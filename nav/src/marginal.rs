@@ -10,8 +10,10 @@
 //! and the only nonlinearity left (the heading in the odometry) is mild over a window.
 
 use crate::chol::{self, Chol7};
-use crate::factors::{Factor, Jac, Sink, add_gradient, add_gram, add_outer};
-use crate::solver::Prior;
+use crate::factors::{
+    Factor, GradientSink, Jac, PairHessian, Sink, add_gradient, add_gram, add_outer,
+};
+use crate::solver::{Prior, odometry_blocks};
 use crate::state::{M7, V7};
 use nalgebra::SVector;
 
@@ -43,6 +45,37 @@ impl Sink for PairSystem {
             add_outer(&mut self.h01, ji, jj);
         }
     }
+
+    fn add_odometry(&mut self, i: usize, r: &SVector<f64, 3>, ji: &Jac<3, 6>, jj: &Jac<3, 4>) {
+        debug_assert_eq!(i, 0);
+        odometry_blocks(
+            r,
+            ji,
+            jj,
+            &mut self.h00,
+            &mut self.h11,
+            &mut self.h01,
+            &mut self.g0,
+            &mut self.g1,
+        );
+    }
+}
+
+impl GradientSink for PairSystem {
+    fn add_gradient<const R: usize, const CI: usize, const CJ: usize>(
+        &mut self,
+        i: usize,
+        r: &SVector<f64, R>,
+        ji: &Jac<R, CI>,
+        jj: &Jac<R, CJ>,
+        touches_j: bool,
+    ) {
+        debug_assert_eq!(i, 0);
+        add_gradient(&mut self.g0, ji, r);
+        if touches_j {
+            add_gradient(&mut self.g1, jj, r);
+        }
+    }
 }
 
 /// Marginalises keyframe 0 (state `x0`, carrying `prior` and `factors`) onto keyframe 1
@@ -53,10 +86,32 @@ pub fn marginalize_first<'a>(
     x1: &V7,
     factors: impl IntoIterator<Item = &'a Factor>,
 ) -> Option<Prior> {
+    marginalize_first_kept(prior, x0, x1, factors, None)
+}
+
+/// [`marginalize_first`] given the Hessian part of the factors with constant Jacobians
+/// ([`Factor::constant_jacobian`]) already assembled, when `kept` is given: those factors
+/// then add only their gradients.
+pub fn marginalize_first_kept<'a>(
+    prior: &Prior,
+    x0: &V7,
+    x1: &V7,
+    factors: impl IntoIterator<Item = &'a Factor>,
+    kept: Option<&PairHessian>,
+) -> Option<Prior> {
     let mut s = PairSystem::default();
+    if let Some(k) = kept {
+        s.h00 = k.ii;
+        s.h11 = k.jj;
+        s.h01 = k.ij;
+    }
     prior.add_to(x0, &mut s.h00, &mut s.g0);
     for f in factors {
-        f.linearize(0, x0, x1, &mut s);
+        if kept.is_some() && f.constant_jacobian() {
+            f.linearize_gradient(0, x0, x1, &mut s);
+        } else {
+            f.linearize(0, x0, x1, &mut s);
+        }
     }
     // H10 H00^-1 H01 = V'V and H10 H00^-1 g0 = V'z with V = L^-1 H01, z = L^-1 g0: the
     // result is exactly symmetric.

@@ -215,7 +215,8 @@ impl Sink for BlockSystem {
 /// The odometry's normal-equation entries from the non-zero entries of its Jacobians (see
 /// [`Sink::add_odometry`]): each the dot product the full Jacobians give, with the same
 /// order of sums (`(a + b) + c`, the terms that are exact zeros left out), so the same bits.
-fn odometry_blocks(
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn odometry_blocks(
     r: &SVector<f64, 3>,
     ji: &Jac<3, 6>,
     jj: &Jac<3, 4>,

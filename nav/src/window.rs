@@ -35,7 +35,7 @@ use crate::dive::{DiveReport, DiveTracker};
 use crate::factors::{
     DepthObs, Factor, GpsPosition, Heading, Odometry, PairHessian, RandomWalk, YawIncrement,
 };
-use crate::marginal::marginalize_first;
+use crate::marginal::marginalize_first_kept;
 use crate::measurements::{
     Attitude, Depth, DvlVelocity, GpsFix, GyroRates, Rejection, RejectionCounters, Sensor,
     VelocityReference,
@@ -809,7 +809,13 @@ impl Navigator {
         let Some(next) = self.window.front() else {
             return;
         };
-        let prior = marginalize_first(&self.prior, &old.x, &next.x, &old.factors);
+        let prior = marginalize_first_kept(
+            &self.prior,
+            &old.x,
+            &next.x,
+            &old.factors,
+            old.kept.as_ref(),
+        );
         self.prior = prior.unwrap_or_else(|| {
             self.solver_failed = true;
             let mut s = [0.0; 7];
