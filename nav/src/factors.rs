@@ -173,6 +173,68 @@ impl Sink for PairHessian {
     }
 }
 
+/// The gradient of an interval's depth and random-walk factors, which are affine in the
+/// states (no wrap, constant Jacobians, each row on one state component of `i` and the same
+/// of `j`): per component z, bias, current east and north, the gradient is
+/// `g_i = A x_i + B x_j - e`, `g_j = B x_i + C x_j - f`, summed once over the factors instead
+/// of evaluated factor by factor at every iteration (the same sums in another order).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct AffineGradient {
+    /// `[A, B, C, e, f]` per component of [`AffineGradient::COMPONENTS`].
+    rows: [[f64; 5]; 4],
+}
+
+impl AffineGradient {
+    /// The state components, in the order of the rows.
+    pub const COMPONENTS: [usize; 4] = [Z, BIAS, CX, CY];
+
+    /// Whether [`AffineGradient::add_factor`] takes the factor (depth, random walk).
+    pub fn takes(f: &Factor) -> bool {
+        matches!(f, Factor::Depth(_) | Factor::RandomWalk(_))
+    }
+
+    /// Adds a factor's row `r = wi x_i[c] + wj x_j[c] - m` on component slot `slot`.
+    fn add_row(&mut self, slot: usize, wi: f64, wj: f64, m: f64) {
+        let row = &mut self.rows[slot];
+        row[0] += wi * wi;
+        row[1] += wi * wj;
+        row[2] += wj * wj;
+        row[3] += wi * m;
+        row[4] += wj * m;
+    }
+
+    /// Adds a depth or random-walk factor; returns false (adding nothing) for any other.
+    pub fn add_factor(&mut self, f: &Factor) -> bool {
+        match f {
+            Factor::Depth(d) => {
+                let (ji, jj) = d.jac();
+                self.add_row(0, ji.m[0], jj.m[0], d.depth_m / d.sigma_m);
+                true
+            }
+            Factor::RandomWalk(w) => {
+                let (ji, jj) = w.jac();
+                for k in 0..3 {
+                    self.add_row(1 + k, ji.m[(k, k)], jj.m[(k, k)], 0.0);
+                }
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// Adds the gradient at `xi`, `xj` to `gi` (and `gj`, when keyframe `j` exists).
+    pub fn add_to(&self, xi: &V7, xj: &V7, gi: &mut V7, gj: Option<&mut V7>) {
+        for (row, &c) in self.rows.iter().zip(&Self::COMPONENTS) {
+            gi[c] += row[0] * xi[c] + row[1] * xj[c] - row[3];
+        }
+        if let Some(gj) = gj {
+            for (row, &c) in self.rows.iter().zip(&Self::COMPONENTS) {
+                gj[c] += row[1] * xi[c] + row[2] * xj[c] - row[4];
+            }
+        }
+    }
+}
+
 /// DVL (or dead-reckoned) odometry between keyframes `i` and `j`: the displacement is the
 /// trapezoid of the two keyframes' level-frame velocities rotated by their estimated headings,
 /// plus the current (of keyframe `i`) for each velocity measured through the water.
@@ -727,6 +789,67 @@ mod tests {
             let (a, b) = g.jacobians();
             check(|p, q| g.residual(p, q), a, b, &xi, &xj);
         }
+    }
+
+    /// The affine gradient of depth and random-walk factors equals their per-factor gradients.
+    #[test]
+    fn affine_gradient_equals_per_factor_gradients() {
+        struct G(V7, V7);
+        impl GradientSink for G {
+            fn add_gradient<const R: usize, const CI: usize, const CJ: usize>(
+                &mut self,
+                _i: usize,
+                r: &SVector<f64, R>,
+                ji: &Jac<R, CI>,
+                jj: &Jac<R, CJ>,
+                touches_j: bool,
+            ) {
+                add_gradient(&mut self.0, ji, r);
+                if touches_j {
+                    add_gradient(&mut self.1, jj, r);
+                }
+            }
+        }
+        for seed in 0..10 {
+            let (xi, xj) = (state(seed), state(seed + 30));
+            let mut aff = AffineGradient::default();
+            let mut each = G(V7::zeros(), V7::zeros());
+            let alpha = seed as f64 / 9.0;
+            let factors = [
+                Factor::Depth(DepthObs {
+                    alpha,
+                    depth_m: 3.0 + alpha,
+                    sigma_m: 0.05,
+                }),
+                Factor::Depth(DepthObs {
+                    alpha: 0.0,
+                    depth_m: 2.5,
+                    sigma_m: 0.05,
+                }),
+                Factor::RandomWalk(RandomWalk {
+                    dt_s: 0.2,
+                    bias_rad_per_sqrt_s: 2e-5,
+                    current_mps_per_sqrt_s: 5e-4,
+                }),
+            ];
+            for f in &factors {
+                assert!(AffineGradient::takes(f) && aff.add_factor(f));
+                f.linearize_gradient(0, &xi, &xj, &mut each);
+            }
+            let (mut gi, mut gj) = (V7::zeros(), V7::zeros());
+            aff.add_to(&xi, &xj, &mut gi, Some(&mut gj));
+            for k in 0..DIM {
+                for (a, b) in [(gi[k], each.0[k]), (gj[k], each.1[k])] {
+                    assert!((a - b).abs() <= 1e-9 * (1.0 + b.abs()), "{k}: {a} vs {b}");
+                }
+            }
+        }
+        let other = Factor::YawIncrement(YawIncrement {
+            dpsi_rad: 0.1,
+            sigma_rad: 0.01,
+        });
+        assert!(!AffineGradient::takes(&other));
+        assert!(!AffineGradient::default().add_factor(&other));
     }
 
     #[test]

@@ -33,7 +33,8 @@
 use crate::config::NavConfig;
 use crate::dive::{DiveReport, DiveTracker};
 use crate::factors::{
-    DepthObs, Factor, GpsPosition, Heading, Odometry, PairHessian, RandomWalk, YawIncrement,
+    AffineGradient, DepthObs, Factor, GpsPosition, Heading, Odometry, PairHessian, RandomWalk,
+    YawIncrement,
 };
 use crate::marginal::marginalize_first_kept;
 use crate::measurements::{
@@ -125,6 +126,8 @@ struct Keyframe {
     /// The Hessian part of `factors` with constant Jacobians, once assembled (`None` after a
     /// factor is added).
     kept: Option<PairHessian>,
+    /// The gradient of its depth and random-walk factors, kept with `kept`.
+    affine: AffineGradient,
 }
 
 impl Keyframe {
@@ -495,6 +498,7 @@ impl Navigator {
             sigma_v,
             factors,
             kept: None,
+            affine: AffineGradient::default(),
         });
         self.keyframes += 1;
         self.cov = M7::zeros();
@@ -714,6 +718,7 @@ impl Navigator {
             sigma_v,
             factors,
             kept: None,
+            affine: AffineGradient::default(),
         });
         self.keyframes += 1;
         // Measurements that were waiting for this keyframe.
@@ -753,10 +758,13 @@ impl Navigator {
             for (k, kf) in self.window.iter_mut().enumerate() {
                 if kf.kept.is_none() {
                     let mut h = PairHessian::default();
+                    let mut a = AffineGradient::default();
                     for f in kf.factors.iter().filter(|f| f.constant_jacobian()) {
                         f.linearize(k, &kf.x, &kf.x, &mut h);
+                        a.add_factor(f);
                     }
                     kf.kept = Some(h);
+                    kf.affine = a;
                 }
             }
             self.sys
@@ -769,7 +777,16 @@ impl Navigator {
             for k in 0..n {
                 let xi = self.window[k].x;
                 let xj = if k + 1 < n { self.window[k + 1].x } else { xi };
+                {
+                    let (g0, g1) = self.sys.g.split_at_mut(k + 1);
+                    self.window[k]
+                        .affine
+                        .add_to(&xi, &xj, &mut g0[k], g1.first_mut());
+                }
                 for f in &self.window[k].factors {
+                    if AffineGradient::takes(f) {
+                        continue;
+                    }
                     if f.constant_jacobian() {
                         f.linearize_gradient(k, &xi, &xj, &mut self.sys);
                     } else {
