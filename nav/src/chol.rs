@@ -30,27 +30,38 @@ impl Chol7 {
     /// definite (or holds non-finite numbers), `self` then being garbage.
     #[inline]
     pub(crate) fn factor(&mut self, s: &M7) -> bool {
+        // One call per column, each with fixed loop bounds (unrolled).
+        self.factor_column::<0>(s)
+            && self.factor_column::<1>(s)
+            && self.factor_column::<2>(s)
+            && self.factor_column::<3>(s)
+            && self.factor_column::<4>(s)
+            && self.factor_column::<5>(s)
+            && self.factor_column::<6>(s)
+    }
+
+    /// Column `J` of the factor (the columns before it done).
+    #[inline(always)]
+    fn factor_column<const J: usize>(&mut self, s: &M7) -> bool {
         let s = &s.data.0; // column-major: s[j][i] is row i, column j
-        for j in 0..DIM {
-            let mut d = s[j][j];
-            for k in 0..j {
-                d -= self.l[j][k] * self.l[j][k];
+        let mut d = s[J][J];
+        for k in 0..J {
+            d -= self.l[J][k] * self.l[J][k];
+        }
+        // Also refuses NaN.
+        if !(d > 0.0) {
+            return false;
+        }
+        let ljj = d.sqrt();
+        let inv = 1.0 / ljj;
+        self.l[J][J] = ljj;
+        self.inv_diag[J] = inv;
+        for i in J + 1..DIM {
+            let mut v = s[J][i];
+            for k in 0..J {
+                v -= self.l[i][k] * self.l[J][k];
             }
-            // Also refuses NaN.
-            if !(d > 0.0) {
-                return false;
-            }
-            let ljj = d.sqrt();
-            let inv = 1.0 / ljj;
-            self.l[j][j] = ljj;
-            self.inv_diag[j] = inv;
-            for i in j + 1..DIM {
-                let mut v = s[j][i];
-                for k in 0..j {
-                    v -= self.l[i][k] * self.l[j][k];
-                }
-                self.l[i][j] = v * inv;
-            }
+            self.l[i][J] = v * inv;
         }
         true
     }
@@ -58,25 +69,45 @@ impl Chol7 {
     /// `b <- L^-1 b`.
     #[inline(always)]
     pub(crate) fn forward(&self, b: &mut [f64; DIM]) {
-        for i in 0..DIM {
-            let mut v = b[i];
-            for k in 0..i {
-                v -= self.l[i][k] * b[k];
-            }
-            b[i] = v * self.inv_diag[i];
+        self.forward_row::<0>(b);
+        self.forward_row::<1>(b);
+        self.forward_row::<2>(b);
+        self.forward_row::<3>(b);
+        self.forward_row::<4>(b);
+        self.forward_row::<5>(b);
+        self.forward_row::<6>(b);
+    }
+
+    /// Row `I` of the forward substitution.
+    #[inline(always)]
+    fn forward_row<const I: usize>(&self, b: &mut [f64; DIM]) {
+        let mut v = b[I];
+        for k in 0..I {
+            v -= self.l[I][k] * b[k];
         }
+        b[I] = v * self.inv_diag[I];
     }
 
     /// `b <- L'^-1 b`.
     #[inline]
     pub(crate) fn backward(&self, b: &mut [f64; DIM]) {
-        for i in (0..DIM).rev() {
-            let mut v = b[i];
-            for k in i + 1..DIM {
-                v -= self.l[k][i] * b[k];
-            }
-            b[i] = v * self.inv_diag[i];
+        self.backward_row::<6>(b);
+        self.backward_row::<5>(b);
+        self.backward_row::<4>(b);
+        self.backward_row::<3>(b);
+        self.backward_row::<2>(b);
+        self.backward_row::<1>(b);
+        self.backward_row::<0>(b);
+    }
+
+    /// Row `I` of the backward substitution.
+    #[inline(always)]
+    fn backward_row<const I: usize>(&self, b: &mut [f64; DIM]) {
+        let mut v = b[I];
+        for k in I + 1..DIM {
+            v -= self.l[k][I] * b[k];
         }
+        b[I] = v * self.inv_diag[I];
     }
 
     /// `b <- L^-1 b` for a `b` that is zero above row `r` (so is the result).
@@ -89,6 +120,31 @@ impl Chol7 {
             }
             b[i] = v * self.inv_diag[i];
         }
+    }
+
+    /// `b <- L^-1 b` for a `b` that is zero above row `R` (a constant, so every loop has
+    /// fixed bounds).
+    #[inline(always)]
+    fn forward_below<const R: usize>(&self, b: &mut [f64; DIM]) {
+        for i in R..DIM {
+            let mut v = b[i];
+            for k in R..i {
+                v -= self.l[i][k] * b[k];
+            }
+            b[i] = v * self.inv_diag[i];
+        }
+    }
+
+    /// `V <- L^-1 V` for a `V` with the pattern [`OFF_DIAGONAL_START`].
+    #[inline]
+    pub(crate) fn forward_columns_pattern(&self, v: &mut M7) {
+        let cols = &mut v.data.0;
+        for col in cols[..4].iter_mut() {
+            self.forward_below::<0>(col);
+        }
+        self.forward_below::<3>(&mut cols[4]);
+        self.forward_below::<5>(&mut cols[5]);
+        self.forward_below::<6>(&mut cols[6]);
     }
 
     /// `V <- L^-1 V` for a `V` whose column `c` is zero above row `start[c]`.
@@ -190,6 +246,75 @@ pub(crate) fn has_pattern(o: &M7, start: &[usize; DIM]) -> bool {
         }
     }
     !nonzero
+}
+
+/// `sum a[k] b[k]` over `k >= K0`.
+#[inline(always)]
+fn dot_below<const K0: usize>(a: &[f64; DIM], b: &[f64; DIM]) -> f64 {
+    let mut t = 0.0;
+    for k in K0..DIM {
+        t += a[k] * b[k];
+    }
+    t
+}
+
+/// [`sub_gram_lower_from`] for the pattern [`OFF_DIAGONAL_START`], every loop with fixed
+/// bounds (the same sums).
+#[inline]
+pub(crate) fn sub_gram_lower_pattern(d: &M7, v: &M7, out: &mut M7) {
+    let cols = &v.data.0;
+    let (d, o) = (&d.data.0, &mut out.data.0);
+    // o[b][a] is row a, column b (a >= b).
+    for b in 0..4 {
+        for a in b..4 {
+            o[b][a] = d[b][a] - dot_below::<0>(&cols[a], &cols[b]);
+        }
+    }
+    for b in 0..5 {
+        o[b][4] = d[b][4] - dot_below::<3>(&cols[4], &cols[b]);
+    }
+    for b in 0..6 {
+        o[b][5] = d[b][5] - dot_below::<5>(&cols[5], &cols[b]);
+    }
+    for b in 0..7 {
+        o[b][6] = d[b][6] - dot_below::<6>(&cols[6], &cols[b]);
+    }
+}
+
+/// [`sub_tr_mul_from`] for the pattern [`OFF_DIAGONAL_START`].
+#[inline]
+pub(crate) fn sub_tr_mul_pattern(g: &V7, v: &M7, z: &[f64; DIM]) -> V7 {
+    let cols = &v.data.0;
+    let mut out = *g;
+    for a in 0..4 {
+        out[a] -= dot_below::<0>(&cols[a], z);
+    }
+    out[4] -= dot_below::<3>(&cols[4], z);
+    out[5] -= dot_below::<5>(&cols[5], z);
+    out[6] -= dot_below::<6>(&cols[6], z);
+    out
+}
+
+/// `out[k] += col[k] x` for `k >= K0`.
+#[inline(always)]
+fn axpy_below<const K0: usize>(out: &mut [f64; DIM], col: &[f64; DIM], x: f64) {
+    for k in K0..DIM {
+        out[k] += col[k] * x;
+    }
+}
+
+/// [`add_mul_from`] for the pattern [`OFF_DIAGONAL_START`].
+#[inline]
+pub(crate) fn add_mul_pattern(z: &[f64; DIM], v: &M7, x: &V7) -> [f64; DIM] {
+    let cols = &v.data.0;
+    let mut out = *z;
+    for c in 0..4 {
+        axpy_below::<0>(&mut out, &cols[c], x[c]);
+    }
+    axpy_below::<3>(&mut out, &cols[4], x[4]);
+    axpy_below::<5>(&mut out, &cols[5], x[5]);
+    axpy_below::<6>(&mut out, &cols[6], x[6]);
+    out
 }
 
 /// The lower half of `d - V' V` for `V` with the leading zeros `start` (see
@@ -300,6 +425,46 @@ mod tests {
                 assert!((zx[k] - (z[k] + vg[k])).abs() < 1e-12);
             }
         }
+    }
+
+    /// The fixed-bound versions for the usual pattern give the same bits as the general ones.
+    #[test]
+    fn pattern_versions_equal_the_general_ones() {
+        for seed in 0..10 {
+            let c = Chol7::new(&spd(seed)).unwrap();
+            let mut rng = fastrand::Rng::with_seed(seed + 200);
+            let mut o = M7::from_fn(|_, _| rng.f64() - 0.5);
+            for (col, &r) in o.data.0.iter_mut().zip(&OFF_DIAGONAL_START) {
+                col[..r].fill(0.0);
+            }
+            assert!(has_pattern(&o, &OFF_DIAGONAL_START));
+            let d = spd(seed + 1);
+            let g = V7::from_fn(|_, _| rng.f64() - 0.5);
+            let z = [0.1, -0.2, 0.3, 0.4, -0.5, 0.6, 0.7];
+            let (mut v1, mut v2) = (o, o);
+            c.forward_columns_from(&mut v1, &OFF_DIAGONAL_START);
+            c.forward_columns_pattern(&mut v2);
+            assert_eq!(v1, v2);
+            let (mut s1, mut s2) = (M7::zeros(), M7::zeros());
+            sub_gram_lower_from(&d, &v1, &OFF_DIAGONAL_START, &mut s1);
+            sub_gram_lower_pattern(&d, &v1, &mut s2);
+            assert_eq!(s1, s2);
+            assert_eq!(
+                sub_tr_mul_from(&g, &v1, &OFF_DIAGONAL_START, &z),
+                sub_tr_mul_pattern(&g, &v1, &z)
+            );
+            assert_eq!(
+                add_mul_from(&z, &v1, &OFF_DIAGONAL_START, &g),
+                add_mul_pattern(&z, &v1, &g)
+            );
+        }
+        let mut o = M7::from_element(1.0);
+        assert!(!has_pattern(&o, &OFF_DIAGONAL_START));
+        o.data.0[4][..3].fill(0.0);
+        o.data.0[5][..5].fill(0.0);
+        o.data.0[6][..6].fill(0.0);
+        assert!(has_pattern(&o, &OFF_DIAGONAL_START));
+        assert!(has_pattern(&M7::from_element(1.0), &FULL));
     }
 
     #[test]

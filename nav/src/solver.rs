@@ -133,10 +133,9 @@ impl BlockSystem {
                 let sparse = chol::has_pattern(v, &chol::OFF_DIAGONAL_START);
                 self.sparse[k] = sparse;
                 if sparse {
-                    let start = &chol::OFF_DIAGONAL_START;
-                    c.forward_columns_from(v, start);
-                    chol::sub_gram_lower_from(&self.d[k + 1], v, start, &mut s);
-                    gh = chol::sub_tr_mul_from(&self.g[k + 1], v, start, z);
+                    c.forward_columns_pattern(v);
+                    chol::sub_gram_lower_pattern(&self.d[k + 1], v, &mut s);
+                    gh = chol::sub_tr_mul_pattern(&self.g[k + 1], v, z);
                 } else {
                     let start = &chol::FULL;
                     c.forward_columns_from(v, start);
@@ -150,7 +149,7 @@ impl BlockSystem {
             let mut x = if k + 1 < n {
                 let (z, v) = (&self.z[k], &self.v[k]);
                 if self.sparse[k] {
-                    chol::add_mul_from(z, v, &chol::OFF_DIAGONAL_START, &next)
+                    chol::add_mul_pattern(z, v, &next)
                 } else {
                     chol::add_mul_from(z, v, &chol::FULL, &next)
                 }
