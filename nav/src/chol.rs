@@ -48,8 +48,7 @@ impl Chol7 {
         for k in 0..J {
             d -= self.l[J][k] * self.l[J][k];
         }
-        // Also refuses NaN.
-        if !(d > 0.0) {
+        if d.is_nan() || d <= 0.0 {
             return false;
         }
         let ljj = d.sqrt();

@@ -66,14 +66,13 @@ pub enum SolveError {
 pub struct BlockSystem {
     /// Diagonal blocks.
     pub d: Vec<M7>,
-    /// Off-diagonal blocks: `o[k]` joins keyframes `k` and `k + 1`.
+    /// Off-diagonal blocks: `o[k]` joins keyframes `k` and `k + 1` (a solve turns it into
+    /// its `V_k`).
     pub o: Vec<M7>,
     /// Gradient blocks.
     pub g: Vec<V7>,
     /// The Cholesky factors `L_k` of the Schur complements.
     l: Vec<Chol7>,
-    /// `V_k = L_k^-1 o[k]`.
-    v: Vec<M7>,
     /// `z_k = L_k^-1 gh_k` (`gh_k` the gradient of keyframe `k` once the older ones are
     /// eliminated).
     z: Vec<[f64; DIM]>,
@@ -111,7 +110,6 @@ impl BlockSystem {
         }
         if self.l.len() < n {
             self.l.resize(n, Chol7::default());
-            self.v.resize(n, M7::zeros());
             self.z.resize(n, [0.0; DIM]);
             self.sparse.resize(n, false);
         }
@@ -126,8 +124,8 @@ impl BlockSystem {
             *z = gh.data.0[0];
             c.forward(z);
             if k + 1 < n {
-                let v = &mut self.v[k];
-                *v = self.o[k];
+                // V_k in place of o[k] (not needed after).
+                let v = &mut self.o[k];
                 // The usual pattern of the off-diagonal block skips its structural zeros
                 // (the same sums without their exact-zero terms); any other block is full.
                 let sparse = chol::has_pattern(v, &chol::OFF_DIAGONAL_START);
@@ -147,7 +145,7 @@ impl BlockSystem {
         let mut next = V7::zeros();
         for k in (0..n).rev() {
             let mut x = if k + 1 < n {
-                let (z, v) = (&self.z[k], &self.v[k]);
+                let (z, v) = (&self.z[k], &self.o[k]);
                 if self.sparse[k] {
                     chol::add_mul_pattern(z, v, &next)
                 } else {
