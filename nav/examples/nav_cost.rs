@@ -140,7 +140,10 @@ fn main() {
     );
     for (what, from) in [
         ("all keyframes", f64::NEG_INFINITY),
-        ("from 30 s after the first resurfacing", first_resurface + 30.0),
+        (
+            "from 30 s after the first resurfacing",
+            first_resurface + 30.0,
+        ),
     ] {
         let a = Accuracy::of(kept.iter().filter_map(|(i, e)| {
             let tr = &truths[*i];

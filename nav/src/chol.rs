@@ -5,6 +5,9 @@
 //! Compared with a general solve of `S^-1 O` followed by `O' (S^-1 O)`, the elimination keeps
 //! `V = L^-1 O` (forward substitution only) and forms `O' S^-1 O = V' V` on its lower half,
 //! so every Schur complement is exactly symmetric and costs about half the products.
+//!
+//! The triangular loops index several arrays by row and column, as the formulas are written.
+#![allow(clippy::needless_range_loop)]
 
 use crate::state::{DIM, M7, V7};
 
