@@ -13,15 +13,17 @@
 //! It prints the keyframes, the heap allocations made while driving (a counting allocator) per
 //! simulated second, and a hash of every estimate's bits after each keyframe and of the final
 //! status: an optimisation that leaves the navigator's outputs unchanged leaves the hash
-//! unchanged.
+//! unchanged. It also prints the estimate's accuracy against the scenario's truth at every
+//! keyframe (horizontal position and heading error, RMS and largest, over the whole run and
+//! from 30 s after the first resurfacing), for changes that may move the outputs' last bits.
 
 #[path = "../tests/common/truth.rs"]
 mod truth;
 
-use nav::{NavConfig, Navigator, Status};
+use nav::{Estimate, NavConfig, Navigator, Status};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicU64, Ordering};
-use truth::{Event, Scenario, Sim};
+use truth::{Event, Scenario, Sim, Truth};
 
 struct Counting;
 static ALLOCS: AtomicU64 = AtomicU64::new(0);
@@ -55,11 +57,12 @@ fn mix(h: &mut u64, v: u64) {
     }
 }
 
-/// Feeds every event to `nav`; returns the hash of the outputs.
+/// Feeds every event to `nav`; returns the hash of the outputs. Each keyframe's estimate is
+/// kept in `kept` (with its event's index) for the accuracy figures.
 #[inline(never)]
-fn drive(nav: &mut Navigator, events: &[Event]) -> u64 {
+fn drive(nav: &mut Navigator, events: &[Event], kept: &mut Vec<(usize, Estimate)>) -> u64 {
     let mut h = 0xcbf2_9ce4_8422_2325;
-    for e in events {
+    for (i, e) in events.iter().enumerate() {
         let k = nav.keyframes();
         let r = match e {
             Event::Dvl(m) => nav.dvl(m),
@@ -72,6 +75,7 @@ fn drive(nav: &mut Navigator, events: &[Event]) -> u64 {
         if nav.keyframes() > k
             && let Some(est) = nav.estimate()
         {
+            kept.push((i, est));
             for v in [
                 est.t_s,
                 est.x_m,
@@ -108,17 +112,21 @@ fn main() {
         .and_then(|a| a.parse().ok())
         .unwrap_or(600.0);
     let mut sim = Sim::new(Scenario::default());
+    let first_resurface = sim.sc.surface_s + sim.sc.dive_s;
     let mut events = Vec::with_capacity((seconds * 50.0) as usize + 16);
+    let mut truths: Vec<Truth> = Vec::with_capacity(events.capacity());
     loop {
         let e = sim.next_event();
         if e.t_s() > seconds {
             break;
         }
         events.push(e);
+        truths.push(sim.truth());
     }
     let mut nav = Navigator::new(NavConfig::default());
+    let mut kept = Vec::with_capacity((seconds * 6.0) as usize + 16);
     let a0 = ALLOCS.load(Ordering::Relaxed);
-    let hash = drive(&mut nav, &events);
+    let hash = drive(&mut nav, &events, &mut kept);
     let allocs = ALLOCS.load(Ordering::Relaxed) - a0;
     let est = nav.estimate();
     println!(
@@ -130,4 +138,58 @@ fn main() {
         nav.status().describe(),
         est.map(|e| (e.x_m, e.y_m)),
     );
+    for (what, from) in [
+        ("all keyframes", f64::NEG_INFINITY),
+        (
+            "from 30 s after the first resurfacing",
+            first_resurface + 30.0,
+        ),
+    ] {
+        let a = Accuracy::of(kept.iter().filter_map(|(i, e)| {
+            let tr = &truths[*i];
+            (tr.t_s >= from).then_some((e, tr))
+        }));
+        println!(
+            "accuracy, {what} ({} keyframes): position RMS {:.6} m, max {:.6} m; heading RMS \
+             {:.6} deg, max {:.6} deg",
+            a.n, a.pos_rms_m, a.pos_max_m, a.hdg_rms_deg, a.hdg_max_deg
+        );
+    }
+}
+
+/// Horizontal position and heading errors against the truth.
+struct Accuracy {
+    n: usize,
+    pos_rms_m: f64,
+    pos_max_m: f64,
+    hdg_rms_deg: f64,
+    hdg_max_deg: f64,
+}
+
+impl Accuracy {
+    fn of<'a>(pairs: impl Iterator<Item = (&'a Estimate, &'a Truth)>) -> Accuracy {
+        let (mut n, mut sp, mut mp, mut sh, mut mh) = (0usize, 0.0, 0.0f64, 0.0, 0.0f64);
+        for (e, tr) in pairs {
+            let p = (e.x_m - tr.x_m).hypot(e.y_m - tr.y_m);
+            let tau = std::f64::consts::TAU;
+            let mut d = (e.heading_rad - tr.heading_rad).rem_euclid(tau);
+            if d > std::f64::consts::PI {
+                d -= tau;
+            }
+            let h = d.to_degrees().abs();
+            n += 1;
+            sp += p * p;
+            sh += h * h;
+            mp = mp.max(p);
+            mh = mh.max(h);
+        }
+        let m = n.max(1) as f64;
+        Accuracy {
+            n,
+            pos_rms_m: (sp / m).sqrt(),
+            pos_max_m: mp,
+            hdg_rms_deg: (sh / m).sqrt(),
+            hdg_max_deg: mh,
+        }
+    }
 }

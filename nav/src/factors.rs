@@ -109,6 +109,130 @@ pub trait Sink {
         jj: &Jac<R, CJ>,
         touches_j: bool,
     );
+
+    /// Adds an odometry factor ([`Odometry::jac`]'s Jacobians, whose only non-zero entries
+    /// are the first three columns' diagonals, the heading column and, on `i`, the current's
+    /// two entries). The default is [`Sink::add`]; a sink may use the pattern.
+    fn add_odometry(&mut self, i: usize, r: &SVector<f64, 3>, ji: &Jac<3, 6>, jj: &Jac<3, 4>) {
+        self.add(i, r, ji, jj, true);
+    }
+}
+
+/// Receives only the gradient part of linearised factors (`J' r` on `i` and `i + 1`), for
+/// factors whose Hessian part `J' J` is assembled once ([`Factor::constant_jacobian`]).
+pub trait GradientSink {
+    /// Adds one factor's gradient on keyframes `i` (and `i + 1` when `touches_j`).
+    fn add_gradient<const R: usize, const CI: usize, const CJ: usize>(
+        &mut self,
+        i: usize,
+        r: &SVector<f64, R>,
+        ji: &Jac<R, CI>,
+        jj: &Jac<R, CJ>,
+        touches_j: bool,
+    );
+}
+
+/// The Hessian part `J' J` of the factors of one interval (keyframes `i` and `j = i + 1`):
+/// a [`Sink`] that ignores the residuals. For factors with constant Jacobians it does not
+/// change between Gauss-Newton iterations or keyframe updates, so the window keeps it per
+/// interval until a factor is added.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PairHessian {
+    /// `J_i' J_i`.
+    pub ii: M7,
+    /// `J_j' J_j`.
+    pub jj: M7,
+    /// `J_i' J_j`.
+    pub ij: M7,
+}
+
+impl Default for PairHessian {
+    fn default() -> Self {
+        PairHessian {
+            ii: M7::zeros(),
+            jj: M7::zeros(),
+            ij: M7::zeros(),
+        }
+    }
+}
+
+impl Sink for PairHessian {
+    fn add<const R: usize, const CI: usize, const CJ: usize>(
+        &mut self,
+        _i: usize,
+        _r: &SVector<f64, R>,
+        ji: &Jac<R, CI>,
+        jj: &Jac<R, CJ>,
+        touches_j: bool,
+    ) {
+        add_gram(&mut self.ii, ji);
+        if touches_j {
+            add_gram(&mut self.jj, jj);
+            add_outer(&mut self.ij, ji, jj);
+        }
+    }
+}
+
+/// The gradient of an interval's depth and random-walk factors, which are affine in the
+/// states (no wrap, constant Jacobians, each row on one state component of `i` and the same
+/// of `j`): per component z, bias, current east and north, the gradient is
+/// `g_i = A x_i + B x_j - e`, `g_j = B x_i + C x_j - f`, summed once over the factors instead
+/// of evaluated factor by factor at every iteration (the same sums in another order).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct AffineGradient {
+    /// `[A, B, C, e, f]` per component of [`AffineGradient::COMPONENTS`].
+    rows: [[f64; 5]; 4],
+}
+
+impl AffineGradient {
+    /// The state components, in the order of the rows.
+    pub const COMPONENTS: [usize; 4] = [Z, BIAS, CX, CY];
+
+    /// Whether [`AffineGradient::add_factor`] takes the factor (depth, random walk).
+    pub fn takes(f: &Factor) -> bool {
+        matches!(f, Factor::Depth(_) | Factor::RandomWalk(_))
+    }
+
+    /// Adds a factor's row `r = wi x_i[c] + wj x_j[c] - m` on component slot `slot`.
+    fn add_row(&mut self, slot: usize, wi: f64, wj: f64, m: f64) {
+        let row = &mut self.rows[slot];
+        row[0] += wi * wi;
+        row[1] += wi * wj;
+        row[2] += wj * wj;
+        row[3] += wi * m;
+        row[4] += wj * m;
+    }
+
+    /// Adds a depth or random-walk factor; returns false (adding nothing) for any other.
+    pub fn add_factor(&mut self, f: &Factor) -> bool {
+        match f {
+            Factor::Depth(d) => {
+                let (ji, jj) = d.jac();
+                self.add_row(0, ji.m[0], jj.m[0], d.depth_m / d.sigma_m);
+                true
+            }
+            Factor::RandomWalk(w) => {
+                let (ji, jj) = w.jac();
+                for k in 0..3 {
+                    self.add_row(1 + k, ji.m[(k, k)], jj.m[(k, k)], 0.0);
+                }
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// Adds the gradient at `xi`, `xj` to `gi` (and `gj`, when keyframe `j` exists).
+    pub fn add_to(&self, xi: &V7, xj: &V7, gi: &mut V7, gj: Option<&mut V7>) {
+        for (row, &c) in self.rows.iter().zip(&Self::COMPONENTS) {
+            gi[c] += row[0] * xi[c] + row[1] * xj[c] - row[3];
+        }
+        if let Some(gj) = gj {
+            for (row, &c) in self.rows.iter().zip(&Self::COMPONENTS) {
+                gj[c] += row[1] * xi[c] + row[2] * xj[c] - row[4];
+            }
+        }
+    }
 }
 
 /// DVL (or dead-reckoned) odometry between keyframes `i` and `j`: the displacement is the
@@ -139,6 +263,11 @@ impl Odometry {
     pub fn residual(&self, xi: &V7, xj: &V7) -> SVector<f64, 3> {
         let a = level_to_grid(xi[PSI], &self.u_i);
         let b = level_to_grid(xj[PSI], &self.u_j);
+        self.residual_from(xi, xj, &a, &b)
+    }
+
+    /// The residual from the two velocities already on the grid.
+    fn residual_from(&self, xi: &V7, xj: &V7, a: &[f64; 3], b: &[f64; 3]) -> SVector<f64, 3> {
         let w = self.current_weight();
         let h = 0.5 * self.dt_s;
         let cur = [xi[CX], xi[CY], 0.0];
@@ -161,6 +290,25 @@ impl Odometry {
     pub fn jac(&self, xi: &V7, xj: &V7) -> (Jac<3, 6>, Jac<3, 4>) {
         let da = level_to_grid_dpsi(xi[PSI], &self.u_i);
         let db = level_to_grid_dpsi(xj[PSI], &self.u_j);
+        self.jac_from(&da, &db)
+    }
+
+    /// [`Odometry::residual`] and [`Odometry::jac`] together, each heading's sine and cosine
+    /// computed once (the same bits as the two calls).
+    pub fn linearized(&self, xi: &V7, xj: &V7) -> (SVector<f64, 3>, Jac<3, 6>, Jac<3, 4>) {
+        let (si, ci) = xi[PSI].sin_cos();
+        let (sj, cj) = xj[PSI].sin_cos();
+        let (ui, uj) = (&self.u_i, &self.u_j);
+        // level_to_grid and level_to_grid_dpsi, written out on the shared sines and cosines.
+        let a = [si * ui[0] + ci * ui[1], ci * ui[0] - si * ui[1], ui[2]];
+        let b = [sj * uj[0] + cj * uj[1], cj * uj[0] - sj * uj[1], uj[2]];
+        let da = [ci * ui[0] - si * ui[1], -si * ui[0] - ci * ui[1], 0.0];
+        let db = [cj * uj[0] - sj * uj[1], -sj * uj[0] - cj * uj[1], 0.0];
+        let (ji, jj) = self.jac_from(&da, &db);
+        (self.residual_from(xi, xj, &a, &b), ji, jj)
+    }
+
+    fn jac_from(&self, da: &[f64; 3], db: &[f64; 3]) -> (Jac<3, 6>, Jac<3, 4>) {
         let h = 0.5 * self.dt_s;
         let w = self.current_weight();
         let mut ji = Jac::zeros([X, Y, Z, PSI, CX, CY]);
@@ -418,8 +566,8 @@ impl Factor {
         let tj = self.touches_j();
         match self {
             Factor::Odometry(f) => {
-                let (ji, jj) = f.jac(xi, xj);
-                sink.add(i, &f.residual(xi, xj), &ji, &jj, true);
+                let (r, ji, jj) = f.linearized(xi, xj);
+                sink.add_odometry(i, &r, &ji, &jj);
             }
             Factor::YawIncrement(f) => {
                 let (ji, jj) = f.jac();
@@ -442,6 +590,51 @@ impl Factor {
                 let (ji, jj) = f.jac();
                 let w = f.huber_weight(r.norm()).sqrt();
                 sink.add(i, &(r * w), &ji.scaled(w), &jj.scaled(w), tj);
+            }
+        }
+    }
+
+    /// Whether the factor's Jacobians are the same at every state (the gyro increment, the
+    /// random walk, the AHRS yaw and the depth: linear in the states, the yaw's wrap aside),
+    /// so its Hessian part `J' J` can be assembled once. The odometry's depends on the
+    /// headings, the GPS's on its Huber weight.
+    pub fn constant_jacobian(&self) -> bool {
+        matches!(
+            self,
+            Factor::YawIncrement(_) | Factor::RandomWalk(_) | Factor::Heading(_) | Factor::Depth(_)
+        )
+    }
+
+    /// The gradient part of [`Factor::linearize`] alone (`J' r`: the same residual and
+    /// Jacobians), for a factor whose Hessian part is kept ([`Factor::constant_jacobian`]).
+    pub fn linearize_gradient<S: GradientSink>(&self, i: usize, xi: &V7, xj: &V7, sink: &mut S) {
+        let tj = self.touches_j();
+        match self {
+            Factor::Odometry(f) => {
+                let (ji, jj) = f.jac(xi, xj);
+                sink.add_gradient(i, &f.residual(xi, xj), &ji, &jj, true);
+            }
+            Factor::YawIncrement(f) => {
+                let (ji, jj) = f.jac();
+                sink.add_gradient(i, &f.residual(xi, xj), &ji, &jj, true);
+            }
+            Factor::RandomWalk(f) => {
+                let (ji, jj) = f.jac();
+                sink.add_gradient(i, &f.residual(xi, xj), &ji, &jj, true);
+            }
+            Factor::Heading(f) => {
+                let (ji, jj) = f.jac();
+                sink.add_gradient(i, &f.residual(xi, xj), &ji, &jj, tj);
+            }
+            Factor::Depth(f) => {
+                let (ji, jj) = f.jac();
+                sink.add_gradient(i, &f.residual(xi, xj), &ji, &jj, tj);
+            }
+            Factor::Gps(f) => {
+                let r = f.residual(xi, xj);
+                let (ji, jj) = f.jac();
+                let w = f.huber_weight(r.norm()).sqrt();
+                sink.add_gradient(i, &(r * w), &ji.scaled(w), &jj.scaled(w), tj);
             }
         }
     }
@@ -596,6 +789,67 @@ mod tests {
             let (a, b) = g.jacobians();
             check(|p, q| g.residual(p, q), a, b, &xi, &xj);
         }
+    }
+
+    /// The affine gradient of depth and random-walk factors equals their per-factor gradients.
+    #[test]
+    fn affine_gradient_equals_per_factor_gradients() {
+        struct G(V7, V7);
+        impl GradientSink for G {
+            fn add_gradient<const R: usize, const CI: usize, const CJ: usize>(
+                &mut self,
+                _i: usize,
+                r: &SVector<f64, R>,
+                ji: &Jac<R, CI>,
+                jj: &Jac<R, CJ>,
+                touches_j: bool,
+            ) {
+                add_gradient(&mut self.0, ji, r);
+                if touches_j {
+                    add_gradient(&mut self.1, jj, r);
+                }
+            }
+        }
+        for seed in 0..10 {
+            let (xi, xj) = (state(seed), state(seed + 30));
+            let mut aff = AffineGradient::default();
+            let mut each = G(V7::zeros(), V7::zeros());
+            let alpha = seed as f64 / 9.0;
+            let factors = [
+                Factor::Depth(DepthObs {
+                    alpha,
+                    depth_m: 3.0 + alpha,
+                    sigma_m: 0.05,
+                }),
+                Factor::Depth(DepthObs {
+                    alpha: 0.0,
+                    depth_m: 2.5,
+                    sigma_m: 0.05,
+                }),
+                Factor::RandomWalk(RandomWalk {
+                    dt_s: 0.2,
+                    bias_rad_per_sqrt_s: 2e-5,
+                    current_mps_per_sqrt_s: 5e-4,
+                }),
+            ];
+            for f in &factors {
+                assert!(AffineGradient::takes(f) && aff.add_factor(f));
+                f.linearize_gradient(0, &xi, &xj, &mut each);
+            }
+            let (mut gi, mut gj) = (V7::zeros(), V7::zeros());
+            aff.add_to(&xi, &xj, &mut gi, Some(&mut gj));
+            for k in 0..DIM {
+                for (a, b) in [(gi[k], each.0[k]), (gj[k], each.1[k])] {
+                    assert!((a - b).abs() <= 1e-9 * (1.0 + b.abs()), "{k}: {a} vs {b}");
+                }
+            }
+        }
+        let other = Factor::YawIncrement(YawIncrement {
+            dpsi_rad: 0.1,
+            sigma_rad: 0.01,
+        });
+        assert!(!AffineGradient::takes(&other));
+        assert!(!AffineGradient::default().add_factor(&other));
     }
 
     #[test]

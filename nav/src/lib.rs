@@ -18,6 +18,7 @@
 //!   baseline, shared by the pNavGraph app and the log replay.
 #![warn(missing_docs)]
 
+mod chol;
 pub mod config;
 pub mod dead_reckoning;
 pub mod dive;

@@ -9,10 +9,13 @@
 //! and position by GPS there is no unobservable direction the mix could make look observable,
 //! and the only nonlinearity left (the heading in the odometry) is mild over a window.
 
-use crate::factors::{Factor, Jac, Sink, add_gradient, add_gram, add_outer};
-use crate::solver::Prior;
+use crate::chol::{self, Chol7};
+use crate::factors::{
+    Factor, GradientSink, Jac, PairHessian, Sink, add_gradient, add_gram, add_outer,
+};
+use crate::solver::{Prior, odometry_blocks};
 use crate::state::{M7, V7};
-use nalgebra::{Cholesky, SVector};
+use nalgebra::SVector;
 
 /// A two-keyframe system (keyframes 0 and 1) for marginalising keyframe 0.
 #[derive(Debug, Default, Clone)]
@@ -42,6 +45,37 @@ impl Sink for PairSystem {
             add_outer(&mut self.h01, ji, jj);
         }
     }
+
+    fn add_odometry(&mut self, i: usize, r: &SVector<f64, 3>, ji: &Jac<3, 6>, jj: &Jac<3, 4>) {
+        debug_assert_eq!(i, 0);
+        odometry_blocks(
+            r,
+            ji,
+            jj,
+            &mut self.h00,
+            &mut self.h11,
+            &mut self.h01,
+            &mut self.g0,
+            &mut self.g1,
+        );
+    }
+}
+
+impl GradientSink for PairSystem {
+    fn add_gradient<const R: usize, const CI: usize, const CJ: usize>(
+        &mut self,
+        i: usize,
+        r: &SVector<f64, R>,
+        ji: &Jac<R, CI>,
+        jj: &Jac<R, CJ>,
+        touches_j: bool,
+    ) {
+        debug_assert_eq!(i, 0);
+        add_gradient(&mut self.g0, ji, r);
+        if touches_j {
+            add_gradient(&mut self.g1, jj, r);
+        }
+    }
 }
 
 /// Marginalises keyframe 0 (state `x0`, carrying `prior` and `factors`) onto keyframe 1
@@ -52,18 +86,41 @@ pub fn marginalize_first<'a>(
     x1: &V7,
     factors: impl IntoIterator<Item = &'a Factor>,
 ) -> Option<Prior> {
+    marginalize_first_kept(prior, x0, x1, factors, None)
+}
+
+/// [`marginalize_first`] given the Hessian part of the factors with constant Jacobians
+/// ([`Factor::constant_jacobian`]) already assembled, when `kept` is given: those factors
+/// then add only their gradients.
+pub fn marginalize_first_kept<'a>(
+    prior: &Prior,
+    x0: &V7,
+    x1: &V7,
+    factors: impl IntoIterator<Item = &'a Factor>,
+    kept: Option<&PairHessian>,
+) -> Option<Prior> {
     let mut s = PairSystem::default();
+    if let Some(k) = kept {
+        s.h00 = k.ii;
+        s.h11 = k.jj;
+        s.h01 = k.ij;
+    }
     prior.add_to(x0, &mut s.h00, &mut s.g0);
     for f in factors {
-        f.linearize(0, x0, x1, &mut s);
+        if kept.is_some() && f.constant_jacobian() {
+            f.linearize_gradient(0, x0, x1, &mut s);
+        } else {
+            f.linearize(0, x0, x1, &mut s);
+        }
     }
-    let c = Cholesky::new(s.h00)?;
-    let w = c.solve(&s.h01);
-    let y = c.solve(&s.g0);
-    let mut h = s.h11 - s.h01.tr_mul(&w);
-    // Keep it exactly symmetric.
-    h = (h + h.transpose()) * 0.5;
-    let g = s.g1 - s.h01.tr_mul(&y);
+    // H10 H00^-1 H01 = V'V and H10 H00^-1 g0 = V'z with V = L^-1 H01, z = L^-1 g0: the
+    // result is exactly symmetric.
+    let c = Chol7::new(&s.h00)?;
+    let v = c.forward_columns(&s.h01);
+    let mut z = s.g0.data.0[0];
+    c.forward(&mut z);
+    let h = chol::sub_gram(&s.h11, &v);
+    let g = chol::sub_tr_mul(&s.g1, &v, &z);
     if !h.iter().chain(g.iter()).all(|v| v.is_finite()) {
         return None;
     }

@@ -7,7 +7,10 @@
 //! [`solve_batch`] is the same Gauss-Newton with a dense matrix over any number of keyframes:
 //! the reference the window is tested against.
 
-use crate::factors::{Factor, Jac, Sink, add_gradient, add_gram, add_outer};
+use crate::chol::{self, Chol7};
+use crate::factors::{
+    Factor, GradientSink, Jac, PairHessian, Sink, add_gradient, add_gram, add_outer,
+};
 use crate::state::{DIM, M7, V7};
 use nalgebra::{Cholesky, DMatrix, DVector, SVector};
 
@@ -63,12 +66,21 @@ pub enum SolveError {
 pub struct BlockSystem {
     /// Diagonal blocks.
     pub d: Vec<M7>,
-    /// Off-diagonal blocks: `o[k]` joins keyframes `k` and `k + 1`.
+    /// Off-diagonal blocks: `o[k]` joins keyframes `k` and `k + 1` (a solve turns it into
+    /// its `V_k`).
     pub o: Vec<M7>,
     /// Gradient blocks.
     pub g: Vec<V7>,
-    w: Vec<M7>,
-    y: Vec<V7>,
+    /// The Cholesky factors `L_k` of the Schur complements.
+    l: Vec<Chol7>,
+    /// `z_k = L_k^-1 gh_k` (`gh_k` the gradient of keyframe `k` once the older ones are
+    /// eliminated).
+    z: Vec<[f64; DIM]>,
+    /// Whether `o[k]` had the usual pattern ([`chol::OFF_DIAGONAL_START`]).
+    sparse: Vec<bool>,
+    /// Where the factor of the newest keyframe's marginal information is in `l` (last
+    /// successful solve).
+    last: Option<usize>,
 }
 
 impl BlockSystem {
@@ -82,37 +94,84 @@ impl BlockSystem {
         self.g.resize(n, V7::zeros());
     }
 
-    /// Solves `H step = -g` into `step` and returns the covariance of the last keyframe (the
-    /// inverse of its marginal information).
-    pub fn solve(&mut self, step: &mut Vec<V7>) -> Result<M7, SolveError> {
+    /// Solves `H step = -g` into `step` by block Cholesky elimination from the oldest
+    /// keyframe: with `S_0 = d[0]`, each `S_k = L_k L_k'` gives `V_k = L_k^-1 o[k]`,
+    /// `z_k = L_k^-1 gh_k` and the next Schur complement `S_k+1 = d[k+1] - V_k' V_k`
+    /// (`gh_k+1 = g[k+1] - V_k' z_k`); the steps come back from the newest,
+    /// `step_k = -L_k'^-1 (z_k + V_k step_k+1)`. The newest keyframe's marginal information is
+    /// kept for [`BlockSystem::covariance`].
+    pub fn solve(&mut self, step: &mut Vec<V7>) -> Result<(), SolveError> {
         let n = self.d.len();
         step.clear();
         step.resize(n, V7::zeros());
         if n == 0 {
-            return Ok(M7::zeros());
+            self.last = None;
+            return Ok(());
         }
-        self.w.clear();
-        self.y.clear();
+        if self.l.len() < n {
+            self.l.resize(n, Chol7::default());
+            self.z.resize(n, [0.0; DIM]);
+            self.sparse.resize(n, false);
+        }
         let mut s = self.d[0];
         let mut gh = self.g[0];
-        for k in 0..n - 1 {
-            let c = Cholesky::new(s).ok_or(SolveError::NotPositiveDefinite)?;
-            let w = c.solve(&self.o[k]);
-            let y = c.solve(&gh);
-            s = self.d[k + 1] - self.o[k].tr_mul(&w);
-            gh = self.g[k + 1] - self.o[k].tr_mul(&y);
-            self.w.push(w);
-            self.y.push(y);
+        for k in 0..n {
+            let c = &mut self.l[k];
+            if !c.factor(&s) {
+                return Err(SolveError::NotPositiveDefinite);
+            }
+            let z = &mut self.z[k];
+            *z = gh.data.0[0];
+            c.forward(z);
+            if k + 1 < n {
+                // V_k in place of o[k] (not needed after).
+                let v = &mut self.o[k];
+                // The usual pattern of the off-diagonal block skips its structural zeros
+                // (the same sums without their exact-zero terms); any other block is full.
+                let sparse = chol::has_pattern(v, &chol::OFF_DIAGONAL_START);
+                self.sparse[k] = sparse;
+                if sparse {
+                    c.forward_columns_pattern(v);
+                    chol::sub_gram_lower_pattern(&self.d[k + 1], v, &mut s);
+                    gh = chol::sub_tr_mul_pattern(&self.g[k + 1], v, z);
+                } else {
+                    let start = &chol::FULL;
+                    c.forward_columns_from(v, start);
+                    chol::sub_gram_lower_from(&self.d[k + 1], v, start, &mut s);
+                    gh = chol::sub_tr_mul_from(&self.g[k + 1], v, start, z);
+                }
+            }
         }
-        let c = Cholesky::new(s).ok_or(SolveError::NotPositiveDefinite)?;
-        step[n - 1] = -c.solve(&gh);
-        for k in (0..n - 1).rev() {
-            step[k] = -(self.y[k] + self.w[k] * step[k + 1]);
+        let mut next = V7::zeros();
+        for k in (0..n).rev() {
+            let mut x = if k + 1 < n {
+                let (z, v) = (&self.z[k], &self.o[k]);
+                if self.sparse[k] {
+                    chol::add_mul_pattern(z, v, &next)
+                } else {
+                    chol::add_mul_from(z, v, &chol::FULL, &next)
+                }
+            } else {
+                self.z[k]
+            };
+            self.l[k].backward(&mut x);
+            for e in x.iter_mut() {
+                *e = -*e;
+            }
+            next = V7::from(x);
+            step[k] = next;
         }
         if step.iter().any(|v| !v.iter().all(|e| e.is_finite())) {
             return Err(SolveError::NotPositiveDefinite);
         }
-        Ok(c.inverse())
+        self.last = Some(n - 1);
+        Ok(())
+    }
+
+    /// The covariance of the newest keyframe (the inverse of its marginal information) at
+    /// the last successful [`BlockSystem::solve`]; zero before any.
+    pub fn covariance(&self) -> M7 {
+        self.last.map_or_else(M7::zeros, |k| self.l[k].inverse())
     }
 }
 
@@ -132,6 +191,123 @@ impl Sink for BlockSystem {
             add_gradient(&mut self.g[i + 1], jj, r);
             add_outer(&mut self.o[i], ji, jj);
         }
+    }
+
+    fn add_odometry(&mut self, i: usize, r: &SVector<f64, 3>, ji: &Jac<3, 6>, jj: &Jac<3, 4>) {
+        let (d0, d1) = self.d.split_at_mut(i + 1);
+        let (g0, g1) = self.g.split_at_mut(i + 1);
+        odometry_blocks(
+            r,
+            ji,
+            jj,
+            &mut d0[i],
+            &mut d1[0],
+            &mut self.o[i],
+            &mut g0[i],
+            &mut g1[0],
+        );
+    }
+}
+
+/// The odometry's normal-equation entries from the non-zero entries of its Jacobians (see
+/// [`Sink::add_odometry`]): each the dot product the full Jacobians give, with the same
+/// order of sums (`(a + b) + c`, the terms that are exact zeros left out), so the same bits.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn odometry_blocks(
+    r: &SVector<f64, 3>,
+    ji: &Jac<3, 6>,
+    jj: &Jac<3, 4>,
+    di: &mut M7,
+    dj: &mut M7,
+    o: &mut M7,
+    gi: &mut V7,
+    gj: &mut V7,
+) {
+    use crate::state::{CX, CY, PSI};
+    debug_assert_eq!(ji.cols, [0, 1, 2, PSI, CX, CY]);
+    debug_assert_eq!(jj.cols, [0, 1, 2, PSI]);
+    let (mi, mj) = (&ji.m, &jj.m);
+    let a = [mi[(0, 0)], mi[(1, 1)], mi[(2, 2)]];
+    let p = [mi[(0, 3)], mi[(1, 3)], mi[(2, 3)]];
+    let (c0, c1) = (mi[(0, 4)], mi[(1, 5)]);
+    let b = [mj[(0, 0)], mj[(1, 1)], mj[(2, 2)]];
+    let q = [mj[(0, 3)], mj[(1, 3)], mj[(2, 3)]];
+    let dot = |u: &[f64; 3], v: &[f64; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+    let rv = [r[0], r[1], r[2]];
+    for k in 0..3 {
+        di[(k, k)] += a[k] * a[k];
+        let e = a[k] * p[k];
+        di[(k, PSI)] += e;
+        di[(PSI, k)] += e;
+        dj[(k, k)] += b[k] * b[k];
+        let e = b[k] * q[k];
+        dj[(k, PSI)] += e;
+        dj[(PSI, k)] += e;
+        o[(k, k)] += a[k] * b[k];
+        o[(k, PSI)] += a[k] * q[k];
+        o[(PSI, k)] += p[k] * b[k];
+        gi[k] += a[k] * rv[k];
+        gj[k] += b[k] * rv[k];
+    }
+    di[(PSI, PSI)] += dot(&p, &p);
+    let e = a[0] * c0;
+    di[(0, CX)] += e;
+    di[(CX, 0)] += e;
+    let e = p[0] * c0;
+    di[(PSI, CX)] += e;
+    di[(CX, PSI)] += e;
+    di[(CX, CX)] += c0 * c0;
+    let e = a[1] * c1;
+    di[(1, CY)] += e;
+    di[(CY, 1)] += e;
+    let e = p[1] * c1;
+    di[(PSI, CY)] += e;
+    di[(CY, PSI)] += e;
+    di[(CY, CY)] += c1 * c1;
+    dj[(PSI, PSI)] += dot(&q, &q);
+    o[(PSI, PSI)] += dot(&p, &q);
+    o[(CX, 0)] += c0 * b[0];
+    o[(CX, PSI)] += c0 * q[0];
+    o[(CY, 1)] += c1 * b[1];
+    o[(CY, PSI)] += c1 * q[1];
+    gi[PSI] += dot(&p, &rv);
+    gi[CX] += c0 * rv[0];
+    gi[CY] += c1 * rv[1];
+    gj[PSI] += dot(&q, &rv);
+}
+
+impl GradientSink for BlockSystem {
+    fn add_gradient<const R: usize, const CI: usize, const CJ: usize>(
+        &mut self,
+        i: usize,
+        r: &SVector<f64, R>,
+        ji: &Jac<R, CI>,
+        jj: &Jac<R, CJ>,
+        touches_j: bool,
+    ) {
+        add_gradient(&mut self.g[i], ji, r);
+        if touches_j {
+            add_gradient(&mut self.g[i + 1], jj, r);
+        }
+    }
+}
+
+impl BlockSystem {
+    /// Starts the system for the keyframes of `pairs` (one per keyframe, oldest first) from
+    /// their intervals' kept Hessian parts: `d[k] = jj[k-1] + ii[k]`, `o[k] = ij[k]` (the
+    /// newest keyframe's `jj` and `ij` have no interval and are left out), zero gradients.
+    pub fn reset_with<'a>(&mut self, pairs: impl Iterator<Item = &'a PairHessian>) {
+        self.d.clear();
+        self.o.clear();
+        self.g.clear();
+        let mut carry: Option<&M7> = None;
+        for p in pairs {
+            self.d.push(carry.map_or(p.ii, |jj| jj + p.ii));
+            self.o.push(p.ij);
+            self.g.push(V7::zeros());
+            carry = Some(&p.jj);
+        }
+        self.o.pop();
     }
 }
 
@@ -359,7 +535,8 @@ mod tests {
             }
         }
         let mut step = Vec::new();
-        let cov = bs.solve(&mut step).unwrap();
+        bs.solve(&mut step).unwrap();
+        let cov = bs.covariance();
         let full = ds.h.clone().cholesky().unwrap();
         let dense = -full.solve(&ds.g);
         let inv = full.inverse();

@@ -32,6 +32,10 @@ pub const CY: usize = 6;
 
 /// Wraps an angle to (-pi, pi].
 pub fn wrap_pi(a: f64) -> f64 {
+    // Most angles are already in range (and come back unchanged, not through a + 2 pi - 2 pi).
+    if a > -std::f64::consts::PI && a <= std::f64::consts::PI {
+        return a;
+    }
     let tau = std::f64::consts::TAU;
     let mut w = a.rem_euclid(tau);
     if w > std::f64::consts::PI {

@@ -32,8 +32,11 @@
 
 use crate::config::NavConfig;
 use crate::dive::{DiveReport, DiveTracker};
-use crate::factors::{DepthObs, Factor, GpsPosition, Heading, Odometry, RandomWalk, YawIncrement};
-use crate::marginal::marginalize_first;
+use crate::factors::{
+    AffineGradient, DepthObs, Factor, GpsPosition, Heading, Odometry, PairHessian, RandomWalk,
+    YawIncrement,
+};
+use crate::marginal::marginalize_first_kept;
 use crate::measurements::{
     Attitude, Depth, DvlVelocity, GpsFix, GyroRates, Rejection, RejectionCounters, Sensor,
     VelocityReference,
@@ -120,6 +123,18 @@ struct Keyframe {
     sigma_v: f64,
     /// Factors whose first keyframe is this one.
     factors: Vec<Factor>,
+    /// The Hessian part of `factors` with constant Jacobians, once assembled (`None` after a
+    /// factor is added).
+    kept: Option<PairHessian>,
+    /// The gradient of its depth and random-walk factors, kept with `kept`.
+    affine: AffineGradient,
+}
+
+impl Keyframe {
+    fn push(&mut self, f: Factor) {
+        self.factors.push(f);
+        self.kept = None;
+    }
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -482,6 +497,8 @@ impl Navigator {
             water,
             sigma_v,
             factors,
+            kept: None,
+            affine: AffineGradient::default(),
         });
         self.keyframes += 1;
         self.cov = M7::zeros();
@@ -611,7 +628,7 @@ impl Navigator {
         if same >= self.cfg.max_per_interval {
             return self.reject(s, Rejection::Crowded);
         }
-        kf.factors.push(f);
+        kf.push(f);
         Ok(())
     }
 
@@ -681,10 +698,10 @@ impl Navigator {
             current_mps_per_sqrt_s: self.cfg.current_rw_mps_per_sqrt_s,
         };
         let prev = self.window.back_mut().expect("checked above");
-        prev.factors.push(Factor::Odometry(odo));
-        prev.factors.push(Factor::RandomWalk(rw));
+        prev.push(Factor::Odometry(odo));
+        prev.push(Factor::RandomWalk(rw));
         if let Some(d) = dpsi {
-            prev.factors.push(Factor::YawIncrement(YawIncrement {
+            prev.push(Factor::YawIncrement(YawIncrement {
                 dpsi_rad: d,
                 sigma_rad: gyro_sigma.max(1e-5),
             }));
@@ -700,6 +717,8 @@ impl Navigator {
             water,
             sigma_v,
             factors,
+            kept: None,
+            affine: AffineGradient::default(),
         });
         self.keyframes += 1;
         // Measurements that were waiting for this keyframe.
@@ -732,8 +751,24 @@ impl Navigator {
 
     fn solve(&mut self) {
         let n = self.window.len();
+        let mut solved = false;
         for _ in 0..self.cfg.max_iterations.max(1) {
-            self.sys.reset(n);
+            // The Hessian part of the factors with constant Jacobians is assembled once per
+            // interval (until a factor is added); their gradients at every iteration.
+            for (k, kf) in self.window.iter_mut().enumerate() {
+                if kf.kept.is_none() {
+                    let mut h = PairHessian::default();
+                    let mut a = AffineGradient::default();
+                    for f in kf.factors.iter().filter(|f| f.constant_jacobian()) {
+                        f.linearize(k, &kf.x, &kf.x, &mut h);
+                        a.add_factor(f);
+                    }
+                    kf.kept = Some(h);
+                    kf.affine = a;
+                }
+            }
+            self.sys
+                .reset_with(self.window.iter().filter_map(|kf| kf.kept.as_ref()));
             {
                 let k0 = &self.window[0];
                 self.prior
@@ -742,14 +777,27 @@ impl Navigator {
             for k in 0..n {
                 let xi = self.window[k].x;
                 let xj = if k + 1 < n { self.window[k + 1].x } else { xi };
+                {
+                    let (g0, g1) = self.sys.g.split_at_mut(k + 1);
+                    self.window[k]
+                        .affine
+                        .add_to(&xi, &xj, &mut g0[k], g1.first_mut());
+                }
                 for f in &self.window[k].factors {
-                    f.linearize(k, &xi, &xj, &mut self.sys);
+                    if AffineGradient::takes(f) {
+                        continue;
+                    }
+                    if f.constant_jacobian() {
+                        f.linearize_gradient(k, &xi, &xj, &mut self.sys);
+                    } else {
+                        f.linearize(k, &xi, &xj, &mut self.sys);
+                    }
                 }
             }
             match self.sys.solve(&mut self.step) {
-                Ok(cov) => {
+                Ok(()) => {
                     self.solver_failed = false;
-                    self.cov = cov;
+                    solved = true;
                     let mut biggest: f64 = 0.0;
                     for (kf, d) in self.window.iter_mut().zip(&self.step) {
                         kf.x += d;
@@ -765,6 +813,10 @@ impl Navigator {
                 }
             }
         }
+        // The newest keyframe's covariance at the last successful iteration, inverted once.
+        if solved {
+            self.cov = self.sys.covariance();
+        }
     }
 
     fn marginalise_oldest(&mut self) {
@@ -774,7 +826,13 @@ impl Navigator {
         let Some(next) = self.window.front() else {
             return;
         };
-        let prior = marginalize_first(&self.prior, &old.x, &next.x, &old.factors);
+        let prior = marginalize_first_kept(
+            &self.prior,
+            &old.x,
+            &next.x,
+            &old.factors,
+            old.kept.as_ref(),
+        );
         self.prior = prior.unwrap_or_else(|| {
             self.solver_failed = true;
             let mut s = [0.0; 7];
