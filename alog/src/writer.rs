@@ -142,6 +142,12 @@ impl<W: Write> AlogWriter<W> {
         r
     }
 
+    /// Hands the buffered lines to the underlying writer without flushing it (pLogger does
+    /// so after each batch of mail: the writer then holds every record logged so far).
+    pub fn pass_on(&mut self) -> io::Result<()> {
+        self.write_buffered()
+    }
+
     /// Writes the buffered lines and flushes the underlying writer.
     pub fn flush(&mut self) -> io::Result<()> {
         self.write_buffered()?;
@@ -646,6 +652,9 @@ mod tests {
         );
         assert!(w.get_ref().len() >= AlogWriter::<Vec<u8>>::CHUNK);
         w.record(12.0, "B", "s", LogValue::String("x")).unwrap();
+        let before = w.get_ref().len();
+        w.pass_on().unwrap();
+        assert_eq!(w.get_ref().len() - before, 56, "passed on, not held");
         let mut out = Vec::new();
         {
             let mut w2 = AlogWriter::headless(&mut out, 0.0, false);

@@ -977,6 +977,15 @@ impl<W: Write + Send + 'static> App for Logger<W> {
                 self.copy_requested(path.trim());
             }
         }
+        // The batch's lines reach the sink now (the writer formats into its own buffer).
+        if let Some(w) = self.writer.as_mut() {
+            let r = w.pass_on();
+            self.note(r);
+        }
+        if let Some(x) = self.xlog.as_mut() {
+            let r = x.pass_on();
+            self.note(r);
+        }
         self.failure()
     }
 
