@@ -45,6 +45,10 @@
 //! resident set from before loading to its peak, over N; the alogs go to a temporary folder
 //! and are removed, or to `$FLEET_SCALE_KEEP_LOGS` and are kept).
 
+/// The `coug` binary's allocator (see its `main.rs`), so the figures are those of `coug run`.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
