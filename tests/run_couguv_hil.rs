@@ -227,6 +227,26 @@ fn couguv_hardware_form_completes_its_survey_against_the_emulators() {
     // The dives reached the survey depth and never the guard's.
     let max_depth = depths(&log).iter().fold(0.0f64, |m, p| m.max(p.1));
     assert!((2.5..5.0).contains(&max_depth), "max depth {max_depth}");
+    // The navigator's uncertainty stays physical however the run was starved: a stall used to
+    // leave dead-reckoning keyframes with free headings (NAV_POS_STD 1e5-1e7 m, see
+    // nav/tests/stall_burst.rs). Its prior is 10 m; a dive of ~2 minutes adds a few metres.
+    let pos_std: Vec<f64> = log
+        .entries
+        .iter()
+        .filter(|e| e.var == "NAV_POS_STD")
+        .filter_map(|e| e.value.as_f64())
+        .collect();
+    let max_pos_std = pos_std.iter().fold(0.0f64, |m, v| m.max(*v));
+    assert!(
+        !pos_std.is_empty() && pos_std.iter().all(|v| v.is_finite()) && max_pos_std < 100.0,
+        "NAV_POS_STD up to {max_pos_std} m"
+    );
+    let solver_failures = log
+        .entries
+        .iter()
+        .filter(|e| e.var == "NAV_STATUS" && e.value.as_str() == Some("degraded: solver failure"))
+        .count();
+    assert_eq!(solver_failures, 0, "pNavGraph's solver failed");
 
     // Navigation at each resurfacing: the estimate just before the first GPS fix after the
     // dive, against the truth. Bound: 2 m + 5 % of the distance dived. Dead reckoning on the
@@ -278,6 +298,10 @@ fn couguv_hardware_form_completes_its_survey_against_the_emulators() {
     // The figures.
     println!("{summary}");
     println!("wall time of the run: {wall_s:.1} s (warp {WARP}), simulated {sim_s:.1} s");
+    println!(
+        "NAV_POS_STD: largest {max_pos_std:.2} m over {} postings",
+        pos_std.len()
+    );
     print!("{}", figures.report());
     for (v, lines, bytes) in &throughput {
         println!(
