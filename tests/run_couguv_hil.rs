@@ -227,6 +227,27 @@ fn couguv_hardware_form_completes_its_survey_against_the_emulators() {
     // The dives reached the survey depth and never the guard's.
     let max_depth = depths(&log).iter().fold(0.0f64, |m, p| m.max(p.1));
     assert!((2.5..5.0).contains(&max_depth), "max depth {max_depth}");
+    // The navigator's uncertainty stays physical however the run was starved: a stall used to
+    // leave dead-reckoning keyframes with free headings (NAV_POS_STD 1e5-1e7 m, see
+    // nav/tests/stall_burst.rs). Its prior is 10 m; a dive of ~2 minutes adds a few metres.
+    let (mut postings, mut max_pos_std) = (0usize, 0.0f64);
+    for e in log.entries.iter().filter(|e| e.var == "NAV_POS_STD") {
+        let v = e.value.as_f64().unwrap_or(f64::NAN);
+        assert!(
+            v.is_finite() && v < 100.0,
+            "NAV_POS_STD {v} m at {}",
+            e.time
+        );
+        postings += 1;
+        max_pos_std = max_pos_std.max(v);
+    }
+    assert!(postings > 0, "NAV_POS_STD never posted");
+    let solver_failures = log
+        .entries
+        .iter()
+        .filter(|e| e.var == "NAV_STATUS" && e.value.as_str() == Some("degraded: solver failure"))
+        .count();
+    assert_eq!(solver_failures, 0, "pNavGraph's solver failed");
 
     // Navigation at each resurfacing: the estimate just before the first GPS fix after the
     // dive, against the truth. Bound: 2 m + 5 % of the distance dived. Dead reckoning on the
@@ -278,6 +299,7 @@ fn couguv_hardware_form_completes_its_survey_against_the_emulators() {
     // The figures.
     println!("{summary}");
     println!("wall time of the run: {wall_s:.1} s (warp {WARP}), simulated {sim_s:.1} s");
+    println!("NAV_POS_STD: largest {max_pos_std:.2} m over {postings} postings");
     print!("{}", figures.report());
     for (v, lines, bytes) in &throughput {
         println!(

@@ -11,6 +11,14 @@
 
 use crate::state::{DIM, M7, V7};
 
+/// `$s.$f::<I>($args)` for each constant `I` listed, in that order, joined by `$op` (`;` for
+/// statements, `&&` to stop at the first false): each call's loops have fixed bounds.
+macro_rules! per_index {
+    ($s:ident . $f:ident ($arg:expr), $op:tt, $first:literal $($i:literal)*) => {
+        $s.$f::<$first>($arg) $($op $s.$f::<$i>($arg))*
+    };
+}
+
 /// The lower Cholesky factor `L` of a symmetric positive definite 7x7 block (`S = L L'`),
 /// row-major, with the reciprocals of its diagonal (substitution multiplies by them).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -34,13 +42,7 @@ impl Chol7 {
     #[inline]
     pub(crate) fn factor(&mut self, s: &M7) -> bool {
         // One call per column, each with fixed loop bounds (unrolled).
-        self.factor_column::<0>(s)
-            && self.factor_column::<1>(s)
-            && self.factor_column::<2>(s)
-            && self.factor_column::<3>(s)
-            && self.factor_column::<4>(s)
-            && self.factor_column::<5>(s)
-            && self.factor_column::<6>(s)
+        per_index!(self.factor_column(s), &&, 0 1 2 3 4 5 6)
     }
 
     /// Column `J` of the factor (the columns before it done).
@@ -71,13 +73,7 @@ impl Chol7 {
     /// `b <- L^-1 b`.
     #[inline(always)]
     pub(crate) fn forward(&self, b: &mut [f64; DIM]) {
-        self.forward_row::<0>(b);
-        self.forward_row::<1>(b);
-        self.forward_row::<2>(b);
-        self.forward_row::<3>(b);
-        self.forward_row::<4>(b);
-        self.forward_row::<5>(b);
-        self.forward_row::<6>(b);
+        per_index!(self.forward_row(b), ;, 0 1 2 3 4 5 6);
     }
 
     /// Row `I` of the forward substitution.
@@ -93,13 +89,7 @@ impl Chol7 {
     /// `b <- L'^-1 b`.
     #[inline]
     pub(crate) fn backward(&self, b: &mut [f64; DIM]) {
-        self.backward_row::<6>(b);
-        self.backward_row::<5>(b);
-        self.backward_row::<4>(b);
-        self.backward_row::<3>(b);
-        self.backward_row::<2>(b);
-        self.backward_row::<1>(b);
-        self.backward_row::<0>(b);
+        per_index!(self.backward_row(b), ;, 6 5 4 3 2 1 0);
     }
 
     /// Row `I` of the backward substitution.

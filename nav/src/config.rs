@@ -11,6 +11,10 @@
 //!   10/12/30 m came with a GPS that was also used underwater-adjacent (z > -0.25 m) and no gate.
 //! - Heading bias prior 5 degrees ("within several degrees" for calibrated MEMS compasses),
 //!   current prior 0.3 m/s.
+//! - Unmeasured yaw rate 20 deg/s, for an interval with no gyro sample (the AHRS silent, or its
+//!   lines held up by a stalled driver): Gen-2 refuses a keyframe without IMU data before it;
+//!   here the dead-reckoning timer's keyframe is kept and its heading change bounded by a
+//!   generous turn rate for a 1.5 m/s torpedo-shaped vehicle, so its heading is never free.
 
 /// Settings of [`crate::Navigator`].
 #[derive(Debug, Clone, PartialEq)]
@@ -42,6 +46,11 @@ pub struct NavConfig {
     pub yaw_sigma_rad: f64,
     /// Gyro heading-increment noise, rad per square-root second.
     pub gyro_sigma_rad_per_sqrt_s: f64,
+    /// Yaw rate standard deviation, rad/s, for an interval no gyro sample covers (the AHRS and
+    /// the gyro silent, as while the drivers' lines are held up): the heading increment is then
+    /// `0 +- this * dt`, so the heading of a dead-reckoning keyframe is never left free (a free
+    /// heading made the window singular and its covariance meaningless).
+    pub unmeasured_yaw_rate_sigma_radps: f64,
     /// Depth standard deviation, m.
     pub depth_sigma_m: f64,
     /// Largest depth rate accepted between two depths, m/s (a larger step is a jump).
@@ -109,6 +118,7 @@ impl Default for NavConfig {
             dr_sigma_mps: 0.3,
             yaw_sigma_rad: 1.0f64.to_radians(),
             gyro_sigma_rad_per_sqrt_s: 0.005,
+            unmeasured_yaw_rate_sigma_radps: 20f64.to_radians(),
             depth_sigma_m: 0.05,
             depth_max_rate_mps: 3.0,
             gps_sigma_m: 1.5,

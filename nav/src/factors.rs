@@ -98,38 +98,175 @@ pub fn add_gradient<const R: usize, const C: usize>(
     }
 }
 
-/// Receives linearised factors: the whitened residual and its Jacobians on `i` and `i + 1`.
-pub trait Sink {
-    /// Adds one factor of `R` rows on keyframes `i` (and `i + 1` when `touches_j`).
-    fn add<const R: usize, const CI: usize, const CJ: usize>(
-        &mut self,
-        i: usize,
-        r: &SVector<f64, R>,
-        ji: &Jac<R, CI>,
-        jj: &Jac<R, CJ>,
-        touches_j: bool,
-    );
+/// One linearised factor: its whitened residual and its Jacobians on keyframes `i` and
+/// `i + 1` (on their non-zero columns); a factor with `touches_j` false is on `i` only (its
+/// `jj` is zero).
+#[derive(Debug, Clone, Copy)]
+pub struct Linearized<'a, const R: usize, const CI: usize, const CJ: usize> {
+    /// The first keyframe.
+    pub i: usize,
+    /// The whitened residual.
+    pub r: &'a SVector<f64, R>,
+    /// The Jacobian on `i`.
+    pub ji: &'a Jac<R, CI>,
+    /// The Jacobian on `i + 1`.
+    pub jj: &'a Jac<R, CJ>,
+    /// Whether the factor involves `i + 1`.
+    pub touches_j: bool,
+}
 
-    /// Adds an odometry factor ([`Odometry::jac`]'s Jacobians, whose only non-zero entries
-    /// are the first three columns' diagonals, the heading column and, on `i`, the current's
-    /// two entries). The default is [`Sink::add`]; a sink may use the pattern.
+/// Receives linearised factors.
+pub trait Sink {
+    /// Adds one factor of `R` rows.
+    fn add<const R: usize, const CI: usize, const CJ: usize>(&mut self, f: &Linearized<R, CI, CJ>);
+
+    /// Adds an odometry factor on `i` and `i + 1` ([`Odometry::jac`]'s Jacobians, whose only
+    /// non-zero entries are the first three columns' diagonals, the heading column and, on
+    /// `i`, the current's two entries). The default is [`Sink::add`]; a sink may use the
+    /// pattern.
     fn add_odometry(&mut self, i: usize, r: &SVector<f64, 3>, ji: &Jac<3, 6>, jj: &Jac<3, 4>) {
-        self.add(i, r, ji, jj, true);
+        self.add(&Linearized {
+            i,
+            r,
+            ji,
+            jj,
+            touches_j: true,
+        });
     }
 }
 
-/// Receives only the gradient part of linearised factors (`J' r` on `i` and `i + 1`), for
-/// factors whose Hessian part `J' J` is assembled once ([`Factor::constant_jacobian`]).
-pub trait GradientSink {
-    /// Adds one factor's gradient on keyframes `i` (and `i + 1` when `touches_j`).
-    fn add_gradient<const R: usize, const CI: usize, const CJ: usize>(
-        &mut self,
-        i: usize,
-        r: &SVector<f64, R>,
-        ji: &Jac<R, CI>,
-        jj: &Jac<R, CJ>,
-        touches_j: bool,
-    );
+/// The five blocks of the normal equations one interval (keyframes `i` and `j = i + 1`)
+/// writes into.
+#[derive(Debug)]
+pub struct IntervalBlocks<'a> {
+    /// The diagonal block of `i`.
+    pub di: &'a mut M7,
+    /// The diagonal block of `j`.
+    pub dj: &'a mut M7,
+    /// The off-diagonal block joining `i` and `j` (row `i`, column `j`).
+    pub o: &'a mut M7,
+    /// The gradient of `i`.
+    pub gi: &'a mut V7,
+    /// The gradient of `j`.
+    pub gj: &'a mut V7,
+}
+
+/// Normal equations kept as 7x7 blocks, per keyframe (diagonal block and gradient) and per
+/// interval (the off-diagonal block): the window's [`crate::solver::BlockSystem`] and the
+/// marginalisation's pair. Every such store is a [`Sink`] (factors assembled with
+/// [`add_gram`], [`add_outer`] and [`add_gradient`], the odometry by its pattern), and
+/// [`GradientOnly`] of one a sink of the gradients alone.
+pub trait Blocks {
+    /// The diagonal block and the gradient of keyframe `k`.
+    fn keyframe(&mut self, k: usize) -> (&mut M7, &mut V7);
+    /// The off-diagonal block joining keyframes `i` and `i + 1`.
+    fn off_diagonal(&mut self, i: usize) -> &mut M7;
+    /// All the blocks of the interval from keyframe `i`.
+    fn interval(&mut self, i: usize) -> IntervalBlocks<'_>;
+}
+
+/// Adds a linearised factor to blocks: its gradient `J' r`, and its Hessian part `J' J`
+/// when `HESSIAN`.
+#[inline(always)]
+fn assemble<
+    B: Blocks + ?Sized,
+    const HESSIAN: bool,
+    const R: usize,
+    const CI: usize,
+    const CJ: usize,
+>(
+    b: &mut B,
+    f: &Linearized<R, CI, CJ>,
+) {
+    let (d, g) = b.keyframe(f.i);
+    if HESSIAN {
+        add_gram(d, f.ji);
+    }
+    add_gradient(g, f.ji, f.r);
+    if f.touches_j {
+        let (d, g) = b.keyframe(f.i + 1);
+        if HESSIAN {
+            add_gram(d, f.jj);
+        }
+        add_gradient(g, f.jj, f.r);
+        if HESSIAN {
+            add_outer(b.off_diagonal(f.i), f.ji, f.jj);
+        }
+    }
+}
+
+impl<B: Blocks> Sink for B {
+    #[inline]
+    fn add<const R: usize, const CI: usize, const CJ: usize>(&mut self, f: &Linearized<R, CI, CJ>) {
+        assemble::<B, true, R, CI, CJ>(self, f);
+    }
+
+    #[inline]
+    fn add_odometry(&mut self, i: usize, r: &SVector<f64, 3>, ji: &Jac<3, 6>, jj: &Jac<3, 4>) {
+        odometry_blocks(r, ji, jj, self.interval(i));
+    }
+}
+
+/// The gradient part alone (`J' r`) of the factors added to it, into the blocks' gradients,
+/// for factors whose Hessian part is kept ([`Factor::constant_jacobian`]).
+#[derive(Debug)]
+pub struct GradientOnly<'a, B: ?Sized>(pub &'a mut B);
+
+impl<B: Blocks + ?Sized> Sink for GradientOnly<'_, B> {
+    #[inline]
+    fn add<const R: usize, const CI: usize, const CJ: usize>(&mut self, f: &Linearized<R, CI, CJ>) {
+        assemble::<B, false, R, CI, CJ>(self.0, f);
+    }
+}
+
+/// The odometry's normal-equation entries from the non-zero entries of its Jacobians (see
+/// [`Sink::add_odometry`]): each the dot product the full Jacobians give, with the same
+/// order of sums (`(a + b) + c`, the terms that are exact zeros left out), so the same bits.
+fn odometry_blocks(r: &SVector<f64, 3>, ji: &Jac<3, 6>, jj: &Jac<3, 4>, b: IntervalBlocks<'_>) {
+    debug_assert_eq!(ji.cols, [0, 1, 2, PSI, CX, CY]);
+    debug_assert_eq!(jj.cols, [0, 1, 2, PSI]);
+    let IntervalBlocks { di, dj, o, gi, gj } = b;
+    let (mi, mj) = (&ji.m, &jj.m);
+    let a = [mi[(0, 0)], mi[(1, 1)], mi[(2, 2)]];
+    let p = [mi[(0, 3)], mi[(1, 3)], mi[(2, 3)]];
+    let (c0, c1) = (mi[(0, 4)], mi[(1, 5)]);
+    let b = [mj[(0, 0)], mj[(1, 1)], mj[(2, 2)]];
+    let q = [mj[(0, 3)], mj[(1, 3)], mj[(2, 3)]];
+    let dot = |u: &[f64; 3], v: &[f64; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+    let rv = [r[0], r[1], r[2]];
+    for k in 0..3 {
+        di[(k, k)] += a[k] * a[k];
+        let e = a[k] * p[k];
+        di[(k, PSI)] += e;
+        di[(PSI, k)] += e;
+        dj[(k, k)] += b[k] * b[k];
+        let e = b[k] * q[k];
+        dj[(k, PSI)] += e;
+        dj[(PSI, k)] += e;
+        o[(k, k)] += a[k] * b[k];
+        o[(k, PSI)] += a[k] * q[k];
+        o[(PSI, k)] += p[k] * b[k];
+        gi[k] += a[k] * rv[k];
+        gj[k] += b[k] * rv[k];
+    }
+    di[(PSI, PSI)] += dot(&p, &p);
+    // The current's two entries on i, each on its own axis.
+    for (k, c, w) in [(0, CX, c0), (1, CY, c1)] {
+        let e = a[k] * w;
+        di[(k, c)] += e;
+        di[(c, k)] += e;
+        let e = p[k] * w;
+        di[(PSI, c)] += e;
+        di[(c, PSI)] += e;
+        di[(c, c)] += w * w;
+        o[(c, k)] += w * b[k];
+        o[(c, PSI)] += w * q[k];
+        gi[c] += w * rv[k];
+    }
+    dj[(PSI, PSI)] += dot(&q, &q);
+    o[(PSI, PSI)] += dot(&p, &q);
+    gi[PSI] += dot(&p, &rv);
+    gj[PSI] += dot(&q, &rv);
 }
 
 /// The Hessian part `J' J` of the factors of one interval (keyframes `i` and `j = i + 1`):
@@ -157,18 +294,11 @@ impl Default for PairHessian {
 }
 
 impl Sink for PairHessian {
-    fn add<const R: usize, const CI: usize, const CJ: usize>(
-        &mut self,
-        _i: usize,
-        _r: &SVector<f64, R>,
-        ji: &Jac<R, CI>,
-        jj: &Jac<R, CJ>,
-        touches_j: bool,
-    ) {
-        add_gram(&mut self.ii, ji);
-        if touches_j {
-            add_gram(&mut self.jj, jj);
-            add_outer(&mut self.ij, ji, jj);
+    fn add<const R: usize, const CI: usize, const CJ: usize>(&mut self, f: &Linearized<R, CI, CJ>) {
+        add_gram(&mut self.ii, f.ji);
+        if f.touches_j {
+            add_gram(&mut self.jj, f.jj);
+            add_outer(&mut self.ij, f.ji, f.jj);
         }
     }
 }
@@ -562,8 +692,19 @@ impl Factor {
 
     /// Linearises the factor at `xi`, `xj` into `sink` (keyframe index `i`). `xj` is ignored
     /// when the factor does not touch `j`.
-    pub fn linearize<S: Sink>(&self, i: usize, xi: &V7, xj: &V7, sink: &mut S) {
-        let tj = self.touches_j();
+    pub fn linearize<S: Sink + ?Sized>(&self, i: usize, xi: &V7, xj: &V7, sink: &mut S) {
+        let touches_j = self.touches_j();
+        macro_rules! add {
+            ($r:expr, $ji:expr, $jj:expr) => {
+                sink.add(&Linearized {
+                    i,
+                    r: &$r,
+                    ji: &$ji,
+                    jj: &$jj,
+                    touches_j,
+                })
+            };
+        }
         match self {
             Factor::Odometry(f) => {
                 let (r, ji, jj) = f.linearized(xi, xj);
@@ -571,25 +712,25 @@ impl Factor {
             }
             Factor::YawIncrement(f) => {
                 let (ji, jj) = f.jac();
-                sink.add(i, &f.residual(xi, xj), &ji, &jj, true);
+                add!(f.residual(xi, xj), ji, jj);
             }
             Factor::RandomWalk(f) => {
                 let (ji, jj) = f.jac();
-                sink.add(i, &f.residual(xi, xj), &ji, &jj, true);
+                add!(f.residual(xi, xj), ji, jj);
             }
             Factor::Heading(f) => {
                 let (ji, jj) = f.jac();
-                sink.add(i, &f.residual(xi, xj), &ji, &jj, tj);
+                add!(f.residual(xi, xj), ji, jj);
             }
             Factor::Depth(f) => {
                 let (ji, jj) = f.jac();
-                sink.add(i, &f.residual(xi, xj), &ji, &jj, tj);
+                add!(f.residual(xi, xj), ji, jj);
             }
             Factor::Gps(f) => {
                 let r = f.residual(xi, xj);
                 let (ji, jj) = f.jac();
                 let w = f.huber_weight(r.norm()).sqrt();
-                sink.add(i, &(r * w), &ji.scaled(w), &jj.scaled(w), tj);
+                add!(r * w, ji.scaled(w), jj.scaled(w));
             }
         }
     }
@@ -606,37 +747,16 @@ impl Factor {
     }
 
     /// The gradient part of [`Factor::linearize`] alone (`J' r`: the same residual and
-    /// Jacobians), for a factor whose Hessian part is kept ([`Factor::constant_jacobian`]).
-    pub fn linearize_gradient<S: GradientSink>(&self, i: usize, xi: &V7, xj: &V7, sink: &mut S) {
-        let tj = self.touches_j();
-        match self {
-            Factor::Odometry(f) => {
-                let (ji, jj) = f.jac(xi, xj);
-                sink.add_gradient(i, &f.residual(xi, xj), &ji, &jj, true);
-            }
-            Factor::YawIncrement(f) => {
-                let (ji, jj) = f.jac();
-                sink.add_gradient(i, &f.residual(xi, xj), &ji, &jj, true);
-            }
-            Factor::RandomWalk(f) => {
-                let (ji, jj) = f.jac();
-                sink.add_gradient(i, &f.residual(xi, xj), &ji, &jj, true);
-            }
-            Factor::Heading(f) => {
-                let (ji, jj) = f.jac();
-                sink.add_gradient(i, &f.residual(xi, xj), &ji, &jj, tj);
-            }
-            Factor::Depth(f) => {
-                let (ji, jj) = f.jac();
-                sink.add_gradient(i, &f.residual(xi, xj), &ji, &jj, tj);
-            }
-            Factor::Gps(f) => {
-                let r = f.residual(xi, xj);
-                let (ji, jj) = f.jac();
-                let w = f.huber_weight(r.norm()).sqrt();
-                sink.add_gradient(i, &(r * w), &ji.scaled(w), &jj.scaled(w), tj);
-            }
-        }
+    /// Jacobians) into `blocks`' gradients, for a factor whose Hessian part is kept
+    /// ([`Factor::constant_jacobian`]).
+    pub fn linearize_gradient<B: Blocks + ?Sized>(
+        &self,
+        i: usize,
+        xi: &V7,
+        xj: &V7,
+        blocks: &mut B,
+    ) {
+        self.linearize(i, xi, xj, &mut GradientOnly(blocks));
     }
 
     /// The robust cost of the factor (half the squared whitened residual, Huber for GPS).
@@ -794,26 +914,11 @@ mod tests {
     /// The affine gradient of depth and random-walk factors equals their per-factor gradients.
     #[test]
     fn affine_gradient_equals_per_factor_gradients() {
-        struct G(V7, V7);
-        impl GradientSink for G {
-            fn add_gradient<const R: usize, const CI: usize, const CJ: usize>(
-                &mut self,
-                _i: usize,
-                r: &SVector<f64, R>,
-                ji: &Jac<R, CI>,
-                jj: &Jac<R, CJ>,
-                touches_j: bool,
-            ) {
-                add_gradient(&mut self.0, ji, r);
-                if touches_j {
-                    add_gradient(&mut self.1, jj, r);
-                }
-            }
-        }
         for seed in 0..10 {
             let (xi, xj) = (state(seed), state(seed + 30));
             let mut aff = AffineGradient::default();
-            let mut each = G(V7::zeros(), V7::zeros());
+            let mut each = crate::solver::BlockSystem::default();
+            each.reset(2);
             let alpha = seed as f64 / 9.0;
             let factors = [
                 Factor::Depth(DepthObs {
@@ -839,7 +944,7 @@ mod tests {
             let (mut gi, mut gj) = (V7::zeros(), V7::zeros());
             aff.add_to(&xi, &xj, &mut gi, Some(&mut gj));
             for k in 0..DIM {
-                for (a, b) in [(gi[k], each.0[k]), (gj[k], each.1[k])] {
+                for (a, b) in [(gi[k], each.g[0][k]), (gj[k], each.g[1][k])] {
                     assert!((a - b).abs() <= 1e-9 * (1.0 + b.abs()), "{k}: {a} vs {b}");
                 }
             }

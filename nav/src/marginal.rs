@@ -10,12 +10,9 @@
 //! and the only nonlinearity left (the heading in the odometry) is mild over a window.
 
 use crate::chol::{self, Chol7};
-use crate::factors::{
-    Factor, GradientSink, Jac, PairHessian, Sink, add_gradient, add_gram, add_outer,
-};
-use crate::solver::{Prior, odometry_blocks};
+use crate::factors::{Blocks, Factor, IntervalBlocks, PairHessian};
+use crate::solver::Prior;
 use crate::state::{M7, V7};
-use nalgebra::SVector;
 
 /// A two-keyframe system (keyframes 0 and 1) for marginalising keyframe 0.
 #[derive(Debug, Default, Clone)]
@@ -27,53 +24,32 @@ struct PairSystem {
     g1: V7,
 }
 
-impl Sink for PairSystem {
-    fn add<const R: usize, const CI: usize, const CJ: usize>(
-        &mut self,
-        i: usize,
-        r: &SVector<f64, R>,
-        ji: &Jac<R, CI>,
-        jj: &Jac<R, CJ>,
-        touches_j: bool,
-    ) {
-        debug_assert_eq!(i, 0);
-        add_gram(&mut self.h00, ji);
-        add_gradient(&mut self.g0, ji, r);
-        if touches_j {
-            add_gram(&mut self.h11, jj);
-            add_gradient(&mut self.g1, jj, r);
-            add_outer(&mut self.h01, ji, jj);
+impl Blocks for PairSystem {
+    #[inline(always)]
+    fn keyframe(&mut self, k: usize) -> (&mut M7, &mut V7) {
+        debug_assert!(k <= 1);
+        if k == 0 {
+            (&mut self.h00, &mut self.g0)
+        } else {
+            (&mut self.h11, &mut self.g1)
         }
     }
 
-    fn add_odometry(&mut self, i: usize, r: &SVector<f64, 3>, ji: &Jac<3, 6>, jj: &Jac<3, 4>) {
+    #[inline(always)]
+    fn off_diagonal(&mut self, i: usize) -> &mut M7 {
         debug_assert_eq!(i, 0);
-        odometry_blocks(
-            r,
-            ji,
-            jj,
-            &mut self.h00,
-            &mut self.h11,
-            &mut self.h01,
-            &mut self.g0,
-            &mut self.g1,
-        );
+        &mut self.h01
     }
-}
 
-impl GradientSink for PairSystem {
-    fn add_gradient<const R: usize, const CI: usize, const CJ: usize>(
-        &mut self,
-        i: usize,
-        r: &SVector<f64, R>,
-        ji: &Jac<R, CI>,
-        jj: &Jac<R, CJ>,
-        touches_j: bool,
-    ) {
+    #[inline(always)]
+    fn interval(&mut self, i: usize) -> IntervalBlocks<'_> {
         debug_assert_eq!(i, 0);
-        add_gradient(&mut self.g0, ji, r);
-        if touches_j {
-            add_gradient(&mut self.g1, jj, r);
+        IntervalBlocks {
+            di: &mut self.h00,
+            dj: &mut self.h11,
+            o: &mut self.h01,
+            gi: &mut self.g0,
+            gj: &mut self.g1,
         }
     }
 }

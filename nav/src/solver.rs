@@ -8,11 +8,9 @@
 //! the reference the window is tested against.
 
 use crate::chol::{self, Chol7};
-use crate::factors::{
-    Factor, GradientSink, Jac, PairHessian, Sink, add_gradient, add_gram, add_outer,
-};
+use crate::factors::{Blocks, Factor, IntervalBlocks, Linearized, PairHessian, Sink};
 use crate::state::{DIM, M7, V7};
-use nalgebra::{Cholesky, DMatrix, DVector, SVector};
+use nalgebra::{Cholesky, DMatrix, DVector};
 
 /// A Gaussian prior on one keyframe in information form: its cost is
 /// `g'd + d'Hd/2` with `d = x - xbar` (an initial prior has `g = 0`; a marginalisation prior
@@ -175,119 +173,27 @@ impl BlockSystem {
     }
 }
 
-impl Sink for BlockSystem {
-    fn add<const R: usize, const CI: usize, const CJ: usize>(
-        &mut self,
-        i: usize,
-        r: &SVector<f64, R>,
-        ji: &Jac<R, CI>,
-        jj: &Jac<R, CJ>,
-        touches_j: bool,
-    ) {
-        add_gram(&mut self.d[i], ji);
-        add_gradient(&mut self.g[i], ji, r);
-        if touches_j {
-            add_gram(&mut self.d[i + 1], jj);
-            add_gradient(&mut self.g[i + 1], jj, r);
-            add_outer(&mut self.o[i], ji, jj);
-        }
+impl Blocks for BlockSystem {
+    #[inline(always)]
+    fn keyframe(&mut self, k: usize) -> (&mut M7, &mut V7) {
+        (&mut self.d[k], &mut self.g[k])
     }
 
-    fn add_odometry(&mut self, i: usize, r: &SVector<f64, 3>, ji: &Jac<3, 6>, jj: &Jac<3, 4>) {
+    #[inline(always)]
+    fn off_diagonal(&mut self, i: usize) -> &mut M7 {
+        &mut self.o[i]
+    }
+
+    #[inline(always)]
+    fn interval(&mut self, i: usize) -> IntervalBlocks<'_> {
         let (d0, d1) = self.d.split_at_mut(i + 1);
         let (g0, g1) = self.g.split_at_mut(i + 1);
-        odometry_blocks(
-            r,
-            ji,
-            jj,
-            &mut d0[i],
-            &mut d1[0],
-            &mut self.o[i],
-            &mut g0[i],
-            &mut g1[0],
-        );
-    }
-}
-
-/// The odometry's normal-equation entries from the non-zero entries of its Jacobians (see
-/// [`Sink::add_odometry`]): each the dot product the full Jacobians give, with the same
-/// order of sums (`(a + b) + c`, the terms that are exact zeros left out), so the same bits.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn odometry_blocks(
-    r: &SVector<f64, 3>,
-    ji: &Jac<3, 6>,
-    jj: &Jac<3, 4>,
-    di: &mut M7,
-    dj: &mut M7,
-    o: &mut M7,
-    gi: &mut V7,
-    gj: &mut V7,
-) {
-    use crate::state::{CX, CY, PSI};
-    debug_assert_eq!(ji.cols, [0, 1, 2, PSI, CX, CY]);
-    debug_assert_eq!(jj.cols, [0, 1, 2, PSI]);
-    let (mi, mj) = (&ji.m, &jj.m);
-    let a = [mi[(0, 0)], mi[(1, 1)], mi[(2, 2)]];
-    let p = [mi[(0, 3)], mi[(1, 3)], mi[(2, 3)]];
-    let (c0, c1) = (mi[(0, 4)], mi[(1, 5)]);
-    let b = [mj[(0, 0)], mj[(1, 1)], mj[(2, 2)]];
-    let q = [mj[(0, 3)], mj[(1, 3)], mj[(2, 3)]];
-    let dot = |u: &[f64; 3], v: &[f64; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
-    let rv = [r[0], r[1], r[2]];
-    for k in 0..3 {
-        di[(k, k)] += a[k] * a[k];
-        let e = a[k] * p[k];
-        di[(k, PSI)] += e;
-        di[(PSI, k)] += e;
-        dj[(k, k)] += b[k] * b[k];
-        let e = b[k] * q[k];
-        dj[(k, PSI)] += e;
-        dj[(PSI, k)] += e;
-        o[(k, k)] += a[k] * b[k];
-        o[(k, PSI)] += a[k] * q[k];
-        o[(PSI, k)] += p[k] * b[k];
-        gi[k] += a[k] * rv[k];
-        gj[k] += b[k] * rv[k];
-    }
-    di[(PSI, PSI)] += dot(&p, &p);
-    let e = a[0] * c0;
-    di[(0, CX)] += e;
-    di[(CX, 0)] += e;
-    let e = p[0] * c0;
-    di[(PSI, CX)] += e;
-    di[(CX, PSI)] += e;
-    di[(CX, CX)] += c0 * c0;
-    let e = a[1] * c1;
-    di[(1, CY)] += e;
-    di[(CY, 1)] += e;
-    let e = p[1] * c1;
-    di[(PSI, CY)] += e;
-    di[(CY, PSI)] += e;
-    di[(CY, CY)] += c1 * c1;
-    dj[(PSI, PSI)] += dot(&q, &q);
-    o[(PSI, PSI)] += dot(&p, &q);
-    o[(CX, 0)] += c0 * b[0];
-    o[(CX, PSI)] += c0 * q[0];
-    o[(CY, 1)] += c1 * b[1];
-    o[(CY, PSI)] += c1 * q[1];
-    gi[PSI] += dot(&p, &rv);
-    gi[CX] += c0 * rv[0];
-    gi[CY] += c1 * rv[1];
-    gj[PSI] += dot(&q, &rv);
-}
-
-impl GradientSink for BlockSystem {
-    fn add_gradient<const R: usize, const CI: usize, const CJ: usize>(
-        &mut self,
-        i: usize,
-        r: &SVector<f64, R>,
-        ji: &Jac<R, CI>,
-        jj: &Jac<R, CJ>,
-        touches_j: bool,
-    ) {
-        add_gradient(&mut self.g[i], ji, r);
-        if touches_j {
-            add_gradient(&mut self.g[i + 1], jj, r);
+        IntervalBlocks {
+            di: &mut d0[i],
+            dj: &mut d1[0],
+            o: &mut self.o[i],
+            gi: &mut g0[i],
+            gj: &mut g1[0],
         }
     }
 }
@@ -331,21 +237,14 @@ impl DenseSystem {
 }
 
 impl Sink for DenseSystem {
-    fn add<const R: usize, const CI: usize, const CJ: usize>(
-        &mut self,
-        i: usize,
-        r: &SVector<f64, R>,
-        ji: &Jac<R, CI>,
-        jj: &Jac<R, CJ>,
-        touches_j: bool,
-    ) {
-        let (ji, jj) = (ji.dense(), jj.dense());
-        let (a, b) = (DIM * i, DIM * (i + 1));
+    fn add<const R: usize, const CI: usize, const CJ: usize>(&mut self, f: &Linearized<R, CI, CJ>) {
+        let (ji, jj, r) = (f.ji.dense(), f.jj.dense(), f.r);
+        let (a, b) = (DIM * f.i, DIM * (f.i + 1));
         let mut hii = self.h.fixed_view_mut::<DIM, DIM>(a, a);
         hii += ji.tr_mul(&ji);
         let mut gi = self.g.fixed_rows_mut::<DIM>(a);
         gi += ji.tr_mul(r);
-        if touches_j {
+        if f.touches_j {
             let mut hjj = self.h.fixed_view_mut::<DIM, DIM>(b, b);
             hjj += jj.tr_mul(&jj);
             let mut hij = self.h.fixed_view_mut::<DIM, DIM>(a, b);
@@ -416,6 +315,8 @@ pub fn solve_batch(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::factors::Jac;
+    use nalgebra::SVector;
 
     /// The blocks assembled from the Jacobians' non-zero columns are, bit for bit, those of the
     /// full `R x 7` Jacobians (the dense system), for every kind of factor, accumulated.
@@ -524,8 +425,15 @@ mod tests {
                 for e in r.iter_mut().chain(ji.m.iter_mut()).chain(jj.m.iter_mut()) {
                     *e = rng.f64() - 0.5;
                 }
-                bs.add(i, &r, &ji, &jj, true);
-                ds.add(i, &r, &ji, &jj, true);
+                let f = Linearized {
+                    i,
+                    r: &r,
+                    ji: &ji,
+                    jj: &jj,
+                    touches_j: true,
+                };
+                bs.add(&f);
+                ds.add(&f);
             }
         }
         for i in 0..n {

@@ -184,6 +184,9 @@ pub struct Navigator {
     last_valid_dvl_t: f64,
     last_t: [f64; 5],
     clock: Option<f64>,
+    /// The latest time given to [`Navigator::advance`] (mapped as the inputs are): the app's
+    /// clock, which keeps running while every sensor is silent.
+    advanced: f64,
     time_offset: f64,
     jump_candidate: Option<(f64, u32)>,
     clock_jump_t: f64,
@@ -220,6 +223,7 @@ impl Navigator {
             last_valid_dvl_t: f64::NEG_INFINITY,
             last_t: [f64::NEG_INFINITY; 5],
             clock: None,
+            advanced: f64::NEG_INFINITY,
             time_offset: 0.0,
             jump_candidate: None,
             clock_jump_t: f64::NEG_INFINITY,
@@ -277,6 +281,9 @@ impl Navigator {
             self.clock = Some(t);
             return self.order(s, t);
         };
+        // A time far from the inputs' clock is no jump when the app's clock went there too
+        // (every sensor silent while the app ran on, as when the drivers' lines are held up).
+        let clock = clock.max(self.advanced);
         if (t - clock).abs() > self.cfg.max_time_jump_s {
             let off = t - clock;
             let count = match self.jump_candidate {
@@ -517,10 +524,11 @@ impl Navigator {
             return;
         }
         if let Some(c) = self.clock
-            && (t - c).abs() > self.cfg.max_time_jump_s
+            && (t - c.max(self.advanced)).abs() > self.cfg.max_time_jump_s
         {
             return;
         }
+        self.advanced = self.advanced.max(t);
         self.tick(t);
     }
 
@@ -700,12 +708,19 @@ impl Navigator {
         let prev = self.window.back_mut().expect("checked above");
         prev.push(Factor::Odometry(odo));
         prev.push(Factor::RandomWalk(rw));
-        if let Some(d) = dpsi {
-            prev.push(Factor::YawIncrement(YawIncrement {
+        // Without a gyro over the interval the heading still changes by a bounded amount:
+        // an unmeasured turn of `unmeasured_yaw_rate_sigma_radps`, never a free heading.
+        let yaw = match dpsi {
+            Some(d) => YawIncrement {
                 dpsi_rad: d,
                 sigma_rad: gyro_sigma.max(1e-5),
-            }));
-        }
+            },
+            None => YawIncrement {
+                dpsi_rad: 0.0,
+                sigma_rad: (self.cfg.unmeasured_yaw_rate_sigma_radps * dt).max(1e-5),
+            },
+        };
+        prev.push(Factor::YawIncrement(yaw));
         let mut factors = self.pool.pop().unwrap_or_default();
         factors.clear();
         self.window.push_back(Keyframe {
@@ -813,8 +828,10 @@ impl Navigator {
                 }
             }
         }
-        // The newest keyframe's covariance at the last successful iteration, inverted once.
-        if solved {
+        // The newest keyframe's covariance at the last iteration, inverted once, when that
+        // iteration succeeded: a failed one may have left its factor half made (the
+        // previous update's covariance is kept then).
+        if solved && !self.solver_failed {
             self.cov = self.sys.covariance();
         }
     }
