@@ -147,17 +147,21 @@ impl Pty {
         }
     }
 
-    /// Writes what the terminal takes now; returns the bytes dropped (the queue was full).
-    /// Old bytes nobody read are flushed first (see [`STALE_BYTES`]).
-    pub fn write(&self, data: &[u8]) -> io::Result<usize> {
+    /// Writes what the terminal takes now. Old bytes nobody read are flushed first (see
+    /// [`STALE_BYTES`]); the outcome counts them apart from the bytes of `data` dropped
+    /// because the queue was full.
+    pub fn write(&self, data: &[u8]) -> io::Result<Written> {
         let slave = self.slave.as_raw_fd();
         let mut queued: libc::c_int = 0;
+        let mut flushed = 0;
         // SAFETY: FIONREAD writes one int.
         if unsafe { libc::ioctl(slave, libc::FIONREAD, &mut queued) } == 0
             && queued as usize > STALE_BYTES
         {
             // SAFETY: tcflush on an open terminal.
-            unsafe { libc::tcflush(slave, libc::TCIFLUSH) };
+            if unsafe { libc::tcflush(slave, libc::TCIFLUSH) } == 0 {
+                flushed = queued as usize;
+            }
         }
         let mut at = 0;
         while at < data.len() {
@@ -169,8 +173,21 @@ impl Pty {
                 Err(e) => return Err(e),
             }
         }
-        Ok(data.len() - at)
+        Ok(Written {
+            dropped: data.len() - at,
+            flushed,
+        })
     }
+}
+
+/// What [`Pty::write`] did besides writing.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Written {
+    /// Bytes of the data not written (the terminal's queue was full).
+    pub dropped: usize,
+    /// Older bytes flushed unread from the driver's side first (more than [`STALE_BYTES`]
+    /// waited): the driver may then see the tail of a cut frame.
+    pub flushed: usize,
 }
 
 impl Drop for Pty {

@@ -110,6 +110,12 @@ pub struct EdgeStats {
     pub bytes_in: u64,
     /// Bytes dropped (a full terminal, a peer gone or stalled).
     pub dropped: u64,
+    /// Bytes written earlier but flushed unread from a terminal (its reader stalled; see
+    /// [`crate::pty::STALE_BYTES`]).
+    pub flushed: u64,
+    /// How many times a terminal was flushed so: each can cut one frame, whose tail the
+    /// reader then gets as garbage.
+    pub flushes: u64,
 }
 
 /// A running emulator: its endpoint, and the way to stop it.
@@ -272,9 +278,13 @@ fn write_pty(pty: &Option<Pty>, data: &[u8], stats: &mut EdgeStats) -> io::Resul
     }
     match pty {
         Some(p) => {
-            let dropped = p.write(data)?;
-            stats.dropped += dropped as u64;
-            stats.bytes_out += (data.len() - dropped) as u64;
+            let w = p.write(data)?;
+            stats.dropped += w.dropped as u64;
+            stats.bytes_out += (data.len() - w.dropped) as u64;
+            if w.flushed > 0 {
+                stats.flushed += w.flushed as u64;
+                stats.flushes += 1;
+            }
         }
         None => stats.dropped += data.len() as u64,
     }

@@ -127,13 +127,14 @@ pub fn run(args: &EmulateArgs) -> anyhow::Result<()> {
         }
         let stats = run.handle.stop().await?;
         outln!(
-            "coug emulate {}: {} connection(s), {} disconnection(s), {} bytes out, {} in, {} dropped",
+            "coug emulate {}: {} connection(s), {} disconnection(s), {} bytes out, {} in, {} dropped, {} flushed unread",
             kind.name(),
             stats.connections,
             stats.disconnects,
             stats.bytes_out,
             stats.bytes_in,
-            stats.dropped
+            stats.dropped,
+            stats.flushed
         );
         Ok(())
     })

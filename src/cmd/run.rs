@@ -524,12 +524,13 @@ fn run_inner(args: &RunArgs) -> Result<i32, Vec<String>> {
         for (kind, stats) in p.bench.stop() {
             if let Ok(st) = stats {
                 errln!(
-                    "coug run: emulated {}: {} bytes out, {} in, {} connection(s), {} dropped",
+                    "coug run: emulated {}: {} bytes out, {} in, {} connection(s), {} dropped, {} flushed unread",
                     kind.name(),
                     st.bytes_out,
                     st.bytes_in,
                     st.connections,
-                    st.dropped
+                    st.dropped,
+                    st.flushed
                 );
             }
         }
