@@ -40,6 +40,28 @@ pub enum LogValue<'a> {
     },
 }
 
+/// A record's line as the writer formatted it, with what its text reads back as where the
+/// writer knows it without reading the text: for a caller that counts the records as the
+/// file will read back (the run report's tally) without parsing every line. See
+/// [`AlogWriter::record_seen`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Line<'a> {
+    /// The whole line, with its `\n`.
+    pub text: &'a str,
+    /// The value's text: from its `D:`/`S:` mark (or its first byte) up to the line's final
+    /// ` \n` (a double's padding included). [`crate::parse_value`] of it, trimmed, is the
+    /// value as read back when the line reads back as one record.
+    pub value: &'a str,
+    /// The time as the line's time field reads back ([`crate::parse_time`]), when the writer
+    /// wrote it from the rounded integer of its digits (not for NaN, infinities, times of
+    /// 2^37 / 10^5 s and more, nor within 1e-10 s of a rounding tie).
+    pub time: Option<f64>,
+    /// A double value as its text reads back ([`crate::parse_value`]), when the writer wrote
+    /// it from the rounded integer of its digits (see [`Line::time`]; also not with more
+    /// than 6 decimals).
+    pub double: Option<f64>,
+}
+
 /// Writes an alog file: the banner on creation, then one line per [`AlogWriter::record`].
 ///
 /// Records are written in the order given; pLogger sorts each batch of mail by time first
@@ -53,7 +75,8 @@ pub struct AlogWriter<W: Write> {
     log_start: f64,
     precision: usize,
     mark_data_type: bool,
-    buf: Vec<u8>,
+    /// The lines not handed on yet (text only: every piece pushed is text or ASCII).
+    buf: String,
 }
 
 impl<W: Write> AlogWriter<W> {
@@ -66,16 +89,14 @@ impl<W: Write> AlogWriter<W> {
             log_start,
             precision: 5,
             mark_data_type,
-            buf: Vec::with_capacity(Self::CHUNK + 512),
+            buf: String::with_capacity(Self::CHUNK + 512),
         }
     }
 
     /// Writes the banner to `out` and returns the writer (DoublePrecision 5).
     pub fn new(out: W, header: &Header<'_>) -> io::Result<Self> {
         let mut w = Self::with_out(out, header.log_start, header.mark_data_type);
-        let mut banner = String::with_capacity(256);
-        write_banner(&mut banner, header);
-        w.out_mut().write_all(banner.as_bytes())?;
+        w.out_mut().write_all(banner(header).as_bytes())?;
         Ok(w)
     }
 
@@ -113,7 +134,21 @@ impl<W: Write> AlogWriter<W> {
         source: &str,
         value: LogValue<'_>,
     ) -> io::Result<()> {
-        format_record(
+        self.record_seen(time, var, source, value, |_| {})
+    }
+
+    /// Writes one record as [`AlogWriter::record`] does, and shows `seen` its line (before
+    /// it is handed on).
+    pub fn record_seen(
+        &mut self,
+        time: f64,
+        var: &str,
+        source: &str,
+        value: LogValue<'_>,
+        seen: impl FnOnce(Line<'_>),
+    ) -> io::Result<()> {
+        let start = self.buf.len();
+        let f = format_record(
             &mut self.buf,
             time - self.log_start,
             var,
@@ -122,6 +157,13 @@ impl<W: Write> AlogWriter<W> {
             self.precision,
             self.mark_data_type,
         );
+        let text = &self.buf[start..];
+        seen(Line {
+            text,
+            value: &text[f.value_at..text.len() - 2],
+            time: f.time,
+            double: f.double,
+        });
         if self.buf.len() >= Self::CHUNK {
             self.write_buffered()?;
         }
@@ -137,7 +179,7 @@ impl<W: Write> AlogWriter<W> {
         let Some(out) = self.out.as_mut() else {
             return Ok(());
         };
-        let r = out.write_all(&self.buf);
+        let r = out.write_all(self.buf.as_bytes());
         self.buf.clear();
         r
     }
@@ -179,6 +221,13 @@ impl<W: Write> Drop for AlogWriter<W> {
     }
 }
 
+/// The 5- or 6-line banner [`AlogWriter::new`] writes.
+pub fn banner(h: &Header<'_>) -> String {
+    let mut out = String::with_capacity(256);
+    write_banner(&mut out, h);
+    out
+}
+
 /// Appends the 5- or 6-line banner.
 fn write_banner(out: &mut String, h: &Header<'_>) {
     out.push_str(BANNER_RULE);
@@ -209,16 +258,16 @@ fn pad_left(out: &mut String, s: &str, width: usize) {
 }
 
 /// Spaces to pad a column from (the widest column is 20).
-const SPACES: &[u8; 20] = b"                    ";
+const SPACES: &str = "                    ";
 
 /// Appends `n` spaces (at most 20).
-fn spaces(out: &mut Vec<u8>, n: usize) {
-    out.extend_from_slice(&SPACES[..n.min(SPACES.len())]);
+fn spaces(out: &mut String, n: usize) {
+    out.push_str(&SPACES[..n.min(SPACES.len())]);
 }
 
 /// Appends `s`, then spaces up to `width` characters.
-fn push_padded(out: &mut Vec<u8>, s: &str, width: usize) {
-    out.extend_from_slice(s.as_bytes());
+fn push_padded(out: &mut String, s: &str, width: usize) {
+    out.push_str(s);
     // A text of 4 × width bytes has at least `width` characters.
     let n = if s.len() >= 4 * width {
         width
@@ -234,13 +283,18 @@ fn push_padded(out: &mut Vec<u8>, s: &str, width: usize) {
 const POW10: [u64; 7] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000];
 
 /// Appends `v` with `prec` decimals exactly as [`moos_types::fmt::fixed`] writes it (C
-/// `%.Nf`: a negative value that rounds to zero keeps its sign), digit by digit from the
-/// rounded integer when the scaled value is below 2^37 and not within 1e-5 of a rounding
-/// tie, else through `moos_types::fmt::fixed` itself.
+/// `%.Nf`: a negative value that rounds to zero keeps its sign): from the rounded integer
+/// of `|v| · 10^prec` (its integer part and its decimals written by `itoa`) when that
+/// product is below 2^37 and not within 1e-5 of a rounding tie, else through
+/// `moos_types::fmt::fixed` itself. Returns the value the text reads back as (`str::parse`,
+/// or [`crate::parse_time`]) when it was written from the rounded integer.
 ///
 /// Below 2^37 the product `|v| · 10^prec` is within half an ulp (2^-17 < 7.7e-6) of the
-/// exact one, so away from a tie both round to the same integer.
-fn push_fixed(out: &mut Vec<u8>, v: f64, prec: usize) {
+/// exact one, so away from a tie both round to the same integer. The text `[-]int.dec`
+/// then stands for the rounded integer over `10^prec`, both exact doubles: their quotient
+/// is the correctly rounded value a reader gives the text.
+#[inline]
+fn push_fixed(out: &mut String, v: f64, prec: usize) -> Option<f64> {
     if let Some(&scale) = POW10.get(prec) {
         let s = v.abs() * scale as f64;
         if s < 137_438_953_472.0 {
@@ -249,75 +303,76 @@ fn push_fixed(out: &mut Vec<u8>, v: f64, prec: usize) {
             let frac = s - fl as f64;
             if (frac - 0.5).abs() >= 1e-5 {
                 let n = fl + u64::from(frac > 0.5);
-                // At most 12 integer digits, 6 decimals, a point and a sign.
-                let mut buf = [0u8; 24];
-                let mut i = buf.len();
-                let (mut int, mut dec) = (n / scale, n % scale);
-                for _ in 0..prec {
-                    i -= 1;
-                    buf[i] = b'0' + (dec % 10) as u8;
-                    dec /= 10;
+                let negative = v.is_sign_negative();
+                if negative {
+                    out.push('-');
                 }
+                let mut digits = itoa::Buffer::new();
+                out.push_str(digits.format(n / scale));
                 if prec > 0 {
-                    i -= 1;
-                    buf[i] = b'.';
+                    // `scale + decimals` has a leading 1, then the decimals with their
+                    // leading zeros.
+                    out.push('.');
+                    out.push_str(&digits.format(scale + n % scale)[1..]);
                 }
-                loop {
-                    i -= 1;
-                    buf[i] = b'0' + (int % 10) as u8;
-                    int /= 10;
-                    if int == 0 {
-                        break;
-                    }
-                }
-                if v.is_sign_negative() {
-                    i -= 1;
-                    buf[i] = b'-';
-                }
-                out.extend_from_slice(&buf[i..]);
-                return;
+                let back = n as f64 / scale as f64;
+                return Some(if negative { -back } else { back });
             }
         }
     }
-    // NaN, infinities, large values, ties and many decimals.
-    let mut s = String::new();
-    fmt_fixed(&mut s, v, prec);
-    out.extend_from_slice(s.as_bytes());
+    fixed_general(out, v, prec);
+    None
+}
+
+/// NaN, infinities, large values, ties and many decimals.
+#[cold]
+fn fixed_general(out: &mut String, v: f64, prec: usize) {
+    fmt_fixed(out, v, prec);
+}
+
+/// What [`format_record`] knows of the line it wrote (see [`Line`]).
+struct Formatted {
+    /// Where the value's text starts, from the line's start.
+    value_at: usize,
+    time: Option<f64>,
+    double: Option<f64>,
 }
 
 /// Appends one record line (with its newline) to `out`.
 fn format_record(
-    out: &mut Vec<u8>,
+    out: &mut String,
     rel_time: f64,
     var: &str,
     source: &str,
     value: LogValue<'_>,
     precision: usize,
     mark: bool,
-) {
+) -> Formatted {
     let start = out.len();
-    push_fixed(out, rel_time, 5);
+    let time = push_fixed(out, rel_time, 5);
     let n = out.len() - start;
     spaces(out, 16usize.saturating_sub(n).max(1));
     push_padded(out, var, 20);
-    out.push(b' ');
+    out.push(' ');
     push_padded(out, source, 15);
-    out.push(b' ');
+    out.push(' ');
+    let value_at = out.len() - start;
+    let mut double = None;
     match value {
         LogValue::Double(x) => {
             if mark {
-                out.extend_from_slice(b"D:");
+                out.push_str("D:");
             }
             let start = out.len();
-            push_fixed(out, x, precision);
+            double = push_fixed(out, x, precision);
             let n = out.len() - start;
             spaces(out, 12usize.saturating_sub(n));
         }
         LogValue::String(s) => {
             if mark {
-                out.extend_from_slice(b"S:");
+                out.push_str("S:");
             }
-            out.extend_from_slice(s.as_bytes());
+            out.push_str(s);
         }
         LogValue::Binary {
             file,
@@ -325,16 +380,21 @@ fn format_record(
             bytes,
         } => {
             let mut digits = itoa::Buffer::new();
-            out.extend_from_slice(b"<MOOS_BINARY>File=");
-            out.extend_from_slice(file.as_bytes());
-            out.extend_from_slice(b",Offset=");
-            out.extend_from_slice(digits.format(offset).as_bytes());
-            out.extend_from_slice(b",Bytes=");
-            out.extend_from_slice(digits.format(bytes).as_bytes());
-            out.extend_from_slice(b"</MOOS_BINARY>");
+            out.push_str("<MOOS_BINARY>File=");
+            out.push_str(file);
+            out.push_str(",Offset=");
+            out.push_str(digits.format(offset));
+            out.push_str(",Bytes=");
+            out.push_str(digits.format(bytes));
+            out.push_str("</MOOS_BINARY>");
         }
     }
-    out.extend_from_slice(b" \n");
+    out.push_str(" \n");
+    Formatted {
+        value_at,
+        time,
+        double,
+    }
 }
 
 #[cfg(test)]
@@ -381,9 +441,9 @@ mod tests {
     }
 
     fn one(time: f64, var: &str, src: &str, v: LogValue<'_>, mark: bool) -> String {
-        let mut s = Vec::new();
+        let mut s = String::new();
         format_record(&mut s, time, var, src, v, 5, mark);
-        String::from_utf8(s).unwrap()
+        s
     }
 
     #[test]
@@ -544,11 +604,11 @@ mod tests {
         prec: usize,
         mark: bool,
     ) -> (String, String) {
-        let mut new = Vec::new();
+        let mut new = String::new();
         format_record(&mut new, t, var, src, v, prec, mark);
         let mut old = String::new();
         old_format_record(&mut old, t, var, src, v, prec, mark);
-        (String::from_utf8(new).unwrap(), old)
+        (new, old)
     }
 
     #[test]

@@ -25,6 +25,7 @@ use moosdb::db::wildcard_match;
 use crate::antler::BuiltInApp;
 use crate::app::{App, Mail, Post, Subscription, Value};
 use crate::appcasting::AppcastLayer;
+use crate::session::tally::{LogTally, Name, Tally};
 
 /// Seconds between `LOGGER_DIRECTORY` posts.
 pub const DIRECTORY_PERIOD: f64 = 10.0;
@@ -33,7 +34,7 @@ pub const DIRECTORY_PERIOD: f64 = 10.0;
 /// [`LateSink::attach`] once the mission has been read and checked, so a mission that fails
 /// to start creates nothing on disk. Writing before a file is attached is an error.
 #[derive(Clone, Default)]
-pub struct LateSink(Arc<Mutex<Option<Attached>>>);
+pub struct LateSink(Arc<Mutex<Option<Attached>>>, LogTally);
 
 /// What a [`LateSink`] writes to once attached.
 struct Attached {
@@ -77,6 +78,12 @@ impl LateSink {
     /// A sink with no file yet.
     pub fn new() -> Self {
         LateSink::default()
+    }
+
+    /// The tally of the records written to the alog (the run report's totals): pLogger counts
+    /// each line it writes into it (see [`Logger::with_side_files`]).
+    pub(crate) fn tally(&self) -> LogTally {
+        self.1.clone()
     }
 
     /// Attaches the alog writer every later write goes to, and the session folder side files
@@ -519,11 +526,14 @@ pub struct Logger<W: Write> {
     logged: u64,
     excluded: u64,
     /// What becomes of each variable's mail, decided once per name (the omit patterns and
-    /// `Log =` lines are fixed at start-up), and whether it was logged yet.
-    fates: rustc_hash::FxHashMap<moos_types::ByteString, Fate>,
+    /// `Log =` lines are fixed at start-up), whether it was logged yet, and what the tally
+    /// needs to know of the name.
+    fates: rustc_hash::FxHashMap<moos_types::ByteString, (Fate, Name)>,
     /// Distinct variables logged.
     variables: usize,
     copies: u32,
+    /// Counts every line written to the alog (the session's run report).
+    tally: Option<LogTally>,
 }
 
 /// What [`Logger`] does with a variable's mail (memoised per variable name).
@@ -552,13 +562,14 @@ struct SourceStyle<'a> {
 
 /// Writes one mail as a log record: the source as [`SourceStyle`] says (assembled in
 /// `scratch`, reused), binary data as its reference into the `.blog` at `blog_offset` (which
-/// advances).
+/// advances); counts the line into `tally`, if any.
 fn record<W: Write>(
     w: &mut AlogWriter<W>,
     m: &Mail,
     style: SourceStyle<'_>,
     blog: (&str, &mut u64),
     scratch: &mut String,
+    tally: Option<(&mut Tally, Name)>,
 ) -> io::Result<()> {
     let (blog_name, blog_offset) = blog;
     let with_aux = style.aux && !m.source_aux.is_empty();
@@ -580,23 +591,24 @@ fn record<W: Write>(
     } else {
         &m.source
     };
-    match &m.value {
-        Value::Double(x) => w.record(m.time, &m.key, source, alog::LogValue::Double(*x)),
-        Value::String(s) => w.record(m.time, &m.key, source, alog::LogValue::String(s)),
+    let value = match &m.value {
+        Value::Double(x) => alog::LogValue::Double(*x),
+        Value::String(s) => alog::LogValue::String(s),
         Value::Binary(b) => {
             let offset = *blog_offset;
             *blog_offset += b.len() as u64;
-            w.record(
-                m.time,
-                &m.key,
-                source,
-                alog::LogValue::Binary {
-                    file: blog_name,
-                    offset,
-                    bytes: b.len() as u64,
-                },
-            )
+            alog::LogValue::Binary {
+                file: blog_name,
+                offset,
+                bytes: b.len() as u64,
+            }
         }
+    };
+    match tally {
+        Some((t, name)) => w.record_seen(m.time, &m.key, source, value, |line| {
+            t.record(&m.key, name, source, line);
+        }),
+        None => w.record(m.time, &m.key, source, value),
     }
 }
 
@@ -668,6 +680,7 @@ impl<W: Write> Logger<W> {
             variables: 0,
             copies: 0,
             community: String::new(),
+            tally: None,
         }
     }
 
@@ -707,9 +720,21 @@ impl<W: Write> Logger<W> {
         let _ = writeln!(out, "           State: {state}");
     }
 
-    /// Also writes the mission copy and requested copies beside the alog.
+    /// Also writes the mission copy and requested copies beside the alog, and counts the
+    /// alog's lines into the folder's tally ([`LateSink::tally`]: the folder's sink is the
+    /// alog's writer in a session).
     pub fn with_side_files(mut self, side: Option<SideFiles>) -> Self {
+        if let Some(s) = &side {
+            self = self.with_tally(s.folder.tally());
+        }
         self.side = side;
+        self
+    }
+
+    /// Counts every line written to the alog into `tally` (the banner, then each record as
+    /// the writer shows it: see [`Tally::record`]).
+    pub(crate) fn with_tally(mut self, tally: LogTally) -> Self {
+        self.tally = Some(tally);
         self
     }
 
@@ -814,11 +839,12 @@ impl<W: Write> Logger<W> {
         }
     }
 
-    fn log(&mut self, m: &Mail) {
-        let fate = match self.fates.get(&m.key) {
+    /// Logs one mail (counting the alog's line into `tally`).
+    fn log(&mut self, m: &Mail, tally: Option<&mut Tally>) {
+        let (fate, name) = match self.fates.get(&m.key) {
             Some(&f) => f,
             None => {
-                let f = self.fate(&m.key);
+                let f = (self.fate(&m.key), Name::of(&m.key));
                 self.fates.insert(m.key.clone(), f);
                 f
             }
@@ -839,6 +865,7 @@ impl<W: Write> Logger<W> {
                     },
                     (&self.blog_name, &mut self.blog_offset),
                     &mut self.scratch,
+                    None,
                 );
                 self.excluded += 1;
                 self.note(r);
@@ -863,12 +890,13 @@ impl<W: Write> Logger<W> {
             },
             (&self.blog_name, &mut self.blog_offset),
             &mut self.scratch,
+            tally.map(|t| (t, name)),
         );
         self.logged += 1;
         if fate == Fate::Log {
             self.variables += 1;
             if let Some(f) = self.fates.get_mut(&m.key) {
-                *f = Fate::Logged;
+                f.0 = Fate::Logged;
             }
         }
         self.note(r);
@@ -939,6 +967,9 @@ impl<W: Write + Send + 'static> App for Logger<W> {
                 Ok(mut w) => {
                     w.set_double_precision(self.config.double_precision);
                     self.writer = Some(w);
+                    if let Some(t) = &self.tally {
+                        t.lock().text(&alog::banner(&header));
+                    }
                 }
                 Err(e) => self.error = Some(e),
             }
@@ -964,8 +995,11 @@ impl<W: Write + Send + 'static> App for Logger<W> {
     }
 
     fn on_mail(&mut self, mail: &[Mail], _now: f64, _out: &mut Vec<Post>) -> crate::app::AppResult {
+        // The tally is held over the batch.
+        let tally = self.tally.clone();
+        let mut counting = tally.as_ref().map(LogTally::lock);
         for m in mail {
-            self.log(m);
+            self.log(m, counting.as_deref_mut());
             if !self.appcast.take_mail(m) {
                 continue;
             }
