@@ -77,6 +77,33 @@ pub struct AlogWriter<W: Write> {
     mark_data_type: bool,
     /// The lines not handed on yet (text only: every piece pushed is text or ASCII).
     buf: String,
+    /// The last record's time column (most records share their time with the one before).
+    time: TimeColumn,
+}
+
+/// A record's time column, kept for the next record of the same time.
+#[derive(Debug, Default)]
+struct TimeColumn {
+    /// The bits of the time relative to LOGSTART (`None`: no record yet).
+    rel: Option<u64>,
+    /// The time written, with its padding.
+    text: String,
+    /// The time as it reads back (see [`Line::time`]).
+    back: Option<f64>,
+}
+
+impl TimeColumn {
+    /// Appends the time column of `rel` (the one kept when `rel` is the last record's time).
+    #[inline]
+    fn push(&mut self, out: &mut String, rel: f64) -> Option<f64> {
+        if self.rel != Some(rel.to_bits()) {
+            self.text.clear();
+            self.back = push_time(&mut self.text, rel);
+            self.rel = Some(rel.to_bits());
+        }
+        out.push_str(&self.text);
+        self.back
+    }
 }
 
 impl<W: Write> AlogWriter<W> {
@@ -90,6 +117,7 @@ impl<W: Write> AlogWriter<W> {
             precision: 5,
             mark_data_type,
             buf: String::with_capacity(Self::CHUNK + 512),
+            time: TimeColumn::default(),
         }
     }
 
@@ -148,9 +176,10 @@ impl<W: Write> AlogWriter<W> {
         seen: impl FnOnce(Line<'_>),
     ) -> io::Result<()> {
         let start = self.buf.len();
-        let f = format_record(
+        let time = self.time.push(&mut self.buf, time - self.log_start);
+        let f = push_columns(
             &mut self.buf,
-            time - self.log_start,
+            start,
             var,
             source,
             value,
@@ -161,7 +190,7 @@ impl<W: Write> AlogWriter<W> {
         seen(Line {
             text,
             value: &text[f.value_at..text.len() - 2],
-            time: f.time,
+            time,
             double: f.double,
         });
         if self.buf.len() >= Self::CHUNK {
@@ -330,15 +359,16 @@ fn fixed_general(out: &mut String, v: f64, prec: usize) {
     fmt_fixed(out, v, prec);
 }
 
-/// What [`format_record`] knows of the line it wrote (see [`Line`]).
+/// What [`push_columns`] knows of the line it wrote (see [`Line`]).
 struct Formatted {
     /// Where the value's text starts, from the line's start.
     value_at: usize,
-    time: Option<f64>,
     double: Option<f64>,
 }
 
-/// Appends one record line (with its newline) to `out`.
+/// Appends one record line (with its newline) to `out` (the writer keeps the time column
+/// of the last record: see [`TimeColumn`]).
+#[cfg(test)]
 fn format_record(
     out: &mut String,
     rel_time: f64,
@@ -347,11 +377,33 @@ fn format_record(
     value: LogValue<'_>,
     precision: usize,
     mark: bool,
-) -> Formatted {
+) {
+    let start = out.len();
+    push_time(out, rel_time);
+    push_columns(out, start, var, source, value, precision, mark);
+}
+
+/// Appends a record's time column: the time relative to LOGSTART, padded to 16 characters
+/// with at least one space. Returns the time as it reads back, as [`push_fixed`] does.
+fn push_time(out: &mut String, rel_time: f64) -> Option<f64> {
     let start = out.len();
     let time = push_fixed(out, rel_time, 5);
     let n = out.len() - start;
     spaces(out, 16usize.saturating_sub(n).max(1));
+    time
+}
+
+/// Appends the rest of a record line after its time column (the line starts at `start`):
+/// the variable and source columns, the value, the newline.
+fn push_columns(
+    out: &mut String,
+    start: usize,
+    var: &str,
+    source: &str,
+    value: LogValue<'_>,
+    precision: usize,
+    mark: bool,
+) -> Formatted {
     push_padded(out, var, 20);
     out.push(' ');
     push_padded(out, source, 15);
@@ -390,11 +442,7 @@ fn format_record(
         }
     }
     out.push_str(" \n");
-    Formatted {
-        value_at,
-        time,
-        double,
-    }
+    Formatted { value_at, double }
 }
 
 #[cfg(test)]
@@ -748,6 +796,10 @@ mod tests {
             // of the fifth decimal (x.xxxxx5).
             let grid = ms as f64 / 1000.0;
             let tie = (ms as f64 * 100.0 + if half { 0.5 } else { 0.0 }) / 100_000.0;
+            // The writer keeps the time column of the record before: the same lines.
+            let mut w = AlogWriter::headless(Vec::new(), 0.0, mark);
+            w.set_double_precision(prec);
+            let mut lines = String::new();
             for time in [t, grid, tie, -grid] {
                 for value in [
                     LogValue::Double(v),
@@ -756,9 +808,12 @@ mod tests {
                     LogValue::String(&text),
                 ] {
                     let (new, old) = both(time, &var, &src, value, prec, mark);
-                    proptest::prop_assert_eq!(new, old);
+                    proptest::prop_assert_eq!(&new, &old);
+                    lines.push_str(&old);
+                    w.record(time, &var, &src, value).unwrap();
                 }
             }
+            proptest::prop_assert_eq!(String::from_utf8(w.into_inner()).unwrap(), lines);
         }
     }
 }
