@@ -81,6 +81,80 @@ pub struct AlogWriter<W: Write> {
     time: TimeColumn,
 }
 
+/// What the writer keeps of one variable's last record, to write the next one with less work
+/// (see [`AlogWriter::record_cached`]; pLogger keeps one per variable): the variable and
+/// source columns, and the value column when the value was a double (about half of a
+/// CougUV's records repeat their variable's last value).
+#[derive(Debug, Clone)]
+pub struct RecordCache {
+    /// The variable's column, its space, then the last source's column and its space.
+    names: String,
+    /// The length of the variable's name, then where the source's column starts.
+    var_len: usize,
+    source_at: usize,
+    /// The last source (`None`: no record yet).
+    source: Option<std::ops::Range<usize>>,
+    /// The last double value's bits, with the precision and the type marking written.
+    double: Option<(u64, usize, bool)>,
+    /// That value's column, and the value it reads back as.
+    double_text: String,
+    double_back: Option<f64>,
+}
+
+impl RecordCache {
+    /// The cache of the records of `var`.
+    pub fn new(var: &str) -> RecordCache {
+        let mut names = String::with_capacity(40);
+        push_padded(&mut names, var, 20);
+        names.push(' ');
+        RecordCache {
+            source_at: names.len(),
+            names,
+            var_len: var.len(),
+            source: None,
+            double: None,
+            double_text: String::new(),
+            double_back: None,
+        }
+    }
+
+    /// The variable's name.
+    pub fn var(&self) -> &str {
+        &self.names[..self.var_len]
+    }
+
+    /// The variable and source columns for a record from `source`.
+    #[inline]
+    fn names(&mut self, source: &str) -> &str {
+        if self.source.clone().map(|r| &self.names[r]) != Some(source) {
+            self.names.truncate(self.source_at);
+            push_padded(&mut self.names, source, 15);
+            self.source = Some(self.source_at..self.source_at + source.len());
+            self.names.push(' ');
+        }
+        &self.names
+    }
+
+    /// Appends the value column of the double `x` (the one kept when it is the last value).
+    #[inline]
+    fn push_double(
+        &mut self,
+        out: &mut String,
+        x: f64,
+        precision: usize,
+        mark: bool,
+    ) -> Option<f64> {
+        let key = (x.to_bits(), precision, mark);
+        if self.double != Some(key) {
+            self.double_text.clear();
+            self.double_back = push_double(&mut self.double_text, x, precision, mark);
+            self.double = Some(key);
+        }
+        out.push_str(&self.double_text);
+        self.double_back
+    }
+}
+
 /// A record's time column, kept for the next record of the same time.
 #[derive(Debug, Default)]
 struct TimeColumn {
@@ -192,6 +266,41 @@ impl<W: Write> AlogWriter<W> {
             value: &text[f.value_at..text.len() - 2],
             time,
             double: f.double,
+        });
+        if self.buf.len() >= Self::CHUNK {
+            self.write_buffered()?;
+        }
+        Ok(())
+    }
+
+    /// Writes one record of `cache`'s variable as [`AlogWriter::record_seen`] does, with the
+    /// columns the cache holds from the variable's last record where they are the same.
+    pub fn record_cached(
+        &mut self,
+        time: f64,
+        cache: &mut RecordCache,
+        source: &str,
+        value: LogValue<'_>,
+        seen: impl FnOnce(Line<'_>),
+    ) -> io::Result<()> {
+        let start = self.buf.len();
+        let time = self.time.push(&mut self.buf, time - self.log_start);
+        self.buf.push_str(cache.names(source));
+        let value_at = self.buf.len() - start;
+        let double = match value {
+            LogValue::Double(x) => {
+                let back = cache.push_double(&mut self.buf, x, self.precision, self.mark_data_type);
+                self.buf.push_str(" \n");
+                back
+            }
+            _ => push_value(&mut self.buf, value, self.precision, self.mark_data_type),
+        };
+        let text = &self.buf[start..];
+        seen(Line {
+            text,
+            value: &text[value_at..text.len() - 2],
+            time,
+            double,
         });
         if self.buf.len() >= Self::CHUNK {
             self.write_buffered()?;
@@ -404,22 +513,26 @@ fn push_columns(
     precision: usize,
     mark: bool,
 ) -> Formatted {
+    push_names(out, var, source);
+    let value_at = out.len() - start;
+    let double = push_value(out, value, precision, mark);
+    Formatted { value_at, double }
+}
+
+/// Appends the variable and source columns, each followed by its space.
+fn push_names(out: &mut String, var: &str, source: &str) {
     push_padded(out, var, 20);
     out.push(' ');
     push_padded(out, source, 15);
     out.push(' ');
-    let value_at = out.len() - start;
+}
+
+/// Appends a record's value column and the line's end; returns a double value as it reads
+/// back, as [`push_fixed`] does.
+fn push_value(out: &mut String, value: LogValue<'_>, precision: usize, mark: bool) -> Option<f64> {
     let mut double = None;
     match value {
-        LogValue::Double(x) => {
-            if mark {
-                out.push_str("D:");
-            }
-            let start = out.len();
-            double = push_fixed(out, x, precision);
-            let n = out.len() - start;
-            spaces(out, 12usize.saturating_sub(n));
-        }
+        LogValue::Double(x) => double = push_double(out, x, precision, mark),
         LogValue::String(s) => {
             if mark {
                 out.push_str("S:");
@@ -442,7 +555,19 @@ fn push_columns(
         }
     }
     out.push_str(" \n");
-    Formatted { value_at, double }
+    double
+}
+
+/// Appends a double value: its `D:` mark, its digits, then spaces up to 12 digits.
+fn push_double(out: &mut String, x: f64, precision: usize, mark: bool) -> Option<f64> {
+    if mark {
+        out.push_str("D:");
+    }
+    let start = out.len();
+    let back = push_fixed(out, x, precision);
+    let n = out.len() - start;
+    spaces(out, 12usize.saturating_sub(n));
+    back
 }
 
 #[cfg(test)]
@@ -800,6 +925,12 @@ mod tests {
             let mut w = AlogWriter::headless(Vec::new(), 0.0, mark);
             w.set_double_precision(prec);
             let mut lines = String::new();
+            // And through a variable's cache: each record twice, then from another source.
+            let mut cached = AlogWriter::headless(Vec::new(), 0.0, mark);
+            cached.set_double_precision(prec);
+            let mut cache = RecordCache::new(&var);
+            proptest::prop_assert_eq!(cache.var(), &var);
+            let mut cached_lines = String::new();
             for time in [t, grid, tie, -grid] {
                 for value in [
                     LogValue::Double(v),
@@ -811,9 +942,23 @@ mod tests {
                     proptest::prop_assert_eq!(&new, &old);
                     lines.push_str(&old);
                     w.record(time, &var, &src, value).unwrap();
+                    for from in [src.as_str(), &src, "é"] {
+                        let mut seen = None;
+                        cached
+                            .record_cached(time, &mut cache, from, value, |l| {
+                                seen = Some((l.text.to_string(), l.value.to_string()));
+                            })
+                            .unwrap();
+                        let (_, old) = both(time, &var, from, value, prec, mark);
+                        let (text, shown) = seen.expect("the line is shown");
+                        proptest::prop_assert_eq!(&text, &old);
+                        proptest::prop_assert!(old[..old.len() - 2].ends_with(&shown));
+                        cached_lines.push_str(&old);
+                    }
                 }
             }
             proptest::prop_assert_eq!(String::from_utf8(w.into_inner()).unwrap(), lines);
+            proptest::prop_assert_eq!(String::from_utf8(cached.into_inner()).unwrap(), cached_lines);
         }
     }
 }

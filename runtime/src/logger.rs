@@ -525,15 +525,24 @@ pub struct Logger<W: Write> {
     /// Records written to the alog and to the exclusion log.
     logged: u64,
     excluded: u64,
-    /// What becomes of each variable's mail, decided once per name (the omit patterns and
-    /// `Log =` lines are fixed at start-up), whether it was logged yet, and what the tally
-    /// needs to know of the name.
-    fates: rustc_hash::FxHashMap<moos_types::ByteString, (Fate, Name)>,
+    /// What the logger knows of each variable, found once per name.
+    fates: rustc_hash::FxHashMap<moos_types::ByteString, Known>,
     /// Distinct variables logged.
     variables: usize,
     copies: u32,
     /// Counts every line written to the alog (the session's run report).
     tally: Option<LogTally>,
+}
+
+/// What [`Logger`] knows of a variable (see [`Logger::log`]).
+struct Known {
+    /// What becomes of its mail (the omit patterns and `Log =` lines are fixed at start-up),
+    /// and whether it was logged yet.
+    fate: Fate,
+    /// What the tally needs to know of the name.
+    name: Name,
+    /// The columns of its last record in the alog.
+    cache: alog::RecordCache,
 }
 
 /// What [`Logger`] does with a variable's mail (memoised per variable name).
@@ -562,13 +571,15 @@ struct SourceStyle<'a> {
 
 /// Writes one mail as a log record: the source as [`SourceStyle`] says (assembled in
 /// `scratch`, reused), binary data as its reference into the `.blog` at `blog_offset` (which
-/// advances); counts the line into `tally`, if any.
+/// advances); with the variable's `cache` if any (the alog's), counting the line into
+/// `tally` if any.
 fn record<W: Write>(
     w: &mut AlogWriter<W>,
     m: &Mail,
     style: SourceStyle<'_>,
     blog: (&str, &mut u64),
     scratch: &mut String,
+    cache: Option<&mut alog::RecordCache>,
     tally: Option<(&mut Tally, Name)>,
 ) -> io::Result<()> {
     let (blog_name, blog_offset) = blog;
@@ -604,11 +615,14 @@ fn record<W: Write>(
             }
         }
     };
-    match tally {
-        Some((t, name)) => w.record_seen(m.time, &m.key, source, value, |line| {
+    let seen = |line: alog::Line<'_>| {
+        if let Some((t, name)) = tally {
             t.record(&m.key, name, source, line);
-        }),
-        None => w.record(m.time, &m.key, source, value),
+        }
+    };
+    match cache {
+        Some(c) => w.record_cached(m.time, c, source, value, seen),
+        None => w.record_seen(m.time, &m.key, source, value, seen),
     }
 }
 
@@ -841,39 +855,43 @@ impl<W: Write> Logger<W> {
 
     /// Logs one mail (counting the alog's line into `tally`).
     fn log(&mut self, m: &Mail, tally: Option<&mut Tally>) {
-        let (fate, name) = match self.fates.get(&m.key) {
-            Some(&f) => f,
-            None => {
-                let f = (self.fate(&m.key), Name::of(&m.key));
-                self.fates.insert(m.key.clone(), f);
-                f
-            }
+        let Some(known) = self.fates.get_mut(&m.key) else {
+            let known = Known {
+                fate: self.fate(&m.key),
+                name: Name::of(&m.key),
+                cache: alog::RecordCache::new(&m.key),
+            };
+            self.fates.insert(m.key.clone(), known);
+            return self.log(m, tally);
         };
-        if fate == Fate::Omitted {
-            if self.config.wildcard
-                && let Some(x) = self.xlog.as_mut()
-            {
-                let r = record(
-                    x,
-                    m,
-                    SourceStyle {
-                        aux: self.config.log_aux_src,
-                        own_community: self
-                            .config
-                            .mark_external_community
-                            .then_some(self.community.as_str()),
-                    },
-                    (&self.blog_name, &mut self.blog_offset),
-                    &mut self.scratch,
-                    None,
-                );
-                self.excluded += 1;
-                self.note(r);
+        let style = SourceStyle {
+            aux: self.config.log_aux_src,
+            own_community: self
+                .config
+                .mark_external_community
+                .then_some(self.community.as_str()),
+        };
+        match known.fate {
+            Fate::Dropped => return,
+            Fate::Omitted => {
+                if self.config.wildcard
+                    && let Some(x) = self.xlog.as_mut()
+                {
+                    let r = record(
+                        x,
+                        m,
+                        style,
+                        (&self.blog_name, &mut self.blog_offset),
+                        &mut self.scratch,
+                        None,
+                        None,
+                    );
+                    self.excluded += 1;
+                    self.note(r);
+                }
+                return;
             }
-            return;
-        }
-        if fate == Fate::Dropped {
-            return;
+            Fate::Log | Fate::Logged => {}
         }
         let Some(w) = self.writer.as_mut() else {
             return;
@@ -881,24 +899,17 @@ impl<W: Write> Logger<W> {
         let r = record(
             w,
             m,
-            SourceStyle {
-                aux: self.config.log_aux_src,
-                own_community: self
-                    .config
-                    .mark_external_community
-                    .then_some(self.community.as_str()),
-            },
+            style,
             (&self.blog_name, &mut self.blog_offset),
             &mut self.scratch,
-            tally.map(|t| (t, name)),
+            Some(&mut known.cache),
+            tally.map(|t| (t, known.name)),
         );
-        self.logged += 1;
-        if fate == Fate::Log {
+        if known.fate == Fate::Log {
+            known.fate = Fate::Logged;
             self.variables += 1;
-            if let Some(f) = self.fates.get_mut(&m.key) {
-                f.0 = Fate::Logged;
-            }
         }
+        self.logged += 1;
         self.note(r);
     }
 }
