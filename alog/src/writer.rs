@@ -260,17 +260,7 @@ impl<W: Write> AlogWriter<W> {
             self.precision,
             self.mark_data_type,
         );
-        let text = &self.buf[start..];
-        seen(Line {
-            text,
-            value: &text[f.value_at..text.len() - 2],
-            time,
-            double: f.double,
-        });
-        if self.buf.len() >= Self::CHUNK {
-            self.write_buffered()?;
-        }
-        Ok(())
+        self.written(start, f.value_at, time, f.double, seen)
     }
 
     /// Writes one record of `cache`'s variable as [`AlogWriter::record_seen`] does, with the
@@ -295,6 +285,20 @@ impl<W: Write> AlogWriter<W> {
             }
             _ => push_value(&mut self.buf, value, self.precision, self.mark_data_type),
         };
+        self.written(start, value_at, time, double, seen)
+    }
+
+    /// After a record's line (from `start`, its value from `value_at` on): shows `seen` the
+    /// line, then hands the buffer on once it is full.
+    #[inline]
+    fn written(
+        &mut self,
+        start: usize,
+        value_at: usize,
+        time: Option<f64>,
+        double: Option<f64>,
+        seen: impl FnOnce(Line<'_>),
+    ) -> io::Result<()> {
         let text = &self.buf[start..];
         seen(Line {
             text,

@@ -853,6 +853,19 @@ impl<W: Write> Logger<W> {
         }
     }
 
+    /// Hands the alog's and the exclusion log's buffered lines to their writers (`flush`:
+    /// and flushes those), noting the first error.
+    fn hand_on(&mut self, flush: bool) {
+        fn hand<W: Write>(w: &mut AlogWriter<W>, flush: bool) -> io::Result<()> {
+            if flush { w.flush() } else { w.pass_on() }
+        }
+        let alog = self.writer.as_mut().map(|w| hand(w, flush));
+        let xlog = self.xlog.as_mut().map(|x| hand(x, flush));
+        for r in [alog, xlog].into_iter().flatten() {
+            self.note(r);
+        }
+    }
+
     /// Logs one mail (counting the alog's line into `tally`).
     fn log(&mut self, m: &Mail, tally: Option<&mut Tally>) {
         let Some(known) = self.fates.get_mut(&m.key) else {
@@ -1023,14 +1036,7 @@ impl<W: Write + Send + 'static> App for Logger<W> {
             }
         }
         // The batch's lines reach the sink now (the writer formats into its own buffer).
-        if let Some(w) = self.writer.as_mut() {
-            let r = w.pass_on();
-            self.note(r);
-        }
-        if let Some(x) = self.xlog.as_mut() {
-            let r = x.pass_on();
-            self.note(r);
-        }
+        self.hand_on(false);
         self.failure()
     }
 
@@ -1055,14 +1061,7 @@ impl<W: Write + Send + 'static> App for Logger<W> {
 
     /// Flushes the alog and the exclusion log; a failed write is the run's failure.
     fn stop(&mut self, _now: f64) -> crate::app::AppResult {
-        if let Some(w) = self.writer.as_mut() {
-            let r = w.flush();
-            self.note(r);
-        }
-        if let Some(x) = self.xlog.as_mut() {
-            let r = x.flush();
-            self.note(r);
-        }
+        self.hand_on(true);
         self.failure()
     }
 }
