@@ -476,8 +476,8 @@ mod tests {
             // Binary data, as its reference.
             vec![
                 (1.0, "NAV_X", "s", d(1.0)),
-                (2.0, "IMG", "cam", Value::Binary(vec![1, 2, 3].into())),
-                (3.0, "NAV_X", "s", Value::Binary(vec![4].into())),
+                (2.0, "IMG", "cam", Value::Binary(vec![1, 2, 3])),
+                (3.0, "NAV_X", "s", Value::Binary(vec![4])),
             ],
             // Not alogs once read back: a line that continues a double (a record whose
             // variable and source columns are empty).
@@ -528,7 +528,7 @@ mod tests {
                             ]),
                             0..6,
                         )
-                        .prop_map(|p| Value::text(&p.concat())),
+                        .prop_map(|p| Value::text(p.concat())),
                     ],
                 ),
                 0..12,
