@@ -24,6 +24,6 @@ mod writer;
 
 pub use naming::{ctime, log_root};
 pub use reader::{
-    Alog, AlogError, Entry, Value, field, parse, parse_line, parse_time, parse_value,
+    Alog, AlogError, Entry, Value, field, parse, parse_double, parse_line, parse_time, parse_value,
 };
-pub use writer::{AlogWriter, BANNER_RULE, Header, LogValue};
+pub use writer::{AlogWriter, BANNER_RULE, Header, Line, LogValue, RecordCache, banner};

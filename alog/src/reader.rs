@@ -157,23 +157,38 @@ fn parse_line_marked(line: &str, marked: bool) -> Option<Entry> {
 /// assert_eq!(parse_value("S:42", true), Value::String("42".into()));
 /// ```
 pub fn parse_value(raw: &str, marked: bool) -> Value {
-    use moos_types::text::is_number;
-    if marked {
-        if let Some(d) = raw.strip_prefix("D:") {
-            d.trim()
-                .parse::<f64>()
-                .map(Value::Double)
-                .unwrap_or_else(|_| Value::text(d))
-        } else {
-            Value::text(raw.strip_prefix("S:").unwrap_or(raw))
-        }
-    } else if is_number(raw) {
-        raw.parse::<f64>()
-            .map(Value::Double)
-            .unwrap_or_else(|_| Value::text(raw))
-    } else {
-        Value::text(raw)
+    if let Some(x) = parse_double(raw, marked) {
+        return Value::Double(x);
     }
+    let text = if marked {
+        raw.strip_prefix("D:")
+            .or_else(|| raw.strip_prefix("S:"))
+            .unwrap_or(raw)
+    } else {
+        raw
+    };
+    Value::text(text)
+}
+
+/// The double a record's value text (after the source, trimmed) reads back as, `None` when
+/// it reads back as a string: [`parse_value`] without building the string.
+///
+/// ```
+/// assert_eq!(alog::parse_double("-2.5", false), Some(-2.5));
+/// assert_eq!(alog::parse_double("D: 4", true), Some(4.0));
+/// assert_eq!(alog::parse_double("S:42", true), None);
+/// assert_eq!(alog::parse_double("1e5", false), None);
+/// ```
+pub fn parse_double(raw: &str, marked: bool) -> Option<f64> {
+    use moos_types::text::is_number;
+    let number = if marked {
+        raw.strip_prefix("D:")?.trim()
+    } else if is_number(raw) {
+        raw
+    } else {
+        return None;
+    };
+    number.parse::<f64>().ok()
 }
 
 /// The first white-space separated field of a record line and the text after it: white
@@ -280,6 +295,25 @@ mod tests {
             "a time must be a number"
         );
     }
+    #[test]
+    fn parse_double_is_parse_value_s_double() {
+        for raw in [
+            "", "1", "-2.5", "+3.", "1e5", "D:", "D:4", "D: 4 ", "D:x", "S:4", "S:", "4 ", "nan",
+            "D:nan", "inf", "-", ".", "x", "é", "D:1e5",
+        ] {
+            for marked in [false, true] {
+                let want = match parse_value(raw, marked) {
+                    Value::Double(x) => Some(x.to_bits()),
+                    _ => None,
+                };
+                let got = parse_double(raw, marked).map(f64::to_bits);
+                assert_eq!(got, want, "{raw:?} {marked}");
+            }
+        }
+        assert_eq!(parse_value("D:x", true), Value::String("x".into()));
+        assert_eq!(parse_value("S:D:1", true), Value::String("D:1".into()));
+    }
+
     #[test]
     fn times_are_the_numbers_moos_reads() {
         use moos_types::text::is_number;

@@ -40,6 +40,28 @@ pub enum LogValue<'a> {
     },
 }
 
+/// A record's line as the writer formatted it, with what its text reads back as where the
+/// writer knows it without reading the text: for a caller that counts the records as the
+/// file will read back (the run report's tally) without parsing every line. See
+/// [`AlogWriter::record_seen`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Line<'a> {
+    /// The whole line, with its `\n`.
+    pub text: &'a str,
+    /// The value's text: from its `D:`/`S:` mark (or its first byte) up to the line's final
+    /// ` \n` (a double's padding included). [`crate::parse_value`] of it, trimmed, is the
+    /// value as read back when the line reads back as one record.
+    pub value: &'a str,
+    /// The time as the line's time field reads back ([`crate::parse_time`]), when the writer
+    /// wrote it from the rounded integer of its digits (not for NaN, infinities, times of
+    /// 2^37 / 10^5 s and more, nor within 1e-10 s of a rounding tie).
+    pub time: Option<f64>,
+    /// A double value as its text reads back ([`crate::parse_value`]), when the writer wrote
+    /// it from the rounded integer of its digits (see [`Line::time`]; also not with more
+    /// than 6 decimals).
+    pub double: Option<f64>,
+}
+
 /// Writes an alog file: the banner on creation, then one line per [`AlogWriter::record`].
 ///
 /// Records are written in the order given; pLogger sorts each batch of mail by time first
@@ -53,7 +75,109 @@ pub struct AlogWriter<W: Write> {
     log_start: f64,
     precision: usize,
     mark_data_type: bool,
-    buf: Vec<u8>,
+    /// The lines not handed on yet (text only: every piece pushed is text or ASCII).
+    buf: String,
+    /// The last record's time column (most records share their time with the one before).
+    time: TimeColumn,
+}
+
+/// What the writer keeps of one variable's last record, to write the next one with less work
+/// (see [`AlogWriter::record_cached`]; pLogger keeps one per variable): the variable and
+/// source columns, and the value column when the value was a double (about half of a
+/// CougUV's records repeat their variable's last value).
+#[derive(Debug, Clone)]
+pub struct RecordCache {
+    /// The variable's column, its space, then the last source's column and its space.
+    names: String,
+    /// The length of the variable's name, then where the source's column starts.
+    var_len: usize,
+    source_at: usize,
+    /// The last source (`None`: no record yet).
+    source: Option<std::ops::Range<usize>>,
+    /// The last double value's bits, with the precision and the type marking written.
+    double: Option<(u64, usize, bool)>,
+    /// That value's column, and the value it reads back as.
+    double_text: String,
+    double_back: Option<f64>,
+}
+
+impl RecordCache {
+    /// The cache of the records of `var`.
+    pub fn new(var: &str) -> RecordCache {
+        let mut names = String::with_capacity(40);
+        push_padded(&mut names, var, 20);
+        names.push(' ');
+        RecordCache {
+            source_at: names.len(),
+            names,
+            var_len: var.len(),
+            source: None,
+            double: None,
+            double_text: String::new(),
+            double_back: None,
+        }
+    }
+
+    /// The variable's name.
+    pub fn var(&self) -> &str {
+        &self.names[..self.var_len]
+    }
+
+    /// The variable and source columns for a record from `source`.
+    #[inline]
+    fn names(&mut self, source: &str) -> &str {
+        if self.source.clone().map(|r| &self.names[r]) != Some(source) {
+            self.names.truncate(self.source_at);
+            push_padded(&mut self.names, source, 15);
+            self.source = Some(self.source_at..self.source_at + source.len());
+            self.names.push(' ');
+        }
+        &self.names
+    }
+
+    /// Appends the value column of the double `x` (the one kept when it is the last value).
+    #[inline]
+    fn push_double(
+        &mut self,
+        out: &mut String,
+        x: f64,
+        precision: usize,
+        mark: bool,
+    ) -> Option<f64> {
+        let key = (x.to_bits(), precision, mark);
+        if self.double != Some(key) {
+            self.double_text.clear();
+            self.double_back = push_double(&mut self.double_text, x, precision, mark);
+            self.double = Some(key);
+        }
+        out.push_str(&self.double_text);
+        self.double_back
+    }
+}
+
+/// A record's time column, kept for the next record of the same time.
+#[derive(Debug, Default)]
+struct TimeColumn {
+    /// The bits of the time relative to LOGSTART (`None`: no record yet).
+    rel: Option<u64>,
+    /// The time written, with its padding.
+    text: String,
+    /// The time as it reads back (see [`Line::time`]).
+    back: Option<f64>,
+}
+
+impl TimeColumn {
+    /// Appends the time column of `rel` (the one kept when `rel` is the last record's time).
+    #[inline]
+    fn push(&mut self, out: &mut String, rel: f64) -> Option<f64> {
+        if self.rel != Some(rel.to_bits()) {
+            self.text.clear();
+            self.back = push_time(&mut self.text, rel);
+            self.rel = Some(rel.to_bits());
+        }
+        out.push_str(&self.text);
+        self.back
+    }
 }
 
 impl<W: Write> AlogWriter<W> {
@@ -66,16 +190,15 @@ impl<W: Write> AlogWriter<W> {
             log_start,
             precision: 5,
             mark_data_type,
-            buf: Vec::with_capacity(Self::CHUNK + 512),
+            buf: String::with_capacity(Self::CHUNK + 512),
+            time: TimeColumn::default(),
         }
     }
 
     /// Writes the banner to `out` and returns the writer (DoublePrecision 5).
     pub fn new(out: W, header: &Header<'_>) -> io::Result<Self> {
         let mut w = Self::with_out(out, header.log_start, header.mark_data_type);
-        let mut banner = String::with_capacity(256);
-        write_banner(&mut banner, header);
-        w.out_mut().write_all(banner.as_bytes())?;
+        w.out_mut().write_all(banner(header).as_bytes())?;
         Ok(w)
     }
 
@@ -113,15 +236,76 @@ impl<W: Write> AlogWriter<W> {
         source: &str,
         value: LogValue<'_>,
     ) -> io::Result<()> {
-        format_record(
+        self.record_seen(time, var, source, value, |_| {})
+    }
+
+    /// Writes one record as [`AlogWriter::record`] does, and shows `seen` its line (before
+    /// it is handed on).
+    pub fn record_seen(
+        &mut self,
+        time: f64,
+        var: &str,
+        source: &str,
+        value: LogValue<'_>,
+        seen: impl FnOnce(Line<'_>),
+    ) -> io::Result<()> {
+        let start = self.buf.len();
+        let time = self.time.push(&mut self.buf, time - self.log_start);
+        let f = push_columns(
             &mut self.buf,
-            time - self.log_start,
+            start,
             var,
             source,
             value,
             self.precision,
             self.mark_data_type,
         );
+        self.written(start, f.value_at, time, f.double, seen)
+    }
+
+    /// Writes one record of `cache`'s variable as [`AlogWriter::record_seen`] does, with the
+    /// columns the cache holds from the variable's last record where they are the same.
+    pub fn record_cached(
+        &mut self,
+        time: f64,
+        cache: &mut RecordCache,
+        source: &str,
+        value: LogValue<'_>,
+        seen: impl FnOnce(Line<'_>),
+    ) -> io::Result<()> {
+        let start = self.buf.len();
+        let time = self.time.push(&mut self.buf, time - self.log_start);
+        self.buf.push_str(cache.names(source));
+        let value_at = self.buf.len() - start;
+        let double = match value {
+            LogValue::Double(x) => {
+                let back = cache.push_double(&mut self.buf, x, self.precision, self.mark_data_type);
+                self.buf.push_str(" \n");
+                back
+            }
+            _ => push_value(&mut self.buf, value, self.precision, self.mark_data_type),
+        };
+        self.written(start, value_at, time, double, seen)
+    }
+
+    /// After a record's line (from `start`, its value from `value_at` on): shows `seen` the
+    /// line, then hands the buffer on once it is full.
+    #[inline]
+    fn written(
+        &mut self,
+        start: usize,
+        value_at: usize,
+        time: Option<f64>,
+        double: Option<f64>,
+        seen: impl FnOnce(Line<'_>),
+    ) -> io::Result<()> {
+        let text = &self.buf[start..];
+        seen(Line {
+            text,
+            value: &text[value_at..text.len() - 2],
+            time,
+            double,
+        });
         if self.buf.len() >= Self::CHUNK {
             self.write_buffered()?;
         }
@@ -137,7 +321,7 @@ impl<W: Write> AlogWriter<W> {
         let Some(out) = self.out.as_mut() else {
             return Ok(());
         };
-        let r = out.write_all(&self.buf);
+        let r = out.write_all(self.buf.as_bytes());
         self.buf.clear();
         r
     }
@@ -179,6 +363,13 @@ impl<W: Write> Drop for AlogWriter<W> {
     }
 }
 
+/// The 5- or 6-line banner [`AlogWriter::new`] writes.
+pub fn banner(h: &Header<'_>) -> String {
+    let mut out = String::with_capacity(256);
+    write_banner(&mut out, h);
+    out
+}
+
 /// Appends the 5- or 6-line banner.
 fn write_banner(out: &mut String, h: &Header<'_>) {
     out.push_str(BANNER_RULE);
@@ -209,16 +400,16 @@ fn pad_left(out: &mut String, s: &str, width: usize) {
 }
 
 /// Spaces to pad a column from (the widest column is 20).
-const SPACES: &[u8; 20] = b"                    ";
+const SPACES: &str = "                    ";
 
 /// Appends `n` spaces (at most 20).
-fn spaces(out: &mut Vec<u8>, n: usize) {
-    out.extend_from_slice(&SPACES[..n.min(SPACES.len())]);
+fn spaces(out: &mut String, n: usize) {
+    out.push_str(&SPACES[..n.min(SPACES.len())]);
 }
 
 /// Appends `s`, then spaces up to `width` characters.
-fn push_padded(out: &mut Vec<u8>, s: &str, width: usize) {
-    out.extend_from_slice(s.as_bytes());
+fn push_padded(out: &mut String, s: &str, width: usize) {
+    out.push_str(s);
     // A text of 4 × width bytes has at least `width` characters.
     let n = if s.len() >= 4 * width {
         width
@@ -234,13 +425,18 @@ fn push_padded(out: &mut Vec<u8>, s: &str, width: usize) {
 const POW10: [u64; 7] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000];
 
 /// Appends `v` with `prec` decimals exactly as [`moos_types::fmt::fixed`] writes it (C
-/// `%.Nf`: a negative value that rounds to zero keeps its sign), digit by digit from the
-/// rounded integer when the scaled value is below 2^37 and not within 1e-5 of a rounding
-/// tie, else through `moos_types::fmt::fixed` itself.
+/// `%.Nf`: a negative value that rounds to zero keeps its sign): from the rounded integer
+/// of `|v| · 10^prec` (its integer part and its decimals written by `itoa`) when that
+/// product is below 2^37 and not within 1e-5 of a rounding tie, else through
+/// `moos_types::fmt::fixed` itself. Returns the value the text reads back as (`str::parse`,
+/// or [`crate::parse_time`]) when it was written from the rounded integer.
 ///
 /// Below 2^37 the product `|v| · 10^prec` is within half an ulp (2^-17 < 7.7e-6) of the
-/// exact one, so away from a tie both round to the same integer.
-fn push_fixed(out: &mut Vec<u8>, v: f64, prec: usize) {
+/// exact one, so away from a tie both round to the same integer. The text `[-]int.dec`
+/// then stands for the rounded integer over `10^prec`, both exact doubles: their quotient
+/// is the correctly rounded value a reader gives the text.
+#[inline]
+fn push_fixed(out: &mut String, v: f64, prec: usize) -> Option<f64> {
     if let Some(&scale) = POW10.get(prec) {
         let s = v.abs() * scale as f64;
         if s < 137_438_953_472.0 {
@@ -249,45 +445,45 @@ fn push_fixed(out: &mut Vec<u8>, v: f64, prec: usize) {
             let frac = s - fl as f64;
             if (frac - 0.5).abs() >= 1e-5 {
                 let n = fl + u64::from(frac > 0.5);
-                // At most 12 integer digits, 6 decimals, a point and a sign.
-                let mut buf = [0u8; 24];
-                let mut i = buf.len();
-                let (mut int, mut dec) = (n / scale, n % scale);
-                for _ in 0..prec {
-                    i -= 1;
-                    buf[i] = b'0' + (dec % 10) as u8;
-                    dec /= 10;
+                let negative = v.is_sign_negative();
+                if negative {
+                    out.push('-');
                 }
+                let mut digits = itoa::Buffer::new();
+                out.push_str(digits.format(n / scale));
                 if prec > 0 {
-                    i -= 1;
-                    buf[i] = b'.';
+                    // `scale + decimals` has a leading 1, then the decimals with their
+                    // leading zeros.
+                    out.push('.');
+                    out.push_str(&digits.format(scale + n % scale)[1..]);
                 }
-                loop {
-                    i -= 1;
-                    buf[i] = b'0' + (int % 10) as u8;
-                    int /= 10;
-                    if int == 0 {
-                        break;
-                    }
-                }
-                if v.is_sign_negative() {
-                    i -= 1;
-                    buf[i] = b'-';
-                }
-                out.extend_from_slice(&buf[i..]);
-                return;
+                let back = n as f64 / scale as f64;
+                return Some(if negative { -back } else { back });
             }
         }
     }
-    // NaN, infinities, large values, ties and many decimals.
-    let mut s = String::new();
-    fmt_fixed(&mut s, v, prec);
-    out.extend_from_slice(s.as_bytes());
+    fixed_general(out, v, prec);
+    None
 }
 
-/// Appends one record line (with its newline) to `out`.
+/// NaN, infinities, large values, ties and many decimals.
+#[cold]
+fn fixed_general(out: &mut String, v: f64, prec: usize) {
+    fmt_fixed(out, v, prec);
+}
+
+/// What [`push_columns`] knows of the line it wrote (see [`Line`]).
+struct Formatted {
+    /// Where the value's text starts, from the line's start.
+    value_at: usize,
+    double: Option<f64>,
+}
+
+/// Appends one record line (with its newline) to `out` (the writer keeps the time column
+/// of the last record: see [`TimeColumn`]).
+#[cfg(test)]
 fn format_record(
-    out: &mut Vec<u8>,
+    out: &mut String,
     rel_time: f64,
     var: &str,
     source: &str,
@@ -296,28 +492,56 @@ fn format_record(
     mark: bool,
 ) {
     let start = out.len();
-    push_fixed(out, rel_time, 5);
+    push_time(out, rel_time);
+    push_columns(out, start, var, source, value, precision, mark);
+}
+
+/// Appends a record's time column: the time relative to LOGSTART, padded to 16 characters
+/// with at least one space. Returns the time as it reads back, as [`push_fixed`] does.
+fn push_time(out: &mut String, rel_time: f64) -> Option<f64> {
+    let start = out.len();
+    let time = push_fixed(out, rel_time, 5);
     let n = out.len() - start;
     spaces(out, 16usize.saturating_sub(n).max(1));
+    time
+}
+
+/// Appends the rest of a record line after its time column (the line starts at `start`):
+/// the variable and source columns, the value, the newline.
+fn push_columns(
+    out: &mut String,
+    start: usize,
+    var: &str,
+    source: &str,
+    value: LogValue<'_>,
+    precision: usize,
+    mark: bool,
+) -> Formatted {
+    push_names(out, var, source);
+    let value_at = out.len() - start;
+    let double = push_value(out, value, precision, mark);
+    Formatted { value_at, double }
+}
+
+/// Appends the variable and source columns, each followed by its space.
+fn push_names(out: &mut String, var: &str, source: &str) {
     push_padded(out, var, 20);
-    out.push(b' ');
+    out.push(' ');
     push_padded(out, source, 15);
-    out.push(b' ');
+    out.push(' ');
+}
+
+/// Appends a record's value column and the line's end; returns a double value as it reads
+/// back, as [`push_fixed`] does.
+fn push_value(out: &mut String, value: LogValue<'_>, precision: usize, mark: bool) -> Option<f64> {
+    let mut double = None;
     match value {
-        LogValue::Double(x) => {
-            if mark {
-                out.extend_from_slice(b"D:");
-            }
-            let start = out.len();
-            push_fixed(out, x, precision);
-            let n = out.len() - start;
-            spaces(out, 12usize.saturating_sub(n));
-        }
+        LogValue::Double(x) => double = push_double(out, x, precision, mark),
         LogValue::String(s) => {
             if mark {
-                out.extend_from_slice(b"S:");
+                out.push_str("S:");
             }
-            out.extend_from_slice(s.as_bytes());
+            out.push_str(s);
         }
         LogValue::Binary {
             file,
@@ -325,16 +549,29 @@ fn format_record(
             bytes,
         } => {
             let mut digits = itoa::Buffer::new();
-            out.extend_from_slice(b"<MOOS_BINARY>File=");
-            out.extend_from_slice(file.as_bytes());
-            out.extend_from_slice(b",Offset=");
-            out.extend_from_slice(digits.format(offset).as_bytes());
-            out.extend_from_slice(b",Bytes=");
-            out.extend_from_slice(digits.format(bytes).as_bytes());
-            out.extend_from_slice(b"</MOOS_BINARY>");
+            out.push_str("<MOOS_BINARY>File=");
+            out.push_str(file);
+            out.push_str(",Offset=");
+            out.push_str(digits.format(offset));
+            out.push_str(",Bytes=");
+            out.push_str(digits.format(bytes));
+            out.push_str("</MOOS_BINARY>");
         }
     }
-    out.extend_from_slice(b" \n");
+    out.push_str(" \n");
+    double
+}
+
+/// Appends a double value: its `D:` mark, its digits, then spaces up to 12 digits.
+fn push_double(out: &mut String, x: f64, precision: usize, mark: bool) -> Option<f64> {
+    if mark {
+        out.push_str("D:");
+    }
+    let start = out.len();
+    let back = push_fixed(out, x, precision);
+    let n = out.len() - start;
+    spaces(out, 12usize.saturating_sub(n));
+    back
 }
 
 #[cfg(test)]
@@ -381,9 +618,9 @@ mod tests {
     }
 
     fn one(time: f64, var: &str, src: &str, v: LogValue<'_>, mark: bool) -> String {
-        let mut s = Vec::new();
+        let mut s = String::new();
         format_record(&mut s, time, var, src, v, 5, mark);
-        String::from_utf8(s).unwrap()
+        s
     }
 
     #[test]
@@ -544,11 +781,11 @@ mod tests {
         prec: usize,
         mark: bool,
     ) -> (String, String) {
-        let mut new = Vec::new();
+        let mut new = String::new();
         format_record(&mut new, t, var, src, v, prec, mark);
         let mut old = String::new();
         old_format_record(&mut old, t, var, src, v, prec, mark);
-        (String::from_utf8(new).unwrap(), old)
+        (new, old)
     }
 
     #[test]
@@ -688,6 +925,16 @@ mod tests {
             // of the fifth decimal (x.xxxxx5).
             let grid = ms as f64 / 1000.0;
             let tie = (ms as f64 * 100.0 + if half { 0.5 } else { 0.0 }) / 100_000.0;
+            // The writer keeps the time column of the record before: the same lines.
+            let mut w = AlogWriter::headless(Vec::new(), 0.0, mark);
+            w.set_double_precision(prec);
+            let mut lines = String::new();
+            // And through a variable's cache: each record twice, then from another source.
+            let mut cached = AlogWriter::headless(Vec::new(), 0.0, mark);
+            cached.set_double_precision(prec);
+            let mut cache = RecordCache::new(&var);
+            proptest::prop_assert_eq!(cache.var(), &var);
+            let mut cached_lines = String::new();
             for time in [t, grid, tie, -grid] {
                 for value in [
                     LogValue::Double(v),
@@ -696,9 +943,26 @@ mod tests {
                     LogValue::String(&text),
                 ] {
                     let (new, old) = both(time, &var, &src, value, prec, mark);
-                    proptest::prop_assert_eq!(new, old);
+                    proptest::prop_assert_eq!(&new, &old);
+                    lines.push_str(&old);
+                    w.record(time, &var, &src, value).unwrap();
+                    for from in [src.as_str(), &src, "é"] {
+                        let mut seen = None;
+                        cached
+                            .record_cached(time, &mut cache, from, value, |l| {
+                                seen = Some((l.text.to_string(), l.value.to_string()));
+                            })
+                            .unwrap();
+                        let (_, old) = both(time, &var, from, value, prec, mark);
+                        let (text, shown) = seen.expect("the line is shown");
+                        proptest::prop_assert_eq!(&text, &old);
+                        proptest::prop_assert!(old[..old.len() - 2].ends_with(&shown));
+                        cached_lines.push_str(&old);
+                    }
                 }
             }
+            proptest::prop_assert_eq!(String::from_utf8(w.into_inner()).unwrap(), lines);
+            proptest::prop_assert_eq!(String::from_utf8(cached.into_inner()).unwrap(), cached_lines);
         }
     }
 }

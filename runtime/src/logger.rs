@@ -25,6 +25,7 @@ use moosdb::db::wildcard_match;
 use crate::antler::BuiltInApp;
 use crate::app::{App, Mail, Post, Subscription, Value};
 use crate::appcasting::AppcastLayer;
+use crate::session::tally::{LogTally, Name, Tally};
 
 /// Seconds between `LOGGER_DIRECTORY` posts.
 pub const DIRECTORY_PERIOD: f64 = 10.0;
@@ -33,7 +34,7 @@ pub const DIRECTORY_PERIOD: f64 = 10.0;
 /// [`LateSink::attach`] once the mission has been read and checked, so a mission that fails
 /// to start creates nothing on disk. Writing before a file is attached is an error.
 #[derive(Clone, Default)]
-pub struct LateSink(Arc<Mutex<Option<Attached>>>);
+pub struct LateSink(Arc<Mutex<Option<Attached>>>, LogTally);
 
 /// What a [`LateSink`] writes to once attached.
 struct Attached {
@@ -77,6 +78,12 @@ impl LateSink {
     /// A sink with no file yet.
     pub fn new() -> Self {
         LateSink::default()
+    }
+
+    /// The tally of the records written to the alog (the run report's totals): pLogger counts
+    /// each line it writes into it (see [`Logger::with_side_files`]).
+    pub(crate) fn tally(&self) -> LogTally {
+        self.1.clone()
     }
 
     /// Attaches the alog writer every later write goes to, and the session folder side files
@@ -518,12 +525,24 @@ pub struct Logger<W: Write> {
     /// Records written to the alog and to the exclusion log.
     logged: u64,
     excluded: u64,
-    /// What becomes of each variable's mail, decided once per name (the omit patterns and
-    /// `Log =` lines are fixed at start-up), and whether it was logged yet.
-    fates: rustc_hash::FxHashMap<moos_types::ByteString, Fate>,
+    /// What the logger knows of each variable, found once per name.
+    fates: rustc_hash::FxHashMap<moos_types::ByteString, Known>,
     /// Distinct variables logged.
     variables: usize,
     copies: u32,
+    /// Counts every line written to the alog (the session's run report).
+    tally: Option<LogTally>,
+}
+
+/// What [`Logger`] knows of a variable (see [`Logger::log`]).
+struct Known {
+    /// What becomes of its mail (the omit patterns and `Log =` lines are fixed at start-up),
+    /// and whether it was logged yet.
+    fate: Fate,
+    /// What the tally needs to know of the name.
+    name: Name,
+    /// The columns of its last record in the alog.
+    cache: alog::RecordCache,
 }
 
 /// What [`Logger`] does with a variable's mail (memoised per variable name).
@@ -552,13 +571,16 @@ struct SourceStyle<'a> {
 
 /// Writes one mail as a log record: the source as [`SourceStyle`] says (assembled in
 /// `scratch`, reused), binary data as its reference into the `.blog` at `blog_offset` (which
-/// advances).
+/// advances); with the variable's `cache` if any (the alog's), counting the line into
+/// `tally` if any.
 fn record<W: Write>(
     w: &mut AlogWriter<W>,
     m: &Mail,
     style: SourceStyle<'_>,
     blog: (&str, &mut u64),
     scratch: &mut String,
+    cache: Option<&mut alog::RecordCache>,
+    tally: Option<(&mut Tally, Name)>,
 ) -> io::Result<()> {
     let (blog_name, blog_offset) = blog;
     let with_aux = style.aux && !m.source_aux.is_empty();
@@ -580,23 +602,27 @@ fn record<W: Write>(
     } else {
         &m.source
     };
-    match &m.value {
-        Value::Double(x) => w.record(m.time, &m.key, source, alog::LogValue::Double(*x)),
-        Value::String(s) => w.record(m.time, &m.key, source, alog::LogValue::String(s)),
+    let value = match &m.value {
+        Value::Double(x) => alog::LogValue::Double(*x),
+        Value::String(s) => alog::LogValue::String(s),
         Value::Binary(b) => {
             let offset = *blog_offset;
             *blog_offset += b.len() as u64;
-            w.record(
-                m.time,
-                &m.key,
-                source,
-                alog::LogValue::Binary {
-                    file: blog_name,
-                    offset,
-                    bytes: b.len() as u64,
-                },
-            )
+            alog::LogValue::Binary {
+                file: blog_name,
+                offset,
+                bytes: b.len() as u64,
+            }
         }
+    };
+    let seen = |line: alog::Line<'_>| {
+        if let Some((t, name)) = tally {
+            t.record(&m.key, name, source, line);
+        }
+    };
+    match cache {
+        Some(c) => w.record_cached(m.time, c, source, value, seen),
+        None => w.record_seen(m.time, &m.key, source, value, seen),
     }
 }
 
@@ -668,6 +694,7 @@ impl<W: Write> Logger<W> {
             variables: 0,
             copies: 0,
             community: String::new(),
+            tally: None,
         }
     }
 
@@ -707,9 +734,21 @@ impl<W: Write> Logger<W> {
         let _ = writeln!(out, "           State: {state}");
     }
 
-    /// Also writes the mission copy and requested copies beside the alog.
+    /// Also writes the mission copy and requested copies beside the alog, and counts the
+    /// alog's lines into the folder's tally ([`LateSink::tally`]: the folder's sink is the
+    /// alog's writer in a session).
     pub fn with_side_files(mut self, side: Option<SideFiles>) -> Self {
+        if let Some(s) = &side {
+            self = self.with_tally(s.folder.tally());
+        }
         self.side = side;
+        self
+    }
+
+    /// Counts every line written to the alog into `tally` (the banner, then each record as
+    /// the writer shows it: see [`Tally::record`]).
+    pub(crate) fn with_tally(mut self, tally: LogTally) -> Self {
+        self.tally = Some(tally);
         self
     }
 
@@ -814,39 +853,58 @@ impl<W: Write> Logger<W> {
         }
     }
 
-    fn log(&mut self, m: &Mail) {
-        let fate = match self.fates.get(&m.key) {
-            Some(&f) => f,
-            None => {
-                let f = self.fate(&m.key);
-                self.fates.insert(m.key.clone(), f);
-                f
-            }
-        };
-        if fate == Fate::Omitted {
-            if self.config.wildcard
-                && let Some(x) = self.xlog.as_mut()
-            {
-                let r = record(
-                    x,
-                    m,
-                    SourceStyle {
-                        aux: self.config.log_aux_src,
-                        own_community: self
-                            .config
-                            .mark_external_community
-                            .then_some(self.community.as_str()),
-                    },
-                    (&self.blog_name, &mut self.blog_offset),
-                    &mut self.scratch,
-                );
-                self.excluded += 1;
-                self.note(r);
-            }
-            return;
+    /// Hands the alog's and the exclusion log's buffered lines to their writers (`flush`:
+    /// and flushes those), noting the first error.
+    fn hand_on(&mut self, flush: bool) {
+        fn hand<W: Write>(w: &mut AlogWriter<W>, flush: bool) -> io::Result<()> {
+            if flush { w.flush() } else { w.pass_on() }
         }
-        if fate == Fate::Dropped {
-            return;
+        let alog = self.writer.as_mut().map(|w| hand(w, flush));
+        let xlog = self.xlog.as_mut().map(|x| hand(x, flush));
+        for r in [alog, xlog].into_iter().flatten() {
+            self.note(r);
+        }
+    }
+
+    /// Logs one mail (counting the alog's line into `tally`).
+    fn log(&mut self, m: &Mail, tally: Option<&mut Tally>) {
+        let Some(known) = self.fates.get_mut(&m.key) else {
+            let known = Known {
+                fate: self.fate(&m.key),
+                name: Name::of(&m.key),
+                cache: alog::RecordCache::new(&m.key),
+            };
+            self.fates.insert(m.key.clone(), known);
+            return self.log(m, tally);
+        };
+        let style = SourceStyle {
+            aux: self.config.log_aux_src,
+            own_community: self
+                .config
+                .mark_external_community
+                .then_some(self.community.as_str()),
+        };
+        match known.fate {
+            Fate::Dropped => return,
+            Fate::Omitted => {
+                if self.config.wildcard
+                    && let Some(x) = self.xlog.as_mut()
+                {
+                    let r = record(
+                        x,
+                        m,
+                        style,
+                        (&self.blog_name, &mut self.blog_offset),
+                        &mut self.scratch,
+                        None,
+                        None,
+                    );
+                    self.excluded += 1;
+                    self.note(r);
+                }
+                return;
+            }
+            Fate::Log | Fate::Logged => {}
         }
         let Some(w) = self.writer.as_mut() else {
             return;
@@ -854,23 +912,17 @@ impl<W: Write> Logger<W> {
         let r = record(
             w,
             m,
-            SourceStyle {
-                aux: self.config.log_aux_src,
-                own_community: self
-                    .config
-                    .mark_external_community
-                    .then_some(self.community.as_str()),
-            },
+            style,
             (&self.blog_name, &mut self.blog_offset),
             &mut self.scratch,
+            Some(&mut known.cache),
+            tally.map(|t| (t, known.name)),
         );
-        self.logged += 1;
-        if fate == Fate::Log {
+        if known.fate == Fate::Log {
+            known.fate = Fate::Logged;
             self.variables += 1;
-            if let Some(f) = self.fates.get_mut(&m.key) {
-                *f = Fate::Logged;
-            }
         }
+        self.logged += 1;
         self.note(r);
     }
 }
@@ -939,6 +991,9 @@ impl<W: Write + Send + 'static> App for Logger<W> {
                 Ok(mut w) => {
                     w.set_double_precision(self.config.double_precision);
                     self.writer = Some(w);
+                    if let Some(t) = &self.tally {
+                        t.lock().text(&alog::banner(&header));
+                    }
                 }
                 Err(e) => self.error = Some(e),
             }
@@ -964,8 +1019,11 @@ impl<W: Write + Send + 'static> App for Logger<W> {
     }
 
     fn on_mail(&mut self, mail: &[Mail], _now: f64, _out: &mut Vec<Post>) -> crate::app::AppResult {
+        // The tally is held over the batch.
+        let tally = self.tally.clone();
+        let mut counting = tally.as_ref().map(LogTally::lock);
         for m in mail {
-            self.log(m);
+            self.log(m, counting.as_deref_mut());
             if !self.appcast.take_mail(m) {
                 continue;
             }
@@ -978,14 +1036,7 @@ impl<W: Write + Send + 'static> App for Logger<W> {
             }
         }
         // The batch's lines reach the sink now (the writer formats into its own buffer).
-        if let Some(w) = self.writer.as_mut() {
-            let r = w.pass_on();
-            self.note(r);
-        }
-        if let Some(x) = self.xlog.as_mut() {
-            let r = x.pass_on();
-            self.note(r);
-        }
+        self.hand_on(false);
         self.failure()
     }
 
@@ -1010,14 +1061,7 @@ impl<W: Write + Send + 'static> App for Logger<W> {
 
     /// Flushes the alog and the exclusion log; a failed write is the run's failure.
     fn stop(&mut self, _now: f64) -> crate::app::AppResult {
-        if let Some(w) = self.writer.as_mut() {
-            let r = w.flush();
-            self.note(r);
-        }
-        if let Some(x) = self.xlog.as_mut() {
-            let r = x.flush();
-            self.note(r);
-        }
+        self.hand_on(true);
         self.failure()
     }
 }

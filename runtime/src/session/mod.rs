@@ -35,7 +35,7 @@ mod options;
 mod realtime;
 mod report;
 mod run;
-mod tally;
+pub(crate) mod tally;
 
 pub use fleet::{FleetOptions, FleetReport, fleet_port, run_fleet, validate_fleet};
 pub use options::{Mode, Observer, Quiet, RunOptions};

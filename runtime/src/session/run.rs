@@ -21,7 +21,7 @@ use crate::remote::RemoteError;
 use crate::scheduler::{Outcome, Poke, PokeAt, RunError, Scheduler};
 
 use super::realtime::*;
-use super::tally::{LogTally, OpenLog};
+use super::tally::OpenLog;
 use super::*;
 /// Why a run could not start or did not complete.
 #[derive(Debug, Error)]
@@ -171,8 +171,8 @@ pub(super) const LOG_BUFFER: usize = 1 << 16;
 
 /// Creates the session's folder and alog, named from `named` (the wall-clock start), never
 /// over an existing log, attaches the file to `sink` behind a write buffer of `buffer`
-/// bytes (behind the tally that counts the report's totals as it is written), and returns
-/// the alog's path and tally.
+/// bytes, and returns the alog's path and the sink's tally (pLogger counts the report's
+/// totals into it as it writes).
 pub(super) fn open_log(
     loaded: &LoadedMission,
     dir: &Path,
@@ -186,12 +186,10 @@ pub(super) fn open_log(
         .claim_session(&named)
         .map_err(|e| SessionError::LogOpen(e.to_string()))?;
     let folder = PathBuf::from(target.config.directory(&at));
-    let tally = LogTally::default();
-    let file = tally.writer(BufWriter::with_capacity(buffer, file));
-    sink.attach(Box::new(file), folder);
+    sink.attach(Box::new(BufWriter::with_capacity(buffer, file)), folder);
     Ok(OpenLog {
         path: target.config.alog_path(&at),
-        tally,
+        tally: sink.tally(),
     })
 }
 
