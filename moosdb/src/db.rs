@@ -118,9 +118,25 @@ pub struct DbTime {
     pub mono: f64,
 }
 
-/// A connected client's handle inside the core.
+/// A connected client's handle inside the core: its slot in the DB's table of clients (the
+/// low 32 bits) and that slot's generation (the high 32 bits), so a look-up is an index and
+/// the handle of a client that left never names the one that takes its slot.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct ClientId(pub u64);
+
+impl ClientId {
+    fn new(slot: usize, generation: u32) -> ClientId {
+        ClientId((u64::from(generation) << 32) | slot as u64)
+    }
+
+    fn slot(self) -> usize {
+        (self.0 & 0xffff_ffff) as usize
+    }
+
+    fn generation(self) -> u32 {
+        (self.0 >> 32) as u32
+    }
+}
 
 /// Misuse of the core's API.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Error)]
@@ -446,6 +462,76 @@ struct ClientState {
     dropped: u64,
     timing: Option<Timing>,
     unread: Unread,
+    /// Listed in [`Database::waiting`] (it was given held mail since the last notify
+    /// packet).
+    listed: bool,
+}
+
+/// The connected clients: a slab indexed by [`ClientId::slot`] (no hash or tree walk per
+/// subscriber a write reaches), each slot with the generation of the id it was last given.
+#[derive(Debug, Default)]
+struct Clients {
+    slots: Vec<(u32, Option<ClientState>)>,
+    free: Vec<usize>,
+}
+
+impl Clients {
+    fn get(&self, id: ClientId) -> Option<&ClientState> {
+        match self.slots.get(id.slot()) {
+            Some((g, Some(c))) if *g == id.generation() => Some(c),
+            _ => None,
+        }
+    }
+
+    fn get_mut(&mut self, id: ClientId) -> Option<&mut ClientState> {
+        match self.slots.get_mut(id.slot()) {
+            Some((g, Some(c))) if *g == id.generation() => Some(c),
+            _ => None,
+        }
+    }
+
+    fn contains(&self, id: ClientId) -> bool {
+        self.get(id).is_some()
+    }
+
+    /// Adds a client in a free slot (its generation moved on) or a new one.
+    fn insert(&mut self, c: ClientState) -> ClientId {
+        match self.free.pop() {
+            Some(i) => {
+                let slot = &mut self.slots[i];
+                slot.0 = slot.0.wrapping_add(1).max(1);
+                slot.1 = Some(c);
+                ClientId::new(i, slot.0)
+            }
+            None => {
+                self.slots.push((1, Some(c)));
+                ClientId::new(self.slots.len() - 1, 1)
+            }
+        }
+    }
+
+    fn remove(&mut self, id: ClientId) -> Option<ClientState> {
+        self.get(id)?;
+        let c = self.slots[id.slot()].1.take();
+        self.free.push(id.slot());
+        c
+    }
+
+    /// The clients with their ids, in slot order.
+    fn iter(&self) -> impl Iterator<Item = (ClientId, &ClientState)> {
+        self.slots
+            .iter()
+            .enumerate()
+            .filter_map(|(i, (g, c))| Some((ClientId::new(i, *g), c.as_ref()?)))
+    }
+
+    fn values(&self) -> impl Iterator<Item = &ClientState> {
+        self.slots.iter().filter_map(|(_, c)| c.as_ref())
+    }
+
+    fn values_mut(&mut self) -> impl Iterator<Item = &mut ClientState> {
+        self.slots.iter_mut().filter_map(|(_, c)| c.as_mut())
+    }
 }
 
 impl ClientState {
@@ -522,36 +608,52 @@ pub struct Database {
     /// The variables by name (hashed: a write looks its variable up once; what lists
     /// them in order sorts, see [`Database::sorted_vars`]).
     vars: FxHashMap<Bytes, Var>,
-    clients: BTreeMap<ClientId, ClientState>,
+    clients: Clients,
+    /// Clients given held mail since the last notify packet (each once, see
+    /// [`ClientState::listed`]): the ones whose held mail a notify packet pushes.
+    waiting: Vec<ClientId>,
     names: FxHashMap<Bytes, ClientId>,
     filters: BTreeMap<Bytes, Vec<Filter>>,
-    next_id: u64,
+    /// The next client's connection order (`DB_CLIENTS` lists the newest first).
+    next_order: u64,
     /// Variables whose every accepted write is kept for [`Database::take_taps`].
     tapped: Vec<Bytes>,
     taps: Vec<Message>,
 }
 
-/// Delivers `msg` into the held mail of client `id` (if connected).
+/// Delivers `msg` into the held mail of client `id` (if connected), listing it in
+/// `waiting`.
 fn hold_for(
-    clients: &mut BTreeMap<ClientId, ClientState>,
+    clients: &mut Clients,
+    waiting: &mut Vec<ClientId>,
     id: ClientId,
     msg: Arc<Delivery>,
     limit: usize,
 ) {
-    if let Some(c) = clients.get_mut(&id) {
+    if let Some(c) = clients.get_mut(id) {
         c.hold(msg, limit);
+        if !c.listed {
+            c.listed = true;
+            waiting.push(id);
+        }
     }
 }
 
 /// The id of the client called `name` and whether it drops `key`'s mail unread.
 fn client_of(
-    clients: &BTreeMap<ClientId, ClientState>,
+    clients: &Clients,
     names: &FxHashMap<Bytes, ClientId>,
     name: &[u8],
     key: &[u8],
 ) -> Option<(ClientId, bool)> {
     let id = *names.get(name)?;
-    Some((id, clients.get(&id).is_some_and(|c| c.unread.covers(key))))
+    Some((id, clients.get(id).is_some_and(|c| c.unread.covers(key))))
+}
+
+/// True when `a` and `b` hold the same bytes. The bus hands out one shared buffer per name,
+/// so a name that repeats is mostly the very buffer kept: then nothing is compared.
+fn same_text(a: &Bytes, b: &Bytes) -> bool {
+    (a.as_ptr() == b.as_ptr() && a.len() == b.len()) || a == b
 }
 
 /// The DB's summaries, built only while some client reads them.
@@ -587,10 +689,11 @@ impl Database {
             start_time: now.moos,
             summary_time: now.moos,
             vars,
-            clients: BTreeMap::new(),
+            clients: Clients::default(),
+            waiting: Vec::new(),
             names: FxHashMap::default(),
             filters: BTreeMap::new(),
-            next_id: 1,
+            next_order: 1,
             tapped: Vec::new(),
             taps: Vec::new(),
         }
@@ -627,25 +730,23 @@ impl Database {
             ));
             return Handshake::Poison { reply: p };
         }
-        let id = ClientId(self.next_id);
-        self.next_id += 1;
-        self.clients.insert(
-            id,
-            ClientState {
-                name: name.clone(),
-                asynchronous,
-                order: id.0,
-                last_heard: now.mono,
-                held: VecDeque::new(),
-                outbox: VecDeque::new(),
-                packets: VecDeque::new(),
-                outbox_msgs: 0,
-                outbox_bytes: 0,
-                dropped: 0,
-                timing: None,
-                unread: Unread::default(),
-            },
-        );
+        let order = self.next_order;
+        self.next_order += 1;
+        let id = self.clients.insert(ClientState {
+            name: name.clone(),
+            asynchronous,
+            order,
+            last_heard: now.mono,
+            held: VecDeque::new(),
+            outbox: VecDeque::new(),
+            packets: VecDeque::new(),
+            outbox_msgs: 0,
+            outbox_bytes: 0,
+            dropped: 0,
+            timing: None,
+            unread: Unread::default(),
+            listed: false,
+        });
         self.names.insert(name.clone(), id);
         let mut w = Message::new(MsgType::Welcome, DataType::Double, "");
         w.time = now.moos;
@@ -680,8 +781,9 @@ impl Database {
     /// Removes a client: its subscriptions, filters, held mail and outbox; posts
     /// `DB_EVENT = disconnected=NAME`. Returns its name, or `None` if it was not connected.
     pub fn disconnect(&mut self, id: ClientId, now: DbTime) -> Option<String> {
-        let c = self.clients.remove(&id)?;
+        let c = self.clients.remove(id)?;
         self.names.remove(&c.name);
+        self.waiting.retain(|w| *w != id);
         for v in self.vars.values_mut() {
             v.subscribers.remove(&c.name);
         }
@@ -700,13 +802,16 @@ impl Database {
     /// `now.mono`); returns their ids and names.
     pub fn reap_silent(&mut self, now: DbTime) -> Vec<(ClientId, String)> {
         let timeout = self.config.client_timeout;
-        let silent: Vec<ClientId> = self
+        // In connection order, as their DB_EVENTs come.
+        let mut silent: Vec<(u64, ClientId)> = self
             .clients
             .iter()
             .filter(|(_, c)| now.mono - c.last_heard > timeout)
-            .map(|(id, _)| *id)
+            .map(|(id, c)| (c.order, id))
             .collect();
-        let mut out = Vec::with_capacity(silent.len());
+        silent.sort_unstable();
+        let silent = silent.into_iter().map(|(_, id)| id);
+        let mut out = Vec::new();
         for id in silent {
             if let Some(name) = self.disconnect(id, now) {
                 warn!(client = %name, "disconnecting after {timeout} seconds of silence");
@@ -792,10 +897,7 @@ impl Database {
         now: DbTime,
         ready: &mut Vec<ClientId>,
     ) -> Result<(), DbError> {
-        let c = self
-            .clients
-            .get_mut(&id)
-            .ok_or(DbError::UnknownClient(id))?;
+        let c = self.clients.get_mut(id).ok_or(DbError::UnknownClient(id))?;
         c.last_heard = now.mono;
         let name = c.name.clone();
         let asynchronous = c.asynchronous;
@@ -828,7 +930,7 @@ impl Database {
         }
         let limit = self.config.outbox_limit;
         let byte_limit = self.config.outbox_byte_limit;
-        if let Some(c) = self.clients.get_mut(&id) {
+        if let Some(c) = self.clients.get_mut(id) {
             let take_held = had_any || !asynchronous;
             let head = if asynchronous {
                 echo
@@ -854,14 +956,22 @@ impl Database {
             }
         }
         if had_notify {
-            for (cid, c) in self.clients.iter_mut() {
+            // Only the clients given held mail since the last notify packet can have any.
+            let first = ready.len();
+            for cid in self.waiting.drain(..) {
+                let Some(c) = self.clients.get_mut(cid) else {
+                    continue;
+                };
+                c.listed = false;
                 if c.asynchronous && !c.held.is_empty() {
                     c.queue_held(limit, byte_limit);
-                    if !ready.contains(cid) {
-                        ready.push(*cid);
+                    if !ready.contains(&cid) {
+                        ready.push(cid);
                     }
                 }
             }
+            // In id order, as they would be found in the table.
+            ready[first..].sort_unstable();
         }
         Ok(())
     }
@@ -869,7 +979,7 @@ impl Database {
     /// Moves the client's queued packets into `out`; `false` if the client is gone (the edge
     /// should then close its connection).
     pub fn drain_outbox(&mut self, id: ClientId, out: &mut Vec<Vec<Message>>) -> bool {
-        match self.clients.get_mut(&id) {
+        match self.clients.get_mut(id) {
             Some(c) => {
                 for (n, _) in c.packets.drain(..) {
                     out.push(c.outbox.drain(..n).map(Delivery::into_message).collect());
@@ -886,7 +996,7 @@ impl Database {
     /// (an in-process client needs no packet boundaries, and no buffer per packet);
     /// `false` if the client is gone.
     pub fn drain_messages(&mut self, id: ClientId, out: &mut Vec<Message>) -> bool {
-        match self.clients.get_mut(&id) {
+        match self.clients.get_mut(id) {
             Some(c) => {
                 out.extend(c.outbox.drain(..).map(Delivery::into_message));
                 c.packets.clear();
@@ -901,7 +1011,7 @@ impl Database {
     /// [`Database::drain_messages`] without copies: the shared deliveries themselves (an
     /// in-process reader takes each one's [`Delivery::mail`]).
     pub fn drain_deliveries(&mut self, id: ClientId, out: &mut Vec<Arc<Delivery>>) -> bool {
-        match self.clients.get_mut(&id) {
+        match self.clients.get_mut(id) {
             Some(c) => {
                 out.extend(c.outbox.drain(..));
                 c.packets.clear();
@@ -922,7 +1032,7 @@ impl Database {
     /// asks). Applies to the client's existing registrations too. `false` if the client is
     /// not connected.
     pub fn set_unread(&mut self, id: ClientId, unread: Unread) -> bool {
-        let Some(c) = self.clients.get_mut(&id) else {
+        let Some(c) = self.clients.get_mut(id) else {
             return false;
         };
         let name = c.name.clone();
@@ -965,7 +1075,7 @@ impl Database {
 
     /// Messages dropped so far for a client because it did not keep up.
     pub fn dropped(&self, id: ClientId) -> Option<u64> {
-        self.clients.get(&id).map(|c| c.dropped)
+        self.clients.get(id).map(|c| c.dropped)
     }
 
     /// The id of the connected client called `name`.
@@ -975,7 +1085,7 @@ impl Database {
 
     /// True if `id` is connected.
     pub fn is_connected(&self, id: ClientId) -> bool {
-        self.clients.contains_key(&id)
+        self.clients.contains(id)
     }
 
     /// Names of the connected clients, newest first (the order of `DB_CLIENTS`).
@@ -1134,7 +1244,13 @@ impl Database {
             if stale {
                 reply.sval = self.summary_text(key).into();
             }
-            hold_for(&mut self.clients, id, Delivery::new(reply), limit);
+            hold_for(
+                &mut self.clients,
+                &mut self.waiting,
+                id,
+                Delivery::new(reply),
+                limit,
+            );
         }
     }
 
@@ -1193,16 +1309,16 @@ impl Database {
         var.time = msg.time;
         // The writer, its aux field and community mostly repeat: a name is replaced (and the
         // writers looked up) only when it changed.
-        if var.written_to == 0 || var.writer != msg.src {
+        if var.written_to == 0 || !same_text(&var.writer, &msg.src) {
             if !var.writers.contains(&msg.src) {
                 var.writers.insert(msg.src.clone());
             }
             var.writer = msg.src.clone();
         }
-        if var.src_aux != msg.src_aux {
+        if !same_text(&var.src_aux, &msg.src_aux) {
             var.src_aux = msg.src_aux.clone();
         }
-        if var.community != msg.community {
+        if !same_text(&var.community, &msg.community) {
             var.community = msg.community.clone();
         }
         match var.data_type {
@@ -1234,7 +1350,13 @@ impl Database {
                     shared = Some(m.into_shared());
                 }
                 if let Some(d) = &shared {
-                    hold_for(&mut self.clients, sub.client, Arc::clone(d), limit);
+                    hold_for(
+                        &mut self.clients,
+                        &mut self.waiting,
+                        sub.client,
+                        Arc::clone(d),
+                        limit,
+                    );
                 }
             }
         }
@@ -1590,6 +1712,40 @@ mod tests {
         db.connect(Bytes::from(name.to_string()), true, now, t(now))
             .id()
             .unwrap()
+    }
+
+    #[test]
+    fn a_client_that_reconnects_under_its_name_gets_a_new_id() {
+        let mut db = new_db();
+        let a = join(&mut db, "a", 1000.0);
+        let s = join(&mut db, "s", 1000.0);
+        db.handle(s, vec![reg("X", 0.0)], t(1000.0)).unwrap();
+        assert_eq!(db.disconnect(s, t(1000.1)).as_deref(), Some("s"));
+        // The slot is taken again, under a new id: the old one names nobody.
+        let s2 = join(&mut db, "s", 1000.2);
+        assert_ne!(s, s2);
+        assert!(!db.is_connected(s) && db.is_connected(s2));
+        assert_eq!(db.client_id("s"), Some(s2));
+        assert_eq!(
+            db.poll_into(s, t(1000.3), &mut Effects::default()),
+            Err(DbError::UnknownClient(s))
+        );
+        // The registration left with the old client; the new one makes its own.
+        assert!(db.subscribers("X").is_empty());
+        db.handle(s2, vec![reg("X", 0.0)], t(1000.3)).unwrap();
+        let fx = db
+            .handle(
+                a,
+                vec![post("a", "X", Value::Double(1.0), 1000.4)],
+                t(1000.4),
+            )
+            .unwrap();
+        assert_eq!(fx.ready, vec![s2]);
+        let got = drain(&mut db, s2);
+        assert_eq!(keys(&got), ["X"]);
+        assert!(!db.drain_outbox(s, &mut Vec::new()));
+        // DB_CLIENTS lists the newest first.
+        assert_eq!(db.client_names(), ["s", "a"]);
     }
 
     #[test]
