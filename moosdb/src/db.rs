@@ -46,11 +46,12 @@
 //! asks, so this one is not for a TCP DB whose clients come and go).
 //!
 //! Every write is queued for its subscribers as one shared [`Delivery`] (an `Arc`: no copy
-//! of the message per subscriber). An in-process client posts through
-//! [`Database::handle_posted_into`] deliveries made with the [`moos_types::Mail`] they
-//! deliver, and reads them back with [`Database::poll_into`] and
-//! [`Database::drain_deliveries`]: its mail is a clone of the poster's, with no conversion
-//! of the message's bytes. The TCP edge drains plain messages ([`Database::drain_outbox`]).
+//! of the message per subscriber). An in-process client posts its notifies as the
+//! [`moos_types::Mail`] they deliver ([`Incoming::Posted`], through [`Database::handle_into`]),
+//! and reads them back with [`Database::poll_into`] and [`Database::drain_deliveries`]: its
+//! mail is the poster's (cloned, or taken by the last reader), with no message made or
+//! converted. The TCP edge drains plain messages ([`Database::drain_outbox`]): a posted
+//! mail's message is made there, for the TCP clients only.
 
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::fmt::Write as _;
@@ -61,8 +62,8 @@ use rustc_hash::FxHashMap;
 use thiserror::Error;
 use tracing::{info, warn};
 
-use crate::message::{ASYNCHRONOUS, DataType, Message, MsgType, Value};
-use moos_types::Mail;
+use crate::message::{ASYNCHRONOUS, DataType, MESSAGE_FIXED_LEN, Message, MsgType, NO_ID, Value};
+use moos_types::{ByteString, Mail};
 
 /// Seconds between refreshes of the DB's own variables (DB_TIME, DB_CLIENTS, ...).
 pub const SUMMARY_PERIOD: f64 = 2.0;
@@ -190,107 +191,229 @@ pub struct Effects {
 /// A message as the DB queues it for its clients: one shared allocation per write, whatever
 /// the number of clients it reaches (each held mail and outbox holds an [`Arc`] of it, so a
 /// delivery copies no message). Its encoded size is counted once. A notify an in-process
-/// client posted carries the [`Mail`] it delivers, made by the poster from text that was
-/// UTF-8 already ([`Database::handle_posted_into`]): in-process readers clone it, with no
-/// conversion of the message's bytes.
+/// client posted ([`Incoming::Posted`]) is kept as the [`Mail`] it delivers, made by the
+/// poster from text that was UTF-8 already: in-process readers clone it (the last one takes
+/// it), with no conversion, and the message a TCP client reads is made from it when its
+/// outbox is drained ([`Database::drain_outbox`]).
 #[derive(Debug)]
 pub struct Delivery {
-    message: Message,
+    body: Incoming,
     encoded_len: usize,
-    mail: Option<Mail>,
 }
 
 impl Delivery {
     /// A shared delivery of `message`.
     pub fn new(message: Message) -> Arc<Delivery> {
+        Delivery::of(Incoming::Message(message))
+    }
+
+    fn of(body: Incoming) -> Arc<Delivery> {
         Arc::new(Delivery {
-            encoded_len: message.encoded_len(),
-            message,
-            mail: None,
+            encoded_len: body.encoded_len(),
+            body,
         })
     }
 
-    /// A shared delivery of `message` whose mail is `mail`, made by the caller (what
-    /// [`Message::mail`] gives, from text known to be UTF-8): it is never converted.
-    pub fn with_mail(message: Message, mail: Mail) -> Arc<Delivery> {
-        Arc::new(Delivery {
-            encoded_len: message.encoded_len(),
-            message,
-            mail: Some(mail),
-        })
+    /// True for a notify (what an in-process reader takes as mail).
+    pub fn is_notify(&self) -> bool {
+        self.body.msg_type() == MsgType::Notify
     }
 
-    /// The message.
-    pub fn message(&self) -> &Message {
-        &self.message
+    /// The message (a posted mail's made from it: id −1, dval2 −1, as the bus posted it).
+    pub fn to_message(&self) -> Message {
+        self.body.to_message()
     }
 
     /// The mail the message delivers ([`Message::mail`]; `None` for data type `'~'`): the
     /// poster's, cloned, or else converted from the message.
     pub fn mail(&self) -> Option<Mail> {
-        match &self.mail {
-            Some(mail) => Some(mail.clone()),
-            None => self.message.mail(),
+        match &self.body {
+            Incoming::Posted(mail) => Some(mail.clone()),
+            Incoming::Message(m) => m.mail(),
+        }
+    }
+
+    /// [`Delivery::mail`], taken without a copy when this was its last holder.
+    pub fn into_mail(this: Arc<Delivery>) -> Option<Mail> {
+        match Arc::try_unwrap(this) {
+            Ok(Delivery {
+                body: Incoming::Posted(mail),
+                ..
+            }) => Some(mail),
+            Ok(d) => d.mail(),
+            Err(d) => d.mail(),
         }
     }
 
     /// The message itself when this was its last holder, else a copy.
     pub fn into_message(this: Arc<Delivery>) -> Message {
-        Arc::try_unwrap(this).map_or_else(|d| d.message.clone(), |d| d.message)
+        Arc::try_unwrap(this).map_or_else(|d| d.to_message(), |d| d.body.into_message())
     }
 }
 
-/// A message of a packet: as decoded or made, or a notify an in-process client posted
-/// already shared with its mail.
-enum Incoming {
+/// A message of a packet: as decoded or made ([`Message`]), or a notify an in-process client
+/// posted as the [`Mail`] it delivers (made from text that was UTF-8 already, as an app's
+/// [`moos_types::Post`]; a mail with no community gets the DB's, as a message would). The DB
+/// stores and queues a posted mail as it is, and its in-process readers get it with no
+/// conversion. Both convert with `into()`: [`Database::handle`] takes either.
+#[derive(Debug, Clone)]
+pub enum Incoming {
+    /// A message (decoded from a packet, or made by the caller).
     Message(Message),
-    Shared(Arc<Delivery>),
+    /// A notify posted in process (its id and dval2 are −1, its type the value's).
+    Posted(Mail),
+}
+
+impl From<Message> for Incoming {
+    fn from(m: Message) -> Incoming {
+        Incoming::Message(m)
+    }
+}
+
+impl From<Mail> for Incoming {
+    fn from(m: Mail) -> Incoming {
+        Incoming::Posted(m)
+    }
 }
 
 impl Incoming {
-    fn message(&self) -> &Message {
+    fn msg_type(&self) -> MsgType {
         match self {
-            Incoming::Message(m) => m,
-            Incoming::Shared(d) => &d.message,
+            Incoming::Message(m) => m.msg_type,
+            Incoming::Posted(_) => MsgType::Notify,
         }
     }
 
-    /// Gives a message with no community the DB's (a shared one that another holder has
-    /// too is copied, without its mail).
-    fn fill_community(&mut self, community: &Bytes) {
-        if !self.message().community.is_empty() {
-            return;
-        }
+    fn key(&self) -> &Bytes {
         match self {
-            Incoming::Message(m) => m.community = community.clone(),
-            Incoming::Shared(shared) => match Arc::get_mut(shared) {
-                Some(d) => {
-                    d.message.community = community.clone();
-                    d.encoded_len = d.message.encoded_len();
-                    if let Some(mail) = &mut d.mail {
-                        mail.community = moos_types::text_of(community);
-                    }
-                }
-                None => {
-                    let mut m = shared.message.clone();
-                    m.community = community.clone();
-                    *self = Incoming::Message(m);
-                }
+            Incoming::Message(m) => &m.key,
+            Incoming::Posted(p) => p.key.as_bytes(),
+        }
+    }
+
+    fn src(&self) -> &Bytes {
+        match self {
+            Incoming::Message(m) => &m.src,
+            Incoming::Posted(p) => p.source.as_bytes(),
+        }
+    }
+
+    fn src_aux(&self) -> &Bytes {
+        match self {
+            Incoming::Message(m) => &m.src_aux,
+            Incoming::Posted(p) => p.source_aux.as_bytes(),
+        }
+    }
+
+    fn community(&self) -> &Bytes {
+        match self {
+            Incoming::Message(m) => &m.community,
+            Incoming::Posted(p) => p.community.as_bytes(),
+        }
+    }
+
+    fn time(&self) -> f64 {
+        match self {
+            Incoming::Message(m) => m.time,
+            Incoming::Posted(p) => p.time,
+        }
+    }
+
+    fn data_type(&self) -> DataType {
+        match self {
+            Incoming::Message(m) => m.data_type,
+            Incoming::Posted(p) => match p.value {
+                Value::Double(_) => DataType::Double,
+                Value::String(_) => DataType::String,
+                Value::Binary(_) => DataType::Binary,
             },
         }
     }
 
-    fn into_shared(self) -> Arc<Delivery> {
+    fn dval(&self) -> f64 {
         match self {
-            Incoming::Message(m) => Delivery::new(m),
-            Incoming::Shared(d) => d,
+            Incoming::Message(m) => m.dval,
+            Incoming::Posted(p) => p.value.as_f64().unwrap_or(-1.0),
+        }
+    }
+
+    /// The string or binary value (shared, or a copy of binary data).
+    fn sval(&self) -> Bytes {
+        match self {
+            Incoming::Message(m) => m.sval.clone(),
+            Incoming::Posted(p) => match &p.value {
+                Value::Double(_) => Bytes::new(),
+                Value::String(s) => s.as_bytes().clone(),
+                Value::Binary(b) => Bytes::copy_from_slice(b),
+            },
+        }
+    }
+
+    fn encoded_len(&self) -> usize {
+        match self {
+            Incoming::Message(m) => m.encoded_len(),
+            Incoming::Posted(p) => {
+                let value = match &p.value {
+                    Value::Double(_) => 0,
+                    Value::String(s) => s.len(),
+                    Value::Binary(b) => b.len(),
+                };
+                MESSAGE_FIXED_LEN
+                    + p.source.len()
+                    + p.source_aux.len()
+                    + p.community.len()
+                    + p.key.len()
+                    + value
+            }
+        }
+    }
+
+    fn to_message(&self) -> Message {
+        match self {
+            Incoming::Message(m) => m.clone(),
+            Incoming::Posted(p) => Message {
+                id: NO_ID,
+                msg_type: MsgType::Notify,
+                data_type: self.data_type(),
+                src: p.source.as_bytes().clone(),
+                src_aux: p.source_aux.as_bytes().clone(),
+                community: p.community.as_bytes().clone(),
+                key: p.key.as_bytes().clone(),
+                time: p.time,
+                dval: self.dval(),
+                dval2: -1.0,
+                sval: self.sval(),
+            },
         }
     }
 
     fn into_message(self) -> Message {
         match self {
             Incoming::Message(m) => m,
-            Incoming::Shared(d) => Delivery::into_message(d),
+            posted => posted.to_message(),
+        }
+    }
+
+    /// Gives a message with no community the DB's.
+    fn fill_community(&mut self, community: &Bytes) {
+        if !self.community().is_empty() {
+            return;
+        }
+        match self {
+            Incoming::Message(m) => m.community = community.clone(),
+            Incoming::Posted(p) => p.community = moos_types::text_of(community),
+        }
+    }
+
+    /// A posted mail whose key is a copy of its own (a fresh buffer, held nowhere else)
+    /// takes the variable's `key` instead, so that its readers share one buffer.
+    fn share_key(&mut self, key: &Bytes) {
+        if let Incoming::Posted(p) = self
+            && p.key.as_bytes().as_ptr() != key.as_ptr()
+            && p.key.as_bytes().is_unique()
+            && let Ok(k) = ByteString::try_from(key.clone())
+        {
+            p.key = k;
         }
     }
 }
@@ -333,6 +456,8 @@ impl Sub {
 
 #[derive(Debug, Clone)]
 struct Var {
+    /// The name (the buffer the first write or registration brought).
+    key: Bytes,
     data_type: DataType,
     dval: f64,
     sval: Bytes,
@@ -352,8 +477,9 @@ struct Var {
 }
 
 impl Var {
-    fn new(data_type: DataType) -> Var {
+    fn new(key: Bytes, data_type: DataType) -> Var {
         Var {
+            key,
             data_type,
             dval: 0.0,
             sval: Bytes::new(),
@@ -674,13 +800,14 @@ impl Database {
             ("DB_QOS", DataType::String),
             ("DB_RWSUMMARY", DataType::String),
         ] {
-            let mut v = Var::new(dt);
+            let key = Bytes::from_static(key.as_bytes());
+            let mut v = Var::new(key.clone(), dt);
             // The C++ DB names the writer of its not-yet-written variables with the name it
             // has before reading its community ("MOOSDB#1"); DB_VARSUMMARY shows it.
             v.writer = Bytes::from_static(b"MOOSDB#1");
             v.community = community.clone();
             v.written_time = now.moos;
-            vars.insert(Bytes::from_static(key.as_bytes()), v);
+            vars.insert(key, v);
         }
         Database {
             config,
@@ -831,47 +958,32 @@ impl Database {
     /// notify, every asynchronous client's held mail is then pushed as its own packet.
     ///
     /// The packet is any sequence of messages (a decoded `Vec`, or an in-process caller's
-    /// iterator, which needs no buffer of its own).
+    /// iterator, which needs no buffer of its own), each a [`Message`] or a posted [`Mail`]
+    /// ([`Incoming`]).
     pub fn handle(
         &mut self,
         id: ClientId,
-        msgs: impl IntoIterator<Item = Message>,
+        msgs: impl IntoIterator<Item = impl Into<Incoming>>,
         now: DbTime,
     ) -> Result<Effects, DbError> {
         let mut effects = Effects::default();
-        let msgs = msgs.into_iter().map(Incoming::Message);
-        self.packet(id, msgs, false, now, &mut effects.ready)?;
+        self.handle_into(id, msgs, now, &mut effects)?;
         Ok(effects)
     }
 
     /// [`Database::handle`] with the effects written into `effects` (cleared first), so an
-    /// in-process caller reuses one buffer.
+    /// in-process caller reuses one buffer. An in-process client posts its notifies as the
+    /// mail they deliver ([`Incoming::Posted`]): the DB stores and queues them as they are,
+    /// and its in-process readers get that mail with no conversion.
     pub fn handle_into(
         &mut self,
         id: ClientId,
-        msgs: impl IntoIterator<Item = Message>,
+        msgs: impl IntoIterator<Item = impl Into<Incoming>>,
         now: DbTime,
         effects: &mut Effects,
     ) -> Result<(), DbError> {
         effects.ready.clear();
-        let msgs = msgs.into_iter().map(Incoming::Message);
-        self.packet(id, msgs, false, now, &mut effects.ready)
-    }
-
-    /// [`Database::handle_into`] for an in-process client whose notifies come shared
-    /// already, each with the mail it delivers ([`Delivery::with_mail`]: made by the
-    /// poster from text that was UTF-8, as an app's [`moos_types::Post`]; the community
-    /// filled in, as the DB would): the DB stores and queues them as they are, and its
-    /// in-process readers get that mail with no conversion.
-    pub fn handle_posted_into(
-        &mut self,
-        id: ClientId,
-        posts: impl IntoIterator<Item = Arc<Delivery>>,
-        now: DbTime,
-        effects: &mut Effects,
-    ) -> Result<(), DbError> {
-        effects.ready.clear();
-        let msgs = posts.into_iter().map(Incoming::Shared);
+        let msgs = msgs.into_iter().map(Into::into);
         self.packet(id, msgs, false, now, &mut effects.ready)
     }
 
@@ -899,11 +1011,10 @@ impl Database {
     ) -> Result<(), DbError> {
         let c = self.clients.get_mut(id).ok_or(DbError::UnknownClient(id))?;
         c.last_heard = now.mono;
-        let name = c.name.clone();
         let asynchronous = c.asynchronous;
         let mut echo = None;
         let mut msgs = msgs.into_iter().peekable();
-        if let Some(t) = msgs.next_if(|m| m.message().msg_type == MsgType::Timing) {
+        if let Some(t) = msgs.next_if(|m| m.msg_type() == MsgType::Timing) {
             let mut t = t.into_message();
             c.timing
                 .get_or_insert_with(Timing::default)
@@ -915,12 +1026,21 @@ impl Database {
         let mut had_notify = false;
         let mut had_any = polled;
         let mut replies = VecDeque::new();
+        // The client's name, taken when a message other than a notify needs it.
+        let mut name: Option<Bytes> = None;
         for m in msgs {
             had_any = true;
-            if m.message().msg_type == MsgType::Notify {
+            if m.msg_type() == MsgType::Notify {
                 had_notify = true;
                 self.on_notify(m, now);
             } else {
+                let name = match &name {
+                    Some(n) => n.clone(),
+                    None => {
+                        let n = self.clients.get(id).map(|c| c.name.clone());
+                        name.get_or_insert(n.unwrap_or_default()).clone()
+                    }
+                };
                 self.process(&name, m.into_message(), now, &mut replies);
             }
         }
@@ -1228,7 +1348,7 @@ impl Database {
         let var = self
             .vars
             .entry(key.clone())
-            .or_insert_with(|| Var::new(DataType::NotSet));
+            .or_insert_with(|| Var::new(key.clone(), DataType::NotSet));
         let written = var.written_to != 0;
         let stale = var.stale;
         let reply = (already && written && !unread).then(|| var.to_msg(key));
@@ -1258,28 +1378,26 @@ impl Database {
     fn on_notify(&mut self, mut incoming: Incoming, now: DbTime) {
         let limit = self.config.outbox_limit;
         incoming.fill_community(&self.community);
-        let msg = incoming.message();
-        if let Incoming::Shared(d) = &incoming {
-            debug_assert!(
-                d.mail.is_none() || d.mail == msg.mail(),
-                "a posted mail is the one its message delivers"
-            );
-        }
         // A write to a known variable looks it up once and clones no name.
-        let var = match self.vars.get_mut(&msg.key) {
+        let var = match self.vars.get_mut(incoming.key()) {
             Some(var) => var,
-            None => self
-                .vars
-                .entry(msg.key.clone())
-                .or_insert_with(|| Var::new(msg.data_type)),
+            None => {
+                let key = incoming.key().clone();
+                self.vars
+                    .entry(key.clone())
+                    .or_insert_with(|| Var::new(key, incoming.data_type()))
+            }
         };
+        incoming.share_key(&var.key);
+        let (key, src) = (incoming.key(), incoming.src());
+        let data_type = incoming.data_type();
         if var.written_to == 0 {
-            var.data_type = msg.data_type;
+            var.data_type = data_type;
             for (client, filters) in &self.filters {
                 for f in filters {
-                    if f.matches(&msg.src, &msg.key)
+                    if f.matches(src, key)
                         && let Some((id, unread)) =
-                            client_of(&self.clients, &self.names, client, &msg.key)
+                            client_of(&self.clients, &self.names, client, key)
                     {
                         var.subscribers.insert(
                             client.clone(),
@@ -1294,36 +1412,38 @@ impl Database {
                 }
             }
         }
-        if var.data_type != msg.data_type {
+        if var.data_type != data_type {
             warn!(
-                var = %msg.key_str(),
+                var = %String::from_utf8_lossy(key),
                 var_type = %(var.data_type.code() as char),
-                msg_type = %(msg.data_type.code() as char),
-                src = %msg.src_str(),
+                msg_type = %(data_type.code() as char),
+                src = %String::from_utf8_lossy(src),
                 "write rejected: variable type is locked by its first write"
             );
             return;
         }
         let t = now.moos;
         var.written_time = t;
-        var.time = msg.time;
+        var.time = incoming.time();
         // The writer, its aux field and community mostly repeat: a name is replaced (and the
         // writers looked up) only when it changed.
-        if var.written_to == 0 || !same_text(&var.writer, &msg.src) {
-            if !var.writers.contains(&msg.src) {
-                var.writers.insert(msg.src.clone());
+        if var.written_to == 0 || !same_text(&var.writer, src) {
+            if !var.writers.contains(src) {
+                var.writers.insert(src.clone());
             }
-            var.writer = msg.src.clone();
+            var.writer = src.clone();
         }
-        if !same_text(&var.src_aux, &msg.src_aux) {
-            var.src_aux = msg.src_aux.clone();
+        let aux = incoming.src_aux();
+        if !same_text(&var.src_aux, aux) {
+            var.src_aux = aux.clone();
         }
-        if !same_text(&var.community, &msg.community) {
-            var.community = msg.community.clone();
+        let community = incoming.community();
+        if !same_text(&var.community, community) {
+            var.community = community.clone();
         }
         match var.data_type {
-            DataType::Double => var.dval = msg.dval,
-            _ => var.sval = msg.sval.clone(),
+            DataType::Double => var.dval = incoming.dval(),
+            _ => var.sval = incoming.sval(),
         }
         var.written_to += 1;
         let dt = t - var.stats_time;
@@ -1337,8 +1457,8 @@ impl Database {
             var.stats_writes = var.written_to;
             var.stats_time = t;
         }
-        if !self.tapped.is_empty() && self.tapped.contains(&msg.key) {
-            self.taps.push(msg.clone());
+        if !self.tapped.is_empty() && self.tapped.contains(incoming.key()) {
+            self.taps.push(incoming.to_message());
         }
         // One shared delivery for every subscriber it reaches (made at the first).
         let mut pending = Some(incoming);
@@ -1347,7 +1467,7 @@ impl Database {
             if !sub.unread && sub.expired(t) {
                 sub.last_sent = t;
                 if let Some(m) = pending.take() {
-                    shared = Some(m.into_shared());
+                    shared = Some(Delivery::of(m));
                 }
                 if let Some(d) = &shared {
                     hold_for(
@@ -1792,7 +1912,7 @@ mod tests {
             moos: 1000.0 + mono,
             mono,
         };
-        db.handle(b, vec![], at(4.0)).unwrap();
+        db.handle(b, Vec::<Message>::new(), at(4.0)).unwrap();
         assert!(db.reap_silent(at(5.0)).is_empty());
         let gone = db.reap_silent(at(5.01));
         assert_eq!(gone, vec![(a, "a".to_string())]);
@@ -1807,9 +1927,9 @@ mod tests {
         db.handle(c, vec![reg("DB_CLIENTS", 0.0)], t(1001.0))
             .unwrap();
         assert!(db.current("DB_CLIENTS").is_none());
-        db.handle(c, vec![], t(1002.0)).unwrap();
+        db.handle(c, Vec::<Message>::new(), t(1002.0)).unwrap();
         assert!(db.current("DB_TIME").is_none());
-        db.handle(c, vec![], t(1002.01)).unwrap();
+        db.handle(c, Vec::<Message>::new(), t(1002.01)).unwrap();
         assert_eq!(db.current("DB_TIME").unwrap().dval, 1002.01);
         assert_eq!(db.current("DB_UPTIME").unwrap().dval, 1002.01 - 1000.0);
         assert_eq!(db.current("DB_CLIENTS").unwrap().sval_str(), "c,");
@@ -2055,13 +2175,8 @@ mod tests {
         let mut made = post("p", "S", Value::from("hé"), 1000.6);
         made.community = Bytes::from_static(b"test");
         let mail = made.mail().unwrap();
-        db.handle_posted_into(
-            p,
-            [Delivery::with_mail(made, mail.clone())],
-            t(1000.6),
-            &mut Effects::default(),
-        )
-        .unwrap();
+        db.handle_into(p, [mail.clone()], t(1000.6), &mut Effects::default())
+            .unwrap();
         assert!(db.drain_deliveries(a, &mut da));
         assert_eq!(da.len(), 2);
         assert!(
@@ -2072,23 +2187,26 @@ mod tests {
         // One made without a community gets the DB's, in its message and its mail.
         let bare = post("p", "S", Value::from("x"), 1000.7);
         let mut mail = bare.mail().unwrap();
-        db.handle_posted_into(
-            p,
-            [Delivery::with_mail(bare, mail.clone())],
-            t(1000.7),
-            &mut Effects::default(),
-        )
-        .unwrap();
+        db.handle_into(p, [mail.clone()], t(1000.7), &mut Effects::default())
+            .unwrap();
         mail.community = "test".into();
         let mut fresh = Vec::new();
         assert!(db.drain_deliveries(b, &mut fresh));
         let last = fresh.last().unwrap();
-        assert_eq!(last.message().community, Bytes::from_static(b"test"));
-        assert_eq!(last.mail(), Some(mail));
+        // The message a TCP client would read is the one the mail delivers.
+        let mut expected = bare.clone();
+        expected.community = Bytes::from_static(b"test");
+        assert_eq!(last.to_message(), expected);
+        assert_eq!(last.mail(), Some(mail.clone()));
         assert_eq!(
             db.current("S").unwrap().community,
             Bytes::from_static(b"test")
         );
+        // The last holder takes the mail itself; a shared one is cloned.
+        let last = fresh.pop().unwrap();
+        let held = Arc::clone(&last);
+        assert_eq!(Delivery::into_mail(last), Some(mail.clone()));
+        assert_eq!(Delivery::into_mail(held), Some(mail));
         let mut da = vec![da.remove(0)];
         // The last holder takes the message itself; a shared one is copied.
         let first = Delivery::into_message(da.pop().unwrap());
