@@ -249,6 +249,22 @@ impl Delivery {
     pub fn into_message(this: Arc<Delivery>) -> Message {
         Arc::try_unwrap(this).map_or_else(|d| d.to_message(), |d| d.body.into_message())
     }
+
+    /// Gives a message with no community the DB's (a delivery another holder has too is
+    /// copied first).
+    fn fill_community(this: &mut Arc<Delivery>, community: &Bytes) {
+        if !this.body.community().is_empty() {
+            return;
+        }
+        if let Some(d) = Arc::get_mut(this) {
+            d.body.fill_community(community);
+            d.encoded_len = d.body.encoded_len();
+        } else {
+            let mut body = this.body.clone();
+            body.fill_community(community);
+            *this = Delivery::of(body);
+        }
+    }
 }
 
 /// A message of a packet: as decoded or made ([`Message`]), or a notify an in-process client
@@ -454,6 +470,64 @@ impl Sub {
     }
 }
 
+/// A variable's subscribers by client name, in name order (the order they are served in):
+/// one vector, so a write walks them without chasing tree nodes.
+#[derive(Debug, Clone, Default)]
+struct Subscribers(Vec<(Bytes, Sub)>);
+
+impl Subscribers {
+    fn find(&self, name: &[u8]) -> Result<usize, usize> {
+        self.0.binary_search_by(|(n, _)| n[..].cmp(name))
+    }
+
+    fn get_mut(&mut self, name: &[u8]) -> Option<&mut Sub> {
+        let i = self.find(name).ok()?;
+        Some(&mut self.0[i].1)
+    }
+
+    fn contains_key(&self, name: &[u8]) -> bool {
+        self.find(name).is_ok()
+    }
+
+    /// Adds `sub`, or replaces the one of `name`.
+    fn insert(&mut self, name: &Bytes, sub: Sub) {
+        match self.find(name) {
+            Ok(i) => self.0[i].1 = sub,
+            Err(i) => self.0.insert(i, (name.clone(), sub)),
+        }
+    }
+
+    /// The subscription of `name`, added as `sub` if there is none.
+    fn get_or_insert(&mut self, name: &Bytes, sub: Sub) -> &mut Sub {
+        let i = match self.find(name) {
+            Ok(i) => i,
+            Err(i) => {
+                self.0.insert(i, (name.clone(), sub));
+                i
+            }
+        };
+        &mut self.0[i].1
+    }
+
+    fn remove(&mut self, name: &[u8]) {
+        if let Ok(i) = self.find(name) {
+            self.0.remove(i);
+        }
+    }
+
+    fn keys(&self) -> impl Iterator<Item = &Bytes> {
+        self.0.iter().map(|(n, _)| n)
+    }
+
+    fn values(&self) -> impl Iterator<Item = &Sub> {
+        self.0.iter().map(|(_, s)| s)
+    }
+
+    fn values_mut(&mut self) -> impl Iterator<Item = &mut Sub> {
+        self.0.iter_mut().map(|(_, s)| s)
+    }
+}
+
 #[derive(Debug, Clone)]
 struct Var {
     /// The name (the buffer the first write or registration brought).
@@ -470,7 +544,7 @@ struct Var {
     /// A DB summary whose text was not built at its last write: no client read it then.
     stale: bool,
     writers: BTreeSet<Bytes>,
-    subscribers: BTreeMap<Bytes, Sub>,
+    subscribers: Subscribers,
     freq: f64,
     stats_time: f64,
     stats_writes: u64,
@@ -491,7 +565,7 @@ impl Var {
             written_to: 0,
             stale: false,
             writers: BTreeSet::new(),
-            subscribers: BTreeMap::new(),
+            subscribers: Subscribers::default(),
             freq: 0.0,
             stats_time: f64::NEG_INFINITY,
             stats_writes: 0,
@@ -983,7 +1057,8 @@ impl Database {
         effects: &mut Effects,
     ) -> Result<(), DbError> {
         effects.ready.clear();
-        let msgs = msgs.into_iter().map(Into::into);
+        // Each message is shared at once: the DB moves a pointer from here on.
+        let msgs = msgs.into_iter().map(|m| Delivery::of(m.into()));
         self.packet(id, msgs, false, now, &mut effects.ready)
     }
 
@@ -1004,7 +1079,7 @@ impl Database {
     fn packet(
         &mut self,
         id: ClientId,
-        msgs: impl IntoIterator<Item = Incoming>,
+        msgs: impl IntoIterator<Item = Arc<Delivery>>,
         polled: bool,
         now: DbTime,
         ready: &mut Vec<ClientId>,
@@ -1014,8 +1089,8 @@ impl Database {
         let asynchronous = c.asynchronous;
         let mut echo = None;
         let mut msgs = msgs.into_iter().peekable();
-        if let Some(t) = msgs.next_if(|m| m.msg_type() == MsgType::Timing) {
-            let mut t = t.into_message();
+        if let Some(t) = msgs.next_if(|m| m.body.msg_type() == MsgType::Timing) {
+            let mut t = Delivery::into_message(t);
             c.timing
                 .get_or_insert_with(Timing::default)
                 .add((now.moos - t.time) * 1000.0);
@@ -1030,7 +1105,7 @@ impl Database {
         let mut name: Option<Bytes> = None;
         for m in msgs {
             had_any = true;
-            if m.msg_type() == MsgType::Notify {
+            if m.is_notify() {
                 had_notify = true;
                 self.on_notify(m, now);
             } else {
@@ -1041,7 +1116,7 @@ impl Database {
                         name.get_or_insert(n.unwrap_or_default()).clone()
                     }
                 };
-                self.process(&name, m.into_message(), now, &mut replies);
+                self.process(&name, Delivery::into_message(m), now, &mut replies);
             }
         }
         if now.moos - self.summary_time > SUMMARY_PERIOD {
@@ -1281,7 +1356,7 @@ impl Database {
 
     fn process(&mut self, name: &Bytes, m: Message, now: DbTime, replies: &mut VecDeque<Message>) {
         match m.msg_type {
-            MsgType::Notify => self.on_notify(Incoming::Message(m), now),
+            MsgType::Notify => self.on_notify(Delivery::new(m), now),
             MsgType::Register => self.on_register(name, &m.key, m.dval, now),
             MsgType::Unregister => {
                 if let Some(v) = self.vars.get_mut(&m.key) {
@@ -1352,12 +1427,15 @@ impl Database {
         let written = var.written_to != 0;
         let stale = var.stale;
         let reply = (already && written && !unread).then(|| var.to_msg(key));
-        let sub = var.subscribers.entry(name.clone()).or_insert(Sub {
-            client: id,
-            period,
-            last_sent: f64::NEG_INFINITY,
-            unread,
-        });
+        let sub = var.subscribers.get_or_insert(
+            name,
+            Sub {
+                client: id,
+                period,
+                last_sent: f64::NEG_INFINITY,
+                unread,
+            },
+        );
         sub.period = period;
         if let Some(mut reply) = reply {
             sub.last_sent = now.moos;
@@ -1375,20 +1453,23 @@ impl Database {
     }
 
     /// `OnNotify`: type lock, first-write wildcard matching, value store and fan-out.
-    fn on_notify(&mut self, mut incoming: Incoming, now: DbTime) {
+    fn on_notify(&mut self, mut d: Arc<Delivery>, now: DbTime) {
         let limit = self.config.outbox_limit;
-        incoming.fill_community(&self.community);
+        Delivery::fill_community(&mut d, &self.community);
         // A write to a known variable looks it up once and clones no name.
-        let var = match self.vars.get_mut(incoming.key()) {
+        let var = match self.vars.get_mut(d.body.key()) {
             Some(var) => var,
             None => {
-                let key = incoming.key().clone();
+                let key = d.body.key().clone();
                 self.vars
                     .entry(key.clone())
-                    .or_insert_with(|| Var::new(key, incoming.data_type()))
+                    .or_insert_with(|| Var::new(key, d.body.data_type()))
             }
         };
-        incoming.share_key(&var.key);
+        if let Some(d) = Arc::get_mut(&mut d) {
+            d.body.share_key(&var.key);
+        }
+        let incoming = &d.body;
         let (key, src) = (incoming.key(), incoming.src());
         let data_type = incoming.data_type();
         if var.written_to == 0 {
@@ -1400,7 +1481,7 @@ impl Database {
                             client_of(&self.clients, &self.names, client, key)
                     {
                         var.subscribers.insert(
-                            client.clone(),
+                            client,
                             Sub {
                                 client: id,
                                 period: f.period,
@@ -1460,24 +1541,17 @@ impl Database {
         if !self.tapped.is_empty() && self.tapped.contains(incoming.key()) {
             self.taps.push(incoming.to_message());
         }
-        // One shared delivery for every subscriber it reaches (made at the first).
-        let mut pending = Some(incoming);
-        let mut shared: Option<Arc<Delivery>> = None;
+        // One shared delivery for every subscriber it reaches.
         for sub in var.subscribers.values_mut() {
             if !sub.unread && sub.expired(t) {
                 sub.last_sent = t;
-                if let Some(m) = pending.take() {
-                    shared = Some(Delivery::of(m));
-                }
-                if let Some(d) = &shared {
-                    hold_for(
-                        &mut self.clients,
-                        &mut self.waiting,
-                        sub.client,
-                        Arc::clone(d),
-                        limit,
-                    );
-                }
+                hold_for(
+                    &mut self.clients,
+                    &mut self.waiting,
+                    sub.client,
+                    Arc::clone(&d),
+                    limit,
+                );
             }
         }
     }
@@ -1487,7 +1561,7 @@ impl Database {
         m.key = Bytes::from_static(key.as_bytes());
         m.src = self.db_name.clone();
         m.community = self.community.clone();
-        self.on_notify(Incoming::Message(m), now);
+        self.on_notify(Delivery::new(m), now);
     }
 
     fn server_request(&mut self, m: &Message, now: DbTime, replies: &mut VecDeque<Message>) {
