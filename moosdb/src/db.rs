@@ -59,6 +59,7 @@ use std::sync::Arc;
 
 use bytes::Bytes;
 use rustc_hash::FxHashMap;
+use smallvec::SmallVec;
 use thiserror::Error;
 use tracing::{info, warn};
 
@@ -807,7 +808,7 @@ pub struct Database {
     summary_time: f64,
     /// The variables by name (hashed: a write looks its variable up once; what lists
     /// them in order sorts, see [`Database::sorted_vars`]).
-    vars: FxHashMap<Bytes, Var>,
+    vars: FxHashMap<VarName, Var>,
     clients: Clients,
     /// Clients given held mail since the last notify packet (each once, see
     /// [`ClientState::listed`]): the ones whose held mail a notify packet pushes.
@@ -856,6 +857,10 @@ fn same_text(a: &Bytes, b: &Bytes) -> bool {
     (a.as_ptr() == b.as_ptr() && a.len() == b.len()) || a == b
 }
 
+/// A variable's name as the DB's table keys it: held inline up to 24 bytes (most MOOS
+/// names), so a write's look-up compares the name without reading another buffer.
+type VarName = SmallVec<[u8; 24]>;
+
 /// The DB's summaries, built only while some client reads them.
 const LAZY_SUMMARIES: [&str; 2] = ["DB_VARSUMMARY", "DB_RWSUMMARY"];
 
@@ -881,7 +886,7 @@ impl Database {
             v.writer = Bytes::from_static(b"MOOSDB#1");
             v.community = community.clone();
             v.written_time = now.moos;
-            vars.insert(key, v);
+            vars.insert(VarName::from_slice(&key), v);
         }
         Database {
             config,
@@ -1308,10 +1313,10 @@ impl Database {
 
     /// The current value of a variable as the DB would replay it, if it was ever written.
     pub fn current(&self, key: &str) -> Option<Message> {
-        let (k, v) = self.vars.get_key_value(key.as_bytes())?;
-        let mut m = (v.written_to > 0).then(|| v.to_msg(k))?;
+        let v = self.vars.get(key.as_bytes())?;
+        let mut m = (v.written_to > 0).then(|| v.to_msg(&v.key))?;
         if v.stale {
-            m.sval = self.summary_text(k).into();
+            m.sval = self.summary_text(&v.key).into();
         }
         Some(m)
     }
@@ -1339,7 +1344,7 @@ impl Database {
 
     /// The variables in name order (the order of every list the DB makes of them).
     fn sorted_vars(&self) -> Vec<(&Bytes, &Var)> {
-        let mut v: Vec<(&Bytes, &Var)> = self.vars.iter().collect();
+        let mut v: Vec<(&Bytes, &Var)> = self.vars.values().map(|v| (&v.key, v)).collect();
         v.sort_unstable_by(|a, b| a.0.cmp(b.0));
         v
     }
@@ -1359,7 +1364,7 @@ impl Database {
             MsgType::Notify => self.on_notify(Delivery::new(m), now),
             MsgType::Register => self.on_register(name, &m.key, m.dval, now),
             MsgType::Unregister => {
-                if let Some(v) = self.vars.get_mut(&m.key) {
+                if let Some(v) = self.vars.get_mut(&m.key[..]) {
                     v.subscribers.remove(name);
                 }
             }
@@ -1419,10 +1424,10 @@ impl Database {
         let Some((id, unread)) = client_of(&self.clients, &self.names, name, key) else {
             return;
         };
-        let already = self.vars.contains_key(key);
+        let already = self.vars.contains_key(&key[..]);
         let var = self
             .vars
-            .entry(key.clone())
+            .entry(VarName::from_slice(key))
             .or_insert_with(|| Var::new(key.clone(), DataType::NotSet));
         let written = var.written_to != 0;
         let stale = var.stale;
@@ -1457,13 +1462,13 @@ impl Database {
         let limit = self.config.outbox_limit;
         Delivery::fill_community(&mut d, &self.community);
         // A write to a known variable looks it up once and clones no name.
-        let var = match self.vars.get_mut(d.body.key()) {
+        let var = match self.vars.get_mut(&d.body.key()[..]) {
             Some(var) => var,
             None => {
-                let key = d.body.key().clone();
+                let key = d.body.key();
                 self.vars
-                    .entry(key.clone())
-                    .or_insert_with(|| Var::new(key, d.body.data_type()))
+                    .entry(VarName::from_slice(key))
+                    .or_insert_with(|| Var::new(key.clone(), d.body.data_type()))
             }
         };
         if let Some(d) = Arc::get_mut(&mut d) {
