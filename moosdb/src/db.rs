@@ -2347,12 +2347,15 @@ mod tests {
                 .unwrap();
         }
         assert_eq!(db.current("V").unwrap().src_str(), "a");
-        db.handle(a, vec![request("PROC_SUMMARY")], t(1000.4))
-            .unwrap();
-        let ps: Vec<String> = drain(&mut db, a)
-            .iter()
-            .map(|m| m.sval_str().into_owned())
-            .collect();
+        // The PROC_SUMMARY replies `a` gets at `now`.
+        let summaries = |db: &mut Database, now: f64| -> Vec<String> {
+            db.handle(a, vec![request("PROC_SUMMARY")], t(now)).unwrap();
+            drain(db, a)
+                .iter()
+                .map(|m| m.sval_str().into_owned())
+                .collect()
+        };
+        let ps = summaries(&mut db, 1000.4);
         assert!(
             ps.contains(&"a:SUBSCRIBED=,PUBLISHED=,V".to_string()),
             "{ps:?}"
@@ -2369,12 +2372,7 @@ mod tests {
             t(1000.6),
         )
         .unwrap();
-        db.handle(a, vec![request("PROC_SUMMARY")], t(1000.7))
-            .unwrap();
-        let ps: Vec<String> = drain(&mut db, a)
-            .iter()
-            .map(|m| m.sval_str().into_owned())
-            .collect();
+        let ps = summaries(&mut db, 1000.7);
         assert!(
             ps.contains(&"a:SUBSCRIBED=,PUBLISHED=,V".to_string()),
             "{ps:?}"

@@ -410,6 +410,21 @@ mod tests {
         }
     }
 
+    /// A client of the bus's DB that is not in-process (think: a TCP client), connected as
+    /// `tcp` at time 0 and registered with `reg`.
+    fn outside_client<H: DbHost>(bus: &mut Bus<H>, reg: Message) -> ClientId {
+        let tcp = bus
+            .host()
+            .with_mut(0.0, |db, t| {
+                db.connect(Bytes::from_static(b"tcp"), true, 0.0, t).id()
+            })
+            .unwrap();
+        bus.host()
+            .with_mut(0.0, |db, t| db.handle(tcp, vec![reg], t))
+            .unwrap();
+        tcp
+    }
+
     #[test]
     fn a_shared_host_is_told_whom_to_wake() {
         let mut bus = Bus::with_host(Recording {
@@ -418,17 +433,9 @@ mod tests {
         });
         let a = bus.connect("a", 0.0).unwrap();
         // A client that is not in-process (think: a TCP client) subscribes directly.
-        let tcp = bus
-            .host()
-            .with_mut(0.0, |db, t| {
-                db.connect(Bytes::from_static(b"tcp"), true, 0.0, t).id()
-            })
-            .unwrap();
         let mut reg = Message::new(MsgType::Register, DataType::Double, "X");
         reg.dval = 0.0;
-        bus.host()
-            .with_mut(0.0, |db, t| db.handle(tcp, vec![reg], t))
-            .unwrap();
+        let tcp = outside_client(&mut bus, reg);
         bus.host().woken.clear();
         bus.publish(a, [Post::double("X", 4.0)], "a", 1.0).unwrap();
         assert_eq!(bus.host().woken, vec![tcp]);
@@ -446,17 +453,9 @@ mod tests {
         let b = bus.connect("b", 0.0).unwrap();
         bus.subscribe(b, &Subscription::var("*"), 0.0).unwrap();
         // A client outside the bus reads the same posts as messages.
-        let tcp = bus
-            .host()
-            .with_mut(0.0, |db, t| {
-                db.connect(Bytes::from_static(b"tcp"), true, 0.0, t).id()
-            })
-            .unwrap();
         let mut reg = Message::new(MsgType::WildcardRegister, DataType::String, "");
         reg.sval = Bytes::from_static(b"AppPattern=*,VarPattern=*,Interval=0");
-        bus.host()
-            .with_mut(0.0, |db, t| db.handle(tcp, vec![reg], t))
-            .unwrap();
+        let tcp = outside_client(&mut bus, reg);
         let mut relayed = Post::double("R", 5.0);
         relayed.source = "far".into();
         relayed.relayed = Some(Box::new(Relayed {
