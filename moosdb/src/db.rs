@@ -46,11 +46,12 @@
 //! asks, so this one is not for a TCP DB whose clients come and go).
 //!
 //! Every write is queued for its subscribers as one shared [`Delivery`] (an `Arc`: no copy
-//! of the message per subscriber). An in-process client posts through
-//! [`Database::handle_posted_into`] deliveries made with the [`moos_types::Mail`] they
-//! deliver, and reads them back with [`Database::poll_into`] and
-//! [`Database::drain_deliveries`]: its mail is a clone of the poster's, with no conversion
-//! of the message's bytes. The TCP edge drains plain messages ([`Database::drain_outbox`]).
+//! of the message per subscriber). An in-process client posts its notifies as the
+//! [`moos_types::Mail`] they deliver ([`Incoming::Posted`], through [`Database::handle_into`]),
+//! and reads them back with [`Database::poll_into`] and [`Database::drain_deliveries`]: its
+//! mail is the poster's (cloned, or taken by the last reader), with no message made or
+//! converted. The TCP edge drains plain messages ([`Database::drain_outbox`]): a posted
+//! mail's message is made there, for the TCP clients only.
 
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::fmt::Write as _;
@@ -58,11 +59,12 @@ use std::sync::Arc;
 
 use bytes::Bytes;
 use rustc_hash::FxHashMap;
+use smallvec::SmallVec;
 use thiserror::Error;
 use tracing::{info, warn};
 
-use crate::message::{ASYNCHRONOUS, DataType, Message, MsgType, Value};
-use moos_types::Mail;
+use crate::message::{ASYNCHRONOUS, DataType, MESSAGE_FIXED_LEN, Message, MsgType, NO_ID, Value};
+use moos_types::{ByteString, Mail};
 
 /// Seconds between refreshes of the DB's own variables (DB_TIME, DB_CLIENTS, ...).
 pub const SUMMARY_PERIOD: f64 = 2.0;
@@ -118,9 +120,25 @@ pub struct DbTime {
     pub mono: f64,
 }
 
-/// A connected client's handle inside the core.
+/// A connected client's handle inside the core: its slot in the DB's table of clients (the
+/// low 32 bits) and that slot's generation (the high 32 bits), so a look-up is an index and
+/// the handle of a client that left never names the one that takes its slot.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct ClientId(pub u64);
+
+impl ClientId {
+    fn new(slot: usize, generation: u32) -> ClientId {
+        ClientId((u64::from(generation) << 32) | slot as u64)
+    }
+
+    fn slot(self) -> usize {
+        (self.0 & 0xffff_ffff) as usize
+    }
+
+    fn generation(self) -> u32 {
+        (self.0 >> 32) as u32
+    }
+}
 
 /// Misuse of the core's API.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Error)]
@@ -174,107 +192,245 @@ pub struct Effects {
 /// A message as the DB queues it for its clients: one shared allocation per write, whatever
 /// the number of clients it reaches (each held mail and outbox holds an [`Arc`] of it, so a
 /// delivery copies no message). Its encoded size is counted once. A notify an in-process
-/// client posted carries the [`Mail`] it delivers, made by the poster from text that was
-/// UTF-8 already ([`Database::handle_posted_into`]): in-process readers clone it, with no
-/// conversion of the message's bytes.
+/// client posted ([`Incoming::Posted`]) is kept as the [`Mail`] it delivers, made by the
+/// poster from text that was UTF-8 already: in-process readers clone it (the last one takes
+/// it), with no conversion, and the message a TCP client reads is made from it when its
+/// outbox is drained ([`Database::drain_outbox`]).
 #[derive(Debug)]
 pub struct Delivery {
-    message: Message,
+    body: Incoming,
     encoded_len: usize,
-    mail: Option<Mail>,
 }
 
 impl Delivery {
     /// A shared delivery of `message`.
     pub fn new(message: Message) -> Arc<Delivery> {
+        Delivery::of(Incoming::Message(message))
+    }
+
+    fn of(body: Incoming) -> Arc<Delivery> {
         Arc::new(Delivery {
-            encoded_len: message.encoded_len(),
-            message,
-            mail: None,
+            encoded_len: body.encoded_len(),
+            body,
         })
     }
 
-    /// A shared delivery of `message` whose mail is `mail`, made by the caller (what
-    /// [`Message::mail`] gives, from text known to be UTF-8): it is never converted.
-    pub fn with_mail(message: Message, mail: Mail) -> Arc<Delivery> {
-        Arc::new(Delivery {
-            encoded_len: message.encoded_len(),
-            message,
-            mail: Some(mail),
-        })
+    /// True for a notify (what an in-process reader takes as mail).
+    pub fn is_notify(&self) -> bool {
+        self.body.msg_type() == MsgType::Notify
     }
 
-    /// The message.
-    pub fn message(&self) -> &Message {
-        &self.message
+    /// The message (a posted mail's made from it: id −1, dval2 −1, as the bus posted it).
+    pub fn to_message(&self) -> Message {
+        self.body.to_message()
     }
 
     /// The mail the message delivers ([`Message::mail`]; `None` for data type `'~'`): the
     /// poster's, cloned, or else converted from the message.
     pub fn mail(&self) -> Option<Mail> {
-        match &self.mail {
-            Some(mail) => Some(mail.clone()),
-            None => self.message.mail(),
+        match &self.body {
+            Incoming::Posted(mail) => Some(mail.clone()),
+            Incoming::Message(m) => m.mail(),
+        }
+    }
+
+    /// [`Delivery::mail`], taken without a copy when this was its last holder.
+    pub fn into_mail(this: Arc<Delivery>) -> Option<Mail> {
+        match Arc::try_unwrap(this) {
+            Ok(Delivery {
+                body: Incoming::Posted(mail),
+                ..
+            }) => Some(mail),
+            Ok(d) => d.mail(),
+            Err(d) => d.mail(),
         }
     }
 
     /// The message itself when this was its last holder, else a copy.
     pub fn into_message(this: Arc<Delivery>) -> Message {
-        Arc::try_unwrap(this).map_or_else(|d| d.message.clone(), |d| d.message)
+        Arc::try_unwrap(this).map_or_else(|d| d.to_message(), |d| d.body.into_message())
+    }
+
+    /// Gives a message with no community the DB's (a delivery another holder has too is
+    /// copied first).
+    fn fill_community(this: &mut Arc<Delivery>, community: &Bytes) {
+        if !this.body.community().is_empty() {
+            return;
+        }
+        if let Some(d) = Arc::get_mut(this) {
+            d.body.fill_community(community);
+            d.encoded_len = d.body.encoded_len();
+        } else {
+            let mut body = this.body.clone();
+            body.fill_community(community);
+            *this = Delivery::of(body);
+        }
     }
 }
 
-/// A message of a packet: as decoded or made, or a notify an in-process client posted
-/// already shared with its mail.
-enum Incoming {
+/// A message of a packet: as decoded or made ([`Message`]), or a notify an in-process client
+/// posted as the [`Mail`] it delivers (made from text that was UTF-8 already, as an app's
+/// [`moos_types::Post`]; a mail with no community gets the DB's, as a message would). The DB
+/// stores and queues a posted mail as it is, and its in-process readers get it with no
+/// conversion. Both convert with `into()`: [`Database::handle`] takes either.
+#[derive(Debug, Clone)]
+pub enum Incoming {
+    /// A message (decoded from a packet, or made by the caller).
     Message(Message),
-    Shared(Arc<Delivery>),
+    /// A notify posted in process (its id and dval2 are −1, its type the value's).
+    Posted(Mail),
+}
+
+impl From<Message> for Incoming {
+    fn from(m: Message) -> Incoming {
+        Incoming::Message(m)
+    }
+}
+
+impl From<Mail> for Incoming {
+    fn from(m: Mail) -> Incoming {
+        Incoming::Posted(m)
+    }
 }
 
 impl Incoming {
-    fn message(&self) -> &Message {
+    fn msg_type(&self) -> MsgType {
         match self {
-            Incoming::Message(m) => m,
-            Incoming::Shared(d) => &d.message,
+            Incoming::Message(m) => m.msg_type,
+            Incoming::Posted(_) => MsgType::Notify,
         }
     }
 
-    /// Gives a message with no community the DB's (a shared one that another holder has
-    /// too is copied, without its mail).
-    fn fill_community(&mut self, community: &Bytes) {
-        if !self.message().community.is_empty() {
-            return;
-        }
+    fn key(&self) -> &Bytes {
         match self {
-            Incoming::Message(m) => m.community = community.clone(),
-            Incoming::Shared(shared) => match Arc::get_mut(shared) {
-                Some(d) => {
-                    d.message.community = community.clone();
-                    d.encoded_len = d.message.encoded_len();
-                    if let Some(mail) = &mut d.mail {
-                        mail.community = moos_types::text_of(community);
-                    }
-                }
-                None => {
-                    let mut m = shared.message.clone();
-                    m.community = community.clone();
-                    *self = Incoming::Message(m);
-                }
+            Incoming::Message(m) => &m.key,
+            Incoming::Posted(p) => p.key.as_bytes(),
+        }
+    }
+
+    fn src(&self) -> &Bytes {
+        match self {
+            Incoming::Message(m) => &m.src,
+            Incoming::Posted(p) => p.source.as_bytes(),
+        }
+    }
+
+    fn src_aux(&self) -> &Bytes {
+        match self {
+            Incoming::Message(m) => &m.src_aux,
+            Incoming::Posted(p) => p.source_aux.as_bytes(),
+        }
+    }
+
+    fn community(&self) -> &Bytes {
+        match self {
+            Incoming::Message(m) => &m.community,
+            Incoming::Posted(p) => p.community.as_bytes(),
+        }
+    }
+
+    fn time(&self) -> f64 {
+        match self {
+            Incoming::Message(m) => m.time,
+            Incoming::Posted(p) => p.time,
+        }
+    }
+
+    fn data_type(&self) -> DataType {
+        match self {
+            Incoming::Message(m) => m.data_type,
+            Incoming::Posted(p) => match p.value {
+                Value::Double(_) => DataType::Double,
+                Value::String(_) => DataType::String,
+                Value::Binary(_) => DataType::Binary,
             },
         }
     }
 
-    fn into_shared(self) -> Arc<Delivery> {
+    fn dval(&self) -> f64 {
         match self {
-            Incoming::Message(m) => Delivery::new(m),
-            Incoming::Shared(d) => d,
+            Incoming::Message(m) => m.dval,
+            Incoming::Posted(p) => p.value.as_f64().unwrap_or(-1.0),
+        }
+    }
+
+    /// The string or binary value (shared, or a copy of binary data).
+    fn sval(&self) -> Bytes {
+        match self {
+            Incoming::Message(m) => m.sval.clone(),
+            Incoming::Posted(p) => match &p.value {
+                Value::Double(_) => Bytes::new(),
+                Value::String(s) => s.as_bytes().clone(),
+                Value::Binary(b) => Bytes::copy_from_slice(b),
+            },
+        }
+    }
+
+    fn encoded_len(&self) -> usize {
+        match self {
+            Incoming::Message(m) => m.encoded_len(),
+            Incoming::Posted(p) => {
+                let value = match &p.value {
+                    Value::Double(_) => 0,
+                    Value::String(s) => s.len(),
+                    Value::Binary(b) => b.len(),
+                };
+                MESSAGE_FIXED_LEN
+                    + p.source.len()
+                    + p.source_aux.len()
+                    + p.community.len()
+                    + p.key.len()
+                    + value
+            }
+        }
+    }
+
+    fn to_message(&self) -> Message {
+        match self {
+            Incoming::Message(m) => m.clone(),
+            Incoming::Posted(p) => Message {
+                id: NO_ID,
+                msg_type: MsgType::Notify,
+                data_type: self.data_type(),
+                src: p.source.as_bytes().clone(),
+                src_aux: p.source_aux.as_bytes().clone(),
+                community: p.community.as_bytes().clone(),
+                key: p.key.as_bytes().clone(),
+                time: p.time,
+                dval: self.dval(),
+                dval2: -1.0,
+                sval: self.sval(),
+            },
         }
     }
 
     fn into_message(self) -> Message {
         match self {
             Incoming::Message(m) => m,
-            Incoming::Shared(d) => Delivery::into_message(d),
+            posted => posted.to_message(),
+        }
+    }
+
+    /// Gives a message with no community the DB's.
+    fn fill_community(&mut self, community: &Bytes) {
+        if !self.community().is_empty() {
+            return;
+        }
+        match self {
+            Incoming::Message(m) => m.community = community.clone(),
+            Incoming::Posted(p) => p.community = moos_types::text_of(community),
+        }
+    }
+
+    /// A posted mail whose key is a copy of its own (a fresh buffer, held nowhere else)
+    /// takes the variable's `key` instead, so that its readers share one buffer.
+    fn share_key(&mut self, key: &Bytes) {
+        if let Incoming::Posted(p) = self
+            && p.key.as_bytes().as_ptr() != key.as_ptr()
+            && p.key.as_bytes().is_unique()
+            && let Ok(k) = ByteString::try_from(key.clone())
+        {
+            p.key = k;
         }
     }
 }
@@ -315,8 +471,68 @@ impl Sub {
     }
 }
 
+/// A variable's subscribers by client name, in name order (the order they are served in):
+/// one vector, so a write walks them without chasing tree nodes.
+#[derive(Debug, Clone, Default)]
+struct Subscribers(Vec<(Bytes, Sub)>);
+
+impl Subscribers {
+    fn find(&self, name: &[u8]) -> Result<usize, usize> {
+        self.0.binary_search_by(|(n, _)| n[..].cmp(name))
+    }
+
+    fn get_mut(&mut self, name: &[u8]) -> Option<&mut Sub> {
+        let i = self.find(name).ok()?;
+        Some(&mut self.0[i].1)
+    }
+
+    fn contains_key(&self, name: &[u8]) -> bool {
+        self.find(name).is_ok()
+    }
+
+    /// Adds `sub`, or replaces the one of `name`.
+    fn insert(&mut self, name: &Bytes, sub: Sub) {
+        match self.find(name) {
+            Ok(i) => self.0[i].1 = sub,
+            Err(i) => self.0.insert(i, (name.clone(), sub)),
+        }
+    }
+
+    /// The subscription of `name`, added as `sub` if there is none.
+    fn get_or_insert(&mut self, name: &Bytes, sub: Sub) -> &mut Sub {
+        let i = match self.find(name) {
+            Ok(i) => i,
+            Err(i) => {
+                self.0.insert(i, (name.clone(), sub));
+                i
+            }
+        };
+        &mut self.0[i].1
+    }
+
+    fn remove(&mut self, name: &[u8]) {
+        if let Ok(i) = self.find(name) {
+            self.0.remove(i);
+        }
+    }
+
+    fn keys(&self) -> impl Iterator<Item = &Bytes> {
+        self.0.iter().map(|(n, _)| n)
+    }
+
+    fn values(&self) -> impl Iterator<Item = &Sub> {
+        self.0.iter().map(|(_, s)| s)
+    }
+
+    fn values_mut(&mut self) -> impl Iterator<Item = &mut Sub> {
+        self.0.iter_mut().map(|(_, s)| s)
+    }
+}
+
 #[derive(Debug, Clone)]
 struct Var {
+    /// The name (the buffer the first write or registration brought).
+    key: Bytes,
     data_type: DataType,
     dval: f64,
     sval: Bytes,
@@ -329,15 +545,16 @@ struct Var {
     /// A DB summary whose text was not built at its last write: no client read it then.
     stale: bool,
     writers: BTreeSet<Bytes>,
-    subscribers: BTreeMap<Bytes, Sub>,
+    subscribers: Subscribers,
     freq: f64,
     stats_time: f64,
     stats_writes: u64,
 }
 
 impl Var {
-    fn new(data_type: DataType) -> Var {
+    fn new(key: Bytes, data_type: DataType) -> Var {
         Var {
+            key,
             data_type,
             dval: 0.0,
             sval: Bytes::new(),
@@ -349,7 +566,7 @@ impl Var {
             written_to: 0,
             stale: false,
             writers: BTreeSet::new(),
-            subscribers: BTreeMap::new(),
+            subscribers: Subscribers::default(),
             freq: 0.0,
             stats_time: f64::NEG_INFINITY,
             stats_writes: 0,
@@ -446,6 +663,76 @@ struct ClientState {
     dropped: u64,
     timing: Option<Timing>,
     unread: Unread,
+    /// Listed in [`Database::waiting`] (it was given held mail since the last notify
+    /// packet).
+    listed: bool,
+}
+
+/// The connected clients: a slab indexed by [`ClientId::slot`] (no hash or tree walk per
+/// subscriber a write reaches), each slot with the generation of the id it was last given.
+#[derive(Debug, Default)]
+struct Clients {
+    slots: Vec<(u32, Option<ClientState>)>,
+    free: Vec<usize>,
+}
+
+impl Clients {
+    fn get(&self, id: ClientId) -> Option<&ClientState> {
+        match self.slots.get(id.slot()) {
+            Some((g, Some(c))) if *g == id.generation() => Some(c),
+            _ => None,
+        }
+    }
+
+    fn get_mut(&mut self, id: ClientId) -> Option<&mut ClientState> {
+        match self.slots.get_mut(id.slot()) {
+            Some((g, Some(c))) if *g == id.generation() => Some(c),
+            _ => None,
+        }
+    }
+
+    fn contains(&self, id: ClientId) -> bool {
+        self.get(id).is_some()
+    }
+
+    /// Adds a client in a free slot (its generation moved on) or a new one.
+    fn insert(&mut self, c: ClientState) -> ClientId {
+        match self.free.pop() {
+            Some(i) => {
+                let slot = &mut self.slots[i];
+                slot.0 = slot.0.wrapping_add(1).max(1);
+                slot.1 = Some(c);
+                ClientId::new(i, slot.0)
+            }
+            None => {
+                self.slots.push((1, Some(c)));
+                ClientId::new(self.slots.len() - 1, 1)
+            }
+        }
+    }
+
+    fn remove(&mut self, id: ClientId) -> Option<ClientState> {
+        self.get(id)?;
+        let c = self.slots[id.slot()].1.take();
+        self.free.push(id.slot());
+        c
+    }
+
+    /// The clients with their ids, in slot order.
+    fn iter(&self) -> impl Iterator<Item = (ClientId, &ClientState)> {
+        self.slots
+            .iter()
+            .enumerate()
+            .filter_map(|(i, (g, c))| Some((ClientId::new(i, *g), c.as_ref()?)))
+    }
+
+    fn values(&self) -> impl Iterator<Item = &ClientState> {
+        self.slots.iter().filter_map(|(_, c)| c.as_ref())
+    }
+
+    fn values_mut(&mut self) -> impl Iterator<Item = &mut ClientState> {
+        self.slots.iter_mut().filter_map(|(_, c)| c.as_mut())
+    }
 }
 
 impl ClientState {
@@ -521,38 +808,58 @@ pub struct Database {
     summary_time: f64,
     /// The variables by name (hashed: a write looks its variable up once; what lists
     /// them in order sorts, see [`Database::sorted_vars`]).
-    vars: FxHashMap<Bytes, Var>,
-    clients: BTreeMap<ClientId, ClientState>,
+    vars: FxHashMap<VarName, Var>,
+    clients: Clients,
+    /// Clients given held mail since the last notify packet (each once, see
+    /// [`ClientState::listed`]): the ones whose held mail a notify packet pushes.
+    waiting: Vec<ClientId>,
     names: FxHashMap<Bytes, ClientId>,
     filters: BTreeMap<Bytes, Vec<Filter>>,
-    next_id: u64,
+    /// The next client's connection order (`DB_CLIENTS` lists the newest first).
+    next_order: u64,
     /// Variables whose every accepted write is kept for [`Database::take_taps`].
     tapped: Vec<Bytes>,
     taps: Vec<Message>,
 }
 
-/// Delivers `msg` into the held mail of client `id` (if connected).
+/// Delivers `msg` into the held mail of client `id` (if connected), listing it in
+/// `waiting`.
 fn hold_for(
-    clients: &mut BTreeMap<ClientId, ClientState>,
+    clients: &mut Clients,
+    waiting: &mut Vec<ClientId>,
     id: ClientId,
     msg: Arc<Delivery>,
     limit: usize,
 ) {
-    if let Some(c) = clients.get_mut(&id) {
+    if let Some(c) = clients.get_mut(id) {
         c.hold(msg, limit);
+        if !c.listed {
+            c.listed = true;
+            waiting.push(id);
+        }
     }
 }
 
 /// The id of the client called `name` and whether it drops `key`'s mail unread.
 fn client_of(
-    clients: &BTreeMap<ClientId, ClientState>,
+    clients: &Clients,
     names: &FxHashMap<Bytes, ClientId>,
     name: &[u8],
     key: &[u8],
 ) -> Option<(ClientId, bool)> {
     let id = *names.get(name)?;
-    Some((id, clients.get(&id).is_some_and(|c| c.unread.covers(key))))
+    Some((id, clients.get(id).is_some_and(|c| c.unread.covers(key))))
 }
+
+/// True when `a` and `b` hold the same bytes. The bus hands out one shared buffer per name,
+/// so a name that repeats is mostly the very buffer kept: then nothing is compared.
+fn same_text(a: &Bytes, b: &Bytes) -> bool {
+    (a.as_ptr() == b.as_ptr() && a.len() == b.len()) || a == b
+}
+
+/// A variable's name as the DB's table keys it: held inline up to 24 bytes (most MOOS
+/// names), so a write's look-up compares the name without reading another buffer.
+type VarName = SmallVec<[u8; 24]>;
 
 /// The DB's summaries, built only while some client reads them.
 const LAZY_SUMMARIES: [&str; 2] = ["DB_VARSUMMARY", "DB_RWSUMMARY"];
@@ -572,13 +879,14 @@ impl Database {
             ("DB_QOS", DataType::String),
             ("DB_RWSUMMARY", DataType::String),
         ] {
-            let mut v = Var::new(dt);
+            let key = Bytes::from_static(key.as_bytes());
+            let mut v = Var::new(key.clone(), dt);
             // The C++ DB names the writer of its not-yet-written variables with the name it
             // has before reading its community ("MOOSDB#1"); DB_VARSUMMARY shows it.
             v.writer = Bytes::from_static(b"MOOSDB#1");
             v.community = community.clone();
             v.written_time = now.moos;
-            vars.insert(Bytes::from_static(key.as_bytes()), v);
+            vars.insert(VarName::from_slice(&key), v);
         }
         Database {
             config,
@@ -587,10 +895,11 @@ impl Database {
             start_time: now.moos,
             summary_time: now.moos,
             vars,
-            clients: BTreeMap::new(),
+            clients: Clients::default(),
+            waiting: Vec::new(),
             names: FxHashMap::default(),
             filters: BTreeMap::new(),
-            next_id: 1,
+            next_order: 1,
             tapped: Vec::new(),
             taps: Vec::new(),
         }
@@ -627,25 +936,23 @@ impl Database {
             ));
             return Handshake::Poison { reply: p };
         }
-        let id = ClientId(self.next_id);
-        self.next_id += 1;
-        self.clients.insert(
-            id,
-            ClientState {
-                name: name.clone(),
-                asynchronous,
-                order: id.0,
-                last_heard: now.mono,
-                held: VecDeque::new(),
-                outbox: VecDeque::new(),
-                packets: VecDeque::new(),
-                outbox_msgs: 0,
-                outbox_bytes: 0,
-                dropped: 0,
-                timing: None,
-                unread: Unread::default(),
-            },
-        );
+        let order = self.next_order;
+        self.next_order += 1;
+        let id = self.clients.insert(ClientState {
+            name: name.clone(),
+            asynchronous,
+            order,
+            last_heard: now.mono,
+            held: VecDeque::new(),
+            outbox: VecDeque::new(),
+            packets: VecDeque::new(),
+            outbox_msgs: 0,
+            outbox_bytes: 0,
+            dropped: 0,
+            timing: None,
+            unread: Unread::default(),
+            listed: false,
+        });
         self.names.insert(name.clone(), id);
         let mut w = Message::new(MsgType::Welcome, DataType::Double, "");
         w.time = now.moos;
@@ -680,8 +987,9 @@ impl Database {
     /// Removes a client: its subscriptions, filters, held mail and outbox; posts
     /// `DB_EVENT = disconnected=NAME`. Returns its name, or `None` if it was not connected.
     pub fn disconnect(&mut self, id: ClientId, now: DbTime) -> Option<String> {
-        let c = self.clients.remove(&id)?;
+        let c = self.clients.remove(id)?;
         self.names.remove(&c.name);
+        self.waiting.retain(|w| *w != id);
         for v in self.vars.values_mut() {
             v.subscribers.remove(&c.name);
         }
@@ -700,13 +1008,16 @@ impl Database {
     /// `now.mono`); returns their ids and names.
     pub fn reap_silent(&mut self, now: DbTime) -> Vec<(ClientId, String)> {
         let timeout = self.config.client_timeout;
-        let silent: Vec<ClientId> = self
+        // In connection order, as their DB_EVENTs come.
+        let mut silent: Vec<(u64, ClientId)> = self
             .clients
             .iter()
             .filter(|(_, c)| now.mono - c.last_heard > timeout)
-            .map(|(id, _)| *id)
+            .map(|(id, c)| (c.order, id))
             .collect();
-        let mut out = Vec::with_capacity(silent.len());
+        silent.sort_unstable();
+        let silent = silent.into_iter().map(|(_, id)| id);
+        let mut out = Vec::new();
         for id in silent {
             if let Some(name) = self.disconnect(id, now) {
                 warn!(client = %name, "disconnecting after {timeout} seconds of silence");
@@ -726,47 +1037,33 @@ impl Database {
     /// notify, every asynchronous client's held mail is then pushed as its own packet.
     ///
     /// The packet is any sequence of messages (a decoded `Vec`, or an in-process caller's
-    /// iterator, which needs no buffer of its own).
+    /// iterator, which needs no buffer of its own), each a [`Message`] or a posted [`Mail`]
+    /// ([`Incoming`]).
     pub fn handle(
         &mut self,
         id: ClientId,
-        msgs: impl IntoIterator<Item = Message>,
+        msgs: impl IntoIterator<Item = impl Into<Incoming>>,
         now: DbTime,
     ) -> Result<Effects, DbError> {
         let mut effects = Effects::default();
-        let msgs = msgs.into_iter().map(Incoming::Message);
-        self.packet(id, msgs, false, now, &mut effects.ready)?;
+        self.handle_into(id, msgs, now, &mut effects)?;
         Ok(effects)
     }
 
     /// [`Database::handle`] with the effects written into `effects` (cleared first), so an
-    /// in-process caller reuses one buffer.
+    /// in-process caller reuses one buffer. An in-process client posts its notifies as the
+    /// mail they deliver ([`Incoming::Posted`]): the DB stores and queues them as they are,
+    /// and its in-process readers get that mail with no conversion.
     pub fn handle_into(
         &mut self,
         id: ClientId,
-        msgs: impl IntoIterator<Item = Message>,
+        msgs: impl IntoIterator<Item = impl Into<Incoming>>,
         now: DbTime,
         effects: &mut Effects,
     ) -> Result<(), DbError> {
         effects.ready.clear();
-        let msgs = msgs.into_iter().map(Incoming::Message);
-        self.packet(id, msgs, false, now, &mut effects.ready)
-    }
-
-    /// [`Database::handle_into`] for an in-process client whose notifies come shared
-    /// already, each with the mail it delivers ([`Delivery::with_mail`]: made by the
-    /// poster from text that was UTF-8, as an app's [`moos_types::Post`]; the community
-    /// filled in, as the DB would): the DB stores and queues them as they are, and its
-    /// in-process readers get that mail with no conversion.
-    pub fn handle_posted_into(
-        &mut self,
-        id: ClientId,
-        posts: impl IntoIterator<Item = Arc<Delivery>>,
-        now: DbTime,
-        effects: &mut Effects,
-    ) -> Result<(), DbError> {
-        effects.ready.clear();
-        let msgs = posts.into_iter().map(Incoming::Shared);
+        // Each message is shared at once: the DB moves a pointer from here on.
+        let msgs = msgs.into_iter().map(|m| Delivery::of(m.into()));
         self.packet(id, msgs, false, now, &mut effects.ready)
     }
 
@@ -787,22 +1084,18 @@ impl Database {
     fn packet(
         &mut self,
         id: ClientId,
-        msgs: impl IntoIterator<Item = Incoming>,
+        msgs: impl IntoIterator<Item = Arc<Delivery>>,
         polled: bool,
         now: DbTime,
         ready: &mut Vec<ClientId>,
     ) -> Result<(), DbError> {
-        let c = self
-            .clients
-            .get_mut(&id)
-            .ok_or(DbError::UnknownClient(id))?;
+        let c = self.clients.get_mut(id).ok_or(DbError::UnknownClient(id))?;
         c.last_heard = now.mono;
-        let name = c.name.clone();
         let asynchronous = c.asynchronous;
         let mut echo = None;
         let mut msgs = msgs.into_iter().peekable();
-        if let Some(t) = msgs.next_if(|m| m.message().msg_type == MsgType::Timing) {
-            let mut t = t.into_message();
+        if let Some(t) = msgs.next_if(|m| m.body.msg_type() == MsgType::Timing) {
+            let mut t = Delivery::into_message(t);
             c.timing
                 .get_or_insert_with(Timing::default)
                 .add((now.moos - t.time) * 1000.0);
@@ -813,13 +1106,22 @@ impl Database {
         let mut had_notify = false;
         let mut had_any = polled;
         let mut replies = VecDeque::new();
+        // The client's name, taken when a message other than a notify needs it.
+        let mut name: Option<Bytes> = None;
         for m in msgs {
             had_any = true;
-            if m.message().msg_type == MsgType::Notify {
+            if m.is_notify() {
                 had_notify = true;
                 self.on_notify(m, now);
             } else {
-                self.process(&name, m.into_message(), now, &mut replies);
+                let name = match &name {
+                    Some(n) => n.clone(),
+                    None => {
+                        let n = self.clients.get(id).map(|c| c.name.clone());
+                        name.get_or_insert(n.unwrap_or_default()).clone()
+                    }
+                };
+                self.process(&name, Delivery::into_message(m), now, &mut replies);
             }
         }
         if now.moos - self.summary_time > SUMMARY_PERIOD {
@@ -828,7 +1130,7 @@ impl Database {
         }
         let limit = self.config.outbox_limit;
         let byte_limit = self.config.outbox_byte_limit;
-        if let Some(c) = self.clients.get_mut(&id) {
+        if let Some(c) = self.clients.get_mut(id) {
             let take_held = had_any || !asynchronous;
             let head = if asynchronous {
                 echo
@@ -854,14 +1156,22 @@ impl Database {
             }
         }
         if had_notify {
-            for (cid, c) in self.clients.iter_mut() {
+            // Only the clients given held mail since the last notify packet can have any.
+            let first = ready.len();
+            for cid in self.waiting.drain(..) {
+                let Some(c) = self.clients.get_mut(cid) else {
+                    continue;
+                };
+                c.listed = false;
                 if c.asynchronous && !c.held.is_empty() {
                     c.queue_held(limit, byte_limit);
-                    if !ready.contains(cid) {
-                        ready.push(*cid);
+                    if !ready.contains(&cid) {
+                        ready.push(cid);
                     }
                 }
             }
+            // In id order, as they would be found in the table.
+            ready[first..].sort_unstable();
         }
         Ok(())
     }
@@ -869,7 +1179,7 @@ impl Database {
     /// Moves the client's queued packets into `out`; `false` if the client is gone (the edge
     /// should then close its connection).
     pub fn drain_outbox(&mut self, id: ClientId, out: &mut Vec<Vec<Message>>) -> bool {
-        match self.clients.get_mut(&id) {
+        match self.clients.get_mut(id) {
             Some(c) => {
                 for (n, _) in c.packets.drain(..) {
                     out.push(c.outbox.drain(..n).map(Delivery::into_message).collect());
@@ -886,7 +1196,7 @@ impl Database {
     /// (an in-process client needs no packet boundaries, and no buffer per packet);
     /// `false` if the client is gone.
     pub fn drain_messages(&mut self, id: ClientId, out: &mut Vec<Message>) -> bool {
-        match self.clients.get_mut(&id) {
+        match self.clients.get_mut(id) {
             Some(c) => {
                 out.extend(c.outbox.drain(..).map(Delivery::into_message));
                 c.packets.clear();
@@ -901,7 +1211,7 @@ impl Database {
     /// [`Database::drain_messages`] without copies: the shared deliveries themselves (an
     /// in-process reader takes each one's [`Delivery::mail`]).
     pub fn drain_deliveries(&mut self, id: ClientId, out: &mut Vec<Arc<Delivery>>) -> bool {
-        match self.clients.get_mut(&id) {
+        match self.clients.get_mut(id) {
             Some(c) => {
                 out.extend(c.outbox.drain(..));
                 c.packets.clear();
@@ -922,7 +1232,7 @@ impl Database {
     /// asks). Applies to the client's existing registrations too. `false` if the client is
     /// not connected.
     pub fn set_unread(&mut self, id: ClientId, unread: Unread) -> bool {
-        let Some(c) = self.clients.get_mut(&id) else {
+        let Some(c) = self.clients.get_mut(id) else {
             return false;
         };
         let name = c.name.clone();
@@ -965,7 +1275,7 @@ impl Database {
 
     /// Messages dropped so far for a client because it did not keep up.
     pub fn dropped(&self, id: ClientId) -> Option<u64> {
-        self.clients.get(&id).map(|c| c.dropped)
+        self.clients.get(id).map(|c| c.dropped)
     }
 
     /// The id of the connected client called `name`.
@@ -975,7 +1285,7 @@ impl Database {
 
     /// True if `id` is connected.
     pub fn is_connected(&self, id: ClientId) -> bool {
-        self.clients.contains_key(&id)
+        self.clients.contains(id)
     }
 
     /// Names of the connected clients, newest first (the order of `DB_CLIENTS`).
@@ -1003,10 +1313,10 @@ impl Database {
 
     /// The current value of a variable as the DB would replay it, if it was ever written.
     pub fn current(&self, key: &str) -> Option<Message> {
-        let (k, v) = self.vars.get_key_value(key.as_bytes())?;
-        let mut m = (v.written_to > 0).then(|| v.to_msg(k))?;
+        let v = self.vars.get(key.as_bytes())?;
+        let mut m = (v.written_to > 0).then(|| v.to_msg(&v.key))?;
         if v.stale {
-            m.sval = self.summary_text(k).into();
+            m.sval = self.summary_text(&v.key).into();
         }
         Some(m)
     }
@@ -1034,7 +1344,7 @@ impl Database {
 
     /// The variables in name order (the order of every list the DB makes of them).
     fn sorted_vars(&self) -> Vec<(&Bytes, &Var)> {
-        let mut v: Vec<(&Bytes, &Var)> = self.vars.iter().collect();
+        let mut v: Vec<(&Bytes, &Var)> = self.vars.values().map(|v| (&v.key, v)).collect();
         v.sort_unstable_by(|a, b| a.0.cmp(b.0));
         v
     }
@@ -1051,10 +1361,10 @@ impl Database {
 
     fn process(&mut self, name: &Bytes, m: Message, now: DbTime, replies: &mut VecDeque<Message>) {
         match m.msg_type {
-            MsgType::Notify => self.on_notify(Incoming::Message(m), now),
+            MsgType::Notify => self.on_notify(Delivery::new(m), now),
             MsgType::Register => self.on_register(name, &m.key, m.dval, now),
             MsgType::Unregister => {
-                if let Some(v) = self.vars.get_mut(&m.key) {
+                if let Some(v) = self.vars.get_mut(&m.key[..]) {
                     v.subscribers.remove(name);
                 }
             }
@@ -1114,59 +1424,69 @@ impl Database {
         let Some((id, unread)) = client_of(&self.clients, &self.names, name, key) else {
             return;
         };
-        let already = self.vars.contains_key(key);
+        let already = self.vars.contains_key(&key[..]);
         let var = self
             .vars
-            .entry(key.clone())
-            .or_insert_with(|| Var::new(DataType::NotSet));
+            .entry(VarName::from_slice(key))
+            .or_insert_with(|| Var::new(key.clone(), DataType::NotSet));
         let written = var.written_to != 0;
         let stale = var.stale;
         let reply = (already && written && !unread).then(|| var.to_msg(key));
-        let sub = var.subscribers.entry(name.clone()).or_insert(Sub {
-            client: id,
-            period,
-            last_sent: f64::NEG_INFINITY,
-            unread,
-        });
+        let sub = var.subscribers.get_or_insert(
+            name,
+            Sub {
+                client: id,
+                period,
+                last_sent: f64::NEG_INFINITY,
+                unread,
+            },
+        );
         sub.period = period;
         if let Some(mut reply) = reply {
             sub.last_sent = now.moos;
             if stale {
                 reply.sval = self.summary_text(key).into();
             }
-            hold_for(&mut self.clients, id, Delivery::new(reply), limit);
+            hold_for(
+                &mut self.clients,
+                &mut self.waiting,
+                id,
+                Delivery::new(reply),
+                limit,
+            );
         }
     }
 
     /// `OnNotify`: type lock, first-write wildcard matching, value store and fan-out.
-    fn on_notify(&mut self, mut incoming: Incoming, now: DbTime) {
+    fn on_notify(&mut self, mut d: Arc<Delivery>, now: DbTime) {
         let limit = self.config.outbox_limit;
-        incoming.fill_community(&self.community);
-        let msg = incoming.message();
-        if let Incoming::Shared(d) = &incoming {
-            debug_assert!(
-                d.mail.is_none() || d.mail == msg.mail(),
-                "a posted mail is the one its message delivers"
-            );
-        }
+        Delivery::fill_community(&mut d, &self.community);
         // A write to a known variable looks it up once and clones no name.
-        let var = match self.vars.get_mut(&msg.key) {
+        let var = match self.vars.get_mut(&d.body.key()[..]) {
             Some(var) => var,
-            None => self
-                .vars
-                .entry(msg.key.clone())
-                .or_insert_with(|| Var::new(msg.data_type)),
+            None => {
+                let key = d.body.key();
+                self.vars
+                    .entry(VarName::from_slice(key))
+                    .or_insert_with(|| Var::new(key.clone(), d.body.data_type()))
+            }
         };
+        if let Some(d) = Arc::get_mut(&mut d) {
+            d.body.share_key(&var.key);
+        }
+        let incoming = &d.body;
+        let (key, src) = (incoming.key(), incoming.src());
+        let data_type = incoming.data_type();
         if var.written_to == 0 {
-            var.data_type = msg.data_type;
+            var.data_type = data_type;
             for (client, filters) in &self.filters {
                 for f in filters {
-                    if f.matches(&msg.src, &msg.key)
+                    if f.matches(src, key)
                         && let Some((id, unread)) =
-                            client_of(&self.clients, &self.names, client, &msg.key)
+                            client_of(&self.clients, &self.names, client, key)
                     {
                         var.subscribers.insert(
-                            client.clone(),
+                            client,
                             Sub {
                                 client: id,
                                 period: f.period,
@@ -1178,36 +1498,38 @@ impl Database {
                 }
             }
         }
-        if var.data_type != msg.data_type {
+        if var.data_type != data_type {
             warn!(
-                var = %msg.key_str(),
+                var = %String::from_utf8_lossy(key),
                 var_type = %(var.data_type.code() as char),
-                msg_type = %(msg.data_type.code() as char),
-                src = %msg.src_str(),
+                msg_type = %(data_type.code() as char),
+                src = %String::from_utf8_lossy(src),
                 "write rejected: variable type is locked by its first write"
             );
             return;
         }
         let t = now.moos;
         var.written_time = t;
-        var.time = msg.time;
+        var.time = incoming.time();
         // The writer, its aux field and community mostly repeat: a name is replaced (and the
         // writers looked up) only when it changed.
-        if var.written_to == 0 || var.writer != msg.src {
-            if !var.writers.contains(&msg.src) {
-                var.writers.insert(msg.src.clone());
+        if var.written_to == 0 || !same_text(&var.writer, src) {
+            if !var.writers.contains(src) {
+                var.writers.insert(src.clone());
             }
-            var.writer = msg.src.clone();
+            var.writer = src.clone();
         }
-        if var.src_aux != msg.src_aux {
-            var.src_aux = msg.src_aux.clone();
+        let aux = incoming.src_aux();
+        if !same_text(&var.src_aux, aux) {
+            var.src_aux = aux.clone();
         }
-        if var.community != msg.community {
-            var.community = msg.community.clone();
+        let community = incoming.community();
+        if !same_text(&var.community, community) {
+            var.community = community.clone();
         }
         match var.data_type {
-            DataType::Double => var.dval = msg.dval,
-            _ => var.sval = msg.sval.clone(),
+            DataType::Double => var.dval = incoming.dval(),
+            _ => var.sval = incoming.sval(),
         }
         var.written_to += 1;
         let dt = t - var.stats_time;
@@ -1221,21 +1543,20 @@ impl Database {
             var.stats_writes = var.written_to;
             var.stats_time = t;
         }
-        if !self.tapped.is_empty() && self.tapped.contains(&msg.key) {
-            self.taps.push(msg.clone());
+        if !self.tapped.is_empty() && self.tapped.contains(incoming.key()) {
+            self.taps.push(incoming.to_message());
         }
-        // One shared delivery for every subscriber it reaches (made at the first).
-        let mut pending = Some(incoming);
-        let mut shared: Option<Arc<Delivery>> = None;
+        // One shared delivery for every subscriber it reaches.
         for sub in var.subscribers.values_mut() {
             if !sub.unread && sub.expired(t) {
                 sub.last_sent = t;
-                if let Some(m) = pending.take() {
-                    shared = Some(m.into_shared());
-                }
-                if let Some(d) = &shared {
-                    hold_for(&mut self.clients, sub.client, Arc::clone(d), limit);
-                }
+                hold_for(
+                    &mut self.clients,
+                    &mut self.waiting,
+                    sub.client,
+                    Arc::clone(&d),
+                    limit,
+                );
             }
         }
     }
@@ -1245,7 +1566,7 @@ impl Database {
         m.key = Bytes::from_static(key.as_bytes());
         m.src = self.db_name.clone();
         m.community = self.community.clone();
-        self.on_notify(Incoming::Message(m), now);
+        self.on_notify(Delivery::new(m), now);
     }
 
     fn server_request(&mut self, m: &Message, now: DbTime, replies: &mut VecDeque<Message>) {
@@ -1593,6 +1914,40 @@ mod tests {
     }
 
     #[test]
+    fn a_client_that_reconnects_under_its_name_gets_a_new_id() {
+        let mut db = new_db();
+        let a = join(&mut db, "a", 1000.0);
+        let s = join(&mut db, "s", 1000.0);
+        db.handle(s, vec![reg("X", 0.0)], t(1000.0)).unwrap();
+        assert_eq!(db.disconnect(s, t(1000.1)).as_deref(), Some("s"));
+        // The slot is taken again, under a new id: the old one names nobody.
+        let s2 = join(&mut db, "s", 1000.2);
+        assert_ne!(s, s2);
+        assert!(!db.is_connected(s) && db.is_connected(s2));
+        assert_eq!(db.client_id("s"), Some(s2));
+        assert_eq!(
+            db.poll_into(s, t(1000.3), &mut Effects::default()),
+            Err(DbError::UnknownClient(s))
+        );
+        // The registration left with the old client; the new one makes its own.
+        assert!(db.subscribers("X").is_empty());
+        db.handle(s2, vec![reg("X", 0.0)], t(1000.3)).unwrap();
+        let fx = db
+            .handle(
+                a,
+                vec![post("a", "X", Value::Double(1.0), 1000.4)],
+                t(1000.4),
+            )
+            .unwrap();
+        assert_eq!(fx.ready, vec![s2]);
+        let got = drain(&mut db, s2);
+        assert_eq!(keys(&got), ["X"]);
+        assert!(!db.drain_outbox(s, &mut Vec::new()));
+        // DB_CLIENTS lists the newest first.
+        assert_eq!(db.client_names(), ["s", "a"]);
+    }
+
+    #[test]
     fn register_interval_filters_fan_out() {
         let mut db = new_db();
         let s = join(&mut db, "s", 1000.0);
@@ -1636,7 +1991,7 @@ mod tests {
             moos: 1000.0 + mono,
             mono,
         };
-        db.handle(b, vec![], at(4.0)).unwrap();
+        db.handle(b, Vec::<Message>::new(), at(4.0)).unwrap();
         assert!(db.reap_silent(at(5.0)).is_empty());
         let gone = db.reap_silent(at(5.01));
         assert_eq!(gone, vec![(a, "a".to_string())]);
@@ -1651,9 +2006,9 @@ mod tests {
         db.handle(c, vec![reg("DB_CLIENTS", 0.0)], t(1001.0))
             .unwrap();
         assert!(db.current("DB_CLIENTS").is_none());
-        db.handle(c, vec![], t(1002.0)).unwrap();
+        db.handle(c, Vec::<Message>::new(), t(1002.0)).unwrap();
         assert!(db.current("DB_TIME").is_none());
-        db.handle(c, vec![], t(1002.01)).unwrap();
+        db.handle(c, Vec::<Message>::new(), t(1002.01)).unwrap();
         assert_eq!(db.current("DB_TIME").unwrap().dval, 1002.01);
         assert_eq!(db.current("DB_UPTIME").unwrap().dval, 1002.01 - 1000.0);
         assert_eq!(db.current("DB_CLIENTS").unwrap().sval_str(), "c,");
@@ -1899,13 +2254,8 @@ mod tests {
         let mut made = post("p", "S", Value::from("hé"), 1000.6);
         made.community = Bytes::from_static(b"test");
         let mail = made.mail().unwrap();
-        db.handle_posted_into(
-            p,
-            [Delivery::with_mail(made, mail.clone())],
-            t(1000.6),
-            &mut Effects::default(),
-        )
-        .unwrap();
+        db.handle_into(p, [mail.clone()], t(1000.6), &mut Effects::default())
+            .unwrap();
         assert!(db.drain_deliveries(a, &mut da));
         assert_eq!(da.len(), 2);
         assert!(
@@ -1916,23 +2266,26 @@ mod tests {
         // One made without a community gets the DB's, in its message and its mail.
         let bare = post("p", "S", Value::from("x"), 1000.7);
         let mut mail = bare.mail().unwrap();
-        db.handle_posted_into(
-            p,
-            [Delivery::with_mail(bare, mail.clone())],
-            t(1000.7),
-            &mut Effects::default(),
-        )
-        .unwrap();
+        db.handle_into(p, [mail.clone()], t(1000.7), &mut Effects::default())
+            .unwrap();
         mail.community = "test".into();
         let mut fresh = Vec::new();
         assert!(db.drain_deliveries(b, &mut fresh));
         let last = fresh.last().unwrap();
-        assert_eq!(last.message().community, Bytes::from_static(b"test"));
-        assert_eq!(last.mail(), Some(mail));
+        // The message a TCP client would read is the one the mail delivers.
+        let mut expected = bare.clone();
+        expected.community = Bytes::from_static(b"test");
+        assert_eq!(last.to_message(), expected);
+        assert_eq!(last.mail(), Some(mail.clone()));
         assert_eq!(
             db.current("S").unwrap().community,
             Bytes::from_static(b"test")
         );
+        // The last holder takes the mail itself; a shared one is cloned.
+        let last = fresh.pop().unwrap();
+        let held = Arc::clone(&last);
+        assert_eq!(Delivery::into_mail(last), Some(mail.clone()));
+        assert_eq!(Delivery::into_mail(held), Some(mail));
         let mut da = vec![da.remove(0)];
         // The last holder takes the message itself; a shared one is copied.
         let first = Delivery::into_message(da.pop().unwrap());
@@ -1994,12 +2347,15 @@ mod tests {
                 .unwrap();
         }
         assert_eq!(db.current("V").unwrap().src_str(), "a");
-        db.handle(a, vec![request("PROC_SUMMARY")], t(1000.4))
-            .unwrap();
-        let ps: Vec<String> = drain(&mut db, a)
-            .iter()
-            .map(|m| m.sval_str().into_owned())
-            .collect();
+        // The PROC_SUMMARY replies `a` gets at `now`.
+        let summaries = |db: &mut Database, now: f64| -> Vec<String> {
+            db.handle(a, vec![request("PROC_SUMMARY")], t(now)).unwrap();
+            drain(db, a)
+                .iter()
+                .map(|m| m.sval_str().into_owned())
+                .collect()
+        };
+        let ps = summaries(&mut db, 1000.4);
         assert!(
             ps.contains(&"a:SUBSCRIBED=,PUBLISHED=,V".to_string()),
             "{ps:?}"
@@ -2016,12 +2372,7 @@ mod tests {
             t(1000.6),
         )
         .unwrap();
-        db.handle(a, vec![request("PROC_SUMMARY")], t(1000.7))
-            .unwrap();
-        let ps: Vec<String> = drain(&mut db, a)
-            .iter()
-            .map(|m| m.sval_str().into_owned())
-            .collect();
+        let ps = summaries(&mut db, 1000.7);
         assert!(
             ps.contains(&"a:SUBSCRIBED=,PUBLISHED=,V".to_string()),
             "{ps:?}"

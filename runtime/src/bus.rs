@@ -8,12 +8,11 @@ use std::sync::Arc;
 use bytes::Bytes;
 use moos_types::ByteString;
 use moosdb::db::{ClientId, Database, DbConfig, DbError, DbTime, Delivery, Effects};
-use moosdb::message::NO_ID;
 use moosdb::{DataType, Message, MsgType};
 use rustc_hash::FxHashSet;
 use thiserror::Error;
 
-use crate::app::{Mail, Post, Subscription, Value};
+use crate::app::{Mail, Post, Subscription};
 
 /// Misuse of the bus.
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
@@ -90,10 +89,11 @@ impl DbHost for LocalDb {
 
 /// An in-process MOOSDB with in-process clients. Every call takes the MOOS time.
 ///
-/// Mail is handed out without copies of its names (see [`moos_types::Mail`]); the bus keeps
-/// one shared buffer per variable and source name it publishes, and hands on a post's aux
-/// field as the app made it, so a post of a double reaches the DB and its subscribers
-/// without copying text.
+/// Mail is handed out without copies of its names (see [`moos_types::Mail`]): a post becomes
+/// the mail it delivers, its names and value moved in (a fresh copy of a variable name is
+/// swapped for the DB's buffer of it), the bus keeps one shared buffer per source name, and
+/// the DB hands the mail to its in-process readers as it is, so a post reaches the DB and
+/// its subscribers without copying text.
 #[derive(Debug)]
 pub struct Bus<H: DbHost = LocalDb> {
     host: H,
@@ -110,9 +110,9 @@ pub struct Bus<H: DbHost = LocalDb> {
 /// again after that is copied once more).
 const NAMES_LIMIT: usize = 4096;
 
-/// Shared buffers of the variable and source names posts carry, so that publishing hands
-/// the DB reference-counted buffers instead of fresh copies (the DB keeps them as variable
-/// names and writers, and clones them into every subscriber's mail).
+/// Shared buffers of the source names posts carry (an app's name, mostly), so that
+/// publishing hands the DB reference-counted buffers instead of fresh copies (the DB keeps
+/// them as writers, and every subscriber's mail shares them).
 #[derive(Debug, Default)]
 struct Names {
     set: FxHashSet<ByteString>,
@@ -215,70 +215,52 @@ impl<H: DbHost> Bus<H> {
         Self::send(&mut self.host, &mut self.effects, id, [msg], now)
     }
 
-    /// Publishes posts made at `now` by the client `id`; a post with an empty source gets
-    /// `default_source`.
+    /// Publishes posts made at `now` by the client `id` (taken: their names and values
+    /// become the mail, with no copy); a post with an empty source gets `default_source`.
     pub fn publish(
         &mut self,
         id: ClientId,
-        posts: &[Post],
+        posts: impl IntoIterator<Item = Post>,
         default_source: &str,
         now: f64,
     ) -> Result<(), BusError> {
-        if posts.is_empty() {
+        let mut posts = posts.into_iter().peekable();
+        if posts.peek().is_none() {
             return Ok(());
         }
         let default_src = self.names.get(default_source);
         let names = &mut self.names;
         let own_community = &self.community;
-        // Each post goes with the mail it delivers, made here from its text (UTF-8
-        // already): the DB hands it to the readers without converting the message.
-        let msgs = posts.iter().map(|p| {
-            let (data_type, dval, sval) = match &p.value {
-                Value::Double(x) => (DataType::Double, *x, Bytes::new()),
-                Value::String(s) => (DataType::String, -1.0, s.as_bytes().clone()),
-                Value::Binary(b) => (DataType::Binary, -1.0, Bytes::copy_from_slice(b)),
-            };
+        // Each post goes as the mail it delivers, made here from its text (UTF-8 already):
+        // the DB hands it to the readers as it is, and makes a message of it only for a
+        // TCP client. A fresh copy of a variable name is swapped for the DB's buffer there.
+        let mails = posts.map(|p| {
             // A relayed message keeps its time and community (the DB keeps a non-empty one);
             // the others get the DB's, as the DB would give them.
-            let (time, community) = match &p.relayed {
-                Some(r) if !r.community.is_empty() => (r.time, r.community.clone()),
+            let (time, community) = match p.relayed {
+                Some(r) if !r.community.is_empty() => (r.time, r.community),
                 Some(r) => (r.time, own_community.clone()),
                 None => (now, own_community.clone()),
             };
-            let key = names.get(&p.key);
             let source = if p.source.is_empty() {
                 default_src.clone()
             } else {
                 names.get(&p.source)
             };
-            let message = Message {
-                id: NO_ID,
-                msg_type: MsgType::Notify,
-                data_type,
-                src: source.as_bytes().clone(),
-                // Aux fields vary (the helm's `<iteration>:<behaviour>`): the post's own
-                // buffer, shared as the app made it.
-                src_aux: p.aux.as_bytes().clone(),
-                community: community.as_bytes().clone(),
-                key: key.as_bytes().clone(),
-                time,
-                dval,
-                dval2: -1.0,
-                sval,
-            };
-            let mail = Mail {
-                key,
-                value: p.value.clone(),
+            Mail {
+                key: p.key,
+                value: p.value,
                 time,
                 source,
-                source_aux: p.aux.clone(),
+                // Aux fields vary (the helm's `<iteration>:<behaviour>`): the post's own
+                // buffer, as the app made it.
+                source_aux: p.aux,
                 community,
-            };
-            Delivery::with_mail(message, mail)
+            }
         });
         let effects = &mut self.effects;
         self.host
-            .with_mut(now, |db, t| db.handle_posted_into(id, msgs, t, effects))
+            .with_mut(now, |db, t| db.handle_into(id, mails, t, effects))
             .map_err(|_| BusError::NotConnected(id))?;
         if !self.effects.ready.is_empty() {
             self.host.wake(&self.effects);
@@ -321,11 +303,12 @@ impl<H: DbHost> Bus<H> {
         let first = out.len();
         out.reserve(self.fetched.len());
         for d in self.fetched.drain(..) {
-            if d.message().msg_type != MsgType::Notify {
+            if !d.is_notify() {
                 continue;
             }
-            // A post's mail as the poster made it (cloned): no conversion.
-            if let Some(mail) = d.mail() {
+            // A post's mail as the poster made it (taken by its last reader, else cloned):
+            // no conversion.
+            if let Some(mail) = Delivery::into_mail(d) {
                 out.push(mail);
             }
         }
@@ -354,6 +337,7 @@ impl<H: DbHost> Bus<H> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::app::Value;
 
     #[test]
     fn in_process_clients_get_moosdb_semantics() {
@@ -366,7 +350,7 @@ mod tests {
         );
         bus.publish(
             a,
-            &[Post::double("X", 1.0).with_aux("HELM_VAR_INIT")],
+            [Post::double("X", 1.0).with_aux("HELM_VAR_INIT")],
             "a",
             100.0,
         )
@@ -376,12 +360,12 @@ mod tests {
         bus.subscribe(b, &Subscription::var("S_*"), 100.5).unwrap();
         bus.publish(
             a,
-            &[Post::text("S_ONE", "hi"), Post::double("Y", 3.0)],
+            [Post::text("S_ONE", "hi"), Post::double("Y", 3.0)],
             "a",
             101.0,
         )
         .unwrap();
-        bus.publish(a, &[Post::double("X", 2.0)], "a", 101.5)
+        bus.publish(a, [Post::double("X", 2.0)], "a", 101.5)
             .unwrap();
         let mut mail = Vec::new();
         bus.fetch(b, 102.0, &mut mail).unwrap();
@@ -426,6 +410,21 @@ mod tests {
         }
     }
 
+    /// A client of the bus's DB that is not in-process (think: a TCP client), connected as
+    /// `tcp` at time 0 and registered with `reg`.
+    fn outside_client<H: DbHost>(bus: &mut Bus<H>, reg: Message) -> ClientId {
+        let tcp = bus
+            .host()
+            .with_mut(0.0, |db, t| {
+                db.connect(Bytes::from_static(b"tcp"), true, 0.0, t).id()
+            })
+            .unwrap();
+        bus.host()
+            .with_mut(0.0, |db, t| db.handle(tcp, vec![reg], t))
+            .unwrap();
+        tcp
+    }
+
     #[test]
     fn a_shared_host_is_told_whom_to_wake() {
         let mut bus = Bus::with_host(Recording {
@@ -434,19 +433,11 @@ mod tests {
         });
         let a = bus.connect("a", 0.0).unwrap();
         // A client that is not in-process (think: a TCP client) subscribes directly.
-        let tcp = bus
-            .host()
-            .with_mut(0.0, |db, t| {
-                db.connect(Bytes::from_static(b"tcp"), true, 0.0, t).id()
-            })
-            .unwrap();
         let mut reg = Message::new(MsgType::Register, DataType::Double, "X");
         reg.dval = 0.0;
-        bus.host()
-            .with_mut(0.0, |db, t| db.handle(tcp, vec![reg], t))
-            .unwrap();
+        let tcp = outside_client(&mut bus, reg);
         bus.host().woken.clear();
-        bus.publish(a, &[Post::double("X", 4.0)], "a", 1.0).unwrap();
+        bus.publish(a, [Post::double("X", 4.0)], "a", 1.0).unwrap();
         assert_eq!(bus.host().woken, vec![tcp]);
         let mut out = Vec::new();
         bus.host()
@@ -462,17 +453,9 @@ mod tests {
         let b = bus.connect("b", 0.0).unwrap();
         bus.subscribe(b, &Subscription::var("*"), 0.0).unwrap();
         // A client outside the bus reads the same posts as messages.
-        let tcp = bus
-            .host()
-            .with_mut(0.0, |db, t| {
-                db.connect(Bytes::from_static(b"tcp"), true, 0.0, t).id()
-            })
-            .unwrap();
         let mut reg = Message::new(MsgType::WildcardRegister, DataType::String, "");
         reg.sval = Bytes::from_static(b"AppPattern=*,VarPattern=*,Interval=0");
-        bus.host()
-            .with_mut(0.0, |db, t| db.handle(tcp, vec![reg], t))
-            .unwrap();
+        let tcp = outside_client(&mut bus, reg);
         let mut relayed = Post::double("R", 5.0);
         relayed.source = "far".into();
         relayed.relayed = Some(Box::new(Relayed {
@@ -491,7 +474,7 @@ mod tests {
             relayed,
             relayed_here,
         ];
-        bus.publish(a, &posts, "a", 1.0).unwrap();
+        bus.publish(a, posts, "a", 1.0).unwrap();
         let mut mail = Vec::new();
         bus.fetch(b, 1.0, &mut mail).unwrap();
         mail.retain(|m| !m.key.starts_with("DB_"));
@@ -524,7 +507,7 @@ mod tests {
             .unwrap();
         for i in 0..10 {
             let t = f64::from(i) * 0.25;
-            bus.publish(a, &[Post::double("X", t)], "a", t).unwrap();
+            bus.publish(a, [Post::double("X", t)], "a", t).unwrap();
         }
         let mut mail = Vec::new();
         bus.fetch(b, 3.0, &mut mail).unwrap();

@@ -239,7 +239,7 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
             app.on_startup(now, &mut self.posts)?;
             published.extend(self.posts.iter().map(|p| p.key.to_string()));
             published_known.extend(self.posts.iter().map(|p| p.key.clone()));
-            self.bus.publish(id, &self.posts, &name, now)?;
+            self.bus.publish(id, self.posts.drain(..), &name, now)?;
         }
         self.slots.push(Slot {
             status_var: format!("{}_STATUS", name.to_ascii_uppercase()),
@@ -407,8 +407,8 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
             self.posts.clear();
             let slot = &mut self.slots[i];
             slot.app.on_startup(now, &mut self.posts)?;
-            Self::publish(&mut self.bus, slot, &self.posts, now)?;
             Self::record_taps(&self.tapped, &mut self.taps, &self.posts);
+            Self::publish(&mut self.bus, slot, &mut self.posts, now)?;
         }
         // Pokes waiting for apps that do not run go out at the start.
         let names: Vec<String> = self.slots.iter().map(|s| s.name.clone()).collect();
@@ -428,24 +428,26 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
 
     fn post_pokes(&mut self, posts: &[Post], now: f64) -> Result<(), BusError> {
         if let Some(id) = self.poke_client {
-            self.bus.publish(id, posts, "uPokeDB", now)?;
+            self.bus
+                .publish(id, posts.iter().cloned(), "uPokeDB", now)?;
         }
         Ok(())
     }
 
+    /// Publishes (and empties) `posts`, the slot's app's.
     fn publish(
         bus: &mut Bus<H>,
         slot: &mut Slot,
-        posts: &[Post],
+        posts: &mut Vec<Post>,
         now: f64,
     ) -> Result<(), BusError> {
-        for p in posts {
+        for p in posts.iter() {
             if !slot.published_known.contains(&p.key) {
                 slot.published_known.insert(p.key.clone());
                 slot.published.insert(p.key.to_string());
             }
         }
-        bus.publish(slot.id, posts, &slot.name, now)
+        bus.publish(slot.id, posts.drain(..), &slot.name, now)
     }
 
     /// Processes every event due at or before MOOS time `t_end`. Returns the outcome if
@@ -516,8 +518,8 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
             self.bus.fetch(slot.id, now, &mut self.mail)?;
             if !self.mail.is_empty() {
                 slot.app.on_mail(&self.mail, now, &mut self.posts)?;
-                Self::publish(&mut self.bus, slot, &self.posts, now)?;
                 Self::record_taps(&self.tapped, &mut self.taps, &self.posts);
+                Self::publish(&mut self.bus, slot, &mut self.posts, now)?;
             }
         }
         Ok(())
@@ -564,8 +566,8 @@ impl<C: Clock, H: DbHost> Scheduler<C, H> {
             self.bus.subscribe(slot.id, &s, now)?;
             slot.subscribed.insert(s.pattern);
         }
-        Self::publish(&mut self.bus, slot, &self.posts, now)?;
         Self::record_taps(&self.tapped, &mut self.taps, &self.posts);
+        Self::publish(&mut self.bus, slot, &mut self.posts, now)?;
         let first = slot.ticks == 0;
         slot.ticks += 1;
         slot.next = slot.origin + slot.ticks as f64 / slot.hz;
