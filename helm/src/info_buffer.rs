@@ -177,21 +177,22 @@ impl InfoBuffer {
         }
         self.contacts.retain(|name, _| ledger.get(name).is_some());
         for (name, c) in ledger.iter() {
-            let info = ContactInfo {
-                x_m: c.x_m.unwrap_or(0.0),
-                y_m: c.y_m.unwrap_or(0.0),
-                heading_deg: c.heading_deg,
-                speed_mps: c.speed_mps,
-                depth_m: c.depth_m.unwrap_or(0.0),
-                utc: c.time,
-                group: c.group.clone(),
-                vtype: c.vtype.clone(),
+            // Updated in place: the group and type strings are copied only when they change.
+            let slot = match self.contacts.get_mut(name) {
+                Some(slot) => slot,
+                None => self.contacts.entry(name.to_string()).or_default(),
             };
-            match self.contacts.get_mut(name) {
-                Some(slot) => *slot = info,
-                None => {
-                    self.contacts.insert(name.to_string(), info);
-                }
+            slot.x_m = c.x_m.unwrap_or(0.0);
+            slot.y_m = c.y_m.unwrap_or(0.0);
+            slot.heading_deg = c.heading_deg;
+            slot.speed_mps = c.speed_mps;
+            slot.depth_m = c.depth_m.unwrap_or(0.0);
+            slot.utc = c.time;
+            if slot.group != c.group {
+                slot.group.clone_from(&c.group);
+            }
+            if slot.vtype != c.vtype {
+                slot.vtype.clone_from(&c.vtype);
             }
         }
     }

@@ -136,30 +136,39 @@ pub fn compact_string(v: f64, prec: usize) -> String {
 
 const POW10: [u64; 7] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000];
 
-/// Integer fast path of [`fixed`] for small magnitudes; false when the value is too large, not
-/// finite, or too close to a rounding tie to decide without the exact decimal expansion.
+/// Integer fast path of [`fixed`]; false when the value is too large, not finite, or too close
+/// to a rounding tie to decide without the exact decimal expansion. The whole part and the
+/// fraction are split first (both exact), so epoch times (~1.8e9 s) take it too: only the
+/// fraction is scaled, and its product's rounding error stays far below the 1e-6 tie margin.
 fn fixed_fast(out: &mut String, v: f64, prec: usize) -> bool {
     let Some(&scale) = POW10.get(prec) else {
         return false;
     };
-    let s = v.abs() * scale as f64;
-    // Below 2^30 the product's rounding error is far below the 1e-6 tie margin.
-    if !s.is_finite() || s >= 1_073_741_824.0 {
+    let a = v.abs();
+    // Also false for NaN and the infinities.
+    if !(a < 1e15) {
         return false;
     }
+    let whole = a.trunc();
+    let s = (a - whole) * scale as f64;
     let fl = s.floor();
     let frac = s - fl;
     if (frac - 0.5).abs() < 1e-6 {
         return false;
     }
-    let n = fl as u64 + u64::from(frac > 0.5);
+    let mut n = fl as u64 + u64::from(frac > 0.5);
+    let mut whole = whole as u64;
+    if n >= scale {
+        whole += 1;
+        n -= scale;
+    }
     if v.is_sign_negative() {
         out.push('-');
     }
-    digits(out, n / scale, 1);
+    digits(out, whole, 1);
     if prec > 0 {
         out.push('.');
-        digits(out, n % scale, prec);
+        digits(out, n, prec);
     }
     true
 }
@@ -297,14 +306,36 @@ mod tests {
             state
         };
         let cases = [
-            0.0, -0.0, 1.0, -1.0, 0.125, 2.675, 1.005, 99.995, 1234.5678, -0.004, -0.006, 100.0,
-            1e-7, 12345678.9, 3e12,
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            0.125,
+            2.675,
+            1.005,
+            99.995,
+            1234.5678,
+            -0.004,
+            -0.006,
+            100.0,
+            1e-7,
+            12345678.9,
+            3e12,
+            1786000002.0,
+            1786000002.25,
+            1786000002.125,
+            -1786000002.995,
+            999999999999999.9,
+            0.9999999,
+            9.9999995,
         ];
         let random = (0..20_000).map(|i| {
             let bits = next();
             match i % 3 {
                 0 => (bits % 2_000_000_000) as f64 / 1000.0 - 1e6,
                 1 => (bits % 100_000_000) as f64 * 0.000_005,
+                // Epoch times with a few decimals (the helm's and the logs' times).
+                2 if i % 2 == 0 => 1.786e9 + (bits % 100_000_000) as f64 * 0.001,
                 _ => (bits as f64 / u64::MAX as f64 - 0.5) * 1e4,
             }
         });

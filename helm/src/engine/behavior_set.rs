@@ -32,6 +32,10 @@ pub(super) struct Slot {
     /// The generator of the `$[HASH..]` macros (0 until first used, then seeded from the
     /// behaviour's name).
     pub(super) hash_rng: u64,
+    /// The aux of its postings (`<iteration>:<behaviour>`) and the iteration it is for.
+    pub(super) aux: (u64, ByteString),
+    /// Its latest `BHV_STATUS` text, shared again while unchanged.
+    pub(super) status: ByteString,
 }
 
 /// The characters of a `$[HASH]` (MOOS `hashAlphaNum`: digits and letters without `o`/`O`).
@@ -81,7 +85,21 @@ impl Slot {
             spawn_base: None,
             post_mortem: String::new(),
             hash_rng: 0,
+            aux: (0, ByteString::new()),
+            status: ByteString::new(),
         }
+    }
+
+    /// The aux of this behaviour's postings in iteration `iter`, `<iter>:<name>`.
+    pub(super) fn post_aux(&mut self, iter: u64) -> ByteString {
+        if self.aux.0 != iter || self.aux.1.is_empty() {
+            let mut aux = String::with_capacity(self.common.name.len() + 8);
+            uint(&mut aux, iter);
+            aux.push(':');
+            aux.push_str(&self.common.name);
+            self.aux = (iter, ByteString::from(aux));
+        }
+        self.aux.1.clone()
     }
 
     pub(super) fn duration(&self) -> f64 {
@@ -562,7 +580,8 @@ impl Helm {
         }
         // BHV_STATUS, filtered on change.
         let slot = &self.slots[i];
-        let mut status = String::with_capacity(64);
+        let mut status = std::mem::take(&mut self.scratch);
+        status.clear();
         status.push_str("name=");
         status.push_str(&slot.common.name);
         match &failed {
@@ -586,12 +605,13 @@ impl Helm {
         status.push_str(state.as_str());
         status.push_str(",updates=");
         slot.write_update_summary(&mut status);
-        self.queue(
-            i,
-            "BHV_STATUS",
-            Value::String(status.into()),
-            &PostKey::Tag(""),
-        );
+        let slot = &mut self.slots[i];
+        if slot.status != *status {
+            slot.status = ByteString::from(status.as_str());
+        }
+        let text = slot.status.clone();
+        self.scratch = status;
+        self.queue(i, "BHV_STATUS", Value::String(text), &PostKey::Tag(""));
         if !self.slots[i].first_done {
             self.slots[i].first_done = true;
             self.post_flags(i, FlagKind::Spawnx);
