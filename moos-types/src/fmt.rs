@@ -66,6 +66,9 @@ pub fn g(out: &mut String, v: f64, sig: usize) {
         return;
     }
     let p = sig.max(1);
+    if g_fast(out, v, p) {
+        return;
+    }
     let sci = format!("{:.*e}", p - 1, v);
     let (mant, exp) = sci.split_once('e').unwrap_or((&sci, "0"));
     let exp: i32 = exp.parse().unwrap_or(0);
@@ -78,6 +81,37 @@ pub fn g(out: &mut String, v: f64, sig: usize) {
         let fixed = format!("{v:.decimals$}");
         out.push_str(trim_zeros(&fixed));
     }
+}
+
+/// [`g`] without `core::fmt` for `1 <= |v| < 10^min(p, 15)`: [`fixed`]'s integer path with
+/// the decimals the value's integer digits leave, then trailing zeros removed; false (the
+/// caller formats it exactly) when that path declines or the rounding carries into another
+/// digit (`9.9999996` -> `10`), which changes the exponent `%g` picks.
+fn g_fast(out: &mut String, v: f64, p: usize) -> bool {
+    let a = v.abs();
+    if !(1.0..1e15).contains(&a) {
+        return false;
+    }
+    let digits = (a.trunc() as u64).ilog10() as usize + 1;
+    if digits > p {
+        return false;
+    }
+    let start = out.len();
+    if !fixed_fast(out, v, p - digits) {
+        return false;
+    }
+    let int_len = out[start..]
+        .trim_start_matches('-')
+        .split('.')
+        .next()
+        .map_or(0, str::len);
+    if int_len != digits {
+        out.truncate(start);
+        return false;
+    }
+    let keep = trim_zeros(&out[start..]).len();
+    out.truncate(start + keep);
+    true
 }
 
 /// [`g`] into a new string (`g_string(v, 6)` is a default-formatted C++ stream's `<< v`).
@@ -269,6 +303,64 @@ mod tests {
 
     fn g6(v: f64) -> String {
         g_string(v, 6)
+    }
+
+    /// [`g`]'s exact path, for comparing its fast path with.
+    fn g_exact(v: f64, p: usize) -> String {
+        let sci = format!("{:.*e}", p - 1, v);
+        let (mant, exp) = sci.split_once('e').unwrap_or((&sci, "0"));
+        let exp: i32 = exp.parse().unwrap_or(0);
+        if exp < -4 || exp >= p as i32 {
+            format!(
+                "{}e{}{:02}",
+                trim_zeros(mant),
+                if exp < 0 { '-' } else { '+' },
+                exp.abs()
+            )
+        } else {
+            let decimals = (p as i32 - 1 - exp).max(0) as usize;
+            trim_zeros(&format!("{v:.decimals$}")).to_string()
+        }
+    }
+
+    #[test]
+    fn g_fast_path_agrees_with_the_exact_formatter() {
+        let mut state: u64 = 0x2545_f491_4f6c_dd1d;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let cases = [
+            1.0,
+            9.9999996,
+            99999.95,
+            999999.5,
+            12.25,
+            -12.25,
+            1786054975.123456,
+            1234567.0,
+            100000.0,
+            0.5,
+            1.5,
+            2.5,
+            123456.5,
+            -99.999995,
+        ];
+        let random = (0..20_000).map(|i| {
+            let bits = next();
+            match i % 3 {
+                0 => (bits % 2_000_000_000) as f64 / 1000.0 - 1e6,
+                1 => (bits % 100_000_000) as f64 * 0.25,
+                _ => 1.786e9 + (bits % 100_000_000) as f64 * 0.001,
+            }
+        });
+        for v in cases.into_iter().chain(random) {
+            for p in [1, 4, 6, 10, 16] {
+                assert_eq!(gs(v, p), g_exact(v, p), "{v} with {p} digits");
+            }
+        }
     }
 
     #[test]
