@@ -5,6 +5,7 @@ use behaviors::contact::ContactInfo;
 use behaviors::plat_model::PlatModel;
 use behaviors::{Info, Value};
 
+use moos_types::ByteString;
 use rustc_hash::FxHashMap;
 
 /// One variable's latest state.
@@ -50,26 +51,23 @@ struct Var {
     deltas: Deltas,
 }
 
-/// One variable's string values of this iteration: the first `len` of `items` (the rest are
-/// kept as buffers for the next iterations).
+/// One variable's string values of this iteration: the first `len` of `items`, each sharing
+/// the buffer of the value written (the slots past `len` are reused).
 #[derive(Debug, Clone, Default)]
 struct Deltas {
-    items: Vec<String>,
+    items: Vec<ByteString>,
     len: usize,
 }
 
 impl Deltas {
-    fn push(&mut self, s: &str) {
+    fn push(&mut self, s: &ByteString) {
         match self.items.get_mut(self.len) {
-            Some(slot) => {
-                slot.clear();
-                slot.push_str(s);
-            }
-            None => self.items.push(s.to_string()),
+            Some(slot) => slot.clone_from(s),
+            None => self.items.push(s.clone()),
         }
         self.len += 1;
     }
-    fn as_slice(&self) -> &[String] {
+    fn as_slice(&self) -> &[ByteString] {
         &self.items[..self.len]
     }
 }
@@ -158,7 +156,7 @@ impl InfoBuffer {
         self.get(var).map(|e| self.now - e.time)
     }
     /// The string values written during this iteration, oldest first.
-    pub fn deltas(&self, var: &str) -> &[String] {
+    pub fn deltas(&self, var: &str) -> &[ByteString] {
         self.vars.get(var).map_or(&[], |v| v.deltas.as_slice())
     }
     /// Forgets this iteration's deltas (keeps the allocations).

@@ -288,19 +288,29 @@ impl Rendered {
     /// `utc_time`, then each field that differs from `prev` (reference §4.7).
     pub fn summary(&self, iter: u64, time: f64, prev: &Rendered, s: &mut String) {
         use std::fmt::Write as _;
-        write!(s, "iter={iter},utc_time=").ok();
+        // The fields of every iteration are written without `core::fmt`.
+        s.push_str("iter=");
+        uint(s, iter);
+        s.push_str(",utc_time=");
         fixed(s, time, 2);
-        if self.ofnum != prev.ofnum {
-            write!(s, ",ofnum={}", self.ofnum).ok();
-        }
-        if self.pcs_formed != prev.pcs_formed {
-            write!(s, ",total_pcs_formed={}", self.pcs_formed).ok();
-        }
-        if self.pcs_cached != prev.pcs_cached {
-            write!(s, ",total_pcs_cached={}", self.pcs_cached).ok();
-        }
-        if self.warnings != prev.warnings {
-            write!(s, ",warnings={}", self.warnings).ok();
+        for (key, mine, theirs) in [
+            (",ofnum=", self.ofnum as u64, prev.ofnum as u64),
+            (
+                ",total_pcs_formed=",
+                self.pcs_formed as u64,
+                prev.pcs_formed as u64,
+            ),
+            (
+                ",total_pcs_cached=",
+                self.pcs_cached as u64,
+                prev.pcs_cached as u64,
+            ),
+            (",warnings=", self.warnings, prev.warnings),
+        ] {
+            if mine != theirs {
+                s.push_str(key);
+                uint(s, mine);
+            }
         }
         if self.decisions != prev.decisions {
             s.push(',');

@@ -36,6 +36,9 @@ pub(super) struct Slot {
     pub(super) aux: (u64, ByteString),
     /// Its latest `BHV_STATUS` text, shared again while unchanged.
     pub(super) status: ByteString,
+    /// The shared name `BHV_STATUS` is posted under (`post_mapping` applied; `None` when
+    /// silenced), resolved at the first posting after the behaviour's parameters change.
+    pub(super) status_var: Option<Option<ByteString>>,
 }
 
 /// The characters of a `$[HASH]` (MOOS `hashAlphaNum`: digits and letters without `o`/`O`).
@@ -87,6 +90,7 @@ impl Slot {
             hash_rng: 0,
             aux: (0, ByteString::new()),
             status: ByteString::new(),
+            status_var: None,
         }
     }
 
@@ -148,6 +152,8 @@ pub(super) fn apply_param(
     config: &HelmConfig,
     ownship: &str,
 ) -> Result<(), ParamError> {
+    // A parameter may change the post mapping.
+    slot.status_var = None;
     if slot.common.set_param(key, value)? {
         return Ok(());
     }
@@ -167,6 +173,16 @@ pub(super) fn apply_param(
 impl Helm {
     /// Converts a behaviour call's output into queued messages.
     pub(super) fn absorb(&mut self, i: usize) {
+        // Most calls emit nothing: the buffer is left as it is.
+        let e = &self.emit;
+        if e.emits.is_empty()
+            && e.error.is_none()
+            && e.fault.is_none()
+            && !e.completed
+            && e.post_mortem.is_empty()
+        {
+            return;
+        }
         let mut emit = std::mem::take(&mut self.emit);
         for e in emit.emits.drain(..) {
             match e {
@@ -215,7 +231,12 @@ impl Helm {
             return false;
         }
         let var = var.clone();
-        let updates: Vec<String> = self.info.deltas(&var).to_vec();
+        let updates: Vec<String> = self
+            .info
+            .deltas(&var)
+            .iter()
+            .map(|u| u.to_string())
+            .collect();
         let mut made = false;
         // Even a faulty update applies its good parameters (conditions, flags...).
         self.state_vars_dirty |= !updates.is_empty();
@@ -611,7 +632,22 @@ impl Helm {
         }
         let text = slot.status.clone();
         self.scratch = status;
-        self.queue(i, "BHV_STATUS", Value::String(text), &PostKey::Tag(""));
+        let var = match &self.slots[i].status_var {
+            Some(var) => var.clone(),
+            None => {
+                let var = self.slots[i]
+                    .common
+                    .mapped("BHV_STATUS")
+                    .map(|v| self.out.names.get(v));
+                self.slots[i].status_var = Some(var.clone());
+                var
+            }
+        };
+        if let Some(var) = var {
+            let value = Value::String(text);
+            let key = PostKey::Tag("");
+            self.messages.push((i, Message { var, value, key }));
+        }
         if !self.slots[i].first_done {
             self.slots[i].first_done = true;
             self.post_flags(i, FlagKind::Spawnx);
