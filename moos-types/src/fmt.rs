@@ -180,7 +180,7 @@ fn fixed_fast(out: &mut String, v: f64, prec: usize) -> bool {
     };
     let a = v.abs();
     // Also false for NaN and the infinities.
-    if !(a < 1e15) {
+    if !a.is_finite() || a >= 1e15 {
         return false;
     }
     let whole = a.trunc();
