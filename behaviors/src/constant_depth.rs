@@ -22,6 +22,7 @@ use ivp::{IvpFunction, ZaicPeak};
 
 use crate::behavior::{Behavior, Ctx, Out, ParamError, add_vars};
 use crate::common::Common;
+use crate::memo::FnMemo;
 use crate::param::number;
 
 /// Prefers one depth: ZAIC_PEAK(summit `depth`, `peakwidth` 3, `basewidth` 100,
@@ -48,6 +49,8 @@ pub struct ConstantDepth {
     pub summitdelta: f64,
     /// Variable receiving |NAV_DEPTH − depth| ("" = none).
     pub mismatch_var: String,
+    /// The last function built, reused while its inputs are the same.
+    memo: FnMemo<4>,
 }
 
 impl Default for ConstantDepth {
@@ -65,6 +68,7 @@ impl ConstantDepth {
             basewidth: 100.0,
             summitdelta: 50.0,
             mismatch_var: String::new(),
+            memo: FnMemo::default(),
         }
     }
 }
@@ -127,28 +131,24 @@ impl Behavior for ConstantDepth {
             Some(_) => {}
             None => out.warning(ctx.name, "No ownship DEPTH info in info_buffer."),
         }
-        let mut z = ZaicPeak::new(ctx.domain, "depth").ok()?;
-        if let Err(e) = z.set_params(
-            self.depth,
-            self.peakwidth,
-            self.basewidth,
-            self.summitdelta,
-            0.0,
-            100.0,
-        ) {
-            out.error(format!(
-                "Unable to generate constant-depth IvP function: {e}"
-            ));
-            return None;
-        }
-        match z.extract() {
+        let params = [self.depth, self.peakwidth, self.basewidth, self.summitdelta];
+        // Err(None): no depth variable, silently; Err(Some(e)): the ZAIC failed (reported).
+        let built = self.memo.get_or(ctx.domain, params, || {
+            let mut z = ZaicPeak::new(ctx.domain, "depth").map_err(|_| None)?;
+            let [depth, peak, base, delta] = params;
+            z.set_params(depth, peak, base, delta, 0.0, 100.0)
+                .map_err(|e| Some(e.to_string()))?;
+            z.extract().map_err(|e| Some(e.to_string()))
+        });
+        match built {
             Ok(f) => Some(f),
-            Err(e) => {
+            Err(Some(e)) => {
                 out.error(format!(
                     "Unable to generate constant-depth IvP function: {e}"
                 ));
                 None
             }
+            Err(None) => None,
         }
     }
 }

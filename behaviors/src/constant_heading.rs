@@ -23,6 +23,7 @@ use ivp::{IvpFunction, ZaicPeak};
 
 use crate::behavior::{Behavior, Ctx, Out, ParamError, add_vars};
 use crate::common::Common;
+use crate::memo::FnMemo;
 use crate::param::number;
 
 /// Prefers one heading: ZAIC_PEAK with value wrap (summit `heading`, `peakwidth` 10,
@@ -43,6 +44,8 @@ pub struct ConstantHeading {
     pub complete_thresh: f64,
     /// Variable receiving the heading mismatch ("" = none).
     pub mismatch_var: String,
+    /// The last function built, reused while its inputs are the same.
+    memo: FnMemo<4>,
 }
 
 impl Default for ConstantHeading {
@@ -61,6 +64,7 @@ impl ConstantHeading {
             summitdelta: 25.0,
             complete_thresh: -1.0,
             mismatch_var: String::new(),
+            memo: FnMemo::default(),
         }
     }
 }
@@ -132,24 +136,30 @@ impl Behavior for ConstantHeading {
                 return None;
             }
         }
-        let mut z = match ZaicPeak::new(ctx.domain, "course") {
-            Ok(z) => z,
-            Err(_) => {
-                out.error("No 'heading/course' variable in the helm domain");
-                return None;
-            }
-        };
-        z.set_value_wrap(true);
-        z.set_params(
+        let params = [
             self.heading,
             self.peakwidth,
             self.basewidth,
             self.summitdelta,
-            0.0,
-            100.0,
-        )
-        .ok()?;
-        z.extract().ok()
+        ];
+        // Err(true): no course variable (reported); Err(false): no function, silently.
+        let built = self.memo.get_or(ctx.domain, params, || {
+            let mut z = ZaicPeak::new(ctx.domain, "course").map_err(|_| true)?;
+            z.set_value_wrap(true);
+            let [heading, peak, base, delta] = params;
+            z.set_params(heading, peak, base, delta, 0.0, 100.0)
+                .map_err(|_| false)?;
+            z.extract().map_err(|_| false)
+        });
+        match built {
+            Ok(f) => Some(f),
+            Err(no_var) => {
+                if no_var {
+                    out.error("No 'heading/course' variable in the helm domain");
+                }
+                None
+            }
+        }
     }
 }
 

@@ -22,6 +22,7 @@ use ivp::{IvpFunction, ZaicPeak};
 
 use crate::behavior::{Behavior, Ctx, Out, ParamError, add_vars};
 use crate::common::Common;
+use crate::memo::FnMemo;
 use crate::param::number;
 
 /// Prefers one speed: ZAIC_PEAK(summit `speed`, `peakwidth` 0, `basewidth` 0.2,
@@ -39,6 +40,8 @@ pub struct ConstantSpeed {
     pub summitdelta: f64,
     /// Variable receiving |NAV_SPEED − speed| ("" = none).
     pub mismatch_var: String,
+    /// The last function built, reused while its inputs are the same.
+    memo: FnMemo<4>,
 }
 
 impl Default for ConstantSpeed {
@@ -56,6 +59,7 @@ impl ConstantSpeed {
             basewidth: 0.2,
             summitdelta: 0.0,
             mismatch_var: String::new(),
+            memo: FnMemo::default(),
         }
     }
 }
@@ -112,23 +116,24 @@ impl Behavior for ConstantSpeed {
             Some(_) => {}
             None => out.warning(ctx.name, "No ownship SPEED info in info_buffer."),
         }
-        let mut z = match ZaicPeak::new(ctx.domain, "speed") {
-            Ok(z) => z,
-            Err(_) => {
-                out.error("No 'speed' variable in the helm domain");
-                return None;
+        let params = [self.speed, self.peakwidth, self.basewidth, self.summitdelta];
+        // Err(true): no speed variable (reported); Err(false): no function, silently.
+        let built = self.memo.get_or(ctx.domain, params, || {
+            let mut z = ZaicPeak::new(ctx.domain, "speed").map_err(|_| true)?;
+            let [speed, peak, base, delta] = params;
+            z.set_params(speed, peak, base, delta, 0.0, 100.0)
+                .map_err(|_| false)?;
+            z.extract().map_err(|_| false)
+        });
+        match built {
+            Ok(f) => Some(f),
+            Err(no_var) => {
+                if no_var {
+                    out.error("No 'speed' variable in the helm domain");
+                }
+                None
             }
-        };
-        z.set_params(
-            self.speed,
-            self.peakwidth,
-            self.basewidth,
-            self.summitdelta,
-            0.0,
-            100.0,
-        )
-        .ok()?;
-        z.extract().ok()
+        }
     }
 }
 

@@ -70,6 +70,7 @@ mod leg_run;
 mod loiter;
 mod max_depth;
 mod max_speed;
+mod memo;
 mod memory_turn_limit;
 pub mod obstacle;
 mod op_region;

@@ -5,6 +5,7 @@ use ivp::{IvpFunction, ZaicLeq};
 use crate::behavior::{Behavior, Ctx, Out, ParamError, add_vars};
 use crate::common::Common;
 use crate::constant_depth::var_name;
+use crate::memo::FnMemo;
 use crate::param::number;
 
 /// Keeps the vehicle shallower than `max_depth`: ZAIC_LEQ(summit `max_depth`, base width
@@ -41,6 +42,8 @@ pub struct MaxDepth {
     pub basewidth: f64,
     /// Variable receiving the depth slack ("" = none).
     pub slack_var: String,
+    /// The last function built, reused while its inputs are the same.
+    memo: FnMemo<2>,
 }
 
 impl Default for MaxDepth {
@@ -56,6 +59,7 @@ impl MaxDepth {
             max_depth: 0.0,
             basewidth: 100.0,
             slack_var: String::new(),
+            memo: FnMemo::default(),
         }
     }
 }
@@ -100,18 +104,23 @@ impl Behavior for MaxDepth {
             Some(_) => {}
             None => out.warning(ctx.name, "No ownship DEPTH info in info_buffer."),
         }
-        let mut z = ZaicLeq::new(ctx.domain, "depth").ok()?;
-        let built = z
-            .set_summit(self.max_depth)
-            .and_then(|_| z.set_basewidth(self.basewidth))
-            .and_then(|_| z.extract());
+        let params = [self.max_depth, self.basewidth];
+        // Err(false): no depth variable, silently; Err(true): the ZAIC failed (reported).
+        let built = self.memo.get_or(ctx.domain, params, || {
+            let mut z = ZaicLeq::new(ctx.domain, "depth").map_err(|_| false)?;
+            z.set_summit(params[0])
+                .and_then(|_| z.set_basewidth(params[1]))
+                .and_then(|_| z.extract())
+                .map_err(|_| true)
+        });
         match built {
             Ok(f) => Some(f),
             // The C++ message says "constant-depth" (copied from BHV_ConstantDepth).
-            Err(_) => {
+            Err(true) => {
                 out.error("Unable to generate constant-depth IvP function");
                 None
             }
+            Err(false) => None,
         }
     }
 }

@@ -5,6 +5,7 @@ use behaviors::contact::ContactInfo;
 use behaviors::plat_model::PlatModel;
 use behaviors::{Info, Value};
 
+use moos_types::ByteString;
 use rustc_hash::FxHashMap;
 
 /// One variable's latest state.
@@ -50,26 +51,23 @@ struct Var {
     deltas: Deltas,
 }
 
-/// One variable's string values of this iteration: the first `len` of `items` (the rest are
-/// kept as buffers for the next iterations).
+/// One variable's string values of this iteration: the first `len` of `items`, each sharing
+/// the buffer of the value written (the slots past `len` are reused).
 #[derive(Debug, Clone, Default)]
 struct Deltas {
-    items: Vec<String>,
+    items: Vec<ByteString>,
     len: usize,
 }
 
 impl Deltas {
-    fn push(&mut self, s: &str) {
+    fn push(&mut self, s: &ByteString) {
         match self.items.get_mut(self.len) {
-            Some(slot) => {
-                slot.clear();
-                slot.push_str(s);
-            }
-            None => self.items.push(s.to_string()),
+            Some(slot) => slot.clone_from(s),
+            None => self.items.push(s.clone()),
         }
         self.len += 1;
     }
-    fn as_slice(&self) -> &[String] {
+    fn as_slice(&self) -> &[ByteString] {
         &self.items[..self.len]
     }
 }
@@ -158,7 +156,7 @@ impl InfoBuffer {
         self.get(var).map(|e| self.now - e.time)
     }
     /// The string values written during this iteration, oldest first.
-    pub fn deltas(&self, var: &str) -> &[String] {
+    pub fn deltas(&self, var: &str) -> &[ByteString] {
         self.vars.get(var).map_or(&[], |v| v.deltas.as_slice())
     }
     /// Forgets this iteration's deltas (keeps the allocations).
@@ -177,21 +175,22 @@ impl InfoBuffer {
         }
         self.contacts.retain(|name, _| ledger.get(name).is_some());
         for (name, c) in ledger.iter() {
-            let info = ContactInfo {
-                x_m: c.x_m.unwrap_or(0.0),
-                y_m: c.y_m.unwrap_or(0.0),
-                heading_deg: c.heading_deg,
-                speed_mps: c.speed_mps,
-                depth_m: c.depth_m.unwrap_or(0.0),
-                utc: c.time,
-                group: c.group.clone(),
-                vtype: c.vtype.clone(),
+            // Updated in place: the group and type strings are copied only when they change.
+            let slot = match self.contacts.get_mut(name) {
+                Some(slot) => slot,
+                None => self.contacts.entry(name.to_string()).or_default(),
             };
-            match self.contacts.get_mut(name) {
-                Some(slot) => *slot = info,
-                None => {
-                    self.contacts.insert(name.to_string(), info);
-                }
+            slot.x_m = c.x_m.unwrap_or(0.0);
+            slot.y_m = c.y_m.unwrap_or(0.0);
+            slot.heading_deg = c.heading_deg;
+            slot.speed_mps = c.speed_mps;
+            slot.depth_m = c.depth_m.unwrap_or(0.0);
+            slot.utc = c.time;
+            if slot.group != c.group {
+                slot.group.clone_from(&c.group);
+            }
+            if slot.vtype != c.vtype {
+                slot.vtype.clone_from(&c.vtype);
             }
         }
     }

@@ -74,6 +74,19 @@ fn write_names(v: &[BhvLine], s: &mut String) {
     }
 }
 
+/// Whether two behaviour lists would render the same text (times and weights compared by
+/// their bits, so `-0` and `0` differ as their text does).
+fn same_lines(a: &[BhvLine], b: &[BhvLine]) -> bool {
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(x, y)| {
+            x.name == y.name
+                && x.updates == y.updates
+                && x.pcs == y.pcs
+                && x.time.to_bits() == y.time.to_bits()
+                && x.pwt.to_bits() == y.pwt.to_bits()
+        })
+}
+
 fn full(v: &[BhvLine], active: bool, s: &mut String) {
     s.clear();
     for (i, b) in v.iter().enumerate() {
@@ -124,6 +137,17 @@ impl HelmReport {
         write_names(v, out);
     }
 
+    /// The behaviour lists in [`Rendered::lists`]' order.
+    fn lists(&self) -> [&Vec<BhvLine>; 5] {
+        [
+            &self.running,
+            &self.active,
+            &self.idle,
+            &self.disabled,
+            &self.completed,
+        ]
+    }
+
     fn decision_summary(&self, domain: Option<&Domain>, s: &mut String) {
         s.clear();
         if let Some(d) = self.domain.as_ref().or(domain) {
@@ -154,6 +178,19 @@ impl HelmReport {
     /// decision domain when the report carries none (`domain: None` spares the helm a copy of
     /// its domain every iteration).
     pub fn render_into(&self, domain: &str, dom: Option<&Domain>, r: &mut Rendered) {
+        self.render_after(domain, dom, None, r);
+    }
+
+    /// [`HelmReport::render_into`], copying from `last` (an earlier report and its rendering)
+    /// each behaviour list whose lines are the same, to the bit, instead of formatting it
+    /// again (the helm's lists rarely change from one iteration to the next).
+    pub fn render_after(
+        &self,
+        domain: &str,
+        dom: Option<&Domain>,
+        last: Option<(&HelmReport, &Rendered)>,
+        r: &mut Rendered,
+    ) {
         r.ofnum = self.ofnum;
         r.pcs_formed = self.pcs_formed;
         r.pcs_cached = self.pcs_cached;
@@ -162,11 +199,14 @@ impl HelmReport {
         r.halted = self.halted;
         r.active_goal = self.active_goal;
         r.modes.clone_from(&self.modes);
-        full(&self.running, false, &mut r.running);
-        full(&self.active, true, &mut r.active);
-        full(&self.idle, false, &mut r.idle);
-        full(&self.disabled, false, &mut r.disabled);
-        full(&self.completed, false, &mut r.completed);
+        let mine = self.lists();
+        let before = last.map(|(l, lr)| (l.lists(), lr.lists()));
+        for (k, out) in r.lists_mut().into_iter().enumerate() {
+            match before {
+                Some((lines, text)) if same_lines(mine[k], lines[k]) => out.clone_from(text[k]),
+                _ => full(mine[k], k == 1, out),
+            }
+        }
         r.domain.clear();
         r.domain.push_str(domain);
         r.halt_msg.clone_from(&self.halt_msg);
@@ -217,6 +257,28 @@ pub struct Rendered {
     halt_msg: String,
 }
 
+impl Rendered {
+    /// The rendered behaviour lists: running, active, idle, disabled, completed.
+    fn lists(&self) -> [&String; 5] {
+        [
+            &self.running,
+            &self.active,
+            &self.idle,
+            &self.disabled,
+            &self.completed,
+        ]
+    }
+    fn lists_mut(&mut self) -> [&mut String; 5] {
+        [
+            &mut self.running,
+            &mut self.active,
+            &mut self.idle,
+            &mut self.disabled,
+            &mut self.completed,
+        ]
+    }
+}
+
 fn none_if_empty(s: &str) -> &str {
     if s.is_empty() { "none" } else { s }
 }
@@ -226,19 +288,29 @@ impl Rendered {
     /// `utc_time`, then each field that differs from `prev` (reference §4.7).
     pub fn summary(&self, iter: u64, time: f64, prev: &Rendered, s: &mut String) {
         use std::fmt::Write as _;
-        write!(s, "iter={iter},utc_time=").ok();
+        // The fields of every iteration are written without `core::fmt`.
+        s.push_str("iter=");
+        uint(s, iter);
+        s.push_str(",utc_time=");
         fixed(s, time, 2);
-        if self.ofnum != prev.ofnum {
-            write!(s, ",ofnum={}", self.ofnum).ok();
-        }
-        if self.pcs_formed != prev.pcs_formed {
-            write!(s, ",total_pcs_formed={}", self.pcs_formed).ok();
-        }
-        if self.pcs_cached != prev.pcs_cached {
-            write!(s, ",total_pcs_cached={}", self.pcs_cached).ok();
-        }
-        if self.warnings != prev.warnings {
-            write!(s, ",warnings={}", self.warnings).ok();
+        for (key, mine, theirs) in [
+            (",ofnum=", self.ofnum as u64, prev.ofnum as u64),
+            (
+                ",total_pcs_formed=",
+                self.pcs_formed as u64,
+                prev.pcs_formed as u64,
+            ),
+            (
+                ",total_pcs_cached=",
+                self.pcs_cached as u64,
+                prev.pcs_cached as u64,
+            ),
+            (",warnings=", self.warnings, prev.warnings),
+        ] {
+            if mine != theirs {
+                s.push_str(key);
+                uint(s, mine);
+            }
         }
         if self.decisions != prev.decisions {
             s.push(',');

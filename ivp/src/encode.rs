@@ -252,6 +252,15 @@ fn push_index(out: &mut String, v: u32) {
 /// MOOS `dstringCompact(doubleToString(v))`: 5 decimals, then trailing zeros and a trailing
 /// point dropped.
 pub(crate) fn push_compact5(out: &mut String, v: f64) {
+    // A whole number (a domain's bounds, most priority weights) is its integer digits, the
+    // text the fixed-then-trimmed form gives, without making it; `-0` stays with that form.
+    if v.fract() == 0.0 && v.abs() < 1e15 && !(v == 0.0 && v.is_sign_negative()) {
+        if v < 0.0 {
+            out.push('-');
+        }
+        push_uint(out, v.abs() as u64);
+        return;
+    }
     moos_types::fmt::dstring_compact(out, v, 5);
 }
 
@@ -367,6 +376,23 @@ mod tests {
         assert_eq!(c(0.123456), "0.12346");
         assert_eq!(c(-3.0), "-3");
         assert_eq!(c(0.0), "0");
+        assert_eq!(c(-0.0), "-0");
+        // Whole numbers take a path of their own: the same text as the general one.
+        for v in [
+            1.0,
+            -1.0,
+            359.0,
+            1e14,
+            -123456789.0,
+            4503599627370496.0,
+            1e20,
+            0.0,
+            -0.0,
+        ] {
+            let mut general = String::new();
+            moos_types::fmt::dstring_compact(&mut general, v, 5);
+            assert_eq!(c(v), general, "{v}");
+        }
     }
 
     fn two_piece() -> IvpFunction {

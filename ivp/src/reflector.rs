@@ -452,6 +452,21 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
 }
 
 /// A count as the C++ reads it: a number >= 0, its whole part taken (`atoi`).
+/// The function of fitted pieces, in their order: each piece's box and its weights (one
+/// slope per dimension, then the intercept), as smart refinement and `auto_peak` leave them.
+fn function_of<'a>(
+    domain: &Domain,
+    pieces: impl ExactSizeIterator<Item = (&'a IxBox, &'a [f64])>,
+) -> Result<IvpFunction, IvpError> {
+    let d = domain.len();
+    let mut f = IvpFunction::new(domain.clone());
+    f.reserve(pieces.len());
+    for (b, wts) in pieces {
+        f.push_piece(&b.lo, &b.hi, &wts[..d], wts[d])?;
+    }
+    Ok(f)
+}
+
 fn parse_count(name: &str, v: &str) -> Result<usize, IvpError> {
     v.parse::<f64>()
         .ok()

@@ -66,6 +66,9 @@ pub fn g(out: &mut String, v: f64, sig: usize) {
         return;
     }
     let p = sig.max(1);
+    if g_fast(out, v, p) {
+        return;
+    }
     let sci = format!("{:.*e}", p - 1, v);
     let (mant, exp) = sci.split_once('e').unwrap_or((&sci, "0"));
     let exp: i32 = exp.parse().unwrap_or(0);
@@ -78,6 +81,37 @@ pub fn g(out: &mut String, v: f64, sig: usize) {
         let fixed = format!("{v:.decimals$}");
         out.push_str(trim_zeros(&fixed));
     }
+}
+
+/// [`g`] without `core::fmt` for `1 <= |v| < 10^min(p, 15)`: [`fixed`]'s integer path with
+/// the decimals the value's integer digits leave, then trailing zeros removed; false (the
+/// caller formats it exactly) when that path declines or the rounding carries into another
+/// digit (`9.9999996` -> `10`), which changes the exponent `%g` picks.
+fn g_fast(out: &mut String, v: f64, p: usize) -> bool {
+    let a = v.abs();
+    if !(1.0..1e15).contains(&a) {
+        return false;
+    }
+    let digits = (a.trunc() as u64).ilog10() as usize + 1;
+    if digits > p {
+        return false;
+    }
+    let start = out.len();
+    if !fixed_fast(out, v, p - digits) {
+        return false;
+    }
+    let int_len = out[start..]
+        .trim_start_matches('-')
+        .split('.')
+        .next()
+        .map_or(0, str::len);
+    if int_len != digits {
+        out.truncate(start);
+        return false;
+    }
+    let keep = trim_zeros(&out[start..]).len();
+    out.truncate(start + keep);
+    true
 }
 
 /// [`g`] into a new string (`g_string(v, 6)` is a default-formatted C++ stream's `<< v`).
@@ -136,30 +170,39 @@ pub fn compact_string(v: f64, prec: usize) -> String {
 
 const POW10: [u64; 7] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000];
 
-/// Integer fast path of [`fixed`] for small magnitudes; false when the value is too large, not
-/// finite, or too close to a rounding tie to decide without the exact decimal expansion.
+/// Integer fast path of [`fixed`]; false when the value is too large, not finite, or too close
+/// to a rounding tie to decide without the exact decimal expansion. The whole part and the
+/// fraction are split first (both exact), so epoch times (~1.8e9 s) take it too: only the
+/// fraction is scaled, and its product's rounding error stays far below the 1e-6 tie margin.
 fn fixed_fast(out: &mut String, v: f64, prec: usize) -> bool {
     let Some(&scale) = POW10.get(prec) else {
         return false;
     };
-    let s = v.abs() * scale as f64;
-    // Below 2^30 the product's rounding error is far below the 1e-6 tie margin.
-    if !s.is_finite() || s >= 1_073_741_824.0 {
+    let a = v.abs();
+    // Also false for NaN and the infinities.
+    if !a.is_finite() || a >= 1e15 {
         return false;
     }
+    let whole = a.trunc();
+    let s = (a - whole) * scale as f64;
     let fl = s.floor();
     let frac = s - fl;
     if (frac - 0.5).abs() < 1e-6 {
         return false;
     }
-    let n = fl as u64 + u64::from(frac > 0.5);
+    let mut n = fl as u64 + u64::from(frac > 0.5);
+    let mut whole = whole as u64;
+    if n >= scale {
+        whole += 1;
+        n -= scale;
+    }
     if v.is_sign_negative() {
         out.push('-');
     }
-    digits(out, n / scale, 1);
+    digits(out, whole, 1);
     if prec > 0 {
         out.push('.');
-        digits(out, n % scale, prec);
+        digits(out, n, prec);
     }
     true
 }
@@ -262,6 +305,64 @@ mod tests {
         g_string(v, 6)
     }
 
+    /// [`g`]'s exact path, for comparing its fast path with.
+    fn g_exact(v: f64, p: usize) -> String {
+        let sci = format!("{:.*e}", p - 1, v);
+        let (mant, exp) = sci.split_once('e').unwrap_or((&sci, "0"));
+        let exp: i32 = exp.parse().unwrap_or(0);
+        if exp < -4 || exp >= p as i32 {
+            format!(
+                "{}e{}{:02}",
+                trim_zeros(mant),
+                if exp < 0 { '-' } else { '+' },
+                exp.abs()
+            )
+        } else {
+            let decimals = (p as i32 - 1 - exp).max(0) as usize;
+            trim_zeros(&format!("{v:.decimals$}")).to_string()
+        }
+    }
+
+    #[test]
+    fn g_fast_path_agrees_with_the_exact_formatter() {
+        let mut state: u64 = 0x2545_f491_4f6c_dd1d;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let cases = [
+            1.0,
+            9.9999996,
+            99999.95,
+            999999.5,
+            12.25,
+            -12.25,
+            1786054975.123456,
+            1234567.0,
+            100000.0,
+            0.5,
+            1.5,
+            2.5,
+            123456.5,
+            -99.999995,
+        ];
+        let random = (0..20_000).map(|i| {
+            let bits = next();
+            match i % 3 {
+                0 => (bits % 2_000_000_000) as f64 / 1000.0 - 1e6,
+                1 => (bits % 100_000_000) as f64 * 0.25,
+                _ => 1.786e9 + (bits % 100_000_000) as f64 * 0.001,
+            }
+        });
+        for v in cases.into_iter().chain(random) {
+            for p in [1, 4, 6, 10, 16] {
+                assert_eq!(gs(v, p), g_exact(v, p), "{v} with {p} digits");
+            }
+        }
+    }
+
     #[test]
     fn g_6_is_a_default_cpp_stream() {
         assert_eq!(g6(0.0), "0");
@@ -297,14 +398,36 @@ mod tests {
             state
         };
         let cases = [
-            0.0, -0.0, 1.0, -1.0, 0.125, 2.675, 1.005, 99.995, 1234.5678, -0.004, -0.006, 100.0,
-            1e-7, 12345678.9, 3e12,
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            0.125,
+            2.675,
+            1.005,
+            99.995,
+            1234.5678,
+            -0.004,
+            -0.006,
+            100.0,
+            1e-7,
+            12345678.9,
+            3e12,
+            1786000002.0,
+            1786000002.25,
+            1786000002.125,
+            -1786000002.995,
+            999999999999999.9,
+            0.9999999,
+            9.9999995,
         ];
         let random = (0..20_000).map(|i| {
             let bits = next();
             match i % 3 {
                 0 => (bits % 2_000_000_000) as f64 / 1000.0 - 1e6,
                 1 => (bits % 100_000_000) as f64 * 0.000_005,
+                // Epoch times with a few decimals (the helm's and the logs' times).
+                2 if i % 2 == 0 => 1.786e9 + (bits % 100_000_000) as f64 * 0.001,
                 _ => (bits as f64 / u64::MAX as f64 - 0.5) * 1e4,
             }
         });

@@ -117,7 +117,17 @@ impl NodeRecord {
     fn set(&mut self, left: &str, value: &str) {
         let d = || atof(value);
         let r = self;
-        match left.to_ascii_uppercase().as_str() {
+        // The key upper-cased on the stack (this runs for every field of every report).
+        let mut buf = [0u8; 24];
+        let upper: Cow<'_, str> = match buf.get_mut(..left.len()) {
+            Some(b) => {
+                b.copy_from_slice(left.as_bytes());
+                b.make_ascii_uppercase();
+                Cow::Borrowed(std::str::from_utf8(b).unwrap_or_default())
+            }
+            None => Cow::Owned(left.to_ascii_uppercase()),
+        };
+        match upper.as_ref() {
             "NAME" => r.name = value.to_string(),
             "TYPE" => r.vtype = value.to_string(),
             "MODE" => r.mode = value.to_string(),

@@ -288,11 +288,14 @@ pub fn atof(s: &str) -> f64 {
 
 /// The unsigned part of [`atof`]; `None` when no conversion can be made.
 fn unsigned_float(s: &str) -> Option<f64> {
-    let lower = s.get(..8.min(s.len())).unwrap_or("").to_ascii_lowercase();
-    if lower.starts_with("inf") {
+    // The first (up to) eight bytes, when they end on a character boundary, compared without
+    // a lower-cased copy.
+    let head = s.get(..8.min(s.len())).unwrap_or("").as_bytes();
+    let starts = |word: &[u8]| head.get(..3).is_some_and(|h| h.eq_ignore_ascii_case(word));
+    if starts(b"inf") {
         return Some(f64::INFINITY);
     }
-    if lower.starts_with("nan") {
+    if starts(b"nan") {
         return Some(f64::NAN);
     }
     let b = s.as_bytes();

@@ -187,7 +187,15 @@ pub fn status_text(
     published: &std::collections::BTreeSet<String>,
     subscribed: &std::collections::BTreeSet<String>,
 ) -> String {
-    let mut s = String::from("AppErrorFlag=false,Uptime=");
+    // Sized once: the name lists are most of the text (its pieces are appended, not copied
+    // again as the buffer grows).
+    let names: usize = published
+        .iter()
+        .chain(subscribed)
+        .map(|p| p.len() + 1)
+        .sum();
+    let mut s = String::with_capacity(160 + name.len() + names);
+    s.push_str("AppErrorFlag=false,Uptime=");
     moos_types::fmt::g(&mut s, uptime, 6);
     let l = load.unwrap_or_default();
     s.push_str(",cpuload=");

@@ -1,6 +1,6 @@
 //! The evaluator: mail in, rules judged at a time given as an argument, postings out.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 use std::fmt::Write as _;
 
 use moos_types::{Post, Value};
@@ -89,8 +89,11 @@ pub struct Supervisor {
     cfg: SafetyConfig,
     errors: Vec<String>,
     start: Option<f64>,
-    values: HashMap<String, (Value, f64)>,
-    heard: HashMap<String, f64>,
+    /// Each variable's latest mail: value, time, and [`Supervisor::unwatched`] when it came
+    /// (one map, one lookup per mail).
+    values: HashMap<String, Seen>,
+    /// When each watched app was last heard, and [`Supervisor::unwatched`] then.
+    heard: HashMap<String, (f64, f64)>,
     status_vars: HashMap<String, String>,
     states: Vec<RuleState>,
     phase: Phase,
@@ -108,10 +111,15 @@ pub struct Supervisor {
     last_eval: Option<f64>,
     /// Time it did not watch so far, s (see [`Supervisor::unwatched`]).
     unwatched: f64,
-    /// [`Supervisor::unwatched`] when each variable's latest mail arrived.
-    unwatched_at_mail: HashMap<String, f64>,
-    /// [`Supervisor::unwatched`] when each watched app was last heard.
-    unwatched_at_heard: HashMap<String, f64>,
+}
+
+/// A variable's latest mail.
+#[derive(Debug, Clone)]
+struct Seen {
+    value: Value,
+    time: f64,
+    /// [`Supervisor::unwatched`] when it arrived.
+    unwatched: f64,
 }
 
 /// Health-word bits besides the kinds' (see the crate documentation).
@@ -164,7 +172,7 @@ impl Supervisor {
     /// A supervisor of `cfg`; non-empty `errors` (the block's located configuration errors)
     /// make it MALCONFIG: it runs the rules it has and refuses deployment.
     pub fn new(cfg: SafetyConfig, errors: Vec<String>) -> Self {
-        let mut status_vars = HashMap::new();
+        let mut status_vars = HashMap::default();
         let mut watch = |app: &str| {
             status_vars.insert(
                 format!("{}_STATUS", app.to_ascii_uppercase()),
@@ -195,8 +203,8 @@ impl Supervisor {
             cfg,
             errors,
             start: None,
-            values: HashMap::new(),
-            heard: HashMap::new(),
+            values: HashMap::default(),
+            heard: HashMap::default(),
             status_vars,
             phase: Phase::Ok,
             surfacing: None,
@@ -210,8 +218,6 @@ impl Supervisor {
             period: 0.0,
             last_eval: None,
             unwatched: 0.0,
-            unwatched_at_mail: HashMap::new(),
-            unwatched_at_heard: HashMap::new(),
         }
     }
 
@@ -317,18 +323,14 @@ impl Supervisor {
     pub fn on_mail(&mut self, key: &str, value: &Value, source: &str, time: f64) {
         let unwatched = self.unwatched;
         if let Some(app) = self.status_vars.get(key) {
-            self.heard.insert(app.clone(), time);
-            self.unwatched_at_heard.insert(app.clone(), unwatched);
+            set(&mut self.heard, app, (time, unwatched));
         }
-        if let Some(t) = self.heard.get_mut(source) {
+        if let Some((t, u)) = self.heard.get_mut(source) {
             *t = t.max(time);
-            set(&mut self.unwatched_at_heard, source, unwatched);
+            *u = unwatched;
         } else if self.status_vars.values().any(|a| a == source) {
-            self.heard.insert(source.to_string(), time);
-            self.unwatched_at_heard
-                .insert(source.to_string(), unwatched);
+            self.heard.insert(source.to_string(), (time, unwatched));
         }
-        set(&mut self.unwatched_at_mail, key, unwatched);
         if key == RESET_VAR
             && let Some(s) = value.as_str()
         {
@@ -343,7 +345,21 @@ impl Supervisor {
         {
             self.override_released = true;
         }
-        set(&mut self.values, key, (value.clone(), time));
+        match self.values.get_mut(key) {
+            Some(seen) => {
+                seen.value.clone_from(value);
+                seen.time = time;
+                seen.unwatched = unwatched;
+            }
+            None => {
+                let seen = Seen {
+                    value: value.clone(),
+                    time,
+                    unwatched,
+                };
+                self.values.insert(key.to_string(), seen);
+            }
+        }
     }
 
     /// OnStartUp at `now`: silence and staleness count from here; a MALCONFIG supervisor
@@ -362,14 +378,14 @@ impl Supervisor {
     fn depth(&self) -> Option<f64> {
         self.values
             .get(&self.cfg.depth_var)
-            .and_then(|(v, _)| v.as_f64())
+            .and_then(|seen| seen.value.as_f64())
     }
 
     /// Whether `t` holds at `now` (evaluated every iteration: no text is built).
     fn holds(&self, t: &Term, now: f64) -> bool {
         match t {
             Term::Compare { var, op, value } => {
-                let Some((v, _)) = self.values.get(var) else {
+                let Some(Seen { value: v, .. }) = self.values.get(var) else {
                     return false;
                 };
                 match value {
@@ -397,7 +413,7 @@ impl Supervisor {
         match t {
             Term::Compare { var, .. } => match self.values.get(var) {
                 None => format!("{var} never received"),
-                Some((v, _)) => format!("{var}={}", show(v)),
+                Some(seen) => format!("{var}={}", show(&seen.value)),
             },
             Term::Stale { var, .. } => {
                 let age = self.stale_age(var, now);
@@ -414,17 +430,14 @@ impl Supervisor {
 
     /// Seconds since `var`'s latest mail (or the start), time not watched left out.
     fn stale_age(&self, var: &str, now: f64) -> f64 {
-        let last = self.values.get(var).map(|(_, t)| *t);
-        self.age(last, self.unwatched_at_mail.get(var).copied(), now)
+        let seen = self.values.get(var);
+        self.age(seen.map(|s| s.time), seen.map(|s| s.unwatched), now)
     }
 
     /// Seconds since `app` was last heard (or the start), time not watched left out.
     fn silent_age(&self, app: &str, now: f64) -> f64 {
-        self.age(
-            self.heard.get(app).copied(),
-            self.unwatched_at_heard.get(app).copied(),
-            now,
-        )
+        let heard = self.heard.get(app);
+        self.age(heard.map(|h| h.0), heard.map(|h| h.1), now)
     }
 
     fn event(&self, text: String, out: &mut Vec<Post>, notes: &mut Vec<Notice>) {
@@ -542,11 +555,8 @@ impl Supervisor {
 
     /// Why the helm cannot be trusted to bring the vehicle up, if it cannot.
     fn helm_failure(&self, s: &Surfacing, now: f64) -> Option<String> {
-        let silent = self.age(
-            self.heard.get(&self.cfg.helm_app).copied(),
-            self.unwatched_at_heard.get(&self.cfg.helm_app).copied(),
-            now,
-        );
+        let heard = self.heard.get(&self.cfg.helm_app);
+        let silent = self.age(heard.map(|h| h.0), heard.map(|h| h.1), now);
         if silent > self.cfg.helm_timeout {
             return Some(format!("{} silent for {silent:.1} s", self.cfg.helm_app));
         }

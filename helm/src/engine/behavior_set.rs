@@ -32,6 +32,13 @@ pub(super) struct Slot {
     /// The generator of the `$[HASH..]` macros (0 until first used, then seeded from the
     /// behaviour's name).
     pub(super) hash_rng: u64,
+    /// The aux of its postings (`<iteration>:<behaviour>`) and the iteration it is for.
+    pub(super) aux: (u64, ByteString),
+    /// Its latest `BHV_STATUS` text, shared again while unchanged.
+    pub(super) status: ByteString,
+    /// The shared name `BHV_STATUS` is posted under (`post_mapping` applied; `None` when
+    /// silenced), resolved at the first posting after the behaviour's parameters change.
+    pub(super) status_var: Option<Option<ByteString>>,
 }
 
 /// The characters of a `$[HASH]` (MOOS `hashAlphaNum`: digits and letters without `o`/`O`).
@@ -81,7 +88,22 @@ impl Slot {
             spawn_base: None,
             post_mortem: String::new(),
             hash_rng: 0,
+            aux: (0, ByteString::new()),
+            status: ByteString::new(),
+            status_var: None,
         }
+    }
+
+    /// The aux of this behaviour's postings in iteration `iter`, `<iter>:<name>`.
+    pub(super) fn post_aux(&mut self, iter: u64) -> ByteString {
+        if self.aux.0 != iter || self.aux.1.is_empty() {
+            let mut aux = String::with_capacity(self.common.name.len() + 8);
+            uint(&mut aux, iter);
+            aux.push(':');
+            aux.push_str(&self.common.name);
+            self.aux = (iter, ByteString::from(aux));
+        }
+        self.aux.1.clone()
     }
 
     pub(super) fn duration(&self) -> f64 {
@@ -130,6 +152,8 @@ pub(super) fn apply_param(
     config: &HelmConfig,
     ownship: &str,
 ) -> Result<(), ParamError> {
+    // A parameter may change the post mapping.
+    slot.status_var = None;
     if slot.common.set_param(key, value)? {
         return Ok(());
     }
@@ -149,6 +173,16 @@ pub(super) fn apply_param(
 impl Helm {
     /// Converts a behaviour call's output into queued messages.
     pub(super) fn absorb(&mut self, i: usize) {
+        // Most calls emit nothing: the buffer is left as it is.
+        let e = &self.emit;
+        if e.emits.is_empty()
+            && e.error.is_none()
+            && e.fault.is_none()
+            && !e.completed
+            && e.post_mortem.is_empty()
+        {
+            return;
+        }
         let mut emit = std::mem::take(&mut self.emit);
         for e in emit.emits.drain(..) {
             match e {
@@ -197,7 +231,12 @@ impl Helm {
             return false;
         }
         let var = var.clone();
-        let updates: Vec<String> = self.info.deltas(&var).to_vec();
+        let updates: Vec<String> = self
+            .info
+            .deltas(&var)
+            .iter()
+            .map(|u| u.to_string())
+            .collect();
         let mut made = false;
         // Even a faulty update applies its good parameters (conditions, flags...).
         self.state_vars_dirty |= !updates.is_empty();
@@ -562,7 +601,8 @@ impl Helm {
         }
         // BHV_STATUS, filtered on change.
         let slot = &self.slots[i];
-        let mut status = String::with_capacity(64);
+        let mut status = std::mem::take(&mut self.scratch);
+        status.clear();
         status.push_str("name=");
         status.push_str(&slot.common.name);
         match &failed {
@@ -586,12 +626,28 @@ impl Helm {
         status.push_str(state.as_str());
         status.push_str(",updates=");
         slot.write_update_summary(&mut status);
-        self.queue(
-            i,
-            "BHV_STATUS",
-            Value::String(status.into()),
-            &PostKey::Tag(""),
-        );
+        let slot = &mut self.slots[i];
+        if slot.status != *status {
+            slot.status = ByteString::from(status.as_str());
+        }
+        let text = slot.status.clone();
+        self.scratch = status;
+        let var = match &self.slots[i].status_var {
+            Some(var) => var.clone(),
+            None => {
+                let var = self.slots[i]
+                    .common
+                    .mapped("BHV_STATUS")
+                    .map(|v| self.out.names.get(v));
+                self.slots[i].status_var = Some(var.clone());
+                var
+            }
+        };
+        if let Some(var) = var {
+            let value = Value::String(text);
+            let key = PostKey::Tag("");
+            self.messages.push((i, Message { var, value, key }));
+        }
         if !self.slots[i].first_done {
             self.slots[i].first_done = true;
             self.post_flags(i, FlagKind::Spawnx);

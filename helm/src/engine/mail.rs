@@ -97,7 +97,7 @@ impl Helm {
         for var in self.wanted_subscriptions() {
             if !self.registered.contains(&var) {
                 self.registered.push(var.clone());
-                self.notify("IVPHELM_REGISTER", Value::String(var.into()), "");
+                self.notify_static("IVPHELM_REGISTER", Value::String(var.into()));
             }
         }
     }
@@ -158,7 +158,7 @@ impl Helm {
                     self.notes.push(AppcastNote::Warning(msg.clone()));
                     msg.push_str(" curr_time: ");
                     fixed(&mut msg, now, 3);
-                    self.notify("IVPHELM_SKEW", Value::String(msg.into()), "");
+                    self.notify_static("IVPHELM_SKEW", Value::String(msg.into()));
                     continue;
                 }
             }
@@ -250,19 +250,20 @@ impl Helm {
             Some(c) => (c.group.clone(), c.vtype.clone()),
             None => (String::new(), String::new()),
         };
-        let upper = name.to_ascii_uppercase();
-        self.info.set(
-            &format!("{upper}_NAV_GROUP"),
-            Value::String(group.into()),
-            APP_NAME,
-            now,
-        );
-        self.info.set(
-            &format!("{upper}_NAV_TYPE"),
-            Value::String(vtype.into()),
-            APP_NAME,
-            now,
-        );
+        self.set_nav_field(&name, "GROUP", Value::String(group.into()), now);
+        self.set_nav_field(&name, "TYPE", Value::String(vtype.into()), now);
+    }
+
+    /// Sets `<NAME>_NAV_<suffix>` (the name upper-cased) in the info buffer, the variable's
+    /// name written into a reused buffer.
+    fn set_nav_field(&mut self, name: &str, suffix: &str, value: Value, now: f64) {
+        let mut key = std::mem::take(&mut self.key_buf);
+        key.clear();
+        key.extend(name.chars().map(|c| c.to_ascii_uppercase()));
+        key.push_str("_NAV_");
+        key.push_str(suffix);
+        self.info.set(&key, value, APP_NAME, now);
+        self.key_buf = key;
     }
 
     /// The vehicle's own report (pHelmIvP `processNodeReportLocal`): only its group, type,
@@ -274,29 +275,18 @@ impl Helm {
             _ => "",
         };
         let r = crate::ledger::NodeReport::parse(text);
-        let upper = r.name.to_ascii_uppercase();
-        if upper.is_empty() {
+        if r.name.is_empty() {
             self.notes
                 .push(AppcastNote::Warning("Unhandled NODE_REPORT_LOCAL".into()));
             return;
         }
         for (suffix, v) in [("GROUP", r.group), ("TYPE", r.vtype), ("COLOR", r.color)] {
             if !v.is_empty() {
-                self.info.set(
-                    &format!("{upper}_NAV_{suffix}"),
-                    Value::String(v.into()),
-                    APP_NAME,
-                    now,
-                );
+                self.set_nav_field(&r.name, suffix, Value::String(v.into()), now);
             }
         }
         if let Some(len) = r.length_m.filter(|&l| l != 0.0) {
-            self.info.set(
-                &format!("{upper}_NAV_LENGTH"),
-                Value::Double(len),
-                APP_NAME,
-                now,
-            );
+            self.set_nav_field(&r.name, "LENGTH", Value::Double(len), now);
         }
     }
 }

@@ -176,8 +176,9 @@ pub struct Helm {
     cur_report: Rendered,
     /// Report lines of earlier iterations, reused for the next report.
     line_pool: Vec<BhvLine>,
-    /// `DESIRED_<VAR>` (with the helm prefix) for each domain variable, in domain order.
-    desired_vars: Vec<String>,
+    /// `DESIRED_<VAR>` (with the helm prefix) for each domain variable, in domain order,
+    /// made once.
+    desired_vars: Vec<ByteString>,
     domain_str: String,
     lists: [String; 4],
     bhv_count: Option<usize>,
@@ -504,11 +505,12 @@ impl Helm {
             .iter()
             .map(|v| {
                 let upper = v.name().to_ascii_uppercase();
-                if upper == "COURSE" {
+                let name = if upper == "COURSE" {
                     format!("{}DESIRED_HEADING", helm.config.helm_prefix)
                 } else {
                     format!("{}DESIRED_{upper}", helm.config.helm_prefix)
-                }
+                };
+                ByteString::from(name)
             })
             .collect();
         helm
@@ -565,7 +567,7 @@ impl Helm {
         self.start_time = now;
         if self.state == HelmState::Malconfig {
             for e in self.errors.clone() {
-                self.notify("IVPHELM_CONFIG_WARNING", Value::text(e.to_string()), "");
+                self.notify_static("IVPHELM_CONFIG_WARNING", Value::text(e.to_string()));
             }
             return;
         }
@@ -576,34 +578,33 @@ impl Helm {
             }
         }
         for var in self.registered.clone() {
-            self.notify("IVPHELM_REGISTER", Value::String(var.into()), "");
+            self.notify_static("IVPHELM_REGISTER", Value::String(var.into()));
         }
         // pHelmIvP keeps the files in a set: one request per file, in name order.
         let mut files = self.config.behavior_files.clone();
         files.sort();
         for f in files {
-            self.notify(
+            self.notify_static(
                 "PLOGGER_CMD",
                 Value::String(format!("COPY_FILE_REQUEST = {f}").into()),
-                "",
             );
         }
         let dom = self.config.domain.to_string();
         self.domain_str.clone_from(&dom);
-        self.notify("IVPHELM_DOMAIN", Value::String(dom.into()), "");
+        self.notify_static("IVPHELM_DOMAIN", Value::String(dom.into()));
         let ms = self.modes.definition();
-        self.notify("IVPHELM_MODESET", Value::String(ms.into()), "");
+        self.notify_static("IVPHELM_MODESET", Value::String(ms.into()));
         for var in [
             "IVPHELM_BHV_ACTIVE_CNT",
             "IVPHELM_BHV_IDLE_CNT",
             "IVPHELM_BHV_RUNNING_CNT",
             "IVPHELM_BHV_DISABLED_CNT",
         ] {
-            self.notify(var, Value::Double(0.0), "");
+            self.notify_static(var, Value::Double(0.0));
         }
         if !self.config.helm_alias.is_empty() {
             let a = self.config.helm_alias.clone();
-            self.notify("IVPHELM_ALIAS", Value::String(a.into()), "");
+            self.notify_static("IVPHELM_ALIAS", Value::String(a.into()));
         }
     }
 
@@ -687,7 +688,7 @@ impl Helm {
         if self.state == HelmState::Disabled {
             if !self.disabled_posted {
                 self.disabled_posted = true;
-                self.notify("IVPHELM_STATE", Value::String("DISABLED".into()), "");
+                self.notify_static("IVPHELM_STATE", Value::String("DISABLED".into()));
             }
         } else {
             let s = self.state.as_str();
@@ -747,13 +748,13 @@ impl Helm {
         // After a RESTART_HELM, one confirmation once decisions resume.
         if self.restart_post_pending {
             self.restart_post_pending = false;
-            self.notify("IVPHELM_RESTARTED", Value::String("true".into()), "");
+            self.notify_static("IVPHELM_RESTARTED", Value::String("true".into()));
         }
         // pHelmIvP's `updatePlatModel`: the behaviours' platform model for this decision,
         // and the turn rate of its heading history (`crate::plat_model`).
         if self.info.update_plat_model(&mut self.config.pmgen, now) {
             let rate = self.config.pmgen.turn_rate();
-            self.notify("TURN_RATE", Value::Double(rate), "");
+            self.notify_static("TURN_RATE", Value::Double(rate));
         }
         self.decide(now);
         self.cap_appcast_notes();
@@ -829,7 +830,7 @@ impl Helm {
                     self.messages.push((
                         i,
                         Message {
-                            var: "BHV_ERROR".into(),
+                            var: ByteString::from_static("BHV_ERROR"),
                             value: Value::String(msg.into()),
                             key: PostKey::Repeatable,
                         },
@@ -868,7 +869,7 @@ impl Helm {
 
         // Step 9: postings.
         for r in std::mem::take(&mut self.update_results) {
-            self.notify("IVPHELM_UPDATE_RESULT", Value::String(r.into()), "");
+            self.notify_static("IVPHELM_UPDATE_RESULT", Value::String(r.into()));
         }
         if self.refresh_pending && now - self.refresh_time > 2.0 {
             self.filter.clear();
@@ -885,7 +886,12 @@ impl Helm {
 
         report.warnings = self.warnings;
         let mut rendered = std::mem::take(&mut self.cur_report);
-        report.render_into(&self.domain_str, Some(&self.config.domain), &mut rendered);
+        report.render_after(
+            &self.domain_str,
+            Some(&self.config.domain),
+            Some((&self.last_report, &self.prev_report)),
+            &mut rendered,
+        );
         let full = std::mem::take(&mut self.rejournal);
         let prev = &self.prev_report;
         self.out.text("IVPHELM_SUMMARY", |summary| {
@@ -895,16 +901,14 @@ impl Helm {
                 rendered.summary(iter, now, prev, summary);
             }
         });
-        self.notify("IVPHELM_IPF_CNT", Value::Double(report.ofnum as f64), "");
-        self.notify(
+        self.notify_static("IVPHELM_IPF_CNT", Value::Double(report.ofnum as f64));
+        self.notify_static(
             "IVPHELM_TOTAL_PCS_FORMED",
             Value::Double(report.pcs_formed as f64),
-            "",
         );
-        self.notify(
+        self.notify_static(
             "IVPHELM_TOTAL_PCS_CACHED",
             Value::Double(report.pcs_cached as f64),
-            "",
         );
         let counts = [
             report.active.len(),
@@ -923,7 +927,7 @@ impl Helm {
                     ["IVPHELM_BHV_DISABLED", "IVPHELM_BHV_DISABLED_CNT"],
                 ][k];
                 self.out.text_copy(base, &list);
-                self.notify(base_cnt, Value::Double(cnt as f64), "");
+                self.notify_static(base_cnt, Value::Double(cnt as f64));
                 std::mem::swap(&mut self.lists[k], &mut list);
             }
             self.scratch = list;
@@ -950,7 +954,7 @@ impl Helm {
                 .collect();
             if !missing.is_empty() {
                 let msg = format!("MissingDecVars:{}", missing.join(","));
-                self.notify("BHV_ERROR", Value::String(msg.clone().into()), "");
+                self.notify_static("BHV_ERROR", Value::String(msg.clone().into()));
                 allstop = msg.into();
             }
         }
@@ -964,11 +968,12 @@ impl Helm {
                     .iter()
                     .find(|(n, _)| n == v.name())
                     .map_or(0.0, |d| d.1);
-                self.out.push(&self.desired_vars[i], Value::Double(val), "");
+                let key = self.desired_vars[i].clone();
+                self.out.next_key(key).value = Value::Double(val);
             }
         }
-        self.notify("IVPHELM_CREATE_CPU", Value::Double(0.0), "");
-        self.notify("IVPHELM_LOOP_CPU", Value::Double(0.0), "");
+        self.notify_static("IVPHELM_CREATE_CPU", Value::Double(0.0));
+        self.notify_static("IVPHELM_LOOP_CPU", Value::Double(0.0));
         let mut upd: Vec<(&str, &str)> = self
             .slots
             .iter()

@@ -55,6 +55,11 @@ impl Outbox {
     /// The next posting, with `var` and an empty `aux` (the caller sets value and aux).
     pub(super) fn next(&mut self, var: &str) -> &mut Posting {
         let key = self.names.get(var);
+        self.next_key(key)
+    }
+    /// The next posting under the name `key`, made once by the caller ([`Names::get`] or
+    /// [`ByteString::from_static`]: no lookup here), with an empty `aux`.
+    pub(super) fn next_key(&mut self, key: ByteString) -> &mut Posting {
         if self.len == self.posts.len() {
             self.posts.push(Posting::double(ByteString::new(), 0.0));
         }
@@ -75,21 +80,27 @@ impl Outbox {
         let p = self.next_with_aux(var, aux);
         p.value = value;
     }
+    /// [`Outbox::push`] under a name known at compile time, with an empty aux: the name is
+    /// a static [`ByteString`], neither hashed nor counted.
+    pub(super) fn push_static(&mut self, var: &'static str, value: Value) {
+        let p = self.next_key(ByteString::from_static(var));
+        p.value = value;
+    }
     /// Posts a string value that `write` writes into a cleared, reused buffer; the text is
     /// copied into a shared string unless the posting in this place last iteration had the
     /// same text, which is then shared again (a steady `IVPHELM_STATE = DRIVE` costs nothing).
-    pub(super) fn text(&mut self, var: &str, write: impl FnOnce(&mut String)) {
+    pub(super) fn text(&mut self, var: &'static str, write: impl FnOnce(&mut String)) {
         let mut buf = std::mem::take(&mut self.scratch);
         buf.clear();
         write(&mut buf);
-        let p = self.next(var);
+        let p = self.next_key(ByteString::from_static(var));
         if !matches!(&p.value, Value::String(old) if *old == *buf) {
             p.value = Value::String(ByteString::from(buf.as_str()));
         }
         self.scratch = buf;
     }
     /// Posts a copy of `text`.
-    pub(super) fn text_copy(&mut self, var: &str, text: &str) {
+    pub(super) fn text_copy(&mut self, var: &'static str, text: &str) {
         self.text(var, |s| s.push_str(text));
     }
 }

@@ -8,7 +8,8 @@ use super::*;
 /// A behaviour message waiting to be posted: var, value and how the duplicate filter keys it
 /// (the key string `<behaviour><var><tag>` is only assembled when the message is posted).
 pub(super) struct Message {
-    pub(super) var: String,
+    /// The variable's shared name ([`super::outbox::Names`]), looked up once when queued.
+    pub(super) var: ByteString,
     pub(super) value: Value,
     pub(super) key: PostKey,
 }
@@ -36,6 +37,11 @@ impl Helm {
         self.out.push(var, value, aux);
     }
 
+    /// [`Helm::notify`] under a name known at compile time, with an empty aux (no lookup).
+    pub(super) fn notify_static(&mut self, var: &'static str, value: Value) {
+        self.out.push_static(var, value);
+    }
+
     pub(super) fn post_allstop(&mut self, msg: &str) {
         if !self.state.enabled() {
             return;
@@ -43,10 +49,10 @@ impl Helm {
         match self.allstop.update(msg) {
             AllStopAction::None => {}
             AllStopAction::Announce(m) => {
-                self.notify("IVPHELM_ALLSTOP", Value::String(m.into()), "")
+                self.notify_static("IVPHELM_ALLSTOP", Value::String(m.into()))
             }
             AllStopAction::AnnounceAndZero(m) => {
-                self.notify("IVPHELM_ALLSTOP", Value::String(m.into()), "");
+                self.notify_static("IVPHELM_ALLSTOP", Value::String(m.into()));
                 for i in 0..self.config.domain.len() {
                     let name = self.config.domain.vars()[i].name().to_ascii_uppercase();
                     let var = if name == "COURSE" {
@@ -71,19 +77,19 @@ impl Helm {
             uint(&mut v, k as u64);
             v.push(':');
             v.push_str(&w);
-            self.notify("IVPHELM_BHVSET_WARNING", Value::String(v.into()), "");
+            self.notify_static("IVPHELM_BHVSET_WARNING", Value::String(v.into()));
         }
         let n = self.slots.len();
         if self.bhv_count != Some(n) {
             self.bhv_count = Some(n);
-            self.notify("IVPHELM_BHV_CNT", Value::Double(n as f64), "");
+            self.notify_static("IVPHELM_BHV_CNT", Value::Double(n as f64));
         }
         let ever = self.bhv_total_ever;
         if self.bhv_count_ever != Some(ever) {
             self.bhv_count_ever = Some(ever);
-            self.notify("IVPHELM_BHV_CNT_EVER", Value::Double(ever as f64), "");
+            self.notify_static("IVPHELM_BHV_CNT_EVER", Value::Double(ever as f64));
         }
-        self.notify("IVPHELM_ITER", Value::Double(iter as f64), "");
+        self.notify_static("IVPHELM_ITER", Value::Double(iter as f64));
         let mut messages = std::mem::take(&mut self.messages);
         for (i, m) in messages.drain(..) {
             if m.var == "BHV_IPF" {
@@ -98,7 +104,9 @@ impl Helm {
                     let mut parts = std::mem::take(&mut self.ipf_parts);
                     ivp::encode::mux(text, &id, 2000, &mut parts);
                     for part in parts.drain(..) {
-                        let p = self.out.next_with_aux(&m.var, name);
+                        let aux = self.out.names.get(name);
+                        let p = self.out.next_key(m.var.clone());
+                        p.aux = aux;
                         p.value = Value::String(part.into());
                     }
                     self.ipf_parts = parts;
@@ -141,7 +149,7 @@ impl Helm {
                 }
             };
             if post {
-                match self.outgoing.get_mut(&m.var) {
+                match self.outgoing.get_mut(&*m.var) {
                     Some(o) => {
                         o.value.clone_from(&m.value);
                         o.time = now;
@@ -150,7 +158,7 @@ impl Helm {
                     }
                     None => {
                         self.outgoing.insert(
-                            m.var.clone(),
+                            m.var.to_string(),
                             Outgoing {
                                 value: m.value.clone(),
                                 time: now,
@@ -165,14 +173,12 @@ impl Helm {
                 {
                     self.notes.push(AppcastNote::Event(e.to_string()));
                 }
-                // `<iteration>:<behaviour>` differs every iteration: its own buffer.
-                let mut aux = String::with_capacity(name.len() + 8);
-                uint(&mut aux, iter);
-                aux.push(':');
-                aux.push_str(name);
-                let p = self.out.next(&m.var);
+                // `<iteration>:<behaviour>` differs every iteration: made once per
+                // iteration and behaviour, shared by its postings.
+                let aux = self.slots[i].post_aux(iter);
+                let p = self.out.next_key(m.var);
                 p.value = m.value;
-                p.aux = aux.into();
+                p.aux = aux;
             }
         }
         self.messages = messages;
@@ -181,7 +187,7 @@ impl Helm {
             self.state_vars_dirty = false;
             let vars = self.state_space_vars();
             if vars != self.state_vars {
-                self.notify("IVPHELM_STATEVARS", Value::String(vars.clone().into()), "");
+                self.notify_static("IVPHELM_STATEVARS", Value::String(vars.clone().into()));
                 self.state_vars = vars;
             }
         }
@@ -189,12 +195,12 @@ impl Helm {
         if self.completed_pending != Some(pending) {
             self.completed_pending = Some(pending);
             let v = if pending { "true" } else { "false" };
-            self.notify("IVPHELM_COMPLETED_PENDING", Value::String(v.into()), "");
+            self.notify_static("IVPHELM_COMPLETED_PENDING", Value::String(v.into()));
         }
         // This iteration's spawns, then the deaths: completed behaviours leave the set
         // (reference §4.4).
         for ev in std::mem::take(&mut self.life_events) {
-            self.notify("IVPHELM_LIFE_EVENT", Value::String(ev.into()), "");
+            self.notify_static("IVPHELM_LIFE_EVENT", Value::String(ev.into()));
         }
         let mut removed = 0;
         let mut k = 0;
@@ -204,7 +210,7 @@ impl Helm {
                 let pm = &s.post_mortem;
                 self.life_event(&s.common.name, &s.common.kind, "death", "", pm, now);
                 for ev in std::mem::take(&mut self.life_events) {
-                    self.notify("IVPHELM_LIFE_EVENT", Value::String(ev.into()), "");
+                    self.notify_static("IVPHELM_LIFE_EVENT", Value::String(ev.into()));
                 }
                 removed += 1;
                 self.state_vars_dirty = true;
@@ -214,7 +220,7 @@ impl Helm {
         }
         if self.completed_count != Some(removed) {
             self.completed_count = Some(removed);
-            self.notify("IVPHELM_COMPLETED_COUNT", Value::Double(removed as f64), "");
+            self.notify_static("IVPHELM_COMPLETED_COUNT", Value::Double(removed as f64));
         }
     }
 
@@ -257,7 +263,10 @@ impl Helm {
             Some(m) if m == var => None,
             Some(m) => Some(m.to_string()),
         };
-        let var = renamed.unwrap_or(var);
+        let var = match renamed {
+            Some(m) => self.out.names.get(&m),
+            None => self.out.names.get(&var),
+        };
         let key = key.clone();
         self.messages.push((i, Message { var, value, key }));
     }
@@ -268,7 +277,7 @@ impl Helm {
         let Some(var) = common.mapped(var) else {
             return;
         };
-        let var = var.to_string();
+        let var = self.out.names.get(var);
         let key = key.clone();
         self.messages.push((i, Message { var, value, key }));
     }

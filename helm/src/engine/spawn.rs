@@ -121,7 +121,7 @@ impl Helm {
                 .deltas(&var)
                 .iter()
                 .filter(|u| u.contains("name"))
-                .cloned()
+                .map(|u| u.to_string())
                 .collect();
             for request in requests {
                 let name = field(&request, "name").to_string();

@@ -105,7 +105,6 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
         f: &IvpFunction,
         plats: &[i32],
     ) -> Result<IvpFunction, IvpError> {
-        let d = self.domain.len();
         let mut pieces: Vec<Piece> = f
             .pieces()
             .enumerate()
@@ -151,12 +150,7 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
             queue.insert(pieces.len(), new.max_val());
             pieces.push(new);
         }
-        let mut out = IvpFunction::new(self.domain.clone());
-        out.reserve(pieces.len());
-        for p in &pieces {
-            out.push_piece(&p.b.lo, &p.b.hi, &p.wts[..d], p.wts[d])?;
-        }
-        Ok(out)
+        super::function_of(&self.domain, pieces.iter().map(|p| (&p.b, &p.wts[..])))
     }
 }
 

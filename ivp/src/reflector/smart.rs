@@ -263,13 +263,7 @@ impl<F: Fn(&[f64]) -> f64> Reflector<F> {
             worst_err = queue.best_val();
             worst = queue.remove_best();
         }
-        let d = self.domain.len();
-        let mut f = IvpFunction::new(self.domain.clone());
-        f.reserve(pieces.len());
-        for p in &pieces {
-            f.push_piece(&p.b.lo, &p.b.hi, &p.wts[..d], p.wts[d])?;
-        }
-        Ok(f)
+        super::function_of(&self.domain, pieces.iter().map(|p| (&p.b, &p.wts[..])))
     }
 }
 
