@@ -4,8 +4,9 @@
 //!
 //! Lockstep: one virtual clock. The run goes from instant to instant (the earliest next
 //! event of any community); at each, every community processes its events of that instant,
-//! in fleet order (the base first), or split in contiguous runs of communities over
-//! [`FleetOptions::threads`] threads that meet at the end of each instant. pShare routes
+//! in fleet order (the base first), or on a pool of [`FleetOptions::threads`] threads made
+//! once per run, each taking the next community not yet stepped, that meet at the end of
+//! each instant. pShare routes
 //! between communities of the run go through the in-process [`crate::pshare::PShareHub`]
 //! and arrive at the receiver's first iteration after they were sent; the simulated
 //! acoustic channel ([`crate::acomms_apps::AcousticNet`]) only collects what the modems ask
@@ -417,6 +418,26 @@ fn fleet_lockstep(
     }
     .min(running.len())
     .max(1);
+    // One pool for the run: its threads live from instant to instant (spawning them at every
+    // instant cost more than some instants' work) and take communities as they finish the
+    // last, so one slow community does not idle the other threads.
+    let pool = if threads > 1 {
+        match rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .thread_name(|i| format!("coug-fleet-{i}"))
+            .build()
+        {
+            Ok(pool) => Some(pool),
+            Err(e) => {
+                observer.warning(&format!(
+                    "no worker threads ({e}): the communities are stepped on one thread"
+                ));
+                None
+            }
+        }
+    } else {
+        None
+    };
     let wall = Instant::now();
     let end = start + opts.max_time;
     let conditioned = running.iter().any(|r| r.plan.until.is_some());
@@ -438,7 +459,7 @@ fn fleet_lockstep(
         if t > end {
             break Ended::Outcome(Outcome::MaxTime { time: end });
         }
-        advance_all(&mut running, t, threads)?;
+        advance_all(&mut running, t, pool.as_ref())?;
         for r in running.iter_mut() {
             for p in r.sched.take_taps() {
                 if let Some(v) = p.value.as_str() {
@@ -514,13 +535,18 @@ fn fleet_lockstep(
 }
 
 /// Steps every unfinished community through instant `t`: on the calling thread alone, or
-/// split in `threads` contiguous runs of communities, one per thread (the communities of an
-/// instant are independent: what one sends another reads at a later instant only). The
+/// on `pool`'s threads, each taking the next community not yet stepped (the communities of
+/// an instant are independent: what one sends another reads at a later instant only). The
 /// first error in fleet order is the run's. Never inlined: profilers (callgrind's
 /// `--toggle-collect=runtime::session::fleet::advance_all`) count the fleet's loop by
 /// this name.
 #[inline(never)]
-fn advance_all(running: &mut [Running<'_>], t: f64, threads: usize) -> Result<(), SessionError> {
+fn advance_all(
+    running: &mut [Running<'_>],
+    t: f64,
+    pool: Option<&rayon::ThreadPool>,
+) -> Result<(), SessionError> {
+    use rayon::prelude::*;
     fn step(r: &mut Running<'_>, t: f64) -> Result<(), SessionError> {
         if r.finished {
             return Ok(());
@@ -532,28 +558,21 @@ fn advance_all(running: &mut [Running<'_>], t: f64, threads: usize) -> Result<()
         }
         Ok(())
     }
-    fn step_all(rs: &mut [Running<'_>], t: f64) -> Result<(), SessionError> {
-        rs.iter_mut().try_for_each(|r| step(r, t))
+    let Some(pool) = pool else {
+        return running.iter_mut().try_for_each(|r| step(r, t));
+    };
+    let first_err = pool.install(|| {
+        running
+            .par_iter_mut()
+            .with_max_len(1)
+            .enumerate()
+            .filter_map(|(i, r)| step(r, t).err().map(|e| (i, e)))
+            .min_by_key(|(i, _)| *i)
+    });
+    match first_err {
+        Some((_, e)) => Err(e),
+        None => Ok(()),
     }
-    if threads <= 1 {
-        return step_all(running, t);
-    }
-    let chunk = running.len().div_ceil(threads);
-    std::thread::scope(|scope| {
-        let mut parts = running.chunks_mut(chunk);
-        let mine = parts.next().unwrap_or_default();
-        let others: Vec<_> = parts
-            .map(|part| scope.spawn(move || step_all(part, t)))
-            .collect();
-        let mut first = step_all(mine, t);
-        for h in others {
-            let res = h.join().unwrap_or_else(|p| std::panic::resume_unwind(p));
-            if first.is_ok() {
-                first = res;
-            }
-        }
-        first
-    })
 }
 
 fn run_error(e: RunError, alog: &str) -> SessionError {
