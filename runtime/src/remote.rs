@@ -182,11 +182,18 @@ pub async fn run<A: App + ?Sized>(
         if stopping {
             break;
         }
+        // `<APP>_STATUS` goes out before the iteration's postings, as CMOOSApp posts it,
+        // except the first: a run's pokes "after the first iterate" wait for it, so it must
+        // reach the DB after what the first iteration posted (the helm's `initialize`
+        // values: a `DEPLOY = true` poke that overtook the helm's `DEPLOY = false` left the
+        // vehicle parked).
+        let first = last_status.is_none();
+        let mut status = None;
         if last_status.is_none_or(|t| now - t >= STATUS_PERIOD) {
             last_status = Some(now);
             load = procinfo.sample();
             app.set_process_load(load);
-            posts.push(Post::text(
+            status = Some(Post::text(
                 status_var.clone(),
                 status_text(
                     app.name(),
@@ -197,10 +204,14 @@ pub async fn run<A: App + ?Sized>(
                 ),
             ));
         }
+        if !first {
+            posts.extend(status.take());
+        }
         if let Err(e) = app.iterate(now, &mut posts) {
             client.close().await;
             return Err(e.into());
         }
+        posts.extend(status);
         for s in app.new_subscriptions() {
             if s.is_wildcard() {
                 client.register_pattern(&s.pattern, "*", s.interval);

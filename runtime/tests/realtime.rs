@@ -164,3 +164,92 @@ async fn a_refused_app_ends_the_run_with_its_error() {
     squatter.close().await;
     s.shutdown();
 }
+
+/// Posts `DEPLOY = false` at its first iteration, as the helm posts its `initialize` values.
+struct Initializer {
+    started: bool,
+}
+
+impl App for Initializer {
+    fn name(&self) -> &str {
+        "initializer"
+    }
+    fn app_tick(&self) -> f64 {
+        10.0
+    }
+    fn iterate(&mut self, _now: f64, out: &mut Vec<Post>) -> runtime::AppResult {
+        if !self.started {
+            self.started = true;
+            out.push(Post::text("DEPLOY", "false"));
+        }
+        Ok(())
+    }
+}
+
+/// A poke "after the first iterate" waits for the app's first `<APP>_STATUS`, so that status
+/// must reach the DB after what the first iteration posted: a `DEPLOY = true` poke that
+/// overtook the helm's initial `DEPLOY = false` left a vehicle parked (seen under load in the
+/// HIL survey).
+#[tokio::test(flavor = "current_thread")]
+async fn the_first_status_follows_the_first_iterations_postings() {
+    let s = server(10.0).await;
+    let c = cfg(&s, 10.0);
+    let mut occ = ClientConfig::new("outsider", "127.0.0.1", c.port);
+    occ.warp = Warp::new(10.0).unwrap();
+    let (outsider, mut inbox) = Client::start(occ);
+    outsider.wait_connected().await.unwrap();
+    outsider.register("DEPLOY", 0.0);
+    outsider.register("INITIALIZER_STATUS", 0.0);
+    let local = tokio::task::LocalSet::new();
+    let spec = RunSpec {
+        pokes: vec![Poke::parse("DEPLOY=true", "initializer").unwrap()],
+        until: Some(parse_condition("DEPLOY = true").unwrap()),
+        max_time: 600.0,
+    };
+    let apps: Vec<Box<dyn App>> = vec![Box::new(Initializer { started: false })];
+    let end = tokio::time::timeout(
+        Duration::from_secs(60),
+        local.run_until(run_apps(apps, &c, spec)),
+    )
+    .await
+    .expect("ends within 60 s")
+    .unwrap();
+    assert!(
+        matches!(end.outcome, Outcome::ConditionMet { .. }),
+        "{:?}",
+        end.outcome
+    );
+    let mut seen = Vec::new();
+    while let Ok(Some(m)) = tokio::time::timeout(Duration::from_millis(300), inbox.recv()).await {
+        let key = m.key_str().into_owned();
+        if key == "DEPLOY" || key == "INITIALIZER_STATUS" {
+            let v = if key == "DEPLOY" {
+                m.sval_str().into_owned()
+            } else {
+                String::new()
+            };
+            seen.push(format!("{key}{}{v}", if v.is_empty() { "" } else { "=" }));
+        }
+    }
+    let first_status = seen
+        .iter()
+        .position(|k| k == "INITIALIZER_STATUS")
+        .unwrap_or_else(|| panic!("no status: {seen:?}"));
+    assert_eq!(
+        seen[..first_status],
+        ["DEPLOY=false".to_string()],
+        "the initial value, then the status: {seen:?}"
+    );
+    assert_eq!(
+        seen.iter().filter(|k| k.starts_with("DEPLOY=")).last(),
+        Some(&"DEPLOY=true".to_string()),
+        "{seen:?}"
+    );
+    let m = s.with_db(|db| db.current("DEPLOY")).expect("DEPLOY posted");
+    assert_eq!(
+        (m.sval_str().as_ref(), m.src_str().as_ref()),
+        ("true", "uPokeDB")
+    );
+    outsider.close().await;
+    s.shutdown();
+}
