@@ -241,7 +241,7 @@ async fn the_first_status_follows_the_first_iterations_postings() {
         "the initial value, then the status: {seen:?}"
     );
     assert_eq!(
-        seen.iter().filter(|k| k.starts_with("DEPLOY=")).last(),
+        seen.iter().rfind(|k| k.starts_with("DEPLOY=")),
         Some(&"DEPLOY=true".to_string()),
         "{seen:?}"
     );
