@@ -18,11 +18,11 @@
 //! | BHV_ERROR | no `depth` in the domain | `Null IvPDomain given to Behavior` (the helm's check, before the behaviour runs, as in the C++) | done |
 //! | BHV_WARNING | ZAIC warnings | the ZAIC's text | done: none can arise (widths clipped at 0, summit delta to [0, 100] = the utility range); tested |
 
-use ivp::{IvpFunction, ZaicPeak};
+use ivp::IvpFunction;
 
 use crate::behavior::{Behavior, Ctx, Out, ParamError, add_vars};
 use crate::common::Common;
-use crate::memo::FnMemo;
+use crate::memo::{FnMemo, PeakError};
 use crate::param::number;
 
 /// Prefers one depth: ZAIC_PEAK(summit `depth`, `peakwidth` 3, `basewidth` 100,
@@ -132,23 +132,16 @@ impl Behavior for ConstantDepth {
             None => out.warning(ctx.name, "No ownship DEPTH info in info_buffer."),
         }
         let params = [self.depth, self.peakwidth, self.basewidth, self.summitdelta];
-        // Err(None): no depth variable, silently; Err(Some(e)): the ZAIC failed (reported).
-        let built = self.memo.get_or(ctx.domain, params, || {
-            let mut z = ZaicPeak::new(ctx.domain, "depth").map_err(|_| None)?;
-            let [depth, peak, base, delta] = params;
-            z.set_params(depth, peak, base, delta, 0.0, 100.0)
-                .map_err(|e| Some(e.to_string()))?;
-            z.extract().map_err(|e| Some(e.to_string()))
-        });
-        match built {
+        // No depth variable: no function, silently, as the C++ does.
+        match self.memo.peak(ctx.domain, "depth", false, params) {
             Ok(f) => Some(f),
-            Err(Some(e)) => {
+            Err(PeakError::Refused(e)) => {
                 out.error(format!(
                     "Unable to generate constant-depth IvP function: {e}"
                 ));
                 None
             }
-            Err(None) => None,
+            Err(PeakError::NoVariable) => None,
         }
     }
 }

@@ -19,11 +19,11 @@
 //! | BHV_ERROR | no `course` in the domain | `Null IvPDomain given to Behavior` (the helm's check, before the behaviour runs, as in the C++) | done |
 //! | BHV_WARNING | ZAIC warnings | the ZAIC's text | done: none can arise (widths clipped at 0, summit delta to [0, 100] = the utility range); tested |
 
-use ivp::{IvpFunction, ZaicPeak};
+use ivp::IvpFunction;
 
 use crate::behavior::{Behavior, Ctx, Out, ParamError, add_vars};
 use crate::common::Common;
-use crate::memo::FnMemo;
+use crate::memo::{FnMemo, PeakError};
 use crate::param::number;
 
 /// Prefers one heading: ZAIC_PEAK with value wrap (summit `heading`, `peakwidth` 10,
@@ -142,23 +142,14 @@ impl Behavior for ConstantHeading {
             self.basewidth,
             self.summitdelta,
         ];
-        // Err(true): no course variable (reported); Err(false): no function, silently.
-        let built = self.memo.get_or(ctx.domain, params, || {
-            let mut z = ZaicPeak::new(ctx.domain, "course").map_err(|_| true)?;
-            z.set_value_wrap(true);
-            let [heading, peak, base, delta] = params;
-            z.set_params(heading, peak, base, delta, 0.0, 100.0)
-                .map_err(|_| false)?;
-            z.extract().map_err(|_| false)
-        });
-        match built {
+        // A refused ZAIC gives no function, silently, as the C++ does.
+        match self.memo.peak(ctx.domain, "course", true, params) {
             Ok(f) => Some(f),
-            Err(no_var) => {
-                if no_var {
-                    out.error("No 'heading/course' variable in the helm domain");
-                }
+            Err(PeakError::NoVariable) => {
+                out.error("No 'heading/course' variable in the helm domain");
                 None
             }
+            Err(PeakError::Refused(_)) => None,
         }
     }
 }

@@ -18,11 +18,11 @@
 //! | BHV_ERROR | no `speed` in the domain | `Null IvPDomain given to Behavior` (the helm's check, before the behaviour runs, as in the C++) | done |
 //! | BHV_WARNING | ZAIC warnings | the ZAIC's text | done: none can arise (widths clipped at 0, summit delta to [0, 100] = the utility range); tested |
 
-use ivp::{IvpFunction, ZaicPeak};
+use ivp::IvpFunction;
 
 use crate::behavior::{Behavior, Ctx, Out, ParamError, add_vars};
 use crate::common::Common;
-use crate::memo::FnMemo;
+use crate::memo::{FnMemo, PeakError};
 use crate::param::number;
 
 /// Prefers one speed: ZAIC_PEAK(summit `speed`, `peakwidth` 0, `basewidth` 0.2,
@@ -117,22 +117,14 @@ impl Behavior for ConstantSpeed {
             None => out.warning(ctx.name, "No ownship SPEED info in info_buffer."),
         }
         let params = [self.speed, self.peakwidth, self.basewidth, self.summitdelta];
-        // Err(true): no speed variable (reported); Err(false): no function, silently.
-        let built = self.memo.get_or(ctx.domain, params, || {
-            let mut z = ZaicPeak::new(ctx.domain, "speed").map_err(|_| true)?;
-            let [speed, peak, base, delta] = params;
-            z.set_params(speed, peak, base, delta, 0.0, 100.0)
-                .map_err(|_| false)?;
-            z.extract().map_err(|_| false)
-        });
-        match built {
+        // A refused ZAIC gives no function, silently, as the C++ does.
+        match self.memo.peak(ctx.domain, "speed", false, params) {
             Ok(f) => Some(f),
-            Err(no_var) => {
-                if no_var {
-                    out.error("No 'speed' variable in the helm domain");
-                }
+            Err(PeakError::NoVariable) => {
+                out.error("No 'speed' variable in the helm domain");
                 None
             }
+            Err(PeakError::Refused(_)) => None,
         }
     }
 }

@@ -2,7 +2,7 @@
 //! speed, depth and heading behaviours, BHV_MaxDepth): while the parameters and the helm's
 //! domain are the same, the helm gets a copy of it instead of a new ZAIC build each iteration.
 
-use ivp::{Domain, IvpFunction};
+use ivp::{Domain, IvpFunction, ZaicPeak};
 
 /// A function and the inputs it was built from: the domain and `N` parameters, compared by
 /// their bits (so a parameter that changes in any way rebuilds it).
@@ -65,5 +65,37 @@ mod tests {
         let mut fails = FnMemo::<1>::default();
         assert!(fails.get_or(&d, [1.0], || Err("no")).is_err());
         assert!(fails.last.is_none(), "a failure is not kept");
+    }
+}
+
+/// Why [`FnMemo::peak`] built no function.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum PeakError {
+    /// The helm's domain has no such variable.
+    NoVariable,
+    /// The ZAIC refused its parameters or could not be extracted (its message).
+    Refused(String),
+}
+
+impl FnMemo<4> {
+    /// The peak ZAIC over domain variable `var` (wrapping round its range when `wrap`, as a
+    /// course does) from `[value, peakwidth, basewidth, summitdelta]`, minimum utility 0 and
+    /// maximum 100: the function of the constant speed, depth and heading behaviours, kept
+    /// while its inputs are the same.
+    pub(crate) fn peak(
+        &mut self,
+        domain: &Domain,
+        var: &str,
+        wrap: bool,
+        params: [f64; 4],
+    ) -> Result<IvpFunction, PeakError> {
+        self.get_or(domain, params, || {
+            let mut z = ZaicPeak::new(domain, var).map_err(|_| PeakError::NoVariable)?;
+            z.set_value_wrap(wrap);
+            let [value, peak, base, delta] = params;
+            z.set_params(value, peak, base, delta, 0.0, 100.0)
+                .map_err(|e| PeakError::Refused(e.to_string()))?;
+            z.extract().map_err(|e| PeakError::Refused(e.to_string()))
+        })
     }
 }

@@ -4,9 +4,10 @@
 use std::time::Duration;
 
 use mission::condition::parse_condition;
+use moosdb::client::MailStream;
 use moosdb::time::Warp;
 use moosdb::{Client, ClientConfig, Server, ServerConfig};
-use runtime::realtime::{RunSpec, run_apps};
+use runtime::realtime::{RunEnd, RunSpec, run_apps};
 use runtime::remote::{RemoteConfig, RemoteError};
 use runtime::{App, Mail, Outcome, Poke, Post, Subscription, Value};
 
@@ -65,11 +66,34 @@ fn cfg(s: &Server, warp: f64) -> RemoteConfig {
     }
 }
 
+/// A client of the run's DB from outside it, registered for `vars`.
+async fn outsider(c: &RemoteConfig, vars: &[&str]) -> (Client, MailStream) {
+    let mut occ = ClientConfig::new("outsider", "127.0.0.1", c.port);
+    occ.warp = Warp::new(c.warp).unwrap();
+    let (client, inbox) = Client::start(occ);
+    client.wait_connected().await.unwrap();
+    for v in vars {
+        client.register(v, 0.0);
+    }
+    (client, inbox)
+}
+
+/// Runs `apps` to their end, which must come within 60 s of wall time.
+async fn run_to_end(apps: Vec<Box<dyn App>>, c: &RemoteConfig, spec: RunSpec) -> RunEnd {
+    let local = tokio::task::LocalSet::new();
+    tokio::time::timeout(
+        Duration::from_secs(60),
+        local.run_until(run_apps(apps, c, spec)),
+    )
+    .await
+    .expect("ends within 60 s")
+    .unwrap()
+}
+
 #[tokio::test(flavor = "current_thread")]
 async fn pokes_reach_apps_and_until_ends_the_run() {
     let s = server(10.0).await;
     let c = cfg(&s, 10.0);
-    let local = tokio::task::LocalSet::new();
     let spec = RunSpec {
         pokes: vec![
             Poke::parse("MODE_POKE=ready", "listener").unwrap(),
@@ -79,13 +103,7 @@ async fn pokes_reach_apps_and_until_ends_the_run() {
         max_time: 600.0,
     };
     let apps: Vec<Box<dyn App>> = vec![Box::new(Counter), Box::new(Listener { go: None })];
-    let end = tokio::time::timeout(
-        Duration::from_secs(60),
-        local.run_until(run_apps(apps, &c, spec)),
-    )
-    .await
-    .expect("ends within 60 s")
-    .unwrap();
+    let end = run_to_end(apps, &c, spec).await;
     let Outcome::ConditionMet { time } = end.outcome else {
         panic!("{:?}", end.outcome)
     };
@@ -107,25 +125,14 @@ async fn pokes_reach_apps_and_until_ends_the_run() {
 async fn max_time_ends_the_run_and_an_outside_client_sees_the_apps() {
     let s = server(20.0).await;
     let c = cfg(&s, 20.0);
-    let mut occ = ClientConfig::new("outsider", "127.0.0.1", c.port);
-    occ.warp = Warp::new(20.0).unwrap();
-    let (outsider, mut inbox) = Client::start(occ);
-    outsider.wait_connected().await.unwrap();
-    outsider.register("COUNTER_TIME", 0.0);
-    let local = tokio::task::LocalSet::new();
+    let (outsider, mut inbox) = outsider(&c, &["COUNTER_TIME"]).await;
     let spec = RunSpec {
         pokes: Vec::new(),
         until: Some(parse_condition("NEVER = 1").unwrap()),
         max_time: 4.0,
     };
     let apps: Vec<Box<dyn App>> = vec![Box::new(Counter)];
-    let end = tokio::time::timeout(
-        Duration::from_secs(60),
-        local.run_until(run_apps(apps, &c, spec)),
-    )
-    .await
-    .expect("ends within 60 s")
-    .unwrap();
+    let end = run_to_end(apps, &c, spec).await;
     assert!(
         matches!(end.outcome, Outcome::MaxTime { .. }),
         "{:?}",
@@ -194,26 +201,14 @@ impl App for Initializer {
 async fn the_first_status_follows_the_first_iterations_postings() {
     let s = server(10.0).await;
     let c = cfg(&s, 10.0);
-    let mut occ = ClientConfig::new("outsider", "127.0.0.1", c.port);
-    occ.warp = Warp::new(10.0).unwrap();
-    let (outsider, mut inbox) = Client::start(occ);
-    outsider.wait_connected().await.unwrap();
-    outsider.register("DEPLOY", 0.0);
-    outsider.register("INITIALIZER_STATUS", 0.0);
-    let local = tokio::task::LocalSet::new();
+    let (outsider, mut inbox) = outsider(&c, &["DEPLOY", "INITIALIZER_STATUS"]).await;
     let spec = RunSpec {
         pokes: vec![Poke::parse("DEPLOY=true", "initializer").unwrap()],
         until: Some(parse_condition("DEPLOY = true").unwrap()),
         max_time: 600.0,
     };
     let apps: Vec<Box<dyn App>> = vec![Box::new(Initializer { started: false })];
-    let end = tokio::time::timeout(
-        Duration::from_secs(60),
-        local.run_until(run_apps(apps, &c, spec)),
-    )
-    .await
-    .expect("ends within 60 s")
-    .unwrap();
+    let end = run_to_end(apps, &c, spec).await;
     assert!(
         matches!(end.outcome, Outcome::ConditionMet { .. }),
         "{:?}",
