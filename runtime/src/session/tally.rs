@@ -353,6 +353,12 @@ mod tests {
         alog::parse(text).ok().map(|l| LogTotals::from_alog(&l))
     }
 
+    /// Equal totals, a NaN (a logged `nan` position) equal to a NaN in the same place: the
+    /// two print the same.
+    fn same(a: &Option<LogTotals>, b: &Option<LogTotals>) -> bool {
+        a == b || format!("{a:?}") == format!("{b:?}")
+    }
+
     fn d(x: f64) -> Value {
         Value::Double(x)
     }
@@ -367,7 +373,8 @@ mod tests {
         let mut all = Vec::new();
         for extra in ["", "  MarkDataType = true\n", "  DoublePrecision = 7\n"] {
             let (text, tally) = logged(records, extra);
-            assert_eq!(tally, read_back(&text), "{extra}{text}");
+            let back = read_back(&text);
+            assert!(same(&tally, &back), "{tally:?}\n{back:?}\n{extra}{text}");
             all.push(tally);
         }
         all
@@ -487,6 +494,11 @@ mod tests {
             vec![(1.0, "OTHER", "s", s("w")), (2.0, "", "", s("word"))],
             vec![(2.0, "", "", s("word")), (3.0, "NAV_X", "s", d(4.0))],
             vec![],
+            // A position read back as NaN (the CI failure of the proptest below).
+            vec![
+                (0.0, "NAV_X", "s", d(0.0)),
+                (0.0, "NAV_Y", "é", d(f64::NAN)),
+            ],
         ];
         for records in &cases {
             check(records);
@@ -540,7 +552,15 @@ mod tests {
                 .collect();
             for extra in ["", "  MarkDataType = true\n", "  DoublePrecision = 7\n"] {
                 let (text, tally) = logged(&recs, extra);
-                prop_assert_eq!(tally, read_back(&text), "{}{}", extra, text);
+                let back = read_back(&text);
+                proptest::prop_assert!(
+                    same(&tally, &back),
+                    "{:?}\n{:?}\n{}{}",
+                    tally,
+                    back,
+                    extra,
+                    text
+                );
             }
         }
     }
